@@ -1,0 +1,81 @@
+"""The contract between the host runner and every plant.
+
+Time is an integer number of microseconds (``t_us``) of virtual time. A plant is a
+piecewise-constant-input system: the runner sets inputs (actuator signals as the
+board drives them) at the current time, asks when the next output change is due,
+and advances to a time of its choosing. Outputs are the electrical signals a board
+sees, by name:
+
+===================  ======================================================
+kind                 value
+===================  ======================================================
+``level``            0 or 1 (a digital pin: encoder channel, bumper switch)
+``u16``              0..65535 (an ADC reading as ``ADC.read_u16`` returns it)
+``bytes``            bytes received by a UART at that time
+===================  ======================================================
+
+A *change* is reported when a level flips, when a sampled signal (``u16``) takes a
+new sample (even if the value is the same: a new sample is an event the firmware is
+expected to consume), or when bytes arrive.
+"""
+
+from typing import NamedTuple
+
+
+class Change(NamedTuple):
+    """One output event: at ``t_us``, signal ``name`` took ``value``."""
+
+    t_us: int
+    name: str
+    value: object
+
+
+NEVER_US = 1 << 62
+"""A time later than any run: returned by :meth:`Plant.next_change_us` when nothing is due."""
+
+
+class Plant:
+    """Base class and contract. Subclasses fill in the physics.
+
+    ``inputs`` and ``outputs`` map signal names to their kind (``level``, ``u16``,
+    ``duty``, ``bytes``); the runner's wiring connects board pins to these names.
+    """
+
+    inputs: dict[str, str] = {}
+    outputs: dict[str, str] = {}
+
+    def reset(self, seed: int) -> None:
+        """Start over at ``t_us = 0`` with a generator seeded by ``seed``."""
+        raise NotImplementedError
+
+    @property
+    def t_us(self) -> int:
+        raise NotImplementedError
+
+    def set_input(self, name: str, value: int) -> None:
+        """Apply an actuator signal from the current time on."""
+        raise NotImplementedError
+
+    def next_change_us(self) -> int:
+        """Earliest time (> ``t_us``) at which an output may change, given the inputs.
+
+        It may be a check point at which nothing changes after all; it is never later
+        than the real next change.
+        """
+        raise NotImplementedError
+
+    def advance_to(self, t_us: int) -> list[Change]:
+        """Advance to ``t_us`` and return the changes in ``(t, t_us]``, in time order.
+
+        Callers that need every event at its own time advance to
+        :meth:`next_change_us` step by step.
+        """
+        raise NotImplementedError
+
+    def output(self, name: str) -> object:
+        """Current value of an output signal."""
+        raise NotImplementedError
+
+    def truth(self) -> dict:
+        """Ground truth for tests (pose, contacts, ...); never seen by the firmware."""
+        raise NotImplementedError
