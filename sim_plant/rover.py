@@ -215,7 +215,7 @@ class RoverRoom(Plant):
         t = self._t_us
         for side, wheel in (("l", 0), ("r", 1)):
             state = math.floor(self.wheel_rad[wheel] / self.edge_rad) % 4
-            a, b = (0, 0, 1, 1)[state], (0, 1, 1, 0)[state]  # A leads B going forward
+            a, b = (0, 1, 1, 0)[state], (0, 0, 1, 1)[state]  # A leads B going forward
             for ch, level in (("a", a), ("b", b)):
                 name = f"enc_{side}.{ch}"
                 if self.levels[name] != level:
