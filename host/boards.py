@@ -1,0 +1,38 @@
+"""Board pin maps: ``firmware/boards/<board>/board.py`` is the one place pin numbers
+live. The host reads it without running it (it is MicroPython: ``const()``)."""
+
+import ast
+from pathlib import Path
+
+from host.errors import ConfigError
+
+REPO = Path(__file__).resolve().parent.parent
+BOARDS_DIR = REPO / "firmware" / "boards"
+
+
+def board_dir(board: str) -> Path:
+    path = BOARDS_DIR / board / "board.py"
+    if not path.is_file():
+        known = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
+        raise ConfigError(f"board: no pin map {path} (known boards: {', '.join(known)})")
+    return path.parent
+
+
+def read_pin_map(board: str) -> dict[str, object]:
+    """Constant name -> value (pin number or name) from a board file."""
+    path = board_dir(board) / "board.py"
+    names: dict[str, object] = {}
+    for node in ast.parse(path.read_text(), str(path)).body:
+        if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+            value = node.value
+            if isinstance(value, ast.Call) and getattr(value.func, "id", "") == "const" and value.args:
+                value = value.args[0]
+            if isinstance(value, ast.Constant):
+                names[node.targets[0].id] = value.value
+    return names
+
+
+def pin_key(name: str, value: object) -> str:
+    """How the shim names a resource: the pin id as text, or ``uart<id>`` for UARTs
+    (board constants whose name ends in ``_UART``)."""
+    return f"uart{value}" if name.endswith("_UART") else str(value)

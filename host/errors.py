@@ -1,0 +1,35 @@
+"""One exception root for the harness; each error says what was expected, what
+happened and where the artefacts are."""
+
+
+class HarnessError(Exception):
+    """Root of every error the harness raises."""
+
+
+class SetupError(HarnessError):
+    """The interpreter or a tool the harness needs is missing."""
+
+
+class ConfigError(HarnessError):
+    """A scenario, app, board or wiring setting is wrong; the message names the field."""
+
+
+class LinkError(HarnessError):
+    """The plant link failed (closed, corrupted, wrong protocol)."""
+
+
+class LinkTimeout(LinkError):
+    """No complete frame arrived before the deadline."""
+
+
+class FirmwareError(HarnessError):
+    """The firmware raised; ``traceback`` holds MicroPython's traceback."""
+
+    def __init__(self, message: str, traceback: str = "", console: str = ""):
+        super().__init__(message)
+        self.traceback = traceback
+        self.console = console
+
+
+class FirmwareHung(HarnessError):
+    """The firmware stopped answering: the wall-clock watchdog stopped it."""

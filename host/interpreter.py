@@ -1,0 +1,176 @@
+"""The MicroPython interpreter the harness runs: MicroPython's unix port built from
+Debian's ``micropython`` source package, or ``$MICROPYTHON``.
+
+``python3 -m host.interpreter build`` fetches the pinned source with ``apt-get source``
+through a project-local apt configuration (``host/micropython/sources.list``; lists,
+cache and state under ``build/micropython/apt``), builds the standard variant with
+``asyncio`` frozen in, and installs the binary at :func:`default_path`. It rebuilds
+nothing when that binary exists. Standard library only: it runs before the venv.
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from host.errors import SetupError
+
+DEBIAN_VERSION = "1.25.0+ds-1"
+"""Pinned source package version (Debian 13 "trixie" carries 1.25.0)."""
+
+REPO = Path(__file__).resolve().parent.parent
+BUILD = REPO / "build" / "micropython"
+HERE = Path(__file__).resolve().parent / "micropython"
+APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils", "python3")
+# The standard variant, less what needs libraries Debian strips from the source (+ds):
+# TLS (mbedTLS/axTLS) and btree (Berkeley DB).
+MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0")
+
+
+def default_path() -> Path:
+    return BUILD / DEBIAN_VERSION / "micropython"
+
+
+def find() -> Path:
+    """The interpreter to run: ``$MICROPYTHON`` if set, else the project's build."""
+    override = os.environ.get("MICROPYTHON")
+    path = Path(override) if override else default_path()
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        if override:
+            raise SetupError(f"MICROPYTHON={override} is not an executable file")
+        raise SetupError(f"no MicroPython at {path}: run `make setup` (or set MICROPYTHON=/path/to/micropython)")
+    return path
+
+
+def version(path: Path | None = None) -> str:
+    """The interpreter's own version line, e.g. 'MicroPython v1.25.0+ds-1 on ...'."""
+    path = path or find()
+    out = subprocess.run([str(path), "-c", "import sys; print(sys.version.split('; ')[-1])"],
+                         capture_output=True, text=True, timeout=10, check=True)
+    return out.stdout.strip()
+
+
+def _log(msg: str) -> None:
+    print(f"[micropython] {msg}", flush=True)
+
+
+def _missing_tools() -> list[str]:
+    missing = []
+    for tool, package in (("gcc", "gcc"), ("make", "make"), ("pkg-config", "pkg-config"),
+                          ("dpkg-source", "dpkg-dev"), ("xz", "xz-utils"), ("apt-get", "apt")):
+        if shutil.which(tool) is None:
+            missing.append(package)
+    if shutil.which("pkg-config") and subprocess.run(["pkg-config", "--exists", "libffi"]).returncode != 0:
+        missing.append("libffi-dev")
+    return missing
+
+
+def ensure_tools() -> None:
+    missing = _missing_tools()
+    if not missing:
+        return
+    if "apt" in missing or os.geteuid() != 0:
+        raise SetupError(
+            "building MicroPython needs these Debian packages: " + " ".join(missing)
+            + "\n  install them with: sudo apt-get install -y " + " ".join(p for p in missing if p != "apt")
+        )
+    _log("installing build packages: " + " ".join(missing))
+    subprocess.run(["apt-get", "update", "-qq"], check=True)
+    subprocess.run(["apt-get", "install", "-y", "-qq", "--no-install-recommends", *missing], check=True,
+                   env={**os.environ, "DEBIAN_FRONTEND": "noninteractive"})
+    still = _missing_tools()
+    if still:
+        raise SetupError("still missing after apt-get install: " + " ".join(still))
+
+
+def _apt(*args: str) -> list[str]:
+    apt = BUILD / "apt"
+    opts = {
+        "Dir::Etc::SourceList": HERE / "sources.list",
+        "Dir::Etc::SourceParts": apt / "sources.list.d",
+        "Dir::Etc::PreferencesParts": apt / "preferences.d",
+        "Dir::State": apt / "state",
+        "Dir::State::Lists": apt / "lists",
+        "Dir::State::status": apt / "status",
+        "Dir::Cache": apt / "cache",
+        "Debug::NoLocking": "1",
+        "APT::Sandbox::User": "root" if os.geteuid() == 0 else os.environ.get("USER", "nobody"),
+    }
+    flags = [f"-o{k}={v}" for k, v in opts.items()]
+    return ["apt-get", "-q", *flags, *args]
+
+
+def fetch_source() -> Path:
+    src_root = BUILD / "src"
+    tree = src_root / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
+    if (tree / "ports" / "unix" / "Makefile").is_file():
+        return tree
+    apt = BUILD / "apt"
+    for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
+        (apt / sub).mkdir(parents=True, exist_ok=True)
+    (apt / "status").touch()
+    _log("apt-get update (project-local sources: host/micropython/sources.list)")
+    subprocess.run(_apt("update"), check=True, stdout=subprocess.DEVNULL)
+    if src_root.exists():
+        shutil.rmtree(src_root)
+    src_root.mkdir(parents=True)
+    _log(f"apt-get source micropython={DEBIAN_VERSION}")
+    subprocess.run(_apt("source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root,
+                   stdout=subprocess.DEVNULL)
+    if not tree.is_dir():
+        raise SetupError(f"apt-get source did not unpack {tree}")
+    return tree
+
+
+def build() -> Path:
+    target = default_path()
+    if target.is_file():
+        _log(f"up to date: {target}")
+        return target
+    ensure_tools()
+    tree = fetch_source()
+    jobs = f"-j{os.cpu_count() or 2}"
+    log = BUILD / "build.log"
+    _log(f"building the unix port (standard variant, asyncio frozen in); log: {log}")
+    with open(log, "w") as out:
+        for cmd in (
+            ["make", jobs, "-C", str(tree / "mpy-cross")],
+            ["make", jobs, "-C", str(tree / "ports" / "unix"), *MAKE_OPTIONS,
+             f"FROZEN_MANIFEST={HERE / 'manifest.py'}"],
+        ):
+            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
+                tail = log.read_text().splitlines()[-20:]
+                raise SetupError(f"build failed: {' '.join(cmd)}\n" + "\n".join(tail) + f"\n(full log: {log})")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_suffix(".tmp")
+    shutil.copy2(tree / "ports" / "unix" / "build-standard" / "micropython", tmp)
+    tmp.replace(target)
+    _log(f"built {target}: {version(target)}")
+    return target
+
+
+def main(argv: list[str]) -> int:
+    cmd = argv[0] if argv else "path"
+    try:
+        if cmd == "build":
+            build()
+        elif cmd == "path":
+            print(find())
+        elif cmd == "version":
+            path = find()
+            print(f"{version(path)} ({path})")
+        else:
+            print("usage: python3 -m host.interpreter [build|path|version]", file=sys.stderr)
+            return 2
+    except SetupError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
+    except subprocess.CalledProcessError as e:
+        print(f"error: {' '.join(map(str, e.cmd))} failed with exit code {e.returncode}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

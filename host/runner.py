@@ -1,0 +1,499 @@
+"""The rig: MicroPython + shim + firmware + plant, run in lockstep virtual time.
+
+A :class:`Rig` starts the unix port with the shim first on ``MICROPYPATH`` and the
+firmware's folders after it (as a board's filesystem has them), shakes hands over a
+raw pty, and then serves the shim: actuator writes go to the plant at their virtual
+time; a WAIT advances the plant to the time asked for, or to the first edge that fires
+a registered IRQ, and answers with the inputs that changed and the *horizon* (the
+earliest time an input may change next). ``docs/clock.md`` describes the protocol of
+time; ``docs/protocol.md`` the bytes.
+
+Every wait on the firmware has a wall-clock deadline (the watchdog); a firmware that
+stops answering is stopped and reported, and :meth:`Rig.stop` always ends the
+process and closes the pty.
+"""
+
+import os
+import signal
+import struct
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from host import interpreter
+from host.apps import PROBE, App, get_app
+from host.boards import board_dir, pin_key, read_pin_map
+from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget
+from host.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
+from host.link import Channel, FdTransport, PtyPair
+from host.shim import _hilframe as F
+from host.trace import Trace
+
+SHIM_DIR = Path(__file__).resolve().parent / "shim"
+MODES = {"lockstep": F.MODE_LOCKSTEP, "realtime": F.MODE_REALTIME}
+HANDSHAKE_TIMEOUT_S = 10.0
+CONSOLE_TAIL_LINES = 20
+MSG_NAMES = {F.HELLO: "HELLO", F.CFG: "CFG", F.OUT: "OUT", F.WAIT: "WAIT", F.SEEN: "SEEN",
+             F.UART_TX: "UART_TX", F.FAULT: "FAULT", F.EXIT: "EXIT"}
+CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
+OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
+
+
+@dataclass
+class Handle:
+    """One shim object (pin, ADC, PWM, UART) and what it is wired to."""
+
+    kind: int
+    key: str  # pin id as the shim names it
+    board_name: str | None
+    signal: str | None  # plant signal or "probe:<name>"
+    is_input: bool = False
+    pull: int = 0
+    irq: int = 0  # trigger mask
+    samples: int = 0
+    level: int | None = None  # last level driven on an output
+
+
+@dataclass
+class _Wait:
+    t_until: int
+    watch: frozenset
+
+
+@dataclass
+class RunStats:
+    link_round_trips: int = 0
+    irq_stops: int = 0
+    lease_violations: int = 0
+    round_trip_us: list = field(default_factory=list)
+
+
+class Rig:
+    """Firmware in the loop. Use as a context manager, or call start() and stop()."""
+
+    def __init__(self, app: str | App = "rover", *, board: str | None = None, seed: int = 0,
+                 mode: str = "lockstep", plant=None, plant_options: dict | None = None,
+                 main_dir: Path | None = None, watchdog_s: float = 5.0,
+                 artefacts: Path | None = None, trace: bool = False, time_round_trips: bool = False):
+        self.app = get_app(app) if isinstance(app, str) else app
+        self.board = board or self.app.default_board
+        if mode not in MODES:
+            raise ConfigError(f"mode: expected one of {sorted(MODES)}, got {mode!r}")
+        if watchdog_s <= 0:
+            raise ConfigError(f"watchdog_s: expected a positive number of seconds, got {watchdog_s!r}")
+        self.mode = mode
+        self.seed = seed
+        self.watchdog_s = watchdog_s
+        self.board_path = board_dir(self.board)
+        pins = read_pin_map(self.board)
+        unknown = sorted(set(self.app.wiring) - set(pins))
+        if unknown:
+            raise ConfigError(f"wiring: board {self.board} has no pin named {', '.join(unknown)}")
+        self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.app.wiring}
+        self.main_dir = Path(main_dir) if main_dir else self.app.path
+        if not (self.main_dir / "main.py").is_file():
+            raise ConfigError(f"main_dir: no main.py in {self.main_dir}")
+        self.plant = plant if plant is not None else self.app.make_plant(**(plant_options or {}))
+        self.plant.reset(seed)
+        self.budgets = {b.name: b for b in self.app.make_budgets()}
+        self.artefacts = Path(artefacts) if artefacts else None
+        self.trace_enabled = trace
+        self.time_round_trips = time_round_trips
+        self.stats = RunStats()
+        self.console = ""
+        self.micropython_version = ""
+        self.exit_kind: int | None = None
+        self.resets = 0
+        self._proc = None
+        self._pty = None
+        self._chan = None
+        self._trace = None
+        self._handles: list[Handle] = []
+        self._by_signal: dict[str, list[int]] = {}
+        self._wait: _Wait | None = None
+        self._delta: list = []
+        self._delta_index: dict[int, int] = {}
+        self._sample_times: dict[int, int] = {}
+        self._last_msg = "none yet"
+        self._wall0 = 0.0
+
+    # -- life cycle -------------------------------------------------------------------
+
+    def __enter__(self):
+        self.start()
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+    @property
+    def t_us(self) -> int:
+        return self.plant.t_us
+
+    def start(self) -> "Rig":
+        if self.artefacts:
+            self.artefacts.mkdir(parents=True, exist_ok=True)
+        if self.trace_enabled:
+            self._trace = Trace(self.artefacts / "trace.jsonl" if self.artefacts else None)
+            self._trace.write({"header": {"app": self.app.name, "board": self.board, "seed": self.seed,
+                                          "mode": self.mode, "plant": type(self.plant).__name__}})
+        self._pty = PtyPair()
+        self._spawn()
+        return self
+
+    def _spawn(self) -> None:
+        micropython = interpreter.find()
+        folders = [SHIM_DIR, self.main_dir, *self.app.firmware_path(self.board_path)[1:]]
+        env = {
+            "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
+            "MICROPYPATH": ":".join([*map(str, folders), ".frozen"]),
+            "HIL_LINK": self._pty.slave_path,
+        }
+        self._proc = subprocess.Popen(
+            [str(micropython), "-m", "_hilboot"], env=env, cwd=str(self.main_dir),
+            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+        transport = FdTransport(self._pty.master_fd)
+        transport.watch(self._proc.stdout.fileno(), self._on_console)
+        self._chan = Channel(transport)
+        self._handles = []
+        self._by_signal = {}
+        self._wait = None
+        self._delta = []
+        self._delta_index = {}
+        type_, payload = self._recv(HANDSHAKE_TIMEOUT_S, "HELLO")
+        if type_ != F.HELLO:
+            raise LinkError(f"expected HELLO from the shim, got {MSG_NAMES.get(type_, hex(type_))}")
+        (proto,) = struct.unpack_from("<H", payload)
+        self.micropython_version = payload[2:].decode(errors="replace")
+        if proto != F.PROTO_VERSION:
+            self.stop()
+            raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
+        self._send(F.WELCOME, struct.pack("<HBQ", F.PROTO_VERSION, MODES[self.mode], self.t_us))
+        self._wall0 = time.monotonic() - self.t_us / 1e6
+
+    def stop(self) -> None:
+        """End the firmware process and close the pty; safe to call twice."""
+        proc, self._proc = self._proc, None
+        if proc is not None:
+            if proc.poll() is None:
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            try:
+                proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait(timeout=5)
+            self._drain_console(proc)
+            proc.stdout.close()
+        if self._pty is not None:
+            self._pty.close()
+            self._pty = None
+        if self._trace is not None:
+            self._trace.close()
+        if self.artefacts:
+            (self.artefacts / "console.log").write_text(self.console)
+
+    def _drain_console(self, proc) -> None:
+        try:
+            os.set_blocking(proc.stdout.fileno(), False)
+            rest = proc.stdout.read()
+            if rest:
+                self._on_console(rest)
+        except (OSError, ValueError):
+            pass
+
+    def _on_console(self, data: bytes) -> None:
+        self.console += data.decode(errors="replace")
+
+    @property
+    def trace_digest(self) -> str | None:
+        return self._trace.digest if self._trace else None
+
+    # -- running --------------------------------------------------------------------
+
+    def run_for(self, duration_s: float) -> None:
+        self.run_until(self.t_us + round(duration_s * 1e6))
+
+    def run_until(self, t_end_us: int) -> None:
+        """Serve the firmware until virtual time reaches ``t_end_us`` (firmware waiting)."""
+        if self._proc is None:
+            raise LinkError("the rig is not running: call start() first")
+        while True:
+            if self.exit_kind is not None:  # firmware ended: the plant runs on alone
+                self._advance_plant(t_end_us, frozenset())
+                return
+            if self._wait is None:
+                self._handle(*self._recv(self.watchdog_s, "a message"))
+                continue
+            if self.t_us >= t_end_us:
+                return
+            self._serve_wait(t_end_us)
+
+    def _serve_wait(self, t_end_us: int) -> None:
+        wait = self._wait
+        stopped = self._advance_plant(min(wait.t_until, t_end_us), wait.watch)
+        if stopped or self.t_us >= wait.t_until:
+            self._wait = None
+            self._send_state()
+
+    def _advance_plant(self, target_us: int, watch: frozenset) -> bool:
+        """Advance event by event; True at the first change that wakes the firmware."""
+        plant = self.plant
+        while plant.t_us < target_us:
+            t_next = min(plant.next_change_us(), target_us)
+            if self.mode == "realtime":
+                self._sleep_until(t_next)
+            stop = False
+            for change in plant.advance_to(t_next):
+                stop |= self._route(change, watch)
+            if stop:
+                self.stats.irq_stops += 1
+                return True
+        return False
+
+    def _sleep_until(self, t_us: int) -> None:
+        delay = self._wall0 + t_us / 1e6 - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+
+    def _route(self, change, watch: frozenset) -> bool:
+        t, name, value = change
+        for budget in self.budgets.values():
+            if budget.source == name:
+                if isinstance(budget, PeriodBudget):
+                    budget.event(t)
+        stop = False
+        for h in self._by_signal.get(name, ()):
+            info = self._handles[h]
+            if info.kind == F.CFG_ADC:
+                info.samples += 1
+                self._sample_times[h] = t
+                for budget in self.budgets.values():
+                    if isinstance(budget, LatencyBudget) and budget.source == name:
+                        budget.sample(info.samples, t)
+                self._queue(h, F.CH_SAMPLE, value, info.samples, coalesce=True)
+            elif info.kind == F.CFG_UART:
+                self._queue(h, F.CH_BYTES, len(value), value, coalesce=False)
+                stop |= h in watch
+            else:
+                irq = info.irq
+                self._queue(h, F.CH_LEVEL, value, 0, coalesce=not irq and h not in watch)
+                if h in watch or (irq & (1 if value else 2)):
+                    stop = True
+        return stop
+
+    def _queue(self, h: int, kind: int, value, extra, coalesce: bool) -> None:
+        if coalesce and h in self._delta_index:
+            self._delta[self._delta_index[h]] = (h, kind, value, extra)
+            return
+        if coalesce:
+            self._delta_index[h] = len(self._delta)
+        self._delta.append((h, kind, value, extra))
+
+    def _send_state(self) -> None:
+        horizon = self.plant.next_change_us()
+        parts = [struct.pack("<QQH", self.t_us, horizon, len(self._delta))]
+        for h, kind, value, extra in self._delta:
+            if kind == F.CH_BYTES:
+                parts.append(struct.pack("<HBiI", h, kind, value, 0) + extra)
+            else:
+                parts.append(struct.pack("<HBiI", h, kind, value, extra))
+        if self._trace:
+            self._trace.write({"t": self.t_us, "to": "fw", "msg": "STATE", "horizon": horizon,
+                               "changes": [[h, k, v if k != F.CH_BYTES else e.hex(), e if k != F.CH_BYTES else 0]
+                                           for h, k, v, e in self._delta]})
+        self._delta = []
+        self._delta_index = {}
+        self._send(F.STATE, b"".join(parts))
+        self.stats.link_round_trips += 1
+
+    # -- messages from the firmware ------------------------------------------------------
+
+    def _handle(self, type_: int, p: bytes) -> None:
+        if type_ == F.WAIT:
+            t_now, t_until, compute_us = struct.unpack_from("<QQI", p)
+            watch = frozenset(struct.unpack_from("<%dH" % ((len(p) - 20) // 2), p, 20))
+            self._catch_up(t_now)
+            self._wait = _Wait(max(t_until, self.t_us), watch)
+            for budget in self.budgets.values():
+                if isinstance(budget, ComputeBudget):
+                    budget.event(compute_us)
+            self._log({"t": t_now, "msg": "WAIT", "until": t_until, "watch": sorted(watch)})
+        elif type_ == F.OUT:
+            t, h, attr, value = struct.unpack_from("<QHBi", p)
+            self._catch_up(t)
+            self._on_out(t, h, attr, value)
+        elif type_ == F.CFG:
+            self._on_cfg(p)
+        elif type_ == F.SEEN:
+            t, h, sample_no = struct.unpack_from("<QHI", p)
+            signal_name = self._handles[h].signal
+            for budget in self.budgets.values():
+                if isinstance(budget, LatencyBudget) and budget.source == signal_name:
+                    budget.seen(sample_no, t)
+            self._log({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
+        elif type_ == F.UART_TX:
+            t, h = struct.unpack_from("<QH", p)
+            self._catch_up(t)
+            signal_name = self._handles[h].signal
+            if signal_name in self.plant.inputs:
+                self.plant.set_input(signal_name, p[10:])
+            self._log({"t": t, "msg": "UART_TX", "handle": h, "data": p[10:].hex()})
+        elif type_ == F.FAULT:
+            self._on_fault(p)
+        elif type_ == F.EXIT:
+            t, kind, code = struct.unpack_from("<QBi", p)
+            self._log({"t": t, "msg": "EXIT", "kind": kind, "code": code})
+            if kind == F.EXIT_RESET:
+                self._restart()
+            else:
+                self.exit_kind = kind
+                self._catch_up(t)
+        else:
+            raise LinkError(f"unexpected message type 0x{type_:02x} from the shim")
+
+    def _catch_up(self, t_us: int) -> None:
+        """The shim moved on by itself (inside its horizon): bring the plant along."""
+        if t_us > self.t_us:
+            for change in self.plant.advance_to(t_us):
+                self.stats.lease_violations += self._route(change, frozenset())
+
+    def _on_cfg(self, p: bytes) -> None:
+        h, kind, mode, pull, param = struct.unpack_from("<HBBBi", p)
+        key = p[9:].decode()
+        board_name = self.pin_names.get(key)
+        signal_name = self.app.wiring.get(board_name) if board_name else None
+        self._log({"t": self.t_us, "msg": "CFG", "handle": h, "kind": CFG_KINDS.get(kind, kind), "pin": key,
+                   "mode": mode, "pull": pull, "param": param, "signal": signal_name})
+        if kind == F.CFG_IRQ:
+            self._handles[h].irq = mode
+            return
+        while len(self._handles) <= h:
+            self._handles.append(Handle(0, "", None, None))
+        info = Handle(kind, key, board_name, signal_name, is_input=(kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)),
+                      pull=pull)
+        old = self._handles[h]
+        if old.signal and h in self._by_signal.get(old.signal, ()):
+            self._by_signal[old.signal].remove(h)
+        self._handles[h] = info
+        if signal_name:
+            self._by_signal.setdefault(signal_name, []).append(h)
+        if info.is_input:  # the shim syncs next: tell it the current level
+            if signal_name in self.plant.outputs:
+                value = self.plant.output(signal_name)
+            else:
+                value = 1 if pull == 1 else 0
+            kind_ = F.CH_SAMPLE if kind == F.CFG_ADC else F.CH_LEVEL
+            self._queue(h, kind_, value if value is not None else 0, 0, coalesce=True)
+
+    def _on_out(self, t: int, h: int, attr: int, value: int) -> None:
+        info = self._handles[h]
+        signal_name = info.signal
+        self._log({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+        if signal_name is None:
+            return
+        if signal_name.startswith(PROBE):
+            last, info.level = info.level, value
+            if attr == F.OUT_LEVEL and last is not None and last != value:
+                for budget in self.budgets.values():
+                    if budget.source == signal_name and isinstance(budget, PeriodBudget):
+                        budget.event(t)
+            return
+        if signal_name not in self.plant.inputs:
+            return
+        if info.kind == F.CFG_PWM:
+            if attr == F.OUT_DUTY:
+                self.plant.set_input(signal_name, value)
+            elif attr == F.OUT_DEINIT:
+                self.plant.set_input(signal_name, 0)
+        elif attr == F.OUT_LEVEL:
+            self.plant.set_input(signal_name, value)
+
+    def _on_fault(self, p: bytes) -> None:
+        (t,) = struct.unpack_from("<Q", p)
+        text = p[8:].decode(errors="replace")
+        self._log({"t": t, "msg": "FAULT"})
+        try:
+            self._recv(1.0, "EXIT")  # let the process finish writing
+        except (LinkError, FirmwareError):
+            pass
+        self.stop()
+        raise FirmwareError(
+            f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
+            f"MicroPython traceback:\n{text.rstrip()}{self._where()}",
+            traceback=text, console=self.console,
+        )
+
+    def _restart(self) -> None:
+        """machine.reset(): the board restarts its interpreter; the plant carries on."""
+        self.resets += 1
+        proc, self._proc = self._proc, None
+        proc.wait(timeout=5)
+        self._drain_console(proc)
+        proc.stdout.close()
+        self._spawn()
+
+    # -- link ------------------------------------------------------------------------
+
+    def _send(self, type_: int, payload: bytes) -> None:
+        try:
+            self._chan.send(type_, payload)
+        except OSError as e:
+            raise LinkError(f"plant link write failed: {e}") from e
+        if self.time_round_trips:
+            self._t_sent = time.perf_counter()
+
+    def _recv(self, timeout_s: float, what: str):
+        try:
+            type_, _seq, payload = self._chan.recv(timeout_s)
+        except LinkTimeout:
+            self._on_silence(timeout_s, what)
+        except LinkError:
+            self._on_silence(0, what)
+        if self.time_round_trips and type_ == F.WAIT and getattr(self, "_t_sent", None):
+            self.stats.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
+            self._t_sent = None
+        self._last_msg = f"{MSG_NAMES.get(type_, hex(type_))} at wall {time.monotonic():.3f}"
+        return type_, payload
+
+    def _on_silence(self, timeout_s: float, what: str):
+        proc = self._proc
+        if proc is not None and proc.poll() is None and timeout_s > 0:
+            self.stop()
+            raise FirmwareHung(
+                f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
+                f"got nothing (virtual t={self.t_us / 1e6:.6f} s, last message {self._last_msg}); "
+                f"the watchdog stopped it.{self._where()}"
+            )
+        code = proc.wait(timeout=5) if proc is not None else None
+        self.stop()
+        raise FirmwareError(
+            f"firmware process ended with exit code {code} while the host expected {what} "
+            f"(virtual t={self.t_us / 1e6:.6f} s).{self._where()}", console=self.console,
+        )
+
+    def _log(self, record: dict) -> None:
+        if self._trace:
+            self._trace.write(record)
+
+    def _where(self) -> str:
+        tail = "\n".join(self.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:])
+        where = f"\nartefacts: {self.artefacts}" if self.artefacts else ""
+        return (f"\nconsole (last {CONSOLE_TAIL_LINES} lines):\n{tail}" if tail else "\nconsole: (empty)") + where
+
+    # -- results ---------------------------------------------------------------------
+
+    def truth(self) -> dict:
+        return self.plant.truth()
+
+    def budget_rows(self) -> list[dict]:
+        return [b.stats() for b in self.budgets.values()]
+
+    def counters(self) -> dict:
+        return {**(self._chan.counters() if self._chan else {}), "round_trips": self.stats.link_round_trips,
+                "irq_stops": self.stats.irq_stops, "lease_violations": self.stats.lease_violations}

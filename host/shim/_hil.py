@@ -1,0 +1,319 @@
+# Core of the shim: the link to the host and the firmware's clock.
+#
+# Runs inside MicroPython. Virtual time is an integer count of microseconds since the
+# firmware started (`_now`). The host owns the plant; it tells the shim, with every
+# STATE, the earliest time an input may change (`_horizon`). Until then the shim moves
+# its clock on its own (sleeps that end before the horizon, busy waits, Timers); to go
+# further it sends WAIT and the host advances the plant, stopping early at an edge that
+# fires a registered IRQ. Actuator writes are sent as OUT and void the horizon, since
+# they change what the plant will do next. docs/clock.md tells the whole story.
+import sys
+
+_path = sys.path
+sys.path = []
+import time as _rtime  # noqa: E402  the real built-ins, under the shadowing shim
+import select as _rselect  # noqa: E402
+
+sys.path = _path
+del _path
+
+import os  # noqa: E402
+import struct  # noqa: E402
+
+import _hilframe as F  # noqa: E402
+
+SPIN_LIMIT = 50  # clock/input reads without a blocking call before time starts to move
+SPIN_STEP_US = 10  # virtual time each further read costs while spinning
+TICKS_PERIOD = 1 << 30  # a 32-bit MCU's small-int tick period
+TICKS_MASK = TICKS_PERIOD - 1
+TICKS_START_US = TICKS_PERIOD - 10_000_000  # ticks_us wraps 10 s into the run
+TICKS_START_MS = TICKS_PERIOD - 10_000  # ticks_ms wraps 10 s into the run
+
+mode = F.MODE_LOCKSTEP
+_now = 0
+_horizon = 0
+_spin = 0
+FOREVER_US = F.FOREVER_US
+_timer_due = FOREVER_US
+_timers = []
+_handles = []
+_pending = []  # (callback, argument) due to run between main-program bytecodes
+_dispatching = False
+_irq_off = 0
+_link = None
+_wake_real_us = 0
+_rt_origin_us = 0
+
+
+class HostGone(Exception):
+    pass
+
+
+class ResetRequest(BaseException):
+    """machine.reset(): unwinds the firmware like a board that restarts."""
+
+
+class _Link:
+    def __init__(self, path):
+        self.f = open(path, "r+b")
+        self.poller = _rselect.poll()
+        self.poller.register(self.f, _rselect.POLLIN)
+        self.dec = F.Decoder()
+        self.seq = 0
+        self.out = []
+
+    def queue(self, type_, payload):
+        self.out.append(F.encode(type_, self.seq, payload))
+        self.seq = (self.seq + 1) & 0xFF
+
+    def flush(self):
+        if self.out:
+            data = b"".join(self.out)
+            self.out = []
+            view = memoryview(data)
+            while view:
+                n = self.f.write(view)
+                view = view[n:]
+
+    def recv(self):
+        while True:
+            frame = self.dec.next()
+            if frame is not None:
+                return frame
+            events = self.poller.poll(1000)
+            if not events:
+                if self.dec.pending():
+                    self.dec.expire()  # a partial frame that stopped arriving
+                continue
+            if events[0][1] & (_rselect.POLLHUP | _rselect.POLLERR):
+                raise HostGone("plant link closed")
+            data = self.f.read(512)
+            if not data:
+                raise HostGone("plant link closed")
+            self.dec.feed(data)
+
+
+def register(obj):
+    """Give a shim object a handle the host refers to."""
+    _handles.append(obj)
+    return len(_handles) - 1
+
+
+def send(type_, payload):
+    _link.queue(type_, payload)
+
+
+def send_out(handle, attr, value):
+    """An actuator write: from now on the plant may behave differently."""
+    global _horizon
+    _link.queue(F.OUT, struct.pack("<QHBi", now(), handle, attr, value))
+    _horizon = _now
+
+
+def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
+    _link.queue(F.CFG, struct.pack("<HBBBi", handle, kind, mode_, pull, param) + str(name).encode())
+    if sync:  # inputs: learn the current level before the firmware reads it
+        _sync(now(), None)
+
+
+# -- clock ------------------------------------------------------------------------
+
+
+def _lockstep_now():
+    return _now
+
+
+def _realtime_now():
+    global _now
+    _now = _rtime.ticks_diff(_rtime.ticks_us(), _rt_origin_us)
+    return _now
+
+
+now = _lockstep_now
+
+
+def observe():
+    """Called by every clock or input read; lets busy waits make progress."""
+    global _spin, _now
+    t = now()
+    if mode == F.MODE_LOCKSTEP:
+        _spin += 1
+        if _spin > SPIN_LIMIT:
+            t += SPIN_STEP_US
+    if t >= _horizon or t >= _timer_due:
+        run_until(t)
+    else:
+        _now = t
+
+
+def blocking():
+    """A blocking call (sleep, idle, poll): the firmware is not spinning."""
+    global _spin
+    _spin = 0
+
+
+def run_until(t_target, watch=None):
+    """Move virtual time to t_target, running timers and IRQ handlers on the way.
+
+    With `watch` (a list of handles), return True as soon as one of them changes.
+    """
+    global _now
+    while True:
+        t_stop = t_target if t_target < _timer_due else _timer_due
+        t = now()
+        if t_stop <= t or t_stop < _horizon:
+            if t_stop > t:
+                if mode == F.MODE_LOCKSTEP:
+                    _now = t_stop
+                else:
+                    _rtime.sleep_us(t_stop - t)
+                    now()
+            hit = False
+        else:
+            hit = _sync(t_stop, watch)
+        if _timer_due <= _now:
+            _fire_timers()
+        if _pending:
+            dispatch()
+        if hit:
+            return True
+        if _now >= t_target:
+            return False
+
+
+def _sync(t_until, watch):
+    global _now, _horizon, _wake_real_us
+    compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
+    payload = struct.pack("<QQI", _now, t_until, compute_us if compute_us > 0 else 0)
+    if watch:
+        for h in watch:
+            payload += struct.pack("<H", h)
+    _link.queue(F.WAIT, payload)
+    _link.flush()
+    while True:
+        type_, _seq, p = _link.recv()
+        if type_ == F.STATE:
+            break
+    _wake_real_us = _rtime.ticks_us()
+    t, horizon, n = struct.unpack_from("<QQH", p, 0)
+    if mode == F.MODE_LOCKSTEP:
+        _now = t
+    else:
+        now()
+    _horizon = horizon
+    hit = False
+    off = 18
+    for _ in range(n):
+        h, kind, value, extra = struct.unpack_from("<HBiI", p, off)
+        off += 11
+        if kind == F.CH_BYTES:
+            extra = p[off:off + value]
+            off += value
+        _handles[h]._hil_apply(kind, value, extra)
+        if watch and h in watch:
+            hit = True
+    return hit
+
+
+# -- callbacks: IRQ handlers and Timer callbacks ------------------------------------
+
+
+def schedule(callback, arg):
+    _pending.append((callback, arg))
+
+
+def dispatch():
+    """Run pending callbacks in order, never re-entrantly, unless IRQs are off."""
+    global _dispatching
+    if _dispatching or _irq_off:
+        return
+    _dispatching = True
+    try:
+        while _pending:
+            callback, arg = _pending.pop(0)
+            callback(arg)
+    finally:
+        _dispatching = False
+
+
+def disable_irq():
+    global _irq_off
+    state = _irq_off
+    _irq_off = 1
+    return state
+
+
+def enable_irq(state=0):
+    global _irq_off
+    _irq_off = state
+    if not state and _pending:
+        dispatch()
+
+
+def add_timer(timer):
+    if timer not in _timers:
+        _timers.append(timer)
+    _update_timer_due()
+
+
+def remove_timer(timer):
+    if timer in _timers:
+        _timers.remove(timer)
+    _update_timer_due()
+
+
+def _update_timer_due():
+    global _timer_due
+    due = F.FOREVER_US
+    for tm in _timers:
+        if tm._due < due:
+            due = tm._due
+    _timer_due = due
+
+
+def _fire_timers():
+    for tm in list(_timers):
+        if tm._due <= _now:
+            schedule(tm._callback, tm)
+            if tm._period_us:
+                tm._due += tm._period_us
+            else:
+                _timers.remove(tm)
+    _update_timer_due()
+
+
+# -- start and end --------------------------------------------------------------
+
+
+def start():
+    """Open the link named by HIL_LINK and shake hands with the host."""
+    global _link, mode, _now, _horizon, now, _wake_real_us, _rt_origin_us
+    path = os.getenv("HIL_LINK")
+    if not path:
+        raise OSError("HIL_LINK is not set: the shim runs under the host runner")
+    _link = _Link(path)
+    info = "%s;%s" % (".".join(str(v) for v in sys.implementation.version[:3]), sys.implementation._machine)
+    send(F.HELLO, struct.pack("<H", F.PROTO_VERSION) + info.encode())
+    _link.flush()
+    type_, _seq, p = _link.recv()
+    if type_ != F.WELCOME:
+        raise OSError("expected WELCOME from the host, got type 0x%02x" % type_)
+    proto, mode, t_start = struct.unpack_from("<HBQ", p, 0)
+    if proto != F.PROTO_VERSION:
+        raise OSError("host speaks link protocol %d, shim speaks %d" % (proto, F.PROTO_VERSION))
+    _now = t_start
+    _horizon = t_start
+    _wake_real_us = _rtime.ticks_us()
+    if mode == F.MODE_REALTIME:
+        _rt_origin_us = _rtime.ticks_add(_rtime.ticks_us(), -t_start)
+        now = _realtime_now
+
+
+def finish(kind, code=0, text=None):
+    """Tell the host the firmware ended (returned, reset, exited or raised)."""
+    if _link is None:
+        return
+    if text is not None:
+        send(F.FAULT, struct.pack("<Q", now()) + text.encode()[: F.MAX_PAYLOAD - 8])
+    send(F.EXIT, struct.pack("<QBi", now(), kind, code))
+    _link.flush()

@@ -1,0 +1,371 @@
+# machine module for firmware running in the loop, shadowing the unix port's own.
+# API after MicroPython's docs (docs/library/machine.*.rst); constants as on the ESP32
+# port. Every pin, ADC, PWM and UART is a handle the host wires to a plant signal.
+import struct
+
+import _hil
+import _hilframe as F
+
+_UNIQUE_ID = b"\x24\x0a\xc4\x00\xf1\x1e"
+PWRON_RESET = 1
+HARD_RESET = 2
+WDT_RESET = 3
+DEEPSLEEP_RESET = 4
+SOFT_RESET = 5
+_reset_cause = PWRON_RESET
+
+
+class Pin:
+    IN = 1
+    OUT = 3
+    OPEN_DRAIN = 7
+    PULL_UP = 2
+    PULL_DOWN = 1
+    IRQ_RISING = 1
+    IRQ_FALLING = 2
+    _MODES = {IN: 0, OUT: 1, OPEN_DRAIN: 2}
+    _PULLS = {None: 0, PULL_UP: 1, PULL_DOWN: 2}
+
+    def __init__(self, id, mode=-1, pull=-1, *, value=None, **_kw):
+        self._id = id
+        self._mode = self.IN
+        self._pull = None
+        self._level = 0
+        self._out = 0
+        self._handler = None
+        self._trigger = 0
+        self._handle = _hil.register(self)
+        self.init(mode, pull, value=value)
+
+    def init(self, mode=-1, pull=-1, *, value=None, **_kw):
+        if mode != -1:
+            if mode not in self._MODES:
+                raise ValueError("invalid pin mode %r" % (mode,))
+            self._mode = mode
+        if pull != -1:
+            if pull not in self._PULLS:
+                raise ValueError("invalid pull %r" % (pull,))
+            self._pull = pull
+        if value is not None:
+            self._out = 1 if value else 0
+        is_input = self._mode == self.IN
+        _hil.configure(self._handle, F.CFG_PIN, self._id, self._MODES[self._mode], self._PULLS[self._pull],
+                       -1 if is_input else self._out, sync=is_input)
+        if not is_input:
+            _hil.send_out(self._handle, F.OUT_LEVEL, self._out)
+
+    def _hil_apply(self, kind, value, extra):
+        old = self._level
+        self._level = value
+        if self._handler is not None and old != value:
+            if (value and self._trigger & self.IRQ_RISING) or (not value and self._trigger & self.IRQ_FALLING):
+                _hil.schedule(self._handler, self)
+
+    def value(self, x=None):
+        if x is None:
+            if self._mode == self.OUT:
+                return self._out
+            _hil.observe()
+            return self._level
+        x = 1 if x else 0
+        if x != self._out:
+            self._out = x
+            if self._mode != self.IN:
+                _hil.send_out(self._handle, F.OUT_LEVEL, x)
+
+    __call__ = value
+
+    def on(self):
+        self.value(1)
+
+    def off(self):
+        self.value(0)
+
+    def high(self):
+        self.value(1)
+
+    def low(self):
+        self.value(0)
+
+    def toggle(self):
+        self.value(1 - self._out)
+
+    def mode(self, mode=None):
+        if mode is None:
+            return self._mode
+        self.init(mode)
+
+    def pull(self, pull=-1):
+        if pull == -1:
+            return self._pull
+        self.init(pull=pull)
+
+    def irq(self, handler=None, trigger=IRQ_FALLING | IRQ_RISING, *, hard=False, **_kw):
+        self._handler = handler
+        self._trigger = trigger if handler is not None else 0
+        _hil.configure(self._handle, F.CFG_IRQ, self._id, self._trigger)
+        return _PinIRQ(self)
+
+    def __repr__(self):
+        return "Pin(%r)" % (self._id,)
+
+
+class _PinIRQ:
+    def __init__(self, pin):
+        self._pin = pin
+
+    def trigger(self):
+        return self._pin._trigger
+
+    def flags(self):
+        return self._pin._trigger
+
+
+class Signal:
+    def __init__(self, pin, *args, invert=False, **kw):
+        self._pin = pin if isinstance(pin, Pin) else Pin(pin, *args, **kw)
+        self._invert = 1 if invert else 0
+
+    def value(self, x=None):
+        if x is None:
+            return self._pin.value() ^ self._invert
+        self._pin.value((1 if x else 0) ^ self._invert)
+
+    __call__ = value
+
+    def on(self):
+        self.value(1)
+
+    def off(self):
+        self.value(0)
+
+
+class ADC:
+    ATTN_0DB = 0
+    ATTN_2_5DB = 1
+    ATTN_6DB = 2
+    ATTN_11DB = 3
+    WIDTH_12BIT = 12
+
+    def __init__(self, id, *, atten=None, **_kw):
+        self._id = id._id if isinstance(id, Pin) else id
+        self._value = 0
+        self._sample = 0
+        self._seen = 0
+        self._handle = _hil.register(self)
+        _hil.configure(self._handle, F.CFG_ADC, self._id, param=atten or 0, sync=True)
+
+    def _hil_apply(self, kind, value, extra):
+        self._value = value
+        self._sample = extra
+
+    def read_u16(self):
+        _hil.observe()
+        if self._sample != self._seen:  # first read of a new sample: report it
+            self._seen = self._sample
+            _hil.send(F.SEEN, struct.pack("<QHI", _hil.now(), self._handle, self._sample))
+        return self._value
+
+    def read(self):
+        return self.read_u16() >> 4
+
+    def read_uv(self):
+        return self.read_u16() * 3_300_000 // 65535
+
+    def atten(self, atten):
+        pass
+
+    def width(self, bits):
+        pass
+
+
+class PWM:
+    def __init__(self, dest, *, freq=None, duty_u16=None, duty_ns=None, invert=False, **_kw):
+        self._pin = dest if isinstance(dest, Pin) else Pin(dest, Pin.OUT)
+        self._handle = _hil.register(self)
+        self._freq = 5000
+        self._duty = 0
+        _hil.configure(self._handle, F.CFG_PWM, self._pin._id, param=self._freq)
+        self.init(freq=freq, duty_u16=duty_u16, duty_ns=duty_ns)
+
+    def init(self, *, freq=None, duty_u16=None, duty_ns=None, **_kw):
+        if freq is not None:
+            self.freq(freq)
+        if duty_u16 is not None:
+            self.duty_u16(duty_u16)
+        elif duty_ns is not None:
+            self.duty_ns(duty_ns)
+
+    def freq(self, value=None):
+        if value is None:
+            return self._freq
+        if not 0 < value <= 40_000_000:
+            raise ValueError("freq %r out of range" % (value,))
+        self._freq = int(value)
+        _hil.send_out(self._handle, F.OUT_FREQ, self._freq)
+
+    def duty_u16(self, value=None):
+        if value is None:
+            return self._duty
+        value = int(value)
+        if not 0 <= value <= 65535:
+            raise ValueError("duty_u16 %r out of range 0..65535" % (value,))
+        if value != self._duty:
+            self._duty = value
+            _hil.send_out(self._handle, F.OUT_DUTY, value)
+
+    def duty_ns(self, value=None):
+        period_ns = 1_000_000_000 // self._freq
+        if value is None:
+            return self._duty * period_ns // 65535
+        self.duty_u16(min(65535, int(value) * 65535 // period_ns))
+
+    def deinit(self):
+        self._duty = 0
+        _hil.send_out(self._handle, F.OUT_DEINIT, 0)
+
+
+class Timer:
+    ONE_SHOT = 0
+    PERIODIC = 1
+
+    def __init__(self, id=-1, **kw):
+        self._id = id
+        self._callback = None
+        self._period_us = 0
+        self._due = F.FOREVER_US
+        if kw:
+            self.init(**kw)
+
+    def init(self, *, mode=PERIODIC, freq=-1, period=-1, tick_hz=1000, callback=None):
+        if freq > 0:
+            period_us = 1_000_000 // freq
+        elif period > 0:
+            period_us = period * 1_000_000 // tick_hz
+        else:
+            raise ValueError("Timer needs a period or a freq")
+        self._callback = callback
+        self._period_us = period_us if mode == self.PERIODIC else 0
+        self._due = _hil.now() + period_us
+        if callback is None:
+            _hil.remove_timer(self)
+        else:
+            _hil.add_timer(self)
+
+    def deinit(self):
+        self._due = F.FOREVER_US
+        _hil.remove_timer(self)
+
+
+class UART:
+    def __init__(self, id, baudrate=9600, **kw):
+        self._id = id
+        self._rx = b""
+        self._handle = _hil.register(self)
+        self._baud = baudrate
+        _hil.configure(self._handle, F.CFG_UART, "uart%s" % (id,), param=baudrate)
+
+    def init(self, baudrate=9600, **kw):
+        self._baud = baudrate
+
+    def deinit(self):
+        pass
+
+    def _hil_apply(self, kind, value, extra):
+        self._rx += extra
+
+    def any(self):
+        _hil.observe()
+        return len(self._rx)
+
+    def read(self, nbytes=-1):
+        _hil.observe()
+        if not self._rx:
+            return None
+        if nbytes is None or nbytes < 0:
+            nbytes = len(self._rx)
+        data, self._rx = self._rx[:nbytes], self._rx[nbytes:]
+        return data
+
+    def readinto(self, buf, nbytes=-1):
+        data = self.read(len(buf) if nbytes < 0 else nbytes)
+        if not data:
+            return None
+        buf[: len(data)] = data
+        return len(data)
+
+    def readline(self):
+        _hil.observe()
+        i = self._rx.find(b"\n")
+        if i < 0:
+            return self.read() if self._rx else None
+        return self.read(i + 1)
+
+    def write(self, buf):
+        data = bytes(buf)
+        _hil.send(F.UART_TX, struct.pack("<QH", _hil.now(), self._handle) + data)
+        return len(data)
+
+    def _poll_ready(self, mask):
+        return len(self._rx) > 0
+
+    def flush(self):
+        pass
+
+
+def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
+    """Length of a pulse in us; -2 if it never started, -1 if it never ended."""
+    _hil.blocking()
+    watch = [pin._handle]
+    if pin.value() != pulse_level:
+        deadline = _hil.now() + timeout_us
+        while pin._level != pulse_level:
+            if not _hil.run_until(deadline, watch) and pin._level != pulse_level:
+                return -2
+    t0 = _hil.now()
+    deadline = t0 + timeout_us
+    while pin._level == pulse_level:
+        if not _hil.run_until(deadline, watch) and pin._level == pulse_level:
+            return -1
+    return _hil.now() - t0
+
+
+def disable_irq():
+    return _hil.disable_irq()
+
+
+def enable_irq(state=0):
+    _hil.enable_irq(state)
+
+
+def idle():
+    """Wait for the next interrupt or the next 1 ms system tick, as a board does."""
+    _hil.blocking()
+    t = _hil.now()
+    _hil.run_until(t - t % 1000 + 1000)
+
+
+def lightsleep(time_ms=None):
+    _hil.blocking()
+    if time_ms is not None:
+        _hil.run_until(_hil.now() + time_ms * 1000)
+
+
+def unique_id():
+    return _UNIQUE_ID
+
+
+def freq(hz=None):
+    return 240_000_000
+
+
+def reset():
+    raise _hil.ResetRequest()
+
+
+def soft_reset():
+    raise _hil.ResetRequest()
+
+
+def reset_cause():
+    return _reset_cause

@@ -1,0 +1,57 @@
+# select module for firmware running in the loop. asyncio waits through
+# select.poll().ipoll(ms); here that wait is a virtual sleep that ends early when a
+# polled UART receives bytes.
+import _hil
+
+POLLIN = 0x0001
+POLLOUT = 0x0004
+POLLERR = 0x0008
+POLLHUP = 0x0010
+
+
+class _Poll:
+    def __init__(self):
+        self._map = {}
+
+    def register(self, obj, eventmask=POLLIN | POLLOUT):
+        self._map[id(obj)] = [obj, eventmask]
+
+    def modify(self, obj, eventmask):
+        entry = self._map.get(id(obj))
+        if entry is None:
+            raise OSError(2)  # ENOENT, as the built-in poll raises
+        entry[1] = eventmask
+
+    def unregister(self, obj):
+        self._map.pop(id(obj), None)
+
+    def _ready(self):
+        ready = []
+        for obj, mask in self._map.values():
+            ev = 0
+            if mask & POLLIN and obj._poll_ready(POLLIN):
+                ev |= POLLIN
+            if mask & POLLOUT:
+                ev |= POLLOUT
+            if ev:
+                ready.append((obj, ev))
+        return ready
+
+    def ipoll(self, timeout=-1, flags=0):
+        _hil.blocking()
+        ready = self._ready()
+        if ready or timeout == 0:
+            return ready
+        watch = [obj._handle for obj, _ in self._map.values()]
+        deadline = _hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000
+        while True:
+            _hil.run_until(deadline, watch)
+            ready = self._ready()
+            if ready or _hil.now() >= deadline:
+                return ready
+
+    poll = ipoll
+
+
+def poll():
+    return _Poll()

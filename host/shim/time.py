@@ -1,0 +1,64 @@
+# time module for firmware running in the loop: ticks and sleeps in virtual time.
+# Ticks have a 32-bit MCU's period (2**30) and start close to the wrap, so code that
+# subtracts ticks instead of using ticks_diff fails here as it would on a board.
+import _hil
+
+_MASK = _hil.TICKS_MASK
+_HALF = _hil.TICKS_PERIOD >> 1
+_START_US = _hil.TICKS_START_US
+_START_MS = _hil.TICKS_START_MS
+_EPOCH_S = 1_735_689_600  # 2025-01-01 00:00:00 UTC: the board's RTC at power-on
+
+
+def ticks_us():
+    _hil.observe()
+    return (_START_US + _hil.now()) & _MASK
+
+
+def ticks_ms():
+    _hil.observe()
+    return (_START_MS + _hil.now() // 1000) & _MASK
+
+
+ticks_cpu = ticks_us
+
+
+def ticks_add(ticks, delta):
+    return (ticks + delta) & _MASK
+
+
+def ticks_diff(ticks1, ticks2):
+    return ((ticks1 - ticks2 + _HALF) & _MASK) - _HALF
+
+
+def sleep_us(us):
+    _hil.blocking()
+    if us > 0:
+        _hil.run_until(_hil.now() + int(us))
+
+
+def sleep_ms(ms):
+    sleep_us(int(ms) * 1000)
+
+
+def sleep(seconds):
+    sleep_us(int(seconds * 1_000_000))
+
+
+def time():
+    return _EPOCH_S + _hil.now() // 1_000_000
+
+
+def time_ns():
+    return (_EPOCH_S * 1_000_000 + _hil.now()) * 1000
+
+
+def gmtime(secs=None):
+    return _hil._rtime.gmtime(time() if secs is None else secs)
+
+
+localtime = gmtime
+
+
+def mktime(t):
+    return _hil._rtime.mktime(t)
