@@ -182,7 +182,7 @@ def run_until(t_target, watch=None):
 
 
 def _sync(t_until, watch):
-    global _now, _horizon, _wake_real_us
+    global _now, _horizon, _wake_real_us, _spin
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     payload = struct.pack("<QQI", _now, t_until, compute_us if compute_us > 0 else 0)
     if watch:
@@ -195,6 +195,7 @@ def _sync(t_until, watch):
         if type_ == F.STATE:
             break
     _wake_real_us = _rtime.ticks_us()
+    _spin = 0  # new inputs: handlers and main start reading the clock afresh
     t, horizon, n = struct.unpack_from("<QQH", p, 0)
     if mode == F.MODE_LOCKSTEP:
         _now = t

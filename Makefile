@@ -1,0 +1,49 @@
+# Entry points. Each target sets up what it needs on a fresh machine: the Python
+# environment (.venv) and MicroPython's unix port built from Debian's source package.
+#   make test    every test: unit + firmware-in-the-loop (what CI runs)
+#   make hil     the firmware-in-the-loop scenarios, with the timing-budget table
+#   make bench   real-time factor and link round trip; plant cost per quantum
+#   make lint    ruff on the host side
+# MICROPYTHON=/path/to/micropython uses that interpreter instead of the build.
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+MP_BUILD := build/micropython/1.25.0+ds-1/micropython
+
+ifeq ($(origin MICROPYTHON),undefined)
+MICROPYTHON := $(CURDIR)/$(MP_BUILD)
+MP_DEP := $(MP_BUILD)
+else
+MP_DEP :=
+endif
+export MICROPYTHON
+
+.PHONY: setup test hil bench lint clean
+
+setup: $(VENV)/.installed $(MP_DEP)
+	@$(PY) -m host.interpreter version
+
+$(VENV)/.installed: pyproject.toml host/bootstrap.sh
+	host/bootstrap.sh $(PYTHON) $(VENV)
+	@touch $@
+
+$(MP_BUILD): host/interpreter.py host/micropython/manifest.py host/micropython/sources.list
+	rm -f $(MP_BUILD)
+	$(PYTHON) -m host.interpreter build
+
+test: setup
+	$(PY) -m pytest -q
+
+hil: setup
+	$(PY) -m pytest -q -m hil --hil-table hil_tests
+
+bench: setup
+	$(PY) -m host.bench
+	$(PY) -m sim_plant.bench
+
+lint: setup
+	$(VENV)/bin/ruff check host sim_plant hil_tests
+
+clean:
+	rm -rf build $(VENV)

@@ -1,0 +1,69 @@
+"""pytest plugin: rigs as fixtures, and the timing-budget table.
+
+``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
+plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
+when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-table``
+the budget statistics of every rig are printed at the end of the session.
+"""
+
+import re
+
+import pytest
+
+from host import interpreter
+from host.boards import REPO
+from host.budgets import format_table
+from host.errors import SetupError
+from host.runner import Rig
+
+ARTEFACTS = REPO / "build" / "hil"
+_rows: list[dict] = []
+
+
+def pytest_addoption(parser):
+    group = parser.getgroup("hil", "firmware in the loop")
+    group.addoption("--hil-table", action="store_true", help="print the timing-budget table at the end")
+
+
+def pytest_report_header(config):
+    try:
+        path = interpreter.find()
+        return f"micropython: {interpreter.version(path)} ({path})"
+    except SetupError as e:
+        return f"micropython: not available ({e})"
+
+
+def artefacts_for(node) -> "ARTEFACTS":
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", node.nodeid.split("::", 1)[-1])
+    return ARTEFACTS / node.module.__name__.rsplit(".", 1)[-1] / name
+
+
+@pytest.fixture
+def make_rig(request):
+    rigs: list[Rig] = []
+
+    def factory(app="rover", **kwargs) -> Rig:
+        kwargs.setdefault("artefacts", artefacts_for(request.node) / f"rig{len(rigs)}")
+        rig = Rig(app, **kwargs)
+        rigs.append(rig)
+        rig.start()
+        return rig
+
+    yield factory
+    for rig in rigs:
+        rig.stop()
+        scenario = request.node.name
+        for row in rig.budget_rows():
+            if row["count"]:
+                _rows.append({"scenario": scenario, **row})
+
+
+@pytest.fixture
+def rig(make_rig) -> Rig:
+    return make_rig()
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    if config.getoption("--hil-table") and _rows:
+        terminalreporter.section("timing budgets (virtual time, us)")
+        terminalreporter.write_line(format_table(_rows))

@@ -1,0 +1,52 @@
+"""Shim tests: tiny firmwares under host/tests/firmware/<case>/main.py run in the loop
+against a ScriptedPlant wired to the esp32_devkitc pin map. Each firmware prints
+``R <name> <value>`` lines that the tests read back."""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from host.apps import PROBE, App
+from sim_plant.scripted import ScriptedPlant
+
+FIRMWARE = Path(__file__).parent / "firmware"
+
+WIRING = {
+    "ENC_L_A": "a",  # pin 34
+    "ENC_L_B": "b",  # pin 35
+    "ENC_R_A": "echo",  # pin 36
+    "SONAR_ADC": "adc",  # pin 32
+    "BUMPER": "button",  # pin 23
+    "MOTOR_L_IN1": "out1",  # pin 26
+    "MOTOR_L_PWM": "pwm",  # pin 25
+    "LOOP_PROBE": PROBE + "control",  # pin 15
+}
+OUTPUTS = {"a": "level", "b": "level", "echo": "level", "adc": "u16", "button": "level"}
+INPUTS = {"out1": "level", "pwm": "duty"}
+
+
+def shim_app(script=(), initial=None) -> App:
+    return App(name="shim-test", default_board="esp32_devkitc", wiring=WIRING,
+               make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial))
+
+
+def results(console: str) -> dict:
+    """The firmware's `R name value` lines as a dict of Python values."""
+    out = {}
+    for line in console.splitlines():
+        if line.startswith("R "):
+            _, name, value = line.split(" ", 2)
+            out[name] = ast.literal_eval(value)
+    return out
+
+
+@pytest.fixture
+def run_case(make_rig):
+    def run(case: str, duration_s: float, script=(), initial=None, **kwargs):
+        rig = make_rig(shim_app(script, initial), main_dir=FIRMWARE / case, **kwargs)
+        rig.run_for(duration_s)
+        rig.stop()  # also drains the console pipe
+        return rig, results(rig.console)
+
+    return run

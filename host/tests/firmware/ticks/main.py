@@ -1,0 +1,15 @@
+from time import sleep, sleep_us, ticks_add, ticks_cpu, ticks_diff, ticks_ms, ticks_us
+
+ms0, us0 = ticks_ms(), ticks_us()
+print("R ms0", ms0)
+print("R us0", us0)
+print("R add_wrap", ticks_add(2**30 - 1, 1))
+print("R diff_wrap", ticks_diff(5, 2**30 - 5))
+sleep(11)
+ms1, us1 = ticks_ms(), ticks_us()
+print("R ms1", ms1)
+print("R elapsed_ms", ticks_diff(ms1, ms0))
+print("R elapsed_us", ticks_diff(us1, us0))
+sleep_us(250)
+print("R after_us", ticks_diff(ticks_us(), us1))
+print("R cpu", ticks_cpu() >= 0)

@@ -1,0 +1,91 @@
+"""The shim's machine/time/select/asyncio behave like a board's, in virtual time."""
+
+import time
+
+import pytest
+
+from host.errors import FirmwareError, FirmwareHung
+
+pytestmark = pytest.mark.hil
+
+
+def test_irq_handlers_run_in_edge_order_with_ticks_at_the_edge(run_case):
+    script = [(1000, "a", 1), (1200, "b", 1), (1500, "a", 0), (1700, "b", 0), (5000, "a", 1)]
+    _, r = run_case("irq_order", 0.01, script)
+    assert r["events"] == [("Pin(34)", 1, 1000), ("Pin(35)", 1, 1200), ("Pin(34)", 0, 1500)], r
+    assert r["busy_saw"] == ("Pin(34)", 1, 5000), "a handler must run while main polls the clock"
+
+
+def test_timers_fire_periodic_one_shot_and_by_freq_in_virtual_time(run_case):
+    _, r = run_case("timers", 0.4)
+    assert r["periodic"] == [50 * k for k in range(1, 7)], r
+    assert r["oneshot"] == [120], r
+    assert r["fast"] == [10 * k for k in range(1, 21)], r
+
+
+def test_time_pulse_us_measures_a_pulse_and_reports_its_timeouts(run_case):
+    script = [(10_000, "echo", 1), (10_583, "echo", 0), (40_000, "echo", 1), (100_000, "echo", 0)]
+    _, r = run_case("pulse", 0.1, script)
+    assert r == {"pulse": 583, "no_start": -2, "too_long": -1}, r
+
+
+def test_ticks_wrap_like_a_32_bit_board_and_start_near_the_wrap(run_case):
+    _, r = run_case("ticks", 12)
+    period = 1 << 30
+    assert period - 10_001 <= r["ms0"] < period and r["us0"] >= period - 10_000_001, r
+    assert r["ms1"] < r["ms0"], "ticks_ms must wrap 10 s into the run"
+    assert r["add_wrap"] == 0 and r["diff_wrap"] == 10
+    assert r["elapsed_ms"] == 11_000 and r["elapsed_us"] == 11_000_000
+    assert r["after_us"] == 250 and r["cpu"] is True
+
+
+def test_busy_wait_on_ticks_terminates_in_virtual_time(run_case):
+    t0 = time.monotonic()
+    _, r = run_case("busy_wait", 0.2)
+    assert r["waited_ms"] == 100, r
+    assert r["polls"] > 1000, "each clock read costs a little virtual time, so the loop polls many times"
+    assert time.monotonic() - t0 < 10
+
+
+def test_asyncio_sleeps_events_and_timeouts_run_in_virtual_time(run_case):
+    t0 = time.monotonic()
+    _, r = run_case("asyncio_time", 0.5)
+    assert r["log"] == [("a", 30), ("b", 50), ("a", 60), ("a", 90), ("b", 100), ("event", 100), ("timeout", 300)], r
+    assert time.monotonic() - t0 < 5
+
+
+def test_pins_signal_pwm_adc_and_irq_masking_reach_the_plant(run_case):
+    script = [(1_000, "adc", 1234), (5_000, "button", 0), (15_000, "a", 1)]
+    rig, r = run_case("pins", 0.1, script, initial={"button": 1, "adc": 777})
+    assert r["button_pressed"] == [0] and r["button_pressed_later"] == [1, 1], r
+    assert r["pwm"] == [20_000, 30_000] and r["uid"] == 6
+    assert r["adc"] == [1234, 1234], r
+    assert r["while_disabled"] == 0 and r["after_enable"] == 1, r
+    assert r["done"] == 1
+    log = rig.plant.log
+    assert [(t, v) for t, n, v in log if n == "out1"] == [(0, 0), (0, 1), (1000, 0), (2000, 1)], log
+    assert [(t, v) for t, n, v in log if n == "pwm"] == [(12000, 1000), (13000, 30000), (14000, 0)], log
+
+
+def test_machine_reset_restarts_the_firmware_and_keeps_virtual_time(run_case):
+    rig, _ = run_case("reset", 0.25)
+    assert rig.resets == 2, rig.console
+    assert rig.console.count("R cause") == 3
+    assert rig.t_us == 250_000
+
+
+def test_firmware_exception_fails_with_the_micropython_traceback(run_case):
+    with pytest.raises(FirmwareError) as err:
+        run_case("raises", 1.0)
+    text = str(err.value)
+    assert "ZeroDivisionError" in text and 'File "main.py", line 5, in control_step' in text, text
+    assert "virtual t=0.150000 s" in text, text
+    assert "artefacts:" in text
+
+
+def test_firmware_that_never_yields_is_stopped_by_the_watchdog(run_case):
+    t0 = time.monotonic()
+    with pytest.raises(FirmwareHung) as err:
+        run_case("hangs", 1.0, watchdog_s=1.0)
+    assert "stopped answering" in str(err.value) and "virtual t=0.100000 s" in str(err.value), str(err.value)
+    assert time.monotonic() - t0 < 5
