@@ -13,6 +13,7 @@ stops answering is stopped and reported, and :meth:`Rig.stop` always ends the
 process and closes the pty.
 """
 
+import copy
 import os
 import signal
 import struct
@@ -20,6 +21,8 @@ import subprocess
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from host import interpreter
 from host.apps import PROBE, App, get_app
@@ -34,6 +37,8 @@ SHIM_DIR = Path(__file__).resolve().parent / "shim"
 MODES = {"lockstep": F.MODE_LOCKSTEP, "realtime": F.MODE_REALTIME}
 HANDSHAKE_TIMEOUT_S = 10.0
 CONSOLE_TAIL_LINES = 20
+MAX_BATCH = 200  # changes in one STATE (15 bytes each)
+MAX_BATCH_BYTES = 800  # UART bytes in one STATE
 MSG_NAMES = {F.HELLO: "HELLO", F.CFG: "CFG", F.OUT: "OUT", F.WAIT: "WAIT", F.SEEN: "SEEN",
              F.UART_TX: "UART_TX", F.FAULT: "FAULT", F.EXIT: "EXIT"}
 CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
@@ -57,6 +62,7 @@ class Handle:
 
 @dataclass
 class _Wait:
+    t_now: int
     t_until: int
     watch: frozenset
 
@@ -64,7 +70,8 @@ class _Wait:
 @dataclass
 class RunStats:
     link_round_trips: int = 0
-    irq_stops: int = 0
+    irq_edges: int = 0
+    rollbacks: int = 0
     lease_violations: int = 0
     round_trip_us: list = field(default_factory=list)
 
@@ -113,7 +120,13 @@ class Rig:
         self._by_signal: dict[str, list[int]] = {}
         self._wait: _Wait | None = None
         self._delta: list = []
-        self._delta_index: dict[int, int] = {}
+        self._delta_bytes = 0
+        self._last_batch: list = []
+        self._snapshot = None
+        self._uncommitted: list = []
+        self._budgets_by_source: dict[str, list] = {}
+        for budget in self.budgets.values():
+            self._budgets_by_source.setdefault(budget.source, []).append(budget)
         self._sample_times: dict[int, int] = {}
         self._last_msg = "none yet"
         self._wall0 = 0.0
@@ -162,7 +175,8 @@ class Rig:
         self._by_signal = {}
         self._wait = None
         self._delta = []
-        self._delta_index = {}
+        self._delta_bytes = 0
+        self._snapshot = None
         type_, payload = self._recv(HANDSHAKE_TIMEOUT_S, "HELLO")
         if type_ != F.HELLO:
             raise LinkError(f"expected HELLO from the shim, got {MSG_NAMES.get(type_, hex(type_))}")
@@ -225,7 +239,11 @@ class Rig:
             raise LinkError("the rig is not running: call start() first")
         while True:
             if self.exit_kind is not None:  # firmware ended: the plant runs on alone
-                self._advance_plant(t_end_us, frozenset())
+                while self.t_us < t_end_us:
+                    self._advance_plant(t_end_us, frozenset())
+                    self._delta = []
+                    self._delta_bytes = 0
+                self._commit(self.t_us)
                 return
             if self._wait is None:
                 self._handle(*self._recv(self.watchdog_s, "a message"))
@@ -239,76 +257,117 @@ class Rig:
         stopped = self._advance_plant(min(wait.t_until, t_end_us), wait.watch)
         if stopped or self.t_us >= wait.t_until:
             self._wait = None
-            self._send_state()
+            self._send_state(wait.t_now)
+        elif self._snapshot is None:
+            self._commit(self.t_us)  # nothing in this batch can be rolled back
 
     def _advance_plant(self, target_us: int, watch: frozenset) -> bool:
-        """Advance event by event; True at the first change that wakes the firmware."""
+        """Advance event by event, collecting what the firmware must see. True when the
+        batch must go now: a watched input changed, the batch is full, or (real time)
+        an IRQ edge is due. In lockstep, IRQ edges are batched speculatively: the plant
+        is snapshotted at the first one, and rolled back if a handler changes an output."""
         plant = self.plant
+        lockstep = self.mode == "lockstep"
         while plant.t_us < target_us:
             t_next = min(plant.next_change_us(), target_us)
-            if self.mode == "realtime":
+            if not lockstep:
                 self._sleep_until(t_next)
-            stop = False
+            irq = hit = False
             for change in plant.advance_to(t_next):
-                stop |= self._route(change, watch)
-            if stop:
-                self.stats.irq_stops += 1
+                i, h = self._route(change, watch)
+                irq |= i
+                hit |= h
+            if irq and lockstep and self._snapshot is None and self._wait is not None:
+                self._snapshot = (plant.t_us, self._take_snapshot())
+            if irq:
+                self.stats.irq_edges += 1
+            if hit or (irq and not lockstep) or len(self._delta) >= MAX_BATCH or self._delta_bytes > MAX_BATCH_BYTES:
                 return True
         return False
+
+    def _take_snapshot(self):
+        state = self.plant.__dict__
+        gens = {id(v): v for v in state.values() if isinstance(v, np.random.Generator)}
+        return copy.deepcopy(state, dict(gens)), [(g, g.bit_generator.state) for g in gens.values()]
+
+    def _rewind(self, t_us: int) -> None:
+        """A handler changed an output at t_us inside a speculative batch: go back."""
+        if self._snapshot is None or self._snapshot[0] > t_us:
+            raise LinkError(f"firmware reported t={t_us} us, before the plant's {self.t_us} us, with no snapshot to "
+                            f"return to (link protocol error)")
+        state, gens = self._snapshot[1]
+        self.plant.__dict__.clear()
+        self.plant.__dict__.update(state)
+        for gen, gen_state in gens:
+            gen.bit_generator.state = gen_state
+        self.plant.advance_to(t_us)  # the firmware already has these changes
+        self._snapshot = None
+        self._uncommitted = [e for e in self._uncommitted if e[0] <= t_us]
+        for t, h, kind, _value, _extra in self._last_batch:
+            if t > t_us and kind == F.CH_SAMPLE and h < len(self._handles):
+                self._handles[h].samples -= 1
+        self.stats.rollbacks += 1
+        self._log({"t": t_us, "msg": "ROLLBACK"})
 
     def _sleep_until(self, t_us: int) -> None:
         delay = self._wall0 + t_us / 1e6 - time.monotonic()
         if delay > 0:
             time.sleep(delay)
 
-    def _route(self, change, watch: frozenset) -> bool:
+    def _route(self, change, watch: frozenset) -> tuple[bool, bool]:
+        """Queue a plant change for the firmware; (fires an IRQ, wakes a watched wait)."""
         t, name, value = change
-        for budget in self.budgets.values():
-            if budget.source == name:
-                if isinstance(budget, PeriodBudget):
-                    budget.event(t)
-        stop = False
+        irq = hit = False
+        for budget in self._budgets_by_source.get(name, ()):
+            if isinstance(budget, PeriodBudget):
+                self._uncommitted.append((t, budget.event, (t,)))
         for h in self._by_signal.get(name, ()):
             info = self._handles[h]
             if info.kind == F.CFG_ADC:
                 info.samples += 1
-                self._sample_times[h] = t
-                for budget in self.budgets.values():
-                    if isinstance(budget, LatencyBudget) and budget.source == name:
-                        budget.sample(info.samples, t)
-                self._queue(h, F.CH_SAMPLE, value, info.samples, coalesce=True)
+                for budget in self._budgets_by_source.get(name, ()):
+                    if isinstance(budget, LatencyBudget):
+                        self._uncommitted.append((t, budget.sample, (info.samples, t)))
+                self._delta.append((t, h, F.CH_SAMPLE, value, info.samples))
             elif info.kind == F.CFG_UART:
-                self._queue(h, F.CH_BYTES, len(value), value, coalesce=False)
-                stop |= h in watch
+                self._delta.append((t, h, F.CH_BYTES, len(value), value))
+                self._delta_bytes += len(value)
+                hit |= h in watch
             else:
-                irq = info.irq
-                self._queue(h, F.CH_LEVEL, value, 0, coalesce=not irq and h not in watch)
-                if h in watch or (irq & (1 if value else 2)):
-                    stop = True
-        return stop
+                self._delta.append((t, h, F.CH_LEVEL, value, 0))
+                if h in watch:
+                    hit = True
+                elif info.irq & (1 if value else 2):
+                    irq = True
+        return irq, hit
 
-    def _queue(self, h: int, kind: int, value, extra, coalesce: bool) -> None:
-        if coalesce and h in self._delta_index:
-            self._delta[self._delta_index[h]] = (h, kind, value, extra)
-            return
-        if coalesce:
-            self._delta_index[h] = len(self._delta)
-        self._delta.append((h, kind, value, extra))
+    def _commit(self, t_us: int) -> None:
+        """Budget events up to t_us can no longer be rolled back: record them."""
+        if self._uncommitted and self._uncommitted[0][0] <= t_us:
+            keep = []
+            for event in self._uncommitted:
+                if event[0] <= t_us:
+                    event[1](*event[2])
+                else:
+                    keep.append(event)
+            self._uncommitted = keep
 
-    def _send_state(self) -> None:
+    def _send_state(self, base_us: int) -> None:
         horizon = self.plant.next_change_us()
-        parts = [struct.pack("<QQH", self.t_us, horizon, len(self._delta))]
-        for h, kind, value, extra in self._delta:
+        parts = [struct.pack("<QQQH", base_us, self.t_us, horizon, len(self._delta))]
+        for t, h, kind, value, extra in self._delta:
+            dt = t - base_us if t > base_us else 0
             if kind == F.CH_BYTES:
-                parts.append(struct.pack("<HBiI", h, kind, value, 0) + extra)
+                parts.append(struct.pack("<IHBiI", dt, h, kind, value, 0) + extra)
             else:
-                parts.append(struct.pack("<HBiI", h, kind, value, extra))
+                parts.append(struct.pack("<IHBiI", dt, h, kind, value, extra))
         if self._trace:
-            self._trace.write({"t": self.t_us, "to": "fw", "msg": "STATE", "horizon": horizon,
-                               "changes": [[h, k, v if k != F.CH_BYTES else e.hex(), e if k != F.CH_BYTES else 0]
-                                           for h, k, v, e in self._delta]})
+            self._trace.write({"t": self.t_us, "to": "fw", "msg": "STATE", "base": base_us, "horizon": horizon,
+                               "changes": [[t, h, k, v, e.hex() if k == F.CH_BYTES else e]
+                                           for t, h, k, v, e in self._delta]})
+        self._last_batch = self._delta
         self._delta = []
-        self._delta_index = {}
+        self._delta_bytes = 0
         self._send(F.STATE, b"".join(parts))
         self.stats.link_round_trips += 1
 
@@ -319,7 +378,9 @@ class Rig:
             t_now, t_until, compute_us = struct.unpack_from("<QQI", p)
             watch = frozenset(struct.unpack_from("<%dH" % ((len(p) - 20) // 2), p, 20))
             self._catch_up(t_now)
-            self._wait = _Wait(max(t_until, self.t_us), watch)
+            self._snapshot = None  # the firmware took the whole last batch
+            self._commit(t_now)
+            self._wait = _Wait(t_now, max(t_until, self.t_us), watch)
             for budget in self.budgets.values():
                 if isinstance(budget, ComputeBudget):
                     budget.event(compute_us)
@@ -332,6 +393,7 @@ class Rig:
             self._on_cfg(p)
         elif type_ == F.SEEN:
             t, h, sample_no = struct.unpack_from("<QHI", p)
+            self._commit(t)
             signal_name = self._handles[h].signal
             for budget in self.budgets.values():
                 if isinstance(budget, LatencyBudget) and budget.source == signal_name:
@@ -358,10 +420,15 @@ class Rig:
             raise LinkError(f"unexpected message type 0x{type_:02x} from the shim")
 
     def _catch_up(self, t_us: int) -> None:
-        """The shim moved on by itself (inside its horizon): bring the plant along."""
+        """Bring the plant to the firmware's time: forward if the shim moved on inside
+        its horizon, back if a handler changed an output inside a speculative batch."""
         if t_us > self.t_us:
             for change in self.plant.advance_to(t_us):
-                self.stats.lease_violations += self._route(change, frozenset())
+                self.stats.lease_violations += 1
+                self._route(change, frozenset())
+        elif t_us < self.t_us:
+            self._rewind(t_us)
+        self._commit(t_us)
 
     def _on_cfg(self, p: bytes) -> None:
         h, kind, mode, pull, param = struct.unpack_from("<HBBBi", p)
@@ -389,7 +456,7 @@ class Rig:
             else:
                 value = 1 if pull == 1 else 0
             kind_ = F.CH_SAMPLE if kind == F.CFG_ADC else F.CH_LEVEL
-            self._queue(h, kind_, value if value is not None else 0, 0, coalesce=True)
+            self._delta.append((self.t_us, h, kind_, value if value is not None else 0, 0))
 
     def _on_out(self, t: int, h: int, attr: int, value: int) -> None:
         info = self._handles[h]
@@ -496,4 +563,4 @@ class Rig:
 
     def counters(self) -> dict:
         return {**(self._chan.counters() if self._chan else {}), "round_trips": self.stats.link_round_trips,
-                "irq_stops": self.stats.irq_stops, "lease_violations": self.stats.lease_violations}
+                "irq_edges": self.stats.irq_edges, "rollbacks": self.stats.rollbacks, "lease_violations": self.stats.lease_violations}

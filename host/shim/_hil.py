@@ -39,6 +39,7 @@ _timers = []
 _handles = []
 _pending = []  # (callback, argument) due to run between main-program bytecodes
 _dispatching = False
+_wrote = False
 _irq_off = 0
 _link = None
 _wake_real_us = 0
@@ -103,11 +104,16 @@ def send(type_, payload):
     _link.queue(type_, payload)
 
 
-def send_out(handle, attr, value):
-    """An actuator write: from now on the plant may behave differently."""
-    global _horizon
-    _link.queue(F.OUT, struct.pack("<QHBi", now(), handle, attr, value))
+def send_output(type_, payload):
+    """An actuator write (OUT, UART_TX): from now on the plant may behave differently."""
+    global _horizon, _wrote
+    _link.queue(type_, payload)
     _horizon = _now
+    _wrote = True
+
+
+def send_out(handle, attr, value):
+    send_output(F.OUT, struct.pack("<QHBi", now(), handle, attr, value))
 
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
@@ -196,24 +202,48 @@ def _sync(t_until, watch):
             break
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
-    t, horizon, n = struct.unpack_from("<QQH", p, 0)
-    if mode == F.MODE_LOCKSTEP:
-        _now = t
-    else:
-        now()
-    _horizon = horizon
+    base, t_end, horizon, n = struct.unpack_from("<QQQH", p, 0)
     hit = False
-    off = 18
+    off = 26
+    group_t = -1
     for _ in range(n):
-        h, kind, value, extra = struct.unpack_from("<HBiI", p, off)
-        off += 11
+        dt, h, kind, value, extra = struct.unpack_from("<IHBiI", p, off)
+        off += 15
         if kind == F.CH_BYTES:
             extra = p[off:off + value]
             off += value
+        t = base + dt
+        if t != group_t:
+            if _pending and group_t >= 0 and _handlers_wrote(group_t):
+                return hit
+            group_t = t
+            if mode == F.MODE_LOCKSTEP:
+                _now = t
         _handles[h]._hil_apply(kind, value, extra)
         if watch and h in watch:
             hit = True
+    if _pending and group_t >= 0 and _handlers_wrote(group_t):
+        return hit
+    if mode == F.MODE_LOCKSTEP:
+        _now = t_end
+    else:
+        now()
+    _horizon = horizon
     return hit
+
+
+def _handlers_wrote(t):
+    """Run the handlers due at time t. If they changed an output, the rest of the batch
+    (computed by the host for the old outputs) is void: stay at t and resync."""
+    global _wrote, _now, _horizon
+    _wrote = False
+    dispatch()
+    if _wrote:
+        if mode == F.MODE_LOCKSTEP:
+            _now = t
+        _horizon = _now
+        return True
+    return False
 
 
 # -- callbacks: IRQ handlers and Timer callbacks ------------------------------------

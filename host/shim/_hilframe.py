@@ -17,7 +17,7 @@ PROTO_VERSION = 1
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
-MAX_PAYLOAD = 1024
+MAX_PAYLOAD = 4096
 _SOF_BYTES = b"\xa5"
 
 
@@ -124,7 +124,8 @@ FAULT = 0x07  # <Q t_us, then UTF-8 traceback
 EXIT = 0x08  # <QBi t_us, kind, code
 # host -> shim
 WELCOME = 0x81  # <HBQ proto, mode, t_start_us
-STATE = 0x82  # <QQH t_us, horizon_us, count, then count x <HBiI (+ bytes for CH_BYTES)
+STATE = 0x82  # <QQQH base_us, t_end_us, horizon_us, count, then count x <IHBiI dt_us, handle, kind,
+#              value, extra (+ value bytes for CH_BYTES)
 
 CFG_PIN = 1
 CFG_ADC = 2

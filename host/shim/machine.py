@@ -303,7 +303,7 @@ class UART:
 
     def write(self, buf):
         data = bytes(buf)
-        _hil.send(F.UART_TX, struct.pack("<QH", _hil.now(), self._handle) + data)
+        _hil.send_output(F.UART_TX, struct.pack("<QH", _hil.now(), self._handle) + data)
         return len(data)
 
     def _poll_ready(self, mask):
