@@ -76,6 +76,33 @@ class RunStats:
     round_trip_us: list = field(default_factory=list)
 
 
+_IMMUTABLE = (int, float, str, bytes, bool, type(None), frozenset)
+
+
+def _copy_state(value, gens: list):
+    """A deep copy of plant state that is cheap for what plants hold (numbers, tuples of
+    numbers, small lists and dicts, component objects); numpy Generators are kept by
+    reference and their bit-generator state is saved in ``gens`` instead."""
+    if isinstance(value, _IMMUTABLE):
+        return value
+    if isinstance(value, list):
+        return [_copy_state(v, gens) for v in value]
+    if isinstance(value, dict):
+        return {k: _copy_state(v, gens) for k, v in value.items()}
+    if isinstance(value, tuple):
+        return value if all(isinstance(v, _IMMUTABLE) for v in value) else tuple(_copy_state(v, gens) for v in value)
+    if isinstance(value, np.random.Generator):
+        gens.append(value)
+        return value
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    if hasattr(value, "__dict__") and not isinstance(value, type):
+        clone = copy.copy(value)
+        clone.__dict__.update(_copy_state(value.__dict__, gens))
+        return clone
+    return copy.deepcopy(value)
+
+
 class Rig:
     """Firmware in the loop. Use as a context manager, or call start() and stop()."""
 
@@ -286,9 +313,8 @@ class Rig:
         return False
 
     def _take_snapshot(self):
-        state = self.plant.__dict__
-        gens = {id(v): v for v in state.values() if isinstance(v, np.random.Generator)}
-        return copy.deepcopy(state, dict(gens)), [(g, g.bit_generator.state) for g in gens.values()]
+        gens: list = []
+        return _copy_state(self.plant.__dict__, gens), [(g, g.bit_generator.state) for g in gens]
 
     def _rewind(self, t_us: int) -> None:
         """A handler changed an output at t_us inside a speculative batch: go back."""
