@@ -89,3 +89,13 @@ def test_firmware_that_never_yields_is_stopped_by_the_watchdog(run_case):
         run_case("hangs", 1.0, watchdog_s=1.0)
     assert "stopped answering" in str(err.value) and "virtual t=0.100000 s" in str(err.value), str(err.value)
     assert time.monotonic() - t0 < 5
+
+
+def test_handler_that_drives_an_output_sees_every_edge_at_its_time(run_case):
+    """IRQ edges are batched speculatively; a handler's output write rolls the plant back."""
+    script = [(1000, "a", 1), (1500, "b", 1), (2000, "a", 0), (2500, "b", 0), (3000, "a", 1)]
+    rig, r = run_case("irq_writes", 0.02, script)
+    assert r["seen"] == [(1, 0, 1000), (0, 1, 2000), (1, 0, 3000)], r
+    writes = [(t, v) for t, n, v in rig.plant.log if n == "out1"]
+    assert writes == [(0, 0), (1000, 1), (2000, 0), (3000, 1)], writes
+    assert rig.stats.rollbacks >= 1
