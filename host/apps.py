@@ -39,14 +39,32 @@ class App:
 
 def rover_budgets() -> list[Budget]:
     return [
-        PeriodBudget("control.period", PROBE + "control", period_us=50_000, tolerance_us=1_000,
-                     description="control step every 50 ms (probe pin toggles)"),
-        PeriodBudget("sonar.period", "sonar.adc", period_us=500_000, tolerance_us=1_000,
-                     description="a new sonar range every 500 ms"),
-        LatencyBudget("sonar.latency", "sonar.adc", limit_us=50_000,
-                      description="each new sonar sample read within one 50 ms quantum"),
-        ComputeBudget("control.compute", "compute", limit_us=50_000,
-                      description="wall-clock us the firmware ran per wake (informational)"),
+        PeriodBudget(
+            "control.period",
+            PROBE + "control",
+            period_us=50_000,
+            tolerance_us=1_000,
+            description="control step every 50 ms (probe pin toggles)",
+        ),
+        PeriodBudget(
+            "sonar.period",
+            "sonar.adc",
+            period_us=500_000,
+            tolerance_us=1_000,
+            description="a new sonar range every 500 ms",
+        ),
+        LatencyBudget(
+            "sonar.latency",
+            "sonar.adc",
+            limit_us=50_000,
+            description="each new sonar sample read within one 50 ms quantum",
+        ),
+        ComputeBudget(
+            "control.compute",
+            "compute",
+            limit_us=50_000,
+            description="wall-clock us the firmware ran per wake (informational)",
+        ),
     ]
 
 

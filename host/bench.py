@@ -33,8 +33,14 @@ def bench_rover(sim_s: float) -> dict:
             print(f"  rover: {done:6.0f} / {sim_s:.0f} simulated s", end="\r", flush=True)
         wall = time.perf_counter() - t0
         print()
-        return {"sim_s": sim_s, "wall_s": wall, "rtf": sim_s / wall, "round_trips": rig.stats.link_round_trips,
-                "wake_rtt": rig.stats.round_trip_us, "control": rig.budgets["control.period"].stats()}
+        return {
+            "sim_s": sim_s,
+            "wall_s": wall,
+            "rtf": sim_s / wall,
+            "round_trips": rig.stats.link_round_trips,
+            "wake_rtt": rig.stats.round_trip_us,
+            "control": rig.budgets["control.period"].stats(),
+        }
 
 
 def bench_ping(sim_s: float) -> list[float]:
@@ -49,16 +55,24 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
     rover = bench_rover(args.sim_minutes * 60)
-    print(f"  lockstep real-time factor: {rover['rtf']:.0f}x  ({rover['sim_s']:.0f} simulated s in "
-          f"{rover['wall_s']:.2f} wall s; target >= 100x)")
-    print(f"  link exchanges: {rover['round_trips']} ({rover['round_trips'] / rover['sim_s']:.0f} per simulated s); "
-          f"control steps {rover['control']['count']}, misses {rover['control']['misses']}")
+    print(
+        f"  lockstep real-time factor: {rover['rtf']:.0f}x  ({rover['sim_s']:.0f} simulated s in "
+        f"{rover['wall_s']:.2f} wall s; target >= 100x)"
+    )
+    print(
+        f"  link exchanges: {rover['round_trips']} ({rover['round_trips'] / rover['sim_s']:.0f} per simulated s); "
+        f"control steps {rover['control']['count']}, misses {rover['control']['misses']}"
+    )
     wake = rover["wake_rtt"]
-    print(f"  per-wake round trip incl. firmware work: p50 {percentile(wake, 50):.0f} us, "
-          f"p99 {percentile(wake, 99):.0f} us")
+    print(
+        f"  per-wake round trip incl. firmware work: p50 {percentile(wake, 50):.0f} us, "
+        f"p99 {percentile(wake, 99):.0f} us"
+    )
     ping = bench_ping(2.0)
-    print(f"  link round trip (STATE -> WAIT, {len(ping)} exchanges): p50 {percentile(ping, 50):.0f} us, "
-          f"p99 {percentile(ping, 99):.0f} us, mean {statistics.fmean(ping):.0f} us")
+    print(
+        f"  link round trip (STATE -> WAIT, {len(ping)} exchanges): p50 {percentile(ping, 50):.0f} us, "
+        f"p99 {percentile(ping, 99):.0f} us, mean {statistics.fmean(ping):.0f} us"
+    )
     return 0
 
 

@@ -46,8 +46,13 @@ def find() -> Path:
 def version(path: Path | None = None) -> str:
     """The interpreter's own version line, e.g. 'MicroPython v1.25.0+ds-1 on ...'."""
     path = path or find()
-    out = subprocess.run([str(path), "-c", "import sys; print(sys.version.split('; ')[-1])"],
-                         capture_output=True, text=True, timeout=10, check=True)
+    out = subprocess.run(
+        [str(path), "-c", "import sys; print(sys.version.split('; ')[-1])"],
+        capture_output=True,
+        text=True,
+        timeout=10,
+        check=True,
+    )
     return out.stdout.strip()
 
 
@@ -57,8 +62,14 @@ def _log(msg: str) -> None:
 
 def _missing_tools() -> list[str]:
     missing = []
-    for tool, package in (("gcc", "gcc"), ("make", "make"), ("pkg-config", "pkg-config"),
-                          ("dpkg-source", "dpkg-dev"), ("xz", "xz-utils"), ("apt-get", "apt")):
+    for tool, package in (
+        ("gcc", "gcc"),
+        ("make", "make"),
+        ("pkg-config", "pkg-config"),
+        ("dpkg-source", "dpkg-dev"),
+        ("xz", "xz-utils"),
+        ("apt-get", "apt"),
+    ):
         if shutil.which(tool) is None:
             missing.append(package)
     if shutil.which("pkg-config") and subprocess.run(["pkg-config", "--exists", "libffi"]).returncode != 0:
@@ -72,13 +83,18 @@ def ensure_tools() -> None:
         return
     if "apt" in missing or os.geteuid() != 0:
         raise SetupError(
-            "building MicroPython needs these Debian packages: " + " ".join(missing)
-            + "\n  install them with: sudo apt-get install -y " + " ".join(p for p in missing if p != "apt")
+            "building MicroPython needs these Debian packages: "
+            + " ".join(missing)
+            + "\n  install them with: sudo apt-get install -y "
+            + " ".join(p for p in missing if p != "apt")
         )
     _log("installing build packages: " + " ".join(missing))
     subprocess.run(["apt-get", "update", "-qq"], check=True)
-    subprocess.run(["apt-get", "install", "-y", "-qq", "--no-install-recommends", *missing], check=True,
-                   env={**os.environ, "DEBIAN_FRONTEND": "noninteractive"})
+    subprocess.run(
+        ["apt-get", "install", "-y", "-qq", "--no-install-recommends", *missing],
+        check=True,
+        env={**os.environ, "DEBIAN_FRONTEND": "noninteractive"},
+    )
     still = _missing_tools()
     if still:
         raise SetupError("still missing after apt-get install: " + " ".join(still))
@@ -116,8 +132,7 @@ def fetch_source() -> Path:
         shutil.rmtree(src_root)
     src_root.mkdir(parents=True)
     _log(f"apt-get source micropython={DEBIAN_VERSION}")
-    subprocess.run(_apt("source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root,
-                   stdout=subprocess.DEVNULL)
+    subprocess.run(_apt("source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root, stdout=subprocess.DEVNULL)
     if not tree.is_dir():
         raise SetupError(f"apt-get source did not unpack {tree}")
     return tree
@@ -136,8 +151,14 @@ def build() -> Path:
     with open(log, "w") as out:
         for cmd in (
             ["make", jobs, "-C", str(tree / "mpy-cross")],
-            ["make", jobs, "-C", str(tree / "ports" / "unix"), *MAKE_OPTIONS,
-             f"FROZEN_MANIFEST={HERE / 'manifest.py'}"],
+            [
+                "make",
+                jobs,
+                "-C",
+                str(tree / "ports" / "unix"),
+                *MAKE_OPTIONS,
+                f"FROZEN_MANIFEST={HERE / 'manifest.py'}",
+            ],
         ):
             if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
                 tail = log.read_text().splitlines()[-20:]

@@ -117,7 +117,8 @@ class Channel:
                 return got
             now = time.monotonic()
             if now >= deadline:
-                raise LinkTimeout(f"no frame within {timeout_s:.3g} s ({self.decoder.pending()} bytes of a partial frame)")
+                pending = self.decoder.pending()
+                raise LinkTimeout(f"no frame within {timeout_s:.3g} s ({pending} bytes of a partial frame)")
             wait = deadline - now
             if self.decoder.pending():
                 stalled_since = stalled_since or now

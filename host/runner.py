@@ -39,8 +39,16 @@ HANDSHAKE_TIMEOUT_S = 10.0
 CONSOLE_TAIL_LINES = 20
 MAX_BATCH = 200  # changes in one STATE (15 bytes each)
 MAX_BATCH_BYTES = 800  # UART bytes in one STATE
-MSG_NAMES = {F.HELLO: "HELLO", F.CFG: "CFG", F.OUT: "OUT", F.WAIT: "WAIT", F.SEEN: "SEEN",
-             F.UART_TX: "UART_TX", F.FAULT: "FAULT", F.EXIT: "EXIT"}
+MSG_NAMES = {
+    F.HELLO: "HELLO",
+    F.CFG: "CFG",
+    F.OUT: "OUT",
+    F.WAIT: "WAIT",
+    F.SEEN: "SEEN",
+    F.UART_TX: "UART_TX",
+    F.FAULT: "FAULT",
+    F.EXIT: "EXIT",
+}
 CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
 OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 
@@ -106,10 +114,21 @@ def _copy_state(value, gens: list):
 class Rig:
     """Firmware in the loop. Use as a context manager, or call start() and stop()."""
 
-    def __init__(self, app: str | App = "rover", *, board: str | None = None, seed: int = 0,
-                 mode: str = "lockstep", plant=None, plant_options: dict | None = None,
-                 main_dir: Path | None = None, watchdog_s: float = 5.0,
-                 artefacts: Path | None = None, trace: bool = False, time_round_trips: bool = False):
+    def __init__(
+        self,
+        app: str | App = "rover",
+        *,
+        board: str | None = None,
+        seed: int = 0,
+        mode: str = "lockstep",
+        plant=None,
+        plant_options: dict | None = None,
+        main_dir: Path | None = None,
+        watchdog_s: float = 5.0,
+        artefacts: Path | None = None,
+        trace: bool = False,
+        time_round_trips: bool = False,
+    ):
         self.app = get_app(app) if isinstance(app, str) else app
         self.board = board or self.app.default_board
         if mode not in MODES:
@@ -176,8 +195,17 @@ class Rig:
             self.artefacts.mkdir(parents=True, exist_ok=True)
         if self.trace_enabled:
             self._trace = Trace(self.artefacts / "trace.jsonl" if self.artefacts else None)
-            self._trace.write({"header": {"app": self.app.name, "board": self.board, "seed": self.seed,
-                                          "mode": self.mode, "plant": type(self.plant).__name__}})
+            self._trace.write(
+                {
+                    "header": {
+                        "app": self.app.name,
+                        "board": self.board,
+                        "seed": self.seed,
+                        "mode": self.mode,
+                        "plant": type(self.plant).__name__,
+                    }
+                }
+            )
         self._pty = PtyPair()
         self._spawn()
         return self
@@ -191,8 +219,12 @@ class Rig:
             "HIL_LINK": self._pty.slave_path,
         }
         self._proc = subprocess.Popen(
-            [str(micropython), "-m", "_hilboot"], env=env, cwd=str(self.main_dir),
-            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            [str(micropython), "-m", "_hilboot"],
+            env=env,
+            cwd=str(self.main_dir),
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
             start_new_session=True,
         )
         transport = FdTransport(self._pty.master_fd)
@@ -319,8 +351,10 @@ class Rig:
     def _rewind(self, t_us: int) -> None:
         """A handler changed an output at t_us inside a speculative batch: go back."""
         if self._snapshot is None or self._snapshot[0] > t_us:
-            raise LinkError(f"firmware reported t={t_us} us, before the plant's {self.t_us} us, with no snapshot to "
-                            f"return to (link protocol error)")
+            raise LinkError(
+                f"firmware reported t={t_us} us, before the plant's {self.t_us} us, with no snapshot to "
+                f"return to (link protocol error)"
+            )
         state, gens = self._snapshot[1]
         self.plant.__dict__.clear()
         self.plant.__dict__.update(state)
@@ -388,9 +422,16 @@ class Rig:
             else:
                 parts.append(struct.pack("<IHBiI", dt, h, kind, value, extra))
         if self._trace:
-            self._trace.write({"t": self.t_us, "to": "fw", "msg": "STATE", "base": base_us, "horizon": horizon,
-                               "changes": [[t, h, k, v, e.hex() if k == F.CH_BYTES else e]
-                                           for t, h, k, v, e in self._delta]})
+            self._trace.write(
+                {
+                    "t": self.t_us,
+                    "to": "fw",
+                    "msg": "STATE",
+                    "base": base_us,
+                    "horizon": horizon,
+                    "changes": [[t, h, k, v, e.hex() if k == F.CH_BYTES else e] for t, h, k, v, e in self._delta],
+                }
+            )
         self._last_batch = self._delta
         self._delta = []
         self._delta_bytes = 0
@@ -461,15 +502,26 @@ class Rig:
         key = p[9:].decode()
         board_name = self.pin_names.get(key)
         signal_name = self.app.wiring.get(board_name) if board_name else None
-        self._log({"t": self.t_us, "msg": "CFG", "handle": h, "kind": CFG_KINDS.get(kind, kind), "pin": key,
-                   "mode": mode, "pull": pull, "param": param, "signal": signal_name})
+        self._log(
+            {
+                "t": self.t_us,
+                "msg": "CFG",
+                "handle": h,
+                "kind": CFG_KINDS.get(kind, kind),
+                "pin": key,
+                "mode": mode,
+                "pull": pull,
+                "param": param,
+                "signal": signal_name,
+            }
+        )
         if kind == F.CFG_IRQ:
             self._handles[h].irq = mode
             return
         while len(self._handles) <= h:
             self._handles.append(Handle(0, "", None, None))
-        info = Handle(kind, key, board_name, signal_name, is_input=(kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)),
-                      pull=pull)
+        is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
+        info = Handle(kind, key, board_name, signal_name, is_input=is_input, pull=pull)
         old = self._handles[h]
         if old.signal and h in self._by_signal.get(old.signal, ()):
             self._by_signal[old.signal].remove(h)
@@ -519,7 +571,8 @@ class Rig:
         raise FirmwareError(
             f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
             f"MicroPython traceback:\n{text.rstrip()}{self._where()}",
-            traceback=text, console=self.console,
+            traceback=text,
+            console=self.console,
         )
 
     def _restart(self) -> None:
@@ -567,7 +620,8 @@ class Rig:
         self.stop()
         raise FirmwareError(
             f"firmware process ended with exit code {code} while the host expected {what} "
-            f"(virtual t={self.t_us / 1e6:.6f} s).{self._where()}", console=self.console,
+            f"(virtual t={self.t_us / 1e6:.6f} s).{self._where()}",
+            console=self.console,
         )
 
     def _log(self, record: dict) -> None:
@@ -588,5 +642,11 @@ class Rig:
         return [b.stats() for b in self.budgets.values()]
 
     def counters(self) -> dict:
-        return {**(self._chan.counters() if self._chan else {}), "round_trips": self.stats.link_round_trips,
-                "irq_edges": self.stats.irq_edges, "rollbacks": self.stats.rollbacks, "lease_violations": self.stats.lease_violations}
+        link = self._chan.counters() if self._chan else {}
+        return {
+            **link,
+            "round_trips": self.stats.link_round_trips,
+            "irq_edges": self.stats.irq_edges,
+            "rollbacks": self.stats.rollbacks,
+            "lease_violations": self.stats.lease_violations,
+        }

@@ -27,8 +27,12 @@ INPUTS = {"out1": "level", "pwm": "duty"}
 
 
 def shim_app(script=(), initial=None) -> App:
-    return App(name="shim-test", default_board="esp32_devkitc", wiring=WIRING,
-               make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial))
+    return App(
+        name="shim-test",
+        default_board="esp32_devkitc",
+        wiring=WIRING,
+        make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial),
+    )
 
 
 def results(console: str) -> dict:

@@ -10,7 +10,7 @@ except ImportError:  # MicroPython: the shim folder is on MICROPYPATH
 
 
 def unhex(text):
-    return bytes(int(text[i:i + 2], 16) for i in range(0, len(text), 2))
+    return bytes(int(text[i : i + 2], 16) for i in range(0, len(text), 2))
 
 
 def decode_all(stream):

@@ -32,7 +32,10 @@ def test_codec_passes_the_vectors_under_cpython():
 def test_codec_passes_the_same_vectors_under_micropython():
     out = subprocess.run(
         [str(interpreter.find()), str(HERE / "frame_vectors_check.py"), str(VECTORS)],
-        env={"MICROPYPATH": f"{SHIM}:.frozen"}, capture_output=True, text=True, timeout=30,
+        env={"MICROPYPATH": f"{SHIM}:.frozen"},
+        capture_output=True,
+        text=True,
+        timeout=30,
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().endswith("vectors, 0 failures"), out.stdout + out.stderr
