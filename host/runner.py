@@ -38,6 +38,7 @@ MODES = {"lockstep": F.MODE_LOCKSTEP, "realtime": F.MODE_REALTIME}
 HANDSHAKE_TIMEOUT_S = 10.0
 CONSOLE_TAIL_LINES = 20
 MAX_BATCH = 200  # changes in one STATE (15 bytes each)
+CHUNK_US = 20_000  # lockstep plant advance step inside a batch
 MAX_BATCH_BYTES = 800  # UART bytes in one STATE
 MSG_NAMES = {
     F.HELLO: "HELLO",
@@ -169,6 +170,7 @@ class Rig:
         self._delta_bytes = 0
         self._last_batch: list = []
         self._snapshot = None
+        self._irq_armed = False
         self._uncommitted: list = []
         self._budgets_by_source: dict[str, list] = {}
         for budget in self.budgets.values():
@@ -236,6 +238,7 @@ class Rig:
         self._delta = []
         self._delta_bytes = 0
         self._snapshot = None
+        self._irq_armed = False
         type_, payload = self._recv(HANDSHAKE_TIMEOUT_S, "HELLO")
         if type_ != F.HELLO:
             raise LinkError(f"expected HELLO from the shim, got {MSG_NAMES.get(type_, hex(type_))}")
@@ -321,25 +324,30 @@ class Rig:
             self._commit(self.t_us)  # nothing in this batch can be rolled back
 
     def _advance_plant(self, target_us: int, watch: frozenset) -> bool:
-        """Advance event by event, collecting what the firmware must see. True when the
-        batch must go now: a watched input changed, the batch is full, or (real time)
-        an IRQ edge is due. In lockstep, IRQ edges are batched speculatively: the plant
-        is snapshotted at the first one, and rolled back if a handler changes an output."""
+        """Advance the plant, collecting what the firmware must see. True when the batch
+        must go now: a watched input changed, the batch is full, or (real time) an IRQ
+        edge is due.
+
+        In lockstep the plant advances in chunks and IRQ edges are batched
+        speculatively: the plant is snapshotted at the start of a batch and rolled back
+        if a handler changes an output (docs/clock.md). A watched wait, and real time,
+        go event by event."""
         plant = self.plant
         lockstep = self.mode == "lockstep"
+        if lockstep and self._snapshot is None and self._wait is not None and self._irq_armed:
+            self._snapshot = (plant.t_us, self._take_snapshot())
         while plant.t_us < target_us:
-            t_next = min(plant.next_change_us(), target_us)
-            if not lockstep:
-                self._sleep_until(t_next)
+            if lockstep and not watch:
+                t_next = min(plant.t_us + CHUNK_US, target_us)
+            else:
+                t_next = min(plant.next_change_us(), target_us)
+                if not lockstep:
+                    self._sleep_until(t_next)
             irq = hit = False
             for change in plant.advance_to(t_next):
                 i, h = self._route(change, watch)
                 irq |= i
                 hit |= h
-            if irq and lockstep and self._snapshot is None and self._wait is not None:
-                self._snapshot = (plant.t_us, self._take_snapshot())
-            if irq:
-                self.stats.irq_edges += 1
             if hit or (irq and not lockstep) or len(self._delta) >= MAX_BATCH or self._delta_bytes > MAX_BATCH_BYTES:
                 return True
         return False
@@ -399,6 +407,7 @@ class Rig:
                     hit = True
                 elif info.irq & (1 if value else 2):
                     irq = True
+                    self.stats.irq_edges += 1
         return irq, hit
 
     def _commit(self, t_us: int) -> None:
@@ -517,6 +526,7 @@ class Rig:
         )
         if kind == F.CFG_IRQ:
             self._handles[h].irq = mode
+            self._irq_armed = any(info.irq for info in self._handles)
             return
         while len(self._handles) <= h:
             self._handles.append(Handle(0, "", None, None))

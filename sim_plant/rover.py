@@ -44,6 +44,9 @@ SONAR_V_PER_M = 3.3 / 512 / 0.0254
 BUMPER_HALF_ARC_RAD = math.radians(70)
 CONTACT_RECHECK_US = 5_000
 MIN_STEP_US = 1_000
+QUAD_A = (0, 1, 1, 0)  # quadrature levels by state; A leads B going forward
+QUAD_B = (0, 0, 1, 1)
+ENCODER_SIGNALS = (("enc_l.a", "enc_l.b"), ("enc_r.a", "enc_r.b"))
 
 
 class RoverRoom(Plant):
@@ -104,6 +107,7 @@ class RoverRoom(Plant):
         self.distance_m = 0.0
         self.contacts: list[tuple[int, float, float]] = []
         self.levels["bumper"] = 0 if self._front_contact() else 1
+        self._next_change = None
 
     @property
     def t_us(self) -> int:
@@ -115,20 +119,54 @@ class RoverRoom(Plant):
         self.drive[name] = int(value)
         for side, wheel in (("l", 0), ("r", 1)):
             self.wheel_w[wheel] = self._wheel_speed(side)
+        self._next_change = None
 
     def next_change_us(self) -> int:
-        t = self.next_sample_us
-        for wheel in (0, 1):
-            t = min(t, self._t_us + self._next_edge_dt_us(wheel))
-        return min(t, self._t_us + self._contact_check_dt_us())
+        if self._next_change is None:  # cached until the time or an input changes
+            t = self.next_sample_us
+            for wheel in (0, 1):
+                t = min(t, self._t_us + self._next_edge_dt_us(wheel))
+            self._next_change = min(t, self._t_us + self._contact_check_dt_us())
+        return self._next_change
 
     def advance_to(self, t_us: int) -> list[Change]:
         changes: list[Change] = []
         while self._t_us < t_us:
-            t_next = min(t_us, self.next_change_us())
-            self._move(t_next)
+            # encoder edges between two pose updates are computed in closed form; the
+            # pose is updated at sonar samples, bumper checks and the end
+            t_stop = min(t_us, self.next_sample_us, self._t_us + self._contact_check_dt_us())
+            self._encoder_edges(t_stop, changes)
+            self._move(t_stop)
             self._emit(changes)
         return changes
+
+    def _encoder_edges(self, t_stop: int, changes: list[Change]) -> None:
+        t0 = self._t_us
+        dt_s = (t_stop - t0) / 1e6
+        edges = []
+        for wheel, (name_a, name_b) in enumerate(ENCODER_SIGNALS):
+            w = self.wheel_w[wheel]
+            if w == 0.0:
+                continue
+            phi0 = self.wheel_rad[wheel]
+            k0 = math.floor(phi0 / self.edge_rad)
+            k1 = math.floor((phi0 + w * dt_s) / self.edge_rad)
+            ks = range(k0 + 1, k1 + 1) if w > 0 else range(k0, k1, -1)
+            for k in ks:
+                t_e = t0 + max(1, math.ceil((k * self.edge_rad - phi0) / w * 1e6))
+                state = (k if w > 0 else k - 1) % 4
+                edges.append((min(t_e, t_stop), wheel, name_a, name_b, state))
+        if len(edges) > 1:
+            edges.sort(key=lambda e: (e[0], e[1]))
+        levels = self.levels
+        for t_e, _wheel, name_a, name_b, state in edges:
+            a, b = QUAD_A[state], QUAD_B[state]
+            if levels[name_a] != a:
+                levels[name_a] = a
+                changes.append(Change(t_e, name_a, a))
+            if levels[name_b] != b:
+                levels[name_b] = b
+                changes.append(Change(t_e, name_b, b))
 
     def output(self, name: str) -> object:
         if name == "sonar.adc":
@@ -202,6 +240,7 @@ class RoverRoom(Plant):
         self.x_m, self.y_m = x1, y1
         self.theta_rad = math.remainder(th0 + w * dt_s, 2 * math.pi)
         self._t_us = t_us
+        self._next_change = None
 
     def _front_contact(self) -> bool:
         gaps = self._wall_gaps_m()
@@ -213,14 +252,16 @@ class RoverRoom(Plant):
 
     def _emit(self, changes: list[Change]) -> None:
         t = self._t_us
-        for side, wheel in (("l", 0), ("r", 1)):
+        levels = self.levels
+        for wheel, (name_a, name_b) in enumerate(ENCODER_SIGNALS):
             state = math.floor(self.wheel_rad[wheel] / self.edge_rad) % 4
-            a, b = (0, 1, 1, 0)[state], (0, 0, 1, 1)[state]  # A leads B going forward
-            for ch, level in (("a", a), ("b", b)):
-                name = f"enc_{side}.{ch}"
-                if self.levels[name] != level:
-                    self.levels[name] = level
-                    changes.append(Change(t, name, level))
+            a, b = QUAD_A[state], QUAD_B[state]
+            if levels[name_a] != a:
+                levels[name_a] = a
+                changes.append(Change(t, name_a, a))
+            if levels[name_b] != b:
+                levels[name_b] = b
+                changes.append(Change(t, name_b, b))
         bumper = 0 if self._front_contact() else 1
         if bumper != self.levels["bumper"]:
             self.levels["bumper"] = bumper
