@@ -251,17 +251,9 @@ class RoverRoom(Plant):
         return False
 
     def _emit(self, changes: list[Change]) -> None:
+        """Bumper and sonar outputs at the current time (encoder edges come from
+        _encoder_edges, which knows their exact times)."""
         t = self._t_us
-        levels = self.levels
-        for wheel, (name_a, name_b) in enumerate(ENCODER_SIGNALS):
-            state = math.floor(self.wheel_rad[wheel] / self.edge_rad) % 4
-            a, b = QUAD_A[state], QUAD_B[state]
-            if levels[name_a] != a:
-                levels[name_a] = a
-                changes.append(Change(t, name_a, a))
-            if levels[name_b] != b:
-                levels[name_b] = b
-                changes.append(Change(t, name_b, b))
         bumper = 0 if self._front_contact() else 1
         if bumper != self.levels["bumper"]:
             self.levels["bumper"] = bumper

@@ -1,0 +1,77 @@
+"""RoverRoom: the first plant's encoders, sonar ADC and bumper as a board sees them."""
+
+import math
+
+from sim_plant.rover import SONAR_V_PER_M, RoverRoom
+
+
+def drive(plant, duty_l, duty_r, forward=True):
+    for side, duty in (("l", duty_l), ("r", duty_r)):
+        plant.set_input(f"motor_{side}.in1", 1 if forward else 0)
+        plant.set_input(f"motor_{side}.in2", 0 if forward else 1)
+        plant.set_input(f"motor_{side}.pwm", duty)
+
+
+def test_one_wheel_revolution_gives_80_quadrature_edges_with_a_leading():
+    plant = RoverRoom(room_w_m=100, encoder_cpr=20)
+    drive(plant, 65535, 65535)
+    rev_s = 2 * math.pi * plant.wheel_radius_m / plant.v_max_m_s
+    changes = plant.advance_to(round(rev_s * 1e6) + 1)
+    left = [c for c in changes if c.name.startswith("enc_l")]
+    assert len(left) == 80
+    assert [c.name for c in left[:4]] == ["enc_l.a", "enc_l.b", "enc_l.a", "enc_l.b"]
+    assert [c.value for c in left[:2]] == [1, 1], "forward: A rises before B"
+    assert all(a.t_us <= b.t_us for a, b in zip(left, left[1:]))
+
+
+def test_reverse_makes_b_lead_and_stepping_matches_one_call():
+    a, b = RoverRoom(room_w_m=100), RoverRoom(room_w_m=100)
+    for plant in (a, b):
+        drive(plant, 40000, 30000, forward=False)
+    whole = [c for c in a.advance_to(300_000) if c.name != "sonar.adc"]
+    stepped = []
+    while b.t_us < 300_000:
+        stepped += [c for c in b.advance_to(min(b.next_change_us(), 300_000)) if c.name != "sonar.adc"]
+    first_left = next(c for c in whole if c.name.startswith("enc_l"))
+    assert (first_left.name, first_left.value) == ("enc_l.b", 1), "reverse: B rises before A"
+    assert [(c.t_us, c.name, c.value) for c in whole] == [(c.t_us, c.name, c.value) for c in stepped]
+
+
+def test_dead_band_duty_does_not_move_the_wheel():
+    plant = RoverRoom()
+    drive(plant, int(0.05 * 65535), int(0.05 * 65535))
+    changes = plant.advance_to(1_000_000)
+    assert [c for c in changes if c.name.startswith("enc")] == []
+    assert plant.truth()["distance_m"] == 0.0
+
+
+def test_sonar_gives_a_new_adc_sample_every_500ms_from_the_range_ahead():
+    plant = RoverRoom(room_w_m=5.0, start_pose=(1.0, 2.0, 0.0), sonar_noise_m=0.0)
+    samples = [c for c in plant.advance_to(2_100_000) if c.name == "sonar.adc"]
+    assert [c.t_us for c in samples] == [20_000, 520_000, 1_020_000, 1_520_000, 2_020_000]
+    range_m = 5.0 - 1.0 - plant.body_radius_m
+    counts = round(range_m * SONAR_V_PER_M / 3.3 * 4095)
+    assert samples[0].value == (counts << 4) | (counts >> 8)
+
+
+def test_bumper_closes_at_the_wall_and_is_recorded_in_ground_truth():
+    plant = RoverRoom(room_w_m=3.0, start_pose=(2.0, 2.0, 0.0))
+    drive(plant, 30000, 30000)
+    changes = plant.advance_to(10_000_000)
+    bumps = [c for c in changes if c.name == "bumper"]
+    assert bumps and bumps[0].value == 0
+    truth = plant.truth()
+    assert truth["bumper_pressed"] and truth["contacts"][0][0] == bumps[0].t_us
+    assert math.isclose(truth["x_m"], 3.0 - plant.body_radius_m)
+
+
+def test_same_seed_same_sonar_noise():
+    runs = []
+    for _ in range(2):
+        plant = RoverRoom()
+        plant.reset(42)
+        runs.append([c.value for c in plant.advance_to(5_000_000) if c.name == "sonar.adc"])
+    other = RoverRoom()
+    other.reset(43)
+    assert runs[0] == runs[1]
+    assert runs[0] != [c.value for c in other.advance_to(5_000_000) if c.name == "sonar.adc"]
