@@ -96,6 +96,9 @@ class ComputeBudget(Budget):
     def event(self, compute_us: int) -> None:
         self._record(compute_us, compute_us > self.limit_us)
 
+    def limit_text(self) -> str:
+        return f"<= {self.limit_us} us wall"
+
 
 def _percentile(sorted_values: list[int], pct: float):
     if not sorted_values:

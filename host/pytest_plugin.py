@@ -65,5 +65,5 @@ def rig(make_rig) -> Rig:
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if config.getoption("--hil-table") and _rows:
-        terminalreporter.section("timing budgets (virtual time, us)")
+        terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
         terminalreporter.write_line(format_table(_rows))
