@@ -353,8 +353,20 @@ class Rig:
         return False
 
     def _take_snapshot(self):
+        if hasattr(self.plant, "snapshot"):  # a plant may know its state best
+            return self.plant.snapshot()
         gens: list = []
         return _copy_state(self.plant.__dict__, gens), [(g, g.bit_generator.state) for g in gens]
+
+    def _restore_snapshot(self, snap) -> None:
+        if hasattr(self.plant, "restore"):
+            self.plant.restore(snap)
+            return
+        state, gens = snap
+        self.plant.__dict__.clear()
+        self.plant.__dict__.update(state)
+        for gen, gen_state in gens:
+            gen.bit_generator.state = gen_state
 
     def _rewind(self, t_us: int) -> None:
         """A handler changed an output at t_us inside a speculative batch: go back."""
@@ -363,11 +375,7 @@ class Rig:
                 f"firmware reported t={t_us} us, before the plant's {self.t_us} us, with no snapshot to "
                 f"return to (link protocol error)"
             )
-        state, gens = self._snapshot[1]
-        self.plant.__dict__.clear()
-        self.plant.__dict__.update(state)
-        for gen, gen_state in gens:
-            gen.bit_generator.state = gen_state
+        self._restore_snapshot(self._snapshot[1])
         self.plant.advance_to(t_us)  # the firmware already has these changes
         self._snapshot = None
         self._uncommitted = [e for e in self._uncommitted if e[0] <= t_us]

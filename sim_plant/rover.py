@@ -168,6 +168,22 @@ class RoverRoom(Plant):
                 levels[name_b] = b
                 changes.append(Change(t_e, name_b, b))
 
+    _SCALARS = ("_t_us", "x_m", "y_m", "theta_rad", "next_sample_us", "sonar_range_m", "adc_u16", "distance_m",
+                "_next_change")
+
+    def snapshot(self):
+        """The whole mutable state, for the runner's rollback of a speculative batch."""
+        return ([getattr(self, k) for k in self._SCALARS], list(self.wheel_rad), list(self.wheel_w), dict(self.drive),
+                dict(self.levels), len(self.contacts), self.rng.bit_generator.state)
+
+    def restore(self, snap) -> None:
+        scalars, wheel_rad, wheel_w, drive, levels, n_contacts, rng_state = snap
+        for key, value in zip(self._SCALARS, scalars):
+            setattr(self, key, value)
+        self.wheel_rad, self.wheel_w, self.drive, self.levels = list(wheel_rad), list(wheel_w), dict(drive), dict(levels)
+        del self.contacts[n_contacts:]
+        self.rng.bit_generator.state = rng_state
+
     def output(self, name: str) -> object:
         if name == "sonar.adc":
             return self.adc_u16

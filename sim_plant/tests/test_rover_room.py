@@ -75,3 +75,14 @@ def test_same_seed_same_sonar_noise():
     other.reset(43)
     assert runs[0] == runs[1]
     assert runs[0] != [c.value for c in other.advance_to(5_000_000) if c.name == "sonar.adc"]
+
+
+def test_snapshot_and_restore_replay_the_same_future():
+    plant = RoverRoom()
+    drive(plant, 30000, 20000)
+    plant.advance_to(700_000)
+    snap = plant.snapshot()
+    first = plant.advance_to(3_000_000)
+    truth = plant.truth()
+    plant.restore(snap)
+    assert plant.advance_to(3_000_000) == first and plant.truth() == truth

@@ -1,0 +1,330 @@
+"""Worlds: walls as line segments, and the geometric questions sensors and bodies ask.
+
+A world is a set of wall segments (the boundary of the free space, plus the outline of
+every obstacle). Sensors ask for the range along a ray, the nearest echo inside a cone,
+or the specular returns (walls whose normal lies inside a beam); bodies ask for their
+clearance to the nearest wall. Everything here is plain Python floats: a robot sees a few
+walls at a time, and a loop over four to twenty segments is cheaper than a numpy call.
+
+Factories build the seeds' worlds:
+
+=========================  ==========================================================
+factory                    world
+=========================  ==========================================================
+:func:`rectangle`          a rectangular room or pool, walls at 0 and w, 0 and h
+:func:`pool`               the 25 x 8 m pool of seeds 000/001
+:func:`room`               a rectangle with convex obstacles (seed 003's room)
+:func:`duct_network`       the boundary of a union of axis-aligned duct sections
+:func:`one_right_branch_duct`  seed 002's test duct: a straight duct, one right branch
+:func:`multi_branch_duct`  left and right branches, one of them branching again
+:func:`canyon`             seed 004's curved "canyon" as a polyline corridor
+=========================  ==========================================================
+"""
+
+import math
+
+INF = math.inf
+
+
+class World:
+    """Wall segments and the queries on them.
+
+    ``walls`` holds one tuple per segment: ``(ax, ay, ux, uy, length, bx, by)`` with
+    ``u = b - a``. ``vertices`` are the segment end points (corners), deduplicated.
+    """
+
+    def __init__(self, segments, *, name: str = "world"):
+        walls = []
+        for ax, ay, bx, by in segments:
+            ax, ay, bx, by = float(ax), float(ay), float(bx), float(by)
+            ux, uy = bx - ax, by - ay
+            length = math.hypot(ux, uy)
+            if length > 1e-12:
+                walls.append((ax, ay, ux, uy, length, bx, by))
+        if not walls:
+            raise ValueError(f"world {name!r} has no walls")
+        self.name = name
+        self.walls = tuple(walls)
+        xs = [w[0] for w in walls] + [w[5] for w in walls]
+        ys = [w[1] for w in walls] + [w[6] for w in walls]
+        self.bounds = (min(xs), min(ys), max(xs), max(ys))
+        corners = {}
+        for w in walls:
+            for p in ((w[0], w[1]), (w[5], w[6])):
+                corners[(round(p[0], 9), round(p[1], 9))] = p
+        self.vertices = tuple(corners.values())
+
+    def segments(self) -> list[tuple[float, float, float, float]]:
+        return [(w[0], w[1], w[5], w[6]) for w in self.walls]
+
+    # -- sensor queries ---------------------------------------------------------------
+
+    def ray(self, x: float, y: float, angle_rad: float, max_range_m: float = INF) -> tuple[float, float]:
+        """Range to the first wall along a ray, and the incidence angle there (rad from
+        the wall's normal). ``(inf, nan)`` if no wall is nearer than ``max_range_m``."""
+        dx, dy = math.cos(angle_rad), math.sin(angle_rad)
+        best, best_cos = max_range_m, math.nan
+        found = False
+        for ax, ay, ux, uy, length, _bx, _by in self.walls:
+            den = dx * uy - dy * ux
+            if -1e-12 < den < 1e-12:
+                continue
+            wx, wy = ax - x, ay - y
+            t = (wx * uy - wy * ux) / den
+            if t < 0.0 or t >= best:
+                continue
+            s = (wx * dy - wy * dx) / den
+            if 0.0 <= s <= 1.0:
+                best, best_cos, found = t, abs(den) / length, True
+        if not found:
+            return INF, math.nan
+        return best, math.acos(min(best_cos, 1.0))
+
+    def cone_nearest(self, x: float, y: float, axis_rad: float, half_angle_rad: float,
+                     max_range_m: float = INF) -> float:
+        """Distance to the nearest wall point inside a cone (a wedge in 2-D) of half-angle
+        ``half_angle_rad`` about ``axis_rad``; ``inf`` if none within ``max_range_m``.
+
+        The candidates on each segment are the foot of the perpendicular, the end points
+        and the crossings of the two edge rays; the nearest one inside the wedge wins."""
+        cx, cy = math.cos(axis_rad), math.sin(axis_rad)
+        cos_half = math.cos(half_angle_rad)
+        best = max_range_m
+        for ax, ay, ux, uy, length, bx, by in self.walls:
+            wx, wy = ax - x, ay - y
+            line_d = abs(wx * uy - wy * ux) / length
+            if line_d >= best:
+                continue
+            # foot of the perpendicular
+            s = -(wx * ux + wy * uy) / (length * length)
+            if 0.0 <= s <= 1.0:
+                px, py = wx + s * ux, wy + s * uy
+                if _in_wedge(px, py, line_d, cx, cy, cos_half):
+                    best = line_d
+                    continue
+            for px, py in ((wx, wy), (bx - x, by - y)):
+                d = math.hypot(px, py)
+                if d < best and _in_wedge(px, py, d, cx, cy, cos_half):
+                    best = d
+            for edge in (-half_angle_rad, half_angle_rad):
+                ex, ey = math.cos(axis_rad + edge), math.sin(axis_rad + edge)
+                den = ex * uy - ey * ux
+                if -1e-12 < den < 1e-12:
+                    continue
+                t = (wx * uy - wy * ux) / den
+                if 0.0 <= t < best:
+                    s = (wx * ey - wy * ex) / den
+                    if 0.0 <= s <= 1.0:
+                        best = t
+        return best if best < max_range_m else INF
+
+    def specular(self, x: float, y: float, axis_rad: float, max_incidence_rad: float,
+                 max_range_m: float) -> list[tuple[float, float]]:
+        """Walls that send an echo straight back: those whose normal through the sensor
+        lies within ``max_incidence_rad`` of the axis and whose foot of the perpendicular
+        is on the segment (seed 002, App. B.3: a wall is seen only if its normal lies in
+        the cone, at its perpendicular distance). Returns ``[(distance_m, incidence_rad)]``."""
+        cx, cy = math.cos(axis_rad), math.sin(axis_rad)
+        cos_max = math.cos(max_incidence_rad)
+        seen = []
+        for ax, ay, ux, uy, length, _bx, _by in self.walls:
+            wx, wy = ax - x, ay - y
+            l2 = length * length
+            s = -(wx * ux + wy * uy) / l2
+            if s < 0.0 or s > 1.0:
+                continue
+            px, py = wx + s * ux, wy + s * uy
+            d = math.hypot(px, py)
+            if d <= 1e-12 or d > max_range_m:
+                continue
+            c = (px * cx + py * cy) / d
+            if c >= cos_max:
+                seen.append((d, math.acos(min(c, 1.0))))
+        return seen
+
+    def vertices_in_cone(self, x: float, y: float, axis_rad: float, half_angle_rad: float,
+                         max_range_m: float) -> list[float]:
+        """Distances to the corners (segment end points) inside a cone."""
+        cx, cy = math.cos(axis_rad), math.sin(axis_rad)
+        cos_half = math.cos(half_angle_rad)
+        found = []
+        for vx, vy in self.vertices:
+            px, py = vx - x, vy - y
+            d = math.hypot(px, py)
+            if 1e-12 < d <= max_range_m and (px * cx + py * cy) >= cos_half * d:
+                found.append(d)
+        return found
+
+    # -- bodies -----------------------------------------------------------------------
+
+    def clearance(self, x: float, y: float) -> tuple[float, float, float]:
+        """Distance from a point to the nearest wall, and the unit normal pointing from
+        that wall towards the point."""
+        best, bnx, bny = INF, 0.0, 0.0
+        for ax, ay, ux, uy, length, _bx, _by in self.walls:
+            wx, wy = x - ax, y - ay
+            s = (wx * ux + wy * uy) / (length * length)
+            if s <= 0.0:
+                px, py = wx, wy
+            elif s >= 1.0:
+                px, py = wx - ux, wy - uy
+            else:
+                px, py = wx - s * ux, wy - s * uy
+            d = math.hypot(px, py)
+            if d < best:
+                if d > 1e-12:
+                    best, bnx, bny = d, px / d, py / d
+                else:
+                    best, bnx, bny = 0.0, -uy / length, ux / length
+        return best, bnx, bny
+
+    def contains(self, x: float, y: float) -> bool:
+        """Even-odd rule: a point is in free space if a ray from it crosses the walls an
+        odd number of times (inside the outer boundary, outside every obstacle)."""
+        inside = False
+        for ax, ay, _ux, _uy, _length, bx, by in self.walls:
+            if (ay > y) != (by > y):
+                x_cross = ax + (y - ay) * (bx - ax) / (by - ay)
+                if x_cross > x:
+                    inside = not inside
+        return inside
+
+
+def _in_wedge(px: float, py: float, d: float, cx: float, cy: float, cos_half: float) -> bool:
+    return d > 1e-12 and (px * cx + py * cy) >= cos_half * d - 1e-12
+
+
+# -- factories ------------------------------------------------------------------------
+
+
+def rectangle(w_m: float, h_m: float, *, name: str = "rectangle") -> World:
+    """A w x h rectangle with walls at x = 0, x = w, y = 0, y = h."""
+    w, h = float(w_m), float(h_m)
+    return World([(0, 0, w, 0), (w, 0, w, h), (w, h, 0, h), (0, h, 0, 0)], name=name)
+
+
+POOL_LENGTH_M = 25.0
+"""Seed 000 §7.3, seed 001 §7: "a rectangular 25 x 8 meters pool"."""
+POOL_WIDTH_M = 8.0
+
+
+def pool(length_m: float = POOL_LENGTH_M, width_m: float = POOL_WIDTH_M) -> World:
+    """The pool of seeds 000/001: end walls at x = 0 and x = length, long (side) walls at
+    y = 0 and y = width."""
+    return rectangle(length_m, width_m, name=f"pool {length_m:g} x {width_m:g} m")
+
+
+def polygon_segments(points) -> list[tuple[float, float, float, float]]:
+    pts = [(float(x), float(y)) for x, y in points]
+    return [(*pts[i], *pts[(i + 1) % len(pts)]) for i in range(len(pts))]
+
+
+def room(w_m: float, h_m: float, obstacles=(), *, name: str = "room") -> World:
+    """A rectangular room with convex obstacles, each given as its corner points."""
+    segs = rectangle(w_m, h_m).segments()
+    for poly in obstacles:
+        if len(poly) < 3:
+            raise ValueError(f"obstacle {poly!r}: a polygon needs at least 3 corners")
+        segs += polygon_segments(poly)
+    return World(segs, name=name)
+
+
+def box(cx: float, cy: float, w: float, h: float) -> list[tuple[float, float]]:
+    """Corners of an axis-aligned w x h box centred on (cx, cy)."""
+    return [(cx - w / 2, cy - h / 2), (cx + w / 2, cy - h / 2), (cx + w / 2, cy + h / 2), (cx - w / 2, cy + h / 2)]
+
+
+def vacuum_room() -> World:
+    """A 5 x 4 m room with convex furniture, for seed 003's go-to-goal and avoidance."""
+    return room(5.0, 4.0, [box(3.2, 1.2, 0.4, 0.4), box(1.3, 3.0, 0.6, 0.3),
+                           [(3.6, 2.6), (4.2, 2.9), (3.8, 3.4)]], name="vacuum room 5 x 4 m")
+
+
+def duct_network(sections, *, name: str = "duct") -> World:
+    """Walls of a rectilinear duct network: the boundary of the union of axis-aligned
+    sections ``(x0, y0, x1, y1)``. Edges shared by two sections (the mouth of a branch)
+    are open."""
+    rects = [(min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)) for x0, y0, x1, y1 in sections]
+    segs = []
+    for i, (x0, y0, x1, y1) in enumerate(rects):
+        others = [r for j, r in enumerate(rects) if j != i]
+        # each edge: fixed coordinate, span, axis, and the outward side (+1 / -1)
+        for fixed, lo, hi, horizontal, out in ((y0, x0, x1, True, -1), (y1, x0, x1, True, +1),
+                                               (x0, y0, y1, False, -1), (x1, y0, y1, False, +1)):
+            pieces = [(lo, hi)]
+            for ox0, oy0, ox1, oy1 in others:
+                if horizontal:
+                    n_lo, n_hi, s_lo, s_hi = oy0, oy1, ox0, ox1
+                else:
+                    n_lo, n_hi, s_lo, s_hi = ox0, ox1, oy0, oy1
+                # the other section covers the outward side of this edge there
+                covers = (n_lo <= fixed < n_hi) if out > 0 else (n_lo < fixed <= n_hi)
+                if covers:
+                    pieces = _subtract(pieces, s_lo, s_hi)
+            for a, b in pieces:
+                if b - a > 1e-9:
+                    segs.append((a, fixed, b, fixed) if horizontal else (fixed, a, fixed, b))
+    return World(segs, name=name)
+
+
+def _subtract(pieces, lo, hi):
+    result = []
+    for a, b in pieces:
+        if hi <= a or lo >= b:
+            result.append((a, b))
+            continue
+        if lo > a:
+            result.append((a, lo))
+        if hi < b:
+            result.append((hi, b))
+    return result
+
+
+DUCT_WIDTH_M = 0.4
+"""Duct width for the seed 002 worlds (not in the seed; the robot is 200 mm wide)."""
+
+
+def one_right_branch_duct(width_m: float = DUCT_WIDTH_M) -> World:
+    """Seed 002 §5.5–5.8: a straight duct with one branch to the right.
+
+    The main duct runs along +x from x = 0 to 3.0 m (y from 0 to ``width_m``); the branch
+    leaves to the right (-y) at x = 1.5 m and runs 1.2 m. Both ends are closed."""
+    w = width_m
+    return duct_network([(0.0, 0.0, 3.0, w), (1.5, -1.2, 1.5 + w, 0.0)], name="duct with one right branch")
+
+
+def multi_branch_duct(width_m: float = DUCT_WIDTH_M) -> World:
+    """A duct with branches on both sides, one of which branches again (the "complex duct"
+    of seed 002 §4.6, whose coordinates the seed does not give).
+
+    Main duct along +x to 5 m; a right branch at x = 1.0 m (1.5 m long); a left branch at
+    x = 2.5 m (2.4 m long) with a right sub-branch at y = 1.5 m (1.1 m long); a right
+    branch at x = 3.8 m (1.2 m long)."""
+    w = width_m
+    return duct_network([
+        (0.0, 0.0, 5.0, w),
+        (1.0, -1.5, 1.0 + w, 0.0),
+        (2.5, w, 2.5 + w, 2.4 + w),
+        (2.5 + w, 1.5, 3.6 + w, 1.5 + w),
+        (3.8, -1.2, 3.8 + w, 0.0),
+    ], name="duct with nested branches")
+
+
+def canyon(width_m: float = 1.2, *, name: str = "canyon") -> World:
+    """Seed 004's S-curve "canyon" (Fig. 10, not given numerically): a corridor whose
+    centre line is x -> 1.5 sin(pi x / 4) over 8 m, walled on both sides, closed at the
+    start and open at the far end (wall following stops when no wall is seen)."""
+    n = 32
+    centre = [(8.0 * i / n, 1.5 * math.sin(math.pi * (8.0 * i / n) / 4.0)) for i in range(n + 1)]
+    left, right = [], []
+    for i, (x, y) in enumerate(centre):
+        x2, y2 = centre[min(i + 1, n)]
+        x1, y1 = centre[max(i - 1, 0)]
+        tx, ty = x2 - x1, y2 - y1
+        t = math.hypot(tx, ty)
+        nx, ny = -ty / t, tx / t
+        left.append((x + nx * width_m / 2, y + ny * width_m / 2))
+        right.append((x - nx * width_m / 2, y - ny * width_m / 2))
+    segs = [(*left[i], *left[i + 1]) for i in range(n)] + [(*right[i], *right[i + 1]) for i in range(n)]
+    segs.append((*right[0], *left[0]))
+    return World(segs, name=name)
