@@ -17,21 +17,23 @@ TRUNCATION_TIMEOUT_S = 0.05
 """A partial frame that gets no more bytes for this long is dropped as truncated."""
 
 
-def _raw(fd: int) -> None:
+def _raw(fd: int, vmin: int = 0) -> None:
     tty.setraw(fd)
     attrs = termios.tcgetattr(fd)
-    attrs[6][termios.VMIN] = 0  # reads return what is there (MicroPython's read(n) would
-    attrs[6][termios.VTIME] = 0  # otherwise block until all n bytes arrive)
+    attrs[6][termios.VMIN] = vmin  # 0: reads return what is there (MicroPython's read(n)
+    attrs[6][termios.VTIME] = 0  # would otherwise block until all n bytes arrive)
     termios.tcsetattr(fd, termios.TCSANOW, attrs)
 
 
 class PtyPair:
-    """A pseudo-terminal pair in raw mode; the firmware opens ``slave_path``."""
+    """A pseudo-terminal pair in raw mode; the firmware opens ``slave_path``.
 
-    def __init__(self):
+    ``console=True`` makes the slave a board console instead of a link: blocking
+    one-byte reads."""
+
+    def __init__(self, console: bool = False):
         self.master_fd, self.slave_fd = os.openpty()
-        _raw(self.slave_fd)
-        _raw(self.master_fd)
+        _raw(self.slave_fd, vmin=1 if console else 0)  # one termios for both ends
         os.set_blocking(self.master_fd, False)
         self.slave_path = os.ttyname(self.slave_fd)
 

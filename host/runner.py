@@ -115,6 +115,8 @@ def _copy_state(value, gens: list):
 class Rig:
     """Firmware in the loop. Use as a context manager, or call start() and stop()."""
 
+    REQUIRE_MAIN = True
+
     def __init__(
         self,
         app: str | App = "rover",
@@ -125,6 +127,7 @@ class Rig:
         plant=None,
         plant_options: dict | None = None,
         main_dir: Path | None = None,
+        firmware_dir: Path | None = None,
         watchdog_s: float = 5.0,
         artefacts: Path | None = None,
         trace: bool = False,
@@ -145,9 +148,16 @@ class Rig:
         if unknown:
             raise ConfigError(f"wiring: board {self.board} has no pin named {', '.join(unknown)}")
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.app.wiring}
-        self.main_dir = Path(main_dir) if main_dir else self.app.path
-        if not (self.main_dir / "main.py").is_file():
-            raise ConfigError(f"main_dir: no main.py in {self.main_dir}")
+        if firmware_dir is not None:  # a flashed board folder: main.py, board.mpy, lib/
+            self.main_dir = Path(firmware_dir)
+            self.firmware_folders = [self.main_dir, self.main_dir / "lib"]
+            if self.REQUIRE_MAIN and not (self.main_dir / "main.py").is_file():
+                raise ConfigError(f"firmware_dir: no main.py in {self.main_dir} (flash it first: make flash)")
+        else:
+            self.main_dir = Path(main_dir) if main_dir else self.app.path
+            if not (self.main_dir / "main.py").is_file():
+                raise ConfigError(f"main_dir: no main.py in {self.main_dir}")
+            self.firmware_folders = [self.main_dir, *self.app.firmware_path(self.board_path)[1:]]
         self.plant = plant if plant is not None else self.app.make_plant(**(plant_options or {}))
         self.plant.reset(seed)
         self.budgets = {b.name: b for b in self.app.make_budgets()}
@@ -212,17 +222,21 @@ class Rig:
         self._spawn()
         return self
 
-    def _spawn(self) -> None:
-        micropython = interpreter.find()
-        folders = [SHIM_DIR, self.main_dir, *self.app.firmware_path(self.board_path)[1:]]
-        env = {
+    def firmware_env(self) -> dict:
+        """The interpreter's environment: shim first, then the firmware's folders as a
+        board's filesystem has them, then the frozen modules."""
+        folders = [SHIM_DIR, *self.firmware_folders]
+        return {
             "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
             "MICROPYPATH": ":".join([*map(str, folders), ".frozen"]),
             "HIL_LINK": self._pty.slave_path,
         }
+
+    def _launch(self) -> None:
+        """Start the interpreter; its console is a pipe the link's transport watches."""
         self._proc = subprocess.Popen(
-            [str(micropython), "-m", "_hilboot"],
-            env=env,
+            [str(interpreter.find()), "-m", "_hilboot"],
+            env=self.firmware_env(),
             cwd=str(self.main_dir),
             stdin=subprocess.DEVNULL,
             stdout=subprocess.PIPE,
@@ -232,6 +246,9 @@ class Rig:
         transport = FdTransport(self._pty.master_fd)
         transport.watch(self._proc.stdout.fileno(), self._on_console)
         self._chan = Channel(transport)
+
+    def _spawn(self) -> None:
+        self._launch()
         self._handles = []
         self._by_signal = {}
         self._wait = None
@@ -264,8 +281,9 @@ class Rig:
             except subprocess.TimeoutExpired:
                 proc.kill()
                 proc.wait(timeout=5)
-            self._drain_console(proc)
-            proc.stdout.close()
+            if proc.stdout is not None:
+                self._drain_console(proc)
+                proc.stdout.close()
         if self._pty is not None:
             self._pty.close()
             self._pty = None
@@ -598,8 +616,9 @@ class Rig:
         self.resets += 1
         proc, self._proc = self._proc, None
         proc.wait(timeout=5)
-        self._drain_console(proc)
-        proc.stdout.close()
+        if proc.stdout is not None:
+            self._drain_console(proc)
+            proc.stdout.close()
         self._spawn()
 
     # -- link ------------------------------------------------------------------------

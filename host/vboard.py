@@ -1,0 +1,329 @@
+"""A virtual board: MicroPython's unix port behaving like a board on a serial port.
+
+The "USB serial" is a pty whose slave path tools open like ``/dev/ttyUSB0``
+(``mpremote connect <port>``). Behind it the unix port runs the board REPL of
+``host/vrepl/_vrepl.py`` (friendly REPL, raw REPL, raw-paste) in a board folder that
+persists: ``build/vboard/<board>/fs`` holds what was flashed. A soft reset (Ctrl-D)
+restarts the interpreter in the same folder; ``boot.py`` and then ``main.py`` run at
+boot as on a board. Ctrl-C from the port interrupts what runs (SIGINT to the
+interpreter), except while a plant-link session runs over the console (processor in the
+loop), when the byte is passed through as data, as a board does after
+``micropython.kbd_intr(-1)``.
+
+A *wired* virtual board also has a robot: its ``machine`` and ``time`` are the shim,
+served in real time by a plant (the app's, as in the HIL runs), so ``main.py`` drives a
+simulated robot like a board on a bench. A *bare* one has the unix port's own modules,
+for processor-in-the-loop runs where the host serves the plant over the port.
+
+``python -m host.vboard start|stop|port|serve`` manages one per board folder.
+"""
+
+import argparse
+import os
+import select
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from host import interpreter
+from host.boards import REPO
+from host.errors import HarnessError, LinkTimeout
+from host.link import Channel, FdTransport, PtyPair
+from host.runner import Rig
+from host.shim import _hilframe as F
+
+VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
+VBOARD_ROOT = REPO / "build" / "vboard"
+SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET = 10, 11, 12
+START_TIMEOUT_S = 10.0
+
+
+def board_home(board: str) -> Path:
+    return VBOARD_ROOT / board
+
+
+class _Console:
+    """The pty pair a board's USB serial is: the client side and the interpreter side."""
+
+    def __init__(self):
+        self.client = PtyPair()  # tools open client.slave_path
+        self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
+        self.link_session = False  # a plant link runs over the console: Ctrl-C is data
+
+
+class VirtualBoard(Rig):
+    """A board REPL on a pty, in a board folder; wired to a real-time plant or bare."""
+
+    REQUIRE_MAIN = False  # a fresh board has no main.py
+
+    def __init__(self, board: str = "esp32_devkitc", *, folder: Path | None = None, app: str = "rover",
+                 wired: bool = True, seed: int = 0):
+        self.home = board_home(board)
+        fs = Path(folder) if folder else self.home / "fs"
+        fs.mkdir(parents=True, exist_ok=True)
+        super().__init__(app, board=board, seed=seed, mode="realtime", firmware_dir=fs, watchdog_s=30.0)
+        self.fs = fs
+        self.wired = wired
+        self.console_pty = None
+        self._boot_mode = "friendly"
+        self._stopping = False
+
+    @property
+    def port(self) -> str:
+        return self.console_pty.client.slave_path
+
+    # -- processes ------------------------------------------------------------------
+
+    def start(self) -> "VirtualBoard":
+        self.console_pty = _Console()
+        if self.wired:
+            return super().start()
+        self._launch()
+        return self
+
+    def _launch(self) -> None:
+        env = {
+            "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
+            "HIL_REPL_MODE": self._boot_mode,
+            "HIL_BOARD_NAME": self.board,
+        }
+        folders = [VREPL_DIR]
+        if self.wired:
+            env.update(self.firmware_env())
+            folders.append(env["MICROPYPATH"])
+        else:
+            folders += [*self.firmware_folders, ".frozen"]
+        env["MICROPYPATH"] = ":".join(map(str, folders))
+        slave = self.console_pty.repl.slave_fd
+        self._proc = subprocess.Popen(
+            [str(interpreter.find()), "-m", "_vrepl"], env=env, cwd=str(self.fs),
+            stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
+        )
+        if self.wired:
+            transport = FdTransport(self._pty.master_fd)
+            transport.watch(self.console_pty.repl.master_fd, self._from_interpreter)
+            transport.watch(self.console_pty.client.master_fd, self._from_client)
+            self._chan = Channel(transport)
+
+    def _reboot(self, code: int) -> None:
+        proc, self._proc = self._proc, None
+        if proc is not None:
+            proc.wait(timeout=5)
+        if code not in (SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET):
+            time.sleep(0.5)  # a crash, not a reset: do not spin
+        self._boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
+        self.console_pty.link_session = False
+        if self.wired:
+            self._spawn()
+        else:
+            self._launch()
+
+    def stop(self) -> None:
+        self._stopping = True
+        super().stop()
+        if self.console_pty is not None:
+            self.console_pty.client.close()
+            self.console_pty.repl.close()
+            self.console_pty = None
+
+    # -- byte pumps -------------------------------------------------------------------
+
+    def _from_client(self, data: bytes) -> None:
+        con = self.console_pty
+        if not con.link_session and b"\x03" in data:
+            before, _, after = data.partition(b"\x03")
+            self._write(con.repl.master_fd, before)
+            if self._proc is not None and self._proc.poll() is None:
+                os.kill(self._proc.pid, signal.SIGINT)
+            if after:
+                self._from_client(after)
+            return
+        self._write(con.repl.master_fd, data)
+
+    def _from_interpreter(self, data: bytes) -> None:
+        con = self.console_pty
+        # a plant link starts with HELLO and ends with EXIT frames on the console
+        if bytes((F.SOF, F.HELLO)) in data:
+            con.link_session = True
+        elif bytes((F.SOF, F.EXIT)) in data:
+            con.link_session = False
+        self._write(con.client.master_fd, data)
+
+    @staticmethod
+    def _write(fd: int, data: bytes) -> None:
+        view = memoryview(data)
+        while view:
+            try:
+                view = view[os.write(fd, view):]
+            except BlockingIOError:
+                select.select([], [fd], [], 0.05)
+            except OSError:
+                return  # nobody on the other end: a board's output goes nowhere too
+
+    def on_console(self, data: bytes) -> None:
+        self._from_interpreter(data)
+
+    # -- serving ------------------------------------------------------------------------
+
+    def serve_forever(self, ready=None) -> None:
+        """Pump bytes, serve the plant in real time, reboot on resets, until stopped."""
+        if ready:
+            ready(self.port)
+        while not self._stopping:
+            code = self._proc.poll() if self._proc is not None else None
+            if code is not None:
+                self._reboot(code)
+                continue
+            if not self.wired:
+                self._pump_bare(0.1)
+                continue
+            if self._wait is not None:
+                self._serve_wait(self._virtual_now())
+            try:
+                type_, payload = self._chan.recv(0.005 if self._wait is not None else 0.05)
+            except LinkTimeout:
+                continue
+            self._handle(type_, payload)
+
+    def _virtual_now(self) -> int:
+        return int((time.monotonic() - self._wall0) * 1e6)
+
+    def _pump_bare(self, timeout_s: float) -> None:
+        con = self.console_pty
+        fds = [con.client.master_fd, con.repl.master_fd]
+        ready, _, _ = select.select(fds, [], [], timeout_s)
+        for fd in ready:
+            try:
+                data = os.read(fd, 65536)
+            except OSError:
+                continue
+            if data and fd == con.client.master_fd:
+                self._from_client(data)
+            elif data:
+                self._from_interpreter(data)
+
+    def _on_silence(self, timeout_s: float, what: str):
+        raise LinkTimeout(f"no {what}")
+
+
+# -- command line: one virtual board per board folder, as a background process ---------
+
+
+def _pidfile(board: str) -> Path:
+    return board_home(board) / "vboard.pid"
+
+
+def _portfile(board: str) -> Path:
+    return board_home(board) / "port"
+
+
+def running_port(board: str) -> str | None:
+    """The port of the running virtual board for this board, if one runs."""
+    try:
+        pid = int(_pidfile(board).read_text())
+        os.kill(pid, 0)
+        return _portfile(board).read_text().strip()
+    except (OSError, ValueError):
+        return None
+
+
+def start_background(board: str, *, wired: bool = True, app: str = "rover") -> str:
+    """Start a virtual board process (if none runs) and return its port."""
+    port = running_port(board)
+    if port:
+        return port
+    home = board_home(board)
+    home.mkdir(parents=True, exist_ok=True)
+    _portfile(board).unlink(missing_ok=True)
+    log = open(home / "vboard.log", "w")
+    cmd = [sys.executable, "-m", "host.vboard", "serve", "--board", board, "--app", app]
+    if not wired:
+        cmd.append("--bare")
+    proc = subprocess.Popen(cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True)
+    log.close()
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while time.monotonic() < deadline:
+        if _portfile(board).exists():
+            return _portfile(board).read_text().strip()
+        if proc.poll() is not None:
+            break
+        time.sleep(0.02)
+    proc.kill()
+    proc.wait()
+    raise HarnessError(f"virtual board {board} did not start within {START_TIMEOUT_S:g} s; "
+                       f"log: {home / 'vboard.log'}")
+
+
+def stop_background(board: str) -> bool:
+    try:
+        pid = int(_pidfile(board).read_text())
+    except (OSError, ValueError):
+        return False
+    try:
+        os.kill(pid, signal.SIGTERM)
+    except ProcessLookupError:
+        return False
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return True
+        time.sleep(0.02)
+    os.kill(pid, signal.SIGKILL)
+    return True
+
+
+def _serve(args) -> int:
+    vb = VirtualBoard(args.board, app=args.app, wired=not args.bare, seed=args.seed)
+
+    def on_term(*_):
+        vb._stopping = True
+
+    signal.signal(signal.SIGTERM, on_term)
+    signal.signal(signal.SIGINT, on_term)
+    pidfile, portfile = _pidfile(args.board), _portfile(args.board)
+    try:
+        vb.start()
+        pidfile.write_text(str(os.getpid()))
+
+        def ready(port):
+            portfile.write_text(port + "\n")
+            print(f"virtual board {args.board} on {port} (folder {vb.fs})", flush=True)
+
+        vb.serve_forever(ready)
+    finally:
+        vb.stop()
+        portfile.unlink(missing_ok=True)
+        pidfile.unlink(missing_ok=True)
+    return 0
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m host.vboard", description="virtual board on a pty")
+    parser.add_argument("command", choices=["start", "stop", "port", "serve"])
+    parser.add_argument("--board", default="esp32_devkitc", help="board name (firmware/boards/<board>)")
+    parser.add_argument("--app", default="rover", help="app whose plant a wired board drives")
+    parser.add_argument("--bare", action="store_true", help="no plant: the unix port's own machine module")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    if args.command == "serve":
+        return _serve(args)
+    if args.command == "start":
+        print(start_background(args.board, wired=not args.bare, app=args.app))
+    elif args.command == "stop":
+        print("stopped" if stop_background(args.board) else "not running")
+    else:
+        port = running_port(args.board)
+        if not port:
+            print(f"error: no virtual board running for {args.board}", file=sys.stderr)
+            return 1
+        print(port)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
