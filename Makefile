@@ -4,6 +4,9 @@
 #   make hil     the firmware-in-the-loop scenarios, with the timing-budget table
 #   make bench   real-time factor and link round trip; plant cost per quantum
 #   make lint    ruff on the host side
+#   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]
+#                compile with mpy-cross, copy what changed with mpremote, reset, show
+#                the first lines; without PORT, to the virtual board (build/vboard/)
 # MICROPYTHON=/path/to/micropython uses that interpreter instead of the build.
 
 PYTHON ?= python3
@@ -19,7 +22,9 @@ MP_DEP :=
 endif
 export MICROPYTHON
 
-.PHONY: setup test hil bench lint clean
+APP ?= rover
+
+.PHONY: setup test hil bench lint flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@$(PY) -m host.interpreter version
@@ -35,8 +40,12 @@ $(MP_BUILD): host/interpreter.py host/micropython/manifest.py host/micropython/s
 test: setup
 	$(PY) -m pytest -q
 
+# FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
 hil: setup
-	$(PY) -m pytest -q -m hil --hil-table hil_tests
+	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table hil_tests
+
+flash: setup
+	@$(PY) -m host.flash --app $(APP) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
 
 bench: setup
 	$(PY) -m host.bench

@@ -182,7 +182,7 @@ class VirtualBoard(Rig):
             if self._wait is not None:
                 self._serve_wait(self._virtual_now())
             try:
-                type_, payload = self._chan.recv(0.005 if self._wait is not None else 0.05)
+                type_, _seq, payload = self._chan.recv(0.005 if self._wait is not None else 0.05)
             except LinkTimeout:
                 continue
             self._handle(type_, payload)

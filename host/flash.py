@@ -1,0 +1,224 @@
+"""``make flash``: put an app on a board the way it was tested.
+
+1. Compile the app's modules, the board's pin map and the drivers with mpy-cross for
+   the target's .mpy version (``main.py`` and ``boot.py`` stay source, as boards run
+   them); a syntax error stops the flash and names file and line.
+2. Copy them with mpremote, which skips every file whose content the board already
+   has (SHA-256 on the board); remove a stale ``.py`` where a ``.mpy`` now stands.
+3. Soft-reset the board in its friendly REPL, so ``main.py`` runs, and show the first
+   lines it prints.
+
+Without ``--port`` the target is the virtual board of ``host/vboard.py`` (its folder
+``build/vboard/<board>/fs`` keeps what was flashed; ``make hil FIRMWARE=<folder>`` runs
+the HIL scenarios from exactly those files).
+"""
+
+import argparse
+import json
+import os
+import re
+import shutil
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from host import vboard
+from host.apps import FIRMWARE, get_app
+from host.boards import REPO, board_dir
+from host.errors import HarnessError
+
+STAGING = REPO / "build" / "flash"
+VENV_BIN = Path(sys.executable).parent
+MPREMOTE_TIMEOUT_S = 120
+
+
+class FlashError(HarnessError):
+    pass
+
+
+def _tool(name: str) -> str:
+    path = VENV_BIN / name
+    if path.exists():
+        return str(path)
+    found = shutil.which(name)
+    if not found:
+        raise FlashError(f"{name} not found: run `make setup`")
+    return found
+
+
+def mpy_cross_version() -> tuple[int, int]:
+    out = subprocess.run([_tool("mpy-cross"), "--version"], capture_output=True, text=True, check=True).stdout
+    m = re.search(r"mpy v(\d+)\.(\d+)", out)
+    if not m:
+        raise FlashError(f"cannot read the .mpy version from `mpy-cross --version`: {out.strip()}")
+    return int(m.group(1)), int(m.group(2))
+
+
+def compile_module(src: Path, dst: Path) -> None:
+    """mpy-cross one file; a syntax error becomes 'file:line: message'."""
+    rel = os.path.relpath(src, REPO)
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    out = subprocess.run([_tool("mpy-cross"), "-s", src.name, "-o", str(dst), str(src)],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        text = out.stderr + out.stdout
+        line = re.search(r'line (\d+)', text)
+        last = [t for t in text.strip().splitlines() if t.strip()][-1:] or ["mpy-cross failed"]
+        raise FlashError(f"{rel}:{line.group(1) if line else '?'}: {last[0].strip()}")
+
+
+def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
+    """Build the board's filesystem image in build/flash/<app>-<board>/; return the
+    folder and the files in it (relative paths, as on the board)."""
+    app = get_app(app_name)
+    out = STAGING / f"{app.name}-{board}"
+    if out.exists():
+        shutil.rmtree(out)
+    out.mkdir(parents=True)
+    files: list[str] = []
+    sources = [(p, p.name) for p in sorted(app.path.glob("*.py"))]
+    sources.append((board_dir(board) / "board.py", "board.py"))
+    sources += [(p, f"lib/{p.name}") for p in sorted((FIRMWARE / "lib").glob("*.py"))]
+    for src, name in sources:
+        if name in ("main.py", "boot.py"):
+            compile_module(src, STAGING / ".check" / name.replace(".py", ".mpy"))  # syntax check only
+            shutil.copyfile(src, out / name)
+            files.append(name)
+        else:
+            mpy = name[:-3] + ".mpy"
+            compile_module(src, out / mpy)
+            files.append(mpy)
+    manifest = {"app": app.name, "board": board, "files": files}
+    (out / ".." / f"{app.name}-{board}.json").resolve().write_text(json.dumps(manifest, indent=1))
+    return out, files
+
+
+def check_port(port: str) -> None:
+    try:
+        mode = os.stat(port).st_mode
+    except OSError:
+        raise FlashError(f"PORT={port}: no such serial port (is the board plugged in?)") from None
+    if not stat.S_ISCHR(mode):
+        raise FlashError(f"PORT={port}: not a serial device")
+
+
+def _mpremote(port: str, *args: str) -> str:
+    cmd = [_tool("mpremote"), "connect", port, *args]
+    proc = subprocess.Popen(cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        out, _ = proc.communicate(timeout=MPREMOTE_TIMEOUT_S)
+    except BaseException:  # Ctrl-C or a timeout: never leave mpremote running
+        proc.kill()
+        proc.wait()
+        raise
+    if proc.returncode != 0:
+        tail = [t for t in out.strip().splitlines() if t.strip()][-1:] or ["(no output)"]
+        raise FlashError(f"PORT={port}: mpremote failed: {tail[0]}")
+    return out
+
+
+def target_mpy_version(port: str) -> tuple[int, int]:
+    out = _mpremote(port, "exec", "import sys; print('MPY', sys.implementation._mpy)")
+    m = re.search(r"MPY (\d+)", out)
+    if not m:
+        raise FlashError(f"PORT={port}: the board did not report its .mpy version: {out.strip()[-200:]}")
+    value = int(m.group(1))
+    return value & 0xFF, (value >> 8) & 3
+
+
+def copy(port: str, folder: Path, files: list[str]) -> tuple[list[str], list[str]]:
+    """Copy what changed; return (copied, unchanged)."""
+    root = [str(folder / f) for f in files if "/" not in f]
+    args = ["cp", *root, ":"]
+    if any(f.startswith("lib/") for f in files):
+        args += ["+", "cp", "-r", str(folder / "lib"), ":"]
+    stale = [f[:-4] + ".py" for f in files if f.endswith(".mpy")]
+    args += ["+", "exec", "import os\nfor f in %r:\n try:\n  os.remove(f)\n except OSError:\n  pass" % stale]
+    out = _mpremote(port, *args)
+    unchanged = sorted(m.group(1).lstrip("/") for m in re.finditer(r"Up to date: (?:\./)?(\S+)", out))
+    copied = sorted(f for f in files if f not in unchanged)
+    return copied, unchanged
+
+
+def reset_and_read(port: str, max_lines: int = 10, wait_s: float = 3.0) -> list[str]:
+    """Soft-reset in the friendly REPL (main.py runs) and return the first lines."""
+    import serial
+
+    with serial.Serial(port, 115200, timeout=0.1) as ser:
+        ser.write(b"\r\x03\x03\x02")  # stop what runs, friendly REPL
+        _read_until(ser, b">>> ", 3.0)
+        ser.write(b"\x04")  # soft reset: boot.py, main.py
+        data = _read_until(ser, None, wait_s, max_lines + 1)
+    text = data.decode(errors="replace").replace("\r\n", "\n")
+    lines = [t for t in text.split("\n") if t.strip() and "soft reboot" not in t]
+    return lines[:max_lines]
+
+
+def _read_until(ser, marker: bytes | None, timeout_s: float, max_lines: int = 0) -> bytes:
+    data = b""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        data += ser.read(256)
+        if marker is not None and data.endswith(marker):
+            break
+        if max_lines and data.count(b"\n") > max_lines:
+            break
+    return data
+
+
+def flash(app: str, board: str | None = None, port: str | None = None, *, lines: int = 10,
+          wait_s: float = 3.0, log=print) -> dict:
+    board = board or get_app(app).default_board
+    folder, files = stage(app, board)
+    ours = None
+    if port is None:
+        if vboard.running_port(board) is None:
+            ours = board
+        port = vboard.start_background(board)
+        where = f"virtual board {board} on {port} (folder {vboard.board_home(board) / 'fs'})"
+    else:
+        check_port(port)
+        where = port
+    try:
+        log(f"flash {app} for {board} -> {where}")
+        want, have = mpy_cross_version(), target_mpy_version(port)
+        if want != have:
+            raise FlashError(f"PORT={port}: the board runs .mpy v{have[0]}.{have[1]}, mpy-cross emits "
+                             f"v{want[0]}.{want[1]}: pin mpy-cross to the board's MicroPython version")
+        log(f"  compiled {sum(f.endswith('.mpy') for f in files)} modules with mpy-cross (.mpy v{want[0]}.{want[1]})")
+        copied, unchanged = copy(port, folder, files)
+        log(f"  copied {len(copied)} file(s){': ' + ', '.join(copied) if copied else ''}; "
+            f"{len(unchanged)} up to date")
+        first = reset_and_read(port, lines, wait_s)
+        log("  reset; first lines:")
+        for line in first:
+            log(f"  | {line}")
+        return {"port": port, "copied": copied, "unchanged": unchanged, "first_lines": first}
+    finally:
+        if ours:
+            vboard.stop_background(ours)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m host.flash", description=__doc__.split("\n")[0])
+    parser.add_argument("--app", required=True, help="app folder under firmware/apps")
+    parser.add_argument("--board", help="board pin map under firmware/boards (default: the app's)")
+    parser.add_argument("--port", help="serial port of the board (default: the virtual board)")
+    parser.add_argument("--lines", type=int, default=10, help="how many lines of the board's output to show")
+    parser.add_argument("--wait", type=float, default=3.0, help="seconds to wait for them")
+    args = parser.parse_args(argv)
+    try:
+        flash(args.app, args.board, args.port or None, lines=args.lines, wait_s=args.wait)
+    except HarnessError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("flash interrupted: the board is left at its REPL; flash again to finish", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
