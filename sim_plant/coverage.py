@@ -10,10 +10,15 @@ import math
 
 import numpy as np
 
+from sim_plant.engine import Part
+from sim_plant.plant import NEVER_US
 from sim_plant.world import World
 
-SAMPLE_PERIOD_US = 100_000
-"""Path sample period while the robot moves (3 cm at 0.3 m/s: well below a cell)."""
+SAMPLE_STEP_CELLS = 0.5
+"""While the robot moves, the path is sampled every half cell of travel ..."""
+SAMPLE_PERIOD_MIN_US = 20_000
+SAMPLE_PERIOD_MAX_US = 500_000
+"""... but no more often than every 20 ms, and at least every 500 ms (turns on the spot)."""
 FLUSH_POINTS = 32
 """Rasterise once this many path samples are waiting (keeps plant snapshots small)."""
 
@@ -33,6 +38,7 @@ class CoverageGrid:
         xs = x0 + (np.arange(self.nx) + 0.5) * cell_m
         ys = y0 + (np.arange(self.ny) + 0.5) * cell_m
         self.free = _free_mask(world, xs, ys)
+        self.free.flags.writeable = False  # fixed: snapshots share it
         self.covered = np.zeros((self.ny, self.nx), dtype=bool)
         self.pending: list[tuple[float, float]] = []
 
@@ -42,32 +48,40 @@ class CoverageGrid:
             self.flush()
 
     def flush(self) -> None:
+        """Rasterise the waiting path samples (all segments at once)."""
         pts = self.pending
-        if len(pts) >= 2:
-            for (ax, ay), (bx, by) in zip(pts, pts[1:]):
-                self._sweep(ax, ay, bx, by)
-        elif len(pts) == 1:
-            self._sweep(*pts[0], *pts[0])
+        if len(pts) == 1:
+            self._sweep(np.array(pts[:1], dtype=float), np.array(pts[:1], dtype=float))
+        elif len(pts) >= 2:
+            arr = np.array(pts, dtype=float)
+            self._sweep(arr[:-1], arr[1:])
         self.pending = pts[-1:]
 
-    def _sweep(self, ax: float, ay: float, bx: float, by: float) -> None:
+    def sweep(self, ax: float, ay: float, bx: float, by: float) -> None:
+        """Mark the footprint along one segment."""
+        self._sweep(np.array([[ax, ay]]), np.array([[bx, by]]))
+
+    def _sweep(self, a, b) -> None:
+        """Mark every cell whose centre is within the half-width of any segment a[k]-b[k]."""
         r, c = self.half_width_m, self.cell_m
-        i0 = max(0, int((min(ax, bx) - r - self.x0_m) / c))
-        i1 = min(self.nx, int((max(ax, bx) + r - self.x0_m) / c) + 1)
-        j0 = max(0, int((min(ay, by) - r - self.y0_m) / c))
-        j1 = min(self.ny, int((max(ay, by) + r - self.y0_m) / c) + 1)
+        lo = np.minimum(a.min(axis=0), b.min(axis=0)) - r
+        hi = np.maximum(a.max(axis=0), b.max(axis=0)) + r
+        i0 = max(0, int((lo[0] - self.x0_m) / c))
+        i1 = min(self.nx, int((hi[0] - self.x0_m) / c) + 1)
+        j0 = max(0, int((lo[1] - self.y0_m) / c))
+        j1 = min(self.ny, int((hi[1] - self.y0_m) / c) + 1)
         if i0 >= i1 or j0 >= j1:
             return
-        px = self.x0_m + (np.arange(i0, i1) + 0.5) * c - ax
-        py = self.y0_m + (np.arange(j0, j1) + 0.5) * c - ay
-        ux, uy = bx - ax, by - ay
-        l2 = ux * ux + uy * uy
-        gx, gy = np.meshgrid(px, py)
-        if l2 > 0:
-            s = np.clip((gx * ux + gy * uy) / l2, 0.0, 1.0)
-            gx = gx - s * ux
-            gy = gy - s * uy
-        self.covered[j0:j1, i0:i1] |= gx * gx + gy * gy <= r * r
+        cx = self.x0_m + (np.arange(i0, i1) + 0.5) * c
+        cy = self.y0_m + (np.arange(j0, j1) + 0.5) * c
+        px = np.repeat(cx[None, :], j1 - j0, axis=0).ravel()[:, None] - a[None, :, 0]
+        py = np.repeat(cy[:, None], i1 - i0, axis=1).ravel()[:, None] - a[None, :, 1]
+        u = b - a
+        l2 = (u * u).sum(axis=1)
+        s = np.clip((px * u[:, 0] + py * u[:, 1]) / np.where(l2 > 0, l2, 1.0), 0.0, 1.0)
+        dx, dy = px - s * u[:, 0], py - s * u[:, 1]
+        hit = ((dx * dx + dy * dy) <= r * r).any(axis=1)
+        self.covered[j0:j1, i0:i1] |= hit.reshape(j1 - j0, i1 - i0)
 
     def fraction(self) -> float:
         """Share of the free floor swept so far."""
@@ -80,10 +94,48 @@ def _free_mask(world: World, xs, ys):
     """Even-odd crossing test of every cell centre against every wall, vectorised."""
     gx, gy = np.meshgrid(xs, ys)
     inside = np.zeros(gx.shape, dtype=bool)
-    for ax, ay, _ux, _uy, _length, bx, by in world.walls:
+    for ax, ay, _ux, _uy, _length, bx, by, *_ in world.walls:
         if ay == by:
             continue
         straddles = (ay > gy) != (by > gy)
         x_cross = ax + (gy - ay) * (bx - ax) / (by - ay)
         inside ^= straddles & (x_cross > gx)
     return inside
+
+
+class CoverageRecorder(Part):
+    """Samples the path into a :class:`CoverageGrid`: at every change of motion, and every
+    half cell of travel while the robot moves."""
+
+    def __init__(self, grid: CoverageGrid):
+        self.grid = grid
+        self.period_us = SAMPLE_PERIOD_MAX_US
+        self.next_us = NEVER_US
+
+    def start(self, t_us: int, plant) -> None:
+        x, y, _ = plant.pose_at(t_us)
+        self.grid.add_point(x, y)
+
+    def on_motion_change(self, t_us: int, plant) -> None:
+        x, y, _ = plant.pose_at(t_us)
+        self.grid.add_point(x, y)
+        body = plant.drive.body
+        speed = abs(body.v)
+        if speed == 0.0 and body.w == 0.0 and body.segment is None:
+            self.next_us = NEVER_US
+            return
+        period = SAMPLE_STEP_CELLS * self.grid.cell_m / speed * 1e6 if speed > 0.0 else SAMPLE_PERIOD_MAX_US
+        self.period_us = int(min(max(period, SAMPLE_PERIOD_MIN_US), SAMPLE_PERIOD_MAX_US))
+        self.next_us = t_us + self.period_us
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        x, y, _ = plant.pose_at(t_us)
+        self.grid.add_point(x, y)
+        self.next_us = t_us + self.period_us
+
+    def truth(self, t_us: int, plant) -> dict:
+        x, y, _ = plant.pose_at(t_us)
+        self.grid.flush()
+        if self.grid.pending:  # up to now (marks cells the robot has swept; keeps the samples)
+            self.grid.sweep(*self.grid.pending[-1], x, y)
+        return {"coverage_fraction": self.grid.fraction()}

@@ -26,21 +26,30 @@ import math
 INF = math.inf
 
 
+NEAR_SLACK_M = 0.5
+"""A local view of the walls is rebuilt when the robot has moved this far from where it was
+built; it holds every wall within the asked reach plus this slack."""
+SMALL_WORLD_WALLS = 8
+"""Worlds with this few walls answer every query themselves (a view would not help)."""
+
+
 class World:
     """Wall segments and the queries on them.
 
-    ``walls`` holds one tuple per segment: ``(ax, ay, ux, uy, length, bx, by)`` with
-    ``u = b - a``. ``vertices`` are the segment end points (corners), deduplicated.
+    ``walls`` holds one tuple per segment: ``(ax, ay, ux, uy, length, bx, by, nx, ny, c)``
+    with ``u = b - a``, ``n`` the unit normal (left of a->b) and ``c = n . a``.
+    ``vertices`` are the segment end points (corners), deduplicated.
     """
 
     def __init__(self, segments, *, name: str = "world"):
         walls = []
-        for ax, ay, bx, by in segments:
-            ax, ay, bx, by = float(ax), float(ay), float(bx), float(by)
+        for seg in segments:
+            ax, ay, bx, by = (float(v) for v in seg[:4])
             ux, uy = bx - ax, by - ay
             length = math.hypot(ux, uy)
             if length > 1e-12:
-                walls.append((ax, ay, ux, uy, length, bx, by))
+                nx, ny = -uy / length, ux / length
+                walls.append((ax, ay, ux, uy, length, bx, by, nx, ny, nx * ax + ny * ay))
         if not walls:
             raise ValueError(f"world {name!r} has no walls")
         self.name = name
@@ -53,9 +62,30 @@ class World:
             for p in ((w[0], w[1]), (w[5], w[6])):
                 corners[(round(p[0], 9), round(p[1], 9))] = p
         self.vertices = tuple(corners.values())
+        self._near: dict[float, tuple[float, float, World]] = {}
 
     def segments(self) -> list[tuple[float, float, float, float]]:
         return [(w[0], w[1], w[5], w[6]) for w in self.walls]
+
+    def near(self, x: float, y: float, reach_m: float) -> "World":
+        """A world holding at least every wall within ``reach_m`` of (x, y): queries whose
+        answer lies within that reach give the same result on it, faster."""
+        if len(self.walls) <= SMALL_WORLD_WALLS:
+            return self
+        cached = self._near.get(reach_m)
+        if cached is not None and abs(x - cached[0]) <= NEAR_SLACK_M and abs(y - cached[1]) <= NEAR_SLACK_M:
+            return cached[2]
+        radius = reach_m + NEAR_SLACK_M * 1.5  # covers the slack box's corners
+        view = World.__new__(World)
+        view.name = f"{self.name} near ({x:.2f}, {y:.2f})"
+        view.walls = tuple(w for w in self.walls if _point_segment_distance(x, y, w) <= radius)
+        view.bounds = self.bounds
+        view.vertices = tuple(v for v in self.vertices if math.hypot(v[0] - x, v[1] - y) <= radius)
+        view._near = {}
+        if not view.walls:  # nothing near: keep one wall so that queries stay valid
+            view.walls = self.walls[:1]
+        self._near[reach_m] = (x, y, view)
+        return view
 
     # -- sensor queries ---------------------------------------------------------------
 
@@ -65,7 +95,7 @@ class World:
         dx, dy = math.cos(angle_rad), math.sin(angle_rad)
         best, best_cos = max_range_m, math.nan
         found = False
-        for ax, ay, ux, uy, length, _bx, _by in self.walls:
+        for ax, ay, ux, uy, length, _bx, _by, _nx, _ny, _c in self.walls:
             den = dx * uy - dy * ux
             if -1e-12 < den < 1e-12:
                 continue
@@ -90,9 +120,9 @@ class World:
         cx, cy = math.cos(axis_rad), math.sin(axis_rad)
         cos_half = math.cos(half_angle_rad)
         best = max_range_m
-        for ax, ay, ux, uy, length, bx, by in self.walls:
+        for ax, ay, ux, uy, length, bx, by, nx, ny, c in self.walls:
             wx, wy = ax - x, ay - y
-            line_d = abs(wx * uy - wy * ux) / length
+            line_d = abs(nx * x + ny * y - c)
             if line_d >= best:
                 continue
             # foot of the perpendicular
@@ -127,19 +157,19 @@ class World:
         cx, cy = math.cos(axis_rad), math.sin(axis_rad)
         cos_max = math.cos(max_incidence_rad)
         seen = []
-        for ax, ay, ux, uy, length, _bx, _by in self.walls:
-            wx, wy = ax - x, ay - y
-            l2 = length * length
-            s = -(wx * ux + wy * uy) / l2
-            if s < 0.0 or s > 1.0:
+        for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
+            sd = nx * x + ny * y - c  # signed distance; the foot lies along -sign(sd) n
+            cos_inc = nx * cx + ny * cy
+            if sd > 0.0:
+                cos_inc = -cos_inc
+            if cos_inc < cos_max:
                 continue
-            px, py = wx + s * ux, wy + s * uy
-            d = math.hypot(px, py)
+            d = abs(sd)
             if d <= 1e-12 or d > max_range_m:
                 continue
-            c = (px * cx + py * cy) / d
-            if c >= cos_max:
-                seen.append((d, math.acos(min(c, 1.0))))
+            s = ((x - ax) * ux + (y - ay) * uy) / (length * length)
+            if 0.0 <= s <= 1.0:
+                seen.append((d, math.acos(min(cos_inc, 1.0))))
         return seen
 
     def vertices_in_cone(self, x: float, y: float, axis_rad: float, half_angle_rad: float,
@@ -161,7 +191,9 @@ class World:
         """Distance from a point to the nearest wall, and the unit normal pointing from
         that wall towards the point."""
         best, bnx, bny = INF, 0.0, 0.0
-        for ax, ay, ux, uy, length, _bx, _by in self.walls:
+        for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
+            if abs(nx * x + ny * y - c) >= best:  # the line is farther than the best so far
+                continue
             wx, wy = x - ax, y - ay
             s = (wx * ux + wy * uy) / (length * length)
             if s <= 0.0:
@@ -175,19 +207,25 @@ class World:
                 if d > 1e-12:
                     best, bnx, bny = d, px / d, py / d
                 else:
-                    best, bnx, bny = 0.0, -uy / length, ux / length
+                    best, bnx, bny = 0.0, nx, ny
         return best, bnx, bny
 
     def contains(self, x: float, y: float) -> bool:
         """Even-odd rule: a point is in free space if a ray from it crosses the walls an
         odd number of times (inside the outer boundary, outside every obstacle)."""
         inside = False
-        for ax, ay, _ux, _uy, _length, bx, by in self.walls:
+        for ax, ay, _ux, _uy, _length, bx, by, _nx, _ny, _c in self.walls:
             if (ay > y) != (by > y):
                 x_cross = ax + (y - ay) * (bx - ax) / (by - ay)
                 if x_cross > x:
                     inside = not inside
         return inside
+
+
+def _point_segment_distance(x: float, y: float, wall) -> float:
+    ax, ay, ux, uy, length = wall[:5]
+    s = min(max(((x - ax) * ux + (y - ay) * uy) / (length * length), 0.0), 1.0)
+    return math.hypot(x - ax - s * ux, y - ay - s * uy)
 
 
 def _in_wedge(px: float, py: float, d: float, cx: float, cy: float, cos_half: float) -> bool:

@@ -1,0 +1,288 @@
+"""The event loop the robot plants share.
+
+Between two events every input is constant, so wheel speeds are constant, the pose
+follows an exact arc and each encoder's shaft angle grows linearly: encoder edges fall
+at exactly computable integer microseconds and no time step is needed. The loop keeps
+the time of the next event of every part and jumps from one to the next.
+
+A plant is made of:
+
+* a **drive** (a :class:`Part` with a ``body``): turns the actuator inputs into wheel
+  or track speeds and integrates the pose;
+* **encoders** (:mod:`sim_plant.encoders`): edges from the wheel speeds;
+* other **parts** with a timeline of their own: sensors, the contact monitor, the
+  coverage recorder.
+
+State is kept as a tree (every mutable object reachable by one path only, no reference
+back to the plant, no stored callables) so that the host can snapshot a plant by copying
+its ``__dict__`` and roll back to it.
+"""
+
+import numpy as np
+
+from sim_plant.plant import NEVER_US, Change, Plant
+
+SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan"))
+"""Plant attributes a snapshot leaves alone: the generator (its state is saved instead),
+the world (walls do not change; its cache of local views may differ harmlessly) and the
+snapshot plan itself."""
+_SCALARS = frozenset((int, float, str, bytes, bool, type(None), frozenset))
+
+
+def _is_object(value) -> bool:
+    return hasattr(value, "__dict__") and not isinstance(value, type)
+
+
+def _snapshot_plan(root) -> list:
+    """Every object of a plant's state (the plant, its parts, their parts...) with the
+    names of its attributes that hold containers (list, dict, writable array): a snapshot
+    copies each object's attributes, and those containers one level deeper. Containers
+    hold numbers, tuples or part objects; an attribute that holds a container or a part
+    keeps holding one (an attribute that starts as None may later hold only immutables)."""
+    plan, seen, todo = [], set(), [root]
+    while todo:
+        obj = todo.pop()
+        if id(obj) in seen:
+            continue
+        seen.add(id(obj))
+        containers = []
+        for key, value in obj.__dict__.items():
+            kind = type(value)
+            if kind in _SCALARS or key in SHARED_STATE and obj is root:
+                continue
+            if kind is list or kind is dict or (kind is np.ndarray and value.flags.writeable):
+                containers.append(key)
+            if kind is list or kind is tuple:
+                todo.extend(v for v in value if _is_object(v))
+            elif kind is dict:
+                todo.extend(v for v in value.values() if _is_object(v))
+            elif _is_object(value):
+                todo.append(value)
+        plan.append((obj, tuple(containers)))
+    return plan
+
+
+class Part:
+    """Something with a timeline of its own.
+
+    ``next_us`` is the next time the part needs the plant's attention (``NEVER_US``
+    when idle); :meth:`fire` does what is due then and appends the output changes.
+    ``inputs`` and ``outputs`` map the part's signal names to their kind.
+    """
+
+    next_us: int = NEVER_US
+    inputs: dict = {}
+    outputs: dict = {}
+
+    def fire(self, t_us: int, plant: "RobotPlant", out: list) -> None:
+        """Handle what is due at ``t_us``; append :class:`Change` s to ``out``."""
+
+    def set_input(self, name: str, value, t_us: int, plant: "RobotPlant") -> None:
+        raise KeyError(name)
+
+    def initial_outputs(self) -> dict:
+        """Output values at reset."""
+        return {}
+
+    def start(self, t_us: int, plant: "RobotPlant") -> None:
+        """Called once at reset, after the whole plant is built."""
+
+    def on_motion_change(self, t_us: int, plant: "RobotPlant") -> None:
+        """The drive's speeds changed at ``t_us``: re-plan anything that depended on them."""
+
+    def truth(self, t_us: int, plant: "RobotPlant") -> dict:
+        """Ground truth this part knows, at ``t_us`` (reading it changes nothing)."""
+        return {}
+
+
+class RobotPlant(Plant):
+    """A plant built from a drive, encoders and timed parts (see the module doc).
+
+    Subclasses implement :meth:`_build`, which sets ``self.world``, ``self.drive``,
+    ``self.encoders`` and ``self.parts`` afresh (the generator ``self.rng`` is already
+    seeded), and may extend :meth:`truth`.
+    """
+
+    def __init__(self):
+        self.reset(0)
+        self.inputs = {}
+        self.outputs = {}
+        for part in [self.drive, *self.parts]:
+            self.inputs.update(part.inputs)
+            self.outputs.update(part.outputs)
+        for enc in self.encoders:
+            self.outputs.update(dict.fromkeys(enc.names, "level"))
+
+    def _build(self) -> None:
+        raise NotImplementedError
+
+    # -- contract -------------------------------------------------------------------
+
+    def reset(self, seed: int) -> None:
+        self.rng = np.random.default_rng(seed)
+        self._snapshot_plan = None  # made at the first snapshot after each reset
+        self._t_us = 0
+        self._build()
+        route = {name: -1 for name in self.drive.inputs}
+        for i, part in enumerate(self.parts):
+            route.update(dict.fromkeys(part.inputs, i))
+        self._input_route = route
+        self.drive.start(0, self)
+        for part in self.parts:
+            part.start(0, self)
+        values = dict(self.drive.initial_outputs())
+        for part in self.parts:
+            values.update(part.initial_outputs())
+        self.values = values  # outputs of the drive and parts (encoders keep their own)
+        self._encoder_outputs = {name: (i, k) for i, enc in enumerate(self.encoders)
+                                 for k, name in enumerate(enc.names)}
+        self._motion_changed(0)
+
+    @property
+    def t_us(self) -> int:
+        return self._t_us
+
+    def set_input(self, name: str, value) -> None:
+        where = self._input_route.get(name)
+        if where is None:
+            raise KeyError(f"{type(self).__name__} has no input {name!r}; inputs: {sorted(self._input_route)}")
+        part = self.drive if where < 0 else self.parts[where]
+        moved = part.set_input(name, value, self._t_us, self)
+        if moved:
+            self._motion_changed(self._t_us)
+        else:
+            self._reschedule()
+
+    def next_change_us(self) -> int:
+        return self._next_us
+
+    def advance_to(self, t_us: int) -> list[Change]:
+        out: list[Change] = []
+        nxt = self._next_us
+        if nxt <= t_us:
+            encoders = self.encoders
+            while nxt <= t_us:
+                # everything due at nxt: encoder edges first (they follow the speeds that
+                # held until nxt), then the drive, then the other parts in order
+                self._t_us = nxt
+                for enc in encoders:
+                    if enc.next_us == nxt:
+                        enc.emit(nxt, out)
+                if self._next_part_us == nxt:
+                    self._fire_parts(nxt, out)
+                soonest = self._next_part_us
+                for enc in encoders:
+                    if enc.next_us < soonest:
+                        soonest = enc.next_us
+                nxt = soonest
+            self._next_us = nxt
+        if t_us > self._t_us:
+            self._t_us = t_us
+        return out
+
+    def output(self, name: str) -> object:
+        where = self._encoder_outputs.get(name)
+        if where is not None:
+            return self.encoders[where[0]].levels[where[1]]
+        try:
+            return self.values[name]
+        except KeyError:
+            raise KeyError(f"{type(self).__name__} has no output {name!r}; outputs: {sorted(self.outputs)}") from None
+
+    def truth(self) -> dict:
+        x, y, th = self.drive.body.pose_at(self._t_us)
+        truth = {"t_us": self._t_us, "x_m": x, "y_m": y, "theta_rad": th}
+        truth.update(self.drive.truth(self._t_us, self))
+        for part in self.parts:
+            truth.update(part.truth(self._t_us, self))
+        for enc in self.encoders:
+            truth.update(enc.truth())
+        return truth
+
+    # -- snapshots (the host's rollback of a speculative batch) -------------------------
+
+    def snapshot(self):
+        """The whole mutable state, to :meth:`restore` later (any number of times): the
+        attributes of the plant and of every part object in it, saved in place."""
+        plan = self._snapshot_plan
+        if plan is None:
+            plan = self._snapshot_plan = _snapshot_plan(self)
+        saved = []
+        for obj, containers in plan:
+            attrs = obj.__dict__.copy()
+            for key in containers:
+                attrs[key] = attrs[key].copy()
+            saved.append((obj, attrs, containers))
+        return saved, self.rng.bit_generator.state
+
+    def restore(self, snap) -> None:
+        saved, rng_state = snap
+        for obj, attrs, containers in saved:
+            state = obj.__dict__
+            state.clear()
+            state.update(attrs)
+            for key in containers:
+                state[key] = state[key].copy()
+        if self.__dict__.get("_snapshot_plan") is None:
+            self._snapshot_plan = [(obj, containers) for obj, _, containers in saved]
+        self.rng.bit_generator.state = rng_state
+
+    # -- loop -----------------------------------------------------------------------
+
+    def pose_at(self, t_us: int) -> tuple[float, float, float]:
+        return self.drive.body.pose_at(t_us)
+
+    def _fire_parts(self, t: int, out: list) -> None:
+        n0 = len(out)
+        drive = self.drive
+        if drive.next_us == t:
+            drive.fire(t, self, out)
+            self._rebase_encoders(t)
+            for part in self.parts:
+                part.on_motion_change(t, self)
+        for part in self.parts:
+            if part.next_us == t:
+                part.fire(t, self, out)
+        if self._react(t):
+            self._motion_changed(t)
+        values = self.values
+        for change in out[n0:]:
+            values[change[1]] = change[2]
+        self._reschedule()
+
+    def _react(self, t: int) -> bool:
+        """Hook after the parts fired at ``t`` (e.g. a machine's own reaction to its
+        bumpers); True if the motion changed."""
+        return False
+
+    def part(self, cls):
+        """The first part of class ``cls`` (for tests and truth)."""
+        for p in [self.drive, *self.parts]:
+            if isinstance(p, cls):
+                return p
+        raise LookupError(f"{type(self).__name__} has no {cls.__name__}")
+
+    def _motion_changed(self, t: int) -> None:
+        self._rebase_encoders(t)
+        for part in self.parts:
+            part.on_motion_change(t, self)
+        self._reschedule()
+
+    def _rebase_encoders(self, t: int) -> None:
+        rates = self.drive.encoder_rad_s()
+        for enc in self.encoders:
+            enc.set_speed(t, rates[enc.wheel])
+
+    def _reschedule(self) -> None:
+        nxt = self.drive.next_us
+        for part in self.parts:
+            if part.next_us < nxt:
+                nxt = part.next_us
+        self._next_part_us = nxt
+        for enc in self.encoders:
+            if enc.next_us < nxt:
+                nxt = enc.next_us
+        self._next_us = nxt
+
+
+__all__ = ["NEVER_US", "Change", "Part", "RobotPlant"]
