@@ -1,0 +1,118 @@
+"""Range sonars read through an ADC, and the pieces every sonar shares.
+
+A sonar is two objects (Gymnasium style: the true state and what a sensor reports are
+kept apart, and another sensor is another object, not an ``if``):
+
+* a **transducer model** turns the true geometry into the range the sensor would report
+  (or ``None``: no echo), with its noise, limits and failure modes;
+* an **output** part turns that into the electrical signal a board sees, at the sensor's
+  update times: ADC counts here (:class:`AnalogRangeSonar`), NMEA bytes on a UART in
+  :mod:`sim_plant.echosounder`.
+
+:class:`BeamRangeModel` is the plain model (range along the axis, Gaussian noise,
+clamped to the sensor's span). The analog law defaults to a MaxBotix LV-EZ: Vcc/512
+volts per inch, i.e. 0.2537 V/m at 3.3 V.
+"""
+
+import math
+
+from sim_plant.engine import Part
+from sim_plant.plant import Change
+
+MAXBOTIX_V_PER_M = 3.3 / 512 / 0.0254
+"""MaxBotix LV-style analog output: Vcc/512 per inch, at Vcc = 3.3 V."""
+
+
+class Adc:
+    """A board's ADC: volts -> ``bits``-bit counts over 0..``vref_v``, reported as
+    ``ADC.read_u16`` does (the n-bit reading scaled to 16 bits by repeating its top bits)."""
+
+    def __init__(self, bits: int = 12, vref_v: float = 3.3):
+        if not 1 <= bits <= 16 or vref_v <= 0:
+            raise ValueError(f"Adc: bits must be 1..16 and vref_v > 0, got {bits}, {vref_v}")
+        self.bits = bits
+        self.vref_v = float(vref_v)
+        self.max_counts = (1 << bits) - 1
+
+    def counts(self, volts: float) -> int:
+        c = round(volts / self.vref_v * self.max_counts)
+        return 0 if c < 0 else (self.max_counts if c > self.max_counts else c)
+
+    def u16(self, volts: float) -> int:
+        """The reading as ``read_u16`` returns it."""
+        return self.to_u16(self.counts(volts))
+
+    def to_u16(self, counts: int) -> int:
+        shift = 16 - self.bits
+        value = counts << shift
+        while shift > 0:  # repeat the top bits into the low ones
+            shift -= self.bits
+            value |= (counts << shift) if shift >= 0 else (counts >> -shift)
+        return value
+
+
+def sensor_pose(pose: tuple[float, float, float], mount: tuple[float, float, float]) -> tuple[float, float, float]:
+    """World position and axis of a sensor mounted at ``(x_m, y_m, angle_rad)`` in the
+    body frame (x forward, y left)."""
+    x, y, th = pose
+    mx, my, ma = mount
+    co, si = math.cos(th), math.sin(th)
+    return x + co * mx - si * my, y + si * mx + co * my, th + ma
+
+
+class BeamRangeModel:
+    """Range to the first wall along the axis, less ``offset_m`` (the distance from the
+    mount point to the face the range is measured from), plus Gaussian noise, clamped to
+    ``min_m .. max_m`` (nothing nearer than ``max_m`` reads ``max_m``)."""
+
+    def __init__(self, mount=(0.0, 0.0, 0.0), *, noise_sd_m: float = 0.01, min_m: float = 0.03,
+                 max_m: float = 4.0, offset_m: float = 0.0):
+        self.mount = tuple(float(v) for v in mount)
+        self.noise_sd_m = float(noise_sd_m)
+        self.min_m = float(min_m)
+        self.max_m = float(max_m)
+        self.offset_m = float(offset_m)
+
+    def measure(self, t_us: int, pose, world, rng) -> tuple[float, float | None]:
+        sx, sy, axis = sensor_pose(pose, self.mount)
+        hit_m, _ = world.near(sx, sy, self.max_m + self.offset_m).ray(sx, sy, axis)
+        true_m = hit_m - self.offset_m
+        noisy_m = true_m + rng.normal(0.0, self.noise_sd_m)
+        return true_m, min(max(noisy_m, self.min_m), self.max_m)
+
+
+class AnalogRangeSonar(Part):
+    """An analog ultrasonic ranger on an ADC pin: a new range every ``period_us``
+    (first at ``phase_us``), ``volts_per_m`` volts per metre, read by ``adc``. A missing
+    reading (``None`` from the model) reads ``invalid_v`` volts. Each new sample is a
+    :class:`Change`, even when its value repeats: it is an event the firmware consumes."""
+
+    def __init__(self, name: str, model, *, period_us: int = 500_000, phase_us: int = 20_000,
+                 volts_per_m: float = MAXBOTIX_V_PER_M, adc: Adc | None = None, invalid_v: float = 0.0):
+        if period_us <= 0 or phase_us <= 0:
+            raise ValueError(f"{name}: period_us and phase_us must be > 0")
+        self.name = name
+        self.model = model
+        self.period_us = int(period_us)
+        self.volts_per_m = float(volts_per_m)
+        self.adc = adc or Adc()
+        self.invalid_v = float(invalid_v)
+        self.outputs = {name: "u16"}
+        self.next_us = int(phase_us)
+        self.true_m = math.inf
+        self.reading_m: float | None = None
+        self.value = self.adc.u16(getattr(model, "max_m", 0.0) * self.volts_per_m)  # before the first sample
+
+    def initial_outputs(self) -> dict:
+        return {self.name: self.value}
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        self.true_m, self.reading_m = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
+        volts = self.invalid_v if self.reading_m is None else self.reading_m * self.volts_per_m
+        self.value = self.adc.u16(volts)
+        out.append(Change(t_us, self.name, self.value))
+        self.next_us = t_us + self.period_us
+
+    def truth(self, t_us: int, plant) -> dict:
+        key = self.name.split(".")[0]
+        return {f"{key}_range_m": self.true_m, f"{key}_reading_m": self.reading_m}
