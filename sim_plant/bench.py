@@ -1,0 +1,113 @@
+"""Plant cost per 50 ms control quantum, for each robot: ``python -m sim_plant.bench``.
+
+Each robot cruises in its world as its firmware would drive it (both wheels at a
+cruising duty, a steering correction every second, the HC-SR04 pinged every 150 ms) for
+``QUANTA`` quanta. Two figures per robot:
+
+* **host loop**: the way the host runner drives a plant, event by event
+  (``next_change_us`` then ``advance_to`` up to each change), which is the real cost;
+* **one call**: one ``advance_to`` per quantum (a lower bound: the same events, fewer calls).
+
+Wall-clock time is measured here, in the benchmark, never in the plant.
+"""
+
+import time
+
+from sim_plant.duct import DuctRobot
+from sim_plant.lab_robot import LabRobot
+from sim_plant.pool import PoolCleaner
+from sim_plant.rover import RoverRoom
+from sim_plant.vacuum import VacuumRobot
+from sim_plant.world import box, duct_network, rectangle, room
+
+QUANTUM_US = 50_000
+QUANTA = 600  # 30 s of virtual time per robot
+TARGET_US = 50.0
+
+
+def _rover(p, k):
+    if k == 0:
+        for side in "lr":
+            p.set_input(f"motor_{side}.in1", 1)
+            p.set_input(f"motor_{side}.pwm", 30_000)
+    _weave(p, "motor_l.pwm", "motor_r.pwm", 30_000, 2_000, k)
+
+
+def _weave(p, left: str, right: str, duty: int, delta: int, k: int) -> None:
+    """A steering correction each second, alternately left and right (stays on course)."""
+    phase = k % 40
+    p.set_input(left, duty + (delta if 10 <= phase < 20 else 0))
+    p.set_input(right, duty + (delta if 30 <= phase < 40 else 0))
+
+
+def _pool(p, k):
+    p.set_input("track_l.stop" if k % 40 < 20 else "track_r.stop", 1 if k % 20 == 0 else 0)
+
+
+def _duct(p, k):
+    if k == 0:
+        p.set_input("motor_l.dir", 1)
+        p.set_input("motor_r.dir", 1)
+    _weave(p, "motor_l.pwm", "motor_r.pwm", 30_000, 1_000, k)
+
+
+def _vacuum(p, k):
+    if k == 0:
+        for side in "lr":
+            p.set_input(f"motor_{side}.in1", 1)
+            p.set_input(f"motor_{side}.pwm", 40_000)
+    _weave(p, "motor_l.pwm", "motor_r.pwm", 40_000, 2_000, k)
+    if k % 3 == 0:  # one servo step and one ping per 150 ms sensing task (seed 003 §4.1)
+        p.set_input("servo.pwm", (1638, 3276, 4915, 6553, 8191)[(k // 3) % 5])
+        p.set_input("sonar.trig", 1)
+        p.advance_to(p.t_us + 10)
+        p.set_input("sonar.trig", 0)
+
+
+def _lab(p, k):
+    _weave(p, "motor_l.in1", "motor_r.in1", 40_000, 2_000, k)
+
+
+# worlds long enough for 30 s of cruising: the figures are for a robot under way
+LONG_DUCT = duct_network([(0.0, 0.0, 20.0, 0.4), (6.0, -1.0, 6.4, 0.0), (9.0, 0.4, 9.4, 1.4)], name="bench duct")
+LONG_ROOM = room(40.0, 4.0, [box(12.0, 2.5, 0.4, 0.4), box(20.0, 3.0, 0.6, 0.3)], name="bench room")
+
+ROBOTS = [
+    ("rover (RoverRoom)", lambda: RoverRoom(room_w_m=40.0), _rover),
+    ("pool cleaner (PoolCleaner, NMEA)", lambda: PoolCleaner(pool_length_m=200.0), _pool),
+    ("duct robot (DuctRobot)", lambda: DuctRobot(world=LONG_DUCT), _duct),
+    ("vacuum robot (VacuumRobot)", lambda: VacuumRobot(world=LONG_ROOM), _vacuum),
+    ("lab robot (LabRobot)", lambda: LabRobot(world=rectangle(40.0, 4.0), start_pose=(1.0, 2.0, 0.0)), _lab),
+]
+
+
+def run(make, drive, *, host_loop: bool) -> tuple[float, float]:
+    """(us of wall time per quantum, output changes per quantum)."""
+    plant = make()
+    plant.reset(1)  # building the plant is not part of the figure
+    changes = 0
+    t0 = time.perf_counter()
+    for k in range(QUANTA):
+        drive(plant, k)
+        end = (k + 1) * QUANTUM_US
+        if host_loop:
+            while plant.t_us < end:
+                changes += len(plant.advance_to(min(plant.next_change_us(), end)))
+        else:
+            changes += len(plant.advance_to(end))
+    elapsed = time.perf_counter() - t0
+    return elapsed / QUANTA * 1e6, changes / QUANTA
+
+
+def main() -> None:
+    print(f"plant cost per {QUANTUM_US // 1000} ms quantum ({QUANTA} quanta each; target <= {TARGET_US:.0f} us)")
+    print(f"{'robot':36} {'host loop us':>13} {'one call us':>12} {'changes/q':>10}")
+    for name, make, drive in ROBOTS:
+        host_us, per_q = min((run(make, drive, host_loop=True) for _ in range(3)), key=lambda r: r[0])
+        call_us, _ = min((run(make, drive, host_loop=False) for _ in range(3)), key=lambda r: r[0])
+        flag = "" if host_us <= TARGET_US else "  (over target)"
+        print(f"{name:36} {host_us:13.1f} {call_us:12.1f} {per_q:10.1f}{flag}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,80 @@
+"""Seed 003's vacuum cleaner robot ("RoboClean") in a room with convex furniture.
+
+A disc 25 cm across (Table 3.2: chassis 25 x 25 cm) with two TT gear motors (1:48) on the
+centre axis and a rear caster, so it can spin in place; an H-bridge per motor (the seed
+names none: an L298N-style IN1/IN2 + enable PWM is assumed), F249 slotted-disk IR speed
+sensors on the wheels (single channel, §3.4), and an HC-SR04 on an SG90 servo at the front
+(:mod:`sim_plant.hcsr04`). The seed has no bumper; ``bumper=True`` adds one.
+
+Signals:
+
+==================  ======  ===========================================================
+name                kind    meaning
+==================  ======  ===========================================================
+``motor_l.in1``     level   L298N IN1/IN2 of the left motor
+``motor_l.in2``     level
+``motor_l.pwm``     duty    ENA
+``motor_r.in1``     level
+``motor_r.in2``     level
+``motor_r.pwm``     duty    ENB
+``enc_l``           level   left slotted disk, toggles twice per slot
+``enc_r``           level
+``sonar.trig``      level   HC-SR04 TRIG
+``sonar.echo``      level   HC-SR04 ECHO
+``servo.pwm``       duty    SG90 control at 50 Hz
+``bumper``          level   0 while pressed (only with ``bumper=True``)
+==================  ======  ===========================================================
+
+Not in the seed, chosen here (seed 003 notes §1): wheel diameter 65 mm (the usual wheel of
+a TT motor), wheel spacing 0.18 m, rim speed 0.35 m/s at full duty, 20 slots per disk (the
+disk sold with the F249 module), a dead band of 25 % duty ("At low speed the motor was not
+able to supply the required torque", §5.2).
+"""
+
+from sim_plant.contacts import Bumper, ContactMonitor
+from sim_plant.coverage import CoverageGrid, CoverageRecorder
+from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.encoders import SlottedDiskEncoder
+from sim_plant.engine import RobotPlant
+from sim_plant.hcsr04 import HcSr04, Servo
+from sim_plant.motors import DcMotor, DirPinsPwmBridge
+from sim_plant.world import World, vacuum_room
+
+BODY_RADIUS_M = 0.125
+
+
+class VacuumRobot(RobotPlant):
+    def __init__(self, *, world=None, start_pose=(0.5, 0.5, 0.0), wheel_diameter_m=0.065, track_m=0.18,
+                 v_max_m_s=0.35, deadband_duty=0.25, motor_gains=(1.0, 1.0), motor_time_constant_ms=0.0,
+                 slots_per_rev=20, sonar_noise_sd_m=0.003, bumper=False, bumper_bounce_us=0,
+                 coverage_cell_m=0.05):
+        self.world = world if isinstance(world, World) else vacuum_room()
+        self.start_pose = tuple(float(v) for v in start_pose)
+        self.wheel_radius_m = float(wheel_diameter_m) / 2
+        self.track_m = float(track_m)
+        self.v_max_m_s = float(v_max_m_s)
+        self.deadband_duty = float(deadband_duty)
+        self.motor_gains = tuple(motor_gains)
+        self.motor_time_constant_ms = float(motor_time_constant_ms)
+        self.slots_per_rev = int(slots_per_rev)
+        self.sonar_noise_sd_m = float(sonar_noise_sd_m)
+        self.bumper = bool(bumper)
+        self.bumper_bounce_us = int(bumper_bounce_us)
+        self.coverage_cell_m = float(coverage_cell_m)
+        super().__init__()
+
+    def _build(self) -> None:
+        motors = tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
+                               gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
+        self.drive = DiffDriveTrain(bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")), motors=motors,
+                                    wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
+                                    start_pose=self.start_pose)
+        self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, lines_per_rev=self.slots_per_rev),
+                         SlottedDiskEncoder(("enc_r",), wheel=1, lines_per_rev=self.slots_per_rev)]
+        bumpers = [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0,
+                          bounce_us=self.bumper_bounce_us)] if self.bumper else []
+        self.parts = [
+            ContactMonitor([(0.0, 0.0, BODY_RADIUS_M)], bumpers),
+            HcSr04(mount=(0.10, 0.0, 0.0), servo=Servo(), noise_sd_m=self.sonar_noise_sd_m),
+            CoverageRecorder(CoverageGrid(self.world, self.coverage_cell_m, BODY_RADIUS_M)),
+        ]
