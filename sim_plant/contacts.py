@@ -94,7 +94,7 @@ class ContactMonitor(Part):
         self.reach_m = max(math.hypot(ox, oy) + r for ox, oy, r in self.circles)
         self.bumpers = list(bumpers)
         self.outputs = {b.name: "level" for b in self.bumpers}
-        self.touching: tuple[int, ...] = ()
+        self.touching: tuple = ()  # (circle, wall normal) pairs in contact at the last check
         self.contacts: list[Contact] = []
         self.check_us = 0
         self.next_us = 0
@@ -121,12 +121,8 @@ class ContactMonitor(Part):
     def on_motion_change(self, t_us: int, plant) -> None:
         """New speeds: a check planned for the old ones may now come too late (never too
         early: an early check is only a wasted one), so plan again and keep the sooner."""
-        if self.touching:
-            check_us = self._touching_check_us(t_us, plant)
-        else:
-            x, y, th = plant.drive.body.pose_at(t_us)
-            gap = min(g for g, _, _ in self._gaps(plant.world, x, y, th))
-            check_us = self._clear_check_us(t_us, plant, gap)
+        x, y, th = plant.drive.body.pose_at(t_us)
+        check_us = self._next_check_us(t_us, plant, self._clear_gap(plant.world, x, y, th))
         if check_us < self.check_us:
             self.check_us = check_us
         self._plan()
@@ -138,63 +134,69 @@ class ContactMonitor(Part):
                 nxt = b.pending[0][0]
         self.next_us = nxt
 
-    def _gaps(self, world, x: float, y: float, th: float) -> list[tuple[float, float, float]]:
+    def _walls(self, world, x: float, y: float, th: float) -> list[tuple[list, float]]:
+        """Per circle: the walls it touches (``(gap, nx, ny)``), and its gap to the others."""
         co, si = math.cos(th), math.sin(th)
         local = world.near(x, y, NEAR_REACH_M + self.reach_m)
-        gaps = []
+        found = []
         for ox, oy, r in self.circles:
-            d, nx, ny = local.clearance(x + co * ox - si * oy, y + si * ox + co * oy)
-            gaps.append((min(d, NEAR_REACH_M) - r, nx, ny))
-        return gaps
+            touches, clear = local.circle_walls(x + co * ox - si * oy, y + si * ox + co * oy, r, CONTACT_EPS_M)
+            found.append((touches, min(clear, NEAR_REACH_M - r)))
+        return found
 
-    def _clear_check_us(self, t_us: int, plant, gap_m: float) -> int:
+    def _clear_gap(self, world, x: float, y: float, th: float) -> float:
+        return min(clear for _, clear in self._walls(world, x, y, th))
+
+    def _next_check_us(self, t_us: int, plant, clear_gap_m: float) -> int:
+        """When the body may first reach a wall it does not touch yet (at full speed), or
+        ``RECHECK_US`` while it touches one; never, at rest."""
         speed = plant.drive.body.speed_bound_m_s(self.reach_m)
         if speed <= 0.0:
             return NEVER_US
-        return t_us + max(MIN_STEP_US, int(gap_m / speed * 1e6))
-
-    def _touching_check_us(self, t_us: int, plant) -> int:
-        """While touching: recheck soon if moving; a body at rest cannot come free."""
-        return t_us + RECHECK_US if plant.drive.body.speed_bound_m_s(self.reach_m) > 0.0 else NEVER_US
+        t = t_us + max(MIN_STEP_US, int(clear_gap_m / speed * 1e6))
+        return min(t, t_us + RECHECK_US) if self.touching else t
 
     def _check(self, t_us: int, plant, out: list, initial: bool = False) -> None:
         body, world = plant.drive.body, plant.world
         x, y, th = body.pose_at(t_us)
-        for _ in range(PUSH_ITERATIONS):  # push the body out of any wall it went into
-            depth, nx, ny = max(((-g, nx, ny) for g, nx, ny in self._gaps(world, x, y, th)), key=lambda e: e[0])
+        for _ in range(PUSH_ITERATIONS):  # push the body out of the walls it went into
+            depth, px, py = 0.0, 0.0, 0.0
+            for touches, _ in self._walls(world, x, y, th):
+                for gap, nx, ny in touches:
+                    if -gap > depth:
+                        depth, px, py = -gap, nx, ny
             if depth <= 0.0:
                 break
-            x, y = x + depth * nx, y + depth * ny
+            x, y = x + depth * px, y + depth * py
         body.rebase(t_us, (x, y, th))
         co, si = math.cos(th), math.sin(th)
         constraints, touching, clear_gap = [], [], math.inf
-        for i, (gap, nx, ny) in enumerate(self._gaps(world, x, y, th)):
-            if gap <= CONTACT_EPS_M:
-                ox, oy, _ = self.circles[i]
-                qx, qy = x + co * ox - si * oy, y + si * ox + co * oy
+        for i, (touches, clear) in enumerate(self._walls(world, x, y, th)):
+            ox, oy, _ = self.circles[i]
+            qx, qy = x + co * ox - si * oy, y + si * ox + co * oy
+            for gap, nx, ny in touches:
                 constraints.append((nx, ny, nx * qx + ny * qy - gap, ox, oy))  # on the wall itself
-                touching.append((i, math.atan2(-ny, -nx) - th))
-            elif gap < clear_gap:
-                clear_gap = gap
+                touching.append((i, round(nx, 3), round(ny, 3), math.atan2(-ny, -nx) - th))
+            clear_gap = min(clear_gap, clear)
         body.constraints = tuple(constraints)
         before = self.touching
-        self.touching = tuple(i for i, _ in touching)
+        self.touching = tuple(key[:3] for key in touching)
         for b in self.bumpers:
-            pressed = any(i in b.circles and abs(math.remainder(a - b.center_rad, 2 * math.pi)) <= b.half_arc_rad
-                          for i, a in touching)
+            pressed = any(self._in_arc(b, i, a) for i, _, _, a in touching)
             if initial:
                 b.pressed, b.level = pressed, b.level_for(pressed)
             else:
                 b.set_pressed(t_us, pressed, plant.rng, out)
-        for i, a in touching:
-            if i not in before:
-                part = next((b.name for b in self.bumpers if i in b.circles and
-                             abs(math.remainder(a - b.center_rad, 2 * math.pi)) <= b.half_arc_rad), "body")
+        for i, nx, ny, a in touching:
+            if (i, nx, ny) not in before:
+                part = next((b.name for b in self.bumpers if self._in_arc(b, i, a)), "body")
                 self.contacts.append(Contact(t_us, x, y, part))
-        if touching:
-            self.check_us = self._touching_check_us(t_us, plant)
-        else:
-            self.check_us = self._clear_check_us(t_us, plant, clear_gap)
+        self.check_us = self._next_check_us(t_us, plant, clear_gap)
+
+    @staticmethod
+    def _in_arc(bumper: "Bumper", circle: int, angle_rad: float) -> bool:
+        return circle in bumper.circles and \
+            abs(math.remainder(angle_rad - bumper.center_rad, 2 * math.pi)) <= bumper.half_arc_rad
 
     def truth(self, t_us: int, plant) -> dict:
         return {"contacts": list(self.contacts), "touching": bool(self.touching),

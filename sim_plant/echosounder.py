@@ -110,7 +110,7 @@ class NavmanSideSounder:
 
     def dropout_p(self, range_m: float) -> float:
         """Probability of no reading at a true range (Table 7.1; 1 below ``min_range_m``)."""
-        if range_m < self.min_range_m:
+        if range_m < self.min_range_m - 1e-9:
             return 1.0
         return interpolate(self.dropout_table, range_m)
 
@@ -172,7 +172,8 @@ class NmeaDepthSounder(Part):
             raise ValueError(f"{name}: {len(self.transducers)} transducers need a select input")
         self.select_name = select
         self.period_us = int(period_us)
-        self.byte_us = bits_per_byte * 1e6 / baud
+        self.baud = int(baud)
+        self.bits_per_byte = int(bits_per_byte)
         self.bytes_per_change = int(bytes_per_change)
         self.talker = talker
         self.switch_settle_us = int(switch_settle_s * 1e6)
@@ -223,7 +224,8 @@ class NmeaDepthSounder(Part):
         group = self.bytes_per_change if self.bytes_per_change > 0 else len(sentence)
         for start in range(0, len(sentence), group):
             end = min(start + group, len(sentence))
-            self.queue.append((t_us + math.ceil(end * self.byte_us), sentence[start:end]))
+            wire_us = -(-end * self.bits_per_byte * 1_000_000 // self.baud)  # end of the stop bit, rounded up
+            self.queue.append((t_us + wire_us, sentence[start:end]))
         self.sample_us = t_us + self.period_us
 
     def truth(self, t_us: int, plant) -> dict:

@@ -18,6 +18,8 @@ back to the plant, no stored callables) so that the host can snapshot a plant by
 its ``__dict__`` and roll back to it.
 """
 
+import math
+
 import numpy as np
 
 from sim_plant.plant import NEVER_US, Change, Plant
@@ -191,7 +193,7 @@ class RobotPlant(Plant):
 
     def truth(self) -> dict:
         x, y, th = self.drive.body.pose_at(self._t_us)
-        truth = {"t_us": self._t_us, "x_m": x, "y_m": y, "theta_rad": th}
+        truth = {"t_us": self._t_us, "x_m": x, "y_m": y, "theta_rad": math.remainder(th, 2 * math.pi)}
         truth.update(self.drive.truth(self._t_us, self))
         for part in self.parts:
             truth.update(part.truth(self._t_us, self))

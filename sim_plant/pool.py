@@ -50,7 +50,7 @@ class PoolCleaner(RobotPlant):
     ``bytes_per_change`` to :class:`~sim_plant.echosounder.NmeaDepthSounder`."""
 
     def __init__(self, *, pool_length_m=POOL_LENGTH_M, pool_width_m=POOL_WIDTH_M, start_pose=(0.46, 0.5, 0.0),
-                 speed_m_s=0.3, track_m=0.4, steering="measured", steer_scatter_rel=0.12,
+                 speed_m_s=0.3, track_m=0.4, steering="measured", steer_scatter_rel=0.13,
                  reversal_pause_ms=1000.0, kick_mean_rad=-0.0174, kick_sd_rad=0.0348,
                  sonar="nmea", sonar_period_us=500_000, sonar_phase_us=100_000, sonar_options=None,
                  bytes_per_change=1, switch_settle_s=0.0, bumper_bounce_us=0, coverage_cell_m=0.1):

@@ -210,6 +210,33 @@ class World:
                     best, bnx, bny = 0.0, nx, ny
         return best, bnx, bny
 
+    def circle_walls(self, x: float, y: float, r: float, eps: float) -> tuple[list, float]:
+        """For a circle of radius ``r`` at (x, y): the walls it touches or has gone into,
+        as ``(gap, nx, ny)`` with gap <= ``eps`` (negative: that deep in) and the normal
+        pointing from the wall to the centre, and the smallest gap to any other wall."""
+        touches, clear = [], INF
+        limit = r + eps
+        for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
+            if abs(nx * x + ny * y - c) >= clear + r:  # cannot touch, nor be nearer than the best
+                continue
+            wx, wy = x - ax, y - ay
+            s = (wx * ux + wy * uy) / (length * length)
+            if s <= 0.0:
+                px, py = wx, wy
+            elif s >= 1.0:
+                px, py = wx - ux, wy - uy
+            else:
+                px, py = wx - s * ux, wy - s * uy
+            d = math.hypot(px, py)
+            if d <= limit:
+                if d > 1e-12:
+                    touches.append((d - r, px / d, py / d))
+                else:
+                    touches.append((-r, nx, ny))
+            elif d - r < clear:
+                clear = d - r
+        return touches, clear
+
     def contains(self, x: float, y: float) -> bool:
         """Even-odd rule: a point is in free space if a ray from it crosses the walls an
         odd number of times (inside the outer boundary, outside every obstacle)."""
@@ -285,19 +312,22 @@ def duct_network(sections, *, name: str = "duct") -> World:
     rects = [(min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)) for x0, y0, x1, y1 in sections]
     segs = []
     for i, (x0, y0, x1, y1) in enumerate(rects):
-        others = [r for j, r in enumerate(rects) if j != i]
         # each edge: fixed coordinate, span, axis, and the outward side (+1 / -1)
         for fixed, lo, hi, horizontal, out in ((y0, x0, x1, True, -1), (y1, x0, x1, True, +1),
                                                (x0, y0, y1, False, -1), (x1, y0, y1, False, +1)):
             pieces = [(lo, hi)]
-            for ox0, oy0, ox1, oy1 in others:
+            for j, (ox0, oy0, ox1, oy1) in enumerate(rects):
+                if j == i:
+                    continue
                 if horizontal:
                     n_lo, n_hi, s_lo, s_hi = oy0, oy1, ox0, ox1
                 else:
                     n_lo, n_hi, s_lo, s_hi = ox0, ox1, oy0, oy1
-                # the other section covers the outward side of this edge there
+                # the other section covers the outward side of this edge there, or has the
+                # same edge (overlapping sections: the first one keeps it)
                 covers = (n_lo <= fixed < n_hi) if out > 0 else (n_lo < fixed <= n_hi)
-                if covers:
+                same_edge = j < i and fixed == (n_hi if out > 0 else n_lo)
+                if covers or same_edge:
                     pieces = _subtract(pieces, s_lo, s_hi)
             for a, b in pieces:
                 if b - a > 1e-9:

@@ -1,0 +1,142 @@
+"""Seed 004's dead-reckoning lab robot: quadrature encoders (Table 1), DRV8833 two-PWM
+bridges, the odometry the encoders support, and its worlds."""
+
+import math
+
+import pytest
+
+from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
+from sim_plant.lab_robot import LabRobot
+from sim_plant.world import rectangle
+
+OPEN = rectangle(100.0, 100.0)
+START = (50.0, 50.0, 0.0)
+
+
+def drive(plant, left: float, right: float):
+    """Signed duty per wheel through the DRV8833 inputs (IN1 PWM forwards, IN2 backwards)."""
+    for side, duty in (("l", left), ("r", right)):
+        plant.set_input(f"motor_{side}.in1", round(max(duty, 0) * 65535))
+        plant.set_input(f"motor_{side}.in2", round(max(-duty, 0) * 65535))
+
+
+class Table1Decoder:
+    """Seed 004 §1.2: a phase change to the next phase (0 -> 1 -> 2 -> 3 -> 0) counts +1, to
+    the previous one -1; a jump of two phases is an error."""
+
+    PHASE = {(0, 0): 0, (1, 0): 1, (1, 1): 2, (0, 1): 3}
+
+    def __init__(self, a=0, b=0):
+        self.levels = {"a": a, "b": b}
+        self.phase = self.PHASE[(a, b)]
+        self.count = self.errors = 0
+        self.phases = [self.phase]
+
+    def edge(self, channel, level):
+        self.levels[channel] = level
+        phase = self.PHASE[(self.levels["a"], self.levels["b"])]
+        step = (phase - self.phase) % 4
+        self.count += {1: 1, 3: -1}.get(step, 0)
+        self.errors += step == 2
+        self.phase = phase
+        self.phases.append(phase)
+
+
+def decode(changes, side="l"):
+    dec = Table1Decoder()
+    for c in changes:
+        if c.name.startswith(f"enc_{side}."):
+            dec.edge(c.name[-1], c.value)
+    return dec
+
+
+def test_forward_runs_through_the_phases_of_table_1_and_backward_runs_them_back():
+    """Seed 004 Table 1: phases AB = 00, 10, 11, 01; increasing phase one way, decreasing
+    the other, one channel changing per edge."""
+    forward, backward = LabRobot(world=OPEN, start_pose=START), LabRobot(world=OPEN, start_pose=START)
+    drive(forward, 0.5, 0.5)
+    drive(backward, -0.5, -0.5)
+    fwd = decode(forward.advance_to(500_000))
+    bwd = decode(backward.advance_to(500_000))
+    assert fwd.phases[:9] == [0, 1, 2, 3, 0, 1, 2, 3, 0]
+    assert bwd.phases[:9] == [0, 3, 2, 1, 0, 3, 2, 1, 0]
+    assert fwd.errors == bwd.errors == 0 and fwd.count == -bwd.count > 0
+
+
+def test_decoded_counts_give_the_wheel_travel_to_one_count():
+    """Seed 004 eq. 4: S = R mu sum(+-1), mu = 2 pi / counts per wheel revolution
+    (4 x lines x gear ratio); with the odometry equations (Eq. 1) the decoded counts give the
+    distance and heading (error-less encoders, no slip)."""
+    plant = LabRobot(world=OPEN, start_pose=START, lines_per_rev=10, gear_ratio=2.0)
+    drive(plant, 0.6, 0.3)
+    changes = plant.advance_to(3_000_000)
+    mu = 2 * math.pi / (4 * 10 * 2.0)
+    s_l = decode(changes, "l").count * plant.wheel_radius_m * mu
+    s_r = decode(changes, "r").count * plant.wheel_radius_m * mu
+    w_l, w_r = plant.truth()["wheel_rad_s"]
+    assert s_l == pytest.approx(w_l * 3.0 * plant.wheel_radius_m, abs=plant.wheel_radius_m * mu)
+    assert s_r == pytest.approx(w_r * 3.0 * plant.wheel_radius_m, abs=plant.wheel_radius_m * mu)
+    assert (s_r - s_l) / plant.track_m == pytest.approx(plant.truth()["theta_rad"], abs=2 * mu * 0.035 / 0.2)
+
+
+def test_a_mirrored_encoder_runs_its_phases_backwards():
+    """Polarity -1: an encoder mounted the other way round (B leads A going forwards)."""
+    plant = LabRobot(world=OPEN, start_pose=START, polarity=(1, -1))
+    drive(plant, 0.5, 0.5)
+    changes = plant.advance_to(500_000)
+    assert decode(changes, "l").count > 0 > decode(changes, "r").count
+
+
+def test_drv8833_two_pwm_truth_table():
+    """DRV8833: (PWM, low) forwards at the duty, (high, PWM) forwards at 1 - duty, (low, PWM)
+    backwards, (high, high) brake."""
+    speeds = {}
+    for label, (in1, in2) in {"fast": (40_000, 0), "slow": (65535, 40_000), "back": (0, 40_000),
+                              "brake": (65535, 65535), "coast": (0, 0)}.items():
+        plant = LabRobot(world=OPEN, start_pose=START)
+        for side in "lr":
+            plant.set_input(f"motor_{side}.in1", in1)
+            plant.set_input(f"motor_{side}.in2", in2)
+        speeds[label] = plant.truth()["wheel_rad_s"][0]
+    duty = lambda d: (d - 0.05) / 0.95 * 0.5 / 0.035  # noqa: E731  (dead band 5 %, 0.5 m/s, r = 35 mm)
+    assert speeds["fast"] == pytest.approx(duty(40_000 / 65535))
+    assert speeds["slow"] == pytest.approx(duty(1 - 40_000 / 65535))
+    assert speeds["back"] == pytest.approx(-speeds["fast"])
+    assert speeds["brake"] == speeds["coast"] == 0.0
+
+
+def test_lines_and_gear_ratio_set_the_counts_per_wheel_turn():
+    """Counts per wheel revolution = edges per line x lines x gear ratio."""
+    assert QuadratureEncoder(("a", "b"), wheel=0, lines_per_rev=12, gear_ratio=30).edges_per_wheel_rev == 1440
+    assert SlottedDiskEncoder(("s",), wheel=0, lines_per_rev=20).edges_per_wheel_rev == 40
+    with pytest.raises(ValueError, match="polarity"):
+        QuadratureEncoder(("a", "b"), wheel=0, lines_per_rev=12, polarity=0)
+
+
+def test_square_path_sides_are_exact_arcs():
+    """Seed 004 Fig. 8: a 2 m square of straight sides and turns on the spot; the plant moves
+    on exact arcs, so four quarter turns and four sides close the square."""
+    plant = LabRobot(world=rectangle(6.0, 6.0), start_pose=(2.0, 2.0, 0.0), deadband_duty=0.0)
+    corners = []
+    for _ in range(4):
+        drive(plant, 0.5, 0.5)
+        plant.advance_to(plant.t_us + round(2.0 / plant.truth()["v_m_s"] * 1e6))
+        corners.append(plant.pose_at(plant.t_us)[:2])
+        drive(plant, -0.5, 0.5)
+        plant.advance_to(plant.t_us + round(math.pi / 2 / plant.truth()["w_rad_s"] * 1e6))
+    x, y, th = plant.pose_at(plant.t_us)
+    assert corners[0] == pytest.approx((4.0, 2.0), abs=1e-6)
+    assert corners[1] == pytest.approx((4.0, 4.0), abs=1e-5)
+    assert (x, y) == pytest.approx((2.0, 2.0), abs=1e-5)
+    assert math.remainder(th, 2 * math.pi) == pytest.approx(0.0, abs=1e-5)
+
+
+def test_canyon_world_has_walls_on_both_sides_and_an_open_end():
+    """Seed 004 §2.4 (Fig. 10): the S-curve "canyon"; wall following stops where no wall is
+    seen."""
+    plant = LabRobot(world="canyon")
+    x, y, th = plant.pose_at(0)
+    left = plant.world.ray(x, y, th + math.pi / 2)[0]
+    right = plant.world.ray(x, y, th - math.pi / 2)[0]
+    assert left == pytest.approx(0.6, abs=0.1) and right == pytest.approx(0.6, abs=0.1)
+    assert math.isinf(plant.world.ray(8.5, 0.0, 0.0)[0])

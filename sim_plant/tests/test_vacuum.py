@@ -1,0 +1,135 @@
+"""Seed 003's vacuum robot: HC-SR04 trigger/echo on an SG90 servo, slotted-disk IR encoders,
+an L298N-style bridge with a wide dead band."""
+
+import math
+
+import pytest
+
+from sim_plant.hcsr04 import START_DELAY_US, TIMEOUT_US, echo_width_us
+from sim_plant.vacuum import VacuumRobot
+from sim_plant.world import box, room
+
+SENSOR_X_M = 0.10  # the HC-SR04 sits 10 cm ahead of the axle
+SERVO_DUTY_90 = round(1.5 / 20 * 65535)
+
+
+def ping(plant, width_us=10):
+    """Raise TRIG for ``width_us``; return (rise, fall) of ECHO, or None if it stays low."""
+    plant.set_input("sonar.trig", 1)
+    plant.advance_to(plant.t_us + width_us)
+    t_trig = plant.t_us
+    plant.set_input("sonar.trig", 0)
+    echo = [c for c in plant.advance_to(plant.t_us + 60_000) if c.name == "sonar.echo"]
+    if not echo:
+        return None
+    assert [c.value for c in echo] == [1, 0]
+    assert echo[0].t_us == t_trig + START_DELAY_US
+    return echo[0].t_us, echo[1].t_us
+
+
+def facing_wall(range_m, **options):
+    """A robot whose sonar is ``range_m`` from a wall straight ahead (nothing else near)."""
+    x = 1.0
+    world = room(x + SENSOR_X_M + range_m, 20.0)
+    return VacuumRobot(world=world, start_pose=(x, 10.0, 0.0), sonar_noise_sd_m=0.0, **options)
+
+
+@pytest.mark.parametrize("range_cm, width_us", [(10, 583), (100, 5831), (400, 23324)])
+def test_echo_lasts_58_31_us_per_cm(range_cm, width_us):
+    """Seed 003 §3.3: D = T C / 2 with C = 343 m/s: 10 cm -> 583 us, 1 m -> 5831 us,
+    4 m -> 23324 us of ECHO high."""
+    rise, fall = ping(facing_wall(range_cm / 100))
+    assert fall - rise == width_us == echo_width_us(range_cm / 100)
+
+
+def test_nothing_within_4_m_times_out_after_38_ms():
+    """Seed 003 §3.3: "Echo pulse will timeout after 38ms of no object detected"; "Max Range 4m"."""
+    rise, fall = ping(facing_wall(4.2))
+    assert fall - rise == TIMEOUT_US == 38_000
+
+
+def test_nearer_than_4_cm_reads_4_cm():
+    """Seed 003 §3.3: "Min Range 4cm"."""
+    rise, fall = ping(facing_wall(0.02))
+    assert fall - rise == echo_width_us(0.04) == 233
+
+
+def test_the_cone_is_15_degrees():
+    """Seed 003 §3.3: "Measuring Angle 15 degree": a post 7 deg off the axis echoes, one at
+    9 deg does not (the wall 3.5 m behind it does)."""
+    for angle_deg, expect_m in ((7.0, 1.0), (9.0, 3.5)):
+        a = math.radians(angle_deg)
+        sx, sy = 1.0 + SENSOR_X_M, 10.0
+        post = box(sx + 1.0 * math.cos(a) + 0.02, sy + 1.0 * math.sin(a), 0.04, 0.04)
+        world = room(sx + 3.5, 20.0, [post])
+        plant = VacuumRobot(world=world, start_pose=(1.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+        rise, fall = ping(plant)
+        assert (fall - rise) / 5831 == pytest.approx(expect_m, abs=0.03), angle_deg
+
+
+def test_a_trigger_shorter_than_10us_or_during_an_echo_is_ignored():
+    """Seed 003 §3.3: "Trigger Input Signal 10us TTL pulse"; the module measures one echo at a time."""
+    plant = facing_wall(1.0)
+    assert ping(plant, width_us=5) is None
+    plant.set_input("sonar.trig", 1)
+    plant.advance_to(plant.t_us + 10)
+    plant.set_input("sonar.trig", 0)
+    plant.advance_to(plant.t_us + 1_000)  # echo is high now
+    plant.set_input("sonar.trig", 1)
+    plant.advance_to(plant.t_us + 10)
+    plant.set_input("sonar.trig", 0)
+    echo = [c for c in plant.advance_to(plant.t_us + 100_000) if c.name == "sonar.echo"]
+    assert [c.value for c in echo] == [0], "only the first ping's falling edge"
+
+
+def test_servo_turns_60_degrees_in_0_12_s_and_a_ping_sees_along_its_current_angle():
+    """Seed 003 §3.3: "SG90, takes 0.12 sec / 60 degrees"; the scan angles 10..170 deg
+    (10 -> 45 deg takes 70 ms)."""
+    plant = facing_wall(2.0)
+    plant.set_input("servo.pwm", SERVO_DUTY_90)
+    to_150 = round(2.1667 / 20 * 65535)  # 150 deg: 0.5 ms + 150/180 * 2 ms
+    plant.set_input("servo.pwm", to_150)
+    plant.advance_to(plant.t_us + 60_000)
+    assert plant.truth()["servo_deg"] == pytest.approx(120.0, abs=0.1)
+    plant.advance_to(plant.t_us + 60_000)
+    assert plant.truth()["servo_deg"] == pytest.approx(150.0, abs=0.1)
+    plant.set_input("servo.pwm", round(0.6111 / 20 * 65535))  # 10 deg
+    plant.advance_to(plant.t_us + 279_000)
+    assert plant.truth()["servo_deg"] > 10.0
+    plant.advance_to(plant.t_us + 1_500)
+    assert plant.truth()["servo_deg"] == pytest.approx(10.0, abs=0.1)
+    plant.set_input("servo.pwm", round(1.0 / 20 * 65535))  # 45 deg
+    plant.advance_to(plant.t_us + 70_000)
+    assert plant.truth()["servo_deg"] == pytest.approx(45.0, abs=0.1)
+    plant.set_input("servo.pwm", SERVO_DUTY_90)
+    plant.advance_to(plant.t_us + 45_000)  # half way: 67.5 deg
+    ping(plant)
+    assert plant.truth()["ping_angle_deg"] == pytest.approx(67.5, abs=0.1)
+
+
+def test_low_duty_does_not_move_the_robot():
+    """Seed 003 §5.2: "At low speed the motor was not able to supply the required torque to
+    move the robot" (a 25 % dead band here)."""
+    plant = facing_wall(2.0)
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.pwm", int(0.24 * 65535))
+    changes = plant.advance_to(1_000_000)
+    assert not [c for c in changes if c.name.startswith("enc")] and plant.truth()["distance_m"] == 0.0
+    for side in "lr":
+        plant.set_input(f"motor_{side}.pwm", int(0.6 * 65535))
+    changes = plant.advance_to(2_000_000)
+    assert sum(c.name == "enc_l" for c in changes) == pytest.approx(
+        plant.truth()["distance_m"] / (math.pi * 0.065) * 20 * 2, abs=1)
+
+
+def test_unequal_wheels_veer_towards_the_weaker_one():
+    """Seed 003 §7.2: "Error in estimate of ... wheel diameters" causes "a uniform veer in one
+    direction": a per-wheel gain mismatch at equal duty curves the path."""
+    plant = VacuumRobot(world=room(20.0, 20.0), start_pose=(2.0, 10.0, 0.0), motor_gains=(1.0, 0.95))
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.pwm", 50_000)
+    plant.advance_to(5_000_000)
+    truth = plant.truth()
+    assert truth["theta_rad"] < -0.1 and truth["y_m"] < 10.0 - 0.05
