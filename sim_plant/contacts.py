@@ -79,7 +79,8 @@ class Bumper:
             out.append(Change(t_us, self.name, new))
         if self.bounce_us > 0 and self.bounce_max_pairs > 0:
             pairs = int(rng.integers(1, self.bounce_max_pairs + 1))
-            times = sorted(int(v) for v in rng.choice(self.bounce_us, size=min(2 * pairs, self.bounce_us), replace=False))
+            draws = rng.choice(self.bounce_us, size=min(2 * pairs, self.bounce_us), replace=False)
+            times = sorted(int(v) for v in draws)
             times = times[: len(times) // 2 * 2]
             self.pending = [(t_us + 1 + dt, new ^ 1 if k % 2 == 0 else new) for k, dt in enumerate(times)]
 

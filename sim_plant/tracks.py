@@ -250,5 +250,5 @@ class TrackDrive(Part):
 
     def truth(self, t_us: int, plant) -> dict:
         return {"direction": self.direction, "reversing": self.paused, "track_stopped": tuple(self.stopped),
-                "reversals": self.reversals, "reversal_kicks_rad": list(self.kicks), "distance_m": self.body.distance_at(t_us),
-                "v_m_s": self.body.v if self.body.segment is None else None}
+                "reversals": self.reversals, "reversal_kicks_rad": list(self.kicks),
+                "distance_m": self.body.distance_at(t_us), "v_m_s": self.body.v if self.body.segment is None else None}

@@ -6,8 +6,17 @@ import numpy as np
 import pytest
 
 from sim_plant.coverage import CoverageGrid
-from sim_plant.world import (box, canyon, duct_network, multi_branch_duct, one_right_branch_duct, pool, rectangle,
-                             room, vacuum_room)
+from sim_plant.world import (
+    box,
+    canyon,
+    duct_network,
+    multi_branch_duct,
+    one_right_branch_duct,
+    pool,
+    rectangle,
+    room,
+    vacuum_room,
+)
 
 
 def test_ray_gives_range_and_incidence():

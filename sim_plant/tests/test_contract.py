@@ -1,0 +1,150 @@
+"""Every plant keeps the contract of sim_plant.plant: outputs as electrical signals, changes
+in time order and never before next_change_us() says, the same changes however the time is
+cut, the same seed the same run, and snapshots that replay the same future."""
+
+import random
+
+import pytest
+
+from sim_plant.duct import DuctRobot
+from sim_plant.lab_robot import LabRobot
+from sim_plant.plant import NEVER_US
+from sim_plant.pool import PoolCleaner
+from sim_plant.rover import RoverRoom
+from sim_plant.vacuum import VacuumRobot
+
+PLANTS = {
+    "rover": lambda: RoverRoom(room_w_m=3.0, room_h_m=3.0, start_pose=(1.5, 1.5, 0.0)),
+    "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
+    "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
+    "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
+    "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
+    "lab": lambda: LabRobot(world="canyon", bumper=True),
+}
+END_US = 8_000_000
+
+
+def schedule(plant, seed):
+    """Random actuator writes, as a firmware would make them: (t_us, name, value)."""
+    rnd = random.Random(seed)
+    events, t = [], 0
+    while t < END_US:
+        t += rnd.randrange(1_000, 120_000)
+        name = rnd.choice(sorted(plant.inputs))
+        kind = plant.inputs[name]
+        if kind == "duty":
+            value = rnd.choice((0, 20_000, 40_000, 65535, rnd.randrange(65536)))
+        else:
+            value = rnd.randrange(2)
+        events.append((t, name, value))
+        if name == "sonar.trig" and value == 1:  # a proper 10 us trigger pulse
+            events.append((t + 12, name, 0))
+            t += 12
+    return events
+
+
+def run(plant, events, *, host_loop: bool, chunk_seed: int = 0):
+    """Apply the writes at their times; advance event by event (as the host does) or in
+    random chunks. Checks the contract on the way; returns all changes."""
+    rnd = random.Random(chunk_seed)
+    changes = []
+    pending = list(events) + [(END_US, None, None)]
+    for t_write, name, value in pending:
+        while plant.t_us < t_write:
+            before = plant.t_us
+            nxt = plant.next_change_us()
+            assert nxt > before
+            if host_loop:
+                target = min(nxt, t_write)
+            else:
+                target = min(before + rnd.randrange(1, 400_000), t_write)
+            got = plant.advance_to(target)
+            assert plant.t_us == target
+            for c in got:
+                assert before < c.t_us <= target
+                assert c.t_us >= nxt, "a change came before next_change_us() said"
+            assert [c.t_us for c in got] == sorted(c.t_us for c in got)
+            changes += got
+        if name is not None:
+            plant.set_input(name, value)
+    return changes
+
+
+@pytest.mark.parametrize("kind", sorted(PLANTS))
+def test_changes_do_not_depend_on_how_time_is_cut(kind):
+    a, b = PLANTS[kind](), PLANTS[kind]()
+    a.reset(11)
+    b.reset(11)
+    events = schedule(a, 5)
+    by_event = run(a, events, host_loop=True)
+    by_chunk = run(b, events, host_loop=False, chunk_seed=3)
+    assert len(by_event) > 20
+    assert by_event == by_chunk
+    assert a.truth() == b.truth()
+
+
+@pytest.mark.parametrize("kind", sorted(PLANTS))
+def test_outputs_are_signals_of_their_declared_kind(kind):
+    plant = PLANTS[kind]()
+    plant.reset(2)
+    last = {name: plant.output(name) for name in plant.outputs}
+    for c in run(plant, schedule(plant, 8), host_loop=False, chunk_seed=1):
+        kind_ = plant.outputs[c.name]
+        if kind_ == "level":
+            assert c.value in (0, 1) and c.value != last[c.name], f"{c.name}: a level change must flip"
+        elif kind_ == "u16":
+            assert isinstance(c.value, int) and 0 <= c.value <= 65535
+        else:
+            assert kind_ == "bytes" and isinstance(c.value, bytes) and c.value
+        last[c.name] = c.value
+    for name, value in last.items():
+        if plant.outputs[name] != "bytes":
+            assert plant.output(name) == value
+
+
+@pytest.mark.parametrize("kind", sorted(PLANTS))
+def test_same_seed_same_run_other_seed_other_run(kind):
+    runs = []
+    for seed in (4, 4, 5):
+        plant = PLANTS[kind]()
+        plant.reset(seed)
+        runs.append(run(plant, schedule(plant, 9), host_loop=False))
+    assert runs[0] == runs[1]
+    assert runs[0] != runs[2]
+
+
+@pytest.mark.parametrize("kind", sorted(PLANTS))
+def test_snapshot_restore_replays_the_same_future(kind):
+    plant = PLANTS[kind]()
+    plant.reset(6)
+    events = schedule(plant, 10)
+    head = [e for e in events if e[0] < 3_000_000]
+    tail = [e for e in events if e[0] >= 3_000_000]
+    run_to = [*head, (3_000_000, None, None)]
+    for t, name, value in run_to:
+        plant.advance_to(t)
+        if name:
+            plant.set_input(name, value)
+    snap = plant.snapshot()
+    futures = []
+    for _ in range(3):
+        futures.append((run(plant, tail, host_loop=True), plant.truth()))
+        plant.restore(snap)
+        assert plant.t_us == 3_000_000
+    assert futures[0] == futures[1] == futures[2]
+
+
+def test_unknown_signals_are_refused_with_their_names():
+    plant = PoolCleaner()
+    with pytest.raises(KeyError, match="track_l.stop"):
+        plant.set_input("motor_l.pwm", 1)
+    with pytest.raises(KeyError, match="bumper_front"):
+        plant.output("bumper")
+
+
+def test_an_idle_plant_has_only_its_sensor_timeline():
+    plant = DuctRobot(sonar_options={"noise_v": 0.0})
+    plant.advance_to(1_000_000)
+    assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
+    quiet = VacuumRobot()
+    assert quiet.next_change_us() == NEVER_US
