@@ -6,7 +6,10 @@ cruising duty, a steering correction every second, the HC-SR04 pinged every 150 
 
 * **host loop**: the way the host runner drives a plant, event by event
   (``next_change_us`` then ``advance_to`` up to each change), which is the real cost;
-* **one call**: one ``advance_to`` per quantum (a lower bound: the same events, fewer calls).
+* **one call**: one ``advance_to`` per quantum (a lower bound: the same events, fewer calls);
+
+and the cost of a ``snapshot()`` plus a ``restore()`` (the host's rollback of a
+speculative batch of IRQ edges).
 
 Wall-clock time is measured here, in the benchmark, never in the plant.
 """
@@ -81,13 +84,13 @@ ROBOTS = [
 ]
 
 
-def run(make, drive, *, host_loop: bool) -> tuple[float, float]:
+def run(make, drive, *, host_loop: bool, quanta: int = QUANTA) -> tuple[float, float]:
     """(us of wall time per quantum, output changes per quantum)."""
     plant = make()
     plant.reset(1)  # building the plant is not part of the figure
     changes = 0
     t0 = time.perf_counter()
-    for k in range(QUANTA):
+    for k in range(quanta):
         drive(plant, k)
         end = (k + 1) * QUANTUM_US
         if host_loop:
@@ -96,17 +99,31 @@ def run(make, drive, *, host_loop: bool) -> tuple[float, float]:
         else:
             changes += len(plant.advance_to(end))
     elapsed = time.perf_counter() - t0
-    return elapsed / QUANTA * 1e6, changes / QUANTA
+    return elapsed / quanta * 1e6, changes / quanta
+
+
+def snapshot_cost(make, drive, repeats: int = 200) -> float:
+    """us for one snapshot() and one restore() of a plant under way."""
+    plant = make()
+    plant.reset(1)
+    for k in range(40):
+        drive(plant, k)
+        plant.advance_to((k + 1) * QUANTUM_US)
+    t0 = time.perf_counter()
+    for _ in range(repeats):
+        plant.restore(plant.snapshot())
+    return (time.perf_counter() - t0) / repeats * 1e6
 
 
 def main() -> None:
     print(f"plant cost per {QUANTUM_US // 1000} ms quantum ({QUANTA} quanta each; target <= {TARGET_US:.0f} us)")
-    print(f"{'robot':36} {'host loop us':>13} {'one call us':>12} {'changes/q':>10}")
+    print(f"{'robot':36} {'host loop us':>13} {'one call us':>12} {'changes/q':>10} {'snap+restore us':>16}")
     for name, make, drive in ROBOTS:
         host_us, per_q = min((run(make, drive, host_loop=True) for _ in range(3)), key=lambda r: r[0])
         call_us, _ = min((run(make, drive, host_loop=False) for _ in range(3)), key=lambda r: r[0])
+        snap_us = min(snapshot_cost(make, drive) for _ in range(3))
         flag = "" if host_us <= TARGET_US else "  (over target)"
-        print(f"{name:36} {host_us:13.1f} {call_us:12.1f} {per_q:10.1f}{flag}")
+        print(f"{name:36} {host_us:13.1f} {call_us:12.1f} {per_q:10.1f} {snap_us:16.1f}{flag}")
 
 
 if __name__ == "__main__":

@@ -61,23 +61,53 @@ def sensor_pose(pose: tuple[float, float, float], mount: tuple[float, float, flo
 
 
 class BeamRangeModel:
-    """Range to the first wall along the axis, less ``offset_m`` (the distance from the
-    mount point to the face the range is measured from), plus Gaussian noise, clamped to
-    ``min_m .. max_m`` (nothing nearer than ``max_m`` reads ``max_m``)."""
+    """A plain ultrasonic ranger.
+
+    ==========================  ========  ==============================================
+    attribute                   default   meaning
+    ==========================  ========  ==============================================
+    ``mount``                   origin    ``(x_m, y_m, angle_rad)`` in the body frame
+    ``offset_m``                0         subtracted: from the mount to the face ranges
+                                          are measured from
+    ``noise_sd_m``              0.01      Gaussian range noise
+    ``min_m``, ``max_m``        0.03, 4   span; readings are clamped to it
+    ``beam_half_angle_deg``     0         0: range along the axis; > 0: to the nearest
+                                          wall point inside the beam
+    ``max_incidence_deg``       90        no echo from a wall hit further off its normal
+    ``dropout_p``               0         chance that an echo is missed
+    ``no_echo``                 "max"     what a missed echo reads: ``"max"`` (``max_m``,
+                                          as an analog ranger with nothing in view) or
+                                          ``"none"`` (no reading: the output's invalid code)
+    ==========================  ========  ==============================================
+    """
 
     def __init__(self, mount=(0.0, 0.0, 0.0), *, noise_sd_m: float = 0.01, min_m: float = 0.03,
-                 max_m: float = 4.0, offset_m: float = 0.0):
+                 max_m: float = 4.0, offset_m: float = 0.0, beam_half_angle_deg: float = 0.0,
+                 max_incidence_deg: float = 90.0, dropout_p: float = 0.0, no_echo: str = "max"):
+        if no_echo not in ("max", "none"):
+            raise ValueError(f"no_echo: 'max' or 'none', got {no_echo!r}")
         self.mount = tuple(float(v) for v in mount)
         self.noise_sd_m = float(noise_sd_m)
         self.min_m = float(min_m)
         self.max_m = float(max_m)
         self.offset_m = float(offset_m)
+        self.beam_half_angle_rad = math.radians(beam_half_angle_deg)
+        self.max_incidence_rad = math.radians(max_incidence_deg)
+        self.dropout_p = float(dropout_p)
+        self.no_echo = no_echo
 
     def measure(self, t_us: int, pose, world, rng) -> tuple[float, float | None]:
+        """(true range, reported range or None)."""
         sx, sy, axis = sensor_pose(pose, self.mount)
-        hit_m, _ = world.near(sx, sy, self.max_m + self.offset_m).ray(sx, sy, axis)
+        local = world.near(sx, sy, self.max_m + self.offset_m)
+        hit_m, incidence = local.ray(sx, sy, axis)
+        if self.beam_half_angle_rad > 0.0:
+            hit_m = local.cone_nearest(sx, sy, axis, self.beam_half_angle_rad)
         true_m = hit_m - self.offset_m
         noisy_m = true_m + rng.normal(0.0, self.noise_sd_m)
+        missed = incidence > self.max_incidence_rad or (self.dropout_p > 0.0 and rng.random() < self.dropout_p)
+        if missed or true_m > self.max_m:
+            return true_m, (self.max_m if self.no_echo == "max" else None)
         return true_m, min(max(noisy_m, self.min_m), self.max_m)
 
 
