@@ -31,6 +31,17 @@ NEAR_REACH_M = 1.0
 """Walls farther than this from a body circle are not looked at: a gap reads at most this."""
 
 
+def _pushing_square_on(body) -> bool:
+    """The body drives straight into the walls it touches, square on: it stays put until
+    its speeds change (which re-plans the checks), so no recheck is needed meanwhile."""
+    if body.segment is not None or body.w != 0.0 or not body.constraints:
+        return False
+    vx, vy = math.cos(body.th0), math.sin(body.th0)
+    if body.v < 0.0:
+        vx, vy = -vx, -vy
+    return all(vx * nx + vy * ny < -0.999999 for nx, ny, _c, _ox, _oy in body.constraints)
+
+
 class Contact(NamedTuple):
     """Ground truth: at ``t_us`` the body touched a wall at pose (x, y); ``part`` is the
     bumper it pressed, or ``"body"``."""
@@ -151,11 +162,14 @@ class ContactMonitor(Part):
     def _next_check_us(self, t_us: int, plant, clear_gap_m: float) -> int:
         """When the body may first reach a wall it does not touch yet (at full speed), or
         ``RECHECK_US`` while it touches one; never, at rest."""
-        speed = plant.drive.body.speed_bound_m_s(self.reach_m)
+        body = plant.drive.body
+        speed = body.speed_bound_m_s(self.reach_m)
         if speed <= 0.0:
             return NEVER_US
         t = t_us + max(MIN_STEP_US, int(clear_gap_m / speed * 1e6))
-        return min(t, t_us + RECHECK_US) if self.touching else t
+        if not self.touching or _pushing_square_on(body):
+            return t
+        return min(t, t_us + RECHECK_US)
 
     def _check(self, t_us: int, plant, out: list, initial: bool = False) -> None:
         body, world = plant.drive.body, plant.world

@@ -13,9 +13,10 @@ A plant is made of:
 * other **parts** with a timeline of their own: sensors, the contact monitor, the
   coverage recorder.
 
-State is kept as a tree (every mutable object reachable by one path only, no reference
-back to the plant, no stored callables) so that the host can snapshot a plant by copying
-its ``__dict__`` and roll back to it.
+State is plain objects holding numbers, tuples, lists, dicts and arrays (no reference
+back to the plant, no stored callables), so that :meth:`RobotPlant.snapshot` can save it
+in place and :meth:`RobotPlant.restore` bring it back, for the host's rollback of a
+speculative batch of IRQ edges.
 """
 
 import math
@@ -79,7 +80,8 @@ class Part:
     def fire(self, t_us: int, plant: "RobotPlant", out: list) -> None:
         """Handle what is due at ``t_us``; append :class:`Change` s to ``out``."""
 
-    def set_input(self, name: str, value, t_us: int, plant: "RobotPlant") -> None:
+    def set_input(self, name: str, value, t_us: int, plant: "RobotPlant") -> bool:
+        """Apply an input of this part at ``t_us``; True if the drive's motion changed."""
         raise KeyError(name)
 
     def initial_outputs(self) -> dict:
@@ -225,8 +227,6 @@ class RobotPlant(Plant):
             state.update(attrs)
             for key in containers:
                 state[key] = state[key].copy()
-        if self.__dict__.get("_snapshot_plan") is None:
-            self._snapshot_plan = [(obj, containers) for obj, _, containers in saved]
         self.rng.bit_generator.state = rng_state
 
     # -- loop -----------------------------------------------------------------------
