@@ -41,7 +41,9 @@ BODY_LENGTH_M = 0.90
 BODY_WIDTH_M = 0.48
 ADC_V_PER_M = 0.33
 """ADC-sonar option: 10 m full scale at 3.3 V (a harness choice; the seed's sonar is serial)."""
-BUMPER_HALF_ARC_DEG = 80.0
+BUMPER_HALF_ARC_DEG = 60.0
+"""The end bumpers close for walls met within 60 deg of square on (a side wall scraped at a
+shallow angle does not reverse the machine)."""
 
 
 class PoolCleaner(RobotPlant):
