@@ -29,6 +29,7 @@ name                     default    meaning
 ``sonar_max_m``          4.0        farthest range (reported when nothing is nearer)
 ``adc_bits``             12         ADC resolution; ``read_u16`` scales it to 16 bits
 ``adc_vref``             3.3        ADC full-scale volts
+``bumper_bounce_us``     0          contact bounce window of the bumper (0: clean)
 =======================  =========  ==================================================
 
 Sonar volts follow the MaxBotix LV analog law, Vcc/512 per inch at 3.3 V.
@@ -55,7 +56,7 @@ class RoverRoom(RobotPlant):
                  body_radius_m=0.17, wheel_radius_m=0.033, track_m=0.23, v_max_m_s=0.5,
                  deadband_duty=0.08, encoder_cpr=20, sonar_period_us=500_000,
                  sonar_phase_us=20_000, sonar_noise_m=0.01, sonar_min_m=0.03,
-                 sonar_max_m=4.0, adc_bits=12, adc_vref=3.3):
+                 sonar_max_m=4.0, adc_bits=12, adc_vref=3.3, bumper_bounce_us=0):
         self.room_w_m = float(room_w_m)
         self.room_h_m = float(room_h_m)
         self.start_pose = tuple(float(v) for v in start_pose)
@@ -72,6 +73,7 @@ class RoverRoom(RobotPlant):
         self.sonar_max_m = sonar_max_m
         self.adc_bits = adc_bits
         self.adc_vref = adc_vref
+        self.bumper_bounce_us = bumper_bounce_us
         self.world = rectangle(self.room_w_m, self.room_h_m, name="rover room")
         super().__init__()
 
@@ -89,7 +91,8 @@ class RoverRoom(RobotPlant):
                                offset_m=self.body_radius_m)
         self.parts = [
             ContactMonitor([(0.0, 0.0, self.body_radius_m)],
-                           [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0)]),
+                           [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0,
+                                   bounce_us=self.bumper_bounce_us)]),
             AnalogRangeSonar("sonar.adc", sonar, period_us=self.sonar_period_us, phase_us=self.sonar_phase_us,
                              volts_per_m=SONAR_V_PER_M, adc=Adc(self.adc_bits, self.adc_vref)),
             CoverageRecorder(CoverageGrid(self.world, COVERAGE_CELL_M, self.body_radius_m)),
