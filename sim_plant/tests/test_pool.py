@@ -178,3 +178,23 @@ def test_the_b400_has_no_encoders_and_its_inputs_are_the_track_stop_bits():
     assert set(plant.inputs) == {"track_l.stop", "track_r.stop", "sonar.select"}
     assert set(plant.outputs) == {"bumper_front", "bumper_rear", "sonar.uart"}
     assert not any(name.startswith("enc") for name in plant.outputs)
+
+
+def test_a_sonar_sample_every_0_15_m_and_about_50_per_8_m_lane():
+    """Seed 001 §5: "data are collected every 500 ms" at 0.3 m/s, Delta s = 0.15 m; seed 000
+    §7.3.1: along the 8 m side "the control software stores about 50 samples during each
+    passage"."""
+    plant = PoolCleaner(pool_length_m=8.0, pool_width_m=25.0, start_pose=(0.46, 12.0, 0.0), sonar="adc",
+                        kick_sd_rad=0.0, kick_mean_rad=0.0)
+    samples = []  # (direction, reversing) at each sonar sample, one backward lane
+    while plant.truth()["reversals"] < 2:
+        for c in plant.advance_to(plant.t_us + 100_000):
+            if c.name == "sonar_l.adc":
+                samples.append((plant.truth()["direction"], plant.truth()["reversing"]))
+    lane = [s for s in samples if s == (-1, False)]
+    assert 45 <= len(lane) <= 55
+    plant = quiet_pool(start_pose=(1.0, 4.0, 0.0))
+    plant.advance_to(100_000)
+    x0 = plant.truth()["x_m"]
+    plant.advance_to(600_000)
+    assert plant.truth()["x_m"] - x0 == pytest.approx(0.15, abs=1e-12)

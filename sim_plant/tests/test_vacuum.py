@@ -133,3 +133,16 @@ def test_unequal_wheels_veer_towards_the_weaker_one():
     plant.advance_to(5_000_000)
     truth = plant.truth()
     assert truth["theta_rad"] < -0.1 and truth["y_m"] < 10.0 - 0.05
+
+
+def test_a_ping_at_4_m_takes_at_most_23_7_ms_so_42_a_second():
+    """Seed 003 §3.3: T_max = 13 us + 0.2 ms + 23.4 ms = 23.7 ms; "In one second the
+    ultrasonic sensor can measure a minimum of 1/23.7ms = 42 measurements"."""
+    plant = facing_wall(4.0)
+    plant.set_input("sonar.trig", 1)
+    plant.advance_to(plant.t_us + 10)
+    t_trig = plant.t_us
+    plant.set_input("sonar.trig", 0)
+    echo = [c for c in plant.advance_to(plant.t_us + 60_000) if c.name == "sonar.echo"]
+    t_done = echo[-1].t_us - t_trig
+    assert t_done <= 23_700 and 1e6 / t_done >= 42
