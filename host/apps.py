@@ -27,10 +27,11 @@ class App:
     boards: tuple[str, ...] = ()
     doc: str = ""
     extra: dict = field(default_factory=dict)
+    folder: Path | None = None  # default: firmware/apps/<name>
 
     @property
     def path(self) -> Path:
-        return FIRMWARE / "apps" / self.name
+        return self.folder or FIRMWARE / "apps" / self.name
 
     def firmware_path(self, board_path: Path) -> list[Path]:
         """Folders as a board's filesystem has them: the app at /, drivers in /lib."""

@@ -18,6 +18,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import stat
 import subprocess
 import sys
@@ -90,8 +91,6 @@ def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
             mpy = name[:-3] + ".mpy"
             compile_module(src, out / mpy)
             files.append(mpy)
-    manifest = {"app": app.name, "board": board, "files": files}
-    (out / ".." / f"{app.name}-{board}.json").resolve().write_text(json.dumps(manifest, indent=1))
     return out, files
 
 
@@ -104,15 +103,43 @@ def check_port(port: str) -> None:
         raise FlashError(f"PORT={port}: not a serial device")
 
 
+class _Interrupt:
+    """Ctrl-C while flashing: the CLI's SIGINT handler ends the running mpremote at
+    once and the flash stops at the next step, so no mpremote is left on the port."""
+
+    def __init__(self):
+        self.hit = False
+        self.proc = None
+
+    def handler(self, _signum, _frame):
+        self.hit = True
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.kill()
+
+    def check(self):
+        if self.hit:
+            raise KeyboardInterrupt
+
+
+_interrupt = _Interrupt()
+
+
 def _mpremote(port: str, *args: str) -> str:
+    """Run mpremote in its own session (a terminal's Ctrl-C reaches only this tool)."""
     cmd = [_tool("mpremote"), "connect", port, *args]
-    proc = subprocess.Popen(cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    _interrupt.check()
+    proc = subprocess.Popen(cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)
+    _interrupt.proc = proc
     try:
+        _interrupt.check()
         out, _ = proc.communicate(timeout=MPREMOTE_TIMEOUT_S)
-    except BaseException:  # Ctrl-C or a timeout: never leave mpremote running
-        proc.kill()
-        proc.wait()
-        raise
+    finally:
+        _interrupt.proc = None
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    _interrupt.check()
     if proc.returncode != 0:
         tail = [t for t in out.strip().splitlines() if t.strip()][-1:] or ["(no output)"]
         raise FlashError(f"PORT={port}: mpremote failed: {tail[0]}")
@@ -147,13 +174,25 @@ def reset_and_read(port: str, max_lines: int = 10, wait_s: float = 3.0) -> list[
     import serial
 
     with serial.Serial(port, 115200, timeout=0.1) as ser:
-        ser.write(b"\r\x03\x03\x02")  # stop what runs, friendly REPL
+        ser.write(b"\r\x03")  # stop what runs
         _read_until(ser, b">>> ", 3.0)
+        ser.write(b"\x02")  # friendly REPL
+        _read_until(ser, b">>> ", 3.0)
+        _read_quiet(ser, 0.3)
         ser.write(b"\x04")  # soft reset: boot.py, main.py
         data = _read_until(ser, None, wait_s, max_lines + 1)
     text = data.decode(errors="replace").replace("\r\n", "\n")
     lines = [t for t in text.split("\n") if t.strip() and "soft reboot" not in t]
     return lines[:max_lines]
+
+
+def _read_quiet(ser, quiet_s: float, timeout_s: float = 3.0) -> None:
+    """Read until nothing more arrives for quiet_s (the board has settled at its prompt)."""
+    deadline = time.monotonic() + timeout_s
+    last = time.monotonic()
+    while time.monotonic() < deadline and time.monotonic() - last < quiet_s:
+        if ser.read(256):
+            last = time.monotonic()
 
 
 def _read_until(ser, marker: bytes | None, timeout_s: float, max_lines: int = 0) -> bytes:
@@ -191,6 +230,10 @@ def flash(app: str, board: str | None = None, port: str | None = None, *, lines:
         copied, unchanged = copy(port, folder, files)
         log(f"  copied {len(copied)} file(s){': ' + ', '.join(copied) if copied else ''}; "
             f"{len(unchanged)} up to date")
+        if ours or port == vboard.running_port(board):  # what this virtual board now holds
+            manifest = {"app": app, "board": board, "files": files}
+            (vboard.board_home(board) / "flashed.json").write_text(json.dumps(manifest, indent=1))
+        _interrupt.check()
         first = reset_and_read(port, lines, wait_s)
         log("  reset; first lines:")
         for line in first:
@@ -209,6 +252,7 @@ def main(argv=None) -> int:
     parser.add_argument("--lines", type=int, default=10, help="how many lines of the board's output to show")
     parser.add_argument("--wait", type=float, default=3.0, help="seconds to wait for them")
     args = parser.parse_args(argv)
+    signal.signal(signal.SIGINT, _interrupt.handler)
     try:
         flash(args.app, args.board, args.port or None, lines=args.lines, wait_s=args.wait)
     except HarnessError as e:

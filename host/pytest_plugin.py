@@ -6,7 +6,10 @@ when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-t
 the budget statistics of every rig are printed at the end of the session.
 """
 
+import json
+import os
 import re
+from pathlib import Path
 
 import pytest
 
@@ -42,8 +45,13 @@ def artefacts_for(node) -> "ARTEFACTS":
 def make_rig(request):
     rigs: list[Rig] = []
 
+    flashed = _flashed_firmware()
+
     def factory(app="rover", **kwargs) -> Rig:
         kwargs.setdefault("artefacts", artefacts_for(request.node) / f"rig{len(rigs)}")
+        if flashed and app == flashed["app"] and not {"main_dir", "firmware_dir", "plant"} & set(kwargs):
+            kwargs.setdefault("firmware_dir", flashed["dir"])
+            kwargs.setdefault("board", flashed["board"])
         rig = Rig(app, **kwargs)
         rigs.append(rig)
         rig.start()
@@ -56,6 +64,19 @@ def make_rig(request):
         for row in rig.budget_rows():
             if row["count"]:
                 _rows.append({"scenario": scenario, **row})
+
+
+def _flashed_firmware() -> dict | None:
+    """HIL_FIRMWARE=<board folder>: run the scenarios of the app flashed there
+    (``make hil FIRMWARE=build/vboard/<board>/fs``), from the flashed files."""
+    folder = os.environ.get("HIL_FIRMWARE")
+    if not folder:
+        return None
+    manifest = Path(folder).resolve().parent / "flashed.json"
+    if not manifest.is_file():
+        raise pytest.UsageError(f"HIL_FIRMWARE={folder}: no {manifest}; flash it first with make flash")
+    info = json.loads(manifest.read_text())
+    return {"dir": Path(folder).resolve(), "app": info["app"], "board": info["board"]}
 
 
 @pytest.fixture

@@ -37,6 +37,9 @@ from host.shim import _hilframe as F
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"
 SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET = 10, 11, 12
+STARTUP_S = 0.2
+"""Ctrl-C waits this long after a (re)start, as a board ignores it during its C start-up
+(the interpreter has no SIGINT handler until ``_vrepl`` installs one)."""
 START_TIMEOUT_S = 10.0
 
 
@@ -58,10 +61,10 @@ class VirtualBoard(Rig):
 
     REQUIRE_MAIN = False  # a fresh board has no main.py
 
-    def __init__(self, board: str = "esp32_devkitc", *, folder: Path | None = None, app: str = "rover",
+    def __init__(self, board: str = "esp32_devkitc", *, home: Path | None = None, app: str = "rover",
                  wired: bool = True, seed: int = 0):
-        self.home = board_home(board)
-        fs = Path(folder) if folder else self.home / "fs"
+        self.home = Path(home) if home else board_home(board)
+        fs = self.home / "fs"
         fs.mkdir(parents=True, exist_ok=True)
         super().__init__(app, board=board, seed=seed, mode="realtime", firmware_dir=fs, watchdog_s=30.0)
         self.fs = fs
@@ -97,6 +100,7 @@ class VirtualBoard(Rig):
             folders += [*self.firmware_folders, ".frozen"]
         env["MICROPYPATH"] = ":".join(map(str, folders))
         slave = self.console_pty.repl.slave_fd
+        self._started_at = time.monotonic()
         self._proc = subprocess.Popen(
             [str(interpreter.find()), "-m", "_vrepl"], env=env, cwd=str(self.fs),
             stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
@@ -136,6 +140,9 @@ class VirtualBoard(Rig):
             before, _, after = data.partition(b"\x03")
             self._write(con.repl.master_fd, before)
             if self._proc is not None and self._proc.poll() is None:
+                early = self._started_at + STARTUP_S - time.monotonic()
+                if early > 0:
+                    time.sleep(early)
                 os.kill(self._proc.pid, signal.SIGINT)
             if after:
                 self._from_client(after)
@@ -211,34 +218,32 @@ class VirtualBoard(Rig):
 # -- command line: one virtual board per board folder, as a background process ---------
 
 
-def _pidfile(board: str) -> Path:
-    return board_home(board) / "vboard.pid"
+def _home(board: str, home: Path | None) -> Path:
+    return Path(home) if home else board_home(board)
 
 
-def _portfile(board: str) -> Path:
-    return board_home(board) / "port"
-
-
-def running_port(board: str) -> str | None:
-    """The port of the running virtual board for this board, if one runs."""
+def running_port(board: str, home: Path | None = None) -> str | None:
+    """The port of the running virtual board in this home folder, if one runs."""
+    home = _home(board, home)
     try:
-        pid = int(_pidfile(board).read_text())
+        pid = int((home / "vboard.pid").read_text())
         os.kill(pid, 0)
-        return _portfile(board).read_text().strip()
+        return (home / "port").read_text().strip()
     except (OSError, ValueError):
         return None
 
 
-def start_background(board: str, *, wired: bool = True, app: str = "rover") -> str:
-    """Start a virtual board process (if none runs) and return its port."""
-    port = running_port(board)
+def start_background(board: str, *, home: Path | None = None, wired: bool = True, app: str = "rover") -> str:
+    """Start a virtual board process (if none runs in that folder) and return its port."""
+    port = running_port(board, home)
     if port:
         return port
-    home = board_home(board)
+    home = _home(board, home)
     home.mkdir(parents=True, exist_ok=True)
-    _portfile(board).unlink(missing_ok=True)
+    portfile = home / "port"
+    portfile.unlink(missing_ok=True)
     log = open(home / "vboard.log", "w")
-    cmd = [sys.executable, "-m", "host.vboard", "serve", "--board", board, "--app", app]
+    cmd = [sys.executable, "-m", "host.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
     if not wired:
         cmd.append("--bare")
     proc = subprocess.Popen(cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
@@ -246,8 +251,8 @@ def start_background(board: str, *, wired: bool = True, app: str = "rover") -> s
     log.close()
     deadline = time.monotonic() + START_TIMEOUT_S
     while time.monotonic() < deadline:
-        if _portfile(board).exists():
-            return _portfile(board).read_text().strip()
+        if portfile.exists():
+            return portfile.read_text().strip()
         if proc.poll() is not None:
             break
         time.sleep(0.02)
@@ -257,9 +262,9 @@ def start_background(board: str, *, wired: bool = True, app: str = "rover") -> s
                        f"log: {home / 'vboard.log'}")
 
 
-def stop_background(board: str) -> bool:
+def stop_background(board: str, home: Path | None = None) -> bool:
     try:
-        pid = int(_pidfile(board).read_text())
+        pid = int((_home(board, home) / "vboard.pid").read_text())
     except (OSError, ValueError):
         return False
     try:
@@ -278,14 +283,14 @@ def stop_background(board: str) -> bool:
 
 
 def _serve(args) -> int:
-    vb = VirtualBoard(args.board, app=args.app, wired=not args.bare, seed=args.seed)
+    vb = VirtualBoard(args.board, home=args.home, app=args.app, wired=not args.bare, seed=args.seed)
 
     def on_term(*_):
         vb._stopping = True
 
     signal.signal(signal.SIGTERM, on_term)
     signal.signal(signal.SIGINT, on_term)
-    pidfile, portfile = _pidfile(args.board), _portfile(args.board)
+    pidfile, portfile = vb.home / "vboard.pid", vb.home / "port"
     try:
         vb.start()
         pidfile.write_text(str(os.getpid()))
@@ -309,15 +314,16 @@ def main(argv=None) -> int:
     parser.add_argument("--app", default="rover", help="app whose plant a wired board drives")
     parser.add_argument("--bare", action="store_true", help="no plant: the unix port's own machine module")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--home", type=Path, help="board folder (default build/vboard/<board>); files in <home>/fs")
     args = parser.parse_args(argv)
     if args.command == "serve":
         return _serve(args)
     if args.command == "start":
-        print(start_background(args.board, wired=not args.bare, app=args.app))
+        print(start_background(args.board, home=args.home, wired=not args.bare, app=args.app))
     elif args.command == "stop":
-        print("stopped" if stop_background(args.board) else "not running")
+        print("stopped" if stop_background(args.board, args.home) else "not running")
     else:
-        port = running_port(args.board)
+        port = running_port(args.board, args.home)
         if not port:
             print(f"error: no virtual board running for {args.board}", file=sys.stderr)
             return 1

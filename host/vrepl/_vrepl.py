@@ -232,12 +232,15 @@ def main():
     if not raw:
         _run_file("main.py")
     while True:
-        if raw:
-            raw_repl()
-            raw = False
-        else:
-            friendly_repl()
-            raw = True
+        try:
+            if raw:
+                raw_repl()
+                raw = False
+            else:
+                friendly_repl()
+                raw = True
+        except KeyboardInterrupt:  # a Ctrl-C between two reads: start the prompt again
+            _w("\r\n")
 
 
 main()

@@ -1,0 +1,77 @@
+"""make flash: compiled with mpy-cross, copied with mpremote, tested on a virtual board."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from host import flash, vboard
+from host.apps import APPS, App
+from host.boards import REPO
+from host.errors import HarnessError
+
+pytestmark = pytest.mark.hil
+BOARD = "esp32_devkitc"
+
+
+@pytest.fixture
+def board_port(tmp_path):
+    home = tmp_path / "vboard"
+    port = vboard.start_background(BOARD, home=home)
+    yield port, home
+    vboard.stop_background(BOARD, home)
+
+
+def mpremote(port, *args, timeout=60):
+    return subprocess.run([str(flash.VENV_BIN / "mpremote"), "connect", port, *args],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def test_flash_copies_compiled_firmware_runs_main_and_copies_nothing_the_second_time(board_port):
+    port, home = board_port
+    lines = []
+    first = flash.flash("rover", BOARD, port, wait_s=2.0, log=lines.append)
+    assert "main.py" in first["copied"] and "lib/encoder.mpy" in first["copied"], first
+    assert sorted((home / "fs").rglob("*.mpy")), "compiled modules on the board"
+    assert not (home / "fs" / "rover_control.py").exists()
+    assert first["first_lines"][:1] == ["rover on esp32-devkitc control every 50 ms"], first["first_lines"]
+    second = flash.flash("rover", BOARD, port, wait_s=1.0, log=lines.append)
+    assert second["copied"] == [] and len(second["unchanged"]) == len(first["copied"]), second
+
+
+def test_syntax_error_fails_the_flash_with_file_and_line(tmp_path, monkeypatch):
+    app = tmp_path / "broken"
+    app.mkdir()
+    (app / "main.py").write_text("import helper\n")
+    (app / "helper.py").write_text("x = 1\n\ndef f(:\n    pass\n")
+    monkeypatch.setitem(APPS, "broken", App("broken", BOARD, make_plant=None, wiring={}, folder=app))
+    with pytest.raises(HarnessError, match=r"helper\.py:3: SyntaxError"):
+        flash.stage("broken", BOARD)
+
+
+@pytest.mark.parametrize("port", ["/dev/ttyNOPE9", str(REPO / "README.md")])
+def test_missing_or_wrong_port_gives_one_line_naming_it(port):
+    out = subprocess.run([sys.executable, "-m", "host.flash", "--app", "rover", "--port", port],
+                         capture_output=True, text=True, timeout=60, cwd=REPO)
+    assert out.returncode == 2, out
+    err = out.stderr.strip().splitlines()
+    assert len(err) == 1 and f"PORT={port}" in err[0], out.stderr
+
+
+def test_ctrl_c_during_a_flash_leaves_the_board_usable(board_port, tmp_path):
+    port, home = board_port
+    cmd = [sys.executable, "-m", "host.flash", "--app", "rover", "--port", port, "--wait", "1"]
+    proc = subprocess.Popen(cmd, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    out = ""
+    deadline = time.monotonic() + 30
+    while "compiled" not in out and time.monotonic() < deadline:  # it is copying now
+        out += proc.stdout.readline()
+    proc.send_signal(signal.SIGINT)
+    rest, _ = proc.communicate(timeout=30)
+    assert proc.returncode in (130, 0), out + rest
+    answer = mpremote(port, "exec", "print(40 + 2)")
+    assert answer.returncode == 0 and "42" in answer.stdout, answer
+    again = flash.flash("rover", BOARD, port, wait_s=1.0, log=lambda _: None)
+    assert again["first_lines"][:1] == ["rover on esp32-devkitc control every 50 ms"]
