@@ -61,11 +61,10 @@ def compile_module(src: Path, dst: Path) -> None:
     """mpy-cross one file; a syntax error becomes 'file:line: message'."""
     rel = os.path.relpath(src, REPO)
     dst.parent.mkdir(parents=True, exist_ok=True)
-    out = subprocess.run([_tool("mpy-cross"), "-s", src.name, "-o", str(dst), str(src)],
-                         capture_output=True, text=True)
+    out = subprocess.run([_tool("mpy-cross"), "-s", src.name, "-o", str(dst), str(src)], capture_output=True, text=True)
     if out.returncode != 0:
         text = out.stderr + out.stdout
-        line = re.search(r'line (\d+)', text)
+        line = re.search(r"line (\d+)", text)
         last = [t for t in text.strip().splitlines() if t.strip()][-1:] or ["mpy-cross failed"]
         raise FlashError(f"{rel}:{line.group(1) if line else '?'}: {last[0].strip()}")
 
@@ -128,8 +127,9 @@ def _mpremote(port: str, *args: str) -> str:
     """Run mpremote in its own session (a terminal's Ctrl-C reaches only this tool)."""
     cmd = [_tool("mpremote"), "connect", port, *args]
     _interrupt.check()
-    proc = subprocess.Popen(cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            start_new_session=True)
+    proc = subprocess.Popen(
+        cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+    )
     _interrupt.proc = proc
     try:
         _interrupt.check()
@@ -207,8 +207,9 @@ def _read_until(ser, marker: bytes | None, timeout_s: float, max_lines: int = 0)
     return data
 
 
-def flash(app: str, board: str | None = None, port: str | None = None, *, lines: int = 10,
-          wait_s: float = 3.0, log=print) -> dict:
+def flash(
+    app: str, board: str | None = None, port: str | None = None, *, lines: int = 10, wait_s: float = 3.0, log=print
+) -> dict:
     board = board or get_app(app).default_board
     folder, files = stage(app, board)
     ours = None
@@ -224,12 +225,13 @@ def flash(app: str, board: str | None = None, port: str | None = None, *, lines:
         log(f"flash {app} for {board} -> {where}")
         want, have = mpy_cross_version(), target_mpy_version(port)
         if want != have:
-            raise FlashError(f"PORT={port}: the board runs .mpy v{have[0]}.{have[1]}, mpy-cross emits "
-                             f"v{want[0]}.{want[1]}: pin mpy-cross to the board's MicroPython version")
+            raise FlashError(
+                f"PORT={port}: the board runs .mpy v{have[0]}.{have[1]}, mpy-cross emits "
+                f"v{want[0]}.{want[1]}: pin mpy-cross to the board's MicroPython version"
+            )
         log(f"  compiled {sum(f.endswith('.mpy') for f in files)} modules with mpy-cross (.mpy v{want[0]}.{want[1]})")
         copied, unchanged = copy(port, folder, files)
-        log(f"  copied {len(copied)} file(s){': ' + ', '.join(copied) if copied else ''}; "
-            f"{len(unchanged)} up to date")
+        log(f"  copied {len(copied)} file(s){': ' + ', '.join(copied) if copied else ''}; {len(unchanged)} up to date")
         if ours or port == vboard.running_port(board):  # what this virtual board now holds
             manifest = {"app": app, "board": board, "files": files}
             (vboard.board_home(board) / "flashed.json").write_text(json.dumps(manifest, indent=1))

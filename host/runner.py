@@ -310,12 +310,15 @@ class Rig:
 
     # -- running --------------------------------------------------------------------
 
+    def _running(self) -> bool:
+        return self._proc is not None
+
     def run_for(self, duration_s: float) -> None:
         self.run_until(self.t_us + round(duration_s * 1e6))
 
     def run_until(self, t_end_us: int) -> None:
         """Serve the firmware until virtual time reaches ``t_end_us`` (firmware waiting)."""
-        if self._proc is None:
+        if not self._running():
             raise LinkError("the rig is not running: call start() first")
         while True:
             if self.exit_kind is not None:  # firmware ended: the plant runs on alone

@@ -61,8 +61,15 @@ class VirtualBoard(Rig):
 
     REQUIRE_MAIN = False  # a fresh board has no main.py
 
-    def __init__(self, board: str = "esp32_devkitc", *, home: Path | None = None, app: str = "rover",
-                 wired: bool = True, seed: int = 0):
+    def __init__(
+        self,
+        board: str = "esp32_devkitc",
+        *,
+        home: Path | None = None,
+        app: str = "rover",
+        wired: bool = True,
+        seed: int = 0,
+    ):
         self.home = Path(home) if home else board_home(board)
         fs = self.home / "fs"
         fs.mkdir(parents=True, exist_ok=True)
@@ -102,8 +109,13 @@ class VirtualBoard(Rig):
         slave = self.console_pty.repl.slave_fd
         self._started_at = time.monotonic()
         self._proc = subprocess.Popen(
-            [str(interpreter.find()), "-m", "_vrepl"], env=env, cwd=str(self.fs),
-            stdin=slave, stdout=slave, stderr=slave, start_new_session=True,
+            [str(interpreter.find()), "-m", "_vrepl"],
+            env=env,
+            cwd=str(self.fs),
+            stdin=slave,
+            stdout=slave,
+            stderr=slave,
+            start_new_session=True,
         )
         if self.wired:
             transport = FdTransport(self._pty.master_fd)
@@ -163,7 +175,7 @@ class VirtualBoard(Rig):
         view = memoryview(data)
         while view:
             try:
-                view = view[os.write(fd, view):]
+                view = view[os.write(fd, view) :]
             except BlockingIOError:
                 select.select([], [fd], [], 0.05)
             except OSError:
@@ -246,8 +258,9 @@ def start_background(board: str, *, home: Path | None = None, wired: bool = True
     cmd = [sys.executable, "-m", "host.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
     if not wired:
         cmd.append("--bare")
-    proc = subprocess.Popen(cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                            start_new_session=True)
+    proc = subprocess.Popen(
+        cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
+    )
     log.close()
     deadline = time.monotonic() + START_TIMEOUT_S
     while time.monotonic() < deadline:
@@ -258,8 +271,7 @@ def start_background(board: str, *, home: Path | None = None, wired: bool = True
         time.sleep(0.02)
     proc.kill()
     proc.wait()
-    raise HarnessError(f"virtual board {board} did not start within {START_TIMEOUT_S:g} s; "
-                       f"log: {home / 'vboard.log'}")
+    raise HarnessError(f"virtual board {board} did not start within {START_TIMEOUT_S:g} s; log: {home / 'vboard.log'}")
 
 
 def stop_background(board: str, home: Path | None = None) -> bool:

@@ -54,7 +54,13 @@ class ResetRequest(BaseException):
     """machine.reset(): unwinds the firmware like a board that restarts."""
 
 
+class HostStop(BaseException):
+    """The host ended the session (BYE): unwinds the firmware back to the REPL."""
+
+
 class _Link:
+    """Frames over the pty the host named in HIL_LINK (the unix port in the loop)."""
+
     def __init__(self, path):
         self.f = open(path, "r+b")
         self.poller = _rselect.poll()
@@ -62,6 +68,12 @@ class _Link:
         self.dec = F.Decoder()
         self.seq = 0
         self.out = []
+
+    def _read(self):
+        return self.f.read(512)
+
+    def close(self):
+        self.f.close()
 
     def queue(self, type_, payload):
         self.out.append(F.encode(type_, self.seq, payload))
@@ -88,10 +100,44 @@ class _Link:
                 continue
             if events[0][1] & (_rselect.POLLHUP | _rselect.POLLERR):
                 raise HostGone("plant link closed")
-            data = self.f.read(512)
+            data = self._read()
             if not data:
                 raise HostGone("plant link closed")
             self.dec.feed(data)
+
+
+class _StdioLink(_Link):
+    """Frames over the board's own console (USB serial): processor in the loop. Ctrl-C
+    is data while it runs; a board's stdin read(n) waits for all n bytes, so bytes are
+    taken one at a time while the poller says there are more."""
+
+    def __init__(self):
+        import micropython
+
+        self.f = sys.stdout.buffer if hasattr(sys.stdout, "buffer") else sys.stdout
+        self.inp = sys.stdin.buffer if hasattr(sys.stdin, "buffer") else sys.stdin
+        self.poller = _rselect.poll()
+        self.poller.register(sys.stdin, _rselect.POLLIN)
+        self.dec = F.Decoder()
+        self.seq = 0
+        self.out = []
+        micropython.kbd_intr(-1)
+
+    def _read(self):
+        data = b""
+        while len(data) < 512:
+            c = self.inp.read(1)
+            if not c:
+                break
+            data += c
+            if not self.poller.poll(0):
+                break
+        return data
+
+    def close(self):
+        import micropython
+
+        micropython.kbd_intr(3)
 
 
 def register(obj):
@@ -198,8 +244,10 @@ def _sync(t_until, watch):
     _link.flush()
     while True:
         type_, _seq, p = _link.recv()
-        if type_ == F.STATE:
-            break
+        if type_ == F.BYE:
+            raise HostStop()
+        if type_ == F.STATE and struct.unpack_from("<Q", p, 0)[0] == _now:
+            break  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from("<QQQH", p, 0)
@@ -317,12 +365,11 @@ def _fire_timers():
 
 
 def start():
-    """Open the link named by HIL_LINK and shake hands with the host."""
+    """Open the link (the pty in HIL_LINK, else the board's console) and shake hands."""
     global _link, mode, _now, _horizon, now, _wake_real_us, _rt_origin_us
-    path = os.getenv("HIL_LINK")
-    if not path:
-        raise OSError("HIL_LINK is not set: the shim runs under the host runner")
-    _link = _Link(path)
+    getenv = getattr(os, "getenv", None)  # boards have no environment
+    path = getenv("HIL_LINK") if getenv else None
+    _link = _Link(path) if path else _StdioLink()
     info = "%s;%s" % (".".join(str(v) for v in sys.implementation.version[:3]), sys.implementation._machine)
     send(F.HELLO, struct.pack("<H", F.PROTO_VERSION) + info.encode())
     _link.flush()
@@ -346,5 +393,7 @@ def finish(kind, code=0, text=None):
         return
     if text is not None:
         send(F.FAULT, struct.pack("<Q", now()) + text.encode()[: F.MAX_PAYLOAD - 8])
+    if isinstance(_link, _StdioLink):
+        _link.close()  # Ctrl-C works again before the host sees EXIT
     send(F.EXIT, struct.pack("<QBi", now(), kind, code))
     _link.flush()

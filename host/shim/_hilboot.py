@@ -1,6 +1,8 @@
-# Entry point of a firmware run: `micropython -m _hilboot`. Shakes hands with the host,
-# makes asyncio keep its task queue in virtual time, then runs boot.py and main.py
-# from the firmware's folder as a board does, reporting how the firmware ended.
+# Entry point of a firmware run: `micropython -m _hilboot` on the unix port, or
+# `import _hilboot; _hilboot.main(pil=True)` at a board's REPL (processor in the loop).
+# Shakes hands with the host, makes asyncio keep its task queue in virtual time, then
+# runs boot.py and main.py from the firmware's folder as a board does (on a board, boot.py
+# already ran at power-on), reporting how the firmware ended.
 import io
 import sys
 
@@ -30,8 +32,8 @@ def _asyncio_in_virtual_time():
 
 def _find(name):
     for folder in sys.path:
-        if folder and folder != ".frozen":
-            path = folder + "/" + name
+        if folder != ".frozen":
+            path = folder + "/" + name if folder else name
             try:
                 with open(path) as f:
                     return path, f.read()
@@ -48,30 +50,44 @@ def _run(name):
     return True
 
 
-def main():
+def main(pil=False):
     _hil.start()
     try:
         _asyncio_in_virtual_time()
-        _run("boot.py")
+        if not pil:
+            _run("boot.py")
         if not _run("main.py"):
             raise OSError("no main.py on the firmware path")
     except _hil.ResetRequest:
         _hil.finish(F.EXIT_RESET)
-        sys.exit(0)
+        if not pil:
+            sys.exit(0)
+        return
+    except _hil.HostStop:
+        _hil.finish(F.EXIT_RETURN)
+        return
     except SystemExit as e:
         code = e.args[0] if e.args and isinstance(e.args[0], int) else 0
         _hil.finish(F.EXIT_SYSEXIT, code)
+        if pil:
+            return
         raise
     except _hil.HostGone:
-        sys.exit(3)
+        if not pil:
+            sys.exit(3)
+        return
     except BaseException as e:  # noqa: BLE001  any firmware failure goes to the host
         buf = io.StringIO()
         sys.print_exception(e, buf)
         text = buf.getvalue()
-        sys.stderr.write(text)
+        if not pil:  # on a board the console is the link: the traceback goes in FAULT
+            sys.stderr.write(text)
         _hil.finish(F.EXIT_SYSEXIT, 1, text)
-        sys.exit(1)
+        if not pil:
+            sys.exit(1)
+        return
     _hil.finish(F.EXIT_RETURN)
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -50,6 +50,7 @@ class Decoder:
         self.skipped = 0
         self.seq_gaps = 0
         self.expect_seq = -1
+        self.on_skip = None  # called with bytes found outside frames (a board's console text)
 
     def feed(self, data):
         if self.pos:
@@ -65,11 +66,14 @@ class Decoder:
         buf = self.buf
         while True:
             i = buf.find(_SOF_BYTES, self.pos)
+            end_skip = len(buf) if i < 0 else i
+            if end_skip > self.pos:
+                self.skipped += end_skip - self.pos
+                if self.on_skip is not None:
+                    self.on_skip(buf[self.pos:end_skip])
             if i < 0:
-                self.skipped += len(buf) - self.pos
                 self.pos = len(buf)
                 return None
-            self.skipped += i - self.pos
             self.pos = i
             if len(buf) - i < HEADER_LEN:
                 return None
@@ -124,6 +128,7 @@ FAULT = 0x07  # <Q t_us, then UTF-8 traceback
 EXIT = 0x08  # <QBi t_us, kind, code
 # host -> shim
 WELCOME = 0x81  # <HBQ proto, mode, t_start_us
+BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
 STATE = 0x82  # <QQQH base_us, t_end_us, horizon_us, count, then count x <IHBiI dt_us, handle, kind,
 #              value, extra (+ value bytes for CH_BYTES)
 

@@ -25,8 +25,9 @@ def board_port(tmp_path):
 
 
 def mpremote(port, *args, timeout=60):
-    return subprocess.run([str(flash.VENV_BIN / "mpremote"), "connect", port, *args],
-                          capture_output=True, text=True, timeout=timeout)
+    return subprocess.run(
+        [str(flash.VENV_BIN / "mpremote"), "connect", port, *args], capture_output=True, text=True, timeout=timeout
+    )
 
 
 def test_flash_copies_compiled_firmware_runs_main_and_copies_nothing_the_second_time(board_port):
@@ -53,8 +54,13 @@ def test_syntax_error_fails_the_flash_with_file_and_line(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("port", ["/dev/ttyNOPE9", str(REPO / "README.md")])
 def test_missing_or_wrong_port_gives_one_line_naming_it(port):
-    out = subprocess.run([sys.executable, "-m", "host.flash", "--app", "rover", "--port", port],
-                         capture_output=True, text=True, timeout=60, cwd=REPO)
+    out = subprocess.run(
+        [sys.executable, "-m", "host.flash", "--app", "rover", "--port", port],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=REPO,
+    )
     assert out.returncode == 2, out
     err = out.stderr.strip().splitlines()
     assert len(err) == 1 and f"PORT={port}" in err[0], out.stderr
