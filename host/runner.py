@@ -30,8 +30,11 @@ from host.boards import board_dir, pin_key, read_pin_map
 from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget
 from host.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
 from host.link import Channel, FdTransport, PtyPair
+from host.recording import ACTUATOR, PIN, Recorder
+from host.recording import PROBE as PROBE_ROLE
 from host.shim import _hilframe as F
 from host.trace import Trace
+from host.tracefolder import write_trace_folder
 
 SHIM_DIR = Path(__file__).resolve().parent / "shim"
 MODES = {"lockstep": F.MODE_LOCKSTEP, "realtime": F.MODE_REALTIME}
@@ -40,6 +43,7 @@ CONSOLE_TAIL_LINES = 20
 MAX_BATCH = 200  # changes in one STATE (15 bytes each)
 CHUNK_US = 20_000  # lockstep plant advance step inside a batch
 MAX_BATCH_BYTES = 800  # UART bytes in one STATE
+PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
 MSG_NAMES = {
     F.HELLO: "HELLO",
     F.CFG: "CFG",
@@ -131,8 +135,14 @@ class Rig:
         watchdog_s: float = 5.0,
         artefacts: Path | None = None,
         trace: bool = False,
+        record: bool = False,
+        progress=None,
         time_round_trips: bool = False,
     ):
+        """``trace`` writes the link messages to ``artefacts/trace.jsonl``; ``record``
+        keeps every signal and ground truth and writes the trace folder at stop()
+        (docs/traces.md); ``progress(t_us, t_end_us)`` is called while run_until()
+        runs, at most every PROGRESS_EVERY_S of wall time and when it ends."""
         self.app = get_app(app) if isinstance(app, str) else app
         self.board = board or self.app.default_board
         if mode not in MODES:
@@ -158,8 +168,13 @@ class Rig:
             if not (self.main_dir / "main.py").is_file():
                 raise ConfigError(f"main_dir: no main.py in {self.main_dir}")
             self.firmware_folders = [self.main_dir, *self.app.firmware_path(self.board_path)[1:]]
-        self.plant = plant if plant is not None else self.app.make_plant(**(plant_options or {}))
+        self.plant_options = dict(plant_options or {})
+        self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
+        self.recorder = Recorder(self.plant) if record else None
+        self.progress = progress
+        self._progress_wall = 0.0
+        self._progress_last = None
         self.budgets = {b.name: b for b in self.app.make_budgets()}
         self.artefacts = Path(artefacts) if artefacts else None
         self.trace_enabled = trace
@@ -291,6 +306,8 @@ class Rig:
             self._trace.close()
         if self.artefacts:
             (self.artefacts / "console.log").write_text(self.console)
+            if self.recorder is not None:
+                write_trace_folder(self, self.artefacts)
 
     def _drain_console(self, proc) -> None:
         try:
@@ -321,6 +338,8 @@ class Rig:
         if not self._running():
             raise LinkError("the rig is not running: call start() first")
         while True:
+            if self.progress is not None:
+                self._report_progress(t_end_us)
             if self.exit_kind is not None:  # firmware ended: the plant runs on alone
                 while self.t_us < t_end_us:
                     self._advance_plant(t_end_us, frozenset())
@@ -334,6 +353,13 @@ class Rig:
             if self.t_us >= t_end_us:
                 return
             self._serve_wait(t_end_us)
+
+    def _report_progress(self, t_end_us: int) -> None:
+        now = time.monotonic()
+        if (now >= self._progress_wall or self.t_us >= t_end_us) and self._progress_last != (self.t_us, t_end_us):
+            self._progress_wall = now + PROGRESS_EVERY_S
+            self._progress_last = (self.t_us, t_end_us)
+            self.progress(self.t_us, t_end_us)
 
     def _serve_wait(self, t_end_us: int) -> None:
         wait = self._wait
@@ -369,6 +395,8 @@ class Rig:
                 i, h = self._route(change, watch)
                 irq |= i
                 hit |= h
+            if self.recorder is not None:
+                self.recorder.sample(plant)
             if hit or (irq and not lockstep) or len(self._delta) >= MAX_BATCH or self._delta_bytes > MAX_BATCH_BYTES:
                 return True
         return False
@@ -398,6 +426,8 @@ class Rig:
             )
         self._restore_snapshot(self._snapshot[1])
         self.plant.advance_to(t_us)  # the firmware already has these changes
+        if self.recorder is not None:
+            self.recorder.rewind(t_us)
         self._snapshot = None
         self._uncommitted = [e for e in self._uncommitted if e[0] <= t_us]
         for t, h, kind, _value, _extra in self._last_batch:
@@ -415,6 +445,8 @@ class Rig:
         """Queue a plant change for the firmware; (fires an IRQ, wakes a watched wait)."""
         t, name, value = change
         irq = hit = False
+        if self.recorder is not None:
+            self.recorder.sensor(t, name, value)
         for budget in self._budgets_by_source.get(name, ()):
             if isinstance(budget, PeriodBudget):
                 self._uncommitted.append((t, budget.event, (t,)))
@@ -508,6 +540,8 @@ class Rig:
             t, h = struct.unpack_from("<QH", p)
             self._catch_up(t)
             signal_name = self._handles[h].signal
+            if self.recorder is not None:
+                self._record_out(t, self._handles[h], p[10:], "bytes")
             if signal_name in self.plant.inputs:
                 self.plant.set_input(signal_name, p[10:])
             self._log({"t": t, "msg": "UART_TX", "handle": h, "data": p[10:].hex()})
@@ -531,6 +565,8 @@ class Rig:
             for change in self.plant.advance_to(t_us):
                 self.stats.lease_violations += 1
                 self._route(change, frozenset())
+            if self.recorder is not None:
+                self.recorder.sample(self.plant)
         elif t_us < self.t_us:
             self._rewind(t_us)
         self._commit(t_us)
@@ -579,6 +615,9 @@ class Rig:
         info = self._handles[h]
         signal_name = info.signal
         self._log({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+        if self.recorder is not None and attr != F.OUT_FREQ:
+            kind = "duty" if info.kind == F.CFG_PWM else "level"
+            self._record_out(t, info, 0 if attr == F.OUT_DEINIT else value, kind)
         if signal_name is None:
             return
         if signal_name.startswith(PROBE):
@@ -597,6 +636,15 @@ class Rig:
                 self.plant.set_input(signal_name, 0)
         elif attr == F.OUT_LEVEL:
             self.plant.set_input(signal_name, value)
+
+    def _record_out(self, t: int, info: Handle, value, kind: str) -> None:
+        """A firmware output, as the plant's input (or the probe, or the bare pin) saw it."""
+        if info.signal and info.signal.startswith(PROBE):
+            self.recorder.command(t, info.signal, value, role=PROBE_ROLE, kind=kind)
+        elif info.signal in self.plant.inputs:
+            self.recorder.command(t, info.signal, value, role=ACTUATOR, kind=kind)
+        else:
+            self.recorder.command(t, f"pin.{info.board_name or info.key}", value, role=PIN, kind=kind)
 
     def _on_fault(self, p: bytes) -> None:
         (t,) = struct.unpack_from("<Q", p)

@@ -1,0 +1,130 @@
+"""A strict reader of the VCD subset the harness writes (IEEE 1364 §18), for tests: it
+rejects what a wave viewer would trip on (unknown identifiers, values that do not fit
+their variable, time going backwards, unbalanced scopes)."""
+
+import re
+from dataclasses import dataclass, field
+
+SCALAR = re.compile(r"^([01xXzZ])(\S+)$")
+VECTOR = re.compile(r"^[bB]([01xXzZ]+) (\S+)$")
+REAL = re.compile(r"^[rR](\S+) (\S+)$")
+
+
+class VcdError(AssertionError):
+    pass
+
+
+@dataclass
+class Var:
+    type: str
+    width: int
+    code: str
+    path: str  # scope.scope.name
+
+
+@dataclass
+class Vcd:
+    sections: dict = field(default_factory=dict)  # $timescale, $version, $comment text
+    vars: dict = field(default_factory=dict)  # path -> Var
+    times: list = field(default_factory=list)
+    changes: dict = field(default_factory=dict)  # path -> [(t, value)]
+
+    def timeline(self, path: str) -> list:
+        return self.changes[path]
+
+    def final(self, path: str):
+        return self.changes[path][-1][1]
+
+
+def read_vcd(text: str) -> Vcd:
+    vcd = Vcd()
+    tokens = text.split()
+    i = 0
+    scopes: list[str] = []
+    by_code: dict[str, list[Var]] = {}
+    while True:
+        if i >= len(tokens):
+            raise VcdError("no $enddefinitions")
+        tok = tokens[i]
+        if tok in ("$timescale", "$version", "$comment", "$date"):
+            end = tokens.index("$end", i)
+            vcd.sections[tok] = " ".join(tokens[i + 1 : end])
+            i = end + 1
+        elif tok == "$scope":
+            kind, name, end = tokens[i + 1 : i + 4]
+            if kind != "module" or end != "$end":
+                raise VcdError(f"bad $scope at token {i}: {tokens[i : i + 4]}")
+            scopes.append(name)
+            i += 4
+        elif tok == "$upscope":
+            if not scopes or tokens[i + 1] != "$end":
+                raise VcdError(f"unbalanced $upscope at token {i}")
+            scopes.pop()
+            i += 2
+        elif tok == "$var":
+            type_, width, code, name, end = tokens[i + 1 : i + 6]
+            if end != "$end" or type_ not in ("wire", "reg", "integer", "real", "event"):
+                raise VcdError(f"bad $var at token {i}: {tokens[i : i + 6]}")
+            var = Var(type_, int(width), code, ".".join([*scopes, name]))
+            if var.path in vcd.vars:
+                raise VcdError(f"variable {var.path} declared twice")
+            vcd.vars[var.path] = var
+            vcd.changes[var.path] = []
+            by_code.setdefault(code, []).append(var)
+            i += 6
+        elif tok == "$enddefinitions":
+            if tokens[i + 1] != "$end":
+                raise VcdError("$enddefinitions without $end")
+            if scopes:
+                raise VcdError(f"scopes left open: {scopes}")
+            i += 2
+            break
+        else:
+            raise VcdError(f"unexpected token {tok!r} in the header")
+    body = text.split("$enddefinitions", 1)[1].split("$end", 1)[1]
+    t = None
+    for line in body.split("\n"):
+        line = line.strip()
+        if not line or line in ("$dumpvars", "$end"):
+            continue
+        if line.startswith("#"):
+            new_t = int(line[1:])
+            if t is not None and new_t <= t:
+                raise VcdError(f"time goes from #{t} to #{new_t}")
+            t = new_t
+            vcd.times.append(t)
+            continue
+        if t is None:
+            raise VcdError(f"value change before the first time stamp: {line!r}")
+        kind, m = _match(line)
+        if m is None:
+            raise VcdError(f"unreadable value change {line!r} at #{t}")
+        value, code = m.group(1), m.group(2)
+        if code not in by_code:
+            raise VcdError(f"value change {line!r} at #{t} for an undeclared identifier")
+        for var in by_code[code]:
+            if kind == "real":
+                if var.type != "real":
+                    raise VcdError(f"real value {line!r} for {var.type} {var.path}")
+                parsed = float(value)
+            elif kind == "vector":
+                if var.type == "real" or len(value) > var.width:
+                    raise VcdError(f"vector {line!r} does not fit {var.type} {var.width} {var.path}")
+                if set(value) <= {"0", "1"}:
+                    parsed = int(value, 2)
+                else:  # x or z, left-extended to the width
+                    parsed = value.lower()[0] if len(set(value.lower())) == 1 else value
+            else:
+                if var.width != 1:
+                    raise VcdError(f"scalar {line!r} for {var.width}-bit {var.path}")
+                parsed = int(value) if value in "01" else value
+            vcd.changes[var.path].append((t, parsed))
+    return vcd
+
+
+def _match(line: str):
+    for pattern, kind in ((VECTOR, "vector"), (REAL, "real"), (SCALAR, "scalar")):
+        m = pattern.match(line)
+        if m:
+            return kind, m
+    return None, None

@@ -1,0 +1,249 @@
+"""The trace folder a recorded run leaves behind, and how to read it back.
+
+==================  ==================================================================
+file                content
+==================  ==================================================================
+``header.json``     app, board, world, plant and its options, seed, mode, commit,
+                    MicroPython version, end time, the signals with their role and kind
+``trace.jsonl``     the link messages, decoded (written by :mod:`host.trace`)
+``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
+``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
+``budgets.json``    each timing budget: limit, statistics and every measured value
+``trace.vcd``       the signals and the ground truth for a wave viewer
+``console.log``     what the firmware printed (written by the runner)
+==================  ==================================================================
+
+Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``) and
+``console.log`` is in virtual time only: the same run gives the same bytes.
+``docs/traces.md`` describes the formats.
+"""
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from host import provenance
+from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget
+from host.errors import ConfigError
+from host.recording import SENSOR
+from host.vcd import write_vcd
+
+FORMAT = "mpy-fil-trace/1"
+HEADER = "header.json"
+SIGNALS = "signals.csv"
+TRUTH = "truth.csv"
+BUDGETS = "budgets.json"
+VCD = "trace.vcd"
+LINK = "trace.jsonl"
+CONSOLE = "console.log"
+DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
+
+
+# -- writing ------------------------------------------------------------------------
+
+
+def write_trace_folder(rig, folder: Path) -> Path:
+    """Write a stopped rig's recording (``rig.recorder``) into ``folder``."""
+    rec = rig.recorder
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    header = make_header(rig)
+    _write_json(folder / HEADER, header)
+    events = sorted(rec.events, key=lambda e: e[0])
+    with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
+        out = csv.writer(f, lineterminator="\n")
+        out.writerow(["t_us", "signal", "value"])
+        out.writerows(events)
+    _write_truth(folder / TRUTH, rec.truth)
+    _write_json(folder / BUDGETS, [budget_record(b) for b in rig.budgets.values()])
+    write_vcd(
+        folder / VCD,
+        top=rig.app.name,
+        comment=f"app {rig.app.name} board {rig.board} seed {rig.seed} commit {header['commit']}",
+        signals=rec.signals,
+        initial=rec.initial,
+        events=events,
+        truth=rec.truth,
+    )
+    return folder
+
+
+def make_header(rig) -> dict:
+    plant = rig.plant
+    version = rig.micropython_version.split(";")[0]
+    return {
+        "format": FORMAT,
+        "app": rig.app.name,
+        "board": rig.board,
+        "world": describe_world(plant),
+        "plant": type(plant).__name__,
+        "plant_options": rig.plant_options,
+        "seed": rig.seed,
+        "mode": rig.mode,
+        "commit": provenance.commit(),
+        "micropython": version,
+        "t_end_us": rig.t_us,
+        "truth_period_us": rig.recorder.truth_period_us,
+        "footprint_half_width_m": footprint_half_width_m(plant),
+        "signals": rig.recorder.signals,
+        "initial": rig.recorder.initial,
+        "contacts": [list(c) for c in _truth_contacts(plant)],
+        "link_trace": (rig.artefacts / LINK).is_file() if rig.artefacts else False,
+    }
+
+
+def describe_world(plant) -> dict | None:
+    """The plant's walls, as ``{"name", "segments": [[ax, ay, bx, by], ...]}``: its
+    ``world`` (sim_plant.world.World) or, for a rectangular room, its size."""
+    world = getattr(plant, "world", None)
+    if world is not None and hasattr(world, "segments"):
+        return {"name": world.name, "segments": [list(s) for s in world.segments()]}
+    w, h = getattr(plant, "room_w_m", None), getattr(plant, "room_h_m", None)
+    if w is not None and h is not None:
+        segments = [[0, 0, w, 0], [w, 0, w, h], [w, h, 0, h], [0, h, 0, 0]]
+        return {"name": f"room {w:g} x {h:g} m", "segments": segments}
+    return None
+
+
+def footprint_half_width_m(plant) -> float:
+    """Half the width of the floor the robot sweeps (its coverage grid's, or its body's)."""
+    grid = getattr(plant, "coverage", None)
+    for value in (getattr(grid, "half_width_m", None), getattr(plant, "body_radius_m", None)):
+        if isinstance(value, (int, float)):
+            return float(value)
+    return DEFAULT_FOOTPRINT_HALF_WIDTH_M
+
+
+def budget_record(budget) -> dict:
+    record = {
+        "name": budget.name,
+        "type": type(budget).__name__,
+        "source": budget.source,
+        "description": budget.description,
+        "limit": budget.limit_text(),
+        "limit_us": budget.limit_us,
+        "wall_clock": isinstance(budget, ComputeBudget),
+        "stats": budget.stats(),
+        "values_us": list(budget.values),
+    }
+    if isinstance(budget, PeriodBudget):
+        record["period_us"] = budget.period_us
+        record["tolerance_us"] = budget.tolerance_us
+    elif isinstance(budget, LatencyBudget):
+        record["period_us"] = None
+    return record
+
+
+def _truth_contacts(plant) -> list:
+    contacts = plant.truth().get("contacts", [])
+    return [[v if isinstance(v, int) else float(v) for v in c] for c in contacts if isinstance(c, (list, tuple))]
+
+
+def _write_truth(path: Path, truth: list) -> None:
+    columns: list[str] = []
+    for _t, row in truth:
+        for key in row:
+            if key != "t_us" and key not in columns:
+                columns.append(key)
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        out = csv.writer(f, lineterminator="\n")
+        out.writerow(["t_us", *columns])
+        for t, row in truth:
+            out.writerow([t, *(_fmt(row.get(c)) for c in columns)])
+
+
+def _fmt(value) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
+
+
+def _write_json(path: Path, data) -> None:
+    path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+
+
+# -- reading ------------------------------------------------------------------------
+
+
+@dataclass
+class TraceData:
+    """A trace folder in memory: ``truth`` maps each column (and ``t_us``) to an array."""
+
+    folder: Path
+    header: dict
+    events: list = field(default_factory=list)
+    truth: dict = field(default_factory=dict)
+    budgets: list = field(default_factory=list)
+
+    def series(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """(t_us, value) of every recorded change of one numeric signal."""
+        pairs = [(t, v) for t, n, v in self.events if n == name]
+        if not pairs:
+            return np.zeros(0, dtype=np.int64), np.zeros(0)
+        t, v = zip(*pairs)
+        return np.asarray(t, dtype=np.int64), np.asarray(v, dtype=float)
+
+    def signals(self, role: str | None = None) -> dict[str, dict]:
+        sigs = self.header.get("signals", {})
+        return {n: i for n, i in sigs.items() if role is None or i["role"] == role}
+
+    def firmware_outputs(self) -> list[tuple[int, str, object]]:
+        sensors = set(self.signals(SENSOR))
+        return [e for e in self.events if e[1] not in sensors]
+
+
+def load_trace(folder) -> TraceData:
+    """Read a trace folder; a missing or malformed one raises ConfigError naming it."""
+    folder = Path(folder)
+    header_path = folder / HEADER
+    if not header_path.is_file():
+        raise ConfigError(f"trace folder {folder}: no {HEADER} (expected a folder written by a recorded run)")
+    try:
+        header = json.loads(header_path.read_text(encoding="utf-8"))
+    except ValueError as e:
+        raise ConfigError(f"trace folder {folder}: {HEADER} is not JSON ({e})") from e
+    if header.get("format") != FORMAT:
+        raise ConfigError(f"trace folder {folder}: format {header.get('format')!r}, expected {FORMAT!r}")
+    data = TraceData(folder, header)
+    kinds = {n: i["kind"] for n, i in header.get("signals", {}).items()}
+    if (folder / SIGNALS).is_file():
+        with open(folder / SIGNALS, newline="", encoding="utf-8") as f:
+            rows = csv.reader(f)
+            next(rows, None)
+            data.events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
+    if (folder / TRUTH).is_file():
+        data.truth = _read_truth(folder / TRUTH)
+    if (folder / BUDGETS).is_file():
+        data.budgets = json.loads((folder / BUDGETS).read_text(encoding="utf-8"))
+    return data
+
+
+def _parse(kind: str | None, text: str):
+    if kind == "bytes":
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+
+def _read_truth(path: Path) -> dict:
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    columns, body = rows[0], rows[1:]
+    out = {}
+    for i, name in enumerate(columns):
+        values = [float(r[i]) if i < len(r) and r[i] != "" else math.nan for r in body]
+        out[name] = np.asarray(values, dtype=np.int64 if name == "t_us" else float)
+    return out
