@@ -1,0 +1,221 @@
+"""PNG plots of a trace folder (matplotlib, Agg canvas, no display, no pyplot state).
+
+- ``trajectory.png``: the ground-truth path over the world's walls, coloured by time,
+  on the floor it covered; start, end and every bump marked.
+- ``signals.png``: sensors, estimate and actuator commands over virtual time
+  (:mod:`host.views` chooses them per app).
+- ``timing.png``: a histogram per timing budget against its limit.
+"""
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter, NullLocator
+
+from host import views
+from host.tracefolder import TraceData, load_trace
+
+DPI = 100
+PLOTS = "plots"
+OK_COLOUR = "#2e7d32"
+MISS_COLOUR = "#c62828"
+COVERED_RGBA = (0.55, 0.80, 0.55, 1.0)
+FREE_RGBA = (0.93, 0.93, 0.93, 1.0)
+
+
+def plot_trace(folder, out_dir=None) -> list[Path]:
+    """Write every plot of a trace folder into ``out_dir`` (default ``<folder>/plots``);
+    returns the files written."""
+    trace = load_trace(folder)
+    out = Path(out_dir) if out_dir else Path(folder) / PLOTS
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, draw in (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure)):
+        fig = draw(trace)
+        if fig is not None:
+            path = out / f"{name}.png"
+            _save(fig, path)
+            written.append(path)
+    return written
+
+
+def _save(fig: Figure, path: Path) -> None:
+    FigureCanvasAgg(fig)
+    fig.savefig(path, dpi=DPI)
+
+
+def _title(trace: TraceData) -> str:
+    h = trace.header
+    world = (h.get("world") or {}).get("name", "no world")
+    return f"{h['app']} on {h['board']}, {world}, seed {h['seed']}, {h['t_end_us'] / 1e6:g} s"
+
+
+# -- trajectory ------------------------------------------------------------------------
+
+
+def trajectory_figure(trace: TraceData) -> Figure | None:
+    tr = trace.truth
+    if "x_m" not in tr or len(tr["x_m"]) == 0:
+        return None
+    fig = Figure(figsize=(8, 6), layout="constrained")
+    ax = fig.add_subplot()
+    cov = views.coverage(trace)
+    if cov is not None:
+        image = np.zeros(cov.free.shape, dtype=int)
+        image[cov.free] = 1
+        image[cov.covered] = 2
+        cmap = ListedColormap([(1, 1, 1, 0), FREE_RGBA, COVERED_RGBA])
+        ax.imshow(image, origin="lower", extent=cov.extent, cmap=cmap, vmin=0, vmax=2, interpolation="nearest")
+    world = trace.header.get("world")
+    if world:
+        for ax_, ay_, bx_, by_ in world["segments"]:
+            ax.plot([ax_, bx_], [ay_, by_], color="#263238", linewidth=3, solid_capstyle="round")
+    x, y, t_s = tr["x_m"], tr["y_m"], tr["t_us"] / 1e6
+    points = np.column_stack([x, y]).reshape(-1, 1, 2)
+    path = LineCollection(np.concatenate([points[:-1], points[1:]], axis=1), cmap="viridis", linewidth=2)
+    path.set_array(t_s[:-1])
+    ax.add_collection(path)
+    fig.colorbar(path, ax=ax, label="virtual time (s)", shrink=0.8)
+    ax.plot(x[0], y[0], "o", color=OK_COLOUR, markersize=9, label="start")
+    ax.plot(x[-1], y[-1], "s", color="#1565c0", markersize=8, label="end")
+    if "theta_rad" in tr:
+        th = tr["theta_rad"][-1]
+        ax.annotate(
+            "",
+            xy=(x[-1] + 0.3 * np.cos(th), y[-1] + 0.3 * np.sin(th)),
+            xytext=(x[-1], y[-1]),
+            arrowprops={"arrowstyle": "->", "color": "#1565c0", "lw": 2},
+        )
+    contacts = trace.header.get("contacts", [])
+    if contacts:
+        cx, cy = [c[1] for c in contacts], [c[2] for c in contacts]
+        ax.plot(cx, cy, "x", color=MISS_COLOUR, markersize=10, markeredgewidth=2.5, label=f"bump ({len(contacts)})")
+    if cov is not None:
+        ax.plot([], [], "s", color=COVERED_RGBA, markersize=10, label=f"covered floor ({cov.fraction:.0%})")
+    ax.set_aspect("equal")
+    lo = np.nanmin(np.column_stack([x, y]), axis=0)
+    hi = np.nanmax(np.column_stack([x, y]), axis=0)
+    if world:
+        seg = np.asarray(world["segments"], dtype=float)
+        lo = np.minimum(lo, [seg[:, [0, 2]].min(), seg[:, [1, 3]].min()])
+        hi = np.maximum(hi, [seg[:, [0, 2]].max(), seg[:, [1, 3]].max()])
+    pad = 0.03 * max(hi - lo) + 0.05
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    fig.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
+    covered = f", {cov.fraction:.0%} of the floor covered" if cov is not None else ""
+    ax.set_title(f"Trajectory (ground truth){covered}\n{_title(trace)}", fontsize="medium")
+    return fig
+
+
+# -- signals -----------------------------------------------------------------------------
+
+
+def signals_figure(trace: TraceData) -> Figure | None:
+    panels = views.signal_panels(trace)
+    if not panels:
+        return None
+    height_in = 2.4 * len(panels) + 0.6
+    fig = Figure(figsize=(10, height_in))
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.6 / height_in, top=1 - 0.6 / height_in, hspace=0.35)
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    bumps = views.bumps_s(trace)
+    for ax, panel in zip(axes, panels):
+        for line in panel.lines:
+            if line.style == "points":
+                ax.plot(line.t_s, line.values, ".", markersize=5, label=line.label)
+            elif line.style == "step":
+                ax.step(line.t_s, line.values, where="post", linewidth=1.2, label=line.label)
+            else:
+                ax.plot(line.t_s, line.values, linewidth=1.2, label=line.label)
+        for t in bumps:
+            ax.axvline(t, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
+        ax.set_title(panel.title, fontsize="medium", loc="left")
+        ax.set_ylabel(panel.ylabel)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", fontsize="x-small", framealpha=0.9)
+    axes[-1].set_xlabel("virtual time (s)" + ("; red lines: bumps" if len(bumps) else ""))
+    axes[-1].set_xlim(0, trace.header["t_end_us"] / 1e6)
+    fig.suptitle(f"Signals over time: {_title(trace)}", fontsize="medium")
+    return fig
+
+
+# -- timing ------------------------------------------------------------------------------
+
+
+def timing_figure(trace: TraceData) -> Figure | None:
+    budgets = [b for b in trace.budgets if b["values_us"]]
+    if not budgets:
+        return None
+    cols = 2 if len(budgets) > 1 else 1
+    rows = (len(budgets) + cols - 1) // cols
+    height_in = 2.9 * rows + 0.6
+    fig = Figure(figsize=(8, height_in))  # fixed margins: constrained layout costs a second on log axes
+    fig.subplots_adjust(
+        left=0.1, right=0.98, bottom=0.55 / height_in, top=1 - 0.95 / height_in, hspace=0.75, wspace=0.3
+    )
+    axes = fig.subplots(rows, cols, squeeze=False).ravel()
+    for ax, budget in zip(axes, budgets):
+        _budget_histogram(ax, budget)
+    for ax in axes[len(budgets) :]:
+        ax.set_visible(False)
+    fig.suptitle(f"Timing budgets: {_title(trace)}", fontsize="medium")
+    return fig
+
+
+def _budget_histogram(ax, budget: dict) -> None:
+    values_ms = np.asarray(budget["values_us"], dtype=float) / 1000
+    stats = budget["stats"]
+    unit = "ms of wall time" if budget.get("wall_clock") else "ms"
+    period = budget.get("period_us")
+    if period is not None and "tolerance_us" in budget:
+        lo, hi = (period - budget["tolerance_us"]) / 1000, (period + budget["tolerance_us"]) / 1000
+        ax.axvspan(
+            lo,
+            hi,
+            color=OK_COLOUR,
+            alpha=0.15,
+            label=f"allowed {period / 1000:g} ± {budget['tolerance_us'] / 1000:g} ms",
+        )
+        ax.axvline(lo, color=MISS_COLOUR, linewidth=1)
+        ax.axvline(hi, color=MISS_COLOUR, linewidth=1)
+        span = (min(lo, values_ms.min()), max(hi, values_ms.max()))
+    else:
+        limit = budget["limit_us"] / 1000
+        ax.axvline(limit, color=MISS_COLOUR, linewidth=1.5, label=f"limit {limit:g} {unit}")
+        span = (min(0.0, values_ms.min()), max(limit, values_ms.max()))
+    positive = values_ms[values_ms > 0]
+    if len(positive) == len(values_ms) and span[1] / positive.min() > 100:  # several decades: log axis
+        bins = np.geomspace(positive.min() * 0.9, span[1] * 1.1, 41)
+        ax.set_xscale("log")
+        _plain_log_labels(ax.xaxis)
+    else:
+        width = max(span[1] - span[0], 1e-3)
+        bins = np.linspace(span[0] - 0.05 * width, span[1] + 0.05 * width, 41)
+    colour = MISS_COLOUR if stats["misses"] else "#1565c0"
+    ax.hist(values_ms, bins=bins, color=colour, alpha=0.85, histtype="stepfilled")
+    ax.set_yscale("log")  # a single late value stays visible beside hundreds on time
+    ax.set_ylim(0.7, None)  # bars rise from below a count of 1
+    _plain_log_labels(ax.yaxis)
+    ax.set_xlabel(unit)
+    ax.set_ylabel("count")
+    ax.set_title(
+        f"{budget['name']}: {stats['count']} values, {stats['misses']} misses\n"
+        f"p50 {stats['p50'] / 1000:g} ms, p99 {stats['p99'] / 1000:g} ms, max {stats['max'] / 1000:g} ms",
+        fontsize="small",
+        color=MISS_COLOUR if stats["misses"] else "black",
+    )
+    ax.legend(loc="upper right", fontsize="x-small")
+
+
+def _plain_log_labels(axis) -> None:
+    """1, 10, 100 rather than mathtext powers of ten, and no minor ticks: clearer, and
+    cheaper to draw."""
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    axis.set_minor_locator(NullLocator())

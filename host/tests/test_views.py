@@ -1,0 +1,110 @@
+"""What the plots show, from hand-made traces: coverage of the floor, the true range
+ahead, the encoder speed estimate, the signed motor commands, and the progress line."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from host import views
+from host.progress import MissionProgress
+from host.tracefolder import TraceData
+
+ROOM = {"name": "room 5 x 4 m", "segments": [[0, 0, 5, 0], [5, 0, 5, 4], [5, 4, 0, 4], [0, 4, 0, 0]]}
+M_PER_COUNT = views.ROVER_M_PER_COUNT
+
+
+def trace_of(events=(), truth=None, **header) -> TraceData:
+    h = {"app": "rover", "world": ROOM, "footprint_half_width_m": 0.17, "initial": {}, "t_end_us": 10_000_000}
+    h.update(header)
+    columns = {k: np.asarray(v, dtype=np.int64 if k == "t_us" else float) for k, v in (truth or {}).items()}
+    return TraceData(Path("."), h, list(events), columns, [])
+
+
+def test_a_straight_drive_covers_a_strip_as_wide_as_the_footprint():
+    x = np.linspace(1.0, 4.0, 61)  # 3 m along y = 2 m, footprint 0.4 m wide (8 cells of 5 cm)
+    truth = {"t_us": np.arange(61) * 50_000, "x_m": x, "y_m": np.full(61, 2.0)}
+    cov = views.coverage(trace_of(truth=truth, footprint_half_width_m=0.2))
+    expected = (3.0 * 0.4 + math.pi * 0.2**2) / (5 * 4)  # a 3 m x 0.4 m strip with round ends
+    assert cov.fraction == pytest.approx(expected, rel=0.05), (cov.fraction, expected)
+    assert cov.extent == (0.0, 5.0, 0.0, 4.0)
+    assert cov.free.all(), "every cell of an empty room is floor"
+    rows = np.flatnonzero(cov.covered.any(axis=1)) * 0.05 + 0.025
+    assert rows.min() == pytest.approx(1.825) and rows.max() == pytest.approx(2.175), rows
+
+
+def test_true_range_ahead_is_the_distance_to_the_wall_in_front_less_the_body():
+    r = views.range_ahead_m(
+        [1.0, 1.0, 2.5], [2.0, 2.0, 1.0], np.array([0.0, math.pi / 2, -math.pi / 2]), ROOM["segments"], 0.17
+    )
+    assert r == pytest.approx([5.0 - 1.0 - 0.17, 4.0 - 2.0 - 0.17, 1.0 - 0.17])
+
+
+def quadrature(wheel: str, states: int, t0_us: int, dt_us: int, forward: bool, state0: int = 0) -> list:
+    """Level changes of a wheel's A/B channels stepping through quadrature states
+    (00, 10, 11, 01 going forward: A leads B), one state every dt_us."""
+    a_of, b_of = (0, 1, 1, 0), (0, 0, 1, 1)
+    events, state = [], state0
+    for k in range(1, states + 1):
+        new = (state + (1 if forward else -1)) % 4
+        for channel, levels in (("a", a_of), ("b", b_of)):
+            if levels[new] != levels[state]:
+                events.append((t0_us + k * dt_us, f"enc_{wheel}.{channel}", levels[new]))
+        state = new
+    return events
+
+
+def test_speed_estimate_counts_encoder_edges_per_control_step_with_their_direction():
+    probe = [(t, "probe:control", i % 2) for i, t in enumerate(range(0, 500_001, 50_000))]
+    edges = []
+    for step in range(10):  # each 50 ms step: left 8 states forward (+4 A edges), right 4 back (-2)
+        edges += quadrature("l", 8, step * 50_000, 5_000, True)
+        edges += quadrature("r", 4, step * 50_000, 9_000, False)
+    events = sorted(probe + edges, key=lambda e: e[0])
+    t_us, speed = views.rover_speed_estimate(trace_of(events, initial={"enc_l.b": 0, "enc_r.b": 0}))
+    assert list(t_us) == list(range(50_000, 500_001, 50_000))
+    assert speed == pytest.approx([(4 - 2) / 2 * M_PER_COUNT / 0.05] * 10)
+
+
+def test_motor_command_is_the_duty_signed_by_the_h_bridge_pins():
+    events = [
+        (0, "motor_l.in1", 1),
+        (0, "motor_l.pwm", 32768),
+        (100, "motor_l.in1", 0),
+        (100, "motor_l.in2", 1),
+        (200, "motor_l.pwm", 65535),
+    ]
+    t_s, duty = views.signed_duty(trace_of(events), "motor_l")
+    assert duty[-1] == -1.0 and duty[1] == pytest.approx(32768 / 65535)
+    assert list(t_s) == [0, 0, 1e-4, 1e-4, 2e-4]
+
+
+def test_progress_stays_quiet_for_short_runs_and_shows_simulated_against_mission_time():
+    now = [100.0]
+    shown = []
+    progress = MissionProgress("pool", rewrite=shown.append, clock=lambda: now[0])
+    progress(0, 3_600_000_000)
+    now[0] += 0.5
+    progress(30_000_000, 3_600_000_000)
+    assert shown == [], "a run shorter than a second shows nothing"
+    now[0] += 1.5
+    progress(120_000_000, 3_600_000_000)
+    assert shown == ["pool: 120.0 / 3600.0 s simulated (3%), 2.0 s wall, 60x real time"], shown
+    assert progress.shown
+
+
+def test_progress_in_a_log_writes_a_line_now_and_then_and_at_the_end():
+    now = [0.0]
+    lines = []
+    progress = MissionProgress("pool", line=lines.append, clock=lambda: now[0])
+    for step in range(1, 41):  # 40 s of wall time, a report every second
+        progress((step - 1) * 90_000_000, 3_600_000_000)
+        now[0] += 1.0
+    progress(3_600_000_000, 3_600_000_000)
+    assert len(lines) == 3 and lines[-1].startswith("pool: 3600.0 / 3600.0 s simulated (100%)"), lines
+    quiet = MissionProgress("short", line=lines.append, clock=lambda: now[0])
+    quiet(0, 10_000_000)
+    now[0] += 2.0
+    quiet(10_000_000, 10_000_000)
+    assert len(lines) == 3, "a mission shorter than a log interval writes nothing to a log"
