@@ -1,7 +1,8 @@
 # Entry points. Each target sets up what it needs on a fresh machine: the Python
 # environment (.venv) and MicroPython's unix port built from Debian's source package.
 #   make test    every test: unit + firmware-in-the-loop (what CI runs)
-#   make hil     the firmware-in-the-loop scenarios, with the timing-budget table
+#   make hil     the firmware-in-the-loop scenarios, the timing-budget table and the
+#                HTML report (build/hil/report.html)
 #   make bench   real-time factor and link round trip; plant cost per quantum
 #   make lint    ruff on the host side
 #   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]
@@ -27,6 +28,7 @@ APP ?= rover
 .PHONY: setup test hil bench lint flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
+	@host/report_tools.sh
 	@$(PY) -m host.interpreter version
 
 $(VENV)/.installed: pyproject.toml host/bootstrap.sh
@@ -42,7 +44,7 @@ test: setup
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
 hil: setup
-	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table hil_tests
+	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html hil_tests
 
 flash: setup
 	@$(PY) -m host.flash --app $(APP) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))

@@ -3,12 +3,15 @@
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
 plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
 when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-table``
-the budget statistics of every rig are printed at the end of the session.
+the budget statistics of every rig are printed at the end of the session; with
+``--hil-report PATH`` every rig records a trace folder and the session ends by writing
+one HTML report (docs/traces.md). A long mission shows its progress on one line.
 """
 
 import json
 import os
 import re
+import sys
 from pathlib import Path
 
 import pytest
@@ -17,15 +20,40 @@ from host import interpreter
 from host.boards import REPO
 from host.budgets import format_table
 from host.errors import SetupError
+from host.hil_report import ReportCollector
+from host.progress import MissionProgress
 from host.runner import Rig
 
 ARTEFACTS = REPO / "build" / "hil"
 _rows: list[dict] = []
+_report = pytest.StashKey[ReportCollector]()
+_screens: list = []  # the session's progress line (pytest_runtest_logreport has no config)
 
 
 def pytest_addoption(parser):
     group = parser.getgroup("hil", "firmware in the loop")
     group.addoption("--hil-table", action="store_true", help="print the timing-budget table at the end")
+    group.addoption(
+        "--hil-report",
+        metavar="PATH",
+        type=Path,
+        help="record every rig and write an HTML report of the session to PATH",
+    )
+
+
+def pytest_configure(config):
+    path = config.getoption("--hil-report", None)
+    if path:
+        config.stash[_report] = ReportCollector(path)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item, call):
+    report = yield
+    collector = item.config.stash.get(_report, None)
+    if collector is not None and (item.get_closest_marker("hil") or "make_rig" in getattr(item, "fixturenames", ())):
+        collector.add_phase(item.nodeid, item.name, report)
+    return report
 
 
 def pytest_report_header(config):
@@ -44,6 +72,7 @@ def artefacts_for(node) -> "ARTEFACTS":
 @pytest.fixture
 def make_rig(request):
     rigs: list[Rig] = []
+    collector = request.config.stash.get(_report, None)
 
     flashed = _flashed_firmware()
 
@@ -52,6 +81,10 @@ def make_rig(request):
         if flashed and app == flashed["app"] and not {"main_dir", "firmware_dir", "plant"} & set(kwargs):
             kwargs.setdefault("firmware_dir", flashed["dir"])
             kwargs.setdefault("board", flashed["board"])
+        if collector is not None:
+            kwargs.setdefault("record", True)
+            kwargs.setdefault("trace", True)
+        kwargs.setdefault("progress", _progress(request, f"{request.node.name} rig{len(rigs)}"))
         rig = Rig(app, **kwargs)
         rigs.append(rig)
         rig.start()
@@ -61,9 +94,77 @@ def make_rig(request):
     for rig in rigs:
         rig.stop()
         scenario = request.node.name
-        for row in rig.budget_rows():
-            if row["count"]:
-                _rows.append({"scenario": scenario, **row})
+        rows = [row for row in rig.budget_rows() if row["count"]]
+        _rows.extend({"scenario": scenario, **row} for row in rows)
+        if collector is not None:
+            collector.add_rig(request.node.nodeid, scenario, rig, rows)
+
+
+def _progress(request, label: str) -> MissionProgress | None:
+    """Progress on the terminal (a line below the test's dots, rewritten in place) or, in
+    a log, a line now and then."""
+    config = request.config
+    tr = config.pluginmanager.get_plugin("terminalreporter")
+    if tr is None:
+        return None
+    if getattr(tr, "isatty", False):
+        if not _screens:
+            _screens.append(_ScreenLine(config))
+        return MissionProgress(label, rewrite=_screens[0].show)
+    return MissionProgress(label, line=lambda text: _with_terminal(config, lambda tr: tr.write_line(text)))
+
+
+class _ScreenLine:
+    """One line on the terminal under pytest's progress dots: shown while a mission
+    runs, cleared before the test's result is written, the cursor put back after the
+    dots. Written to the terminal's file descriptor, past pytest's writer, so that its
+    own idea of the current line stays right."""
+
+    def __init__(self, config):
+        self.config = config
+        self.column = None  # where the dots ended, while the line is shown
+
+    def show(self, text: str) -> None:
+        def write(tr) -> None:
+            if self.column is None:
+                tw = getattr(tr, "_tw", None)
+                self.column = getattr(tw, "width_of_current_line", 0)
+                _raw(tr, "\n")
+            _raw(tr, f"\r\x1b[K{text}")
+
+        _with_terminal(self.config, write)
+
+    def clear(self) -> None:
+        if self.column is None:
+            return
+        column, self.column = self.column, None
+        back = f"\x1b[1A\x1b[{column}C" if column else "\x1b[1A"
+        _with_terminal(self.config, lambda tr: _raw(tr, f"\r\x1b[K{back}"))
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_logreport(report):
+    """Clear a mission's progress line before the terminal writes the test's result."""
+    for screen in _screens:
+        screen.clear()
+
+
+def _raw(tr, text: str) -> None:
+    tr.flush()
+    os.write(sys.stdout.fileno(), text.encode())
+
+
+def _with_terminal(config, write) -> None:
+    """Write to the terminal from inside a test: around pytest's output capture."""
+    tr = config.pluginmanager.get_plugin("terminalreporter")
+    capman = config.pluginmanager.get_plugin("capturemanager")
+    if tr is None:
+        return
+    if capman is None:
+        write(tr)
+        return
+    with capman.global_and_fixture_disabled():
+        write(tr)
 
 
 def _flashed_firmware() -> dict | None:
@@ -88,3 +189,17 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if config.getoption("--hil-table") and _rows:
         terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
         terminalreporter.write_line(format_table(_rows))
+
+
+def pytest_sessionfinish(session):
+    collector = session.config.stash.get(_report, None)
+    if collector is not None:
+        collector.write()
+
+
+def pytest_unconfigure(config):
+    """The report's path, as the session's last line."""
+    collector = config.stash.get(_report, None)
+    tr = config.pluginmanager.get_plugin("terminalreporter")
+    if collector is not None and tr is not None and collector.path.is_file():
+        tr.write_line(f"HIL report: {collector.path.resolve()}", bold=True)

@@ -1,0 +1,209 @@
+"""`make hil`'s report: a pytest session with --hil-report writes one self-contained HTML
+file with a row per scenario (result, budget table, plots) and prints its path; a real
+headless browser (Debian's chromium) renders it, plots included, with no network."""
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.image import imread
+
+pytestmark = pytest.mark.hil
+
+SESSION_TIMEOUT_S = 120
+BROWSER_TIMEOUT_S = 90
+SCENARIOS = """
+    import pytest
+
+    pytestmark = pytest.mark.hil
+
+
+    def test_rover_cruises_a_metre_in_four_seconds(make_rig):
+        rig = make_rig("rover", seed=1)
+        rig.run_for(4)
+        assert rig.truth()["x_m"] > 2.0
+
+
+    def test_rover_reaches_the_far_wall_in_two_seconds(make_rig):
+        rig = make_rig("rover", seed=2)
+        rig.run_for(2)
+        assert rig.truth()["contacts"], "expected a bump within 2 s (this scenario fails on purpose)"
+"""
+
+
+class Page(HTMLParser):
+    """The report's elements of interest: sections, badges, images, tables, links."""
+
+    def __init__(self):
+        super().__init__()
+        self.sections, self.images, self.links, self.tables = [], [], [], 0
+        self.text = []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "section":
+            self.sections.append(a.get("class", ""))
+        elif tag == "img":
+            self.images.append(a.get("src", ""))
+        elif tag in ("a", "link", "script"):
+            self.links.append((tag, a.get("href") or a.get("src") or ""))
+        elif tag == "table" and "budgets" in a.get("class", ""):
+            self.tables += 1
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def parse(html: str) -> Page:
+    page = Page()
+    page.feed(html)
+    return page
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    """A pytest session like `make hil`'s, on two scenarios: one passes, one fails."""
+    where = tmp_path_factory.mktemp("session")
+    (where / "test_report_scenarios.py").write_text(textwrap.dedent(SCENARIOS))
+    report = where / "report.html"
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-table", f"--hil-report={report}"]
+        + ["test_report_scenarios.py"],
+        cwd=where,
+        capture_output=True,
+        text=True,
+        timeout=SESSION_TIMEOUT_S,
+    )
+    return where, report, done
+
+
+def test_a_session_writes_one_report_and_prints_its_path_at_the_end(session):
+    where, report, done = session
+    out = done.stdout
+    assert done.returncode == 1, f"expected one failed scenario (exit 1), got {done.returncode}:\n{out}{done.stderr}"
+    assert report.is_file(), f"no report at {report}; session output:\n{out}"
+    last_lines = out.strip().splitlines()[-3:]
+    assert any(line == f"HIL report: {report.resolve()}" for line in last_lines), last_lines
+
+
+def test_the_report_has_a_row_per_scenario_with_result_budgets_and_plots(session):
+    where, report, _ = session
+    html = report.read_text()
+    page = parse(html)
+    assert page.sections == ["scenario passed", "scenario failed"], f"{page.sections} in {report}"
+    assert page.tables == 2, f"expected a budget table per rig, got {page.tables} in {report}"
+    pngs = [src for src in page.images if src.startswith("data:image/png;base64,")]
+    assert len(pngs) == len(page.images) == 6, f"expected 3 embedded plots per scenario in {report}"
+    text = " ".join(page.text)
+    assert "control.period" in text and "sonar.latency" in text, f"budget rows missing in {report}"
+    assert "expected a bump within 2 s" in text, f"the failure message is missing from {report}"
+    artefacts = [href for tag, href in page.links if tag == "a" and "rig0" in href]
+    assert len(artefacts) == 2 and all((report.parent / h).resolve().is_dir() for h in artefacts), artefacts
+
+
+def test_the_report_needs_nothing_from_the_network(session):
+    _, report, _ = session
+    html = report.read_text()
+    remote = re.findall(
+        r"""(?:src|href)\s*=\s*["']?(?:https?:)?//[^"'\s>]+|url\(\s*["']?(?:https?:)?//|@import""", html
+    )
+    assert not remote, f"remote resources in {report}: {remote[:5]}"
+    assert "<script" not in html, f"{report} should need no script"
+
+
+def chromium_path() -> str:
+    path = shutil.which("chromium") or "/usr/bin/chromium"
+    if not os.access(path, os.X_OK):
+        pytest.fail(
+            "expected Debian's chromium at /usr/bin/chromium to render the report, found none: `make setup` "
+            "installs it when run as root; otherwise run `sudo apt-get install -y chromium`"
+        )
+    return path
+
+
+def run_chromium(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
+    """Headless chromium with no network at all; its processes are gone when this returns."""
+    cmd = [
+        chromium_path(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--host-resolver-rules=MAP * ~NOTFOUND",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        *args,
+    ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=BROWSER_TIMEOUT_S)
+    finally:
+        _end_group(proc)
+    return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+
+
+def _end_group(proc) -> None:
+    """Give chromium's helper processes a moment to exit, then end what is left (exited
+    helpers may stay zombies until init reaps them: they hold nothing)."""
+    deadline = time.monotonic() + 5
+    while _live_members(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    for pid in _live_members(proc.pid):
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait(timeout=5)
+
+
+def _live_members(pgid: int) -> list[int]:
+    """Processes of a process group that are not zombies, from /proc."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            found.append(int(entry.name))
+    return found
+
+
+def test_chromium_renders_the_report_with_its_plots_offline(session, tmp_path):
+    _, report, _ = session
+    url = report.resolve().as_uri()
+    dom = run_chromium(tmp_path, "--dump-dom", url)
+    assert dom.returncode == 0, f"chromium --dump-dom failed on {report}: {dom.stderr[-2000:]}"
+    page = parse(dom.stdout)
+    assert page.sections == ["scenario passed", "scenario failed"], f"rendered DOM of {report}: {dom.stdout[:500]}"
+
+    shot = tmp_path / "report.png"
+    done = run_chromium(tmp_path, f"--screenshot={shot}", "--window-size=1280,2200", "--hide-scrollbars", url)
+    assert done.returncode == 0 and shot.is_file(), f"no screenshot of {report}: {done.stderr[-2000:]}"
+    png = imread(shot)[..., :3]
+    pixels = (png * 255).round().astype(np.uint8).reshape(-1, 3)
+    colours = len(np.unique(pixels.astype(np.uint32) @ np.array([1 << 16, 1 << 8, 1], dtype=np.uint32)))
+    assert colours > 500, f"the screenshot of {report} looks blank ({colours} colours): {shot}"
+
+    def near(rgb, tol=6):
+        return int((np.abs(pixels.astype(int) - rgb).max(axis=1) <= tol).sum())
+
+    assert near((46, 125, 50)) > 200, f"no green 'passed' badge or border in {shot}"
+    assert near((198, 40, 40)) > 200, f"no red 'failed' badge or border in {shot}"
+    assert near((140, 204, 140)) > 1000, f"the trajectory plot's covered floor is not on screen: {shot}"

@@ -1,0 +1,80 @@
+"""Collects a HIL session's scenarios (outcome, rigs, budgets) for the HTML report, then
+plots every recorded rig and writes the report (:mod:`host.report`).
+
+The pytest plugin feeds it; it knows nothing of pytest beyond the report objects'
+``when``/``outcome``/``duration``/``longreprtext`` fields.
+"""
+
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from host.report import RigResult, Scenario, write_report
+from host.tracefolder import HEADER, load_trace
+
+MESSAGE_MAX_CHARS = 6000
+
+
+class ReportCollector:
+    def __init__(self, path: Path):
+        self.path = Path(path)
+        self.scenarios: dict[str, Scenario] = {}
+        self.micropython = ""
+
+    def scenario(self, nodeid: str, name: str) -> Scenario:
+        if nodeid not in self.scenarios:
+            self.scenarios[nodeid] = Scenario(name=name, nodeid=nodeid, outcome="passed")
+        return self.scenarios[nodeid]
+
+    def add_rig(self, nodeid: str, name: str, rig, budget_rows: list[dict]) -> None:
+        folder = rig.artefacts
+        self.scenario(nodeid, name).rigs.append(RigResult(folder.name if folder else "rig", folder, budget_rows))
+        if rig.micropython_version and not self.micropython:
+            self.micropython = rig.micropython_version.split(";")[0]
+
+    def add_phase(self, nodeid: str, name: str, report) -> None:
+        """One of setup/call/teardown finished: fold its outcome into the scenario's."""
+        s = self.scenario(nodeid, name)
+        s.duration_s += report.duration
+        if report.outcome == "failed":
+            s.outcome = "failed" if report.when == "call" else "error"
+            text = report.longreprtext
+            if len(text) > MESSAGE_MAX_CHARS:
+                text = "...\n" + text[-MESSAGE_MAX_CHARS:]
+            s.message = (s.message + "\n\n" + text).strip()
+        elif report.outcome == "skipped" and s.outcome == "passed":
+            s.outcome = "skipped"
+            s.message = report.longreprtext[-MESSAGE_MAX_CHARS:]
+
+    def write(self, workers: int | None = None) -> Path:
+        """Plot every recorded rig (in parallel) and write the report; returns its path."""
+        rigs = [r for s in self.scenarios.values() for r in s.rigs if r.folder and (r.folder / HEADER).is_file()]
+        results = _plot_all([r.folder for r in rigs], workers)
+        for rig, (plots, error) in zip(rigs, results):
+            rig.plots = plots
+            rig.header = load_trace(rig.folder).header
+            if error:
+                rig.budgets = rig.budgets + [{"budget": "(plots)", "limit": f"plotting failed: {error}"}]
+        return write_report(self.path, list(self.scenarios.values()), micropython=self.micropython)
+
+
+def _plot_one(folder: Path) -> tuple[list[Path], str]:
+    from host.plots import plot_trace
+
+    try:
+        return plot_trace(folder), ""
+    except Exception as e:  # one unplottable trace must not cost the whole report
+        return [], f"{type(e).__name__}: {e}"
+
+
+def _plot_all(folders: list[Path], workers: int | None) -> list[tuple[list[Path], str]]:
+    import host.plots  # noqa: F401  (once here, not in every worker)
+
+    workers = workers or min(len(folders), os.cpu_count() or 1)
+    if workers <= 1 or len(folders) <= 1:
+        return [_plot_one(f) for f in folders]
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        return list(pool.map(_plot_one, folders))
