@@ -28,6 +28,8 @@ class App:
     doc: str = ""
     extra: dict = field(default_factory=dict)
     folder: Path | None = None  # default: firmware/apps/<name>
+    worlds: dict[str, dict] = field(default_factory=lambda: {"default": {}})
+    """Named worlds: the plant options that build each (the first is the default)."""
 
     @property
     def path(self) -> Path:
@@ -94,6 +96,11 @@ APPS = {
         wiring=ROVER_WIRING,
         make_budgets=rover_budgets,
         doc="differential-drive rover in a room: sonar slow-down, bump, back off, turn",
+        worlds={
+            "room": {},
+            "long-room": {"room_w_m": 8.0, "room_h_m": 4.0},
+            "small-room": {"room_w_m": 3.0, "room_h_m": 3.0, "start_pose": (1.0, 1.5, 0.0)},
+        },
     ),
 }
 

@@ -1,0 +1,232 @@
+"""``mpy-fil``: ad-hoc runs, replays and plots from the command line.
+
+    mpy-fil run --app rover --world long-room --seed 3 --duration 60
+    mpy-fil replay build/runs/rover-long-room-seed3
+    mpy-fil plot build/runs/rover-long-room-seed3
+
+A bad argument is reported by name with exit code 2; a run that fails (firmware
+exception, watchdog) prints the harness's message and exits with 1; a replay whose
+outputs differ from the recording exits with 1. This is the only layer that prints
+or exits.
+"""
+
+import argparse
+import ast
+import inspect
+import sys
+from pathlib import Path
+
+from host.apps import APPS
+from host.boards import BOARDS_DIR, REPO
+from host.budgets import format_table
+from host.errors import ConfigError, HarnessError
+from host.progress import MissionProgress
+from host.tracefolder import HEADER
+
+RUNS = REPO / "build" / "runs"
+EXIT_FAILED = 1
+EXIT_USAGE = 2
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.command(args)
+    except ConfigError as e:  # names its field: a bad argument or a bad trace
+        args.sub.error(str(e))
+    except HarnessError as e:
+        print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
+        return EXIT_FAILED
+    except KeyboardInterrupt:
+        print(f"{args.sub.prog}: interrupted", file=sys.stderr)
+        return 130
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="mpy-fil",
+        description="Run MicroPython robot firmware in the loop, replay a recorded trace, or plot one.",
+    )
+    sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
+
+    run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
+    run.add_argument("--app", default="rover", choices=sorted(APPS), help="firmware app (default: rover)")
+    run.add_argument("--board", help="board pin map (default: the app's own; see firmware/boards)")
+    run.add_argument("--world", help="named world of the app (default: its first)")
+    run.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        type=_param,
+        help="a plant option, e.g. room_w_m=6.5 (repeatable; overrides the world's)",
+    )
+    run.add_argument("--seed", type=int, default=0, help="seed of the plant's generator (default: 0)")
+    run.add_argument("--duration", type=_positive_s, default=30.0, metavar="SECONDS", help="virtual seconds (30)")
+    run.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep", help="clock (default: lockstep)")
+    run.add_argument("--out", type=Path, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
+    run.add_argument("--no-plots", action="store_true", help="write the trace folder only")
+    run.set_defaults(command=cmd_run, sub=run)
+
+    rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
+    rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
+    rep.add_argument("--out", type=Path, help="the replay's own trace folder (default: TRACE/replay)")
+    rep.set_defaults(command=cmd_replay, sub=rep)
+
+    plot = sub.add_parser("plot", help="write a trace folder's plots (PNG)")
+    plot.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder")
+    plot.add_argument("--out", type=Path, help="folder for the PNG files (default: TRACE/plots)")
+    plot.set_defaults(command=cmd_plot, sub=plot)
+    return parser
+
+
+# -- argument types: each error names its argument through argparse ---------------------
+
+
+def _positive_s(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {text!r}")
+    return value
+
+
+def _param(text: str) -> tuple[str, object]:
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    try:
+        return name.strip(), ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        return name.strip(), value
+
+
+def _trace_folder(text: str) -> Path:
+    path = Path(text)
+    if not path.is_dir():
+        raise argparse.ArgumentTypeError(f"no trace folder at {text}")
+    if not (path / HEADER).is_file():
+        raise argparse.ArgumentTypeError(f"{text} is not a trace folder (no {HEADER})")
+    return path
+
+
+# -- commands ----------------------------------------------------------------------------
+
+
+def cmd_run(args) -> int:
+    from host.runner import Rig
+
+    sub = args.sub
+    app = APPS[args.app]
+    board = args.board or app.default_board
+    known_boards = app.boards or tuple(sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file()))
+    if board not in known_boards:
+        sub.error(f"argument --board: unknown board {board!r} for app {app.name} (known: {', '.join(known_boards)})")
+    world = args.world or next(iter(app.worlds))
+    if world not in app.worlds:
+        sub.error(f"argument --world: unknown world {world!r} for app {app.name} (known: {', '.join(app.worlds)})")
+    options = {**app.worlds[world], **dict(args.param)}
+    accepted = _plant_options(app.make_plant)
+    unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
+    if unknown:
+        sub.error(
+            f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
+            f"(has: {', '.join(sorted(accepted))})"
+        )
+    try:
+        plant = app.make_plant(**options)
+    except (TypeError, ValueError) as e:
+        sub.error(f"argument --param: {app.name}'s plant rejects {options}: {e}")
+    out = args.out or RUNS / f"{app.name}-{world}-seed{args.seed}"
+    show = _progress(f"{app.name} in {world}, seed {args.seed}")
+    rig = Rig(
+        app.name,
+        board=board,
+        seed=args.seed,
+        mode=args.mode,
+        plant=plant,
+        plant_options=options,
+        artefacts=out,
+        trace=True,
+        record=True,
+        progress=show,
+    )
+    try:
+        with rig:
+            rig.run_for(args.duration)
+    finally:
+        _progress_done(show)
+    truth = rig.truth()
+    print(f"trace folder: {out}")
+    pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
+    print(f"ground truth at {rig.t_us / 1e6:g} s: {pose}; contacts: {len(truth.get('contacts', []))}")
+    rows = [r for r in rig.budget_rows() if r["count"]]
+    if rows:
+        print(format_table(rows))
+    if not args.no_plots:
+        from host.plots import plot_trace
+
+        for path in plot_trace(out):
+            print(f"plot: {path}")
+    return 0
+
+
+def cmd_replay(args) -> int:
+    from host.replay import replay
+
+    out = args.out or args.trace / "replay"
+    show = _progress(f"replay {args.trace}")
+    try:
+        result = replay(args.trace, out, progress=show)
+    finally:
+        _progress_done(show)
+    print(f"replay trace folder: {result.folder}")
+    if result.same:
+        print(f"same outputs: {result.recorded} firmware outputs match the recording")
+        return 0
+    print(f"outputs differ: {result.difference}")
+    print(f"recorded {result.recorded} firmware outputs, replay {result.replayed}")
+    return EXIT_FAILED
+
+
+def cmd_plot(args) -> int:
+    from host.plots import plot_trace
+
+    for path in plot_trace(args.trace, args.out):
+        print(f"plot: {path}")
+    return 0
+
+
+def _plant_options(make_plant) -> set | None:
+    """Keyword options the plant factory takes, or None when it takes any."""
+    try:
+        params = inspect.signature(make_plant).parameters.values()
+    except (TypeError, ValueError):
+        return None
+    if any(p.kind == p.VAR_KEYWORD for p in params):
+        return None
+    return {p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
+
+
+def _progress(label: str) -> MissionProgress | None:
+    """Mission progress on stderr, one line rewritten in place (terminals only)."""
+    if not sys.stderr.isatty():
+        return None
+
+    def rewrite(text: str) -> None:
+        sys.stderr.write("\r\x1b[K" + text)
+        sys.stderr.flush()
+
+    return MissionProgress(label, rewrite=rewrite)
+
+
+def _progress_done(progress: MissionProgress | None) -> None:
+    if progress is not None and progress.on_screen:
+        sys.stderr.write("\n")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

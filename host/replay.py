@@ -1,0 +1,115 @@
+"""Replay a trace: drive the firmware with the recorded sensor stream and compare what it
+drives with what it drove.
+
+The plant is a :class:`ReplayPlant`, a :class:`sim_plant.scripted.ScriptedPlant` whose
+script is every recorded plant-output change, in recorded order. The firmware runs in
+lockstep for the recorded length; its outputs (actuators, probes, bare pins) are
+compared one by one with the recorded ones and the first difference is reported. The
+same firmware on the same recording gives none: a difference means the firmware, the
+shim or the runner changed behaviour (or the trace was taken in real time, which no
+replay reproduces).
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from host.errors import ConfigError
+from host.recording import ACTUATOR, SENSOR
+from host.runner import Rig
+from host.tracefolder import TraceData, load_trace
+from sim_plant.scripted import ScriptedPlant
+
+
+class ReplayPlant(ScriptedPlant):
+    """A ScriptedPlant that keeps the recorded order of same-time changes and can be
+    snapshotted cheaply (the runner rolls speculative batches back)."""
+
+    def __init__(self, script, *, outputs, inputs, initial):
+        super().__init__((), outputs=outputs, inputs=inputs, initial=initial)
+        unknown = sorted({name for _t, name, _v in script} - set(outputs))
+        if unknown:
+            raise ConfigError(f"replay: the recording drives unknown plant outputs {unknown}")
+        self.script = sorted(script, key=lambda e: e[0])  # stable: same-time order as recorded
+
+    def snapshot(self):
+        return self._t_us, self._next, dict(self.values), len(self.log)
+
+    def restore(self, snap) -> None:
+        self._t_us, self._next, values, n_log = snap
+        self.values = dict(values)
+        del self.log[n_log:]
+
+
+@dataclass
+class Difference:
+    index: int  # position in the firmware's output stream
+    t_us: int
+    recorded: tuple | None  # (t_us, signal, value), None past the recording's end
+    replayed: tuple | None
+
+    def __str__(self) -> str:
+        def show(e):
+            return "nothing" if e is None else f"{e[1]} = {e[2]} at t={e[0] / 1e6:.6f} s"
+
+        return (
+            f"first difference at output #{self.index} (t={self.t_us / 1e6:.6f} s): "
+            f"recorded {show(self.recorded)}, replay {show(self.replayed)}"
+        )
+
+
+@dataclass
+class ReplayResult:
+    recorded: int  # firmware outputs in the recording
+    replayed: int  # firmware outputs in the replay
+    difference: Difference | None
+    folder: Path  # the replay's own trace folder
+
+    @property
+    def same(self) -> bool:
+        return self.difference is None
+
+
+def replay_plant(trace: TraceData) -> ReplayPlant:
+    h = trace.header
+    signals = h.get("signals", {})
+    outputs = {n: i["kind"] for n, i in signals.items() if i["role"] == SENSOR}
+    inputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ACTUATOR}
+    script = [(t, n, bytes.fromhex(v) if outputs[n] == "bytes" else v) for t, n, v in trace.events if n in outputs]
+    initial = {n: (bytes.fromhex(v) if outputs[n] == "bytes" else v) for n, v in h.get("initial", {}).items()}
+    return ReplayPlant(script, outputs=outputs, inputs=inputs, initial=initial)
+
+
+def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> ReplayResult:
+    """Run the recorded app and board against the recorded sensor stream; compare."""
+    trace = load_trace(folder)
+    h = trace.header
+    if h.get("mode") != "lockstep":
+        raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
+    rig = Rig(
+        h["app"],
+        board=h["board"],
+        seed=h["seed"],
+        plant=replay_plant(trace),
+        artefacts=Path(artefacts),
+        trace=True,
+        record=True,
+        watchdog_s=watchdog_s,
+        progress=progress,
+    )
+    with rig:
+        rig.run_until(h["t_end_us"])
+    recorded = trace.firmware_outputs()
+    replayed = [e for e in rig.recorder.firmware_outputs() if e[0] <= h["t_end_us"]]
+    return ReplayResult(len(recorded), len(replayed), first_difference(recorded, replayed), Path(artefacts))
+
+
+def first_difference(recorded: list, replayed: list) -> Difference | None:
+    for i, (a, b) in enumerate(zip(recorded, replayed)):
+        if tuple(a) != tuple(b):
+            return Difference(i, min(a[0], b[0]), tuple(a), tuple(b))
+    if len(recorded) == len(replayed):
+        return None
+    i = min(len(recorded), len(replayed))
+    a = tuple(recorded[i]) if i < len(recorded) else None
+    b = tuple(replayed[i]) if i < len(replayed) else None
+    return Difference(i, (a or b)[0], a, b)
