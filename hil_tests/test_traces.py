@@ -12,7 +12,7 @@ from matplotlib.image import imread
 
 from host.plots import plot_trace
 from host.replay import replay
-from host.tests.vcd_reader import read_vcd
+from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 from host.tracefolder import load_trace
 
 pytestmark = pytest.mark.hil
@@ -41,7 +41,7 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     where = f"(artefacts: {folder})"
     header = json.loads((folder / "header.json").read_text())
     assert header["app"] == "rover" and header["board"] == "esp32_devkitc" and header["seed"] == 11, where
-    assert header["world"]["name"] == "room 3.5 x 4 m" and header["plant_options"] == {"room_w_m": 3.5}, where
+    assert header["world"]["name"] == "rover room 3.5 x 4 m" and header["plant_options"] == {"room_w_m": 3.5}, where
     assert re.fullmatch(r"[0-9a-f]{40}(-dirty)?", header["commit"]), f"commit {header['commit']!r} {where}"
     assert header["micropython"] == "1.25.0", where
     assert header["t_end_us"] == DURATION_S * 1_000_000, where
@@ -73,6 +73,15 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     assert vcd.final("rover.actuators.motor_l.pwm") == last_pwm, where
     assert len(vcd.timeline("rover.sensors.sonar.adc")) == len({r["t_us"] for r in samples}) + 1, where
     assert vcd.final("rover.truth.x_m") == pytest.approx(float(truth[-1]["x_m"]), rel=1e-6), where
+
+
+def test_gtkwave_reads_the_recorded_vcd_back_unchanged(recorded, tmp_path):
+    folder, _ = recorded
+    ours = read_vcd((folder / "trace.vcd").read_text())
+    theirs = read_vcd(gtkwave_round_trip(folder / "trace.vcd", tmp_path))
+    assert set(theirs.vars) == set(ours.vars) and len(ours.vars) > 20, sorted(ours.vars)
+    changed = [name for name in ours.vars if theirs.timeline(name) != ours.timeline(name)]
+    assert not changed, f"GTKWave reads {changed} differently from {folder / 'trace.vcd'}"
 
 
 def test_the_same_seed_gives_byte_identical_signals_truth_and_vcd(make_rig):

@@ -48,7 +48,8 @@ class ReportCollector:
             s.message = report.longreprtext[-MESSAGE_MAX_CHARS:]
 
     def write(self, workers: int | None = None) -> Path:
-        """Plot every recorded rig (in parallel) and write the report; returns its path."""
+        """Plot every recorded rig (in parallel) and write the report; returns its path.
+        Scenarios are the tests that ran rigs, and every test that failed."""
         rigs = [r for s in self.scenarios.values() for r in s.rigs if r.folder and (r.folder / HEADER).is_file()]
         results = _plot_all([r.folder for r in rigs], workers)
         for rig, (plots, error) in zip(rigs, results):
@@ -56,7 +57,8 @@ class ReportCollector:
             rig.header = load_trace(rig.folder).header
             if error:
                 rig.budgets = rig.budgets + [{"budget": "(plots)", "limit": f"plotting failed: {error}"}]
-        return write_report(self.path, list(self.scenarios.values()), micropython=self.micropython)
+        shown = [s for s in self.scenarios.values() if s.rigs or s.outcome in ("failed", "error")]
+        return write_report(self.path, shown, micropython=self.micropython)
 
 
 def _plot_one(folder: Path) -> tuple[list[Path], str]:

@@ -61,7 +61,13 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     tr = trace.truth
     if "x_m" not in tr or len(tr["x_m"]) == 0:
         return None
-    fig = Figure(figsize=(8, 6), layout="constrained")
+    world = trace.header.get("world")
+    aspect = 0.75
+    if world:
+        seg = np.asarray(world["segments"], dtype=float)
+        span = np.ptp(seg[:, [0, 2]]), np.ptp(seg[:, [1, 3]])
+        aspect = span[1] / span[0] if span[0] > 0 else aspect
+    fig = Figure(figsize=(8, min(max(6.2 * aspect + 1.6, 4.0), 10.0)), layout="constrained")
     ax = fig.add_subplot()
     cov = views.coverage(trace)
     if cov is not None:
@@ -70,7 +76,6 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
         image[cov.covered] = 2
         cmap = ListedColormap([(1, 1, 1, 0), FREE_RGBA, COVERED_RGBA])
         ax.imshow(image, origin="lower", extent=cov.extent, cmap=cmap, vmin=0, vmax=2, interpolation="nearest")
-    world = trace.header.get("world")
     if world:
         for ax_, ay_, bx_, by_ in world["segments"]:
             ax.plot([ax_, bx_], [ay_, by_], color="#263238", linewidth=3, solid_capstyle="round")
@@ -93,7 +98,7 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     contacts = trace.header.get("contacts", [])
     if contacts:
         cx, cy = [c[1] for c in contacts], [c[2] for c in contacts]
-        ax.plot(cx, cy, "x", color=MISS_COLOUR, markersize=10, markeredgewidth=2.5, label=f"bump ({len(contacts)})")
+        ax.plot(cx, cy, "x", color=MISS_COLOUR, markersize=10, markeredgewidth=2.5, label=f"contact ({len(contacts)})")
     if cov is not None:
         ax.plot([], [], "s", color=COVERED_RGBA, markersize=10, label=f"covered floor ({cov.fraction:.0%})")
     ax.set_aspect("equal")
@@ -140,7 +145,7 @@ def signals_figure(trace: TraceData) -> Figure | None:
         ax.set_ylabel(panel.ylabel)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right", fontsize="x-small", framealpha=0.9)
-    axes[-1].set_xlabel("virtual time (s)" + ("; red lines: bumps" if len(bumps) else ""))
+    axes[-1].set_xlabel("virtual time (s)" + ("; red lines: contacts with a wall" if len(bumps) else ""))
     axes[-1].set_xlim(0, trace.header["t_end_us"] / 1e6)
     fig.suptitle(f"Signals over time: {_title(trace)}", fontsize="medium")
     return fig

@@ -21,6 +21,7 @@ Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``)
 import csv
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -41,6 +42,7 @@ VCD = "trace.vcd"
 LINK = "trace.jsonl"
 CONSOLE = "console.log"
 DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
+DEFAULT_COVERAGE_CELL_M = 0.05
 
 
 # -- writing ------------------------------------------------------------------------
@@ -89,6 +91,7 @@ def make_header(rig) -> dict:
         "t_end_us": rig.t_us,
         "truth_period_us": rig.recorder.truth_period_us,
         "footprint_half_width_m": footprint_half_width_m(plant),
+        "coverage_cell_m": float(getattr(coverage_grid(plant), "cell_m", DEFAULT_COVERAGE_CELL_M)),
         "signals": rig.recorder.signals,
         "initial": rig.recorder.initial,
         "contacts": [list(c) for c in _truth_contacts(plant)],
@@ -97,21 +100,32 @@ def make_header(rig) -> dict:
 
 
 def describe_world(plant) -> dict | None:
-    """The plant's walls, as ``{"name", "segments": [[ax, ay, bx, by], ...]}``: its
-    ``world`` (sim_plant.world.World) or, for a rectangular room, its size."""
+    """The plant's walls (its ``world``, a sim_plant.world.World), as ``{"name",
+    "segments": [[ax, ay, bx, by], ...]}``; the name says the world's size."""
     world = getattr(plant, "world", None)
-    if world is not None and hasattr(world, "segments"):
-        return {"name": world.name, "segments": [list(s) for s in world.segments()]}
-    w, h = getattr(plant, "room_w_m", None), getattr(plant, "room_h_m", None)
-    if w is not None and h is not None:
-        segments = [[0, 0, w, 0], [w, 0, w, h], [w, h, 0, h], [0, h, 0, 0]]
-        return {"name": f"room {w:g} x {h:g} m", "segments": segments}
+    if world is None or not hasattr(world, "segments"):
+        return None
+    segments = [[float(v) for v in s] for s in world.segments()]
+    name = str(getattr(world, "name", "world"))
+    if not re.search(r"\d x \d", name):
+        xs = [v for s in segments for v in (s[0], s[2])]
+        ys = [v for s in segments for v in (s[1], s[3])]
+        name += f" {max(xs) - min(xs):g} x {max(ys) - min(ys):g} m"
+    return {"name": name, "segments": segments}
+
+
+def coverage_grid(plant):
+    """The plant's own floor coverage grid (a sim_plant.coverage.CoverageGrid), if any."""
+    for part in [plant, *getattr(plant, "parts", ())]:
+        for value in (getattr(part, "grid", None), getattr(part, "coverage", None)):
+            if hasattr(value, "half_width_m") and hasattr(value, "cell_m"):
+                return value
     return None
 
 
 def footprint_half_width_m(plant) -> float:
     """Half the width of the floor the robot sweeps (its coverage grid's, or its body's)."""
-    grid = getattr(plant, "coverage", None)
+    grid = coverage_grid(plant)
     for value in (getattr(grid, "half_width_m", None), getattr(plant, "body_radius_m", None)):
         if isinstance(value, (int, float)):
             return float(value)
@@ -140,7 +154,7 @@ def budget_record(budget) -> dict:
 
 def _truth_contacts(plant) -> list:
     contacts = plant.truth().get("contacts", [])
-    return [[v if isinstance(v, int) else float(v) for v in c] for c in contacts if isinstance(c, (list, tuple))]
+    return [[int(c[0]), float(c[1]), float(c[2])] for c in contacts if isinstance(c, (list, tuple)) and len(c) >= 3]
 
 
 def _write_truth(path: Path, truth: list) -> None:

@@ -52,12 +52,14 @@ def world_of(trace: TraceData) -> World | None:
     return World(world["segments"], name=world.get("name", "world"))
 
 
-def coverage(trace: TraceData, cell_m: float = COVERAGE_CELL_M) -> Coverage | None:
-    """Floor swept by the footprint along the ground-truth path (None without a world)."""
+def coverage(trace: TraceData, cell_m: float | None = None) -> Coverage | None:
+    """Floor swept by the footprint along the ground-truth path, on a grid like the
+    plant's own (None without a world)."""
     world = world_of(trace)
     x, y = trace.truth.get("x_m"), trace.truth.get("y_m")
     if world is None or x is None or y is None:
         return None
+    cell_m = cell_m or trace.header.get("coverage_cell_m") or COVERAGE_CELL_M
     grid = CoverageGrid(world, cell_m, trace.header.get("footprint_half_width_m", 0.15))
     for xi, yi in zip(x, y):
         if math.isfinite(xi) and math.isfinite(yi):

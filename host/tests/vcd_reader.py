@@ -3,7 +3,10 @@ rejects what a wave viewer would trip on (unknown identifiers, values that do no
 their variable, time going backwards, unbalanced scopes)."""
 
 import re
+import shutil
+import subprocess
 from dataclasses import dataclass, field
+from pathlib import Path
 
 SCALAR = re.compile(r"^([01xXzZ])(\S+)$")
 VECTOR = re.compile(r"^[bB]([01xXzZ]+) (\S+)$")
@@ -128,3 +131,26 @@ def _match(line: str):
         if m:
             return kind, m
     return None, None
+
+
+GTKWAVE_MISSING = (
+    "expected GTKWave's vcd2fst and fst2vcd on PATH, found none: `make setup` installs Debian's gtkwave "
+    "package when run as root; otherwise run `sudo apt-get install -y gtkwave`"
+)
+
+
+def gtkwave_round_trip(vcd_path: Path, work: Path) -> str:
+    """The VCD as GTKWave reads it: converted to its FST format by vcd2fst, written back
+    by fst2vcd. Raises AssertionError (naming the package) when GTKWave is missing or
+    rejects the file."""
+    vcd2fst, fst2vcd = shutil.which("vcd2fst"), shutil.which("fst2vcd")
+    if not (vcd2fst and fst2vcd):
+        raise AssertionError(GTKWAVE_MISSING)
+    fst = work / (vcd_path.stem + ".fst")
+    done = subprocess.run([vcd2fst, str(vcd_path), str(fst)], capture_output=True, text=True, timeout=60)
+    if done.returncode != 0 or not fst.is_file():
+        raise AssertionError(f"vcd2fst rejected {vcd_path}: {done.stdout}{done.stderr}")
+    back = subprocess.run([fst2vcd, str(fst)], capture_output=True, text=True, timeout=60)
+    if back.returncode != 0:
+        raise AssertionError(f"fst2vcd could not read {fst}: {back.stderr}")
+    return back.stdout
