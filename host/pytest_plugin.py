@@ -11,7 +11,6 @@ one HTML report (docs/traces.md). A long mission shows its progress on one line.
 import json
 import os
 import re
-import sys
 from pathlib import Path
 
 import pytest
@@ -21,13 +20,12 @@ from host.boards import REPO
 from host.budgets import format_table
 from host.errors import SetupError
 from host.hil_report import ReportCollector
-from host.progress import MissionProgress
+from host.pytest_progress import clear_progress_lines, mission_progress
 from host.runner import Rig
 
 ARTEFACTS = REPO / "build" / "hil"
 _rows: list[dict] = []
 _report = pytest.StashKey[ReportCollector]()
-_screens: list = []  # the session's progress line (pytest_runtest_logreport has no config)
 
 
 def pytest_addoption(parser):
@@ -84,7 +82,7 @@ def make_rig(request):
         if collector is not None:
             kwargs.setdefault("record", True)
             kwargs.setdefault("trace", True)
-        kwargs.setdefault("progress", _progress(request, f"{request.node.name} rig{len(rigs)}"))
+        kwargs.setdefault("progress", mission_progress(request.config, f"{request.node.name} rig{len(rigs)}"))
         rig = Rig(app, **kwargs)
         rigs.append(rig)
         rig.start()
@@ -100,71 +98,10 @@ def make_rig(request):
             collector.add_rig(request.node.nodeid, scenario, rig, rows)
 
 
-def _progress(request, label: str) -> MissionProgress | None:
-    """Progress on the terminal (a line below the test's dots, rewritten in place) or, in
-    a log, a line now and then."""
-    config = request.config
-    tr = config.pluginmanager.get_plugin("terminalreporter")
-    if tr is None:
-        return None
-    if getattr(tr, "isatty", False):
-        if not _screens:
-            _screens.append(_ScreenLine(config))
-        return MissionProgress(label, rewrite=_screens[0].show)
-    return MissionProgress(label, line=lambda text: _with_terminal(config, lambda tr: tr.write_line(text)))
-
-
-class _ScreenLine:
-    """One line on the terminal under pytest's progress dots: shown while a mission
-    runs, cleared before the test's result is written, the cursor put back after the
-    dots. Written to the terminal's file descriptor, past pytest's writer, so that its
-    own idea of the current line stays right."""
-
-    def __init__(self, config):
-        self.config = config
-        self.column = None  # where the dots ended, while the line is shown
-
-    def show(self, text: str) -> None:
-        def write(tr) -> None:
-            if self.column is None:
-                tw = getattr(tr, "_tw", None)
-                self.column = getattr(tw, "width_of_current_line", 0)
-                _raw(tr, "\n")
-            _raw(tr, f"\r\x1b[K{text}")
-
-        _with_terminal(self.config, write)
-
-    def clear(self) -> None:
-        if self.column is None:
-            return
-        column, self.column = self.column, None
-        back = f"\x1b[1A\x1b[{column}C" if column else "\x1b[1A"
-        _with_terminal(self.config, lambda tr: _raw(tr, f"\r\x1b[K{back}"))
-
-
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_logreport(report):
     """Clear a mission's progress line before the terminal writes the test's result."""
-    for screen in _screens:
-        screen.clear()
-
-
-def _raw(tr, text: str) -> None:
-    tr.flush()
-    os.write(sys.stdout.fileno(), text.encode())
-
-
-def _with_terminal(config, write) -> None:
-    """Write to the terminal from inside a test: around pytest's output capture."""
-    tr = config.pluginmanager.get_plugin("terminalreporter")
-    capman = config.pluginmanager.get_plugin("capturemanager")
-    if tr is None:
-        return
-    if capman is None:
-        write(tr)
-        return
-    with capman.global_and_fixture_disabled():
-        write(tr)
+    clear_progress_lines()
 
 
 def _flashed_firmware() -> dict | None:
