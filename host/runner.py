@@ -567,8 +567,8 @@ class Rig:
                 self._route(change, frozenset())
             if self.recorder is not None:
                 self.recorder.sample(self.plant)
-        elif t_us < self.t_us:
-            self._rewind(t_us)
+        elif t_us < self.t_us and self.mode == "lockstep":
+            self._rewind(t_us)  # (in real time the two clocks differ by the link's latency: no rewind)
         self._commit(t_us)
 
     def _on_cfg(self, p: bytes) -> None:

@@ -37,6 +37,8 @@ from host.shim import _hilframe as F
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"
 SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET = 10, 11, 12
+PROMPTS = (b">>> ", b"... ", b"=== ", b"\r\n>", b"\x04>")
+"""Output endings after which the board REPL waits for input."""
 STARTUP_S = 0.2
 """Ctrl-C waits this long after a (re)start, as a board ignores it during its C start-up
 (the interpreter has no SIGINT handler until ``_vrepl`` installs one)."""
@@ -54,6 +56,7 @@ class _Console:
         self.client = PtyPair()  # tools open client.slave_path
         self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
         self.link_session = False  # a plant link runs over the console: Ctrl-C is data
+        self.prompt = False  # the REPL waits for input: Ctrl-C is data it handles
 
 
 class VirtualBoard(Rig):
@@ -131,6 +134,7 @@ class VirtualBoard(Rig):
             time.sleep(0.5)  # a crash, not a reset: do not spin
         self._boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
         self.console_pty.link_session = False
+        self.console_pty.prompt = False
         if self.wired:
             self._spawn()
         else:
@@ -147,19 +151,21 @@ class VirtualBoard(Rig):
     # -- byte pumps -------------------------------------------------------------------
 
     def _from_client(self, data: bytes) -> None:
+        """Ctrl-C: a byte for the REPL while it waits at a prompt; SIGINT to the
+        interpreter while code runs (and never during a plant-link session)."""
         con = self.console_pty
-        if not con.link_session and b"\x03" in data:
-            before, _, after = data.partition(b"\x03")
-            self._write(con.repl.master_fd, before)
-            if self._proc is not None and self._proc.poll() is None:
-                early = self._started_at + STARTUP_S - time.monotonic()
-                if early > 0:
-                    time.sleep(early)
-                os.kill(self._proc.pid, signal.SIGINT)
-            if after:
-                self._from_client(after)
+        if con.link_session or con.prompt or b"\x03" not in data:
+            self._write(con.repl.master_fd, data)
             return
-        self._write(con.repl.master_fd, data)
+        before, _, after = data.partition(b"\x03")
+        self._write(con.repl.master_fd, before)
+        if self._proc is not None and self._proc.poll() is None:
+            early = self._started_at + STARTUP_S - time.monotonic()
+            if early > 0:
+                time.sleep(early)
+            os.kill(self._proc.pid, signal.SIGINT)
+        if after:
+            self._from_client(after)
 
     def _from_interpreter(self, data: bytes) -> None:
         con = self.console_pty
@@ -168,6 +174,7 @@ class VirtualBoard(Rig):
             con.link_session = True
         elif bytes((F.SOF, F.EXIT)) in data:
             con.link_session = False
+        con.prompt = data.endswith(PROMPTS)
         self._write(con.client.master_fd, data)
 
     @staticmethod
