@@ -53,7 +53,7 @@ from sim_plant.contacts import Bumper, ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import SlottedDiskEncoder
 from sim_plant.engine import RobotPlant
-from sim_plant.motors import DcMotor, DirPwmBridge
+from sim_plant.motors import DirPwmBridge
 from sim_plant.world import World, multi_branch_duct, one_right_branch_duct
 
 WORLDS = {"one_right_branch": one_right_branch_duct, "multi_branch": multi_branch_duct}
@@ -97,8 +97,7 @@ class DuctRobot(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
-        motors = tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
-                               gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
+        motors = self._wheel_motors()
         self.drive = DiffDriveTrain(bridges=(DirPwmBridge("motor_l"), DirPwmBridge("motor_r")), motors=motors,
                                     wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
                                     start_pose=self.start_pose, spin_slip=self.spin_slip)

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from sim_plant.motors import DcMotor
 from sim_plant.plant import NEVER_US, Change, Plant
 
 SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan"))
@@ -107,6 +108,12 @@ class RobotPlant(Plant):
     seeded), and may extend :meth:`truth`.
     """
 
+
+    def _wheel_motors(self) -> tuple:
+        """One DcMotor per wheel from the plant's ``v_max_m_s``, ``wheel_radius_m``,
+        ``deadband_duty``, ``motor_gains`` and ``motor_time_constant_ms``."""
+        return tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
+                             gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
     def __init__(self):
         self.reset(0)
         self.inputs = {}

@@ -45,7 +45,7 @@ from sim_plant.contacts import Bumper, ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import QuadratureEncoder
 from sim_plant.engine import RobotPlant
-from sim_plant.motors import DcMotor, TwoPwmBridge
+from sim_plant.motors import TwoPwmBridge
 from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeModel
 from sim_plant.world import World, canyon, rectangle
 
@@ -93,8 +93,7 @@ class LabRobot(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
-        motors = tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
-                               gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
+        motors = self._wheel_motors()
         self.drive = DiffDriveTrain(bridges=(TwoPwmBridge("motor_l"), TwoPwmBridge("motor_r")), motors=motors,
                                     wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
                                     start_pose=self.start_pose, spin_slip=self.spin_slip)

@@ -37,7 +37,7 @@ from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import SlottedDiskEncoder
 from sim_plant.engine import RobotPlant
 from sim_plant.hcsr04 import HcSr04, Servo
-from sim_plant.motors import DcMotor, DirPinsPwmBridge
+from sim_plant.motors import DirPinsPwmBridge
 from sim_plant.world import World, vacuum_room
 
 BODY_RADIUS_M = 0.125
@@ -64,8 +64,7 @@ class VacuumRobot(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
-        motors = tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
-                               gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
+        motors = self._wheel_motors()
         self.drive = DiffDriveTrain(bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")), motors=motors,
                                     wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
                                     start_pose=self.start_pose)
