@@ -147,6 +147,7 @@ class RobotPlant(Plant):
         self.values = values  # outputs of the drive and parts (encoders keep their own)
         self._encoder_outputs = {name: (i, k) for i, enc in enumerate(self.encoders)
                                  for k, name in enumerate(enc.names)}
+        self._motion_pending = False
         self._motion_changed(0)
 
     @property
@@ -159,15 +160,24 @@ class RobotPlant(Plant):
             raise KeyError(f"{type(self).__name__} has no input {name!r}; inputs: {sorted(self._input_route)}")
         part = self.drive if where < 0 else self.parts[where]
         moved = part.set_input(name, value, self._t_us, self)
-        if moved:
-            self._motion_changed(self._t_us)
-        else:
+        if moved:  # re-planned once, when the plant is next asked: a board sets both
+            self._motion_pending = True  # wheels' inputs at the same instant
+        elif not self._motion_pending:
             self._reschedule()
 
+    def _settle(self) -> None:
+        if self._motion_pending:
+            self._motion_pending = False
+            self._motion_changed(self._t_us)
+
     def next_change_us(self) -> int:
+        if self._motion_pending:
+            self._settle()
         return self._next_us
 
     def advance_to(self, t_us: int) -> list[Change]:
+        if self._motion_pending:
+            self._settle()
         out: list[Change] = []
         nxt = self._next_us
         if nxt <= t_us:
