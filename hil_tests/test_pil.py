@@ -34,9 +34,10 @@ def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flash
     assert "rover on esp32-devkitc control every 50 ms" in rig.console, rig.console
     assert moved > 0.3, f"expected the rover to drive > 0.3 m, got {moved:.3f} m; console: {rig.console[-500:]}"
     period = rig.budgets["control.period"].stats()
-    assert period["count"] >= 30, period
-    if mode == "lockstep":
-        assert period["misses"] == 0 and period["max"] == 50_000, period
+    if mode == "lockstep":  # virtual time: exact, whatever the board's speed
+        assert period["count"] >= 59 and period["misses"] == 0 and period["max"] == 50_000, period
+    else:  # the board's own clock: real periods (their jitter is a measurement)
+        assert period["count"] >= 20 and period["p50"] >= 49_000, period
     counters = rig.counters()
     assert counters["bad_crc"] == 0 and counters["seq_gaps"] == 0, counters
     # the board is back at its REPL and usable

@@ -51,7 +51,7 @@ def test_asyncio_sleeps_events_and_timeouts_run_in_virtual_time(run_case):
     t0 = time.monotonic()
     _, r = run_case("asyncio_time", 0.5)
     assert r["log"] == [("a", 30), ("b", 50), ("a", 60), ("a", 90), ("b", 100), ("event", 100), ("timeout", 300)], r
-    assert time.monotonic() - t0 < 5
+    assert time.monotonic() - t0 < 20
 
 
 def test_pins_signal_pwm_adc_and_irq_masking_reach_the_plant(run_case):
@@ -88,7 +88,7 @@ def test_firmware_that_never_yields_is_stopped_by_the_watchdog(run_case):
     with pytest.raises(FirmwareHung) as err:
         run_case("hangs", 1.0, watchdog_s=1.0)
     assert "stopped answering" in str(err.value) and "virtual t=0.100000 s" in str(err.value), str(err.value)
-    assert time.monotonic() - t0 < 5
+    assert time.monotonic() - t0 < 20
 
 
 def test_handler_that_drives_an_output_sees_every_edge_at_its_time(run_case):
