@@ -81,3 +81,15 @@ def test_ctrl_c_during_a_flash_leaves_the_board_usable(board_port, tmp_path):
     assert answer.returncode == 0 and "42" in answer.stdout, answer
     again = flash.flash("rover", BOARD, port, wait_s=1.0, log=lambda _: None)
     assert again["first_lines"][:1] == ["rover on esp32-devkitc control every 50 ms"]
+
+
+def test_hil_scenario_runs_from_the_flashed_files(board_port, make_rig):
+    port, home = board_port
+    flash.flash("rover", BOARD, port, wait_s=1.0, log=lambda _: None)
+    fs = home / "fs"
+    assert (fs / "rover_control.mpy").exists() and not (fs / "rover_control.py").exists()
+    rig = make_rig("rover", firmware_dir=fs, board=BOARD, seed=1)
+    rig.run_for(5)
+    assert rig.truth()["x_m"] > 1.5, "the flashed firmware drove the rover"
+    rig.budgets["control.period"].check()
+    assert rig.firmware_folders == [fs, fs / "lib"]
