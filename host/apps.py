@@ -7,10 +7,12 @@ from pathlib import Path
 from typing import Callable
 
 from host.boards import REPO
-from host.budgets import Budget, ComputeBudget, LatencyBudget, PeriodBudget
+from host.budgets import Budget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.errors import ConfigError
 from sim_plant.plant import Plant
+from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.rover import RoverRoom
+from sim_plant.world import POOL_LENGTH_M
 
 FIRMWARE = REPO / "firmware"
 PROBE = "probe:"
@@ -87,6 +89,50 @@ ROVER_WIRING = {
     "LOOP_PROBE": PROBE + "control",
 }
 
+def pool_plant(**options) -> PoolCleaner:
+    """The pool cleaner as its mission starts (seed 000 §7.3.3): in a corner, the
+    front bumper (bumper1) 1 cm off the end wall, its side 2 cm off the side wall."""
+    length_m = options.get("pool_length_m", POOL_LENGTH_M)
+    options.setdefault("start_pose", (length_m - BODY_LENGTH_M / 2 - 0.01, BODY_WIDTH_M / 2 + 0.02, 0.0))
+    return PoolCleaner(**options)
+
+
+def pool_adc_plant(**options) -> PoolCleaner:
+    return pool_plant(sonar="adc", **options)
+
+
+def pool_budgets(sonar_source: str = "sonar.uart") -> list[Budget]:
+    uart = sonar_source.endswith(".uart")
+    return [
+        PeriodBudget("control.period", PROBE + "control", period_us=50_000, tolerance_us=1_000,
+                     description="control step every 50 ms (probe pin toggles)"),
+        PeriodBudget("sonar.period", sonar_source, period_us=500_000, tolerance_us=1_000,
+                     marker=b"$" if uart else None,
+                     description="a sonar sentence starts every 500 ms" if uart else "a new sonar sample every 500 ms"),
+        LatencyBudget("sonar.latency", sonar_source, limit_us=50_000,
+                      description="each sonar sample read within one 50 ms quantum"),
+        PulseBudget("track.stop", ("track_l.stop", "track_r.stop"), limit_us=300_000,
+                    description="a track stop lasts at most 300 ms of its 500 ms slot"),
+        ComputeBudget("control.compute", "compute", limit_us=50_000,
+                      description="wall-clock us the firmware ran per wake (informational)"),
+    ]
+
+
+POOL_WIRING = {
+    "TRACK_L_STOP": "track_l.stop",
+    "TRACK_R_STOP": "track_r.stop",
+    "BUMPER_FRONT": "bumper_front",
+    "BUMPER_REAR": "bumper_rear",
+    "SONAR_UART": "sonar.uart",
+    "SONAR_SELECT": "sonar.select",
+    "LOOP_PROBE": PROBE + "control",
+}
+POOL_ADC_WIRING = {
+    **{k: v for k, v in POOL_WIRING.items() if not k.startswith("SONAR_")},
+    "SONAR_L_ADC": "sonar_l.adc",
+    "SONAR_R_ADC": "sonar_r.adc",
+}
+
 APPS = {
     "rover": App(
         name="rover",
@@ -101,6 +147,25 @@ APPS = {
             "long-room": {"room_w_m": 8.0, "room_h_m": 4.0},
             "small-room": {"room_w_m": 3.0, "room_h_m": 3.0, "start_pose": (1.0, 1.5, 0.0)},
         },
+    ),
+    "pool_cleaner": App(
+        name="pool_cleaner",
+        default_board="esp32_pool_cleaner",
+        boards=("esp32_pool_cleaner",),
+        make_plant=pool_plant,
+        wiring=POOL_WIRING,
+        make_budgets=pool_budgets,
+        doc="WEDA B400 pool cleaner (seeds 000/001): lanes by side sonar on NMEA, Kalman filter, bumpers",
+    ),
+    "pool_cleaner_adc": App(
+        name="pool_cleaner_adc",
+        default_board="esp32_pool_cleaner_adc",
+        boards=("esp32_pool_cleaner_adc",),
+        make_plant=pool_adc_plant,
+        wiring=POOL_ADC_WIRING,
+        make_budgets=lambda: pool_budgets("sonar_l.adc"),
+        doc="the pool cleaner built for the ADC sonar option (same firmware, another board file)",
+        folder=FIRMWARE / "apps" / "pool_cleaner",
     ),
 }
 

@@ -52,13 +52,22 @@ class Budget:
 
 
 class PeriodBudget(Budget):
-    """Time between successive events of ``source``: ``period_us`` +- ``tolerance_us``."""
+    """Time between successive events of ``source``: ``period_us`` +- ``tolerance_us``.
+    For a UART source, ``marker`` makes an event of each received chunk that holds that
+    byte (``b"$"``: the first byte of an NMEA sentence, sent at a fixed period, whereas
+    its last byte moves with the sentence's length)."""
 
-    def __init__(self, name, source, *, period_us: int, tolerance_us: int, description=""):
+    def __init__(self, name, source, *, period_us: int, tolerance_us: int, description="",
+                 marker: bytes | None = None):
         super().__init__(name, source, limit_us=period_us + tolerance_us, description=description)
         self.period_us = period_us
         self.tolerance_us = tolerance_us
+        self.marker = marker
         self._last_us = None
+
+    def counts(self, value) -> bool:
+        """Whether a change of the source with this value is an event."""
+        return self.marker is None or (isinstance(value, bytes) and self.marker in value)
 
     def event(self, t_us: int) -> None:
         if self._last_us is not None:
@@ -71,7 +80,9 @@ class PeriodBudget(Budget):
 
 
 class LatencyBudget(Budget):
-    """Delay from a new sample of ``source`` to the firmware's first read of it."""
+    """Delay from a new sample of ``source`` to the firmware's first read of it. For an
+    ADC a sample is a new value; for a UART, a line (its last byte), read when the
+    firmware's read takes that byte."""
 
     def __init__(self, name, source, *, limit_us: int, description=""):
         super().__init__(name, source, limit_us=limit_us, description=description)
@@ -87,6 +98,29 @@ class LatencyBudget(Budget):
         if t_sample is not None:
             latency = t_us - t_sample
             self._record(latency, latency > self.limit_us)
+
+
+class PulseBudget(Budget):
+    """Length of each pulse on actuator outputs: a pulse is the time while exactly one
+    of ``sources`` is 1 (one track stopped, the other running). Both at 1 is a hold,
+    not a pulse (the pool cleaner stops both tracks while it measures, and when done)."""
+
+    def __init__(self, name, sources: tuple[str, ...], *, limit_us: int, description=""):
+        super().__init__(name, sources[0], limit_us=limit_us, description=description)
+        self.sources = tuple(sources)
+        self._levels = dict.fromkeys(self.sources, 0)
+        self._since_us = None
+
+    def output(self, t_us: int, signal: str, value) -> None:
+        self._levels[signal] = 1 if value else 0
+        one = sum(self._levels.values()) == 1
+        if one and self._since_us is None:
+            self._since_us = t_us
+        elif not one and self._since_us is not None:
+            width = t_us - self._since_us
+            self._since_us = None
+            if width:  # releasing a hold one track at a time is no pulse
+                self._record(width, width > self.limit_us)
 
 
 class ComputeBudget(Budget):

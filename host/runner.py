@@ -27,7 +27,7 @@ import numpy as np
 from host import interpreter
 from host.apps import PROBE, App, get_app
 from host.boards import board_dir, pin_key, read_pin_map
-from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget
+from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
 from host.link import Channel, FdTransport, PtyPair
 from host.recording import ACTUATOR, PIN, Recorder
@@ -199,7 +199,8 @@ class Rig:
         self._uncommitted: list = []
         self._budgets_by_source: dict[str, list] = {}
         for budget in self.budgets.values():
-            self._budgets_by_source.setdefault(budget.source, []).append(budget)
+            for source in getattr(budget, "sources", (budget.source,)):
+                self._budgets_by_source.setdefault(source, []).append(budget)
         self._sample_times: dict[int, int] = {}
         self._last_msg = "none yet"
         self._wall0 = 0.0
@@ -430,9 +431,12 @@ class Rig:
             self.recorder.rewind(t_us)
         self._snapshot = None
         self._uncommitted = [e for e in self._uncommitted if e[0] <= t_us]
-        for t, h, kind, _value, _extra in self._last_batch:
-            if t > t_us and kind == F.CH_SAMPLE and h < len(self._handles):
-                self._handles[h].samples -= 1
+        for t, h, kind, _value, extra in self._last_batch:
+            if t > t_us and h < len(self._handles):
+                if kind == F.CH_SAMPLE:
+                    self._handles[h].samples -= 1
+                elif kind == F.CH_BYTES:
+                    self._handles[h].samples -= extra.count(b"\n")
         self.stats.rollbacks += 1
         self._log({"t": t_us, "msg": "ROLLBACK"})
 
@@ -448,7 +452,7 @@ class Rig:
         if self.recorder is not None:
             self.recorder.sensor(t, name, value)
         for budget in self._budgets_by_source.get(name, ()):
-            if isinstance(budget, PeriodBudget):
+            if isinstance(budget, PeriodBudget) and budget.counts(value):
                 self._uncommitted.append((t, budget.event, (t,)))
         for h in self._by_signal.get(name, ()):
             info = self._handles[h]
@@ -459,6 +463,11 @@ class Rig:
                         self._uncommitted.append((t, budget.sample, (info.samples, t)))
                 self._delta.append((t, h, F.CH_SAMPLE, value, info.samples))
             elif info.kind == F.CFG_UART:
+                for _ in range(value.count(b"\n")):  # a line is a sample (the shim counts them too)
+                    info.samples += 1
+                    for budget in self._budgets_by_source.get(name, ()):
+                        if isinstance(budget, LatencyBudget):
+                            self._uncommitted.append((t, budget.sample, (info.samples, t)))
                 self._delta.append((t, h, F.CH_BYTES, len(value), value))
                 self._delta_bytes += len(value)
                 hit |= h in watch
@@ -629,6 +638,10 @@ class Rig:
             return
         if signal_name not in self.plant.inputs:
             return
+        if attr == F.OUT_LEVEL:
+            for budget in self._budgets_by_source.get(signal_name, ()):
+                if isinstance(budget, PulseBudget):
+                    budget.output(t, signal_name, value)
         if info.kind == F.CFG_PWM:
             if attr == F.OUT_DUTY:
                 self.plant.set_input(signal_name, value)

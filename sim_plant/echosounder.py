@@ -30,6 +30,12 @@ attribute                      default     source
                                            ``end_zone_m`` (zone and rate not in the seed)
 ``warmup_s``                   0           "At the start of a session the sonar generates
 ``warmup_noise_sd_m``          0.3         noisy data" (seed 001 §5): extra noise until then
+``faults``                     ()          fault injection: ``(t0_s, t1_s, kind)`` windows;
+                                           ``"wrong"`` readings drawn uniformly from
+``wrong_range_m``              0.8, 15     (seed 000 §3.4.4: "other instruments used in
+                                           the nearby ... any filtering techniques was
+                                           useless"; §7.3.3 "wrong sonar measures"),
+                                           ``"none"`` no reading at all (an empty field)
 =============================  ==========  =================================================
 
 A corrupted reading is, with equal odds, the end wall heard through a side lobe (its
@@ -75,6 +81,25 @@ def dpt_sentence(depth_m: float | None, offset_m: float = 0.0, talker: str = "SD
     return f"${body}*{nmea_checksum(body):02X}\r\n".encode("ascii")
 
 
+def fault_windows(faults, kinds) -> tuple:
+    """``(t0_s, t1_s, kind)`` windows as ``(t0_us, t1_us, kind)``, checked."""
+    out = []
+    for t0_s, t1_s, kind in faults:
+        if kind not in kinds:
+            raise ValueError(f"faults: kind {kind!r} is not one of {', '.join(kinds)}")
+        if not t0_s < t1_s:
+            raise ValueError(f"faults: window ({t0_s}, {t1_s}) s must start before it ends")
+        out.append((int(t0_s * 1e6), int(t1_s * 1e6), kind))
+    return tuple(out)
+
+
+def active_fault(windows, t_us: int) -> str | None:
+    for t0, t1, kind in windows:
+        if t0 <= t_us < t1:
+            return kind
+    return None
+
+
 def interpolate(table, x: float) -> float:
     if x <= table[0][0]:
         return table[0][1]
@@ -91,7 +116,8 @@ class NavmanSideSounder:
                  min_range_m: float = 0.8, dropout_table=DROPOUT_TABLE_7_1, fine_step_m: float = 0.1,
                  coarse_step_m: float = 1.0, coarse_from_m: float = 20.0, max_range_m: float = 150.0,
                  noise_sd_m: float = 0.1, end_zone_m: float = 1.5, end_corrupt_p: float = 0.8,
-                 warmup_s: float = 0.0, warmup_noise_sd_m: float = 0.3):
+                 warmup_s: float = 0.0, warmup_noise_sd_m: float = 0.3, faults=(),
+                 wrong_range_m=(0.8, 15.0)):
         self.mount = tuple(float(v) for v in mount)
         self.beam_half_angle_rad = math.radians(beam_half_angle_deg)
         self.max_incidence_rad = math.radians(max_incidence_deg)
@@ -106,6 +132,8 @@ class NavmanSideSounder:
         self.end_zone_m = float(end_zone_m)
         self.end_corrupt_p = float(end_corrupt_p)
         self.warmup_us = int(warmup_s * 1e6)
+        self.faults = fault_windows(faults, ("wrong", "none"))
+        self.wrong_range_m = (float(wrong_range_m[0]), float(wrong_range_m[1]))
         self.warmup_noise_sd_m = float(warmup_noise_sd_m)
 
     def dropout_p(self, range_m: float) -> float:
@@ -132,6 +160,12 @@ class NavmanSideSounder:
         return along_m, incidence, along_m * math.cos(incidence) / math.cos(off_beam)
 
     def measure(self, t_us: int, pose, world, rng, extra_sd_m: float = 0.0) -> tuple[float, float | None]:
+        fault = active_fault(self.faults, t_us)
+        if fault == "none":
+            return self.geometry(pose, world)[0], None
+        if fault == "wrong":  # draws only inside the window: runs without faults are unchanged
+            lo, hi = self.wrong_range_m
+            return self.geometry(pose, world)[0], self.quantise(lo + (hi - lo) * float(rng.random()))
         along_m, incidence, beam_m = self.geometry(pose, world)
         if not math.isfinite(beam_m) or not incidence <= self.max_incidence_rad:
             return along_m, None
@@ -161,11 +195,14 @@ class NmeaDepthSounder(Part):
     ``switch_settle_s``/``settle_noise_sd_m``: after the select line changes, readings
     carry extra noise for that long ("measures are not always reliable at the beginning
     of the working section of the sonar", seed 000 §7.3.3; 0 = off).
+    ``silent``: ``(t0_s, t1_s)`` windows in which no sentence is sent (a sounder or cable
+    dropout; fault injection).
     """
 
     def __init__(self, name: str, transducers, *, select: str | None = None, period_us: int = 500_000,
                  phase_us: int = 100_000, baud: int = 4800, bits_per_byte: int = 10, bytes_per_change: int = 1,
-                 talker: str = "SD", switch_settle_s: float = 0.0, settle_noise_sd_m: float = 0.3):
+                 talker: str = "SD", switch_settle_s: float = 0.0, settle_noise_sd_m: float = 0.3,
+                 silent=()):
         self.name = name
         self.transducers = list(transducers)
         if len(self.transducers) > 1 and not select:
@@ -178,6 +215,8 @@ class NmeaDepthSounder(Part):
         self.talker = talker
         self.switch_settle_us = int(switch_settle_s * 1e6)
         self.settle_noise_sd_m = float(settle_noise_sd_m)
+        self.silent = fault_windows([(t0, t1, "silent") for t0, t1 in silent], ("silent",))
+        self.silenced = 0
         self.inputs = {select: "level"} if select else {}
         self.outputs = {name: "bytes"}
         self.selected = 0
@@ -211,6 +250,10 @@ class NmeaDepthSounder(Part):
         self.next_us = min(self.sample_us, self.queue[0][0] if self.queue else NEVER_US)
 
     def _sample(self, t_us: int, plant) -> None:
+        if active_fault(self.silent, t_us):
+            self.silenced += 1
+            self.sample_us = t_us + self.period_us
+            return
         pose = plant.pose_at(t_us)
         extra = self.settle_noise_sd_m if t_us - self.switched_us < self.switch_settle_us else 0.0
         for i, tr in enumerate(self.transducers):

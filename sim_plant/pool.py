@@ -49,13 +49,16 @@ shallow angle does not reverse the machine)."""
 class PoolCleaner(RobotPlant):
     """Parameters: ``steering`` "measured" (eq. 7.1) or "ideal" (pivot); ``sonar`` "nmea"
     or "adc"; ``sonar_options`` go to :class:`~sim_plant.echosounder.NavmanSideSounder`;
-    ``bytes_per_change`` to :class:`~sim_plant.echosounder.NmeaDepthSounder`."""
+    ``bytes_per_change`` to :class:`~sim_plant.echosounder.NmeaDepthSounder`;
+    ``sonar_faults``: ``(t0_s, t1_s, kind)`` windows for both sounders, ``"wrong"`` or
+    ``"none"`` readings, or ``"silent"`` (no sentence; 0 V on the ADC option)."""
 
     def __init__(self, *, pool_length_m=POOL_LENGTH_M, pool_width_m=POOL_WIDTH_M, start_pose=(0.46, 0.5, 0.0),
                  speed_m_s=0.3, track_m=0.4, steering="measured", steer_scatter_rel=0.13,
                  reversal_pause_ms=1000.0, kick_mean_rad=-0.0174, kick_sd_rad=0.0348,
                  sonar="nmea", sonar_period_us=500_000, sonar_phase_us=100_000, sonar_options=None,
-                 bytes_per_change=1, switch_settle_s=0.0, bumper_bounce_us=0, coverage_cell_m=0.1):
+                 bytes_per_change=1, switch_settle_s=0.0, bumper_bounce_us=0, coverage_cell_m=0.1,
+                 sonar_faults=()):
         if steering not in ("measured", "ideal"):
             raise ValueError(f"steering: 'measured' or 'ideal', got {steering!r}")
         if sonar not in ("nmea", "adc"):
@@ -76,6 +79,7 @@ class PoolCleaner(RobotPlant):
         self.switch_settle_s = float(switch_settle_s)
         self.bumper_bounce_us = int(bumper_bounce_us)
         self.coverage_cell_m = float(coverage_cell_m)
+        self.sonar_faults = tuple((float(t0), float(t1), str(kind)) for t0, t1, kind in sonar_faults)
         self.world = pool(pool_length_m, pool_width_m)
         super().__init__()
 
@@ -92,12 +96,18 @@ class PoolCleaner(RobotPlant):
             Bumper("bumper_front", circles=(2,), center_deg=0.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
             Bumper("bumper_rear", circles=(0,), center_deg=180.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
         ])
-        left = NavmanSideSounder((0.0, r, 1.5707963267948966), **self.sonar_options)
-        right = NavmanSideSounder((0.0, -r, -1.5707963267948966), **self.sonar_options)
+        silent = [(t0, t1) for t0, t1, kind in self.sonar_faults if kind == "silent"]
+        faults = [(t0, t1, kind) for t0, t1, kind in self.sonar_faults if kind != "silent"]
+        if self.sonar == "adc":  # an analog output cannot fall silent: it reads 0 V
+            faults += [(t0, t1, "none") for t0, t1 in silent]
+        options = {**self.sonar_options, "faults": [*self.sonar_options.get("faults", ()), *faults]}
+        left = NavmanSideSounder((0.0, r, 1.5707963267948966), **options)
+        right = NavmanSideSounder((0.0, -r, -1.5707963267948966), **options)
         if self.sonar == "nmea":
             sonars = [NmeaDepthSounder("sonar.uart", [left, right], select="sonar.select",
                                        period_us=self.sonar_period_us, phase_us=self.sonar_phase_us,
-                                       bytes_per_change=self.bytes_per_change, switch_settle_s=self.switch_settle_s)]
+                                       bytes_per_change=self.bytes_per_change, switch_settle_s=self.switch_settle_s,
+                                       silent=silent)]
         else:
             adc = {"period_us": self.sonar_period_us, "phase_us": self.sonar_phase_us, "volts_per_m": ADC_V_PER_M}
             sonars = [AnalogRangeSonar("sonar_l.adc", left, adc=Adc(12, 3.3), **adc),

@@ -261,6 +261,7 @@ class UART:
     def __init__(self, id, baudrate=9600, **kw):
         self._id = id
         self._rx = b""
+        self._lines = 0  # complete lines the firmware has taken (the host's samples)
         self._handle = _hil.register(self)
         self._baud = baudrate
         _hil.configure(self._handle, F.CFG_UART, "uart%s" % (id,), param=baudrate)
@@ -285,6 +286,11 @@ class UART:
         if nbytes is None or nbytes < 0:
             nbytes = len(self._rx)
         data, self._rx = self._rx[:nbytes], self._rx[nbytes:]
+        n = data.count(b"\n")
+        while n:  # the first read of a line's last byte: report it, as ADC samples are
+            n -= 1
+            self._lines += 1
+            _hil.send(F.SEEN, struct.pack("<QHI", _hil.now(), self._handle, self._lines))
         return data
 
     def readinto(self, buf, nbytes=-1):

@@ -17,6 +17,8 @@ PLANTS = {
     "rover": lambda: RoverRoom(room_w_m=3.0, room_h_m=3.0, start_pose=(1.5, 1.5, 0.0)),
     "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
     "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
+    "pool_faults": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.1), sonar_faults=[
+        (1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")]),
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
     "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
     "lab": lambda: LabRobot(world="canyon", bumper=True),

@@ -153,3 +153,67 @@ def test_adc_option_gives_two_analog_sonars_with_the_same_model():
     counts = round(round(8.0 - 0.5 - HALF_WIDTH_M, 1) * ADC_V_PER_M / 3.3 * 4095)
     assert samples["sonar_l.adc"] == (counts << 4) | (counts >> 8)
     assert samples["sonar_r.adc"] == 0
+
+
+def sentences(plant, until_us):
+    """(time of its first byte, depth) of every sentence the plant sends until ``until_us``."""
+    out, line, t0 = [], b"", 0
+    t = 0
+    while t < until_us:
+        t = min(plant.next_change_us(), until_us)
+        for change in plant.advance_to(t):
+            if change.name == "sonar.uart":
+                t0 = change.t_us if not line else t0
+                line += change.value
+                if line.endswith(b"\n"):
+                    out.append((t0, parse_dpt(line)))
+                    line = b""
+    return out
+
+
+def fault_pool(faults=(), **options):
+    plant = PoolCleaner(start_pose=(12.5, 3.0, 0.0), sonar_faults=faults, **options)
+    plant.reset(5)
+    plant.set_input("track_l.stop", 1)  # both tracks stopped: the machine stands still
+    plant.set_input("track_r.stop", 1)
+    return plant
+
+
+def test_a_burst_of_wrong_readings_replaces_the_readings_inside_its_window_only():
+    """Seed 000 §3.4.4/§7.3.3: bursts of wrong readings. Inside the window the depths are
+    drawn from 0.8-15 m; before it they are those of the same seed without faults."""
+    clean = sentences(fault_pool(), 20_000_000)
+    burst = sentences(fault_pool([(5.0, 10.0, "wrong")]), 20_000_000)
+    assert [t for t, _ in clean] == [t for t, _ in burst], "faults must not move the sentences in time"
+    true_m = 8.0 - 3.0 - HALF_WIDTH_M
+    before = [(c, b) for (t, c), (_, b) in zip(clean, burst) if t < 5_000_000]
+    inside = [b for t, b in burst if 5_100_000 <= t < 10_000_000]
+    assert before and all(c == b for c, b in before), f"readings before the burst changed: {before}"
+    assert len(inside) == 10 and all(0.8 <= d <= 15.0 for d in inside), inside
+    far = [d for d in inside if abs(d - true_m) > 1.0]
+    assert len(far) >= 7, f"expected most of the burst far from the true {true_m:.2f} m, got {inside}"
+
+
+def test_a_silent_window_sends_no_sentences_and_a_none_window_empty_fields():
+    plant = fault_pool([(2.0, 6.0, "silent"), (8.0, 10.0, "none")])
+    sent = sentences(plant, 12_000_000)
+    times = [t for t, _ in sent]
+    assert not [t for t in times if 2_000_000 <= t < 6_000_000], f"sentences inside the silent window: {times}"
+    assert len([t for t in times if t < 2_000_000]) == 4
+    empty = [d for t, d in sent if 8_100_000 <= t < 10_000_000]
+    assert empty == [None] * 4, f"expected 4 empty depth fields, got {empty}"
+    assert sent[-1][1] is not None, "readings come back after the window"
+
+
+def test_the_adc_option_reads_0v_while_silent():
+    plant = fault_pool([(2.0, 6.0, "silent")], sonar="adc")
+    plant.advance_to(4_000_000)
+    assert plant.output("sonar_l.adc") == 0 and plant.output("sonar_r.adc") == 0
+    plant.advance_to(7_000_000)
+    assert plant.output("sonar_l.adc") > 0
+
+
+@pytest.mark.parametrize("faults, field", [([(1.0, 2.0, "noise")], "kind"), ([(2.0, 1.0, "wrong")], "window")])
+def test_bad_fault_windows_are_rejected_by_name(faults, field):
+    with pytest.raises(ValueError, match=field):
+        PoolCleaner(sonar_faults=faults)
