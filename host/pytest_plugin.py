@@ -3,8 +3,9 @@
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
 plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
 when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-table``
-the budget statistics of every rig are printed at the end of the session; with
-``--hil-report PATH`` every rig records a trace folder and the session ends by writing
+the budget statistics of every rig are printed at the end of the session, after each
+scenario's result line (what a test recorded with ``record_property("result", text)``);
+with ``--hil-report PATH`` every rig records a trace folder and the session ends by writing
 one HTML report (docs/traces.md). A long mission shows its progress on one line.
 """
 
@@ -123,7 +124,17 @@ def rig(make_rig) -> Rig:
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
-    if config.getoption("--hil-table") and _rows:
+    if not config.getoption("--hil-table"):
+        return
+    results = [(report.nodeid.split("::", 1)[-1], report.outcome, value)
+               for reports in terminalreporter.stats.values() for report in reports
+               if getattr(report, "when", None) == "call"
+               for key, value in getattr(report, "user_properties", ()) if key == "result"]
+    if results:  # what each scenario measured: record_property("result", "...") in a test
+        terminalreporter.section("scenario results")
+        for name, outcome, text in results:
+            terminalreporter.write_line(f"{outcome:<7} {name}: {text}")
+    if _rows:
         terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
         terminalreporter.write_line(format_table(_rows))
 

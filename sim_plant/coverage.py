@@ -89,6 +89,17 @@ class CoverageGrid:
         free = int(self.free.sum())
         return float((self.covered & self.free).sum()) / free if free else 0.0
 
+    def fraction_in(self, x0_m: float, x1_m: float, y0_m: float, y1_m: float) -> float:
+        """Share swept of the free cells whose centre lies in the box [x0, x1] x [y0, y1]."""
+        self.flush()
+        xs = self.x0_m + (np.arange(self.nx) + 0.5) * self.cell_m
+        ys = self.y0_m + (np.arange(self.ny) + 0.5) * self.cell_m
+        box = ((xs >= x0_m) & (xs <= x1_m))[None, :] & ((ys >= y0_m) & (ys <= y1_m))[:, None] & self.free
+        n = int(box.sum())
+        if not n:
+            raise ValueError(f"no free cell in x {x0_m}..{x1_m} m, y {y0_m}..{y1_m} m")
+        return float((self.covered & box).sum()) / n
+
 
 def _free_mask(world: World, xs, ys):
     """Even-odd crossing test of every cell centre against every wall, vectorised."""

@@ -125,6 +125,21 @@ class PoolCleaner(RobotPlant):
             return drive.start_reversal(t, 1)
         return False
 
+    def carry_to(self, pose) -> None:
+        """Someone lifts the machine and sets it down at ``pose`` (x, y, theta) now: the
+        thesis's operator puts it on the pool edge after the start-up measurement (seed
+        000 §6.3). For test scenarios; the firmware is not told. The coverage path jumps
+        (no swath is drawn between the two places)."""
+        t = self._t_us
+        body = self.drive.body
+        body.constraints = ()
+        body.rebase(t, tuple(float(v) for v in pose))
+        coverage = self.part(CoverageRecorder).grid
+        coverage.flush()
+        coverage.pending = []
+        self.parts[0].check_us = t  # what it touches where it was set down, at once
+        self._motion_changed(t)
+
     def truth(self) -> dict:
         truth = super().truth()
         truth["theta_deg"] = truth["theta_rad"] * 57.29577951308232

@@ -198,3 +198,21 @@ def test_a_sonar_sample_every_0_15_m_and_about_50_per_8_m_lane():
     x0 = plant.truth()["x_m"]
     plant.advance_to(600_000)
     assert plant.truth()["x_m"] - x0 == pytest.approx(0.15, abs=1e-12)
+
+
+def test_carrying_the_machine_moves_it_without_sweeping_the_floor_between():
+    """The operator sets the machine down elsewhere (seed 000 §6.3); the coverage grid
+    gets no swath along the way and the machine drives on from the new place."""
+    from sim_plant.coverage import CoverageRecorder
+
+    plant = PoolCleaner(start_pose=(5.0, 1.0, 0.0))
+    plant.reset(3)
+    plant.advance_to(1_000_000)
+    plant.carry_to((5.0, 4.0, 0.0))
+    plant.advance_to(2_000_000)
+    truth = plant.truth()
+    assert truth["x_m"] == pytest.approx(5.3, abs=1e-6) and truth["y_m"] == pytest.approx(4.0, abs=1e-9)
+    grid = plant.part(CoverageRecorder).grid
+    assert grid.fraction_in(4.0, 6.0, 2.0, 3.0) == 0.0, "no swath between the two places"
+    assert grid.fraction_in(5.0, 5.3, 3.8, 4.2) == 1.0
+    assert grid.fraction_in(5.05, 5.25, 0.8, 1.2) == 1.0

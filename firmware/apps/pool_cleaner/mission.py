@@ -38,6 +38,7 @@ MAX_TOTAL_STOP_MS = const(10000)  # net stop time per run (the code's MAXDELAY)
 FINAL_REF_M = 0.0  # the last lane runs along the far wall
 RAMP_SHARE = 0.85  # share of a cross run's closed-loop stretch spent on the oblique
 SLOT_TIMEOUT_MS = const(550)  # no sentence this long after the last: a dead-reckoning slot
+BLIND_RESTART = const(6)  # slots without a reading (3 s) after which the filter restarts
 SWITCH_REPEAT_LAPS = const(1)  # "a few laps are repeated" after a sonar switch (seed 001 §7)
 FIR_WEIGHTS = (0.4, 0.3, 0.2, 0.1)  # the code's Filtering(), newest reading first
 
@@ -100,6 +101,7 @@ class Mission:
         self._hist_n = 0
         self._reject_n = 0
         self._reject_last_m = 0.0
+        self._blind = 0  # slots in a row without a reading
         self.slots = 0
         self.rejected = 0
         self.missing = 0
@@ -161,6 +163,7 @@ class Mission:
         self._reject_n = 0
         self._hist_n = 0
         self._fir_n = 0
+        self._blind = 0
         if phase == STRAIGHT:
             open_ms = DELAY_MS + LEAVE_WALL_MS
             # C: switches when Average() < 3.0 at the start of a straight run, i.e. after a
@@ -240,6 +243,7 @@ class Mission:
         self.slots += 1
         if raw is None:
             self.missing += 1
+            self._blind += 1
         d = None if raw is None else (raw if self.sonar == 0 else self.width_m - raw)
         f = self.filter
         if self.tracking:
@@ -274,8 +278,20 @@ class Mission:
     def _update(self, d):
         """Measurement update. Gated against the prediction (the code's TH_PAR test, which
         compared with a buffer its forward shift had filled with copies of one value),
-        then the code's FIR, 0.4 0.3 0.2 0.1, over the accepted readings."""
+        then the code's FIR, 0.4 0.3 0.2 0.1, over the accepted readings. After a dropout
+        the filter restarts from its prediction, as after a reversal: its gain schedule
+        (the seed's) assumes a reading every slot, and would take the drift of the blind
+        stretch for a heading error."""
         f = self.filter
+        blind, self._blind = self._blind, 0
+        if blind >= BLIND_RESTART:
+            f.start(f.d_m, f.phi_rad, d)
+            self._fir_n = 0
+            self._hist_n = 0
+            self._reject_n = 0
+            self.restarts += 1
+            self.log("filter: readings back after %d slots, restarted at %.2f m" % (blind, f.d_m))
+            return
         if abs(f.innovation(d)) > GATE_M:
             self._reject(d)
             return
@@ -300,13 +316,13 @@ class Mission:
         else:
             self._reject_n = 1
         self._reject_last_m = d
-        if self._reject_n >= GATE_AGREE:  # consistent readings: the machine really is there;
-            self.filter.start(d, self.filter.phi_rad, d)  # restart the filter on them
+        if self._reject_n >= GATE_AGREE:  # consistent readings: the machine really is there
+            self.filter.d_m = d
             self._reject_n = 0
             self._hist_n = 0
             self._fir_n = 0
             self.restarts += 1
-            self.log("filter: %d readings agree on %.2f m, restarted" % (GATE_AGREE, d))
+            self.log("filter: %d readings agree on %.2f m, taken" % (GATE_AGREE, d))
 
     def _switching(self, now_ms):
         """Sonar switch (the code's Check_Measure): select sonar 1 at the first
