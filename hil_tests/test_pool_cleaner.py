@@ -132,8 +132,8 @@ def test_sonar_samples_are_read_within_one_quantum_and_stops_fit_their_slot(make
     stops = rig.budgets["track.stop"].stats()
     period = rig.budgets["control.period"].stats()
     record_property("result", f"budgets: {latency['count']} sentences read {latency['max'] / 1000:.1f} ms after "
-                              f"their last byte at worst; {stops['count']} stops, longest {stops['max'] / 1000:.0f} ms; "
-                              f"{period['count']} steps, max period {period['max']} us")
+                              f"their last byte at worst; {stops['count']} stops, longest "
+                              f"{stops['max'] / 1000:.0f} ms; {period['count']} steps, max period {period['max']} us")
     assert latency["count"] >= 598 and latency["max"] > 30_000, latency  # split sentences wait a quantum
     assert period["count"] >= 5999 and period["max"] == 50_000, period
     assert stops["count"] > 50, f"expected the machine to steer, got {stops}"

@@ -3,7 +3,9 @@
 - lockstep real-time factor: simulated seconds per wall second for 10 simulated minutes
   of the rover firmware at 50 ms control quanta;
 - link round trip: host sends STATE -> shim answers WAIT, p50/p99 in microseconds,
-  measured with a firmware that does nothing but toggle a pin and sleep.
+  measured with a firmware that does nothing but toggle a pin and sleep;
+- pool cleaner mission: the whole 25 x 8 m pool (about an hour simulated) from start to
+  "done", its real-time factor (target >= 60x: the hour in a minute).
 These are measurements, not pass/fail tests; the target figures are printed beside them.
 """
 
@@ -43,6 +45,19 @@ def bench_rover(sim_s: float) -> dict:
         }
 
 
+def bench_pool(limit_s: float = 75 * 60) -> dict:
+    with Rig("pool_cleaner", seed=1) as rig:
+        t0 = time.perf_counter()
+        while "done:" not in rig.console and rig.t_us < limit_s * 1e6:
+            rig.run_for(60.0)
+            print(f"  pool cleaner: {rig.t_us / 60e6:4.0f} simulated min", end="\r", flush=True)
+        wall = time.perf_counter() - t0
+        print()
+        sim_s = rig.t_us / 1e6
+        return {"sim_s": sim_s, "wall_s": wall, "rtf": sim_s / wall, "done": "done:" in rig.console,
+                "round_trips": rig.stats.link_round_trips, "coverage": rig.truth()["coverage_fraction"]}
+
+
 def bench_ping(sim_s: float) -> list[float]:
     with Rig("rover", seed=0, main_dir=PING, time_round_trips=True) as rig:
         rig.run_for(sim_s)
@@ -52,6 +67,7 @@ def bench_ping(sim_s: float) -> list[float]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m host.bench", description=__doc__.split("\n")[0])
     parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
+    parser.add_argument("--no-pool", action="store_true", help="skip the pool cleaner's full mission")
     args = parser.parse_args(argv)
     print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
     rover = bench_rover(args.sim_minutes * 60)
@@ -73,6 +89,17 @@ def main(argv=None) -> int:
         f"  link round trip (STATE -> WAIT, {len(ping)} exchanges): p50 {percentile(ping, 50):.0f} us, "
         f"p99 {percentile(ping, 99):.0f} us, mean {statistics.fmean(ping):.0f} us"
     )
+    if not args.no_pool:
+        print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
+        pool = bench_pool()
+        print(
+            f"  full mission real-time factor: {pool['rtf']:.0f}x  ({pool['sim_s'] / 60:.1f} simulated min in "
+            f"{pool['wall_s']:.1f} wall s; target >= 60x){'' if pool['done'] else ' -- NOT DONE'}"
+        )
+        print(
+            f"  link exchanges: {pool['round_trips']} ({pool['round_trips'] / pool['sim_s']:.0f} per simulated s); "
+            f"floor covered {pool['coverage']:.1%}"
+        )
     return 0
 
 

@@ -216,7 +216,7 @@ def flash(
     if port is None:
         if vboard.running_port(board) is None:
             ours = board
-        port = vboard.start_background(board)
+        port = vboard.start_background(board, app=app)
         where = f"virtual board {board} on {port} (folder {vboard.board_home(board) / 'fs'})"
     else:
         check_port(port)
