@@ -15,8 +15,8 @@ def test_gain_schedule_equals_the_codes_kappa_tables_within_1e_4():
     k_d, k_phi = gain_schedule()
     assert len(k_d) == GAIN_STEPS + 1
     for i in range(GAIN_STEPS):
-        assert k_d[i] == pytest.approx(KAPPA1[i], abs=1e-4), f"kappa1[{i}]: table {KAPPA1[i]}, recursion {k_d[i]:.5f}"
-        assert k_phi[i] == pytest.approx(KAPPA2[i], abs=1e-4), f"kappa2[{i}]: table {KAPPA2[i]}, recursion {k_phi[i]:.5f}"
+        assert k_d[i] == pytest.approx(KAPPA1[i], abs=1e-4), f"kappa1[{i}]: table {KAPPA1[i]}, got {k_d[i]:.5f}"
+        assert k_phi[i] == pytest.approx(KAPPA2[i], abs=1e-4), f"kappa2[{i}]: table {KAPPA2[i]}, got {k_phi[i]:.5f}"
     assert k_d[GAIN_STEPS] == pytest.approx(KAPP1, abs=1e-4) and k_phi[GAIN_STEPS] == pytest.approx(KAPP2, abs=1e-4)
 
 
