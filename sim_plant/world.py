@@ -33,6 +33,18 @@ SMALL_WORLD_WALLS = 8
 """Worlds with this few walls answer every query themselves (a view would not help)."""
 
 
+
+def _offset_from_segment(x: float, y: float, ax: float, ay: float, ux: float, uy: float, length: float):
+    """Vector from the nearest point of segment a..a+u to (x, y)."""
+    wx, wy = x - ax, y - ay
+    s = (wx * ux + wy * uy) / (length * length)
+    if s <= 0.0:
+        return wx, wy
+    if s >= 1.0:
+        return wx - ux, wy - uy
+    return wx - s * ux, wy - s * uy
+
+
 class World:
     """Wall segments and the queries on them.
 
@@ -194,14 +206,7 @@ class World:
         for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
             if abs(nx * x + ny * y - c) >= best:  # the line is farther than the best so far
                 continue
-            wx, wy = x - ax, y - ay
-            s = (wx * ux + wy * uy) / (length * length)
-            if s <= 0.0:
-                px, py = wx, wy
-            elif s >= 1.0:
-                px, py = wx - ux, wy - uy
-            else:
-                px, py = wx - s * ux, wy - s * uy
+            px, py = _offset_from_segment(x, y, ax, ay, ux, uy, length)
             d = math.hypot(px, py)
             if d < best:
                 if d > 1e-12:
@@ -219,14 +224,7 @@ class World:
         for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
             if abs(nx * x + ny * y - c) >= clear + r:  # cannot touch, nor be nearer than the best
                 continue
-            wx, wy = x - ax, y - ay
-            s = (wx * ux + wy * uy) / (length * length)
-            if s <= 0.0:
-                px, py = wx, wy
-            elif s >= 1.0:
-                px, py = wx - ux, wy - uy
-            else:
-                px, py = wx - s * ux, wy - s * uy
+            px, py = _offset_from_segment(x, y, ax, ay, ux, uy, length)
             d = math.hypot(px, py)
             if d <= limit:
                 if d > 1e-12:
