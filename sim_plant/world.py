@@ -33,7 +33,6 @@ SMALL_WORLD_WALLS = 8
 """Worlds with this few walls answer every query themselves (a view would not help)."""
 
 
-
 def _offset_from_segment(x: float, y: float, ax: float, ay: float, ux: float, uy: float, length: float):
     """Vector from the nearest point of segment a..a+u to (x, y)."""
     wx, wy = x - ax, y - ay
