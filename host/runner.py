@@ -73,6 +73,11 @@ class Handle:
     level: int | None = None  # last level driven on an output
 
 
+_OUT = struct.Struct("<QHBi")
+_WAIT = struct.Struct("<QQI")
+_NO_WATCH = frozenset()
+
+
 @dataclass
 class _Wait:
     t_now: int
@@ -198,11 +203,12 @@ class Rig:
         self._irq_armed = False
         self._uncommitted: list = []
         self._budgets_by_source: dict[str, list] = {}
+        self._compute_budgets = [b for b in self.budgets.values() if isinstance(b, ComputeBudget)]
         for budget in self.budgets.values():
             for source in getattr(budget, "sources", (budget.source,)):
                 self._budgets_by_source.setdefault(source, []).append(budget)
         self._sample_times: dict[int, int] = {}
-        self._last_msg = "none yet"
+        self._last_msg: tuple | None = None  # (type, wall time) of the last message
         self._wall0 = 0.0
 
     # -- life cycle -------------------------------------------------------------------
@@ -520,21 +526,22 @@ class Rig:
     # -- messages from the firmware ------------------------------------------------------
 
     def _handle(self, type_: int, p: bytes) -> None:
-        if type_ == F.WAIT:
-            t_now, t_until, compute_us = struct.unpack_from("<QQI", p)
-            watch = frozenset(struct.unpack_from("<%dH" % ((len(p) - 20) // 2), p, 20))
+        if type_ == F.OUT:
+            t, h, attr, value = _OUT.unpack_from(p)
+            if t != self.plant.t_us:
+                self._catch_up(t)
+            self._on_out(t, h, attr, value)
+        elif type_ == F.WAIT:
+            t_now, t_until, compute_us = _WAIT.unpack_from(p)
+            watch = frozenset(struct.unpack_from("<%dH" % ((len(p) - 20) // 2), p, 20)) if len(p) > 20 else _NO_WATCH
             self._catch_up(t_now)
             self._snapshot = None  # the firmware took the whole last batch
             self._commit(t_now)
             self._wait = _Wait(t_now, max(t_until, self.t_us), watch)
-            for budget in self.budgets.values():
-                if isinstance(budget, ComputeBudget):
-                    budget.event(compute_us)
-            self._log({"t": t_now, "msg": "WAIT", "until": t_until, "watch": sorted(watch)})
-        elif type_ == F.OUT:
-            t, h, attr, value = struct.unpack_from("<QHBi", p)
-            self._catch_up(t)
-            self._on_out(t, h, attr, value)
+            for budget in self._compute_budgets:
+                budget.event(compute_us)
+            if self._trace:
+                self._log({"t": t_now, "msg": "WAIT", "until": t_until, "watch": sorted(watch)})
         elif type_ == F.CFG:
             self._on_cfg(p)
         elif type_ == F.SEEN:
@@ -623,7 +630,8 @@ class Rig:
     def _on_out(self, t: int, h: int, attr: int, value: int) -> None:
         info = self._handles[h]
         signal_name = info.signal
-        self._log({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+        if self._trace:
+            self._log({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
         if self.recorder is not None and attr != F.OUT_FREQ:
             kind = "duty" if info.kind == F.CFG_PWM else "level"
             self._record_out(t, info, 0 if attr == F.OUT_DEINIT else value, kind)
@@ -632,8 +640,8 @@ class Rig:
         if signal_name.startswith(PROBE):
             last, info.level = info.level, value
             if attr == F.OUT_LEVEL and last is not None and last != value:
-                for budget in self.budgets.values():
-                    if budget.source == signal_name and isinstance(budget, PeriodBudget):
+                for budget in self._budgets_by_source.get(signal_name, ()):
+                    if isinstance(budget, PeriodBudget):
                         budget.event(t)
             return
         if signal_name not in self.plant.inputs:
@@ -705,8 +713,14 @@ class Rig:
         if self.time_round_trips and type_ == F.WAIT and getattr(self, "_t_sent", None):
             self.stats.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
             self._t_sent = None
-        self._last_msg = f"{MSG_NAMES.get(type_, hex(type_))} at wall {time.monotonic():.3f}"
+        self._last_msg = (type_, time.monotonic())
         return type_, payload
+
+    def _last_msg_text(self) -> str:
+        if self._last_msg is None:
+            return "none yet"
+        type_, wall = self._last_msg
+        return f"{MSG_NAMES.get(type_, hex(type_))} at wall {wall:.3f}"
 
     def _on_silence(self, timeout_s: float, what: str):
         proc = self._proc
@@ -714,7 +728,7 @@ class Rig:
             self.stop()
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
-                f"got nothing (virtual t={self.t_us / 1e6:.6f} s, last message {self._last_msg}); "
+                f"got nothing (virtual t={self.t_us / 1e6:.6f} s, last message {self._last_msg_text()}); "
                 f"the watchdog stopped it.{self._where()}"
             )
         code = proc.wait(timeout=5) if proc is not None else None

@@ -34,14 +34,15 @@ SMALL_WORLD_WALLS = 8
 
 
 def _offset_from_segment(x: float, y: float, ax: float, ay: float, ux: float, uy: float, length: float):
-    """Vector from the nearest point of segment a..a+u to (x, y)."""
+    """Vector from the nearest point of segment a..a+u to (x, y), and where that point
+    lies on the segment (0 at a, 1 at a+u)."""
     wx, wy = x - ax, y - ay
     s = (wx * ux + wy * uy) / (length * length)
     if s <= 0.0:
-        return wx, wy
+        return wx, wy, 0.0
     if s >= 1.0:
-        return wx - ux, wy - uy
-    return wx - s * ux, wy - s * uy
+        return wx - ux, wy - uy, 1.0
+    return wx - s * ux, wy - s * uy, s
 
 
 class World:
@@ -205,7 +206,7 @@ class World:
         for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
             if abs(nx * x + ny * y - c) >= best:  # the line is farther than the best so far
                 continue
-            px, py = _offset_from_segment(x, y, ax, ay, ux, uy, length)
+            px, py, _s = _offset_from_segment(x, y, ax, ay, ux, uy, length)
             d = math.hypot(px, py)
             if d < best:
                 if d > 1e-12:
@@ -216,20 +217,23 @@ class World:
 
     def circle_walls(self, x: float, y: float, r: float, eps: float) -> tuple[list, float]:
         """For a circle of radius ``r`` at (x, y): the walls it touches or has gone into,
-        as ``(gap, nx, ny)`` with gap <= ``eps`` (negative: that deep in) and the normal
-        pointing from the wall to the centre, and the smallest gap to any other wall."""
+        as ``(gap, nx, ny, run)`` with gap <= ``eps`` (negative: that deep in), the normal
+        pointing from the wall to the centre and ``run`` the distance from the touch point
+        to the nearer end of the wall (0 when the circle touches an end point), and the
+        smallest gap to any other wall."""
         touches, clear = [], INF
         limit = r + eps
         for ax, ay, ux, uy, length, _bx, _by, nx, ny, c in self.walls:
             if abs(nx * x + ny * y - c) >= clear + r:  # cannot touch, nor be nearer than the best
                 continue
-            px, py = _offset_from_segment(x, y, ax, ay, ux, uy, length)
+            px, py, s = _offset_from_segment(x, y, ax, ay, ux, uy, length)
+            run = min(s, 1.0 - s) * length
             d = math.hypot(px, py)
             if d <= limit:
                 if d > 1e-12:
-                    touches.append((d - r, px / d, py / d))
+                    touches.append((d - r, px / d, py / d, run))
                 else:
-                    touches.append((-r, nx, ny))
+                    touches.append((-r, nx, ny, run))
             elif d - r < clear:
                 clear = d - r
         return touches, clear

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from sim_plant.contacts import Bumper, ContactMonitor
+from sim_plant.contacts import MIN_STEP_US, RECHECK_US, Bumper, ContactMonitor, _release_s
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import QuadratureEncoder
 from sim_plant.engine import RobotPlant
@@ -18,10 +18,11 @@ class Bot(RobotPlant):
     """A small test robot: TB6612 with standby, quadrature encoders, a disc body with a
     front bumper, motor options and world given."""
 
-    def __init__(self, world=None, start=(2.0, 2.0, 0.0), bounce_us=0, **motor):
+    def __init__(self, world=None, start=(2.0, 2.0, 0.0), bounce_us=0, monitor=ContactMonitor, **motor):
         self.world = world or rectangle(10.0, 10.0)
         self.start = start
         self.bounce_us = bounce_us
+        self.monitor = monitor
         self.motor = {"max_wheel_rad_s": 20.0, **motor}
         super().__init__()
 
@@ -34,7 +35,7 @@ class Bot(RobotPlant):
         self.motor["gains"] = gains
         self.encoders = [QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, lines_per_rev=25),
                          QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, lines_per_rev=25)]
-        self.parts = [ContactMonitor([(0.0, 0.0, 0.15)], [Bumper("bumper", bounce_us=self.bounce_us)])]
+        self.parts = [self.monitor([(0.0, 0.0, 0.15)], [Bumper("bumper", bounce_us=self.bounce_us)])]
 
 
 def go(plant, left, right, stby=1):
@@ -164,3 +165,89 @@ def test_bumper_releases_when_the_robot_backs_off():
     assert [c.value for c in changes] == [1]
     assert changes[0].t_us - 8_000_000 <= 5_000 + 1
     assert not plant.truth()["touching"]
+
+
+class DenseMonitor(ContactMonitor):
+    """Reference: checks every millisecond while the body moves, planning nothing."""
+
+    def _next_check_us(self, t_us, plant):
+        planned = super()._next_check_us(t_us, plant)
+        return t_us + MIN_STEP_US if self._rate_m_s > 0.0 else planned
+
+
+def _normal_speed(nx, ny, rx, ry, v, w, th, t):
+    """n . (velocity of the circle's centre) at time t on the free arc."""
+    co, si = math.cos(w * t), math.sin(w * t)
+    ox, oy = co * rx - si * ry, si * rx + co * ry
+    return nx * (v * math.cos(th + w * t) - w * oy) + ny * (v * math.sin(th + w * t) + w * ox)
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_release_time_is_when_the_free_motion_turns_away_from_the_wall(seed):
+    """_release_s against a dense scan of the centre's free velocity: it points into the
+    wall until the computed time and away from it just after."""
+    import random
+
+    rnd = random.Random(seed)
+    a = rnd.uniform(-math.pi, math.pi)
+    nx, ny = math.cos(a), math.sin(a)
+    rx, ry = (0.0, 0.0) if seed % 3 == 0 else (rnd.uniform(-0.3, 0.3), rnd.uniform(-0.3, 0.3))
+    v, w, th = rnd.uniform(-0.5, 0.5), rnd.choice((0.0, rnd.uniform(-2.0, 2.0))), rnd.uniform(-math.pi, math.pi)
+    got = _release_s(nx, ny, rx, ry, v, w, th, recheck_s=0.005)
+    if w == 0.0 and _normal_speed(nx, ny, rx, ry, v, w, th, 0.0) <= 0.0:
+        assert got == math.inf, "straight into the wall: the touch holds"
+        return
+    if _normal_speed(nx, ny, rx, ry, v, w, th, 0.0) >= 0.0:
+        assert got == 0.005, "moving off the wall: look again after the recheck period"
+        return
+    assert 0.0 < got <= math.pi / abs(w) + 1e-9
+    steps = 2000
+    worst = max(_normal_speed(nx, ny, rx, ry, v, w, th, got * k / steps) for k in range(steps))
+    assert worst <= 1e-9, f"the free motion turned away from the wall before {got:.6f} s ({worst:.3g} m/s)"
+    after = _normal_speed(nx, ny, rx, ry, v, w, th, got * 1.01)
+    assert after > 0.0, f"expected the free motion off the wall just after {got:.6f} s, got {after:.3g} m/s"
+
+
+def _bumper_run(monitor, world, start, moves):
+    plant = Bot(world=world, start=start, monitor=monitor)
+    changes = []
+    for left, right, until_us in moves:
+        go(plant, left, right)
+        changes += [(c.t_us, c.value) for c in plant.advance_to(until_us) if c.name == "bumper"]
+    truth = plant.truth()
+    return changes, [(c.t_us, c.part) for c in truth["contacts"]], (truth["x_m"], truth["y_m"], truth["theta_rad"])
+
+
+def test_a_disc_spinning_against_a_wall_stays_on_it():
+    assert _release_s(0.0, -1.0, 0.0, 0.0, 0.0, 1.5, 0.3, recheck_s=0.005) == math.inf
+
+
+@pytest.mark.parametrize("case", ["spin against a wall", "curve into a wall and slide", "slide off a box's end",
+                                  "curve away from a wall", "square into a corner"])
+def test_planned_contact_checks_see_what_checks_every_millisecond_see(case):
+    """The monitor plans its checks from the gaps, the touches and the speeds; a monitor
+    that checks every millisecond is the reference. Same presses and releases (a release
+    seen within RECHECK_US + 1 ms of the reference's), same contacts, same final pose."""
+    world, start, moves = {
+        "spin against a wall": (rectangle(5.0, 5.0), (2.5, 4.85, math.pi / 2),
+                                [(0.5, 0.5, 300_000), (0.4, -0.4, 3_000_000)]),
+        "curve into a wall and slide": (rectangle(5.0, 5.0), (1.0, 4.7, math.radians(20)),
+                                        [(0.5, 0.55, 6_000_000)]),
+        "slide off a box's end": (room(6.0, 6.0, [box(3.0, 3.0, 1.0, 0.4)]), (1.0, 2.3, math.radians(12)),
+                                  [(0.5, 0.5, 8_000_000)]),
+        "curve away from a wall": (rectangle(5.0, 5.0), (2.0, 4.7, math.radians(60)),
+                                   [(0.5, 0.5, 1_500_000), (0.6, 0.3, 4_000_000)]),
+        "square into a corner": (rectangle(3.0, 3.0), (1.5, 1.5, math.radians(45)), [(0.6, 0.6, 6_000_000)]),
+    }[case]
+    ref_changes, ref_contacts, ref_pose = _bumper_run(DenseMonitor, world, start, moves)
+    changes, contacts, pose = _bumper_run(ContactMonitor, world, start, moves)
+    assert ref_contacts, f"{case}: the scenario should touch a wall"
+    assert [v for _, v in changes] == [v for _, v in ref_changes], \
+        f"{case}: bumper levels {changes} differ from the reference's {ref_changes}"
+    for (t, _), (t_ref, _) in zip(changes, ref_changes):
+        assert t_ref - MIN_STEP_US <= t <= t_ref + RECHECK_US + MIN_STEP_US, \
+            f"{case}: bumper change at {t} us, reference {t_ref} us"
+    assert [p for _, p in contacts] == [p for _, p in ref_contacts]
+    for (t, _), (t_ref, _) in zip(contacts, ref_contacts):
+        assert abs(t - t_ref) <= MIN_STEP_US, f"{case}: contact at {t} us, reference {t_ref} us"
+    assert pose == pytest.approx(ref_pose, abs=1e-3)
