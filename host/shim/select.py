@@ -7,6 +7,7 @@ POLLIN = 0x0001
 POLLOUT = 0x0004
 POLLERR = 0x0008
 POLLHUP = 0x0010
+_NOTHING = ()
 
 
 class _Poll:
@@ -39,6 +40,10 @@ class _Poll:
 
     def ipoll(self, timeout=-1, flags=0):
         _hil.blocking()
+        if not self._map:  # nothing to poll (asyncio's sleeps): a plain virtual sleep
+            if timeout:
+                _hil.run_until(_hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000)
+            return _NOTHING
         ready = self._ready()
         if ready or timeout == 0:
             return ready
