@@ -135,6 +135,8 @@ class ContactMonitor(Part):
     again from the room left, without looking at the walls.
     """
 
+    FIXED_STATE = ("bumpers", "inputs", "outputs")
+
     def __init__(self, circles, bumpers=()):
         self.circles = tuple((float(ox), float(oy), float(r)) for ox, oy, r in circles)
         if not self.circles:

@@ -112,6 +112,8 @@ class DiffDriveTrain(Part):
     active low).
     """
 
+    FIXED_STATE = ("bridges", "motors", "inputs", "outputs")
+
     def __init__(self, *, bridges: tuple[Bridge, Bridge], motors: tuple[DcMotor, DcMotor], wheel_radius_m: float,
                  track_m: float, start_pose=(0.0, 0.0, 0.0), spin_slip: float = 0.0, standby: str | None = None):
         if wheel_radius_m <= 0 or track_m <= 0:
@@ -138,17 +140,22 @@ class DiffDriveTrain(Part):
     # -- inputs ---------------------------------------------------------------------
 
     def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        """Latch a bridge pin; the speeds follow in :meth:`settle`, once for all the pins
+        a board sets at the same instant."""
         if name == self.standby:
             for b in self.bridges:
                 b.standby = not int(value)
-        else:
-            for b in self.bridges:
-                role = b.pins.get(name)
-                if role is not None:
-                    if b.state[role] == int(value):
-                        return False
-                    b.set_pin(role, value)
-                    break
+            return True
+        for b in self.bridges:
+            role = b.pins.get(name)
+            if role is not None:
+                if b.state[role] == int(value):
+                    return False
+                b.set_pin(role, value)
+                return True
+        return False
+
+    def settle(self, t_us: int, plant) -> bool:
         for i in (0, 1):
             duty, brake = self.bridges[i].effective()
             self.target_rad_s[i] = self.motors[i].steady_rad_s(duty)

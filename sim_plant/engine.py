@@ -42,19 +42,26 @@ def _snapshot_plan(root) -> list:
     names of its attributes that hold containers (list, dict, writable array): a snapshot
     copies each object's attributes, and those containers one level deeper. Containers
     hold numbers, tuples or part objects; an attribute that holds a container or a part
-    keeps holding one (an attribute that starts as None may later hold only immutables)."""
+    keeps holding one (an attribute that starts as None may later hold only immutables).
+
+    A class names in ``FIXED_STATE`` the containers it fills when it is built and never
+    changes afterwards (wiring, routes, its parts): those are not copied, and a class
+    whose ``FIXED_STATE`` is True (pure configuration) is left out of the plan."""
     plan, seen, todo = [], set(), [root]
     while todo:
         obj = todo.pop()
         if id(obj) in seen:
             continue
         seen.add(id(obj))
+        fixed = getattr(type(obj), "FIXED_STATE", ())
         containers = []
         for key, value in obj.__dict__.items():
             kind = type(value)
             if kind in _SCALARS or key in SHARED_STATE and obj is root:
                 continue
-            if kind is list or kind is dict or (kind is np.ndarray and value.flags.writeable):
+            if fixed is True:
+                continue
+            if (kind is list or kind is dict or (kind is np.ndarray and value.flags.writeable)) and key not in fixed:
                 containers.append(key)
             if kind is list or kind is tuple:
                 todo.extend(v for v in value if _is_object(v))
@@ -62,7 +69,8 @@ def _snapshot_plan(root) -> list:
                 todo.extend(v for v in value.values() if _is_object(v))
             elif _is_object(value):
                 todo.append(value)
-        plan.append((obj, tuple(containers)))
+        if fixed is not True:
+            plan.append((obj, tuple(containers)))
     return plan
 
 
@@ -77,13 +85,19 @@ class Part:
     next_us: int = NEVER_US
     inputs: dict = {}
     outputs: dict = {}
+    FIXED_STATE: tuple | bool = ("inputs", "outputs")
 
     def fire(self, t_us: int, plant: "RobotPlant", out: list) -> None:
         """Handle what is due at ``t_us``; append :class:`Change` s to ``out``."""
 
     def set_input(self, name: str, value, t_us: int, plant: "RobotPlant") -> bool:
-        """Apply an input of this part at ``t_us``; True if the drive's motion changed."""
+        """Apply an input of this part at ``t_us``; True if the drive's motion may have
+        changed (the plant then calls :meth:`settle` once before it moves on)."""
         raise KeyError(name)
+
+    def settle(self, t_us: int, plant: "RobotPlant") -> bool:
+        """The inputs set at ``t_us`` are all in: True if the motion changed."""
+        return True
 
     def initial_outputs(self) -> dict:
         """Output values at reset."""
@@ -107,6 +121,8 @@ class RobotPlant(Plant):
     ``self.encoders`` and ``self.parts`` afresh (the generator ``self.rng`` is already
     seeded), and may extend :meth:`truth`.
     """
+
+    FIXED_STATE = ("encoders", "parts", "inputs", "outputs", "_input_route", "_encoder_outputs")
 
 
     def _wheel_motors(self) -> tuple:
@@ -168,7 +184,10 @@ class RobotPlant(Plant):
     def _settle(self) -> None:
         if self._motion_pending:
             self._motion_pending = False
-            self._motion_changed(self._t_us)
+            if self.drive.settle(self._t_us, self):
+                self._motion_changed(self._t_us)
+            else:
+                self._reschedule()
 
     def next_change_us(self) -> int:
         if self._motion_pending:
@@ -211,6 +230,8 @@ class RobotPlant(Plant):
             raise KeyError(f"{type(self).__name__} has no output {name!r}; outputs: {sorted(self.outputs)}") from None
 
     def truth(self) -> dict:
+        if self._motion_pending:
+            self._settle()
         x, y, th = self.drive.body.pose_at(self._t_us)
         truth = {"t_us": self._t_us, "x_m": x, "y_m": y, "theta_rad": math.remainder(th, 2 * math.pi)}
         truth.update(self.drive.truth(self._t_us, self))

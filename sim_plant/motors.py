@@ -39,6 +39,7 @@ class Bridge:
 
     pins: dict[str, str] = {}
     kinds: dict[str, str] = {}
+    FIXED_STATE = ("pins", "kinds")
 
     def __init__(self, prefix: str, roles: tuple[str, ...], kinds: dict[str, str]):
         self.pins = {f"{prefix}.{role}": role for role in roles}
@@ -115,6 +116,8 @@ class DcMotor:
 
     Between the dead band and saturation the speed is linear in the duty.
     """
+
+    FIXED_STATE = True  # configuration only
 
     def __init__(self, *, max_wheel_rad_s: float, deadband_duty: float = 0.0, saturation_duty: float = 1.0,
                  gain: float = 1.0, time_constant_ms: float = 0.0, coast_time_constant_ms: float | None = None):

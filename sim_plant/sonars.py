@@ -27,6 +27,8 @@ class Adc:
     """A board's ADC: volts -> ``bits``-bit counts over 0..``vref_v``, reported as
     ``ADC.read_u16`` does (the n-bit reading scaled to 16 bits by repeating its top bits)."""
 
+    FIXED_STATE = True  # configuration only
+
     def __init__(self, bits: int = 12, vref_v: float = 3.3):
         if not 1 <= bits <= 16 or vref_v <= 0:
             raise ValueError(f"Adc: bits must be 1..16 and vref_v > 0, got {bits}, {vref_v}")

@@ -136,6 +136,45 @@ def test_snapshot_restore_replays_the_same_future(kind):
     assert futures[0] == futures[1] == futures[2]
 
 
+def _fixed_state(plant):
+    """What every object of the plant declares fixed (FIXED_STATE), deep-copied."""
+    import copy
+
+    from sim_plant.engine import _is_object
+
+    found, seen, todo = {}, set(), [plant]
+    while todo:
+        obj = todo.pop()
+        if id(obj) in seen:
+            continue
+        seen.add(id(obj))
+        fixed = getattr(type(obj), "FIXED_STATE", ())
+        for key, value in vars(obj).items():
+            if key in ("rng", "world", "_snapshot_plan"):
+                continue
+            if fixed is True or key in fixed:
+                found[(type(obj).__name__, id(obj), key)] = copy.copy(value)
+            for v in (value if isinstance(value, (list, tuple)) else
+                      value.values() if isinstance(value, dict) else (value,)):
+                if _is_object(v):
+                    todo.append(v)
+    return found
+
+
+@pytest.mark.parametrize("kind", sorted(PLANTS))
+def test_state_declared_fixed_never_changes(kind):
+    """Snapshots skip what a class declares fixed (FIXED_STATE): it must stay as built."""
+    plant = PLANTS[kind]()
+    plant.reset(3)
+    before = _fixed_state(plant)
+    assert before, f"{kind}: nothing declared fixed"
+    run(plant, schedule(plant, 11), host_loop=True)
+    after = _fixed_state(plant)
+    assert after.keys() == before.keys()
+    changed = [key for key in before if after[key] != before[key]]
+    assert not changed, f"{kind}: declared fixed but changed during the run: {changed}"
+
+
 def test_unknown_signals_are_refused_with_their_names():
     plant = PoolCleaner()
     with pytest.raises(KeyError, match="track_l.stop"):
