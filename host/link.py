@@ -101,6 +101,7 @@ class Channel:
         self.decoder = frame.Decoder()
         self.seq = 0
         self.sent = 0
+        self.last_data_wall: float | None = None  # time.monotonic() of the last bytes read
 
     def send(self, type_: int, payload: bytes) -> bytes:
         data = frame.encode(type_, self.seq, payload)
@@ -111,6 +112,9 @@ class Channel:
 
     def recv(self, timeout_s: float):
         """The next good frame (type, seq, payload); LinkTimeout if none by the deadline."""
+        got = self.decoder.next()
+        if got is not None:  # (a read brings several frames at once)
+            return got
         deadline = time.monotonic() + timeout_s
         stalled_since = None
         while True:
@@ -132,6 +136,7 @@ class Channel:
             data = self.transport.read_some(wait)
             if data:
                 self.decoder.feed(data)
+                self.last_data_wall = time.monotonic()
                 stalled_since = None
 
     def counters(self) -> dict:

@@ -208,7 +208,7 @@ class Rig:
             for source in getattr(budget, "sources", (budget.source,)):
                 self._budgets_by_source.setdefault(source, []).append(budget)
         self._sample_times: dict[int, int] = {}
-        self._last_msg: tuple | None = None  # (type, wall time) of the last message
+        self._last_type: int | None = None  # of the last message from the shim
         self._wall0 = 0.0
 
     # -- life cycle -------------------------------------------------------------------
@@ -713,14 +713,14 @@ class Rig:
         if self.time_round_trips and type_ == F.WAIT and getattr(self, "_t_sent", None):
             self.stats.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
             self._t_sent = None
-        self._last_msg = (type_, time.monotonic())
+        self._last_type = type_
         return type_, payload
 
     def _last_msg_text(self) -> str:
-        if self._last_msg is None:
+        if self._last_type is None:
             return "none yet"
-        type_, wall = self._last_msg
-        return f"{MSG_NAMES.get(type_, hex(type_))} at wall {wall:.3f}"
+        wall = self._chan.last_data_wall if self._chan else None
+        return f"{MSG_NAMES.get(self._last_type, hex(self._last_type))} at wall {wall or 0.0:.3f}"
 
     def _on_silence(self, timeout_s: float, what: str):
         proc = self._proc

@@ -19,6 +19,9 @@ SAMPLE_STEP_CELLS = 0.5
 SAMPLE_PERIOD_MIN_US = 20_000
 SAMPLE_PERIOD_MAX_US = 500_000
 """... but no more often than every 20 ms, and at least every 500 ms (turns on the spot)."""
+BEND_RAD = math.radians(3.0)
+"""A change of motion adds a sample where the path has turned this much since the last
+one (a chord over a turn this small is off the path by under 1/100 of its length)."""
 FLUSH_POINTS = 32
 """Rasterise once this many path samples are waiting (keeps plant snapshots small)."""
 
@@ -115,33 +118,41 @@ def _free_mask(world: World, xs, ys):
 
 
 class CoverageRecorder(Part):
-    """Samples the path into a :class:`CoverageGrid`: at every change of motion, and every
-    half cell of travel while the robot moves."""
+    """Samples the path into a :class:`CoverageGrid`: every half cell of travel while the
+    robot moves, where it stops, and at a change of motion once the path has bent
+    ``BEND_RAD`` since the last sample (a board trims its wheel speeds every control
+    step: those changes leave the path straight)."""
 
     def __init__(self, grid: CoverageGrid):
         self.grid = grid
         self.period_us = SAMPLE_PERIOD_MAX_US
         self.next_us = NEVER_US
+        self.last_th = 0.0  # heading at the last sample
+
+    def _sample(self, t_us: int, plant) -> None:
+        x, y, self.last_th = plant.pose_at(t_us)
+        self.grid.add_point(x, y)
 
     def start(self, t_us: int, plant) -> None:
-        x, y, _ = plant.pose_at(t_us)
-        self.grid.add_point(x, y)
+        self._sample(t_us, plant)
 
     def on_motion_change(self, t_us: int, plant) -> None:
-        x, y, _ = plant.pose_at(t_us)
-        self.grid.add_point(x, y)
         body = plant.drive.body
         speed = abs(body.v)
         if speed == 0.0 and body.w == 0.0 and body.segment is None:
+            self._sample(t_us, plant)
             self.next_us = NEVER_US
             return
+        moving = self.next_us != NEVER_US
+        if not moving or abs(math.remainder(plant.pose_at(t_us)[2] - self.last_th, 2 * math.pi)) > BEND_RAD:
+            self._sample(t_us, plant)
+            moving = False  # plan from this sample
         period = SAMPLE_STEP_CELLS * self.grid.cell_m / speed * 1e6 if speed > 0.0 else SAMPLE_PERIOD_MAX_US
         self.period_us = int(min(max(period, SAMPLE_PERIOD_MIN_US), SAMPLE_PERIOD_MAX_US))
-        self.next_us = t_us + self.period_us
+        self.next_us = min(self.next_us, t_us + self.period_us) if moving else t_us + self.period_us
 
     def fire(self, t_us: int, plant, out: list) -> None:
-        x, y, _ = plant.pose_at(t_us)
-        self.grid.add_point(x, y)
+        self._sample(t_us, plant)
         self.next_us = t_us + self.period_us
 
     def truth(self, t_us: int, plant) -> dict:

@@ -131,6 +131,7 @@ class DiffDriveTrain(Part):
             self.inputs[standby] = "level"
             for b in self.bridges:
                 b.standby = True  # STBY low at reset: both channels off
+        self._no_lag = all(m.time_constant_ms <= 0.0 for m in self.motors)
         self.body = Body(*start_pose)
         self.wheel_rad_s = [0.0, 0.0]
         self.target_rad_s = [0.0, 0.0]
@@ -156,14 +157,14 @@ class DiffDriveTrain(Part):
         return False
 
     def settle(self, t_us: int, plant) -> bool:
-        for i in (0, 1):
-            duty, brake = self.bridges[i].effective()
-            self.target_rad_s[i] = self.motors[i].steady_rad_s(duty)
-            self.driven[i] = brake or duty != 0.0
-        if self.target_rad_s == self.wheel_rad_s:
+        (duty_l, brake_l), (duty_r, brake_r) = self.bridges[0].effective(), self.bridges[1].effective()
+        target = [self.motors[0].steady_rad_s(duty_l), self.motors[1].steady_rad_s(duty_r)]
+        self.target_rad_s = target
+        self.driven = [brake_l or duty_l != 0.0, brake_r or duty_r != 0.0]
+        if target == self.wheel_rad_s:
             return False
-        if all(m.time_constant_ms <= 0.0 for m in self.motors):
-            self.wheel_rad_s = list(self.target_rad_s)
+        if self._no_lag:
+            self.wheel_rad_s = list(target)
             self._apply(t_us)
             return True
         if self.next_us == NEVER_US:

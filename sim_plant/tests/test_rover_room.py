@@ -86,3 +86,46 @@ def test_snapshot_and_restore_replay_the_same_future():
     truth = plant.truth()
     plant.restore(snap)
     assert plant.advance_to(3_000_000) == first and plant.truth() == truth
+
+
+def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
+    """A board trims its wheel duties every 50 ms; the recorder samples those changes
+    only where the path bends. The swept cells match a recorder that samples every
+    change, over straight runs, arcs and turns on the spot."""
+    import random
+
+    import numpy as np
+
+    import sim_plant.coverage as coverage
+    from sim_plant.coverage import CoverageRecorder
+
+    def swept(bend_rad):
+        old = coverage.BEND_RAD
+        coverage.BEND_RAD = bend_rad
+        try:
+            plant = RoverRoom(room_w_m=4.0, room_h_m=4.0, start_pose=(0.5, 0.5, 0.3))
+            plant.reset(2)
+            rnd = random.Random(5)
+            base = [(30000, 30000), (30000, 45000), (25000, 25000), (40000, 0)]
+            t = 0
+            for step in range(400):  # 20 s: 50 ms control steps, segments of 1.25 s
+                left, right = base[(step // 25) % len(base)]
+                for side, duty in (("l", left), ("r", right)):
+                    duty = max(0, duty + rnd.randrange(-800, 800))
+                    plant.set_input(f"motor_{side}.in1", 1 if duty else 0)
+                    plant.set_input(f"motor_{side}.in2", 0)
+                    plant.set_input(f"motor_{side}.pwm", duty)
+                t += 50_000
+                plant.advance_to(t)
+            plant.truth()
+            grid = plant.part(CoverageRecorder).grid
+            return grid.covered.copy(), len(plant.truth()["contacts"])
+        finally:
+            coverage.BEND_RAD = old
+
+    every, contacts = swept(-1.0)  # every change of motion is a sample
+    assert contacts, "the path should also slide along a wall"
+    bends, _ = swept(coverage.BEND_RAD)
+    assert every.sum() > 80, "the robot should sweep a good part of the room"
+    differ = int(np.logical_xor(every, bends).sum())
+    assert differ <= 3, f"{differ} of {int(every.sum())} swept cells differ"
