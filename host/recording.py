@@ -51,6 +51,11 @@ class Recorder:
             self.signals[name] = {"role": role, "kind": kind}
         self.events.append((t_us, name, _plain(value)))
 
+    @property
+    def next_truth_us(self) -> int:
+        """When the next ground-truth sample is due."""
+        return self._next_truth_us
+
     def sample(self, plant) -> None:
         """Record ground truth if the plant has reached the next sample time."""
         t_us = plant.t_us

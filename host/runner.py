@@ -14,6 +14,7 @@ process and closes the pty.
 """
 
 import copy
+import inspect
 import os
 import signal
 import struct
@@ -176,6 +177,8 @@ class Rig:
         self.plant_options = dict(plant_options or {})
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
+        self._plant_stops_itself = "limit" in inspect.signature(self.plant.advance_to).parameters
+        self._uart_wired = False  # a UART configured: bytes flow, the plant advances in chunks
         self.recorder = Recorder(self.plant) if record else None
         self.progress = progress
         self._progress_wall = 0.0
@@ -382,23 +385,31 @@ class Rig:
         must go now: a watched input changed, the batch is full, or (real time) an IRQ
         edge is due.
 
-        In lockstep the plant advances in chunks and IRQ edges are batched
-        speculatively: the plant is snapshotted at the start of a batch and rolled back
-        if a handler changes an output (docs/clock.md). A watched wait, and real time,
-        go event by event."""
+        In lockstep IRQ edges are batched speculatively: the plant is snapshotted at the
+        start of a batch and rolled back if a handler changes an output (docs/clock.md).
+        The plant advances in one go, stopping itself once the batch is full (at the
+        recorder's sample times when recording), or in chunks when it cannot stop itself
+        or UART bytes flow. A watched wait, and real time, go event by event."""
         plant = self.plant
         lockstep = self.mode == "lockstep"
         if lockstep and self._snapshot is None and self._wait is not None and self._irq_armed:
             self._snapshot = (plant.t_us, self._take_snapshot())
         while plant.t_us < target_us:
+            limit = 0
             if lockstep and not watch:
-                t_next = min(plant.t_us + CHUNK_US, target_us)
+                if self._plant_stops_itself and not self._uart_wired:
+                    t_next = target_us
+                    if self.recorder is not None:
+                        t_next = min(t_next, max(self.recorder.next_truth_us, plant.t_us + 1))
+                    limit = MAX_BATCH - len(self._delta)
+                else:
+                    t_next = min(plant.t_us + CHUNK_US, target_us)
             else:
                 t_next = min(plant.next_change_us(), target_us)
                 if not lockstep:
                     self._sleep_until(t_next)
             irq = hit = False
-            for change in plant.advance_to(t_next):
+            for change in plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next):
                 i, h = self._route(change, watch)
                 irq |= i
                 hit |= h
@@ -605,6 +616,8 @@ class Rig:
                 "signal": signal_name,
             }
         )
+        if kind == F.CFG_UART:
+            self._uart_wired = True
         if kind == F.CFG_IRQ:
             self._handles[h].irq = mode
             self._irq_armed = any(info.irq for info in self._handles)

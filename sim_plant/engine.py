@@ -194,7 +194,7 @@ class RobotPlant(Plant):
             self._settle()
         return self._next_us
 
-    def advance_to(self, t_us: int) -> list[Change]:
+    def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
         if self._motion_pending:
             self._settle()
         out: list[Change] = []
@@ -215,6 +215,9 @@ class RobotPlant(Plant):
                     if enc.next_us < soonest:
                         soonest = enc.next_us
                 nxt = soonest
+                if limit and len(out) >= limit and nxt > self._t_us:
+                    self._next_us = nxt
+                    return out  # stopped after the instant that reached the limit
             self._next_us = nxt
         if t_us > self._t_us:
             self._t_us = t_us

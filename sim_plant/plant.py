@@ -64,10 +64,12 @@ class Plant:
         """
         raise NotImplementedError
 
-    def advance_to(self, t_us: int) -> list[Change]:
+    def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
         """Advance to ``t_us`` and return the changes in ``(t, t_us]``, in time order.
 
-        Callers that need every event at its own time advance to
+        With ``limit`` > 0, stop early at the instant whose changes bring the count to
+        ``limit`` or more (all of that instant's changes are returned; ``t_us`` is then
+        that instant). Callers that need every event at its own time advance to
         :meth:`next_change_us` step by step.
         """
         raise NotImplementedError

@@ -37,10 +37,13 @@ class ScriptedPlant(Plant):
     def next_change_us(self) -> int:
         return self.script[self._next][0] if self._next < len(self.script) else NEVER_US
 
-    def advance_to(self, t_us: int) -> list[Change]:
+    def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
         changes = []
         while self._next < len(self.script) and self.script[self._next][0] <= t_us:
             t, name, value = self.script[self._next]
+            if limit and len(changes) >= limit and t > self._t_us:
+                return changes  # stopped after the instant that reached the limit
+            self._t_us = t
             self._next += 1
             if self.outputs[name] == "bytes":
                 changes.append(Change(t, name, value))

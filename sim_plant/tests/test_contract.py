@@ -45,10 +45,11 @@ def schedule(plant, seed):
     return events
 
 
-def run(plant, events, *, host_loop: bool, chunk_seed: int = 0):
-    """Apply the writes at their times; advance event by event (as the host does) or in
-    random chunks. Checks the contract on the way; returns all changes."""
-    rnd = random.Random(chunk_seed)
+def run(plant, events, *, host_loop: bool, chunk_seed: int = 0, limit_seed: int | None = None):
+    """Apply the writes at their times; advance event by event (as the host does), in
+    random chunks, or (``limit_seed``) to each write with random change limits. Checks
+    the contract on the way; returns all changes."""
+    rnd = random.Random(chunk_seed if limit_seed is None else limit_seed)
     changes = []
     pending = list(events) + [(END_US, None, None)]
     for t_write, name, value in pending:
@@ -56,12 +57,23 @@ def run(plant, events, *, host_loop: bool, chunk_seed: int = 0):
             before = plant.t_us
             nxt = plant.next_change_us()
             assert nxt > before
-            if host_loop:
-                target = min(nxt, t_write)
+            if limit_seed is not None:
+                target, limit = t_write, rnd.randrange(1, 6)
+                got = plant.advance_to(target, limit)
+                if plant.t_us < target:
+                    assert len(got) >= limit, "stopped early without reaching the limit"
+                    assert got[-1].t_us == plant.t_us, "stopped anywhere but at its last change"
+                    assert plant.next_change_us() > plant.t_us
+                    target = plant.t_us
+                else:
+                    assert plant.t_us == target
             else:
-                target = min(before + rnd.randrange(1, 400_000), t_write)
-            got = plant.advance_to(target)
-            assert plant.t_us == target
+                if host_loop:
+                    target = min(nxt, t_write)
+                else:
+                    target = min(before + rnd.randrange(1, 400_000), t_write)
+                got = plant.advance_to(target)
+                assert plant.t_us == target
             for c in got:
                 assert before < c.t_us <= target
                 assert c.t_us >= nxt, "a change came before next_change_us() said"
@@ -78,11 +90,14 @@ def test_changes_do_not_depend_on_how_time_is_cut(kind):
     a.reset(11)
     b.reset(11)
     events = schedule(a, 5)
+    c = PLANTS[kind]()
+    c.reset(11)
     by_event = run(a, events, host_loop=True)
     by_chunk = run(b, events, host_loop=False, chunk_seed=3)
+    by_limit = run(c, events, host_loop=False, limit_seed=7)
     assert len(by_event) > 20
-    assert by_event == by_chunk
-    assert a.truth() == b.truth()
+    assert by_event == by_chunk == by_limit
+    assert a.truth() == b.truth() == c.truth()
 
 
 @pytest.mark.parametrize("kind", sorted(PLANTS))
@@ -189,3 +204,13 @@ def test_an_idle_plant_has_only_its_sensor_timeline():
     assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
     quiet = VacuumRobot()
     assert quiet.next_change_us() == NEVER_US
+
+
+def test_a_scripted_plant_stops_after_the_instant_that_reaches_the_limit():
+    from sim_plant.scripted import ScriptedPlant
+
+    plant = ScriptedPlant([(10, "a", 1), (10, "b", 1), (20, "a", 0), (30, "b", 0)],
+                          outputs={"a": "level", "b": "level"}, inputs={})
+    first = plant.advance_to(100, limit=1)
+    assert [(c.t_us, c.name) for c in first] == [(10, "a"), (10, "b")] and plant.t_us == 10
+    assert [c.t_us for c in plant.advance_to(100, limit=5)] == [20, 30] and plant.t_us == 100
