@@ -30,7 +30,7 @@ from host.apps import PROBE, App, get_app
 from host.boards import board_dir, pin_key, read_pin_map
 from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
-from host.link import Channel, FdTransport, PtyPair
+from host.link import Channel, FdTransport, PtyPair, spare_core
 from host.recording import ACTUATOR, PIN, Recorder
 from host.recording import PROBE as PROBE_ROLE
 from host.shim import _hilframe as F
@@ -44,6 +44,7 @@ CONSOLE_TAIL_LINES = 20
 MAX_BATCH = 200  # changes in one STATE (15 bytes each)
 CHUNK_US = 20_000  # lockstep plant advance step inside a batch
 MAX_BATCH_BYTES = 800  # UART bytes in one STATE
+BUSY_POLL_S = 0.0005  # lockstep: read the link in a loop this long before sleeping
 PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
 MSG_NAMES = {
     F.HELLO: "HELLO",
@@ -268,7 +269,8 @@ class Rig:
             stderr=subprocess.STDOUT,
             start_new_session=True,
         )
-        transport = FdTransport(self._pty.master_fd)
+        busy = BUSY_POLL_S if self.mode == "lockstep" and spare_core() else 0.0
+        transport = FdTransport(self._pty.master_fd, busy_poll_s=busy)
         transport.watch(self._proc.stdout.fileno(), self._on_console)
         self._chan = Channel(transport)
 
