@@ -30,6 +30,7 @@ TICKS_START_US = TICKS_PERIOD - 10_000_000  # ticks_us wraps 10 s into the run
 TICKS_START_MS = TICKS_PERIOD - 10_000  # ticks_ms wraps 10 s into the run
 
 mode = F.MODE_LOCKSTEP
+_lockstep = True  # mode == MODE_LOCKSTEP, for the hot paths
 _now = 0
 _horizon = 0
 _spin = 0
@@ -187,11 +188,13 @@ now = _lockstep_now
 def observe():
     """Called by every clock or input read; lets busy waits make progress."""
     global _spin, _now
-    t = now()
-    if mode == F.MODE_LOCKSTEP:
+    if _lockstep:
+        t = _now
         _spin += 1
         if _spin > SPIN_LIMIT:
             t += SPIN_STEP_US
+    else:
+        t = now()
     if t >= _horizon or t >= _timer_due:
         run_until(t)
     else:
@@ -215,7 +218,7 @@ def run_until(t_target, watch=None):
         t = now()
         if t_stop <= t or t_stop < _horizon:
             if t_stop > t:
-                if mode == F.MODE_LOCKSTEP:
+                if _lockstep:
                     _now = t_stop
                 else:
                     _rtime.sleep_us(t_stop - t)
@@ -265,14 +268,14 @@ def _sync(t_until, watch):
             if _pending and group_t >= 0 and _handlers_wrote(group_t):
                 return hit
             group_t = t
-            if mode == F.MODE_LOCKSTEP:
+            if _lockstep:
                 _now = t
         _handles[h]._hil_apply(kind, value, extra)
         if watch and h in watch:
             hit = True
     if _pending and group_t >= 0 and _handlers_wrote(group_t):
         return hit
-    if mode == F.MODE_LOCKSTEP:
+    if _lockstep:
         _now = t_end
     else:
         now()
@@ -287,7 +290,7 @@ def _handlers_wrote(t):
     _wrote = False
     dispatch()
     if _wrote:
-        if mode == F.MODE_LOCKSTEP:
+        if _lockstep:
             _now = t
         _horizon = _now
         return True
@@ -366,7 +369,7 @@ def _fire_timers():
 
 def start():
     """Open the link (the pty in HIL_LINK, else the board's console) and shake hands."""
-    global _link, mode, _now, _horizon, now, _wake_real_us, _rt_origin_us
+    global _link, mode, _lockstep, _now, _horizon, now, _wake_real_us, _rt_origin_us
     getenv = getattr(os, "getenv", None)  # boards have no environment
     path = getenv("HIL_LINK") if getenv else None
     _link = _Link(path) if path else _StdioLink()
@@ -382,6 +385,7 @@ def start():
     _now = t_start
     _horizon = t_start
     _wake_real_us = _rtime.ticks_us()
+    _lockstep = mode == F.MODE_LOCKSTEP
     if mode == F.MODE_REALTIME:
         _rt_origin_us = _rtime.ticks_add(_rtime.ticks_us(), -t_start)
         now = _realtime_now
