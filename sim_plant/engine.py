@@ -37,40 +37,51 @@ def _is_object(value) -> bool:
     return hasattr(value, "__dict__") and not isinstance(value, type)
 
 
-def _snapshot_plan(root) -> list:
-    """Every object of a plant's state (the plant, its parts, their parts...) with the
-    names of its attributes that hold containers (list, dict, writable array): a snapshot
-    copies each object's attributes, and those containers one level deeper. Containers
-    hold numbers, tuples or part objects; an attribute that holds a container or a part
-    keeps holding one (an attribute that starts as None may later hold only immutables).
-
-    A class names in ``FIXED_STATE`` the containers it fills when it is built and never
-    changes afterwards (wiring, routes, its parts): those are not copied, and a class
-    whose ``FIXED_STATE`` is True (pure configuration) is left out of the plan."""
-    plan, seen, todo = [], set(), [root]
+def state_objects(root):
+    """Every object of a plant's state: the plant, its parts, their parts... (not what
+    it shares: the generator, the world)."""
+    seen, todo = set(), [root]
     while todo:
         obj = todo.pop()
         if id(obj) in seen:
             continue
         seen.add(id(obj))
-        fixed = getattr(type(obj), "FIXED_STATE", ())
-        containers = []
+        yield obj
         for key, value in obj.__dict__.items():
             kind = type(value)
             if kind in _SCALARS or key in SHARED_STATE and obj is root:
                 continue
-            if fixed is True:
-                continue
-            if (kind is list or kind is dict or (kind is np.ndarray and value.flags.writeable)) and key not in fixed:
-                containers.append(key)
             if kind is list or kind is tuple:
                 todo.extend(v for v in value if _is_object(v))
             elif kind is dict:
                 todo.extend(v for v in value.values() if _is_object(v))
             elif _is_object(value):
                 todo.append(value)
-        if fixed is not True:
-            plan.append((obj, tuple(containers)))
+
+
+def _snapshot_plan(root) -> list:
+    """Every object of a plant's state with the names of its attributes that hold
+    containers (list, dict, writable array): a snapshot copies each object's attributes,
+    and those containers one level deeper. Containers hold numbers, tuples or part
+    objects; an attribute that holds a container or a part keeps holding one (an
+    attribute that starts as None may later hold only immutables).
+
+    A class names in ``FIXED_STATE`` the containers it fills when it is built and never
+    changes afterwards (wiring, routes, its parts): those are not copied, and a class
+    whose ``FIXED_STATE`` is True (pure configuration) is left out of the plan."""
+    plan = []
+    for obj in state_objects(root):
+        fixed = getattr(type(obj), "FIXED_STATE", ())
+        if fixed is True:
+            continue
+        containers = []
+        for key, value in obj.__dict__.items():
+            kind = type(value)
+            if key in fixed or key in SHARED_STATE and obj is root:
+                continue
+            if kind is list or kind is dict or (kind is np.ndarray and value.flags.writeable):
+                containers.append(key)
+        plan.append((obj, tuple(containers)))
     return plan
 
 

@@ -152,27 +152,17 @@ def test_snapshot_restore_replays_the_same_future(kind):
 
 
 def _fixed_state(plant):
-    """What every object of the plant declares fixed (FIXED_STATE), deep-copied."""
+    """What every object of the plant declares fixed (FIXED_STATE), copied."""
     import copy
 
-    from sim_plant.engine import _is_object
+    from sim_plant.engine import state_objects
 
-    found, seen, todo = {}, set(), [plant]
-    while todo:
-        obj = todo.pop()
-        if id(obj) in seen:
-            continue
-        seen.add(id(obj))
+    found = {}
+    for obj in state_objects(plant):
         fixed = getattr(type(obj), "FIXED_STATE", ())
         for key, value in vars(obj).items():
-            if key in ("rng", "world", "_snapshot_plan"):
-                continue
             if fixed is True or key in fixed:
                 found[(type(obj).__name__, id(obj), key)] = copy.copy(value)
-            for v in (value if isinstance(value, (list, tuple)) else
-                      value.values() if isinstance(value, dict) else (value,)):
-                if _is_object(v):
-                    todo.append(v)
     return found
 
 
