@@ -403,7 +403,8 @@ class Rig:
                     t_next = target_us
                     if self.recorder is not None:
                         t_next = min(t_next, max(self.recorder.next_truth_us, plant.t_us + 1))
-                    limit = MAX_BATCH - len(self._delta)
+                    fan_out = max(map(len, self._by_signal.values()), default=1)  # handles per signal
+                    limit = max(1, (MAX_BATCH - len(self._delta)) // max(1, fan_out))
                 else:
                     t_next = min(plant.t_us + CHUNK_US, target_us)
             else:

@@ -99,3 +99,13 @@ def test_handler_that_drives_an_output_sees_every_edge_at_its_time(run_case):
     writes = [(t, v) for t, n, v in rig.plant.log if n == "out1"]
     assert writes == [(0, 0), (1000, 1), (2000, 0), (3000, 1)], writes
     assert rig.stats.rollbacks >= 1
+
+
+def test_edges_shared_by_several_pin_objects_all_reach_their_handlers(run_case):
+    """1000 edges in 100 ms on one pin that three Pin objects watch, during one sleep: the
+    host splits the batch so that no STATE outgrows a frame, and every handler sees
+    every edge."""
+    script = [(1_000 + 100 * k, "a", (k + 1) % 2) for k in range(1000)]
+    rig, r = run_case("shared_pin", 0.3, script)
+    assert r["counts"] == [1000, 1000, 1000], r
+    assert rig.stats.link_round_trips >= 1000 * 3 // 200, "expected the edges split over several batches"
