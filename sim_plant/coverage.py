@@ -119,15 +119,16 @@ def _free_mask(world: World, xs, ys):
 
 class CoverageRecorder(Part):
     """Samples the path into a :class:`CoverageGrid`: every half cell of travel while the
-    robot moves, where it stops, and at a change of motion once the path has bent
-    ``BEND_RAD`` since the last sample (a board trims its wheel speeds every control
-    step: those changes leave the path straight)."""
+    robot moves, where it stops or turns back, and at a change of motion once the path
+    has bent ``BEND_RAD`` since the last sample (a board trims its wheel speeds every
+    control step: those changes leave the path straight)."""
 
     def __init__(self, grid: CoverageGrid):
         self.grid = grid
         self.period_us = SAMPLE_PERIOD_MAX_US
         self.next_us = NEVER_US
         self.last_th = 0.0  # heading at the last sample
+        self.direction = 0  # sign of the forward speed since the last change of motion
 
     def _sample(self, t_us: int, plant) -> None:
         x, y, self.last_th = plant.pose_at(t_us)
@@ -136,15 +137,25 @@ class CoverageRecorder(Part):
     def start(self, t_us: int, plant) -> None:
         self._sample(t_us, plant)
 
+    def jump(self, t_us: int, plant) -> None:
+        """The robot was carried to where it is now: its path starts again here (nothing
+        is swept between the two places)."""
+        self.grid.flush()
+        self.grid.pending = []
+        self._sample(t_us, plant)
+
     def on_motion_change(self, t_us: int, plant) -> None:
         body = plant.drive.body
         speed = abs(body.v)
+        direction = (body.v > 0.0) - (body.v < 0.0)
+        turned_back, self.direction = direction != self.direction, direction
         if speed == 0.0 and body.w == 0.0 and body.segment is None:
             self._sample(t_us, plant)
             self.next_us = NEVER_US
             return
         moving = self.next_us != NEVER_US
-        if not moving or abs(math.remainder(plant.pose_at(t_us)[2] - self.last_th, 2 * math.pi)) > BEND_RAD:
+        if not moving or turned_back or \
+                abs(math.remainder(plant.pose_at(t_us)[2] - self.last_th, 2 * math.pi)) > BEND_RAD:
             self._sample(t_us, plant)
             moving = False  # plan from this sample
         period = SAMPLE_STEP_CELLS * self.grid.cell_m / speed * 1e6 if speed > 0.0 else SAMPLE_PERIOD_MAX_US

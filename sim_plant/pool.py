@@ -134,9 +134,7 @@ class PoolCleaner(RobotPlant):
         body = self.drive.body
         body.constraints = ()
         body.rebase(t, tuple(float(v) for v in pose))
-        coverage = self.part(CoverageRecorder).grid
-        coverage.flush()
-        coverage.pending = []
+        self.part(CoverageRecorder).jump(t, self)
         self.parts[0].check_us = t  # what it touches where it was set down, at once
         self._motion_changed(t)
 

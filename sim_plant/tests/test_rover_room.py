@@ -2,6 +2,8 @@
 
 import math
 
+import pytest
+
 from sim_plant.rover import SONAR_V_PER_M, RoverRoom
 
 
@@ -90,8 +92,9 @@ def test_snapshot_and_restore_replay_the_same_future():
 
 def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
     """A board trims its wheel duties every 50 ms; the recorder samples those changes
-    only where the path bends. The swept cells match a recorder that samples every
-    change, over straight runs, arcs and turns on the spot."""
+    only where the path bends or turns back. The swept cells match a recorder that
+    samples every change, over straight runs, a straight reversal in open floor, arcs
+    and turns on the spot."""
     import random
 
     import numpy as np
@@ -106,15 +109,15 @@ def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
             plant = RoverRoom(room_w_m=4.0, room_h_m=4.0, start_pose=(0.5, 0.5, 0.3))
             plant.reset(2)
             rnd = random.Random(5)
-            base = [(30000, 30000), (30000, 45000), (25000, 25000), (40000, 0)]
+            base = [(30000, 30000), (-30000, -30000), (30000, 45000), (25000, 25000), (40000, 0)]
             t = 0
-            for step in range(400):  # 20 s: 50 ms control steps, segments of 1.25 s
+            for step in range(500):  # 25 s: 50 ms control steps, segments of 1.25 s
                 left, right = base[(step // 25) % len(base)]
                 for side, duty in (("l", left), ("r", right)):
-                    duty = max(0, duty + rnd.randrange(-800, 800))
-                    plant.set_input(f"motor_{side}.in1", 1 if duty else 0)
-                    plant.set_input(f"motor_{side}.in2", 0)
-                    plant.set_input(f"motor_{side}.pwm", duty)
+                    duty += rnd.randrange(-800, 800) if duty else 0
+                    plant.set_input(f"motor_{side}.in1", 1 if duty > 0 else 0)
+                    plant.set_input(f"motor_{side}.in2", 1 if duty < 0 else 0)
+                    plant.set_input(f"motor_{side}.pwm", abs(duty))
                 t += 50_000
                 plant.advance_to(t)
             plant.truth()
@@ -128,4 +131,38 @@ def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
     bends, _ = swept(coverage.BEND_RAD)
     assert every.sum() > 80, "the robot should sweep a good part of the room"
     differ = int(np.logical_xor(every, bends).sum())
-    assert differ <= 3, f"{differ} of {int(every.sum())} swept cells differ"
+    assert differ == 0, f"{differ} of {int(every.sum())} swept cells differ"
+
+
+@pytest.mark.parametrize("reverse_at_us", [1_090_000, 1_150_000, 1_190_000])
+def test_coverage_reaches_the_point_where_the_robot_turned_back(reverse_at_us):
+    """Straight ahead, then straight back in open floor: the turning point is sampled
+    (the heading does not change there), as a path sampled every millisecond shows."""
+    from sim_plant.coverage import CoverageRecorder
+
+    def swept(dense):
+        plant = RoverRoom(start_pose=(1.0, 2.0, 0.0))
+        grid = plant.part(CoverageRecorder).grid
+        t = 0
+
+        def drive(duty, until_us):
+            nonlocal t
+            for side in "lr":
+                plant.set_input(f"motor_{side}.in1", 1 if duty > 0 else 0)
+                plant.set_input(f"motor_{side}.in2", 1 if duty < 0 else 0)
+                plant.set_input(f"motor_{side}.pwm", abs(duty))
+            while t < until_us:
+                t = min(t + 1_000, until_us) if dense else until_us
+                plant.advance_to(t)
+                if dense:
+                    grid.add_point(*plant.pose_at(t)[:2])
+
+        drive(65535, reverse_at_us)
+        drive(-65535, reverse_at_us + 1_000_000)
+        drive(0, reverse_at_us + 1_100_000)
+        grid.flush()
+        return grid.covered.copy()
+
+    reference, got = swept(dense=True), swept(dense=False)
+    missed = int((reference & ~got).sum())
+    assert missed == 0, f"{missed} cells swept on the way out are not marked"
