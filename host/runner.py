@@ -275,6 +275,7 @@ class Rig:
         self._chan = Channel(transport)
 
     def _spawn(self) -> None:
+        self._last_type = None
         self._launch()
         self._handles = []
         self._by_signal = {}
@@ -735,8 +736,9 @@ class Rig:
     def _last_msg_text(self) -> str:
         if self._last_type is None:
             return "none yet"
+        name = MSG_NAMES.get(self._last_type, hex(self._last_type))
         wall = self._chan.last_data_wall if self._chan else None
-        return f"{MSG_NAMES.get(self._last_type, hex(self._last_type))} at wall {wall or 0.0:.3f}"
+        return name if wall is None else f"{name}, read at wall {wall:.3f}"
 
     def _on_silence(self, timeout_s: float, what: str):
         proc = self._proc
