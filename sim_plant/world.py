@@ -227,9 +227,9 @@ class World:
             if abs(nx * x + ny * y - c) >= clear + r:  # cannot touch, nor be nearer than the best
                 continue
             px, py, s = _offset_from_segment(x, y, ax, ay, ux, uy, length)
-            run = min(s, 1.0 - s) * length
             d = math.hypot(px, py)
             if d <= limit:
+                run = min(s, 1.0 - s) * length
                 if d > 1e-12:
                     touches.append((d - r, px / d, py / d, run))
                 else:
