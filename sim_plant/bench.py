@@ -28,12 +28,17 @@ QUANTA = 600  # 30 s of virtual time per robot
 TARGET_US = 50.0
 
 
-def _rover(p, k):
+def _forward_weaving(p, k: int, duty: int) -> None:
+    """Both TB6612 channels forward at ``duty``, weaving (see :func:`_weave`)."""
     if k == 0:
         for side in "lr":
             p.set_input(f"motor_{side}.in1", 1)
-            p.set_input(f"motor_{side}.pwm", 30_000)
-    _weave(p, "motor_l.pwm", "motor_r.pwm", 30_000, 2_000, k)
+            p.set_input(f"motor_{side}.pwm", duty)
+    _weave(p, "motor_l.pwm", "motor_r.pwm", duty, 2_000, k)
+
+
+def _rover(p, k):
+    _forward_weaving(p, k, 30_000)
 
 
 def _weave(p, left: str, right: str, duty: int, delta: int, k: int) -> None:
@@ -55,11 +60,7 @@ def _duct(p, k):
 
 
 def _vacuum(p, k):
-    if k == 0:
-        for side in "lr":
-            p.set_input(f"motor_{side}.in1", 1)
-            p.set_input(f"motor_{side}.pwm", 40_000)
-    _weave(p, "motor_l.pwm", "motor_r.pwm", 40_000, 2_000, k)
+    _forward_weaving(p, k, 40_000)
     if k % 3 == 0:  # one servo step and one ping per 150 ms sensing task (seed 003 §4.1)
         p.set_input("servo.pwm", (1638, 3276, 4915, 6553, 8191)[(k // 3) % 5])
         p.set_input("sonar.trig", 1)

@@ -125,6 +125,11 @@ class Bumper:
             self.pending = [(t_us + 1 + dt, new ^ 1 if k % 2 == 0 else new) for k, dt in enumerate(times)]
 
 
+def front_bumper(half_arc_deg: float, bounce_us: int) -> "Bumper":
+    """A bumper named ``bumper`` over the front of the first body circle."""
+    return Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=half_arc_deg, bounce_us=bounce_us)
+
+
 class ContactMonitor(Part):
     """Body circles ``(ox_m, oy_m, r_m)`` against the world's walls, and the bumpers.
 

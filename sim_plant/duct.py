@@ -49,7 +49,7 @@ parameter                default  meaning
 import math
 
 from sim_plant.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
-from sim_plant.contacts import Bumper, ContactMonitor
+from sim_plant.contacts import ContactMonitor, front_bumper
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import SlottedDiskEncoder
 from sim_plant.engine import RobotPlant
@@ -80,20 +80,15 @@ class DuctRobot(RobotPlant):
             self.world = WORLDS[world]()
         else:
             raise ValueError(f"world: one of {sorted(WORLDS)} or a World, got {world!r}")
-        self.start_pose = tuple(float(v) for v in start_pose)
-        self.wheel_radius_m = float(wheel_diameter_m) / 2
-        self.track_m = float(track_m)
-        self.v_max_m_s = float(v_max_m_s)
-        self.deadband_duty = float(deadband_duty)
-        self.motor_gains = tuple(motor_gains)
-        self.motor_time_constant_ms = float(motor_time_constant_ms)
+        self._set_wheels(start_pose=start_pose, wheel_radius_m=float(wheel_diameter_m) / 2, track_m=track_m,
+                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
+                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
+                         bumper_bounce_us=bumper_bounce_us)
         self.slots_per_rev = int(slots_per_rev)
         self.gear_ratio = float(gear_ratio)
         self.spin_slip = float(spin_slip)
         self.sonar_gains = tuple(sonar_gains)
         self.sonar_options = dict(sonar_options or {})
-        self.bumper = bool(bumper)
-        self.bumper_bounce_us = int(bumper_bounce_us)
         super().__init__()
 
     def _build(self) -> None:
@@ -104,8 +99,7 @@ class DuctRobot(RobotPlant):
         enc = {"lines_per_rev": self.slots_per_rev, "gear_ratio": self.gear_ratio}
         self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, **enc),
                          SlottedDiskEncoder(("enc_r",), wheel=1, **enc)]
-        bumpers = [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=60.0,
-                          bounce_us=self.bumper_bounce_us)] if self.bumper else []
+        bumpers = [front_bumper(60.0, self.bumper_bounce_us)] if self.bumper else []
         channels = [AmplitudeChannel(name, mount, gain) for (name, mount), gain in
                     zip(SONAR_MOUNTS.items(), self.sonar_gains)]
         self.parts = [ContactMonitor(BODY_CIRCLES, bumpers), AmplitudeSonarArray(channels, **self.sonar_options)]

@@ -135,12 +135,6 @@ class RobotPlant(Plant):
 
     FIXED_STATE = ("encoders", "parts", "inputs", "outputs", "_input_route", "_encoder_outputs")
 
-
-    def _wheel_motors(self) -> tuple:
-        """One DcMotor per wheel from the plant's ``v_max_m_s``, ``wheel_radius_m``,
-        ``deadband_duty``, ``motor_gains`` and ``motor_time_constant_ms``."""
-        return tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
-                             gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
     def __init__(self):
         self.reset(0)
         self.inputs = {}
@@ -153,6 +147,28 @@ class RobotPlant(Plant):
 
     def _build(self) -> None:
         raise NotImplementedError
+
+    # -- for two-wheeled robots ---------------------------------------------------------
+
+    def _set_wheels(self, *, start_pose, wheel_radius_m, track_m, v_max_m_s, deadband_duty, motor_gains,
+                    motor_time_constant_ms, bumper, bumper_bounce_us) -> None:
+        """Keep the constructor's drive and bumper options, as :meth:`_wheel_motors` and
+        the plant's ``_build`` read them."""
+        self.start_pose = tuple(float(v) for v in start_pose)
+        self.wheel_radius_m = float(wheel_radius_m)
+        self.track_m = float(track_m)
+        self.v_max_m_s = float(v_max_m_s)
+        self.deadband_duty = float(deadband_duty)
+        self.motor_gains = tuple(motor_gains)
+        self.motor_time_constant_ms = float(motor_time_constant_ms)
+        self.bumper = bool(bumper)
+        self.bumper_bounce_us = int(bumper_bounce_us)
+
+    def _wheel_motors(self) -> tuple:
+        """One DcMotor per wheel from the plant's ``v_max_m_s``, ``wheel_radius_m``,
+        ``deadband_duty``, ``motor_gains`` and ``motor_time_constant_ms``."""
+        return tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
+                             gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
 
     # -- contract -------------------------------------------------------------------
 

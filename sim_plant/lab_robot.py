@@ -41,7 +41,7 @@ parameter                default    meaning
 
 import math
 
-from sim_plant.contacts import Bumper, ContactMonitor
+from sim_plant.contacts import ContactMonitor, front_bumper
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import QuadratureEncoder
 from sim_plant.engine import RobotPlant
@@ -75,21 +75,16 @@ class LabRobot(RobotPlant):
             self.world = make()
         else:
             raise ValueError(f"world: one of {sorted(WORLDS)} or a World, got {world!r}")
-        self.start_pose = tuple(float(v) for v in (start_pose or default_start))
-        self.wheel_radius_m = float(wheel_radius_m)
-        self.track_m = float(track_m)
-        self.v_max_m_s = float(v_max_m_s)
-        self.deadband_duty = float(deadband_duty)
-        self.motor_gains = tuple(motor_gains)
-        self.motor_time_constant_ms = float(motor_time_constant_ms)
+        self._set_wheels(start_pose=start_pose or default_start, wheel_radius_m=wheel_radius_m, track_m=track_m,
+                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
+                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
+                         bumper_bounce_us=bumper_bounce_us)
         self.lines_per_rev = int(lines_per_rev)
         self.gear_ratio = float(gear_ratio)
         self.polarity = tuple(polarity)
         self.spin_slip = float(spin_slip)
         self.sonar_period_us = int(sonar_period_us)
         self.sonar_noise_m = float(sonar_noise_m)
-        self.bumper = bool(bumper)
-        self.bumper_bounce_us = int(bumper_bounce_us)
         super().__init__()
 
     def _build(self) -> None:
@@ -100,8 +95,7 @@ class LabRobot(RobotPlant):
         enc = {"lines_per_rev": self.lines_per_rev, "gear_ratio": self.gear_ratio}
         self.encoders = [QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, polarity=self.polarity[0], **enc),
                          QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, polarity=self.polarity[1], **enc)]
-        bumpers = [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0,
-                          bounce_us=self.bumper_bounce_us)] if self.bumper else []
+        bumpers = [front_bumper(70.0, self.bumper_bounce_us)] if self.bumper else []
         sonar = {"noise_sd_m": self.sonar_noise_m, "min_m": 0.15, "max_m": 5.0}
         adc = {"period_us": self.sonar_period_us, "volts_per_m": MAXBOTIX_V_PER_M}
         self.parts = [

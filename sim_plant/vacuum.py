@@ -31,7 +31,7 @@ disk sold with the F249 module), a dead band of 25 % duty ("At low speed the mot
 able to supply the required torque", §5.2).
 """
 
-from sim_plant.contacts import Bumper, ContactMonitor
+from sim_plant.contacts import ContactMonitor, front_bumper
 from sim_plant.coverage import CoverageGrid, CoverageRecorder
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import SlottedDiskEncoder
@@ -49,17 +49,12 @@ class VacuumRobot(RobotPlant):
                  slots_per_rev=20, sonar_noise_sd_m=0.003, bumper=False, bumper_bounce_us=0,
                  coverage_cell_m=0.05):
         self.world = world if isinstance(world, World) else vacuum_room()
-        self.start_pose = tuple(float(v) for v in start_pose)
-        self.wheel_radius_m = float(wheel_diameter_m) / 2
-        self.track_m = float(track_m)
-        self.v_max_m_s = float(v_max_m_s)
-        self.deadband_duty = float(deadband_duty)
-        self.motor_gains = tuple(motor_gains)
-        self.motor_time_constant_ms = float(motor_time_constant_ms)
+        self._set_wheels(start_pose=start_pose, wheel_radius_m=float(wheel_diameter_m) / 2, track_m=track_m,
+                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
+                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
+                         bumper_bounce_us=bumper_bounce_us)
         self.slots_per_rev = int(slots_per_rev)
         self.sonar_noise_sd_m = float(sonar_noise_sd_m)
-        self.bumper = bool(bumper)
-        self.bumper_bounce_us = int(bumper_bounce_us)
         self.coverage_cell_m = float(coverage_cell_m)
         super().__init__()
 
@@ -70,8 +65,7 @@ class VacuumRobot(RobotPlant):
                                     start_pose=self.start_pose)
         self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, lines_per_rev=self.slots_per_rev),
                          SlottedDiskEncoder(("enc_r",), wheel=1, lines_per_rev=self.slots_per_rev)]
-        bumpers = [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0,
-                          bounce_us=self.bumper_bounce_us)] if self.bumper else []
+        bumpers = [front_bumper(70.0, self.bumper_bounce_us)] if self.bumper else []
         self.parts = [
             ContactMonitor([(0.0, 0.0, BODY_RADIUS_M)], bumpers),
             HcSr04(mount=(0.10, 0.0, 0.0), servo=Servo(), noise_sd_m=self.sonar_noise_sd_m),
