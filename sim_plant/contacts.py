@@ -5,7 +5,7 @@ is a row of them, like the four circular contact areas of seed 002's simulation,
 B.4). The :class:`ContactMonitor` checks the circles against the walls at check points
 it plans itself: after the time the body needs at full speed to cover the smallest gap
 (so a contact is never missed) and, while it touches, no later than the touch can end:
-when the touching circle's free path would leave the wall, when the touch point reaches
+when the touching circle's free motion turns away from the wall, when the touch point reaches
 the wall's end, or when it crosses the edge of a bumper's arc; every ``RECHECK_US`` where
 that is not worked out (a touch on a corner point, several touches at once while
 sliding). A circle that has gone into a wall is pushed back out along the wall's
