@@ -57,6 +57,8 @@ class _Console:
         self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
         self.link_session = False  # a plant link runs over the console: Ctrl-C is data
         self.prompt = False  # the REPL waits for input: Ctrl-C is data it handles
+        self.tail = b""  # the interpreter's last bytes: a prompt may be split across reads
+        self.frames = F.Decoder()  # watches the interpreter's output for HELLO and EXIT
 
 
 class VirtualBoard(Rig):
@@ -135,6 +137,8 @@ class VirtualBoard(Rig):
         self._boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
         self.console_pty.link_session = False
         self.console_pty.prompt = False
+        self.console_pty.tail = b""
+        self.console_pty.frames = F.Decoder()
         if self.wired:
             self._spawn()
         else:
@@ -169,12 +173,15 @@ class VirtualBoard(Rig):
 
     def _from_interpreter(self, data: bytes) -> None:
         con = self.console_pty
-        # a plant link starts with HELLO and ends with EXIT frames on the console
-        if bytes((F.SOF, F.HELLO)) in data:
-            con.link_session = True
-        elif bytes((F.SOF, F.EXIT)) in data:
-            con.link_session = False
-        con.prompt = data.endswith(PROMPTS)
+        # a plant link starts with a HELLO frame and ends with an EXIT frame on the console
+        # (whole frames, CRC checked: their bytes may sit anywhere in other frames)
+        con.frames.feed(data)
+        while (frame := con.frames.next()) is not None:
+            if frame[0] in (F.HELLO, F.EXIT):
+                con.link_session = frame[0] == F.HELLO
+        seen = con.tail + data  # (the pty may hand over one write in two reads)
+        con.prompt = seen.endswith(PROMPTS)
+        con.tail = seen[-3:]
         self._write(con.client.master_fd, data)
 
     @staticmethod
@@ -315,7 +322,9 @@ def _serve(args) -> int:
         pidfile.write_text(str(os.getpid()))
 
         def ready(port):
-            portfile.write_text(port + "\n")
+            partial = portfile.with_suffix(".partial")  # readers never see a half-written name
+            partial.write_text(port + "\n")
+            os.replace(partial, portfile)
             print(f"virtual board {args.board} on {port} (folder {vb.fs})", flush=True)
 
         vb.serve_forever(ready)
