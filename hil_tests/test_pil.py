@@ -15,10 +15,12 @@ BOARD = "esp32_devkitc"
 def flashed_board(tmp_path):
     home = tmp_path / "board"
     port = vboard.start_background(BOARD, home=home, wired=False)
-    folder, files = flash.stage("rover", BOARD)
-    flash.copy(port, folder, files)
-    yield port
-    vboard.stop_background(BOARD, home)
+    try:  # (a failed flash stops the board too)
+        folder, files = flash.stage("rover", BOARD)
+        flash.copy(port, folder, files)
+        yield port
+    finally:
+        vboard.stop_background(BOARD, home)
 
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
