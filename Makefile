@@ -28,16 +28,16 @@ APP ?= rover
 .PHONY: setup test hil bench lint flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
-	@host/report_tools.sh
-	@$(PY) -m host.interpreter version
+	@host/core/report_tools.sh
+	@$(PY) -m host.core.interpreter version
 
-$(VENV)/.installed: pyproject.toml host/bootstrap.sh
-	host/bootstrap.sh $(PYTHON) $(VENV)
+$(VENV)/.installed: pyproject.toml host/core/bootstrap.sh
+	host/core/bootstrap.sh $(PYTHON) $(VENV)
 	@touch $@
 
-$(MP_BUILD): host/interpreter.py host/micropython/manifest.py host/micropython/sources.list
+$(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/micropython/sources.list
 	rm -f $(MP_BUILD)
-	$(PYTHON) -m host.interpreter build
+	$(PYTHON) -m host.core.interpreter build
 
 test: setup
 	$(PY) -m pytest -q
@@ -47,11 +47,11 @@ hil: setup
 	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html hil_tests
 
 flash: setup
-	@$(PY) -m host.flash --app $(APP) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
+	@$(PY) -m host.device.flash --app $(APP) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
 
 bench: setup
 	$(PY) -m host.bench
-	$(PY) -m sim_plant.bench
+	$(PY) -m sim_plant.plant_cost
 
 lint: setup
 	$(VENV)/bin/ruff check host sim_plant hil_tests

@@ -4,8 +4,8 @@ module, the flashed files in its folder)."""
 
 import pytest
 
-from host import flash, vboard
-from host.pil import BoardRig
+from host.device import flash, vboard
+from host.device.pil import BoardRig
 
 pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"

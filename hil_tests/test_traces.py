@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from host.plots import plot_trace
-from host.replay import replay
+from host.artefacts.folder import load_trace
+from host.report.plots import plot_trace
+from host.rig.replay import replay
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
-from host.tracefolder import load_trace
 
 pytestmark = pytest.mark.hil
 
@@ -23,7 +23,7 @@ DURATION_S = 12
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     """One 12 s rover run that bumps into the wall, recorded (shared by the tests that read it)."""
-    from host.runner import Rig
+    from host.rig.rig import Rig
 
     folder = tmp_path_factory.mktemp("rover-seed11")
     with Rig("rover", seed=11, plant_options={"room_w_m": 3.5}, trace=True, record=True, artefacts=folder) as rig:

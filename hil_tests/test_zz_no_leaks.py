@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from host import interpreter
+from host.core import interpreter
 
 pytestmark = pytest.mark.hil
 

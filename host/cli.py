@@ -16,12 +16,12 @@ import inspect
 import sys
 from pathlib import Path
 
-from host.apps import APPS
-from host.boards import BOARDS_DIR, REPO
-from host.budgets import format_table
-from host.errors import ConfigError, HarnessError
-from host.progress import MissionProgress
-from host.tracefolder import HEADER
+from host.artefacts.folder import HEADER
+from host.core.errors import ConfigError, HarnessError
+from host.core.paths import BOARDS_DIR, REPO
+from host.report.progress import MissionProgress
+from host.report.table import format_table
+from host.rig.apps import APPS
 
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
@@ -117,7 +117,7 @@ def _trace_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from host.runner import Rig
+    from host.rig.rig import Rig
 
     sub = args.sub
     app = APPS[args.app]
@@ -167,7 +167,7 @@ def cmd_run(args) -> int:
     if rows:
         print(format_table(rows))
     if not args.no_plots:
-        from host.plots import plot_trace
+        from host.report.plots import plot_trace
 
         for path in plot_trace(out):
             print(f"plot: {path}")
@@ -175,7 +175,7 @@ def cmd_run(args) -> int:
 
 
 def cmd_replay(args) -> int:
-    from host.replay import replay
+    from host.rig.replay import replay
 
     out = args.out or args.trace / "replay"
     show = _progress(f"replay {args.trace}")
@@ -193,7 +193,7 @@ def cmd_replay(args) -> int:
 
 
 def cmd_plot(args) -> int:
-    from host.plots import plot_trace
+    from host.report.plots import plot_trace
 
     for path in plot_trace(args.trace, args.out):
         print(f"plot: {path}")

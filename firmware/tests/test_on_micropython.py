@@ -7,8 +7,8 @@ import subprocess
 from kalman import gain_schedule
 from nmea import NmeaLines, dpt_depth_m
 
-from host import interpreter
-from host.boards import REPO
+from host.core import interpreter
+from host.core.paths import REPO
 
 SCRIPT = """
 import json

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from host.apps import PROBE, App
+from host.rig.apps import PROBE, App
 from sim_plant.scripted import ScriptedPlant
 
 FIRMWARE = Path(__file__).parent / "firmware"

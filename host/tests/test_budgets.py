@@ -1,7 +1,7 @@
 """Timing budgets that the pool cleaner added: sentence periods on a UART (counted at a
 marker byte) and track-stop pulses (one of two outputs at 1)."""
 
-from host.budgets import PeriodBudget, PulseBudget
+from host.rig.budgets import PeriodBudget, PulseBudget
 
 
 def test_a_uart_period_counts_chunks_with_the_marker_byte_only():

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from host.boards import REPO
+from host.core.paths import REPO
 
 
 def cli(*args: str) -> subprocess.CompletedProcess:

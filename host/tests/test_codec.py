@@ -6,7 +6,7 @@ import subprocess
 import zlib
 from pathlib import Path
 
-from host import interpreter
+from host.core import interpreter
 from host.shim import _hilframe as F
 from host.tests.frame_vectors_check import check
 

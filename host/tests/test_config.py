@@ -2,8 +2,8 @@
 
 import pytest
 
-from host.errors import ConfigError
-from host.runner import Rig
+from host.core.errors import ConfigError
+from host.rig.rig import Rig
 
 
 @pytest.mark.parametrize(

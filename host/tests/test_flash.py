@@ -7,10 +7,10 @@ import time
 
 import pytest
 
-from host import flash, vboard
-from host.apps import APPS, App
-from host.boards import REPO
-from host.errors import HarnessError
+from host.core.errors import HarnessError
+from host.core.paths import REPO
+from host.device import flash, vboard
+from host.rig.apps import APPS, App
 
 pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"
@@ -55,7 +55,7 @@ def test_syntax_error_fails_the_flash_with_file_and_line(tmp_path, monkeypatch):
 @pytest.mark.parametrize("port", ["/dev/ttyNOPE9", str(REPO / "README.md")])
 def test_missing_or_wrong_port_gives_one_line_naming_it(port):
     out = subprocess.run(
-        [sys.executable, "-m", "host.flash", "--app", "rover", "--port", port],
+        [sys.executable, "-m", "host.device.flash", "--app", "rover", "--port", port],
         capture_output=True,
         text=True,
         timeout=60,
@@ -68,7 +68,7 @@ def test_missing_or_wrong_port_gives_one_line_naming_it(port):
 
 def test_ctrl_c_during_a_flash_leaves_the_board_usable(board_port, tmp_path):
     port, home = board_port
-    cmd = [sys.executable, "-m", "host.flash", "--app", "rover", "--port", port, "--wait", "1"]
+    cmd = [sys.executable, "-m", "host.device.flash", "--app", "rover", "--port", port, "--wait", "1"]
     proc = subprocess.Popen(cmd, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     out = ""
     deadline = time.monotonic() + 30

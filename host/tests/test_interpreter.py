@@ -2,8 +2,8 @@
 
 import pytest
 
-from host import interpreter
-from host.errors import SetupError
+from host.core import interpreter
+from host.core.errors import SetupError
 
 
 def test_micropython_override_must_be_an_executable(monkeypatch, tmp_path):

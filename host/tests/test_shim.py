@@ -4,7 +4,7 @@ import time
 
 import pytest
 
-from host.errors import FirmwareError, FirmwareHung
+from host.core.errors import FirmwareError, FirmwareHung
 
 pytestmark = pytest.mark.hil
 

@@ -1,8 +1,8 @@
 """The VCD writer: structure a wave viewer accepts, every change at its time, and GTKWave's
 own reader (vcd2fst, fst2vcd) reading back what was written."""
 
+from host.artefacts.vcd import write_vcd
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
-from host.vcd import write_vcd
 
 SIGNALS = {
     "enc_l.a": {"role": "sensor", "kind": "level"},

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from host import views
-from host.progress import MissionProgress
-from host.tracefolder import TraceData
+from host.artefacts.folder import TraceData
+from host.report import views
+from host.report.progress import MissionProgress
 
 ROOM = {"name": "room 5 x 4 m", "segments": [[0, 0, 5, 0], [5, 0, 5, 4], [5, 4, 0, 4], [0, 4, 0, 0]]}
 M_PER_COUNT = views.ROVER_M_PER_COUNT

@@ -13,10 +13,10 @@ replay reproduces).
 from dataclasses import dataclass
 from pathlib import Path
 
-from host.errors import ConfigError
-from host.recording import ACTUATOR, SENSOR
-from host.runner import Rig
-from host.tracefolder import TraceData, load_trace
+from host.artefacts.folder import TraceData, load_trace
+from host.artefacts.recorder import ACTUATOR, SENSOR
+from host.core.errors import ConfigError
+from host.rig.rig import Rig
 from sim_plant.scripted import ScriptedPlant
 
 

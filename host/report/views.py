@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from host.recording import ACTUATOR, SENSOR
-from host.tracefolder import TraceData
+from host.artefacts.folder import TraceData
+from host.artefacts.recorder import ACTUATOR, SENSOR
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import World
 

@@ -3,7 +3,7 @@
 - ``trajectory.png``: the ground-truth path over the world's walls, coloured by time,
   on the floor it covered; start, end and every bump marked.
 - ``signals.png``: sensors, estimate and actuator commands over virtual time
-  (:mod:`host.views` chooses them per app).
+  (:mod:`host.report.views` chooses them per app).
 - ``timing.png``: a histogram per timing budget against its limit.
 """
 
@@ -16,8 +16,8 @@ from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, NullLocator
 
-from host import views
-from host.tracefolder import TraceData, load_trace
+from host.artefacts.folder import TraceData, load_trace
+from host.report import views
 
 DPI = 100
 PLOTS = "plots"

@@ -5,7 +5,7 @@ file                content
 ==================  ==================================================================
 ``header.json``     app, board, world, plant and its options, seed, mode, commit,
                     MicroPython version, end time, the signals with their role and kind
-``trace.jsonl``     the link messages, decoded (written by :mod:`host.trace`)
+``trace.jsonl``     the link messages, decoded (written by :mod:`host.artefacts.linklog`)
 ``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
 ``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
 ``budgets.json``    each timing budget: limit, statistics and every measured value
@@ -27,11 +27,11 @@ from pathlib import Path
 
 import numpy as np
 
-from host import provenance
-from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget
-from host.errors import ConfigError
-from host.recording import SENSOR
-from host.vcd import write_vcd
+from host.artefacts.recorder import SENSOR
+from host.artefacts.vcd import write_vcd
+from host.core import provenance
+from host.core.errors import ConfigError
+from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"

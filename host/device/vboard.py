@@ -2,7 +2,7 @@
 
 The "USB serial" is a pty whose slave path tools open like ``/dev/ttyUSB0``
 (``mpremote connect <port>``). Behind it the unix port runs the board REPL of
-``host/vrepl/_vrepl.py`` (friendly REPL, raw REPL, raw-paste) in a board folder that
+``host/device/vrepl/_vrepl.py`` (friendly REPL, raw REPL, raw-paste) in a board folder that
 persists: ``build/vboard/<board>/fs`` holds what was flashed. A soft reset (Ctrl-D)
 restarts the interpreter in the same folder; ``boot.py`` and then ``main.py`` run at
 boot as on a board. Ctrl-C from the port interrupts what runs (SIGINT to the
@@ -15,7 +15,7 @@ served in real time by a plant (the app's, as in the HIL runs), so ``main.py`` d
 simulated robot like a board on a bench. A *bare* one has the unix port's own modules,
 for processor-in-the-loop runs where the host serves the plant over the port.
 
-``python -m host.vboard start|stop|port|serve`` manages one per board folder.
+``python -m host.device.vboard start|stop|port|serve`` manages one per board folder.
 """
 
 import argparse
@@ -27,11 +27,11 @@ import sys
 import time
 from pathlib import Path
 
-from host import interpreter
-from host.boards import REPO
-from host.errors import HarnessError, LinkTimeout
+from host.core import interpreter
+from host.core.errors import HarnessError, LinkTimeout
+from host.core.paths import REPO
 from host.link import Channel, FdTransport, PtyPair
-from host.runner import Rig
+from host.rig.rig import Rig
 from host.shim import _hilframe as F
 
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
@@ -269,7 +269,7 @@ def start_background(board: str, *, home: Path | None = None, wired: bool = True
     portfile = home / "port"
     portfile.unlink(missing_ok=True)
     log = open(home / "vboard.log", "w")
-    cmd = [sys.executable, "-m", "host.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
+    cmd = [sys.executable, "-m", "host.device.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
     if not wired:
         cmd.append("--bare")
     proc = subprocess.Popen(
@@ -336,7 +336,7 @@ def _serve(args) -> int:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m host.vboard", description="virtual board on a pty")
+    parser = argparse.ArgumentParser(prog="python -m host.device.vboard", description="virtual board on a pty")
     parser.add_argument("command", choices=["start", "stop", "port", "serve"])
     parser.add_argument("--board", default="esp32_devkitc", help="board name (firmware/boards/<board>)")
     parser.add_argument("--app", default="rover", help="app whose plant a wired board drives")

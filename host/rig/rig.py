@@ -25,19 +25,19 @@ from pathlib import Path
 
 import numpy as np
 
-from host import interpreter
-from host.apps import PROBE, App, get_app
-from host.boards import board_dir, pin_key, read_pin_map
-from host.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
-from host.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
+from host.artefacts.folder import write_trace_folder
+from host.artefacts.linklog import Trace
+from host.artefacts.recorder import ACTUATOR, PIN, Recorder
+from host.artefacts.recorder import PROBE as PROBE_ROLE
+from host.core import interpreter
+from host.core.errors import ConfigError, FirmwareError, FirmwareHung, LinkError, LinkTimeout
+from host.core.paths import SHIM_DIR
 from host.link import Channel, FdTransport, PtyPair, spare_core
-from host.recording import ACTUATOR, PIN, Recorder
-from host.recording import PROBE as PROBE_ROLE
+from host.rig.apps import PROBE, App, get_app
+from host.rig.boards import board_dir, pin_key, read_pin_map
+from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.shim import _hilframe as F
-from host.trace import Trace
-from host.tracefolder import write_trace_folder
 
-SHIM_DIR = Path(__file__).resolve().parent / "shim"
 MODES = {"lockstep": F.MODE_LOCKSTEP, "realtime": F.MODE_REALTIME}
 HANDSHAKE_TIMEOUT_S = 10.0
 CONSOLE_TAIL_LINES = 20

@@ -1,4 +1,4 @@
-"""Plant cost per 50 ms control quantum, for each robot: ``python -m sim_plant.bench``.
+"""Plant cost per 50 ms control quantum, for each robot: ``python -m sim_plant.plant_cost``.
 
 Each robot cruises in its world as its firmware would drive it (both wheels at a
 cruising duty, a steering correction every second, the HC-SR04 pinged every 150 ms) for

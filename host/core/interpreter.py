@@ -1,8 +1,8 @@
 """The MicroPython interpreter the harness runs: MicroPython's unix port built from
 Debian's ``micropython`` source package, or ``$MICROPYTHON``.
 
-``python3 -m host.interpreter build`` fetches the pinned source with ``apt-get source``
-through a project-local apt configuration (``host/micropython/sources.list``; lists,
+``python3 -m host.core.interpreter build`` fetches the pinned source with ``apt-get source``
+through a project-local apt configuration (``host/core/micropython/sources.list``; lists,
 cache and state under ``build/micropython/apt``), builds the standard variant with
 ``asyncio`` frozen in, and installs the binary at :func:`default_path`. It rebuilds
 nothing when that binary exists. Standard library only: it runs before the venv.
@@ -14,13 +14,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-from host.errors import SetupError
+from host.core import paths
+from host.core.errors import SetupError
 
 DEBIAN_VERSION = "1.25.0+ds-1"
 """Pinned source package version (Debian 13 "trixie" carries 1.25.0)."""
 
-REPO = Path(__file__).resolve().parent.parent
-BUILD = REPO / "build" / "micropython"
+BUILD = paths.BUILD / "micropython"
 HERE = Path(__file__).resolve().parent / "micropython"
 APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):
@@ -126,7 +126,7 @@ def fetch_source() -> Path:
     for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
         (apt / sub).mkdir(parents=True, exist_ok=True)
     (apt / "status").touch()
-    _log("apt-get update (project-local sources: host/micropython/sources.list)")
+    _log("apt-get update (project-local sources: host/core/micropython/sources.list)")
     subprocess.run(_apt("update"), check=True, stdout=subprocess.DEVNULL)
     if src_root.exists():
         shutil.rmtree(src_root)
@@ -183,7 +183,7 @@ def main(argv: list[str]) -> int:
             path = find()
             print(f"{version(path)} ({path})")
         else:
-            print("usage: python3 -m host.interpreter [build|path|version]", file=sys.stderr)
+            print("usage: python3 -m host.core.interpreter [build|path|version]", file=sys.stderr)
             return 2
     except SetupError as e:
         print(f"error: {e}", file=sys.stderr)

@@ -6,15 +6,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from host.boards import REPO
-from host.budgets import Budget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
-from host.errors import ConfigError
+from host.core.errors import ConfigError
+from host.core.paths import FIRMWARE
+from host.rig.budgets import Budget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.rover import RoverRoom
 from sim_plant.world import POOL_LENGTH_M
 
-FIRMWARE = REPO / "firmware"
 PROBE = "probe:"
 """Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 

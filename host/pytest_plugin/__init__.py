@@ -16,13 +16,13 @@ from pathlib import Path
 
 import pytest
 
-from host import interpreter
-from host.boards import REPO
-from host.budgets import format_table
-from host.errors import SetupError
-from host.hil_report import ReportCollector
-from host.pytest_progress import clear_progress_lines, mission_progress
-from host.runner import Rig
+from host.core import interpreter
+from host.core.errors import SetupError
+from host.core.paths import REPO
+from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
+from host.report.session import ReportCollector
+from host.report.table import format_table
+from host.rig.rig import Rig
 
 ARTEFACTS = REPO / "build" / "hil"
 _rows: list[dict] = []

@@ -10,8 +10,8 @@ import os
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from host.report import RigResult, Scenario, write_report
-from host.tracefolder import HEADER, load_trace
+from host.artefacts.folder import HEADER, load_trace
+from host.report.html import RigResult, Scenario, write_report
 
 MESSAGE_MAX_CHARS = 6000
 
@@ -62,7 +62,7 @@ class ReportCollector:
 
 
 def _plot_one(folder: Path) -> tuple[list[Path], str]:
-    from host.plots import plot_trace
+    from host.report.plots import plot_trace
 
     try:
         return plot_trace(folder), ""
@@ -71,7 +71,7 @@ def _plot_one(folder: Path) -> tuple[list[Path], str]:
 
 
 def _plot_all(folders: list[Path], workers: int | None) -> list[tuple[list[Path], str]]:
-    import host.plots  # noqa: F401  (once here, not in every worker)
+    import host.report.plots  # noqa: F401  (once here, not in every worker)
 
     workers = workers or min(len(folders), os.cpu_count() or 1)
     if workers <= 1 or len(folders) <= 1:

@@ -3,7 +3,7 @@
 import functools
 import subprocess
 
-from host.boards import REPO
+from host.core.paths import REPO
 
 GIT_TIMEOUT_S = 5.0
 

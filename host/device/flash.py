@@ -8,7 +8,7 @@
 3. Soft-reset the board in its friendly REPL, so ``main.py`` runs, and show the first
    lines it prints.
 
-Without ``--port`` the target is the virtual board of ``host/vboard.py`` (its folder
+Without ``--port`` the target is the virtual board of ``host/device/vboard.py`` (its folder
 ``build/vboard/<board>/fs`` keeps what was flashed; ``make hil FIRMWARE=<folder>`` runs
 the HIL scenarios from exactly those files).
 """
@@ -25,10 +25,11 @@ import sys
 import time
 from pathlib import Path
 
-from host import vboard
-from host.apps import FIRMWARE, get_app
-from host.boards import REPO, board_dir
-from host.errors import HarnessError
+from host.core.errors import HarnessError
+from host.core.paths import REPO
+from host.device import vboard
+from host.rig.apps import FIRMWARE, get_app
+from host.rig.boards import board_dir
 
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
@@ -247,7 +248,7 @@ def flash(
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m host.flash", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m host.device.flash", description=__doc__.split("\n")[0])
     parser.add_argument("--app", required=True, help="app folder under firmware/apps")
     parser.add_argument("--board", help="board pin map under firmware/boards (default: the app's)")
     parser.add_argument("--port", help="serial port of the board (default: the virtual board)")

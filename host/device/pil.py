@@ -9,16 +9,18 @@ lockstep (virtual, deterministic, compute measured with the board's own clock) o
 time (the board's real timing). ``stop()`` sends BYE; the firmware stops at its next
 wait and the board is back at its REPL.
 
-Tested against the virtual board of ``host/vboard.py`` (``hil_tests/test_pil.py``).
+Tested against the virtual board of ``host/device/vboard.py`` (``hil_tests/test_pil.py``).
 """
 
 import time
 from pathlib import Path
 
-from host import flash, interpreter
-from host.errors import FirmwareHung, LinkError
+from host.core import interpreter
+from host.core.errors import FirmwareHung, LinkError
+from host.core.paths import SHIM_DIR
+from host.device import flash
 from host.link import Channel, FdTransport
-from host.runner import SHIM_DIR, Rig
+from host.rig.rig import Rig
 from host.shim import _hilframe as F
 
 SHIM_FILES = ("_hil.py", "_hilframe.py", "_hilboot.py", "machine.py", "time.py", "select.py")

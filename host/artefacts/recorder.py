@@ -10,7 +10,7 @@ A :class:`Recorder` keeps, in time order:
 
 Speculative batches are rolled back with the plant (:meth:`Recorder.rewind`), so what
 is kept is what the firmware really saw. Nothing here reads the wall clock: the same
-run gives the same recording. :mod:`host.tracefolder` writes it out.
+run gives the same recording. :mod:`host.artefacts.folder` writes it out.
 """
 
 import numbers

@@ -11,7 +11,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from host import provenance
+from host.core import provenance
 
 BUDGET_COLUMNS = ("budget", "limit", "count", "p50", "p95", "p99", "max", "misses")
 PLOT_TITLES = {"trajectory": "trajectory", "timing": "timing budgets", "signals": "signals over time"}

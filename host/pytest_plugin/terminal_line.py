@@ -1,11 +1,11 @@
 """A long mission's progress in a pytest session: on a terminal, one line under the test
 dots, rewritten in place and cleared before the test's result is written; in a log, a
-line now and then (:class:`host.progress.MissionProgress` decides when)."""
+line now and then (:class:`host.report.progress.MissionProgress` decides when)."""
 
 import os
 import sys
 
-from host.progress import MissionProgress
+from host.report.progress import MissionProgress
 
 _screens: list = []  # the session's one progress line (pytest_runtest_logreport has no config)
 

@@ -4,10 +4,8 @@ live. The host reads it without running it (it is MicroPython: ``const()``)."""
 import ast
 from pathlib import Path
 
-from host.errors import ConfigError
-
-REPO = Path(__file__).resolve().parent.parent
-BOARDS_DIR = REPO / "firmware" / "boards"
+from host.core.errors import ConfigError
+from host.core.paths import BOARDS_DIR
 
 
 def board_dir(board: str) -> Path:

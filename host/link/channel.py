@@ -1,0 +1,61 @@
+"""Framed messages over a transport: the codec shared with the shim
+(``host/shim/_hilframe.py``), a sequence number per direction, and a deadline on every
+receive. The byte layout is in ``docs/protocol.md``."""
+
+import time
+
+from host.core.errors import LinkTimeout
+from host.link import frames
+
+TRUNCATION_TIMEOUT_S = 0.05
+"""A partial frame that gets no more bytes for this long is dropped as truncated."""
+
+
+class Channel:
+    """Framed messages over a transport. Every receive has a deadline."""
+
+    def __init__(self, transport):
+        self.transport = transport
+        self.decoder = frames.Decoder()
+        self.seq = 0
+        self.sent = 0
+        self.last_data_wall: float | None = None  # time.monotonic() of the last bytes read
+
+    def send(self, type_: int, payload: bytes) -> bytes:
+        data = frames.encode(type_, self.seq, payload)
+        self.seq = (self.seq + 1) & 0xFF
+        self.transport.write(data)
+        self.sent += 1
+        return data
+
+    def recv(self, timeout_s: float):
+        """The next good frame (type, seq, payload); LinkTimeout if none by the deadline."""
+        got = self.decoder.next()
+        if got is not None:  # (a read brings several frames at once)
+            return got
+        deadline = time.monotonic() + timeout_s
+        stalled_since = None
+        while True:
+            got = self.decoder.next()
+            if got is not None:
+                return got
+            now = time.monotonic()
+            if now >= deadline:
+                pending = self.decoder.pending()
+                raise LinkTimeout(f"no frame within {timeout_s:.3g} s ({pending} bytes of a partial frame)")
+            wait = deadline - now
+            if self.decoder.pending():
+                stalled_since = stalled_since or now
+                if now - stalled_since >= TRUNCATION_TIMEOUT_S:
+                    self.decoder.expire()
+                    stalled_since = None
+                    continue
+                wait = min(wait, TRUNCATION_TIMEOUT_S)
+            data = self.transport.read_some(wait)
+            if data:
+                self.decoder.feed(data)
+                self.last_data_wall = time.monotonic()
+                stalled_since = None
+
+    def counters(self) -> dict:
+        return {"sent": self.sent, **self.decoder.counters()}

@@ -1,0 +1,92 @@
+"""Bytes over a non-blocking file descriptor, with deadlines (the pty's master end, or a
+board's serial port)."""
+
+import os
+import select
+import time
+
+from host.core.errors import LinkError, LinkTimeout
+
+
+def spare_core() -> bool:
+    """True if this process may use two or more cores (one can busy-poll)."""
+    try:
+        return len(os.sched_getaffinity(0)) >= 2
+    except AttributeError:
+        return (os.cpu_count() or 1) >= 2
+
+
+class FdTransport:
+    """Bytes over a non-blocking file descriptor, with extra fds watched on the side
+    (e.g. the firmware's console pipe) so one wait serves both.
+
+    ``busy_poll_s`` > 0 reads the descriptor in a loop for up to that long before it
+    sleeps in select(): a lockstep host whose firmware answers within a few hundred
+    microseconds skips the wake-up of a sleeping process (worth it only with a core to
+    spare: :func:`spare_core`)."""
+
+    def __init__(self, fd: int, busy_poll_s: float = 0.0):
+        self.fd = fd
+        self.side: dict[int, callable] = {}
+        self.busy_poll_s = busy_poll_s
+
+    def watch(self, fd: int, on_data) -> None:
+        os.set_blocking(fd, False)
+        self.side[fd] = on_data
+
+    def read_some(self, timeout_s: float) -> bytes:
+        if self.busy_poll_s > 0.0 and timeout_s > 0.0:
+            start = time.perf_counter()
+            end = start + min(self.busy_poll_s, timeout_s)
+            while True:
+                try:
+                    chunk = os.read(self.fd, 65536)
+                except BlockingIOError:
+                    if time.perf_counter() >= end:
+                        break
+                    continue
+                except OSError:
+                    break  # (select and read below report it)
+                if chunk:
+                    for fd in list(self.side):  # what the other end wrote there first is in
+                        self._read_side(fd)
+                    return chunk
+                break
+            timeout_s -= time.perf_counter() - start
+        ready, _, _ = select.select([self.fd, *self.side], [], [], max(timeout_s, 0.0))
+        data = b""
+        for fd in ready:
+            if fd != self.fd:
+                self._read_side(fd)
+                continue
+            try:
+                data = os.read(fd, 65536)
+            except BlockingIOError:
+                continue
+            except OSError as e:  # EIO once the other end of a pty is gone
+                raise LinkError(f"plant link read failed: {e}") from e
+        return data
+
+    def _read_side(self, fd: int) -> None:
+        try:
+            chunk = os.read(fd, 65536)
+        except BlockingIOError:
+            return
+        except OSError:
+            chunk = b""
+        if chunk:
+            self.side[fd](chunk)
+        else:
+            del self.side[fd]
+
+    def write(self, data: bytes, timeout_s: float = 5.0) -> None:
+        deadline = time.monotonic() + timeout_s
+        view = memoryview(data)
+        while view:
+            try:
+                n = os.write(self.fd, view)
+                view = view[n:]
+            except BlockingIOError:
+                if time.monotonic() > deadline:
+                    raise LinkTimeout(f"plant link write blocked for {timeout_s} s") from None
+                select.select([], [self.fd], [], 0.01)
