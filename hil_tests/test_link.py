@@ -20,7 +20,7 @@ def test_corrupted_frame_from_the_firmware_side_is_counted_and_ignored(make_rig)
     # a full-throttle command on the left motor's PWM (handle 2), with one bit flipped
     bad = bytearray(F.encode(F.OUT, 0, struct.pack("<QHBi", rig.t_us, 2, F.OUT_DUTY, 65535)))
     bad[8] ^= 0x04
-    os.write(rig._pty.slave_fd, bytes(bad) + b"\x00noise")
+    os.write(rig.target.pty.slave_fd, bytes(bad) + b"\x00noise")
     rig.run_for(2)
     rig.stop()
     counters = rig.counters()

@@ -45,7 +45,7 @@ def test_a_stopped_rig_leaves_no_process_and_no_pty(make_rig):
     before = _our_ptys()
     rig = make_rig("rover", seed=0)
     rig.run_for(0.5)
-    pid = rig._proc.pid
+    pid = rig.target.proc.pid
     assert len(_our_ptys()) == len(before) + 2
     rig.stop()
     assert not Path(f"/proc/{pid}").exists(), f"micropython pid {pid} still exists after stop()"

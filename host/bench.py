@@ -14,7 +14,7 @@ import statistics
 import time
 from pathlib import Path
 
-from host.rig.rig import Rig
+from host.rig import Rig
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
 

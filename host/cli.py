@@ -117,7 +117,7 @@ def _trace_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from host.rig.rig import Rig
+    from host.rig import Rig
 
     sub = args.sub
     app = APPS[args.app]

@@ -19,7 +19,10 @@ new sample (even if the value is the same: a new sample is an event the firmware
 expected to consume), or when bytes arrive.
 """
 
+import copy
 from typing import NamedTuple
+
+import numpy as np
 
 
 class Change(NamedTuple):
@@ -81,3 +84,44 @@ class Plant:
     def truth(self) -> dict:
         """Ground truth for tests (pose, contacts, ...); never seen by the firmware."""
         raise NotImplementedError
+
+    def snapshot(self):
+        """The whole mutable state, to :meth:`restore` later (the host rewinds speculative
+        batches with it). This default copies the plant's attributes; a plant that knows
+        its state better (``RobotPlant``) overrides both."""
+        gens: list = []
+        return _copy_state(self.__dict__, gens), [(g, g.bit_generator.state) for g in gens]
+
+    def restore(self, snap) -> None:
+        state, gens = snap
+        self.__dict__.clear()
+        self.__dict__.update(state)
+        for gen, gen_state in gens:
+            gen.bit_generator.state = gen_state
+
+
+_IMMUTABLE = (int, float, str, bytes, bool, type(None), frozenset)
+
+
+def _copy_state(value, gens: list):
+    """A deep copy of plant state that is cheap for what plants hold (numbers, tuples of
+    numbers, small lists and dicts, component objects); numpy Generators are kept by
+    reference and their bit-generator state is saved in ``gens`` instead."""
+    if isinstance(value, _IMMUTABLE):
+        return value
+    if isinstance(value, list):
+        return [_copy_state(v, gens) for v in value]
+    if isinstance(value, dict):
+        return {k: _copy_state(v, gens) for k, v in value.items()}
+    if isinstance(value, tuple):
+        return value if all(isinstance(v, _IMMUTABLE) for v in value) else tuple(_copy_state(v, gens) for v in value)
+    if isinstance(value, np.random.Generator):
+        gens.append(value)
+        return value
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    if hasattr(value, "__dict__") and not isinstance(value, type):
+        clone = copy.copy(value)
+        clone.__dict__.update(_copy_state(value.__dict__, gens))
+        return clone
+    return copy.deepcopy(value)

@@ -27,11 +27,10 @@ from pathlib import Path
 
 import numpy as np
 
-from host.artefacts.recorder import SENSOR
+from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_vcd
 from host.core import provenance
 from host.core.errors import ConfigError
-from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"
@@ -48,54 +47,53 @@ DEFAULT_COVERAGE_CELL_M = 0.05
 # -- writing ------------------------------------------------------------------------
 
 
-def write_trace_folder(rig, folder: Path) -> Path:
-    """Write a stopped rig's recording (``rig.recorder``) into ``folder``."""
-    rec = rig.recorder
+def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) -> Path:
+    """Write a stopped run's recording into ``folder``. ``run`` holds what identifies the
+    run (app, board, plant_options, seed, mode, micropython, t_end_us); ``budgets`` maps
+    names to budgets, each of which gives its own ``record()``."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    header = make_header(rig)
+    header = make_header(run, recorder, plant, link_trace=(folder / LINK).is_file())
     _write_json(folder / HEADER, header)
-    events = sorted(rec.events, key=lambda e: e[0])
+    events = sorted(recorder.events, key=lambda e: e[0])
     with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", "signal", "value"])
         out.writerows(events)
-    _write_truth(folder / TRUTH, rec.truth)
-    _write_json(folder / BUDGETS, [budget_record(b) for b in rig.budgets.values()])
+    _write_truth(folder / TRUTH, recorder.truth)
+    _write_json(folder / BUDGETS, [b.record() for b in budgets.values()])
     write_vcd(
         folder / VCD,
-        top=rig.app.name,
-        comment=f"app {rig.app.name} board {rig.board} seed {rig.seed} commit {header['commit']}",
-        signals=rec.signals,
-        initial=rec.initial,
+        top=run["app"],
+        comment=f"app {run['app']} board {run['board']} seed {run['seed']} commit {header['commit']}",
+        signals=recorder.signals,
+        initial=recorder.initial,
         events=events,
-        truth=rec.truth,
+        truth=recorder.truth,
     )
     return folder
 
 
-def make_header(rig) -> dict:
-    plant = rig.plant
-    version = rig.micropython_version.split(";")[0]
+def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
     return {
         "format": FORMAT,
-        "app": rig.app.name,
-        "board": rig.board,
+        "app": run["app"],
+        "board": run["board"],
         "world": describe_world(plant),
         "plant": type(plant).__name__,
-        "plant_options": rig.plant_options,
-        "seed": rig.seed,
-        "mode": rig.mode,
+        "plant_options": run["plant_options"],
+        "seed": run["seed"],
+        "mode": run["mode"],
         "commit": provenance.commit(),
-        "micropython": version,
-        "t_end_us": rig.t_us,
-        "truth_period_us": rig.recorder.truth_period_us,
+        "micropython": run["micropython"],
+        "t_end_us": run["t_end_us"],
+        "truth_period_us": recorder.truth_period_us,
         "footprint_half_width_m": footprint_half_width_m(plant),
         "coverage_cell_m": float(getattr(coverage_grid(plant), "cell_m", DEFAULT_COVERAGE_CELL_M)),
-        "signals": rig.recorder.signals,
-        "initial": rig.recorder.initial,
+        "signals": recorder.signals,
+        "initial": recorder.initial,
         "contacts": [list(c) for c in _truth_contacts(plant)],
-        "link_trace": (rig.artefacts / LINK).is_file() if rig.artefacts else False,
+        "link_trace": link_trace,
     }
 
 
@@ -130,26 +128,6 @@ def footprint_half_width_m(plant) -> float:
         if isinstance(value, (int, float)):
             return float(value)
     return DEFAULT_FOOTPRINT_HALF_WIDTH_M
-
-
-def budget_record(budget) -> dict:
-    record = {
-        "name": budget.name,
-        "type": type(budget).__name__,
-        "source": budget.source,
-        "description": budget.description,
-        "limit": budget.limit_text(),
-        "limit_us": budget.limit_us,
-        "wall_clock": isinstance(budget, ComputeBudget),
-        "stats": budget.stats(),
-        "values_us": list(budget.values),
-    }
-    if isinstance(budget, PeriodBudget):
-        record["period_us"] = budget.period_us
-        record["tolerance_us"] = budget.tolerance_us
-    elif isinstance(budget, LatencyBudget):
-        record["period_us"] = None
-    return record
 
 
 def _truth_contacts(plant) -> list:
@@ -208,7 +186,7 @@ class TraceData:
         return {n: i for n, i in sigs.items() if role is None or i["role"] == role}
 
     def firmware_outputs(self) -> list[tuple[int, str, object]]:
-        sensors = set(self.signals(SENSOR))
+        sensors = set(self.signals(ROLE_SENSOR))
         return [e for e in self.events if e[1] not in sensors]
 
 

@@ -1,4 +1,4 @@
-"""Run traces: one JSON object per line, virtual timestamps, deterministic content.
+"""The link log (``trace.jsonl``): one JSON object per line, virtual timestamps, deterministic content.
 
 The trace holds what crossed the link (decoded) and what the plant reported, never
 wall-clock figures, so the same (app, board, plant, seed, commit) gives the same bytes.
@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 
 
-class Trace:
+class LinkLog:
     def __init__(self, path: Path | None = None):
         self.path = path
         self._file = open(path, "w", encoding="utf-8") if path else None

@@ -15,11 +15,11 @@ run gives the same recording. :mod:`host.artefacts.folder` writes it out.
 
 import numbers
 
-SENSOR = "sensor"  # a plant output, read by the firmware
-ACTUATOR = "actuator"  # a firmware output that drives a plant input
-PROBE = "probe"  # a firmware output only the harness watches
-PIN = "pin"  # a firmware output wired to nothing
-ROLES = (SENSOR, ACTUATOR, PROBE, PIN)
+ROLE_SENSOR = "sensor"  # a plant output, read by the firmware
+ROLE_ACTUATOR = "actuator"  # a firmware output that drives a plant input
+ROLE_PROBE = "probe"  # a firmware output only the harness watches
+ROLE_PIN = "pin"  # a firmware output wired to nothing
+ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN)
 
 TRUTH_PERIOD_US = 50_000
 """Ground truth is sampled once per control quantum."""
@@ -32,9 +32,9 @@ class Recorder:
         self.truth_period_us = truth_period_us
         self.signals: dict[str, dict] = {}
         for name, kind in plant.outputs.items():
-            self.signals[name] = {"role": SENSOR, "kind": kind}
+            self.signals[name] = {"role": ROLE_SENSOR, "kind": kind}
         for name, kind in plant.inputs.items():
-            self.signals[name] = {"role": ACTUATOR, "kind": kind}
+            self.signals[name] = {"role": ROLE_ACTUATOR, "kind": kind}
         self.initial = {name: _plain(plant.output(name)) for name in plant.outputs}
         self.events: list[tuple[int, str, object]] = []
         self.truth: list[tuple[int, dict]] = []
@@ -45,7 +45,7 @@ class Recorder:
         """A plant output changed (or took a new sample) at ``t_us``."""
         self.events.append((t_us, name, _plain(value)))
 
-    def command(self, t_us: int, name: str, value, *, role: str = ACTUATOR, kind: str = "level") -> None:
+    def command(self, t_us: int, name: str, value, *, role: str = ROLE_ACTUATOR, kind: str = "level") -> None:
         """The firmware drove ``name`` to ``value`` at ``t_us``."""
         if name not in self.signals:
             self.signals[name] = {"role": role, "kind": kind}
@@ -77,7 +77,7 @@ class Recorder:
 
     def firmware_outputs(self) -> list[tuple[int, str, object]]:
         """What the firmware drove, in time order: what a replay compares."""
-        kept = {name for name, info in self.signals.items() if info["role"] != SENSOR}
+        kept = {name for name, info in self.signals.items() if info["role"] != ROLE_SENSOR}
         return [e for e in sorted(self.events, key=_time) if e[1] in kept]
 
 

@@ -1,12 +1,12 @@
 """Processor in the loop: the firmware runs on a board, the plant runs here.
 
-The same shim that runs inside the unix port runs on the board: :class:`BoardRig`
+The same shim that runs inside the unix port runs on the board: :class:`BoardTarget`
 copies it (and asyncio's pure-Python package, for its task queue) to the board's
 ``/hil`` folder with mpremote, soft-resets the board in its raw REPL, and starts
 ``_hilboot`` there. The plant link then runs over the board's own USB serial console:
 frames both ways, and whatever the firmware prints in between is its console. Time is
 lockstep (virtual, deterministic, compute measured with the board's own clock) or real
-time (the board's real timing). ``stop()`` sends BYE; the firmware stops at its next
+time (the board's real timing). ``Rig.stop()`` sends BYE; the firmware stops at its next
 wait and the board is back at its REPL.
 
 Tested against the virtual board of ``host/device/vboard.py`` (``hil_tests/test_pil.py``).
@@ -20,8 +20,9 @@ from host.core.errors import FirmwareHung, LinkError
 from host.core.paths import SHIM_DIR
 from host.device import flash
 from host.link import Channel, FdTransport
-from host.rig.rig import Rig
-from host.shim import _hilframe as F
+from host.link import frames as F
+from host.rig import Rig
+from host.rig.target import Target
 
 SHIM_FILES = ("_hil.py", "_hilframe.py", "_hilboot.py", "machine.py", "time.py", "select.py")
 ASYNCIO_FILES = ("__init__.py", "core.py", "event.py", "funcs.py", "lock.py", "stream.py", "task.py")
@@ -41,22 +42,33 @@ def asyncio_source() -> Path:
     raise LinkError(f"no MicroPython source under {src} to take asyncio from: run `make setup`")
 
 
-class BoardRig(Rig):
-    """A Rig whose firmware runs on the board at ``port``."""
+class BoardTarget(Target):
+    """A board on a serial port: the shim runs there, the link is its USB serial console."""
 
-    def __init__(self, app="rover", *, port: str, **kwargs):
-        super().__init__(app, **kwargs)
+    def __init__(self, port: str):
         self.port = port
-        self._serial = None
+        self.serial = None
         self._pending = b""
+        self._chan = None
 
-    def start(self) -> "BoardRig":
+    def open(self, firmware, on_console) -> Channel:
+        import serial
+
         flash.check_port(self.port)
         self._upload()
-        if self.artefacts:
-            self.artefacts.mkdir(parents=True, exist_ok=True)
-        self._spawn()
-        return self
+        self.serial = serial.Serial(self.port, 115200, timeout=0, exclusive=True)
+        ser = self.serial
+        ser.write(b"\r\x03\x03\x01")  # stop what runs, raw REPL
+        self._expect(RAW_BANNER + b">", 5.0)
+        ser.write(b"\x04")  # soft reset: a clean interpreter
+        self._expect(b"soft reboot\r\n", 5.0)
+        self._expect(RAW_BANNER + b">", 5.0)
+        ser.write(BOOT + b"\x04")
+        rest = self._expect(b"OK", 5.0)
+        self._chan = Channel(FdTransport(ser.fileno()))
+        self._chan.decoder.on_skip = on_console
+        self._chan.decoder.feed(rest)  # the shim may already have said HELLO
+        return self._chan
 
     def _upload(self) -> None:
         """The shim and asyncio to /hil on the board; mpremote skips what is there."""
@@ -76,22 +88,6 @@ class BoardRig(Rig):
             ":hil/asyncio/",
         )
 
-    def _launch(self) -> None:
-        import serial
-
-        self._serial = serial.Serial(self.port, 115200, timeout=0, exclusive=True)
-        ser = self._serial
-        ser.write(b"\r\x03\x03\x01")  # stop what runs, raw REPL
-        self._expect(RAW_BANNER + b">", 5.0)
-        ser.write(b"\x04")  # soft reset: a clean interpreter
-        self._expect(b"soft reboot\r\n", 5.0)
-        self._expect(RAW_BANNER + b">", 5.0)
-        ser.write(BOOT + b"\x04")
-        rest = self._expect(b"OK", 5.0)
-        self._chan = Channel(FdTransport(ser.fileno()))
-        self._chan.decoder.on_skip = self._on_console
-        self._chan.decoder.feed(rest)  # the shim may already have said HELLO
-
     def _expect(self, marker: bytes, timeout_s: float) -> bytes:
         """Read up to marker; return what came after it."""
         data = self._pending
@@ -102,7 +98,7 @@ class BoardRig(Rig):
                     f"PORT={self.port}: expected {marker!r} from the board's REPL within {timeout_s:g} s, "
                     f"got {data[-200:]!r}"
                 )
-            chunk = self._serial.read(256)
+            chunk = self.serial.read(256)
             data += chunk
             if not chunk:
                 time.sleep(0.005)
@@ -110,19 +106,21 @@ class BoardRig(Rig):
         self._pending = rest
         return rest
 
-    def _running(self) -> bool:
-        return self._serial is not None
+    def alive(self) -> bool:
+        return self.serial is not None
 
-    def stop(self) -> None:
-        ser, self._serial = self._serial, None
+    def close(self, session_open: bool = False) -> None:
+        """BYE ends a session still open: the firmware stops at its next wait and the
+        board is back at its REPL."""
+        ser, self.serial = self.serial, None
         if ser is None:
             return
         try:
-            if self.exit_kind is None and self._chan is not None:
+            if session_open and self._chan is not None:
                 self._chan.send(F.BYE, b"")
                 deadline = time.monotonic() + 3.0
                 while time.monotonic() < deadline:
-                    type_, _seq, payload = self._chan.recv(max(0.0, deadline - time.monotonic()))
+                    type_, _seq, _payload = self._chan.recv(max(0.0, deadline - time.monotonic()))
                     if type_ == F.EXIT:
                         break
             ser.write(b"\x02")  # back to the friendly REPL
@@ -130,19 +128,20 @@ class BoardRig(Rig):
             pass
         finally:
             ser.close()
-            if self._trace is not None:
-                self._trace.close()
-            if self.artefacts:
-                (self.artefacts / "console.log").write_text(self.console)
 
-    def _restart(self) -> None:
+    def restart(self, firmware, on_console) -> Channel:
         raise LinkError(
             f"PORT={self.port}: the firmware reset the board (machine.reset()); the processor-in-the-loop session ended"
         )
 
-    def _on_silence(self, timeout_s: float, what: str):
-        self.stop()
+    def on_silence(self, rig, timeout_s: float, what: str):
+        rig.stop()
         raise FirmwareHung(
             f"PORT={self.port}: the board stopped answering: expected {what} within {timeout_s:g} s, got nothing "
-            f"(virtual t={self.t_us / 1e6:.6f} s).{self._where()}"
+            f"(virtual t={rig.t_us / 1e6:.6f} s).{rig.where()}"
         )
+
+
+def board_rig(app="rover", *, port: str, **kwargs) -> Rig:
+    """A rig whose firmware runs on the board at ``port`` (its files flashed there)."""
+    return Rig(app, target=BoardTarget(port), **kwargs)

@@ -31,8 +31,10 @@ from host.core import interpreter
 from host.core.errors import HarnessError, LinkTimeout
 from host.core.paths import REPO
 from host.link import Channel, FdTransport, PtyPair
-from host.rig.rig import Rig
-from host.shim import _hilframe as F
+from host.link import frames as F
+from host.rig import Rig
+from host.rig.firmware import Firmware
+from host.rig.target import Target
 
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"
@@ -50,21 +52,154 @@ def board_home(board: str) -> Path:
 
 
 class _Console:
-    """The pty pair a board's USB serial is: the client side and the interpreter side."""
+    """The pty pair a board's USB serial is: the client side and the interpreter side,
+    and the bridge between them."""
 
     def __init__(self):
         self.client = PtyPair()  # tools open client.slave_path
         self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
+        self.interrupt = None  # called for a Ctrl-C that is no data (SIGINT to the interpreter)
+        self.reset()
+
+    def reset(self) -> None:
+        """A new interpreter: no session, no prompt yet."""
         self.link_session = False  # a plant link runs over the console: Ctrl-C is data
         self.prompt = False  # the REPL waits for input: Ctrl-C is data it handles
         self.tail = b""  # the interpreter's last bytes: a prompt may be split across reads
         self.frames = F.Decoder()  # watches the interpreter's output for HELLO and EXIT
 
+    def from_client(self, data: bytes) -> None:
+        """Ctrl-C: a byte for the REPL while it waits at a prompt; SIGINT to the
+        interpreter while code runs (and never during a plant-link session)."""
+        if self.link_session or self.prompt or b"\x03" not in data:
+            _write(self.repl.master_fd, data)
+            return
+        before, _, after = data.partition(b"\x03")
+        _write(self.repl.master_fd, before)
+        if self.interrupt is not None:
+            self.interrupt()
+        if after:
+            self.from_client(after)
 
-class VirtualBoard(Rig):
+    def from_interpreter(self, data: bytes) -> None:
+        # a plant link starts with a HELLO frame and ends with an EXIT frame on the console
+        # (whole frames, CRC checked: their bytes may sit anywhere in other frames)
+        self.frames.feed(data)
+        while (frame := self.frames.next()) is not None:
+            if frame[0] in (F.HELLO, F.EXIT):
+                self.link_session = frame[0] == F.HELLO
+        seen = self.tail + data  # (the pty may hand over one write in two reads)
+        self.prompt = seen.endswith(PROMPTS)
+        self.tail = seen[-3:]
+        _write(self.client.master_fd, data)
+
+    def close(self) -> None:
+        self.client.close()
+        self.repl.close()
+
+
+def _write(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        try:
+            view = view[os.write(fd, view) :]
+        except BlockingIOError:
+            select.select([], [fd], [], 0.05)
+        except OSError:
+            return  # nobody on the other end: a board's output goes nowhere too
+
+
+class VirtualBoardTarget(Target):
+    """The board REPL process (``_vrepl``) on the console pty, in the board folder. Wired,
+    its ``machine`` and ``time`` are the shim and the link is a pty of its own."""
+
+    def __init__(self, board: str, fs: Path, console: _Console, wired: bool):
+        self.board = board
+        self.fs = fs
+        self.console = console
+        self.wired = wired
+        self.proc: subprocess.Popen | None = None
+        self.link: PtyPair | None = None
+        self.boot_mode = "friendly"
+        self._started_at = 0.0
+        console.interrupt = self.interrupt
+
+    def launch(self, firmware) -> None:
+        env = {
+            "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
+            "HIL_REPL_MODE": self.boot_mode,
+            "HIL_BOARD_NAME": self.board,
+        }
+        if self.wired:
+            env.update(firmware.env(self.link.slave_path))
+        env["MICROPYPATH"] = ":".join([str(VREPL_DIR), firmware.micropypath(shim=self.wired)])
+        slave = self.console.repl.slave_fd
+        self._started_at = time.monotonic()
+        self.proc = subprocess.Popen(
+            [str(interpreter.find()), "-m", "_vrepl"],
+            env=env,
+            cwd=str(self.fs),
+            stdin=slave,
+            stdout=slave,
+            stderr=slave,
+            start_new_session=True,
+        )
+
+    def open(self, firmware, on_console) -> Channel:
+        if self.link is None:
+            self.link = PtyPair()
+        self.launch(firmware)
+        transport = FdTransport(self.link.master_fd)
+        transport.watch(self.console.repl.master_fd, self.console.from_interpreter)
+        transport.watch(self.console.client.master_fd, self.console.from_client)
+        return Channel(transport)
+
+    def ended(self) -> int | None:
+        """The interpreter's exit code once it ended (a soft reset ends it too)."""
+        return self.proc.poll() if self.proc is not None else None
+
+    def reboot(self) -> None:
+        """After the interpreter ended: boot again in raw or friendly REPL, as the reset asked."""
+        proc, self.proc = self.proc, None
+        code = proc.wait(timeout=5) if proc is not None else None
+        if code not in (SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET):
+            time.sleep(0.5)  # a crash, not a reset: do not spin
+        self.boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
+        self.console.reset()
+
+    def restart(self, firmware, on_console) -> Channel:
+        self.reboot()
+        return self.open(firmware, on_console)
+
+    def interrupt(self) -> None:
+        if self.proc is not None and self.proc.poll() is None:
+            early = self._started_at + STARTUP_S - time.monotonic()
+            if early > 0:
+                time.sleep(early)
+            os.kill(self.proc.pid, signal.SIGINT)
+
+    def alive(self) -> bool:
+        return self.proc is not None
+
+    def close(self, session_open: bool = False) -> None:
+        proc, self.proc = self.proc, None
+        if proc is not None:
+            if proc.poll() is None:
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            proc.wait(timeout=5)
+        if self.link is not None:
+            self.link.close()
+            self.link = None
+
+    def on_silence(self, rig, timeout_s: float, what: str):
+        raise LinkTimeout(f"no {what}")
+
+
+class VirtualBoard:
     """A board REPL on a pty, in a board folder; wired to a real-time plant or bare."""
-
-    REQUIRE_MAIN = False  # a fresh board has no main.py
 
     def __init__(
         self,
@@ -75,153 +210,69 @@ class VirtualBoard(Rig):
         wired: bool = True,
         seed: int = 0,
     ):
+        self.board = board
         self.home = Path(home) if home else board_home(board)
-        fs = self.home / "fs"
-        fs.mkdir(parents=True, exist_ok=True)
-        super().__init__(app, board=board, seed=seed, mode="realtime", firmware_dir=fs, watchdog_s=30.0)
-        self.fs = fs
+        self.fs = self.home / "fs"
+        self.fs.mkdir(parents=True, exist_ok=True)
         self.wired = wired
-        self.console_pty = None
-        self._boot_mode = "friendly"
+        self.console_pty = _Console()
+        self.target = VirtualBoardTarget(board, self.fs, self.console_pty, wired)
+        self.firmware = Firmware.flashed(self.fs, require_main=False)  # a fresh board has no main.py
+        self.rig = None
+        if wired:
+            self.rig = Rig(
+                app,
+                board=board,
+                seed=seed,
+                mode="realtime",
+                firmware_dir=self.fs,
+                require_main=False,
+                watchdog_s=30.0,
+                target=self.target,
+            )
         self._stopping = False
 
     @property
     def port(self) -> str:
         return self.console_pty.client.slave_path
 
-    # -- processes ------------------------------------------------------------------
-
     def start(self) -> "VirtualBoard":
-        self.console_pty = _Console()
-        if self.wired:
-            return super().start()
-        self._launch()
+        if self.rig is not None:
+            self.rig.start()
+        else:
+            self.target.launch(self.firmware)
         return self
-
-    def _launch(self) -> None:
-        env = {
-            "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
-            "HIL_REPL_MODE": self._boot_mode,
-            "HIL_BOARD_NAME": self.board,
-        }
-        folders = [VREPL_DIR]
-        if self.wired:
-            env.update(self.firmware_env())
-            folders.append(env["MICROPYPATH"])
-        else:
-            folders += [*self.firmware_folders, ".frozen"]
-        env["MICROPYPATH"] = ":".join(map(str, folders))
-        slave = self.console_pty.repl.slave_fd
-        self._started_at = time.monotonic()
-        self._proc = subprocess.Popen(
-            [str(interpreter.find()), "-m", "_vrepl"],
-            env=env,
-            cwd=str(self.fs),
-            stdin=slave,
-            stdout=slave,
-            stderr=slave,
-            start_new_session=True,
-        )
-        if self.wired:
-            transport = FdTransport(self._pty.master_fd)
-            transport.watch(self.console_pty.repl.master_fd, self._from_interpreter)
-            transport.watch(self.console_pty.client.master_fd, self._from_client)
-            self._chan = Channel(transport)
-
-    def _reboot(self, code: int) -> None:
-        proc, self._proc = self._proc, None
-        if proc is not None:
-            proc.wait(timeout=5)
-        if code not in (SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET):
-            time.sleep(0.5)  # a crash, not a reset: do not spin
-        self._boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
-        self.console_pty.link_session = False
-        self.console_pty.prompt = False
-        self.console_pty.tail = b""
-        self.console_pty.frames = F.Decoder()
-        if self.wired:
-            self._spawn()
-        else:
-            self._launch()
 
     def stop(self) -> None:
         self._stopping = True
-        super().stop()
+        if self.rig is not None:
+            self.rig.stop()
+        self.target.close()
         if self.console_pty is not None:
-            self.console_pty.client.close()
-            self.console_pty.repl.close()
+            self.console_pty.close()
             self.console_pty = None
-
-    # -- byte pumps -------------------------------------------------------------------
-
-    def _from_client(self, data: bytes) -> None:
-        """Ctrl-C: a byte for the REPL while it waits at a prompt; SIGINT to the
-        interpreter while code runs (and never during a plant-link session)."""
-        con = self.console_pty
-        if con.link_session or con.prompt or b"\x03" not in data:
-            self._write(con.repl.master_fd, data)
-            return
-        before, _, after = data.partition(b"\x03")
-        self._write(con.repl.master_fd, before)
-        if self._proc is not None and self._proc.poll() is None:
-            early = self._started_at + STARTUP_S - time.monotonic()
-            if early > 0:
-                time.sleep(early)
-            os.kill(self._proc.pid, signal.SIGINT)
-        if after:
-            self._from_client(after)
-
-    def _from_interpreter(self, data: bytes) -> None:
-        con = self.console_pty
-        # a plant link starts with a HELLO frame and ends with an EXIT frame on the console
-        # (whole frames, CRC checked: their bytes may sit anywhere in other frames)
-        con.frames.feed(data)
-        while (frame := con.frames.next()) is not None:
-            if frame[0] in (F.HELLO, F.EXIT):
-                con.link_session = frame[0] == F.HELLO
-        seen = con.tail + data  # (the pty may hand over one write in two reads)
-        con.prompt = seen.endswith(PROMPTS)
-        con.tail = seen[-3:]
-        self._write(con.client.master_fd, data)
-
-    @staticmethod
-    def _write(fd: int, data: bytes) -> None:
-        view = memoryview(data)
-        while view:
-            try:
-                view = view[os.write(fd, view) :]
-            except BlockingIOError:
-                select.select([], [fd], [], 0.05)
-            except OSError:
-                return  # nobody on the other end: a board's output goes nowhere too
-
-    def on_console(self, data: bytes) -> None:
-        self._from_interpreter(data)
-
-    # -- serving ------------------------------------------------------------------------
 
     def serve_forever(self, ready=None) -> None:
         """Pump bytes, serve the plant in real time, reboot on resets, until stopped."""
         if ready:
             ready(self.port)
+        rig = self.rig
         while not self._stopping:
-            code = self._proc.poll() if self._proc is not None else None
-            if code is not None:
-                self._reboot(code)
+            if self.target.ended() is not None:
+                if rig is not None:
+                    rig.restart()
+                else:
+                    self.target.reboot()
+                    self.target.launch(self.firmware)
                 continue
-            if not self.wired:
+            if rig is None:
                 self._pump_bare(0.1)
                 continue
-            if self._wait is not None:
-                self._serve_wait(self._virtual_now())
-            try:
-                type_, _seq, payload = self._chan.recv(0.005 if self._wait is not None else 0.05)
-            except LinkTimeout:
-                continue
-            self._handle(type_, payload)
-
-    def _virtual_now(self) -> int:
-        return int((time.monotonic() - self._wall0) * 1e6)
+            if rig.waiting:
+                rig.serve_wait(rig.pacing.now_us())
+            message = rig.receive(0.005 if rig.waiting else 0.05)
+            if message is not None:
+                rig.dispatch(*message)
 
     def _pump_bare(self, timeout_s: float) -> None:
         con = self.console_pty
@@ -233,12 +284,9 @@ class VirtualBoard(Rig):
             except OSError:
                 continue
             if data and fd == con.client.master_fd:
-                self._from_client(data)
+                con.from_client(data)
             elif data:
-                self._from_interpreter(data)
-
-    def _on_silence(self, timeout_s: float, what: str):
-        raise LinkTimeout(f"no {what}")
+                con.from_interpreter(data)
 
 
 # -- command line: one virtual board per board folder, as a background process ---------

@@ -22,7 +22,7 @@ from host.core.paths import REPO
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import ReportCollector
 from host.report.table import format_table
-from host.rig.rig import Rig
+from host.rig import Rig
 
 ARTEFACTS = REPO / "build" / "hil"
 _rows: list[dict] = []

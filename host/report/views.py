@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from host.artefacts.folder import TraceData
-from host.artefacts.recorder import ACTUATOR, SENSOR
+from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import World
 
@@ -101,7 +101,7 @@ def signal_panels(trace: TraceData) -> list[Panel]:
 
 def generic_view(trace: TraceData) -> list[Panel]:
     sensors = Panel("Sensors as the firmware reads them", "counts")
-    for name, info in trace.signals(SENSOR).items():
+    for name, info in trace.signals(ROLE_SENSOR).items():
         if info["kind"] == "u16":
             t, v = trace.series(name)
             sensors.lines.append(Line(name, t / US_PER_S, v, "points"))
@@ -114,7 +114,7 @@ def generic_view(trace: TraceData) -> list[Panel]:
 
 def actuator_panel(trace: TraceData) -> Panel:
     panel = Panel("Actuator commands", "duty (fraction)")
-    for name, info in trace.signals(ACTUATOR).items():
+    for name, info in trace.signals(ROLE_ACTUATOR).items():
         if info["kind"] == "duty":
             t, v = trace.series(name)
             panel.lines.append(Line(name, t / US_PER_S, v / 65535, "step"))

@@ -1,2 +1,7 @@
-"""Firmware in the loop: the :class:`Rig` and its parts (targets, pacing, speculation,
-wiring, budgets), the apps it knows, and replays."""
+"""Firmware in the loop: the :class:`Rig` and the parts it delegates to (the target the
+firmware runs on, the pacing of its clock, speculation, wiring, inputs and outputs,
+budgets), the apps it knows, and replays. ``docs/architecture.md`` draws them."""
+
+from host.rig.rig import Rig
+
+__all__ = ["Rig"]

@@ -9,13 +9,11 @@ from typing import Callable
 from host.core.errors import ConfigError
 from host.core.paths import FIRMWARE
 from host.rig.budgets import Budget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
+from host.rig.wiring import PROBE_PREFIX
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.rover import RoverRoom
 from sim_plant.world import POOL_LENGTH_M
-
-PROBE = "probe:"
-"""Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 
 
 @dataclass
@@ -24,7 +22,9 @@ class App:
     default_board: str
     make_plant: Callable[..., Plant]
     wiring: dict[str, str]
-    make_budgets: Callable[[], list[Budget]] = list
+    make_budgets: Callable[[Plant], list[Budget]] = lambda plant: []
+    """The app's budgets for a plant: a budget's expected value comes from the plant it
+    measures (the sonar period is the plant's ``sonar_period_us``)."""
     boards: tuple[str, ...] = ()
     doc: str = ""
     extra: dict = field(default_factory=dict)
@@ -41,11 +41,11 @@ class App:
         return [self.path, board_path, FIRMWARE / "lib"]
 
 
-def rover_budgets() -> list[Budget]:
+def rover_budgets(plant: RoverRoom) -> list[Budget]:
     return [
         PeriodBudget(
             "control.period",
-            PROBE + "control",
+            PROBE_PREFIX + "control",
             period_us=50_000,
             tolerance_us=1_000,
             description="control step every 50 ms (probe pin toggles)",
@@ -53,9 +53,9 @@ def rover_budgets() -> list[Budget]:
         PeriodBudget(
             "sonar.period",
             "sonar.adc",
-            period_us=500_000,
+            period_us=plant.sonar_period_us,
             tolerance_us=1_000,
-            description="a new sonar range every 500 ms",
+            description=f"a new sonar range every {plant.sonar_period_us / 1000:g} ms",
         ),
         LatencyBudget(
             "sonar.latency",
@@ -85,8 +85,9 @@ ROVER_WIRING = {
     "ENC_R_B": "enc_r.b",
     "SONAR_ADC": "sonar.adc",
     "BUMPER": "bumper",
-    "LOOP_PROBE": PROBE + "control",
+    "LOOP_PROBE": PROBE_PREFIX + "control",
 }
+
 
 def pool_plant(**options) -> PoolCleaner:
     """The pool cleaner as its mission starts (seed 000 §7.3.3): in a corner, the
@@ -100,20 +101,46 @@ def pool_adc_plant(**options) -> PoolCleaner:
     return pool_plant(sonar="adc", **options)
 
 
-def pool_budgets(sonar_source: str = "sonar.uart") -> list[Budget]:
+def pool_budgets(plant: PoolCleaner) -> list[Budget]:
+    sonar_source = "sonar.uart" if plant.sonar == "nmea" else "sonar_l.adc"
     uart = sonar_source.endswith(".uart")
+    period_ms = f"{plant.sonar_period_us / 1000:g} ms"
     return [
-        PeriodBudget("control.period", PROBE + "control", period_us=50_000, tolerance_us=1_000,
-                     description="control step every 50 ms (probe pin toggles)"),
-        PeriodBudget("sonar.period", sonar_source, period_us=500_000, tolerance_us=1_000,
-                     marker=b"$" if uart else None,
-                     description="a sonar sentence starts every 500 ms" if uart else "a new sonar sample every 500 ms"),
-        LatencyBudget("sonar.latency", sonar_source, limit_us=50_000,
-                      description="each sonar sample read within one 50 ms quantum"),
-        PulseBudget("track.stop", ("track_l.stop", "track_r.stop"), limit_us=300_000,
-                    description="a track stop lasts at most 300 ms of its 500 ms slot"),
-        ComputeBudget("control.compute", "compute", limit_us=50_000,
-                      description="wall-clock us the firmware ran per wake (informational)"),
+        PeriodBudget(
+            "control.period",
+            PROBE_PREFIX + "control",
+            period_us=50_000,
+            tolerance_us=1_000,
+            description="control step every 50 ms (probe pin toggles)",
+        ),
+        PeriodBudget(
+            "sonar.period",
+            sonar_source,
+            period_us=plant.sonar_period_us,
+            tolerance_us=1_000,
+            marker=b"$" if uart else None,
+            description=f"a sonar sentence starts every {period_ms}"
+            if uart
+            else f"a new sonar sample every {period_ms}",
+        ),
+        LatencyBudget(
+            "sonar.latency",
+            sonar_source,
+            limit_us=50_000,
+            description="each sonar sample read within one 50 ms quantum",
+        ),
+        PulseBudget(
+            "track.stop",
+            ("track_l.stop", "track_r.stop"),
+            limit_us=300_000,
+            description=f"a track stop lasts at most 300 ms of its {period_ms} slot",
+        ),
+        ComputeBudget(
+            "control.compute",
+            "compute",
+            limit_us=50_000,
+            description="wall-clock us the firmware ran per wake (informational)",
+        ),
     ]
 
 
@@ -124,7 +151,7 @@ POOL_WIRING = {
     "BUMPER_REAR": "bumper_rear",
     "SONAR_UART": "sonar.uart",
     "SONAR_SELECT": "sonar.select",
-    "LOOP_PROBE": PROBE + "control",
+    "LOOP_PROBE": PROBE_PREFIX + "control",
 }
 POOL_ADC_WIRING = {
     **{k: v for k, v in POOL_WIRING.items() if not k.startswith("SONAR_")},
@@ -162,7 +189,7 @@ APPS = {
         boards=("esp32_pool_cleaner_adc",),
         make_plant=pool_adc_plant,
         wiring=POOL_ADC_WIRING,
-        make_budgets=lambda: pool_budgets("sonar_l.adc"),
+        make_budgets=pool_budgets,
         doc="the pool cleaner built for the ADC sonar option (same firmware, another board file)",
         folder=FIRMWARE / "apps" / "pool_cleaner",
     ),

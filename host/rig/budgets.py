@@ -4,12 +4,39 @@ A period budget measures the time between successive events (a control step, a n
 sonar sample) against its nominal period and tolerance. A latency budget measures how
 long after a sample arrived the firmware first read it; a sample never read counts
 as a miss. Values are microseconds of virtual time unless a budget says otherwise.
+
+A budget says what it listens to with :meth:`Budget.hooks`: ``(event, signal, callable)``
+triples the rig calls as the run goes. The events:
+
+==============  =============================================  =============================
+event           when                                           call
+==============  =============================================  =============================
+``CHANGE``      a plant output changed (or took a sample)      ``f(t_us, value)``
+``SAMPLE``      a new sample reached a firmware ADC or UART    ``f(t_us, sample_no)``
+``SEEN``        the firmware first read that sample            ``f(t_us, sample_no)``
+``LEVEL``       the firmware drove a pin to a level            ``f(t_us, signal, value, changed)``
+``COMPUTE``     the firmware blocked after running             ``f(compute_us)`` (signal None)
+==============  =============================================  =============================
+
+``CHANGE`` and ``SAMPLE`` come from speculative plant batches: the rig holds them back
+until the firmware has moved past their time, so a rolled-back batch never reaches a
+budget. ``docs/budgets.md`` lists the apps' budgets.
 """
 
 import math
 
+CHANGE = "change"
+SAMPLE = "sample"
+SEEN = "seen"
+LEVEL = "level"
+COMPUTE = "compute"
+EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE)
+
 
 class Budget:
+    wall_clock = False
+    """True for a budget measured in wall-clock time (informational in lockstep runs)."""
+
     def __init__(self, name: str, source: str, *, limit_us: int, description: str = ""):
         self.name = name
         self.source = source
@@ -17,6 +44,10 @@ class Budget:
         self.description = description
         self.values: list[int] = []
         self.misses = 0
+
+    def hooks(self) -> list[tuple]:
+        """``(event, signal, callable)`` for each event this budget measures."""
+        return []
 
     def _record(self, value_us: int, missed: bool) -> None:
         self.values.append(value_us)
@@ -36,6 +67,20 @@ class Budget:
             "misses": self.misses,
         }
 
+    def record(self) -> dict:
+        """Everything about this budget, for ``budgets.json`` in a trace folder."""
+        return {
+            "name": self.name,
+            "type": type(self).__name__,
+            "source": self.source,
+            "description": self.description,
+            "limit": self.limit_text(),
+            "limit_us": self.limit_us,
+            "wall_clock": self.wall_clock,
+            "stats": self.stats(),
+            "values_us": list(self.values),
+        }
+
     def limit_text(self) -> str:
         return f"<= {self.limit_us} us"
 
@@ -53,21 +98,34 @@ class Budget:
 
 class PeriodBudget(Budget):
     """Time between successive events of ``source``: ``period_us`` +- ``tolerance_us``.
-    For a UART source, ``marker`` makes an event of each received chunk that holds that
-    byte (``b"$"``: the first byte of an NMEA sentence, sent at a fixed period, whereas
-    its last byte moves with the sentence's length)."""
+    An event is a change of a plant output (a new sample), or a toggle of a pin the
+    firmware drives (a probe). For a UART source, ``marker`` makes an event of each
+    received chunk that holds that byte (``b"$"``: the first byte of an NMEA sentence,
+    sent at a fixed period, whereas its last byte moves with the sentence's length)."""
 
-    def __init__(self, name, source, *, period_us: int, tolerance_us: int, description="",
-                 marker: bytes | None = None):
+    def __init__(
+        self, name, source, *, period_us: int, tolerance_us: int, description="", marker: bytes | None = None
+    ):
         super().__init__(name, source, limit_us=period_us + tolerance_us, description=description)
         self.period_us = period_us
         self.tolerance_us = tolerance_us
         self.marker = marker
         self._last_us = None
 
+    def hooks(self) -> list[tuple]:
+        return [(CHANGE, self.source, self.on_change), (LEVEL, self.source, self.on_level)]
+
     def counts(self, value) -> bool:
         """Whether a change of the source with this value is an event."""
         return self.marker is None or (isinstance(value, bytes) and self.marker in value)
+
+    def on_change(self, t_us: int, value) -> None:
+        if self.counts(value):
+            self.event(t_us)
+
+    def on_level(self, t_us: int, _signal: str, _value, changed: bool) -> None:
+        if changed:
+            self.event(t_us)
 
     def event(self, t_us: int) -> None:
         if self._last_us is not None:
@@ -77,6 +135,9 @@ class PeriodBudget(Budget):
 
     def limit_text(self) -> str:
         return f"{self.period_us} +- {self.tolerance_us} us"
+
+    def record(self) -> dict:
+        return {**super().record(), "period_us": self.period_us, "tolerance_us": self.tolerance_us}
 
 
 class LatencyBudget(Budget):
@@ -88,16 +149,22 @@ class LatencyBudget(Budget):
         super().__init__(name, source, limit_us=limit_us, description=description)
         self._pending: dict[int, int] = {}
 
-    def sample(self, sample_no: int, t_us: int) -> None:
+    def hooks(self) -> list[tuple]:
+        return [(SAMPLE, self.source, self.sample), (SEEN, self.source, self.seen)]
+
+    def sample(self, t_us: int, sample_no: int) -> None:
         for old in [n for n in self._pending if n < sample_no]:  # superseded, never read
             self._record(t_us - self._pending.pop(old), True)
         self._pending[sample_no] = t_us
 
-    def seen(self, sample_no: int, t_us: int) -> None:
+    def seen(self, t_us: int, sample_no: int) -> None:
         t_sample = self._pending.pop(sample_no, None)
         if t_sample is not None:
             latency = t_us - t_sample
             self._record(latency, latency > self.limit_us)
+
+    def record(self) -> dict:
+        return {**super().record(), "period_us": None}
 
 
 class PulseBudget(Budget):
@@ -110,6 +177,12 @@ class PulseBudget(Budget):
         self.sources = tuple(sources)
         self._levels = dict.fromkeys(self.sources, 0)
         self._since_us = None
+
+    def hooks(self) -> list[tuple]:
+        return [(LEVEL, source, self.on_level) for source in self.sources]
+
+    def on_level(self, t_us: int, signal: str, value, _changed: bool) -> None:
+        self.output(t_us, signal, value)
 
     def output(self, t_us: int, signal: str, value) -> None:
         self._levels[signal] = 1 if value else 0
@@ -127,11 +200,36 @@ class ComputeBudget(Budget):
     """Real (wall-clock) microseconds the firmware ran between two waits. Informational
     in lockstep runs: it is measured, never charged to virtual time."""
 
+    wall_clock = True
+
+    def hooks(self) -> list[tuple]:
+        return [(COMPUTE, None, self.event)]
+
     def event(self, compute_us: int) -> None:
         self._record(compute_us, compute_us > self.limit_us)
 
     def limit_text(self) -> str:
         return f"<= {self.limit_us} us wall"
+
+
+class BudgetHooks:
+    """The budgets' hooks by event and signal, as the rig calls them: ``change[signal]``
+    is the list of callables for a change of that signal, and so on."""
+
+    def __init__(self, budgets):
+        self.change: dict[str, list] = {}
+        self.sample: dict[str, list] = {}
+        self.seen: dict[str, list] = {}
+        self.level: dict[str, list] = {}
+        self.compute: list = []
+        for budget in budgets:
+            for event, signal, call in budget.hooks():
+                if event not in EVENTS:
+                    raise ValueError(f"budget {budget.name}: unknown event {event!r} (events: {', '.join(EVENTS)})")
+                if event == COMPUTE:
+                    self.compute.append(call)
+                else:
+                    getattr(self, event).setdefault(signal, []).append(call)
 
 
 def _percentile(sorted_values: list[int], pct: float):

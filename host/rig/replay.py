@@ -14,8 +14,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from host.artefacts.folder import TraceData, load_trace
-from host.artefacts.recorder import ACTUATOR, SENSOR
+from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from host.core.errors import ConfigError
+from host.rig.apps import get_app
 from host.rig.rig import Rig
 from sim_plant.scripted import ScriptedPlant
 
@@ -72,8 +73,8 @@ class ReplayResult:
 def replay_plant(trace: TraceData) -> ReplayPlant:
     h = trace.header
     signals = h.get("signals", {})
-    outputs = {n: i["kind"] for n, i in signals.items() if i["role"] == SENSOR}
-    inputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ACTUATOR}
+    outputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_SENSOR}
+    inputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_ACTUATOR}
     script = [(t, n, bytes.fromhex(v) if outputs[n] == "bytes" else v) for t, n, v in trace.events if n in outputs]
     initial = {n: (bytes.fromhex(v) if outputs[n] == "bytes" else v) for n, v in h.get("initial", {}).items()}
     return ReplayPlant(script, outputs=outputs, inputs=inputs, initial=initial)
@@ -85,11 +86,14 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     h = trace.header
     if h.get("mode") != "lockstep":
         raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
+    app = get_app(h["app"])
+    recorded_plant = app.make_plant(**h.get("plant_options", {}))  # its budgets, as the recorded run had them
     rig = Rig(
-        h["app"],
+        app,
         board=h["board"],
         seed=h["seed"],
         plant=replay_plant(trace),
+        budgets=app.make_budgets(recorded_plant),
         artefacts=Path(artefacts),
         trace=True,
         record=True,

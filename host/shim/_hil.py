@@ -35,6 +35,10 @@ _now = 0
 _horizon = 0
 _spin = 0
 FOREVER_US = F.FOREVER_US
+_STATE_FMT = F.STATE_FMT  # (module globals: the STATE loop reads them per change)
+_STATE_LEN = F.STATE_LEN
+_CHANGE_FMT = F.CHANGE_FMT
+_CHANGE_LEN = F.CHANGE_LEN
 _timer_due = FOREVER_US
 _timers = []
 _handles = []
@@ -160,11 +164,11 @@ def send_output(type_, payload):
 
 
 def send_out(handle, attr, value):
-    send_output(F.OUT, struct.pack("<QHBi", now(), handle, attr, value))
+    send_output(F.OUT, F.pack_out(now(), handle, attr, value))
 
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
-    _link.queue(F.CFG, struct.pack("<HBBBi", handle, kind, mode_, pull, param) + str(name).encode())
+    _link.queue(F.CFG, F.pack_cfg(handle, kind, mode_, pull, param, str(name).encode()))
     if sync:  # inputs: learn the current level before the firmware reads it
         _sync(now(), None)
 
@@ -239,27 +243,23 @@ def run_until(t_target, watch=None):
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
-    payload = struct.pack("<QQI", _now, t_until, compute_us if compute_us > 0 else 0)
-    if watch:
-        for h in watch:
-            payload += struct.pack("<H", h)
-    _link.queue(F.WAIT, payload)
+    _link.queue(F.WAIT, F.pack_wait(_now, t_until, compute_us if compute_us > 0 else 0, watch or ()))
     _link.flush()
     while True:
         type_, _seq, p = _link.recv()
         if type_ == F.BYE:
             raise HostStop()
-        if type_ == F.STATE and struct.unpack_from("<Q", p, 0)[0] == _now:
+        if type_ == F.STATE and struct.unpack_from(_STATE_FMT, p, 0)[0] == _now:
             break  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
-    base, t_end, horizon, n = struct.unpack_from("<QQQH", p, 0)
+    base, t_end, horizon, n = struct.unpack_from(_STATE_FMT, p, 0)
     hit = False
-    off = 26
+    off = _STATE_LEN
     group_t = -1
     for _ in range(n):
-        dt, h, kind, value, extra = struct.unpack_from("<IHBiI", p, off)
-        off += 15
+        dt, h, kind, value, extra = struct.unpack_from(_CHANGE_FMT, p, off)
+        off += _CHANGE_LEN
         if kind == F.CH_BYTES:
             extra = p[off:off + value]
             off += value
@@ -374,12 +374,12 @@ def start():
     path = getenv("HIL_LINK") if getenv else None
     _link = _Link(path) if path else _StdioLink()
     info = "%s;%s" % (".".join(str(v) for v in sys.implementation.version[:3]), sys.implementation._machine)
-    send(F.HELLO, struct.pack("<H", F.PROTO_VERSION) + info.encode())
+    send(F.HELLO, F.pack_hello(info.encode()))
     _link.flush()
     type_, _seq, p = _link.recv()
     if type_ != F.WELCOME:
         raise OSError("expected WELCOME from the host, got type 0x%02x" % type_)
-    proto, mode, t_start = struct.unpack_from("<HBQ", p, 0)
+    proto, mode, t_start = F.unpack_welcome(p)
     if proto != F.PROTO_VERSION:
         raise OSError("host speaks link protocol %d, shim speaks %d" % (proto, F.PROTO_VERSION))
     _now = t_start
@@ -396,8 +396,8 @@ def finish(kind, code=0, text=None):
     if _link is None:
         return
     if text is not None:
-        send(F.FAULT, struct.pack("<Q", now()) + text.encode()[: F.MAX_PAYLOAD - 8])
+        send(F.FAULT, F.pack_fault(now(), text.encode()))
     if isinstance(_link, _StdioLink):
         _link.close()  # Ctrl-C works again before the host sees EXIT
-    send(F.EXIT, struct.pack("<QBi", now(), kind, code))
+    send(F.EXIT, F.pack_exit(now(), kind, code))
     _link.flush()

@@ -21,7 +21,7 @@ def _asyncio_in_virtual_time():
     except ImportError:
         raise ImportError(
             "this MicroPython has no frozen asyncio/task.py; build it with "
-            "host/micropython/manifest.py (make setup) or freeze that file"
+            "host/core/micropython/manifest.py (make setup) or freeze that file"
         )
 
     core.TaskQueue = task.TaskQueue

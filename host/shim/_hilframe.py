@@ -116,21 +116,166 @@ class Decoder:
         }
 
 
-# -- messages (payload layouts in docs/protocol.md) ---------------------------------
+# -- messages -----------------------------------------------------------------------
+# Message types. Each payload's layout is defined once, below, as a struct format
+# (little-endian) and a pack/unpack pair that both ends use; docs/protocol.md draws them.
 # shim -> host
-HELLO = 0x01  # <H proto, then UTF-8 info "version;machine"
-CFG = 0x02  # <HBBBi handle, kind, mode, pull, param, then UTF-8 pin name
-OUT = 0x03  # <QHBi t_us, handle, attr, value
-WAIT = 0x04  # <QQI t_now_us, t_until_us, compute_us, then <H watched handles
-SEEN = 0x05  # <QHI t_us, handle, sample number
-UART_TX = 0x06  # <QH t_us, handle, then the bytes
-FAULT = 0x07  # <Q t_us, then UTF-8 traceback
-EXIT = 0x08  # <QBi t_us, kind, code
+HELLO = 0x01
+CFG = 0x02
+OUT = 0x03
+WAIT = 0x04
+SEEN = 0x05
+UART_TX = 0x06
+FAULT = 0x07
+EXIT = 0x08
 # host -> shim
-WELCOME = 0x81  # <HBQ proto, mode, t_start_us
+WELCOME = 0x81
+STATE = 0x82
 BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
-STATE = 0x82  # <QQQH base_us, t_end_us, horizon_us, count, then count x <IHBiI dt_us, handle, kind,
-#              value, extra (+ value bytes for CH_BYTES)
+
+NAMES = {HELLO: "HELLO", CFG: "CFG", OUT: "OUT", WAIT: "WAIT", SEEN: "SEEN", UART_TX: "UART_TX",
+         FAULT: "FAULT", EXIT: "EXIT", WELCOME: "WELCOME", STATE: "STATE", BYE: "BYE"}
+
+HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
+WELCOME_FMT = "<HBQ"  # proto, mode, t_start_us
+CFG_FMT = "<HBBBi"  # handle, kind, mode, pull, param, then UTF-8 pin name
+OUT_FMT = "<QHBi"  # t_us, handle, attr, value
+WAIT_FMT = "<QQI"  # t_now_us, t_until_us, compute_us, then WATCH_FMT per watched handle
+WATCH_FMT = "<H"
+SEEN_FMT = "<QHI"  # t_us, handle, sample number
+UART_TX_FMT = "<QH"  # t_us, handle, then the bytes
+FAULT_FMT = "<Q"  # t_us, then UTF-8 traceback
+EXIT_FMT = "<QBi"  # t_us, kind, code
+STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
+CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
+
+HELLO_LEN = struct.calcsize(HELLO_FMT)
+CFG_LEN = struct.calcsize(CFG_FMT)
+WAIT_LEN = struct.calcsize(WAIT_FMT)
+WATCH_LEN = struct.calcsize(WATCH_FMT)
+UART_TX_LEN = struct.calcsize(UART_TX_FMT)
+FAULT_LEN = struct.calcsize(FAULT_FMT)
+STATE_LEN = struct.calcsize(STATE_FMT)
+CHANGE_LEN = struct.calcsize(CHANGE_FMT)
+
+
+def pack_hello(info):
+    return struct.pack(HELLO_FMT, PROTO_VERSION) + info
+
+
+def unpack_hello(p):
+    """(proto, info bytes)"""
+    return struct.unpack_from(HELLO_FMT, p, 0)[0], bytes(p[HELLO_LEN:])
+
+
+def pack_welcome(mode, t_start_us):
+    return struct.pack(WELCOME_FMT, PROTO_VERSION, mode, t_start_us)
+
+
+def unpack_welcome(p):
+    """(proto, mode, t_start_us)"""
+    return struct.unpack_from(WELCOME_FMT, p, 0)
+
+
+def pack_cfg(handle, kind, mode, pull, param, name):
+    return struct.pack(CFG_FMT, handle, kind, mode, pull, param) + name
+
+
+def unpack_cfg(p):
+    """(handle, kind, mode, pull, param, name bytes)"""
+    return struct.unpack_from(CFG_FMT, p, 0) + (bytes(p[CFG_LEN:]),)
+
+
+def pack_out(t_us, handle, attr, value):
+    return struct.pack(OUT_FMT, t_us, handle, attr, value)
+
+
+def unpack_out(p):
+    """(t_us, handle, attr, value)"""
+    return struct.unpack_from(OUT_FMT, p, 0)
+
+
+def pack_wait(t_now_us, t_until_us, compute_us, watch=()):
+    payload = struct.pack(WAIT_FMT, t_now_us, t_until_us, compute_us)
+    for h in watch:
+        payload += struct.pack(WATCH_FMT, h)
+    return payload
+
+
+def unpack_wait(p):
+    """(t_now_us, t_until_us, compute_us, watched handles as a tuple)"""
+    n = (len(p) - WAIT_LEN) // WATCH_LEN
+    watch = tuple(struct.unpack_from(WATCH_FMT, p, WAIT_LEN + WATCH_LEN * i)[0] for i in range(n))
+    return struct.unpack_from(WAIT_FMT, p, 0) + (watch,)
+
+
+def pack_seen(t_us, handle, sample_no):
+    return struct.pack(SEEN_FMT, t_us, handle, sample_no)
+
+
+def unpack_seen(p):
+    """(t_us, handle, sample number)"""
+    return struct.unpack_from(SEEN_FMT, p, 0)
+
+
+def pack_uart_tx(t_us, handle, data):
+    return struct.pack(UART_TX_FMT, t_us, handle) + data
+
+
+def unpack_uart_tx(p):
+    """(t_us, handle, bytes)"""
+    return struct.unpack_from(UART_TX_FMT, p, 0) + (bytes(p[UART_TX_LEN:]),)
+
+
+def pack_fault(t_us, text):
+    """A traceback too long for one frame keeps its end (the exception's type and text)."""
+    room = MAX_PAYLOAD - FAULT_LEN
+    if len(text) > room:
+        text = text[len(text) - room:]
+    return struct.pack(FAULT_FMT, t_us) + text
+
+
+def unpack_fault(p):
+    """(t_us, traceback bytes)"""
+    return struct.unpack_from(FAULT_FMT, p, 0)[0], bytes(p[FAULT_LEN:])
+
+
+def pack_exit(t_us, kind, code):
+    return struct.pack(EXIT_FMT, t_us, kind, code)
+
+
+def unpack_exit(p):
+    """(t_us, kind, code)"""
+    return struct.unpack_from(EXIT_FMT, p, 0)
+
+
+def pack_state(base_us, t_end_us, horizon_us, changes):
+    """changes: (t_us, handle, kind, value, extra) in time order; for CH_BYTES, value is
+    the byte count and extra the bytes. Times before base_us are sent as base_us."""
+    parts = [struct.pack(STATE_FMT, base_us, t_end_us, horizon_us, len(changes))]
+    for t, h, kind, value, extra in changes:
+        dt = t - base_us if t > base_us else 0
+        if kind == CH_BYTES:
+            parts.append(struct.pack(CHANGE_FMT, dt, h, kind, value, 0) + extra)
+        else:
+            parts.append(struct.pack(CHANGE_FMT, dt, h, kind, value, extra))
+    return b"".join(parts)
+
+
+def unpack_state(p):
+    """(base_us, t_end_us, horizon_us, changes as (t_us, handle, kind, value, extra))"""
+    base, t_end, horizon, n = struct.unpack_from(STATE_FMT, p, 0)
+    off = STATE_LEN
+    changes = []
+    for _ in range(n):
+        dt, h, kind, value, extra = struct.unpack_from(CHANGE_FMT, p, off)
+        off += CHANGE_LEN
+        if kind == CH_BYTES:
+            extra = bytes(p[off:off + value])
+            off += value
+        changes.append((base + dt, h, kind, value, extra))
+    return base, t_end, horizon, changes
+
 
 CFG_PIN = 1
 CFG_ADC = 2

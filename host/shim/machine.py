@@ -1,8 +1,6 @@
 # machine module for firmware running in the loop, shadowing the unix port's own.
 # API after MicroPython's docs (docs/library/machine.*.rst); constants as on the ESP32
 # port. Every pin, ADC, PWM and UART is a handle the host wires to a plant signal.
-import struct
-
 import _hil
 import _hilframe as F
 
@@ -163,7 +161,7 @@ class ADC:
         _hil.observe()
         if self._sample != self._seen:  # first read of a new sample: report it
             self._seen = self._sample
-            _hil.send(F.SEEN, struct.pack("<QHI", _hil.now(), self._handle, self._sample))
+            _hil.send(F.SEEN, F.pack_seen(_hil.now(), self._handle, self._sample))
         return self._value
 
     def read(self):
@@ -290,7 +288,7 @@ class UART:
         while n:  # the first read of a line's last byte: report it, as ADC samples are
             n -= 1
             self._lines += 1
-            _hil.send(F.SEEN, struct.pack("<QHI", _hil.now(), self._handle, self._lines))
+            _hil.send(F.SEEN, F.pack_seen(_hil.now(), self._handle, self._lines))
         return data
 
     def readinto(self, buf, nbytes=-1):
@@ -309,7 +307,7 @@ class UART:
 
     def write(self, buf):
         data = bytes(buf)
-        _hil.send_output(F.UART_TX, struct.pack("<QH", _hil.now(), self._handle) + data)
+        _hil.send_output(F.UART_TX, F.pack_uart_tx(_hil.now(), self._handle, data))
         return len(data)
 
     def _poll_ready(self, mask):

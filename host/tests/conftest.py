@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from host.rig.apps import PROBE, App
+from host.rig.apps import App
+from host.rig.wiring import PROBE_PREFIX
 from sim_plant.scripted import ScriptedPlant
 
 FIRMWARE = Path(__file__).parent / "firmware"
@@ -20,7 +21,7 @@ WIRING = {
     "BUMPER": "button",  # pin 23
     "MOTOR_L_IN1": "out1",  # pin 26
     "MOTOR_L_PWM": "pwm",  # pin 25
-    "LOOP_PROBE": PROBE + "control",  # pin 15
+    "LOOP_PROBE": PROBE_PREFIX + "control",  # pin 15
 }
 OUTPUTS = {"a": "level", "b": "level", "echo": "level", "adc": "u16", "button": "level"}
 INPUTS = {"out1": "level", "pwm": "duty"}

@@ -13,6 +13,33 @@ def unhex(text):
     return bytes(int(text[i : i + 2], 16) for i in range(0, len(text), 2))
 
 
+def plain(value):
+    """JSON fields as the codec takes them: {"hex": ...} is bytes, lists stay lists."""
+    if isinstance(value, dict):
+        return unhex(value["hex"])
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    return value
+
+
+def check_message(v):
+    """pack_<message>(fields) gives the payload; unpack_<message>(payload) the fields
+    (HELLO and WELCOME lead with the protocol version, which pack adds)."""
+    name = v["message"]
+    fields = plain(v["fields"])
+    payload = unhex(v["payload"])
+    args = fields
+    if name == "state":
+        args = fields[:3] + [[tuple(c) for c in fields[3]]]
+    failures = []
+    if getattr(F, "pack_" + name)(*args) != payload:
+        failures.append("pack " + name)
+    want = [F.PROTO_VERSION] + fields if name in ("hello", "welcome") else fields
+    if plain(getattr(F, "unpack_" + name)(payload)) != want:
+        failures.append("unpack " + name)
+    return failures
+
+
 def decode_all(stream):
     dec = F.Decoder()
     dec.feed(stream)
@@ -48,7 +75,9 @@ def check(path):
         for key, value in v["counters"].items():
             if counters[key] != value:
                 failures.append("stream %s: %s=%d, expected %d" % (v["name"], key, counters[key], value))
-    return len(vectors["good"]) + len(vectors["streams"]), failures
+    for v in vectors["messages"]:
+        failures += check_message(v)
+    return len(vectors["good"]) + len(vectors["streams"]) + len(vectors["messages"]), failures
 
 
 if __name__ == "__main__":

@@ -52,3 +52,43 @@ def test_corrupted_frame_is_counted_and_never_delivered():
         while dec.pending() and dec.expire():
             assert dec.next() is None
         assert dec.frames == 0 and dec.bad_crc + dec.bad_length + dec.truncated >= 1
+
+
+TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i"}
+SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT"}  # what follows the fixed part
+
+
+def documented_layouts() -> dict[str, str]:
+    """docs/protocol.md's message table as struct formats: each backticked field list of
+    a row (`u64 t, u16 handle, ...`) is one format."""
+    import re
+
+    layouts = {}
+    table = (HERE.parent.parent / "docs" / "protocol.md").read_text()
+    for row in re.findall(r"^\| 0x[0-9a-f]{2} \| (\w+) \|[^|]*\|(.*)\|$", table, flags=re.M):
+        name, payload = row
+        parts = [re.findall(r"\b([ui]\d+)\b", seg) for seg in re.findall(r"`([^`]*)`", payload)]
+        formats = ["<" + "".join(TYPE_CODES[t] for t in p) for p in parts if p]
+        if formats:
+            layouts[f"{name}_FMT"] = formats[0]
+        if len(formats) > 1:
+            layouts[SECOND_PART[name]] = formats[1]
+    return layouts
+
+
+def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
+    layouts = documented_layouts()
+    assert len(layouts) == 12, sorted(layouts)  # ten messages with a payload, plus WAIT's and STATE's tails
+    for name, fmt in layouts.items():
+        assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
+
+
+def test_state_helper_sends_times_before_the_base_as_the_base():
+    payload = F.pack_state(1000, 2000, 3000, [(900, 1, F.CH_LEVEL, 1, 0), (1500, 2, F.CH_SAMPLE, 7, 4)])
+    assert F.unpack_state(payload) == (1000, 2000, 3000, [(1000, 1, F.CH_LEVEL, 1, 0), (1500, 2, F.CH_SAMPLE, 7, 4)])
+
+
+def test_fault_helper_keeps_the_end_of_a_traceback_too_long_for_one_frame():
+    text = b"Traceback (most recent call last):\n" + b'  File "main.py", line 1\n' * 400 + b"ValueError: the cause\n"
+    t_us, kept = F.unpack_fault(F.pack_fault(5, text))
+    assert t_us == 5 and kept.endswith(b"ValueError: the cause\n") and len(kept) == F.MAX_PAYLOAD - F.FAULT_LEN

@@ -3,7 +3,7 @@
 import pytest
 
 from host.core.errors import ConfigError
-from host.rig.rig import Rig
+from host.rig import Rig
 
 
 @pytest.mark.parametrize(

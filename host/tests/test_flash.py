@@ -101,19 +101,17 @@ def test_a_virtual_board_knows_a_link_session_by_its_frames_not_by_stray_bytes()
     bytes of those markers inside other frames' payloads change nothing."""
     from host.shim import _hilframe as F
 
-    board = vboard.VirtualBoard.__new__(vboard.VirtualBoard)
-    board.console_pty = vboard._Console()
+    con = vboard._Console()
     try:
-        con = board.console_pty
         hello = F.encode(F.HELLO, 0, b"\x01\x00" + b"1.25.0;linux")
-        board._from_interpreter(b"rover on esp32-devkitc\r\n" + hello[:1])
+        con.from_interpreter(b"rover on esp32-devkitc\r\n" + hello[:1])
         assert not con.link_session
-        board._from_interpreter(hello[1:])
+        con.from_interpreter(hello[1:])
         assert con.link_session, "a HELLO split across two reads starts the session"
         stray = F.encode(F.WAIT, 1, bytes((F.SOF, F.EXIT)) * 4)
-        board._from_interpreter(stray)
+        con.from_interpreter(stray)
         assert con.link_session, "an EXIT marker inside a WAIT payload must not end the session"
-        board._from_interpreter(F.encode(F.EXIT, 2, b"\x00" * 13) + b"\r\n>>> ")
+        con.from_interpreter(F.encode(F.EXIT, 2, b"\x00" * 13) + b"\r\n>>> ")
         assert not con.link_session and con.prompt
     finally:
         con.client.close()

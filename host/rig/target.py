@@ -1,0 +1,129 @@
+"""Targets: where the firmware runs, and the byte stream to its shim.
+
+A :class:`~host.rig.rig.Rig` drives every target the same way; each medium implements
+this small interface, as mpremote's transports and pySerial's backends implement
+theirs. :class:`UnixPortTarget` runs MicroPython's unix port in a child process with the
+link on a pty; the board and virtual-board targets live with the devices
+(:mod:`host.device.pil`, :mod:`host.device.vboard`).
+"""
+
+import os
+import signal
+import subprocess
+
+from host.core import interpreter
+from host.core.errors import FirmwareError, FirmwareHung
+from host.link import Channel, FdTransport, PtyPair
+
+EXIT_WAIT_S = 5.0
+
+
+class Target:
+    """The contract. ``open`` starts the firmware and returns the framed channel to its
+    shim; ``restart`` does so again after the firmware reset the board; ``close`` ends it
+    (safe to call twice); ``on_silence`` raises the error for a firmware that went quiet."""
+
+    def open(self, firmware, on_console) -> Channel:
+        raise NotImplementedError
+
+    def restart(self, firmware, on_console) -> Channel:
+        raise NotImplementedError
+
+    def alive(self) -> bool:
+        """Opened and not closed."""
+        raise NotImplementedError
+
+    def close(self, session_open: bool = False) -> None:
+        """End the firmware; ``session_open``: the shim still waits on the link."""
+        raise NotImplementedError
+
+    def on_silence(self, rig, timeout_s: float, what: str):
+        """Nothing came within ``timeout_s`` (0: the link failed): stop ``rig`` and raise."""
+        raise NotImplementedError
+
+
+class UnixPortTarget(Target):
+    """The unix port in a child process of its own session; its console (stdout and
+    stderr) is a pipe watched with the link, so printed text keeps its place."""
+
+    def __init__(self, busy_poll_s: float = 0.0):
+        self.busy_poll_s = busy_poll_s
+        self.proc: subprocess.Popen | None = None
+        self.pty: PtyPair | None = None
+        self._on_console = None
+
+    def open(self, firmware, on_console) -> Channel:
+        if self.pty is None:
+            self.pty = PtyPair()
+        self._on_console = on_console
+        self.proc = subprocess.Popen(
+            [str(interpreter.find()), "-m", "_hilboot"],
+            env=firmware.env(self.pty.slave_path),
+            cwd=str(firmware.main_dir),
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+        transport = FdTransport(self.pty.master_fd, busy_poll_s=self.busy_poll_s)
+        transport.watch(self.proc.stdout.fileno(), on_console)
+        return Channel(transport)
+
+    def restart(self, firmware, on_console) -> Channel:
+        """machine.reset(): the process ends by itself after EXIT; start a new one on
+        the same pty (the plant carries on)."""
+        proc, self.proc = self.proc, None
+        proc.wait(timeout=EXIT_WAIT_S)
+        self._drain(proc)
+        return self.open(firmware, on_console)
+
+    def alive(self) -> bool:
+        return self.proc is not None
+
+    def close(self, session_open: bool = False) -> None:
+        proc, self.proc = self.proc, None
+        if proc is not None:
+            if proc.poll() is None:
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            try:
+                proc.wait(timeout=EXIT_WAIT_S)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait(timeout=EXIT_WAIT_S)
+            self._drain(proc)
+        if self.pty is not None:
+            self.pty.close()
+            self.pty = None
+
+    def _drain(self, proc) -> None:
+        """The rest of what the process printed, then close its pipe."""
+        if proc.stdout is None:
+            return
+        try:
+            os.set_blocking(proc.stdout.fileno(), False)
+            rest = proc.stdout.read()
+            if rest and self._on_console is not None:
+                self._on_console(rest)
+        except (OSError, ValueError):
+            pass
+        proc.stdout.close()
+
+    def on_silence(self, rig, timeout_s: float, what: str):
+        proc = self.proc
+        if proc is not None and proc.poll() is None and timeout_s > 0:
+            rig.stop()
+            raise FirmwareHung(
+                f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
+                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {rig.last_message()}); "
+                f"the watchdog stopped it.{rig.where()}"
+            )
+        code = proc.wait(timeout=EXIT_WAIT_S) if proc is not None else None
+        rig.stop()
+        raise FirmwareError(
+            f"firmware process ended with exit code {code} while the host expected {what} "
+            f"(virtual t={rig.t_us / 1e6:.6f} s).{rig.where()}",
+            console=rig.console,
+        )

@@ -1,0 +1,90 @@
+"""Wiring: the board's named pins to plant signals, and the firmware's pins as the shim
+configures them.
+
+A board file names its pins (``MOTOR_L_PWM = const(25)``); an app's wiring maps those
+names to plant signals (``"MOTOR_L_PWM": "motor_l.pwm"``), or to a probe that only the
+harness watches (``"LOOP_PROBE": "probe:control"``, a logic-analyser probe). When the
+firmware creates a Pin, ADC, PWM or UART, the shim sends CFG with the object's *handle*
+and the pin's id; :class:`Wiring` keeps the table from handle to signal.
+``docs/wiring.md`` describes the whole chain.
+"""
+
+from dataclasses import dataclass
+
+from host.core.errors import ConfigError, LinkError
+from host.link import frames as F
+from host.rig.boards import pin_key
+
+PROBE_PREFIX = "probe:"
+"""Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
+
+
+@dataclass
+class Handle:
+    """One shim object (pin, ADC, PWM, UART) and what it is wired to."""
+
+    kind: int  # a CFG kind: F.CFG_PIN, F.CFG_ADC, ...
+    key: str  # pin id as the shim names it
+    board_name: str | None
+    signal: str | None  # plant signal or "probe:<name>"
+    is_input: bool = False
+    pull: int = 0
+    irq: int = 0  # trigger mask
+    samples: int = 0  # ADC samples / UART lines routed to it
+    level: int | None = None  # last level driven on an output
+
+    @property
+    def probe(self) -> bool:
+        return self.signal is not None and self.signal.startswith(PROBE_PREFIX)
+
+
+class Wiring:
+    """Pin names -> signals (fixed for a rig), handles -> pins (per interpreter run)."""
+
+    def __init__(self, wiring: dict[str, str], pins: dict[str, object], board: str):
+        unknown = sorted(set(wiring) - set(pins))
+        if unknown:
+            raise ConfigError(f"wiring: board {board} has no pin named {', '.join(unknown)}")
+        self.wiring = dict(wiring)
+        self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
+        self.clear()
+
+    def clear(self) -> None:
+        """A new interpreter run: nothing configured yet."""
+        self.handles: list[Handle] = []
+        self.by_signal: dict[str, list[int]] = {}
+        self.irq_armed = False  # some input has an IRQ handler
+        self.uart = False  # some UART is configured: bytes flow
+
+    def signal_of(self, key: str) -> str | None:
+        board_name = self.pin_names.get(key)
+        return self.wiring.get(board_name) if board_name else None
+
+    def configure(self, h: int, kind: int, mode: int, pull: int, key: str) -> Handle | None:
+        """A CFG from the shim: the handle's new configuration (None for an IRQ, which
+        arms an existing handle)."""
+        if kind == F.CFG_UART:
+            self.uart = True
+        if kind == F.CFG_IRQ:
+            if h >= len(self.handles):
+                raise LinkError(f"CFG: an IRQ on handle {h}, which the shim never configured (link protocol error)")
+            self.handles[h].irq = mode
+            self.irq_armed = any(info.irq for info in self.handles)
+            return None
+        while len(self.handles) <= h:
+            self.handles.append(Handle(0, "", None, None))
+        board_name = self.pin_names.get(key)
+        signal = self.wiring.get(board_name) if board_name else None
+        is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
+        info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull)
+        old = self.handles[h]
+        if old.signal and h in self.by_signal.get(old.signal, ()):
+            self.by_signal[old.signal].remove(h)
+        self.handles[h] = info
+        if signal:
+            self.by_signal.setdefault(signal, []).append(h)
+        return info
+
+    def fan_out(self) -> int:
+        """The most handles wired to one signal (a change of it is that many entries)."""
+        return max(map(len, self.by_signal.values()), default=1)
