@@ -4,7 +4,8 @@
 #   make hil     the firmware-in-the-loop scenarios, the timing-budget table and the
 #                HTML report (build/hil/report.html)
 #   make bench   real-time factor and link round trip; plant cost per quantum
-#   make lint    ruff on the host side
+#   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
+#                plant, tests); `make format` applies the formatter
 #   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]
 #                compile with mpy-cross, copy what changed with mpremote, reset, show
 #                the first lines; without PORT, to the virtual board (build/vboard/)
@@ -25,7 +26,7 @@ export MICROPYTHON
 
 APP ?= rover
 
-.PHONY: setup test hil bench lint flash clean
+.PHONY: setup test hil bench lint format flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
@@ -53,8 +54,13 @@ bench: setup
 	$(PY) -m host.bench
 	$(PY) -m sim_plant.plant_cost
 
-lint: setup
-	$(VENV)/bin/ruff check host sim_plant hil_tests
+lint: $(VENV)/.installed
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+
+format: $(VENV)/.installed
+	$(VENV)/bin/ruff format .
+	$(VENV)/bin/ruff check --select I --fix .
 
 clean:
 	rm -rf build $(VENV)

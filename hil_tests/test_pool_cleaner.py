@@ -36,9 +36,11 @@ def run_until_console(rig, text, limit_s, step_s=10.0):
     deadline_us = rig.t_us + limit_s * 1e6
     while text not in rig.console and rig.t_us < deadline_us:
         rig.run_for(step_s)
-    assert text in rig.console, (f"expected {text!r} within {limit_s:g} simulated s, got none by "
-                                 f"t = {rig.t_us / 1e6:.0f} s; console tail:\n{rig.console[-1500:]}\n"
-                                 f"artefacts: {rig.artefacts}")
+    assert text in rig.console, (
+        f"expected {text!r} within {limit_s:g} simulated s, got none by "
+        f"t = {rig.t_us / 1e6:.0f} s; console tail:\n{rig.console[-1500:]}\n"
+        f"artefacts: {rig.artefacts}"
+    )
 
 
 def check_budgets(rig, names=("control.period", "sonar.period", "sonar.latency", "track.stop")):
@@ -66,14 +68,19 @@ def test_lane_error_below_10cm_within_30_sonar_samples_from_a_30cm_offset(make_r
         travel_m.append(x0 - truth["x_m"])
     settle = next((i for i in range(len(errors)) if all(abs(e) < 0.1 for e in errors[i:])), None)
     shown = ", ".join(f"{e:+.2f}" for e in errors[:40])
-    record_property("result", f"lane error {errors[0]:+.2f} m -> under 0.10 m after {settle} samples "
-                              f"({travel_m[settle]:.1f} m), max after {max(abs(e) for e in errors[settle:]):.3f} m"
-                    if settle is not None else "lane never regained")
+    record_property(
+        "result",
+        f"lane error {errors[0]:+.2f} m -> under 0.10 m after {settle} samples "
+        f"({travel_m[settle]:.1f} m), max after {max(abs(e) for e in errors[settle:]):.3f} m"
+        if settle is not None
+        else "lane never regained",
+    )
     # the reversal's heading kick moves the machine a few cm in the 5 s of open loop
     assert abs(abs(errors[0]) - 0.3) < 0.08, f"expected to start about 0.3 m off the lane, got {errors[0]:+.2f} m"
     assert settle is not None and settle <= 30, (
         f"expected |lane error| < 0.1 m from sample <= 30 to the end of the run, got {settle}; "
-        f"errors: {shown}; artefacts: {rig.artefacts}")
+        f"errors: {shown}; artefacts: {rig.artefacts}"
+    )
     check_budgets(rig)
 
 
@@ -85,19 +92,26 @@ def test_short_side_coverage_above_96_percent(make_rig, record_property):
     0.48 m swath leave 8 cm of overlap, so a few centimetres of lane error show.)"""
     length_m, width_m, start_d_m = 8.0, 25.0, 13.7
     y0 = width_m - HALF_W_M - start_d_m
-    rig = make_rig("pool_cleaner", seed=1, plant_options={
-        "pool_length_m": length_m, "pool_width_m": width_m, "start_pose": (length_m - 0.46, y0, 0.0)})
+    rig = make_rig(
+        "pool_cleaner",
+        seed=1,
+        plant_options={"pool_length_m": length_m, "pool_width_m": width_m, "start_pose": (length_m - 0.46, y0, 0.0)},
+    )
     run_until_console(rig, "cross 32:", 1200)  # sixteen straight runs done
     lanes = [float(v) for v in re.findall(r"cross \d+: lane ([0-9.]+) m", rig.console)]
     y_last = width_m - HALF_W_M - min(lanes)
     grid = rig.plant.part(CoverageRecorder).grid
     covered = grid.fraction_in(END_STRIP_M, length_m - END_STRIP_M, y0, y_last)
     repeats = rig.console.count("repeating")
-    record_property("result", f"short side: {covered:.1%} of {y_last - y0:.1f} x {length_m - 2 * END_STRIP_M:.2f} m "
-                              f"in {rig.t_us / 60e6:.1f} min, {repeats} lane(s) repeated")
+    record_property(
+        "result",
+        f"short side: {covered:.1%} of {y_last - y0:.1f} x {length_m - 2 * END_STRIP_M:.2f} m "
+        f"in {rig.t_us / 60e6:.1f} min, {repeats} lane(s) repeated",
+    )
     assert y_last - y0 >= 4.0, f"expected at least 11 lanes (4 m) in 16 runs, got {y_last - y0:.2f} m"
-    assert covered > 0.96, f"expected more than 96 % of the swept band covered, got {covered:.1%}; " \
-                           f"artefacts: {rig.artefacts}"
+    assert covered > 0.96, (
+        f"expected more than 96 % of the swept band covered, got {covered:.1%}; artefacts: {rig.artefacts}"
+    )
     check_budgets(rig)
 
 
@@ -112,8 +126,11 @@ def test_full_pool_cleaned_in_about_an_hour_with_95_percent_coverage(make_rig, r
     estimate_s = int(e.group(1)) * 3600 + int(e.group(2)) * 60 + int(e.group(3))
     coverage = rig.truth()["coverage_fraction"]
     off = estimate_s / done_s - 1
-    record_property("result", f"full pool: {coverage:.1%} covered in {done_s / 60:.1f} min, start-up estimate "
-                              f"{estimate_s / 60:.1f} min ({off:+.1%}), {rig.truth()['reversals']} reversals")
+    record_property(
+        "result",
+        f"full pool: {coverage:.1%} covered in {done_s / 60:.1f} min, start-up estimate "
+        f"{estimate_s / 60:.1f} min ({off:+.1%}), {rig.truth()['reversals']} reversals",
+    )
     assert "sonar: switching to sonar 1" in rig.console, "expected the switch to the other sonar half way"
     assert coverage >= 0.95, f"expected >= 95 % of the floor covered, got {coverage:.1%}; artefacts: {rig.artefacts}"
     assert 55 * 60 <= done_s <= 60.5 * 60, f"expected about 55-60 min (seed 000 §7.3.3), got {done_s / 60:.1f} min"
@@ -131,9 +148,12 @@ def test_sonar_samples_are_read_within_one_quantum_and_stops_fit_their_slot(make
     latency = rig.budgets["sonar.latency"].stats()
     stops = rig.budgets["track.stop"].stats()
     period = rig.budgets["control.period"].stats()
-    record_property("result", f"budgets: {latency['count']} sentences read {latency['max'] / 1000:.1f} ms after "
-                              f"their last byte at worst; {stops['count']} stops, longest "
-                              f"{stops['max'] / 1000:.0f} ms; {period['count']} steps, max period {period['max']} us")
+    record_property(
+        "result",
+        f"budgets: {latency['count']} sentences read {latency['max'] / 1000:.1f} ms after "
+        f"their last byte at worst; {stops['count']} stops, longest "
+        f"{stops['max'] / 1000:.0f} ms; {period['count']} steps, max period {period['max']} us",
+    )
     assert latency["count"] >= 598 and latency["max"] > 30_000, latency  # split sentences wait a quantum
     assert period["count"] >= 5999 and period["max"] == 50_000, period
     assert stops["count"] > 50, f"expected the machine to steer, got {stops}"
@@ -146,8 +166,11 @@ def test_sonar_faults_do_not_drive_the_cleaner_into_a_wall(make_rig, record_prop
     lane, and back on it (0.15 m) 15 s after the fault. Blind, the firmware steers on its
     dead-reckoned estimate: 20 s (6 m) at a heading known to 0.05 rad is 0.3 m."""
     start_y = 2.5
-    rig = make_rig("pool_cleaner", seed=1, plant_options={
-        "start_pose": (25.0 - 0.46, start_y, 0.0), "sonar_faults": [(*window_s, kind)]})
+    rig = make_rig(
+        "pool_cleaner",
+        seed=1,
+        plant_options={"start_pose": (25.0 - 0.46, start_y, 0.0), "sonar_faults": [(*window_s, kind)]},
+    )
     run_until_console(rig, "straight 1:", 10, step_s=0.5)
     width_m = float(console_number(rig, r"width ([0-9.]+) m"))
     worst_m, after = 0.0, []
@@ -159,12 +182,16 @@ def test_sonar_faults_do_not_drive_the_cleaner_into_a_wall(make_rig, record_prop
         if t_s > window_s[1] + 15 and rig.truth()["x_m"] > 2.0:
             after.append(err)
     walls = [c for c in rig.truth()["contacts"] if c.part == "body"]
-    record_property("result", f"{kind} sonar {window_s[0]:g}-{window_s[1]:g} s: worst lane error {worst_m:.2f} m, "
-                              f"{max(after):.2f} m from 15 s after, {len(walls)} side-wall contacts")
+    record_property(
+        "result",
+        f"{kind} sonar {window_s[0]:g}-{window_s[1]:g} s: worst lane error {worst_m:.2f} m, "
+        f"{max(after):.2f} m from 15 s after, {len(walls)} side-wall contacts",
+    )
     assert not walls, f"expected no side wall touched, got {walls}; artefacts: {rig.artefacts}"
     assert worst_m < 0.4, f"expected the machine within a lane (0.4 m) of its lane, got {worst_m:.2f} m off"
     assert after and max(after) < 0.15 and sum(after) / len(after) < 0.1, (
-        f"expected the lane regained from 15 s after the fault, got errors up to {max(after):.2f} m")
+        f"expected the lane regained from 15 s after the fault, got errors up to {max(after):.2f} m"
+    )
     check_budgets(rig, ("control.period", "sonar.latency", "track.stop"))  # a dropout is a period miss
 
 

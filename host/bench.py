@@ -54,8 +54,14 @@ def bench_pool(limit_s: float = 75 * 60) -> dict:
         wall = time.perf_counter() - t0
         print()
         sim_s = rig.t_us / 1e6
-        return {"sim_s": sim_s, "wall_s": wall, "rtf": sim_s / wall, "done": "done:" in rig.console,
-                "round_trips": rig.stats.link_round_trips, "coverage": rig.truth()["coverage_fraction"]}
+        return {
+            "sim_s": sim_s,
+            "wall_s": wall,
+            "rtf": sim_s / wall,
+            "done": "done:" in rig.console,
+            "round_trips": rig.stats.link_round_trips,
+            "coverage": rig.truth()["coverage_fraction"],
+        }
 
 
 def bench_ping(sim_s: float) -> list[float]:

@@ -62,10 +62,23 @@ class AmplitudeChannel:
 class AmplitudeSonarArray(Part):
     """All the amplitude sonars of a robot, updated together (see the module table)."""
 
-    def __init__(self, channels, *, full_scale_v: float = 5.0, min_range_m: float = 0.030, max_range_m: float = 1.0,
-                 exponent: float = 1.0, peak_incidence_deg=(5.0, 8.0), normal_gain: float = 0.9,
-                 absent_incidence_deg: float = 35.0, discharge_tau_ms: float = 150.0, noise_v: float = 0.01,
-                 corner_spike_p: float = 0.01, update_us: int = 25_000, adc: Adc | None = None):
+    def __init__(
+        self,
+        channels,
+        *,
+        full_scale_v: float = 5.0,
+        min_range_m: float = 0.030,
+        max_range_m: float = 1.0,
+        exponent: float = 1.0,
+        peak_incidence_deg=(5.0, 8.0),
+        normal_gain: float = 0.9,
+        absent_incidence_deg: float = 35.0,
+        discharge_tau_ms: float = 150.0,
+        noise_v: float = 0.01,
+        corner_spike_p: float = 0.01,
+        update_us: int = 25_000,
+        adc: Adc | None = None,
+    ):
         self.channels = list(channels)
         self.full_scale_v = float(full_scale_v)
         self.min_range_m = float(min_range_m)
@@ -138,7 +151,8 @@ class AmplitudeSonarArray(Part):
                     nearest = d
             if spike_u < self.corner_spike_p:
                 corners = plant.world.near(x, y, max_range + 0.3).vertices_in_cone(
-                    sx, sy, th + ma, self.absent_rad, max_range)
+                    sx, sy, th + ma, self.absent_rad, max_range
+                )
                 if corners:
                     self.spikes += 1
                     target = max(target, self.range_volts(min(corners)))

@@ -46,8 +46,7 @@ def _pushing_square_on(body) -> bool:
     return all(vx * nx + vy * ny < -0.999999 for nx, ny, _c, _ox, _oy in body.constraints)
 
 
-def _release_s(nx: float, ny: float, rx: float, ry: float, v: float, w: float, th: float,
-               recheck_s: float) -> float:
+def _release_s(nx: float, ny: float, rx: float, ry: float, v: float, w: float, th: float, recheck_s: float) -> float:
     """When a circle pushed against one wall (normal ``n`` towards the circle) comes off
     it: when its centre's free velocity (at ``(rx, ry)`` from the reference point, on the
     arc ``(v, w)`` from heading ``th``) stops pointing into the wall; never if the centre
@@ -90,8 +89,17 @@ class Bumper:
     extra open/close pairs within it.
     """
 
-    def __init__(self, name: str, *, circles=(0,), center_deg: float = 0.0, half_arc_deg: float = 70.0,
-                 active_low: bool = True, bounce_us: int = 0, bounce_max_pairs: int = 3):
+    def __init__(
+        self,
+        name: str,
+        *,
+        circles=(0,),
+        center_deg: float = 0.0,
+        half_arc_deg: float = 70.0,
+        active_low: bool = True,
+        bounce_us: int = 0,
+        bounce_max_pairs: int = 3,
+    ):
         self.name = name
         self.circles = tuple(circles)
         self.center_rad = math.radians(center_deg)
@@ -295,9 +303,14 @@ class ContactMonitor(Part):
 
     @staticmethod
     def _in_arc(bumper: "Bumper", circle: int, angle_rad: float) -> bool:
-        return circle in bumper.circles and \
-            abs(math.remainder(angle_rad - bumper.center_rad, 2 * math.pi)) <= bumper.half_arc_rad
+        return (
+            circle in bumper.circles
+            and abs(math.remainder(angle_rad - bumper.center_rad, 2 * math.pi)) <= bumper.half_arc_rad
+        )
 
     def truth(self, t_us: int, plant) -> dict:
-        return {"contacts": list(self.contacts), "touching": bool(self.touching),
-                **{f"{b.name}_pressed": b.pressed for b in self.bumpers}}
+        return {
+            "contacts": list(self.contacts),
+            "touching": bool(self.touching),
+            **{f"{b.name}_pressed": b.pressed for b in self.bumpers},
+        }

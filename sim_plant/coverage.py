@@ -154,8 +154,11 @@ class CoverageRecorder(Part):
             self.next_us = NEVER_US
             return
         moving = self.next_us != NEVER_US
-        if not moving or turned_back or \
-                abs(math.remainder(plant.pose_at(t_us)[2] - self.last_th, 2 * math.pi)) > BEND_RAD:
+        if (
+            not moving
+            or turned_back
+            or abs(math.remainder(plant.pose_at(t_us)[2] - self.last_th, 2 * math.pi)) > BEND_RAD
+        ):
             self._sample(t_us, plant)
             moving = False  # plan from this sample
         period = SAMPLE_STEP_CELLS * self.grid.cell_m / speed * 1e6 if speed > 0.0 else SAMPLE_PERIOD_MAX_US

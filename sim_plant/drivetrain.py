@@ -114,8 +114,17 @@ class DiffDriveTrain(Part):
 
     FIXED_STATE = ("bridges", "motors", "inputs", "outputs")
 
-    def __init__(self, *, bridges: tuple[Bridge, Bridge], motors: tuple[DcMotor, DcMotor], wheel_radius_m: float,
-                 track_m: float, start_pose=(0.0, 0.0, 0.0), spin_slip: float = 0.0, standby: str | None = None):
+    def __init__(
+        self,
+        *,
+        bridges: tuple[Bridge, Bridge],
+        motors: tuple[DcMotor, DcMotor],
+        wheel_radius_m: float,
+        track_m: float,
+        start_pose=(0.0, 0.0, 0.0),
+        spin_slip: float = 0.0,
+        standby: str | None = None,
+    ):
         if wheel_radius_m <= 0 or track_m <= 0:
             raise ValueError(f"DiffDriveTrain: wheel_radius_m ({wheel_radius_m}) and track_m ({track_m}) must be > 0")
         if not 0.0 <= spin_slip <= 1.0:
@@ -203,5 +212,9 @@ class DiffDriveTrain(Part):
     def truth(self, t_us: int, plant) -> dict:
         wl, wr = self.wheel_rad_s
         r = self.wheel_radius_m
-        return {"v_m_s": r * (wl + wr) / 2.0, "w_rad_s": r * (wr - wl) / self.track_m,
-                "wheel_rad_s": (wl, wr), "distance_m": self.body.distance_at(t_us)}
+        return {
+            "v_m_s": r * (wl + wr) / 2.0,
+            "w_rad_s": r * (wr - wl) / self.track_m,
+            "wheel_rad_s": (wl, wr),
+            "distance_m": self.body.distance_at(t_us),
+        }

@@ -70,20 +70,42 @@ walls nearer than the 30 mm minimum range are still seen (App. C.4.1)."""
 
 
 class DuctRobot(RobotPlant):
-    def __init__(self, *, world="one_right_branch", start_pose=(0.3, 0.2, 0.0), wheel_diameter_m=0.060,
-                 track_m=0.18, v_max_m_s=0.4, deadband_duty=0.10, motor_gains=(1.0, 1.0),
-                 motor_time_constant_ms=0.0, slots_per_rev=8, gear_ratio=6.0, spin_slip=0.3,
-                 sonar_gains=(1.0, 1.05, 0.95), sonar_options=None, bumper=False, bumper_bounce_us=0):
+    def __init__(
+        self,
+        *,
+        world="one_right_branch",
+        start_pose=(0.3, 0.2, 0.0),
+        wheel_diameter_m=0.060,
+        track_m=0.18,
+        v_max_m_s=0.4,
+        deadband_duty=0.10,
+        motor_gains=(1.0, 1.0),
+        motor_time_constant_ms=0.0,
+        slots_per_rev=8,
+        gear_ratio=6.0,
+        spin_slip=0.3,
+        sonar_gains=(1.0, 1.05, 0.95),
+        sonar_options=None,
+        bumper=False,
+        bumper_bounce_us=0,
+    ):
         if isinstance(world, World):
             self.world = world
         elif world in WORLDS:
             self.world = WORLDS[world]()
         else:
             raise ValueError(f"world: one of {sorted(WORLDS)} or a World, got {world!r}")
-        self._set_wheels(start_pose=start_pose, wheel_radius_m=float(wheel_diameter_m) / 2, track_m=track_m,
-                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
-                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
-                         bumper_bounce_us=bumper_bounce_us)
+        self._set_wheels(
+            start_pose=start_pose,
+            wheel_radius_m=float(wheel_diameter_m) / 2,
+            track_m=track_m,
+            v_max_m_s=v_max_m_s,
+            deadband_duty=deadband_duty,
+            motor_gains=motor_gains,
+            motor_time_constant_ms=motor_time_constant_ms,
+            bumper=bumper,
+            bumper_bounce_us=bumper_bounce_us,
+        )
         self.slots_per_rev = int(slots_per_rev)
         self.gear_ratio = float(gear_ratio)
         self.spin_slip = float(spin_slip)
@@ -93,13 +115,18 @@ class DuctRobot(RobotPlant):
 
     def _build(self) -> None:
         motors = self._wheel_motors()
-        self.drive = DiffDriveTrain(bridges=(DirPwmBridge("motor_l"), DirPwmBridge("motor_r")), motors=motors,
-                                    wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
-                                    start_pose=self.start_pose, spin_slip=self.spin_slip)
+        self.drive = DiffDriveTrain(
+            bridges=(DirPwmBridge("motor_l"), DirPwmBridge("motor_r")),
+            motors=motors,
+            wheel_radius_m=self.wheel_radius_m,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+            spin_slip=self.spin_slip,
+        )
         enc = {"lines_per_rev": self.slots_per_rev, "gear_ratio": self.gear_ratio}
-        self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, **enc),
-                         SlottedDiskEncoder(("enc_r",), wheel=1, **enc)]
+        self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, **enc), SlottedDiskEncoder(("enc_r",), wheel=1, **enc)]
         bumpers = [front_bumper(60.0, self.bumper_bounce_us)] if self.bumper else []
-        channels = [AmplitudeChannel(name, mount, gain) for (name, mount), gain in
-                    zip(SONAR_MOUNTS.items(), self.sonar_gains)]
+        channels = [
+            AmplitudeChannel(name, mount, gain) for (name, mount), gain in zip(SONAR_MOUNTS.items(), self.sonar_gains)
+        ]
         self.parts = [ContactMonitor(BODY_CIRCLES, bumpers), AmplitudeSonarArray(channels, **self.sonar_options)]

@@ -112,12 +112,26 @@ def interpolate(table, x: float) -> float:
 class NavmanSideSounder:
     """Transducer model of the NAVMAN 100 used sideways (see the module table)."""
 
-    def __init__(self, mount, *, beam_half_angle_deg: float = 4.5, max_incidence_deg: float = 15.0,
-                 min_range_m: float = 0.8, dropout_table=DROPOUT_TABLE_7_1, fine_step_m: float = 0.1,
-                 coarse_step_m: float = 1.0, coarse_from_m: float = 20.0, max_range_m: float = 150.0,
-                 noise_sd_m: float = 0.1, end_zone_m: float = 1.5, end_corrupt_p: float = 0.8,
-                 warmup_s: float = 0.0, warmup_noise_sd_m: float = 0.3, faults=(),
-                 wrong_range_m=(0.8, 15.0)):
+    def __init__(
+        self,
+        mount,
+        *,
+        beam_half_angle_deg: float = 4.5,
+        max_incidence_deg: float = 15.0,
+        min_range_m: float = 0.8,
+        dropout_table=DROPOUT_TABLE_7_1,
+        fine_step_m: float = 0.1,
+        coarse_step_m: float = 1.0,
+        coarse_from_m: float = 20.0,
+        max_range_m: float = 150.0,
+        noise_sd_m: float = 0.1,
+        end_zone_m: float = 1.5,
+        end_corrupt_p: float = 0.8,
+        warmup_s: float = 0.0,
+        warmup_noise_sd_m: float = 0.3,
+        faults=(),
+        wrong_range_m=(0.8, 15.0),
+    ):
         self.mount = tuple(float(v) for v in mount)
         self.beam_half_angle_rad = math.radians(beam_half_angle_deg)
         self.max_incidence_rad = math.radians(max_incidence_deg)
@@ -199,10 +213,22 @@ class NmeaDepthSounder(Part):
     dropout; fault injection).
     """
 
-    def __init__(self, name: str, transducers, *, select: str | None = None, period_us: int = 500_000,
-                 phase_us: int = 100_000, baud: int = 4800, bits_per_byte: int = 10, bytes_per_change: int = 1,
-                 talker: str = "SD", switch_settle_s: float = 0.0, settle_noise_sd_m: float = 0.3,
-                 silent=()):
+    def __init__(
+        self,
+        name: str,
+        transducers,
+        *,
+        select: str | None = None,
+        period_us: int = 500_000,
+        phase_us: int = 100_000,
+        baud: int = 4800,
+        bits_per_byte: int = 10,
+        bytes_per_change: int = 1,
+        talker: str = "SD",
+        switch_settle_s: float = 0.0,
+        settle_noise_sd_m: float = 0.3,
+        silent=(),
+    ):
         self.name = name
         self.transducers = list(transducers)
         if len(self.transducers) > 1 and not select:
@@ -260,7 +286,8 @@ class NmeaDepthSounder(Part):
             if i != self.selected:
                 self.true_m[i] = tr.geometry(pose, plant.world)[0]
         self.true_m[self.selected], self.reading_m = self.transducers[self.selected].measure(
-            t_us, pose, plant.world, plant.rng, extra)
+            t_us, pose, plant.world, plant.rng, extra
+        )
         sentence = dpt_sentence(self.reading_m, talker=self.talker)
         self.last_sentence = sentence
         self.sentences += 1
@@ -274,6 +301,7 @@ class NmeaDepthSounder(Part):
     def truth(self, t_us: int, plant) -> dict:
         sides = ("l", "r") if len(self.transducers) == 2 else tuple(str(i) for i in range(len(self.transducers)))
         truth = {f"sonar_{s}_range_m": self.true_m[i] for i, s in enumerate(sides)}
-        truth.update({"sonar_selected": self.selected, "sonar_reading_m": self.reading_m,
-                      "sonar_sentence": self.last_sentence})
+        truth.update(
+            {"sonar_selected": self.selected, "sonar_reading_m": self.reading_m, "sonar_sentence": self.last_sentence}
+        )
         return truth

@@ -40,8 +40,9 @@ class _EdgeCounter:
 
     def __init__(self, names, *, wheel: int, lines_per_rev: int, gear_ratio: float = 1.0, polarity: int = 1):
         if lines_per_rev <= 0 or gear_ratio <= 0:
-            raise ValueError(f"encoder {names}: lines_per_rev ({lines_per_rev}) and gear_ratio ({gear_ratio}) "
-                             f"must be > 0")
+            raise ValueError(
+                f"encoder {names}: lines_per_rev ({lines_per_rev}) and gear_ratio ({gear_ratio}) must be > 0"
+            )
         if polarity not in (1, -1):
             raise ValueError(f"encoder {names}: polarity must be +1 or -1, got {polarity!r}")
         self.names = tuple(names)

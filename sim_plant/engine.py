@@ -150,8 +150,19 @@ class RobotPlant(Plant):
 
     # -- for two-wheeled robots ---------------------------------------------------------
 
-    def _set_wheels(self, *, start_pose, wheel_radius_m, track_m, v_max_m_s, deadband_duty, motor_gains,
-                    motor_time_constant_ms, bumper, bumper_bounce_us) -> None:
+    def _set_wheels(
+        self,
+        *,
+        start_pose,
+        wheel_radius_m,
+        track_m,
+        v_max_m_s,
+        deadband_duty,
+        motor_gains,
+        motor_time_constant_ms,
+        bumper,
+        bumper_bounce_us,
+    ) -> None:
         """Keep the constructor's drive and bumper options, as :meth:`_wheel_motors` and
         the plant's ``_build`` read them."""
         self.start_pose = tuple(float(v) for v in start_pose)
@@ -167,8 +178,15 @@ class RobotPlant(Plant):
     def _wheel_motors(self) -> tuple:
         """One DcMotor per wheel from the plant's ``v_max_m_s``, ``wheel_radius_m``,
         ``deadband_duty``, ``motor_gains`` and ``motor_time_constant_ms``."""
-        return tuple(DcMotor(max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m, deadband_duty=self.deadband_duty,
-                             gain=g, time_constant_ms=self.motor_time_constant_ms) for g in self.motor_gains)
+        return tuple(
+            DcMotor(
+                max_wheel_rad_s=self.v_max_m_s / self.wheel_radius_m,
+                deadband_duty=self.deadband_duty,
+                gain=g,
+                time_constant_ms=self.motor_time_constant_ms,
+            )
+            for g in self.motor_gains
+        )
 
     # -- contract -------------------------------------------------------------------
 
@@ -188,8 +206,9 @@ class RobotPlant(Plant):
         for part in self.parts:
             values.update(part.initial_outputs())
         self.values = values  # outputs of the drive and parts (encoders keep their own)
-        self._encoder_outputs = {name: (i, k) for i, enc in enumerate(self.encoders)
-                                 for k, name in enumerate(enc.names)}
+        self._encoder_outputs = {
+            name: (i, k) for i, enc in enumerate(self.encoders) for k, name in enumerate(enc.names)
+        }
         self._motion_pending = False
         self._motion_changed(0)
 

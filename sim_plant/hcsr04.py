@@ -62,9 +62,17 @@ class Servo:
     A duty of 0 (no pulses) leaves the servo where it is.
     """
 
-    def __init__(self, name: str = "servo.pwm", *, pwm_freq_hz: float = 50.0, min_pulse_us: float = 500.0,
-                 max_pulse_us: float = 2500.0, range_deg: float = 180.0, deg_per_s: float = 60.0 / 0.12,
-                 start_deg: float = 90.0):
+    def __init__(
+        self,
+        name: str = "servo.pwm",
+        *,
+        pwm_freq_hz: float = 50.0,
+        min_pulse_us: float = 500.0,
+        max_pulse_us: float = 2500.0,
+        range_deg: float = 180.0,
+        deg_per_s: float = 60.0 / 0.12,
+        start_deg: float = 90.0,
+    ):
         self.name = name
         self.period_us = 1e6 / pwm_freq_hz
         self.min_pulse_us = float(min_pulse_us)
@@ -102,9 +110,18 @@ class HcSr04(Part):
     """Trigger input ``trig``, echo output ``echo``; mounted at ``mount`` on the body,
     on ``servo`` if given (the servo's 90 deg points along the mount's axis)."""
 
-    def __init__(self, *, trig: str = "sonar.trig", echo: str = "sonar.echo", mount=(0.0, 0.0, 0.0),
-                 servo: Servo | None = None, noise_sd_m: float = 0.003, max_range_m: float = MAX_RANGE_M,
-                 min_range_m: float = MIN_RANGE_M, cone_deg: float = CONE_DEG):
+    def __init__(
+        self,
+        *,
+        trig: str = "sonar.trig",
+        echo: str = "sonar.echo",
+        mount=(0.0, 0.0, 0.0),
+        servo: Servo | None = None,
+        noise_sd_m: float = 0.003,
+        max_range_m: float = MAX_RANGE_M,
+        min_range_m: float = MIN_RANGE_M,
+        cone_deg: float = CONE_DEG,
+    ):
         self.trig = trig
         self.echo = echo
         self.mount = tuple(float(v) for v in mount)

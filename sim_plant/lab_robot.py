@@ -64,10 +64,26 @@ WORLDS = {
 
 
 class LabRobot(RobotPlant):
-    def __init__(self, *, world="arena", start_pose=None, wheel_radius_m=0.035, track_m=0.20, v_max_m_s=0.5,
-                 deadband_duty=0.05, motor_gains=(1.0, 1.0), motor_time_constant_ms=0.0, lines_per_rev=10,
-                 gear_ratio=2.0, polarity=(1, 1), spin_slip=0.0, sonar_period_us=100_000, sonar_noise_m=0.01,
-                 bumper=False, bumper_bounce_us=0):
+    def __init__(
+        self,
+        *,
+        world="arena",
+        start_pose=None,
+        wheel_radius_m=0.035,
+        track_m=0.20,
+        v_max_m_s=0.5,
+        deadband_duty=0.05,
+        motor_gains=(1.0, 1.0),
+        motor_time_constant_ms=0.0,
+        lines_per_rev=10,
+        gear_ratio=2.0,
+        polarity=(1, 1),
+        spin_slip=0.0,
+        sonar_period_us=100_000,
+        sonar_noise_m=0.01,
+        bumper=False,
+        bumper_bounce_us=0,
+    ):
         if isinstance(world, World):
             self.world, default_start = world, (0.0, 0.0, 0.0)
         elif world in WORLDS:
@@ -75,10 +91,17 @@ class LabRobot(RobotPlant):
             self.world = make()
         else:
             raise ValueError(f"world: one of {sorted(WORLDS)} or a World, got {world!r}")
-        self._set_wheels(start_pose=start_pose or default_start, wheel_radius_m=wheel_radius_m, track_m=track_m,
-                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
-                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
-                         bumper_bounce_us=bumper_bounce_us)
+        self._set_wheels(
+            start_pose=start_pose or default_start,
+            wheel_radius_m=wheel_radius_m,
+            track_m=track_m,
+            v_max_m_s=v_max_m_s,
+            deadband_duty=deadband_duty,
+            motor_gains=motor_gains,
+            motor_time_constant_ms=motor_time_constant_ms,
+            bumper=bumper,
+            bumper_bounce_us=bumper_bounce_us,
+        )
         self.lines_per_rev = int(lines_per_rev)
         self.gear_ratio = float(gear_ratio)
         self.polarity = tuple(polarity)
@@ -89,19 +112,36 @@ class LabRobot(RobotPlant):
 
     def _build(self) -> None:
         motors = self._wheel_motors()
-        self.drive = DiffDriveTrain(bridges=(TwoPwmBridge("motor_l"), TwoPwmBridge("motor_r")), motors=motors,
-                                    wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
-                                    start_pose=self.start_pose, spin_slip=self.spin_slip)
+        self.drive = DiffDriveTrain(
+            bridges=(TwoPwmBridge("motor_l"), TwoPwmBridge("motor_r")),
+            motors=motors,
+            wheel_radius_m=self.wheel_radius_m,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+            spin_slip=self.spin_slip,
+        )
         enc = {"lines_per_rev": self.lines_per_rev, "gear_ratio": self.gear_ratio}
-        self.encoders = [QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, polarity=self.polarity[0], **enc),
-                         QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, polarity=self.polarity[1], **enc)]
+        self.encoders = [
+            QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, polarity=self.polarity[0], **enc),
+            QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, polarity=self.polarity[1], **enc),
+        ]
         bumpers = [front_bumper(70.0, self.bumper_bounce_us)] if self.bumper else []
         sonar = {"noise_sd_m": self.sonar_noise_m, "min_m": 0.15, "max_m": 5.0}
         adc = {"period_us": self.sonar_period_us, "volts_per_m": MAXBOTIX_V_PER_M}
         self.parts = [
             ContactMonitor([(0.0, 0.0, BODY_RADIUS_M)], bumpers),
-            AnalogRangeSonar("sonar_f.adc", BeamRangeModel((BODY_RADIUS_M, 0.0, 0.0), **sonar),
-                             phase_us=20_000, adc=Adc(12, 3.3), **adc),
-            AnalogRangeSonar("sonar_l.adc", BeamRangeModel((0.0, BODY_RADIUS_M, math.pi / 2), **sonar),
-                             phase_us=70_000, adc=Adc(12, 3.3), **adc),
+            AnalogRangeSonar(
+                "sonar_f.adc",
+                BeamRangeModel((BODY_RADIUS_M, 0.0, 0.0), **sonar),
+                phase_us=20_000,
+                adc=Adc(12, 3.3),
+                **adc,
+            ),
+            AnalogRangeSonar(
+                "sonar_l.adc",
+                BeamRangeModel((0.0, BODY_RADIUS_M, math.pi / 2), **sonar),
+                phase_us=70_000,
+                adc=Adc(12, 3.3),
+                **adc,
+            ),
         ]

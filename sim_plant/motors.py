@@ -119,11 +119,20 @@ class DcMotor:
 
     FIXED_STATE = True  # configuration only
 
-    def __init__(self, *, max_wheel_rad_s: float, deadband_duty: float = 0.0, saturation_duty: float = 1.0,
-                 gain: float = 1.0, time_constant_ms: float = 0.0, coast_time_constant_ms: float | None = None):
+    def __init__(
+        self,
+        *,
+        max_wheel_rad_s: float,
+        deadband_duty: float = 0.0,
+        saturation_duty: float = 1.0,
+        gain: float = 1.0,
+        time_constant_ms: float = 0.0,
+        coast_time_constant_ms: float | None = None,
+    ):
         if not 0.0 <= deadband_duty < saturation_duty <= 1.0:
-            raise ValueError(f"DcMotor: need 0 <= deadband_duty ({deadband_duty}) < saturation_duty "
-                             f"({saturation_duty}) <= 1")
+            raise ValueError(
+                f"DcMotor: need 0 <= deadband_duty ({deadband_duty}) < saturation_duty ({saturation_duty}) <= 1"
+            )
         if max_wheel_rad_s <= 0 or gain < 0 or time_constant_ms < 0:
             raise ValueError("DcMotor: max_wheel_rad_s must be > 0, gain and time_constant_ms >= 0")
         self.max_wheel_rad_s = float(max_wheel_rad_s)
@@ -131,8 +140,9 @@ class DcMotor:
         self.saturation_duty = float(saturation_duty)
         self.gain = float(gain)
         self.time_constant_ms = float(time_constant_ms)
-        self.coast_time_constant_ms = (3.0 * self.time_constant_ms if coast_time_constant_ms is None
-                                       else float(coast_time_constant_ms))
+        self.coast_time_constant_ms = (
+            3.0 * self.time_constant_ms if coast_time_constant_ms is None else float(coast_time_constant_ms)
+        )
 
     def steady_rad_s(self, duty: float) -> float:
         """Wheel speed the motor settles at for a signed duty."""

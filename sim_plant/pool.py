@@ -53,12 +53,29 @@ class PoolCleaner(RobotPlant):
     ``sonar_faults``: ``(t0_s, t1_s, kind)`` windows for both sounders, ``"wrong"`` or
     ``"none"`` readings, or ``"silent"`` (no sentence; 0 V on the ADC option)."""
 
-    def __init__(self, *, pool_length_m=POOL_LENGTH_M, pool_width_m=POOL_WIDTH_M, start_pose=(0.46, 0.5, 0.0),
-                 speed_m_s=0.3, track_m=0.4, steering="measured", steer_scatter_rel=0.13,
-                 reversal_pause_ms=1000.0, kick_mean_rad=-0.0174, kick_sd_rad=0.0348,
-                 sonar="nmea", sonar_period_us=500_000, sonar_phase_us=100_000, sonar_options=None,
-                 bytes_per_change=1, switch_settle_s=0.0, bumper_bounce_us=0, coverage_cell_m=0.1,
-                 sonar_faults=()):
+    def __init__(
+        self,
+        *,
+        pool_length_m=POOL_LENGTH_M,
+        pool_width_m=POOL_WIDTH_M,
+        start_pose=(0.46, 0.5, 0.0),
+        speed_m_s=0.3,
+        track_m=0.4,
+        steering="measured",
+        steer_scatter_rel=0.13,
+        reversal_pause_ms=1000.0,
+        kick_mean_rad=-0.0174,
+        kick_sd_rad=0.0348,
+        sonar="nmea",
+        sonar_period_us=500_000,
+        sonar_phase_us=100_000,
+        sonar_options=None,
+        bytes_per_change=1,
+        switch_settle_s=0.0,
+        bumper_bounce_us=0,
+        coverage_cell_m=0.1,
+        sonar_faults=(),
+    ):
         if steering not in ("measured", "ideal"):
             raise ValueError(f"steering: 'measured' or 'ideal', got {steering!r}")
         if sonar not in ("nmea", "adc"):
@@ -85,17 +102,26 @@ class PoolCleaner(RobotPlant):
 
     def _build(self) -> None:
         law = MeasuredStopLaw(scatter_rel=self.steer_scatter_rel) if self.steering == "measured" else IdealPivotLaw()
-        self.drive = TrackDrive(law=law, speed_m_s=self.speed_m_s, track_m=self.track_m, start_pose=self.start_pose,
-                                reversal_pause_ms=self.reversal_pause_ms, kick_mean_rad=self.kick_mean_rad,
-                                kick_sd_rad=self.kick_sd_rad)
+        self.drive = TrackDrive(
+            law=law,
+            speed_m_s=self.speed_m_s,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+            reversal_pause_ms=self.reversal_pause_ms,
+            kick_mean_rad=self.kick_mean_rad,
+            kick_sd_rad=self.kick_sd_rad,
+        )
         self.encoders = []
         r = BODY_WIDTH_M / 2
         half = BODY_LENGTH_M / 2 - r
         bounce = {"bounce_us": self.bumper_bounce_us}
-        contact = ContactMonitor([(-half, 0.0, r), (0.0, 0.0, r), (half, 0.0, r)], [
-            Bumper("bumper_front", circles=(2,), center_deg=0.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
-            Bumper("bumper_rear", circles=(0,), center_deg=180.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
-        ])
+        contact = ContactMonitor(
+            [(-half, 0.0, r), (0.0, 0.0, r), (half, 0.0, r)],
+            [
+                Bumper("bumper_front", circles=(2,), center_deg=0.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
+                Bumper("bumper_rear", circles=(0,), center_deg=180.0, half_arc_deg=BUMPER_HALF_ARC_DEG, **bounce),
+            ],
+        )
         silent = [(t0, t1) for t0, t1, kind in self.sonar_faults if kind == "silent"]
         faults = [(t0, t1, kind) for t0, t1, kind in self.sonar_faults if kind != "silent"]
         if self.sonar == "adc":  # an analog output cannot fall silent: it reads 0 V
@@ -104,14 +130,24 @@ class PoolCleaner(RobotPlant):
         left = NavmanSideSounder((0.0, r, 1.5707963267948966), **options)
         right = NavmanSideSounder((0.0, -r, -1.5707963267948966), **options)
         if self.sonar == "nmea":
-            sonars = [NmeaDepthSounder("sonar.uart", [left, right], select="sonar.select",
-                                       period_us=self.sonar_period_us, phase_us=self.sonar_phase_us,
-                                       bytes_per_change=self.bytes_per_change, switch_settle_s=self.switch_settle_s,
-                                       silent=silent)]
+            sonars = [
+                NmeaDepthSounder(
+                    "sonar.uart",
+                    [left, right],
+                    select="sonar.select",
+                    period_us=self.sonar_period_us,
+                    phase_us=self.sonar_phase_us,
+                    bytes_per_change=self.bytes_per_change,
+                    switch_settle_s=self.switch_settle_s,
+                    silent=silent,
+                )
+            ]
         else:
             adc = {"period_us": self.sonar_period_us, "phase_us": self.sonar_phase_us, "volts_per_m": ADC_V_PER_M}
-            sonars = [AnalogRangeSonar("sonar_l.adc", left, adc=Adc(12, 3.3), **adc),
-                      AnalogRangeSonar("sonar_r.adc", right, adc=Adc(12, 3.3), **adc)]
+            sonars = [
+                AnalogRangeSonar("sonar_l.adc", left, adc=Adc(12, 3.3), **adc),
+                AnalogRangeSonar("sonar_r.adc", right, adc=Adc(12, 3.3), **adc),
+            ]
         self.parts = [contact, *sonars, CoverageRecorder(CoverageGrid(self.world, self.coverage_cell_m, r))]
 
     def _react(self, t: int) -> bool:

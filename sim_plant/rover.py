@@ -52,11 +52,27 @@ COVERAGE_CELL_M = 0.1
 
 
 class RoverRoom(RobotPlant):
-    def __init__(self, *, room_w_m=5.0, room_h_m=4.0, start_pose=(1.0, 2.0, 0.0),
-                 body_radius_m=0.17, wheel_radius_m=0.033, track_m=0.23, v_max_m_s=0.5,
-                 deadband_duty=0.08, encoder_cpr=20, sonar_period_us=500_000,
-                 sonar_phase_us=20_000, sonar_noise_m=0.01, sonar_min_m=0.03,
-                 sonar_max_m=4.0, adc_bits=12, adc_vref=3.3, bumper_bounce_us=0):
+    def __init__(
+        self,
+        *,
+        room_w_m=5.0,
+        room_h_m=4.0,
+        start_pose=(1.0, 2.0, 0.0),
+        body_radius_m=0.17,
+        wheel_radius_m=0.033,
+        track_m=0.23,
+        v_max_m_s=0.5,
+        deadband_duty=0.08,
+        encoder_cpr=20,
+        sonar_period_us=500_000,
+        sonar_phase_us=20_000,
+        sonar_noise_m=0.01,
+        sonar_min_m=0.03,
+        sonar_max_m=4.0,
+        adc_bits=12,
+        adc_vref=3.3,
+        bumper_bounce_us=0,
+    ):
         self.room_w_m = float(room_w_m)
         self.room_h_m = float(room_h_m)
         self.start_pose = tuple(float(v) for v in start_pose)
@@ -82,18 +98,29 @@ class RoverRoom(RobotPlant):
         self.drive = DiffDriveTrain(
             bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")),
             motors=(DcMotor(**motor), DcMotor(**motor)),
-            wheel_radius_m=self.wheel_radius_m, track_m=self.track_m, start_pose=self.start_pose)
+            wheel_radius_m=self.wheel_radius_m,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+        )
         self.encoders = [
             QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, lines_per_rev=self.encoder_cpr),
             QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, lines_per_rev=self.encoder_cpr),
         ]
-        sonar = BeamRangeModel(noise_sd_m=self.sonar_noise_m, min_m=self.sonar_min_m, max_m=self.sonar_max_m,
-                               offset_m=self.body_radius_m)
+        sonar = BeamRangeModel(
+            noise_sd_m=self.sonar_noise_m, min_m=self.sonar_min_m, max_m=self.sonar_max_m, offset_m=self.body_radius_m
+        )
         self.parts = [
-            ContactMonitor([(0.0, 0.0, self.body_radius_m)],
-                           [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0,
-                                   bounce_us=self.bumper_bounce_us)]),
-            AnalogRangeSonar("sonar.adc", sonar, period_us=self.sonar_period_us, phase_us=self.sonar_phase_us,
-                             volts_per_m=SONAR_V_PER_M, adc=Adc(self.adc_bits, self.adc_vref)),
+            ContactMonitor(
+                [(0.0, 0.0, self.body_radius_m)],
+                [Bumper("bumper", circles=(0,), center_deg=0.0, half_arc_deg=70.0, bounce_us=self.bumper_bounce_us)],
+            ),
+            AnalogRangeSonar(
+                "sonar.adc",
+                sonar,
+                period_us=self.sonar_period_us,
+                phase_us=self.sonar_phase_us,
+                volts_per_m=SONAR_V_PER_M,
+                adc=Adc(self.adc_bits, self.adc_vref),
+            ),
             CoverageRecorder(CoverageGrid(self.world, COVERAGE_CELL_M, self.body_radius_m)),
         ]

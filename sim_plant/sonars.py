@@ -83,9 +83,19 @@ class BeamRangeModel:
     ==========================  ========  ==============================================
     """
 
-    def __init__(self, mount=(0.0, 0.0, 0.0), *, noise_sd_m: float = 0.01, min_m: float = 0.03,
-                 max_m: float = 4.0, offset_m: float = 0.0, beam_half_angle_deg: float = 0.0,
-                 max_incidence_deg: float = 90.0, dropout_p: float = 0.0, no_echo: str = "max"):
+    def __init__(
+        self,
+        mount=(0.0, 0.0, 0.0),
+        *,
+        noise_sd_m: float = 0.01,
+        min_m: float = 0.03,
+        max_m: float = 4.0,
+        offset_m: float = 0.0,
+        beam_half_angle_deg: float = 0.0,
+        max_incidence_deg: float = 90.0,
+        dropout_p: float = 0.0,
+        no_echo: str = "max",
+    ):
         if no_echo not in ("max", "none"):
             raise ValueError(f"no_echo: 'max' or 'none', got {no_echo!r}")
         self.mount = tuple(float(v) for v in mount)
@@ -119,8 +129,17 @@ class AnalogRangeSonar(Part):
     reading (``None`` from the model) reads ``invalid_v`` volts. Each new sample is a
     :class:`Change`, even when its value repeats: it is an event the firmware consumes."""
 
-    def __init__(self, name: str, model, *, period_us: int = 500_000, phase_us: int = 20_000,
-                 volts_per_m: float = MAXBOTIX_V_PER_M, adc: Adc | None = None, invalid_v: float = 0.0):
+    def __init__(
+        self,
+        name: str,
+        model,
+        *,
+        period_us: int = 500_000,
+        phase_us: int = 20_000,
+        volts_per_m: float = MAXBOTIX_V_PER_M,
+        adc: Adc | None = None,
+        invalid_v: float = 0.0,
+    ):
         if period_us <= 0 or phase_us <= 0:
             raise ValueError(f"{name}: period_us and phase_us must be > 0")
         self.name = name

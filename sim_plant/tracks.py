@@ -134,9 +134,18 @@ class TrackDrive(Part):
     """Inputs ``track_l.stop`` and ``track_r.stop`` (1 = stop that track, as the
     parallel-port bits of seed 000); the machine's own reversal logic (see the module)."""
 
-    def __init__(self, *, law=None, speed_m_s: float = 0.3, track_m: float = 0.4, start_pose=(0.0, 0.0, 0.0),
-                 reversal_pause_ms: float = 1000.0, kick_mean_rad: float = -0.0174, kick_sd_rad: float = 0.0348,
-                 stop_names=("track_l.stop", "track_r.stop")):
+    def __init__(
+        self,
+        *,
+        law=None,
+        speed_m_s: float = 0.3,
+        track_m: float = 0.4,
+        start_pose=(0.0, 0.0, 0.0),
+        reversal_pause_ms: float = 1000.0,
+        kick_mean_rad: float = -0.0174,
+        kick_sd_rad: float = 0.0348,
+        stop_names=("track_l.stop", "track_r.stop"),
+    ):
         self.law = law if law is not None else MeasuredStopLaw()
         self.speed_m_s = float(speed_m_s)
         self.track_m = float(track_m)
@@ -249,6 +258,12 @@ class TrackDrive(Part):
         return 0.0, 0.0  # the B400 has no encoders (seed 000 §1.3.3)
 
     def truth(self, t_us: int, plant) -> dict:
-        return {"direction": self.direction, "reversing": self.paused, "track_stopped": tuple(self.stopped),
-                "reversals": self.reversals, "reversal_kicks_rad": list(self.kicks),
-                "distance_m": self.body.distance_at(t_us), "v_m_s": self.body.v if self.body.segment is None else None}
+        return {
+            "direction": self.direction,
+            "reversing": self.paused,
+            "track_stopped": tuple(self.stopped),
+            "reversals": self.reversals,
+            "reversal_kicks_rad": list(self.kicks),
+            "distance_m": self.body.distance_at(t_us),
+            "v_m_s": self.body.v if self.body.segment is None else None,
+        }

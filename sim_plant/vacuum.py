@@ -44,15 +44,35 @@ BODY_RADIUS_M = 0.125
 
 
 class VacuumRobot(RobotPlant):
-    def __init__(self, *, world=None, start_pose=(0.5, 0.5, 0.0), wheel_diameter_m=0.065, track_m=0.18,
-                 v_max_m_s=0.35, deadband_duty=0.25, motor_gains=(1.0, 1.0), motor_time_constant_ms=0.0,
-                 slots_per_rev=20, sonar_noise_sd_m=0.003, bumper=False, bumper_bounce_us=0,
-                 coverage_cell_m=0.05):
+    def __init__(
+        self,
+        *,
+        world=None,
+        start_pose=(0.5, 0.5, 0.0),
+        wheel_diameter_m=0.065,
+        track_m=0.18,
+        v_max_m_s=0.35,
+        deadband_duty=0.25,
+        motor_gains=(1.0, 1.0),
+        motor_time_constant_ms=0.0,
+        slots_per_rev=20,
+        sonar_noise_sd_m=0.003,
+        bumper=False,
+        bumper_bounce_us=0,
+        coverage_cell_m=0.05,
+    ):
         self.world = world if isinstance(world, World) else vacuum_room()
-        self._set_wheels(start_pose=start_pose, wheel_radius_m=float(wheel_diameter_m) / 2, track_m=track_m,
-                         v_max_m_s=v_max_m_s, deadband_duty=deadband_duty, motor_gains=motor_gains,
-                         motor_time_constant_ms=motor_time_constant_ms, bumper=bumper,
-                         bumper_bounce_us=bumper_bounce_us)
+        self._set_wheels(
+            start_pose=start_pose,
+            wheel_radius_m=float(wheel_diameter_m) / 2,
+            track_m=track_m,
+            v_max_m_s=v_max_m_s,
+            deadband_duty=deadband_duty,
+            motor_gains=motor_gains,
+            motor_time_constant_ms=motor_time_constant_ms,
+            bumper=bumper,
+            bumper_bounce_us=bumper_bounce_us,
+        )
         self.slots_per_rev = int(slots_per_rev)
         self.sonar_noise_sd_m = float(sonar_noise_sd_m)
         self.coverage_cell_m = float(coverage_cell_m)
@@ -60,11 +80,17 @@ class VacuumRobot(RobotPlant):
 
     def _build(self) -> None:
         motors = self._wheel_motors()
-        self.drive = DiffDriveTrain(bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")), motors=motors,
-                                    wheel_radius_m=self.wheel_radius_m, track_m=self.track_m,
-                                    start_pose=self.start_pose)
-        self.encoders = [SlottedDiskEncoder(("enc_l",), wheel=0, lines_per_rev=self.slots_per_rev),
-                         SlottedDiskEncoder(("enc_r",), wheel=1, lines_per_rev=self.slots_per_rev)]
+        self.drive = DiffDriveTrain(
+            bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")),
+            motors=motors,
+            wheel_radius_m=self.wheel_radius_m,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+        )
+        self.encoders = [
+            SlottedDiskEncoder(("enc_l",), wheel=0, lines_per_rev=self.slots_per_rev),
+            SlottedDiskEncoder(("enc_r",), wheel=1, lines_per_rev=self.slots_per_rev),
+        ]
         bumpers = [front_bumper(70.0, self.bumper_bounce_us)] if self.bumper else []
         self.parts = [
             ContactMonitor([(0.0, 0.0, BODY_RADIUS_M)], bumpers),

@@ -122,8 +122,9 @@ class World:
             return INF, math.nan
         return best, math.acos(min(best_cos, 1.0))
 
-    def cone_nearest(self, x: float, y: float, axis_rad: float, half_angle_rad: float,
-                     max_range_m: float = INF) -> float:
+    def cone_nearest(
+        self, x: float, y: float, axis_rad: float, half_angle_rad: float, max_range_m: float = INF
+    ) -> float:
         """Distance to the nearest wall point inside a cone (a wedge in 2-D) of half-angle
         ``half_angle_rad`` about ``axis_rad``; ``inf`` if none within ``max_range_m``.
 
@@ -160,8 +161,9 @@ class World:
                         best = t
         return best if best < max_range_m else INF
 
-    def specular(self, x: float, y: float, axis_rad: float, max_incidence_rad: float,
-                 max_range_m: float) -> list[tuple[float, float]]:
+    def specular(
+        self, x: float, y: float, axis_rad: float, max_incidence_rad: float, max_range_m: float
+    ) -> list[tuple[float, float]]:
         """Walls that send an echo straight back: those whose normal through the sensor
         lies within ``max_incidence_rad`` of the axis and whose foot of the perpendicular
         is on the segment (seed 002, App. B.3: a wall is seen only if its normal lies in
@@ -184,8 +186,9 @@ class World:
                 seen.append((d, math.acos(min(cos_inc, 1.0))))
         return seen
 
-    def vertices_in_cone(self, x: float, y: float, axis_rad: float, half_angle_rad: float,
-                         max_range_m: float) -> list[float]:
+    def vertices_in_cone(
+        self, x: float, y: float, axis_rad: float, half_angle_rad: float, max_range_m: float
+    ) -> list[float]:
         """Distances to the corners (segment end points) inside a cone."""
         cx, cy = math.cos(axis_rad), math.sin(axis_rad)
         cos_half = math.cos(half_angle_rad)
@@ -302,8 +305,12 @@ def box(cx: float, cy: float, w: float, h: float) -> list[tuple[float, float]]:
 
 def vacuum_room() -> World:
     """A 5 x 4 m room with convex furniture, for seed 003's go-to-goal and avoidance."""
-    return room(5.0, 4.0, [box(3.2, 1.2, 0.4, 0.4), box(1.3, 3.0, 0.6, 0.3),
-                           [(3.6, 2.6), (4.2, 2.9), (3.8, 3.4)]], name="vacuum room 5 x 4 m")
+    return room(
+        5.0,
+        4.0,
+        [box(3.2, 1.2, 0.4, 0.4), box(1.3, 3.0, 0.6, 0.3), [(3.6, 2.6), (4.2, 2.9), (3.8, 3.4)]],
+        name="vacuum room 5 x 4 m",
+    )
 
 
 def duct_network(sections, *, name: str = "duct") -> World:
@@ -314,8 +321,12 @@ def duct_network(sections, *, name: str = "duct") -> World:
     segs = []
     for i, (x0, y0, x1, y1) in enumerate(rects):
         # each edge: fixed coordinate, span, axis, and the outward side (+1 / -1)
-        for fixed, lo, hi, horizontal, out in ((y0, x0, x1, True, -1), (y1, x0, x1, True, +1),
-                                               (x0, y0, y1, False, -1), (x1, y0, y1, False, +1)):
+        for fixed, lo, hi, horizontal, out in (
+            (y0, x0, x1, True, -1),
+            (y1, x0, x1, True, +1),
+            (x0, y0, y1, False, -1),
+            (x1, y0, y1, False, +1),
+        ):
             pieces = [(lo, hi)]
             for j, (ox0, oy0, ox1, oy1) in enumerate(rects):
                 if j == i:
@@ -370,13 +381,16 @@ def multi_branch_duct(width_m: float = DUCT_WIDTH_M) -> World:
     x = 2.5 m (2.4 m long) with a right sub-branch at y = 1.5 m (1.1 m long); a right
     branch at x = 3.8 m (1.2 m long)."""
     w = width_m
-    return duct_network([
-        (0.0, 0.0, 5.0, w),
-        (1.0, -1.5, 1.0 + w, 0.0),
-        (2.5, w, 2.5 + w, 2.4 + w),
-        (2.5 + w, 1.5, 3.6 + w, 1.5 + w),
-        (3.8, -1.2, 3.8 + w, 0.0),
-    ], name="duct with nested branches")
+    return duct_network(
+        [
+            (0.0, 0.0, 5.0, w),
+            (1.0, -1.5, 1.0 + w, 0.0),
+            (2.5, w, 2.5 + w, 2.4 + w),
+            (2.5 + w, 1.5, 3.6 + w, 1.5 + w),
+            (3.8, -1.2, 3.8 + w, 0.0),
+        ],
+        name="duct with nested branches",
+    )
 
 
 def canyon(width_m: float = 1.2, *, name: str = "canyon") -> World:

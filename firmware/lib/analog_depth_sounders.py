@@ -4,6 +4,7 @@
 # quantum and the selected one is handed over once per 500 ms slot (the board cannot
 # tell a new sample from a repeated value, so the slot runs on its own clock).
 from machine import ADC, Pin
+
 from nmea import NO_ECHO
 
 V_PER_M = 0.33

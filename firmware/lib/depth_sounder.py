@@ -4,6 +4,7 @@
 # quantum, it reads whatever the UART holds, so a sentence split across two quanta is
 # joined, and hands over the newest complete depth.
 from machine import UART, Pin
+
 from nmea import NO_ECHO, NmeaLines, dpt_depth_m
 
 BAUD = 4800

@@ -56,7 +56,7 @@ class NmeaLines:
         for b in line[1:star]:
             cs ^= b
         try:
-            if int(bytes(line[star + 1:]), 16) != cs:
+            if int(bytes(line[star + 1 :]), 16) != cs:
                 return None
         except ValueError:
             return None

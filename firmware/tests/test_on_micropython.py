@@ -4,11 +4,10 @@ schedule, NMEA parsing and a stretch of the mission (the board runs this code)."
 import json
 import subprocess
 
-from kalman import gain_schedule
-from nmea import NmeaLines, dpt_depth_m
-
 from host.core import interpreter
 from host.core.paths import REPO
+from kalman import gain_schedule
+from nmea import NmeaLines, dpt_depth_m
 
 SCRIPT = """
 import json
@@ -30,8 +29,9 @@ print(json.dumps({"k_d": k_d, "k_phi": k_phi, "depths": depths, "d": m.filter.d_
 
 def run_micropython(script: str) -> dict:
     path = ":".join(str(REPO / "firmware" / p) for p in ("apps/pool_cleaner", "lib")) + ":.frozen"
-    out = subprocess.run([str(interpreter.find()), "-c", script], env={"MICROPYPATH": path},
-                         capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        [str(interpreter.find()), "-c", script], env={"MICROPYPATH": path}, capture_output=True, text=True, timeout=60
+    )
     assert out.returncode == 0, f"MicroPython failed:\n{out.stdout}{out.stderr}"
     return json.loads(out.stdout.strip().splitlines()[-1])
 

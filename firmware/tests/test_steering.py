@@ -32,8 +32,9 @@ def test_inverse_of_eq_7_1_gives_the_intended_alignment_stop(alpha_rad, t_ms):
     assert stop_for_turn_ms(alpha_rad) == pytest.approx(t_ms, abs=1.0)
 
 
-@pytest.mark.parametrize("error_m, lam", [(0.0, 401), (0.05, 391), (0.1, 381), (0.3, 341), (1.0, 201), (2.0, 1),
-                                          (3.0, 201)])
+@pytest.mark.parametrize(
+    "error_m, lam", [(0.0, 401), (0.05, 391), (0.1, 381), (0.3, 341), (1.0, 201), (2.0, 1), (3.0, 201)]
+)
 def test_gain_follows_eq_5_14(error_m, lam):
     assert gain(error_m) == pytest.approx(lam)
     assert gain(-error_m) == pytest.approx(lam)
@@ -50,8 +51,9 @@ def test_correction_sign_stops_the_track_on_the_side_to_turn_to():
     assert correction_ms(0.1, -0.1 / HEADING_WEIGHT_M) == pytest.approx(0.0), "on the sliding line: no turn"
 
 
-@pytest.mark.parametrize("raw, ms", [(0, 0), (24.9, 0), (25, 50), (-74, -50), (76, 100), (290, 300), (1000, 300),
-                                     (-5000, -300)])
+@pytest.mark.parametrize(
+    "raw, ms", [(0, 0), (24.9, 0), (25, 50), (-74, -50), (76, 100), (290, 300), (1000, 300), (-5000, -300)]
+)
 def test_stops_are_whole_50ms_quanta_at_most_300ms(raw, ms):
     assert quantise(raw) == ms
 

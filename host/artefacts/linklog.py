@@ -1,14 +1,21 @@
-"""The link log (``trace.jsonl``): one JSON object per line, virtual timestamps, deterministic content.
+"""The link log (``trace.jsonl``): what crossed the link, decoded, one JSON object per
+line, in virtual time.
 
-The trace holds what crossed the link (decoded) and what the plant reported, never
-wall-clock figures, so the same (app, board, plant, seed, commit) gives the same bytes.
-The firmware's console goes to its own file, since its pipe is not ordered with the
-link. ``digest`` is a SHA-256 of the trace lines, kept even when no file is written.
+It holds the link messages and what the plant reported, never wall-clock figures, so
+the same (app, board, plant, seed, commit) gives the same bytes. The firmware's console
+goes to its own file, since its pipe is not ordered with the link. ``digest`` is a
+SHA-256 of the lines, kept even when no file is written. A rig that does not trace logs
+to :data:`NO_LOG`, which keeps nothing.
 """
 
 import hashlib
 import json
 from pathlib import Path
+
+from host.link import frames as F
+
+CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
+OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 
 
 class LinkLog:
@@ -33,3 +40,56 @@ class LinkLog:
         if self._file:
             self._file.close()
             self._file = None
+
+    # -- one record per message ----------------------------------------------------
+
+    def cfg(self, t: int, h: int, kind: int, pin: str, mode: int, pull: int, param: int, signal) -> None:
+        kind_name = CFG_KINDS.get(kind, kind)
+        record = {"t": t, "msg": "CFG", "handle": h, "kind": kind_name, "pin": pin, "mode": mode, "pull": pull}
+        self.write({**record, "param": param, "signal": signal})
+
+    def out(self, t: int, h: int, attr: int, value: int) -> None:
+        self.write({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+
+    def wait(self, t: int, until: int, watch) -> None:
+        self.write({"t": t, "msg": "WAIT", "until": until, "watch": sorted(watch)})
+
+    def state(self, t: int, base: int, horizon: int, changes) -> None:
+        entries = [[ct, h, k, v, e.hex() if k == F.CH_BYTES else e] for ct, h, k, v, e in changes]
+        self.write({"t": t, "to": "fw", "msg": "STATE", "base": base, "horizon": horizon, "changes": entries})
+
+    def seen(self, t: int, h: int, sample_no: int) -> None:
+        self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
+
+    def uart_tx(self, t: int, h: int, data: bytes) -> None:
+        self.write({"t": t, "msg": "UART_TX", "handle": h, "data": data.hex()})
+
+    def fault(self, t: int) -> None:
+        self.write({"t": t, "msg": "FAULT"})
+
+    def exit(self, t: int, kind: int, code: int) -> None:
+        self.write({"t": t, "msg": "EXIT", "kind": kind, "code": code})
+
+    def rollback(self, t: int) -> None:
+        self.write({"t": t, "msg": "ROLLBACK"})
+
+
+class _NoLog(LinkLog):
+    """A rig that does not trace: every record is dropped unmade."""
+
+    digest = None
+
+    def __init__(self):
+        self.path = None
+        self.lines = 0
+
+    def write(self, record: dict) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+    cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
+
+
+NO_LOG = _NoLog()

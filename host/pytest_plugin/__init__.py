@@ -126,10 +126,14 @@ def rig(make_rig) -> Rig:
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if not config.getoption("--hil-table"):
         return
-    results = [(report.nodeid.split("::", 1)[-1], report.outcome, value)
-               for reports in terminalreporter.stats.values() for report in reports
-               if getattr(report, "when", None) == "call"
-               for key, value in getattr(report, "user_properties", ()) if key == "result"]
+    results = [
+        (report.nodeid.split("::", 1)[-1], report.outcome, value)
+        for reports in terminalreporter.stats.values()
+        for report in reports
+        if getattr(report, "when", None) == "call"
+        for key, value in getattr(report, "user_properties", ())
+        if key == "result"
+    ]
     if results:  # what each scenario measured: record_property("result", "...") in a test
         terminalreporter.section("scenario results")
         for name, outcome, text in results:

@@ -103,9 +103,7 @@ class PeriodBudget(Budget):
     received chunk that holds that byte (``b"$"``: the first byte of an NMEA sentence,
     sent at a fixed period, whereas its last byte moves with the sentence's length)."""
 
-    def __init__(
-        self, name, source, *, period_us: int, tolerance_us: int, description="", marker: bytes | None = None
-    ):
+    def __init__(self, name, source, *, period_us: int, tolerance_us: int, description="", marker: bytes | None = None):
         super().__init__(name, source, limit_us=period_us + tolerance_us, description=description)
         self.period_us = period_us
         self.tolerance_us = tolerance_us

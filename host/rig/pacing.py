@@ -30,21 +30,21 @@ class Lockstep:
     def busy_poll_s(self) -> float:
         return BUSY_POLL_S if spare_core() else 0.0
 
-    def step(self, rig, target_us: int, watch) -> tuple[int, int]:
+    def step(self, clock, target_us: int, watch) -> tuple[int, int]:
         """How far the plant goes next toward ``target_us``: (time, change limit or 0).
 
         A watched wait goes event by event; while UART bytes flow, in chunks (the
         byte-count limit of a batch needs the bytes); otherwise in one go, the plant
         stopping itself once the batch is full, and at the recorder's truth samples."""
-        plant = rig.plant
+        plant = clock.plant
         if watch:
             return min(plant.next_change_us(), target_us), 0
-        if rig.wiring.uart:
+        if clock.wiring.uart:
             return min(plant.t_us + CHUNK_US, target_us), 0
         t_next = target_us
-        if rig.recorder is not None:
-            t_next = min(t_next, max(rig.recorder.next_truth_us, plant.t_us + 1))
-        return t_next, rig.inputs.room()
+        if clock.recorder is not None:
+            t_next = min(t_next, max(clock.recorder.next_truth_us, plant.t_us + 1))
+        return t_next, clock.inputs.room()
 
 
 class RealTime(Lockstep):
@@ -66,8 +66,8 @@ class RealTime(Lockstep):
         """Virtual time by the wall clock."""
         return int((time.monotonic() - self.wall0) * 1e6)
 
-    def step(self, rig, target_us: int, watch) -> tuple[int, int]:
-        t_next = min(rig.plant.next_change_us(), target_us)
+    def step(self, clock, target_us: int, watch) -> tuple[int, int]:
+        t_next = min(clock.plant.next_change_us(), target_us)
         delay = self.wall0 + t_next / 1e6 - time.monotonic()
         if delay > 0:
             time.sleep(delay)

@@ -19,34 +19,26 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.artefacts.folder import write_trace_folder
-from host.artefacts.linklog import LinkLog
+from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
-from host.core.errors import ConfigError, FirmwareError, LinkError, LinkTimeout
+from host.core.errors import ConfigError, FirmwareError, LinkError
 from host.link import frames as F
 from host.rig.apps import App, get_app
 from host.rig.boards import board_dir, read_pin_map
 from host.rig.budgets import BudgetHooks
+from host.rig.clock import Clock
 from host.rig.firmware import Firmware
 from host.rig.inputs import Inputs
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
+from host.rig.session import Session
 from host.rig.speculation import Speculation
 from host.rig.target import Target, UnixPortTarget
 from host.rig.wiring import Wiring
 
-HANDSHAKE_TIMEOUT_S = 10.0
 CONSOLE_TAIL_LINES = 20
 PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
-CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
-OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 _NO_WATCH = frozenset()
-
-
-@dataclass
-class _Wait:
-    t_now: int
-    t_until: int
-    watch: frozenset
 
 
 @dataclass
@@ -128,23 +120,15 @@ class Rig:
         self.micropython_version = ""
         self.exit_kind: int | None = None
         self.resets = 0
-        self.linklog: LinkLog | None = None
+        self.linklog: LinkLog = NO_LOG
         self._started = False
-        self._chan = None
-        self._wait: _Wait | None = None
-        self._last_type: int | None = None  # of the last message from the shim
-        self._t_sent = None
+        self.session = Session(self._on_silence, self.stats.round_trip_us if time_round_trips else None)
+        parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
+        self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
         self._progress_last = None
-        self._handlers = {
-            F.OUT: self._on_out,
-            F.WAIT: self._on_wait,
-            F.CFG: self._on_cfg,
-            F.SEEN: self._on_seen,
-            F.UART_TX: self._on_uart_tx,
-            F.FAULT: self._on_fault,
-            F.EXIT: self._on_exit,
-        }
+        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT")  # each to its _on_<name>
+        self._handlers = {getattr(F, m): getattr(self, "_on_" + m.lower()) for m in messages}
 
     # -- life cycle -------------------------------------------------------------------
 
@@ -172,6 +156,7 @@ class Rig:
                 self.linklog = LinkLog(self.artefacts / "trace.jsonl" if self.artefacts else None)
                 header = {"app": self.app.name, "board": self.board, "seed": self.seed, "mode": self.mode}
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
+                self.clock.log = self.linklog
             self._open(self.target.open)
         except BaseException:
             self.stop()  # a start that fails leaves no process and no pty
@@ -181,33 +166,23 @@ class Rig:
     def _open(self, launch) -> None:
         """Start (or restart) the firmware and shake hands; what it configured before
         is forgotten, the plant carries on."""
-        self._last_type = None
         self.exit_kind = None
         self.wiring.clear()
         self.inputs.clear()
         self.speculation.end()
-        self._wait = None
-        self._chan = launch(self.firmware, self._on_console)
-        type_, payload = self._recv(HANDSHAKE_TIMEOUT_S, "HELLO")
-        if type_ != F.HELLO:
-            raise LinkError(f"expected HELLO from the shim, got {F.NAMES.get(type_, hex(type_))}")
-        proto, info = F.unpack_hello(payload)
-        self.micropython_version = info.decode(errors="replace")
-        if proto != F.PROTO_VERSION:
-            self.stop()
-            raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
-        self._send(F.WELCOME, F.pack_welcome(self.pacing.code, self.t_us))
+        self.clock.wait = None
+        chan = launch(self.firmware, self._on_console)
+        self.micropython_version = self.session.handshake(chan, self.pacing.code, self.t_us)
         self.pacing.begin(self.t_us)
 
     def stop(self) -> None:
         """End the firmware and close the link; safe to call twice. Writes the console
         and, when recording, the trace folder."""
-        self.target.close(session_open=self.exit_kind is None and self._chan is not None)
+        self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
         if not self._started:
             return
         self._started = False
-        if self.linklog is not None:
-            self.linklog.close()
+        self.linklog.close()
         if self.artefacts:
             (self.artefacts / "console.log").write_text(self.console)
             if self.recorder is not None:
@@ -229,7 +204,7 @@ class Rig:
 
     @property
     def trace_digest(self) -> str | None:
-        return self.linklog.digest if self.linklog else None
+        return self.linklog.digest
 
     # -- running --------------------------------------------------------------------
 
@@ -244,17 +219,14 @@ class Rig:
             if self.progress is not None:
                 self._report_progress(t_end_us)
             if self.exit_kind is not None:  # firmware ended: the plant runs on alone
-                while self.t_us < t_end_us:
-                    self._advance_plant(t_end_us, _NO_WATCH)
-                    self.inputs.drop()
-                self.speculation.commit(self.t_us)
+                self.clock.run_alone(t_end_us)
                 return
-            if self._wait is None:
-                self.dispatch(*self._recv(self.watchdog_s, "a message"))
+            if self.clock.wait is None:
+                self.dispatch(*self.session.recv(self.watchdog_s, "a message"))
                 continue
             if self.t_us >= t_end_us:
                 return
-            self.serve_wait(t_end_us)
+            self.clock.serve(t_end_us)
 
     def _report_progress(self, t_end_us: int) -> None:
         now = time.monotonic()
@@ -266,75 +238,11 @@ class Rig:
     @property
     def waiting(self) -> bool:
         """The firmware waits for a STATE."""
-        return self._wait is not None
+        return self.clock.wait is not None
 
     def serve_wait(self, t_end_us: int) -> None:
-        """Advance the plant for the firmware's wait, no further than ``t_end_us``; answer
-        it when it is over."""
-        wait = self._wait
-        stopped = self._advance_plant(min(wait.t_until, t_end_us), wait.watch)
-        if stopped or self.t_us >= wait.t_until:
-            self._wait = None
-            self._send_state(wait.t_now)
-        elif not self.speculation.open:
-            self.speculation.commit(self.t_us)  # nothing in this batch can be rewound
-
-    def _advance_plant(self, target_us: int, watch: frozenset) -> bool:
-        """Advance the plant, collecting what the firmware must see. True when the batch
-        must go now: a watched input changed, the batch is full, or (real time) an IRQ
-        edge is due. Lockstep batches IRQ edges speculatively (docs/clock.md); the
-        pacing decides each step."""
-        plant, pacing, inputs, recorder = self.plant, self.pacing, self.inputs, self.recorder
-        route = inputs.route
-        if pacing.speculates and not self.speculation.open and self._wait is not None and self.wiring.irq_armed:
-            self.speculation.begin()
-        while plant.t_us < target_us:
-            t_next, limit = pacing.step(self, target_us, watch)
-            irq = hit = False
-            for change in plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next):
-                i, h = route(change, watch)
-                irq |= i
-                hit |= h
-            if recorder is not None:
-                recorder.sample(plant)
-            if hit or (irq and pacing.irq_ends_batch) or inputs.full():
-                return True
-        return False
-
-    def _catch_up(self, t_us: int) -> None:
-        """Bring the plant to the firmware's time: forward if the shim moved on inside
-        its horizon, back if a handler changed an output inside a speculative batch."""
-        if t_us > self.t_us:
-            for change in self.plant.advance_to(t_us):
-                self.stats.lease_violations += 1
-                self.inputs.route(change, _NO_WATCH)
-            if self.recorder is not None:
-                self.recorder.sample(self.plant)
-        elif t_us < self.t_us and self.pacing.speculates:
-            self.speculation.rewind(t_us, self.t_us)
-            if self.recorder is not None:
-                self.recorder.rewind(t_us)
-            self.inputs.unsample(t_us)
-            self.stats.rollbacks += 1
-            self._log({"t": t_us, "msg": "ROLLBACK"})
-        self.speculation.commit(t_us)
-
-    def _send_state(self, base_us: int) -> None:
-        horizon = self.plant.next_change_us()
-        changes = self.inputs.take()
-        if self.linklog is not None:
-            self._log(
-                {
-                    "t": self.t_us,
-                    "to": "fw",
-                    "msg": "STATE",
-                    "base": base_us,
-                    "horizon": horizon,
-                    "changes": [[t, h, k, v, e.hex() if k == F.CH_BYTES else e] for t, h, k, v, e in changes],
-                }
-            )
-        self._send(F.STATE, F.pack_state(base_us, self.t_us, horizon, changes))
-        self.stats.link_round_trips += 1
+        """Serve the pending wait, no further than ``t_end_us`` (a loop of one's own)."""
+        self.clock.serve(t_end_us)
 
     # -- messages from the firmware ------------------------------------------------------
 
@@ -347,39 +255,22 @@ class Rig:
     def _on_out(self, p: bytes) -> None:
         t, h, attr, value = F.unpack_out(p)
         if t != self.plant.t_us:
-            self._catch_up(t)
-        if self.linklog is not None:
-            self._log({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+            self.clock.catch_up(t)
+        self.linklog.out(t, h, attr, value)
         self.outputs.out(t, h, attr, value)
 
     def _on_wait(self, p: bytes) -> None:
         t_now, t_until, compute_us, watch = F.unpack_wait(p)
         watch = frozenset(watch) if watch else _NO_WATCH
-        self._catch_up(t_now)
-        self.speculation.end()  # the firmware took the whole last batch
-        self._wait = _Wait(t_now, max(t_until, self.t_us), watch)
+        self.clock.block(t_now, t_until, watch)
         for call in self._compute_hooks:
             call(compute_us)
-        if self.linklog is not None:
-            self._log({"t": t_now, "msg": "WAIT", "until": t_until, "watch": sorted(watch)})
+        self.linklog.wait(t_now, t_until, watch)
 
     def _on_cfg(self, p: bytes) -> None:
         h, kind, mode, pull, param, name = F.unpack_cfg(p)
         key = name.decode()
-        if self.linklog is not None:
-            self._log(
-                {
-                    "t": self.t_us,
-                    "msg": "CFG",
-                    "handle": h,
-                    "kind": CFG_KINDS.get(kind, kind),
-                    "pin": key,
-                    "mode": mode,
-                    "pull": pull,
-                    "param": param,
-                    "signal": self.wiring.signal_of(key),
-                }
-            )
+        self.linklog.cfg(self.t_us, h, kind, key, mode, pull, param, self.wiring.signal_of(key))
         info = self.wiring.configure(h, kind, mode, pull, key)
         if info is not None and info.is_input:
             self.inputs.sync(self.t_us, h, info, self.plant)
@@ -389,20 +280,20 @@ class Rig:
         self.speculation.commit(t)
         for call in self._seen_hooks.get(self.wiring.handles[h].signal, ()):
             call(t, sample_no)
-        self._log({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
+        self.linklog.seen(t, h, sample_no)
 
     def _on_uart_tx(self, p: bytes) -> None:
         t, h, data = F.unpack_uart_tx(p)
-        self._catch_up(t)
+        self.clock.catch_up(t)
         self.outputs.uart_tx(t, h, data)
-        self._log({"t": t, "msg": "UART_TX", "handle": h, "data": data.hex()})
+        self.linklog.uart_tx(t, h, data)
 
     def _on_fault(self, p: bytes) -> None:
         t, text = F.unpack_fault(p)
         text = text.decode(errors="replace")
-        self._log({"t": t, "msg": "FAULT"})
+        self.linklog.fault(t)
         try:
-            self._recv(1.0, "EXIT")  # let the process finish writing
+            self.session.recv(1.0, "EXIT")  # let the process finish writing
         except (LinkError, FirmwareError):
             pass
         self.stop()
@@ -415,13 +306,13 @@ class Rig:
 
     def _on_exit(self, p: bytes) -> None:
         t, kind, code = F.unpack_exit(p)
-        self._log({"t": t, "msg": "EXIT", "kind": kind, "code": code})
+        self.linklog.exit(t, kind, code)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
             self.resets += 1
             self.restart()
         else:
             self.exit_kind = kind
-            self._catch_up(t)
+            self.clock.catch_up(t)
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
@@ -429,47 +320,16 @@ class Rig:
 
     # -- link ------------------------------------------------------------------------
 
-    def _send(self, type_: int, payload: bytes) -> None:
-        try:
-            self._chan.send(type_, payload)
-        except OSError as e:
-            raise LinkError(f"plant link write failed: {e}") from e
-        if self.time_round_trips:
-            self._t_sent = time.perf_counter()
-
-    def _recv(self, timeout_s: float, what: str):
-        try:
-            type_, _seq, payload = self._chan.recv(timeout_s)
-        except LinkTimeout:
-            self.target.on_silence(self, timeout_s, what)
-        except LinkError:
-            self.target.on_silence(self, 0, what)
-        if self.time_round_trips and type_ == F.WAIT and self._t_sent:
-            self.stats.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
-            self._t_sent = None
-        self._last_type = type_
-        return type_, payload
+    def _on_silence(self, timeout_s: float, what: str):
+        self.target.on_silence(self, timeout_s, what)
 
     def receive(self, timeout_s: float):
         """The next message from the shim, or None if none came within ``timeout_s``
         (for callers that serve the firmware in a loop of their own)."""
-        try:
-            type_, _seq, payload = self._chan.recv(timeout_s)
-        except LinkTimeout:
-            return None
-        self._last_type = type_
-        return type_, payload
+        return self.session.poll(timeout_s)
 
     def last_message(self) -> str:
-        if self._last_type is None:
-            return "none yet"
-        name = F.NAMES.get(self._last_type, hex(self._last_type))
-        wall = self._chan.last_data_wall if self._chan else None
-        return name if wall is None else f"{name}, read at wall {wall:.3f}"
-
-    def _log(self, record: dict) -> None:
-        if self.linklog is not None:
-            self.linklog.write(record)
+        return self.session.last_message()
 
     def where(self) -> str:
         """The console's last lines and the artefacts folder, for error messages."""
@@ -486,7 +346,7 @@ class Rig:
         return [b.stats() for b in self.budgets.values()]
 
     def counters(self) -> dict:
-        link = self._chan.counters() if self._chan else {}
+        link = self.session.counters()
         return {
             **link,
             "round_trips": self.stats.link_round_trips,

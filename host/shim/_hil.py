@@ -11,8 +11,8 @@ import sys
 
 _path = sys.path
 sys.path = []
-import time as _rtime  # noqa: E402  the real built-ins, under the shadowing shim
 import select as _rselect  # noqa: E402
+import time as _rtime  # noqa: E402  the real built-ins, under the shadowing shim
 
 sys.path = _path
 del _path
@@ -35,10 +35,6 @@ _now = 0
 _horizon = 0
 _spin = 0
 FOREVER_US = F.FOREVER_US
-_STATE_FMT = F.STATE_FMT  # (module globals: the STATE loop reads them per change)
-_STATE_LEN = F.STATE_LEN
-_CHANGE_FMT = F.CHANGE_FMT
-_CHANGE_LEN = F.CHANGE_LEN
 _timer_due = FOREVER_US
 _timers = []
 _handles = []
@@ -164,7 +160,7 @@ def send_output(type_, payload):
 
 
 def send_out(handle, attr, value):
-    send_output(F.OUT, F.pack_out(now(), handle, attr, value))
+    send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
 
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
@@ -243,25 +239,32 @@ def run_until(t_target, watch=None):
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
-    _link.queue(F.WAIT, F.pack_wait(_now, t_until, compute_us if compute_us > 0 else 0, watch or ()))
+    # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
+    # once per wake. (No module globals for them: more globals here slow every lookup.)
+    state_fmt, change_fmt, change_len = F.STATE_FMT, F.CHANGE_FMT, F.CHANGE_LEN
+    payload = struct.pack(F.WAIT_FMT, _now, t_until, compute_us if compute_us > 0 else 0)
+    if watch:
+        for h in watch:
+            payload += struct.pack(F.WATCH_FMT, h)
+    _link.queue(F.WAIT, payload)
     _link.flush()
     while True:
         type_, _seq, p = _link.recv()
         if type_ == F.BYE:
             raise HostStop()
-        if type_ == F.STATE and struct.unpack_from(_STATE_FMT, p, 0)[0] == _now:
+        if type_ == F.STATE and struct.unpack_from(state_fmt, p, 0)[0] == _now:
             break  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
-    base, t_end, horizon, n = struct.unpack_from(_STATE_FMT, p, 0)
+    base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
     hit = False
-    off = _STATE_LEN
+    off = F.STATE_LEN
     group_t = -1
     for _ in range(n):
-        dt, h, kind, value, extra = struct.unpack_from(_CHANGE_FMT, p, off)
-        off += _CHANGE_LEN
+        dt, h, kind, value, extra = struct.unpack_from(change_fmt, p, off)
+        off += change_len
         if kind == F.CH_BYTES:
-            extra = p[off:off + value]
+            extra = p[off : off + value]
             off += value
         t = base + dt
         if t != group_t:

@@ -19,6 +19,8 @@ def _asyncio_in_virtual_time():
     try:
         import asyncio.task as task
     except ImportError:
+        task = None  # (raised below: MicroPython warns at run time on exception chaining)
+    if task is None:
         raise ImportError(
             "this MicroPython has no frozen asyncio/task.py; build it with "
             "host/core/micropython/manifest.py (make setup) or freeze that file"

@@ -5,6 +5,7 @@ import struct
 try:
     from binascii import crc32
 except ImportError:  # a board build without binascii.crc32
+
     def crc32(data, crc=0):
         crc ^= 0xFFFFFFFF
         for b in data:
@@ -12,6 +13,7 @@ except ImportError:  # a board build without binascii.crc32
             for _ in range(8):
                 crc = (crc >> 1) ^ (0xEDB88320 & -(crc & 1))
         return crc ^ 0xFFFFFFFF
+
 
 PROTO_VERSION = 1
 SOF = 0xA5
@@ -54,7 +56,7 @@ class Decoder:
 
     def feed(self, data):
         if self.pos:
-            self.buf = self.buf[self.pos:]
+            self.buf = self.buf[self.pos :]
             self.pos = 0
         self.buf += bytes(data)
 
@@ -70,7 +72,7 @@ class Decoder:
             if end_skip > self.pos:
                 self.skipped += end_skip - self.pos
                 if self.on_skip is not None:
-                    self.on_skip(buf[self.pos:end_skip])
+                    self.on_skip(buf[self.pos : end_skip])
             if i < 0:
                 self.pos = len(buf)
                 return None
@@ -86,7 +88,7 @@ class Decoder:
             if len(buf) < end + CRC_LEN:
                 return None
             (crc,) = struct.unpack_from("<I", buf, end)
-            if crc32(buf[i + 1:end]) & 0xFFFFFFFF != crc:
+            if crc32(buf[i + 1 : end]) & 0xFFFFFFFF != crc:
                 self.bad_crc += 1
                 self.pos = i + 1
                 continue
@@ -95,7 +97,7 @@ class Decoder:
             if self.expect_seq >= 0 and seq != self.expect_seq:
                 self.seq_gaps += 1
             self.expect_seq = (seq + 1) & 0xFF
-            return type_, seq, buf[i + HEADER_LEN:end]
+            return type_, seq, buf[i + HEADER_LEN : end]
 
     def expire(self):
         """Drop a partial frame whose rest never came; True if one was dropped."""
@@ -133,8 +135,19 @@ WELCOME = 0x81
 STATE = 0x82
 BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
 
-NAMES = {HELLO: "HELLO", CFG: "CFG", OUT: "OUT", WAIT: "WAIT", SEEN: "SEEN", UART_TX: "UART_TX",
-         FAULT: "FAULT", EXIT: "EXIT", WELCOME: "WELCOME", STATE: "STATE", BYE: "BYE"}
+NAMES = {
+    HELLO: "HELLO",
+    CFG: "CFG",
+    OUT: "OUT",
+    WAIT: "WAIT",
+    SEEN: "SEEN",
+    UART_TX: "UART_TX",
+    FAULT: "FAULT",
+    EXIT: "EXIT",
+    WELCOME: "WELCOME",
+    STATE: "STATE",
+    BYE: "BYE",
+}
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
 WELCOME_FMT = "<HBQ"  # proto, mode, t_start_us
@@ -204,9 +217,11 @@ def pack_wait(t_now_us, t_until_us, compute_us, watch=()):
 
 def unpack_wait(p):
     """(t_now_us, t_until_us, compute_us, watched handles as a tuple)"""
+    fixed = struct.unpack_from(WAIT_FMT, p, 0)
     n = (len(p) - WAIT_LEN) // WATCH_LEN
-    watch = tuple(struct.unpack_from(WATCH_FMT, p, WAIT_LEN + WATCH_LEN * i)[0] for i in range(n))
-    return struct.unpack_from(WAIT_FMT, p, 0) + (watch,)
+    if n <= 0:
+        return fixed + ((),)
+    return fixed + (struct.unpack_from("<%d%s" % (n, WATCH_FMT[1:]), p, WAIT_LEN),)
 
 
 def pack_seen(t_us, handle, sample_no):
@@ -231,7 +246,7 @@ def pack_fault(t_us, text):
     """A traceback too long for one frame keeps its end (the exception's type and text)."""
     room = MAX_PAYLOAD - FAULT_LEN
     if len(text) > room:
-        text = text[len(text) - room:]
+        text = text[len(text) - room :]
     return struct.pack(FAULT_FMT, t_us) + text
 
 
@@ -271,7 +286,7 @@ def unpack_state(p):
         dt, h, kind, value, extra = struct.unpack_from(CHANGE_FMT, p, off)
         off += CHANGE_LEN
         if kind == CH_BYTES:
-            extra = bytes(p[off:off + value])
+            extra = bytes(p[off : off + value])
             off += value
         changes.append((base + dt, h, kind, value, extra))
     return base, t_end, horizon, changes

@@ -47,8 +47,15 @@ class Pin:
         if value is not None:
             self._out = 1 if value else 0
         is_input = self._mode == self.IN
-        _hil.configure(self._handle, F.CFG_PIN, self._id, self._MODES[self._mode], self._PULLS[self._pull],
-                       -1 if is_input else self._out, sync=is_input)
+        _hil.configure(
+            self._handle,
+            F.CFG_PIN,
+            self._id,
+            self._MODES[self._mode],
+            self._PULLS[self._pull],
+            -1 if is_input else self._out,
+            sync=is_input,
+        )
         if not is_input:
             _hil.send_out(self._handle, F.OUT_LEVEL, self._out)
 

@@ -41,7 +41,14 @@ class Vcd:
 
 def read_vcd(text: str) -> Vcd:
     vcd = Vcd()
-    tokens = text.split()
+    by_code = _read_header(text.split(), vcd)
+    body = text.split("$enddefinitions", 1)[1].split("$end", 1)[1]
+    _read_body(body, vcd, by_code)
+    return vcd
+
+
+def _read_header(tokens: list[str], vcd: Vcd) -> dict[str, list[Var]]:
+    """The declarations up to $enddefinitions; returns the variables by identifier code."""
     i = 0
     scopes: list[str] = []
     by_code: dict[str, list[Var]] = {}
@@ -65,26 +72,31 @@ def read_vcd(text: str) -> Vcd:
             scopes.pop()
             i += 2
         elif tok == "$var":
-            type_, width, code, name, end = tokens[i + 1 : i + 6]
-            if end != "$end" or type_ not in ("wire", "reg", "integer", "real", "event"):
-                raise VcdError(f"bad $var at token {i}: {tokens[i : i + 6]}")
-            var = Var(type_, int(width), code, ".".join([*scopes, name]))
-            if var.path in vcd.vars:
-                raise VcdError(f"variable {var.path} declared twice")
-            vcd.vars[var.path] = var
-            vcd.changes[var.path] = []
-            by_code.setdefault(code, []).append(var)
+            _declare(tokens[i : i + 6], i, scopes, vcd, by_code)
             i += 6
         elif tok == "$enddefinitions":
             if tokens[i + 1] != "$end":
                 raise VcdError("$enddefinitions without $end")
             if scopes:
                 raise VcdError(f"scopes left open: {scopes}")
-            i += 2
-            break
+            return by_code
         else:
             raise VcdError(f"unexpected token {tok!r} in the header")
-    body = text.split("$enddefinitions", 1)[1].split("$end", 1)[1]
+
+
+def _declare(tokens: list[str], i: int, scopes: list[str], vcd: Vcd, by_code: dict) -> None:
+    _var, type_, width, code, name, end = tokens
+    if end != "$end" or type_ not in ("wire", "reg", "integer", "real", "event"):
+        raise VcdError(f"bad $var at token {i}: {tokens}")
+    var = Var(type_, int(width), code, ".".join([*scopes, name]))
+    if var.path in vcd.vars:
+        raise VcdError(f"variable {var.path} declared twice")
+    vcd.vars[var.path] = var
+    vcd.changes[var.path] = []
+    by_code.setdefault(code, []).append(var)
+
+
+def _read_body(body: str, vcd: Vcd, by_code: dict) -> None:
     t = None
     for line in body.split("\n"):
         line = line.strip()
@@ -106,23 +118,23 @@ def read_vcd(text: str) -> Vcd:
         if code not in by_code:
             raise VcdError(f"value change {line!r} at #{t} for an undeclared identifier")
         for var in by_code[code]:
-            if kind == "real":
-                if var.type != "real":
-                    raise VcdError(f"real value {line!r} for {var.type} {var.path}")
-                parsed = float(value)
-            elif kind == "vector":
-                if var.type == "real" or len(value) > var.width:
-                    raise VcdError(f"vector {line!r} does not fit {var.type} {var.width} {var.path}")
-                if set(value) <= {"0", "1"}:
-                    parsed = int(value, 2)
-                else:  # x or z, left-extended to the width
-                    parsed = value.lower()[0] if len(set(value.lower())) == 1 else value
-            else:
-                if var.width != 1:
-                    raise VcdError(f"scalar {line!r} for {var.width}-bit {var.path}")
-                parsed = int(value) if value in "01" else value
-            vcd.changes[var.path].append((t, parsed))
-    return vcd
+            vcd.changes[var.path].append((t, _parse_value(kind, value, line, var)))
+
+
+def _parse_value(kind: str, value: str, line: str, var: Var):
+    if kind == "real":
+        if var.type != "real":
+            raise VcdError(f"real value {line!r} for {var.type} {var.path}")
+        return float(value)
+    if kind == "vector":
+        if var.type == "real" or len(value) > var.width:
+            raise VcdError(f"vector {line!r} does not fit {var.type} {var.width} {var.path}")
+        if set(value) <= {"0", "1"}:
+            return int(value, 2)
+        return value.lower()[0] if len(set(value.lower())) == 1 else value  # x or z, left-extended
+    if var.width != 1:
+        raise VcdError(f"scalar {line!r} for {var.width}-bit {var.path}")
+    return int(value) if value in "01" else value
 
 
 def _match(line: str):

@@ -17,8 +17,11 @@ PLANTS = {
     "rover": lambda: RoverRoom(room_w_m=3.0, room_h_m=3.0, start_pose=(1.5, 1.5, 0.0)),
     "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
     "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
-    "pool_faults": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.1), sonar_faults=[
-        (1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")]),
+    "pool_faults": lambda: PoolCleaner(
+        pool_length_m=4.0,
+        start_pose=(2.0, 3.0, 0.1),
+        sonar_faults=[(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")],
+    ),
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
     "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
@@ -199,8 +202,9 @@ def test_an_idle_plant_has_only_its_sensor_timeline():
 def test_a_scripted_plant_stops_after_the_instant_that_reaches_the_limit():
     from sim_plant.scripted import ScriptedPlant
 
-    plant = ScriptedPlant([(10, "a", 1), (10, "b", 1), (20, "a", 0), (30, "b", 0)],
-                          outputs={"a": "level", "b": "level"}, inputs={})
+    plant = ScriptedPlant(
+        [(10, "a", 1), (10, "b", 1), (20, "a", 0), (30, "b", 0)], outputs={"a": "level", "b": "level"}, inputs={}
+    )
     first = plant.advance_to(100, limit=1)
     assert [(c.t_us, c.name) for c in first] == [(10, "a"), (10, "b")] and plant.t_us == 10
     assert [c.t_us for c in plant.advance_to(100, limit=5)] == [20, 30] and plant.t_us == 100

@@ -31,10 +31,16 @@ class Bot(RobotPlant):
         self.drive = DiffDriveTrain(
             bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")),
             motors=tuple(DcMotor(gain=g, **self.motor) for g in gains),
-            wheel_radius_m=0.03, track_m=0.2, start_pose=self.start, standby="motor.stby")
+            wheel_radius_m=0.03,
+            track_m=0.2,
+            start_pose=self.start,
+            standby="motor.stby",
+        )
         self.motor["gains"] = gains
-        self.encoders = [QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, lines_per_rev=25),
-                         QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, lines_per_rev=25)]
+        self.encoders = [
+            QuadratureEncoder(("enc_l.a", "enc_l.b"), wheel=0, lines_per_rev=25),
+            QuadratureEncoder(("enc_r.a", "enc_r.b"), wheel=1, lines_per_rev=25),
+        ]
         self.parts = [self.monitor([(0.0, 0.0, 0.15)], [Bumper("bumper", bounce_us=self.bounce_us)])]
 
 
@@ -51,8 +57,12 @@ def test_tb6612_truth_table_with_standby():
     turns both channels off (and it is low until the board raises it)."""
     b = DirPinsPwmBridge("m")
     b.set_pin("pwm", FULL // 2)
-    for (in1, in2), expect in {(1, 0): (0.5, False), (0, 1): (-0.5, False), (1, 1): (0.0, True),
-                               (0, 0): (0.0, False)}.items():
+    for (in1, in2), expect in {
+        (1, 0): (0.5, False),
+        (0, 1): (-0.5, False),
+        (1, 1): (0.0, True),
+        (0, 0): (0.0, False),
+    }.items():
         b.set_pin("in1", in1)
         b.set_pin("in2", in2)
         duty, brake = b.effective()
@@ -222,31 +232,49 @@ def test_a_disc_spinning_against_a_wall_stays_on_it():
     assert _release_s(0.0, -1.0, 0.0, 0.0, 0.0, 1.5, 0.3, recheck_s=0.005) == math.inf
 
 
-@pytest.mark.parametrize("case", ["spin against a wall", "curve into a wall and slide", "slide off a box's end",
-                                  "curve away from a wall", "square into a corner"])
+@pytest.mark.parametrize(
+    "case",
+    [
+        "spin against a wall",
+        "curve into a wall and slide",
+        "slide off a box's end",
+        "curve away from a wall",
+        "square into a corner",
+    ],
+)
 def test_planned_contact_checks_see_what_checks_every_millisecond_see(case):
     """The monitor plans its checks from the gaps, the touches and the speeds; a monitor
     that checks every millisecond is the reference. Same presses and releases (a release
     seen within RECHECK_US + 1 ms of the reference's), same contacts, same final pose."""
     world, start, moves = {
-        "spin against a wall": (rectangle(5.0, 5.0), (2.5, 4.85, math.pi / 2),
-                                [(0.5, 0.5, 300_000), (0.4, -0.4, 3_000_000)]),
-        "curve into a wall and slide": (rectangle(5.0, 5.0), (1.0, 4.7, math.radians(20)),
-                                        [(0.5, 0.55, 6_000_000)]),
-        "slide off a box's end": (room(6.0, 6.0, [box(3.0, 3.0, 1.0, 0.4)]), (1.0, 2.3, math.radians(12)),
-                                  [(0.5, 0.5, 8_000_000)]),
-        "curve away from a wall": (rectangle(5.0, 5.0), (2.0, 4.7, math.radians(60)),
-                                   [(0.5, 0.5, 1_500_000), (0.6, 0.3, 4_000_000)]),
+        "spin against a wall": (
+            rectangle(5.0, 5.0),
+            (2.5, 4.85, math.pi / 2),
+            [(0.5, 0.5, 300_000), (0.4, -0.4, 3_000_000)],
+        ),
+        "curve into a wall and slide": (rectangle(5.0, 5.0), (1.0, 4.7, math.radians(20)), [(0.5, 0.55, 6_000_000)]),
+        "slide off a box's end": (
+            room(6.0, 6.0, [box(3.0, 3.0, 1.0, 0.4)]),
+            (1.0, 2.3, math.radians(12)),
+            [(0.5, 0.5, 8_000_000)],
+        ),
+        "curve away from a wall": (
+            rectangle(5.0, 5.0),
+            (2.0, 4.7, math.radians(60)),
+            [(0.5, 0.5, 1_500_000), (0.6, 0.3, 4_000_000)],
+        ),
         "square into a corner": (rectangle(3.0, 3.0), (1.5, 1.5, math.radians(45)), [(0.6, 0.6, 6_000_000)]),
     }[case]
     ref_changes, ref_contacts, ref_pose = _bumper_run(DenseMonitor, world, start, moves)
     changes, contacts, pose = _bumper_run(ContactMonitor, world, start, moves)
     assert ref_contacts, f"{case}: the scenario should touch a wall"
-    assert [v for _, v in changes] == [v for _, v in ref_changes], \
+    assert [v for _, v in changes] == [v for _, v in ref_changes], (
         f"{case}: bumper levels {changes} differ from the reference's {ref_changes}"
+    )
     for (t, _), (t_ref, _) in zip(changes, ref_changes):
-        assert t_ref - MIN_STEP_US <= t <= t_ref + RECHECK_US + MIN_STEP_US, \
+        assert t_ref - MIN_STEP_US <= t <= t_ref + RECHECK_US + MIN_STEP_US, (
             f"{case}: bumper change at {t} us, reference {t_ref} us"
+        )
     assert [p for _, p in contacts] == [p for _, p in ref_contacts]
     for (t, _), (t_ref, _) in zip(contacts, ref_contacts):
         assert abs(t - t_ref) <= MIN_STEP_US, f"{case}: contact at {t} us, reference {t_ref} us"

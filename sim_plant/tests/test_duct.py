@@ -18,8 +18,7 @@ def counts8(u16):
 
 
 def array(**options):
-    return AmplitudeSonarArray([AmplitudeChannel("s.adc", (0.0, 0.0, 0.0))], noise_v=0.0, corner_spike_p=0.0,
-                               **options)
+    return AmplitudeSonarArray([AmplitudeChannel("s.adc", (0.0, 0.0, 0.0))], noise_v=0.0, corner_spike_p=0.0, **options)
 
 
 class _Plant:
@@ -77,7 +76,7 @@ def test_an_opening_makes_the_reading_slope_down_as_the_peak_detector_discharges
     before = [v for x, v in trace if 1.25 < x < 1.45]
     assert before and min(before) == max(before) > 50, "a steady wall before the branch at x = 1.5 m"
     opening = next(i for i, (x, _) in enumerate(trace) if x > 1.5 + 0.10)  # sonar 0.10 m behind the axle
-    slope = [v for _, v in trace[opening:opening + 12]]
+    slope = [v for _, v in trace[opening : opening + 12]]
     assert slope == sorted(slope, reverse=True)
     assert slope[1] > 0.5 * before[0], "one update later the reading is still high"
     assert slope[-1] < 0.2 * before[0], "and it has decayed within 0.3 s (tau = 150 ms)"
@@ -90,16 +89,18 @@ def test_corners_in_the_beam_can_spike_the_reading():
     corner = World([(0.0, 0.5, 2.0, 0.5), (2.0, 0.5, 2.0, -1.0)], name="an inside corner")
     pose = (1.75, 0.25, 45 * DEG)  # looking straight into the corner, walls at 45 degrees
     quiet = reading(array(discharge_tau_ms=0), corner, pose)
-    spiky = AmplitudeSonarArray([AmplitudeChannel("s.adc", (0.0, 0.0, 0.0))], noise_v=0.0, corner_spike_p=1.0,
-                                discharge_tau_ms=0)
+    spiky = AmplitudeSonarArray(
+        [AmplitudeChannel("s.adc", (0.0, 0.0, 0.0))], noise_v=0.0, corner_spike_p=1.0, discharge_tau_ms=0
+    )
     assert quiet == 0 and reading(spiky, corner, pose) == round(5.0 * 0.03 / math.hypot(0.25, 0.25) / 5.0 * 255)
 
 
 def test_slotted_disks_on_the_motor_shaft_count_slots_times_gear_ratio_per_wheel_turn():
     """Seed 002 §3.3.3: "A slotted encoder disk, mounted on the motor shaft"; one channel,
     an edge each way per slot."""
-    plant = DuctRobot(world=World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0), slots_per_rev=8,
-                      gear_ratio=6.0)
+    plant = DuctRobot(
+        world=World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0), slots_per_rev=8, gear_ratio=6.0
+    )
     for side in "lr":
         plant.set_input(f"motor_{side}.dir", 1)
         plant.set_input(f"motor_{side}.pwm", 65535)

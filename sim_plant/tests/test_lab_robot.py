@@ -91,8 +91,13 @@ def test_drv8833_two_pwm_truth_table():
     """DRV8833: (PWM, low) forwards at the duty, (high, PWM) forwards at 1 - duty, (low, PWM)
     backwards, (high, high) brake."""
     speeds = {}
-    for label, (in1, in2) in {"fast": (40_000, 0), "slow": (65535, 40_000), "back": (0, 40_000),
-                              "brake": (65535, 65535), "coast": (0, 0)}.items():
+    for label, (in1, in2) in {
+        "fast": (40_000, 0),
+        "slow": (65535, 40_000),
+        "back": (0, 40_000),
+        "brake": (65535, 65535),
+        "coast": (0, 0),
+    }.items():
         plant = LabRobot(world=OPEN, start_pose=START)
         for side in "lr":
             plant.set_input(f"motor_{side}.in1", in1)

@@ -11,10 +11,20 @@ DEG = math.pi / 180
 
 # seed 000, Table 7.2: heading change (deg) after stopping one track for t ms, 5 trials each
 TABLE_7_2 = {
-    "L": {300: [1.66, 1.54, 1.80, 1.20, 1.80], 400: [1.70, 2.50, 2.35, 1.80, 1.80], 500: [3.20, 2.65, 2.70, 3.00, 3.00],
-          600: [3.12, 3.67, 4.44, 4.33, 4.71], 700: [5.55, 4.97, 6.11, 6.25, 5.12]},
-    "R": {300: [1.78, 1.51, 1.78, 1.23, 1.77], 400: [2.47, 1.78, 2.20, 2.47, 1.78], 500: [2.75, 3.02, 2.75, 3.02, 3.02],
-          600: [3.71, 5.48, 4.39, 4.67, 4.39], 700: [4.94, 6.59, 6.03, 5.49, 6.03]},
+    "L": {
+        300: [1.66, 1.54, 1.80, 1.20, 1.80],
+        400: [1.70, 2.50, 2.35, 1.80, 1.80],
+        500: [3.20, 2.65, 2.70, 3.00, 3.00],
+        600: [3.12, 3.67, 4.44, 4.33, 4.71],
+        700: [5.55, 4.97, 6.11, 6.25, 5.12],
+    },
+    "R": {
+        300: [1.78, 1.51, 1.78, 1.23, 1.77],
+        400: [2.47, 1.78, 2.20, 2.47, 1.78],
+        500: [2.75, 3.02, 2.75, 3.02, 3.02],
+        600: [3.71, 5.48, 4.39, 4.67, 4.39],
+        700: [4.94, 6.59, 6.03, 5.49, 6.03],
+    },
 }
 
 
@@ -184,8 +194,14 @@ def test_a_sonar_sample_every_0_15_m_and_about_50_per_8_m_lane():
     """Seed 001 §5: "data are collected every 500 ms" at 0.3 m/s, Delta s = 0.15 m; seed 000
     §7.3.1: along the 8 m side "the control software stores about 50 samples during each
     passage"."""
-    plant = PoolCleaner(pool_length_m=8.0, pool_width_m=25.0, start_pose=(0.46, 12.0, 0.0), sonar="adc",
-                        kick_sd_rad=0.0, kick_mean_rad=0.0)
+    plant = PoolCleaner(
+        pool_length_m=8.0,
+        pool_width_m=25.0,
+        start_pose=(0.46, 12.0, 0.0),
+        sonar="adc",
+        kick_sd_rad=0.0,
+        kick_mean_rad=0.0,
+    )
     samples = []  # (direction, reversing) at each sonar sample, one backward lane
     while plant.truth()["reversals"] < 2:
         for c in plant.advance_to(plant.t_us + 100_000):

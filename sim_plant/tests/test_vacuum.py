@@ -120,7 +120,8 @@ def test_low_duty_does_not_move_the_robot():
         plant.set_input(f"motor_{side}.pwm", int(0.6 * 65535))
     changes = plant.advance_to(2_000_000)
     assert sum(c.name == "enc_l" for c in changes) == pytest.approx(
-        plant.truth()["distance_m"] / (math.pi * 0.065) * 20 * 2, abs=1)
+        plant.truth()["distance_m"] / (math.pi * 0.065) * 20 * 2, abs=1
+    )
 
 
 def test_unequal_wheels_veer_towards_the_weaker_one():

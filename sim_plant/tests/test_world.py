@@ -37,7 +37,8 @@ def test_cone_nearest_sees_the_nearest_point_inside_the_wedge():
     assert world.cone_nearest(15.0, 5.0, 0.0, math.radians(7.5)) == pytest.approx(5.0)
     # tilted 20 deg: the cone's edge at 12.5 deg is the nearest point
     assert world.cone_nearest(15.0, 5.0, math.radians(20), math.radians(7.5)) == pytest.approx(
-        5.0 / math.cos(math.radians(12.5)))
+        5.0 / math.cos(math.radians(12.5))
+    )
 
 
 def test_specular_returns_only_walls_whose_normal_is_in_the_cone():
@@ -70,8 +71,16 @@ def test_duct_network_is_the_boundary_of_the_union_with_open_mouths():
 
 def test_duct_sections_that_overlap_merge():
     world = duct_network([(0, 0, 2, 1), (1, 0, 3, 1)])
-    assert sorted(world.segments()) == sorted([(0.0, 0.0, 2.0, 0.0), (2.0, 0.0, 3.0, 0.0), (0.0, 1.0, 2.0, 1.0),
-                                               (2.0, 1.0, 3.0, 1.0), (0.0, 0.0, 0.0, 1.0), (3.0, 0.0, 3.0, 1.0)])
+    assert sorted(world.segments()) == sorted(
+        [
+            (0.0, 0.0, 2.0, 0.0),
+            (2.0, 0.0, 3.0, 0.0),
+            (0.0, 1.0, 2.0, 1.0),
+            (2.0, 1.0, 3.0, 1.0),
+            (0.0, 0.0, 0.0, 1.0),
+            (3.0, 0.0, 3.0, 1.0),
+        ]
+    )
 
 
 def test_local_views_answer_like_the_whole_world():

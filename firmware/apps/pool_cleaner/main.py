@@ -5,11 +5,12 @@
 # filter update and a stop of whole quanta. A probe pin toggles at every step.
 # The board file says how the sonar is wired: NMEA sentences on a UART (SONAR_UART)
 # or one ADC input per side (SONAR_L_ADC, SONAR_R_ADC).
-import board
 from machine import Pin
 from micropython import const
-from mission import FRONT, REAR, Mission
 from time import sleep_ms, ticks_add, ticks_diff, ticks_ms
+
+import board
+from mission import FRONT, REAR, Mission
 
 QUANTUM_MS = const(50)
 

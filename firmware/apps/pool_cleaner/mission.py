@@ -185,8 +185,10 @@ class Mission:
             # ramp ending at the wall
             self.ramp_ms = int((self.run_ms - open_ms) * RAMP_SHARE)
         self.open_until_ms = now_ms + open_ms
-        self.log("%s %d: lane %.2f m, sonar %d, t %s" % (PHASE_NAMES[phase], self.runs, self.reference_m,
-                                                       self.sonar, hms(now_ms // 1000)))
+        self.log(
+            "%s %d: lane %.2f m, sonar %d, t %s"
+            % (PHASE_NAMES[phase], self.runs, self.reference_m, self.sonar, hms(now_ms // 1000))
+        )
 
     def _lane_test(self):
         """The code's test: if 0 < Average() - ref < WIDTH (the machine ended between the
@@ -214,8 +216,10 @@ class Mission:
         to_go_s = 2 * self.run_ms / 1000 * (self.reference_m / LANE_M)
         if self.estimate_total_s < 0:
             self.estimate_total_s = now_ms / 1000 + to_go_s
-            self.log("estimate: runs of %.1f s, %.2f m to clean: cleaning time %s" % (
-                self.run_ms / 1000, self.reference_m, hms(self.estimate_total_s)))
+            self.log(
+                "estimate: runs of %.1f s, %.2f m to clean: cleaning time %s"
+                % (self.run_ms / 1000, self.reference_m, hms(self.estimate_total_s))
+            )
         self.log("time to finish %s" % hms(to_go_s))
 
     def _finish(self, now_ms):
@@ -223,9 +227,10 @@ class Mission:
         self.done_ms = now_ms
         self.pulse_q = 0
         self.stop_left = self.stop_right = 1  # both tracks stopped: the code's `stop` word
-        self.log("done: pool cleaned in %s (estimate %s), %d runs, %d repeated, %d readings rejected, %d missing"
-                 % (hms(now_ms // 1000), hms(self.estimate_total_s), self.runs, self.repeats, self.rejected,
-                    self.missing))
+        self.log(
+            "done: pool cleaned in %s (estimate %s), %d runs, %d repeated, %d readings rejected, %d missing"
+            % (hms(now_ms // 1000), hms(self.estimate_total_s), self.runs, self.repeats, self.rejected, self.missing)
+        )
 
     # -- sonar slots --------------------------------------------------------------
 

@@ -5,16 +5,16 @@
 # analyser (or the harness) can check the period.
 import asyncio
 import math
+from machine import Pin
+from micropython import const
+from time import ticks_add, ticks_diff, ticks_ms
 
 import board
 from analog_sonar import AnalogSonar
 from bumper import Bumper
 from encoder import QuadratureEncoder
-from machine import Pin
-from micropython import const
 from motor import HBridgeMotor
 from rover_control import STATE_NAMES, Rover, WheelSpeedPI
-from time import ticks_add, ticks_diff, ticks_ms
 
 CONTROL_PERIOD_MS = const(50)
 WHEEL_RADIUS_M = 0.033

@@ -22,6 +22,7 @@ async def main():
     await asyncio.gather(ticker("a", 30, 3), ticker("b", 50, 2))
     await ev.wait()
     log.append(("event", ticks_diff(ticks_ms(), t0)))
+
     async def slow():
         await asyncio.sleep_ms(1000)
 

@@ -1,0 +1,103 @@
+"""The host's half of the protocol of time (``docs/clock.md``): the firmware's pending
+wait, the plant advanced for it, the plant caught up with the firmware's own time (or
+rewound, when a handler changed an output inside a speculative batch), and the STATE
+that answers the wait. The pacing (:mod:`host.rig.pacing`) decides each step."""
+
+from dataclasses import dataclass
+
+from host.link import frames as F
+
+_NO_WATCH = frozenset()
+
+
+@dataclass
+class Wait:
+    t_now: int  # the firmware's time when it blocked
+    t_until: int  # when it wants to wake, at the latest
+    watch: frozenset  # handles whose change wakes it earlier
+
+
+class Clock:
+    def __init__(self, plant, pacing, wiring, inputs, speculation, recorder, stats, session, log):
+        self.plant = plant
+        self.pacing = pacing
+        self.wiring = wiring
+        self.inputs = inputs
+        self.speculation = speculation
+        self.recorder = recorder
+        self.stats = stats
+        self.session = session
+        self.log = log  # the link log (host.artefacts.linklog)
+        self.wait: Wait | None = None
+
+    def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
+        """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
+        self.catch_up(t_now)
+        self.speculation.end()
+        self.wait = Wait(t_now, max(t_until, self.plant.t_us), watch)
+
+    def serve(self, t_end_us: int) -> None:
+        """Advance the plant for the pending wait, no further than ``t_end_us``; answer
+        the wait when it is over."""
+        wait = self.wait
+        stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
+        if stopped or self.plant.t_us >= wait.t_until:
+            self.wait = None
+            self._send_state(wait.t_now)
+        elif not self.speculation.open:
+            self.speculation.commit(self.plant.t_us)  # nothing in this batch can be rewound
+
+    def run_alone(self, t_end_us: int) -> None:
+        """The firmware ended: the plant runs on alone."""
+        while self.plant.t_us < t_end_us:
+            self.advance(t_end_us, _NO_WATCH)
+            self.inputs.drop()
+        self.speculation.commit(self.plant.t_us)
+
+    def advance(self, target_us: int, watch: frozenset) -> bool:
+        """Advance the plant, collecting what the firmware must see. True when the batch
+        must go now: a watched input changed, the batch is full, or (real time) an IRQ
+        edge is due. Lockstep batches IRQ edges speculatively."""
+        plant, pacing, inputs, recorder = self.plant, self.pacing, self.inputs, self.recorder
+        route = inputs.route
+        if pacing.speculates and not self.speculation.open and self.wait is not None and self.wiring.irq_armed:
+            self.speculation.begin()
+        while plant.t_us < target_us:
+            t_next, limit = pacing.step(self, target_us, watch)
+            irq = hit = False
+            for change in plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next):
+                i, h = route(change, watch)
+                irq |= i
+                hit |= h
+            if recorder is not None:
+                recorder.sample(plant)
+            if hit or (irq and pacing.irq_ends_batch) or inputs.full():
+                return True
+        return False
+
+    def catch_up(self, t_us: int) -> None:
+        """Bring the plant to the firmware's time: forward if the shim moved on inside
+        its horizon, back if a handler changed an output inside a speculative batch."""
+        plant = self.plant
+        if t_us > plant.t_us:
+            for change in plant.advance_to(t_us):
+                self.stats.lease_violations += 1
+                self.inputs.route(change, _NO_WATCH)
+            if self.recorder is not None:
+                self.recorder.sample(plant)
+        elif t_us < plant.t_us and self.pacing.speculates:
+            self.speculation.rewind(t_us, plant.t_us)
+            if self.recorder is not None:
+                self.recorder.rewind(t_us)
+            self.inputs.unsample(t_us)
+            self.stats.rollbacks += 1
+            self.log.rollback(t_us)
+        self.speculation.commit(t_us)
+
+    def _send_state(self, base_us: int) -> None:
+        t_us = self.plant.t_us
+        horizon = self.plant.next_change_us()
+        changes = self.inputs.take()
+        self.log.state(t_us, base_us, horizon, changes)
+        self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))
+        self.stats.link_round_trips += 1

@@ -1,0 +1,76 @@
+"""The conversation with the shim on one channel: the handshake, frames sent, frames
+received under a deadline, and what came last (for the watchdog's message).
+
+A receive that gets nothing in time, or a link that fails, goes to ``on_silence``
+(the target's: a hung firmware, a process that ended, a board that went quiet).
+"""
+
+import time
+
+from host.core.errors import LinkError, LinkTimeout
+from host.link import frames as F
+
+HANDSHAKE_TIMEOUT_S = 10.0
+
+
+class Session:
+    def __init__(self, on_silence, round_trip_us: list | None = None):
+        self.on_silence = on_silence  # (timeout_s, what) -> raises
+        self.round_trip_us = round_trip_us  # STATE -> WAIT wall times, when timed
+        self.chan = None
+        self.last_type: int | None = None  # of the last message from the shim
+        self._t_sent = None
+
+    def handshake(self, chan, mode: int, t_us: int) -> str:
+        """HELLO from the shim, WELCOME back; the shim's "<micropython version>;<machine>"."""
+        self.chan = chan
+        self.last_type = None
+        type_, payload = self.recv(HANDSHAKE_TIMEOUT_S, "HELLO")
+        if type_ != F.HELLO:
+            raise LinkError(f"expected HELLO from the shim, got {F.NAMES.get(type_, hex(type_))}")
+        proto, info = F.unpack_hello(payload)
+        if proto != F.PROTO_VERSION:
+            raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
+        self.send(F.WELCOME, F.pack_welcome(mode, t_us))
+        return info.decode(errors="replace")
+
+    def send(self, type_: int, payload: bytes) -> None:
+        try:
+            self.chan.send(type_, payload)
+        except OSError as e:
+            raise LinkError(f"plant link write failed: {e}") from e
+        if self.round_trip_us is not None:
+            self._t_sent = time.perf_counter()
+
+    def recv(self, timeout_s: float, what: str):
+        """The next message as (type, payload); silence is the target's to report."""
+        try:
+            type_, _seq, payload = self.chan.recv(timeout_s)
+        except LinkTimeout:
+            self.on_silence(timeout_s, what)
+        except LinkError:
+            self.on_silence(0, what)
+        if self._t_sent is not None and type_ == F.WAIT:
+            self.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
+            self._t_sent = None
+        self.last_type = type_
+        return type_, payload
+
+    def poll(self, timeout_s: float):
+        """The next message, or None if none came within ``timeout_s``."""
+        try:
+            type_, _seq, payload = self.chan.recv(timeout_s)
+        except LinkTimeout:
+            return None
+        self.last_type = type_
+        return type_, payload
+
+    def last_message(self) -> str:
+        if self.last_type is None:
+            return "none yet"
+        name = F.NAMES.get(self.last_type, hex(self.last_type))
+        wall = self.chan.last_data_wall if self.chan else None
+        return name if wall is None else f"{name}, read at wall {wall:.3f}"
+
+    def counters(self) -> dict:
+        return self.chan.counters() if self.chan else {}
