@@ -48,6 +48,18 @@ def test_sonar_updates_every_500ms_and_each_sample_is_read_within_one_quantum(ma
     assert latency.stats()["max"] <= 50_000
 
 
+def test_sonar_budget_follows_the_sonar_period_the_plant_is_given(make_rig):
+    """One source for the number: the sonar's period is the plant's option, and the
+    budget that checks it reads it from there."""
+    rig = make_rig("rover", seed=3, plant_options={"sonar_period_us": 250_000})
+    rig.run_for(10)
+    period = rig.budgets["sonar.period"]
+    assert period.period_us == 250_000 and "250 ms" in period.description
+    period.check()
+    assert period.stats()["count"] >= 38 and set(period.values) == {250_000}, period.stats()
+    rig.budgets["sonar.latency"].check()
+
+
 def test_control_step_runs_every_50ms_with_no_miss_over_60s(make_rig):
     rig = make_rig("rover", seed=4)
     rig.run_for(60)
@@ -86,3 +98,36 @@ def test_realtime_mode_runs_the_same_firmware_on_the_wall_clock(make_rig):
     period = rig.budgets["control.period"].stats()
     assert period["count"] >= 10 and period["p50"] >= 49_000, period
     assert rig.truth()["x_m"] > 1.1, "the rover drove"
+
+
+def test_a_budget_kind_of_ones_own_hears_the_rig_through_its_hooks(make_rig):
+    """Budgets own their behaviour: the rig calls whatever hooks a budget lists."""
+    from host.rig.budgets import CHANGE, COMPUTE, LEVEL, Budget
+
+    class Tally(Budget):
+        def __init__(self):
+            super().__init__("tally", "probe:control", limit_us=0)
+            self.toggles = self.samples = self.wakes = 0
+
+        def hooks(self):
+            return [(LEVEL, self.source, self.level), (CHANGE, "sonar.adc", self.change), (COMPUTE, None, self.wake)]
+
+        def level(self, t_us, signal, value, changed):
+            self.toggles += changed
+
+        def change(self, t_us, value):
+            self.samples += 1
+
+        def wake(self, compute_us):
+            self.wakes += 1
+
+    tally = Tally()
+    standard = make_rig("rover", seed=4)
+    standard.run_for(5)
+    rig = make_rig("rover", seed=4, budgets=[tally])
+    rig.run_for(5)
+    assert list(rig.budgets) == ["tally"]
+    stats = {name: budget.stats()["count"] for name, budget in standard.budgets.items()}
+    assert tally.toggles == stats["control.period"] + 1 >= 100, (tally.toggles, stats)
+    assert tally.samples == stats["sonar.period"] + 1 == 10, (tally.samples, stats)
+    assert tally.wakes == stats["control.compute"] > 100, (tally.wakes, stats)

@@ -1,7 +1,9 @@
 """Timing budgets that the pool cleaner added: sentence periods on a UART (counted at a
 marker byte) and track-stop pulses (one of two outputs at 1)."""
 
-from host.rig.budgets import PeriodBudget, PulseBudget
+import pytest
+
+from host.rig.budgets import COMPUTE, LEVEL, Budget, BudgetHooks, PeriodBudget, PulseBudget
 
 
 def test_a_uart_period_counts_chunks_with_the_marker_byte_only():
@@ -27,3 +29,35 @@ def test_a_stop_pulse_is_the_time_one_track_alone_is_stopped():
     budget.output(8_000_000, "track_l.stop", 1)
     budget.output(8_100_000, "track_r.stop", 1)  # both stopped (done): the pulse ends
     assert budget.values == [250_000, 350_000, 100_000] and budget.misses == 1
+
+
+class EdgeCount(Budget):
+    """A budget kind the rig has never heard of: it counts what its hooks are given."""
+
+    def __init__(self):
+        super().__init__("edges", "probe:control", limit_us=0)
+        self.calls = []
+
+    def hooks(self):
+        return [(LEVEL, self.source, lambda *a: self.calls.append(("level", *a))), (COMPUTE, None, self.calls.append)]
+
+
+def test_budget_hooks_index_each_budget_by_event_and_signal():
+    period = PeriodBudget("sonar.period", "sonar.adc", period_us=500_000, tolerance_us=1_000)
+    custom = EdgeCount()
+    hooks = BudgetHooks([period, custom])
+    assert hooks.change == {"sonar.adc": [period.on_change]}
+    assert hooks.level["sonar.adc"] == [period.on_level] and hooks.compute == [custom.calls.append]
+    for call in hooks.change["sonar.adc"]:
+        call(20_000, 4000)
+        call(520_000, 4100)
+    assert period.values == [500_000]
+
+
+def test_a_hook_on_an_unknown_event_is_refused_by_name():
+    class Odd(Budget):
+        def hooks(self):
+            return [("tick", "x", print)]
+
+    with pytest.raises(ValueError, match="budget odd: unknown event 'tick'"):
+        BudgetHooks([Odd("odd", "x", limit_us=1)])

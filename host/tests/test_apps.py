@@ -1,0 +1,21 @@
+"""The apps' budgets take their expected values from the plant they measure."""
+
+import pytest
+
+from host.rig.apps import get_app
+
+
+@pytest.mark.parametrize("app", ["rover", "pool_cleaner", "pool_cleaner_adc"])
+def test_sonar_period_budget_reads_the_plants_sonar_period(app):
+    spec = get_app(app)
+    for period_us in (500_000, 250_000, 1_000_000):
+        plant = spec.make_plant(sonar_period_us=period_us)
+        budgets = {b.name: b for b in spec.make_budgets(plant)}
+        assert budgets["sonar.period"].period_us == period_us == plant.sonar_period_us
+        assert f"{period_us // 1000} ms" in budgets["sonar.period"].description
+
+
+def test_the_adc_pool_cleaner_checks_its_left_sonar_and_the_nmea_one_its_uart():
+    pool, adc = get_app("pool_cleaner"), get_app("pool_cleaner_adc")
+    assert {b.name: b.source for b in pool.make_budgets(pool.make_plant())}["sonar.period"] == "sonar.uart"
+    assert {b.name: b.source for b in adc.make_budgets(adc.make_plant())}["sonar.period"] == "sonar_l.adc"

@@ -1,0 +1,78 @@
+"""The house in layers (docs/architecture.md): host/ imports only go down, and no class
+outgrows about 300 lines."""
+
+import ast
+from pathlib import Path
+
+from host.core.paths import REPO
+
+LAYERS = {
+    "host.core": 0,
+    "host.shim": 0,  # the codec both ends share (MicroPython side, imported as data here)
+    "host.link": 1,
+    "host.artefacts": 2,
+    "host.rig": 3,
+    "host.report": 4,
+    "host.device": 5,
+    "host.cli": 6,
+    "host.pytest_plugin": 6,
+    "host.bench": 6,
+}
+MICROPYTHON_SIDE = ("host/shim", "host/device/vrepl", "host/core/micropython", "host/tests")
+MAX_CLASS_LINES = 310
+
+
+def layer_of(module: str) -> int | None:
+    for prefix, layer in sorted(LAYERS.items(), key=lambda kv: -len(kv[0])):
+        if module == prefix or module.startswith(prefix + "."):
+            return layer
+    return None
+
+
+def host_modules():
+    for path in sorted((REPO / "host").rglob("*.py")):
+        rel = path.relative_to(REPO).as_posix()
+        if rel.startswith(MICROPYTHON_SIDE):
+            continue
+        module = rel[: -len(".py")].replace("/", ".").removesuffix(".__init__")
+        yield module, path
+
+
+def imported(path: Path) -> list[tuple[int, str]]:
+    """Every host module a file imports, at the top or inside a function."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, a.name) for a in node.names if a.name.startswith("host.")]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            if node.module == "host":
+                found += [(node.lineno, f"host.{a.name}") for a in node.names]
+            elif node.module.startswith("host."):
+                found.append((node.lineno, node.module))
+    return found
+
+
+def test_every_host_module_belongs_to_a_layer():
+    unplaced = [module for module, _ in host_modules() if module != "host" and layer_of(module) is None]
+    assert not unplaced, f"modules in no layer of docs/architecture.md: {unplaced}"
+
+
+def test_host_imports_only_go_down_the_layers():
+    upward = []
+    for module, path in host_modules():
+        mine = layer_of(module)
+        for line, target in imported(path):
+            theirs = layer_of(target)
+            if mine is not None and theirs is not None and theirs > mine:
+                upward.append(f"{path.relative_to(REPO)}:{line}: {module} (layer {mine}) imports {target} (layer {theirs})")
+    assert not upward, "imports that go up a layer:\n" + "\n".join(upward)
+
+
+def test_no_class_in_host_or_sim_plant_is_over_about_300_lines():
+    big = []
+    for folder in ("host", "sim_plant"):
+        for path in (REPO / folder).rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text(), str(path))):
+                if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > MAX_CLASS_LINES:
+                    big.append(f"{path.relative_to(REPO)}: {node.name} has {node.end_lineno - node.lineno + 1} lines")
+    assert not big, big
