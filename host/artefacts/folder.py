@@ -10,7 +10,7 @@ file                content
 ``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
 ``budgets.json``    each timing budget: limit, statistics and every measured value
 ``trace.vcd``       the signals and the ground truth for a wave viewer
-``console.log``     what the firmware printed (written by the runner)
+``console.log``     what the firmware printed (written by the rig)
 ==================  ==================================================================
 
 Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``) and
