@@ -64,7 +64,8 @@ def test_host_imports_only_go_down_the_layers():
         for line, target in imported(path):
             theirs = layer_of(target)
             if mine is not None and theirs is not None and theirs > mine:
-                upward.append(f"{path.relative_to(REPO)}:{line}: {module} (layer {mine}) imports {target} (layer {theirs})")
+                where = f"{path.relative_to(REPO)}:{line}"
+                upward.append(f"{where}: {module} (layer {mine}) imports {target} (layer {theirs})")
     assert not upward, "imports that go up a layer:\n" + "\n".join(upward)
 
 
