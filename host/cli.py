@@ -1,6 +1,8 @@
 """``mpy-fil``: ad-hoc runs, replays and plots from the command line.
 
     mpy-fil run --app rover --world long-room --seed 3 --duration 60
+    mpy-fil run path/to/rig.toml --duration 20
+    mpy-fil check path/to/rig.toml
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
 
@@ -21,7 +23,8 @@ from host.core.errors import ConfigError, HarnessError
 from host.core.paths import BOARDS_DIR, REPO
 from host.report.progress import MissionProgress
 from host.report.table import format_table
-from host.rig.apps import APPS
+from host.rig.apps import apps, get_app
+from sim_plant import kinds
 
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
@@ -51,7 +54,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
 
     run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
-    run.add_argument("--app", default="rover", choices=sorted(APPS), help="firmware app (default: rover)")
+    run.add_argument("rig", nargs="?", metavar="RIG", help="a rig file (docs/rig-file.md); default: --app")
+    run.add_argument("--app", default="rover", choices=sorted(apps()), help="one of our apps (default: rover)")
     run.add_argument("--board", help="board pin map (default: the app's own; see firmware/boards)")
     run.add_argument("--world", help="named world of the app (default: its first)")
     run.add_argument(
@@ -68,6 +72,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", type=Path, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
     run.add_argument("--no-plots", action="store_true", help="write the trace folder only")
     run.set_defaults(command=cmd_run, sub=run)
+
+    check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
+    check.add_argument("rig", metavar="RIG", help="a rig file (docs/rig-file.md) or one of our apps")
+    check.set_defaults(command=cmd_check, sub=check)
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
@@ -120,16 +128,18 @@ def cmd_run(args) -> int:
     from host.rig import Rig
 
     sub = args.sub
-    app = APPS[args.app]
+    app = get_app(args.rig) if args.rig else apps()[args.app]
     board = args.board or app.default_board
-    known_boards = app.boards or tuple(sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file()))
+    known_boards = tuple(dict.fromkeys((app.default_board, *app.boards)))
+    if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
+        known_boards = tuple(sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file()))
     if board not in known_boards:
         sub.error(f"argument --board: unknown board {board!r} for app {app.name} (known: {', '.join(known_boards)})")
     world = args.world or next(iter(app.worlds))
     if world not in app.worlds:
         sub.error(f"argument --world: unknown world {world!r} for app {app.name} (known: {', '.join(app.worlds)})")
     options = {**app.worlds[world], **dict(args.param)}
-    accepted = _plant_options(app.make_plant)
+    accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
     unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
     if unknown:
         sub.error(
@@ -143,7 +153,7 @@ def cmd_run(args) -> int:
     out = args.out or RUNS / f"{app.name}-{world}-seed{args.seed}"
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
     rig = Rig(
-        app.name,
+        app,
         board=board,
         seed=args.seed,
         mode=args.mode,
@@ -171,6 +181,28 @@ def cmd_run(args) -> int:
 
         for path in plot_trace(out):
             print(f"plot: {path}")
+    return 0
+
+
+def cmd_check(args) -> int:
+    app = get_app(args.rig)
+    plant = app.make_plant()
+    print(f"{app.rig_file or app.name}: ok")
+    print(f"  firmware: {app.path} (entry {app.entry})")
+    folders = app.firmware_folders(app.board_files(app.default_board)[0])
+    print(f"  path: {' : '.join(str(f) for f in folders)}")
+    print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
+    print(f"  plant: {app.plant_kind or type(plant).__name__} {app.plant_options or ''}".rstrip())
+    print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
+    print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
+    wired = set(app.wiring.values())
+    loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
+    print(
+        f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")
+    )
+    for budget in app.make_budgets(plant):
+        print(f"  budget {budget.name}: {budget.limit_text()}  {budget.description}")
+    print(f"  worlds: {', '.join(app.worlds)}")
     return 0
 
 

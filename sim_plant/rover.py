@@ -75,6 +75,11 @@ class RoverRoom(RobotPlant):
     ):
         self.room_w_m = float(room_w_m)
         self.room_h_m = float(room_h_m)
+        for name, size in (("room_w_m", self.room_w_m), ("room_h_m", self.room_h_m)):
+            if not size > 2 * body_radius_m:
+                raise ValueError(
+                    f"{name}: expected a room wider than the robot ({2 * body_radius_m:g} m), got {size:g}"
+                )
         self.start_pose = tuple(float(v) for v in start_pose)
         self.body_radius_m = body_radius_m
         self.wheel_radius_m = wheel_radius_m

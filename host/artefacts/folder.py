@@ -78,6 +78,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
     return {
         "format": FORMAT,
         "app": run["app"],
+        "rig_file": run.get("rig_file"),
         "board": run["board"],
         "world": describe_world(plant),
         "plant": type(plant).__name__,

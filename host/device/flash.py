@@ -26,10 +26,9 @@ import time
 from pathlib import Path
 
 from host.core.errors import HarnessError
-from host.core.paths import REPO
+from host.core.paths import FIRMWARE, REPO
 from host.device import vboard
-from host.rig.apps import FIRMWARE, get_app
-from host.rig.boards import board_dir
+from host.rig.apps import get_app
 
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
@@ -80,10 +79,13 @@ def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
     out.mkdir(parents=True)
     files: list[str] = []
     sources = [(p, p.name) for p in sorted(app.path.glob("*.py"))]
-    sources.append((board_dir(board) / "board.py", "board.py"))
-    sources += [(p, f"lib/{p.name}") for p in sorted((FIRMWARE / "lib").glob("*.py"))]
+    board_folder, _pins = app.board_files(board)
+    if board_folder is not None:
+        sources.append((board_folder / "board.py", "board.py"))
+    for lib in [*app.lib_dirs, *([FIRMWARE / "lib"] if app.harness_lib else [])]:
+        sources += [(p, f"lib/{p.name}") for p in sorted(lib.glob("*.py"))]
     for src, name in sources:
-        if name in ("main.py", "boot.py"):
+        if name in ("main.py", "boot.py", app.entry):
             compile_module(src, STAGING / ".check" / name.replace(".py", ".mpy"))  # syntax check only
             shutil.copyfile(src, out / name)
             files.append(name)

@@ -17,10 +17,21 @@ def board_dir(board: str) -> Path:
 
 
 def read_pin_map(board: str) -> dict[str, object]:
-    """Constant name -> value (pin number or name) from a board file."""
-    path = board_dir(board) / "board.py"
+    """Constant name -> value (pin number or name) from a named board's file."""
+    return read_board_file(board_dir(board) / "board.py")
+
+
+def read_board_file(path: Path) -> dict[str, object]:
+    """Constant name -> value (pin number or name) from a board file; a file that is
+    not Python raises ConfigError naming its line."""
+    if not path.is_file():
+        raise ConfigError(f"no board file {path}")
+    try:
+        tree = ast.parse(path.read_text(), str(path))
+    except SyntaxError as e:
+        raise ConfigError(f"{path}:{e.lineno}: SyntaxError: {e.msg}") from None
     names: dict[str, object] = {}
-    for node in ast.parse(path.read_text(), str(path)).body:
+    for node in tree.body:
         if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
             value = node.value
             if isinstance(value, ast.Call) and getattr(value.func, "id", "") == "const" and value.args:

@@ -10,21 +10,25 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from host.core.errors import ConfigError
-from host.core.paths import FIRMWARE, SHIM_DIR
+from host.core.paths import SHIM_DIR
 
 
 @dataclass
 class Firmware:
-    main_dir: Path  # the folder main.py runs in (the board's /)
+    main_dir: Path  # the folder the entry file runs in (the board's /)
     folders: list[Path]  # on the path, in order: main_dir first
+    entry: str = "main.py"
+    heap_size: str | None = None  # -X heapsize, as a board's RAM
 
     @classmethod
-    def from_source(cls, app_dir: Path, board_dir: Path, main_dir: Path | None = None) -> "Firmware":
-        """The app's folder (or ``main_dir``), the board's pin map, the drivers."""
-        main = Path(main_dir) if main_dir else Path(app_dir)
-        if not (main / "main.py").is_file():
-            raise ConfigError(f"main_dir: no main.py in {main}")
-        return cls(main, [main, Path(board_dir), FIRMWARE / "lib"])
+    def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
+        """The app's folder (or ``main_dir``), its libraries, the board's pin map and,
+        when the app asks for them, the project's drivers."""
+        main = Path(main_dir) if main_dir else app.path
+        if not (main / app.entry).is_file():
+            raise ConfigError(f"main_dir: no {app.entry} in {main}")
+        folders = app.firmware_folders(board_folder)
+        return cls(main, [main, *folders[1:]], app.entry, app.heap_size)
 
     @classmethod
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
@@ -44,4 +48,8 @@ class Firmware:
             "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
             "MICROPYPATH": self.micropypath(),
             "HIL_LINK": link_path,
+            "HIL_ENTRY": self.entry,
         }
+
+    def interpreter_args(self) -> list[str]:
+        return ["-X", f"heapsize={self.heap_size}"] if self.heap_size else []

@@ -86,7 +86,7 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     h = trace.header
     if h.get("mode") != "lockstep":
         raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
-    app = get_app(h["app"])
+    app = get_app(h.get("rig_file") or h["app"])
     recorded_plant = app.make_plant(**h.get("plant_options", {}))  # its budgets, as the recorded run had them
     rig = Rig(
         app,

@@ -24,7 +24,6 @@ from host.artefacts.recorder import Recorder
 from host.core.errors import ConfigError, FirmwareError, LinkError
 from host.link import frames as F
 from host.rig.apps import App, get_app
-from host.rig.boards import board_dir, read_pin_map
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
@@ -91,12 +90,12 @@ class Rig:
         self.pacing = PACINGS[mode]()
         self.seed = seed
         self.watchdog_s = watchdog_s
-        board_path = board_dir(self.board)
-        self.wiring = Wiring(self.app.wiring, read_pin_map(self.board), self.board)
+        board_folder, pins = self.app.board_files(self.board)
+        self.wiring = Wiring(self.app.wiring, pins, self.board)
         if firmware_dir is not None:
             self.firmware = Firmware.flashed(firmware_dir, require_main)
         else:
-            self.firmware = Firmware.from_source(self.app.path, board_path, main_dir)
+            self.firmware = Firmware.from_app(self.app, board_folder, main_dir)
         self.plant_options = dict(plant_options or {})
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
@@ -191,6 +190,7 @@ class Rig:
     def _run_header(self) -> dict:
         return {
             "app": self.app.name,
+            "rig_file": str(self.app.rig_file) if self.app.rig_file else None,
             "board": self.board,
             "plant_options": self.plant_options,
             "seed": self.seed,

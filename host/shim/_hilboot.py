@@ -52,14 +52,23 @@ def _run(name):
     return True
 
 
+def _entry():
+    """The file a board runs after boot.py: main.py, or the rig file's entry."""
+    import os
+
+    getenv = getattr(os, "getenv", None)  # boards have no environment
+    return (getenv("HIL_ENTRY") if getenv else None) or "main.py"
+
+
 def main(pil=False):
     _hil.start()
     try:
         _asyncio_in_virtual_time()
         if not pil:
             _run("boot.py")
-        if not _run("main.py"):
-            raise OSError("no main.py on the firmware path")
+        entry = _entry()
+        if not _run(entry):
+            raise OSError("no %s on the firmware path" % entry)
     except _hil.ResetRequest:
         _hil.finish(F.EXIT_RESET)
         if not pil:

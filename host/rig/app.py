@@ -1,0 +1,60 @@
+"""An app: a firmware and its test rig, in memory. Rig files describe one
+(:mod:`host.rig.rigfile`); the project's own are listed by :mod:`host.rig.apps`."""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from host.core.paths import FIRMWARE
+from host.rig import boards as pin_maps
+from host.rig.budgets import Budget
+from sim_plant.plant import Plant
+
+
+@dataclass
+class App:
+    """A firmware and its test rig: where the code is, the board, the plant, the wiring,
+    the budgets and the worlds. Rig files (``host/rig/rigfile.py``) describe one."""
+
+    name: str
+    default_board: str
+    make_plant: Callable[..., Plant]
+    wiring: dict[str, str]
+    make_budgets: Callable[[Plant], list[Budget]] = lambda plant: []
+    """The app's budgets for a plant: a budget's expected value comes from the plant it
+    measures (the sonar period is the plant's ``sonar_period_us``)."""
+    boards: tuple[str, ...] = ()
+    doc: str = ""
+    extra: dict = field(default_factory=dict)
+    folder: Path | None = None  # default: firmware/apps/<name>
+    worlds: dict[str, dict] = field(default_factory=lambda: {"default": {}})
+    """Named worlds: the plant options that build each (the first is the default)."""
+    entry: str = "main.py"  # the file the board runs after boot.py
+    lib_dirs: tuple[Path, ...] = ()  # library folders of the firmware's own (its /lib)
+    harness_lib: bool = True  # the project's firmware/lib on the path
+    board_dir: Path | None = None  # the folder of a board file of one's own
+    pins: dict | None = None  # the default board's pins, when not read from firmware/boards
+    rig_file: Path | None = None
+    plant_kind: str | None = None
+    plant_options: dict = field(default_factory=dict)
+    heap_size: str | None = None  # the interpreter's heap (``-X heapsize``), as a board's
+
+    @property
+    def path(self) -> Path:
+        return self.folder or FIRMWARE / "apps" / self.name
+
+    def board_files(self, board: str) -> tuple[Path | None, dict]:
+        """(the folder with the board's board.py, or None; its pins) for ``board``."""
+        if board == self.default_board and self.pins is not None:
+            return self.board_dir, self.pins
+        return pin_maps.board_dir(board), pin_maps.read_pin_map(board)
+
+    def firmware_folders(self, board_folder: Path | None) -> list[Path]:
+        """Folders as a board's filesystem has them: the app at /, its libraries and the
+        pin map in /lib (and the project's drivers, when asked for)."""
+        folders = [self.path, *self.lib_dirs]
+        if board_folder is not None:
+            folders.append(board_folder)
+        if self.harness_lib:
+            folders.append(FIRMWARE / "lib")
+        return folders

@@ -1,0 +1,274 @@
+"""Rig files: a firmware folder's test rig as data (TOML, ``docs/rig-file.md``).
+
+A rig file names the firmware (folder, entry file, library folders), the board (a board
+file or a pins table), the plant (a kind from :mod:`sim_plant.kinds` with options), the
+wiring (board pin -> plant signal), the timing budgets, the named worlds and interpreter
+settings. It is checked whole before anything starts: every mistake raises a
+:class:`~host.core.errors.ConfigError` that names the file and the field. Our own apps
+are rig files too (``firmware/apps/<app>/rig*.toml``).
+"""
+
+import difflib
+from pathlib import Path
+
+import tomllib
+
+from host.core.errors import ConfigError
+from host.core.paths import BOARDS_DIR
+from host.rig.app import App
+from host.rig.boards import read_board_file
+from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
+from host.rig.wiring import PROBE_PREFIX
+from sim_plant import kinds
+
+TABLES = {
+    "name": str,
+    "description": str,
+    "firmware": dict,
+    "board": dict,
+    "plant": dict,
+    "wiring": dict,
+    "budgets": dict,
+    "worlds": dict,
+    "interpreter": dict,
+}
+FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
+BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list}
+PLANT_KEYS = {"kind": str, "options": dict}
+INTERPRETER_KEYS = {"heap_size": str}
+BUDGET_KINDS = {
+    "period": (PeriodBudget, {"source": str, "period_us": (int, str), "tolerance_us": int, "marker": str}),
+    "latency": (LatencyBudget, {"source": str, "limit_us": int}),
+    "pulse": (PulseBudget, {"sources": list, "limit_us": int}),
+    "compute": (ComputeBudget, {"limit_us": int}),
+}
+COMMON_BUDGET_KEYS = {"kind": str, "description": str}
+
+
+class _Where:
+    """A rig file and the field being read, for messages: ``rig.toml: [plant] kind: ...``."""
+
+    def __init__(self, path: Path):
+        self.path = path
+
+    def error(self, field: str, message: str) -> ConfigError:
+        return ConfigError(f"{self.path}: {field}: {message}")
+
+    def table(self, data: dict, name: str, keys: dict, required=()) -> dict:
+        """``data`` checked against ``keys`` (name -> type): unknown keys (with the
+        closest known one), wrong types and missing required keys are errors."""
+        for key, value in data.items():
+            if key not in keys:
+                close = difflib.get_close_matches(key, keys, n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                raise self.error(f"{name} {key}", f"unknown key (known: {', '.join(keys)}){hint}")
+            _check_type(self, f"{name} {key}", value, keys[key])
+        missing = [k for k in required if k not in data]
+        if missing:
+            raise self.error(name, f"missing {', '.join(missing)}")
+        return data
+
+
+def _check_type(where: _Where, field: str, value, expected) -> None:
+    types = expected if isinstance(expected, tuple) else (expected,)
+    if isinstance(value, bool) and bool not in types:
+        ok = False
+    else:
+        ok = isinstance(value, types)
+    if not ok:
+        names = " or ".join(
+            {str: "text", int: "an integer", bool: "true/false", list: "a list", dict: "a table"}[t] for t in types
+        )
+        raise where.error(field, f"expected {names}, got {value!r}")
+
+
+def load_rig(path) -> App:
+    """Read and check a rig file; the App it describes."""
+    path = Path(path)
+    where = _Where(path)
+    if not path.is_file():
+        raise ConfigError(f"{path}: no such rig file")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(f"{path}: not valid TOML: {e}") from None
+    where.table(data, "", TABLES, required=("firmware", "plant", "wiring"))
+    base = path.parent
+    firmware = where.table(data["firmware"], "[firmware]", FIRMWARE_KEYS)
+    folder = (base / firmware.get("dir", ".")).resolve()
+    if not folder.is_dir():
+        raise where.error("[firmware] dir", f"no folder {folder}")
+    entry = firmware.get("entry", "main.py")
+    if not (folder / entry).is_file():
+        raise where.error("[firmware] entry", f"no {entry} in {folder}")
+    libs = tuple(_folder(where, base, "[firmware] lib", item) for item in firmware.get("lib", []))
+    board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
+    kind, options = _plant(where, data["plant"])
+    plant = _make_plant(where, kind, options, "[plant] options")
+    wiring = _wiring(where, data["wiring"], pins, board_name, plant)
+    budget_specs = _budgets(where, data.get("budgets", {}), plant)
+    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options)
+    interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
+    name = data.get("name") or folder.name
+
+    def make_plant(**extra):  # (as a plant class does: TypeError, ValueError for bad options)
+        return kinds.make(kind, **{**options, **extra})
+
+    return App(
+        name=name,
+        default_board=board_name,
+        make_plant=make_plant,
+        wiring=wiring,
+        make_budgets=lambda plant: [build(plant) for build in budget_specs],
+        boards=boards,
+        doc=data.get("description", ""),
+        folder=folder,
+        worlds=worlds,
+        entry=entry,
+        lib_dirs=libs,
+        harness_lib=firmware.get("harness_lib", False),
+        board_dir=board_dir,
+        pins=pins,
+        rig_file=path,
+        plant_kind=kind,
+        plant_options=dict(options),
+        heap_size=interpreter.get("heap_size"),
+    )
+
+
+def _folder(where: _Where, base: Path, field: str, item) -> Path:
+    _check_type(where, field, item, str)
+    folder = (base / item).resolve()
+    if not folder.is_dir():
+        raise where.error(field, f"no folder {folder}")
+    return folder
+
+
+def _board(where: _Where, base: Path, board: dict):
+    """(name, folder holding board.py or None, pins, boards the app runs on)."""
+    if isinstance(board, str):
+        board = {"name": board}
+    where.table(board, "[board]", BOARD_KEYS)
+    given = [k for k in ("name", "file", "pins") if k in board]
+    if len(given) != 1:
+        raise where.error("[board]", f"expected one of name, file or pins, got {', '.join(given) or 'none'}")
+    also = tuple(board.get("also", ()))
+    if "pins" in board:
+        pins = board["pins"]
+        for pin, value in pins.items():
+            _check_type(where, f"[board.pins] {pin}", value, (int, str))
+        return "pins", None, dict(pins), also
+    if "file" in board:
+        path = (base / board["file"]).resolve()
+        field = "[board] file"
+    else:
+        path = BOARDS_DIR / board["name"] / "board.py"
+        field = "[board] name"
+        if not path.is_file():
+            known = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
+            raise where.error(field, f"no board {board['name']!r} (known: {', '.join(known)})")
+    try:
+        pins = read_board_file(path)
+    except ConfigError as e:
+        raise where.error(field, str(e)) from None
+    name = board.get("name") or path.parent.name
+    return name, path.parent, pins, (name, *also) if "name" in board else also
+
+
+def _plant(where: _Where, plant: dict):
+    where.table(plant, "[plant]", PLANT_KEYS, required=("kind",))
+    kind = plant["kind"]
+    if kind not in kinds.KINDS:
+        raise where.error("[plant] kind", f"unknown plant kind {kind!r} (kinds: {', '.join(kinds.KINDS)})")
+    return kind, dict(plant.get("options", {}))
+
+
+def _make_plant(where: _Where, kind: str, options: dict, field: str):
+    try:
+        return kinds.make(kind, **options)
+    except (TypeError, ValueError) as e:
+        raise where.error(field, f"the {kind} plant refuses {options}: {e}") from None
+
+
+def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[str, str]:
+    signals = {**plant.inputs, **plant.outputs}
+    for pin, signal in wiring.items():
+        field = f"[wiring] {pin}"
+        _check_type(where, field, signal, str)
+        if pin not in pins:
+            raise where.error(field, f"board {board} has no pin named {pin} (pins: {', '.join(pins)})")
+        if not signal.startswith(PROBE_PREFIX) and signal not in signals:
+            raise where.error(
+                field,
+                f"the plant has no signal {signal!r} (inputs: {', '.join(plant.inputs)}; "
+                f"outputs: {', '.join(plant.outputs)}; or probe:<name> for a pin only the harness watches)",
+            )
+    return dict(wiring)
+
+
+def _budgets(where: _Where, budgets: dict, plant) -> list:
+    """One builder per budget: ``build(plant) -> Budget``; each is tried once here, on
+    the rig file's own plant, so that its mistakes show before a run."""
+    builders = []
+    for name, spec in budgets.items():
+        field = f"[budgets.{name}]"
+        if not isinstance(spec, dict):
+            raise where.error(field, f"expected a table, got {spec!r}")
+        kind = spec.get("kind")
+        if kind not in BUDGET_KINDS:
+            raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {kind!r}")
+        cls, keys = BUDGET_KINDS[kind]
+        where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k != "marker"])
+        for key, signal in [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]:
+            if signal is None:
+                continue
+            _check_type(where, f"{field} {key}", signal, str)
+            if not signal.startswith(PROBE_PREFIX) and signal not in {**plant.inputs, **plant.outputs}:
+                known = ", ".join([*plant.inputs, *plant.outputs])
+                raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} (signals: {known})")
+        build = _budget_builder(where, field, name, cls, spec)
+        build(plant)
+        builders.append(build)
+    return builders
+
+
+def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
+    def value(plant, key):
+        v = spec[key]
+        if isinstance(v, str):  # "plant.<option>": the plant's own figure
+            attr = v.removeprefix("plant.")
+            if not v.startswith("plant.") or not isinstance(getattr(plant, attr, None), int):
+                raise where.error(f"{field} {key}", f"expected microseconds or plant.<integer option>, got {v!r}")
+            return getattr(plant, attr)
+        return v
+
+    def build(plant):
+        args = {k: value(plant, k) if k.endswith("_us") else spec[k] for k in spec if k not in ("kind", "description")}
+        if "marker" in args:
+            args["marker"] = args["marker"].encode()
+        source = args.pop("sources", None) or args.pop("source", None)
+        budget = cls(name, tuple(source) if isinstance(source, list) else source or "compute", **args)
+        names = {k: getattr(budget, k) for k in ("period_us", "tolerance_us", "limit_us") if hasattr(budget, k)}
+        names.update({k.replace("_us", "_ms"): v / 1000 for k, v in names.items()})
+        try:
+            budget.description = spec.get("description", "").format(**names)
+        except (KeyError, ValueError) as e:
+            raise where.error(f"{field} description", f"cannot fill in {e} (fields: {', '.join(names)})") from None
+        return budget
+
+    return build
+
+
+def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, dict]:
+    known = kinds.options(kind)
+    for name, world in worlds.items():
+        field = f"[worlds.{name}]"
+        if not isinstance(world, dict):
+            raise where.error(field, f"expected a table of plant options, got {world!r}")
+        unknown = sorted(set(world) - set(known))
+        if unknown:
+            raise where.error(
+                f"{field} {unknown[0]}", f"the {kind} plant has no such option (options: {', '.join(known)})"
+            )
+        _make_plant(where, kind, {**options, **world}, field)
+    return {name: dict(world) for name, world in worlds.items()} or {"default": {}}

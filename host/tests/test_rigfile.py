@@ -1,0 +1,170 @@
+"""Rig files: our apps are rig files, a folder of one's own runs from one, and every
+mistake names the file and the field."""
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from host.core.errors import ConfigError, FirmwareError
+from host.core.paths import FIRMWARE, REPO
+from host.rig.apps import apps, get_app
+from host.rig.rigfile import load_rig
+
+GOOD = """
+name = "mybot"
+[firmware]
+entry = "main.py"
+[board.pins]
+LEFT_PWM = 25
+LEFT_IN1 = 26
+LEFT_IN2 = 27
+BUMP = 23
+LED = 2
+[plant]
+kind = "rover_room"
+[plant.options]
+room_w_m = 4.0
+[wiring]
+LEFT_PWM = "motor_l.pwm"
+LEFT_IN1 = "motor_l.in1"
+LEFT_IN2 = "motor_l.in2"
+BUMP = "bumper"
+LED = "probe:led"
+[budgets.blink]
+kind = "period"
+source = "probe:led"
+period_us = 100_000
+tolerance_us = 0
+description = "the LED toggles every {period_ms:g} ms"
+[worlds.small]
+room_w_m = 2.0
+"""
+
+BLINK = """
+from machine import Pin
+import time
+
+led = Pin(2, Pin.OUT)
+bump = Pin(23, Pin.IN, Pin.PULL_UP)
+for _ in range(20):
+    led.toggle()
+    time.sleep_ms(100)
+print("blinked; bumper", bump.value())
+"""
+
+
+def write_rig(folder, text=GOOD, files=None):
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, source in (files or {"main.py": BLINK}).items():
+        (folder / name).write_text(textwrap.dedent(source))
+    path = folder / "rig.toml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_our_apps_are_rig_files():
+    found = apps()
+    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc"}
+    rover = found["rover"]
+    assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
+    assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
+    plant = rover.make_plant(**rover.worlds["small-room"])
+    assert plant.room_w_m == 3.0 and plant.start_pose == (1.0, 1.5, 0.0)
+    names = [b.name for b in rover.make_budgets(plant)]
+    assert names == ["control.period", "sonar.period", "sonar.latency", "control.compute"]
+    adc = found["pool_cleaner_adc"]
+    assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
+
+
+def test_a_rig_file_of_ones_own_loads_with_its_pins_table(tmp_path):
+    app = load_rig(write_rig(tmp_path / "mybot"))
+    assert app.name == "mybot" and app.default_board == "pins" and app.pins["LED"] == 2
+    assert not app.harness_lib and app.firmware_folders(None) == [tmp_path / "mybot"]
+    budget = app.make_budgets(app.make_plant())[0]
+    assert budget.period_us == 100_000 and budget.description == "the LED toggles every 100 ms"
+
+
+def test_a_rig_file_runs_in_the_loop_by_its_path(make_rig, tmp_path):
+    rig = make_rig(str(write_rig(tmp_path / "mybot")), seed=1)
+    rig.run_for(3)
+    rig.stop()
+    assert f"blinked; bumper {rig.plant.output('bumper')}" in rig.console, rig.console
+    assert rig.budgets["blink"].stats()["count"] == 19 and rig.budgets["blink"].misses == 0
+
+
+def test_the_entry_file_may_have_another_name(make_rig, tmp_path):
+    text = GOOD.replace('entry = "main.py"', 'entry = "robot.py"')
+    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"robot.py": BLINK})), seed=1)
+    rig.run_for(3)
+    rig.stop()
+    assert "blinked" in rig.console, rig.console
+
+
+def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_path):
+    uses_ours = {"main.py": "import encoder\nprint('found', encoder.__name__)\n"}
+    with pytest.raises(FirmwareError, match="no module named 'encoder'"):
+        make_rig(str(write_rig(tmp_path / "a", GOOD, uses_ours))).run_for(0.1)
+    text = GOOD.replace('entry = "main.py"', 'entry = "main.py"\nharness_lib = true')
+    rig = make_rig(str(write_rig(tmp_path / "b", text, uses_ours)))
+    rig.run_for(0.1)
+    rig.stop()
+    assert "found encoder" in rig.console
+
+
+@pytest.mark.parametrize(
+    ("change", "field", "says"),
+    [
+        (('"motor_l.pwm"', '"motor_l.pwn"'), "[wiring] LEFT_PWM", "no signal 'motor_l.pwn' (inputs: motor_l.in1"),
+        (('BUMP = "bumper"', 'BUMPR = "bumper"'), "[wiring] BUMPR", "has no pin named BUMPR (pins: LEFT_PWM"),
+        (('entry = "main.py"', 'entyr = "main.py"'), "[firmware] entyr", "did you mean 'entry'?"),
+        (('entry = "main.py"', 'entry = "robot.py"'), "[firmware] entry", "no robot.py in"),
+        (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
+        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant] options", "room_w_m: expected a room wider"),
+        (("room_w_m = 4.0", "room_w = 4.0"), "[plant] options", "unknown option room_w (options:"),
+        (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: rover_room"),
+        (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
+        (("tolerance_us = 0", 'tolerance_us = "0"'), "[budgets.blink] tolerance_us", "expected an integer"),
+        (("room_w_m = 2.0", "room_w_m = 0.1"), "[worlds.small]", "expected a room wider"),
+        (("{period_ms:g}", "{period:g}"), "[budgets.blink] description", "cannot fill in 'period'"),
+    ],
+)
+def test_every_mistake_names_the_file_and_the_field(tmp_path, change, field, says):
+    path = write_rig(tmp_path / "mybot", GOOD.replace(*change))
+    with pytest.raises(ConfigError) as e:
+        load_rig(path)
+    assert str(e.value).startswith(f"{path}: {field}: "), str(e.value)
+    assert says in str(e.value), str(e.value)
+
+
+def test_a_board_file_with_a_syntax_error_is_named_with_its_line(tmp_path):
+    text = GOOD.split("[board.pins]")[0] + '[board]\nfile = "board.py"\n' + GOOD.split("LED = 2\n")[1]
+    path = write_rig(tmp_path / "mybot", text, {"main.py": BLINK, "board.py": "A = const(1)\nB = = 2\n"})
+    with pytest.raises(ConfigError, match=r"\[board\] file: .*board.py:2: SyntaxError"):
+        load_rig(path)
+
+
+def test_a_rig_file_that_is_not_toml_says_where(tmp_path):
+    path = write_rig(tmp_path / "mybot", GOOD + "\n[wiring\n")
+    with pytest.raises(ConfigError, match=r"rig.toml: not valid TOML: .*line"):
+        load_rig(path)
+    with pytest.raises(ConfigError, match="no such rig file"):
+        get_app(str(tmp_path / "nothing" / "rig.toml"))
+
+
+def mpy_fil(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "host.cli", *args], cwd=REPO, capture_output=True, text=True, timeout=60
+    )
+
+
+def test_mpy_fil_check_lists_the_plants_signals_and_a_mistake_exits_2_in_one_line(tmp_path):
+    path = write_rig(tmp_path / "mybot")
+    done = mpy_fil("check", str(path))
+    assert done.returncode == 0, done.stderr
+    assert "inputs (the firmware drives): motor_l.in1 (level)" in done.stdout and "budget blink" in done.stdout
+    path.write_text(GOOD.replace('"motor_l.pwm"', '"motor_l.pwn"'))
+    done = mpy_fil("check", str(path))
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert f"{path}: [wiring] LEFT_PWM: the plant has no signal 'motor_l.pwn'" in done.stderr, done.stderr
