@@ -6,7 +6,8 @@
 #   make bench   real-time factor and link round trip; plant cost per quantum
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
-#   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]
+#   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file
+#   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]   (or RIG=path/to/rig.toml)
 #                compile with mpy-cross, copy what changed with mpremote, reset, show
 #                the first lines; without PORT, to the virtual board (build/vboard/)
 # MICROPYTHON=/path/to/micropython uses that interpreter instead of the build.
@@ -45,10 +46,10 @@ test: setup
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
 hil: setup
-	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html hil_tests
+	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
-	@$(PY) -m host.device.flash --app $(APP) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
+	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
 
 bench: setup
 	$(PY) -m host.bench

@@ -18,7 +18,9 @@ constant               value       source
 ``START_DELAY_US``     213         T_a = 13 us start-up + T_b = 8 cycles at 40 kHz = 0.2 ms
 =====================  ==========  ============================================================
 
-A trigger while ECHO is high is ignored, as on the module. The servo is an SG90 driven by
+A trigger while ECHO is high is ignored, as on the module. The datasheet's 10 us trigger
+is the default; ``trigger_min_us`` sets another (modules answer shorter pulses, and
+popular drivers send 5 us). The servo is an SG90 driven by
 a 50 Hz PWM (``duty_u16``): pulse 0.5..2.5 ms for 0..180 deg (the usual SG90 span; the
 seed gives none), turning at 0.12 s per 60 deg (seed 003 §3.3); 90 deg looks straight
 ahead. A ping taken while the servo still turns sees along its current angle.
@@ -121,6 +123,7 @@ class HcSr04(Part):
         max_range_m: float = MAX_RANGE_M,
         min_range_m: float = MIN_RANGE_M,
         cone_deg: float = CONE_DEG,
+        trigger_min_us: int = TRIGGER_MIN_US,
     ):
         self.trig = trig
         self.echo = echo
@@ -130,6 +133,7 @@ class HcSr04(Part):
         self.max_range_m = float(max_range_m)
         self.min_range_m = float(min_range_m)
         self.half_cone_rad = math.radians(cone_deg) / 2.0
+        self.trigger_min_us = int(trigger_min_us)  # shorter TRIG pulses are ignored
         self.inputs = {trig: "level"}
         if servo is not None:
             self.inputs[servo.name] = "duty"
@@ -156,7 +160,7 @@ class HcSr04(Part):
         level = 1 if int(value) else 0
         if level and not self.trig_level:
             self.trig_rise_us = t_us
-        elif not level and self.trig_level and t_us - self.trig_rise_us >= TRIGGER_MIN_US and not self.busy():
+        elif not level and self.trig_level and t_us - self.trig_rise_us >= self.trigger_min_us and not self.busy():
             self._ping(t_us, plant)
         self.trig_level = level
         return False

@@ -10,6 +10,7 @@ from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.rover import RoverRoom
+from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
 from sim_plant.world import POOL_LENGTH_M
 
@@ -25,6 +26,7 @@ def pool_cleaner(**options) -> PoolCleaner:
 pool_cleaner.options_of = PoolCleaner
 
 KINDS = {
+    "two_wheel": TwoWheelRobot,
     "rover_room": RoverRoom,
     "pool_cleaner": pool_cleaner,
     "duct_robot": DuctRobot,

@@ -78,7 +78,7 @@ def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
         shutil.rmtree(out)
     out.mkdir(parents=True)
     files: list[str] = []
-    sources = [(p, p.name) for p in sorted(app.path.glob("*.py"))]
+    sources = [(p, p.name) for p in sorted(app.path.glob("*.py")) if not p.name.startswith(("test_", "conftest"))]
     board_folder, _pins = app.board_files(board)
     if board_folder is not None:
         sources.append((board_folder / "board.py", "board.py"))

@@ -113,16 +113,15 @@ class VirtualBoardTarget(Target):
     """The board REPL process (``_vrepl``) on the console pty, in the board folder. Wired,
     its ``machine`` and ``time`` are the shim and the link is a pty of its own."""
 
-    def __init__(self, board: str, fs: Path, console: _Console, wired: bool):
+    def __init__(self, board: str, fs: Path, wired: bool):
         self.board = board
         self.fs = fs
-        self.console = console
+        self.console: _Console | None = None  # given by the virtual board at each start
         self.wired = wired
         self.proc: subprocess.Popen | None = None
         self.link: PtyPair | None = None
         self.boot_mode = "friendly"
         self._started_at = 0.0
-        console.interrupt = self.interrupt
 
     def launch(self, firmware) -> None:
         env = {
@@ -215,8 +214,8 @@ class VirtualBoard:
         self.fs = self.home / "fs"
         self.fs.mkdir(parents=True, exist_ok=True)
         self.wired = wired
-        self.console_pty = _Console()
-        self.target = VirtualBoardTarget(board, self.fs, self.console_pty, wired)
+        self.console_pty = None  # the USB serial: made at start()
+        self.target = VirtualBoardTarget(board, self.fs, wired)
         self.firmware = Firmware.flashed(self.fs, require_main=False)  # a fresh board has no main.py
         self.rig = None
         if wired:
@@ -237,10 +236,17 @@ class VirtualBoard:
         return self.console_pty.client.slave_path
 
     def start(self) -> "VirtualBoard":
-        if self.rig is not None:
-            self.rig.start()
-        else:
-            self.target.launch(self.firmware)
+        self._stopping = False
+        self.console_pty = self.target.console = _Console()
+        self.console_pty.interrupt = self.target.interrupt
+        try:
+            if self.rig is not None:
+                self.rig.start()
+            else:
+                self.target.launch(self.firmware)
+        except BaseException:
+            self.stop()
+            raise
         return self
 
     def stop(self) -> None:
@@ -250,7 +256,7 @@ class VirtualBoard:
         self.target.close()
         if self.console_pty is not None:
             self.console_pty.close()
-            self.console_pty = None
+            self.console_pty = self.target.console = None
 
     def serve_forever(self, ready=None) -> None:
         """Pump bytes, serve the plant in real time, reboot on resets, until stopped."""

@@ -26,7 +26,7 @@ class Outputs:
         last, info.level = info.level, value
         if signal is None:
             return
-        if attr == F.OUT_LEVEL:
+        if attr == F.OUT_LEVEL and (info.probe or signal in self.plant_inputs):
             hooks = self.level_hooks.get(signal)
             if hooks:
                 changed = last is not None and last != value

@@ -87,7 +87,10 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     if h.get("mode") != "lockstep":
         raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
     app = get_app(h.get("rig_file") or h["app"])
-    recorded_plant = app.make_plant(**h.get("plant_options", {}))  # its budgets, as the recorded run had them
+    try:  # the budgets as the recorded run had them
+        recorded_plant = app.make_plant(**h.get("plant_options", {}))
+    except (TypeError, ValueError):  # (a trace of a plant of one's own: the app's defaults)
+        recorded_plant = app.make_plant()
     rig = Rig(
         app,
         board=h["board"],

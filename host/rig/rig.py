@@ -21,7 +21,7 @@ from pathlib import Path
 from host.artefacts.folder import write_trace_folder
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
-from host.core.errors import ConfigError, FirmwareError, LinkError
+from host.core.errors import ConfigError, FirmwareError, FirmwareHung, LinkError
 from host.link import frames as F
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
@@ -158,7 +158,9 @@ class Rig:
                 self.clock.log = self.linklog
             self._open(self.target.open)
         except BaseException:
-            self.stop()  # a start that fails leaves no process and no pty
+            self._started = False  # a start that fails leaves no process and no pty, and its error stands
+            self.target.close()
+            self.linklog.close()
             raise
         return self
 
@@ -294,7 +296,7 @@ class Rig:
         self.linklog.fault(t)
         try:
             self.session.recv(1.0, "EXIT")  # let the process finish writing
-        except (LinkError, FirmwareError):
+        except (LinkError, FirmwareError, FirmwareHung):
             pass
         self.stop()
         raise FirmwareError(
@@ -308,8 +310,8 @@ class Rig:
         t, kind, code = F.unpack_exit(p)
         self.linklog.exit(t, kind, code)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
-            self.resets += 1
             self.restart()
+            self.resets += 1
         else:
             self.exit_kind = kind
             self.clock.catch_up(t)

@@ -236,10 +236,16 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
     def value(plant, key):
         v = spec[key]
         if isinstance(v, str):  # "plant.<option>": the plant's own figure
-            attr = v.removeprefix("plant.")
-            if not v.startswith("plant.") or not isinstance(getattr(plant, attr, None), int):
-                raise where.error(f"{field} {key}", f"expected microseconds or plant.<integer option>, got {v!r}")
-            return getattr(plant, attr)
+            if not v.startswith("plant."):
+                raise where.error(f"{field} {key}", f"expected microseconds or plant.<option>, got {v!r}")
+            got = getattr(plant, v.removeprefix("plant."), None)
+            if not isinstance(got, int) or isinstance(got, bool):
+                raise where.error(
+                    f"{field} {key}",
+                    f"the plant ({type(plant).__name__}) has no integer {v.removeprefix('plant.')}: give "
+                    "microseconds here, or budgets= to a Rig with a plant of another kind",
+                )
+            return got
         return v
 
     def build(plant):

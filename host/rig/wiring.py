@@ -47,6 +47,7 @@ class Wiring:
             raise ConfigError(f"wiring: board {board} has no pin named {', '.join(unknown)}")
         self.wiring = dict(wiring)
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
+        self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
         self.clear()
 
     def clear(self) -> None:
@@ -54,7 +55,6 @@ class Wiring:
         self.handles: list[Handle] = []
         self.by_signal: dict[str, list[int]] = {}
         self.irq_armed = False  # some input has an IRQ handler
-        self.uart = False  # some UART is configured: bytes flow
 
     def signal_of(self, key: str) -> str | None:
         board_name = self.pin_names.get(key)

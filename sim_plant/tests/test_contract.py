@@ -11,6 +11,7 @@ from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.pool import PoolCleaner
 from sim_plant.rover import RoverRoom
+from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
 
 PLANTS = {
@@ -25,6 +26,10 @@ PLANTS = {
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
     "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
+    "two_wheel": lambda: TwoWheelRobot(
+        obstacles=[[2.0, 1.0, 0.3, 0.3]], standby=True, buttons=["go"], presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]]
+    ),
+    "two_wheel_drv8833": lambda: TwoWheelRobot(bridge="drv8833", encoder="single", ranger="analog"),
 }
 END_US = 8_000_000
 

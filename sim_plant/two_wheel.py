@@ -1,0 +1,205 @@
+"""A two-wheel robot assembled from common parts by options: what most hobby robots
+are, described in a rig file without Python (``[plant] kind = "two_wheel"``).
+
+The body is a disc with two driven wheels on its centre axis, in a rectangular room with
+box obstacles. Each option picks a part:
+
+==========================  ===============  ===============================================
+option                      default          parts and the signals they add
+==========================  ===============  ===============================================
+``bridge``                  ``"tb6612"``     ``tb6612`` or ``l298n``: ``motor_l.in1``,
+                                             ``motor_l.in2`` (levels), ``motor_l.pwm``
+                                             (duty), the same for ``motor_r``; ``drv8833``:
+                                             ``motor_l.in1``, ``motor_l.in2`` (both duty);
+                                             ``dir_pwm``: ``motor_l.dir``, ``motor_l.pwm``
+``standby``                 false            TB6612 STBY: a ``motor.stby`` input, low at
+                                             reset (both channels off until it goes high)
+``encoder``                 ``"quadrature"`` ``enc_l.a``, ``enc_l.b``, ``enc_r.a``,
+                                             ``enc_r.b``; ``single``: ``enc_l``, ``enc_r``
+                                             (a slotted disk); ``none``
+``encoder_cpr``             7                lines (slots) per motor-shaft revolution
+``gear_ratio``              20.0             motor turns per wheel turn
+``encoder_polarity``        ``[1, 1]``       -1 counts a wheel backwards (a mirrored motor)
+``ranger``                  ``"hcsr04"``     ``sonar.trig`` in, ``sonar.echo`` out, 58.31 us
+                                             per cm; ``analog``: ``ranger.adc`` (u16, a new
+                                             sample every ``ranger_period_us``); ``none``
+``hcsr04_trigger_min_us``   2                shortest TRIG pulse the module answers
+``bumper``                  true             ``bumper``, 0 while pressed (front 140 deg)
+``buttons``                 ``[]``           names: an output ``button.<name>`` each, 1
+                                             released, 0 pressed (a button to ground)
+``presses``                 ``[]``           ``[name, t_press_s, t_release_s]`` each
+==========================  ===============  ===============================================
+
+Geometry and drive: ``room_w_m`` x ``room_h_m`` (3 x 2), ``obstacles`` as ``[cx, cy, w,
+h]`` boxes, ``start_pose`` ``[x, y, theta]`` (0.4, 1.0, 0), ``body_radius_m`` 0.08,
+``wheel_radius_m`` 0.0325, ``track_m`` 0.15, ``v_max_m_s`` 0.4 (rim speed at full duty),
+``deadband_duty`` 0.1, ``motor_gains`` [1, 1] (per-wheel mismatch),
+``motor_time_constant_ms`` 0. The defaults are a typical 6 V N20 gear-motor robot, not
+a measured one (7 lines per motor turn: a Hall encoder on a 1:20 N20 motor).
+"""
+
+import math
+
+from sim_plant.contacts import ContactMonitor, front_bumper
+from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
+from sim_plant.engine import Part, RobotPlant
+from sim_plant.hcsr04 import HcSr04
+from sim_plant.motors import DirPinsPwmBridge, DirPwmBridge, TwoPwmBridge
+from sim_plant.plant import NEVER_US, Change
+from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeModel
+from sim_plant.world import box, room
+
+BRIDGES = {
+    "tb6612": DirPinsPwmBridge,
+    "l298n": DirPinsPwmBridge,
+    "drv8833": TwoPwmBridge,
+    "dir_pwm": DirPwmBridge,
+}
+ENCODERS = ("quadrature", "single", "none")
+RANGERS = ("hcsr04", "analog", "none")
+
+
+class Buttons(Part):
+    """Push-buttons to ground with a pull-up, pressed at scripted times."""
+
+    FIXED_STATE = ("events", "inputs", "outputs")
+
+    def __init__(self, names, presses):
+        self.outputs = {f"button.{n}": "level" for n in names}
+        events = []
+        for name, t_press_s, t_release_s in presses:
+            if name not in names:
+                raise ValueError(f"presses: no button {name!r} (buttons: {', '.join(names) or 'none'})")
+            if not 0 <= t_press_s < t_release_s:
+                raise ValueError(f"presses: {name} pressed at {t_press_s} s, released at {t_release_s} s")
+            events += [(round(t_press_s * 1e6), f"button.{name}", 0), (round(t_release_s * 1e6), f"button.{name}", 1)]
+        self.events = sorted(events)
+        self.i = 0
+        self.next_us = self.events[0][0] if self.events else NEVER_US
+
+    def initial_outputs(self) -> dict:
+        return dict.fromkeys(self.outputs, 1)
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        while self.i < len(self.events) and self.events[self.i][0] <= t_us:
+            _t, name, level = self.events[self.i]
+            out.append(Change(t_us, name, level))
+            self.i += 1
+        self.next_us = self.events[self.i][0] if self.i < len(self.events) else NEVER_US
+
+
+class TwoWheelRobot(RobotPlant):
+    def __init__(
+        self,
+        *,
+        room_w_m=3.0,
+        room_h_m=2.0,
+        obstacles=(),
+        start_pose=(0.4, 1.0, 0.0),
+        body_radius_m=0.08,
+        wheel_radius_m=0.0325,
+        track_m=0.15,
+        v_max_m_s=0.4,
+        deadband_duty=0.1,
+        motor_gains=(1.0, 1.0),
+        motor_time_constant_ms=0.0,
+        bridge="tb6612",
+        standby=False,
+        encoder="quadrature",
+        encoder_cpr=7,
+        gear_ratio=20.0,
+        encoder_polarity=(1, 1),
+        ranger="hcsr04",
+        ranger_noise_sd_m=0.003,
+        hcsr04_trigger_min_us=2,
+        ranger_period_us=50_000,
+        bumper=True,
+        bumper_bounce_us=0,
+        buttons=(),
+        presses=(),
+    ):
+        _choice("bridge", bridge, BRIDGES)
+        _choice("encoder", encoder, ENCODERS)
+        _choice("ranger", ranger, RANGERS)
+        if standby and bridge != "tb6612":
+            raise ValueError(f"standby: only the tb6612 has a STBY pin, not the {bridge}")
+        self.room_w_m, self.room_h_m = float(room_w_m), float(room_h_m)
+        self.body_radius_m = float(body_radius_m)
+        for name, size in (("room_w_m", self.room_w_m), ("room_h_m", self.room_h_m)):
+            if not size > 2 * self.body_radius_m:
+                raise ValueError(f"{name}: expected a room wider than the robot, got {size:g}")
+        x, y, _th = start_pose
+        if not (self.body_radius_m <= x <= self.room_w_m - self.body_radius_m and 0 < y < self.room_h_m):
+            raise ValueError(f"start_pose: {list(start_pose)} puts the robot outside the room")
+        self.obstacles = [tuple(float(v) for v in o) for o in obstacles]
+        if any(len(o) != 4 for o in self.obstacles):
+            raise ValueError("obstacles: expected [cx, cy, w, h] boxes")
+        self.world = room(self.room_w_m, self.room_h_m, [box(*o) for o in self.obstacles], name="room")
+        self._set_wheels(
+            start_pose=start_pose,
+            wheel_radius_m=wheel_radius_m,
+            track_m=track_m,
+            v_max_m_s=v_max_m_s,
+            deadband_duty=deadband_duty,
+            motor_gains=motor_gains,
+            motor_time_constant_ms=motor_time_constant_ms,
+            bumper=bumper,
+            bumper_bounce_us=bumper_bounce_us,
+        )
+        self.bridge, self.standby, self.encoder, self.ranger = bridge, bool(standby), encoder, ranger
+        self.encoder_cpr, self.gear_ratio = int(encoder_cpr), float(gear_ratio)
+        self.encoder_polarity = tuple(int(p) for p in encoder_polarity)
+        self.ranger_noise_sd_m = float(ranger_noise_sd_m)
+        self.hcsr04_trigger_min_us = int(hcsr04_trigger_min_us)
+        self.ranger_period_us = int(ranger_period_us)
+        self.sonar_period_us = self.ranger_period_us  # (an analog ranger's sample period)
+        self.buttons = tuple(buttons)
+        self.presses = tuple(tuple(p) for p in presses)
+        Buttons(self.buttons, self.presses)  # refuse bad presses now
+        super().__init__()
+
+    def _build(self) -> None:
+        make = BRIDGES[self.bridge]
+        self.drive = DiffDriveTrain(
+            bridges=(make("motor_l"), make("motor_r")),
+            motors=self._wheel_motors(),
+            wheel_radius_m=self.wheel_radius_m,
+            track_m=self.track_m,
+            start_pose=self.start_pose,
+            standby="motor.stby" if self.standby else None,
+        )
+        self.encoders = []
+        for wheel, side in enumerate("lr"):
+            pol = self.encoder_polarity[wheel]
+            opts = {"wheel": wheel, "lines_per_rev": self.encoder_cpr, "gear_ratio": self.gear_ratio, "polarity": pol}
+            if self.encoder == "quadrature":
+                self.encoders.append(QuadratureEncoder((f"enc_{side}.a", f"enc_{side}.b"), **opts))
+            elif self.encoder == "single":
+                self.encoders.append(SlottedDiskEncoder((f"enc_{side}",), **opts))
+        bumpers = [front_bumper(70.0, self.bumper_bounce_us)] if self.bumper else []
+        self.parts = [ContactMonitor([(0.0, 0.0, self.body_radius_m)], bumpers)]
+        mount = (self.body_radius_m, 0.0, 0.0)
+        if self.ranger == "hcsr04":
+            ranger = HcSr04(mount=mount, noise_sd_m=self.ranger_noise_sd_m, trigger_min_us=self.hcsr04_trigger_min_us)
+            self.parts.append(ranger)
+        elif self.ranger == "analog":
+            model = BeamRangeModel(
+                noise_sd_m=self.ranger_noise_sd_m, min_m=0.03, max_m=4.0, offset_m=self.body_radius_m
+            )
+            sonar = AnalogRangeSonar(
+                "ranger.adc", model, period_us=self.ranger_period_us, volts_per_m=MAXBOTIX_V_PER_M, adc=Adc(12, 3.3)
+            )
+            self.parts.append(sonar)
+        if self.buttons:
+            self.parts.append(Buttons(self.buttons, self.presses))
+
+    def truth(self) -> dict:
+        truth = super().truth()
+        truth["heading_deg"] = math.degrees(truth["theta_rad"])
+        return truth
+
+
+def _choice(name: str, value, choices) -> None:
+    if value not in choices:
+        raise ValueError(f"{name}: expected one of {', '.join(choices)}, got {value!r}")
