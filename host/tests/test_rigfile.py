@@ -123,7 +123,7 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
         (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
         (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant] options", "room_w_m: expected a room wider"),
         (("room_w_m = 4.0", "room_w = 4.0"), "[plant] options", "unknown option room_w (options:"),
-        (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: two_wheel, rover_room"),
+        (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: two_wheel"),
         (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
         (("tolerance_us = 0", 'tolerance_us = "0"'), "[budgets.blink] tolerance_us", "expected an integer"),
         (("room_w_m = 2.0", "room_w_m = 0.1"), "[worlds.small]", "expected a room wider"),
