@@ -15,6 +15,7 @@ or exits.
 import argparse
 import ast
 import inspect
+import os
 import sys
 from pathlib import Path
 
@@ -44,6 +45,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print(f"{args.sub.prog}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # (piped into head: the reader had enough)
+        sys.stdout = open(os.devnull, "w")
+        return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -76,6 +80,13 @@ def build_parser() -> argparse.ArgumentParser:
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
     check.add_argument("rig", metavar="RIG", help="a rig file (docs/rig-file.md) or one of our apps")
     check.set_defaults(command=cmd_check, sub=check)
+
+    init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
+    init.add_argument("folder", metavar="DIR", type=Path, help="the firmware folder (its main.py)")
+    init.set_defaults(command=cmd_init, sub=init)
+
+    lst = sub.add_parser("list", help="our apps, boards and plant kinds with their options and signals")
+    lst.set_defaults(command=cmd_list, sub=lst)
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
@@ -203,6 +214,35 @@ def cmd_check(args) -> int:
     for budget in app.make_budgets(plant):
         print(f"  budget {budget.name}: {budget.limit_text()}  {budget.description}")
     print(f"  worlds: {', '.join(app.worlds)}")
+    return 0
+
+
+def cmd_init(args) -> int:
+    from host.rig.rigfile import starter
+
+    folder = args.folder
+    if not folder.is_dir():
+        args.sub.error(f"argument DIR: no folder {folder}")
+    path = folder / "rig.toml"
+    if path.exists():
+        args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
+    path.write_text(starter(folder))
+    print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
+    return 0
+
+
+def cmd_list(args) -> int:
+    print("apps (firmware/apps/*/rig*.toml):")
+    for name, app in sorted(apps().items()):
+        print(f"  {name:<18} {app.rig_file.relative_to(REPO)}  {app.doc}")
+    boards = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
+    print(f"boards (firmware/boards/<name>/board.py): {', '.join(boards)}")
+    print("plant kinds ([plant] kind), their options (default) and signals:")
+    for kind in kinds.KINDS:
+        plant = kinds.make(kind)
+        options = ", ".join(f"{k}={v!r}" for k, v in kinds.options(kind).items())
+        print(f"  {kind}\n    options: {options}")
+        print(f"    inputs: {', '.join(plant.inputs)}\n    outputs: {', '.join(plant.outputs)}")
     return 0
 
 

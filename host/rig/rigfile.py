@@ -278,3 +278,103 @@ def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, 
             )
         _make_plant(where, kind, {**options, **world}, field)
     return {name: dict(world) for name, world in worlds.items()} or {"default": {}}
+
+
+STARTER = """\
+# The test rig of {name}: this folder's firmware on a simulated robot (docs/rig-file.md).
+# Check it with `mpy-fil check {path}`; run it with `mpy-fil run {path}`.
+name = "{name}"
+
+[firmware]
+entry = "{entry}"          # what runs after boot.py
+# lib = ["lib"]            # library folders of your own
+# harness_lib = false      # the harness's own drivers (firmware/lib): off unless you ask
+
+[board.pins]               # the pin numbers your code uses, by a name of your choice
+{pins}
+[plant]
+kind = "two_wheel"         # mpy-fil list: kinds, their options and their signals
+
+[plant.options]
+bridge = "tb6612"          # tb6612 | l298n | drv8833 | dir_pwm
+encoder = "quadrature"     # quadrature | single | none
+ranger = "hcsr04"          # hcsr04 | analog | none
+# buttons = ["start"]
+# presses = [["start", 1.0, 1.2]]   # name, pressed at s, released at s
+
+[wiring]                   # pin name = plant signal (mpy-fil check lists them), or probe:<name>
+{wiring}
+# [budgets.loop]           # a timing budget: a pin toggled once per loop, every 50 ms
+# kind = "period"
+# source = "probe:loop"
+# period_us = 50_000
+# tolerance_us = 1_000
+"""
+
+
+def starter(folder: Path) -> str:
+    """A commented starting rig file for a firmware folder: its entry file, and the pins
+    its code passes to ``Pin(...)`` (by their constant's name when it has one), ready to
+    wire."""
+    files = sorted(folder.glob("*.py"))
+    entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
+    pins: dict[str, int] = {}
+    for source in sorted(folder.rglob("*.py")):
+        pins.update(_pins_used(source))
+    lines = "".join(f"{name} = {number}\n" for name, number in sorted(pins.items(), key=lambda kv: kv[1]))
+    wiring = "".join(f'# {name} = "..."\n' for name, _ in sorted(pins.items(), key=lambda kv: kv[1]))
+    return STARTER.format(
+        name=folder.resolve().name,
+        path=folder / "rig.toml",
+        entry=entry,
+        pins=lines or "# LED = 25\n",
+        wiring=wiring or '# LED = "probe:led"\n',
+    )
+
+
+def _int_constants(tree) -> dict[str, int]:
+    """Module-level ``NAME = 16``, ``A, B = 16, 17`` and ``NAME = const(16)``."""
+    import ast
+
+    constants: dict[str, int] = {}
+    for node in tree.body:
+        if not isinstance(node, ast.Assign):
+            continue
+        for target in node.targets:
+            names = target.elts if isinstance(target, ast.Tuple) else [target]
+            values = node.value.elts if isinstance(node.value, ast.Tuple) else [node.value]
+            for name, value in zip(names, values):
+                if isinstance(value, ast.Call) and value.args:  # const(16)
+                    value = value.args[0]
+                if isinstance(name, ast.Name) and isinstance(value, ast.Constant) and type(value.value) is int:
+                    constants[name.id] = value.value
+    return constants
+
+
+def _pins_used(source: Path) -> dict[str, int]:
+    """Name -> pin number for every ``Pin(n)`` / ``Pin(NAME)`` in a file."""
+    import ast
+
+    try:
+        tree = ast.parse(source.read_text(errors="replace"))
+    except SyntaxError:
+        return {}
+    constants = _int_constants(tree)
+
+    def calls(node, name):
+        for call in ast.walk(node):
+            func = getattr(call, "func", None)
+            if isinstance(call, ast.Call) and getattr(func, "id", getattr(func, "attr", "")) == name:
+                yield call
+
+    # drivers: classes that make a Pin of what they are given (Motor(PWMA, AIN1, AIN2))
+    drivers = [c.name for c in tree.body if isinstance(c, ast.ClassDef) and any(calls(c, "Pin"))]
+    found: dict[str, int] = {}
+    for name in ["Pin", *drivers]:
+        for call in calls(tree, name):
+            for arg in call.args[:1] if name == "Pin" else call.args:
+                if isinstance(arg, ast.Constant) and type(arg.value) is int and name == "Pin":
+                    found[f"PIN_{arg.value}"] = arg.value
+                elif isinstance(arg, ast.Name) and arg.id in constants:
+                    found[arg.id] = constants[arg.id]
+    return found

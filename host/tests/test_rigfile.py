@@ -168,3 +168,27 @@ def test_mpy_fil_check_lists_the_plants_signals_and_a_mistake_exits_2_in_one_lin
     done = mpy_fil("check", str(path))
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert f"{path}: [wiring] LEFT_PWM: the plant has no signal 'motor_l.pwn'" in done.stderr, done.stderr
+
+
+def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp_path):
+    folder = tmp_path / "bot"
+    folder.mkdir()
+    (folder / "main.py").write_text(
+        "from machine import Pin, PWM\nLED, BTN = 25, 13\n\nclass Motor:\n    def __init__(self, pwm, d):\n"
+        "        self.pwm = PWM(Pin(pwm))\n        self.d = Pin(d, Pin.OUT)\n\nm = Motor(16, 17)\n"
+        "left = Motor(LEFT_PWM, 18) if False else None\nLEFT_PWM = 21\nled = Pin(LED, Pin.OUT)\nb = Pin(BTN)\n"
+    )
+    done = mpy_fil("init", str(folder))
+    assert done.returncode == 0, done.stderr
+    text = (folder / "rig.toml").read_text()
+    assert "LED = 25\n" in text and "BTN = 13\n" in text and "LEFT_PWM = 21\n" in text, text
+    assert mpy_fil("check", str(folder / "rig.toml")).returncode == 0
+    again = mpy_fil("init", str(folder))
+    assert again.returncode == 2 and "exists" in again.stderr and "Traceback" not in again.stderr
+
+
+def test_mpy_fil_list_shows_apps_boards_and_plant_kinds_with_their_signals():
+    done = mpy_fil("list")
+    assert done.returncode == 0, done.stderr
+    for text in ("rover ", "rpi_pico", "two_wheel", "hcsr04_trigger_min_us=2", "outputs: bumper, sonar.echo"):
+        assert text in done.stdout, text
