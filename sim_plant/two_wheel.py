@@ -28,6 +28,12 @@ option                      default          parts and the signals they add
 ``buttons``                 ``[]``           names: an output ``button.<name>`` each, 1
                                              released, 0 pressed (a button to ground)
 ``presses``                 ``[]``           ``[name, t_press_s, t_release_s]`` each
+``button_bounce_us``        0                contact chatter at each press and release
+``line_sensors``            ``[]``           ``[dx, dy]`` offsets (m, body frame) of floor
+                                             reflectance sensors: ``floor_0.adc``, ... (u16)
+``tape``                    ``[]``           the tape's path, ``[x, y]`` points; ``tape_width_m``
+                                             0.019; ``tape_u16`` 58000 over it, ``floor_u16``
+                                             6000 off it; checked every ``floor_period_us`` 1000
 ==========================  ===============  ===============================================
 
 Geometry and drive: ``room_w_m`` x ``room_h_m`` (3 x 2), ``obstacles`` as ``[cx, cy, w,
@@ -61,11 +67,13 @@ RANGERS = ("hcsr04", "analog", "none")
 
 
 class Buttons(Part):
-    """Push-buttons to ground with a pull-up, pressed at scripted times."""
+    """Push-buttons to ground with a pull-up, pressed at scripted times. With
+    ``bounce_us``, each press and release chatters: the new level, the old one a quarter
+    of the way in, the new one again half way, as a worn contact does."""
 
     FIXED_STATE = ("events", "inputs", "outputs")
 
-    def __init__(self, names, presses):
+    def __init__(self, names, presses, bounce_us: int = 0):
         self.outputs = {f"button.{n}": "level" for n in names}
         events = []
         for name, t_press_s, t_release_s in presses:
@@ -73,7 +81,12 @@ class Buttons(Part):
                 raise ValueError(f"presses: no button {name!r} (buttons: {', '.join(names) or 'none'})")
             if not 0 <= t_press_s < t_release_s:
                 raise ValueError(f"presses: {name} pressed at {t_press_s} s, released at {t_release_s} s")
-            events += [(round(t_press_s * 1e6), f"button.{name}", 0), (round(t_release_s * 1e6), f"button.{name}", 1)]
+            for t_s, level in ((t_press_s, 0), (t_release_s, 1)):
+                t_us = round(t_s * 1e6)
+                events.append((t_us, f"button.{name}", level))
+                if bounce_us > 0:
+                    events.append((t_us + bounce_us // 4, f"button.{name}", 1 - level))
+                    events.append((t_us + bounce_us // 2, f"button.{name}", level))
         self.events = sorted(events)
         self.i = 0
         self.next_us = self.events[0][0] if self.events else NEVER_US
@@ -87,6 +100,57 @@ class Buttons(Part):
             out.append(Change(t_us, name, level))
             self.i += 1
         self.next_us = self.events[self.i][0] if self.i < len(self.events) else NEVER_US
+
+
+class FloorSensors(Part):
+    """Reflectance sensors looking at the floor (TCRT5000 or QTR style, on an ADC): each
+    reads ``tape_u16`` over the tape (dark: little light comes back, the output is high)
+    and ``floor_u16`` elsewhere. The floor is checked every ``period_us``; a reading is a
+    change only when it flips (a continuous voltage, not a sampled one)."""
+
+    FIXED_STATE = ("offsets", "tape", "inputs", "outputs", "names")
+
+    def __init__(self, offsets, tape, *, width_m, tape_u16, floor_u16, period_us):
+        if period_us <= 0:
+            raise ValueError(f"floor_period_us: expected > 0, got {period_us}")
+        if len(tape) == 1 or any(len(p) != 2 for p in tape):
+            raise ValueError("tape: expected a path of [x, y] points (two or more)")
+        self.offsets = [tuple(float(v) for v in o) for o in offsets]
+        self.tape = [tuple(float(v) for v in p) for p in tape]
+        self.half_width_m = float(width_m) / 2
+        self.levels = (int(floor_u16), int(tape_u16))
+        self.period_us = int(period_us)
+        self.names = [f"floor_{i}.adc" for i in range(len(self.offsets))]
+        self.outputs = dict.fromkeys(self.names, "u16")
+        self.values = [self.levels[0]] * len(self.offsets)
+        self.next_us = NEVER_US
+
+    def start(self, t_us: int, plant) -> None:
+        self.values = self._read(plant.pose_at(t_us))
+        self.next_us = t_us + self.period_us
+
+    def initial_outputs(self) -> dict:
+        return dict(zip(self.names, self.values))
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        for name, old, new in zip(self.names, self.values, self._read(plant.pose_at(t_us))):
+            if new != old:
+                out.append(Change(t_us, name, new))
+        self.values = self._read(plant.pose_at(t_us))
+        self.next_us = t_us + self.period_us
+
+    def _read(self, pose) -> list[int]:
+        x, y, th = pose
+        c, s = math.cos(th), math.sin(th)
+        return [self.levels[self._on_tape(x + dx * c - dy * s, y + dx * s + dy * c)] for dx, dy in self.offsets]
+
+    def _on_tape(self, px: float, py: float) -> bool:
+        for (ax, ay), (bx, by) in zip(self.tape, self.tape[1:]):
+            ux, uy = bx - ax, by - ay
+            k = max(0.0, min(1.0, ((px - ax) * ux + (py - ay) * uy) / (ux * ux + uy * uy or 1.0)))
+            if math.hypot(px - ax - k * ux, py - ay - k * uy) <= self.half_width_m:
+                return True
+        return False
 
 
 class TwoWheelRobot(RobotPlant):
@@ -118,6 +182,13 @@ class TwoWheelRobot(RobotPlant):
         bumper_bounce_us=0,
         buttons=(),
         presses=(),
+        button_bounce_us=0,
+        line_sensors=(),
+        tape=(),
+        tape_width_m=0.019,
+        tape_u16=58_000,
+        floor_u16=6_000,
+        floor_period_us=1_000,
     ):
         _choice("bridge", bridge, BRIDGES)
         _choice("encoder", encoder, ENCODERS)
@@ -156,7 +227,18 @@ class TwoWheelRobot(RobotPlant):
         self.sonar_period_us = self.ranger_period_us  # (an analog ranger's sample period)
         self.buttons = tuple(buttons)
         self.presses = tuple(tuple(p) for p in presses)
-        Buttons(self.buttons, self.presses)  # refuse bad presses now
+        self.button_bounce_us = int(button_bounce_us)
+        Buttons(self.buttons, self.presses, self.button_bounce_us)  # refuse bad presses now
+        self.line_sensors = tuple(tuple(o) for o in line_sensors)
+        self.tape = tuple(tuple(p) for p in tape)
+        self.floor_options = {
+            "width_m": tape_width_m,
+            "tape_u16": tape_u16,
+            "floor_u16": floor_u16,
+            "period_us": floor_period_us,
+        }
+        if self.line_sensors:
+            FloorSensors(self.line_sensors, self.tape, **self.floor_options)  # refuse bad options now
         super().__init__()
 
     def _build(self) -> None:
@@ -192,7 +274,9 @@ class TwoWheelRobot(RobotPlant):
             )
             self.parts.append(sonar)
         if self.buttons:
-            self.parts.append(Buttons(self.buttons, self.presses))
+            self.parts.append(Buttons(self.buttons, self.presses, self.button_bounce_us))
+        if self.line_sensors:
+            self.parts.append(FloorSensors(self.line_sensors, self.tape, **self.floor_options))
 
     def truth(self) -> dict:
         truth = super().truth()

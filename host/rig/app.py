@@ -38,6 +38,7 @@ class App:
     plant_kind: str | None = None
     plant_options: dict = field(default_factory=dict)
     heap_size: str | None = None  # the interpreter's heap (``-X heapsize``), as a board's
+    ticks_wrap_s: float | None = None  # ticks_ms/ticks_us wrap this long into the run (10 s)
 
     @property
     def path(self) -> Path:

@@ -19,6 +19,7 @@ class Firmware:
     folders: list[Path]  # on the path, in order: main_dir first
     entry: str = "main.py"
     heap_size: str | None = None  # -X heapsize, as a board's RAM
+    ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (default 10 s in)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -28,7 +29,7 @@ class Firmware:
         if not (main / app.entry).is_file():
             raise ConfigError(f"main_dir: no {app.entry} in {main}")
         folders = app.firmware_folders(board_folder)
-        return cls(main, [main, *folders[1:]], app.entry, app.heap_size)
+        return cls(main, [main, *folders[1:]], app.entry, app.heap_size, app.ticks_wrap_s)
 
     @classmethod
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
@@ -49,6 +50,7 @@ class Firmware:
             "MICROPYPATH": self.micropypath(),
             "HIL_LINK": link_path,
             "HIL_ENTRY": self.entry,
+            **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
         }
 
     def interpreter_args(self) -> list[str]:

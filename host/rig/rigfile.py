@@ -35,7 +35,7 @@ TABLES = {
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list}
 PLANT_KEYS = {"kind": str, "options": dict}
-INTERPRETER_KEYS = {"heap_size": str}
+INTERPRETER_KEYS = {"heap_size": str, "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
     "period": (PeriodBudget, {"source": str, "period_us": (int, str), "tolerance_us": int, "marker": str}),
     "latency": (LatencyBudget, {"source": str, "limit_us": int}),
@@ -43,6 +43,7 @@ BUDGET_KINDS = {
     "compute": (ComputeBudget, {"limit_us": int}),
 }
 COMMON_BUDGET_KEYS = {"kind": str, "description": str}
+TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/false", list: "a list", dict: "a table"}
 
 
 class _Where:
@@ -76,9 +77,7 @@ def _check_type(where: _Where, field: str, value, expected) -> None:
     else:
         ok = isinstance(value, types)
     if not ok:
-        names = " or ".join(
-            {str: "text", int: "an integer", bool: "true/false", list: "a list", dict: "a table"}[t] for t in types
-        )
+        names = " or ".join(TYPE_NAMES[t] for t in types)
         raise where.error(field, f"expected {names}, got {value!r}")
 
 
@@ -132,8 +131,23 @@ def load_rig(path) -> App:
         rig_file=path,
         plant_kind=kind,
         plant_options=dict(options),
-        heap_size=interpreter.get("heap_size"),
+        heap_size=_heap_size(where, interpreter.get("heap_size")),
+        ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
     )
+
+
+def _heap_size(where: _Where, text: str | None) -> str | None:
+    import re
+
+    if text is not None and not re.fullmatch(r"[1-9][0-9]*[KkMm]?", text):
+        raise where.error("[interpreter] heap_size", f"expected bytes like 192K or 2M, got {text!r}")
+    return text
+
+
+def _wrap_s(where: _Where, seconds) -> float | None:
+    if seconds is not None and not 0 <= seconds <= 1000:
+        raise where.error("[interpreter] ticks_wrap_s", f"expected 0 to 1000 s (the ticks' period), got {seconds}")
+    return None if seconds is None else float(seconds)
 
 
 def _folder(where: _Where, base: Path, field: str, item) -> Path:

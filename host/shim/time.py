@@ -7,6 +7,22 @@ _MASK = _hil.TICKS_MASK
 _HALF = _hil.TICKS_PERIOD >> 1
 _START_US = _hil.TICKS_START_US
 _START_MS = _hil.TICKS_START_MS
+
+
+def _wrap_in():
+    """HIL_TICKS_WRAP_S: the ticks wrap this many seconds into the run (default 10)."""
+    global _START_US, _START_MS
+    import os
+
+    getenv = getattr(os, "getenv", None)  # boards have no environment
+    text = getenv("HIL_TICKS_WRAP_S") if getenv else None
+    if text:
+        wrap_ms = int(float(text) * 1000)
+        _START_US = (_hil.TICKS_PERIOD - wrap_ms * 1000) & _MASK
+        _START_MS = (_hil.TICKS_PERIOD - wrap_ms) & _MASK
+
+
+_wrap_in()
 _EPOCH_S = 1_735_689_600  # 2025-01-01 00:00:00 UTC: the board's RTC at power-on
 
 

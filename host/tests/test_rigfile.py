@@ -192,3 +192,27 @@ def test_mpy_fil_list_shows_apps_boards_and_plant_kinds_with_their_signals():
     assert done.returncode == 0, done.stderr
     for text in ("rover ", "rpi_pico", "two_wheel", "hcsr04_trigger_min_us=2", "outputs: bumper, sonar.echo"):
         assert text in done.stdout, text
+
+
+HEAP_AND_TICKS = """
+import gc
+import time
+
+gc.collect()
+print("heap", gc.mem_free() + gc.mem_alloc())
+t0 = time.ticks_ms()
+time.sleep_ms(1500)
+print("wrapped", time.ticks_ms() < t0)
+"""
+
+
+def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tmp_path):
+    text = GOOD + '\n[interpreter]\nheap_size = "96K"\nticks_wrap_s = 1\n'
+    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"main.py": HEAP_AND_TICKS})))
+    rig.run_for(2)
+    rig.stop()
+    heap = int(rig.console.split("heap ")[1].split()[0])
+    assert 90_000 < heap <= 96 * 1024 and "wrapped True" in rig.console, rig.console
+    bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
+    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes like 192K"):
+        load_rig(bad)

@@ -29,7 +29,16 @@ PLANTS = {
     "two_wheel": lambda: TwoWheelRobot(
         obstacles=[[2.0, 1.0, 0.3, 0.3]], standby=True, buttons=["go"], presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]]
     ),
-    "two_wheel_drv8833": lambda: TwoWheelRobot(bridge="drv8833", encoder="single", ranger="analog"),
+    "two_wheel_drv8833": lambda: TwoWheelRobot(
+        bridge="drv8833",
+        encoder="single",
+        ranger="analog",
+        line_sensors=[[0.06, -0.01], [0.06, 0.01]],
+        tape=[[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],
+        button_bounce_us=3_000,
+        buttons=["a"],
+        presses=[["a", 1.0, 1.5]],
+    ),
 }
 END_US = 8_000_000
 

@@ -35,6 +35,27 @@ def test_buttons_read_1_released_and_0_while_pressed_at_the_scripted_times():
     assert [(c.t_us, c.name, c.value) for c in changes] == [(500_000, "button.start", 0), (600_000, "button.start", 1)]
 
 
+def test_a_bouncing_button_chatters_at_press_and_release():
+    plant = TwoWheelRobot(buttons=["start"], presses=[["start", 0.5, 0.6]], button_bounce_us=2_000)
+    plant.reset(0)
+    levels = [(c.t_us, c.value) for c in plant.advance_to(1_000_000) if c.name == "button.start"]
+    assert levels == [(500_000, 0), (500_500, 1), (501_000, 0), (600_000, 1), (600_500, 0), (601_000, 1)]
+
+
+def test_floor_sensors_read_the_tape_while_over_it_within_one_check():
+    """Crossing a 19 mm tape at 0.4 m/s: on from 0.9905 m to 1.0095 m, checked every 1 ms."""
+    plant = TwoWheelRobot(line_sensors=[[0.06, -0.01], [0.06, 0.01]], tape=[[1.0, 0.2], [1.0, 1.8]])
+    plant.reset(0)
+    assert plant.output("floor_0.adc") == plant.output("floor_1.adc") == 6_000
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.pwm", 65535)
+    changes = [(c.t_us, c.name, c.value) for c in plant.advance_to(3_000_000) if c.name.startswith("floor")]
+    t_on, t_off = (0.9905 - 0.46) / 0.4 * 1e6, (1.0095 - 0.46) / 0.4 * 1e6
+    assert [c[2] for c in changes] == [58_000, 58_000, 6_000, 6_000]
+    assert 0 <= changes[0][0] - t_on < 1_000 and 0 <= changes[2][0] - t_off < 1_000, changes
+
+
 def test_tb6612_standby_low_keeps_both_motors_off():
     plant = TwoWheelRobot(standby=True)
     plant.reset(0)
