@@ -196,6 +196,14 @@ class ContactMonitor(Part):
             self.check_us = check_us
         self._plan()
 
+    def recheck(self, t_us: int) -> None:
+        """The world changed at ``t_us`` (an obstacle was placed): check the walls then,
+        whatever was planned from the old ones."""
+        self.check_us = t_us
+        self._room_m = 0.0
+        self._room_t_us = t_us
+        self._plan()
+
     def _plan(self) -> None:
         nxt = self.check_us
         for b in self.bumpers:

@@ -344,6 +344,14 @@ class RobotPlant(Plant):
         bumpers); True if the motion changed."""
         return False
 
+    def sample_period_us(self, signal: str) -> int | None:
+        """How often the part that drives ``signal`` takes a new sample (its
+        ``period_us``), or None if it is not sampled at a fixed period."""
+        for part in self.parts:
+            if signal in part.outputs and isinstance(getattr(part, "period_us", None), int):
+                return part.period_us
+        return None
+
     def part(self, cls):
         """The first part of class ``cls`` (for tests and truth)."""
         for p in [self.drive, *self.parts]:

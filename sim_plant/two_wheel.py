@@ -34,18 +34,23 @@ option                      default          parts and the signals they add
 ``tape``                    ``[]``           the tape's path, ``[x, y]`` points; ``tape_width_m``
                                              0.019; ``tape_u16`` 58000 over it, ``floor_u16``
                                              6000 off it; checked every ``floor_period_us`` 1000
+``placements``              ``[]``           ``[t_s, cx, cy, w, h]``: a box placed at t_s
 ==========================  ===============  ===============================================
 
-Geometry and drive: ``room_w_m`` x ``room_h_m`` (3 x 2), ``obstacles`` as ``[cx, cy, w,
-h]`` boxes, ``start_pose`` ``[x, y, theta]`` (0.4, 1.0, 0), ``body_radius_m`` 0.08,
-``wheel_radius_m`` 0.0325, ``track_m`` 0.15, ``v_max_m_s`` 0.4 (rim speed at full duty),
-``deadband_duty`` 0.1, ``motor_gains`` [1, 1] (per-wheel mismatch),
-``motor_time_constant_ms`` 0. The defaults are a typical 6 V N20 gear-motor robot, not
-a measured one (7 lines per motor turn: a Hall encoder on a 1:20 N20 motor).
+Geometry and drive: ``room_w_m`` x ``room_h_m`` (3 x 2), ``obstacles`` as
+``[cx, cy, w, h]`` boxes, ``start_pose`` ``[x, y, theta]`` (0.4, 1.0, 0); or ``world``,
+one of our worlds (``canyon``, ``duct``, ``multi_branch_duct``, ``vacuum_room``,
+``pool``), each with a start pose of its own. ``body_radius_m`` 0.08, ``wheel_radius_m``
+0.0325, ``track_m`` 0.15, ``v_max_m_s`` 0.4 (rim speed at full duty; or ``motor_rpm``,
+the motor's no-load speed before the gearbox), ``deadband_duty`` 0.1, ``motor_gains``
+[1, 1] (per-wheel mismatch), ``motor_time_constant_ms`` 0. The defaults are a typical
+6 V N20 gear-motor robot, not a measured one (7 lines per motor turn: a Hall encoder on
+a 1:20 N20 motor).
 """
 
 import math
 
+from sim_plant import world as worlds
 from sim_plant.contacts import ContactMonitor, front_bumper
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
@@ -55,6 +60,14 @@ from sim_plant.motors import DirPinsPwmBridge, DirPwmBridge, TwoPwmBridge
 from sim_plant.plant import NEVER_US, Change
 from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeModel
 from sim_plant.world import box, room
+
+WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
+    "canyon": (lambda: worlds.canyon(), (0.6, 0.6, 1.5707963267948966)),
+    "duct": (lambda: worlds.one_right_branch_duct(), (0.3, 0.2, 0.0)),
+    "multi_branch_duct": (lambda: worlds.multi_branch_duct(), (0.3, 0.2, 0.0)),
+    "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),
+    "pool": (lambda: worlds.pool(), (1.0, 1.0, 0.0)),
+}
 
 BRIDGES = {
     "tb6612": DirPinsPwmBridge,
@@ -153,18 +166,40 @@ class FloorSensors(Part):
         return False
 
 
+class Placements(Part):
+    """Boxes placed in the room at scripted times (a door closing, a chair pushed in the
+    way): at each time the world gains the box and the contacts are checked at once."""
+
+    FIXED_STATE = ("events", "inputs", "outputs")
+
+    def __init__(self, events):
+        self.events = sorted((round(t_s * 1e6), tuple(float(v) for v in b)) for t_s, *b in events)
+        self.i = 0
+        self.next_us = self.events[0][0] if self.events else NEVER_US
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        while self.i < len(self.events) and self.events[self.i][0] <= t_us:
+            self.i += 1
+        placed = [b for _t, b in self.events[: self.i]]
+        plant.world = room(plant.room_w_m, plant.room_h_m, [box(*b) for b in [*plant.obstacles, *placed]], name="room")
+        plant.part(ContactMonitor).recheck(t_us)
+        self.next_us = self.events[self.i][0] if self.i < len(self.events) else NEVER_US
+
+
 class TwoWheelRobot(RobotPlant):
     def __init__(
         self,
         *,
+        world="room",
         room_w_m=3.0,
         room_h_m=2.0,
         obstacles=(),
-        start_pose=(0.4, 1.0, 0.0),
+        start_pose=None,
         body_radius_m=0.08,
         wheel_radius_m=0.0325,
         track_m=0.15,
         v_max_m_s=0.4,
+        motor_rpm=None,
         deadband_duty=0.1,
         motor_gains=(1.0, 1.0),
         motor_time_constant_ms=0.0,
@@ -189,6 +224,7 @@ class TwoWheelRobot(RobotPlant):
         tape_u16=58_000,
         floor_u16=6_000,
         floor_period_us=1_000,
+        placements=(),
     ):
         _choice("bridge", bridge, BRIDGES)
         _choice("encoder", encoder, ENCODERS)
@@ -200,13 +236,26 @@ class TwoWheelRobot(RobotPlant):
         for name, size in (("room_w_m", self.room_w_m), ("room_h_m", self.room_h_m)):
             if not size > 2 * self.body_radius_m:
                 raise ValueError(f"{name}: expected a room wider than the robot, got {size:g}")
-        x, y, _th = start_pose
-        if not (self.body_radius_m <= x <= self.room_w_m - self.body_radius_m and 0 < y < self.room_h_m):
-            raise ValueError(f"start_pose: {list(start_pose)} puts the robot outside the room")
+        if world != "room" and world not in WORLDS:
+            raise ValueError(f"world: expected room or one of {', '.join(WORLDS)}, got {world!r}")
+        self.world_name = world
         self.obstacles = [tuple(float(v) for v in o) for o in obstacles]
         if any(len(o) != 4 for o in self.obstacles):
             raise ValueError("obstacles: expected [cx, cy, w, h] boxes")
-        self.world = room(self.room_w_m, self.room_h_m, [box(*o) for o in self.obstacles], name="room")
+        if world == "room":
+            start_pose = (0.4, 1.0, 0.0) if start_pose is None else start_pose
+            x, y, _th = start_pose
+            if not (self.body_radius_m <= x <= self.room_w_m - self.body_radius_m and 0 < y < self.room_h_m):
+                raise ValueError(f"start_pose: {list(start_pose)} puts the robot outside the room")
+            self.world = self._base_world()
+
+        else:
+            if obstacles or placements:
+                raise ValueError(f"obstacles, placements: only in the room world, not in {world}")
+            start_pose = WORLDS[world][1] if start_pose is None else start_pose
+            self.world = self._base_world()
+        if motor_rpm is not None:  # the motor's no-load speed through the gearbox
+            v_max_m_s = float(motor_rpm) / float(gear_ratio) * 2 * math.pi * float(wheel_radius_m) / 60
         self._set_wheels(
             start_pose=start_pose,
             wheel_radius_m=wheel_radius_m,
@@ -239,6 +288,9 @@ class TwoWheelRobot(RobotPlant):
         }
         if self.line_sensors:
             FloorSensors(self.line_sensors, self.tape, **self.floor_options)  # refuse bad options now
+        self.placements = tuple(tuple(p) for p in placements)
+        if any(len(p) != 5 or p[0] < 0 for p in self.placements):
+            raise ValueError("placements: expected [t_s, cx, cy, w, h] boxes, t_s >= 0")
         super().__init__()
 
     def _build(self) -> None:
@@ -277,6 +329,14 @@ class TwoWheelRobot(RobotPlant):
             self.parts.append(Buttons(self.buttons, self.presses, self.button_bounce_us))
         if self.line_sensors:
             self.parts.append(FloorSensors(self.line_sensors, self.tape, **self.floor_options))
+        if self.placements:
+            self.parts.append(Placements(self.placements))
+            self.world = self._base_world()  # (placed boxes are gone at a reset)
+
+    def _base_world(self):
+        if self.world_name != "room":
+            return WORLDS[self.world_name][0]()
+        return room(self.room_w_m, self.room_h_m, [box(*o) for o in self.obstacles], name="room")
 
     def truth(self) -> dict:
         truth = super().truth()

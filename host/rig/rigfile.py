@@ -232,7 +232,8 @@ def _budgets(where: _Where, budgets: dict, plant) -> list:
         if kind not in BUDGET_KINDS:
             raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {kind!r}")
         cls, keys = BUDGET_KINDS[kind]
-        where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k != "marker"])
+        optional = ("marker", "period_us") if kind == "period" else ()  # period: the plant's own by default
+        where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k not in optional])
         for key, signal in [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]:
             if signal is None:
                 continue
@@ -264,6 +265,8 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
 
     def build(plant):
         args = {k: value(plant, k) if k.endswith("_us") else spec[k] for k in spec if k not in ("kind", "description")}
+        if cls is PeriodBudget and "period_us" not in args:
+            args["period_us"] = _sample_period(where, field, plant, spec["source"])
         if "marker" in args:
             args["marker"] = args["marker"].encode()
         source = args.pop("sources", None) or args.pop("source", None)
@@ -277,6 +280,13 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
         return budget
 
     return build
+
+
+def _sample_period(where: _Where, field: str, plant, source: str) -> int:
+    period = getattr(plant, "sample_period_us", lambda _signal: None)(source)
+    if period is None:
+        raise where.error(f"{field} period_us", f"missing, and the plant samples {source} at no fixed period")
+    return period
 
 
 def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, dict]:

@@ -216,3 +216,17 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
     with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes like 192K"):
         load_rig(bad)
+
+
+def test_a_period_budget_takes_the_plants_own_sample_period_by_default(tmp_path):
+    text = GOOD.replace('kind = "rover_room"', 'kind = "two_wheel"').replace(
+        "room_w_m = 4.0", 'ranger = "analog"\nranger_period_us = 40_000'
+    )
+    text = text.replace("room_w_m = 2.0", "room_h_m = 1.5")
+    text += '\n[budgets.ranger]\nkind = "period"\nsource = "ranger.adc"\ntolerance_us = 0\n'
+    app = load_rig(write_rig(tmp_path / "mybot", text))
+    budget = [b for b in app.make_budgets(app.make_plant()) if b.name == "ranger"][0]
+    assert budget.period_us == 40_000
+    bad = text.replace('source = "ranger.adc"', 'source = "bumper"')
+    with pytest.raises(ConfigError, match=r"\[budgets.ranger\] period_us: missing, and the plant samples bumper"):
+        load_rig(write_rig(tmp_path / "other", bad))

@@ -27,7 +27,11 @@ PLANTS = {
     "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
     "two_wheel": lambda: TwoWheelRobot(
-        obstacles=[[2.0, 1.0, 0.3, 0.3]], standby=True, buttons=["go"], presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]]
+        obstacles=[[2.0, 1.0, 0.3, 0.3]],
+        placements=[[1.5, 1.0, 1.4, 0.2, 0.2], [4.0, 0.5, 0.5, 0.2, 0.2]],
+        standby=True,
+        buttons=["go"],
+        presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]],
     ),
     "two_wheel_drv8833": lambda: TwoWheelRobot(
         bridge="drv8833",

@@ -56,6 +56,21 @@ def test_floor_sensors_read_the_tape_while_over_it_within_one_check():
     assert 0 <= changes[0][0] - t_on < 1_000 and 0 <= changes[2][0] - t_off < 1_000, changes
 
 
+@pytest.mark.parametrize("placed", [False, True])
+def test_a_box_placed_in_the_way_at_a_time_is_met(placed):
+    plant = TwoWheelRobot(placements=[[1.0, 1.2, 1.0, 0.2, 1.0]] if placed else [])
+    plant.reset(0)
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.pwm", 65535)
+    plant.advance_to(3_000_000)
+    contacts = plant.truth()["contacts"]
+    if placed:  # the front (x 0.48 + 0.4 t) meets the box's face at 1.1 m: t = 1.55 s
+        assert contacts and abs(contacts[0][0] - 1_550_000) < 5_000, contacts
+    else:
+        assert contacts == [] and plant.truth()["x_m"] > 1.5
+
+
 def test_tb6612_standby_low_keeps_both_motors_off():
     plant = TwoWheelRobot(standby=True)
     plant.reset(0)
@@ -83,3 +98,20 @@ def test_bad_options_are_refused_by_name(options, says):
     with pytest.raises(ValueError) as e:
         TwoWheelRobot(**options)
     assert says in str(e.value)
+
+
+@pytest.mark.parametrize("world", ["canyon", "duct", "multi_branch_duct", "vacuum_room", "pool"])
+def test_the_two_wheel_robot_runs_in_each_of_our_worlds(world):
+    plant = TwoWheelRobot(world=world)
+    plant.reset(0)
+    assert plant.truth()["contacts"] == [], f"{world}: the default start pose touches a wall"
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.pwm", 30000)
+    plant.advance_to(1_000_000)
+    assert plant.truth()["distance_m"] > 0.1
+
+
+def test_motor_rpm_through_the_gearbox_sets_the_rim_speed():
+    plant = TwoWheelRobot(motor_rpm=6000, gear_ratio=50, wheel_radius_m=0.03)
+    assert plant.v_max_m_s == pytest.approx(6000 / 50 * 2 * 3.141592653589793 * 0.03 / 60)
