@@ -34,7 +34,7 @@ from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.rig import Rig
 from host.rig.firmware import Firmware
-from host.rig.target import Target
+from host.rig.target import Target, end_process
 
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"
@@ -183,12 +183,7 @@ class VirtualBoardTarget(Target):
     def close(self, session_open: bool = False) -> None:
         proc, self.proc = self.proc, None
         if proc is not None:
-            if proc.poll() is None:
-                try:
-                    os.killpg(proc.pid, signal.SIGKILL)
-                except ProcessLookupError:
-                    pass
-            proc.wait(timeout=5)
+            end_process(proc)
         if self.link is not None:
             self.link.close()
             self.link = None

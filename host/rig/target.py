@@ -18,6 +18,20 @@ from host.link import Channel, FdTransport, PtyPair
 EXIT_WAIT_S = 5.0
 
 
+def end_process(proc: subprocess.Popen) -> None:
+    """Kill a firmware process and everything in its session; reap it."""
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    try:
+        proc.wait(timeout=EXIT_WAIT_S)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait(timeout=EXIT_WAIT_S)
+
+
 class Target:
     """The contract. ``open`` starts the firmware and returns the framed channel to its
     shim; ``restart`` does so again after the firmware reset the board; ``close`` ends it
@@ -83,16 +97,7 @@ class UnixPortTarget(Target):
     def close(self, session_open: bool = False) -> None:
         proc, self.proc = self.proc, None
         if proc is not None:
-            if proc.poll() is None:
-                try:
-                    os.killpg(proc.pid, signal.SIGKILL)
-                except ProcessLookupError:
-                    pass
-            try:
-                proc.wait(timeout=EXIT_WAIT_S)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait(timeout=EXIT_WAIT_S)
+            end_process(proc)
             self._drain(proc)
         if self.pty is not None:
             self.pty.close()
