@@ -34,7 +34,7 @@ class Inputs:
 
     def room(self) -> int:
         """How many plant changes may come before the batch is full."""
-        return max(1, (MAX_BATCH - len(self.pending)) // max(1, self.wiring.fan_out()))
+        return max(1, (MAX_BATCH - len(self.pending)) // max(1, self.wiring.fan_out))
 
     def route(self, change, watch) -> tuple[bool, bool]:
         """Queue a plant change for the firmware; (fires an IRQ, wakes a watched wait)."""

@@ -32,10 +32,10 @@ class Handle:
     irq: int = 0  # trigger mask
     samples: int = 0  # ADC samples / UART lines routed to it
     level: int | None = None  # last level driven on an output
+    probe: bool = False  # wired to a probe: only the harness watches it
 
-    @property
-    def probe(self) -> bool:
-        return self.signal is not None and self.signal.startswith(PROBE_PREFIX)
+    def __post_init__(self):
+        self.probe = self.signal is not None and self.signal.startswith(PROBE_PREFIX)
 
 
 class Wiring:
@@ -55,6 +55,7 @@ class Wiring:
         self.handles: list[Handle] = []
         self.by_signal: dict[str, list[int]] = {}
         self.irq_armed = False  # some input has an IRQ handler
+        self.fan_out = 1  # the most handles wired to one signal (a change of it is that many entries)
 
     def signal_of(self, key: str) -> str | None:
         board_name = self.pin_names.get(key)
@@ -83,8 +84,5 @@ class Wiring:
         self.handles[h] = info
         if signal:
             self.by_signal.setdefault(signal, []).append(h)
+        self.fan_out = max(map(len, self.by_signal.values()), default=1)
         return info
-
-    def fan_out(self) -> int:
-        """The most handles wired to one signal (a change of it is that many entries)."""
-        return max(map(len, self.by_signal.values()), default=1)

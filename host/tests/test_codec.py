@@ -92,3 +92,16 @@ def test_fault_helper_keeps_the_end_of_a_traceback_too_long_for_one_frame():
     text = b"Traceback (most recent call last):\n" + b'  File "main.py", line 1\n' * 400 + b"ValueError: the cause\n"
     t_us, kept = F.unpack_fault(F.pack_fault(5, text))
     assert t_us == 5 and kept.endswith(b"ValueError: the cause\n") and len(kept) == F.MAX_PAYLOAD - F.FAULT_LEN
+
+
+def test_the_hosts_compiled_helpers_give_the_codecs_bytes_on_every_vector():
+    from host.link import frames
+
+    for v in json.loads(VECTORS.read_text())["messages"]:
+        payload = bytes.fromhex(v["payload"])
+        if v["message"] == "out":
+            assert frames.unpack_out(payload) == F.unpack_out(payload)
+        if v["message"] == "state":
+            base, t_end, horizon, changes = F.unpack_state(payload)
+            assert frames.pack_state(base, t_end, horizon, changes) == F.pack_state(base, t_end, horizon, changes)
+            assert frames.pack_state(base, t_end, horizon, changes) == payload
