@@ -392,6 +392,16 @@ def start():
     if mode == F.MODE_REALTIME:
         _rt_origin_us = _rtime.ticks_add(_rtime.ticks_us(), -t_start)
         now = _realtime_now
+    # The u-prefixed names resolve to the built-ins before any file on the path; in
+    # sys.modules they are the shim's, as utime is time on a board. (Locals, not module
+    # globals: more globals here slow every global lookup of the hot paths.)
+    import machine as shim_machine
+    import select as shim_select
+    import time as shim_time
+
+    sys.modules["umachine"] = shim_machine
+    sys.modules["uselect"] = shim_select
+    sys.modules["utime"] = shim_time
 
 
 def finish(kind, code=0, text=None):

@@ -313,7 +313,7 @@ class UART:
         return self.read(i + 1)
 
     def write(self, buf):
-        data = bytes(buf)
+        data = buf.encode() if isinstance(buf, str) else bytes(buf)
         _hil.send_output(F.UART_TX, F.pack_uart_tx(_hil.now(), self._handle, data))
         return len(data)
 

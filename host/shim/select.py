@@ -39,6 +39,9 @@ class _Poll:
         return ready
 
     def ipoll(self, timeout=-1, flags=0):
+        if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
+            _hil.observe()
+            return self._ready() if self._map else _NOTHING
         _hil.blocking()
         if not self._map:  # nothing to poll (asyncio's sleeps): a plain virtual sleep
             if timeout:

@@ -40,6 +40,8 @@ ticks_cpu = ticks_us
 
 
 def ticks_add(ticks, delta):
+    if not -_HALF <= delta < _HALF:  # as a board's: the sum would be ambiguous
+        raise OverflowError("ticks interval overflow")
     return (ticks + delta) & _MASK
 
 
@@ -48,13 +50,19 @@ def ticks_diff(ticks1, ticks2):
 
 
 def sleep_us(us):
+    if us.__class__ is not int:
+        raise TypeError("can't convert %s to int" % type(us).__name__)
+    if us <= 0:  # returns at once, as on a board, where even that takes a little time
+        _hil.observe()
+        return
     _hil.blocking()
-    if us > 0:
-        _hil.run_until(_hil.now() + int(us))
+    _hil.run_until(_hil.now() + us)
 
 
 def sleep_ms(ms):
-    sleep_us(int(ms) * 1000)
+    if ms.__class__ is not int:
+        raise TypeError("can't convert %s to int" % type(ms).__name__)
+    sleep_us(ms * 1000)
 
 
 def sleep(seconds):

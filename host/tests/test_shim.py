@@ -109,3 +109,24 @@ def test_edges_shared_by_several_pin_objects_all_reach_their_handlers(run_case):
     rig, r = run_case("shared_pin", 0.3, script)
     assert r["counts"] == [1000, 1000, 1000], r
     assert rig.stats.link_round_trips >= 1000 * 3 // 200, "expected the edges split over several batches"
+
+
+def test_u_prefixed_modules_are_the_shims_in_virtual_time(run_case):
+    """`from utime import sleep_us` (older drivers' habit) gets the shim: a 10 us trigger
+    pulse lasts 10 virtual us, not 0."""
+    rig, r = run_case("u_modules", 0.1)
+    assert r == {"slept_us": 250, "slept_ms": 40, "same": [True, True, True]}, r
+    writes = [(t, v) for t, name, v in rig.plant.log if name == "out1"]
+    assert len(writes) == 3 and writes[2][0] - writes[1][0] == 10, writes
+
+
+def test_zero_waits_let_time_move_and_board_errors_are_raised(run_case):
+    _, r = run_case("zero_waits", 0.5)
+    assert r == {
+        "zero_sleeps_end": True,
+        "async_spins_end": True,
+        "uart_str": 3,
+        "float_ms_raises": True,
+        "overflow": True,
+        "add_edge": (1 << 29) - 1,
+    }, r
