@@ -3,11 +3,11 @@
 import machine
 import select
 import time
-
-import umachine
 import uselect
 import utime
 from utime import sleep_us, ticks_diff, ticks_us
+
+import umachine
 
 t0 = ticks_us()
 sleep_us(250)

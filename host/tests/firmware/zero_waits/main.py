@@ -3,7 +3,6 @@
 # raises for a float in sleep_ms and a ticks interval past half the period.
 import asyncio
 import time
-
 from machine import UART
 
 t0 = time.ticks_us()
