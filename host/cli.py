@@ -37,8 +37,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.command(args)
-    except ConfigError as e:  # names its field: a bad argument or a bad trace
-        args.sub.error(str(e))
+    except ConfigError as e:  # names its file and field: one line, no usage text
+        print(f"{args.sub.prog}: error: {e}", file=sys.stderr)
+        return EXIT_USAGE
     except HarnessError as e:
         print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
         return EXIT_FAILED
@@ -184,7 +185,7 @@ def cmd_run(args) -> int:
     print(f"trace folder: {out}")
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
     print(f"ground truth at {rig.t_us / 1e6:g} s: {pose}; contacts: {len(truth.get('contacts', []))}")
-    rows = [r for r in rig.budget_rows() if r["count"]]
+    rows = rig.budget_rows()  # (a budget that measured nothing shows a count of 0)
     if rows:
         print(format_table(rows))
     if not args.no_plots:

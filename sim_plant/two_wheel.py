@@ -273,7 +273,7 @@ class TwoWheelRobot(RobotPlant):
         self.ranger_noise_sd_m = float(ranger_noise_sd_m)
         self.hcsr04_trigger_min_us = int(hcsr04_trigger_min_us)
         self.ranger_period_us = int(ranger_period_us)
-        self.sonar_period_us = self.ranger_period_us  # (an analog ranger's sample period)
+        self.floor_period_us = int(floor_period_us)
         self.buttons = tuple(buttons)
         self.presses = tuple(tuple(p) for p in presses)
         self.button_bounce_us = int(button_bounce_us)
@@ -284,7 +284,7 @@ class TwoWheelRobot(RobotPlant):
             "width_m": tape_width_m,
             "tape_u16": tape_u16,
             "floor_u16": floor_u16,
-            "period_us": floor_period_us,
+            "period_us": self.floor_period_us,
         }
         if self.line_sensors:
             FloorSensors(self.line_sensors, self.tape, **self.floor_options)  # refuse bad options now

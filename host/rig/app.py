@@ -44,6 +44,19 @@ class App:
     def path(self) -> Path:
         return self.folder or FIRMWARE / "apps" / self.name
 
+    def import_hint(self, traceback: str) -> str:
+        """A hint for an ImportError of a driver the harness has but this firmware did not
+        ask for (``harness_lib``)."""
+        import re
+
+        missing = re.search(r"no module named '([\w.]+)'", traceback)
+        if missing and not self.harness_lib and (FIRMWARE / "lib" / f"{missing.group(1)}.py").is_file():
+            return (
+                f"\n(the harness has a driver {missing.group(1)}.py in firmware/lib; a rig file puts "
+                "it on the path with [firmware] harness_lib = true)"
+            )
+        return ""
+
     def board_files(self, board: str) -> tuple[Path | None, dict]:
         """(the folder with the board's board.py, or None; its pins) for ``board``."""
         if board == self.default_board and self.pins is not None:

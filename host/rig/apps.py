@@ -23,8 +23,9 @@ def apps() -> dict[str, App]:
 
 def get_app(name: str) -> App:
     """One of our apps by name, or a rig file by its path (``path/to/rig.toml``)."""
-    if name.endswith(".toml") or "/" in name:
-        return load_rig(Path(name))
+    if name.endswith(".toml") or "/" in name or Path(name, "rig.toml").is_file():
+        path = Path(name)
+        return load_rig(path / "rig.toml" if path.is_dir() else path)  # a folder: its rig.toml
     try:
         return apps()[name]
     except KeyError:

@@ -194,7 +194,7 @@ class Rig:
             "app": self.app.name,
             "rig_file": str(self.app.rig_file) if self.app.rig_file else None,
             "board": self.board,
-            "plant_options": self.plant_options,
+            "plant_options": {**self.app.plant_options, **self.plant_options},
             "seed": self.seed,
             "mode": self.mode,
             "micropython": self.micropython_version.split(";")[0],
@@ -301,7 +301,7 @@ class Rig:
         self.stop()
         raise FirmwareError(
             f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
-            f"MicroPython traceback:\n{text.rstrip()}{self.where()}",
+            f"MicroPython traceback:\n{text.rstrip()}{self.app.import_hint(text)}{self.where()}",
             traceback=text,
             console=self.console,
         )

@@ -62,11 +62,11 @@ class _Where:
             if key not in keys:
                 close = difflib.get_close_matches(key, keys, n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
-                raise self.error(f"{name} {key}", f"unknown key (known: {', '.join(keys)}){hint}")
+                raise self.error(f"{name} {key}".strip(), f"unknown key (known: {', '.join(keys)}){hint}")
             _check_type(self, f"{name} {key}", value, keys[key])
         missing = [k for k in required if k not in data]
         if missing:
-            raise self.error(name, f"missing {', '.join(missing)}")
+            raise self.error(name.rstrip(":"), f"missing {', '.join(missing)}")
         return data
 
 
@@ -91,21 +91,23 @@ def load_rig(path) -> App:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{path}: not valid TOML: {e}") from None
-    where.table(data, "", TABLES, required=("firmware", "plant", "wiring"))
+    where.table(data, "top level:", TABLES, required=("plant", "wiring"))
     base = path.parent
-    firmware = where.table(data["firmware"], "[firmware]", FIRMWARE_KEYS)
+    firmware = where.table(data.get("firmware", {}), "[firmware]", FIRMWARE_KEYS)
     folder = (base / firmware.get("dir", ".")).resolve()
     if not folder.is_dir():
         raise where.error("[firmware] dir", f"no folder {folder}")
     entry = firmware.get("entry", "main.py")
     if not (folder / entry).is_file():
         raise where.error("[firmware] entry", f"no {entry} in {folder}")
-    libs = tuple(_folder(where, base, "[firmware] lib", item) for item in firmware.get("lib", []))
+    default_lib = ["lib"] if (folder / "lib").is_dir() else []  # a board's /lib is on its path
+    libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
     kind, options = _plant(where, data["plant"])
-    plant = _make_plant(where, kind, options, "[plant] options")
+    _check_options(where, "[plant.options]", kind, options)
+    plant = _make_plant(where, kind, options, "[plant.options]")
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
-    budget_specs = _budgets(where, data.get("budgets", {}), plant)
+    budget_specs = _budgets(where, data.get("budgets", {}), plant, kind, wiring)
     worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options)
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = data.get("name") or folder.name
@@ -193,15 +195,50 @@ def _plant(where: _Where, plant: dict):
     where.table(plant, "[plant]", PLANT_KEYS, required=("kind",))
     kind = plant["kind"]
     if kind not in kinds.KINDS:
-        raise where.error("[plant] kind", f"unknown plant kind {kind!r} (kinds: {', '.join(kinds.KINDS)})")
+        close = difflib.get_close_matches(kind, kinds.KINDS, n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise where.error("[plant] kind", f"unknown plant kind {kind!r} (kinds: {', '.join(kinds.KINDS)}){hint}")
     return kind, dict(plant.get("options", {}))
+
+
+def _check_options(where: _Where, field: str, kind: str, options: dict) -> None:
+    """Option names, and their types against the defaults' (a number where the default is
+    one, a list of numbers where it is a pose or a pair)."""
+    known = kinds.options(kind)
+    for name, value in options.items():
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise where.error(
+                f"{field} {name}", f"the {kind} plant has no such option (options: {', '.join(known)}){hint}"
+            )
+        _check_like(where, f"{field} {name}", value, known[name])
+
+
+def _check_like(where: _Where, field: str, value, default) -> None:
+    number = (int, float)
+    if isinstance(default, bool) or isinstance(value, bool):
+        if isinstance(default, bool) and not isinstance(value, bool):
+            raise where.error(field, f"expected true/false, got {value!r}")
+        return
+    if isinstance(default, number) and not isinstance(value, number):
+        raise where.error(field, f"expected a number, got {value!r}")
+    if isinstance(default, str) and not isinstance(value, str):
+        raise where.error(field, f"expected text, got {value!r}")
+    if isinstance(default, tuple) and default and all(isinstance(v, number) for v in default):
+        if not (isinstance(value, list) and len(value) == len(default) and all(_is_number(v) for v in value)):
+            raise where.error(field, f"expected a list of {len(default)} numbers, got {value!r}")
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _make_plant(where: _Where, kind: str, options: dict, field: str):
     try:
         return kinds.make(kind, **options)
     except (TypeError, ValueError) as e:
-        raise where.error(field, f"the {kind} plant refuses {options}: {e}") from None
+        raise where.error(field, f"the {kind} plant refuses it: {e}") from None
 
 
 def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[str, str]:
@@ -217,10 +254,15 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
                 f"the plant has no signal {signal!r} (inputs: {', '.join(plant.inputs)}; "
                 f"outputs: {', '.join(plant.outputs)}; or probe:<name> for a pin only the harness watches)",
             )
+    by_pin: dict = {}
+    for pin in wiring:
+        other = by_pin.setdefault(str(pins[pin]), pin)
+        if other != pin:
+            raise where.error(f"[wiring] {pin}", f"pin {pins[pin]} is {other} too: one pin can be wired once")
     return dict(wiring)
 
 
-def _budgets(where: _Where, budgets: dict, plant) -> list:
+def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> list:
     """One builder per budget: ``build(plant) -> Budget``; each is tried once here, on
     the rig file's own plant, so that its mistakes show before a run."""
     builders = []
@@ -228,39 +270,46 @@ def _budgets(where: _Where, budgets: dict, plant) -> list:
         field = f"[budgets.{name}]"
         if not isinstance(spec, dict):
             raise where.error(field, f"expected a table, got {spec!r}")
-        kind = spec.get("kind")
-        if kind not in BUDGET_KINDS:
-            raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {kind!r}")
-        cls, keys = BUDGET_KINDS[kind]
-        optional = ("marker", "period_us") if kind == "period" else ()  # period: the plant's own by default
+        budget_kind = spec.get("kind")
+        if budget_kind not in BUDGET_KINDS:
+            close = difflib.get_close_matches(str(budget_kind), BUDGET_KINDS, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
+        cls, keys = BUDGET_KINDS[budget_kind]
+        optional = ("marker", "period_us") if budget_kind == "period" else ()  # period: the plant's own by default
         where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k not in optional])
         for key, signal in [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]:
             if signal is None:
                 continue
             _check_type(where, f"{field} {key}", signal, str)
+            if signal.startswith(PROBE_PREFIX) and signal not in wiring.values():
+                raise where.error(f"{field} {key}", f"no pin is wired to {signal!r}: the budget would measure nothing")
             if not signal.startswith(PROBE_PREFIX) and signal not in {**plant.inputs, **plant.outputs}:
                 known = ", ".join([*plant.inputs, *plant.outputs])
                 raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} (signals: {known})")
-        build = _budget_builder(where, field, name, cls, spec)
+        for key in ("period_us", "limit_us", "tolerance_us"):
+            if isinstance(spec.get(key), int) and (spec[key] < 0 or (spec[key] == 0 and key != "tolerance_us")):
+                least = "0 or more" if key == "tolerance_us" else "more than 0"
+                raise where.error(f"{field} {key}", f"expected {least} microseconds, got {spec[key]}")
+        build = _budget_builder(where, field, name, cls, spec, kind)
         build(plant)
         builders.append(build)
     return builders
 
 
-def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
+def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind: str):
     def value(plant, key):
         v = spec[key]
         if isinstance(v, str):  # "plant.<option>": the plant's own figure
-            if not v.startswith("plant."):
-                raise where.error(f"{field} {key}", f"expected microseconds or plant.<option>, got {v!r}")
-            got = getattr(plant, v.removeprefix("plant."), None)
-            if not isinstance(got, int) or isinstance(got, bool):
-                raise where.error(
-                    f"{field} {key}",
-                    f"the plant ({type(plant).__name__}) has no integer {v.removeprefix('plant.')}: give "
-                    "microseconds here, or budgets= to a Rig with a plant of another kind",
-                )
-            return got
+            option = v.removeprefix("plant.")
+            known = kinds.options(kind)
+            if not v.startswith("plant.") or option not in known:
+                us_options = ", ".join(f"plant.{k}" for k in known if k.endswith("_us"))
+                raise where.error(f"{field} {key}", f"expected microseconds or one of {us_options}; got {v!r}")
+            got = getattr(plant, option, None)
+            if not _is_number(got):
+                raise where.error(f"{field} {key}", f"the {kind} plant keeps no figure for {option}")
+            return int(got)
         return v
 
     def build(plant):
@@ -285,7 +334,12 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
 def _sample_period(where: _Where, field: str, plant, source: str) -> int:
     period = getattr(plant, "sample_period_us", lambda _signal: None)(source)
     if period is None:
-        raise where.error(f"{field} period_us", f"missing, and the plant samples {source} at no fixed period")
+        what = (
+            "a probe has no period of its own"
+            if source.startswith(PROBE_PREFIX)
+            else f"the plant samples {source} at no fixed period"
+        )
+        raise where.error(f"{field} period_us", f"missing, and {what}: give it in microseconds")
     return period
 
 

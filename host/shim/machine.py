@@ -185,21 +185,32 @@ class ADC:
 
 
 class PWM:
-    def __init__(self, dest, *, freq=None, duty_u16=None, duty_ns=None, invert=False, **_kw):
+    def __init__(self, dest, freq=None, duty=None, *, duty_u16=None, duty_ns=None, invert=False, **_kw):
         self._pin = dest if isinstance(dest, Pin) else Pin(dest, Pin.OUT)
         self._handle = _hil.register(self)
         self._freq = 5000
         self._duty = 0
         _hil.configure(self._handle, F.CFG_PWM, self._pin._id, param=self._freq)
-        self.init(freq=freq, duty_u16=duty_u16, duty_ns=duty_ns)
+        self.init(freq=freq, duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
-    def init(self, *, freq=None, duty_u16=None, duty_ns=None, **_kw):
+    def init(self, *, freq=None, duty=None, duty_u16=None, duty_ns=None, **_kw):
         if freq is not None:
             self.freq(freq)
         if duty_u16 is not None:
             self.duty_u16(duty_u16)
         elif duty_ns is not None:
             self.duty_ns(duty_ns)
+        elif duty is not None:
+            self.duty(duty)
+
+    def duty(self, value=None):
+        """The ESP32 port's 10-bit duty, 0..1023 (duty_u16 scaled)."""
+        if value is None:
+            return (self._duty * 1023 + 32767) // 65535
+        value = int(value)
+        if not 0 <= value <= 1023:
+            raise ValueError("duty %r out of range 0..1023" % (value,))
+        self.duty_u16(value * 65535 // 1023)
 
     def freq(self, value=None):
         if value is None:

@@ -104,7 +104,7 @@ def test_the_entry_file_may_have_another_name(make_rig, tmp_path):
 
 def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_path):
     uses_ours = {"main.py": "import encoder\nprint('found', encoder.__name__)\n"}
-    with pytest.raises(FirmwareError, match="no module named 'encoder'"):
+    with pytest.raises(FirmwareError, match="no module named 'encoder'.*\n.*harness_lib = true"):
         make_rig(str(write_rig(tmp_path / "a", GOOD, uses_ours))).run_for(0.1)
     text = GOOD.replace('entry = "main.py"', 'entry = "main.py"\nharness_lib = true')
     rig = make_rig(str(write_rig(tmp_path / "b", text, uses_ours)))
@@ -121,8 +121,13 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
         (('entry = "main.py"', 'entyr = "main.py"'), "[firmware] entyr", "did you mean 'entry'?"),
         (('entry = "main.py"', 'entry = "robot.py"'), "[firmware] entry", "no robot.py in"),
         (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
-        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant] options", "room_w_m: expected a room wider"),
-        (("room_w_m = 4.0", "room_w = 4.0"), "[plant] options", "unknown option room_w (options:"),
+        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant.options]", "room_w_m: expected a room wider"),
+        (("room_w_m = 4.0", "room_w = 4.0"), "[plant.options] room_w", "no such option (options: room_w_m"),
+        (("room_w_m = 4.0", 'room_w_m = "4"'), "[plant.options] room_w_m", "expected a number, got '4'"),
+        (("room_w_m = 4.0", "start_pose = [1, '2', 0]"), "[plant.options] start_pose", "a list of 3 numbers"),
+        (("LED = 2\n", "LED = 25\n"), "[wiring] LED", "pin 25 is LEFT_PWM too"),
+        (("period_us = 100_000", "period_us = -100_000"), "[budgets.blink] period_us", "expected more than 0"),
+        (('source = "probe:led"', 'source = "probe:lde"'), "[budgets.blink] source", "no pin is wired to 'probe:lde'"),
         (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: two_wheel"),
         (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
         (("tolerance_us = 0", 'tolerance_us = "0"'), "[budgets.blink] tolerance_us", "expected an integer"),

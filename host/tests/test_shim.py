@@ -130,3 +130,9 @@ def test_zero_waits_let_time_move_and_board_errors_are_raised(run_case):
         "overflow": True,
         "add_edge": (1 << 29) - 1,
     }, r
+
+
+def test_esp32_pwm_duty_is_ten_bits_and_honoured_when_the_pwm_is_made(run_case):
+    rig, r = run_case("pwm_duty", 0.01)
+    assert r == {"made": [32799, 512], "full": [65535, 1023], "off": 0}, r
+    assert [v for _t, name, v in rig.plant.log if name == "pwm"] == [32799, 65535, 0]
