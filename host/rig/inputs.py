@@ -80,7 +80,8 @@ class Inputs:
         else:
             value = 1 if info.pull == 1 else 0
         kind = F.CH_SAMPLE if info.kind == F.CFG_ADC else F.CH_LEVEL
-        self.pending.append((t_us, h, kind, value if value is not None else 0, 0))
+        sample_no = info.samples if kind == F.CH_SAMPLE else 0  # (an ADC made again keeps its count)
+        self.pending.append((t_us, h, kind, value if value is not None else 0, sample_no))
 
     def take(self) -> list[tuple]:
         """The batch for the next STATE; the queue starts empty again."""

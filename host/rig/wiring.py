@@ -79,6 +79,8 @@ class Wiring:
         is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
         info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull)
         old = self.handles[h]
+        if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
+            info.irq, info.samples = old.irq, old.samples  # its IRQ and its samples go on
         if old.signal and h in self.by_signal.get(old.signal, ()):
             self.by_signal[old.signal].remove(h)
         self.handles[h] = info

@@ -23,6 +23,7 @@ class Pin:
     IRQ_FALLING = 2
     _MODES = {IN: 0, OUT: 1, OPEN_DRAIN: 2}
     _PULLS = {None: 0, PULL_UP: 1, PULL_DOWN: 2}
+    _made = {}  # pin id -> handle: one pin, one handle, however many Pin objects name it
 
     def __init__(self, id, mode=-1, pull=-1, *, value=None, **_kw):
         self._id = id
@@ -32,8 +33,19 @@ class Pin:
         self._out = 0
         self._handler = None
         self._trigger = 0
-        self._handle = _hil.register(self)
+        h = Pin._made.get(id)
+        old = None
+        if h is None:
+            self._handle = Pin._made[id] = _hil.register(self)
+        else:  # the pin made again (a driver's habit): it keeps its mode, level and IRQ
+            old = _hil._handles[h]
+            _hil._handles[h] = self  # the newest object follows the pin
+            self._handle = h
+            self._mode, self._pull, self._level, self._out = old._mode, old._pull, old._level, old._out
+            self._handler, self._trigger = old._handler, old._trigger
         self.init(mode, pull, value=value)
+        if old is not None and self._handler is not None:
+            _hil.configure(self._handle, F.CFG_IRQ, self._id, self._trigger)
 
     def init(self, mode=-1, pull=-1, *, value=None, **_kw):
         if mode != -1:
@@ -152,12 +164,21 @@ class ADC:
     ATTN_11DB = 3
     WIDTH_12BIT = 12
 
+    _made = {}  # pin id -> handle, as Pin._made
+
     def __init__(self, id, *, atten=None, **_kw):
         self._id = id._id if isinstance(id, Pin) else id
         self._value = 0
         self._sample = 0
         self._seen = 0
-        self._handle = _hil.register(self)
+        h = ADC._made.get(self._id)
+        if h is None:
+            self._handle = ADC._made[self._id] = _hil.register(self)
+        else:  # made again: the newest object follows the input, sample count and all
+            old = _hil._handles[h]
+            _hil._handles[h] = self
+            self._handle = h
+            self._value, self._sample, self._seen = old._value, old._sample, old._seen
         _hil.configure(self._handle, F.CFG_ADC, self._id, param=atten or 0, sync=True)
 
     def _hil_apply(self, kind, value, extra):

@@ -27,11 +27,11 @@ OUTPUTS = {"a": "level", "b": "level", "echo": "level", "adc": "u16", "button": 
 INPUTS = {"out1": "level", "pwm": "duty"}
 
 
-def shim_app(script=(), initial=None) -> App:
+def shim_app(script=(), initial=None, wiring=None) -> App:
     return App(
         name="shim-test",
         default_board="esp32_devkitc",
-        wiring=WIRING,
+        wiring=wiring or WIRING,
         make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial),
     )
 
@@ -48,8 +48,8 @@ def results(console: str) -> dict:
 
 @pytest.fixture
 def run_case(make_rig):
-    def run(case: str, duration_s: float, script=(), initial=None, **kwargs):
-        rig = make_rig(shim_app(script, initial), main_dir=FIRMWARE / case, **kwargs)
+    def run(case: str, duration_s: float, script=(), initial=None, wiring=None, **kwargs):
+        rig = make_rig(shim_app(script, initial, wiring), main_dir=FIRMWARE / case, **kwargs)
         rig.run_for(duration_s)
         rig.stop()  # also drains the console pipe
         return rig, results(rig.console)

@@ -102,11 +102,13 @@ def test_handler_that_drives_an_output_sees_every_edge_at_its_time(run_case):
 
 
 def test_edges_shared_by_several_pin_objects_all_reach_their_handlers(run_case):
-    """1000 edges in 100 ms on one pin that three Pin objects watch, during one sleep: the
-    host splits the batch so that no STATE outgrows a frame, and every handler sees
-    every edge."""
+    """1000 edges in 100 ms on one signal that three pins watch (wired together, as a
+    board's pins on one encoder line), each with its handler, during one sleep: the host
+    splits the batch so that no STATE outgrows a frame, and every handler sees every
+    edge. (Three Pin objects for one pin share that pin's one IRQ, as on a board.)"""
     script = [(1_000 + 100 * k, "a", (k + 1) % 2) for k in range(1000)]
-    rig, r = run_case("shared_pin", 0.3, script)
+    wiring = {"ENC_L_A": "a", "ENC_L_B": "a", "ENC_R_A": "a"}  # pins 34, 35, 36
+    rig, r = run_case("shared_pin", 0.3, script, wiring=wiring)
     assert r["counts"] == [1000, 1000, 1000], r
     assert rig.stats.link_round_trips >= 1000 * 3 // 200, "expected the edges split over several batches"
 
@@ -136,3 +138,15 @@ def test_esp32_pwm_duty_is_ten_bits_and_honoured_when_the_pwm_is_made(run_case):
     rig, r = run_case("pwm_duty", 0.01)
     assert r == {"made": [32799, 512], "full": [65535, 1023], "off": 0}, r
     assert [v for _t, name, v in rig.plant.log if name == "pwm"] == [32799, 65535, 0]
+
+
+def test_pins_made_anew_on_every_read_keep_one_handle_their_level_and_their_irq(run_case):
+    """3000 Pin objects for one pin: the link does not grow, reads follow the pin, and the
+    IRQ set on the first object counts every edge, as on a board."""
+    script = [(105_000 + 10_000 * k, "a", (k + 1) % 2) for k in range(300)]
+    script.append((100, "adc", 4321))
+    script += [(20_000 + 1_000 * k, "b", (k + 1) % 2) for k in range(10)]
+    rig, r = run_case("pins_remade", 3.3, script)
+    want = {"edges": 300, "highs_between": True, "reads": 3000, "adc": [4321, 4321, 4321], "last_irq_wins": [0, 10]}
+    assert r == want, r
+    assert len(rig.wiring.handles) <= 4, [h.key for h in rig.wiring.handles]

@@ -1,5 +1,5 @@
-# Three Pin objects on one encoder pin, each with its own IRQ handler, and one long
-# sleep: every edge must reach every handler, however the host splits the batch.
+# Three pins on one encoder line, each with its own IRQ handler, and one long sleep:
+# every edge must reach every handler, however the host splits the batch.
 from machine import Pin
 from time import sleep_ms
 
@@ -13,7 +13,7 @@ def counter(i):
     return on_edge
 
 
-pins = [Pin(34, Pin.IN) for _ in range(3)]
+pins = [Pin(n, Pin.IN) for n in (34, 35, 36)]
 for i, pin in enumerate(pins):
     pin.irq(counter(i), Pin.IRQ_RISING | Pin.IRQ_FALLING)
 sleep_ms(200)
