@@ -451,7 +451,7 @@ def _pins_used(source: Path) -> dict[str, int]:
     for name in ["Pin", *drivers]:
         for call in calls(tree, name):
             for arg in call.args[:1] if name == "Pin" else call.args:
-                if isinstance(arg, ast.Constant) and type(arg.value) is int and name == "Pin":
+                if isinstance(arg, ast.Constant) and type(arg.value) is int:  # Pin(14), TB6612(16, 17, 18)
                     found[f"PIN_{arg.value}"] = arg.value
                 elif isinstance(arg, ast.Name) and arg.id in constants:
                     found[arg.id] = constants[arg.id]

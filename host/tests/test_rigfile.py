@@ -187,6 +187,7 @@ def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp
     assert done.returncode == 0, done.stderr
     text = (folder / "rig.toml").read_text()
     assert "LED = 25\n" in text and "BTN = 13\n" in text and "LEFT_PWM = 21\n" in text, text
+    assert "PIN_16 = 16\n" in text and "PIN_17 = 17\n" in text, "the pins given to a driver class as numbers"
     assert mpy_fil("check", str(folder / "rig.toml")).returncode == 0
     again = mpy_fil("init", str(folder))
     assert again.returncode == 2 and "exists" in again.stderr and "Traceback" not in again.stderr
