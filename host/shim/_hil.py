@@ -188,6 +188,8 @@ now = _lockstep_now
 def observe():
     """Called by every clock or input read; lets busy waits make progress."""
     global _spin, _now
+    if _dispatching:  # a handler runs at its edge's instant: its reads move no time
+        return
     if _lockstep:
         t = _now
         _spin += 1

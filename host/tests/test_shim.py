@@ -150,3 +150,13 @@ def test_pins_made_anew_on_every_read_keep_one_handle_their_level_and_their_irq(
     want = {"edges": 300, "highs_between": True, "reads": 3000, "adc": [4321, 4321, 4321], "last_irq_wins": [0, 10]}
     assert r == want, r
     assert len(rig.wiring.handles) <= 4, [h.key for h in rig.wiring.handles]
+
+
+def test_pin_reads_inside_a_handler_neither_move_time_nor_repeat_edges(run_case):
+    """236 edges of A in one long sleep, each handler reading A and B: 236 calls, not
+    more (reads in a handler used to count as the main program's spinning, sync from
+    inside the dispatch, and bring stale edges back)."""
+    script = [(2_000 + 4_000 * k, "a", (k + 1) % 2) for k in range(236)]
+    script += [(4_000 + 4_000 * k, "b", (k + 1) % 2) for k in range(236)]  # B a quarter turn behind
+    _, r = run_case("irq_reads", 1.1, script)
+    assert r == {"calls": 236, "count": 236}, r
