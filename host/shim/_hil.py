@@ -62,6 +62,11 @@ class HostStop(BaseException):
 class _Link:
     """Frames over the pty the host named in HIL_LINK (the unix port in the loop)."""
 
+    # While a poll waits on streams only a callback can make ready (an asyncio
+    # ThreadSafeFlag): its check, True when one is. (Here, not a module global: more
+    # globals in this module slow every global lookup of the hot paths.)
+    woke = None
+
     def __init__(self, path):
         self.f = open(path, "r+b")
         self.poller = _rselect.poll()
@@ -88,6 +93,17 @@ class _Link:
             while view:
                 n = self.f.write(view)
                 view = view[n:]
+
+    def exchange(self, wait_payload, t_now, state_fmt):
+        """Send WAIT and return the payload of the STATE that answers it."""
+        self.queue(F.WAIT, wait_payload)
+        self.flush()
+        while True:
+            type_, _seq, p = self.recv()
+            if type_ == F.BYE:
+                raise HostStop()
+            if type_ == F.STATE and struct.unpack_from(state_fmt, p, 0)[0] == t_now:
+                return p  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
 
     def recv(self):
         while True:
@@ -232,6 +248,8 @@ def run_until(t_target, watch=None):
             _fire_timers()
         if _pending:
             dispatch()
+            if _link.woke is not None and _link.woke():
+                return True
         if hit:
             return True
         if _now >= t_target:
@@ -248,14 +266,7 @@ def _sync(t_until, watch):
     if watch:
         for h in watch:
             payload += struct.pack(F.WATCH_FMT, h)
-    _link.queue(F.WAIT, payload)
-    _link.flush()
-    while True:
-        type_, _seq, p = _link.recv()
-        if type_ == F.BYE:
-            raise HostStop()
-        if type_ == F.STATE and struct.unpack_from(state_fmt, p, 0)[0] == _now:
-            break  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
+    p = _link.exchange(payload, _now, state_fmt)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
@@ -270,16 +281,20 @@ def _sync(t_until, watch):
             off += value
         t = base + dt
         if t != group_t:
-            if _pending and group_t >= 0 and _handlers_wrote(group_t):
-                return hit
+            if _pending and group_t >= 0:
+                stop = _handlers_wrote(group_t)
+                if stop:
+                    return hit or stop == 2
             group_t = t
             if _lockstep:
                 _now = t
         _handles[h]._hil_apply(kind, value, extra)
         if watch and h in watch:
             hit = True
-    if _pending and group_t >= 0 and _handlers_wrote(group_t):
-        return hit
+    if _pending and group_t >= 0:
+        stop = _handlers_wrote(group_t)
+        if stop:
+            return hit or stop == 2
     if _lockstep:
         _now = t_end
     else:
@@ -290,16 +305,19 @@ def _sync(t_until, watch):
 
 def _handlers_wrote(t):
     """Run the handlers due at time t. If they changed an output, the rest of the batch
-    (computed by the host for the old outputs) is void: stay at t and resync."""
+    (computed by the host for the old outputs) is void: stay at t and resync (1). If they
+    made a polled stream ready (a ThreadSafeFlag set from an IRQ), the poll wakes at t
+    and the rest of the batch is void too (2). 0: carry on."""
     global _wrote, _now, _horizon
     _wrote = False
     dispatch()
-    if _wrote:
+    woke = _link.woke is not None and _link.woke()
+    if _wrote or woke:
         if _lockstep:
             _now = t
         _horizon = _now
-        return True
-    return False
+        return 2 if woke else 1
+    return 0
 
 
 # -- callbacks: IRQ handlers and Timer callbacks ------------------------------------

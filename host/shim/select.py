@@ -29,14 +29,16 @@ class _Poll:
     def _ready(self):
         ready = []
         for obj, mask in self._map.values():
-            ev = 0
-            if mask & POLLIN and obj._poll_ready(POLLIN):
-                ev |= POLLIN
-            if mask & POLLOUT:
-                ev |= POLLOUT
+            ev = _events(obj, mask)
             if ev:
                 ready.append((obj, ev))
         return ready
+
+    def _any_ready(self):
+        for obj, mask in self._map.values():
+            if _events(obj, mask):
+                return True
+        return False
 
     def ipoll(self, timeout=-1, flags=0):
         if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
@@ -50,15 +52,41 @@ class _Poll:
         ready = self._ready()
         if ready or timeout == 0:
             return ready
-        watch = [obj._handle for obj, _ in self._map.values()]
+        watch = [obj._handle for obj, _ in self._map.values() if hasattr(obj, "_handle")]
         deadline = _hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000
-        while True:
-            _hil.run_until(deadline, watch)
-            ready = self._ready()
-            if ready or _hil.now() >= deadline:
-                return ready
+        if len(watch) < len(self._map):  # streams a callback makes ready: wake at its instant
+            _hil._link.woke = self._any_ready
+        try:
+            while True:
+                _hil.run_until(deadline, watch)
+                ready = self._ready()
+                if ready or _hil.now() >= deadline:
+                    return ready
+        finally:
+            _hil._link.woke = None
 
     poll = ipoll
+
+
+def _events(obj, mask):
+    """The events ready on obj now: a shim UART asks the link; a stream of Python (an
+    asyncio ThreadSafeFlag) answers MP_STREAM_POLL through ioctl; anything else with a
+    file descriptor (a socket, stdin) asks the real poll, without waiting."""
+    ev = 0
+    ready = getattr(obj, "_poll_ready", None)
+    if ready is not None:
+        if mask & POLLIN and ready(POLLIN):
+            ev |= POLLIN
+        return ev | (mask & POLLOUT)
+    ioctl = getattr(obj, "ioctl", None)
+    if ioctl is not None:
+        got = ioctl(3, mask)  # MP_STREAM_POLL
+        return got & mask if got and got > 0 else 0
+    real = _hil._rselect.poll()
+    real.register(obj, mask)
+    for _obj, got in real.ipoll(0):
+        ev |= got
+    return ev
 
 
 def poll():

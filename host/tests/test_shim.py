@@ -160,3 +160,9 @@ def test_pin_reads_inside_a_handler_neither_move_time_nor_repeat_edges(run_case)
     script += [(4_000 + 4_000 * k, "b", (k + 1) % 2) for k in range(236)]  # B a quarter turn behind
     _, r = run_case("irq_reads", 1.1, script)
     assert r == {"calls": 236, "count": 236}, r
+
+
+def test_a_thread_safe_flag_set_in_an_irq_wakes_asyncio_at_the_edge(run_case):
+    script = [(12_345, "a", 1), (12_500, "a", 0), (150_007, "a", 1), (150_100, "a", 0), (333_333, "a", 1)]
+    _, r = run_case("tsf", 0.5, script)
+    assert r == {"woke": [12_345, 150_007, 333_333]}, r
