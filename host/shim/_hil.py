@@ -415,11 +415,12 @@ def start():
     # The u-prefixed names resolve to the built-ins before any file on the path; in
     # sys.modules they are the shim's, as utime is time on a board. (Locals, not module
     # globals: more globals here slow every global lookup of the hot paths.)
-    import machine as shim_machine
-    import select as shim_select
+    import select as shim_select  # (asyncio imports both anyway)
     import time as shim_time
 
-    sys.modules["umachine"] = shim_machine
+    import _umachine
+
+    sys.modules["umachine"] = _umachine
     sys.modules["uselect"] = shim_select
     sys.modules["utime"] = shim_time
 

@@ -213,12 +213,12 @@ print("wrapped", time.ticks_ms() < t0)
 
 
 def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tmp_path):
-    text = GOOD + '\n[interpreter]\nheap_size = "96K"\nticks_wrap_s = 1\n'
+    text = GOOD + '\n[interpreter]\nheap_size = "128K"\nticks_wrap_s = 1\n'
     rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"main.py": HEAP_AND_TICKS})))
     rig.run_for(2)
     rig.stop()
     heap = int(rig.console.split("heap ")[1].split()[0])
-    assert 90_000 < heap <= 96 * 1024 and "wrapped True" in rig.console, rig.console
+    assert 120_000 < heap <= 128 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
     with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes like 192K"):
         load_rig(bad)
