@@ -1,7 +1,7 @@
-"""The contract between the host runner and every plant.
+"""The contract between the host's rig and every plant.
 
 Time is an integer number of microseconds (``t_us``) of virtual time. A plant is a
-piecewise-constant-input system: the runner sets inputs (actuator signals as the
+piecewise-constant-input system: the rig sets inputs (actuator signals as the
 board drives them) at the current time, asks when the next output change is due,
 and advances to a time of its choosing. Outputs are the electrical signals a board
 sees, by name:
@@ -41,7 +41,7 @@ class Plant:
     """Base class and contract. Subclasses fill in the physics.
 
     ``inputs`` and ``outputs`` map signal names to their kind (``level``, ``u16``,
-    ``duty``, ``bytes``); the runner's wiring connects board pins to these names.
+    ``duty``, ``bytes``); the rig's wiring connects board pins to these names.
     """
 
     inputs: dict[str, str] = {}

@@ -4,7 +4,7 @@ Each robot cruises in its world as its firmware would drive it (both wheels at a
 cruising duty, a steering correction every second, the HC-SR04 pinged every 150 ms) for
 ``QUANTA`` quanta. Two figures per robot:
 
-* **host loop**: the way the host runner drives a plant, event by event
+* **host loop**: the way the host's rig drives a plant, event by event
   (``next_change_us`` then ``advance_to`` up to each change), which is the real cost;
 * **one call**: one ``advance_to`` per quantum (a lower bound: the same events, fewer calls);
 

@@ -6,7 +6,7 @@ script is every recorded plant-output change, in recorded order. The firmware ru
 lockstep for the recorded length; its outputs (actuators, probes, bare pins) are
 compared one by one with the recorded ones and the first difference is reported. The
 same firmware on the same recording gives none: a difference means the firmware, the
-shim or the runner changed behaviour (or the trace was taken in real time, which no
+shim or the rig changed behaviour (or the trace was taken in real time, which no
 replay reproduces).
 """
 
@@ -23,7 +23,7 @@ from sim_plant.scripted import ScriptedPlant
 
 class ReplayPlant(ScriptedPlant):
     """A ScriptedPlant that keeps the recorded order of same-time changes and can be
-    snapshotted cheaply (the runner rolls speculative batches back)."""
+    snapshotted cheaply (the rig rolls speculative batches back)."""
 
     def __init__(self, script, *, outputs, inputs, initial):
         super().__init__((), outputs=outputs, inputs=inputs, initial=initial)
