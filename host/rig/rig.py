@@ -99,6 +99,7 @@ class Rig:
         self.plant_options = dict(plant_options or {})
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
+        self.wiring.sensors = dict(self.plant.outputs)  # (what the firmware may only read)
         self.recorder = Recorder(self.plant) if record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)

@@ -41,12 +41,15 @@ class Handle:
 class Wiring:
     """Pin names -> signals (fixed for a rig), handles -> pins (per interpreter run)."""
 
-    def __init__(self, wiring: dict[str, str], pins: dict[str, object], board: str):
+    def __init__(self, wiring: dict[str, str], pins: dict[str, object], board: str, sensors: dict | None = None):
+        """``sensors``: the plant's outputs and their kinds (what it drives), to refuse a
+        firmware that drives them too, or reads a level with its ADC."""
         unknown = sorted(set(wiring) - set(pins))
         if unknown:
             raise ConfigError(f"wiring: board {board} has no pin named {', '.join(unknown)}")
         self.wiring = dict(wiring)
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
+        self.sensors = dict(sensors or {})
         self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
         self.clear()
 
@@ -77,6 +80,7 @@ class Wiring:
         board_name = self.pin_names.get(key)
         signal = self.wiring.get(board_name) if board_name else None
         is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
+        self._check(kind, mode, key, board_name, signal)
         info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull)
         old = self.handles[h]
         if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
@@ -88,3 +92,20 @@ class Wiring:
             self.by_signal.setdefault(signal, []).append(h)
         self.fan_out = max(map(len, self.by_signal.values()), default=1)
         return info
+
+    def _check(self, kind: int, mode: int, key: str, board_name, signal) -> None:
+        """What no board survives: two outputs on one line, an ADC on a logic level."""
+        sensor = self.sensors.get(signal)
+        if sensor is None:
+            return
+        pin = f"pin {board_name} ({key})"
+        if kind == F.CFG_PWM or (kind == F.CFG_PIN and mode == 1):
+            raise ConfigError(
+                f"wiring: the firmware drives {pin} as an output, but it is wired to {signal}, which the plant "
+                f"drives (a sensor): check the wiring of {board_name} or the firmware's pin number"
+            )
+        if kind == F.CFG_ADC and sensor == "level":
+            raise ConfigError(
+                f"wiring: the firmware reads {pin} with an ADC, but {signal} is a logic level (0/1), not an "
+                f"analog signal: wire the pin to a u16 signal, or read it with Pin.value()"
+            )

@@ -1,6 +1,7 @@
 """Rig files: our apps are rig files, a folder of one's own runs from one, and every
 mistake names the file and the field."""
 
+import re
 import subprocess
 import sys
 import textwrap
@@ -243,3 +244,22 @@ def test_make_flash_stages_a_rig_files_firmware_without_its_tests():
 
     folder, files = flash.stage(str(REPO / "examples" / "pico_bot" / "rig.toml"), "pins")
     assert files == ["main.py"] and (folder / "main.py").is_file(), files
+
+
+@pytest.mark.parametrize(
+    ("code", "says"),
+    [
+        (
+            "from machine import Pin\nPin(23, Pin.OUT).value(1)\n",
+            "drives pin BUMP (23) as an output, but it is wired to bumper",
+        ),
+        (
+            "from machine import ADC, Pin\nADC(Pin(23)).read_u16()\n",
+            "reads pin BUMP (23) with an ADC, but bumper is a logic level",
+        ),
+    ],
+)
+def test_a_firmware_that_drives_a_sensor_line_or_reads_a_level_with_an_adc_is_stopped(make_rig, tmp_path, code, says):
+    rig = make_rig(str(write_rig(tmp_path / "mybot", GOOD, {"main.py": code})))
+    with pytest.raises(ConfigError, match=re.escape(says)):
+        rig.run_for(0.1)
