@@ -21,9 +21,10 @@ from pathlib import Path
 
 from host.artefacts.folder import HEADER
 from host.core.errors import ConfigError, HarnessError
-from host.core.paths import BOARDS_DIR, REPO
+from host.core.paths import REPO
 from host.report.progress import MissionProgress
 from host.report.table import format_table
+from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
 from sim_plant import kinds
 
@@ -144,7 +145,7 @@ def cmd_run(args) -> int:
     board = args.board or app.default_board
     known_boards = tuple(dict.fromkeys((app.default_board, *app.boards)))
     if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
-        known_boards = tuple(sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file()))
+        known_boards = tuple(pin_maps.known_boards())
     if board not in known_boards:
         sub.error(f"argument --board: unknown board {board!r} for app {app.name} (known: {', '.join(known_boards)})")
     world = args.world or next(iter(app.worlds))
@@ -236,7 +237,7 @@ def cmd_list(args) -> int:
     print("apps (firmware/apps/*/rig*.toml):")
     for name, app in sorted(apps().items()):
         print(f"  {name:<18} {app.rig_file.relative_to(REPO)}  {app.doc}")
-    boards = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
+    boards = pin_maps.known_boards()
     print(f"boards (firmware/boards/<name>/board.py): {', '.join(boards)}")
     print("plant kinds ([plant] kind), their options (default) and signals:")
     for kind in kinds.KINDS:

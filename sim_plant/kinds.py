@@ -3,6 +3,7 @@ plant class, or a function that builds one, whose keyword options are the table
 ``[plant.options]``. Unknown options and bad values are refused with the option's name.
 """
 
+import functools
 import inspect
 
 from sim_plant.duct import DuctRobot
@@ -35,6 +36,7 @@ KINDS = {
 }
 
 
+@functools.cache
 def options(kind: str) -> dict[str, object]:
     """The kind's options and their defaults (``inspect.Parameter.empty``: required)."""
     make = KINDS[kind]

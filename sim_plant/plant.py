@@ -85,6 +85,10 @@ class Plant:
         """Ground truth for tests (pose, contacts, ...); never seen by the firmware."""
         raise NotImplementedError
 
+    def sample_period_us(self, signal: str) -> int | None:
+        """How often ``signal`` takes a new sample, if at a fixed period (a budget's default)."""
+        return None
+
     def snapshot(self):
         """The whole mutable state, to :meth:`restore` later (the host rewinds speculative
         batches with it). This default copies the plant's attributes; a plant that knows

@@ -34,7 +34,7 @@ from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.rig import Rig
 from host.rig.firmware import Firmware
-from host.rig.target import Target, end_process
+from host.rig.target import UnixPortTarget
 
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"
@@ -109,17 +109,17 @@ def _write(fd: int, data: bytes) -> None:
             return  # nobody on the other end: a board's output goes nowhere too
 
 
-class VirtualBoardTarget(Target):
+class VirtualBoardTarget(UnixPortTarget):
     """The board REPL process (``_vrepl``) on the console pty, in the board folder. Wired,
-    its ``machine`` and ``time`` are the shim and the link is a pty of its own."""
+    its ``machine`` and ``time`` are the shim and the link is a pty of its own. A unix-port
+    target in all but how it starts, restarts and goes quiet: ending it is the same."""
 
     def __init__(self, board: str, fs: Path, wired: bool):
+        super().__init__()
         self.board = board
         self.fs = fs
         self.console: _Console | None = None  # given by the virtual board at each start
         self.wired = wired
-        self.proc: subprocess.Popen | None = None
-        self.link: PtyPair | None = None
         self.boot_mode = "friendly"
         self._started_at = 0.0
 
@@ -130,7 +130,7 @@ class VirtualBoardTarget(Target):
             "HIL_BOARD_NAME": self.board,
         }
         if self.wired:
-            env.update(firmware.env(self.link.slave_path))
+            env.update(firmware.env(self.pty.slave_path))
         env["MICROPYPATH"] = ":".join([str(VREPL_DIR), firmware.micropypath(shim=self.wired)])
         slave = self.console.repl.slave_fd
         self._started_at = time.monotonic()
@@ -145,10 +145,10 @@ class VirtualBoardTarget(Target):
         )
 
     def open(self, firmware, on_console) -> Channel:
-        if self.link is None:
-            self.link = PtyPair()
+        if self.pty is None:
+            self.pty = PtyPair()
         self.launch(firmware)
-        transport = FdTransport(self.link.master_fd)
+        transport = FdTransport(self.pty.master_fd)
         transport.watch(self.console.repl.master_fd, self.console.from_interpreter)
         transport.watch(self.console.client.master_fd, self.console.from_client)
         return Channel(transport)
@@ -176,17 +176,6 @@ class VirtualBoardTarget(Target):
             if early > 0:
                 time.sleep(early)
             os.kill(self.proc.pid, signal.SIGINT)
-
-    def alive(self) -> bool:
-        return self.proc is not None
-
-    def close(self, session_open: bool = False) -> None:
-        proc, self.proc = self.proc, None
-        if proc is not None:
-            end_process(proc)
-        if self.link is not None:
-            self.link.close()
-            self.link = None
 
     def on_silence(self, rig, timeout_s: float, what: str):
         raise LinkTimeout(f"no {what}")

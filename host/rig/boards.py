@@ -8,11 +8,15 @@ from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 
 
+def known_boards() -> list[str]:
+    """Our boards: the folders of firmware/boards that hold a board.py."""
+    return sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
+
+
 def board_dir(board: str) -> Path:
     path = BOARDS_DIR / board / "board.py"
     if not path.is_file():
-        known = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
-        raise ConfigError(f"board: no pin map {path} (known boards: {', '.join(known)})")
+        raise ConfigError(f"board: no pin map {path} (known boards: {', '.join(known_boards())})")
     return path.parent
 
 

@@ -91,7 +91,6 @@ class Rig:
         self.seed = seed
         self.watchdog_s = watchdog_s
         board_folder, pins = self.app.board_files(self.board)
-        self.wiring = Wiring(self.app.wiring, pins, self.board)
         if firmware_dir is not None:
             self.firmware = Firmware.flashed(firmware_dir, require_main)
         else:
@@ -99,7 +98,7 @@ class Rig:
         self.plant_options = dict(plant_options or {})
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
-        self.wiring.sensors = dict(self.plant.outputs)  # (what the firmware may only read)
+        self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
         self.recorder = Recorder(self.plant) if record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
@@ -114,7 +113,6 @@ class Rig:
         self.target = target if target is not None else UnixPortTarget(self.pacing.busy_poll_s())
         self.artefacts = Path(artefacts) if artefacts else None
         self.trace_enabled = trace
-        self.time_round_trips = time_round_trips
         self.progress = progress
         self.console = ""
         self.micropython_version = ""

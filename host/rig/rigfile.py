@@ -16,7 +16,7 @@ import tomllib
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 from host.rig.app import App
-from host.rig.boards import read_board_file
+from host.rig.boards import known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds
@@ -60,14 +60,18 @@ class _Where:
         closest known one), wrong types and missing required keys are errors."""
         for key, value in data.items():
             if key not in keys:
-                close = difflib.get_close_matches(key, keys, n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
+                hint = _did_you_mean(key, keys)
                 raise self.error(f"{name} {key}".strip(), f"unknown key (known: {', '.join(keys)}){hint}")
             _check_type(self, f"{name} {key}", value, keys[key])
         missing = [k for k in required if k not in data]
         if missing:
             raise self.error(name.rstrip(":"), f"missing {', '.join(missing)}")
         return data
+
+
+def _did_you_mean(word: str, choices) -> str:
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def _check_type(where: _Where, field: str, value, expected) -> None:
@@ -181,8 +185,8 @@ def _board(where: _Where, base: Path, board: dict):
         path = BOARDS_DIR / board["name"] / "board.py"
         field = "[board] name"
         if not path.is_file():
-            known = sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())
-            raise where.error(field, f"no board {board['name']!r} (known: {', '.join(known)})")
+            known, hint = ", ".join(known_boards()), _did_you_mean(board["name"], known_boards())
+            raise where.error(field, f"no board {board['name']!r} (known: {known}){hint}")
     try:
         pins = read_board_file(path)
     except ConfigError as e:
@@ -195,8 +199,7 @@ def _plant(where: _Where, plant: dict):
     where.table(plant, "[plant]", PLANT_KEYS, required=("kind",))
     kind = plant["kind"]
     if kind not in kinds.KINDS:
-        close = difflib.get_close_matches(kind, kinds.KINDS, n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = _did_you_mean(kind, kinds.KINDS)
         raise where.error("[plant] kind", f"unknown plant kind {kind!r} (kinds: {', '.join(kinds.KINDS)}){hint}")
     return kind, dict(plant.get("options", {}))
 
@@ -207,8 +210,7 @@ def _check_options(where: _Where, field: str, kind: str, options: dict) -> None:
     known = kinds.options(kind)
     for name, value in options.items():
         if name not in known:
-            close = difflib.get_close_matches(name, known, n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = _did_you_mean(name, known)
             raise where.error(
                 f"{field} {name}", f"the {kind} plant has no such option (options: {', '.join(known)}){hint}"
             )
@@ -272,8 +274,7 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
             raise where.error(field, f"expected a table, got {spec!r}")
         budget_kind = spec.get("kind")
         if budget_kind not in BUDGET_KINDS:
-            close = difflib.get_close_matches(str(budget_kind), BUDGET_KINDS, n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = _did_you_mean(str(budget_kind), BUDGET_KINDS)
             raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
         cls, keys = BUDGET_KINDS[budget_kind]
         optional = ("marker", "period_us") if budget_kind == "period" else ()  # period: the plant's own by default
@@ -332,7 +333,7 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind:
 
 
 def _sample_period(where: _Where, field: str, plant, source: str) -> int:
-    period = getattr(plant, "sample_period_us", lambda _signal: None)(source)
+    period = plant.sample_period_us(source)
     if period is None:
         what = (
             "a probe has no period of its own"
@@ -344,16 +345,11 @@ def _sample_period(where: _Where, field: str, plant, source: str) -> int:
 
 
 def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, dict]:
-    known = kinds.options(kind)
     for name, world in worlds.items():
         field = f"[worlds.{name}]"
         if not isinstance(world, dict):
             raise where.error(field, f"expected a table of plant options, got {world!r}")
-        unknown = sorted(set(world) - set(known))
-        if unknown:
-            raise where.error(
-                f"{field} {unknown[0]}", f"the {kind} plant has no such option (options: {', '.join(known)})"
-            )
+        _check_options(where, field, kind, world)
         _make_plant(where, kind, {**options, **world}, field)
     return {name: dict(world) for name, world in worlds.items()} or {"default": {}}
 

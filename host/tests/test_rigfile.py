@@ -133,6 +133,7 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
         (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
         (("tolerance_us = 0", 'tolerance_us = "0"'), "[budgets.blink] tolerance_us", "expected an integer"),
         (("room_w_m = 2.0", "room_w_m = 0.1"), "[worlds.small]", "expected a room wider"),
+        (("room_w_m = 2.0", "rom_w_m = 2.0"), "[worlds.small] rom_w_m", "did you mean 'room_w_m'?"),
         (("{period_ms:g}", "{period:g}"), "[budgets.blink] description", "cannot fill in 'period'"),
     ],
 )
