@@ -46,7 +46,7 @@ test: setup
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
 hil: setup
-	HIL_FIRMWARE=$(FIRMWARE) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
