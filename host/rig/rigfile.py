@@ -392,9 +392,11 @@ def starter(folder: Path) -> str:
     wire."""
     files = sorted(folder.glob("*.py"))
     entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
+    trees = [tree for tree in map(_parse, sorted(folder.rglob("*.py"))) if tree is not None]
+    drivers = _drivers(trees)
     pins: dict[str, int] = {}
-    for source in sorted(folder.rglob("*.py")):
-        pins.update(_pins_used(source))
+    for tree in trees:
+        pins.update(_pins_used(tree, drivers))
     lines = "".join(f"{name} = {number}\n" for name, number in sorted(pins.items(), key=lambda kv: kv[1]))
     wiring = "".join(f'# {name} = "..."\n' for name, _ in sorted(pins.items(), key=lambda kv: kv[1]))
     return STARTER.format(
@@ -425,27 +427,41 @@ def _int_constants(tree) -> dict[str, int]:
     return constants
 
 
-def _pins_used(source: Path) -> dict[str, int]:
-    """Name -> pin number for every ``Pin(n)`` / ``Pin(NAME)`` in a file."""
+def _calls(node, name: str):
+    """The calls of ``name(...)`` or ``x.name(...)`` under an AST node."""
+    import ast
+
+    for call in ast.walk(node):
+        func = getattr(call, "func", None)
+        if isinstance(call, ast.Call) and getattr(func, "id", getattr(func, "attr", "")) == name:
+            yield call
+
+
+def _parse(source: Path):
     import ast
 
     try:
-        tree = ast.parse(source.read_text(errors="replace"))
+        return ast.parse(source.read_text(errors="replace"))
     except SyntaxError:
-        return {}
+        return None
+
+
+def _drivers(trees) -> list[str]:
+    """Classes that make a Pin of what they are given (``Motor(PWMA, AIN1, AIN2)``), in
+    any file of the folder (a driver in lib/)."""
+    import ast
+
+    return [c.name for tree in trees for c in tree.body if isinstance(c, ast.ClassDef) and any(_calls(c, "Pin"))]
+
+
+def _pins_used(tree, drivers: list[str]) -> dict[str, int]:
+    """Name -> pin number for every ``Pin(n)``, ``Pin(NAME)`` and driver call in a file."""
+    import ast
+
     constants = _int_constants(tree)
-
-    def calls(node, name):
-        for call in ast.walk(node):
-            func = getattr(call, "func", None)
-            if isinstance(call, ast.Call) and getattr(func, "id", getattr(func, "attr", "")) == name:
-                yield call
-
-    # drivers: classes that make a Pin of what they are given (Motor(PWMA, AIN1, AIN2))
-    drivers = [c.name for c in tree.body if isinstance(c, ast.ClassDef) and any(calls(c, "Pin"))]
     found: dict[str, int] = {}
     for name in ["Pin", *drivers]:
-        for call in calls(tree, name):
+        for call in _calls(tree, name):
             for arg in call.args[:1] if name == "Pin" else call.args:
                 if isinstance(arg, ast.Constant) and type(arg.value) is int:  # Pin(14), TB6612(16, 17, 18)
                     found[f"PIN_{arg.value}"] = arg.value

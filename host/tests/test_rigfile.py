@@ -185,11 +185,17 @@ def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp
         "        self.pwm = PWM(Pin(pwm))\n        self.d = Pin(d, Pin.OUT)\n\nm = Motor(16, 17)\n"
         "left = Motor(LEFT_PWM, 18) if False else None\nLEFT_PWM = 21\nled = Pin(LED, Pin.OUT)\nb = Pin(BTN)\n"
     )
+    (folder / "lib").mkdir()
+    (folder / "lib" / "ranger.py").write_text(
+        "from machine import Pin\n\nclass Ranger:\n    def __init__(self, trig, echo):\n        self.t = Pin(trig)\n"
+    )
+    (folder / "main.py").write_text((folder / "main.py").read_text() + "TRIG, ECHO = 14, 15\nr = Ranger(TRIG, ECHO)\n")
     done = mpy_fil("init", str(folder))
     assert done.returncode == 0, done.stderr
     text = (folder / "rig.toml").read_text()
     assert "LED = 25\n" in text and "BTN = 13\n" in text and "LEFT_PWM = 21\n" in text, text
     assert "PIN_16 = 16\n" in text and "PIN_17 = 17\n" in text, "the pins given to a driver class as numbers"
+    assert "TRIG = 14\n" in text and "ECHO = 15\n" in text, "the pins given to a driver class in lib/"
     assert mpy_fil("check", str(folder / "rig.toml")).returncode == 0
     again = mpy_fil("init", str(folder))
     assert again.returncode == 2 and "exists" in again.stderr and "Traceback" not in again.stderr
