@@ -44,6 +44,15 @@ def pytest_configure(config):
     path = config.getoption("--hil-report", None)
     if path:
         config.stash[_report] = ReportCollector(path)
+    config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
+
+
+def pytest_collection_modifyitems(items):
+    """A test that makes a rig runs firmware in the loop: it is a hil test, marked or not
+    (``make hil RIG=…`` selects a user's tests by that mark)."""
+    for item in items:
+        if {"make_rig", "rig"} & set(getattr(item, "fixturenames", ())) and not item.get_closest_marker("hil"):
+            item.add_marker(pytest.mark.hil)
 
 
 @pytest.hookimpl(wrapper=True)

@@ -270,3 +270,20 @@ def test_a_firmware_that_drives_a_sensor_line_or_reads_a_level_with_an_adc_is_st
     rig = make_rig(str(write_rig(tmp_path / "mybot", GOOD, {"main.py": code})))
     with pytest.raises(ConfigError, match=re.escape(says)):
         rig.run_for(0.1)
+
+
+def test_a_users_test_that_makes_a_rig_is_selected_as_hil_unmarked(tmp_path):
+    """`make hil RIG=…` runs `pytest -m hil` on the rig file's folder: a test of one's own
+    that uses make_rig counts as hil without a mark."""
+    rig = write_rig(tmp_path / "mybot")
+    (tmp_path / "mybot" / "test_mybot.py").write_text(
+        f"def test_blinks(make_rig):\n    make_rig({str(rig)!r}, seed=1).run_for(1)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "hil", str(tmp_path / "mybot")],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0 and "1 passed" in done.stdout, done.stdout + done.stderr
