@@ -46,6 +46,9 @@ class Plant:
 
     inputs: dict[str, str] = {}
     outputs: dict[str, str] = {}
+    zero_delay = False
+    """True when an input may change an output at the same instant (a wire from a board
+    output to a board input): the shim then syncs a read that follows a write."""
 
     def reset(self, seed: int) -> None:
         """Start over at ``t_us = 0`` with a generator seeded by ``seed``."""

@@ -24,7 +24,16 @@ from host.link import frames as F
 from host.rig import Rig
 from host.rig.target import Target
 
-SHIM_FILES = ("_hil.py", "_hilframe.py", "_hilboot.py", "_umachine.py", "machine.py", "time.py", "select.py")
+SHIM_FILES = (
+    "_hil.py",
+    "_hilframe.py",
+    "_hilboot.py",
+    "_hilsys.py",
+    "_umachine.py",
+    "machine.py",
+    "time.py",
+    "select.py",
+)
 ASYNCIO_FILES = ("__init__.py", "core.py", "event.py", "funcs.py", "lock.py", "stream.py", "task.py")
 BOOT = (
     b"import sys, os\nsys.path.insert(0, os.getcwd().rstrip('/') + '/hil')\nimport _hilboot\n_hilboot.main(pil=True)\n"
@@ -144,4 +153,6 @@ class BoardTarget(Target):
 
 def board_rig(app="rover", *, port: str, **kwargs) -> Rig:
     """A rig whose firmware runs on the board at ``port`` (its files flashed there)."""
-    return Rig(app, target=BoardTarget(port), **kwargs)
+    rig = Rig(app, target=BoardTarget(port), **kwargs)
+    rig.identity = None  # a real board: its own sys.platform and machine
+    return rig

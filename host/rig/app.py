@@ -39,6 +39,7 @@ class App:
     plant_options: dict = field(default_factory=dict)
     heap_size: str | None = None  # the interpreter's heap (``-X heapsize``), as a board's
     ticks_wrap_s: float | None = None  # ticks_ms/ticks_us wrap this long into the run (10 s)
+    identity: tuple[str, str] | None = None  # (sys.platform, machine): default by board name
 
     @property
     def path(self) -> Path:

@@ -8,6 +8,22 @@ from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 
 
+# What a board's firmware sees as sys.platform and sys.implementation._machine, by the
+# family its name starts with; a board of no known family keeps the unix port's own.
+IDENTITIES = {
+    "esp32": ("esp32", "Generic ESP32 module with ESP32"),
+    "rpi_pico": ("rp2", "Raspberry Pi Pico with RP2040"),
+}
+
+
+def identity(board: str | None) -> tuple[str, str] | None:
+    """(sys.platform, sys.implementation._machine) for a board, or None."""
+    for family, ident in IDENTITIES.items():
+        if board and board.startswith(family):
+            return ident
+    return None
+
+
 def known_boards() -> list[str]:
     """Our boards: the folders of firmware/boards that hold a board.py."""
     return sorted(p.name for p in BOARDS_DIR.iterdir() if (p / "board.py").is_file())

@@ -23,6 +23,7 @@ from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core.errors import ConfigError, FirmwareError, FirmwareHung, LinkError
 from host.link import frames as F
+from host.rig import boards
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
@@ -99,6 +100,7 @@ class Rig:
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
         self.plant.reset(seed)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
+        self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
         self.recorder = Recorder(self.plant) if record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
@@ -117,6 +119,7 @@ class Rig:
         self.console = ""
         self.micropython_version = ""
         self.exit_kind: int | None = None
+        self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
         self.resets = 0
         self.linklog: LinkLog = NO_LOG
         self._started = False
@@ -172,7 +175,8 @@ class Rig:
         self.speculation.end()
         self.clock.wait = None
         chan = launch(self.firmware, self._on_console)
-        self.micropython_version = self.session.handshake(chan, self.pacing.code, self.t_us)
+        flags = F.WELCOME_ZERO_DELAY if self.plant.zero_delay else 0
+        self.micropython_version = self.session.handshake(chan, self.pacing.code, self.t_us, flags, self.identity)
         self.pacing.begin(self.t_us)
 
     def stop(self) -> None:
@@ -313,6 +317,7 @@ class Rig:
             self.resets += 1
         else:
             self.exit_kind = kind
+            self.exit_code = code
             self.clock.catch_up(t)
 
     def restart(self) -> None:

@@ -21,8 +21,9 @@ class Session:
         self.last_type: int | None = None  # of the last message from the shim
         self._t_sent = None
 
-    def handshake(self, chan, mode: int, t_us: int) -> str:
-        """HELLO from the shim, WELCOME back; the shim's "<micropython version>;<machine>"."""
+    def handshake(self, chan, mode: int, t_us: int, flags: int = 0, identity: tuple[str, str] | None = None) -> str:
+        """HELLO from the shim, WELCOME back; the shim's "<micropython version>;<machine>".
+        ``flags``: F.WELCOME_* bits; ``identity``: the board's (platform, machine)."""
         self.chan = chan
         self.last_type = None
         type_, payload = self.recv(HANDSHAKE_TIMEOUT_S, "HELLO")
@@ -31,7 +32,8 @@ class Session:
         proto, info = F.unpack_hello(payload)
         if proto != F.PROTO_VERSION:
             raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
-        self.send(F.WELCOME, F.pack_welcome(mode, t_us))
+        ident = ";".join(identity).encode() if identity else b""
+        self.send(F.WELCOME, F.pack_welcome(mode, t_us, flags, ident))
         return info.decode(errors="replace")
 
     def send(self, type_: int, payload: bytes) -> None:

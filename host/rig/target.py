@@ -71,7 +71,7 @@ class UnixPortTarget(Target):
             self.pty = PtyPair()
         self._on_console = on_console
         self.proc = subprocess.Popen(
-            [str(interpreter.find()), *firmware.interpreter_args(), "-m", "_hilboot"],
+            [str(interpreter.find()), *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
             env=firmware.env(self.pty.slave_path),
             cwd=str(firmware.main_dir),
             stdin=subprocess.DEVNULL,

@@ -66,6 +66,9 @@ class _Link:
     # ThreadSafeFlag): its check, True when one is. (Here, not a module global: more
     # globals in this module slow every global lookup of the hot paths.)
     woke = None
+    # The plant may carry an output to an input at the same instant (a wire): a read
+    # after a write then syncs at that instant (the WELCOME's flag).
+    zero = False
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -234,7 +237,7 @@ def run_until(t_target, watch=None):
     while True:
         t_stop = t_target if t_target < _timer_due else _timer_due
         t = now()
-        if t_stop <= t or t_stop < _horizon:
+        if t_stop < _horizon or (t_stop <= t and not (_link.zero and t_stop == t == _horizon)):
             if t_stop > t:
                 if _lockstep:
                     _now = t_stop
@@ -402,9 +405,16 @@ def start():
     type_, _seq, p = _link.recv()
     if type_ != F.WELCOME:
         raise OSError("expected WELCOME from the host, got type 0x%02x" % type_)
-    proto, mode, t_start = F.unpack_welcome(p)
-    if proto != F.PROTO_VERSION:
-        raise OSError("host speaks link protocol %d, shim speaks %d" % (proto, F.PROTO_VERSION))
+    if struct.unpack_from("<H", p, 0)[0] != F.PROTO_VERSION:
+        raise OSError(
+            "host speaks link protocol %d, shim speaks %d" % (struct.unpack_from("<H", p, 0)[0], F.PROTO_VERSION)
+        )
+    _proto, mode, t_start, flags, identity = F.unpack_welcome(p)
+    _Link.zero = bool(flags & F.WELCOME_ZERO_DELAY)
+    if identity:  # the board's sys.platform and sys.implementation._machine
+        import _hilsys
+
+        _hilsys.install(*identity.decode().split(";", 1))
     _now = t_start
     _horizon = t_start
     _wake_real_us = _rtime.ticks_us()

@@ -1,4 +1,5 @@
-# Entry point of a firmware run: `micropython -m _hilboot` on the unix port, or
+# Entry point of a firmware run: `micropython -c "import _hilboot; _hilboot.main()"` on
+# the unix port (so __main__ is free for the firmware's entry file), or
 # `import _hilboot; _hilboot.main(pil=True)` at a board's REPL (processor in the loop).
 # Shakes hands with the host, makes asyncio keep its task queue in virtual time, then
 # runs boot.py and main.py from the firmware's folder as a board does (on a board, boot.py
@@ -45,10 +46,20 @@ def _find(name):
 
 
 def _run(name):
+    """Run a file as the board runs boot.py and main.py: in the __main__ module (so
+    `import __main__` and unittest.main() find its names), with sys.argv naming it as
+    the unix port does."""
     path, source = _find(name)
     if source is None:
         return False
-    exec(compile(source, name, "exec"), {"__name__": "__main__", "__file__": path})
+    import __main__
+
+    env = __main__.__dict__
+    env.clear()
+    env["__name__"] = "__main__"
+    env["__file__"] = path
+    sys.argv[:] = [path]
+    exec(compile(source, path, "exec"), env)
     return True
 
 
@@ -98,7 +109,3 @@ def main(pil=False):
             sys.exit(1)
         return
     _hil.finish(F.EXIT_RETURN)
-
-
-if __name__ == "__main__":
-    main()

@@ -15,7 +15,7 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 1
+PROTO_VERSION = 2
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -150,7 +150,9 @@ NAMES = {
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
-WELCOME_FMT = "<HBQ"  # proto, mode, t_start_us
+WELCOME_FMT = "<HBQB"  # proto, mode, t_start_us, flags, then UTF-8 "<platform>;<machine>"
+WELCOME_LEN = struct.calcsize(WELCOME_FMT)
+WELCOME_ZERO_DELAY = 0x01  # flag: a wire may carry an output to an input at the same instant
 CFG_FMT = "<HBBBi"  # handle, kind, mode, pull, param, then UTF-8 pin name
 OUT_FMT = "<QHBi"  # t_us, handle, attr, value
 WAIT_FMT = "<QQI"  # t_now_us, t_until_us, compute_us, then WATCH_FMT per watched handle
@@ -181,13 +183,13 @@ def unpack_hello(p):
     return struct.unpack_from(HELLO_FMT, p, 0)[0], bytes(p[HELLO_LEN:])
 
 
-def pack_welcome(mode, t_start_us):
-    return struct.pack(WELCOME_FMT, PROTO_VERSION, mode, t_start_us)
+def pack_welcome(mode, t_start_us, flags, identity):
+    return struct.pack(WELCOME_FMT, PROTO_VERSION, mode, t_start_us, flags) + identity
 
 
 def unpack_welcome(p):
-    """(proto, mode, t_start_us)"""
-    return struct.unpack_from(WELCOME_FMT, p, 0)
+    """(proto, mode, t_start_us, flags, identity bytes: b"<platform>;<machine>" or b"")"""
+    return struct.unpack_from(WELCOME_FMT, p, 0) + (bytes(p[WELCOME_LEN:]),)
 
 
 def pack_cfg(handle, kind, mode, pull, param, name):
