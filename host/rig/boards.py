@@ -7,7 +7,6 @@ from pathlib import Path
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 
-
 # What a board's firmware sees as sys.platform and sys.implementation._machine, by the
 # family its name starts with; a board of no known family keeps the unix port's own.
 IDENTITIES = {
