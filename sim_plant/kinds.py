@@ -13,6 +13,7 @@ from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.rover import RoverRoom
 from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
+from sim_plant.wires import wires
 from sim_plant.world import POOL_LENGTH_M
 
 
@@ -33,6 +34,7 @@ KINDS = {
     "duct_robot": DuctRobot,
     "vacuum_robot": VacuumRobot,
     "lab_robot": LabRobot,
+    "wires": wires,  # a loopback bench: board outputs wired to board inputs
 }
 
 

@@ -117,9 +117,18 @@ def _apt(*args: str) -> list[str]:
     return ["apt-get", "-q", *flags, *args]
 
 
+def _tree() -> Path:
+    return BUILD / "src" / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
+
+
+def source_tree() -> Path:
+    """MicroPython's source as the build fetched it (its tests/ too); fetched if missing."""
+    return fetch_source()
+
+
 def fetch_source() -> Path:
     src_root = BUILD / "src"
-    tree = src_root / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
+    tree = _tree()
     if (tree / "ports" / "unix" / "Makefile").is_file():
         return tree
     apt = BUILD / "apt"

@@ -63,7 +63,7 @@ class Clock:
         if pacing.speculates and not self.speculation.open and self.wait is not None and self.wiring.irq_armed:
             self.speculation.begin()
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
-            for change in plant.advance_to(plant.t_us):
+            for change in plant.advance_to(plant.t_us, inputs.room()):
                 route(change, watch)
         while plant.t_us < target_us:
             t_next, limit = pacing.step(self, target_us, watch)

@@ -1,7 +1,8 @@
 """The firmware's outputs: each OUT and UART_TX applied to the plant at its virtual time,
 shown to the budgets that watch the pin, and recorded.
 
-A pin wired to a plant input drives it (a level, a PWM duty, UART bytes); a pin wired to
+A pin wired to a plant input drives it (a level, a PWM duty, UART bytes; a PWM's
+frequency too when the input is of kind ``pwm``, a waveform); a pin wired to
 a probe is watched by budgets only; a pin wired to nothing is recorded as ``pin.<name>``.
 """
 
@@ -20,7 +21,12 @@ class Outputs:
     def out(self, t: int, h: int, attr: int, value: int) -> None:
         info = self.wiring.handles[h]
         signal = info.signal
-        if self.recorder is not None and attr != F.OUT_FREQ:
+        if attr == F.OUT_FREQ:
+            info.freq = value
+            if info.level and self.plant_inputs.get(signal) == "pwm":
+                self.plant.set_pwm(signal, value, info.level)
+            return
+        if self.recorder is not None:
             kind = "duty" if info.kind == F.CFG_PWM else "level"
             self._record(t, info, 0 if attr == F.OUT_DEINIT else value, kind)
         last, info.level = info.level, value
@@ -35,10 +41,11 @@ class Outputs:
         if signal not in self.plant_inputs:
             return  # a probe: only the harness watches it
         if info.kind == F.CFG_PWM:
-            if attr == F.OUT_DUTY:
-                self.plant.set_input(signal, value)
-            elif attr == F.OUT_DEINIT:
-                self.plant.set_input(signal, 0)
+            duty = value if attr == F.OUT_DUTY else 0  # (deinit: the line held low)
+            if self.plant_inputs[signal] == "pwm":  # the plant takes the waveform
+                self.plant.set_pwm(signal, info.freq, duty)
+            else:
+                self.plant.set_input(signal, duty)
         elif attr == F.OUT_LEVEL:
             self.plant.set_input(signal, value)
 

@@ -31,7 +31,8 @@ class Handle:
     pull: int = 0
     irq: int = 0  # trigger mask
     samples: int = 0  # ADC samples / UART lines routed to it
-    level: int | None = None  # last level driven on an output
+    level: int | None = None  # last level (or PWM duty) driven on an output
+    freq: int = 0  # a PWM's frequency, Hz
     probe: bool = False  # wired to a probe: only the harness watches it
 
     def __post_init__(self):

@@ -237,7 +237,7 @@ def run_until(t_target, watch=None):
     while True:
         t_stop = t_target if t_target < _timer_due else _timer_due
         t = now()
-        if t_stop < _horizon or (t_stop <= t and not (_link.zero and t_stop == t == _horizon)):
+        if t_stop < _horizon or (t_stop <= t and not (_link.zero and t == _horizon)):
             if t_stop > t:
                 if _lockstep:
                     _now = t_stop
@@ -255,7 +255,7 @@ def run_until(t_target, watch=None):
                 return True
         if hit:
             return True
-        if _now >= t_target:
+        if _now >= t_target and (_horizon > _now or not _link.zero):
             return False
 
 

@@ -33,6 +33,7 @@ class Pin:
         self._out = 0
         self._handler = None
         self._trigger = 0
+        self._counters = None  # Counter and Encoder units counting this pin's edges
         h = Pin._made.get(id)
         old = None
         if h is None:
@@ -43,6 +44,7 @@ class Pin:
             self._handle = h
             self._mode, self._pull, self._level, self._out = old._mode, old._pull, old._level, old._out
             self._handler, self._trigger = old._handler, old._trigger
+            self._counters = old._counters
         self.init(mode, pull, value=value)
         if old is not None and self._handler is not None:
             _hil.configure(self._handle, F.CFG_IRQ, self._id, self._trigger)
@@ -74,6 +76,9 @@ class Pin:
     def _hil_apply(self, kind, value, extra):
         old = self._level
         self._level = value
+        if self._counters is not None and old != value:
+            for unit in self._counters:
+                unit._hil_edge(self, value)
         if self._handler is not None and old != value:
             if (value and self._trigger & self.IRQ_RISING) or (not value and self._trigger & self.IRQ_FALLING):
                 _hil.schedule(self._handler, self)
@@ -138,9 +143,16 @@ class _PinIRQ:
         return self._pin._trigger
 
 
+class PinBase:
+    """A pin of Python: a subclass gives value([x]); Signal and time_pulse_us take it."""
+
+    def value(self, x=None):
+        raise NotImplementedError
+
+
 class Signal:
     def __init__(self, pin, *args, invert=False, **kw):
-        self._pin = pin if isinstance(pin, Pin) else Pin(pin, *args, **kw)
+        self._pin = pin if isinstance(pin, (Pin, PinBase)) else Pin(pin, *args, **kw)
         self._invert = 1 if invert else 0
 
     def value(self, x=None):
@@ -212,7 +224,8 @@ class PWM:
         self._freq = 5000
         self._duty = 0
         _hil.configure(self._handle, F.CFG_PWM, self._pin._id, param=self._freq)
-        self.init(freq=freq, duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
+        self.freq(self._freq if freq is None else freq)
+        self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
     def init(self, *, freq=None, duty=None, duty_u16=None, duty_ns=None, **_kw):
         if freq is not None:
@@ -358,6 +371,8 @@ class UART:
 
 def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
     """Length of a pulse in us; -2 if it never started, -1 if it never ended."""
+    if not isinstance(pin, Pin):  # a PinBase: read it in a loop, as the C function does
+        return _pulse_by_reads(pin, pulse_level, timeout_us)
     _hil.blocking()
     watch = [pin._handle]
     if pin.value() != pulse_level:
@@ -369,6 +384,20 @@ def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
     deadline = t0 + timeout_us
     while pin._level == pulse_level:
         if not _hil.run_until(deadline, watch) and pin._level == pulse_level:
+            return -1
+    return _hil.now() - t0
+
+
+def _pulse_by_reads(pin, level, timeout_us):
+    t0 = _hil.now()
+    while pin.value() != level:
+        _hil.observe()
+        if _hil.now() - t0 >= timeout_us:
+            return -2
+    t0 = _hil.now()
+    while pin.value() == level:
+        _hil.observe()
+        if _hil.now() - t0 >= timeout_us:
             return -1
     return _hil.now() - t0
 
@@ -412,3 +441,169 @@ def soft_reset():
 
 def reset_cause():
     return _reset_cause
+
+
+class _Mem:
+    """machine.mem8/16/32: a sparse memory of its own. What was written reads back, the
+    rest reads 0; no peripheral registers lie behind it (docs/shim.md)."""
+
+    _bytes = {}
+
+    def __init__(self, bits):
+        self._bits = bits
+        self._size = bits // 8
+
+    def _addr(self, addr):
+        if not isinstance(addr, int):
+            raise TypeError("memory address must be an integer")
+        if addr % self._size:
+            raise ValueError("memory address must be aligned to %d bytes" % self._size)
+        return addr
+
+    def __getitem__(self, addr):
+        addr = self._addr(addr)
+        get = _Mem._bytes.get
+        return sum(get(addr + i, 0) << (8 * i) for i in range(self._size))
+
+    def __setitem__(self, addr, value):
+        addr = self._addr(addr)
+        for i in range(self._size):
+            _Mem._bytes[addr + i] = (value >> (8 * i)) & 0xFF
+
+    def __repr__(self):
+        return "<%d-bit memory>" % self._bits
+
+
+mem8 = _Mem(8)
+mem16 = _Mem(16)
+mem32 = _Mem(32)
+
+
+class RTC:
+    """The board's real-time clock: set, it moves time.time() and localtime() too; it
+    runs in virtual time."""
+
+    def __init__(self, id=0, *args, **kw):
+        if args or kw:
+            self.init(*args, **kw)
+
+    def init(self, datetime=None):
+        if datetime is not None:
+            self.datetime(datetime)
+
+    def datetime(self, datetimetuple=None):
+        import time
+
+        if datetimetuple is None:
+            us = time._rtc_us()
+            y, mo, d, h, mi, sec, wd = time.gmtime(us // 1_000_000)[:7]
+            return (y, mo, d, wd, h, mi, sec, us % 1_000_000)
+        y, mo, d, _wd, h, mi, sec, sub = (tuple(datetimetuple) + (0,) * 8)[:8]
+        time._set_rtc_us(time.mktime((y, mo, d, h, mi, sec, 0, 0)) * 1_000_000 + sub)
+
+    def memory(self, data=None):
+        if data is None:
+            return getattr(RTC, "_memory", b"")
+        RTC._memory = bytes(data)
+
+
+def _attach(pin, unit):
+    pin = _hil._handles[pin._handle]  # the pin's newest object gets its edges
+    if pin._counters is None:
+        pin._counters = []
+    pin._counters.append(unit)
+    return pin
+
+
+def _detach(pin, unit):
+    pin = _hil._handles[pin._handle]
+    if pin._counters and unit in pin._counters:
+        pin._counters.remove(unit)
+        if not pin._counters:
+            pin._counters = None
+
+
+def _input(pin):
+    return pin if isinstance(pin, Pin) else Pin(pin, Pin.IN)
+
+
+class _Unit:
+    """A hardware counter unit (the ESP32's PCNT): every edge of its pins counts, in the
+    pin's own time, with no handler run and no time moved. One object per id."""
+
+    _units = None
+
+    def __init__(self, id, *args, **kw):
+        units = type(self)._units
+        if units is None:
+            units = type(self)._units = {}
+        old = units.get(id)
+        if old is not None:
+            old.deinit()
+        units[id] = self
+        self._id = id
+        self._pins = ()
+        self._count = 0
+        if args or kw:
+            self.init(*args, **kw)
+
+    def _attach(self, *pins):
+        self.deinit()
+        self._pins = tuple(_attach(_input(p), self) for p in pins)
+        self._count = 0
+
+    def deinit(self):
+        for pin in self._pins:
+            _detach(pin, self)
+        self._pins = ()
+
+    def value(self, value=None):
+        _hil.observe()  # every edge up to now has arrived
+        old = self._count
+        if value is not None:
+            self._count = int(value)
+        return old
+
+
+class Counter(_Unit):
+    RISING = 1
+    FALLING = 2
+    UP = 1
+    DOWN = -1
+
+    def init(self, src, *, edge=RISING, direction=UP, filter_ns=0, **_kw):
+        if edge not in (self.RISING, self.FALLING, self.RISING | self.FALLING):
+            raise ValueError("edge must be Counter.RISING or Counter.FALLING")
+        self._edge = edge
+        self._dir_pin = direction if isinstance(direction, Pin) else None
+        self._dir = -1 if direction == self.DOWN else 1
+        self._attach(src)
+
+    def _hil_edge(self, pin, level):
+        if self._edge & (self.RISING if level else self.FALLING):
+            if self._dir_pin is not None:  # a direction pin: low counts up, high down
+                self._count += -1 if self._dir_pin._level else 1
+            else:
+                self._count += self._dir
+
+
+class Encoder(_Unit):
+    """Quadrature decoding. Forward is A leading B: (A, B) = 11, 01, 00, 10, 11. With
+    4 phases every edge counts; 2: every edge of A; 1: the edges of A while B is high."""
+
+    def init(self, phase_a, phase_b, *, phases=1, filter_ns=0, **_kw):
+        if phases not in (1, 2, 4):
+            raise ValueError("phases must be 1, 2 or 4")
+        self._phases = phases
+        self._attach(phase_a, phase_b)
+
+    def _hil_edge(self, pin, level):
+        a, b = self._pins
+        if pin._handle == a._handle:
+            b_level = _hil._handles[b._handle]._level
+            step = 1 if (level == 0) == (b_level == 1) else -1
+            if self._phases > 1 or b_level:
+                self._count += step
+        elif self._phases == 4:
+            a_level = _hil._handles[a._handle]._level
+            self._count += 1 if (level == 1) == (a_level == 1) else -1

@@ -26,12 +26,15 @@ class _Poll:
     def unregister(self, obj):
         self._map.pop(id(obj), None)
 
-    def _ready(self):
+    def _ready(self, flags=0):
         ready = []
-        for obj, mask in self._map.values():
+        for entry in self._map.values():
+            obj, mask = entry
             ev = _events(obj, mask)
             if ev:
                 ready.append((obj, ev))
+                if flags & 1:  # one-shot: no more events until modify() re-arms it
+                    entry[1] = 0
         return ready
 
     def _any_ready(self):
@@ -43,23 +46,27 @@ class _Poll:
     def ipoll(self, timeout=-1, flags=0):
         if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
             _hil.observe()
-            return self._ready() if self._map else _NOTHING
+            return self._ready(flags) if self._map else _NOTHING
         _hil.blocking()
         if not self._map:  # nothing to poll (asyncio's sleeps): a plain virtual sleep
             if timeout:
                 _hil.run_until(_hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000)
             return _NOTHING
-        ready = self._ready()
-        if ready or timeout == 0:
+        ready = self._ready(flags)
+        if ready:
             return ready
         watch = [obj._handle for obj, _ in self._map.values() if hasattr(obj, "_handle")]
         deadline = _hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000
-        if len(watch) < len(self._map):  # streams a callback makes ready: wake at its instant
+        streams = len(watch) < len(self._map)
+        if streams:  # streams a callback makes ready: wake at its instant
             _hil._link.woke = self._any_ready
         try:
             while True:
-                _hil.run_until(deadline, watch)
-                ready = self._ready()
+                t = _hil.now()
+                # Streams of Python (and sockets) are looked at again each system tick
+                # (1 ms), as a board's poll does between interrupts.
+                _hil.run_until(min(deadline, t - t % 1000 + 1000) if streams else deadline, watch)
+                ready = self._ready(flags)
                 if ready or _hil.now() >= deadline:
                     return ready
         finally:
@@ -81,7 +88,9 @@ def _events(obj, mask):
     ioctl = getattr(obj, "ioctl", None)
     if ioctl is not None:
         got = ioctl(3, mask)  # MP_STREAM_POLL
-        return got & mask if got and got > 0 else 0
+        if got is not None and got < 0:
+            raise OSError(-got)
+        return got & mask if got else 0
     real = _hil._rselect.poll()
     real.register(obj, mask)
     for _obj, got in real.ipoll(0):

@@ -40,7 +40,7 @@ ticks_cpu = ticks_us
 
 
 def ticks_add(ticks, delta):
-    if not -_HALF <= delta < _HALF:  # as a board's: the sum would be ambiguous
+    if not -_HALF < delta < _HALF:  # as a board's: ticks_diff could not give it back
         raise OverflowError("ticks interval overflow")
     return (ticks + delta) & _MASK
 
@@ -69,12 +69,24 @@ def sleep(seconds):
     sleep_us(int(seconds * 1_000_000))
 
 
+_rtc_offset_us = 0  # machine.RTC().datetime(...) moves the wall clock
+
+
+def _rtc_us():
+    return _EPOCH_S * 1_000_000 + _rtc_offset_us + _hil.now()
+
+
+def _set_rtc_us(us):
+    global _rtc_offset_us
+    _rtc_offset_us = us - _EPOCH_S * 1_000_000 - _hil.now()
+
+
 def time():
-    return _EPOCH_S + _hil.now() // 1_000_000
+    return _rtc_us() // 1_000_000
 
 
 def time_ns():
-    return (_EPOCH_S * 1_000_000 + _hil.now()) * 1000
+    return _rtc_us() * 1000
 
 
 def gmtime(secs=None):

@@ -1,0 +1,139 @@
+"""``make conformance``: MicroPython's own tests on the plain unix port and in the loop,
+with upstream's ``run-tests.py``; prints the table and checks it against ``known.toml``.
+
+``python -m host.conformance [--subset] [--table FILE]``. Exit status 1 when a test that
+passes on the plain port fails in the loop and ``known.toml`` does not list it, or when
+``known.toml`` lists a test that passes after all (the list is kept true).
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import tomllib
+
+from host.core import interpreter
+from host.core.paths import BUILD, REPO
+
+HERE = Path(__file__).resolve().parent
+OUT = BUILD / "conformance"
+# The API the shim stands in for (machine, time, select, asyncio on them), by pattern.
+TESTS = ("extmod/machine*.py", "extmod/ticks_*.py", "extmod/time_*.py", "extmod/select_*.py", "extmod/asyncio_*.py")
+# A few of each kind, for make test (the whole set is make conformance).
+SUBSET = (
+    "extmod/machine_soft_timer.py",
+    "extmod/machine_pulse.py",
+    "extmod/ticks_add.py",
+    "extmod/time_ms_us.py",
+    "extmod/select_ipoll.py",
+    "extmod/asyncio_fair.py",
+    "extmod/asyncio_threadsafeflag.py",
+    "extmod/asyncio_wait_for.py",
+)
+STATUS = {"pass": "pass", "skip": "skip", "FAIL": "FAIL"}
+
+
+def tests_dir() -> Path:
+    path = interpreter.source_tree() / "tests"
+    if not (path / "run-tests.py").is_file():
+        raise SystemExit(f"error: no {path}/run-tests.py: run `make setup` (it fetches MicroPython's source)")
+    return path
+
+
+def select(tests: Path, subset: bool) -> tuple[list[str], list[str]]:
+    """(the files to run, those left out because they need unittest: Debian's source
+    (+ds) strips micropython-lib, where it lives, and run-tests.py stops on them)."""
+    files = SUBSET if subset else {p.relative_to(tests).as_posix() for pattern in TESTS for p in tests.glob(pattern)}
+    needs = {f for f in files if "import unittest" in (tests / f).read_text()}
+    return sorted(set(files) - needs), sorted(needs)
+
+
+def wrapper() -> Path:
+    """An executable run-tests.py can call as its MicroPython: the file in the loop."""
+    OUT.mkdir(parents=True, exist_ok=True)
+    path = OUT / "micropython-in-the-loop"
+    path.write_text(
+        "#!/bin/sh\n# run-tests.py's MicroPython: each test file in the loop (host/conformance/inloop.py)\n"
+        f'PYTHONPATH="{REPO}" exec "{sys.executable}" -m host.conformance.inloop "$@"\n'
+    )
+    path.chmod(0o755)
+    return path
+
+
+def run_tests(tests: Path, files: list[str], micropython: Path, name: str) -> dict[str, str]:
+    """Each file's result (pass, skip, FAIL) under ``micropython``, by run-tests.py."""
+    result_dir = OUT / name
+    env = {**os.environ, "MICROPY_MICROPYTHON": str(micropython), "MICROPY_CPYTHON3": sys.executable}
+    cmd = [sys.executable, "run-tests.py", "--result-dir", str(result_dir), "-j", "2", *files]
+    started = time.monotonic()
+    proc = subprocess.run(cmd, cwd=tests, env=env, capture_output=True, text=True, timeout=1800)
+    (OUT / f"{name}.log").write_text(proc.stdout + proc.stderr)
+    results = {}
+    for line in proc.stdout.splitlines():
+        m = re.match(r"^(pass|skip|FAIL)\s+(\S+)", line)
+        if m:
+            results[m.group(2)] = STATUS[m.group(1)]
+    for f in files:
+        results.setdefault(f, "error")  # run-tests stopped on it (a TestError)
+    print(f"[conformance] {name}: {len(files)} files in {time.monotonic() - started:.1f} s (log: {OUT / name}.log)")
+    return results
+
+
+def known() -> dict[str, str]:
+    data = tomllib.loads((HERE / "known.toml").read_text())
+    return {name: entry["reason"] for name, entry in data.get("test", {}).items()}
+
+
+def table(files, plain, shim, reasons) -> str:
+    lines = ["| test | plain unix port | in the loop | note |", "|---|---|---|---|"]
+    for f in files:
+        note = reasons.get(f, "")
+        lines.append(f"| `{f}` | {plain[f]} | {shim[f]} | {note} |")
+    counts = {k: sum(1 for f in files if shim[f] == k) for k in ("pass", "skip", "FAIL", "error")}
+    plain_pass = sum(1 for f in files if plain[f] == "pass")
+    lines.append("")
+    lines.append(
+        f"{len(files)} files: {plain_pass} pass on the plain port; in the loop {counts['pass']} pass, "
+        f"{counts['skip']} skip, {counts['FAIL'] + counts['error']} fail."
+    )
+    return "\n".join(lines) + "\n"
+
+
+def verdict(files, plain, shim, reasons) -> list[str]:
+    problems = []
+    for f in files:
+        if plain[f] == "pass" and shim[f] != "pass" and f not in reasons:
+            problems.append(f"{f}: passes on the plain port, {shim[f]} in the loop (output: {OUT / 'shim'}/)")
+        if f in reasons and shim[f] == "pass":
+            problems.append(f"{f}: listed in host/conformance/known.toml but passes in the loop: remove it")
+    return problems
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(prog="python -m host.conformance", description=__doc__.splitlines()[0])
+    ap.add_argument("--subset", action="store_true", help="a few files of each kind (make test)")
+    ap.add_argument("--table", type=Path, help="also write the table (Markdown) to this file")
+    args = ap.parse_args(argv)
+    tests = tests_dir()
+    files, needs_unittest = select(tests, args.subset)
+    plain = run_tests(tests, files, interpreter.find(), "plain")
+    shim = run_tests(tests, files, wrapper(), "shim")
+    reasons = known()
+    text = table(files, plain, shim, reasons)
+    if needs_unittest:
+        text += f"Not run (they need unittest, which Debian's source leaves out): {', '.join(needs_unittest)}.\n"
+    print(text)
+    if args.table:
+        args.table.write_text(text)
+    problems = verdict(files, plain, shim, reasons)
+    for p in problems:
+        print("error:", p, file=sys.stderr)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,103 @@
+"""One MicroPython test file run in the loop, as ``micropython [-X k=v ...] file.py``
+would run it: the file is the firmware's entry file, its folder the board's ``/``, the
+plant a bench of wires (:mod:`sim_plant.wires`). What the firmware printed goes to
+stdout and the exit status is the firmware's (1 for an uncaught exception), so
+upstream's ``run-tests.py`` can use this as its ``MICROPY_MICROPYTHON``.
+
+Anything else (``-c``, other options) runs on the plain interpreter.
+"""
+
+import os
+import sys
+from pathlib import Path
+
+from host.core import interpreter
+from host.core.errors import HarnessError
+from host.rig.app import App
+from host.rig.boards import identity
+from host.rig.rig import Rig
+from sim_plant.wires import wires
+
+# The bench: pin pairs joined by a wire (output pin -> input pin), on every board.
+PINS = {"W0_OUT": 4, "W0_IN": 5, "W1_OUT": 12, "W1_IN": 13, "W2_OUT": 18, "W2_IN": 19, "W3_OUT": 25, "W3_IN": 26}
+WIRING = {
+    "W0_OUT": "w0.in",
+    "W0_IN": "w0.out",
+    "W1_OUT": "w1.in",
+    "W1_IN": "w1.out",
+    "W2_OUT": "w2.in",
+    "W2_IN": "w2.out",
+    "W3_OUT": "w3.in",
+    "W3_IN": "w3.out",
+}
+LIMIT_S = 120.0  # virtual seconds a test may run
+BOARD_ENV = "MPY_FIL_BOARD"  # a board family (esp32, rpi_pico): its sys.platform; unset: the unix port's
+
+
+def bench_app(test: Path, heap_size: str | None = None) -> App:
+    board = os.environ.get(BOARD_ENV, "")
+    return App(
+        name="conformance",
+        default_board=board or "bench",
+        make_plant=wires,
+        wiring=WIRING,
+        folder=test.parent,
+        entry=test.name,
+        harness_lib=False,
+        pins=PINS,
+        heap_size=heap_size,
+        identity=identity(board) if board else None,
+    )
+
+
+def parse(argv: list[str]) -> tuple[Path, str | None] | None:
+    """(the test file, -X heapsize) for `[-X k=v ...] file.py`; None for anything else."""
+    heap = None
+    args = list(argv)
+    while len(args) >= 2 and args[0] == "-X":
+        key, _, value = args[1].partition("=")
+        if key == "heapsize":
+            heap = value
+        elif key != "emit" or value != "bytecode":
+            return None
+        args = args[2:]
+    if len(args) != 1 or not args[0].endswith(".py"):
+        return None
+    return Path(args[0]).resolve(), heap
+
+
+def run(test: Path, heap: str | None) -> tuple[str, int]:
+    """(what the firmware printed, its exit status)."""
+    rig = Rig(bench_app(test, heap), watchdog_s=10.0)
+    status = 0
+    try:
+        rig.start()
+        deadline = rig.t_us + round(LIMIT_S * 1e6)
+        while rig.exit_kind is None and rig.t_us < deadline:
+            rig.run_for(1.0)
+        if rig.exit_kind is None:
+            rig.stop()
+            return rig.console + f"\nTIMEOUT: still running after {LIMIT_S:g} virtual s\n", 1
+        status = rig.exit_code or 0
+    except HarnessError as e:  # the firmware raised (its traceback is on the console) or hung
+        status = 1
+        if "Traceback" not in rig.console:
+            rig.console += f"\n{e}\n"
+    finally:
+        rig.stop()
+    return rig.console, status
+
+
+def main(argv: list[str]) -> int:
+    parsed = parse(argv)
+    if parsed is None:
+        plain = str(interpreter.find())
+        os.execv(plain, [plain, *argv])
+    console, status = run(*parsed)
+    sys.stdout.write(console)
+    sys.stdout.flush()
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,123 @@
+"""Wires between board pins: a loopback bench, as upstream's hardware tests wire a board.
+
+Each wire ``<name>`` has an input ``<name>.in`` (a board output drives it: a level, or a
+PWM waveform) and an output ``<name>.out`` (a board input reads it). A level written to
+the input is on the output at the same instant (``zero_delay``: the shim syncs a read that
+follows a write). A PWM on the input drives the output with its waveform: rising edges
+every period from the instant the PWM started, each high for duty/65535 of the period,
+edge times rounded to the microsecond (so ``time_pulse_us`` measures a pulse within 1 µs).
+Duty 0 holds the line low, 65535 high.
+"""
+
+from sim_plant.plant import NEVER_US, Change, Plant
+
+DEFAULT_WIRES = ("w0", "w1", "w2", "w3")
+
+
+class _Waveform:
+    """A PWM's edges: rises at t0 + round(k·P), falls at t0 + round(k·P + H)."""
+
+    def __init__(self, t0: int, freq_hz: int, duty_u16: int):
+        self.t0 = t0
+        self.period = 1e6 / freq_hz
+        self.high = self.period * duty_u16 / 65535
+        self.k = 0  # the period the next edge belongs to
+        self.rising = False  # the next edge (the first rise is at t0 itself)
+
+    def next_edge(self) -> tuple[int, int]:
+        base = self.k * self.period
+        if self.rising:
+            return self.t0 + round(base + self.period), 1
+        return self.t0 + round(base + self.high), 0
+
+    def take_edge(self) -> None:
+        if self.rising:
+            self.k += 1
+        self.rising = not self.rising
+
+
+class Wires(Plant):
+    zero_delay = True
+
+    def __init__(self, wires=DEFAULT_WIRES):
+        self.names = tuple(wires)
+        self.inputs = {f"{w}.in": "pwm" for w in self.names}
+        self.outputs = {f"{w}.out": "level" for w in self.names}
+        self.reset(0)
+
+    def reset(self, seed: int) -> None:
+        self._t_us = 0
+        self.levels = dict.fromkeys(self.names, 0)
+        self.waves: dict[str, _Waveform] = {}
+        self.now: list[Change] = []  # changes at the current instant, not yet taken
+        self.edges = 0
+
+    @property
+    def t_us(self) -> int:
+        return self._t_us
+
+    def _wire(self, name: str) -> str:
+        wire = name[: -len(".in")] if name.endswith(".in") else None
+        if wire not in self.levels:
+            raise KeyError(f"Wires has no input {name!r} (inputs: {', '.join(self.inputs)})")
+        return wire
+
+    def _drive(self, wire: str, level: int) -> None:
+        if self.levels[wire] != level:
+            self.levels[wire] = level
+            self.edges += 1
+            self.now.append(Change(self._t_us, f"{wire}.out", level))
+
+    def set_input(self, name: str, value) -> None:
+        wire = self._wire(name)
+        self.waves.pop(wire, None)
+        self._drive(wire, 1 if value else 0)
+
+    def set_pwm(self, name: str, freq_hz: int, duty_u16: int) -> None:
+        """A PWM on the wire's input from now on (freq in Hz, duty 0..65535)."""
+        wire = self._wire(name)
+        self.waves.pop(wire, None)
+        if duty_u16 <= 0 or duty_u16 >= 65535 or freq_hz <= 0:
+            self._drive(wire, 1 if duty_u16 >= 65535 and freq_hz > 0 else 0)
+            return
+        self.waves[wire] = _Waveform(self._t_us, freq_hz, duty_u16)
+        self._drive(wire, 1)
+
+    def next_change_us(self) -> int:
+        if self.now:
+            return self._t_us
+        return min((w.next_edge()[0] for w in self.waves.values()), default=NEVER_US)
+
+    def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
+        if limit and len(self.now) > limit:  # a burst of writes at one instant: in parts
+            changes, self.now = self.now[:limit], self.now[limit:]
+            return changes
+        changes, self.now = self.now, []
+        while self.waves:
+            t_edge, wire = min((w.next_edge()[0], name) for name, w in self.waves.items())
+            if t_edge > t_us:
+                break
+            if limit and len(changes) >= limit and t_edge > self._t_us:
+                return changes  # stopped after the instant that reached the limit
+            wave = self.waves[wire]
+            level = wave.next_edge()[1]
+            wave.take_edge()
+            self._t_us = t_edge
+            self._drive(wire, level)
+            changes += self.now
+            self.now = []
+        self._t_us = max(self._t_us, t_us)
+        return changes
+
+    def output(self, name: str) -> int:
+        return self.levels[name[: -len(".out")]]
+
+    def truth(self) -> dict:
+        return {"t_us": self._t_us, "levels": dict(self.levels), "edges": self.edges}
+
+
+def wires(n: int = 4) -> Wires:
+    """A bench of ``n`` wires, w0 .. w<n-1>."""
+    if not (isinstance(n, int) and 1 <= n <= 32):
+        raise ValueError(f"wires: n must be 1..32, got {n!r}")
+    return Wires(tuple(f"w{i}" for i in range(n)))
