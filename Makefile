@@ -4,6 +4,8 @@
 #   make hil     the firmware-in-the-loop scenarios, the timing-budget table and the
 #                HTML report (build/hil/report.html)
 #   make bench   real-time factor and link round trip; plant cost per quantum
+#   make conformance   MicroPython's own tests on the plain port and in the loop (the
+#                table: build/conformance/table.md; docs/shim.md)
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
 #   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file
@@ -27,7 +29,7 @@ export MICROPYTHON
 
 APP ?= rover
 
-.PHONY: setup test hil bench lint format flash clean
+.PHONY: setup test hil bench conformance lint format flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
@@ -54,6 +56,9 @@ flash: setup
 bench: setup
 	$(PY) -m host.bench
 	$(PY) -m sim_plant.plant_cost
+
+conformance: setup
+	$(PY) -m host.conformance --table build/conformance/table.md
 
 lint: $(VENV)/.installed
 	$(VENV)/bin/ruff check .

@@ -7,11 +7,17 @@ follows a write). A PWM on the input drives the output with its waveform: rising
 every period from the instant the PWM started, each high for duty/65535 of the period,
 edge times rounded to the microsecond (so ``time_pulse_us`` measures a pulse within 1 µs).
 Duty 0 holds the line low, 65535 high.
+
+A UART wire ``<name>`` (``uarts``) is one signal both ways: a UART wired to it receives
+what it sends, each byte at the time its stop bit ends at the sender's baud rate (10 bits
+a byte), one after another on the line.
 """
 
 from sim_plant.plant import NEVER_US, Change, Plant
 
 DEFAULT_WIRES = ("w0", "w1", "w2", "w3")
+DEFAULT_UARTS = ("u0", "u1", "u2")
+BITS_PER_BYTE = 10  # start, 8 data, stop
 
 
 class _Waveform:
@@ -39,10 +45,11 @@ class _Waveform:
 class Wires(Plant):
     zero_delay = True
 
-    def __init__(self, wires=DEFAULT_WIRES):
+    def __init__(self, wires=DEFAULT_WIRES, uarts=DEFAULT_UARTS):
         self.names = tuple(wires)
-        self.inputs = {f"{w}.in": "pwm" for w in self.names}
-        self.outputs = {f"{w}.out": "level" for w in self.names}
+        self.uarts = tuple(uarts)
+        self.inputs = {f"{w}.in": "pwm" for w in self.names} | dict.fromkeys(self.uarts, "uart")
+        self.outputs = {f"{w}.out": "level" for w in self.names} | dict.fromkeys(self.uarts, "bytes")
         self.reset(0)
 
     def reset(self, seed: int) -> None:
@@ -51,6 +58,8 @@ class Wires(Plant):
         self.waves: dict[str, _Waveform] = {}
         self.now: list[Change] = []  # changes at the current instant, not yet taken
         self.edges = 0
+        self.bytes: list[Change] = []  # bytes on a UART line, in time order
+        self.line_free = dict.fromkeys(self.uarts, 0)  # when each line's last byte ends
 
     @property
     def t_us(self) -> int:
@@ -83,34 +92,50 @@ class Wires(Plant):
         self.waves[wire] = _Waveform(self._t_us, freq_hz, duty_u16)
         self._drive(wire, 1)
 
+    def send_bytes(self, name: str, data: bytes, baud: int) -> None:
+        """Bytes a UART sends on line ``name`` at ``baud``, from now (after what is on it)."""
+        if name not in self.line_free:
+            raise KeyError(f"Wires has no UART line {name!r} (lines: {', '.join(self.uarts)})")
+        start = max(self._t_us, self.line_free[name])
+        byte_us = BITS_PER_BYTE * 1e6 / max(1, baud)
+        for i, b in enumerate(data):
+            self.bytes.append(Change(start + round((i + 1) * byte_us), name, bytes((b,))))
+        self.line_free[name] = start + round(len(data) * byte_us)
+        self.bytes.sort(key=lambda c: c.t_us)
+
     def next_change_us(self) -> int:
         if self.now:
             return self._t_us
-        return min((w.next_edge()[0] for w in self.waves.values()), default=NEVER_US)
+        t_byte = self.bytes[0].t_us if self.bytes else NEVER_US
+        return min([t_byte, *(w.next_edge()[0] for w in self.waves.values())])
 
     def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
         if limit and len(self.now) > limit:  # a burst of writes at one instant: in parts
             changes, self.now = self.now[:limit], self.now[limit:]
             return changes
         changes, self.now = self.now, []
-        while self.waves:
-            t_edge, wire = min((w.next_edge()[0], name) for name, w in self.waves.items())
-            if t_edge > t_us:
+        while True:
+            t_next = self.next_change_us()
+            if t_next > t_us:
                 break
-            if limit and len(changes) >= limit and t_edge > self._t_us:
+            if limit and len(changes) >= limit and t_next > self._t_us:
                 return changes  # stopped after the instant that reached the limit
+            self._t_us = t_next
+            if self.bytes and self.bytes[0].t_us == t_next:
+                changes.append(self.bytes.pop(0))
+                continue
+            wire = min((w.next_edge()[0], name) for name, w in self.waves.items())[1]
             wave = self.waves[wire]
             level = wave.next_edge()[1]
             wave.take_edge()
-            self._t_us = t_edge
             self._drive(wire, level)
             changes += self.now
             self.now = []
         self._t_us = max(self._t_us, t_us)
         return changes
 
-    def output(self, name: str) -> int:
-        return self.levels[name[: -len(".out")]]
+    def output(self, name: str):
+        return b"" if name in self.line_free else self.levels[name[: -len(".out")]]
 
     def truth(self) -> dict:
         return {"t_us": self._t_us, "levels": dict(self.levels), "edges": self.edges}

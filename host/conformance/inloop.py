@@ -18,9 +18,14 @@ from host.rig.boards import identity
 from host.rig.rig import Rig
 from sim_plant.wires import wires
 
-# The bench: pin pairs joined by a wire (output pin -> input pin), on every board.
+# The bench: pin pairs joined by a wire (output pin -> input pin), on every board; GPIO4
+# to GPIO5 and GPIO12 to GPIO13 are upstream's esp32 target wiring.
 PINS = {"W0_OUT": 4, "W0_IN": 5, "W1_OUT": 12, "W1_IN": 13, "W2_OUT": 18, "W2_IN": 19, "W3_OUT": 25, "W3_IN": 26}
+PINS |= {"U0_UART": 0, "U1_UART": 1, "U2_UART": 2}  # each UART's TX wired to its RX
 WIRING = {
+    "U0_UART": "u0",
+    "U1_UART": "u1",
+    "U2_UART": "u2",
     "W0_OUT": "w0.in",
     "W0_IN": "w0.out",
     "W1_OUT": "w1.in",

@@ -59,7 +59,11 @@ class Inputs:
                     self._sampled(name, t, info.samples)
                 pending.append((t, h, F.CH_BYTES, len(value), value))
                 self.pending_bytes += len(value)
-                hit |= h in watch
+                if h in watch:
+                    hit = True
+                elif info.irq:  # UART.irq(IRQ_RX): its handler runs at the byte's time
+                    irq = True
+                    self.stats.irq_edges += 1
             else:
                 pending.append((t, h, F.CH_LEVEL, value, 0))
                 if h in watch:

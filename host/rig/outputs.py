@@ -53,7 +53,10 @@ class Outputs:
         info = self.wiring.handles[h]
         if self.recorder is not None:
             self._record(t, info, data, "bytes")
-        if info.signal in self.plant_inputs:
+        kind = self.plant_inputs.get(info.signal)
+        if kind == "uart":  # the plant times the bytes on the line at the baud rate
+            self.plant.send_bytes(info.signal, data, info.freq)
+        elif kind is not None:
             self.plant.set_input(info.signal, data)
 
     def _record(self, t: int, info, value, kind: str) -> None:

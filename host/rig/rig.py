@@ -277,8 +277,10 @@ class Rig:
         key = name.decode()
         self.linklog.cfg(self.t_us, h, kind, key, mode, pull, param, self.wiring.signal_of(key))
         info = self.wiring.configure(h, kind, mode, pull, key)
-        if info is not None and info.is_input:
-            self.inputs.sync(self.t_us, h, info, self.plant)
+        if info is not None:
+            info.freq = param  # a PWM's frequency, a UART's baud rate
+            if info.is_input:
+                self.inputs.sync(self.t_us, h, info, self.plant)
 
     def _on_seen(self, p: bytes) -> None:
         t, h, sample_no = F.unpack_seen(p)

@@ -32,7 +32,7 @@ class Handle:
     irq: int = 0  # trigger mask
     samples: int = 0  # ADC samples / UART lines routed to it
     level: int | None = None  # last level (or PWM duty) driven on an output
-    freq: int = 0  # a PWM's frequency, Hz
+    freq: int = 0  # a PWM's frequency (Hz), a UART's baud rate
     probe: bool = False  # wired to a probe: only the harness watches it
 
     def __post_init__(self):

@@ -11,6 +11,7 @@ WDT_RESET = 3
 DEEPSLEEP_RESET = 4
 SOFT_RESET = 5
 _reset_cause = PWRON_RESET
+_UNSET = object()
 
 
 class Pin:
@@ -308,22 +309,83 @@ class Timer:
 
 
 class UART:
-    def __init__(self, id, baudrate=9600, **kw):
+    """A UART in virtual time: bytes written take their time on the line at the baud
+    rate (flush() waits for the last; IRQ_TXIDLE fires then); bytes received fire IRQ_RX,
+    and IRQ_RXIDLE two character times after the last one. No breaks (no IRQ_BREAK)."""
+
+    IRQ_RX = 1
+    IRQ_RXIDLE = 2
+    IRQ_TXIDLE = 4
+    _made = {}  # UART id -> handle, as Pin._made
+
+    def __init__(self, id, baudrate=9600, bits=8, parity=None, stop=1, **kw):
         self._id = id
         self._rx = b""
         self._lines = 0  # complete lines the firmware has taken (the host's samples)
-        self._handle = _hil.register(self)
-        self._baud = baudrate
-        _hil.configure(self._handle, F.CFG_UART, "uart%s" % (id,), param=baudrate)
+        h = UART._made.get(id)
+        if h is None:
+            self._handle = UART._made[id] = _hil.register(self)
+        else:  # the UART made again: one peripheral, and the newest object is it
+            old = _hil._handles[h]
+            if old._timer is not None:
+                _hil.remove_timer(old._timer)
+            _hil._handles[h] = self
+            self._handle = h
+            self._rx, self._lines = old._rx, old._lines
+        self._tx_end = 0
+        self._handler = None
+        self._trigger = 0
+        self._flags = 0
+        self._timer = None
+        self.init(baudrate, bits, parity, stop)
+        _hil.configure(self._handle, F.CFG_UART, "uart%s" % (id,), param=self._baud)
 
-    def init(self, baudrate=9600, **kw):
+    def init(self, baudrate=9600, bits=8, parity=None, stop=1, **kw):
         self._baud = baudrate
+        self._char_bits = 1 + bits + (0 if parity is None else 1) + stop
 
     def deinit(self):
-        pass
+        self.irq(None)
+
+    def _line_us(self, nbytes):
+        return nbytes * self._char_bits * 1_000_000 // self._baud
 
     def _hil_apply(self, kind, value, extra):
         self._rx += extra
+        if self._trigger & self.IRQ_RX:
+            self._fire(self.IRQ_RX)
+        if self._trigger & self.IRQ_RXIDLE:
+            self._at(_hil.now() + self._line_us(2), self.IRQ_RXIDLE)
+
+    def _fire(self, flag):
+        self._flags = flag
+        _hil.schedule(self._handler, self)
+
+    def _at(self, t_us, flag):
+        """Fire ``flag``'s handler at t_us (one pending at a time: a later one replaces it)."""
+        tm = self._timer
+        if tm is None:
+            tm = self._timer = Timer(-1)
+        tm._callback = self._timer_fired
+        tm._period_us = 0
+        tm._due = t_us
+        tm._flag = flag
+        _hil.add_timer(tm)
+
+    def _timer_fired(self, tm):
+        self._flags = tm._flag
+        if self._handler is not None:
+            self._handler(self)
+
+    def irq(self, handler=_UNSET, trigger=0, hard=False):
+        if handler is _UNSET:
+            return _UartIRQ(self)  # uart.irq(): the IRQ object, to read its flags
+        self._handler = handler
+        self._trigger = trigger if handler is not None else 0
+        if self._timer is not None:
+            _hil.remove_timer(self._timer)
+        _hil.configure(self._handle, F.CFG_IRQ, "uart%s" % (self._id,), self._trigger & self.IRQ_RX)
+        return _UartIRQ(self)
 
     def any(self):
         _hil.observe()
@@ -359,14 +421,36 @@ class UART:
 
     def write(self, buf):
         data = buf.encode() if isinstance(buf, str) else bytes(buf)
-        _hil.send_output(F.UART_TX, F.pack_uart_tx(_hil.now(), self._handle, data))
+        now = _hil.now()
+        self._tx_end = max(now, self._tx_end) + self._line_us(len(data))
+        _hil.send_output(F.UART_TX, F.pack_uart_tx(now, self._handle, data))
+        if self._trigger & self.IRQ_TXIDLE:
+            self._at(self._tx_end, self.IRQ_TXIDLE)
         return len(data)
 
     def _poll_ready(self, mask):
         return len(self._rx) > 0
 
     def flush(self):
-        pass
+        """Wait until the last byte written has left."""
+        if self._tx_end > _hil.now():
+            _hil.blocking()
+            _hil.run_until(self._tx_end)
+
+    def txdone(self):
+        _hil.observe()
+        return _hil.now() >= self._tx_end
+
+
+class _UartIRQ:
+    def __init__(self, uart):
+        self._uart = uart
+
+    def flags(self):
+        return self._uart._flags
+
+    def trigger(self, value=None):
+        return self._uart._trigger
 
 
 def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
@@ -548,6 +632,7 @@ class _Unit:
             self.init(*args, **kw)
 
     def _attach(self, *pins):
+        _hil.observe()  # edges from before init (a write just made) are not counted
         self.deinit()
         self._pins = tuple(_attach(_input(p), self) for p in pins)
         self._count = 0

@@ -1,0 +1,83 @@
+"""The shim as a board on a bench: outputs wired to inputs (sim_plant/wires.py, the pins
+of upstream's esp32 target wiring), the board's identity, and the APIs upstream's
+hardware tests use (PWM read back with time_pulse_us, Encoder, Counter, RTC, mem32)."""
+
+import pytest
+
+from host.conformance.inloop import PINS, WIRING
+from host.rig.app import App
+from host.tests.conftest import FIRMWARE, results
+from sim_plant.wires import wires
+
+pytestmark = pytest.mark.hil
+
+
+def bench(board: str) -> App:
+    return App(name="bench", default_board=board, make_plant=wires, wiring=WIRING, pins=PINS)
+
+
+def run(make_rig, case: str, board: str, duration_s: float):
+    rig = make_rig(bench(board), main_dir=FIRMWARE / case)
+    rig.run_for(duration_s)
+    rig.stop()
+    return rig, results(rig.console)
+
+
+def test_a_write_is_read_back_through_a_wire_at_the_same_instant(make_rig):
+    rig, r = run(make_rig, "loopback", "esp32_bench", 2.0)
+    assert r["readback"] == [1, 0, 1, 0], (
+        f"expected each write seen at once on the wired input; console:\n{rig.console}"
+    )
+    assert r["readback_us"] < 50, r["readback_us"]  # four writes and reads, no waiting
+
+
+def test_pwm_phases_timed_by_time_pulse_us_within_5_us(make_rig):
+    rig, r = run(make_rig, "loopback", "esp32_bench", 2.0)
+    assert len(r["pwm_err"]) == 10 and max(r["pwm_err"]) <= 5, f"low/high phase errors (us): {r['pwm_err']}"
+    assert r["pwm_held_low"] == [-2, 0], "duty 0 holds the line low: no pulse starts"
+
+
+def test_encoder_counts_in_1_2_and_4_phases_as_upstreams_test_partial_expects(make_rig):
+    rig, r = run(make_rig, "loopback", "esp32_bench", 2.0)
+    want = [
+        (1, 1, 1), (1, 1, 2), (1, 2, 3), (1, 2, 4), (2, 3, 5), (2, 3, 6), (2, 4, 7), (2, 4, 8),
+        (2, 4, 7), (1, 2, 4), (0, 0, 0), (0, 0, -1), (0, -1, -2), (0, -1, -3), (-1, -2, -4),
+        (-1, -2, -5), (-2, -4, -8), (23, 46, 92), (-2, -4, -8),
+    ]  # fmt: skip
+    assert [tuple(p) for p in r["encoder"]] == want
+
+
+def test_counter_counts_edges_up_down_and_falling_even_in_a_burst_of_writes(make_rig):
+    """300 toggles at one instant (no time passes between writes) are 600 wire edges: more
+    than a STATE holds, so the wire hands them over in parts, none lost."""
+    rig, r = run(make_rig, "loopback", "esp32_bench", 2.0)
+    assert r["counter"] == [100, 101, 0, 75, 300], r["counter"]
+    assert r["after_deinit"] == 300
+
+
+@pytest.mark.parametrize(
+    "board, platform, machine, rp2",
+    [
+        ("esp32_bench", "esp32", "Generic ESP32 module with ESP32", None),
+        ("rpi_pico_bench", "rp2", "Raspberry Pi Pico with RP2040", [2, "pio"]),
+        ("bench", "linux", None, None),
+    ],
+)
+def test_the_firmware_sees_its_boards_platform_and_runs_as_main(make_rig, board, platform, machine, rp2):
+    rig, r = run(make_rig, "board_identity", board, 4.0)
+    assert r["platform"] == platform
+    if machine:
+        assert r["machine"] == machine
+    assert r["rp2"] == rp2, "import rp2 works on an rp2 board only"
+    assert r["argv"] == "main.py" and r["main_module"] == 42, "the entry file is __main__, named in sys.argv"
+    assert r["mem"] == ["0x12345678", 0x56, "<16-bit memory>"] and r["mem_align"] == "ValueError"
+    assert r["rtc"][0] == [2024, 3, 1, 4, 0, 0, 1], "the RTC runs on in virtual time (3 s later)"
+    assert r["rtc"][1] == (2024, 3, 1, 0, 0, 1), "and time.localtime follows it"
+
+
+def test_a_uart_sends_at_its_baud_rate_and_fires_irq_rx_for_each_byte(make_rig):
+    """9600 baud, 10 bits a byte: 1041.7 us each; flush() returns when the last has left."""
+    rig, r = run(make_rig, "loopback", "esp32_bench", 2.0)
+    flushed, got = r["uart"]
+    assert flushed == 3 * 10 * 1_000_000 // 9600, flushed
+    assert got == [(1042, b"a"), (2083, b"b"), (3125, b"c")], got
