@@ -175,8 +175,8 @@ class Rig:
         self.speculation.end()
         self.clock.wait = None
         chan = launch(self.firmware, self._on_console)
-        flags = F.WELCOME_ZERO_DELAY if self.plant.zero_delay else 0
-        self.micropython_version = self.session.handshake(chan, self.pacing.code, self.t_us, flags, self.identity)
+        version = self.session.handshake(chan, self.pacing.code, self.t_us, self.plant.zero_delay, self.identity)
+        self.micropython_version = version
         self.pacing.begin(self.t_us)
 
     def stop(self) -> None:
@@ -276,11 +276,9 @@ class Rig:
         h, kind, mode, pull, param, name = F.unpack_cfg(p)
         key = name.decode()
         self.linklog.cfg(self.t_us, h, kind, key, mode, pull, param, self.wiring.signal_of(key))
-        info = self.wiring.configure(h, kind, mode, pull, key)
-        if info is not None:
-            info.freq = param  # a PWM's frequency, a UART's baud rate
-            if info.is_input:
-                self.inputs.sync(self.t_us, h, info, self.plant)
+        info = self.wiring.configure(h, kind, mode, pull, key, param)
+        if info is not None and info.is_input:
+            self.inputs.sync(self.t_us, h, info, self.plant)
 
     def _on_seen(self, p: bytes) -> None:
         t, h, sample_no = F.unpack_seen(p)
@@ -314,13 +312,12 @@ class Rig:
     def _on_exit(self, p: bytes) -> None:
         t, kind, code = F.unpack_exit(p)
         self.linklog.exit(t, kind, code)
+        self.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
             self.restart()
             self.resets += 1
         else:
-            self.exit_kind = kind
-            self.exit_code = code
-            self.clock.catch_up(t)
+            self.exit_kind, self.exit_code = kind, code
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""

@@ -21,9 +21,10 @@ class Session:
         self.last_type: int | None = None  # of the last message from the shim
         self._t_sent = None
 
-    def handshake(self, chan, mode: int, t_us: int, flags: int = 0, identity: tuple[str, str] | None = None) -> str:
+    def handshake(self, chan, mode: int, t_us: int, zero_delay=False, identity: tuple[str, str] | None = None) -> str:
         """HELLO from the shim, WELCOME back; the shim's "<micropython version>;<machine>".
-        ``flags``: F.WELCOME_* bits; ``identity``: the board's (platform, machine)."""
+        ``zero_delay``: the plant's wires carry a write to an input at once;
+        ``identity``: the board's (platform, machine)."""
         self.chan = chan
         self.last_type = None
         type_, payload = self.recv(HANDSHAKE_TIMEOUT_S, "HELLO")
@@ -33,6 +34,7 @@ class Session:
         if proto != F.PROTO_VERSION:
             raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
         ident = ";".join(identity).encode() if identity else b""
+        flags = F.WELCOME_ZERO_DELAY if zero_delay else 0
         self.send(F.WELCOME, F.pack_welcome(mode, t_us, flags, ident))
         return info.decode(errors="replace")
 

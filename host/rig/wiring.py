@@ -65,9 +65,9 @@ class Wiring:
         board_name = self.pin_names.get(key)
         return self.wiring.get(board_name) if board_name else None
 
-    def configure(self, h: int, kind: int, mode: int, pull: int, key: str) -> Handle | None:
+    def configure(self, h: int, kind: int, mode: int, pull: int, key: str, param: int = 0) -> Handle | None:
         """A CFG from the shim: the handle's new configuration (None for an IRQ, which
-        arms an existing handle)."""
+        arms an existing handle). ``param``: a PWM's frequency, a UART's baud rate."""
         if kind == F.CFG_UART:
             self.uart = True
         if kind == F.CFG_IRQ:
@@ -82,7 +82,7 @@ class Wiring:
         signal = self.wiring.get(board_name) if board_name else None
         is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
         self._check(kind, mode, key, board_name, signal)
-        info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull)
+        info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull, freq=param)
         old = self.handles[h]
         if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
             info.irq, info.samples = old.irq, old.samples  # its IRQ and its samples go on

@@ -507,6 +507,32 @@ def lightsleep(time_ms=None):
         _hil.run_until(_hil.now() + time_ms * 1000)
 
 
+def deepsleep(time_ms=None):
+    """The board sleeps, then wakes through a reset (the firmware starts again)."""
+    _hil.blocking()
+    if time_ms is not None:
+        _hil.run_until(_hil.now() + time_ms * 1000)
+    raise _hil.ResetRequest()
+
+
+class WDT:
+    """The watchdog: not fed for ``timeout`` ms, it resets the board."""
+
+    def __init__(self, id=0, timeout=5000):
+        self._timeout_us = int(timeout) * 1000
+        self._timer = Timer(-1)
+        self._timer._callback = self._expired
+        self._timer._period_us = 0
+        self.feed()
+
+    def feed(self):
+        self._timer._due = _hil.now() + self._timeout_us
+        _hil.add_timer(self._timer)
+
+    def _expired(self, _tm):
+        raise _hil.ResetRequest()
+
+
 def unique_id():
     return _UNIQUE_ID
 

@@ -166,3 +166,19 @@ def test_a_thread_safe_flag_set_in_an_irq_wakes_asyncio_at_the_edge(run_case):
     script = [(12_345, "a", 1), (12_500, "a", 0), (150_007, "a", 1), (150_100, "a", 0), (333_333, "a", 1)]
     _, r = run_case("tsf", 0.5, script)
     assert r == {"woke": [12_345, 150_007, 333_333]}, r
+
+
+def test_a_starved_watchdog_resets_the_board_at_its_timeout(make_rig):
+    """Fed every 50 ms, then starved from t = 200 ms: reset at 300 ms, and again 300 ms
+    into each new run (the host used to restart it at its own, earlier time)."""
+    import json
+
+    from host.tests.conftest import FIRMWARE, shim_app
+
+    rig = make_rig(shim_app(), main_dir=FIRMWARE / "watchdog", trace=True)
+    rig.run_for(1.0)
+    rig.stop()
+    lines = (rig.artefacts / "trace.jsonl").read_text().splitlines()
+    resets = [m["t"] for m in map(json.loads, lines[1:]) if m.get("msg") == "EXIT" and m["kind"] == 1]
+    assert resets[:3] == [300_000, 600_000, 900_000], f"expected resets every 300 ms; got {resets} ({rig.artefacts})"
+    assert rig.resets == len(resets) and "R never" not in rig.console
