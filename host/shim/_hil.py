@@ -69,6 +69,8 @@ class _Link:
     # The plant may carry an output to an input at the same instant (a wire): a read
     # after a write then syncs at that instant (the WELCOME's flag).
     zero = False
+    heap_lock = heap_unlock = None  # micropython's, set by start()
+    syncs = 0  # exchanges so far: a handler that blocks inside a batch makes more
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -232,7 +234,24 @@ def run_until(t_target, watch=None):
     """Move virtual time to t_target, running timers and IRQ handlers on the way.
 
     With `watch` (a list of handles), return True as soon as one of them changes.
+    Under micropython.heap_lock() too: a board's sleep allocates nothing, the shim's
+    link work does, so the heap is unlocked around it and locked again after.
     """
+    lock, unlock = _Link.heap_lock, _Link.heap_unlock
+    lock()
+    depth = unlock()  # (heap_unlock returns the depth left: here, the firmware's)
+    if not depth:
+        return _run_until(t_target, watch)
+    for _ in range(depth):
+        unlock()
+    try:
+        return _run_until(t_target, watch)
+    finally:
+        for _ in range(depth):
+            lock()
+
+
+def _run_until(t_target, watch):
     global _now
     while True:
         t_stop = t_target if t_target < _timer_due else _timer_due
@@ -269,6 +288,7 @@ def _sync(t_until, watch):
     if watch:
         for h in watch:
             payload += struct.pack(F.WATCH_FMT, h)
+    _Link.syncs += 1
     p = _link.exchange(payload, _now, state_fmt)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
@@ -310,10 +330,14 @@ def _handlers_wrote(t):
     """Run the handlers due at time t. If they changed an output, the rest of the batch
     (computed by the host for the old outputs) is void: stay at t and resync (1). If they
     made a polled stream ready (a ThreadSafeFlag set from an IRQ), the poll wakes at t
-    and the rest of the batch is void too (2). 0: carry on."""
+    and the rest of the batch is void too (2). If a handler blocked (slept), its own
+    exchanges moved time on past this batch: the rest of it is stale (3). 0: carry on."""
     global _wrote, _now, _horizon
     _wrote = False
+    syncs = _Link.syncs
     dispatch()
+    if _Link.syncs != syncs:
+        return 3
     woke = _link.woke is not None and _link.woke()
     if _wrote or woke:
         if _lockstep:
@@ -425,6 +449,9 @@ def start():
     # The u-prefixed names resolve to the built-ins before any file on the path; in
     # sys.modules they are the shim's, as utime is time on a board. (Locals, not module
     # globals: more globals here slow every global lookup of the hot paths.)
+    import micropython
+
+    _Link.heap_lock, _Link.heap_unlock = micropython.heap_lock, micropython.heap_unlock
     import select as shim_select  # (asyncio imports both anyway)
     import time as shim_time
 

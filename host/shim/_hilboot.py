@@ -63,6 +63,14 @@ def _run(name):
     return True
 
 
+def _heap_unlocked():
+    import micropython
+
+    micropython.heap_lock()
+    for _ in range(micropython.heap_unlock()):
+        micropython.heap_unlock()
+
+
 def _entry():
     """The file a board runs after boot.py: main.py, or the rig file's entry."""
     import os
@@ -99,6 +107,7 @@ def main(pil=False):
             sys.exit(3)
         return
     except BaseException as e:  # noqa: BLE001  any firmware failure goes to the host
+        _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
         buf = io.StringIO()
         sys.print_exception(e, buf)
         text = buf.getvalue()

@@ -182,3 +182,22 @@ def test_a_starved_watchdog_resets_the_board_at_its_timeout(make_rig):
     resets = [m["t"] for m in map(json.loads, lines[1:]) if m.get("msg") == "EXIT" and m["kind"] == 1]
     assert resets[:3] == [300_000, 600_000, 900_000], f"expected resets every 300 ms; got {resets} ({rig.artefacts})"
     assert rig.resets == len(resets) and "R never" not in rig.console
+
+
+def test_sleeps_work_under_heap_lock_and_an_error_there_keeps_its_traceback(run_case):
+    with pytest.raises(FirmwareError) as err:
+        run_case("heap_locked", 1.0)
+    assert "R slept_ms 30" in err.value.console, err.value.console
+    assert "MemoryError" in str(err.value) and "line 15" in str(err.value), str(err.value)
+
+
+def test_a_handler_that_sleeps_blocks_the_program_and_later_edges_wait_their_turn(run_case):
+    """A debounce that sleeps in its handler, as much public code does: each edge's handler
+    runs in order, the second late (at 19 ms, when the first has returned), and the main
+    program's sleeps wait for them, as soft IRQs on a board do. (Time used to jump back to
+    the batch's end and the host stopped with a link protocol error.)"""
+    script = [(10_000, "button", 0), (10_300, "button", 1), (12_000, "button", 0), (18_500, "button", 1)]
+    script += [(30_000, "button", 0), (31_000, "button", 1)]
+    _, r = run_case("irq_sleeps", 0.1, script, initial={"button": 1})
+    assert r["calls"] == [10_000, 19_000, 30_000], r
+    assert r["main"] == [5_000, 24_000, 29_000, 35_000, 40_000, 45_000, 50_000, 55_000], r
