@@ -71,6 +71,7 @@ class _Link:
     zero = False
     heap_lock = heap_unlock = None  # micropython's, set by start()
     syncs = 0  # exchanges so far: a handler that blocks inside a batch makes more
+    thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -237,6 +238,8 @@ def run_until(t_target, watch=None):
     Under micropython.heap_lock() too: a board's sleep allocates nothing, the shim's
     link work does, so the heap is unlocked around it and locked again after.
     """
+    if _Link.thread() != _Link.main_thread:
+        raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     lock, unlock = _Link.heap_lock, _Link.heap_unlock
     lock()
     depth = unlock()  # (heap_unlock returns the depth left: here, the firmware's)
@@ -452,6 +455,13 @@ def start():
     import micropython
 
     _Link.heap_lock, _Link.heap_unlock = micropython.heap_lock, micropython.heap_unlock
+    try:
+        import _thread
+
+        _Link.thread = _thread.get_ident
+    except ImportError:  # a board without threads
+        _Link.thread = int
+    _Link.main_thread = _Link.thread()
     import select as shim_select  # (asyncio imports both anyway)
     import time as shim_time
 

@@ -188,7 +188,7 @@ def test_sleeps_work_under_heap_lock_and_an_error_there_keeps_its_traceback(run_
     with pytest.raises(FirmwareError) as err:
         run_case("heap_locked", 1.0)
     assert "R slept_ms 30" in err.value.console, err.value.console
-    assert "MemoryError" in str(err.value) and "line 15" in str(err.value), str(err.value)
+    assert "MemoryError" in str(err.value) and "line 14" in str(err.value), str(err.value)
 
 
 def test_a_handler_that_sleeps_blocks_the_program_and_later_edges_wait_their_turn(run_case):

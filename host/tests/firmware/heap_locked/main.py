@@ -1,8 +1,7 @@
 # Sleeping with the heap locked (code that proves its loop allocates nothing), then an
 # error raised while it is still locked: its traceback must reach the host whole.
-import time
-
 import micropython
+import time
 
 t0 = time.ticks_ms()
 micropython.heap_lock()
