@@ -220,7 +220,7 @@ def observe():
     else:
         t = now()
     if t >= _horizon or t >= _timer_due:
-        run_until(t)
+        _run_until(t, None)  # (a read: not the blocking calls' checks, on this hot path)
     else:
         _now = t
 
