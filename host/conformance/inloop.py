@@ -35,6 +35,7 @@ WIRING = {
     "W3_OUT": "w3.in",
     "W3_IN": "w3.out",
 }
+BENCH_LIB = Path(__file__).resolve().parent / "bench"
 LIMIT_S = 120.0  # virtual seconds a test may run
 BOARD_ENV = "MPY_FIL_BOARD"  # a board family (esp32, rpi_pico): its sys.platform; unset: the unix port's
 
@@ -49,6 +50,7 @@ def bench_app(test: Path, heap_size: str | None = None) -> App:
         folder=test.parent,
         entry=test.name,
         harness_lib=False,
+        lib_dirs=(BENCH_LIB,),  # target_wiring.py, for upstream's hardware tests
         pins=PINS,
         heap_size=heap_size,
         identity=identity(board) if board else None,

@@ -4,7 +4,7 @@ hardware tests use (PWM read back with time_pulse_us, Encoder, Counter, RTC, mem
 
 import pytest
 
-from host.conformance.inloop import PINS, WIRING
+from host.conformance.inloop import BENCH_LIB, PINS, WIRING
 from host.rig.app import App
 from host.tests.conftest import FIRMWARE, results
 from sim_plant.wires import wires
@@ -13,7 +13,7 @@ pytestmark = pytest.mark.hil
 
 
 def bench(board: str) -> App:
-    return App(name="bench", default_board=board, make_plant=wires, wiring=WIRING, pins=PINS)
+    return App(name="bench", default_board=board, make_plant=wires, wiring=WIRING, pins=PINS, lib_dirs=(BENCH_LIB,))
 
 
 def run(make_rig, case: str, board: str, duration_s: float):

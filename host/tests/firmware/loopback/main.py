@@ -37,8 +37,11 @@ pwm.deinit()
 out0 = Pin(4, Pin.OUT, value=1)
 out1(1)
 
-# Encoder units in 1, 2 and 4 phases on the two wires (upstream's test_partial steps).
-enc = [Encoder(i, in0, in1, phases=n) for i, n in ((0, 1), (1, 2), (2, 4))]
+# Encoder units in 1, 2 and 4 phases on the two wires (upstream's test_partial steps),
+# on the pins the bench's target_wiring names, as upstream's machine_encoder.py takes them.
+from target_wiring import encoder_loopback_id, encoder_loopback_in_pins  # noqa: E402
+
+enc = [Encoder(encoder_loopback_id + i, *encoder_loopback_in_pins, phases=n) for i, n in ((0, 1), (1, 2), (2, 4))]
 pulses = 0
 
 
