@@ -75,24 +75,23 @@ def parse(argv: list[str]) -> tuple[Path, str | None] | None:
 
 def run(test: Path, heap: str | None) -> tuple[str, int]:
     """(what the firmware printed, its exit status)."""
-    rig = Rig(bench_app(test, heap), watchdog_s=10.0)
-    status = 0
+    rig = Rig(bench_app(test, heap), watchdog_s=10.0, allow_exit=True)
+    status, note = 0, ""
     try:
         rig.start()
         deadline = rig.t_us + round(LIMIT_S * 1e6)
         while rig.exit_kind is None and rig.t_us < deadline:
             rig.run_for(1.0)
         if rig.exit_kind is None:
-            rig.stop()
-            return rig.console + f"\nTIMEOUT: still running after {LIMIT_S:g} virtual s\n", 1
-        status = rig.exit_code or 0
+            status, note = 1, f"\nTIMEOUT: still running after {LIMIT_S:g} virtual s\n"
+        else:
+            status = rig.exit_code or 0
     except HarnessError as e:  # the firmware raised (its traceback is on the console) or hung
         status = 1
-        if "Traceback" not in rig.console:
-            rig.console += f"\n{e}\n"
+        note = "" if "Traceback" in rig.console else f"\n{e}\n"
     finally:
         rig.stop()
-    return rig.console, status
+    return rig.console + note, status
 
 
 def main(argv: list[str]) -> int:

@@ -18,6 +18,10 @@ class LinkError(HarnessError):
     """The plant link failed (closed, corrupted, wrong protocol)."""
 
 
+class LinkDamaged(LinkError):
+    """A frame was damaged or lost on the link (the message names the counters)."""
+
+
 class LinkTimeout(LinkError):
     """No complete frame arrived before the deadline."""
 
@@ -29,6 +33,14 @@ class FirmwareError(HarnessError):
         super().__init__(message)
         self.traceback = traceback
         self.console = console
+
+
+class FirmwareExited(FirmwareError):
+    """The firmware ended (returned or called sys.exit) where it was expected to run."""
+
+    def __init__(self, message: str, code: int = 0, console: str = ""):
+        super().__init__(message, console=console)
+        self.code = code
 
 
 class FirmwareHung(HarnessError):

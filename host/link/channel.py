@@ -4,7 +4,7 @@ receive. The byte layout is in ``docs/protocol.md``."""
 
 import time
 
-from host.core.errors import LinkTimeout
+from host.core.errors import LinkDamaged, LinkError, LinkTimeout
 from host.link import frames
 
 TRUNCATION_TIMEOUT_S = 0.05
@@ -20,6 +20,7 @@ class Channel:
         self.seq = 0
         self.sent = 0
         self.last_data_wall: float | None = None  # time.monotonic() of the last bytes read
+        self.closed_read = False  # one more read after the console closed, for the last frames
 
     def send(self, type_: int, payload: bytes) -> bytes:
         data = frames.encode(type_, self.seq, payload)
@@ -29,7 +30,26 @@ class Channel:
         return data
 
     def recv(self, timeout_s: float):
-        """The next good frame (type, seq, payload); LinkTimeout if none by the deadline."""
+        """The next good frame (type, seq, payload); LinkTimeout if none by the deadline;
+        LinkDamaged as soon as a frame was damaged or lost (a duplicate is dropped)."""
+        got = self._recv(timeout_s)
+        self._check()
+        return got
+
+    def _check(self) -> None:
+        if self.decoder.damaged:
+            raise LinkDamaged(self.damage_report("from the firmware"))
+
+    def damage_report(self, direction: str) -> str:
+        c = self.counters()
+        lost = {k: c[k] for k in ("bad_crc", "bad_length", "truncated", "seq_gaps") if c[k]}
+        return (
+            f"a frame {direction} was damaged or lost on the plant link "
+            f"({', '.join(f'{k}={v}' for k, v in lost.items()) or 'no counter'}; good frames {c['frames']}, "
+            f"duplicates dropped {c['duplicates']}): the run cannot be trusted past it"
+        )
+
+    def _recv(self, timeout_s: float):
         got = self.decoder.next()
         if got is not None:  # (a read brings several frames at once)
             return got
@@ -39,11 +59,17 @@ class Channel:
             got = self.decoder.next()
             if got is not None:
                 return got
+            self._check()  # (a damaged frame with nothing after it: say so now)
             now = time.monotonic()
             if now >= deadline:
                 pending = self.decoder.pending()
                 raise LinkTimeout(f"no frame within {timeout_s:.3g} s ({pending} bytes of a partial frame)")
             wait = deadline - now
+            if self.transport.side_closed:  # the process is gone: what it wrote is in, or never comes
+                if self.closed_read:
+                    raise LinkError("the firmware's console closed: its process ended")
+                self.closed_read = True
+                wait = min(wait, TRUNCATION_TIMEOUT_S)
             if self.decoder.pending():
                 stalled_since = stalled_since or now
                 if now - stalled_since >= TRUNCATION_TIMEOUT_S:

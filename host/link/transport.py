@@ -29,6 +29,7 @@ class FdTransport:
         self.fd = fd
         self.side: dict[int, callable] = {}
         self.busy_poll_s = busy_poll_s
+        self.side_closed = False  # a side fd reached its end (the firmware's console: it exited)
 
     def watch(self, fd: int, on_data) -> None:
         os.set_blocking(fd, False)
@@ -78,6 +79,7 @@ class FdTransport:
             self.side[fd](chunk)
         else:
             del self.side[fd]
+            self.side_closed = True
 
     def write(self, data: bytes, timeout_s: float = 5.0) -> None:
         deadline = time.monotonic() + timeout_s

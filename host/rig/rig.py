@@ -14,16 +14,18 @@ stops answering is stopped and reported, and :meth:`Rig.stop` always ends the
 process and closes the link.
 """
 
+import collections
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from host.artefacts.console import ConsoleLog
 from host.artefacts.folder import write_trace_folder
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
-from host.core.errors import ConfigError, FirmwareError, FirmwareHung, LinkError
+from host.core.errors import ConfigError, LinkError
 from host.link import frames as F
-from host.rig import boards
+from host.rig import arguments, boards, endings
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
@@ -36,7 +38,6 @@ from host.rig.speculation import Speculation
 from host.rig.target import Target, UnixPortTarget
 from host.rig.wiring import Wiring
 
-CONSOLE_TAIL_LINES = 20
 PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
 _NO_WATCH = frozenset()
 
@@ -58,7 +59,7 @@ class Rig:
         app: str | App = "rover",
         *,
         board: str | None = None,
-        seed: int = 0,
+        seed: int | None = 0,
         mode: str = "lockstep",
         plant=None,
         plant_options: dict | None = None,
@@ -73,6 +74,7 @@ class Rig:
         target: Target | None = None,
         require_main: bool = True,
         budgets: list | None = None,
+        allow_exit: bool = False,
     ):
         """``trace`` writes the link messages to ``artefacts/trace.jsonl``; ``record``
         keeps every signal and ground truth and writes the trace folder at stop()
@@ -80,16 +82,18 @@ class Rig:
         runs, at most every PROGRESS_EVERY_S of wall time and when it ends. ``target``
         is where the firmware runs (default: the unix port here); ``firmware_dir`` a
         flashed board folder, which needs a main.py unless ``require_main`` is False;
-        ``budgets`` replace the app's budgets for this plant."""
+        ``budgets`` replace the app's budgets for this plant; ``seed`` None draws one (and
+        every failure message names it); ``allow_exit``: the firmware may end (else an end
+        is FirmwareExited)."""
         self.app = get_app(app) if isinstance(app, str) else app
         self.board = board or self.app.default_board
         if mode not in PACINGS:
             raise ConfigError(f"mode: expected one of {sorted(PACINGS)}, got {mode!r}")
-        if watchdog_s <= 0:
-            raise ConfigError(f"watchdog_s: expected a positive number of seconds, got {watchdog_s!r}")
+        arguments.seconds("watchdog_s", watchdog_s, positive=True)
         self.mode = mode
         self.pacing = PACINGS[mode]()
-        self.seed = seed
+        self.seed = arguments.seed(seed)
+        self.allow_exit = allow_exit
         self.watchdog_s = watchdog_s
         board_folder, pins = self.app.board_files(self.board)
         if firmware_dir is not None:
@@ -98,7 +102,7 @@ class Rig:
             self.firmware = Firmware.from_app(self.app, board_folder, main_dir)
         self.plant_options = dict(plant_options or {})
         self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
-        self.plant.reset(seed)
+        self.plant.reset(self.seed)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
         self.recorder = Recorder(self.plant) if record else None
@@ -116,14 +120,16 @@ class Rig:
         self.artefacts = Path(artefacts) if artefacts else None
         self.trace_enabled = trace
         self.progress = progress
-        self.console = ""
+        self.console_log = ConsoleLog()
         self.micropython_version = ""
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
         self.resets = 0
+        self.reset_times = collections.deque(maxlen=endings.BOOT_LOOP_RESETS)
         self.linklog: LinkLog = NO_LOG
         self._started = False
-        self.session = Session(self._on_silence, self.stats.round_trip_us if time_round_trips else None)
+        damaged = lambda error: endings.damaged(self, error)  # noqa: E731
+        self.session = Session(self._on_silence, self.stats.round_trip_us if time_round_trips else None, damaged)
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
@@ -153,6 +159,7 @@ class Rig:
         try:
             if self.artefacts:
                 self.artefacts.mkdir(parents=True, exist_ok=True)
+            self.console_log.open(self.artefacts / "console.log" if self.artefacts else None)
             if self.trace_enabled:
                 self.linklog = LinkLog(self.artefacts / "trace.jsonl" if self.artefacts else None)
                 header = {"app": self.app.name, "board": self.board, "seed": self.seed, "mode": self.mode}
@@ -187,10 +194,9 @@ class Rig:
             return
         self._started = False
         self.linklog.close()
-        if self.artefacts:
-            (self.artefacts / "console.log").write_text(self.console)
-            if self.recorder is not None:
-                write_trace_folder(self.artefacts, self._run_header(), self.recorder, self.plant, self.budgets)
+        self.console_log.close()
+        if self.artefacts and self.recorder is not None:
+            write_trace_folder(self.artefacts, self._run_header(), self.recorder, self.plant, self.budgets)
 
     def _run_header(self) -> dict:
         return {
@@ -205,7 +211,13 @@ class Rig:
         }
 
     def _on_console(self, data: bytes) -> None:
-        self.console += data.decode(errors="replace")
+        self.console_log.write(data)
+
+    @property
+    def console(self) -> str:
+        """What the firmware printed: its last ``ConsoleLog.tail_bytes`` (all of it in
+        ``artefacts/console.log``)."""
+        return self.console_log.text
 
     @property
     def trace_digest(self) -> str | None:
@@ -214,7 +226,7 @@ class Rig:
     # -- running --------------------------------------------------------------------
 
     def run_for(self, duration_s: float) -> None:
-        self.run_until(self.t_us + round(duration_s * 1e6))
+        self.run_until(self.t_us + round(arguments.seconds("run_for", duration_s, limit_s=arguments.MAX_RUN_S) * 1e6))
 
     def run_until(self, t_end_us: int) -> None:
         """Serve the firmware until virtual time reaches ``t_end_us`` (firmware waiting)."""
@@ -295,29 +307,20 @@ class Rig:
 
     def _on_fault(self, p: bytes) -> None:
         t, text = F.unpack_fault(p)
-        text = text.decode(errors="replace")
         self.linklog.fault(t)
-        try:
-            self.session.recv(1.0, "EXIT")  # let the process finish writing
-        except (LinkError, FirmwareError, FirmwareHung):
-            pass
-        self.stop()
-        raise FirmwareError(
-            f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
-            f"MicroPython traceback:\n{text.rstrip()}{self.app.import_hint(text)}{self.where()}",
-            traceback=text,
-            console=self.console,
-        )
+        endings.fault(self, t, text.decode(errors="replace"))
 
     def _on_exit(self, p: bytes) -> None:
         t, kind, code = F.unpack_exit(p)
         self.linklog.exit(t, kind, code)
         self.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
+            endings.reset(self, t)
             self.restart()
             self.resets += 1
         else:
             self.exit_kind, self.exit_code = kind, code
+            endings.exited(self, t, kind, code)
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
@@ -337,10 +340,8 @@ class Rig:
         return self.session.last_message()
 
     def where(self) -> str:
-        """The console's last lines and the artefacts folder, for error messages."""
-        tail = "\n".join(self.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:])
-        where = f"\nartefacts: {self.artefacts}" if self.artefacts else ""
-        return (f"\nconsole (last {CONSOLE_TAIL_LINES} lines):\n{tail}" if tail else "\nconsole: (empty)") + where
+        """The console's last lines, the seed and the artefacts folder, for error messages."""
+        return endings.where(self)
 
     # -- results ---------------------------------------------------------------------
 
@@ -351,11 +352,5 @@ class Rig:
         return [b.stats() for b in self.budgets.values()]
 
     def counters(self) -> dict:
-        link = self.session.counters()
-        return {
-            **link,
-            "round_trips": self.stats.link_round_trips,
-            "irq_edges": self.stats.irq_edges,
-            "rollbacks": self.stats.rollbacks,
-            "lease_violations": self.stats.lease_violations,
-        }
+        stats = ("link_round_trips", "irq_edges", "rollbacks", "lease_violations")
+        return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}

@@ -7,18 +7,20 @@ A receive that gets nothing in time, or a link that fails, goes to ``on_silence`
 
 import time
 
-from host.core.errors import LinkError, LinkTimeout
+from host.core.errors import LinkDamaged, LinkError, LinkTimeout
 from host.link import frames as F
 
 HANDSHAKE_TIMEOUT_S = 10.0
 
 
 class Session:
-    def __init__(self, on_silence, round_trip_us: list | None = None):
+    def __init__(self, on_silence, round_trip_us: list | None = None, on_damage=None):
         self.on_silence = on_silence  # (timeout_s, what) -> raises
+        self.on_damage = on_damage  # (LinkDamaged) -> raises: a frame was damaged or lost
         self.round_trip_us = round_trip_us  # STATE -> WAIT wall times, when timed
         self.chan = None
         self.last_type: int | None = None  # of the last message from the shim
+        self.last_sent_type: int | None = None  # of the last message to it
         self._t_sent = None
 
     def handshake(self, chan, mode: int, t_us: int, zero_delay=False, identity: tuple[str, str] | None = None) -> str:
@@ -39,6 +41,7 @@ class Session:
         return info.decode(errors="replace")
 
     def send(self, type_: int, payload: bytes) -> None:
+        self.last_sent_type = type_
         try:
             self.chan.send(type_, payload)
         except OSError as e:
@@ -52,6 +55,10 @@ class Session:
             type_, _seq, payload = self.chan.recv(timeout_s)
         except LinkTimeout:
             self.on_silence(timeout_s, what)
+        except LinkDamaged as e:
+            if self.on_damage is None:
+                raise
+            self.on_damage(e)
         except LinkError:
             self.on_silence(0, what)
         if self._t_sent is not None and type_ == F.WAIT:
@@ -75,6 +82,9 @@ class Session:
         name = F.NAMES.get(self.last_type, hex(self.last_type))
         wall = self.chan.last_data_wall if self.chan else None
         return name if wall is None else f"{name}, read at wall {wall:.3f}"
+
+    def last_sent(self) -> str:
+        return F.NAMES.get(self.last_sent_type, "nothing") if self.last_sent_type is not None else "nothing"
 
     def counters(self) -> dict:
         return self.chan.counters() if self.chan else {}

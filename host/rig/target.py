@@ -12,7 +12,7 @@ import signal
 import subprocess
 
 from host.core import interpreter
-from host.core.errors import FirmwareError, FirmwareHung
+from host.core.errors import FirmwareError, FirmwareHung, SetupError
 from host.link import Channel, FdTransport, PtyPair
 
 EXIT_WAIT_S = 5.0
@@ -70,15 +70,22 @@ class UnixPortTarget(Target):
         if self.pty is None:
             self.pty = PtyPair()
         self._on_console = on_console
-        self.proc = subprocess.Popen(
-            [str(interpreter.find()), *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
-            env=firmware.env(self.pty.slave_path),
-            cwd=str(firmware.main_dir),
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            start_new_session=True,
-        )
+        program = str(interpreter.find())
+        try:
+            self.proc = subprocess.Popen(
+                [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
+                env=firmware.env(self.pty.slave_path),
+                cwd=str(firmware.main_dir),
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+            )
+        except OSError as e:  # not a program this machine runs (no shebang, wrong format)
+            raise SetupError(
+                f"cannot start the interpreter {program}: {e.strerror or e}; "
+                "expected MicroPython's unix port (set MICROPYTHON, or unset it for the build)"
+            ) from None
         transport = FdTransport(self.pty.master_fd, busy_poll_s=self.busy_poll_s)
         transport.watch(self.proc.stdout.fileno(), on_console)
         return Channel(transport)
@@ -120,10 +127,12 @@ class UnixPortTarget(Target):
         proc = self.proc
         if proc is not None and proc.poll() is None and timeout_s > 0:
             rig.stop()
+            link = ", ".join(f"{k}={v}" for k, v in rig.session.counters().items() if v)
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
-                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {rig.last_message()}); "
-                f"the watchdog stopped it.{rig.where()}"
+                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {rig.last_message()}, "
+                f"last sent {rig.session.last_sent()}; a frame lost on its way to the firmware looks the "
+                f"same; link: {link}); the watchdog stopped it.{rig.where()}"
             )
         code = proc.wait(timeout=EXIT_WAIT_S) if proc is not None else None
         rig.stop()

@@ -51,6 +51,10 @@ class HostGone(Exception):
     pass
 
 
+class LinkDamaged(Exception):
+    """A frame from the host was damaged or lost: the run cannot go on (the host says so)."""
+
+
 class ResetRequest(BaseException):
     """machine.reset(): unwinds the firmware like a board that restarts."""
 
@@ -114,7 +118,15 @@ class _Link:
     def recv(self):
         while True:
             frame = self.dec.next()
-            if frame is not None:
+            if frame is not None or self.dec.damaged:
+                if self.dec.damaged:
+                    c = self.dec.counters()
+                    raise LinkDamaged(
+                        "a frame from the host was damaged or lost on the plant link (bad_crc=%d, bad_length=%d, "
+                        "truncated=%d, seq_gaps=%d; good frames %d, duplicates dropped %d): the run cannot be "
+                        "trusted past it"
+                        % (c["bad_crc"], c["bad_length"], c["truncated"], c["seq_gaps"], c["frames"], c["duplicates"])
+                    )
                 return frame
             events = self.poller.poll(1000)
             if not events:

@@ -31,6 +31,15 @@ def _asyncio_in_virtual_time():
     core.Task = task.Task
     core._task_queue = task.TaskQueue()
     asyncio.Task = task.Task
+    # A task that dies with nobody awaiting it is reported as on a board, then ends the
+    # run (a board would carry on without it); a firmware's own handler replaces this.
+    default = asyncio.Loop.default_exception_handler
+
+    def task_died(loop, context):
+        default(loop, context)
+        raise context["exception"]
+
+    asyncio.Loop.default_exception_handler = task_died
 
 
 def _find(name):

@@ -39,7 +39,10 @@ class Decoder:
     A frame with a bad length or a bad CRC is dropped and counted, and decoding
     resumes at the next SOF after its first byte. expire() drops a partial frame
     that stopped arriving (counted as truncated). Sequence numbers are checked per
-    direction; a gap is counted (a frame was lost) but the good frame is kept.
+    direction; a gap is counted (a frame was lost) but the good frame is kept; a frame
+    with the sequence number of the one before it is the same frame again: dropped and
+    counted as a duplicate. ``damaged`` counts every loss (bad length, bad CRC,
+    truncation, gap) in one number the ends check after each frame.
     """
 
     def __init__(self):
@@ -51,6 +54,8 @@ class Decoder:
         self.truncated = 0
         self.skipped = 0
         self.seq_gaps = 0
+        self.duplicates = 0
+        self.damaged = 0
         self.expect_seq = -1
         self.on_skip = None  # called with bytes found outside frames (a board's console text)
 
@@ -82,6 +87,7 @@ class Decoder:
             type_, seq, n = struct.unpack_from("<BBH", buf, i + 1)
             if n > MAX_PAYLOAD:
                 self.bad_length += 1
+                self.damaged += 1
                 self.pos = i + 1
                 continue
             end = i + HEADER_LEN + n
@@ -90,12 +96,17 @@ class Decoder:
             (crc,) = struct.unpack_from("<I", buf, end)
             if crc32(buf[i + 1 : end]) & 0xFFFFFFFF != crc:
                 self.bad_crc += 1
+                self.damaged += 1
                 self.pos = i + 1
                 continue
             self.pos = end + CRC_LEN
-            self.frames += 1
             if self.expect_seq >= 0 and seq != self.expect_seq:
+                if seq == (self.expect_seq - 1) & 0xFF:  # the last frame again
+                    self.duplicates += 1
+                    continue
                 self.seq_gaps += 1
+                self.damaged += 1
+            self.frames += 1
             self.expect_seq = (seq + 1) & 0xFF
             return type_, seq, buf[i + HEADER_LEN : end]
 
@@ -104,6 +115,7 @@ class Decoder:
         if self.pending() == 0:
             return False
         self.truncated += 1
+        self.damaged += 1
         self.pos += 1
         return True
 
@@ -115,6 +127,7 @@ class Decoder:
             "truncated": self.truncated,
             "skipped_bytes": self.skipped,
             "seq_gaps": self.seq_gaps,
+            "duplicates": self.duplicates,
         }
 
 

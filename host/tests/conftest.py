@@ -49,6 +49,7 @@ def results(console: str) -> dict:
 @pytest.fixture
 def run_case(make_rig):
     def run(case: str, duration_s: float, script=(), initial=None, wiring=None, **kwargs):
+        kwargs.setdefault("allow_exit", True)  # these firmwares print their results and end
         rig = make_rig(shim_app(script, initial, wiring), main_dir=FIRMWARE / case, **kwargs)
         rig.run_for(duration_s)
         rig.stop()  # also drains the console pipe

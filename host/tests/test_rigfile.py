@@ -88,7 +88,7 @@ def test_a_rig_file_of_ones_own_loads_with_its_pins_table(tmp_path):
 
 
 def test_a_rig_file_runs_in_the_loop_by_its_path(make_rig, tmp_path):
-    rig = make_rig(str(write_rig(tmp_path / "mybot")), seed=1)
+    rig = make_rig(str(write_rig(tmp_path / "mybot")), seed=1, allow_exit=True)
     rig.run_for(3)
     rig.stop()
     assert f"blinked; bumper {rig.plant.output('bumper')}" in rig.console, rig.console
@@ -97,7 +97,7 @@ def test_a_rig_file_runs_in_the_loop_by_its_path(make_rig, tmp_path):
 
 def test_the_entry_file_may_have_another_name(make_rig, tmp_path):
     text = GOOD.replace('entry = "main.py"', 'entry = "robot.py"')
-    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"robot.py": BLINK})), seed=1)
+    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"robot.py": BLINK})), seed=1, allow_exit=True)
     rig.run_for(3)
     rig.stop()
     assert "blinked" in rig.console, rig.console
@@ -108,7 +108,7 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
     with pytest.raises(FirmwareError, match="no module named 'encoder'.*\n.*harness_lib = true"):
         make_rig(str(write_rig(tmp_path / "a", GOOD, uses_ours))).run_for(0.1)
     text = GOOD.replace('entry = "main.py"', 'entry = "main.py"\nharness_lib = true')
-    rig = make_rig(str(write_rig(tmp_path / "b", text, uses_ours)))
+    rig = make_rig(str(write_rig(tmp_path / "b", text, uses_ours)), allow_exit=True)
     rig.run_for(0.1)
     rig.stop()
     assert "found encoder" in rig.console
@@ -222,7 +222,7 @@ print("wrapped", time.ticks_ms() < t0)
 
 def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tmp_path):
     text = GOOD + '\n[interpreter]\nheap_size = "128K"\nticks_wrap_s = 1\n'
-    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"main.py": HEAP_AND_TICKS})))
+    rig = make_rig(str(write_rig(tmp_path / "mybot", text, {"main.py": HEAP_AND_TICKS})), allow_exit=True)
     rig.run_for(2)
     rig.stop()
     heap = int(rig.console.split("heap ")[1].split()[0])

@@ -17,7 +17,7 @@ def bench(board: str) -> App:
 
 
 def run(make_rig, case: str, board: str, duration_s: float):
-    rig = make_rig(bench(board), main_dir=FIRMWARE / case)
+    rig = make_rig(bench(board), main_dir=FIRMWARE / case, allow_exit=True)
     rig.run_for(duration_s)
     rig.stop()
     return rig, results(rig.console)

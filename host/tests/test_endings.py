@@ -1,0 +1,114 @@
+"""Every way a firmware can end or stall ends the run in seconds with a message that
+names it; every bad input is a harness error naming the field (docs/reliability.md)."""
+
+import math
+import os
+import signal
+import time
+
+import pytest
+
+from host.core.errors import ConfigError, FirmwareError, FirmwareExited, SetupError
+from host.rig.rig import Rig
+from host.tests.conftest import FIRMWARE, shim_app
+
+pytestmark = pytest.mark.hil
+
+
+def rig_for(make_rig, case, **kw):
+    return make_rig(shim_app(), main_dir=FIRMWARE / case, **kw)
+
+
+def test_an_exit_fails_the_run_with_its_code_unless_the_test_expects_it(make_rig):
+    with pytest.raises(FirmwareExited, match=r"sys\.exit\(3\), exit code 3") as err:
+        rig_for(make_rig, "exits").run_for(1)
+    assert err.value.code == 3 and "done early" in str(err.value)
+    with pytest.raises(FirmwareExited, match="entry file returned"):
+        rig_for(make_rig, "returns").run_for(1)
+    rig = rig_for(make_rig, "exits", allow_exit=True)
+    rig.run_for(1)
+    assert rig.exit_code == 3 and rig.t_us == 1_000_000, "an expected end: the plant runs on"
+
+
+def test_a_task_that_dies_unretrieved_fails_the_run(make_rig):
+    with pytest.raises(FirmwareError, match="sensor task died") as err:
+        rig_for(make_rig, "task_dies").run_for(2)
+    assert "virtual t=0.120000" in str(err.value) and "Task exception wasn't retrieved" in err.value.console
+
+
+def test_a_boot_loop_is_stopped_within_seconds(make_rig):
+    start = time.monotonic()
+    with pytest.raises(FirmwareError, match="boot loop: the firmware reset 20 times"):
+        rig_for(make_rig, "boot_loop").run_for(5)
+    assert time.monotonic() - start < 10
+
+
+def test_a_long_traceback_keeps_its_last_line(make_rig):
+    with pytest.raises(FirmwareError) as err:
+        rig_for(make_rig, "long_traceback").run_for(1)
+    traceback = err.value.traceback.rstrip()
+    assert len(traceback) > 3000 and traceback.endswith("ValueError: the bottom of the chain"), traceback[-300:]
+
+
+def test_a_killed_firmware_process_is_noticed_at_once(make_rig):
+    rig = make_rig("rover", seed=1, watchdog_s=5.0)
+    rig.run_for(0.5)
+    os.kill(rig.target.proc.pid, signal.SIGKILL)
+    start = time.monotonic()
+    with pytest.raises(FirmwareError, match="exit code -9"):
+        rig.run_for(5)
+    assert time.monotonic() - start < 1.0, "not after the 5 s watchdog"
+
+
+def test_an_interpreter_that_is_not_one_is_named_at_once(monkeypatch, tmp_path):
+    script = tmp_path / "micropython"
+    script.write_text("echo hello\n")  # no shebang: the kernel will not run it
+    script.chmod(0o755)
+    monkeypatch.setenv("MICROPYTHON", str(script))
+    fds = len(os.listdir("/proc/self/fd"))
+    for _ in range(3):
+        with pytest.raises(SetupError, match="cannot start the interpreter .*Exec format error"):
+            Rig("rover").start()
+    assert len(os.listdir("/proc/self/fd")) == fds, "a failed start leaves no pty open"
+    monkeypatch.setenv("MICROPYTHON", "/bin/true")  # a program that ends at once
+    start = time.monotonic()
+    with pytest.raises(FirmwareError, match="exit code 0"):
+        Rig("rover").start()
+    assert time.monotonic() - start < 2.0
+
+
+def test_a_run_without_a_seed_draws_one_records_it_and_names_it_when_it_fails(make_rig):
+    rig = rig_for(make_rig, "exits", seed=None)
+    assert 0 <= rig.seed < 2**32
+    with pytest.raises(FirmwareExited, match=f"seed: {rig.seed}"):
+        rig.run_for(1)
+
+
+@pytest.mark.parametrize("seed", [-1, "abc", 2**32, True, 1.5])
+def test_a_bad_seed_is_named(seed):
+    with pytest.raises(ConfigError, match=r"seed: expected an integer 0\.\.4294967295"):
+        Rig("rover", seed=seed)
+
+
+@pytest.mark.parametrize("duration", [math.nan, math.inf, -1, "10", None, 1e300])
+def test_a_bad_duration_is_named(make_rig, duration):
+    rig = make_rig("rover", seed=1)
+    with pytest.raises(ConfigError, match="run_for: expected a number of seconds >= 0"):
+        rig.run_for(duration)
+
+
+@pytest.mark.parametrize("watchdog", [math.nan, 0, -1, "5"])
+def test_a_bad_watchdog_is_named(watchdog):
+    with pytest.raises(ConfigError, match="watchdog_s: expected a number of seconds > 0"):
+        Rig("rover", watchdog_s=watchdog)
+
+
+def test_a_chatty_console_streams_to_its_file_with_a_bounded_tail_in_memory(make_rig):
+    ticks = [(100_000 * k, "button", k % 2) for k in range(1, 30)]  # the plant moves: the host keeps up
+    rig = make_rig(shim_app(ticks), main_dir=FIRMWARE / "chatty")
+    rig.run_for(2.0)
+    rig.stop()
+    size = (rig.artefacts / "console.log").stat().st_size
+    assert size >= 2000 * 1024, f"expected about 2 MB of console in {rig.artefacts / 'console.log'}, got {size}"
+    assert len(rig.console) <= 256 * 1024 and rig.console.endswith("x" * 1023 + "\n"), len(rig.console)
+    assert rig.console_log.total_bytes == size
