@@ -121,7 +121,9 @@ class MissingEdgeEncoder(QuadratureEncoder):
 
     After every ``gaps[i]`` edges (drawn at reset, each >= 2) the next edge is emitted
     at the same instant as the current one, if the wheel has turned the same way for
-    the last two edges (a board only misses edges at speed). ``missed`` counts them."""
+    the last two edges (a board only misses edges at speed). ``missed`` counts them.
+    The disk's phase is not moved: the edge after comes when it would have, so the
+    counts still follow the wheel's travel."""
 
     def __init__(self, names, *, gaps: tuple, **kwargs):
         super().__init__(names, **kwargs)
@@ -147,6 +149,13 @@ class MissingEdgeEncoder(QuadratureEncoder):
             self.missed += 1
             self.doubled = True
             self.next_us = t_us
+
+    @staticmethod
+    def _phase(p: float, n: int) -> float:
+        # after an edge that came early the count is one edge ahead of the disk until
+        # the disk reaches it: keep the disk's phase (the next edge comes when it would
+        # have; turning back, the early edge is taken back at once)
+        return n - 1 if p < n - 1 else (n + 2 if p > n + 2 else p)
 
     def set_speed(self, t_us: int, wheel_rad_s: float) -> None:
         before = self.rate

@@ -1,7 +1,6 @@
-# The lab robot's pure modules run against the seed's numbers; the same code runs under
-# CPython (test_lab_robot.py) and on MicroPython's unix port (test_on_micropython.py),
-# which compare what it returns with the seed. MicroPython code: no f-strings with
-# formats, no typing.
+# The lab robot's pure modules run on the seed's cases. test_lab_robot_algorithms.py runs
+# this under CPython and on MicroPython's unix port and compares what it returns with the
+# seed's numbers. MicroPython code: no f-strings, no typing.
 import math
 
 from goto import ACHIEVED, DRIVE, ROTATE, GoTo, profile_mm_s

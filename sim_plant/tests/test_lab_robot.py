@@ -273,3 +273,21 @@ def test_sonars_range_on_the_rx_line_and_read_the_walls():
 def test_program_jumper_reads_low_when_fitted():
     assert LabRobot(world=OPEN, start_pose=START).output("jumper") == 1
     assert LabRobot(world=OPEN, start_pose=START, program_jumper=True).output("jumper") == 0
+
+
+def test_missed_edges_leave_the_counts_on_the_wheel_travel():
+    """An edge that comes early moves no disk: after speed changes and reversals the count
+    is where a plant without missed edges has it (the next edge comes when it would have;
+    turning back, the early edge is taken back)."""
+    counts = []
+    for p in (0.0, 0.1):
+        plant = LabRobot(world=OPEN, start_pose=START, missed_edge_p=p, sonar_rx=True)
+        plant.reset(5)
+        for i in range(60):  # a new duty every 37 ms, now and then backwards
+            duty = 0.3 + 0.5 * ((i * 7) % 10) / 10
+            drive(plant, duty if i % 9 else -duty, -duty if i % 7 else duty)
+            plant.advance_to((i + 1) * 37_000)
+        counts.append((plant.truth()["enc_l_edges"], plant.truth()["enc_r_edges"]))
+        if p:
+            assert min(plant.truth()["enc_l_missed"], plant.truth()["enc_r_missed"]) > 10
+    assert counts[0] == counts[1]

@@ -26,7 +26,7 @@ CONTROL_MS = const(50)
 CONTROL_US = const(50_000)  # deadlines in us: the sonar's RX pulse must not shift the steps
 SONAR_START_MS = const(1000)  # SonarBot: ArUtil::sleep(1000) before the first read
 SONAR_MS = const(100)  # then ArUtil::sleep(100) between reads
-RANGING_MS = const(50)  # an LV-EZ reading is ready 49 ms after RX: read it a step later
+RANGING_MS = const(50)  # an LV-EZ reading is ready 49 ms after RX: command it a step early
 
 
 class Robot:
@@ -83,8 +83,8 @@ class SquarePath:
 
 
 class CanyonRun:
-    """SCurveBot: left-wall following at 400 mm/s from the sonar chain, polled as
-    SonarBot polls: a ranging at 1000 ms, then every 100 ms, each read a step later."""
+    """SCurveBot: left-wall following at 400 mm/s from the sonar chain, read as SonarBot
+    reads: at 1000 ms, then every 100 ms, each ranging commanded a step before its read."""
 
     name = "left-wall following"
 
@@ -93,21 +93,21 @@ class CanyonRun:
         self.sonars = SonarChain(board.SONAR_RX, (board.SONAR_F_ADC, board.SONAR_L_ADC, board.SONAR_LF_ADC))
         self.follow = WallFollow()
         self.command = (0.0, 0.0)
-        self._next_ms = SONAR_START_MS
-        self._read_ms = -1
+        self._read_ms = SONAR_START_MS
 
     def step(self, t_ms):
+        if self.follow.done:
+            return self.command
         if t_ms == self._read_ms:
             front, left, left_front = self.sonars.read_mm()
             v, w_deg_s = self.follow.step(front, left, left_front)
             self.command = (v, math.radians(w_deg_s))
+            self._read_ms += SONAR_MS
             if self.follow.done:
                 self.robot.report(t_ms, "nowall: canyon end")
-                self._next_ms = -1
-        if t_ms == self._next_ms and not self.follow.done:
+                return self.command
+        if t_ms == self._read_ms - RANGING_MS:
             self.sonars.trigger()
-            self._read_ms = t_ms + RANGING_MS
-            self._next_ms = t_ms + SONAR_MS
         return self.command
 
 
@@ -117,15 +117,17 @@ def run():
     program = CanyonRun(robot) if fitted else SquarePath(robot)
     probe = Pin(board.LOOP_PROBE, Pin.OUT, value=0)
     print("lab robot on", board.NAME + ":", program.name, "control every", CONTROL_MS, "ms")
-    start = last = deadline = ticks_us()
+    t_ms = 0  # program time, counted in steps (ticks_us wraps after 18 minutes)
+    last = deadline = ticks_us()
     while True:
         probe.toggle()
         now = ticks_us()
         dt_ms = ticks_diff(now, last) / 1000
         last = now
         robot.sense(dt_ms)
-        v, w = program.step(ticks_diff(deadline, start) // 1000)
+        v, w = program.step(t_ms)
         robot.drive(v, w, dt_ms)
+        t_ms += CONTROL_MS
         deadline = ticks_add(deadline, CONTROL_US)
         sleep_us(max(0, ticks_diff(deadline, ticks_us())))
 
