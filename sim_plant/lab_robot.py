@@ -172,8 +172,8 @@ class MissingEdgeEncoder(QuadratureEncoder):
 
 
 class TriggeredSonar(AnalogRangeSonar):
-    """An analog sonar that ranges once per trigger (:class:`SonarRx`): a new reading
-    ``next_us`` after the RX edge, then nothing until the next edge."""
+    """An analog sonar that ranges once per trigger (:class:`SonarRx`): one new reading
+    the ranging time after the RX edge, then nothing until the next edge."""
 
     def __init__(self, name: str, model, **kwargs):
         super().__init__(name, model, **kwargs)
