@@ -81,7 +81,7 @@ class _EdgeCounter:
         """The wheel's disk turns at ``wheel_rad_s`` from ``t_us`` on."""
         p = self.p0 + self.rate * (t_us - self.t0_us)
         n = self.n
-        self.p0 = n if p < n else (n + 1 if p > n + 1 else p)
+        self.p0 = self._phase(p, n)
         self.t0_us = t_us
         self.rate = wheel_rad_s * self.polarity * self._edges_per_rad * 1e-6
         rate = self.rate
@@ -93,6 +93,12 @@ class _EdgeCounter:
             self.next_us = NEVER_US
             return
         self.next_us = t if t > t_us else t_us + 1
+
+    @staticmethod
+    def _phase(p: float, n: int) -> float:
+        """The disk's phase as a new base: between the edge just counted and the next one
+        (``p`` strays from it by rounding to whole microseconds)."""
+        return n if p < n else (n + 1 if p > n + 1 else p)
 
     def emit(self, t_us: int, out: list) -> None:
         """The edge due at ``t_us``: step the count, append the level that changed, plan

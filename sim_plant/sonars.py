@@ -158,11 +158,15 @@ class AnalogRangeSonar(Part):
         return {self.name: self.value}
 
     def fire(self, t_us: int, plant, out: list) -> None:
+        self.sample(t_us, plant, out)
+        self.next_us = t_us + self.period_us
+
+    def sample(self, t_us: int, plant, out: list) -> None:
+        """Take a new reading at ``t_us`` and append it as a :class:`Change`."""
         self.true_m, self.reading_m = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
         volts = self.invalid_v if self.reading_m is None else self.reading_m * self.volts_per_m
         self.value = self.adc.u16(volts)
         out.append(Change(t_us, self.name, self.value))
-        self.next_us = t_us + self.period_us
 
     def truth(self, t_us: int, plant) -> dict:
         key = self.name.split(".")[0]

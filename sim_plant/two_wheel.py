@@ -62,7 +62,7 @@ from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeM
 from sim_plant.world import box, room
 
 WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
-    "canyon": (lambda: worlds.canyon(), (0.6, 0.6, 1.5707963267948966)),
+    "canyon": (lambda: worlds.canyon(), (0.3, 0.0, 0.0)),
     "duct": (lambda: worlds.one_right_branch_duct(), (0.3, 0.2, 0.0)),
     "multi_branch_duct": (lambda: worlds.multi_branch_duct(), (0.3, 0.2, 0.0)),
     "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),

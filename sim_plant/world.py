@@ -393,12 +393,34 @@ def multi_branch_duct(width_m: float = DUCT_WIDTH_M) -> World:
     )
 
 
-def canyon(width_m: float = 1.2, *, name: str = "canyon") -> World:
-    """Seed 004's S-curve "canyon" (Fig. 10, not given numerically): a corridor whose
-    centre line is x -> 1.5 sin(pi x / 4) over 8 m, walled on both sides, closed at the
-    start and open at the far end (wall following stops when no wall is seen)."""
-    n = 32
-    centre = [(8.0 * i / n, 1.5 * math.sin(math.pi * (8.0 * i / n) / 4.0)) for i in range(n + 1)]
+CANYON_WIDTH_M = 1.2
+CANYON_LEAD_M = 1.5
+CANYON_BEND_M = 12.0
+CANYON_SHIFT_M = 1.2
+CANYON_TAIL_M = 2.0
+CANYON_END_M = CANYON_LEAD_M + CANYON_BEND_M + CANYON_TAIL_M
+"""Seed 004's S-curve canyon (Fig. 10; its size is lost with the figure): a straight
+lead-in, an S that shifts the corridor 1.2 m sideways over 12 m (a left bend, then a
+right bend: at most 11.3 degrees off the x axis), a straight tail, open at x = 15.5 m.
+The bends are as sharp as the seed's wall follower can take at its 400 mm/s: its heading
+lags the wall by v / k = 3.2 m of travel (k = 0.125 /s), which carries the robot towards
+the outside of each bend (docs/lab_robot.md)."""
+
+
+def canyon_centre_m(x_m: float) -> float:
+    """The canyon's centre line, y at x (m): 0 along the lead-in, a smooth step of
+    ``CANYON_SHIFT_M`` over the bend (zero slope and curvature at both ends), then level."""
+    u = min(max((x_m - CANYON_LEAD_M) / CANYON_BEND_M, 0.0), 1.0)
+    return CANYON_SHIFT_M * (u - math.sin(2 * math.pi * u) / (2 * math.pi))
+
+
+def canyon(width_m: float = CANYON_WIDTH_M, *, name: str = "canyon") -> World:
+    """Seed 004's S-curve "canyon": a corridor ``width_m`` wide along
+    :func:`canyon_centre_m` from x = 0 to ``CANYON_END_M``, walled on both sides,
+    closed at the start and open at the far end (wall following stops where no wall is
+    seen). Walls are polylines with a vertex every 0.25 m."""
+    n = round(CANYON_END_M / 0.25)
+    centre = [(CANYON_END_M * i / n, canyon_centre_m(CANYON_END_M * i / n)) for i in range(n + 1)]
     left, right = [], []
     for i, (x, y) in enumerate(centre):
         x2, y2 = centre[min(i + 1, n)]

@@ -7,7 +7,7 @@ import pytest
 
 from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
 from sim_plant.lab_robot import LabRobot
-from sim_plant.world import rectangle
+from sim_plant.world import CANYON_END_M, canyon_centre_m, rectangle
 
 OPEN = rectangle(100.0, 100.0)
 START = (50.0, 50.0, 0.0)
@@ -30,6 +30,7 @@ class Table1Decoder:
         self.levels = {"a": a, "b": b}
         self.phase = self.PHASE[(a, b)]
         self.count = self.errors = 0
+        self.last = 1
         self.phases = [self.phase]
 
     def edge(self, channel, level):
@@ -40,6 +41,32 @@ class Table1Decoder:
         self.errors += step == 2
         self.phase = phase
         self.phases.append(phase)
+
+
+class InstantDecoder(Table1Decoder):
+    """A decoder that reads the channels once per instant, as a board's IRQ handler does
+    when it runs after every edge of that instant has come."""
+
+    def __init__(self):
+        super().__init__()
+        self.t_us = None
+
+    def change(self, t_us, channel, level):
+        if t_us != self.t_us:
+            self.flush()
+            self.t_us = t_us
+        self.levels[channel] = level
+
+    def flush(self):
+        phase = self.PHASE[(self.levels["a"], self.levels["b"])]
+        step = (phase - self.phase) % 4
+        if step == 2:
+            self.errors += 1
+            self.count += 2 * self.last
+        elif step:
+            self.last = {1: 1, 3: -1}[step]
+            self.count += self.last
+        self.phase = phase
 
 
 def decode(changes, side="l"):
@@ -138,10 +165,129 @@ def test_square_path_sides_are_exact_arcs():
 
 def test_canyon_world_has_walls_on_both_sides_and_an_open_end():
     """Seed 004 §2.4 (Fig. 10): the S-curve "canyon"; wall following stops where no wall is
-    seen."""
+    seen. The robot starts 0.4 m off the left wall (the one it follows), 0.8 m off the right."""
     plant = LabRobot(world="canyon")
     x, y, th = plant.pose_at(0)
     left = plant.world.ray(x, y, th + math.pi / 2)[0]
     right = plant.world.ray(x, y, th - math.pi / 2)[0]
-    assert left == pytest.approx(0.6, abs=0.1) and right == pytest.approx(0.6, abs=0.1)
-    assert math.isinf(plant.world.ray(8.5, 0.0, 0.0)[0])
+    assert left == pytest.approx(0.4, abs=1e-9) and right == pytest.approx(0.8, abs=1e-9)
+    for x_m in (1.0, 5.0, 7.5, 10.0, 15.0):  # 1.2 m wide all along its centre line
+        y_m = canyon_centre_m(x_m)
+        assert plant.world.clearance(x_m, y_m)[0] == pytest.approx(0.6, abs=0.01)
+    assert math.isinf(plant.world.ray(CANYON_END_M + 0.1, canyon_centre_m(CANYON_END_M), math.pi / 2)[0])
+    assert math.isinf(plant.world.ray(CANYON_END_M - 1.0, canyon_centre_m(CANYON_END_M), 0.0)[0])
+
+
+def test_canyon_cannot_be_driven_straight_through():
+    """The S shifts the corridor 1.2 m sideways: a robot that keeps its start heading hits
+    a wall, so getting through it takes wall following."""
+    plant = LabRobot(world="canyon")
+    x, y, th = plant.pose_at(0)
+    hit_m = plant.world.ray(x, y, th)[0]
+    assert hit_m < CANYON_END_M - x
+
+
+def test_canyon_bends_are_gentle_s_curve():
+    """Left bend, then right bend, at most 11.3 degrees off the x axis (slope 2 x 1.2 / 12)."""
+    xs = [i * 0.05 for i in range(round(CANYON_END_M / 0.05) + 1)]
+    slopes = [(canyon_centre_m(b) - canyon_centre_m(a)) / 0.05 for a, b in zip(xs, xs[1:])]
+    assert max(slopes) == pytest.approx(0.2, abs=1e-3) and min(slopes) >= 0.0
+    assert canyon_centre_m(0.0) == 0.0 and canyon_centre_m(CANYON_END_M) == pytest.approx(1.2)
+
+
+def test_missed_edges_come_two_at_once_and_the_decoder_counts_each_as_an_error():
+    """missed_edge_p: now and then two edges of one encoder fall at the same instant; a
+    Table 1 decoder that reads both channels after the instant sees a two-phase jump, once
+    per missed edge, and the plant counts them in its truth."""
+    plant = LabRobot(world=OPEN, start_pose=START, missed_edge_p=0.02)
+    plant.reset(3)
+    drive(plant, 0.6, -0.4)
+    changes = plant.advance_to(4_000_000)
+    drive(plant, -0.5, 0.5)
+    changes += plant.advance_to(6_000_000)
+    truth = plant.truth()
+    for side in "lr":
+        dec = InstantDecoder()
+        for c in changes:
+            if c.name.startswith(f"enc_{side}."):
+                dec.change(c.t_us, c.name[-1], c.value)
+        dec.flush()
+        assert truth[f"enc_{side}_missed"] > 5
+        assert dec.errors == truth[f"enc_{side}_missed"], side
+        assert dec.count == truth[f"enc_{side}_edges"], side
+
+
+def test_no_missed_edges_by_default():
+    plant = LabRobot(world=OPEN, start_pose=START)
+    drive(plant, 1.0, 1.0)
+    changes = plant.advance_to(2_000_000)
+    times = {}
+    for c in changes:
+        side = c.name[4]
+        assert times.get(side) != c.t_us, "two edges of one encoder at one instant"
+        times[side] = c.t_us
+    assert "enc_l_missed" not in plant.truth()
+
+
+def test_wheel_slip_moves_the_counts_off_the_floor_travel_and_is_seeded():
+    """wheel_slip_sd: each wheel's encoder sees its floor travel times (1 + s), s redrawn
+    every slip period; the same seed gives the same counts."""
+
+    def run(seed):
+        plant = LabRobot(world=OPEN, start_pose=START, wheel_slip_sd=0.05, slip_period_us=100_000)
+        plant.reset(seed)
+        drive(plant, 0.5, 0.5)
+        plant.advance_to(5_000_000)
+        truth = plant.truth()
+        return truth["enc_l_edges"], truth["enc_r_edges"], truth["distance_m"], truth["wheel_slip"]
+
+    (n_l, n_r, dist_m, slip), again, other = run(1), run(1), run(2)
+    assert (n_l, n_r, dist_m, slip) == again and (n_l, n_r) != other[:2]
+    per_edge_m = 2 * math.pi * 0.035 / 80
+    assert n_l != n_r and abs(slip[0]) > 0
+    assert n_l * per_edge_m == pytest.approx(dist_m, rel=0.05)  # 50 draws of 5 %: about 0.7 %
+
+
+def test_sonars_range_on_the_rx_line_and_read_the_walls():
+    """sonar_rx: nothing until the board raises RX; then the front, left and left-front
+    sonars each give one reading 49 ms later, of the ranges to the walls along their axes."""
+    plant = LabRobot(world=rectangle(4.0, 4.0), start_pose=(1.0, 1.0, 0.0), sonar_rx=True, sonar_noise_m=0.0)
+    assert plant.advance_to(500_000) == []
+    plant.set_input("sonar.rx", 1)
+    plant.set_input("sonar.rx", 0)
+    changes = plant.advance_to(600_000)
+    assert sorted((c.t_us, c.name) for c in changes) == [
+        (549_000, "sonar_f.adc"),
+        (549_000, "sonar_l.adc"),
+        (549_000, "sonar_lf.adc"),
+    ]
+    truth = plant.truth()
+    assert truth["sonar_f_range_m"] == pytest.approx(3.0 - 0.14)
+    assert truth["sonar_l_range_m"] == pytest.approx(3.0 - 0.14)
+    assert truth["sonar_lf_range_m"] == pytest.approx(3.0 * math.sqrt(2) - 0.14)
+    volts = {c.name: c.value / 65535 * 3.3 for c in changes}
+    assert volts["sonar_f.adc"] / (3.3 / 512 / 0.0254) == pytest.approx(2.86, abs=0.003)
+    assert plant.sample_period_us("sonar_l.adc") is None
+
+
+def test_program_jumper_reads_low_when_fitted():
+    assert LabRobot(world=OPEN, start_pose=START).output("jumper") == 1
+    assert LabRobot(world=OPEN, start_pose=START, program_jumper=True).output("jumper") == 0
+
+
+def test_missed_edges_leave_the_counts_on_the_wheel_travel():
+    """An edge that comes early moves no disk: after speed changes and reversals the count
+    is where a plant without missed edges has it (the next edge comes when it would have;
+    turning back, the early edge is taken back)."""
+    counts = []
+    for p in (0.0, 0.1):
+        plant = LabRobot(world=OPEN, start_pose=START, missed_edge_p=p, sonar_rx=True)
+        plant.reset(5)
+        for i in range(60):  # a new duty every 37 ms, now and then backwards
+            duty = 0.3 + 0.5 * ((i * 7) % 10) / 10
+            drive(plant, duty if i % 9 else -duty, -duty if i % 7 else duty)
+            plant.advance_to((i + 1) * 37_000)
+        counts.append((plant.truth()["enc_l_edges"], plant.truth()["enc_r_edges"]))
+        if p:
+            assert min(plant.truth()["enc_l_missed"], plant.truth()["enc_r_missed"]) > 10
+    assert counts[0] == counts[1]

@@ -7,6 +7,7 @@ import pytest
 
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import (
+    CANYON_END_M,
     box,
     canyon,
     duct_network,
@@ -101,7 +102,7 @@ def test_local_views_answer_like_the_whole_world():
 def test_worlds_of_the_seeds():
     assert pool().bounds == (0.0, 0.0, 25.0, 8.0)
     assert len(vacuum_room().walls) == 4 + 4 + 4 + 3
-    assert canyon().bounds[2] == pytest.approx(8.0, abs=0.7)
+    assert canyon().bounds[2] == pytest.approx(CANYON_END_M)
     with pytest.raises(ValueError, match="at least 3"):
         room(2, 2, [[(0, 0), (1, 1)]])
 
