@@ -100,7 +100,11 @@ def _declare(f, tree: dict, ids: dict) -> None:
         f.write(f"$var {_var_type(node[2])} {code} {name} $end\n")
 
 
+_SAME_AS = {"uart": "bytes", "pwm": "duty"}  # plant input kinds recorded as these
+
+
 def _var_type(kind: str) -> str:
+    kind = _SAME_AS.get(kind, kind)
     if kind == "real":
         return "real 64"
     if kind in ("u16", "duty"):
@@ -111,6 +115,7 @@ def _var_type(kind: str) -> str:
 
 
 def _value(kind: str, value, code: str) -> str:
+    kind = _SAME_AS.get(kind, kind)
     if kind == "real":
         return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
     if kind == "bytes":

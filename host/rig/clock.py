@@ -43,7 +43,7 @@ class Clock:
         stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
         if stopped or self.plant.t_us >= wait.t_until:
             self.wait = None
-            self._send_state(wait.t_now)
+            self._send_state(wait.t_now, t_end_us)
         elif not self.speculation.open:
             self.speculation.commit(self.plant.t_us)  # nothing in this batch can be rewound
 
@@ -97,9 +97,11 @@ class Clock:
             self.log.rollback(t_us)
         self.speculation.commit(t_us)
 
-    def _send_state(self, base_us: int) -> None:
+    def _send_state(self, base_us: int, t_end_us: int) -> None:
         t_us = self.plant.t_us
-        horizon = self.plant.next_change_us()
+        # (never past the run's end: a firmware with nothing to wake it for would run on
+        # alone, far past what was asked for, while the host waits for it)
+        horizon = min(self.plant.next_change_us(), max(t_end_us, t_us))
         changes = self.inputs.take()
         self.log.state(t_us, base_us, horizon, changes)
         self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))

@@ -16,7 +16,7 @@ import tomllib
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 from host.rig.app import App
-from host.rig.boards import known_boards, read_board_file
+from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds
@@ -33,7 +33,7 @@ TABLES = {
     "interpreter": dict,
 }
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
-BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list}
+BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
 PLANT_KEYS = {"kind": str, "options": dict}
 INTERPRETER_KEYS = {"heap_size": str, "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
@@ -139,7 +139,22 @@ def load_rig(path) -> App:
         plant_options=dict(options),
         heap_size=_heap_size(where, interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
+        identity=_family(where, data.get("board", {})),
     )
+
+
+def _family(where: _Where, board) -> tuple[str, str] | None:
+    """[board] family = "esp32" | "rpi_pico": the chip the firmware sees in sys.platform
+    (a board named after one of them needs no family)."""
+    family = board.get("family") if isinstance(board, dict) else None
+    if family is None:
+        return None
+    if family not in IDENTITIES:
+        known = ", ".join(IDENTITIES)
+        raise where.error(
+            "[board] family", f"unknown family {family!r} (known: {known}){_did_you_mean(family, list(IDENTITIES))}"
+        )
+    return IDENTITIES[family]
 
 
 def _heap_size(where: _Where, text: str | None) -> str | None:

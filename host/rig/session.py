@@ -81,7 +81,7 @@ class Session:
             return "none yet"
         name = F.NAMES.get(self.last_type, hex(self.last_type))
         wall = self.chan.last_data_wall if self.chan else None
-        return name if wall is None else f"{name}, read at wall {wall:.3f}"
+        return name if wall is None else f"{name}, {time.monotonic() - wall:.1f} s of wall time ago"
 
     def last_sent(self) -> str:
         return F.NAMES.get(self.last_sent_type, "nothing") if self.last_sent_type is not None else "nothing"

@@ -76,7 +76,7 @@ class UnixPortTarget(Target):
                 [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
                 env=firmware.env(self.pty.slave_path),
                 cwd=str(firmware.main_dir),
-                stdin=subprocess.DEVNULL,
+                stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,
                 start_new_session=True,
@@ -122,6 +122,8 @@ class UnixPortTarget(Target):
         except (OSError, ValueError):
             pass
         proc.stdout.close()
+        if proc.stdin is not None:
+            proc.stdin.close()
 
     def on_silence(self, rig, timeout_s: float, what: str):
         proc = self.proc

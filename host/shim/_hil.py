@@ -55,6 +55,16 @@ class LinkDamaged(Exception):
     """A frame from the host was damaged or lost: the run cannot go on (the host says so)."""
 
 
+class CallbackFailed(Exception):
+    """An IRQ handler or Timer callback raised. A board prints it and carries on without
+    that call; in the loop the run ends, naming the callback (nothing fails unseen)."""
+
+    def __init__(self, callback, error):
+        sys.print_exception(error)
+        name = getattr(callback, "__name__", repr(callback))
+        super().__init__("the callback %s raised %s: %s" % (name, type(error).__name__, error))
+
+
 class ResetRequest(BaseException):
     """machine.reset(): unwinds the firmware like a board that restarts."""
 
@@ -304,6 +314,8 @@ def _sync(t_until, watch):
         for h in watch:
             payload += struct.pack(F.WATCH_FMT, h)
     _Link.syncs += 1
+    if _Link.thread() != _Link.main_thread:
+        raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     p = _link.exchange(payload, _now, state_fmt)
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
@@ -378,7 +390,10 @@ def dispatch():
     try:
         while _pending:
             callback, arg = _pending.pop(0)
-            callback(arg)
+            try:
+                callback(arg)
+            except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)
+                raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
     finally:
         _dispatching = False
 
@@ -450,10 +465,9 @@ def start():
         )
     _proto, mode, t_start, flags, identity = F.unpack_welcome(p)
     _Link.zero = bool(flags & F.WELCOME_ZERO_DELAY)
-    if identity:  # the board's sys.platform and sys.implementation._machine
-        import _hilsys
+    import _hilsys  # the board's sys (sys.platform, _machine when the host names it), os, micropython
 
-        _hilsys.install(*identity.decode().split(";", 1))
+    _hilsys.install(*(identity.decode().split(";", 1) if identity else ()))
     _now = t_start
     _horizon = t_start
     _wake_real_us = _rtime.ticks_us()

@@ -1,24 +1,55 @@
-# sys as the board's firmware sees it: the unix port's sys, with the board's
-# sys.platform and sys.implementation._machine (firmware picks pins by them). Installed
-# in sys.modules by _hil.start when the host names the board; `import sys` then finds it.
+# The board's modules as its firmware sees them, put in sys.modules by _hil.start (an
+# `import` finds them there before the built-ins): sys with the board's sys.platform and
+# sys.implementation._machine (firmware picks pins by them) when the host names the
+# board, usys the same; micropython with alloc_emergency_exception_buf (a board's, here
+# nothing to allocate); os with uname(), which the unix port leaves out.
+import micropython as _micropython
+import os as _os
 import sys as _sys
 from collections import namedtuple
 
 _Implementation = namedtuple("implementation", ("name", "version", "_machine", "_mpy", "_build"))
+_Uname = namedtuple("uname_result", ("sysname", "nodename", "release", "version", "machine"))
 
 
-class _BoardSys:
+class _Module:
     pass
 
 
-def install(platform, machine):
-    board = _BoardSys()
-    for name in dir(_sys):
+def _copy(module):
+    copy = _Module()
+    for name in dir(module):
         if not name.startswith("__"):
-            setattr(board, name, getattr(_sys, name))
+            setattr(copy, name, getattr(module, name))
+    return copy
+
+
+def _alloc_emergency_exception_buf(size):
+    pass
+
+
+def install(platform=None, machine=None):
     impl = _sys.implementation
-    board.platform = platform
-    board.implementation = _Implementation(
-        impl.name, impl.version, machine, getattr(impl, "_mpy", 0), getattr(impl, "_build", "")
+    version = ".".join(str(v) for v in impl.version[:3])
+    if platform:
+        board = _copy(_sys)
+        board.platform = platform
+        board.implementation = _Implementation(
+            impl.name, impl.version, machine, getattr(impl, "_mpy", 0), getattr(impl, "_build", "")
+        )
+        _sys.modules["sys"] = board
+    _sys.modules["usys"] = _sys.modules.get("sys", _sys)
+    mp = _copy(_micropython)
+    mp.alloc_emergency_exception_buf = _alloc_emergency_exception_buf
+    _sys.modules["micropython"] = mp
+    board_os = _copy(_os)
+    uname = _Uname(
+        platform or _sys.platform,
+        platform or _sys.platform,
+        version,
+        "v%s on 2025-05-04" % version,
+        machine or impl._machine,
     )
-    _sys.modules["sys"] = board
+    board_os.uname = lambda: uname
+    _sys.modules["os"] = board_os
+    _sys.modules["uos"] = board_os

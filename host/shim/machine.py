@@ -2,7 +2,7 @@
 # API after MicroPython's docs (docs/library/machine.*.rst); constants as on the ESP32
 # port. Every pin, ADC, PWM and UART is a handle the host wires to a plant signal.
 import _hil
-import _hilframe as F
+import _hilframe as _F
 
 _UNIQUE_ID = b"\x24\x0a\xc4\x00\xf1\x1e"
 PWRON_RESET = 1
@@ -24,31 +24,26 @@ class Pin:
     IRQ_FALLING = 2
     _MODES = {IN: 0, OUT: 1, OPEN_DRAIN: 2}
     _PULLS = {None: 0, PULL_UP: 1, PULL_DOWN: 2}
-    _made = {}  # pin id -> handle: one pin, one handle, however many Pin objects name it
+    _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
+
+    def __new__(cls, id, *args, **kw):
+        pin = Pin._made.get(id)
+        if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
+            pin = Pin._made[id] = object.__new__(cls)
+            pin._id = id
+            pin._mode = Pin.IN
+            pin._pull = None
+            pin._level = 0
+            pin._out = 0
+            pin._handler = None
+            pin._trigger = 0
+            pin._flags = 0
+            pin._counters = None  # Counter and Encoder units counting this pin's edges
+            pin._handle = _hil.register(pin)
+        return pin
 
     def __init__(self, id, mode=-1, pull=-1, *, value=None, **_kw):
-        self._id = id
-        self._mode = self.IN
-        self._pull = None
-        self._level = 0
-        self._out = 0
-        self._handler = None
-        self._trigger = 0
-        self._counters = None  # Counter and Encoder units counting this pin's edges
-        h = Pin._made.get(id)
-        old = None
-        if h is None:
-            self._handle = Pin._made[id] = _hil.register(self)
-        else:  # the pin made again (a driver's habit): it keeps its mode, level and IRQ
-            old = _hil._handles[h]
-            _hil._handles[h] = self  # the newest object follows the pin
-            self._handle = h
-            self._mode, self._pull, self._level, self._out = old._mode, old._pull, old._level, old._out
-            self._handler, self._trigger = old._handler, old._trigger
-            self._counters = old._counters
         self.init(mode, pull, value=value)
-        if old is not None and self._handler is not None:
-            _hil.configure(self._handle, F.CFG_IRQ, self._id, self._trigger)
 
     def init(self, mode=-1, pull=-1, *, value=None, **_kw):
         if mode != -1:
@@ -64,7 +59,7 @@ class Pin:
         is_input = self._mode == self.IN
         _hil.configure(
             self._handle,
-            F.CFG_PIN,
+            _F.CFG_PIN,
             self._id,
             self._MODES[self._mode],
             self._PULLS[self._pull],
@@ -72,7 +67,7 @@ class Pin:
             sync=is_input,
         )
         if not is_input:
-            _hil.send_out(self._handle, F.OUT_LEVEL, self._out)
+            _hil.send_out(self._handle, _F.OUT_LEVEL, self._out)
 
     def _hil_apply(self, kind, value, extra):
         old = self._level
@@ -81,7 +76,9 @@ class Pin:
             for unit in self._counters:
                 unit._hil_edge(self, value)
         if self._handler is not None and old != value:
-            if (value and self._trigger & self.IRQ_RISING) or (not value and self._trigger & self.IRQ_FALLING):
+            edge = self.IRQ_RISING if value else self.IRQ_FALLING
+            if self._trigger & edge:
+                self._flags = edge
                 _hil.schedule(self._handler, self)
 
     def value(self, x=None):
@@ -94,7 +91,7 @@ class Pin:
         if x != self._out:
             self._out = x
             if self._mode != self.IN:
-                _hil.send_out(self._handle, F.OUT_LEVEL, x)
+                _hil.send_out(self._handle, _F.OUT_LEVEL, x)
 
     __call__ = value
 
@@ -123,10 +120,13 @@ class Pin:
             return self._pull
         self.init(pull=pull)
 
-    def irq(self, handler=None, trigger=IRQ_FALLING | IRQ_RISING, *, hard=False, **_kw):
+    def irq(self, handler=_UNSET, trigger=IRQ_FALLING | IRQ_RISING, *, hard=False, **_kw):
+        if handler is _UNSET and not _kw and trigger == self.IRQ_FALLING | self.IRQ_RISING:
+            return _PinIRQ(self)  # pin.irq(): the IRQ object as it is (its flags: the last edge)
+        handler = None if handler is _UNSET else handler
         self._handler = handler
         self._trigger = trigger if handler is not None else 0
-        _hil.configure(self._handle, F.CFG_IRQ, self._id, self._trigger)
+        _hil.configure(self._handle, _F.CFG_IRQ, self._id, self._trigger)
         return _PinIRQ(self)
 
     def __repr__(self):
@@ -141,7 +141,7 @@ class _PinIRQ:
         return self._pin._trigger
 
     def flags(self):
-        return self._pin._trigger
+        return self._pin._flags
 
 
 class PinBase:
@@ -177,22 +177,20 @@ class ADC:
     ATTN_11DB = 3
     WIDTH_12BIT = 12
 
-    _made = {}  # pin id -> handle, as Pin._made
+    _made = {}  # pin id -> its ADC, one object per input as Pin's
+
+    def __new__(cls, id, *args, **kw):
+        key = id._id if isinstance(id, Pin) else id
+        adc = ADC._made.get(key)
+        if adc is None:
+            adc = ADC._made[key] = object.__new__(cls)
+            adc._id = key
+            adc._value = adc._sample = adc._seen = 0
+            adc._handle = _hil.register(adc)
+        return adc
 
     def __init__(self, id, *, atten=None, **_kw):
-        self._id = id._id if isinstance(id, Pin) else id
-        self._value = 0
-        self._sample = 0
-        self._seen = 0
-        h = ADC._made.get(self._id)
-        if h is None:
-            self._handle = ADC._made[self._id] = _hil.register(self)
-        else:  # made again: the newest object follows the input, sample count and all
-            old = _hil._handles[h]
-            _hil._handles[h] = self
-            self._handle = h
-            self._value, self._sample, self._seen = old._value, old._sample, old._seen
-        _hil.configure(self._handle, F.CFG_ADC, self._id, param=atten or 0, sync=True)
+        _hil.configure(self._handle, _F.CFG_ADC, self._id, param=atten or 0, sync=True)
 
     def _hil_apply(self, kind, value, extra):
         self._value = value
@@ -202,7 +200,7 @@ class ADC:
         _hil.observe()
         if self._sample != self._seen:  # first read of a new sample: report it
             self._seen = self._sample
-            _hil.send(F.SEEN, F.pack_seen(_hil.now(), self._handle, self._sample))
+            _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._sample))
         return self._value
 
     def read(self):
@@ -219,12 +217,23 @@ class ADC:
 
 
 class PWM:
+    _made = {}  # pin id -> its PWM: one channel per pin (a PWM made per call reuses it)
+
+    def __new__(cls, dest, *args, **kw):
+        pin = dest if isinstance(dest, Pin) else Pin(dest, Pin.OUT)
+        pwm = PWM._made.get(pin._id)
+        if pwm is None:
+            pwm = PWM._made[pin._id] = object.__new__(cls)
+            pwm._pin = pin
+            pwm._handle = _hil.register(pwm)
+            pwm._freq = 5000
+            pwm._duty = 0
+            pwm._invert = False
+        return pwm
+
     def __init__(self, dest, freq=None, duty=None, *, duty_u16=None, duty_ns=None, invert=False, **_kw):
-        self._pin = dest if isinstance(dest, Pin) else Pin(dest, Pin.OUT)
-        self._handle = _hil.register(self)
-        self._freq = 5000
-        self._duty = 0
-        _hil.configure(self._handle, F.CFG_PWM, self._pin._id, param=self._freq)
+        _hil.configure(self._handle, _F.CFG_PWM, self._pin._id, param=self._freq)
+        self._invert = bool(invert)  # the line is high for the rest of each period
         self.freq(self._freq if freq is None else freq)
         self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
@@ -253,7 +262,7 @@ class PWM:
         if not 0 < value <= 40_000_000:
             raise ValueError("freq %r out of range" % (value,))
         self._freq = int(value)
-        _hil.send_out(self._handle, F.OUT_FREQ, self._freq)
+        _hil.send_out(self._handle, _F.OUT_FREQ, self._freq)
 
     def duty_u16(self, value=None):
         if value is None:
@@ -263,7 +272,7 @@ class PWM:
             raise ValueError("duty_u16 %r out of range 0..65535" % (value,))
         if value != self._duty:
             self._duty = value
-            _hil.send_out(self._handle, F.OUT_DUTY, value)
+            _hil.send_out(self._handle, _F.OUT_DUTY, 65535 - value if self._invert else value)
 
     def duty_ns(self, value=None):
         period_ns = 1_000_000_000 // self._freq
@@ -273,18 +282,28 @@ class PWM:
 
     def deinit(self):
         self._duty = 0
-        _hil.send_out(self._handle, F.OUT_DEINIT, 0)
+        _hil.send_out(self._handle, _F.OUT_DEINIT, 0)
 
 
 class Timer:
     ONE_SHOT = 0
     PERIODIC = 1
 
+    _made = {}  # id -> its Timer: a hardware timer is one object (Timer(-1): a new soft one)
+
+    def __new__(cls, id=-1, *args, **kw):
+        timer = Timer._made.get(id) if id != -1 else None
+        if timer is None:
+            timer = object.__new__(cls)
+            timer._id = id
+            timer._callback = None
+            timer._period_us = 0
+            timer._due = _F.FOREVER_US
+            if id != -1:
+                Timer._made[id] = timer
+        return timer
+
     def __init__(self, id=-1, **kw):
-        self._id = id
-        self._callback = None
-        self._period_us = 0
-        self._due = F.FOREVER_US
         if kw:
             self.init(**kw)
 
@@ -304,7 +323,7 @@ class Timer:
             _hil.add_timer(self)
 
     def deinit(self):
-        self._due = F.FOREVER_US
+        self._due = _F.FOREVER_US
         _hil.remove_timer(self)
 
 
@@ -316,33 +335,46 @@ class UART:
     IRQ_RX = 1
     IRQ_RXIDLE = 2
     IRQ_TXIDLE = 4
-    _made = {}  # UART id -> handle, as Pin._made
+    _made = {}  # UART id -> its UART: one peripheral per id (UART(1) is UART(1))
 
-    def __init__(self, id, baudrate=9600, bits=8, parity=None, stop=1, **kw):
-        self._id = id
-        self._rx = b""
-        self._lines = 0  # complete lines the firmware has taken (the host's samples)
-        h = UART._made.get(id)
-        if h is None:
-            self._handle = UART._made[id] = _hil.register(self)
-        else:  # the UART made again: one peripheral, and the newest object is it
-            old = _hil._handles[h]
-            if old._timer is not None:
-                _hil.remove_timer(old._timer)
-            _hil._handles[h] = self
-            self._handle = h
-            self._rx, self._lines = old._rx, old._lines
-        self._tx_end = 0
-        self._handler = None
-        self._trigger = 0
-        self._flags = 0
-        self._timer = None
-        self.init(baudrate, bits, parity, stop)
-        _hil.configure(self._handle, F.CFG_UART, "uart%s" % (id,), param=self._baud)
+    def __new__(cls, id, *args, **kw):
+        uart = UART._made.get(id)
+        if uart is None:
+            uart = UART._made[id] = object.__new__(cls)
+            uart._id = id
+            uart._rx = b""
+            uart._lines = 0  # complete lines the firmware has taken (the host's samples)
+            uart._handle = _hil.register(uart)
+            uart._tx_end = 0
+            uart._handler = None
+            uart._trigger = 0
+            uart._flags = 0
+            uart._timer = None
+            uart._baud = 9600
+            uart._char_bits = 10
+            uart._timeout = 0
+        return uart
 
-    def init(self, baudrate=9600, bits=8, parity=None, stop=1, **kw):
-        self._baud = baudrate
+    def __init__(self, id, baudrate=None, *args, **kw):
+        self.init(baudrate, *args, **kw)
+
+    def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, **kw):
+        """baudrate, bits, parity, stop; timeout: ms a read waits for its data (0: none)."""
+        if baudrate is not None:
+            self._baud = int(baudrate)
+        if timeout is not None:
+            self._timeout = int(timeout)
         self._char_bits = 1 + bits + (0 if parity is None else 1) + stop
+        _hil.configure(self._handle, _F.CFG_UART, "uart%s" % (self._id,), param=self._baud)
+
+    def _wait_for(self, enough):
+        """A read with a timeout waits in virtual time until ``enough()`` or the timeout."""
+        if self._timeout <= 0 or enough():
+            return
+        _hil.blocking()
+        deadline = _hil.now() + self._timeout * 1000
+        while not enough() and _hil.now() < deadline:
+            _hil.run_until(deadline, [self._handle])
 
     def deinit(self):
         self.irq(None)
@@ -384,7 +416,7 @@ class UART:
         self._trigger = trigger if handler is not None else 0
         if self._timer is not None:
             _hil.remove_timer(self._timer)
-        _hil.configure(self._handle, F.CFG_IRQ, "uart%s" % (self._id,), self._trigger & self.IRQ_RX)
+        _hil.configure(self._handle, _F.CFG_IRQ, "uart%s" % (self._id,), self._trigger & self.IRQ_RX)
         return _UartIRQ(self)
 
     def any(self):
@@ -393,6 +425,8 @@ class UART:
 
     def read(self, nbytes=-1):
         _hil.observe()
+        want = 1 if nbytes is None or nbytes < 0 else nbytes
+        self._wait_for(lambda: len(self._rx) >= want)
         if not self._rx:
             return None
         if nbytes is None or nbytes < 0:
@@ -402,7 +436,7 @@ class UART:
         while n:  # the first read of a line's last byte: report it, as ADC samples are
             n -= 1
             self._lines += 1
-            _hil.send(F.SEEN, F.pack_seen(_hil.now(), self._handle, self._lines))
+            _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._lines))
         return data
 
     def readinto(self, buf, nbytes=-1):
@@ -414,6 +448,7 @@ class UART:
 
     def readline(self):
         _hil.observe()
+        self._wait_for(lambda: b"\n" in self._rx)
         i = self._rx.find(b"\n")
         if i < 0:
             return self.read() if self._rx else None
@@ -423,7 +458,7 @@ class UART:
         data = buf.encode() if isinstance(buf, str) else bytes(buf)
         now = _hil.now()
         self._tx_end = max(now, self._tx_end) + self._line_us(len(data))
-        _hil.send_output(F.UART_TX, F.pack_uart_tx(now, self._handle, data))
+        _hil.send_output(_F.UART_TX, _F.pack_uart_tx(now, self._handle, data))
         if self._trigger & self.IRQ_TXIDLE:
             self._at(self._tx_end, self.IRQ_TXIDLE)
         return len(data)
@@ -516,13 +551,20 @@ def deepsleep(time_ms=None):
 
 
 class WDT:
-    """The watchdog: not fed for ``timeout`` ms, it resets the board."""
+    """The watchdog: not fed for ``timeout`` ms, it resets the board. One per board."""
+
+    _one = None
+
+    def __new__(cls, *args, **kw):
+        if WDT._one is None:
+            wdt = WDT._one = object.__new__(cls)
+            wdt._timer = Timer(-1)
+            wdt._timer._callback = wdt._expired
+            wdt._timer._period_us = 0
+        return WDT._one
 
     def __init__(self, id=0, timeout=5000):
         self._timeout_us = int(timeout) * 1000
-        self._timer = Timer(-1)
-        self._timer._callback = self._expired
-        self._timer._period_us = 0
         self.feed()
 
     def feed(self):
@@ -643,17 +685,19 @@ class _Unit:
 
     _units = None
 
-    def __init__(self, id, *args, **kw):
-        units = type(self)._units
+    def __new__(cls, id, *args, **kw):
+        units = cls._units
         if units is None:
-            units = type(self)._units = {}
-        old = units.get(id)
-        if old is not None:
-            old.deinit()
-        units[id] = self
-        self._id = id
-        self._pins = ()
-        self._count = 0
+            units = cls._units = {}
+        unit = units.get(id)
+        if unit is None:  # one unit per id: Counter(0) again is the same, still counting
+            unit = units[id] = object.__new__(cls)
+            unit._id = id
+            unit._pins = ()
+            unit._count = 0
+        return unit
+
+    def __init__(self, id, *args, **kw):
         if args or kw:
             self.init(*args, **kw)
 

@@ -47,14 +47,16 @@ class _Poll:
         if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
             _hil.observe()
             return self._ready(flags) if self._map else _NOTHING
-        _hil.blocking()
         if not self._map:  # nothing to poll (asyncio's sleeps): a plain virtual sleep
+            _hil.blocking()
             if timeout:
                 _hil.run_until(_hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000)
             return _NOTHING
         ready = self._ready(flags)
-        if ready:
+        if ready:  # (no wait: in a loop, as a spin, so time still moves)
+            _hil.observe()
             return ready
+        _hil.blocking()
         watch = [obj._handle for obj, _ in self._map.values() if hasattr(obj, "_handle")]
         deadline = _hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000
         streams = len(watch) < len(self._map)

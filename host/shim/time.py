@@ -50,7 +50,7 @@ def ticks_diff(ticks1, ticks2):
 
 
 def sleep_us(us):
-    if us.__class__ is not int:
+    if not isinstance(us, int):
         raise TypeError("can't convert %s to int" % type(us).__name__)
     if us <= 0:  # returns at once, as on a board, where even that takes a little time
         _hil.observe()
@@ -60,7 +60,7 @@ def sleep_us(us):
 
 
 def sleep_ms(ms):
-    if ms.__class__ is not int:
+    if not isinstance(ms, int):
         raise TypeError("can't convert %s to int" % type(ms).__name__)
     sleep_us(ms * 1000)
 

@@ -112,3 +112,22 @@ def test_a_chatty_console_streams_to_its_file_with_a_bounded_tail_in_memory(make
     assert size >= 2000 * 1024, f"expected about 2 MB of console in {rig.artefacts / 'console.log'}, got {size}"
     assert len(rig.console) <= 256 * 1024 and rig.console.endswith("x" * 1023 + "\n"), len(rig.console)
     assert rig.console_log.total_bytes == size
+
+
+def test_a_callback_that_raises_ends_the_run_naming_the_callback(make_rig):
+    with pytest.raises(FirmwareError, match=r"the callback tick raised ValueError: bad reading") as err:
+        rig_for(make_rig, "callback_raises").run_for(1)
+    assert "virtual t=0.100000" in str(err.value) and 'in tick' in err.value.console
+
+
+def test_the_board_family_of_a_rig_files_own_pins_gives_sys_platform(make_rig, tmp_path):
+    folder = tmp_path / "bot"
+    folder.mkdir()
+    (folder / "main.py").write_text("import sys, os\nprint('R', repr(sys.platform), repr(os.uname().machine))\n")
+    (folder / "rig.toml").write_text(
+        '[board]\nfamily = "rpi_pico"\n[board.pins]\nLED = 25\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    rig.run_for(0.1)
+    rig.stop()
+    assert "R 'rp2' 'Raspberry Pi Pico with RP2040'" in rig.console, rig.console

@@ -81,3 +81,18 @@ def test_a_uart_sends_at_its_baud_rate_and_fires_irq_rx_for_each_byte(make_rig):
     flushed, got = r["uart"]
     assert flushed == 3 * 10 * 1_000_000 // 9600, flushed
     assert got == [(1042, b"a"), (2083, b"b"), (3125, b"c")], got
+
+
+def test_driver_habits_a_board_forgives_hold_in_the_loop(make_rig):
+    """Objects made again are the same peripheral; a PWM made per call reuses its channel
+    (it used to leak a handle a call and die); irq().flags() gives the edge; UART.init sets
+    the baud the line uses and a timeout makes readline wait; a poll that is ready at once
+    lets time move in a loop (it froze it)."""
+    rig, r = run(make_rig, "board_habits", "esp32_bench", 3.0)
+    assert r["same_pin"] == [True, 0], r
+    assert r["pwm_same"] is True and len(rig.wiring.handles) < 20, len(rig.wiring.handles)
+    assert r["flags"] == [1, 2, 1, 2], r["flags"]
+    same, line, took_us = r["uart"]
+    assert same and line == b"0123456789\n" and took_us == 11 * 10 * 1_000_000 // 115200 + 1, r["uart"]
+    assert r["counter_again"] == [True, 2] and r["timer_same"] is True, r
+    assert r["poll_spin"] == [True, True], r
