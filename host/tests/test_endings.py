@@ -117,7 +117,7 @@ def test_a_chatty_console_streams_to_its_file_with_a_bounded_tail_in_memory(make
 def test_a_callback_that_raises_ends_the_run_naming_the_callback(make_rig):
     with pytest.raises(FirmwareError, match=r"the callback tick raised ValueError: bad reading") as err:
         rig_for(make_rig, "callback_raises").run_for(1)
-    assert "virtual t=0.100000" in str(err.value) and 'in tick' in err.value.console
+    assert "virtual t=0.100000" in str(err.value) and "in tick" in err.value.console
 
 
 def test_the_board_family_of_a_rig_files_own_pins_gives_sys_platform(make_rig, tmp_path):
