@@ -10,7 +10,7 @@ from micropython import const
 from time import sleep_ms, sleep_us, ticks_add, ticks_diff, ticks_ms, ticks_us
 
 import board
-import mission as mission_file
+import mission_config
 from avoidance import SWEEP_DEG
 from chassis import PWM_FULL, SLOTS, TRACK_CM, WHEEL_DIAMETER_CM
 from go_to_goal import HeadingController
@@ -99,7 +99,7 @@ def make_odometry(m):
 
 
 def run():
-    m = mission_file.load()
+    m = mission_config.load()
     wheels = Wheels()
     enc_l, enc_r = SlotEncoder(board.ENC_L), SlotEncoder(board.ENC_R)
     probes = [Pin(p, Pin.OUT, value=0) for p in (board.POSE_PROBE, board.BEHAVIOUR_PROBE, board.SENSE_PROBE)]
