@@ -236,3 +236,52 @@ def test_a_sweep_at_the_heads_own_pace_takes_about_438_ms_with_echoes_and_510_wi
             plant.set_input("servo.pwm", servo_duty(target))
             plant.advance_to(servo.settle_us())
     assert (plant.t_us - t0) / 1000 == pytest.approx(sweep_ms, abs=0.1)
+
+
+def test_the_furnished_room_is_drawn_from_the_seed_with_a_piece_across_every_leg():
+    """sim_plant.furniture: the same seed gives the same room, another seed another; every
+    piece keeps 0.5 m from the walls, the other pieces and the route's points, and the
+    straight line of every leg runs through (or within 0.15 m of) a piece."""
+    from sim_plant.furniture import DEFAULT_ROUTE
+
+    def pieces(seed):
+        plant = VacuumRobot(world="furnished")
+        plant.reset(seed)
+        segs = plant.world.segments()[4:]  # after the room's four walls
+        return segs, plant
+
+    assert pieces(3)[0] == pieces(3)[0] and pieces(3)[0] != pieces(4)[0]
+    for seed in range(1, 21):
+        segs, plant = pieces(seed)
+        walls = plant.world
+        assert plant.start_pose == (*DEFAULT_ROUTE[0], 0.0)
+        for x, y in DEFAULT_ROUTE:
+            assert walls.clearance(x, y)[0] >= 0.5 - 1e-9, (seed, x, y)
+        for (ax, ay), (bx, by) in zip(DEFAULT_ROUTE, DEFAULT_ROUTE[1:]):
+            n = 200
+            nearest = min(walls.clearance(ax + (bx - ax) * k / n, ay + (by - ay) * k / n)[0] for k in range(n + 1))
+            assert nearest < 0.15 + 1e-9, (seed, (ax, ay), (bx, by), nearest)
+        polygons = split_polygons(segs)
+        assert len(polygons) >= 3, f"seed {seed}: expected a piece per leg at least, got {len(polygons)}"
+        for i, poly in enumerate(polygons):
+            for x, y in poly:
+                assert min(x, y, 5.0 - x, 4.0 - y) >= 0.5 - 1e-9, (seed, x, y)
+                for other in polygons[:i] + polygons[i + 1 :]:
+                    assert World(polygon_segments(other)).clearance(x, y)[0] >= 0.5 - 1e-9, (seed, x, y)
+
+
+def split_polygons(segments):
+    """The pieces' corner lists from their wall segments (each piece's walls are a closed chain)."""
+    polygons, current = [], []
+    for ax, ay, bx, by in segments:
+        current.append((ax, ay))
+        if math.isclose(bx, current[0][0], abs_tol=1e-9) and math.isclose(by, current[0][1], abs_tol=1e-9):
+            polygons.append(current)
+            current = []
+    return polygons
+
+
+def test_an_unknown_world_is_refused_with_the_known_ones():
+    with pytest.raises(ValueError, match="vacuum_room, empty, furnished"):
+        VacuumRobot(world="kitchen")
+    assert VacuumRobot(world="empty", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
