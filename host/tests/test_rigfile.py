@@ -67,7 +67,7 @@ def write_rig(folder, text=GOOD, files=None):
 
 def test_our_apps_are_rig_files():
     found = apps()
-    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc"}
+    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc", "vacuum"}
     rover = found["rover"]
     assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
     assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
@@ -77,6 +77,8 @@ def test_our_apps_are_rig_files():
     assert names == ["control.period", "sonar.period", "sonar.latency", "control.compute"]
     adc = found["pool_cleaner_adc"]
     assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
+    vacuum = found["vacuum"]
+    assert list(vacuum.lib_dirs) == [vacuum.path / "lib"] and vacuum.boards == ("esp32_vacuum", "rpi_pico_vacuum")
 
 
 def test_a_rig_file_of_ones_own_loads_with_its_pins_table(tmp_path):
