@@ -22,6 +22,7 @@ import pytest
 
 from host.core.paths import FIRMWARE
 from host.pytest_plugin import artefacts_for
+from host.rig.budgets import Budget
 from sim_plant.furniture import DEFAULT_ROUTE
 from sim_plant.hcsr04 import Servo
 
@@ -335,6 +336,22 @@ def sensor_head(rig):
     return pings, travel
 
 
+class SweepBudget(Budget):
+    """The sweep's work, <= 500 ms: measured after the run from the recording (no rig event
+    tells a servo's arrival), then kept with the rig's budgets so that the budget table and
+    the trace folder show it."""
+
+    def __init__(self, sweeps_ms):
+        super().__init__(
+            "sweep",
+            "servo.pwm",
+            limit_us=round(SWEEP_BUDGET_MS * 1000),
+            description="four servo steps and five pings within {limit_ms:g} ms (seed 003 §3.3)",
+        )
+        for work_ms in sweeps_ms:
+            self._record(round(work_ms * 1000), work_ms > SWEEP_BUDGET_MS)
+
+
 def sweeps_ms(pings, travel):
     """The work of each one-way pass (10 -> 170 deg or back): its five pings and the four
     steps between them, as the seed counts a sweep (servo time + 5 pings)."""
@@ -379,7 +396,8 @@ def test_the_sensor_head_pings_settled_and_a_sweep_fits_500ms(vacuum, record_pro
     assert len(pings) >= 290, f"expected a ping every 150 ms for 45 s, got {len(pings)}; artefacts: {rig.artefacts}"
     assert not unsettled, f"expected every ping at a settled angle, got (t, angle, target): {unsettled[:3]}"
     assert steps_ms == [70, 90], f"expected steps of 35 and 45 deg (70, 90 ms), got {steps_ms}"
-    assert sweeps[-1] <= SWEEP_BUDGET_MS, f"expected every sweep within 500 ms, got {sweeps[-5:]} ms"
+    rig.budgets["sweep"] = SweepBudget(sweeps)
+    rig.budgets["sweep"].check()
     if mission:  # nothing in range: the firmware's worst case
         assert sweeps[0] == pytest.approx(320 + 5 * 25.23, abs=1.0), sweeps[:3]
     else:
