@@ -1,12 +1,14 @@
 """Obstacle avoidance of seed 003 (§4.4): readings through T_s^r and T_r^o (with 1, not
-the seed's 0, in the homogeneous coordinate), the strip the body sweeps, and the heading
-of u_ao for an obstacle ahead, to one side, or dead ahead with both sides free."""
+the seed's 0, in the homogeneous coordinate), the strip the body sweeps, the heading of
+u_ao for an obstacle ahead, to one side, or dead ahead with both sides free; the hard
+switch between the behaviours and the goals in turn."""
 
 import math
 
 import pytest
 from avoidance import CORRIDOR_HALF_CM, D_MAX_CM, SWEEP_DEG, Obstacles, frame, reading_to_world
 from chassis import SENSOR_X_CM
+from navigator import AVOID, DONE, GO_TO_GOAL, Navigator
 
 DEG = math.pi / 180
 
@@ -76,3 +78,52 @@ def test_readings_beyond_d_max_count_as_free_at_d_max():
     none.add(2, None, pose)
     assert far.latest[2] == none.latest[2] == pytest.approx((SENSOR_X_CM + D_MAX_CM, 0.0))
     assert far.count == 0 and none.count == 0, "nothing within 150 cm: nothing remembered"
+
+
+class FixedController:
+    """A heading controller that records its set-points."""
+
+    def __init__(self):
+        self.set_points = []
+        self.resets = 0
+
+    def step(self, phi_d, phi, v):
+        self.set_points.append(phi_d)
+        return 100, 100
+
+    def reset(self):
+        self.resets += 1
+
+
+def test_the_switch_avoids_within_60cm_holds_its_heading_and_hands_back_when_the_way_is_clear():
+    """Every 500 ms: go-to-goal gives way when an echo is in the strip to the goal within
+    60 cm; avoidance keeps the heading it chose until the strip to the goal is clear for
+    80 cm; each switch resets the controller (the listing's orphan reset)."""
+    ctl = FixedController()
+    nav = Navigator([(300.0, 0.0)], ctl)
+    pose = (0.0, 0.0, 0.0)
+    nav.obstacles.add(2, 70.0, pose)  # 80 cm ahead of the axle: not yet
+    assert not nav.check(pose) and nav.mode == GO_TO_GOAL
+    nav.control(pose)
+    assert ctl.set_points[-1] == 0.0, "go-to-goal steers at the goal's bearing"
+    pose = (25.0, 0.0, 0.0)  # 55 cm from the echo now
+    assert nav.check(pose) and nav.mode == AVOID and ctl.resets == 1
+    held = nav.phi_ao
+    assert abs(abs(held) - math.pi / 2) < 0.05, "head-on: square to the echo"
+    nav.obstacles.add(0, None, pose)
+    nav.control(pose)
+    nav.control((25.0, 10.0, held))
+    assert ctl.set_points[-2:] == [held, held], "held while the robot turns"
+    side = math.copysign(1.0, held)
+    assert not nav.check((25.0, 20.0 * side, held)) and nav.mode == AVOID, "20 cm aside: the echo is in the strip"
+    assert nav.check((25.0, 40.0 * side, held)) and nav.mode == GO_TO_GOAL and ctl.resets == 2, "40 cm: clear"
+
+
+def test_goals_are_visited_in_turn_and_the_robot_stops_after_the_last():
+    ctl = FixedController()
+    nav = Navigator([(100.0, 0.0), (100.0, 100.0)], ctl)
+    assert nav.control((97.0, 2.0, 0.0)) == (0, 0) and nav.goal == (100.0, 100.0) and ctl.resets == 1
+    nav.control((97.0, 2.0, 0.0))
+    assert ctl.set_points[-1] == pytest.approx(math.atan2(98.0, 3.0))
+    assert nav.control((100.0, 96.0, 1.5)) == (0, 0) and nav.mode == DONE
+    assert nav.control((0.0, 0.0, 0.0)) == (0, 0) and [i for i, _ in nav.reached] == [0, 1]
