@@ -429,6 +429,56 @@ def test_the_sensor_head_pings_settled_and_a_sweep_fits_500ms(vacuum, record_pro
     )
 
 
+DRIVER_CHECK = """
+# The sensor head's drivers alone: turn the SG90, wait for it, ping with the HC-SR04.
+from time import sleep_ms
+
+import board
+from hcsr04 import HCSR04
+from sg90 import SG90
+
+servo = SG90(board.SERVO_PWM)
+sonar = HCSR04(board.SONAR_TRIG, board.SONAR_ECHO)
+for angle in (90, 170, 10, 90):
+    sleep_ms(servo.move(angle) + 20)
+    width = sonar.echo_us()
+    print("ping", angle, width, sonar.distance_cm() if width >= 0 else None)
+sleep_ms(1000)
+"""
+
+
+def test_the_hcsr04_driver_reads_58_31_us_per_cm_through_time_pulse_us(make_rig, request, record_property):
+    """The drivers of firmware/lib on the vacuum's pins: the echo's width from
+    time_pulse_us over 58.31 us per cm is the plant's true range at each servo angle
+    (ahead 2.9 m to the wall, 80 deg left and right 3.0 m)."""
+    folder = artefacts_for(request.node) / "board"
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "main.py").write_text(DRIVER_CHECK)
+    rig = make_rig(
+        "vacuum",
+        seed=1,
+        main_dir=folder,
+        plant_options={**EMPTY_ROOM, "start_pose": (5.0, 3.0, 0.0), "sonar_noise_sd_m": 0.0},
+    )
+    readings = []
+    for angle in (90, 170, 10):
+        assert run_until(rig, f"ping {angle} ", 2), f"expected a ping at {angle} deg{rig.where()}"
+        line = [ln for ln in rig.console.splitlines() if ln.startswith(f"ping {angle} ")][0]
+        width_us, cm = int(line.split()[2]), float(line.split()[3])
+        truth = rig.truth()
+        readings.append((angle, cm, truth["ping_range_m"] * 100, truth["ping_angle_deg"]))
+        assert cm == pytest.approx(width_us / 58.31, abs=1e-3) and cm == pytest.approx(
+            truth["ping_range_m"] * 100, abs=0.05
+        ), (
+            f"expected {width_us} us / 58.31 = the true {truth['ping_range_m'] * 100:.2f} cm at {angle} deg, got "
+            f"{cm} cm; artefacts: {rig.artefacts}"
+        )
+        assert truth["ping_angle_deg"] == pytest.approx(angle, abs=0.05), f"expected the servo settled: {truth}"
+    record_property(
+        "result", "HC-SR04 driver: " + ", ".join(f"{a} deg {cm:.1f} cm (true {t:.1f})" for a, cm, t, _ in readings)
+    )
+
+
 def test_the_same_firmware_runs_on_the_rp2040_pin_map(make_rig, record_property):
     """The board file decides the pins: the Pico build drives the same robot to (150, 150)."""
     rig = make_rig("vacuum", board="rpi_pico_vacuum", seed=2)
