@@ -29,6 +29,13 @@ Not in the seed, chosen here (seed 003 notes §1): wheel diameter 65 mm (the usu
 a TT motor), wheel spacing 0.18 m, rim speed 0.35 m/s at full duty, 20 slots per disk (the
 disk sold with the F249 module), a dead band of 25 % duty ("At low speed the motor was not
 able to supply the required torque", §5.2).
+
+Worlds (``world``): ``"vacuum_room"``, a 5 x 4 m room with three pieces of furniture;
+``"empty"``, a ``room_w_m`` x ``room_h_m`` room with nothing in it (the seed's go-to-goal
+tests); ``"furnished"``, that room with convex furniture across the legs of ``route``
+(start and goals, m), drawn from the plant's seed at each reset
+(:mod:`sim_plant.furniture`); or a :class:`~sim_plant.world.World`. The robot starts at
+``start_pose``, by default (0.5, 0.5, 0), or at the route's first point facing +x.
 """
 
 from sim_plant.contacts import ContactMonitor, front_bumper
@@ -36,19 +43,24 @@ from sim_plant.coverage import CoverageGrid, CoverageRecorder
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.encoders import SlottedDiskEncoder
 from sim_plant.engine import RobotPlant
+from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
 from sim_plant.hcsr04 import HcSr04, Servo
 from sim_plant.motors import DirPinsPwmBridge
-from sim_plant.world import World, vacuum_room
+from sim_plant.world import World, rectangle, vacuum_room
 
 BODY_RADIUS_M = 0.125
+WORLDS = ("vacuum_room", "empty", "furnished")
 
 
 class VacuumRobot(RobotPlant):
     def __init__(
         self,
         *,
-        world=None,
-        start_pose=(0.5, 0.5, 0.0),
+        world="vacuum_room",
+        room_w_m=5.0,
+        room_h_m=4.0,
+        route=DEFAULT_ROUTE,
+        start_pose=None,
         wheel_diameter_m=0.065,
         track_m=0.18,
         v_max_m_s=0.35,
@@ -61,7 +73,19 @@ class VacuumRobot(RobotPlant):
         bumper_bounce_us=0,
         coverage_cell_m=0.05,
     ):
-        self.world = world if isinstance(world, World) else vacuum_room()
+        if not isinstance(world, World) and world not in WORLDS:
+            raise ValueError(f"world: expected one of {', '.join(WORLDS)} or a World, got {world!r}")
+        self.world_name = world if isinstance(world, str) else None
+        self.room_w_m, self.room_h_m = float(room_w_m), float(room_h_m)
+        self.route = tuple((float(x), float(y)) for x, y in route)
+        if world == "vacuum_room":
+            self.world = vacuum_room()
+        elif world == "empty":
+            self.world = rectangle(self.room_w_m, self.room_h_m, name=f"empty room {room_w_m:g} x {room_h_m:g} m")
+        elif world != "furnished":
+            self.world = world
+        if start_pose is None:
+            start_pose = (*self.route[0], 0.0) if world == "furnished" else (0.5, 0.5, 0.0)
         self._set_wheels(
             start_pose=start_pose,
             wheel_radius_m=float(wheel_diameter_m) / 2,
@@ -79,6 +103,8 @@ class VacuumRobot(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
+        if self.world_name == "furnished":  # a layout per seed
+            self.world = furnished_room(self.rng, self.route, room_w_m=self.room_w_m, room_h_m=self.room_h_m)
         motors = self._wheel_motors()
         self.drive = DiffDriveTrain(
             bridges=(DirPinsPwmBridge("motor_l"), DirPinsPwmBridge("motor_r")),

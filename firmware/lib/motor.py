@@ -2,14 +2,14 @@
 # pins and a PWM enable.
 from machine import PWM, Pin
 
-PWM_FREQ_HZ = 20_000  # above hearing, within the TB6612FNG's 100 kHz
+PWM_FREQ_HZ = 20_000  # above hearing, within the TB6612FNG's 100 kHz (an L298N wants 1 kHz or so)
 
 
 class HBridgeMotor:
-    def __init__(self, in1, in2, pwm, invert=False):
+    def __init__(self, in1, in2, pwm, invert=False, freq_hz=PWM_FREQ_HZ):
         self._in1 = Pin(in1, Pin.OUT, value=0)
         self._in2 = Pin(in2, Pin.OUT, value=0)
-        self._pwm = PWM(Pin(pwm, Pin.OUT), freq=PWM_FREQ_HZ, duty_u16=0)
+        self._pwm = PWM(Pin(pwm, Pin.OUT), freq=freq_hz, duty_u16=0)
         self._sign = -1 if invert else 1
         self.command = 0.0
 

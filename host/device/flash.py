@@ -93,6 +93,9 @@ def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
             mpy = name[:-3] + ".mpy"
             compile_module(src, out / mpy)
             files.append(mpy)
+    for data in sorted(app.path.glob("*.json")):  # data the firmware opens at /, as the vacuum's mission
+        shutil.copyfile(data, out / data.name)
+        files.append(data.name)
     return out, files
 
 

@@ -67,7 +67,7 @@ def write_rig(folder, text=GOOD, files=None):
 
 def test_our_apps_are_rig_files():
     found = apps()
-    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc", "lab_robot", "lab_robot_canyon"}
+    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc", "lab_robot", "lab_robot_canyon", "vacuum"}
     rover = found["rover"]
     assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
     assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
@@ -79,6 +79,8 @@ def test_our_apps_are_rig_files():
     assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
     canyon = found["lab_robot_canyon"]
     assert canyon.path == found["lab_robot"].path and canyon.boards == ("esp32_lab_robot", "rpi_pico_lab_robot")
+    vacuum = found["vacuum"]
+    assert list(vacuum.lib_dirs) == [vacuum.path / "lib"] and vacuum.boards == ("esp32_vacuum", "rpi_pico_vacuum")
 
 
 def test_a_rig_file_of_ones_own_loads_with_its_pins_table(tmp_path):
