@@ -3,8 +3,8 @@
 # seed's numbers. MicroPython code: no f-strings, no typing.
 import math
 
+from dead_reckoning import MM_PER_COUNT, TRACK_MM, Odometry
 from goto import ACHIEVED, DRIVE, ROTATE, GoTo, profile_mm_s
-from odometry import MM_PER_COUNT, TRACK_MM, Odometry
 from quadrature import Quadrature
 from square import waypoints
 from wall_follow import nearest_wall, rotation_deg_s

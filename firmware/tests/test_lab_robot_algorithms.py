@@ -8,10 +8,10 @@ import math
 import subprocess
 
 import pytest
+from dead_reckoning import COUNTS_PER_REV, MU_RAD, TRACK_MM, WHEEL_RADIUS_MM
 from host.core import interpreter
 from host.core.paths import REPO
 from lab_robot_checks import results
-from odometry import COUNTS_PER_REV, MU_RAD, TRACK_MM, WHEEL_RADIUS_MM
 from quadrature import PHASE
 
 

@@ -9,7 +9,7 @@
 # Pure Python: runs on the board and under CPython. Lengths in mm, angles in rad.
 import math
 
-from odometry import TRACK_MM, wrap
+from dead_reckoning import TRACK_MM, wrap
 
 try:
     from micropython import const

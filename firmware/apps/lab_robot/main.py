@@ -12,9 +12,9 @@ from micropython import const
 from time import sleep_us, ticks_add, ticks_diff, ticks_us
 
 import board
+from dead_reckoning import MM_PER_COUNT, TRACK_MM, Odometry
 from drivers import Drv8833Motor, QuadratureEncoder, SonarChain
 from goto import GoTo
-from odometry import MM_PER_COUNT, TRACK_MM, Odometry
 from square import Square
 from wall_follow import WallFollow
 from wheel_speed import WheelSpeed
