@@ -36,6 +36,13 @@ class ConsoleLog:
         tail = self._tail[-self.tail_bytes :] if len(self._tail) > self.tail_bytes else self._tail
         return tail.decode(errors="replace")
 
+    def since(self, offset: int) -> tuple[str, int]:
+        """(the console from byte ``offset`` on, as far as the tail still holds it; the
+        offset that text starts at)."""
+        first = self.total_bytes - len(self._tail)
+        start = max(offset, first, self.total_bytes - self.tail_bytes)
+        return self._tail[start - first :].decode(errors="replace"), start
+
     def close(self) -> None:
         if self._file is not None:
             self._file.close()

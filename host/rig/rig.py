@@ -25,7 +25,7 @@ from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core.errors import ConfigError, LinkError
 from host.link import frames as F
-from host.rig import arguments, boards, endings
+from host.rig import arguments, boards, endings, waits
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
@@ -125,6 +125,7 @@ class Rig:
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
         self.resets = 0
+        self.expect_from = 0  # console bytes before this were taken by an expect
         self.reset_times = collections.deque(maxlen=endings.BOOT_LOOP_RESETS)
         self.linklog: LinkLog = NO_LOG
         self._started = False
@@ -228,8 +229,11 @@ class Rig:
     def run_for(self, duration_s: float) -> None:
         self.run_until(self.t_us + round(arguments.seconds("run_for", duration_s, limit_s=arguments.MAX_RUN_S) * 1e6))
 
-    def run_until(self, t_end_us: int) -> None:
-        """Serve the firmware until virtual time reaches ``t_end_us`` (firmware waiting)."""
+    def run_until(self, t_end_us, timeout_s: float | None = None):
+        """Serve the firmware until virtual time reaches ``t_end_us`` (firmware waiting),
+        or, given a predicate, until it is true within ``timeout_s`` simulated s (10)."""
+        if callable(t_end_us):
+            return waits.until(self, t_end_us, timeout_s)
         if not self.target.alive():
             raise LinkError("the rig is not running: call start() first")
         while True:
@@ -251,6 +255,10 @@ class Rig:
             self._progress_wall = now + PROGRESS_EVERY_S
             self._progress_last = (self.t_us, t_end_us)
             self.progress(self.t_us, t_end_us)
+
+    def expect(self, pattern, timeout_s: float = 10.0):
+        """Run until the console matches ``pattern`` (after what earlier expects took)."""
+        return waits.expect(self, pattern, timeout_s)
 
     @property
     def waiting(self) -> bool:

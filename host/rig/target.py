@@ -10,12 +10,15 @@ link on a pty; the board and virtual-board targets live with the devices
 import os
 import signal
 import subprocess
+import time
 
 from host.core import interpreter
-from host.core.errors import FirmwareError, FirmwareHung, SetupError
+from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupError
 from host.link import Channel, FdTransport, PtyPair
+from host.link import frames as F
 
 EXIT_WAIT_S = 5.0
+STACK_WAIT_S = 1.0  # for the traceback of a firmware interrupted where it hung
 
 
 def end_process(proc: subprocess.Popen) -> None:
@@ -30,6 +33,21 @@ def end_process(proc: subprocess.Popen) -> None:
     except subprocess.TimeoutExpired:
         proc.kill()
         proc.wait(timeout=EXIT_WAIT_S)
+
+
+def _stack(proc, rig) -> str:
+    """Where a silent firmware is: SIGINT makes MicroPython raise KeyboardInterrupt in the
+    code it runs, and the shim sends that traceback (FAULT). Empty if none comes."""
+    try:
+        os.kill(proc.pid, signal.SIGINT)
+        deadline = time.monotonic() + STACK_WAIT_S
+        while time.monotonic() < deadline:
+            got = rig.session.poll(deadline - time.monotonic())
+            if got is not None and got[0] == F.FAULT:
+                return F.unpack_fault(got[1])[1].decode(errors="replace")
+    except (OSError, HarnessError):
+        pass
+    return ""
 
 
 class Target:
@@ -128,13 +146,19 @@ class UnixPortTarget(Target):
     def on_silence(self, rig, timeout_s: float, what: str):
         proc = self.proc
         if proc is not None and proc.poll() is None and timeout_s > 0:
+            last = rig.last_message()
+            stack = _stack(proc, rig)
             rig.stop()
             link = ", ".join(f"{k}={v}" for k, v in rig.session.counters().items() if v)
+            where = (
+                f"\nwhere it was (interrupted by the watchdog):\n{stack.rstrip()}"
+                if stack
+                else "; a frame lost on its way to the firmware looks the same"
+            )
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
-                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {rig.last_message()}, "
-                f"last sent {rig.session.last_sent()}; a frame lost on its way to the firmware looks the "
-                f"same; link: {link}); the watchdog stopped it.{rig.where()}"
+                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {last}, "
+                f"last sent {rig.session.last_sent()}; link: {link}){where}\nthe watchdog stopped it.{rig.where()}"
             )
         code = proc.wait(timeout=EXIT_WAIT_S) if proc is not None else None
         rig.stop()

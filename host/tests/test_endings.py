@@ -131,3 +131,29 @@ def test_the_board_family_of_a_rig_files_own_pins_gives_sys_platform(make_rig, t
     rig.run_for(0.1)
     rig.stop()
     assert "R 'rp2' 'Raspberry Pi Pico with RP2040'" in rig.console, rig.console
+
+
+def test_expect_waits_in_virtual_time_for_console_lines_in_order(make_rig):
+    rig = make_rig("rover", seed=1)
+    first = rig.expect(r"control every (\d+) ms", timeout_s=1)
+    assert first.group(1) == "50"
+    with pytest.raises(AssertionError, match=r"expected the console to match 'control every' within 0.5 simulated s"):
+        rig.expect("control every", timeout_s=0.5)  # said once, and already taken
+    assert rig.t_us >= 500_000
+
+
+def test_run_until_a_predicate_returns_its_value_or_fails_naming_it(make_rig):
+    rig = make_rig("rover", seed=1)
+
+    def moved_half_a_metre():
+        return rig.truth()["x_m"] - x0 > 0.5 and rig.t_us
+
+    x0 = rig.truth()["x_m"]
+    t = rig.run_until(moved_half_a_metre, timeout_s=10)
+    assert 1_000_000 < t < 10_000_000
+    with pytest.raises(AssertionError, match="expected never to become true within 0.2 simulated s"):
+        rig.run_until(never, timeout_s=0.2)
+
+
+def never():
+    return False

@@ -1,5 +1,6 @@
 """The shim's machine/time/select/asyncio behave like a board's, in virtual time."""
 
+import re
 import time
 
 import pytest
@@ -88,6 +89,10 @@ def test_firmware_that_never_yields_is_stopped_by_the_watchdog(run_case):
     with pytest.raises(FirmwareHung) as err:
         run_case("hangs", 1.0, watchdog_s=1.0)
     assert "stopped answering" in str(err.value) and "virtual t=0.100000 s" in str(err.value), str(err.value)
+    assert "where it was (interrupted by the watchdog)" in str(err.value), str(err.value)
+    assert re.search(r'File "main.py", line [45], in <module>', str(err.value)), (
+        "the firmware's own line, where it spins"
+    )
     assert time.monotonic() - t0 < 20
 
 
