@@ -5,12 +5,15 @@ the same view from ``MICROPYPATH``: the shim first (so ``machine`` and ``time`` 
 harness's), then the firmware's folders, then the frozen modules (``asyncio``).
 """
 
+import hashlib
 import os
 from dataclasses import dataclass
 from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
+
+FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
 
 
 @dataclass
@@ -38,6 +41,23 @@ class Firmware:
         if require_main and not (folder / "main.py").is_file():
             raise ConfigError(f"firmware_dir: no main.py in {folder} (flash it first: make flash)")
         return cls(folder, [folder, folder / "lib"])
+
+    def identity(self) -> dict:
+        """Which firmware ran: its folder and a hash of the files on its path (the code,
+        data and board files), so a trace says what it is the trace of."""
+        digest = hashlib.sha256()
+        count = 0
+        for folder in self.folders:
+            for path in sorted(Path(folder).rglob("*")) if Path(folder).is_dir() else ():
+                parts = path.relative_to(folder).parts
+                if (
+                    path.suffix in FIRMWARE_SUFFIXES
+                    and path.is_file()
+                    and not any(p.startswith((".", "__")) for p in parts)
+                ):
+                    digest.update(f"{path.relative_to(folder)}\0".encode() + path.read_bytes())
+                    count += 1
+        return {"folder": str(self.main_dir), "entry": self.entry, "files": count, "sha256": digest.hexdigest()[:16]}
 
     def micropypath(self, shim: bool = True) -> str:
         folders = [SHIM_DIR, *self.folders] if shim else self.folders

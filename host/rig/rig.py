@@ -163,7 +163,13 @@ class Rig:
             self.console_log.open(self.artefacts / "console.log" if self.artefacts else None)
             if self.trace_enabled:
                 self.linklog = LinkLog(self.artefacts / "trace.jsonl" if self.artefacts else None)
-                header = {"app": self.app.name, "board": self.board, "seed": self.seed, "mode": self.mode}
+                header = {
+                    "app": self.app.name,
+                    "board": self.board,
+                    "seed": self.seed,
+                    "mode": self.mode,
+                    "firmware": self.firmware.identity(),
+                }
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
             self._open(self.target.open)
@@ -197,19 +203,7 @@ class Rig:
         self.linklog.close()
         self.console_log.close()
         if self.artefacts and self.recorder is not None:
-            write_trace_folder(self.artefacts, self._run_header(), self.recorder, self.plant, self.budgets)
-
-    def _run_header(self) -> dict:
-        return {
-            "app": self.app.name,
-            "rig_file": str(self.app.rig_file) if self.app.rig_file else None,
-            "board": self.board,
-            "plant_options": {**self.app.plant_options, **self.plant_options},
-            "seed": self.seed,
-            "mode": self.mode,
-            "micropython": self.micropython_version.split(";")[0],
-            "t_end_us": self.t_us,
-        }
+            write_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant, self.budgets)
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data)
@@ -362,3 +356,18 @@ class Rig:
     def counters(self) -> dict:
         stats = ("link_round_trips", "irq_edges", "rollbacks", "lease_violations")
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
+
+
+def run_header(rig) -> dict:
+    """The run's header for its trace folder (docs/traces.md)."""
+    return {
+        "app": rig.app.name,
+        "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
+        "board": rig.board,
+        "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "seed": rig.seed,
+        "mode": rig.mode,
+        "micropython": rig.micropython_version.split(";")[0],
+        "firmware": rig.firmware.identity(),
+        "t_end_us": rig.t_us,
+    }

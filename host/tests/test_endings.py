@@ -157,3 +157,20 @@ def test_run_until_a_predicate_returns_its_value_or_fails_naming_it(make_rig):
 
 def never():
     return False
+
+
+def test_the_trace_says_which_firmware_files_ran(make_rig, tmp_path):
+    import json
+    import shutil
+
+    rig = make_rig("rover", seed=1, trace=True)
+    rig.run_for(0.2)
+    rig.stop()
+    header = json.loads((rig.artefacts / "trace.jsonl").read_text().splitlines()[0])["header"]
+    ours = header["firmware"]
+    assert ours["folder"].endswith("firmware/apps/rover") and ours["files"] > 3 and len(ours["sha256"]) == 16
+    copy = tmp_path / "rover"
+    shutil.copytree(ours["folder"], copy)
+    (copy / "main.py").write_text((copy / "main.py").read_text() + "\n# changed\n")
+    changed = make_rig("rover", seed=1, main_dir=copy, trace=True)
+    assert changed.firmware.identity()["sha256"] != ours["sha256"], "a changed file changes the hash"
