@@ -18,15 +18,14 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
-from host.core.paths import REPO
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import ReportCollector
 from host.report.table import format_table
 from host.rig import Rig
 
-ARTEFACTS = REPO / "build" / "hil"
 _rows: list[dict] = []
 _report = pytest.StashKey[ReportCollector]()
+_rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 
 
 def pytest_addoption(parser):
@@ -58,10 +57,22 @@ def pytest_collection_modifyitems(items):
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_makereport(item, call):
     report = yield
+    if report.failed and item.stash.get(_rigs, None):
+        report.sections.append(("firmware in the loop", _evidence(item)))
     collector = item.config.stash.get(_report, None)
     if collector is not None and (item.get_closest_marker("hil") or "make_rig" in getattr(item, "fixturenames", ())):
         collector.add_phase(item.nodeid, item.name, report)
     return report
+
+
+def _evidence(item) -> str:
+    """Where a failed hil test's evidence is, and how to run it again."""
+    lines = [
+        f"{rig.app.name} rig{i}: seed {rig.seed}, virtual t={rig.t_us / 1e6:.6f} s, artefacts {rig.artefacts}"
+        for i, rig in enumerate(item.stash[_rigs])
+    ]
+    lines.append(f"rerun: python -m pytest {item.nodeid!r} (from {item.config.rootpath})")
+    return "\n".join(lines)
 
 
 def pytest_report_header(config):
@@ -72,14 +83,16 @@ def pytest_report_header(config):
         return f"micropython: not available ({e})"
 
 
-def artefacts_for(node) -> "ARTEFACTS":
+def artefacts_for(node) -> Path:
+    """build/hil/<test module>/<test>/ under the test session's root (beside a user's own
+    tests; this repository's build/ for ours)."""
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", node.nodeid.split("::", 1)[-1])
-    return ARTEFACTS / node.module.__name__.rsplit(".", 1)[-1] / name
+    return node.config.rootpath / "build" / "hil" / node.module.__name__.rsplit(".", 1)[-1] / name
 
 
 @pytest.fixture
 def make_rig(request):
-    rigs: list[Rig] = []
+    rigs: list[Rig] = request.node.stash.setdefault(_rigs, [])
     collector = request.config.stash.get(_report, None)
 
     flashed = _flashed_firmware()
