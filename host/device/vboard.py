@@ -321,8 +321,13 @@ def start_background(board: str, *, home: Path | None = None, wired: bool = True
         if proc.poll() is not None:
             break
         time.sleep(0.02)
+    ended = proc.poll() is not None
     proc.kill()
     proc.wait()
+    if ended:  # it stopped by itself: its last line says why
+        lines = [line for line in (home / "vboard.log").read_text(errors="replace").splitlines() if line.strip()]
+        cause = lines[-1].split(": ", 1)[-1] if lines else "no output"
+        raise HarnessError(f"virtual board {board} stopped as it started: {cause}; log: {home / 'vboard.log'}")
     raise HarnessError(f"virtual board {board} did not start within {START_TIMEOUT_S:g} s; log: {home / 'vboard.log'}")
 
 

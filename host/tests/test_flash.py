@@ -116,3 +116,11 @@ def test_a_virtual_board_knows_a_link_session_by_its_frames_not_by_stray_bytes()
     finally:
         con.client.close()
         con.repl.close()
+
+
+def test_a_board_without_the_apps_pins_is_named_at_once(capsys):
+    from host.device import flash as flash_cli
+
+    assert flash_cli.main(["--app", "pool_cleaner", "--board", "rpi_pico"]) == 2
+    err = capsys.readouterr().err
+    assert "stopped as it started: wiring: board rpi_pico has no pin named BUMPER_FRONT" in err, err
