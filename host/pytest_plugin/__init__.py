@@ -20,7 +20,7 @@ from host.core import interpreter
 from host.core.errors import SetupError
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import ReportCollector
-from host.report.table import format_table
+from host.report.table import format_summary, format_table
 from host.rig import Rig
 
 _rows: list[dict] = []
@@ -30,7 +30,12 @@ _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 
 def pytest_addoption(parser):
     group = parser.getgroup("hil", "firmware in the loop")
-    group.addoption("--hil-table", action="store_true", help="print the timing-budget table at the end")
+    group.addoption(
+        "--hil-table",
+        action="store_true",
+        help="at the end, a line per scenario with its worst budget (and the table of those that failed or missed)",
+    )
+    group.addoption("--hil-table-full", action="store_true", help="with --hil-table: every budget of every rig")
     group.addoption(
         "--hil-report",
         metavar="PATH",
@@ -162,7 +167,11 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
             terminalreporter.write_line(f"{outcome:<7} {name}: {text}")
     if _rows:
         terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
-        terminalreporter.write_line(format_table(_rows))
+        if config.getoption("--hil-table-full"):
+            terminalreporter.write_line(format_table(_rows))
+        else:
+            failed = {r.nodeid.split("::")[-1] for r in terminalreporter.stats.get("failed", ())}
+            terminalreporter.write_line(format_summary(_rows, failed))
 
 
 def pytest_sessionfinish(session):

@@ -108,3 +108,19 @@ def test_progress_in_a_log_writes_a_line_now_and_then_and_at_the_end():
     now[0] += 2.0
     quiet(10_000_000, 10_000_000)
     assert len(lines) == 3, "a mission shorter than a log interval writes nothing to a log"
+
+
+def test_the_terminal_summary_is_a_line_a_scenario_in_100_columns_naming_the_worst_budget():
+    from host.report.table import format_summary
+
+    rows = [
+        {"scenario": "test_" + "long_name_" * 8, "budget": "control.period", "limit": "50000 +- 1000 us", "count": 600, "p50": 50000, "max": 52000, "misses": 3},
+        {"scenario": "test_" + "long_name_" * 8, "budget": "sonar.period", "limit": "500000 +- 1000 us", "count": 60, "p50": 500000, "max": 500000, "misses": 0},
+        {"scenario": "test_quiet", "budget": "control.compute", "limit": "<= 50000 us wall", "count": 10, "p50": 9, "max": 90000, "misses": 4},
+    ]  # fmt: skip
+    text = format_summary(rows)
+    lines = text.splitlines()
+    assert max(map(len, lines)) <= 100, max(map(len, lines))
+    assert "MISSED control.period 3/600, max 52000" in lines[0]
+    assert lines[1].startswith("test_quiet") and "all 0 held" in lines[1], "wall-clock budgets are informational"
+    assert "sonar.period" in text and text.count("test_quiet") == 1, "the table: only scenarios that missed"
