@@ -113,11 +113,13 @@ def test_progress_in_a_log_writes_a_line_now_and_then_and_at_the_end():
 def test_the_terminal_summary_is_a_line_a_scenario_in_100_columns_naming_the_worst_budget():
     from host.report.table import format_summary
 
+    long = "test_" + "long_name_" * 8
+    keys = ("scenario", "budget", "limit", "count", "p50", "max", "misses")
     rows = [
-        {"scenario": "test_" + "long_name_" * 8, "budget": "control.period", "limit": "50000 +- 1000 us", "count": 600, "p50": 50000, "max": 52000, "misses": 3},
-        {"scenario": "test_" + "long_name_" * 8, "budget": "sonar.period", "limit": "500000 +- 1000 us", "count": 60, "p50": 500000, "max": 500000, "misses": 0},
-        {"scenario": "test_quiet", "budget": "control.compute", "limit": "<= 50000 us wall", "count": 10, "p50": 9, "max": 90000, "misses": 4},
-    ]  # fmt: skip
+        dict(zip(keys, (long, "control.period", "50000 +- 1000 us", 600, 50000, 52000, 3))),
+        dict(zip(keys, (long, "sonar.period", "500000 +- 1000 us", 60, 500000, 500000, 0))),
+        dict(zip(keys, ("test_quiet", "control.compute", "<= 50000 us wall", 10, 9, 90000, 4))),
+    ]
     text = format_summary(rows)
     lines = text.splitlines()
     assert max(map(len, lines)) <= 100, max(map(len, lines))
