@@ -17,8 +17,12 @@ def progress_text(label: str, t_us: int, t_end_us: int, wall_s: float, done_us: 
     is the virtual time run in ``wall_s`` (default ``t_us``)."""
     share = min(t_us / t_end_us, 1.0) if t_end_us > 0 else 1.0
     done_us = t_us if done_us is None else done_us
-    rate = f", {done_us / 1e6 / wall_s:.0f}x real time" if wall_s > 0 else ""
-    return f"{label}: {t_us / 1e6:.1f} / {t_end_us / 1e6:.1f} s simulated ({share:.0%}), {wall_s:.1f} s wall{rate}"
+    speed = done_us / 1e6 / wall_s if wall_s > 0 else 0.0
+    rate = f", {speed:.0f}x real time" if speed > 0 else ""
+    left = f", about {(t_end_us - t_us) / 1e6 / speed:.0f} s left" if speed > 0 and t_end_us > t_us else ""
+    return (
+        f"{label}: {t_us / 1e6:.1f} / {t_end_us / 1e6:.1f} s simulated ({share:.0%}), {wall_s:.1f} s wall{rate}{left}"
+    )
 
 
 class MissionProgress:

@@ -90,7 +90,7 @@ def test_progress_stays_quiet_for_short_runs_and_shows_simulated_against_mission
     assert shown == [], "a run shorter than a second shows nothing"
     now[0] += 1.5
     progress(120_000_000, 3_600_000_000)
-    assert shown == ["pool: 120.0 / 3600.0 s simulated (3%), 2.0 s wall, 60x real time"], shown
+    assert shown == ["pool: 120.0 / 3600.0 s simulated (3%), 2.0 s wall, 60x real time, about 58 s left"], shown
     assert progress.shown
 
 
