@@ -27,9 +27,10 @@ SCENARIOS = """
     pytestmark = pytest.mark.hil
 
 
-    def test_rover_cruises_a_metre_in_four_seconds(make_rig):
+    def test_rover_cruises_a_metre_in_four_seconds(make_rig, record_property):
         rig = make_rig("rover", seed=1)
         rig.run_for(4)
+        record_property("result", f"cruised {rig.truth()['x_m']:.1f} m")
         assert rig.truth()["x_m"] > 2.0
 
 
@@ -212,3 +213,11 @@ def test_chromium_renders_the_report_with_its_plots_offline(session, tmp_path):
     assert near((46, 125, 50)) > 200, f"no green 'passed' badge or border in {shot}"
     assert near((198, 40, 40)) > 200, f"no red 'failed' badge or border in {shot}"
     assert near((140, 204, 140)) > 1000, f"the trajectory plot's covered floor is not on screen: {shot}"
+
+
+def test_the_reports_counts_agree_with_pytest_and_each_scenario_says_what_it_measured(session):
+    where, report, done = session
+    html = report.read_text()
+    assert "1 failed, 2 passed; 2 scenario(s) with their rigs below" in html, f"headline in {report}"
+    assert "2 passed" in done.stdout.splitlines()[-2] or "1 failed, 2 passed" in done.stdout
+    assert "<b>measured:</b> cruised" in html, f"the scenario's result line is missing from {report}"

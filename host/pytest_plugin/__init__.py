@@ -65,6 +65,8 @@ def pytest_runtest_makereport(item, call):
     if report.failed and item.stash.get(_rigs, None):
         report.sections.append(("firmware in the loop", _evidence(item)))
     collector = item.config.stash.get(_report, None)
+    if collector is not None:
+        collector.count(item.nodeid, report)
     if collector is not None and (item.get_closest_marker("hil") or "make_rig" in getattr(item, "fixturenames", ())):
         collector.add_phase(item.nodeid, item.name, report)
     return report

@@ -38,21 +38,37 @@ class Scenario:
     duration_s: float = 0.0
     message: str = ""
     rigs: list[RigResult] = field(default_factory=list)
+    result: str = ""  # what the test measured: record_property("result", text)
 
 
-def write_report(path, scenarios: list[Scenario], *, micropython: str = "", title: str = "HIL report") -> Path:
+def write_report(
+    path, scenarios: list[Scenario], *, micropython: str = "", title: str = "HIL report", totals: dict | None = None
+) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(render(scenarios, base=path.parent, micropython=micropython, title=title), encoding="utf-8")
+    text = render(scenarios, base=path.parent, micropython=micropython, title=title, totals=totals)
+    path.write_text(text, encoding="utf-8")
     return path
 
 
-def render(scenarios: list[Scenario], *, base: Path, micropython: str = "", title: str = "HIL report") -> str:
-    counts: dict[str, int] = {}
-    for s in scenarios:
-        counts[s.outcome] = counts.get(s.outcome, 0) + 1
+def render(
+    scenarios: list[Scenario],
+    *,
+    base: Path,
+    micropython: str = "",
+    title: str = "HIL report",
+    totals: dict | None = None,
+) -> str:
+    """``totals``: outcome -> count over the whole session (as pytest counts); without it,
+    the scenarios shown are counted."""
+    counts: dict[str, int] = dict(totals or {})
+    if totals is None:
+        for s in scenarios:
+            counts[s.outcome] = counts.get(s.outcome, 0) + 1
     verdict = "failed" if counts.get("failed") or counts.get("error") else "passed"
     summary = ", ".join(f"{n} {outcome}" for outcome, n in sorted(counts.items())) or "no scenarios"
+    if totals is not None:
+        summary += f"; {len(scenarios)} scenario(s) with their rigs below"
     parts = [
         "<!DOCTYPE html>",
         '<html lang="en"><head><meta charset="utf-8">',
@@ -75,15 +91,15 @@ def _overview(scenarios: list[Scenario]) -> str:
     for i, s in enumerate(scenarios):
         t_end = [r.header["t_end_us"] / 1e6 for r in s.rigs if r.header]
         virtual = f"{sum(t_end):g} s" if t_end else "-"
-        misses = sum(b.get("misses") or 0 for r in s.rigs for b in r.budgets)
+        misses = sum(b.get("misses") or 0 for r in s.rigs for b in r.budgets if "wall" not in str(b.get("limit")))
         rows.append(
             f'<tr class="{s.outcome}"><td><a href="#s{i}">{_e(s.name)}</a></td>'
             f'<td><span class="badge {s.outcome}">{_e(s.outcome)}</span></td>'
             f"<td>{len(s.rigs)}</td><td>{virtual}</td><td>{s.duration_s:.2f} s</td>"
-            f'<td class="{"miss" if misses else ""}">{misses}</td></tr>'
+            f'<td class="{"miss" if misses else ""}">{misses}</td><td>{_e(s.result)}</td></tr>'
         )
     head = "<tr><th>scenario</th><th>result</th><th>rigs</th><th>virtual time</th><th>wall time</th>"
-    head += "<th>budget misses</th></tr>"
+    head += "<th>budget misses (enforced)</th><th>what it measured</th></tr>"
     return f'<table class="overview"><thead>{head}</thead><tbody>{"".join(rows)}</tbody></table>'
 
 
@@ -93,6 +109,8 @@ def _scenario(i: int, s: Scenario, base: Path) -> str:
         f'<h2><span class="badge {s.outcome}">{_e(s.outcome)}</span> {_e(s.name)}</h2>',
         f'<p class="nodeid"><code>{_e(s.nodeid)}</code> · {s.duration_s:.2f} s wall</p>',
     ]
+    if s.result:
+        out.append(f'<p class="result"><b>measured:</b> {_e(s.result)}</p>')
     if s.message:
         out.append(f'<pre class="message">{_e(s.message)}</pre>')
     for n, rig in enumerate(s.rigs):

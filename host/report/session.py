@@ -21,6 +21,17 @@ class ReportCollector:
         self.path = Path(path)
         self.scenarios: dict[str, Scenario] = {}
         self.micropython = ""
+        self.totals: dict[str, int] = {}  # every test of the session, as pytest counts them
+        self._counted: set[str] = set()
+
+    def count(self, nodeid: str, report) -> None:
+        """Any test's phase: its outcome into the session's totals (once per test)."""
+        failed = report.outcome == "failed"
+        if report.when == "call" or failed or report.outcome == "skipped":
+            outcome = ("failed" if report.when == "call" else "error") if failed else report.outcome
+            if nodeid not in self._counted:
+                self._counted.add(nodeid)
+                self.totals[outcome] = self.totals.get(outcome, 0) + 1
 
     def scenario(self, nodeid: str, name: str) -> Scenario:
         if nodeid not in self.scenarios:
@@ -37,6 +48,7 @@ class ReportCollector:
         """One of setup/call/teardown finished: fold its outcome into the scenario's."""
         s = self.scenario(nodeid, name)
         s.duration_s += report.duration
+        s.result = s.result or next((v for k, v in getattr(report, "user_properties", ()) if k == "result"), "")
         if report.outcome == "failed":
             s.outcome = "failed" if report.when == "call" else "error"
             text = report.longreprtext
@@ -58,7 +70,7 @@ class ReportCollector:
             if error:
                 rig.budgets = rig.budgets + [{"budget": "(plots)", "limit": f"plotting failed: {error}"}]
         shown = [s for s in self.scenarios.values() if s.rigs or s.outcome in ("failed", "error")]
-        return write_report(self.path, shown, micropython=self.micropython)
+        return write_report(self.path, shown, micropython=self.micropython, totals=self.totals or None)
 
 
 def _plot_one(folder: Path) -> tuple[list[Path], str]:
