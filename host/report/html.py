@@ -126,6 +126,11 @@ def _scenario(i: int, s: Scenario, base: Path) -> str:
                 img = f'<img alt="{_e(alt)}" src="{_data_uri(plot)}">'
                 out.append(f'<figure class="{_e(plot.stem)}">{img}<figcaption>{_e(alt)}</figcaption></figure>')
             out.append("</div>")
+            movie = rig.plots[0].parent / "trajectory.gif"
+            if movie.is_file():
+                out.append(
+                    f'<p class="movie"><a href="{_e(_rel(movie, base))}">the run as a moving picture (GIF)</a></p>'
+                )
         out.append("</details>")
     out.append("</section>")
     return "\n".join(out)

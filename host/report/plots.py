@@ -5,6 +5,7 @@
 - ``signals.png``: sensors, estimate and actuator commands over virtual time
   (:mod:`host.report.views` chooses them per app).
 - ``timing.png``: a histogram per timing budget against its limit.
+- ``trajectory.gif``: the same path as a moving picture (:mod:`host.report.movie`).
 """
 
 from pathlib import Path
@@ -40,6 +41,9 @@ def plot_trace(folder, out_dir=None) -> list[Path]:
             path = out / f"{name}.png"
             _save(fig, path)
             written.append(path)
+    from host.report.movie import write_movie
+
+    write_movie(trace, out / "trajectory.gif")  # (a link in the report, not one of its images)
     return written
 
 

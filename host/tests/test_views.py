@@ -126,3 +126,21 @@ def test_the_terminal_summary_is_a_line_a_scenario_in_100_columns_naming_the_wor
     assert "MISSED control.period 3/600, max 52000" in lines[0]
     assert lines[1].startswith("test_quiet") and "all 0 held" in lines[1], "wall-clock budgets are informational"
     assert "sonar.period" in text and text.count("test_quiet") == 1, "the table: only scenarios that missed"
+
+
+def test_a_mission_becomes_a_moving_picture_with_the_robot_where_the_truth_puts_it(tmp_path):
+    from PIL import Image
+
+    from host.report.movie import write_movie
+
+    t = np.arange(0, 30_000_001, 1_000_000)
+    truth = {"t_us": t, "x_m": t / 1e7, "y_m": np.zeros(len(t)), "theta_rad": np.zeros(len(t))}
+    trace = TraceData(folder=tmp_path, header={"app": "rover", "seed": 1, "t_end_us": int(t[-1])}, truth=truth)
+    path = write_movie(trace, tmp_path / "trajectory.gif", frames=5)
+    gif = Image.open(path)
+    assert gif.n_frames == 5 and gif.size[0] >= 300, (gif.n_frames, gif.size)
+    first, last = np.asarray(gif.convert("RGB")), None
+    gif.seek(4)
+    last = np.asarray(gif.convert("RGB"))
+    green = lambda img: np.argwhere((img[..., 1] > 100) & (img[..., 0] < 80) & (img[..., 2] < 80))  # noqa: E731
+    assert green(last)[:, 1].mean() > green(first)[:, 1].mean() + 50, "the robot moves right across the frames"
