@@ -83,6 +83,7 @@ def session(tmp_path_factory):
     report = where / "report.html"
     done = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-table", f"--hil-report={report}"]
+        + [f"--junitxml={where / 'junit.xml'}"]
         + ["test_report_scenarios.py"],
         cwd=where,
         capture_output=True,
@@ -221,3 +222,14 @@ def test_the_reports_counts_agree_with_pytest_and_each_scenario_says_what_it_mea
     assert "1 failed, 2 passed; 2 scenario(s) with their rigs below" in html, f"headline in {report}"
     assert "2 passed" in done.stdout.splitlines()[-2] or "1 failed, 2 passed" in done.stdout
     assert "<b>measured:</b> cruised" in html, f"the scenario's result line is missing from {report}"
+
+
+def test_junit_xml_carries_each_rigs_seed_artefacts_and_budgets(session):
+    import xml.etree.ElementTree as ET
+
+    where, _report, _done = session
+    tree = ET.parse(where / "junit.xml")
+    case = next(c for c in tree.iter("testcase") if c.get("name") == "test_rover_cruises_a_metre_in_four_seconds")
+    props = {p.get("name"): p.get("value") for p in case.iter("property")}
+    assert props["rig0.seed"] == "1" and props["rig0.artefacts"].endswith("rig0"), props
+    assert props["rig0.budget.control.period"].startswith("count="), props

@@ -72,6 +72,14 @@ def pytest_runtest_makereport(item, call):
     return report
 
 
+def _properties(node, key: str, rig, rows: list[dict]) -> None:
+    """A rig's seed, artefacts and budgets as the test's properties (JUnit XML carries them)."""
+    node.user_properties += [(f"{key}.seed", rig.seed), (f"{key}.artefacts", str(rig.artefacts))]
+    for row in rows:
+        text = f"count={row['count']} max={row['max']} misses={row['misses']} limit={row['limit']}"
+        node.user_properties.append((f"{key}.budget.{row['budget']}", text))
+
+
 def _evidence(item) -> str:
     """Where a failed hil test's evidence is, and how to run it again."""
     lines = [
@@ -119,10 +127,11 @@ def make_rig(request):
         return rig
 
     yield factory
-    for rig in rigs:
+    for i, rig in enumerate(rigs):
         rig.stop()
         scenario = request.node.name
         rows = [row for row in rig.budget_rows() if row["count"]]
+        _properties(request.node, f"rig{i}", rig, rows)
         _rows.extend({"scenario": scenario, **row} for row in rows)
         if collector is not None:
             collector.add_rig(request.node.nodeid, scenario, rig, rows)
