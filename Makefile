@@ -43,8 +43,9 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
 
+# (on every core, a test file to a worker: a file's module fixtures run once)
 test: setup
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --dist loadfile
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
 hil: setup

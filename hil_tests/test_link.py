@@ -98,7 +98,7 @@ def board(tmp_path):
     home = tmp_path / "board"
     port = vboard.start_background("esp32_devkitc", home=home, wired=False)
     try:
-        folder, files = flash.stage("rover", "esp32_devkitc")
+        folder, files = flash.stage("rover", "esp32_devkitc", root=tmp_path / "staged")
         flash.copy(port, folder, files)
         yield port
     finally:

@@ -16,7 +16,7 @@ def flashed_board(tmp_path):
     home = tmp_path / "board"
     port = vboard.start_background(BOARD, home=home, wired=False)
     try:  # (a failed flash stops the board too)
-        folder, files = flash.stage("rover", BOARD)
+        folder, files = flash.stage("rover", BOARD, root=tmp_path / "staged")
         flash.copy(port, folder, files)
         yield port
     finally:

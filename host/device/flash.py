@@ -69,11 +69,11 @@ def compile_module(src: Path, dst: Path) -> None:
         raise FlashError(f"{rel}:{line.group(1) if line else '?'}: {last[0].strip()}")
 
 
-def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
-    """Build the board's filesystem image in build/flash/<app>-<board>/; return the
-    folder and the files in it (relative paths, as on the board)."""
+def stage(app_name: str, board: str, root: Path | None = None) -> tuple[Path, list[str]]:
+    """Build the board's filesystem image in build/flash/<app>-<board>/ (or under
+    ``root``); return the folder and the files in it (relative paths, as on the board)."""
     app = get_app(app_name)
-    out = STAGING / f"{app.name}-{board}"
+    out = Path(root or STAGING) / f"{app.name}-{board}"
     if out.exists():
         shutil.rmtree(out)
     out.mkdir(parents=True)
@@ -86,7 +86,7 @@ def stage(app_name: str, board: str) -> tuple[Path, list[str]]:
         sources += [(p, f"lib/{p.name}") for p in sorted(lib.glob("*.py"))]
     for src, name in sources:
         if name in ("main.py", "boot.py", app.entry):
-            compile_module(src, STAGING / ".check" / name.replace(".py", ".mpy"))  # syntax check only
+            compile_module(src, out.parent / ".check" / name.replace(".py", ".mpy"))  # syntax check only
             shutil.copyfile(src, out / name)
             files.append(name)
         else:

@@ -250,10 +250,10 @@ def test_a_period_budget_takes_the_plants_own_sample_period_by_default(tmp_path)
         load_rig(write_rig(tmp_path / "other", bad))
 
 
-def test_make_flash_stages_a_rig_files_firmware_without_its_tests():
+def test_make_flash_stages_a_rig_files_firmware_without_its_tests(tmp_path):
     from host.device import flash
 
-    folder, files = flash.stage(str(REPO / "examples" / "pico_bot" / "rig.toml"), "pins")
+    folder, files = flash.stage(str(REPO / "examples" / "pico_bot" / "rig.toml"), "pins", root=tmp_path)
     assert files == ["main.py"] and (folder / "main.py").is_file(), files
 
 
