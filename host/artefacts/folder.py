@@ -8,7 +8,7 @@ file                content
 ``trace.jsonl``     the link messages, decoded (written by :mod:`host.artefacts.linklog`)
 ``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
 ``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
-``budgets.json``    each timing budget: limit, statistics and every measured value
+``budgets.json``    each timing budget: limit, statistics and a histogram of its values
 ``trace.vcd``       the signals and the ground truth for a wave viewer
 ``console.log``     what the firmware printed (written by the rig)
 ==================  ==================================================================
