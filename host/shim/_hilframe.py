@@ -21,6 +21,7 @@ HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
 MAX_PAYLOAD = 4096
 _SOF_BYTES = b"\xa5"
+_COPY_MAX = 256  # a longer body is checked through a memoryview rather than copied
 
 
 def encode(type_, seq, payload):
@@ -40,10 +41,17 @@ class Decoder:
     resumes at the next SOF after its first byte. expire() drops a partial frame
     that stopped arriving (counted as truncated). Sequence numbers are checked per
     direction; a gap is counted (a frame was lost) but the good frame is kept.
+
+    Cost: fed bytes are kept as they come while frames are taken whole; a partial
+    frame grows in a bytearray, moved only once most of it has been taken, so each
+    byte is copied a bounded number of times however small the reads. The length is
+    read by index and a long body's CRC is taken through a memoryview: a false start
+    (an SOF byte in noise or in a damaged frame) costs one C crc32 over at most the
+    length it claims, with no copy, and nothing is scanned twice.
     """
 
     def __init__(self):
-        self.buf = b""
+        self.buf = b""  # bytes, or a bytearray while a partial frame grows
         self.pos = 0
         self.frames = 0
         self.bad_crc = 0
@@ -55,10 +63,19 @@ class Decoder:
         self.on_skip = None  # called with bytes found outside frames (a board's console text)
 
     def feed(self, data):
-        if self.pos:
-            self.buf = self.buf[self.pos :]
+        buf = self.buf
+        pos = self.pos
+        if pos >= len(buf):  # everything before was taken (the usual case): no copy
+            self.buf = bytes(data)
             self.pos = 0
-        self.buf += bytes(data)
+            return
+        if pos * 2 >= len(buf):  # the rest is no longer than what was taken: move it once
+            buf = bytearray(memoryview(buf)[pos:])
+            self.pos = 0
+        elif not isinstance(buf, bytearray):
+            buf = bytearray(buf)
+        buf += data  # in place: a long frame fed in small reads is not copied again at each read
+        self.buf = buf
 
     def pending(self):
         return len(self.buf) - self.pos
@@ -66,38 +83,40 @@ class Decoder:
     def next(self):
         """The next good frame as (type, seq, payload), or None if none is complete."""
         buf = self.buf
+        size = len(buf)
+        pos = self.pos
         while True:
-            i = buf.find(_SOF_BYTES, self.pos)
-            end_skip = len(buf) if i < 0 else i
-            if end_skip > self.pos:
-                self.skipped += end_skip - self.pos
-                if self.on_skip is not None:
-                    self.on_skip(buf[self.pos : end_skip])
+            i = buf.find(_SOF_BYTES, pos)
             if i < 0:
-                self.pos = len(buf)
+                i = size
+            if i > pos:
+                self.skipped += i - pos
+                if self.on_skip is not None:
+                    self.on_skip(bytes(buf[pos:i]))
+            if i + HEADER_LEN > size:
+                self.pos = i
                 return None
-            self.pos = i
-            if len(buf) - i < HEADER_LEN:
-                return None
-            type_, seq, n = struct.unpack_from("<BBH", buf, i + 1)
+            n = buf[i + 3] | buf[i + 4] << 8
             if n > MAX_PAYLOAD:
                 self.bad_length += 1
-                self.pos = i + 1
+                pos = i + 1
                 continue
             end = i + HEADER_LEN + n
-            if len(buf) < end + CRC_LEN:
+            if end + CRC_LEN > size:
+                self.pos = i
                 return None
-            (crc,) = struct.unpack_from("<I", buf, end)
-            if crc32(buf[i + 1 : end]) & 0xFFFFFFFF != crc:
+            body = buf[i + 1 : end] if n < _COPY_MAX else memoryview(buf)[i + 1 : end]
+            if crc32(body) & 0xFFFFFFFF != struct.unpack_from("<I", buf, end)[0]:
                 self.bad_crc += 1
-                self.pos = i + 1
+                pos = i + 1
                 continue
             self.pos = end + CRC_LEN
             self.frames += 1
+            seq = buf[i + 2]
             if self.expect_seq >= 0 and seq != self.expect_seq:
                 self.seq_gaps += 1
             self.expect_seq = (seq + 1) & 0xFF
-            return type_, seq, buf[i + HEADER_LEN : end]
+            return buf[i + 1], seq, bytes(buf[i + HEADER_LEN : end])
 
     def expire(self):
         """Drop a partial frame whose rest never came; True if one was dropped."""
