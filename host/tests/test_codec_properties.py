@@ -143,8 +143,23 @@ def adversarial_header(claim: int) -> bytes:
     return bytes([F.SOF, F.OUT, 0]) + struct.pack("<H", claim)
 
 
+@st.composite
+def attacks(draw):
+    """Start bytes claiming one length over and over (enough of them for the decoder to
+    share their CRC work), with garbage and good frames among them, some of the very
+    length claimed (a good frame checked through the shared work)."""
+    claim = draw(st.integers(252, 700))
+    parts = []
+    for _ in range(draw(st.integers(1, 4))):
+        parts.append(adversarial_header(claim) * draw(st.integers(1, 60)))
+        good = (draw(st.integers(0, 255)), draw(st.integers(0, 255)), draw(st.binary(min_size=claim, max_size=claim)))
+        parts.append(draw(st.one_of(garbage, st.just(F.encode(*good)))))
+    return b"".join(parts)
+
+
 streams = st.one_of(
     st.binary(max_size=1500),
+    attacks(),
     st.lists(
         st.one_of(
             good_frames(1, 2).map(lambda fs: b"".join(F.encode(*f) for f in fs)),
@@ -179,13 +194,17 @@ def test_any_byte_stream_decodes_without_raising_and_every_byte_is_accounted_for
 def test_the_decoder_takes_and_counts_what_the_reference_decoder_does(stream, at, expire_when_stuck):
     """The cheaper resync changes no outcome: the same frames, the same counters and the
     same bytes outside frames, however the stream is cut and whenever partial frames expire."""
+    shared = F.Decoder()
+    shared.share_after = 16  # (MicroPython's default; CPython's is None)
     runs = []
-    for dec in (F.Decoder(), ReferenceDecoder()):
+    for dec in (F.Decoder(), shared, ReferenceDecoder()):
         skipped = []
         dec.on_skip = lambda b, skipped=skipped: skipped.append(bytes(b))
         frames = decode(dec, split(stream, at), list(expire_when_stuck))
         runs.append((frames, dec.counters(), b"".join(skipped)))
-    assert runs[0] == runs[1], f"decoder {runs[0]}\nreference {runs[1]}\nfor stream {stream.hex()} cut at {at}"
+    assert runs[0] == runs[1] == runs[2], (
+        f"decoder {runs[0]}\nsharing {runs[1]}\nreference {runs[2]}\nfor stream {stream.hex()} cut at {at}"
+    )
 
 
 @st.composite
@@ -235,3 +254,19 @@ def test_good_frames_surrounded_by_garbage_are_all_found(frames, junk, at):
     got = decode(dec, split(stream, at))
     assert got == frames, f"expected {frames} among garbage {junk}, got {got}"
     assert dec.counters()["seq_gaps"] == 0 and dec.counters()["frames"] == len(frames), dec.counters()
+
+
+def test_false_starts_claiming_one_length_share_their_crc_work_and_take_the_same_frames():
+    """Start bytes claiming 4096-byte frames, good frames in their midst and after, one
+    of them 4096 bytes long: the decoder shares the CRC work of the false starts (its
+    cheap resync) and takes exactly what the reference takes, whole or in 7-byte reads."""
+    head = adversarial_header(F.MAX_PAYLOAD)
+    good = [(F.OUT, 1, b"x" * 30), (F.UART_TX, 2, b"y" * F.MAX_PAYLOAD), (F.WAIT, 3, b"z" * 300)]
+    stream = head * 1000 + F.encode(*good[0]) + head * 1000 + F.encode(*good[1]) + F.encode(*good[2])
+    for pieces in ([stream], split(stream, list(range(0, len(stream), 7)))):
+        dec, ref = F.Decoder(), ReferenceDecoder()
+        dec.share_after = 16  # (MicroPython's default; CPython's is None)
+        got = decode(dec, pieces)
+        assert dec._shared is not None, "expected the false starts' CRC work shared"
+        assert got == decode(ref, pieces) == good, got
+        assert dec.counters() == ref.counters(), (dec.counters(), ref.counters())
