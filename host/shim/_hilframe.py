@@ -23,7 +23,7 @@ CRC_LEN = 4
 MAX_PAYLOAD = 4096
 _SOF_BYTES = b"\xa5"
 _F32 = 0xFFFFFFFF
-_COPY_MAX = 256  # a longer body is checked through a memoryview rather than copied
+_LONG = 252  # a payload this long has its CRC taken through a memoryview, not over a copy
 # false starts claiming one length before their CRC work is shared (Decoder.share_after);
 # CPython's crc32 (zlib) outruns the sharing
 _SHARE_AFTER = 16 if sys.implementation.name == "micropython" else None
@@ -108,6 +108,7 @@ class Decoder:
 
     def __init__(self):
         self.buf = b""  # bytes, or a bytearray while a partial frame grows
+        self._grown = False  # (the buffer is that bytearray: payloads are copied out as bytes)
         self.pos = 0
         self.frames = 0
         self.bad_crc = 0
@@ -126,12 +127,15 @@ class Decoder:
         pos = self.pos
         if pos >= len(buf):  # everything before was taken (the usual case): no copy
             buf = bytes(data)
+            self._grown = False
         elif pos * 2 >= len(buf):  # the rest is no longer than what was taken: move it once
             buf = bytearray(memoryview(buf)[pos:])
             buf += data
+            self._grown = True
         else:
             if not isinstance(buf, bytearray):
                 buf = bytearray(buf)
+                self._grown = True
             buf += data  # in place: a long frame fed in small reads is not copied again
             self.buf = buf
             return
@@ -169,9 +173,13 @@ class Decoder:
             if end + CRC_LEN > size:
                 self.pos = i
                 return None
-            if view is None and n + HEADER_LEN - 1 >= _COPY_MAX:  # (what the CRC covers)
-                view = memoryview(buf)
-            if not self._crc_ok(buf, view, i + 1, end):
+            if n < _LONG:  # (the usual frame) the CRC over a copy of type..payload
+                ok = crc32(buf[i + 1 : end]) == struct.unpack_from("<I", buf, end)[0]  # (crc32 is unsigned)
+            else:
+                if view is None:
+                    view = memoryview(buf)
+                ok = self._crc_ok(buf, view, i + 1, end)
+            if not ok:
                 self.bad_crc += 1
                 pos = i + 1
                 continue
@@ -181,10 +189,12 @@ class Decoder:
             if self.expect_seq >= 0 and seq != self.expect_seq:
                 self.seq_gaps += 1
             self.expect_seq = (seq + 1) & 0xFF
-            return buf[i + 1], seq, bytes(buf[i + HEADER_LEN : end])
+            if self._grown:
+                return buf[i + 1], seq, bytes(buf[i + HEADER_LEN : end])
+            return buf[i + 1], seq, buf[i + HEADER_LEN : end]
 
     def _crc_ok(self, buf, view, start, end):
-        """Whether the four bytes at ``end`` are the CRC-32 of buf[start:end]."""
+        """Whether the four bytes at ``end`` are the CRC-32 of buf[start:end], a long body."""
         want = buf[end] | buf[end + 1] << 8 | buf[end + 2] << 16 | buf[end + 3] << 24
         m = end - start
         shared = self._shared
@@ -201,8 +211,6 @@ class Decoder:
             return reg_end ^ t[r & 255] ^ t[256 + (r >> 8 & 255)] ^ t[512 + (r >> 16 & 255)] ^ t[768 + (r >> 24)] == (
                 want ^ _F32
             )
-        if m < _COPY_MAX:
-            return crc32(buf[start:end]) & _F32 == want
         if crc32(view[start:end]) & _F32 == want:
             return True
         run = self._run

@@ -91,7 +91,7 @@ def decode(dec, pieces, expire_when_stuck=None):
     """Feed ``pieces`` one at a time, taking every frame after each; when no frame is
     complete, drop the partial frame (expire) if ``expire_when_stuck`` says so (a list
     of booleans, used in turn; None: never) and at the end until nothing is pending,
-    as a link's truncation timeout does. Returns the frames as bytes-payload triples."""
+    as a link's truncation timeout does. Returns the frames, each payload bytes."""
     out = []
     choices = iter(expire_when_stuck or ())
 
@@ -99,7 +99,8 @@ def decode(dec, pieces, expire_when_stuck=None):
         while True:
             frame = dec.next()
             if frame is not None:
-                out.append((frame[0], frame[1], bytes(frame[2])))
+                assert type(frame[2]) is bytes, f"expected a payload as bytes, got {type(frame[2]).__name__}"
+                out.append(frame)
             elif dec.pending() and (final or next(choices, False)):
                 dec.expire()
             else:
