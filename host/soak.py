@@ -89,7 +89,7 @@ def soak(hours: float, seed: int, show=print) -> tuple[Sample, Sample, Rig]:
         t0 = time.perf_counter()
         rig.run_for(min(WARM_UP_S, end_s))
         start = Sample.take(rig, time.perf_counter() - t0)
-        show("start (after the first simulated minute):")
+        show(f"start (after {min(WARM_UP_S, end_s):g} simulated s):")
         show(start.line())
         next_line_s = 3600.0
         while rig.t_us < end_s * 1e6:
