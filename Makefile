@@ -4,6 +4,10 @@
 #   make hil     the firmware-in-the-loop scenarios, the timing-budget table and the
 #                HTML report (build/hil/report.html)
 #   make bench   real-time factor and link round trip; plant cost per quantum
+#   make fuzz [FUZZ_SECONDS=60]   the frame codec fuzzed on CPython, then on MicroPython:
+#                cases, exceptions, damaged frames accepted, the slowest case
+#   make soak [HOURS=24]   the rover for 24 simulated hours: host and firmware memory at
+#                the start and the end, and the growth (not part of make test)
 #   make conformance   MicroPython's own tests on the plain port and in the loop (the
 #                table: build/conformance/table.md; docs/shim.md)
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
@@ -29,7 +33,7 @@ export MICROPYTHON
 
 APP ?= rover
 
-.PHONY: setup test hil bench conformance lint format flash clean
+.PHONY: setup test hil bench fuzz soak conformance lint format flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
@@ -57,6 +61,17 @@ flash: setup
 bench: setup
 	$(PY) -m host.bench
 	$(PY) -m sim_plant.plant_cost
+
+FUZZ_SECONDS ?= 60
+fuzz: setup
+	$(PY) -m host.tests.codec_fuzz --seconds $(FUZZ_SECONDS)
+	$(PY) -m host.tests.codec_fuzz --resync
+	MICROPYPATH=.frozen $(MICROPYTHON) host/tests/codec_fuzz.py --seconds $(FUZZ_SECONDS)
+	MICROPYPATH=.frozen $(MICROPYTHON) host/tests/codec_fuzz.py --resync
+
+HOURS ?= 24
+soak: setup
+	$(PY) -m host.soak --hours $(HOURS)
 
 conformance: setup
 	$(PY) -m host.conformance --table build/conformance/table.md

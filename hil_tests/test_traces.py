@@ -62,7 +62,9 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     assert float(truth[-1]["x_m"]) == pytest.approx(rig.truth()["x_m"], abs=0.05), where
 
     budgets = {b["name"]: b for b in json.loads((folder / "budgets.json").read_text())}
-    assert budgets["control.period"]["values_us"] == rig.budgets["control.period"].values, where
+    period = rig.budgets["control.period"]
+    assert budgets["control.period"]["histogram_us"] == [list(kv) for kv in sorted(period.histogram.items())], where
+    assert budgets["control.period"]["stats"] == period.stats(), where
     assert budgets["sonar.latency"]["stats"]["misses"] == 0, where
 
     link = [json.loads(line) for line in (folder / "trace.jsonl").read_text().splitlines()]

@@ -15,8 +15,10 @@ or exits.
 import argparse
 import ast
 import inspect
+import math
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 from host.artefacts.folder import HEADER
@@ -31,6 +33,8 @@ from sim_plant import kinds
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
 EXIT_USAGE = 2
+MAX_DURATION_S = 10 * 24 * 3600  # ten simulated days: a bound on a run, not a guess at one
+MAX_SEED = 2**32 - 1  # the plant's generator takes a 32-bit seed
 
 
 def main(argv=None) -> int:
@@ -72,10 +76,18 @@ def build_parser() -> argparse.ArgumentParser:
         type=_param,
         help="a plant option, e.g. room_w_m=6.5 (repeatable; overrides the world's)",
     )
-    run.add_argument("--seed", type=int, default=0, help="seed of the plant's generator (default: 0)")
-    run.add_argument("--duration", type=_positive_s, default=30.0, metavar="SECONDS", help="virtual seconds (30)")
+    run.add_argument(
+        "--seed", type=_seed, default=0, help=f"seed of the plant's generator, 0 to {MAX_SEED} (default: 0)"
+    )
+    run.add_argument(
+        "--duration",
+        type=_duration_s,
+        default=30.0,
+        metavar="SECONDS",
+        help=f"virtual seconds, at most {MAX_DURATION_S} (10 simulated days; default 30)",
+    )
     run.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep", help="clock (default: lockstep)")
-    run.add_argument("--out", type=Path, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
+    run.add_argument("--out", type=_folder, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
     run.add_argument("--no-plots", action="store_true", help="write the trace folder only")
     run.set_defaults(command=cmd_run, sub=run)
 
@@ -84,7 +96,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.set_defaults(command=cmd_check, sub=check)
 
     init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
-    init.add_argument("folder", metavar="DIR", type=Path, help="the firmware folder (its main.py)")
+    init.add_argument("folder", metavar="DIR", type=_folder, help="the firmware folder (its main.py)")
     init.set_defaults(command=cmd_init, sub=init)
 
     lst = sub.add_parser("list", help="our apps, boards and plant kinds with their options and signals")
@@ -92,12 +104,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
-    rep.add_argument("--out", type=Path, help="the replay's own trace folder (default: TRACE/replay)")
+    rep.add_argument("--out", type=_folder, help="the replay's own trace folder (default: TRACE/replay)")
     rep.set_defaults(command=cmd_replay, sub=rep)
 
     plot = sub.add_parser("plot", help="write a trace folder's plots (PNG)")
     plot.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder")
-    plot.add_argument("--out", type=Path, help="folder for the PNG files (default: TRACE/plots)")
+    plot.add_argument("--out", type=_folder, help="folder for the PNG files (default: TRACE/plots)")
     plot.set_defaults(command=cmd_plot, sub=plot)
     return parser
 
@@ -105,14 +117,34 @@ def build_parser() -> argparse.ArgumentParser:
 # -- argument types: each error names its argument through argparse ---------------------
 
 
-def _positive_s(text: str) -> float:
+def _duration_s(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
-    if not value > 0:
+    if not value > 0 or not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {text!r}")
+    if value > MAX_DURATION_S:
+        raise argparse.ArgumentTypeError(f"expected at most {MAX_DURATION_S} seconds (10 simulated days), got {text!r}")
+    if round(value * 1e6) < 1:
+        raise argparse.ArgumentTypeError(f"expected at least 0.000001 seconds (the clock's 1 us), got {text!r}")
     return value
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 0 to {MAX_SEED}, got {text!r}") from None
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 0 to {MAX_SEED}, got {text!r}")
+    return value
+
+
+def _folder(text: str) -> Path:
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a folder, got an empty name")
+    return Path(text)
 
 
 def _param(text: str) -> tuple[str, object]:
@@ -120,9 +152,37 @@ def _param(text: str) -> tuple[str, object]:
     if not sep or not name.strip():
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
     try:
-        return name.strip(), ast.literal_eval(value)
-    except (ValueError, SyntaxError):
-        return name.strip(), value
+        parsed = ast.literal_eval(value)
+    except (ValueError, SyntaxError, MemoryError, RecursionError):
+        parsed = value
+        try:  # nan, inf: numbers literal_eval does not read
+            parsed = float(value)
+        except ValueError:
+            pass
+    if not _finite(parsed):
+        raise argparse.ArgumentTypeError(f"{name.strip()}: expected finite numbers, got {value!r}")
+    return name.strip(), parsed
+
+
+def _finite(value) -> bool:
+    if isinstance(value, (list, tuple, set)):
+        return all(_finite(v) for v in value)
+    if isinstance(value, dict):
+        return all(_finite(v) for v in value.values())
+    if isinstance(value, complex):
+        return math.isfinite(value.real) and math.isfinite(value.imag)
+    return not isinstance(value, float) or math.isfinite(value)
+
+
+def _writable(sub, argument: str, folder: Path) -> Path:
+    """``folder``, made if need be; an argument error naming it if it cannot be written."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as e:
+        sub.error(f"argument {argument}: cannot write to the folder {folder} ({e.strerror or e})")
+    return folder
 
 
 def _trace_folder(text: str) -> Path:
@@ -161,9 +221,9 @@ def cmd_run(args) -> int:
         )
     try:
         plant = app.make_plant(**options)
-    except (TypeError, ValueError) as e:
+    except (TypeError, ValueError, ArithmeticError) as e:
         sub.error(f"argument --param: {app.name}'s plant rejects {options}: {e}")
-    out = args.out or RUNS / f"{app.name}-{world}-seed{args.seed}"
+    out = _writable(sub, "--out", args.out or RUNS / f"{app.name}-{world}-seed{args.seed}")
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
     rig = Rig(
         app,
@@ -228,7 +288,11 @@ def cmd_init(args) -> int:
     path = folder / "rig.toml"
     if path.exists():
         args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
-    path.write_text(starter(folder))
+    _writable(args.sub, "DIR", folder)
+    try:
+        path.write_text(starter(folder))
+    except OSError as e:
+        args.sub.error(f"argument DIR: cannot read {folder} or write {path} ({e.strerror or e})")
     print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
     return 0
 
@@ -251,7 +315,7 @@ def cmd_list(args) -> int:
 def cmd_replay(args) -> int:
     from host.rig.replay import replay
 
-    out = args.out or args.trace / "replay"
+    out = _writable(args.sub, "--out", args.out or args.trace / "replay")
     show = _progress(f"replay {args.trace}")
     try:
         result = replay(args.trace, out, progress=show)
@@ -269,7 +333,8 @@ def cmd_replay(args) -> int:
 def cmd_plot(args) -> int:
     from host.report.plots import plot_trace
 
-    for path in plot_trace(args.trace, args.out):
+    out = _writable(args.sub, "--out", args.out or args.trace / "plots")
+    for path in plot_trace(args.trace, out):
         print(f"plot: {path}")
     return 0
 

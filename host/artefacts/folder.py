@@ -8,7 +8,7 @@ file                content
 ``trace.jsonl``     the link messages, decoded (written by :mod:`host.artefacts.linklog`)
 ``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
 ``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
-``budgets.json``    each timing budget: limit, statistics and every measured value
+``budgets.json``    each timing budget: limit, statistics and a histogram of its values
 ``trace.vcd``       the signals and the ground truth for a wave viewer
 ``console.log``     what the firmware printed (written by the rig)
 ==================  ==================================================================
@@ -22,6 +22,7 @@ import csv
 import json
 import math
 import re
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -204,17 +205,32 @@ def load_trace(folder) -> TraceData:
     if header.get("format") != FORMAT:
         raise ConfigError(f"trace folder {folder}: format {header.get('format')!r}, expected {FORMAT!r}")
     data = TraceData(folder, header)
-    kinds = {n: i["kind"] for n, i in header.get("signals", {}).items()}
+    with _reading(folder, HEADER):
+        kinds = {n: i["kind"] for n, i in header.get("signals", {}).items()}
     if (folder / SIGNALS).is_file():
-        with open(folder / SIGNALS, newline="", encoding="utf-8") as f:
+        with _reading(folder, SIGNALS), open(folder / SIGNALS, newline="", encoding="utf-8") as f:
             rows = csv.reader(f)
             next(rows, None)
             data.events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
     if (folder / TRUTH).is_file():
-        data.truth = _read_truth(folder / TRUTH)
+        with _reading(folder, TRUTH):
+            data.truth = _read_truth(folder / TRUTH)
     if (folder / BUDGETS).is_file():
-        data.budgets = json.loads((folder / BUDGETS).read_text(encoding="utf-8"))
+        with _reading(folder, BUDGETS):
+            data.budgets = json.loads((folder / BUDGETS).read_text(encoding="utf-8"))
     return data
+
+
+@contextmanager
+def _reading(folder: Path, name: str):
+    """A file of the folder that does not parse raises ConfigError naming it."""
+    try:
+        yield
+    except (ValueError, KeyError, TypeError, AttributeError) as e:  # (UnicodeDecodeError is a ValueError)
+        raise ConfigError(
+            f"trace folder {folder}: {name} is malformed ({type(e).__name__}: {e}); "
+            "expected the file a recorded run writes (docs/traces.md)"
+        ) from e
 
 
 def _parse(kind: str | None, text: str):

@@ -159,7 +159,7 @@ def signals_figure(trace: TraceData) -> Figure | None:
 
 
 def timing_figure(trace: TraceData) -> Figure | None:
-    budgets = [b for b in trace.budgets if b["values_us"]]
+    budgets = [b for b in trace.budgets if len(budget_values(b)[0])]
     if not budgets:
         return None
     cols = 2 if len(budgets) > 1 else 1
@@ -178,8 +178,20 @@ def timing_figure(trace: TraceData) -> Figure | None:
     return fig
 
 
+def budget_values(budget: dict) -> tuple[np.ndarray, np.ndarray]:
+    """A budget record's distinct values (us) and how many times each was measured:
+    ``histogram_us`` pairs, or (a trace folder written before budgets kept histograms)
+    ``values_us``, every value once."""
+    if "histogram_us" in budget:
+        pairs = np.asarray(budget["histogram_us"], dtype=float).reshape(-1, 2)
+        return pairs[:, 0], pairs[:, 1]
+    values = np.asarray(budget.get("values_us", []), dtype=float)
+    return values, np.ones_like(values)
+
+
 def _budget_histogram(ax, budget: dict) -> None:
-    values_ms = np.asarray(budget["values_us"], dtype=float) / 1000
+    values_us, counts = budget_values(budget)
+    values_ms = values_us / 1000
     stats = budget["stats"]
     unit = "ms of wall time" if budget.get("wall_clock") else "ms"
     period = budget.get("period_us")
@@ -208,7 +220,7 @@ def _budget_histogram(ax, budget: dict) -> None:
         width = max(span[1] - span[0], 1e-3)
         bins = np.linspace(span[0] - 0.05 * width, span[1] + 0.05 * width, 41)
     colour = MISS_COLOUR if stats["misses"] else "#1565c0"
-    ax.hist(values_ms, bins=bins, color=colour, alpha=0.85, histtype="stepfilled")
+    ax.hist(values_ms, bins=bins, weights=counts, color=colour, alpha=0.85, histtype="stepfilled")
     ax.set_yscale("log")  # a single late value stays visible beside hundreds on time
     ax.set_ylim(0.7, None)  # bars rise from below a count of 1
     _plain_log_labels(ax.yaxis)

@@ -17,6 +17,7 @@ LAYERS = {
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,
+    "host.soak": 6,
     "host.conformance": 6,
 }
 MICROPYTHON_SIDE = ("host/shim", "host/device/vrepl", "host/core/micropython", "host/tests")
