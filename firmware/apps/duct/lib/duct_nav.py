@@ -13,7 +13,8 @@ CRUISE = const(25)  # ticks per 50 ms: 0.2 m/s (a duty step is about 4 ticks: 25
 STEER = const(4)  # centring: cruise +- this
 SPIN = const(16)  # spin speed, ticks per period each wheel
 DEAD = const(8)  # centring dead band, counts of L - R
-CENTRED = const(66)  # a side reading with the robot centred in the 400 mm duct
+CENTRED = const(62)  # a side reading (calibrated) with the robot centred in the 400 mm duct
+HEAD_TOL = 0.07  # rad (4 deg): the odometry heading kept this close to the duct's
 FRONT_NEAR = const(60)  # front reading at the duct end (about 120 mm)
 MIN_OPEN_MM = const(150)  # an opening shorter than this is not a branch
 SETBACK_MM = const(115)  # side sonars 100 mm behind the axle, plus the peak detector's lag
@@ -49,6 +50,7 @@ class Explorer:
         self.ends = 0
         self.state = FORWARD
         self.hx, self.hy = 1.0, 0.0  # direction of the duct being driven (unit)
+        self.angle = 0.0  # the same as an angle
         self.armed = False  # both walls seen since the last start or turn
         self.opening = None  # [side, sum_x, sum_y, n, start_x, start_y]
         self.wait = 0
@@ -61,8 +63,9 @@ class Explorer:
 
     def _centre(self, speed, left, right):
         """Bang-bang centring with a dead band (§4.5.1); with one wall only, that wall is
-        held where it was while both were seen (the seed "tracked the remaining duct
-        wall")."""
+        held at the centred reading (the seed "tracked the remaining duct wall"). The
+        odometry heading is held within HEAD_TOL of the duct's first: an amplitude sonar
+        reads a wall seen at an angle as far away, and centring on it would steer into it."""
         if left and right:
             diff = left - right
         elif left:
@@ -71,6 +74,11 @@ class Explorer:
             diff = 2 * (CENTRED - right)
         else:
             diff = 0
+        err = math.atan2(math.sin(self.odo.theta - self.angle), math.cos(self.odo.theta - self.angle))
+        if err > HEAD_TOL:  # turned left of the duct: clockwise, whichever way it drives
+            return speed + STEER, speed - STEER
+        if err < -HEAD_TOL:
+            return speed - STEER, speed + STEER
         s = STEER if speed > 0 else -STEER
         if diff > DEAD:  # the left wall is closer: away from it
             return speed + s, speed - s
@@ -181,9 +189,11 @@ class Explorer:
             b.explored = True
             b.bx, b.by = -b.side * b.hy, b.side * b.hx  # the duct's direction turned 90 deg to the side
             self.hx, self.hy = b.bx, b.by
+            self.angle = math.atan2(b.by, b.bx)
             self.state = FORWARD
             self.armed = False
             return
         self.branches.pop()  # turned out of it: back in the duct it came from
         self.hx, self.hy = b.hx, b.hy
+        self.angle = math.atan2(b.hy, b.hx)
         self._start_reverse()
