@@ -11,9 +11,8 @@
 #                     "O <o> <f>"  options: 90-degree override, positional fix (0/1)
 #   robot -> master   "D <seq> <speedL> <speedR> <sonarF> <sonarL> <sonarR>"
 #                     "K <overruns>"  the buffer is empty, the transfer complete
-from micropython import const
 
-RING = const(32)  # records: 1.6 s of control periods
+RING = 32  # records: 1.6 s of control periods
 
 
 class RecordRing:

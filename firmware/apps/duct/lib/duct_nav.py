@@ -5,28 +5,27 @@
 # an explored one (keep reversing), until the list is empty; then reverse home.
 import math
 
-from micropython import const
 
 from duct_odometry import MM_PER_TICK, TRACK_MM
 
-CRUISE = const(25)  # ticks per 50 ms: 0.2 m/s (a duty step is about 4 ticks: 25 is one)
-STEER = const(4)  # centring: cruise +- this
-SPIN = const(16)  # spin speed, ticks per period each wheel
-DEAD = const(8)  # centring dead band, counts of L - R
-CENTRED = const(62)  # a side reading (calibrated) with the robot centred in the 400 mm duct
+CRUISE = 25  # ticks per 50 ms: 0.2 m/s (a duty step is about 4 ticks: 25 is one)
+STEER = 4  # centring: cruise +- this
+SPIN = 16  # spin speed, ticks per period each wheel
+DEAD = 8  # centring dead band, counts of L - R
+CENTRED = 62  # a side reading (calibrated) with the robot centred in the 400 mm duct
 HEAD_TOL = 0.07  # rad (4 deg): the odometry heading kept this close to the duct's
-FRONT_NEAR = const(60)  # front reading at the duct end (about 120 mm)
-MIN_OPEN_MM = const(150)  # an opening shorter than this is not a branch
-SETBACK_MM = const(115)  # side sonars 100 mm behind the axle, plus the peak detector's lag
-WAIT_STEPS = const(30)  # main-loop steps (10 ms) stopped before a spin
+FRONT_NEAR = 60  # front reading at the duct end (about 120 mm)
+MIN_OPEN_MM = 150  # an opening shorter than this is not a branch
+SETBACK_MM = 115  # side sonars 100 mm behind the axle, plus the peak detector's lag
+WAIT_STEPS = 30  # main-loop steps (10 ms) stopped before a spin
 SPIN_TICKS = int(math.pi / 2 * TRACK_MM / 2 / MM_PER_TICK)  # the outer wheel's travel
-HOME_MM = const(0)  # home: the start point passed, reversing
+HOME_MM = 0  # home: the start point passed, reversing
 
-FORWARD = const(0)
-REVERSE = const(1)
-STOPPING = const(2)
-SPINNING = const(3)
-DONE = const(4)
+FORWARD = 0
+REVERSE = 1
+STOPPING = 2
+SPINNING = 3
+DONE = 4
 STATE_NAMES = ("forward", "reverse", "stopping", "spinning", "done")
 
 

@@ -5,9 +5,8 @@
 # the robot changed by 90°") replaces a spin's measured turn with exactly 90 degrees.
 import math
 
-from micropython import const
 
-SLOTS_PER_WHEEL_REV = const(480)  # 16 slots on the motor shaft, 30:1 gearbox
+SLOTS_PER_WHEEL_REV = 480  # 16 slots on the motor shaft, 30:1 gearbox
 WHEEL_DIAMETER_MM = 60.0
 TRACK_MM = 180.0
 MM_PER_TICK = math.pi * WHEEL_DIAMETER_MM / SLOTS_PER_WHEEL_REV

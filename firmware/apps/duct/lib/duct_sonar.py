@@ -3,10 +3,9 @@
 # are set to 0 (the peak detector's slow discharge would otherwise delay a branch); a
 # single sample far from both neighbours is an outlier and is replaced by the previous
 # value (the seed's reading 26 and the corner reflection at reading 106).
-from micropython import const
 
-ZERO_CLAMP = const(34)  # counts: below this the side is open (a wall beyond ~0.22 m)
-OUTLIER_JUMP = const(40)  # counts: a jump this big that does not last one more sample
+ZERO_CLAMP = 34  # counts: below this the side is open (a wall beyond ~0.22 m)
+OUTLIER_JUMP = 40  # counts: a jump this big that does not last one more sample
 GAINS100 = (100, 95, 105)  # per-channel calibration, x100: F, L, R (left and right matched)
 
 

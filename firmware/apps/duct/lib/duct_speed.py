@@ -11,10 +11,9 @@
 # Division truncates toward zero, as C's integer division on the AVR did: -7 * 25 / 100
 # is -1, not Python's floor -2. So an error of -3..+3 ticks leaves the duty alone either
 # way and the loop has no bias downwards.
-from micropython import const
 
-KP100 = const(25)  # Kp = 0.25
-DUTY_TOP = const(20)  # duty steps: 0..20 (5 % each) of the 20 kHz PWM
+KP100 = 25  # Kp = 0.25
+DUTY_TOP = 20  # duty steps: 0..20 (5 % each) of the 20 kHz PWM
 
 
 def p_step(kp100, error):
