@@ -5,7 +5,6 @@
 # an explored one (keep reversing), until the list is empty; then reverse home.
 import math
 
-
 from duct_odometry import MM_PER_TICK, TRACK_MM
 
 CRUISE = 25  # ticks per 50 ms: 0.2 m/s (a duty step is about 4 ticks: 25 is one)

@@ -5,7 +5,6 @@
 # the robot changed by 90°") replaces a spin's measured turn with exactly 90 degrees.
 import math
 
-
 SLOTS_PER_WHEEL_REV = 480  # 16 slots on the motor shaft, 30:1 gearbox
 WHEEL_DIAMETER_MM = 60.0
 TRACK_MM = 180.0
