@@ -216,3 +216,34 @@ def test_record_stream_none_lost_when_drained_fast_and_overrun_counted_when_not(
     assert t["link_records"] >= made - 3, f"expected about {made} records, got {t['link_records']}: {t}"
     assert t["link_latency_max_us"] <= 100_000 + 10_000, f"expected latency within a poll and a batch: {t}"
     assert s["link_overruns"] > 0 and s["link_skipped"] == s["link_overruns"], f"expected overruns counted: {s}"
+
+
+def first_spin_theta(rig) -> float:
+    line = next(x for x in rig.console.splitlines() if x.startswith("spin right"))
+    return float(line.split("theta ")[1].split(" deg")[0])
+
+
+def test_spin_odometry_under_reports_without_the_90_degree_override(make_rig, record_property):
+    """§5.7: in a spin the backward wheel is pushed without turning its encoder, so the
+    odometry's turn is short of the true 90 degrees; the 90-degree override (option "O 1 0",
+    the default) sets it to 90 exactly. Turned off ("O 0 0") the first right spin reads about
+    (1 + 0.7) / 2 x 90 = 76 degrees. The positional fix ("O 1 1") still explores the branch."""
+    thetas, truths = {}, {}
+    for option in ("O 0 0", "O 1 0"):
+        options = {"link_options": {"script": [[100, option]]}}
+        rig = make_rig("duct", seed=1, plant_options=options, record=False, trace=False)
+        assert run_until(rig, "spin right", 30, 0.5), f"expected a spin within 30 s; {where(rig)}"
+        thetas[option], truths[option] = first_spin_theta(rig), math.degrees(rig.truth()["theta_rad"])
+        rig.stop()
+    rig, ok, off, _ = branch_run(make_rig, 1, link_options={"script": [[100, "O 1 1"]]})
+    record_property(
+        "result",
+        f"odometry heading after the first right spin: without the override {thetas['O 0 0']:.1f} deg "
+        f"(true {truths['O 0 0']:.1f}), with it {thetas['O 1 0']:.1f} deg (true {truths['O 1 0']:.1f}); "
+        f"positional fix run {'succeeded' if ok else 'FAILED'}, {off * 1000:.0f} mm from the start",
+    )
+    assert -82 <= thetas["O 0 0"] <= -70, f"expected the odometry to see about 76 deg of the spin: {thetas}"
+    assert abs(thetas["O 1 0"] + 90) <= 6, f"expected the override to give -90 deg within the pre-spin drift: {thetas}"
+    for option, true in truths.items():
+        assert abs(true + 90) <= 10, f"expected a true turn of about 90 deg ({option}): {truths}"
+    assert ok, f"expected the positional fix run to explore the branch and come home; {where(rig)}"
