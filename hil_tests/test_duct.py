@@ -260,3 +260,21 @@ def test_positional_fix_still_explores_the_branch(make_rig, record_property):
     rig, ok, off, _ = branch_run(make_rig, 1, link_options={"script": [[100, "O 1 1"]]})
     record_property("result", f"positional fix: {'success' if ok else 'FAILED'}, {off * 1000:.0f} mm from the start")
     assert ok, f"expected the positional fix run to explore the branch and come home; {where(rig)}"
+
+
+def test_e_stop_from_the_master_stops_the_robot_within_a_control_period(make_rig, record_property):
+    """§3.4: the master's emergency stop ("E") mid-run: both wheels stop within one 50 ms
+    speed-loop period of the robot reading the line, and stay stopped."""
+    rig = make_rig("duct", seed=1, plant_options={"link_options": {"script": [[3000, "E"]]}})
+    rig.run_for(3.0)
+    moving = rig.truth()["v_m_s"]
+    rig.run_for(0.07)  # the line read within 10 ms, the duty zeroed at the next period
+    stopped = rig.truth()
+    rig.run_for(1.0)
+    later = rig.truth()
+    record_property("result", f"e-stop at 3.0 s: {moving:.3f} m/s before, {stopped['v_m_s']:.3f} m/s 70 ms later")
+    assert moving > 0.1, f"expected the robot under way at 3 s, got {moving:.3f} m/s; {where(rig)}"
+    assert "e-stop at" in rig.console, f"expected the firmware to report the e-stop; {where(rig)}"
+    assert stopped["v_m_s"] == 0 and later["v_m_s"] == 0 and later["x_m"] == stopped["x_m"], (
+        f"expected the wheels stopped within 70 ms and still: {stopped['v_m_s']}, {later['v_m_s']}; {where(rig)}"
+    )
