@@ -94,6 +94,7 @@ def test_kp_sweep_at_a_60_tick_set_point(make_rig, record_property):
 
 
 STRAIGHT_STARTS = {1: (0.3, 0.2, 0.0), 2: (0.3, 0.16, 0.06), 3: (0.3, 0.24, -0.06)}
+STRAIGHT_BOARDS = {1: "esp32_duct", 2: "rpi_pico_duct", 3: "esp32_duct"}  # the same firmware, both pin maps
 
 
 @pytest.mark.parametrize("run", [1, 2, 3])
@@ -102,7 +103,8 @@ def test_straight_1m_duct_odometry_within_50mm(make_rig, record_property, run):
     then 40 mm off-centre and 3.4 degrees askew either way); at the duct end the firmware's
     odometry is within 50 mm of where the robot really is."""
     start = STRAIGHT_STARTS[run]
-    rig = make_rig("duct", seed=run, plant_options={"world": "straight_1m", "start_pose": list(start)})
+    options = {"world": "straight_1m", "start_pose": list(start)}
+    rig = make_rig("duct", board=STRAIGHT_BOARDS[run], seed=run, plant_options=options)
     assert run_until(rig, "duct end", 20, 0.1), f"expected the duct end within 20 s; {where(rig)}"
     line = next(x for x in rig.console.splitlines() if x.startswith("duct end"))
     fx, fy = (float(v) for v in line.split("x ")[1].split(" mm y ")[0:1] + [line.split(" mm y ")[1].split(" mm")[0]])
@@ -111,7 +113,12 @@ def test_straight_1m_duct_odometry_within_50mm(make_rig, record_property, run):
     c, s = math.cos(start[2]), math.sin(start[2])
     tx, ty = (c * dx + s * dy) * 1000, (-s * dx + c * dy) * 1000
     error = math.hypot(fx - tx, fy - ty)
-    record_property("result", f"run {run}: travelled {math.hypot(tx, ty):.0f} mm, odometry error {error:.1f} mm")
+    record_property(
+        "result",
+        f"run {run} ({STRAIGHT_BOARDS[run]}): travelled {math.hypot(tx, ty):.0f} mm, odometry error {error:.1f} mm",
+    )
+    pins = STRAIGHT_BOARDS[run].replace("_", "-")
+    assert f"duct robot on {pins}:" in rig.console, f"expected the firmware on {pins}'s pin map; {where(rig)}"
     assert tx > 950, f"expected about 1 m travelled, got {tx:.0f} mm; {where(rig)}"
     assert error <= 50, (
         f"expected odometry within 50 mm, got {error:.1f} mm (({fx}, {fy}) vs ({tx:.0f}, {ty:.0f})); {where(rig)}"
