@@ -45,6 +45,9 @@ class RecordReader(Part):
         self.values: list[tuple] = []  # (seq, speedL, speedR, f, l, r)
         self.bad_lines = 0
 
+    def initial_outputs(self) -> dict:
+        return {self.rx: b""}  # a UART line: no level, only the bytes sent on it
+
     def fire(self, t_us: int, plant, out: list) -> None:
         while self.next_script < len(self.script) and self.script[self.next_script][0] <= t_us:
             out.append(Change(t_us, self.rx, (self.script[self.next_script][1] + "\n").encode()))

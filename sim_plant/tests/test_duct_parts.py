@@ -27,6 +27,11 @@ def test_the_master_polls_every_poll_ms_and_sends_its_script():
     ]
 
 
+def test_the_link_is_an_output_with_no_level_at_reset():
+    """A recorder asks every output's value at reset: a UART line has only bytes."""
+    assert reader_plant().output("link.uart") == b""
+
+
 def test_records_are_counted_gaps_found_and_lines_timed_at_the_baud_rate():
     plant = reader_plant(poll_ms=0, baud=10_000)  # 1 ms a byte
     reader = plant.part(RecordReader)
