@@ -22,6 +22,8 @@ name                kind    meaning
 ``sonar_l.adc``     u16     left
 ``sonar_r.adc``     u16     right
 ``bumper``          level   0 while pressed (only with ``bumper=True``)
+``link.uart``       bytes   the master link, both ways: the robot's record stream in,
+                            the master's polls and commands out (``link=True``)
 ==================  ======  ===========================================================
 
 The seed gives no wheel size, slot count, gear ratio, track or top speed (notes §8 item
@@ -43,6 +45,10 @@ parameter                default  meaning
                                   while spinning (§5.7)
 ``sonar_gains``          (1.0, 1.05, 0.95)  front, left, right: "small differences in
                                   components" (App. C) that the firmware calibrates
+``link``                 False    a master on the UART that drains the record
+                                  stream (:mod:`sim_plant.duct_link`)
+``snag_p``               0        chance that the tether snags at a spin
+                                  (:mod:`sim_plant.tether`)
 =======================  =======  ==================================================
 """
 
@@ -51,12 +57,32 @@ import math
 from sim_plant.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
 from sim_plant.contacts import ContactMonitor, front_bumper
 from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.duct_link import RecordReader
 from sim_plant.encoders import SlottedDiskEncoder
 from sim_plant.engine import RobotPlant
 from sim_plant.motors import DirPwmBridge
-from sim_plant.world import World, multi_branch_duct, one_right_branch_duct
+from sim_plant.tether import TetherSnag
+from sim_plant.world import DUCT_WIDTH_M, World, duct_network, multi_branch_duct, one_right_branch_duct
 
-WORLDS = {"one_right_branch": one_right_branch_duct, "multi_branch": multi_branch_duct}
+
+def straight_duct(length_m: float = 1.5, width_m: float = DUCT_WIDTH_M) -> World:
+    """A straight duct along +x from 0 to ``length_m``, closed at both ends: from the
+    default start (x = 0.3 m) the robot drives about 1 m to the end (seed 002 §5.4, "a
+    straight line test through a duct of roughly 1m")."""
+    return duct_network([(0.0, 0.0, length_m, width_m)], name=f"straight duct {length_m:g} m")
+
+
+def bench_duct() -> World:
+    """A long straight duct for the speed-loop step tests (seed 002 App. D.5)."""
+    return straight_duct(8.0)
+
+
+WORLDS = {
+    "one_right_branch": one_right_branch_duct,
+    "multi_branch": multi_branch_duct,
+    "straight_1m": straight_duct,
+    "bench": bench_duct,
+}
 BODY_CIRCLES = ((-0.04, 0.0, 0.10), (-0.12, 0.0, 0.10))
 """Body outline 200 x 280 mm, wheels at the front: two circles of r = 100 mm covering
 x = -0.22 .. +0.06 m from the axle."""
@@ -88,6 +114,10 @@ class DuctRobot(RobotPlant):
         sonar_options=None,
         bumper=False,
         bumper_bounce_us=0,
+        link=False,
+        link_options=None,
+        snag_p=0.0,
+        snag_options=None,
     ):
         if isinstance(world, World):
             self.world = world
@@ -111,6 +141,10 @@ class DuctRobot(RobotPlant):
         self.spin_slip = float(spin_slip)
         self.sonar_gains = tuple(sonar_gains)
         self.sonar_options = dict(sonar_options or {})
+        self.link = bool(link)
+        self.link_options = dict(link_options or {})
+        self.snag_p = float(snag_p)
+        self.snag_options = dict(snag_options or {})
         super().__init__()
 
     def _build(self) -> None:
@@ -130,3 +164,7 @@ class DuctRobot(RobotPlant):
             AmplitudeChannel(name, mount, gain) for (name, mount), gain in zip(SONAR_MOUNTS.items(), self.sonar_gains)
         ]
         self.parts = [ContactMonitor(BODY_CIRCLES, bumpers), AmplitudeSonarArray(channels, **self.sonar_options)]
+        if self.link:
+            self.parts.append(RecordReader(**self.link_options))
+        if self.snag_p > 0:
+            self.parts.append(TetherSnag(p_snag=self.snag_p, **self.snag_options))

@@ -10,6 +10,7 @@ for folder in (
     FIRMWARE / "apps" / "pool_cleaner",
     FIRMWARE / "apps" / "lab_robot",
     FIRMWARE / "apps" / "vacuum" / "lib",
+    FIRMWARE / "apps" / "duct" / "lib",
     FIRMWARE / "lib",
 ):
     if str(folder) not in sys.path:

@@ -67,7 +67,15 @@ def write_rig(folder, text=GOOD, files=None):
 
 def test_our_apps_are_rig_files():
     found = apps()
-    assert set(found) == {"rover", "pool_cleaner", "pool_cleaner_adc", "lab_robot", "lab_robot_canyon", "vacuum"}
+    assert set(found) == {
+        "rover",
+        "pool_cleaner",
+        "pool_cleaner_adc",
+        "lab_robot",
+        "lab_robot_canyon",
+        "vacuum",
+        "duct",
+    }
     rover = found["rover"]
     assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
     assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
