@@ -39,6 +39,9 @@ COMPUTE = "compute"
 EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE)
 
 
+FIRST_MISSES = 5  # misses a budget keeps the time of, for its failure message
+
+
 class Budget:
     wall_clock = False
     """True for a budget measured in wall-clock time (informational in lockstep runs)."""
@@ -52,17 +55,20 @@ class Budget:
         """value (us) -> how many times it was measured"""
         self.count = 0
         self.misses = 0
+        self.first_misses: list[tuple] = []  # (virtual t_us or None, value) of the first FIRST_MISSES
 
     def hooks(self) -> list[tuple]:
         """``(event, signal, callable)`` for each event this budget measures."""
         return []
 
-    def _record(self, value_us: int, missed: bool) -> None:
+    def _record(self, value_us: int, missed: bool, t_us: int | None = None) -> None:
         histogram = self.histogram
         histogram[value_us] = histogram.get(value_us, 0) + 1
         self.count += 1
         if missed:
             self.misses += 1
+            if len(self.first_misses) < FIRST_MISSES:
+                self.first_misses.append((t_us, value_us))
 
     @property
     def values(self) -> list[int]:
@@ -108,9 +114,14 @@ class Budget:
         if s["count"] == 0:
             raise AssertionError(f"budget {self.name}: expected measurements of {self.source}, got none")
         if self.misses:
+            first = ", ".join(
+                f"{value} us" + (f" at virtual t={t / 1e6:.6f} s" if t is not None else "")
+                for t, value in self.first_misses
+            )
             raise AssertionError(
                 f"budget {self.name}: expected every value {self.limit_text()}, "
-                f"got {self.misses} misses of {s['count']} (p50 {s['p50']}, p99 {s['p99']}, max {s['max']} us)"
+                f"got {self.misses} misses of {s['count']} (p50 {s['p50']}, p99 {s['p99']}, max {s['max']} us); "
+                f"the first: {first}"
             )
 
 
@@ -146,7 +157,7 @@ class PeriodBudget(Budget):
     def event(self, t_us: int) -> None:
         if self._last_us is not None:
             dt = t_us - self._last_us
-            self._record(dt, abs(dt - self.period_us) > self.tolerance_us)
+            self._record(dt, abs(dt - self.period_us) > self.tolerance_us, t_us)
         self._last_us = t_us
 
     def limit_text(self) -> str:
@@ -170,14 +181,14 @@ class LatencyBudget(Budget):
 
     def sample(self, t_us: int, sample_no: int) -> None:
         for old in [n for n in self._pending if n < sample_no]:  # superseded, never read
-            self._record(t_us - self._pending.pop(old), True)
+            self._record(t_us - self._pending.pop(old), True, t_us)
         self._pending[sample_no] = t_us
 
     def seen(self, t_us: int, sample_no: int) -> None:
         t_sample = self._pending.pop(sample_no, None)
         if t_sample is not None:
             latency = t_us - t_sample
-            self._record(latency, latency > self.limit_us)
+            self._record(latency, latency > self.limit_us, t_us)
 
     def record(self) -> dict:
         return {**super().record(), "period_us": None}
@@ -209,7 +220,7 @@ class PulseBudget(Budget):
             width = t_us - self._since_us
             self._since_us = None
             if width:  # releasing a hold one track at a time is no pulse
-                self._record(width, width > self.limit_us)
+                self._record(width, width > self.limit_us, t_us)
 
 
 class ComputeBudget(Budget):

@@ -166,3 +166,14 @@ def test_the_timing_plot_counts_the_same_from_a_histogram_as_from_every_value():
     assert np.array_equal(
         np.histogram(new_values, bins, weights=new_counts)[0], np.histogram(old_values, bins, weights=old_counts)[0]
     ), "the timing plot's bars differ between a budgets.json with histogram_us and one with values_us"
+
+
+def test_a_failed_budget_says_when_its_first_misses_happened():
+    period = PeriodBudget("control.period", "probe:control", period_us=50_000, tolerance_us=1_000)
+    for t in (0, 50_000, 100_000, 153_000, 203_000, 260_000):  # late at 153 ms and at 260 ms
+        period.on_change(t, 1)
+    with pytest.raises(AssertionError) as err:
+        period.check()
+    text = str(err.value)
+    assert "2 misses of 5" in text, text
+    assert "the first: 53000 us at virtual t=0.153000 s, 57000 us at virtual t=0.260000 s" in text, text
