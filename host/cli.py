@@ -26,6 +26,7 @@ from host.core.errors import ConfigError, HarnessError
 from host.core.paths import REPO
 from host.report.progress import MissionProgress
 from host.report.table import format_table
+from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
 from sim_plant import kinds
@@ -33,8 +34,8 @@ from sim_plant import kinds
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
 EXIT_USAGE = 2
-MAX_DURATION_S = 10 * 24 * 3600  # ten simulated days: a bound on a run, not a guess at one
-MAX_SEED = 2**32 - 1  # the plant's generator takes a 32-bit seed
+MAX_DURATION_S = arguments.MAX_RUN_S  # the rig's own bounds: ten simulated days in one run
+MAX_SEED = arguments.SEED_MAX  # the plant's generator takes a 32-bit seed
 
 
 def main(argv=None) -> int:

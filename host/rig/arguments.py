@@ -7,7 +7,7 @@ import secrets
 from host.core.errors import ConfigError
 
 SEED_MAX = 2**32 - 1
-MAX_RUN_S = 10 * 24 * 3600.0  # ten simulated days in one run_for
+MAX_RUN_S = 10 * 24 * 3600  # ten simulated days in one run_for (and one `mpy-fil run`)
 
 
 def seed(value) -> int:
