@@ -9,32 +9,19 @@
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
+from host.report import beliefs
+from host.report.panels import US_PER_S, Line, Panel
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import World
 
 COVERAGE_CELL_M = 0.05
-US_PER_S = 1e6
-
-
-@dataclass
-class Line:
-    label: str
-    t_s: np.ndarray
-    values: np.ndarray
-    style: str = "line"  # "line", "step" (held until the next value) or "points"
-
-
-@dataclass
-class Panel:
-    title: str
-    ylabel: str
-    lines: list[Line] = field(default_factory=list)
+__all__ = ["Line", "Panel", "US_PER_S", "coverage", "signal_panels"]
 
 
 @dataclass
@@ -197,4 +184,4 @@ def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(t_out), np.asarray(v_out)
 
 
-VIEWS = {"rover": rover_view}
+VIEWS = {"rover": rover_view, **beliefs.VIEWS}
