@@ -2,7 +2,9 @@
 
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
 plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
-when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-table``
+when the test ends, pass or fail. ``@pytest.mark.hil_budget(name, max_ms=...)`` or
+``make_rig(..., budget_limits={name: {...}})`` sets a test's own budget limits
+(:mod:`host.pytest_plugin.budget_marks`). ``rig`` is a started rover rig. With ``--hil-table``
 the budget statistics of every rig are printed at the end of the session, after each
 scenario's result line (what a test recorded with ``record_property("result", text)``);
 with ``--hil-report PATH`` every rig records a trace folder and the session ends by writing
@@ -18,6 +20,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
+from host.pytest_plugin import budget_marks
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import ReportCollector
 from host.report.table import format_summary, format_table
@@ -49,6 +52,7 @@ def pytest_configure(config):
     if path:
         config.stash[_report] = ReportCollector(path)
     config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
+    config.addinivalue_line("markers", budget_marks.MARK_HELP)
 
 
 def pytest_collection_modifyitems(items):
@@ -111,8 +115,9 @@ def make_rig(request):
     collector = request.config.stash.get(_report, None)
 
     flashed = _flashed_firmware()
+    marked = budget_marks.marked_limits(request.node)
 
-    def factory(app="rover", **kwargs) -> Rig:
+    def factory(app="rover", budget_limits: dict | None = None, **kwargs) -> Rig:
         kwargs.setdefault("artefacts", artefacts_for(request.node) / f"rig{len(rigs)}")
         if flashed and app == flashed["app"] and not {"main_dir", "firmware_dir", "plant"} & set(kwargs):
             kwargs.setdefault("firmware_dir", flashed["dir"])
@@ -122,6 +127,9 @@ def make_rig(request):
             kwargs.setdefault("trace", True)
         kwargs.setdefault("progress", mission_progress(request.config, f"{request.node.name} rig{len(rigs)}"))
         rig = Rig(app, **kwargs)
+        budget_marks.apply(rig, marked, f"@pytest.mark.{budget_marks.MARK}")
+        limits = {k: budget_marks.in_us(k, v, "make_rig budget_limits") for k, v in (budget_limits or {}).items()}
+        budget_marks.apply(rig, limits, "make_rig budget_limits")
         rigs.append(rig)
         rig.start()
         return rig
