@@ -10,16 +10,19 @@ from host.report.progress import MissionProgress
 _screens: list = []  # the session's one progress line (pytest_runtest_logreport has no config)
 
 
-def mission_progress(config, label: str) -> MissionProgress | None:
-    """A rig's ``progress`` callback for this session (None without a terminal reporter)."""
+def mission_progress(config, label: str, mission_s: float | None = None) -> MissionProgress | None:
+    """A rig's ``progress`` callback for this session (None without a terminal reporter);
+    ``mission_s``: the scenario's mission length, carried across its runs."""
     tr = config.pluginmanager.get_plugin("terminalreporter")
     if tr is None:
         return None
     if getattr(tr, "isatty", False):
         if not _screens:
             _screens.append(_ScreenLine(config))
-        return MissionProgress(label, rewrite=_screens[0].show)
-    return MissionProgress(label, line=lambda text: _with_terminal(config, lambda t: t.write_line(text)))
+        return MissionProgress(label, rewrite=_screens[0].show, mission_s=mission_s)
+    return MissionProgress(
+        label, line=lambda text: _with_terminal(config, lambda t: t.write_line(text)), mission_s=mission_s
+    )
 
 
 def clear_progress_lines() -> None:
