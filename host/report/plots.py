@@ -89,6 +89,9 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     path.set_array(t_s[:-1])
     ax.add_collection(path)
     fig.colorbar(path, ax=ax, label="virtual time (s)", shrink=0.8)
+    belief = views.belief_path(trace)
+    if belief is not None:
+        ax.plot(belief.x_m, belief.y_m, "--", color="#ef6c00", linewidth=1.5, label=f"{belief.what} (firmware)")
     ax.plot(x[0], y[0], "o", color=OK_COLOUR, markersize=9, label="start")
     ax.plot(x[-1], y[-1], "s", color="#1565c0", markersize=8, label="end")
     if "theta_rad" in tr:

@@ -88,3 +88,29 @@ def test_a_pool_cleaner_that_printed_no_lane_lines_says_so_in_its_sonar_panel(tm
     truth = {"t_us": [0, 1_000_000], "y_m": [1.0, 1.0], "sonar_l_range_m": [7.0, 7.0]}
     panels = beliefs.pool_cleaner_view(pool_trace(tmp_path, "pool cleaner on esp32\n", [], truth, app="pool_cleaner"))
     assert any("no 'lane' lines in console.log" in note for note in panels[0].notes), panels[0].notes
+
+
+def test_odometry_is_carried_into_the_worlds_frame_from_its_first_line_and_its_error_measured(tmp_path):
+    """The lab robot's dead reckoning starts at (0, 0, 0) where the truth has it at
+    (1, 2) heading +90 deg: 1 m forward by its count is 1 m up the world's y axis."""
+    from host.report import odometry
+
+    (tmp_path / "console.log").write_text(
+        "pose columns: t_ms x_mm y_mm theta_rad\npose 0 0.0 0.0 0.0000\npose 1000 1000.0 0.0 0.0000\n"
+    )
+    header = {"app": "lab_robot", "initial": {}, "t_end_us": 2_000_000, "signals": {}}
+    truth = {
+        "t_us": np.asarray([0, 1_000_000, 2_000_000], dtype=np.int64),
+        "x_m": np.asarray([1.0, 1.0, 1.0]),
+        "y_m": np.asarray([2.0, 2.9, 3.8]),  # the truth went 0.9 m: the count says 1 m
+        "theta_rad": np.asarray([np.pi / 2] * 3),
+    }
+    trace = TraceData(tmp_path, header, [(0, "probe:control", 1)], truth, [])
+    path = odometry.belief_path(trace)
+    assert path.x_m == pytest.approx([1.0, 1.0]) and path.y_m == pytest.approx([2.0, 3.0]), (path.x_m, path.y_m)
+    assert np.degrees(path.theta_rad) == pytest.approx([90.0, 90.0])
+    panels = {p.title.split(":")[0]: p for p in odometry.odometry_panels(trace)}
+    error = dict((line.label, line.values) for line in panels["Dead reckoning error"].lines)
+    assert error["position error (m)"] == pytest.approx([0.0, 0.1]), error
+    assert panels["Dead reckoning error"].notes == ["at the end: 0.100 m and +0.0 deg off"]
+    assert odometry.belief_path(TraceData(tmp_path, {**header, "app": "rover"}, [], truth, [])) is None
