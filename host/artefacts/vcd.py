@@ -18,6 +18,8 @@ When a variable changes more than once at the same microsecond, the last value i
 written.
 """
 
+import heapq
+import itertools
 import re
 
 TIMESCALE = "1us"
@@ -26,7 +28,8 @@ _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth) -> None:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
-    order; ``truth``: (t_us, {column: value}) in time order."""
+    order; ``truth``: (t_us, {column: value}) in time order (iterated twice). Both may be
+    iterables that read from disk: nothing here holds them whole."""
     columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
@@ -40,36 +43,34 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         _declare(f, tree, ids)
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
-        merged = [(t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events]
-        merged += [(t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row]
-        merged.sort(key=lambda e: (e[0], e[1]))
+        sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
+        reals = ((t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row)
+        # (streamed, not held: both come in time order, so a merge gives what a stable sort would)
+        merged = heapq.merge(sigs, reals, key=lambda e: (e[0], e[1]))
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
             for name, info in signals.items()
         }
         state.update({ids[("truth", col)]: _value("real", None, ids[("truth", col)]) for col in columns})
-        n0 = 0
-        while n0 < len(merged) and merged[n0][0] <= 0:
-            _t, _order, key, kind, value = merged[n0]
+        change = next(merged, None)
+        while change is not None and change[0] <= 0:
+            _t, _order, key, kind, value = change
             if key in ids:
                 state[ids[key]] = _value(kind, value, ids[key])
-            n0 += 1
+            change = next(merged, None)
         f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
-        _write_changes(f, merged[n0:], ids)
+        if change is not None:
+            _write_changes(f, itertools.chain([change], merged), ids)
 
 
 def _write_changes(f, merged, ids) -> None:
-    i = 0
-    while i < len(merged):
-        t = merged[i][0]
+    for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
         last: dict[str, str] = {}
-        while i < len(merged) and merged[i][0] == t:
-            _t, _order, key, kind, value = merged[i]
+        for _t, _order, key, kind, value in changes:
             code = ids.get(key)
             if code is not None:
                 last[code] = _value(kind, value, code)
-            i += 1
         if last:
             f.write(f"#{t}\n")
             f.write("\n".join(last.values()) + "\n")
