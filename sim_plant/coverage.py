@@ -62,6 +62,16 @@ class CoverageGrid:
             self._sweep(arr[:-1], arr[1:])
         self.pending = pts[-1:]
 
+    def sweep_to(self, x_m: float, y_m: float) -> None:
+        """flush(), then the segment from the last sample to (x_m, y_m), in one pass (the
+        same cells: each sample lies on a segment swept here); the samples stay as
+        flush() leaves them. Ground truth asks for this every 50 ms."""
+        pts = self.pending
+        if pts:
+            arr = np.array([*pts, (x_m, y_m)], dtype=float)
+            self._sweep(arr[:-1], arr[1:])
+            self.pending = pts[-1:]
+
     def sweep(self, ax: float, ay: float, bx: float, by: float) -> None:
         """Mark the footprint along one segment."""
         self._sweep(np.array([[ax, ay]]), np.array([[bx, by]]))
@@ -91,9 +101,10 @@ class CoverageGrid:
         self.covered_free += int(np.count_nonzero(hit & ~region & self.free[j0:j1, i0:i1]))
         region |= hit
 
-    def fraction(self) -> float:
-        """Share of the free floor swept so far."""
-        self.flush()
+    def fraction(self, flush: bool = True) -> float:
+        """Share of the free floor swept so far (``flush``: the waiting samples first)."""
+        if flush:
+            self.flush()
         free = self.free_cells
         return float(self.covered_free) / free if free else 0.0  # (as (covered & free).sum(), kept up)
 
@@ -176,7 +187,5 @@ class CoverageRecorder(Part):
 
     def truth(self, t_us: int, plant) -> dict:
         x, y, _ = plant.pose_at(t_us)
-        self.grid.flush()
-        if self.grid.pending:  # up to now (marks cells the robot has swept; keeps the samples)
-            self.grid.sweep(*self.grid.pending[-1], x, y)
-        return {"coverage_fraction": self.grid.fraction()}
+        self.grid.sweep_to(x, y)  # up to now (marks cells the robot has swept; keeps the samples)
+        return {"coverage_fraction": self.grid.fraction(flush=False)}
