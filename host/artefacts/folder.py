@@ -60,12 +60,13 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     folder.mkdir(parents=True, exist_ok=True)
     header = make_header(run, recorder, plant, link_trace=(folder / LINK).is_file())
     _write_json(folder / HEADER, header)
-    events = sorted(recorder.events, key=lambda e: e[0])
+    events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
+    truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
     with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", "signal", "value"])
         out.writerows(events)
-    _write_truth(folder / TRUTH, recorder.truth)
+    _write_truth(folder / TRUTH, truth)
     _write_json(folder / BUDGETS, [b.record() for b in budgets.values()])
     paths = write_vcd(
         folder / VCD,
@@ -74,7 +75,7 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         signals=recorder.signals,
         initial=recorder.initial,
         events=events,
-        truth=recorder.truth,
+        truth=truth,
         notes=trace_notes(folder, budgets),
     )
     write_gtkw(folder / GTKW, VCD, paths)
@@ -90,6 +91,16 @@ def trace_notes(folder: Path, budgets: dict) -> list[tuple[int, str, str]]:
     for b in budgets.values():
         notes += [(t, "budget_miss", f"{b.name} {value} us") for t, value in b.first_misses if t is not None]
     return notes
+
+
+class _Records:
+    """A recording's records, made afresh each time they are iterated."""
+
+    def __init__(self, make):
+        self.make = make
+
+    def __iter__(self):
+        return iter(self.make())
 
 
 def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:

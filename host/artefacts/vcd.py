@@ -26,6 +26,8 @@ grouped by role and then by part, each in the format that reads best (levels as 
 counts and duties in decimal, a UART byte as its character).
 """
 
+import heapq
+import itertools
 import re
 
 from vcd.gtkw import GTKWSave
@@ -36,9 +38,11 @@ _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=()) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
-    order; ``truth``: (t_us, {column: value}) in time order; ``notes``: (t_us, channel,
-    text), each channel a string variable of the ``events`` scope. Returns each
-    variable's (full name in the file, kind) by (group, name), for :func:`write_gtkw`."""
+    order; ``truth``: (t_us, {column: value}) in time order (iterated twice); ``notes``:
+    (t_us, channel, text), each channel a string variable of the ``events`` scope.
+    ``events`` and ``truth`` may be iterables that read from disk (``events`` is iterated
+    twice too): nothing here holds them whole. Returns each variable's (full name in the
+    file, kind) by (group, name), for :func:`write_gtkw`."""
     columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
     notes = sorted(notes, key=lambda n: n[0])
     channels = sorted({channel for _t, channel, _text in notes})
@@ -60,11 +64,11 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         _declare(f, tree, ids, paths, _ident(top))
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
-        merged = [(t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events]
-        merged += _uart_text(events, ids)
-        merged += [(t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row]
-        merged += [(t, 2, ("note", channel), "text", text) for t, channel, text in notes]
-        merged.sort(key=lambda e: (e[0], e[1]))
+        sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
+        reals = ((t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row)
+        texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
+        # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
+        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts, key=lambda e: (e[0], e[1]))
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
@@ -72,25 +76,25 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         }
         state.update({ids[("truth", col)]: _value("real", None, ids[("truth", col)]) for col in columns})
         state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] in ("text", "note")})
-        n0 = 0
-        while n0 < len(merged) and merged[n0][0] <= 0:
-            _t, _order, key, kind, value = merged[n0]
+        change = next(merged, None)
+        while change is not None and change[0] <= 0:
+            _t, _order, key, kind, value = change
             if key in ids:
                 state[ids[key]] = _value(kind, value, ids[key])
-            n0 += 1
+            change = next(merged, None)
         f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
-        _write_changes(f, merged[n0:], ids)
+        if change is not None:
+            _write_changes(f, itertools.chain([change], merged), ids)
     return paths
 
 
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 
-def _uart_text(events, ids) -> list:
+def _uart_text(events, ids):
     """For each UART (a ``_text`` variable): at each chunk, the line being received,
     or the line just completed until the next one starts."""
     lines: dict[str, str] = {}
-    out = []
     for t, name, value in events:
         if ("text", name) not in ids or not value:
             continue
@@ -98,8 +102,7 @@ def _uart_text(events, ids) -> list:
         done, _, partial = text.rpartition("\n")
         lines[name] = partial[-TEXT_LINE_MAX:]
         shown = partial or done.rpartition("\n")[2]
-        out.append((t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:]))
-    return out
+        yield (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
 
 
 def write_gtkw(path, vcd_path, paths: dict) -> None:
@@ -138,16 +141,12 @@ _GTKW_FORMATS = {"real": "real", "text": "ascii", "bytes": "ascii", "u16": "dec"
 
 
 def _write_changes(f, merged, ids) -> None:
-    i = 0
-    while i < len(merged):
-        t = merged[i][0]
+    for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
         last: dict[str, str] = {}
-        while i < len(merged) and merged[i][0] == t:
-            _t, _order, key, kind, value = merged[i]
+        for _t, _order, key, kind, value in changes:
             code = ids.get(key)
             if code is not None:
                 last[code] = _value(kind, value, code)
-            i += 1
         if last:
             f.write(f"#{t}\n")
             f.write("\n".join(last.values()) + "\n")
