@@ -70,6 +70,27 @@ def bench_ping(sim_s: float) -> list[float]:
         return rig.stats.round_trip_us[10:]
 
 
+def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0) -> dict:
+    """A campaign of ``runs`` rover runs of ``sim_s`` simulated seconds on ``workers`` local
+    processes: its wall time from the pool's start to the last result (docs/campaigns.md)."""
+    import tempfile
+
+    from host.campaign import load_campaign
+    from host.campaign.runner import run_campaign
+
+    campaign = load_campaign("rover", seeds=runs, seconds=sim_s, step_s=10.0)
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as out:
+        t0 = time.perf_counter()
+        results = run_campaign(campaign, out, workers=workers)
+        wall = time.perf_counter() - t0
+    return {
+        "runs": len(results),
+        "passed": sum(r["passed"] for r in results),
+        "wall_s": wall,
+        "per_min": len(results) / wall * 60,
+    }
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m host.bench", description=__doc__.split("\n")[0])
     parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
@@ -94,6 +115,11 @@ def main(argv=None) -> int:
     print(
         f"  link round trip (STATE -> WAIT, {len(ping)} exchanges): p50 {percentile(ping, 50):.0f} us, "
         f"p99 {percentile(ping, 99):.0f} us, mean {statistics.fmean(ping):.0f} us"
+    )
+    one, two = bench_campaign(1), bench_campaign(2)
+    print(
+        f"campaign throughput ({one['runs']} rover runs of 120 simulated s): 1 worker {one['per_min']:.1f} runs/min, "
+        f"2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x (target >= 1.7x)"
     )
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")

@@ -50,7 +50,9 @@ CAMPAIGN_KEYS = {
     "worst_by": str,
     "worst_low": bool,
     "figures": list,
+    "placement": dict,
 }
+PLACEMENT_KEYS = ("x_m", "y_m", "theta_deg")
 MAX_SEEDS = 100_000
 
 
@@ -70,6 +72,7 @@ class Campaign:
     worst_by: str | None = None
     worst_low: bool = False  # the worst runs have the lowest worst_by (coverage) rather than the highest
     figures: list[str] = field(default_factory=list)  # truth fields recorded as figures
+    placement: dict = field(default_factory=dict)  # x_m, y_m, theta_deg: [low, high] added to the start pose
     faultsets: dict[str, list] = field(default_factory=lambda: {"none": []})  # name -> raw [[faults]] tables
     source: str | None = None  # the scenario file
 
@@ -87,6 +90,7 @@ class Campaign:
             "timeout_s": self.timeout_s,
             "budgets": self.budgets,
             "figures": self.figures,
+            "placement": self.placement,
         }
         return [
             {**common, "faultset": name, "faults": faults, "world": world, "seed": seed}
@@ -190,6 +194,7 @@ def _check(campaign: Campaign) -> None:
                 with_faults(app.make_plant(**app.worlds[world]), parse_faults(faults))
         except FaultError as e:
             raise ConfigError(f"{campaign.source or campaign.rig}: fault set {name!r}: {e}") from None
+    _check_placement(campaign)
     known = [b.name for b in app.make_budgets(app.make_plant(**app.worlds[campaign.worlds[0]]))]
     for name in campaign.budgets:
         if name not in known:
@@ -203,3 +208,14 @@ def _check(campaign: Campaign) -> None:
     arguments.seconds("campaign seconds", campaign.seconds, positive=True, limit_s=arguments.MAX_RUN_S)
     arguments.seconds("campaign step_s", campaign.step_s, positive=True)
     arguments.seconds("campaign timeout_s", campaign.timeout_s, positive=True)
+
+
+def _check_placement(campaign: Campaign) -> None:
+    """``placement = {x_m = [-0.3, 0], y_m = [0, 0.3], theta_deg = [-5, 5]}``: ranges of the
+    uniform error added to the plant's start pose, drawn per seed."""
+    for key, span in campaign.placement.items():
+        ok = isinstance(span, list) and len(span) == 2 and all(isinstance(v, (int, float)) for v in span)
+        if key not in PLACEMENT_KEYS or not ok or span[0] > span[1]:
+            raise ConfigError(
+                f"campaign placement {key}: expected one of {', '.join(PLACEMENT_KEYS)} = [low, high], got {span!r}"
+            )

@@ -17,6 +17,11 @@ class ResultStore:
 
     def open(self, campaign: dict) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
+        if self.path.is_file() and self.path.stat().st_size:
+            with self.path.open("rb+") as f:  # a line the crash cut short stays alone on its line
+                f.seek(-1, os.SEEK_END)
+                if f.read(1) != b"\n":
+                    f.write(b"\n")
         (self.folder / CAMPAIGN).write_text(json.dumps(campaign, indent=1, default=str) + "\n", encoding="utf-8")
 
     def read(self) -> list[dict]:

@@ -11,10 +11,13 @@ under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
 """
 
 import dataclasses
+import math
 import os
 import time
 import traceback
 from pathlib import Path
+
+import numpy as np
 
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
@@ -117,8 +120,11 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
     heap = [f.size for f in schedule if f.kind == "heap"]
     if heap:
         app = dataclasses.replace(app, heap_size=heap[-1])
-    world = app.worlds[task["world"]]
-    plant = with_faults(kinds.make(app.plant_kind, **{**app.plant_options, **world}), schedule)
+    world = dict(app.worlds[task["world"]])
+    options = {**app.plant_options, **world}
+    if task.get("placement"):
+        world["start_pose"] = placed(kinds.make(app.plant_kind, **options).start_pose, task["placement"], task["seed"])
+    plant = with_faults(kinds.make(app.plant_kind, **{**options, **world}), schedule)
     target = None
     link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
     if link:
@@ -144,6 +150,15 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
         progress=watch_the_clock,
     )
     return rig, sorted(round(f.at_s * 1e6) for f in schedule if f.kind == "brownout")
+
+
+def placed(pose, placement: dict, seed: int) -> list[float]:
+    """The start pose with the seed's placement error: uniform in each given range (x_m,
+    y_m, theta_deg), from a stream of its own."""
+    rng = np.random.default_rng([seed & 0xFFFFFFFF, 0x91ACE])
+    draw = {k: float(rng.uniform(*placement[k])) if k in placement else 0.0 for k in ("x_m", "y_m", "theta_deg")}
+    x, y, theta = pose
+    return [x + draw["x_m"], y + draw["y_m"], theta + math.radians(draw["theta_deg"])]
 
 
 def _busy_poll_s() -> float:
