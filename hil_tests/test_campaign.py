@@ -205,3 +205,26 @@ def test_no_busy_polling_in_a_campaigns_workers():
             os.environ.pop("MPY_FIL_BUSY_POLL")
         else:
             os.environ["MPY_FIL_BUSY_POLL"] = before
+
+
+def test_the_command_line_runs_a_campaign_prints_progress_and_replays_a_run(tmp_path):
+    import subprocess
+    import sys
+
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "host.cli", "campaign", *args], capture_output=True, text=True)
+
+    out = tmp_path / "out"
+    run = cli("rover", "--seeds", "2", "--seconds", "2", "--workers", "2", "--out", str(out))
+    assert run.returncode == 0, f"expected exit 0, got {run.returncode}:\n{run.stdout}\n{run.stderr}"
+    lines = run.stdout.splitlines()
+    assert lines[0].startswith("campaign rover: 2 runs (1 fault set(s) x 1 world(s) x 2 seeds) on 2 local worker(s)")
+    assert any(ln.startswith("[1/2] pass none/room/") for ln in lines) and any(ln.startswith("[2/2] ") for ln in lines)
+    assert "none / room: 2 of 2 passed" in run.stdout and f"campaign report: {out / 'campaign.html'}" in run.stdout
+    again = cli("--replay", "none/room/2", "--out", str(out))
+    assert again.returncode == 0 and "pass none/room/2" in again.stdout, again.stdout + again.stderr
+    assert (out / "replay" / "none" / "room" / "2" / "header.json").is_file()
+    bad = cli("rover", "--seeds", "0")
+    assert bad.returncode == 2 and "argument --seeds: expected 1 or more, got 0" in bad.stderr, bad.stderr
+    other = cli("rover", "--seeds", "2", "--seconds", "3", "--out", str(out))
+    assert other.returncode == 2 and "holds the results of another campaign" in other.stderr, other.stderr

@@ -174,7 +174,8 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
                 ax.hist(values, bins=min(30, max(5, len(values) // 2)), alpha=0.6, label=label)
         ax.set_xlabel(name)
         ax.set_ylabel("runs")
-        ax.legend(fontsize="small")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize="small")
         fig.tight_layout()
         paths.append(_save(fig, folder / f"{name}.png"))
     return paths

@@ -21,6 +21,7 @@ import numpy as np
 
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
+from host.core import provenance
 from host.core.errors import ConfigError, HarnessError
 from host.link.faults import wrap
 from host.rig import Rig
@@ -84,6 +85,7 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
         "t_end_s": 0.0,
         "resets": 0,
         "artefacts": artefacts,
+        "commit": provenance.commit(),
     }
     rig = None
     try:
