@@ -10,6 +10,8 @@ These are measurements, not pass/fail tests; the target figures are printed besi
 """
 
 import argparse
+import math
+import os
 import statistics
 import time
 from pathlib import Path
@@ -119,7 +121,9 @@ def main(argv=None) -> int:
     one, two = bench_campaign(1), bench_campaign(2)
     print(
         f"campaign throughput ({one['runs']} rover runs of 120 simulated s): 1 worker {one['per_min']:.1f} runs/min, "
-        f"2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x (target >= 1.7x)"
+        f"2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x (target >= 1.7x); "
+        f"CPU per run {one['cpu_s']:.2f} s and {two['cpu_s']:.2f} s; load average {os.getloadavg()[0]:.1f} "
+        f"on {os.cpu_count()} cores"
     )
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")

@@ -65,6 +65,7 @@ def summarize(results: list[dict]) -> list[dict]:
                 "errors": errors,
                 "figures": figures,
                 "wall_s_median": _quantile([r.get("wall_s", 0.0) for r in runs], 0.5),
+                "cpu_s_median": _quantile([r["cpu_s"] for r in runs if "cpu_s" in r], 0.5),
             }
         )
     return rows

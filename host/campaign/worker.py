@@ -13,6 +13,7 @@ under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
 import dataclasses
 import math
 import os
+import resource
 import time
 import traceback
 from pathlib import Path
@@ -72,6 +73,7 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
     if task.get("busy_poll") is False:
         os.environ[BUSY_POLL_ENV] = "0"
     started = time.monotonic()
+    cpu0 = _cpu_s()
     result = {
         "key": task_key(task),
         "faultset": task["faultset"],
@@ -112,7 +114,13 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
             if isinstance(rig.target, FaultyLinkTarget) and rig.target.transport is not None:
                 result["figures"].update({f"link_{k}": float(v) for k, v in rig.target.transport.counts.items()})
     result["wall_s"] = time.monotonic() - started
+    result["cpu_s"] = _cpu_s() - cpu0  # this process and the firmware's (reaped at stop)
     return result
+
+
+def _cpu_s() -> float:
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
 
 
 def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
