@@ -228,3 +228,45 @@ def test_the_command_line_runs_a_campaign_prints_progress_and_replays_a_run(tmp_
     assert bad.returncode == 2 and "argument --seeds: expected 1 or more, got 0" in bad.stderr, bad.stderr
     other = cli("rover", "--seeds", "2", "--seconds", "3", "--out", str(out))
     assert other.returncode == 2 and "holds the results of another campaign" in other.stderr, other.stderr
+
+
+def rover_truth(faults):
+    import time
+
+    from host.campaign.worker import _drive, _make_rig
+
+    task = {
+        "rig": "rover",
+        "seconds": 5,
+        "until": None,
+        "step_s": 1,
+        "judge": "generic",
+        "timeout_s": 60,
+        "budgets": [],
+        "figures": [],
+        "faultset": "x",
+        "world": "room",
+        "seed": 1,
+        "faults": faults,
+    }
+    rig, cuts = _make_rig(task, None, False, time.monotonic())
+    try:
+        rig.start()
+        _drive(rig, task, cuts)
+        return rig.truth()
+    finally:
+        rig.stop()
+
+
+def test_plant_faults_reach_the_firmware_a_stuck_sonar_slows_the_rover_and_a_jammed_wheel_turns_it():
+    plain = rover_truth([])
+    near = rover_truth([{"kind": "stuck", "signal": "sonar.adc", "value": 1000}])
+    jammed = rover_truth([{"kind": "stuck_wheel", "wheel": "left", "start_s": 1.0, "end_s": 4.0}])
+    assert abs(plain["theta_rad"]) < 0.05 and plain["distance_m"] > 1.2, f"expected a straight run, got {plain}"
+    assert near["distance_m"] < 0.6 * plain["distance_m"] and near["fault_events"]["stuck sonar.adc"] >= 5, (
+        f"expected the rover to slow for an obstacle that is not there: {near['distance_m']:.2f} m vs "
+        f"{plain['distance_m']:.2f} m"
+    )
+    assert abs(jammed["theta_rad"]) > 0.5 and jammed["distance_m"] < plain["distance_m"], (
+        f"expected the rover to swing about its jammed wheel, got theta {jammed['theta_rad']:.2f} rad"
+    )
