@@ -90,6 +90,7 @@ def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0) -> dict:
         "passed": sum(r["passed"] for r in results),
         "wall_s": wall,
         "per_min": len(results) / wall * 60,
+        "cpu_s": statistics.median(r.get("cpu_s", math.nan) for r in results),
     }
 
 
