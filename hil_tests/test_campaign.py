@@ -4,6 +4,7 @@ local pool and on a Dask LocalCluster, its results kept when interrupted and ski
 rerun, its report, a replay of a run, and a run that hangs."""
 
 import json
+import multiprocessing
 import os
 
 import pytest
@@ -80,6 +81,7 @@ def test_the_small_campaign_runs_every_run_and_says_so_as_each_finishes(small):
     campaign, out, results, lines = small
     assert len(results) == 10 == len(campaign.tasks()), f"expected 5 fault sets x 2 seeds; {where(results)}"
     assert [d for d, _t, _r in lines] == list(range(1, 11)) and all(t == 10 for _d, t, _r in lines)
+    assert not multiprocessing.active_children(), "expected the pool's processes ended with the campaign"
     r = by_key(results)
     for seed in (1, 2):
         assert r[f"none/room/{seed}"]["passed"] and r[f"none/room/{seed}"]["resets"] == 0, where(results)

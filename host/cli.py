@@ -18,6 +18,7 @@ import ast
 import inspect
 import math
 import os
+import signal
 import sys
 import tempfile
 import time
@@ -394,6 +395,7 @@ def cmd_campaign(args) -> int:
         f"{len(campaign.worlds)} world(s) x {campaign.seeds} seeds) on {where}; results in {out}"
     )
     started = time.monotonic()
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # (kill: as Ctrl-C, the pool stopped, results kept)
 
     def progress(r, done, total):
         rate = done / max(time.monotonic() - started, 1e-9) * 60
