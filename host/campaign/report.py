@@ -11,6 +11,8 @@ import math
 import shlex
 from pathlib import Path
 
+import numpy as np
+
 Z_95 = 1.959964
 WORST_RUNS = 8
 
@@ -164,15 +166,20 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     names = sorted({f for r in results for f in r["figures"]}) + ["wall_s"]
     for name in names:
         fig, ax = plt.subplots(figsize=(7, 3.2))
+        series = []
         for (faultset, world), label in zip(((r["faultset"], r["world"]) for r in rows), labels):
             values = [
                 (r["figures"].get(name) if name != "wall_s" else r.get("wall_s"))
                 for r in results
                 if (r["faultset"], r["world"]) == (faultset, world)
             ]
-            values = [v for v in values if v is not None and not math.isnan(v)]
-            if values:
-                ax.hist(values, bins=min(30, max(5, len(values) // 2)), alpha=0.6, label=label)
+            series.append(([v for v in values if v is not None and not math.isnan(v)], label))
+        every = [v for values, _ in series for v in values]
+        if every:  # the same bins for every group, so their bars compare
+            bins = np.histogram_bin_edges(every, bins=min(30, max(5, len(every) // 3)))
+            for values, label in series:
+                if values:
+                    ax.hist(values, bins=bins, alpha=0.6, label=label)
         ax.set_xlabel(name)
         ax.set_ylabel("runs")
         if ax.get_legend_handles_labels()[0]:
