@@ -4,6 +4,9 @@
 #   make hil     the firmware-in-the-loop scenarios, the timing-budget table and the
 #                HTML report (build/hil/report.html)
 #   make bench   real-time factor and link round trip; plant cost per quantum
+#   make campaign [CAMPAIGN_WORKERS=2]   the showcase campaigns (docs/campaigns.md): the duct
+#                robot's 20 tether-snag runs, the pool cleaner over 50 placements with
+#                sonar dropouts; reports in build/campaign/<name>/campaign.html
 #   make fuzz [FUZZ_SECONDS=60]   the frame codec fuzzed on CPython, then on MicroPython:
 #                cases, exceptions, damaged frames accepted, the slowest case
 #   make soak [HOURS=24]   the rover for 24 simulated hours: host and firmware memory at
@@ -33,7 +36,7 @@ export MICROPYTHON
 
 APP ?= rover
 
-.PHONY: setup test hil bench fuzz soak conformance lint format flash clean
+.PHONY: setup test hil bench campaign fuzz soak conformance lint format flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
@@ -62,6 +65,12 @@ flash: setup
 bench: setup
 	$(PY) -m host.bench
 	$(PY) -m sim_plant.plant_cost
+
+CAMPAIGN_WORKERS ?= 2
+campaign: setup
+	$(VENV)/bin/mpy-fil campaign hil_tests/campaigns/duct_snag.toml --workers $(CAMPAIGN_WORKERS) --out build/campaign/duct_snag
+	$(VENV)/bin/mpy-fil campaign hil_tests/campaigns/pool_placement.toml --workers $(CAMPAIGN_WORKERS) --out build/campaign/pool_placement
+	MPY_FIL_SHOWCASES=1 CAMPAIGN_WORKERS=$(CAMPAIGN_WORKERS) $(PY) -m pytest -q -p no:cacheprovider hil_tests/test_campaign_showcases.py
 
 FUZZ_SECONDS ?= 60
 fuzz: setup

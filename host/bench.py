@@ -17,6 +17,8 @@ These are measurements, not pass/fail tests; the target figures are printed besi
 
 import argparse
 import json
+import math
+import os
 import resource
 import statistics
 import struct
@@ -159,6 +161,7 @@ def main(argv=None) -> int:
     parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
     parser.add_argument("--no-pool", action="store_true", help="skip the pool cleaner's full mission")
     parser.add_argument("--no-recorded", action="store_true", help="skip the recorded pool cleaner mission")
+    parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
@@ -194,13 +197,56 @@ def main(argv=None) -> int:
     if pool is not None:
         print("pool cleaner, full mission, recorded:")
         report_pool(pool, raw_us, plain)
+    if not args.no_campaign:
+        report_campaign()
     return 0
+
+
+def report_campaign() -> None:
+    one, lone, two = bench_campaign(1), bench_campaign(1, busy_poll=False), bench_campaign(2)
+    print(
+        f"campaign throughput ({one['runs']} rover runs of 120 simulated s; load average {os.getloadavg()[0]:.1f} "
+        f"on {os.cpu_count()} cores): 1 worker {one['per_min']:.1f} runs/min ({lone['per_min']:.1f} without "
+        f"busy polling), 2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x "
+        f"({two['per_min'] / lone['per_min']:.2f}x; target >= 1.7x); CPU per run {one['cpu_s']:.2f} s, "
+        f"{lone['cpu_s']:.2f} s, {two['cpu_s']:.2f} s"
+    )
 
 
 def bench_ping(sim_s: float) -> list[float]:
     with Rig("rover", seed=0, main_dir=PING, time_round_trips=True) as rig:
         rig.run_for(sim_s)
         return rig.stats.round_trip_us[10:]
+
+
+def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0, busy_poll: bool = True) -> dict:
+    """A campaign of ``runs`` rover runs of ``sim_s`` simulated seconds on ``workers`` local
+    processes: its wall time from the pool's start to the last result (docs/campaigns.md).
+    ``busy_poll`` False: a lone worker does not busy-poll its spare core either."""
+    from host.campaign import load_campaign
+    from host.campaign.runner import run_campaign
+
+    campaign = load_campaign("rover", seeds=runs, seconds=sim_s, step_s=10.0)
+    before = os.environ.get("MPY_FIL_BUSY_POLL")
+    if not busy_poll:
+        os.environ["MPY_FIL_BUSY_POLL"] = "0"  # (the pool's processes inherit it)
+    try:
+        with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as out:
+            t0 = time.perf_counter()
+            results = run_campaign(campaign, out, workers=workers)
+            wall = time.perf_counter() - t0
+    finally:
+        if before is None:
+            os.environ.pop("MPY_FIL_BUSY_POLL", None)
+        else:
+            os.environ["MPY_FIL_BUSY_POLL"] = before
+    return {
+        "runs": len(results),
+        "passed": sum(r["passed"] for r in results),
+        "wall_s": wall,
+        "per_min": len(results) / wall * 60,
+        "cpu_s": statistics.median(r.get("cpu_s", math.nan) for r in results),
+    }
 
 
 if __name__ == "__main__":

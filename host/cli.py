@@ -5,6 +5,7 @@
     mpy-fil check path/to/rig.toml
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
+    mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2
 
 A bad argument is reported by name with exit code 2; a run that fails (firmware
 exception, watchdog) prints the harness's message and exits with 1; a replay whose
@@ -17,8 +18,10 @@ import ast
 import inspect
 import math
 import os
+import signal
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from host.artefacts.folder import HEADER
@@ -112,7 +115,34 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder")
     plot.add_argument("--out", type=_folder, help="folder for the PNG files (default: TRACE/plots)")
     plot.set_defaults(command=cmd_plot, sub=plot)
+    _campaign_parser(sub)
     return parser
+
+
+def _campaign_parser(sub) -> None:
+    camp = sub.add_parser("campaign", help="a rig over seeds x fault sets x worlds, in parallel; its report")
+    camp.add_argument("rig", nargs="?", metavar="RIG", help="a campaign scenario file, a rig file or one of our apps")
+    camp.add_argument("--seeds", type=_count, help="how many seeds (default: the scenario's, or 10)")
+    camp.add_argument("--first-seed", type=_seed, help="the first seed (default 1)")
+    camp.add_argument("--faults", metavar="FILE", help="a file of [[faults]] or [[faultsets]]")
+    camp.add_argument("--worlds", type=lambda s: s.split(","), help="worlds, comma-separated (default: the first)")
+    camp.add_argument("--seconds", type=_duration_s, help="simulated seconds per run at most")
+    camp.add_argument("--timeout", type=_duration_s, dest="timeout_s", help="wall seconds per run before it is hung")
+    camp.add_argument("--workers", type=_count, default=os.cpu_count() or 1, help="local processes (default: cores)")
+    camp.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) instead of local")
+    camp.add_argument("--out", type=_folder, help="results and report (default: build/campaign/<name>)")
+    camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
+    camp.set_defaults(command=cmd_campaign, sub=camp)
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected 1 or more, got {value}")
+    return value
 
 
 # -- argument types: each error names its argument through argparse ---------------------
@@ -337,6 +367,57 @@ def cmd_plot(args) -> int:
     out = _writable(args.sub, "--out", args.out or args.trace / "plots")
     for path in plot_trace(args.trace, out):
         print(f"plot: {path}")
+    return 0
+
+
+def cmd_campaign(args) -> int:
+    from host.campaign import load_campaign, replay
+    from host.campaign.report import summarize, write_report
+    from host.campaign.runner import run_campaign
+
+    if args.replay:
+        if not args.out:
+            args.sub.error("argument --replay: needs --out, the campaign's folder")
+        r = replay(args.out, args.replay)
+        print(f"{'pass' if r['passed'] else 'FAIL'} {r['key']}: {r['message'] or 'ok'}")
+        print(f"figures: {', '.join(f'{k}={v:.4g}' for k, v in r['figures'].items())}")
+        print(f"trace folder: {r['artefacts']}")
+        return 0 if r["passed"] else EXIT_FAILED
+    if not args.rig:
+        args.sub.error("the following arguments are required: RIG (or --replay KEY --out DIR)")
+    overrides = {k: getattr(args, k) for k in ("seeds", "first_seed", "worlds", "seconds", "timeout_s")}
+    campaign = load_campaign(args.rig, faults_file=args.faults, **overrides)
+    out = _writable(args.sub, "--out", args.out or REPO / "build" / "campaign" / campaign.name)
+    where = args.scheduler or f"{args.workers} local worker(s)"
+    total = len(campaign.tasks())
+    print(
+        f"campaign {campaign.name}: {total} runs ({len(campaign.faultsets)} fault set(s) x "
+        f"{len(campaign.worlds)} world(s) x {campaign.seeds} seeds) on {where}; results in {out}"
+    )
+    started = time.monotonic()
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # (kill: as Ctrl-C, the pool stopped, results kept)
+
+    def progress(r, done, total):
+        rate = done / max(time.monotonic() - started, 1e-9) * 60
+        first = (r["message"] or "").splitlines()[:1]
+        print(
+            f"[{done}/{total}] {'pass' if r['passed'] else 'FAIL'} {r['key']} {r.get('wall_s', 0):.1f} s"
+            f"{': ' + first[0][:160] if first else ''}  ({rate:.1f} runs/min)",
+            flush=True,
+        )
+
+    try:
+        results = run_campaign(campaign, out, workers=args.workers, scheduler=args.scheduler, on_result=progress)
+    except KeyboardInterrupt:
+        print(f"interrupted: the finished runs are in {out / 'results.jsonl'}; the same command goes on from there")
+        raise
+    paths = write_report(out, campaign.to_dict(), results)
+    for row in summarize(results):
+        print(
+            f"  {row['faultset']} / {row['world']}: {row['passed']} of {row['runs']} passed, "
+            f"{row['rate']:.0%} [95 % Wilson {row['wilson_lo']:.0%}-{row['wilson_hi']:.0%}]"
+        )
+    print(f"campaign report: {paths['html']}")
     return 0
 
 

@@ -3,7 +3,7 @@
 ==================  ==================================================================
 file                content
 ==================  ==================================================================
-``header.json``     app, board, world, plant and its options, seed, mode, commit,
+``header.json``     app, board, world, plant and its options, fault schedule, seed, mode, commit,
                     MicroPython version, end time, the signals with their role and kind
 ``trace.jsonl``     the link messages, decoded (written by :mod:`host.artefacts.linklog`)
 ``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
@@ -110,7 +110,8 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "rig_file": run.get("rig_file"),
         "board": run["board"],
         "world": describe_world(plant),
-        "plant": type(plant).__name__,
+        "plant": type(getattr(plant, "inner", plant)).__name__,
+        "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
         "plant_options": run["plant_options"],
         "seed": run["seed"],
         "mode": run["mode"],

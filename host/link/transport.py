@@ -9,7 +9,10 @@ from host.core.errors import LinkError, LinkTimeout
 
 
 def spare_core() -> bool:
-    """True if this process may use two or more cores (one can busy-poll)."""
+    """True if this process may use two or more cores (one can busy-poll); never when
+    ``MPY_FIL_BUSY_POLL=0`` (a campaign's workers: the other cores are taken)."""
+    if os.environ.get("MPY_FIL_BUSY_POLL") == "0":
+        return False
     try:
         return len(os.sched_getaffinity(0)) >= 2
     except AttributeError:

@@ -20,6 +20,7 @@ from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds
+from sim_plant.faults import FaultError, parse_faults, with_faults
 
 TABLES = {
     "name": str,
@@ -31,6 +32,7 @@ TABLES = {
     "budgets": dict,
     "worlds": dict,
     "interpreter": dict,
+    "faults": list,
 }
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
@@ -115,9 +117,11 @@ def load_rig(path) -> App:
     worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options)
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = data.get("name") or folder.name
+    faults = _faults(where, data.get("faults", []), plant)
+    heap = [f.size for f in faults if f.kind == "heap"]  # a smaller heap is a fault too
 
     def make_plant(**extra):  # (as a plant class does: TypeError, ValueError for bad options)
-        return kinds.make(kind, **{**options, **extra})
+        return with_faults(kinds.make(kind, **{**options, **extra}), faults)
 
     return App(
         name=name,
@@ -137,10 +141,21 @@ def load_rig(path) -> App:
         rig_file=path,
         plant_kind=kind,
         plant_options=dict(options),
-        heap_size=_heap_size(where, interpreter.get("heap_size")),
+        heap_size=heap[-1] if heap else _heap_size(where, interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
+        extra={"faults": faults},
     )
+
+
+def _faults(where: _Where, entries: list, plant) -> tuple:
+    """``[[faults]]``: the fault schedule (sim_plant/faults.py), checked against the plant."""
+    try:
+        faults = parse_faults(entries)
+        with_faults(plant, faults)
+    except FaultError as e:
+        raise where.error("[[faults]]", str(e)) from None
+    return faults
 
 
 def _family(where: _Where, board) -> tuple[str, str] | None:

@@ -14,6 +14,7 @@ LAYERS = {
     "host.rig": 3,
     "host.report": 4,
     "host.device": 5,
+    "host.campaign": 5,
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,

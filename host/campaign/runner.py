@@ -1,0 +1,174 @@
+"""Runs a campaign's tasks in parallel and stores each result as it comes
+(``docs/campaigns.md``).
+
+Two executors, one contract (``submit`` tasks, results as they finish): a local pool of
+processes (:class:`concurrent.futures.ProcessPoolExecutor`, the default: no server to
+start) and a Dask cluster (:class:`distributed.Client` on a scheduler's address; Dask's
+``LocalCluster`` in the tests). Runs already in the results are skipped. A worker
+process that dies takes its runs with it: they are run again once, then recorded as
+failed; a pool that gives nothing back for ``timeout_s`` + ``GUARD_S`` is stopped and
+its runs recorded as hung. The campaign itself never waits without a deadline.
+"""
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+
+from host.campaign.scenario import Campaign, task_key
+from host.campaign.store import ResultStore
+from host.campaign.worker import BUSY_POLL_ENV, run_one
+
+GUARD_S = 120.0
+MAX_BREAKS = 2
+
+
+def failed(task: dict, error: str, message: str) -> dict:
+    """The result of a run that gave none."""
+    return {
+        "key": task_key(task),
+        "faultset": task["faultset"],
+        "world": task["world"],
+        "seed": task["seed"],
+        "passed": False,
+        "error": error,
+        "message": message,
+        "figures": {},
+        "budgets": {},
+        "t_end_s": 0.0,
+        "resets": 0,
+        "wall_s": 0.0,
+    }
+
+
+def _no_busy_poll() -> None:
+    os.environ[BUSY_POLL_ENV] = "0"
+
+
+class LocalPool:
+    """``workers`` processes of this machine."""
+
+    def __init__(self, workers: int, busy_poll: bool):
+        self.workers = workers
+        self.busy_poll = busy_poll
+        self.pool = self._new()
+
+    def _new(self):
+        context = multiprocessing.get_context("spawn")  # (no fork of a process with threads)
+        init = None if self.busy_poll else _no_busy_poll
+        return cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=context, initializer=init)
+
+    def submit(self, task: dict, artefacts: str):
+        return self.pool.submit(run_one, task, artefacts)
+
+    def wait(self, futures, timeout_s: float):
+        return cf.wait(futures, timeout=timeout_s, return_when=cf.FIRST_COMPLETED)
+
+    def restart(self) -> None:
+        """Stop every worker process (a hung or broken pool) and start afresh."""
+        for proc in list(getattr(self.pool, "_processes", {}).values()):
+            proc.kill()
+        self.pool.shutdown(wait=True, cancel_futures=True)
+        self.pool = self._new()
+
+    def close(self) -> None:
+        for proc in list(getattr(self.pool, "_processes", {}).values()):
+            if proc.is_alive():
+                proc.kill()
+        self.pool.shutdown(wait=True, cancel_futures=True)
+
+
+class DaskPool:
+    """The workers of a Dask cluster, at its scheduler's address (``tcp://host:8786``)."""
+
+    def __init__(self, address: str, busy_poll: bool):
+        from distributed import Client
+
+        self.client = Client(address, timeout="20s")
+        self.busy_poll = busy_poll
+        self.workers = sum(w.get("nthreads", 1) for w in self.client.scheduler_info()["workers"].values())
+
+    def submit(self, task: dict, artefacts: str):
+        return self.client.submit(run_one, {**task, "busy_poll": self.busy_poll}, artefacts, pure=False)
+
+    def wait(self, futures, timeout_s: float):
+        from distributed import wait
+
+        try:
+            done = wait(list(futures), timeout=timeout_s, return_when="FIRST_COMPLETED").done
+        except TimeoutError:
+            done = set()
+        return done, set(futures) - set(done)
+
+    def restart(self) -> None:
+        self.client.restart()
+
+    def close(self) -> None:
+        self.client.close()
+
+
+def run_campaign(campaign: Campaign, out, *, workers: int = 1, scheduler: str | None = None, on_result=None):
+    """Run what is not done yet; every result in the store (``out``), as they finish;
+    ``on_result(result, done, total)`` for progress. Returns every result in the store."""
+    store = ResultStore(out)
+    store.open(campaign.to_dict())
+    tasks = campaign.tasks()
+    done_keys = store.done()
+    todo = [t for t in tasks if task_key(t) not in done_keys]
+    busy_poll = workers <= 1 and scheduler is None  # (a second rig takes the spare core)
+    pool = DaskPool(scheduler, busy_poll) if scheduler else LocalPool(workers, busy_poll)
+    count = [len(tasks) - len(todo)]
+
+    def report(result: dict) -> None:
+        count[0] += 1
+        if on_result is not None:
+            on_result(result, count[0], len(tasks))
+
+    try:
+        _run(pool, todo, store, campaign, report)
+    finally:
+        pool.close()
+    return store.read()
+
+
+def _run(pool, todo: list[dict], store: ResultStore, campaign: Campaign, report) -> None:
+    breaks: dict[str, int] = {}
+    pending = list(todo)
+    while pending:
+        futures = {pool.submit(t, str(store.folder / "runs" / task_key(t))): t for t in pending}
+        pending = []
+        while futures:
+            done, _ = pool.wait(list(futures), campaign.timeout_s + GUARD_S)
+            if not done:  # nothing for too long: the pool is stuck
+                for task in futures.values():
+                    _record(store, report, failed(task, "hung", _hung(campaign)))
+                pool.restart()
+                break
+            for future in done:
+                task = futures.pop(future)
+                try:
+                    result = future.result()
+                except Exception as e:  # the worker process died (or the cluster lost it)
+                    key = task_key(task)
+                    breaks[key] = breaks.get(key, 0) + 1
+                    if breaks[key] < MAX_BREAKS:
+                        pending.append(task)
+                        continue
+                    result = failed(task, "crash", f"the worker running it died twice: {type(e).__name__}: {e}")
+                _record(store, report, result)
+        if pending and isinstance(pool, LocalPool):
+            pool.restart()
+
+
+def _hung(campaign: Campaign) -> str:
+    return (
+        f"hung: no run of the pool finished within {campaign.timeout_s + GUARD_S:g} s of wall time "
+        f"(timeout_s {campaign.timeout_s:g} + {GUARD_S:g}); the pool was stopped"
+    )
+
+
+def _record(store: ResultStore, report, result: dict) -> None:
+    store.append(result)
+    report(result)
+
+
+__all__ = ["DaskPool", "LocalPool", "run_campaign"]

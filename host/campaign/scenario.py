@@ -1,0 +1,221 @@
+"""A campaign as data: which rig, how each run goes and is judged, and the seeds, fault
+sets and worlds it crosses (``docs/campaigns.md``).
+
+A campaign is a rig (an app's name or a rig file) or a scenario file: TOML with a
+``[campaign]`` table and fault sets::
+
+    [campaign]
+    rig = "duct"              # an app, or a rig file's path (relative to this file)
+    seconds = 90              # simulated seconds at most per run
+    until = "explored:"       # the run ends early once the console shows this
+    step_s = 2.0              # how often it looks
+    judge = "duct_branch"     # how a run is judged (host/campaign/judges.py)
+    worlds = ["one-right-branch"]
+    seeds = 20
+    timeout_s = 300           # wall seconds a run may take before it counts as hung
+    budgets = ["control.period"]   # budgets a run must keep to pass
+    worst_by = "home_off_m"   # the figure that ranks the worst runs (largest first)
+
+    [[faultsets]]             # none, or one named set of [[faultsets.faults]] each
+    name = "snags"
+    [[faultsets.faults]]
+    kind = "tether_snag"
+    rate = 0.3
+
+A file of ``[[faults]]`` alone (``--faults``) is one fault set named after the file.
+Every mistake is a ConfigError naming the file and the field.
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import tomllib
+
+from host.core.errors import ConfigError
+from host.rig import arguments
+from host.rig.apps import get_app
+from sim_plant.faults import FaultError, parse_faults, with_faults
+
+CAMPAIGN_KEYS = {
+    "rig": str,
+    "seconds": (int, float),
+    "until": str,
+    "step_s": (int, float),
+    "judge": str,
+    "worlds": list,
+    "seeds": int,
+    "first_seed": int,
+    "timeout_s": (int, float),
+    "budgets": list,
+    "worst_by": str,
+    "worst_low": bool,
+    "figures": list,
+    "placement": dict,
+}
+PLACEMENT_KEYS = ("x_m", "y_m", "theta_deg")
+MAX_SEEDS = 100_000
+
+
+@dataclass
+class Campaign:
+    rig: str  # an app's name or a rig file's path
+    name: str
+    seconds: float = 60.0
+    until: str | None = None
+    step_s: float = 1.0
+    judge: str = "generic"
+    worlds: list[str] = field(default_factory=list)  # default: the rig's first world
+    seeds: int = 10
+    first_seed: int = 1
+    timeout_s: float = 600.0
+    budgets: list[str] = field(default_factory=list)
+    worst_by: str | None = None
+    worst_low: bool = False  # the worst runs have the lowest worst_by (coverage) rather than the highest
+    figures: list[str] = field(default_factory=list)  # truth fields recorded as figures
+    placement: dict = field(default_factory=dict)  # x_m, y_m, theta_deg: [low, high] added to the start pose
+    faultsets: dict[str, list] = field(default_factory=lambda: {"none": []})  # name -> raw [[faults]] tables
+    source: str | None = None  # the scenario file
+
+    def seed_list(self) -> list[int]:
+        return list(range(self.first_seed, self.first_seed + self.seeds))
+
+    def tasks(self) -> list[dict]:
+        """One task per (fault set, world, seed): what a worker needs, as plain data."""
+        common = {
+            "rig": self.rig,
+            "seconds": self.seconds,
+            "until": self.until,
+            "step_s": self.step_s,
+            "judge": self.judge,
+            "timeout_s": self.timeout_s,
+            "budgets": self.budgets,
+            "figures": self.figures,
+            "placement": self.placement,
+        }
+        return [
+            {**common, "faultset": name, "faults": faults, "world": world, "seed": seed}
+            for name, faults in self.faultsets.items()
+            for world in self.worlds
+            for seed in self.seed_list()
+        ]
+
+    def to_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+def task_key(task: dict) -> str:
+    """``faultset/world/seed``: a run's name in the results, and what --replay takes."""
+    return f"{task['faultset']}/{task['world']}/{task['seed']}"
+
+
+def load_campaign(target: str, *, faults_file: str | None = None, **overrides) -> Campaign:
+    """A campaign from a scenario file, or from a rig (app or rig file) and defaults;
+    ``overrides`` (seeds, worlds, seconds, ...) come from the command line."""
+    path = Path(target)
+    data: dict = {}
+    if path.suffix == ".toml" and path.is_file():
+        data = _read_toml(path)
+    if "campaign" in data:
+        table = _table(path, data["campaign"])
+        rig = table.pop("rig", None)
+        if rig is None:
+            raise ConfigError(f"{path}: [campaign] rig: missing (an app's name or a rig file's path)")
+        if rig.endswith(".toml") and not Path(rig).is_absolute():
+            rig = str((path.parent / rig).resolve())
+        campaign = Campaign(rig=rig, name=path.stem, source=str(path), **table)
+        campaign.faultsets = _faultsets(path, data) or campaign.faultsets
+    else:
+        campaign = Campaign(rig=target, name=path.stem if path.suffix == ".toml" else target)
+    if faults_file:
+        fpath = Path(faults_file)
+        campaign.faultsets = _faultsets(fpath, _read_toml(fpath)) or {"none": []}
+    for key, value in overrides.items():
+        if value is not None:
+            setattr(campaign, key, value)
+    _check(campaign)
+    return campaign
+
+
+def _read_toml(path: Path) -> dict:
+    if not path.is_file():
+        raise ConfigError(f"{path}: no such file")
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(f"{path}: not valid TOML: {e}") from None
+
+
+def _table(path: Path, table) -> dict:
+    if not isinstance(table, dict):
+        raise ConfigError(f"{path}: [campaign]: expected a table")
+    for key, value in table.items():
+        if key not in CAMPAIGN_KEYS:
+            raise ConfigError(f"{path}: [campaign] {key}: unknown key (known: {', '.join(CAMPAIGN_KEYS)})")
+        types = CAMPAIGN_KEYS[key]
+        if isinstance(value, bool) and types is not bool or not isinstance(value, types):
+            raise ConfigError(f"{path}: [campaign] {key}: expected {types}, got {value!r}")
+    return dict(table)
+
+
+def _faultsets(path: Path, data: dict) -> dict[str, list]:
+    """``[[faultsets]]`` (each a name and its [[faultsets.faults]]) or a plain ``[[faults]]``."""
+    sets: dict[str, list] = {}
+    for i, entry in enumerate(data.get("faultsets", [])):
+        name = entry.get("name") if isinstance(entry, dict) else None
+        if not isinstance(name, str) or not name or "/" in name:
+            raise ConfigError(f"{path}: faultsets[{i}] name: expected a name without '/', got {name!r}")
+        if name in sets:
+            raise ConfigError(f"{path}: faultsets[{i}] name: {name!r} twice")
+        sets[name] = _checked(path, f"faultsets[{i}] ({name}) ", entry.get("faults", []))
+    if "faults" in data:
+        sets[path.stem] = _checked(path, "", data["faults"])
+    return sets
+
+
+def _checked(path: Path, where: str, faults) -> list:
+    try:
+        parse_faults(faults)
+    except FaultError as e:
+        raise ConfigError(f"{path}: {where}{e}") from None
+    return faults
+
+
+def _check(campaign: Campaign) -> None:
+    from host.campaign.judges import JUDGES
+
+    app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
+    campaign.worlds = campaign.worlds or [next(iter(app.worlds))]
+    for world in campaign.worlds:
+        if world not in app.worlds:
+            raise ConfigError(f"campaign worlds: {app.name} has no world {world!r} (worlds: {', '.join(app.worlds)})")
+    for name, faults in campaign.faultsets.items():  # each set fits the rig's plant
+        try:
+            for world in campaign.worlds:
+                with_faults(app.make_plant(**app.worlds[world]), parse_faults(faults))
+        except FaultError as e:
+            raise ConfigError(f"{campaign.source or campaign.rig}: fault set {name!r}: {e}") from None
+    _check_placement(campaign)
+    known = [b.name for b in app.make_budgets(app.make_plant(**app.worlds[campaign.worlds[0]]))]
+    for name in campaign.budgets:
+        if name not in known:
+            raise ConfigError(f"campaign budgets: {app.name} has no budget {name!r} (budgets: {', '.join(known)})")
+    if campaign.judge not in JUDGES:
+        raise ConfigError(f"campaign judge: expected one of {', '.join(JUDGES)}, got {campaign.judge!r}")
+    if not 1 <= campaign.seeds <= MAX_SEEDS:
+        raise ConfigError(f"campaign seeds: expected 1 to {MAX_SEEDS}, got {campaign.seeds}")
+    arguments.seed(campaign.first_seed)
+    arguments.seed(campaign.first_seed + campaign.seeds - 1)
+    arguments.seconds("campaign seconds", campaign.seconds, positive=True, limit_s=arguments.MAX_RUN_S)
+    arguments.seconds("campaign step_s", campaign.step_s, positive=True)
+    arguments.seconds("campaign timeout_s", campaign.timeout_s, positive=True)
+
+
+def _check_placement(campaign: Campaign) -> None:
+    """``placement = {x_m = [-0.3, 0], y_m = [0, 0.3], theta_deg = [-5, 5]}``: ranges of the
+    uniform error added to the plant's start pose, drawn per seed."""
+    for key, span in campaign.placement.items():
+        ok = isinstance(span, list) and len(span) == 2 and all(isinstance(v, (int, float)) for v in span)
+        if key not in PLACEMENT_KEYS or not ok or span[0] > span[1]:
+            raise ConfigError(
+                f"campaign placement {key}: expected one of {', '.join(PLACEMENT_KEYS)} = [low, high], got {span!r}"
+            )

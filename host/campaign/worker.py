@@ -1,0 +1,199 @@
+"""One run of a campaign, in whatever process runs it (a local pool's, a Dask worker's):
+the rig with the run's faults, driven to its end, judged; every way it can fail becomes
+a failed result with its message, never an exception out of here (``docs/campaigns.md``).
+
+A run ends at ``seconds`` of simulated time, or once the console shows ``until``. Its
+wall time is bounded by ``timeout_s`` (checked while it runs, through the rig's progress
+call) and a silent firmware by the rig's watchdog. A brown-out stops the board's process
+at its time and boots it again on the same link; the plant carries on. Link faults sit
+under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
+``-X heapsize``; the plant's faults wrap the plant (:mod:`sim_plant.faults`).
+"""
+
+import dataclasses
+import math
+import os
+import resource
+import time
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+from host.campaign.judges import JUDGES
+from host.campaign.scenario import task_key
+from host.core import provenance
+from host.core.errors import ConfigError, HarnessError
+from host.link.faults import wrap
+from host.rig import Rig
+from host.rig.apps import get_app
+from host.rig.target import UnixPortTarget, end_process
+from sim_plant import kinds
+from sim_plant.faults import parse_faults, with_faults
+
+MESSAGE_CHARS = 3000
+BUSY_POLL_ENV = "MPY_FIL_BUSY_POLL"  # host.link.transport.spare_core reads it
+
+
+class RunTimeout(HarnessError):
+    """A run took longer than its wall-clock limit."""
+
+
+class FaultyLinkTarget(UnixPortTarget):
+    """The unix port, with the link faults under each channel it opens (a restart draws
+    afresh: each boot has a stream of its own)."""
+
+    def __init__(self, busy_poll_s: float, faults, seed: int):
+        super().__init__(busy_poll_s)
+        self.faults = faults
+        self.seed = seed
+        self.boots = 0
+        self.transport = None
+
+    def open(self, firmware, on_console):
+        chan = wrap(super().open(firmware, on_console), self.faults, (self.seed + 7919 * self.boots) & 0xFFFFFFFF)
+        self.boots += 1
+        self.transport = chan.transport
+        return chan
+
+
+def brownout(rig) -> None:
+    """The board loses power: its process ends where it is, then boots again (a reset
+    the firmware did not ask for); the plant carries on."""
+    proc = getattr(rig.target, "proc", None)
+    if proc is None:
+        raise ConfigError("brownout: needs the unix port target (a process the harness can cut the power of)")
+    end_process(proc)
+    rig.restart()
+    rig.resets += 1
+
+
+def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> dict:
+    """Run one task (``Campaign.tasks``); the result, as plain data."""
+    if task.get("busy_poll") is False:
+        os.environ[BUSY_POLL_ENV] = "0"
+    started = time.monotonic()
+    cpu0 = _cpu_s()
+    result = {
+        "key": task_key(task),
+        "faultset": task["faultset"],
+        "world": task["world"],
+        "seed": task["seed"],
+        "passed": False,
+        "error": None,
+        "message": "",
+        "figures": {},
+        "budgets": {},
+        "t_end_s": 0.0,
+        "resets": 0,
+        "artefacts": artefacts,
+        "commit": provenance.commit(),
+    }
+    rig = None
+    try:
+        rig, cuts = _make_rig(task, artefacts, record, started)
+        rig.start()
+        reached = _drive(rig, task, cuts)
+        passed, figures, message = JUDGES[task["judge"]](rig, reached, task)
+        result["figures"] = {k: float(v) for k, v in figures.items()}
+        result["budgets"] = {b.name: _budget(b) for b in rig.budgets.values()}
+        missed = [f"{n} ({result['budgets'][n]['misses']} misses)" for n in task["budgets"] if rig.budgets[n].misses]
+        if passed and missed:
+            passed, message = False, f"expected the budgets kept, missed: {', '.join(missed)}"
+        result.update(passed=passed, message=message)
+    except HarnessError as e:
+        result.update(error=type(e).__name__, message=f"{type(e).__name__}: {e}"[:MESSAGE_CHARS])
+    except Exception as e:  # a crash of the harness itself is a failed run too, with its traceback
+        tail = "".join(traceback.format_exception(e)[-6:])
+        result.update(error="crash", message=f"harness crashed: {type(e).__name__}: {e}\n{tail}"[:MESSAGE_CHARS])
+    finally:
+        if rig is not None:
+            rig.stop()
+            result["t_end_s"] = rig.t_us / 1e6
+            result["resets"] = rig.resets
+            if isinstance(rig.target, FaultyLinkTarget) and rig.target.transport is not None:
+                result["figures"].update({f"link_{k}": float(v) for k, v in rig.target.transport.counts.items()})
+    result["wall_s"] = time.monotonic() - started
+    result["cpu_s"] = _cpu_s() - cpu0  # this process and the firmware's (reaped at stop)
+    return result
+
+
+def _cpu_s() -> float:
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
+    """The rig with the run's faults, and the virtual times of its brown-outs."""
+    app = get_app(task["rig"])
+    schedule = parse_faults([{"kind": f.kind, **f.fields} for f in app.extra.get("faults", ())] + list(task["faults"]))
+    heap = [f.size for f in schedule if f.kind == "heap"]
+    if heap:
+        app = dataclasses.replace(app, heap_size=heap[-1])
+    world = dict(app.worlds[task["world"]])
+    options = {**app.plant_options, **world}
+    if task.get("placement"):
+        world["start_pose"] = placed(kinds.make(app.plant_kind, **options).start_pose, task["placement"], task["seed"])
+    plant = with_faults(kinds.make(app.plant_kind, **{**options, **world}), schedule)
+    target = None
+    link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
+    if link:
+        target = FaultyLinkTarget(0.0 if os.environ.get(BUSY_POLL_ENV) == "0" else _busy_poll_s(), link, task["seed"])
+    deadline = started + task["timeout_s"]
+
+    def watch_the_clock(t_us: int, t_end_us: int) -> None:
+        if time.monotonic() > deadline:
+            raise RunTimeout(
+                f"the run took more than {task['timeout_s']:g} s of wall time (at virtual t={t_us / 1e6:.1f} s of "
+                f"{task['seconds']:g} s); expected it within its timeout_s"
+            )
+
+    rig = Rig(
+        app,
+        seed=task["seed"],
+        plant=plant,
+        plant_options=world,
+        target=target,
+        artefacts=Path(artefacts) if artefacts else None,
+        record=record,
+        trace=record,
+        progress=watch_the_clock,
+    )
+    return rig, sorted(round(f.at_s * 1e6) for f in schedule if f.kind == "brownout")
+
+
+def placed(pose, placement: dict, seed: int) -> list[float]:
+    """The start pose with the seed's placement error: uniform in each given range (x_m,
+    y_m, theta_deg), from a stream of its own."""
+    rng = np.random.default_rng([seed & 0xFFFFFFFF, 0x91ACE])
+    draw = {k: float(rng.uniform(*placement[k])) if k in placement else 0.0 for k in ("x_m", "y_m", "theta_deg")}
+    x, y, theta = pose
+    return [x + draw["x_m"], y + draw["y_m"], theta + math.radians(draw["theta_deg"])]
+
+
+def _busy_poll_s() -> float:
+    from host.rig.pacing import Lockstep
+
+    return Lockstep().busy_poll_s()
+
+
+def _drive(rig: Rig, task: dict, cuts: list[int]) -> bool:
+    """Run to ``seconds`` in steps of ``step_s``, cutting the power at each brown-out;
+    True once ``until`` is on the console (or, without one, at the end)."""
+    end_us = round(task["seconds"] * 1e6)
+    step_us = round(task["step_s"] * 1e6)
+    until = task.get("until")
+    while rig.t_us < end_us:
+        stop = min(rig.t_us + step_us, end_us, *[c for c in cuts if c > rig.t_us] or [end_us])
+        rig.run_until(stop)
+        if cuts and rig.t_us >= cuts[0]:
+            cuts.pop(0)
+            brownout(rig)
+        if until and until in rig.console:
+            return True
+    return not until
+
+
+def _budget(budget) -> dict:
+    stats = budget.stats()
+    return {k: stats.get(k) for k in ("count", "p50", "p99", "max", "misses")}
