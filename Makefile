@@ -50,9 +50,10 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
 
-# (on every core, a test file to a worker: a file's module fixtures run once)
+# (on every core, a test file to a worker: a file's module fixtures run once; rigs record nothing,
+# for speed: a failed test's rerun line, run as printed, keeps its whole trace folder)
 test: setup
-	$(PY) -m pytest -q -n auto --dist loadfile
+	$(PY) -m pytest -q -n auto --dist loadfile --hil-keep none
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
 # core, a test file to a worker, the report and the tables gathered from all of them

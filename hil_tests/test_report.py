@@ -274,3 +274,29 @@ def test_junit_xml_carries_each_rigs_seed_artefacts_and_budgets(session):
     props = {p.get("name"): p.get("value") for p in case.iter("property")}
     assert props["rig0.seed"] == "1" and props["rig0.artefacts"].endswith("rig0"), props
     assert props["rig0.budget.control.period"].startswith("count="), props
+
+
+def test_without_a_report_a_failed_tests_rigs_keep_their_whole_trace_and_a_passed_tests_none(tmp_path):
+    """The default (--hil-keep failed): every rig records; a failed test's rigs write their
+    trace folder and plots beside its console, a passed test's write only the console."""
+    (tmp_path / "test_keep.py").write_text(textwrap.dedent(SCENARIOS))
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "test_keep.py"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=SESSION_TIMEOUT_S,
+    )
+    assert done.returncode == 1, done.stdout + done.stderr
+    hil = tmp_path / "build" / "hil" / "test_keep"
+    failed, passed = (
+        hil / "test_rover_reaches_the_far_wall_in_two_seconds" / "rig0",
+        hil / "test_rover_cruises_a_metre_in_four_seconds" / "rig0",
+    )
+    for name in ("console.log", "header.json", "signals.csv", "trace.vcd", "trace.gtkw", "plots/trajectory.png"):
+        assert (failed / name).is_file(), (
+            f"expected {name} in the failed test's {failed}; it has {sorted(p.name for p in failed.rglob('*'))}"
+        )
+    assert f"artefacts {failed}" in done.stdout, done.stdout
+    kept = sorted(p.name for p in passed.iterdir())
+    assert kept == ["console.log"], f"expected only console.log of a passed test in {passed}, got {kept}"

@@ -8,7 +8,10 @@ when the test ends, pass or fail. ``@pytest.mark.hil_budget(name, max_ms=...)`` 
 the budget statistics of every rig are printed at the end of the session, after each
 scenario's result line (what a test recorded with ``record_property("result", text)``);
 with ``--hil-report PATH`` every rig records a trace folder and the session ends by writing
-one HTML report (docs/traces.md). A long mission shows its progress on one line.
+one HTML report (docs/traces.md). Without it, every rig records as it runs and a failed
+test's rigs leave their whole trace folder and plots beside its console (``--hil-keep``:
+``failed``, the default; ``none`` records nothing, as ``make test`` runs). A long mission
+shows its progress on one line.
 """
 
 import json
@@ -28,6 +31,7 @@ from host.rig import Rig
 
 _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 _records = pytest.StashKey[list]()  # what the report needs of each, once stopped
+_failed = pytest.StashKey[bool]()  # the test's setup or call failed: keep its rigs' traces
 
 
 def pytest_addoption(parser):
@@ -43,6 +47,13 @@ def pytest_addoption(parser):
         metavar="PATH",
         type=Path,
         help="record every rig and write an HTML report of the session to PATH",
+    )
+    group.addoption(
+        "--hil-keep",
+        choices=("failed", "none"),
+        default="failed",
+        help="failed (default): every rig records, and a failed test's rigs write their trace folder and plots; "
+        "none: record nothing (faster; only console.log is kept)",
     )
 
 
@@ -64,6 +75,8 @@ def pytest_collection_modifyitems(items):
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_makereport(item, call):
     report = yield
+    if report.failed and report.when in ("setup", "call"):
+        item.stash[_failed] = True
     if report.failed and item.stash.get(_rigs, None):
         report.sections.append(("firmware in the loop", _evidence(item)))
     if report.when == "teardown" and item.stash.get(_records, None):
@@ -108,6 +121,7 @@ def artefacts_for(node) -> Path:
 def make_rig(request):
     rigs: list[Rig] = request.node.stash.setdefault(_rigs, [])
     recording = bool(request.config.getoption("--hil-report", None))
+    keep_failed = not recording and request.config.getoption("--hil-keep", "none") == "failed"
 
     flashed = _flashed_firmware()
     marked = budget_marks.marked_limits(request.node)
@@ -120,6 +134,8 @@ def make_rig(request):
         if recording:
             kwargs.setdefault("record", True)
             kwargs.setdefault("trace", True)
+        elif keep_failed:
+            kwargs.setdefault("record", True)
         label = f"{request.node.name} rig{len(rigs)}"
         kwargs.setdefault("progress", mission_progress(request.config, label, mission_s))
         rig = Rig(app, **kwargs)
@@ -132,13 +148,26 @@ def make_rig(request):
 
     yield factory
     records = request.node.stash.setdefault(_records, [])
+    failed = request.node.stash.get(_failed, False)
     for i, rig in enumerate(rigs):
+        kept = keep_failed and failed and rig.recorder is not None
+        if keep_failed and not failed:
+            drop_recording(rig)
         rig.stop()
         rows = [row for row in rig.budget_rows() if row["count"]]
         _properties(request.node, f"rig{i}", rig, rows)
         # a pytest-xdist worker plots its rigs as it goes; one session plots them all at its end
-        plots = plot_one(rig.artefacts) if recording and is_worker(request.config) and rig.recorder else ([], "")
+        plot = (recording and is_worker(request.config)) or kept
+        plots = plot_one(rig.artefacts) if plot and rig.recorder else ([], "")
         records.append(rig_record(f"rig{i}", rig, rows, plots))
+
+
+def drop_recording(rig) -> None:
+    """A passed test's rig: forget what it recorded (stop() then writes no trace folder).
+    A rig the test stopped itself has written its folder already."""
+    if rig.recorder is not None and getattr(rig, "_started", False):
+        rig.recorder.close()
+        rig.recorder = None
 
 
 @pytest.hookimpl(tryfirst=True)
