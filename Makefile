@@ -54,9 +54,10 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 test: setup
 	$(PY) -m pytest -q -n auto --dist loadfile
 
-# FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there
+# FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
+# core, a test file to a worker, the report and the tables gathered from all of them
 hil: setup
-	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n auto --dist loadfile -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))

@@ -9,7 +9,7 @@ import math
 import pytest
 
 from sim_plant.duct_link import RecordReader
-from sim_plant.tether import TetherSnag
+from sim_plant.tether import P_SNAG, TetherSnag
 
 pytestmark = pytest.mark.hil
 
@@ -32,9 +32,9 @@ def run_until(rig, text, limit_s, step_s=1.0):
     return text in rig.console
 
 
-def step_response(make_rig, kp100, seconds=3.0):
+def step_response(make_rig, kp100, seconds=4.0):
     """The master sets the gain and a 60-tick step on both wheels at 0; the records give
-    each 50 ms period's slot counts."""
+    each 50 ms period's slot counts (80 periods)."""
     script = [[0, f"K {kp100}"], [0, f"S {SET_POINT} {SET_POINT}"]]
     rig = make_rig("duct", seed=1, plant_options={"world": "bench", "link_options": {"script": script}})
     rig.run_for(seconds)
@@ -44,21 +44,61 @@ def step_response(make_rig, kp100, seconds=3.0):
     return rig, [v[1] for v in values[start:]], [v[2] for v in values[start:]]
 
 
-def metrics(speeds):
-    """(overshoot, sign changes of the error bigger than 3 ticks, first period within 3
-    ticks, mean error over the last 10 periods, peak-to-peak over the last 20)."""
+BAND = 3  # |error| <= 3 ticks: the truncated 25 * e // 100 leaves the duty alone (D.4.1's "very small errors")
+TAIL = 40  # the last 2 s of the 4 s run: what the loop does once any start-up swing has had time to die
+
+
+def metrics(speeds) -> dict:
+    """The figures of one step response (slot counts a period, the step at period 0):
+
+    * ``overshoot``: the highest count less the set-point;
+    * ``changes``: sign changes of the error over the last ``TAIL`` periods, counting only
+      errors beyond ``BAND`` (count jitter of a tick or two is no oscillation);
+    * ``pp``, ``pp_before``: peak-to-peak of the count over the last 20 periods and over
+      the 20 before them (an oscillation that does not decay keeps ``pp`` near
+      ``pp_before``);
+    * ``settle``: the first period from which every count, at least the last 10, is within
+      ``BAND`` of the set-point (``periods``, the run's length, if never);
+    * ``sse``: the mean error over the last 20 periods."""
     errors = [SET_POINT - s for s in speeds]
-    big = [e for e in errors if abs(e) > 3]
-    changes = sum(1 for a, b in zip(big, big[1:]) if (a > 0) != (b > 0))
-    rise = next((k for k, e in enumerate(errors) if abs(e) <= 3), len(errors))
-    tail = speeds[-20:]
-    return max(speeds) - SET_POINT, changes, rise, sum(errors[-10:]) / 10, max(tail) - min(tail)
+    big = [e for e in errors[-TAIL:] if abs(e) > BAND]
+    tail, before = speeds[-20:], speeds[-TAIL:-20]
+    settle = len(errors)
+    while settle and abs(errors[settle - 1]) <= BAND:
+        settle -= 1
+    if settle > len(errors) - 10:  # a count or two inside the band at the end is no settling
+        settle = len(errors)
+    return {
+        "overshoot": max(speeds) - SET_POINT,
+        "changes": sum(1 for a, b in zip(big, big[1:]) if (a > 0) != (b > 0)),
+        "pp": max(tail) - min(tail),
+        "pp_before": max(before) - min(before),
+        "settle": settle,
+        "sse": sum(errors[-20:]) / 20,
+        "periods": len(errors),
+    }
+
+
+def oscillates(m) -> bool:
+    """Sustained: at least 6 error sign changes in the last 2 s, a swing of 10 ticks or more
+    (a sixth of the set-point), and the last second's swing at least 0.7 of the second
+    before (not decaying)."""
+    return m["changes"] >= 6 and m["pp"] >= 10 and m["pp"] >= 0.7 * m["pp_before"]
+
+
+def settled(m) -> bool:
+    """No error sign change beyond the band in the last 2 s and the count within 4 ticks."""
+    return m["changes"] == 0 and m["pp"] <= 4
 
 
 def test_kp_sweep_at_a_60_tick_set_point(make_rig, record_property):
-    """App. D.5: Kp = 1.0 oscillates without end, 0.4 swings past and back, 0.3 overshoots, 0.25 reaches 60 cleanly and
-    fastest, 0.1 and 0.2 are slower, 0.1 with a large steady-state error; both wheels at
-    0.25 within 2 ticks of each other every period."""
+    """App. D.5 / §5.1.2 on the calibrated drive (docs/duct.md, "The drive"): Kp = 1.0 and
+    0.4 oscillate without end; 0.3 overshoots, then settles; 0.25 reaches 60 without
+    overshoot, keeps no error beyond the truncation's 3 ticks, and settles first; 0.2 and
+    0.1 are slower, 0.1 with a large steady-state error (over 3 ticks, 5 % of the set-point,
+    on average: more than 0.25 can leave). 0.2's steady-state error is not large and cannot be: the truncated law
+    leaves errors of up to 4 ticks alone at 0.2 and corrects anything larger. Both wheels
+    at 0.25 within 2 ticks of each other every period."""
     results, wheels = {}, None
     for kp in SWEEP:
         rig, left, right = step_response(make_rig, kp)
@@ -67,30 +107,35 @@ def test_kp_sweep_at_a_60_tick_set_point(make_rig, record_property):
             wheels = max(abs(a - b) for a, b in zip(left, right))
             rig.budgets["control.period"].check()
         rig.stop()
+    settles = {kp: m["settle"] if m["settle"] < m["periods"] else "never" for kp, m in results.items()}
     record_property(
         "result",
         "; ".join(
-            f"Kp {kp / 100:g}: overshoot {m[0]}, oscillation sign changes {m[1]}, within 3 ticks at period {m[2]}, "
-            f"final error {m[3]:.1f}, tail p-p {m[4]}"
+            f"Kp {kp / 100:g}: overshoot {m['overshoot']}, sign changes in the last 2 s {m['changes']}, "
+            f"swing {m['pp_before']} then {m['pp']}, settled from period {settles[kp]}, final error {m['sse']:.1f}"
             for kp, m in results.items()
         )
         + f"; Kp 0.25 wheels differ by at most {wheels} ticks",
     )
-    msg = f"Kp sweep (overshoot, sign changes, rise, final error, tail p-p): {results}"
-    assert results[100][4] >= 20 and results[100][1] >= 4, f"expected Kp = 1 to oscillate without end; {msg}"
-    assert results[40][0] > 2 * results[30][0] and results[40][1] >= 1, (
-        f"expected Kp = 0.4 to swing past the set-point and back, twice as far as 0.3 (in this plant it then "
-        f"settles: the seed's sustained oscillation at 0.4 is not reproduced, docs/duct.md); {msg}"
+    msg = f"Kp sweep figures: {results}; artefacts: {rig.artefacts.parent}"
+    for kp in (100, 40):
+        assert oscillates(results[kp]), f"expected Kp = {kp / 100:g} to oscillate without decaying; {msg}"
+    assert results[30]["overshoot"] > BAND and settled(results[30]), (
+        f"expected Kp = 0.3 to overshoot by more than {BAND} ticks, then settle; {msg}"
     )
-    assert results[30][0] > 3 and results[30][4] <= 4, f"expected Kp = 0.3 to overshoot, then settle; {msg}"
-    assert results[25][0] <= 3 and results[25][1] == 0 and abs(results[25][3]) <= 3, (
-        f"expected Kp = 0.25 to reach 60 without overshoot or oscillation, within 3 ticks; {msg}"
+    assert results[25]["overshoot"] <= BAND and settled(results[25]) and abs(results[25]["sse"]) <= BAND, (
+        f"expected Kp = 0.25 to reach 60 without overshoot and keep no error beyond {BAND} ticks; {msg}"
     )
-    clean = [kp for kp in SWEEP if results[kp][0] <= 3 and results[kp][1] == 0]
-    assert min(clean, key=lambda kp: (results[kp][2], -kp)) == 25, f"expected 0.25 the fastest clean gain; {msg}"
-    assert results[20][2] > results[25][2] and results[10][2] > results[20][2], f"expected 0.2, 0.1 slower; {msg}"
-    assert results[10][3] >= 4, f"expected Kp = 0.1 to keep a large steady-state error; {msg}"
-    assert wheels <= 2, f"expected both wheels within 2 ticks at Kp = 0.25, got {wheels}"
+    for kp in (30, 20, 10):
+        assert results[25]["settle"] < results[kp]["settle"], f"expected 0.25 to settle before {kp / 100:g}; {msg}"
+    for kp in (20, 10):
+        assert results[kp]["overshoot"] <= BAND and settled(results[kp]), (
+            f"expected Kp = {kp / 100:g} to creep up; {msg}"
+        )
+    assert results[10]["settle"] >= results[20]["settle"], f"expected 0.1 no faster than 0.2; {msg}"
+    assert results[10]["sse"] > BAND, f"expected Kp = 0.1 to keep an error beyond {BAND} ticks; {msg}"
+    assert abs(results[20]["sse"]) <= 4, f"expected the truncation to bound 0.2's error by 4 ticks; {msg}"
+    assert wheels <= 2, f"expected both wheels within 2 ticks at Kp = 0.25, got {wheels}; {msg}"
 
 
 STRAIGHT_STARTS = {1: (0.3, 0.2, 0.0), 2: (0.3, 0.16, 0.06), 3: (0.3, 0.24, -0.06)}
@@ -149,33 +194,67 @@ def test_single_right_branch_without_snags(make_rig, record_property, seed):
         rig.budgets[name].check()
 
 
-SNAG_P = 0.12
-
-
-def test_single_right_branch_with_tether_snags(make_rig, record_property, request):
-    """§5.7: 18 of 20 runs succeeded, both failures from the tether catching. With snags
-    at spins (p = 0.12 a spin, 4 spins a run) about 2 of 20 runs fail; every failure had a
-    snag. make test runs seed 1 (one snag, recovered), make hil all 20."""
-    seeds = range(1, 21) if request.config.getoption("--hil-report") else range(1, 2)
+@HIL_ONLY
+def test_single_right_branch_with_tether_snags(make_rig, record_property):
+    """§5.7: 18 of 20 runs succeeded, both failures from the tether catching. The snag
+    chance, 0.29 a spin (two spins a run), is the seed's 0.1 failures a run over the share
+    of snags that cost a run (sim_plant/tether.py); the count of successes over twenty
+    seeds is binomial (20, 0.9): 16 to 20 holds 96 % of the time. Every failure must have
+    had a snag. make hil only (make test checks a snag's failure in test_what_a_snag_costs)."""
     outcomes = []
-    for seed in seeds:
-        rig, ok, off, snags = branch_run(make_rig, seed, snag_p=SNAG_P)
-        outcomes.append((seed, ok, len(snags), off))
+    for seed in range(1, 21):
+        rig, ok, off, snags = branch_run(make_rig, seed, snag_p=P_SNAG)
+        outcomes.append((seed, ok, len(snags), off, rig.artefacts))
         rig.stop()
-    wins = sum(ok for _s, ok, _n, _o in outcomes)
+    wins = sum(ok for _s, ok, _n, _o, _a in outcomes)
     record_property(
         "result",
-        f"{wins} of {len(outcomes)} succeeded; runs with snags: "
-        + ", ".join(
-            f"seed {s} ({n} snag(s), {'ok' if ok else 'failed'}, {o * 1000:.0f} mm off)"
-            for s, ok, n, o in outcomes
-            if n
+        f"{wins} of {len(outcomes)} succeeded (p = {P_SNAG:.2f} a spin); runs with snags: "
+        + (
+            ", ".join(
+                f"seed {s} ({n} snag(s), {'ok' if ok else 'failed'}, {o * 1000:.0f} mm off)"
+                for s, ok, n, o, _a in outcomes
+                if n
+            )
+            or "none"
         ),
     )
-    unexplained = [s for s, ok, n, _o in outcomes if not ok and n == 0]
-    assert not unexplained, f"expected every failure traced to a snag; failed without one: seeds {unexplained}"
-    if len(outcomes) == 20:
-        assert 16 <= wins <= 19, f"expected about 18 of 20 successes, got {wins}: {outcomes}"
+    unexplained = [(s, f"{o * 1000:.0f} mm off", str(a)) for s, ok, n, o, a in outcomes if not ok and n == 0]
+    assert not unexplained, f"expected every failure traced to a snag; failed without one: {unexplained}"
+    assert 16 <= wins <= 20, f"expected 16 to 20 successes of 20 (18 likeliest), got {wins}: {outcomes}"
+
+
+COST_SEEDS = range(1, 11)
+
+
+@pytest.mark.parametrize("spin", [0, pytest.param(1, marks=HIL_ONLY)], ids=["into-the-branch", "out-of-it"])
+def test_what_a_snag_costs(make_rig, record_property, request, spin):
+    """The snag rate rests on the share of snags that cost a run (sim_plant/tether.py:
+    4 of 10 at the spin into the branch, none of 10 at the spin out, 0.2 overall). Here
+    the tether catches for certain at one spin: every run has exactly that one snag, and
+    make hil counts the failures again over seeds 1-10 (make test: seed 1, which a snag
+    into the branch costs). The tolerance is the binomial's: 1 to 7 of 10 at the first
+    spin, at most 2 at the second."""
+    seeds = COST_SEEDS if request.config.getoption("--hil-report") else range(1, 2)
+    outcomes = []
+    for seed in seeds:
+        rig, ok, off, snags = branch_run(make_rig, seed, snag_p=1.0, snag_options={"spins": [spin]})
+        outcomes.append((seed, ok, len(snags), round(off * 1000), str(rig.artefacts)))
+        rig.stop()
+    failed = [s for s, ok, _n, _o, _a in outcomes if not ok]
+    record_property(
+        "result",
+        f"snag at spin {spin + 1}: {len(failed)} of {len(outcomes)} runs failed (seeds {failed}); mm off: "
+        + ", ".join(f"seed {s} {o}" for s, _ok, _n, o, _a in outcomes),
+    )
+    assert all(n == 1 for _s, _ok, n, _o, _a in outcomes), f"expected exactly one snag a run: {outcomes}"
+    if len(outcomes) == 1:
+        expected = spin == 1
+        assert outcomes[0][1] == expected, f"expected seed 1 to {'recover' if expected else 'fail'}: {outcomes}"
+    elif spin == 0:
+        assert 1 <= len(failed) <= 7, f"expected about 4 of 10 runs lost to a snag into the branch: {outcomes}"
+    else:
+        assert len(failed) <= 2, f"expected a snag out of the branch to cost few runs: {outcomes}"
 
 
 @pytest.mark.parametrize(

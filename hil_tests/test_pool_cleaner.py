@@ -118,7 +118,7 @@ def test_short_side_coverage_above_96_percent(make_rig, record_property):
 def test_full_pool_cleaned_in_about_an_hour_with_95_percent_coverage(make_rig, record_property):
     """Seed 000 §7.3.3 / seed 001 §7: the 25 x 8 m pool from a corner, a sonar switch
     half way; the start-up estimate ~55 min, the real run ~60 min."""
-    rig = make_rig("pool_cleaner", seed=1)
+    rig = make_rig("pool_cleaner", seed=1, mission_s=60 * 60)  # the progress line: percent of the hour
     run_until_console(rig, "done:", 75 * 60, step_s=60.0)
     m = re.search(r"done: pool cleaned in (\d+):(\d+):(\d+)", rig.console)
     done_s = int(m.group(1)) * 3600 + int(m.group(2)) * 60 + int(m.group(3))

@@ -10,6 +10,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -224,9 +225,49 @@ def test_the_reports_counts_agree_with_pytest_and_each_scenario_says_what_it_mea
     assert "<b>measured:</b> cruised" in html, f"the scenario's result line is missing from {report}"
 
 
-def test_junit_xml_carries_each_rigs_seed_artefacts_and_budgets(session):
-    import xml.etree.ElementTree as ET
+@pytest.fixture(scope="module")
+def xdist_session(tmp_path_factory):
+    """The same scenarios as `make hil` runs them: two files on two pytest-xdist workers."""
+    where = tmp_path_factory.mktemp("xdist")
+    passing, failing = textwrap.dedent(SCENARIOS).split("\n\n\ndef test_rover_reaches")
+    (where / "test_report_first.py").write_text(passing)
+    (where / "test_report_second.py").write_text("import pytest\n\n\ndef test_rover_reaches" + failing)
+    report = where / "report.html"
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", "2", "--dist", "loadfile"]
+        + ["--hil-table", f"--hil-report={report}", f"--junitxml={where / 'junit.xml'}"],
+        cwd=where,
+        capture_output=True,
+        text=True,
+        timeout=SESSION_TIMEOUT_S,
+    )
+    return where, report, done
 
+
+def test_under_xdist_the_controller_gathers_every_workers_rigs_into_one_report_and_table(xdist_session):
+    where, report, done = xdist_session
+    out = done.stdout
+    assert done.returncode == 1, f"expected one failed scenario (exit 1), got {done.returncode}:\n{out}{done.stderr}"
+    assert f"HIL report: {report.resolve()}" in out.strip().splitlines()[-1], out[-2000:]
+    html = report.read_text()
+    page = parse(html)
+    assert sorted(page.sections) == ["scenario failed", "scenario passed"], f"{page.sections} in {report}"
+    assert "1 failed, 2 passed; 2 scenario(s) with their rigs below" in html, f"headline in {report}"
+    assert len([src for src in page.images if src.startswith("data:image/png;base64,")]) == 6, report
+    assert "<b>measured:</b> cruised" in html and "expected a bump within 2 s" in html, report
+    assert re.search(r"^test_rover_cruises_a_metre_in\S* +all 3 held$", out, re.M), out[-3000:]  # both workers'
+    assert re.search(r"^test_rover_reaches_the_far_wall\S* +all 3 held$", out, re.M), out[-3000:]
+    for test in ("test_rover_cruises_a_metre_in_four_seconds", "test_rover_reaches_the_far_wall_in_two_seconds"):
+        plots = next(where.glob(f"build/hil/*/{test}/rig0/plots"))
+        assert sorted(p.name for p in plots.iterdir()) == ["signals.png", "timing.png", "trajectory.png"], plots
+    cases = {c.get("name"): c for c in ET.parse(where / "junit.xml").iter("testcase")}
+    props = {
+        p.get("name"): p.get("value") for p in cases["test_rover_cruises_a_metre_in_four_seconds"].iter("property")
+    }
+    assert props["rig0.seed"] == "1" and props["rig0.budget.control.period"].startswith("count="), props
+
+
+def test_junit_xml_carries_each_rigs_seed_artefacts_and_budgets(session):
     where, _report, _done = session
     tree = ET.parse(where / "junit.xml")
     case = next(c for c in tree.iter("testcase") if c.get("name") == "test_rover_cruises_a_metre_in_four_seconds")

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
+from host.artefacts.console import stamped_lines
 from host.artefacts.folder import load_trace
 from host.report.plots import plot_trace
 from host.rig.replay import replay
@@ -76,6 +77,17 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     assert len(vcd.timeline("rover.sensors.sonar.adc")) == len({r["t_us"] for r in samples}) + 1, where
     assert vcd.final("rover.truth.x_m") == pytest.approx(float(truth[-1]["x_m"]), rel=1e-6), where
 
+    # the console's lines carry their virtual time, in console.log and as the VCD's events
+    console = list(stamped_lines(folder / "console.log"))
+    assert vcd.timeline("rover.events.console") == console, where
+    bumped = min(int(r["t_us"]) for r in signals if r["signal"] == "bumper" and r["value"] == "0")
+    backup = [t for t, line in console if line.startswith("rover: backup")]
+    assert backup and 0 <= backup[0] - bumped <= 50_000, (
+        f"expected the backup line within one 50 ms control period of the bump at {bumped} us, got {backup} {where}"
+    )
+    gtkw = (folder / "trace.gtkw").read_text().splitlines()
+    assert set(vcd.vars) == {line for line in gtkw if line.startswith("rover.")}, f"trace.gtkw shows it all {where}"
+
 
 def test_gtkwave_reads_the_recorded_vcd_back_unchanged(recorded, tmp_path):
     folder, _ = recorded
@@ -93,7 +105,7 @@ def test_the_same_seed_gives_byte_identical_signals_truth_and_vcd(make_rig):
         rig.run_for(5)
         rig.stop()
         folders.append(rig.artefacts)
-    for name in ("signals.csv", "truth.csv", "trace.vcd", "trace.jsonl", "header.json"):
+    for name in ("signals.csv", "truth.csv", "trace.vcd", "trace.jsonl", "header.json", "console.log", "trace.gtkw"):
         a, b = (f / name for f in folders)
         assert a.read_bytes() == b.read_bytes(), f"{name} differs between {a} and {b}"
 

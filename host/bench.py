@@ -1,29 +1,54 @@
 """Wall-clock figures of the core loop: ``python -m host.bench`` (``make bench``).
 
+- raw pty round trip: CPython writes an empty STATE's worth of bytes, MicroPython's unix
+  port answers an OUT and a WAIT's worth, nothing decoded (:mod:`host.link.rawpingpong`).
+  It is measured in the same run, before and after the rest, and every figure below is
+  also given as a ratio to it, with the limit it implies for the rover: 50 ms / (raw
+  round trip + the firmware's own compute per step);
 - lockstep real-time factor: simulated seconds per wall second for 10 simulated minutes
   of the rover firmware at 50 ms control quanta;
 - link round trip: host sends STATE -> shim answers WAIT, p50/p99 in microseconds,
   measured with a firmware that does nothing but toggle a pin and sleep;
 - pool cleaner mission: the whole 25 x 8 m pool (about an hour simulated) from start to
-  "done", its real-time factor (target >= 60x: the hour in a minute).
+  "done", its real-time factor, unrecorded and then recorded as ``make hil`` records it
+  (trace folder and link log, in a child process: its wall time, peak memory, bytes on disk).
 These are measurements, not pass/fail tests; the target figures are printed beside them.
 """
 
 import argparse
+import json
 import math
 import os
+import resource
 import statistics
+import struct
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
+from host.core import interpreter
+from host.link import frames as F
+from host.link import rawpingpong
 from host.rig import Rig
+from host.rig.pacing import Lockstep
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
+STEP_US = 50_000  # the rover's control quantum
+STATE_BYTES = F.HEADER_LEN + F.CRC_LEN + F.STATE_LEN  # an empty STATE
+REPLY_BYTES = 2 * (F.HEADER_LEN + F.CRC_LEN) + struct.calcsize(F.OUT_FMT) + F.WAIT_LEN  # an OUT and a WAIT
 
 
 def percentile(values, pct):
     values = sorted(values)
     return values[min(len(values) - 1, int(pct / 100 * len(values)))]
+
+
+def bench_raw(n: int = 5000) -> list[float]:
+    """The pty's own round trip with the link's frame sizes and the link's way of waiting."""
+    busy_poll_s = Lockstep().busy_poll_s()
+    return rawpingpong.round_trips_us(str(interpreter.find()), n, STATE_BYTES, REPLY_BYTES, busy_poll_s)
 
 
 def bench_rover(sim_s: float) -> dict:
@@ -44,26 +69,148 @@ def bench_rover(sim_s: float) -> dict:
             "round_trips": rig.stats.link_round_trips,
             "wake_rtt": rig.stats.round_trip_us,
             "control": rig.budgets["control.period"].stats(),
+            "compute": rig.budgets["control.compute"].stats(),
         }
 
 
-def bench_pool(limit_s: float = 75 * 60) -> dict:
-    with Rig("pool_cleaner", seed=1) as rig:
+def bench_pool(limit_s: float = 75 * 60, artefacts: Path | None = None) -> dict:
+    record = artefacts is not None
+    with Rig("pool_cleaner", seed=1, record=record, trace=record, artefacts=artefacts) as rig:
         t0 = time.perf_counter()
         while "done:" not in rig.console and rig.t_us < limit_s * 1e6:
             rig.run_for(60.0)
-            print(f"  pool cleaner: {rig.t_us / 60e6:4.0f} simulated min", end="\r", flush=True)
+            print(f"  pool cleaner: {rig.t_us / 60e6:4.0f} simulated min", end="\r", flush=True, file=sys.stderr)
         wall = time.perf_counter() - t0
-        print()
-        sim_s = rig.t_us / 1e6
-        return {
-            "sim_s": sim_s,
-            "wall_s": wall,
-            "rtf": sim_s / wall,
-            "done": "done:" in rig.console,
-            "round_trips": rig.stats.link_round_trips,
-            "coverage": rig.truth()["coverage_fraction"],
-        }
+    wall_stop = time.perf_counter() - t0  # (a recorded run writes its trace folder at stop)
+    print(file=sys.stderr)
+    sim_s = rig.t_us / 1e6
+    return {
+        "sim_s": sim_s,
+        "wall_s": wall_stop,
+        "run_wall_s": wall,
+        "rtf": sim_s / wall_stop,
+        "done": "done:" in rig.console,
+        "round_trips": rig.stats.link_round_trips,
+        "coverage": rig.truth()["coverage_fraction"],
+    }
+
+
+def bench_pool_recorded() -> dict:
+    """The recorded mission in a child process, so that its peak memory is its own."""
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
+        cmd = [sys.executable, "-m", "host.bench", "--recorded-pool-child", tmp]
+        out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True).stdout
+        result = json.loads(out.strip().splitlines()[-1])
+        result["disk_mb"] = sum(p.stat().st_size for p in Path(tmp).rglob("*") if p.is_file()) / 1e6
+        return result
+
+
+def _recorded_pool_child(folder: str) -> int:
+    result = bench_pool(artefacts=Path(folder) / "pool")
+    result["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps(result))
+    return 0
+
+
+def ratio(value_us: float, raw_us: float) -> str:
+    return f"{value_us / raw_us:.2f}x raw"
+
+
+def report_rover(rover: dict, raw_us: float) -> None:
+    per_step_us = rover["wall_s"] * 1e6 / rover["control"]["count"]
+    compute_us = rover["compute"]["p50"]
+    limit = STEP_US / (raw_us + compute_us)
+    print(
+        f"  lockstep real-time factor: {rover['rtf']:.0f}x  ({rover['sim_s']:.0f} simulated s in "
+        f"{rover['wall_s']:.2f} wall s; target >= 250x); limit 50 ms / (raw {raw_us:.0f} us + firmware compute "
+        f"p50 {compute_us:.0f} us) = {limit:.0f}x, reached {rover['rtf'] / limit:.0%}"
+    )
+    print(f"  wall time per control step: {per_step_us:.0f} us ({ratio(per_step_us, raw_us)})")
+    print(
+        f"  link exchanges: {rover['round_trips']} ({rover['round_trips'] / rover['sim_s']:.0f} per simulated s); "
+        f"control steps {rover['control']['count']}, misses {rover['control']['misses']}"
+    )
+    wake = rover["wake_rtt"]
+    p50 = percentile(wake, 50)
+    print(
+        f"  per-wake round trip incl. firmware work: p50 {p50:.0f} us ({ratio(p50, raw_us)}), "
+        f"p99 {percentile(wake, 99):.0f} us; host share outside it {per_step_us - p50:.0f} us per step"
+    )
+
+
+def report_pool(pool: dict, raw_us: float, plain: dict | None = None) -> None:
+    per_exchange_us = pool["wall_s"] * 1e6 / pool["round_trips"]
+    print(
+        f"  full mission real-time factor: {pool['rtf']:.0f}x  ({pool['sim_s'] / 60:.1f} simulated min in "
+        f"{pool['wall_s']:.1f} wall s; target >= 400x){'' if pool['done'] else ' -- NOT DONE'}"
+    )
+    print(
+        f"  link exchanges: {pool['round_trips']} ({pool['round_trips'] / pool['sim_s']:.0f} per simulated s), "
+        f"{per_exchange_us:.0f} us each ({ratio(per_exchange_us, raw_us)}); floor covered {pool['coverage']:.1%}"
+    )
+    if plain is not None:
+        print(
+            f"  recorded (trace folder + link log, as make hil): {pool['wall_s'] / plain['wall_s'] - 1:+.0%} wall time "
+            f"over unrecorded (target <= +30%; folder at stop: {pool['wall_s'] - pool['run_wall_s']:.1f} s), "
+            f"peak memory {pool['peak_rss_mb']:.0f} MB (target < 150 MB), {pool['disk_mb']:.0f} MB on disk"
+        )
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m host.bench", description=__doc__.split("\n")[0])
+    parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
+    parser.add_argument("--no-pool", action="store_true", help="skip the pool cleaner's full mission")
+    parser.add_argument("--no-recorded", action="store_true", help="skip the recorded pool cleaner mission")
+    parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
+    parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.recorded_pool_child:
+        return _recorded_pool_child(args.recorded_pool_child)
+    print(f"raw pty round trip, CPython <-> MicroPython: {STATE_BYTES} bytes out, {REPLY_BYTES} back")
+    raw_before = bench_raw()
+    print(f"  p50 {statistics.median(raw_before):.1f} us, p99 {percentile(raw_before, 99):.0f} us")
+    print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
+    rover = bench_rover(args.sim_minutes * 60)
+    ping = bench_ping(2.0)
+    pool = plain = None
+    if not args.no_pool:
+        print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
+        plain = bench_pool()
+        if not args.no_recorded:
+            pool = bench_pool_recorded()
+    raw_after = bench_raw()
+    raw_us = statistics.median(raw_before + raw_after)
+    print(
+        f"raw pty round trip again: p50 {statistics.median(raw_after):.1f} us; "
+        f"the ratios below are to the p50 of both, {raw_us:.1f} us"
+    )
+    report_rover(rover, raw_us)
+    p50 = percentile(ping, 50)
+    print(
+        f"  link round trip (STATE -> WAIT, pin-toggling firmware, {len(ping)} exchanges): p50 {p50:.0f} us "
+        f"({ratio(p50, raw_us)}; target <= 1.2x), p99 {percentile(ping, 99):.0f} us, "
+        f"mean {statistics.fmean(ping):.0f} us"
+    )
+    if plain is not None:
+        print("pool cleaner, full mission, unrecorded:")
+        report_pool(plain, raw_us)
+    if pool is not None:
+        print("pool cleaner, full mission, recorded:")
+        report_pool(pool, raw_us, plain)
+    if not args.no_campaign:
+        report_campaign()
+    return 0
+
+
+def report_campaign() -> None:
+    one, lone, two = bench_campaign(1), bench_campaign(1, busy_poll=False), bench_campaign(2)
+    print(
+        f"campaign throughput ({one['runs']} rover runs of 120 simulated s; load average {os.getloadavg()[0]:.1f} "
+        f"on {os.cpu_count()} cores): 1 worker {one['per_min']:.1f} runs/min ({lone['per_min']:.1f} without "
+        f"busy polling), 2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x "
+        f"({two['per_min'] / lone['per_min']:.2f}x; target >= 1.7x); CPU per run {one['cpu_s']:.2f} s, "
+        f"{lone['cpu_s']:.2f} s, {two['cpu_s']:.2f} s"
+    )
 
 
 def bench_ping(sim_s: float) -> list[float]:
@@ -76,8 +223,6 @@ def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0, busy_poll:
     """A campaign of ``runs`` rover runs of ``sim_s`` simulated seconds on ``workers`` local
     processes: its wall time from the pool's start to the last result (docs/campaigns.md).
     ``busy_poll`` False: a lone worker does not busy-poll its spare core either."""
-    import tempfile
-
     from host.campaign import load_campaign
     from host.campaign.runner import run_campaign
 
@@ -102,53 +247,6 @@ def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0, busy_poll:
         "per_min": len(results) / wall * 60,
         "cpu_s": statistics.median(r.get("cpu_s", math.nan) for r in results),
     }
-
-
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m host.bench", description=__doc__.split("\n")[0])
-    parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
-    parser.add_argument("--no-pool", action="store_true", help="skip the pool cleaner's full mission")
-    args = parser.parse_args(argv)
-    print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
-    rover = bench_rover(args.sim_minutes * 60)
-    print(
-        f"  lockstep real-time factor: {rover['rtf']:.0f}x  ({rover['sim_s']:.0f} simulated s in "
-        f"{rover['wall_s']:.2f} wall s; target >= 100x)"
-    )
-    print(
-        f"  link exchanges: {rover['round_trips']} ({rover['round_trips'] / rover['sim_s']:.0f} per simulated s); "
-        f"control steps {rover['control']['count']}, misses {rover['control']['misses']}"
-    )
-    wake = rover["wake_rtt"]
-    print(
-        f"  per-wake round trip incl. firmware work: p50 {percentile(wake, 50):.0f} us, "
-        f"p99 {percentile(wake, 99):.0f} us"
-    )
-    ping = bench_ping(2.0)
-    print(
-        f"  link round trip (STATE -> WAIT, {len(ping)} exchanges): p50 {percentile(ping, 50):.0f} us, "
-        f"p99 {percentile(ping, 99):.0f} us, mean {statistics.fmean(ping):.0f} us"
-    )
-    one, lone, two = bench_campaign(1), bench_campaign(1, busy_poll=False), bench_campaign(2)
-    print(
-        f"campaign throughput ({one['runs']} rover runs of 120 simulated s; load average {os.getloadavg()[0]:.1f} "
-        f"on {os.cpu_count()} cores): 1 worker {one['per_min']:.1f} runs/min ({lone['per_min']:.1f} without "
-        f"busy polling), 2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x "
-        f"({two['per_min'] / lone['per_min']:.2f}x; target >= 1.7x); CPU per run {one['cpu_s']:.2f} s, "
-        f"{lone['cpu_s']:.2f} s, {two['cpu_s']:.2f} s"
-    )
-    if not args.no_pool:
-        print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
-        pool = bench_pool()
-        print(
-            f"  full mission real-time factor: {pool['rtf']:.0f}x  ({pool['sim_s'] / 60:.1f} simulated min in "
-            f"{pool['wall_s']:.1f} wall s; target >= 60x){'' if pool['done'] else ' -- NOT DONE'}"
-        )
-        print(
-            f"  link exchanges: {pool['round_trips']} ({pool['round_trips'] / pool['sim_s']:.0f} per simulated s); "
-            f"floor covered {pool['coverage']:.1%}"
-        )
-    return 0
 
 
 if __name__ == "__main__":

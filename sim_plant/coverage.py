@@ -43,6 +43,8 @@ class CoverageGrid:
         self.free = _free_mask(world, xs, ys)
         self.free.flags.writeable = False  # fixed: snapshots share it
         self.covered = np.zeros((self.ny, self.nx), dtype=bool)
+        self.free_cells = int(self.free.sum())
+        self.covered_free = 0  # free cells swept so far: kept up by _sweep, fraction() reads it
         self.pending: list[tuple[float, float]] = []
 
     def add_point(self, x_m: float, y_m: float) -> None:
@@ -59,6 +61,16 @@ class CoverageGrid:
             arr = np.array(pts, dtype=float)
             self._sweep(arr[:-1], arr[1:])
         self.pending = pts[-1:]
+
+    def sweep_to(self, x_m: float, y_m: float) -> None:
+        """flush(), then the segment from the last sample to (x_m, y_m), in one pass (the
+        same cells: each sample lies on a segment swept here); the samples stay as
+        flush() leaves them. Ground truth asks for this every 50 ms."""
+        pts = self.pending
+        if pts:
+            arr = np.array([*pts, (x_m, y_m)], dtype=float)
+            self._sweep(arr[:-1], arr[1:])
+            self.pending = pts[-1:]
 
     def sweep(self, ax: float, ay: float, bx: float, by: float) -> None:
         """Mark the footprint along one segment."""
@@ -84,13 +96,17 @@ class CoverageGrid:
         s = np.clip((px * u[:, 0] + py * u[:, 1]) / np.where(l2 > 0, l2, 1.0), 0.0, 1.0)
         dx, dy = px - s * u[:, 0], py - s * u[:, 1]
         hit = ((dx * dx + dy * dy) <= r * r).any(axis=1)
-        self.covered[j0:j1, i0:i1] |= hit.reshape(j1 - j0, i1 - i0)
+        hit = hit.reshape(j1 - j0, i1 - i0)
+        region = self.covered[j0:j1, i0:i1]
+        self.covered_free += int(np.count_nonzero(hit & ~region & self.free[j0:j1, i0:i1]))
+        region |= hit
 
-    def fraction(self) -> float:
-        """Share of the free floor swept so far."""
-        self.flush()
-        free = int(self.free.sum())
-        return float((self.covered & self.free).sum()) / free if free else 0.0
+    def fraction(self, flush: bool = True) -> float:
+        """Share of the free floor swept so far (``flush``: the waiting samples first)."""
+        if flush:
+            self.flush()
+        free = self.free_cells
+        return float(self.covered_free) / free if free else 0.0  # (as (covered & free).sum(), kept up)
 
     def fraction_in(self, x0_m: float, x1_m: float, y0_m: float, y1_m: float) -> float:
         """Share swept of the free cells whose centre lies in the box [x0, x1] x [y0, y1]."""
@@ -171,7 +187,5 @@ class CoverageRecorder(Part):
 
     def truth(self, t_us: int, plant) -> dict:
         x, y, _ = plant.pose_at(t_us)
-        self.grid.flush()
-        if self.grid.pending:  # up to now (marks cells the robot has swept; keeps the samples)
-            self.grid.sweep(*self.grid.pending[-1], x, y)
-        return {"coverage_fraction": self.grid.fraction()}
+        self.grid.sweep_to(x, y)  # up to now (marks cells the robot has swept; keeps the samples)
+        return {"coverage_fraction": self.grid.fraction(flush=False)}

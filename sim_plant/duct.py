@@ -36,7 +36,8 @@ parameter                default  meaning
 ``wheel_diameter_m``     0.060
 ``track_m``              0.18     wheel spacing (inside the 200 mm body)
 ``v_max_m_s``            0.4      rim speed at full duty
-``deadband_duty``        0.10
+``deadband_duty``        0.10     |duty| that only overcomes the drive's losses
+                                  (the rig file sets 0.22 and 0.70 m/s: docs/duct.md)
 ``motor_gains``          (1, 1)   per-wheel gain; seed 002's simulation tried a
                                   constant 10 % error on one wheel (eq. B.8)
 ``slots_per_rev``        8        slots on the motor-shaft disk

@@ -478,6 +478,10 @@ class ScheduledSnag(TetherSnag):
         self.fault = fault
         self.rng = rng
 
+    def start(self, t_us: int, plant) -> None:
+        """(The plant's own snag draws its chances from the plant's stream at reset; this
+        one draws from the fault's stream as spins come, and leaves the plant's alone.)"""
+
     def on_motion_change(self, t_us: int, plant) -> None:
         wl, wr = plant.drive.wheel_rad_s
         spinning = wl * wr < 0.0

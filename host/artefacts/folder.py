@@ -9,7 +9,9 @@ file                content
 ``signals.csv``     ``t_us,signal,value``: every firmware output and plant output change
 ``truth.csv``       ``t_us,x_m,y_m,theta_rad,...``: ground truth every 50 ms
 ``budgets.json``    each timing budget: limit, statistics and a histogram of its values
-``trace.vcd``       the signals and the ground truth for a wave viewer
+``trace.vcd``       the signals, the ground truth, the console's lines and the budgets'
+                    misses, for a wave viewer
+``trace.gtkw``      GTKWave's save file for it: ``gtkwave trace.gtkw`` shows it all
 ``console.log``     what the firmware printed (written by the rig)
 ==================  ==================================================================
 
@@ -28,8 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
+from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
-from host.artefacts.vcd import write_vcd
+from host.artefacts.vcd import write_gtkw, write_vcd
 from host.core import provenance
 from host.core.errors import ConfigError
 
@@ -39,6 +42,7 @@ SIGNALS = "signals.csv"
 TRUTH = "truth.csv"
 BUDGETS = "budgets.json"
 VCD = "trace.vcd"
+GTKW = "trace.gtkw"
 LINK = "trace.jsonl"
 CONSOLE = "console.log"
 DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
@@ -56,23 +60,47 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     folder.mkdir(parents=True, exist_ok=True)
     header = make_header(run, recorder, plant, link_trace=(folder / LINK).is_file())
     _write_json(folder / HEADER, header)
-    events = sorted(recorder.events, key=lambda e: e[0])
+    events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
+    truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
     with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", "signal", "value"])
         out.writerows(events)
-    _write_truth(folder / TRUTH, recorder.truth)
+    _write_truth(folder / TRUTH, truth)
     _write_json(folder / BUDGETS, [b.record() for b in budgets.values()])
-    write_vcd(
+    paths = write_vcd(
         folder / VCD,
         top=run["app"],
         comment=f"app {run['app']} board {run['board']} seed {run['seed']} commit {header['commit']}",
         signals=recorder.signals,
         initial=recorder.initial,
         events=events,
-        truth=recorder.truth,
+        truth=truth,
+        notes=trace_notes(folder, budgets),
     )
+    write_gtkw(folder / GTKW, VCD, paths)
     return folder
+
+
+def trace_notes(folder: Path, budgets: dict) -> list[tuple[int, str, str]]:
+    """(t_us, channel, text) for the VCD's events: each console line (``console``) and
+    each kept budget miss (``budget_miss``: the budget's name and value)."""
+    notes = []
+    if (folder / CONSOLE).is_file():
+        notes += [(t, "console", line) for t, line in stamped_lines(folder / CONSOLE)]
+    for b in budgets.values():
+        notes += [(t, "budget_miss", f"{b.name} {value} us") for t, value in b.first_misses if t is not None]
+    return notes
+
+
+class _Records:
+    """A recording's records, made afresh each time they are iterated."""
+
+    def __init__(self, make):
+        self.make = make
+
+    def __iter__(self):
+        return iter(self.make())
 
 
 def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:

@@ -25,8 +25,10 @@ class LinkLog:
         self._hash = hashlib.sha256()
         self.lines = 0
 
+    _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
+
     def write(self, record: dict) -> None:
-        line = json.dumps(record, separators=(",", ":"), sort_keys=True) + "\n"
+        line = self._encode(record) + "\n"
         self._hash.update(line.encode())
         self.lines += 1
         if self._file:

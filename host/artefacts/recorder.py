@@ -11,9 +11,18 @@ A :class:`Recorder` keeps, in time order:
 Speculative batches are rolled back with the plant (:meth:`Recorder.rewind`), so what
 is kept is what the firmware really saw. Nothing here reads the wall clock: the same
 run gives the same recording. :mod:`host.artefacts.folder` writes it out.
+
+Memory stays bounded however long the run: once the clock says nothing up to a time can
+be rewound any more (:meth:`Recorder.commit`), and enough is kept, what was recorded up
+to then goes in chunks to an unnamed temporary file (:class:`Spill`, gone once closed).
+``events`` and ``truth`` read it all back; the folder's writers take it a chunk at a time
+(``events_in_time_order``, ``iter_truth``).
 """
 
 import numbers
+import os
+import pickle
+import tempfile
 
 ROLE_SENSOR = "sensor"  # a plant output, read by the firmware
 ROLE_ACTUATOR = "actuator"  # a firmware output that drives a plant input
@@ -23,6 +32,42 @@ ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN)
 
 TRUTH_PERIOD_US = 50_000
 """Ground truth is sampled once per control quantum."""
+
+SPILL_AT = 20_000
+"""Events and truth rows kept in memory before the committed ones go to disk."""
+
+
+class Spill:
+    """Lists of records appended in chunks to an unnamed temporary file (pickled), read
+    back in order; nothing is left on disk once it is closed (or collected). Each reader
+    reads at its own offsets (``os.pread``), so two can go through the file at once (the
+    VCD writer reads the events twice, side by side)."""
+
+    def __init__(self):
+        self._file = None
+        self._spans: list[tuple[int, int]] = []  # (offset, length) of each chunk
+
+    def append(self, chunk: list) -> None:
+        if self._file is None:
+            self._file = tempfile.TemporaryFile(prefix="mpy-fil-rec-")
+        data = pickle.dumps(chunk, protocol=pickle.HIGHEST_PROTOCOL)
+        self._spans.append((self._file.tell(), len(data)))
+        self._file.write(data)
+
+    def chunks(self):
+        f = self._file
+        if f is None:
+            return
+        f.flush()
+        fd = f.fileno()
+        for offset, length in list(self._spans):
+            yield pickle.loads(os.pread(fd, length, offset))
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+            self._spans = []
 
 
 class Recorder:
@@ -36,20 +81,44 @@ class Recorder:
         for name, kind in plant.inputs.items():
             self.signals[name] = {"role": ROLE_ACTUATOR, "kind": kind}
         self.initial = {name: _plain(plant.output(name)) for name in plant.outputs}
-        self.events: list[tuple[int, str, object]] = []
-        self.truth: list[tuple[int, dict]] = []
+        self._events: list[tuple[int, str, object]] = []  # not yet spilled
+        self._truth: list[tuple[int, dict]] = []
+        self._spilled_events = Spill()
+        self._spilled_truth = Spill()
+        self._last_event_us = -1  # of the last event spilled
+        self._truth_spilled_to_us = -1  # of the last truth row spilled
+        self.sorted = True  # so far, every event came at or after the time of the one before
         self._next_truth_us = 0
         self.sample(plant)
 
+    @property
+    def events(self) -> list[tuple[int, str, object]]:
+        """Every recorded (t_us, name, value), in the order recorded."""
+        return [e for chunk in self._iter_events() for e in chunk]
+
+    @property
+    def truth(self) -> list[tuple[int, dict]]:
+        """Every ground-truth sample (t_us, {column: value}), in time order."""
+        return [row for chunk in self.iter_truth() for row in chunk]
+
+    def _iter_events(self):
+        yield from self._spilled_events.chunks()
+        yield self._events
+
+    def iter_truth(self):
+        """The ground-truth samples in chunks (lists), in time order."""
+        yield from self._spilled_truth.chunks()
+        yield self._truth
+
     def sensor(self, t_us: int, name: str, value) -> None:
         """A plant output changed (or took a new sample) at ``t_us``."""
-        self.events.append((t_us, name, _plain(value)))
+        self._events.append((t_us, name, _plain(value)))
 
     def command(self, t_us: int, name: str, value, *, role: str = ROLE_ACTUATOR, kind: str = "level") -> None:
         """The firmware drove ``name`` to ``value`` at ``t_us``."""
         if name not in self.signals:
             self.signals[name] = {"role": role, "kind": kind}
-        self.events.append((t_us, name, _plain(value)))
+        self._events.append((t_us, name, _plain(value)))
 
     @property
     def next_truth_us(self) -> int:
@@ -62,23 +131,76 @@ class Recorder:
         if t_us < self._next_truth_us:
             return
         row = {k: _plain(v) for k, v in plant.truth().items() if isinstance(v, numbers.Real)}
-        self.truth.append((t_us, row))
+        self._truth.append((t_us, row))
         self._next_truth_us = (t_us // self.truth_period_us + 1) * self.truth_period_us
 
     def rewind(self, t_us: int) -> None:
-        """The plant went back to ``t_us``: forget what was recorded after it."""
-        events, truth = self.events, self.truth
+        """The plant went back to ``t_us``: forget what was recorded after it (never what
+        was spilled: that was committed)."""
+        events, truth = self._events, self._truth
         while events and events[-1][0] > t_us:
             events.pop()
         while truth and truth[-1][0] > t_us:
             truth.pop()
-        last = truth[-1][0] if truth else -1
+        last = truth[-1][0] if truth else self._truth_spilled_to_us
         self._next_truth_us = (last // self.truth_period_us + 1) * self.truth_period_us
+
+    def commit(self, t_us: int) -> None:
+        """Nothing up to ``t_us`` will be rewound: once enough is kept, what is up to
+        then goes to disk."""
+        if len(self._events) + len(self._truth) < SPILL_AT:
+            return
+        n = _prefix(self._events, t_us)
+        if n:
+            self._check_order(self._events[:n])
+            self._spilled_events.append(self._events[:n])
+            self._events = self._events[n:]
+        n = _prefix(self._truth, t_us)
+        if n:
+            self._truth_spilled_to_us = self._truth[n - 1][0]
+            self._spilled_truth.append(self._truth[:n])
+            self._truth = self._truth[n:]
+
+    def _check_order(self, events: list) -> None:
+        last = self._last_event_us
+        for t, _name, _value in events:
+            if t < last:
+                self.sorted = False  # (real time: an output stamped before an input)
+            last = t
+        self._last_event_us = last
+
+    def events_in_time_order(self):
+        """The events sorted by time (stable: in the order recorded within a
+        microsecond), one by one: read back from disk as they go when they were recorded
+        in time order (lockstep always records them so), else sorted in memory."""
+        last = self._last_event_us
+        in_order = self.sorted and all(e[0] >= last for e in self._events[:1])
+        in_order = in_order and all(a[0] <= b[0] for a, b in zip(self._events, self._events[1:]))
+        if not in_order:
+            yield from sorted(self.events, key=_time)
+            return
+        for chunk in self._iter_events():
+            yield from chunk
 
     def firmware_outputs(self) -> list[tuple[int, str, object]]:
         """What the firmware drove, in time order: what a replay compares."""
         kept = {name for name, info in self.signals.items() if info["role"] != ROLE_SENSOR}
-        return [e for e in sorted(self.events, key=_time) if e[1] in kept]
+        return [e for e in self.events_in_time_order() if e[1] in kept]
+
+    def close(self) -> None:
+        """Drop what went to disk (the temporary files)."""
+        self._spilled_events.close()
+        self._spilled_truth.close()
+
+
+def _prefix(records: list, t_us: int) -> int:
+    """How many records from the start are at or before ``t_us``."""
+    n = 0
+    for record in records:
+        if record[0] > t_us:
+            break
+        n += 1
+    return n
 
 
 def _time(event) -> int:

@@ -10,66 +10,143 @@ recorded kind              VCD variable           value
 ``level``                  ``wire 1``             0 / 1 (``x`` until the firmware drives it)
 ``u16``, ``duty``          ``integer 32``         ADC counts / duty_u16, as binary
 ``bytes``                  ``wire 8``             the last byte received or sent
+ (its ``<name>_text``)     ``string``             the line being received or sent as text
 ground truth               ``real 64``            SI units as the column names say
+notes (``events`` scope)   ``string``             a console line, a budget miss
 =========================  =====================  ========================================
 
 Time is virtual: ``$timescale 1us``, ``#t`` is microseconds since the run started.
 When a variable changes more than once at the same microsecond, the last value is
-written.
+written. ``string`` variables are GTKWave's extension of the standard: a value cannot
+hold white space, so text is written with C escapes (a space is ``\x20``), which
+GTKWave reads back as the text.
+
+:func:`write_gtkw` writes the GTKWave save file that goes with it: every signal shown,
+grouped by role and then by part, each in the format that reads best (levels as bits,
+counts and duties in decimal, a UART byte as its character).
 """
 
+import heapq
+import itertools
 import re
+
+from vcd.gtkw import GTKWSave
 
 TIMESCALE = "1us"
 _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 
-def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth) -> None:
+def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=()) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
-    order; ``truth``: (t_us, {column: value}) in time order."""
+    order; ``truth``: (t_us, {column: value}) in time order (iterated twice); ``notes``:
+    (t_us, channel, text), each channel a string variable of the ``events`` scope.
+    ``events`` and ``truth`` may be iterables that read from disk (``events`` is iterated
+    twice too): nothing here holds them whole. Returns each variable's (full name in the
+    file, kind) by (group, name), for :func:`write_gtkw`."""
     columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
+    notes = sorted(notes, key=lambda n: n[0])
+    channels = sorted({channel for _t, channel, _text in notes})
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
     for name, info in signals.items():
-        _insert(tree, [info["role"] + "s", *name.split(":", 1)[-1].split(".")], ("sig", name, info["kind"]))
+        parts = [info["role"] + "s", *name.split(":", 1)[-1].split(".")]
+        _insert(tree, parts, ("sig", name, info["kind"]))
+        if _SAME_AS.get(info["kind"], info["kind"]) == "bytes":
+            _insert(tree, [*parts[:-1], parts[-1] + "_text"], ("text", name, "text"))
     for col in columns:
         _insert(tree, ["truth", col], ("truth", col, "real"))
+    for channel in channels:
+        _insert(tree, ["events", channel], ("note", channel, "text"))
+    paths: dict[tuple[str, str], str] = {}
     with open(path, "w", encoding="ascii", errors="replace") as f:
         f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
         f.write(f"$scope module {_ident(top)} $end\n")
-        _declare(f, tree, ids)
+        _declare(f, tree, ids, paths, _ident(top))
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
-        merged = [(t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events]
-        merged += [(t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row]
-        merged.sort(key=lambda e: (e[0], e[1]))
+        sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
+        reals = ((t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row)
+        texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
+        # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
+        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts, key=lambda e: (e[0], e[1]))
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
             for name, info in signals.items()
         }
         state.update({ids[("truth", col)]: _value("real", None, ids[("truth", col)]) for col in columns})
-        n0 = 0
-        while n0 < len(merged) and merged[n0][0] <= 0:
-            _t, _order, key, kind, value = merged[n0]
+        state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] in ("text", "note")})
+        change = next(merged, None)
+        while change is not None and change[0] <= 0:
+            _t, _order, key, kind, value = change
             if key in ids:
                 state[ids[key]] = _value(kind, value, ids[key])
-            n0 += 1
+            change = next(merged, None)
         f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
-        _write_changes(f, merged[n0:], ids)
+        if change is not None:
+            _write_changes(f, itertools.chain([change], merged), ids)
+    return paths
+
+
+TEXT_LINE_MAX = 120  # characters of a UART line kept as text
+
+
+def _uart_text(events, ids):
+    """For each UART (a ``_text`` variable): at each chunk, the line being received,
+    or the line just completed until the next one starts."""
+    lines: dict[str, str] = {}
+    for t, name, value in events:
+        if ("text", name) not in ids or not value:
+            continue
+        text = lines.get(name, "") + bytes.fromhex(value).decode("latin-1").replace("\r", "")
+        done, _, partial = text.rpartition("\n")
+        lines[name] = partial[-TEXT_LINE_MAX:]
+        shown = partial or done.rpartition("\n")[2]
+        yield (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+
+
+def write_gtkw(path, vcd_path, paths: dict) -> None:
+    """GTKWave's save file for ``vcd_path``: ``gtkwave trace.gtkw`` opens the trace with
+    every variable shown, grouped by role (sensors, actuators, probes, pins, truth,
+    events) and then by part. ``paths``: what :func:`write_vcd` returned."""
+    groups: dict[str, dict[str, list]] = {}
+    for full, kind in sorted(paths.values()):
+        parts = full.split(".")
+        part = parts[2] if len(parts) > 3 else ""
+        groups.setdefault(parts[1], {}).setdefault(part, []).append((full, kind))
+    with open(path, "w", encoding="utf-8") as f:
+        save = GTKWSave(f)
+        save.comment("mpy-fil: open with `gtkwave trace.gtkw` from this folder")
+        save.dumpfile(str(vcd_path), abspath=False)
+        save.timestart(0)
+        save.sst_expanded(True)
+        save.signals_width(260)
+        for role in sorted(groups, key=_role_order):
+            with save.group(role):
+                for part, members in groups[role].items():
+                    if part:
+                        save.begin_group(part)
+                    for full, kind in members:
+                        save.trace(full, datafmt=_GTKW_FORMATS.get(kind, "bin"))
+                    if part:
+                        save.end_group(part)
+
+
+def _role_order(role: str) -> tuple:
+    order = ["sensors", "actuators", "probes", "pins", "truth", "events"]
+    return (order.index(role) if role in order else len(order), role)
+
+
+_GTKW_FORMATS = {"real": "real", "text": "ascii", "bytes": "ascii", "u16": "dec", "duty": "dec"}
 
 
 def _write_changes(f, merged, ids) -> None:
-    i = 0
-    while i < len(merged):
-        t = merged[i][0]
+    for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
         last: dict[str, str] = {}
-        while i < len(merged) and merged[i][0] == t:
-            _t, _order, key, kind, value = merged[i]
+        for _t, _order, key, kind, value in changes:
             code = ids.get(key)
             if code is not None:
                 last[code] = _value(kind, value, code)
-            i += 1
         if last:
             f.write(f"#{t}\n")
             f.write("\n".join(last.values()) + "\n")
@@ -88,15 +165,16 @@ def _insert(tree: dict, path: list[str], leaf) -> None:
     node[name] = leaf
 
 
-def _declare(f, tree: dict, ids: dict) -> None:
+def _declare(f, tree: dict, ids: dict, paths: dict, prefix: str) -> None:
     for name, node in tree.items():
         if isinstance(node, dict):
             f.write(f"$scope module {name} $end\n")
-            _declare(f, node, ids)
+            _declare(f, node, ids, paths, f"{prefix}.{name}")
             f.write("$upscope $end\n")
             continue
         code = _code(len(ids))
         ids[(node[0], node[1])] = code
+        paths[(node[0], node[1])] = (f"{prefix}.{name}", _SAME_AS.get(node[2], node[2]))
         f.write(f"$var {_var_type(node[2])} {code} {name} $end\n")
 
 
@@ -105,6 +183,8 @@ _SAME_AS = {"uart": "bytes", "pwm": "duty"}  # plant input kinds recorded as the
 
 def _var_type(kind: str) -> str:
     kind = _SAME_AS.get(kind, kind)
+    if kind == "text":
+        return "string 1"
     if kind == "real":
         return "real 64"
     if kind in ("u16", "duty"):
@@ -116,6 +196,8 @@ def _var_type(kind: str) -> str:
 
 def _value(kind: str, value, code: str) -> str:
     kind = _SAME_AS.get(kind, kind)
+    if kind == "text":
+        return f"s{_escape(value or '')} {code}"
     if kind == "real":
         return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
     if kind == "bytes":
@@ -143,6 +225,11 @@ def _code(n: int) -> str:
 
 def _ident(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_]", "_", text) or "_"
+
+
+def _escape(text: str) -> str:
+    """A string value: C escapes for white space, backslashes and what is not printable."""
+    return "".join(c if "!" <= c <= "~" and c != "\\" else f"\\x{ord(c) & 0xFF:02x}" for c in text)
 
 
 def _clean(text: str) -> str:

@@ -2,7 +2,9 @@
 
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
 plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
-when the test ends, pass or fail. ``rig`` is a started rover rig. With ``--hil-table``
+when the test ends, pass or fail. ``@pytest.mark.hil_budget(name, max_ms=...)`` or
+``make_rig(..., budget_limits={name: {...}})`` sets a test's own budget limits
+(:mod:`host.pytest_plugin.budget_marks`). ``rig`` is a started rover rig. With ``--hil-table``
 the budget statistics of every rig are printed at the end of the session, after each
 scenario's result line (what a test recorded with ``record_property("result", text)``);
 with ``--hil-report PATH`` every rig records a trace folder and the session ends by writing
@@ -18,14 +20,14 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
+from host.pytest_plugin import budget_marks
+from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
-from host.report.session import ReportCollector
-from host.report.table import format_summary, format_table
+from host.report.session import plot_one
 from host.rig import Rig
 
-_rows: list[dict] = []
-_report = pytest.StashKey[ReportCollector]()
 _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
+_records = pytest.StashKey[list]()  # what the report needs of each, once stopped
 
 
 def pytest_addoption(parser):
@@ -45,10 +47,10 @@ def pytest_addoption(parser):
 
 
 def pytest_configure(config):
-    path = config.getoption("--hil-report", None)
-    if path:
-        config.stash[_report] = ReportCollector(path)
+    if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
+        config.pluginmanager.register(SessionReport(config), "hil-session-report")
     config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
+    config.addinivalue_line("markers", budget_marks.MARK_HELP)
 
 
 def pytest_collection_modifyitems(items):
@@ -64,11 +66,8 @@ def pytest_runtest_makereport(item, call):
     report = yield
     if report.failed and item.stash.get(_rigs, None):
         report.sections.append(("firmware in the loop", _evidence(item)))
-    collector = item.config.stash.get(_report, None)
-    if collector is not None:
-        collector.count(item.nodeid, report)
-    if collector is not None and (item.get_closest_marker("hil") or "make_rig" in getattr(item, "fixturenames", ())):
-        collector.add_phase(item.nodeid, item.name, report)
+    if report.when == "teardown" and item.stash.get(_records, None):
+        setattr(report, RIGS_ATTRIBUTE, item.stash[_records])  # sent on by pytest-xdist
     return report
 
 
@@ -108,33 +107,38 @@ def artefacts_for(node) -> Path:
 @pytest.fixture
 def make_rig(request):
     rigs: list[Rig] = request.node.stash.setdefault(_rigs, [])
-    collector = request.config.stash.get(_report, None)
+    recording = bool(request.config.getoption("--hil-report", None))
 
     flashed = _flashed_firmware()
+    marked = budget_marks.marked_limits(request.node)
 
-    def factory(app="rover", **kwargs) -> Rig:
+    def factory(app="rover", budget_limits: dict | None = None, mission_s: float | None = None, **kwargs) -> Rig:
         kwargs.setdefault("artefacts", artefacts_for(request.node) / f"rig{len(rigs)}")
         if flashed and app == flashed["app"] and not {"main_dir", "firmware_dir", "plant"} & set(kwargs):
             kwargs.setdefault("firmware_dir", flashed["dir"])
             kwargs.setdefault("board", flashed["board"])
-        if collector is not None:
+        if recording:
             kwargs.setdefault("record", True)
             kwargs.setdefault("trace", True)
-        kwargs.setdefault("progress", mission_progress(request.config, f"{request.node.name} rig{len(rigs)}"))
+        label = f"{request.node.name} rig{len(rigs)}"
+        kwargs.setdefault("progress", mission_progress(request.config, label, mission_s))
         rig = Rig(app, **kwargs)
+        budget_marks.apply(rig, marked, f"@pytest.mark.{budget_marks.MARK}")
+        limits = {k: budget_marks.in_us(k, v, "make_rig budget_limits") for k, v in (budget_limits or {}).items()}
+        budget_marks.apply(rig, limits, "make_rig budget_limits")
         rigs.append(rig)
         rig.start()
         return rig
 
     yield factory
+    records = request.node.stash.setdefault(_records, [])
     for i, rig in enumerate(rigs):
         rig.stop()
-        scenario = request.node.name
         rows = [row for row in rig.budget_rows() if row["count"]]
         _properties(request.node, f"rig{i}", rig, rows)
-        _rows.extend({"scenario": scenario, **row} for row in rows)
-        if collector is not None:
-            collector.add_rig(request.node.nodeid, scenario, rig, rows)
+        # a pytest-xdist worker plots its rigs as it goes; one session plots them all at its end
+        plots = plot_one(rig.artefacts) if recording and is_worker(request.config) and rig.recorder else ([], "")
+        records.append(rig_record(f"rig{i}", rig, rows, plots))
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -159,41 +163,3 @@ def _flashed_firmware() -> dict | None:
 @pytest.fixture
 def rig(make_rig) -> Rig:
     return make_rig()
-
-
-def pytest_terminal_summary(terminalreporter, exitstatus, config):
-    if not config.getoption("--hil-table"):
-        return
-    results = [
-        (report.nodeid.split("::", 1)[-1], report.outcome, value)
-        for reports in terminalreporter.stats.values()
-        for report in reports
-        if getattr(report, "when", None) == "call"
-        for key, value in getattr(report, "user_properties", ())
-        if key == "result"
-    ]
-    if results:  # what each scenario measured: record_property("result", "...") in a test
-        terminalreporter.section("scenario results")
-        for name, outcome, text in results:
-            terminalreporter.write_line(f"{outcome:<7} {name}: {text}")
-    if _rows:
-        terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
-        if config.getoption("--hil-table-full"):
-            terminalreporter.write_line(format_table(_rows))
-        else:
-            failed = {r.nodeid.split("::")[-1] for r in terminalreporter.stats.get("failed", ())}
-            terminalreporter.write_line(format_summary(_rows, failed))
-
-
-def pytest_sessionfinish(session):
-    collector = session.config.stash.get(_report, None)
-    if collector is not None:
-        collector.write()
-
-
-def pytest_unconfigure(config):
-    """The report's path, as the session's last line."""
-    collector = config.stash.get(_report, None)
-    tr = config.pluginmanager.get_plugin("terminalreporter")
-    if collector is not None and tr is not None and collector.path.is_file():
-        tr.write_line(f"HIL report: {collector.path.resolve()}", bold=True)

@@ -1,7 +1,10 @@
 """A long mission's progress in a pytest session: on a terminal, one line under the test
 dots, rewritten in place and cleared before the test's result is written; in a log, a
-line now and then (:class:`host.report.progress.MissionProgress` decides when)."""
+line now and then (:class:`host.report.progress.MissionProgress` decides when). A
+pytest-xdist worker writes its lines, named by the worker, to its stderr, which the
+controller's terminal or log shows (a worker's stdout is its link to the controller)."""
 
+import contextlib
 import os
 import sys
 
@@ -10,16 +13,22 @@ from host.report.progress import MissionProgress
 _screens: list = []  # the session's one progress line (pytest_runtest_logreport has no config)
 
 
-def mission_progress(config, label: str) -> MissionProgress | None:
-    """A rig's ``progress`` callback for this session (None without a terminal reporter)."""
+def mission_progress(config, label: str, mission_s: float | None = None) -> MissionProgress | None:
+    """A rig's ``progress`` callback for this session (None without a terminal reporter);
+    ``mission_s``: the scenario's mission length, carried across its runs."""
+    if hasattr(config, "workerinput"):  # a pytest-xdist worker: its stdout goes nowhere, its stderr to the log
+        worker = config.workerinput.get("workerid", "?")
+        return MissionProgress(label, line=lambda text: _to_stderr(config, f"[{worker}] {text}"), mission_s=mission_s)
     tr = config.pluginmanager.get_plugin("terminalreporter")
     if tr is None:
         return None
     if getattr(tr, "isatty", False):
         if not _screens:
             _screens.append(_ScreenLine(config))
-        return MissionProgress(label, rewrite=_screens[0].show)
-    return MissionProgress(label, line=lambda text: _with_terminal(config, lambda t: t.write_line(text)))
+        return MissionProgress(label, rewrite=_screens[0].show, mission_s=mission_s)
+    return MissionProgress(
+        label, line=lambda text: _with_terminal(config, lambda t: t.write_line(text)), mission_s=mission_s
+    )
 
 
 def clear_progress_lines() -> None:
@@ -57,6 +66,13 @@ class _ScreenLine:
 def _raw(tr, text: str) -> None:
     tr.flush()
     os.write(sys.stdout.fileno(), text.encode())
+
+
+def _to_stderr(config, text: str) -> None:
+    """A line on the process's own stderr, around pytest's output capture."""
+    capman = config.pluginmanager.get_plugin("capturemanager")
+    with capman.global_and_fixture_disabled() if capman is not None else contextlib.nullcontext():
+        os.write(2, (text + "\n").encode())
 
 
 def _with_terminal(config, write) -> None:

@@ -89,6 +89,9 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     path.set_array(t_s[:-1])
     ax.add_collection(path)
     fig.colorbar(path, ax=ax, label="virtual time (s)", shrink=0.8)
+    belief = views.belief_path(trace)
+    if belief is not None:
+        ax.plot(belief.x_m, belief.y_m, "--", color="#ef6c00", linewidth=1.5, label=f"{belief.what} (firmware)")
     ax.plot(x[0], y[0], "o", color=OK_COLOUR, markersize=9, label="start")
     ax.plot(x[-1], y[-1], "s", color="#1565c0", markersize=8, label="end")
     if "theta_rad" in tr:
@@ -130,29 +133,46 @@ def signals_figure(trace: TraceData) -> Figure | None:
     panels = views.signal_panels(trace)
     if not panels:
         return None
-    height_in = 2.4 * len(panels) + 0.6
+    height_in = 2.4 * len(panels) + 0.8
     fig = Figure(figsize=(10, height_in))
-    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.6 / height_in, top=1 - 0.6 / height_in, hspace=0.35)
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     bumps = views.bumps_s(trace)
     for ax, panel in zip(axes, panels):
-        for line in panel.lines:
-            if line.style == "points":
-                ax.plot(line.t_s, line.values, ".", markersize=5, label=line.label)
-            elif line.style == "step":
-                ax.step(line.t_s, line.values, where="post", linewidth=1.2, label=line.label)
-            else:
-                ax.plot(line.t_s, line.values, linewidth=1.2, label=line.label)
-        for t in bumps:
-            ax.axvline(t, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
-        ax.set_title(panel.title, fontsize="medium", loc="left")
-        ax.set_ylabel(panel.ylabel)
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize="x-small", framealpha=0.9)
+        _draw_panel(ax, panel, bumps)
     axes[-1].set_xlabel("virtual time (s)" + ("; red lines: contacts with a wall" if len(bumps) else ""))
     axes[-1].set_xlim(0, trace.header["t_end_us"] / 1e6)
     fig.suptitle(f"Signals over time: {_title(trace)}", fontsize="medium")
     return fig
+
+
+def _draw_panel(ax, panel: views.Panel, bumps) -> None:
+    for line in panel.lines:
+        if line.style == "points":
+            ax.plot(line.t_s, line.values, ".", markersize=4, label=line.label)
+        elif line.style in ("step", "dashed"):
+            dashes = "--" if line.style == "dashed" else "-"
+            ax.step(line.t_s, line.values, dashes, where="post", linewidth=1.2, label=line.label)
+        else:
+            ax.plot(line.t_s, line.values, linewidth=1.2, label=line.label)
+    for value, label in panel.levels:
+        ax.axhline(value, color="#546e7a", linestyle=":", linewidth=1, label=label or None)
+    for t in bumps:
+        ax.axvline(t, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
+    if panel.notes:
+        ax.text(
+            0.01,
+            0.03,
+            "\n".join(panel.notes),
+            transform=ax.transAxes,
+            fontsize="x-small",
+            va="bottom",
+            bbox={"boxstyle": "round", "facecolor": "#fffde7", "edgecolor": "#bdbdbd", "alpha": 0.95},
+        )
+    ax.set_title(panel.title, fontsize="medium", loc="left")
+    ax.set_ylabel(panel.ylabel)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize="x-small", framealpha=0.9)
 
 
 # -- timing ------------------------------------------------------------------------------

@@ -5,12 +5,13 @@ The pytest plugin feeds it; it knows nothing of pytest beyond the report objects
 ``when``/``outcome``/``duration``/``longreprtext`` fields.
 """
 
+import json
 import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from host.artefacts.folder import HEADER, load_trace
+from host.artefacts.folder import HEADER
 from host.report.html import RigResult, Scenario, write_report
 
 MESSAGE_MAX_CHARS = 6000
@@ -38,11 +39,17 @@ class ReportCollector:
             self.scenarios[nodeid] = Scenario(name=name, nodeid=nodeid, outcome="passed")
         return self.scenarios[nodeid]
 
-    def add_rig(self, nodeid: str, name: str, rig, budget_rows: list[dict]) -> None:
-        folder = rig.artefacts
-        self.scenario(nodeid, name).rigs.append(RigResult(folder.name if folder else "rig", folder, budget_rows))
-        if rig.micropython_version and not self.micropython:
-            self.micropython = rig.micropython_version.split(";")[0]
+    def add_rig(self, nodeid: str, name: str, rig: dict) -> None:
+        """One stopped rig of a test: ``label``, ``folder`` (its trace folder, '' for none),
+        ``rows`` (its budget rows), ``micropython`` and ``plots`` (those already made)."""
+        folder = Path(rig["folder"]) if rig.get("folder") else None
+        result = RigResult(folder.name if folder else rig.get("label", "rig"), folder, list(rig.get("rows", ())))
+        result.plots = [Path(p) for p in rig.get("plots", ())]
+        if rig.get("plot_error"):
+            result.budgets.append(_plot_failure(rig["plot_error"]))
+        self.scenario(nodeid, name).rigs.append(result)
+        if rig.get("micropython") and not self.micropython:
+            self.micropython = rig["micropython"].split(";")[0]
 
     def add_phase(self, nodeid: str, name: str, report) -> None:
         """One of setup/call/teardown finished: fold its outcome into the scenario's."""
@@ -63,17 +70,24 @@ class ReportCollector:
         """Plot every recorded rig (in parallel) and write the report; returns its path.
         Scenarios are the tests that ran rigs, and every test that failed."""
         rigs = [r for s in self.scenarios.values() for r in s.rigs if r.folder and (r.folder / HEADER).is_file()]
-        results = _plot_all([r.folder for r in rigs], workers)
-        for rig, (plots, error) in zip(rigs, results):
+        unplotted = [r for r in rigs if not r.plots]  # a pytest-xdist worker plots its own rigs
+        results = _plot_all([r.folder for r in unplotted], workers)
+        for rig, (plots, error) in zip(unplotted, results):
             rig.plots = plots
-            rig.header = load_trace(rig.folder).header
             if error:
-                rig.budgets = rig.budgets + [{"budget": "(plots)", "limit": f"plotting failed: {error}"}]
+                rig.budgets = rig.budgets + [_plot_failure(error)]
+        for rig in rigs:
+            rig.header = json.loads((rig.folder / HEADER).read_text(encoding="utf-8"))
         shown = [s for s in self.scenarios.values() if s.rigs or s.outcome in ("failed", "error")]
         return write_report(self.path, shown, micropython=self.micropython, totals=self.totals or None)
 
 
-def _plot_one(folder: Path) -> tuple[list[Path], str]:
+def _plot_failure(error: str) -> dict:
+    return {"budget": "(plots)", "limit": f"plotting failed: {error}"}
+
+
+def plot_one(folder: Path) -> tuple[list[Path], str]:
+    """Every plot of one trace folder, or none and why."""
     from host.report.plots import plot_trace
 
     try:
@@ -87,8 +101,8 @@ def _plot_all(folders: list[Path], workers: int | None) -> list[tuple[list[Path]
 
     workers = workers or min(len(folders), os.cpu_count() or 1)
     if workers <= 1 or len(folders) <= 1:
-        return [_plot_one(f) for f in folders]
+        return [plot_one(f) for f in folders]
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        return list(pool.map(_plot_one, folders))
+        return list(pool.map(plot_one, folders))

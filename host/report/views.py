@@ -9,32 +9,20 @@
 """
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
+from host.report import beliefs, odometry
+from host.report.panels import US_PER_S, Line, Panel
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import World
 
 COVERAGE_CELL_M = 0.05
-US_PER_S = 1e6
-
-
-@dataclass
-class Line:
-    label: str
-    t_s: np.ndarray
-    values: np.ndarray
-    style: str = "line"  # "line", "step" (held until the next value) or "points"
-
-
-@dataclass
-class Panel:
-    title: str
-    ylabel: str
-    lines: list[Line] = field(default_factory=list)
+__all__ = ["Line", "Panel", "US_PER_S", "coverage", "signal_panels", "belief_path"]
+belief_path = odometry.belief_path  # the firmware's own idea of its path, for the trajectory
 
 
 @dataclass
@@ -96,7 +84,10 @@ def bumps_s(trace: TraceData) -> np.ndarray:
 
 def signal_panels(trace: TraceData) -> list[Panel]:
     view = VIEWS.get(trace.header.get("app"), generic_view)
-    return [p for p in view(trace) if p.lines]
+    panels = view(trace)
+    for panel in panels:  # an input never sampled in this run (the lab robot's sonars on the square) is left out
+        panel.lines = [line for line in panel.lines if len(line.t_s)]
+    return [p for p in panels if p.lines]
 
 
 def generic_view(trace: TraceData) -> list[Panel]:
@@ -197,4 +188,9 @@ def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(t_out), np.asarray(v_out)
 
 
-VIEWS = {"rover": rover_view}
+def odometry_view(trace: TraceData) -> list[Panel]:
+    """The firmware's odometry against the truth, then what every app gets."""
+    return [*odometry.odometry_panels(trace), *generic_view(trace)]
+
+
+VIEWS = {"rover": rover_view, **beliefs.VIEWS, **dict.fromkeys(odometry.POSE_LINES, odometry_view)}

@@ -39,7 +39,8 @@ COMPUTE = "compute"
 EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE)
 
 
-FIRST_MISSES = 5  # misses a budget keeps the time of, for its failure message
+FIRST_MISSES = 5  # misses a budget's failure message names, with their times
+KEPT_MISSES = 1000  # misses a budget keeps the time of (budgets.json, the VCD's events)
 
 
 class Budget:
@@ -55,7 +56,7 @@ class Budget:
         """value (us) -> how many times it was measured"""
         self.count = 0
         self.misses = 0
-        self.first_misses: list[tuple] = []  # (virtual t_us or None, value) of the first FIRST_MISSES
+        self.first_misses: list[tuple] = []  # (virtual t_us or None, value) of the first KEPT_MISSES
 
     def hooks(self) -> list[tuple]:
         """``(event, signal, callable)`` for each event this budget measures."""
@@ -67,7 +68,7 @@ class Budget:
         self.count += 1
         if missed:
             self.misses += 1
-            if len(self.first_misses) < FIRST_MISSES:
+            if len(self.first_misses) < KEPT_MISSES:
                 self.first_misses.append((t_us, value_us))
 
     @property
@@ -103,6 +104,7 @@ class Budget:
             "wall_clock": self.wall_clock,
             "stats": self.stats(),
             "histogram_us": [[value, n] for value, n in sorted(self.histogram.items())],
+            "misses_at": [[t, value] for t, value in self.first_misses],  # the first KEPT_MISSES
         }
 
     def limit_text(self) -> str:
@@ -116,7 +118,7 @@ class Budget:
         if self.misses:
             first = ", ".join(
                 f"{value} us" + (f" at virtual t={t / 1e6:.6f} s" if t is not None else "")
-                for t, value in self.first_misses
+                for t, value in self.first_misses[:FIRST_MISSES]
             )
             raise AssertionError(
                 f"budget {self.name}: expected every value {self.limit_text()}, "

@@ -45,14 +45,14 @@ class Clock:
             self.wait = None
             self._send_state(wait.t_now, t_end_us)
         elif not self.speculation.open:
-            self.speculation.commit(self.plant.t_us)  # nothing in this batch can be rewound
+            self.commit(self.plant.t_us)  # nothing in this batch can be rewound
 
     def run_alone(self, t_end_us: int) -> None:
         """The firmware ended: the plant runs on alone."""
         while self.plant.t_us < t_end_us:
             self.advance(t_end_us, _NO_WATCH)
             self.inputs.drop()
-        self.speculation.commit(self.plant.t_us)
+        self.commit(self.plant.t_us)
 
     def advance(self, target_us: int, watch: frozenset) -> bool:
         """Advance the plant, collecting what the firmware must see. True when the batch
@@ -95,7 +95,14 @@ class Clock:
             self.inputs.unsample(t_us)
             self.stats.rollbacks += 1
             self.log.rollback(t_us)
+        self.commit(t_us)
+
+    def commit(self, t_us: int) -> None:
+        """Nothing up to ``t_us`` can be rewound: held-back budget events go to the
+        budgets, and the recording may go to disk up to there."""
         self.speculation.commit(t_us)
+        if self.recorder is not None:
+            self.recorder.commit(t_us)
 
     def _send_state(self, base_us: int, t_end_us: int) -> None:
         t_us = self.plant.t_us

@@ -201,12 +201,12 @@ class Rig:
             return
         self._started = False
         self.linklog.close()
-        self.console_log.close()
+        self.console_log.close(self.t_us)
         if self.artefacts and self.recorder is not None:
             write_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant, self.budgets)
 
     def _on_console(self, data: bytes) -> None:
-        self.console_log.write(data)
+        self.console_log.write(data, self.t_us)
 
     @property
     def console(self) -> str:
@@ -282,6 +282,8 @@ class Rig:
         t_now, t_until, compute_us, watch = F.unpack_wait(p)
         watch = frozenset(watch) if watch else _NO_WATCH
         self.clock.block(t_now, t_until, watch)
+        if self.console_log.pending:
+            self.console_log.stamp(t_now)
         for call in self._compute_hooks:
             call(compute_us)
         self.linklog.wait(t_now, t_until, watch)

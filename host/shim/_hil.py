@@ -203,6 +203,14 @@ def send_output(type_, payload):
     _wrote = True
 
 
+def said():
+    """The firmware printed: its next wait goes to the host (as after an output), so the
+    host stamps the text with the virtual time it was printed at (docs/traces.md)."""
+    global _horizon
+    if _horizon > _now:
+        _horizon = _now
+
+
 def send_out(handle, attr, value):
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
 
@@ -467,7 +475,7 @@ def start():
     _Link.zero = bool(flags & F.WELCOME_ZERO_DELAY)
     import _hilsys  # the board's sys (sys.platform, _machine when the host names it), os, micropython
 
-    _hilsys.install(*(identity.decode().split(";", 1) if identity else ()))
+    _hilsys.install(said, *(identity.decode().split(";", 1) if identity else ()))
     _now = t_start
     _horizon = t_start
     _wake_real_us = _rtime.ticks_us()

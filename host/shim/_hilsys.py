@@ -2,7 +2,9 @@
 # `import` finds them there before the built-ins): sys with the board's sys.platform and
 # sys.implementation._machine (firmware picks pins by them) when the host names the
 # board, usys the same; micropython with alloc_emergency_exception_buf (a board's, here
-# nothing to allocate); os with uname(), which the unix port leaves out.
+# nothing to allocate); os with uname(), which the unix port leaves out, and ilistdir()
+# with each file's size, as a board's VFS gives it. print() tells the shim it printed, so
+# the host stamps the text with its virtual time (console.log, docs/traces.md).
 import micropython as _micropython
 import os as _os
 import sys as _sys
@@ -28,7 +30,28 @@ def _alloc_emergency_exception_buf(size):
     pass
 
 
-def install(platform=None, machine=None):
+def _ilistdir(path="."):
+    # a board's VFS gives (name, type, inode, size); the unix port's, three fields
+    folder = path or "."
+    for entry in _os.ilistdir(folder):
+        size = _os.stat(folder + "/" + entry[0])[6] if entry[1] == 0x8000 else 0
+        yield (entry[0], entry[1], entry[2], size)
+
+
+def _printing(said):
+    builtin_print = print
+
+    def board_print(*args, **kwargs):
+        builtin_print(*args, **kwargs)
+        said()
+
+    return board_print
+
+
+def install(said, platform=None, machine=None):
+    import builtins
+
+    builtins.print = _printing(said)
     impl = _sys.implementation
     version = ".".join(str(v) for v in impl.version[:3])
     if platform:
@@ -51,5 +74,6 @@ def install(platform=None, machine=None):
         machine or impl._machine,
     )
     board_os.uname = lambda: uname
+    board_os.ilistdir = _ilistdir
     _sys.modules["os"] = board_os
     _sys.modules["uos"] = board_os

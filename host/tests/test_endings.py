@@ -8,6 +8,7 @@ import time
 
 import pytest
 
+from host.artefacts.console import stamped_lines
 from host.core.errors import ConfigError, FirmwareError, FirmwareExited, SetupError
 from host.rig.rig import Rig
 from host.tests.conftest import FIRMWARE, shim_app
@@ -111,7 +112,9 @@ def test_a_chatty_console_streams_to_its_file_with_a_bounded_tail_in_memory(make
     size = (rig.artefacts / "console.log").stat().st_size
     assert size >= 2000 * 1024, f"expected about 2 MB of console in {rig.artefacts / 'console.log'}, got {size}"
     assert len(rig.console) <= 256 * 1024 and rig.console.endswith("x" * 1023 + "\n"), len(rig.console)
-    assert rig.console_log.total_bytes == size
+    lines = (rig.artefacts / "console.log").read_bytes().splitlines(keepends=True)
+    stamp = len(b"[   0.000000] ")
+    assert rig.console_log.total_bytes == size - stamp * len(lines), "each line in the file has its stamp"
 
 
 def test_a_callback_that_raises_ends_the_run_naming_the_callback(make_rig):
@@ -174,3 +177,44 @@ def test_the_trace_says_which_firmware_files_ran(make_rig, tmp_path):
     (copy / "main.py").write_text((copy / "main.py").read_text() + "\n# changed\n")
     changed = make_rig("rover", seed=1, main_dir=copy, trace=True)
     assert changed.firmware.identity()["sha256"] != ours["sha256"], "a changed file changes the hash"
+
+
+def test_firmware_lists_files_with_their_sizes_as_on_a_boards_vfs(make_rig, tmp_path):
+    folder = tmp_path / "bot"
+    folder.mkdir()
+    (folder / "main.py").write_text(
+        "import os\nfor name, kind, inode, size in os.ilistdir():\n    print('F', name, kind, size)\n"
+    )
+    (folder / "data").mkdir()
+    (folder / "rig.toml").write_text(
+        '[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    rig.run_for(0.1)
+    rig.stop()
+    main_size = (folder / "main.py").stat().st_size
+    assert f"F main.py 32768 {main_size}" in rig.console and "F data 16384 0" in rig.console, rig.console
+
+
+def test_console_log_lines_carry_the_virtual_time_they_were_printed_at(make_rig, tmp_path):
+    """The wires plant never changes an input by itself, so the shim could sleep through
+    the whole run alone; a print() still sends its next wait to the host, so the log
+    knows when each line was printed. The console in memory stays as printed."""
+    folder = tmp_path / "bot"
+    folder.mkdir()
+    (folder / "main.py").write_text(
+        "import time\nprint('boot')\nfor i in range(3):\n    time.sleep_ms(250)\n"
+        "    print('tick', i, end='')\n    time.sleep_ms(10)\n    print(' done')\n"
+    )
+    (folder / "rig.toml").write_text(
+        '[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    rig.run_for(1.0)
+    rig.stop()
+    assert rig.console == "boot\n" + "".join(f"tick {i} done\n" for i in range(3)), rig.console
+    lines = list(stamped_lines(rig.artefacts / "console.log"))
+    expected = [(0, "boot"), (250_000, "tick 0 done"), (510_000, "tick 1 done"), (770_000, "tick 2 done")]
+    assert lines == expected, f"expected {expected} in {rig.artefacts / 'console.log'}, got {lines}"
+    first = (rig.artefacts / "console.log").read_text().splitlines()[0]
+    assert first == "[   0.000000] boot", first

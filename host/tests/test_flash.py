@@ -38,6 +38,13 @@ def test_flash_copies_compiled_firmware_runs_main_and_copies_nothing_the_second_
     assert sorted((home / "fs").rglob("*.mpy")), "compiled modules on the board"
     assert not (home / "fs" / "rover_control.py").exists()
     assert first["first_lines"][:1] == ["rover on esp32-devkitc control every 50 ms"], first["first_lines"]
+    listing = mpremote(port, "ls", ":")
+    assert listing.returncode == 0, listing
+    sizes = {line.split()[1]: int(line.split()[0]) for line in listing.stdout.splitlines()[1:]}
+    main_size = (home / "fs" / "main.py").stat().st_size
+    assert sizes.get("main.py") == main_size and sizes.get("lib/") == 0, (
+        f"expected mpremote ls to show main.py's {main_size} bytes, as a board's VFS does; got {listing.stdout!r}"
+    )
     second = flash.flash("rover", BOARD, port, wait_s=1.0, log=lines.append)
     assert second["copied"] == [] and len(second["unchanged"]) == len(first["copied"]), second
 

@@ -1,7 +1,7 @@
 """The VCD writer: structure a wave viewer accepts, every change at its time, and GTKWave's
 own reader (vcd2fst, fst2vcd) reading back what was written."""
 
-from host.artefacts.vcd import write_vcd
+from host.artefacts.vcd import write_gtkw, write_vcd
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
 SIGNALS = {
@@ -45,6 +45,7 @@ def test_vcd_declares_each_signal_by_role_with_its_type_and_keeps_every_change_i
         "rover.sensors.enc_l.a": ("wire", 1),
         "rover.sensors.sonar.adc": ("integer", 32),
         "rover.sensors.gps.uart": ("wire", 8),
+        "rover.sensors.gps.uart_text": ("string", 1),
         "rover.actuators.motor_l.pwm": ("integer", 32),
         "rover.actuators.motor_l.in1": ("wire", 1),
         "rover.probes.control": ("wire", 1),
@@ -81,3 +82,57 @@ def test_gtkwave_reads_back_every_change_that_was_written(tmp_path):
     assert set(theirs.vars) == set(ours.vars), (sorted(ours.vars), sorted(theirs.vars))
     for name in ours.vars:
         assert theirs.timeline(name) == ours.timeline(name), f"{name}: GTKWave read {theirs.timeline(name)}"
+
+
+NMEA = "$GPGGA,1 2\r\n$GPRMC"  # two sentences, the second still arriving
+
+
+def test_a_uart_is_also_text_the_line_being_received_or_the_one_just_ended(tmp_path):
+    chunks = [(10, NMEA[:5]), (20, NMEA[5:10]), (30, NMEA[10:12]), (40, NMEA[12:])]
+    events = [(t, "gps.uart", text.encode().hex()) for t, text in chunks]
+    vcd = read_vcd(write(tmp_path, events=events).read_text())
+    assert vcd.timeline("rover.sensors.gps.uart_text") == [
+        (0, ""),
+        (10, "$GPGG"),
+        (20, "$GPGGA,1 2"),  # (a space in the text: written as an escape)
+        (30, "$GPGGA,1 2"),  # the line ended: it stays until the next one starts
+        (40, "$GPRMC"),
+    ]
+    assert vcd.timeline("rover.sensors.gps.uart")[-1] == (40, ord("C"))
+
+
+def test_console_lines_and_budget_misses_are_events_in_time_order(tmp_path):
+    notes = [(250_000, "console", "tick 0 done"), (0, "console", "boot"), (120_000, "budget_miss", "a.b 61000 us")]
+    path = write(tmp_path, notes=notes)
+    vcd = read_vcd(path.read_text())
+    assert vcd.timeline("rover.events.console") == [(0, "boot"), (250_000, "tick 0 done")]
+    assert vcd.timeline("rover.events.budget_miss") == [(0, ""), (120_000, "a.b 61000 us")]
+    theirs = read_vcd(gtkwave_round_trip(path, tmp_path))
+    assert theirs.timeline("rover.events.console") == [(0, "boot"), (250_000, "tick 0 done")], "GTKWave reads the text"
+
+
+def test_the_gtkwave_save_file_shows_every_variable_grouped_by_role_then_part(tmp_path):
+    path = tmp_path / "trace.vcd"
+    paths = write_vcd(
+        path,
+        top="rover",
+        comment="c",
+        signals=SIGNALS,
+        initial=INITIAL,
+        events=EVENTS,
+        truth=TRUTH,
+        notes=[(5, "console", "boot")],
+    )
+    write_gtkw(tmp_path / "trace.gtkw", "trace.vcd", paths)
+    lines = (tmp_path / "trace.gtkw").read_text().splitlines()
+    assert '[dumpfile] "trace.vcd"' in lines, lines[:5]
+    traced = [line for line in lines if line.startswith("rover.")]
+    assert sorted(traced) == sorted(read_vcd(path.read_text()).vars), traced
+    groups = [line[1:] for line in lines if line.startswith("-")]
+    assert groups[0] == "sensors" and "actuators" in groups and groups.count("motor_l") == 2, groups
+    assert groups[-2:] == ["events", "events"], groups  # begun and ended: the last group
+    flags = {name: int(prev[1:], 16) for prev, name in zip(lines, lines[1:]) if prev.startswith("@")}
+    ascii_flag, dec_flag, bin_flag = 0x800, 0x4, 0x8
+    assert flags.get("rover.sensors.enc_l.a", bin_flag) & bin_flag, "a level as a bit"
+    assert any(f & ascii_flag for name, f in flags.items() if "uart" in name), flags
+    assert any(f & dec_flag for name, f in flags.items() if "adc" in name or "pwm" in name), flags

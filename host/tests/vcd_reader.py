@@ -11,6 +11,7 @@ from pathlib import Path
 SCALAR = re.compile(r"^([01xXzZ])(\S+)$")
 VECTOR = re.compile(r"^[bB]([01xXzZ]+) (\S+)$")
 REAL = re.compile(r"^[rR](\S+) (\S+)$")
+STRING = re.compile(r"^s(\S*) (\S+)$")  # GTKWave's extension: text, C escapes for white space
 
 
 class VcdError(AssertionError):
@@ -86,7 +87,7 @@ def _read_header(tokens: list[str], vcd: Vcd) -> dict[str, list[Var]]:
 
 def _declare(tokens: list[str], i: int, scopes: list[str], vcd: Vcd, by_code: dict) -> None:
     _var, type_, width, code, name, end = tokens
-    if end != "$end" or type_ not in ("wire", "reg", "integer", "real", "event"):
+    if end != "$end" or type_ not in ("wire", "reg", "integer", "real", "event", "string"):
         raise VcdError(f"bad $var at token {i}: {tokens}")
     var = Var(type_, int(width), code, ".".join([*scopes, name]))
     if var.path in vcd.vars:
@@ -122,6 +123,10 @@ def _read_body(body: str, vcd: Vcd, by_code: dict) -> None:
 
 
 def _parse_value(kind: str, value: str, line: str, var: Var):
+    if (kind == "string") != (var.type == "string"):
+        raise VcdError(f"value {line!r} does not fit {var.type} {var.path}")
+    if kind == "string":
+        return value.encode("ascii").decode("unicode_escape")
     if kind == "real":
         if var.type != "real":
             raise VcdError(f"real value {line!r} for {var.type} {var.path}")
@@ -138,7 +143,7 @@ def _parse_value(kind: str, value: str, line: str, var: Var):
 
 
 def _match(line: str):
-    for pattern, kind in ((VECTOR, "vector"), (REAL, "real"), (SCALAR, "scalar")):
+    for pattern, kind in ((VECTOR, "vector"), (REAL, "real"), (STRING, "string"), (SCALAR, "scalar")):
         m = pattern.match(line)
         if m:
             return kind, m

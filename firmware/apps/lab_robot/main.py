@@ -27,6 +27,7 @@ CONTROL_US = const(50_000)  # deadlines in us: the sonar's RX pulse must not shi
 SONAR_START_MS = const(1000)  # SonarBot: ArUtil::sleep(1000) before the first read
 SONAR_MS = const(100)  # then ArUtil::sleep(100) between reads
 RANGING_MS = const(50)  # an LV-EZ reading is ready 49 ms after RX: command it a step early
+POSE_LOG_MS = const(250)  # a pose line on the console this often, to plot against a track
 
 
 class Robot:
@@ -51,6 +52,11 @@ class Robot:
         half = w_rad_s * TRACK_MM / 2
         self.motor_l.drive(self.speed_l.update(v_mm_s - half, self._ds_l, dt_ms))
         self.motor_r.drive(self.speed_r.update(v_mm_s + half, self._ds_r, dt_ms))
+
+    def log_pose(self, t_ms):
+        """The dead-reckoned pose for the console: pose t_ms x_mm y_mm theta_rad."""
+        odo = self.odo
+        print("pose %d %.1f %.1f %.4f" % (t_ms, odo.x_mm, odo.y_mm, odo.theta_rad))
 
     def report(self, t_ms, what):
         odo, dl, dr = self.odo, self.enc_l.decoder, self.enc_r.decoder
@@ -117,6 +123,7 @@ def run():
     program = CanyonRun(robot) if fitted else SquarePath(robot)
     probe = Pin(board.LOOP_PROBE, Pin.OUT, value=0)
     print("lab robot on", board.NAME + ":", program.name, "control every", CONTROL_MS, "ms")
+    print("pose columns: t_ms x_mm y_mm theta_rad")
     t_ms = 0  # program time, counted in steps (ticks_us wraps after 18 minutes)
     last = deadline = ticks_us()
     while True:
@@ -125,6 +132,8 @@ def run():
         dt_ms = ticks_diff(now, last) / 1000
         last = now
         robot.sense(dt_ms)
+        if t_ms % POSE_LOG_MS == 0:
+            robot.log_pose(t_ms)
         v, w = program.step(t_ms)
         robot.drive(v, w, dt_ms)
         t_ms += CONTROL_MS

@@ -41,6 +41,8 @@ SLOT_TIMEOUT_MS = const(550)  # no sentence this long after the last: a dead-rec
 BLIND_RESTART = const(6)  # slots without a reading (3 s) after which the filter restarts
 SWITCH_REPEAT_LAPS = const(1)  # "a few laps are repeated" after a sonar switch (seed 001 §7)
 FIR_WEIGHTS = (0.4, 0.3, 0.2, 0.1)  # the code's Filtering(), newest reading first
+LANE_LOG_SLOTS = const(2)  # a lane line every 2 closed-loop slots (1 s): an hour is ~130 kB
+LANE_LOG_COLUMNS = "t_ms sonar depth_m d_m phi_rad ref_m stop_ms"
 
 FRONT = const(1)  # bumper1
 REAR = const(2)  # bumper2
@@ -265,6 +267,18 @@ class Mission:
             self._update(d)
         self._follow_oblique(now_ms)
         self._steer()
+        if self.slots % LANE_LOG_SLOTS == 0:
+            self._lane_line(now_ms, depth)
+
+    def _lane_line(self, now_ms, depth):
+        """The filter's state for the console, one line a second: what the machine
+        believes (the sounder's depth, -1 for none; the estimate of d and phi; the lane
+        it holds; the stop it just commanded), LANE_LOG_COLUMNS, to plot against truth."""
+        f = self.filter
+        self.log(
+            "lane %d %d %.2f %.3f %.4f %.3f %d"
+            % (now_ms, self.sonar, -1.0 if depth is None else depth, f.d_m, f.phi_rad, self.ref_m, self.last_stop_ms)
+        )
 
     def _measure_width(self, raw):
         """Start-up: 10 readings of the left sonar with both tracks held (the code's
@@ -279,6 +293,7 @@ class Mission:
             self.phase = TO_EDGE
             self.stop_left = self.stop_right = 0
             self.log("width %.2f m: first lane, waiting for bumper1" % self.width_m)
+            self.log("lane columns: " + LANE_LOG_COLUMNS)
 
     def _update(self, d):
         """Measurement update. Gated against the prediction (the code's TH_PAR test, which

@@ -7,7 +7,7 @@ import math
 
 from duct_odometry import MM_PER_TICK, TRACK_MM
 
-CRUISE = 25  # ticks per 50 ms: 0.2 m/s (a duty step is about 4 ticks: 25 is one)
+CRUISE = 25  # ticks per 50 ms: 0.2 m/s (a duty step is about 5.7 ticks; duty 9 gives about 26)
 STEER = 4  # centring: cruise +- this
 SPIN = 16  # spin speed, ticks per period each wheel
 DEAD = 8  # centring dead band, counts of L - R

@@ -11,6 +11,8 @@
 # Division truncates toward zero, as C's integer division on the AVR did: -7 * 25 / 100
 # is -1, not Python's floor -2. So an error of -3..+3 ticks leaves the duty alone either
 # way and the loop has no bias downwards.
+# What the truncation leaves alone at rest: |e| <= 3 ticks at Kp 0.25 and 0.3, <= 4 at
+# 0.2, <= 9 at 0.1 (the Kp sweep in docs/duct.md).
 
 KP100 = 25  # Kp = 0.25
 DUTY_TOP = 20  # duty steps: 0..20 (5 % each) of the 20 kHz PWM

@@ -109,6 +109,7 @@ def run():
     nav = make_navigator(m)
     scheduler = QuantumScheduler(TASKS)
     print("RoboClean on", board.NAME, "goals", m["goals"], "gains", m["gains"], "bugs", m["bugs"])
+    print("pose columns: t_ms x_cm y_cm phi_deg")
     pose = (odometry.x, odometry.y, odometry.phi)
     t0 = ticks_ms()
     deadline = ticks_us()
@@ -125,6 +126,7 @@ def run():
             elif task == BEHAVIOUR:
                 if nav.check(pose):
                     report(t0, "behaviour: " + MODE_NAMES[nav.mode], pose)
+                log_pose(t0, pose)
             else:
                 reading = head.sense()
                 if reading is not None:
@@ -138,6 +140,11 @@ def wait_us(deadline):
     if left_us > 0:
         sleep_ms(left_us // 1000)  # the board idles (or serves Wi-Fi) meanwhile
         sleep_us(left_us % 1000)
+
+
+def log_pose(t0, pose):
+    """The odometry's pose for the console, every behaviour task (500 ms)."""
+    print("pose %d %.1f %.1f %.2f" % (ticks_diff(ticks_ms(), t0), pose[0], pose[1], math.degrees(pose[2])))
 
 
 def report(t0, what, pose):
