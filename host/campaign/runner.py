@@ -114,8 +114,10 @@ def run_campaign(campaign: Campaign, out, *, workers: int = 1, scheduler: str | 
     tasks = campaign.tasks()
     done_keys = store.done()
     todo = [t for t in tasks if task_key(t) not in done_keys]
+    if not todo:
+        return store.read()
     busy_poll = workers <= 1 and scheduler is None  # (a second rig takes the spare core)
-    pool = DaskPool(scheduler, busy_poll) if scheduler else LocalPool(workers, busy_poll)
+    pool = DaskPool(scheduler, busy_poll) if scheduler else LocalPool(min(workers, len(todo)), busy_poll)
     count = [len(tasks) - len(todo)]
 
     def report(result: dict) -> None:
