@@ -71,8 +71,10 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
         seg = np.asarray(world["segments"], dtype=float)
         span = np.ptp(seg[:, [0, 2]]), np.ptp(seg[:, [1, 3]])
         aspect = span[1] / span[0] if span[0] > 0 else aspect
-    fig = Figure(figsize=(8, min(max(6.2 * aspect + 1.6, 4.0), 10.0)), layout="constrained")
-    ax = fig.add_subplot()
+    height_in = min(max(6.2 * aspect + 1.6, 4.0), 10.0)
+    fig = Figure(figsize=(8, height_in))  # fixed margins: a constrained layout costs half the drawing
+    ax = fig.add_axes((0.09, 0.75 / height_in, 0.76, 1 - 1.45 / height_in))
+    colorbar_axes = fig.add_axes((0.88, 0.75 / height_in + 0.1, 0.025, 1 - 1.45 / height_in - 0.2))
     cov = views.coverage(trace)
     if cov is not None:
         image = np.zeros(cov.free.shape, dtype=int)
@@ -88,7 +90,7 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     path = LineCollection(np.concatenate([points[:-1], points[1:]], axis=1), cmap="viridis", linewidth=2)
     path.set_array(t_s[:-1])
     ax.add_collection(path)
-    fig.colorbar(path, ax=ax, label="virtual time (s)", shrink=0.8)
+    fig.colorbar(path, cax=colorbar_axes, label="virtual time (s)")
     belief = views.belief_path(trace)
     if belief is not None:
         ax.plot(belief.x_m, belief.y_m, "--", color="#ef6c00", linewidth=1.5, label=f"{belief.what} (firmware)")
@@ -120,7 +122,7 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    fig.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
+    fig.legend(loc="lower center", ncols=5, fontsize="small", frameon=False)
     covered = f", {cov.fraction:.0%} of the floor covered" if cov is not None else ""
     ax.set_title(f"Trajectory (ground truth){covered}\n{_title(trace)}", fontsize="medium")
     return fig
