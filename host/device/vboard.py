@@ -342,13 +342,27 @@ def stop_background(board: str, home: Path | None = None) -> bool:
         return False
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:
-        try:
-            os.kill(pid, 0)
-        except ProcessLookupError:
+        if _gone(pid):
             return True
         time.sleep(0.02)
     os.kill(pid, signal.SIGKILL)
+    _gone(pid)
     return True
+
+
+def _gone(pid: int) -> bool:
+    """True once the process has ended: reaped here when this process started it (a
+    child that ended stays a zombie, alive to kill(pid, 0), until its parent reaps it)."""
+    try:
+        if os.waitpid(pid, os.WNOHANG)[0] == pid:
+            return True
+    except ChildProcessError:  # another process's child (a board started by make flash)
+        pass
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    return False
 
 
 def _serve(args) -> int:
