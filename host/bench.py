@@ -205,7 +205,7 @@ def main(argv=None) -> int:
 def report_campaign() -> None:
     one, lone, two = bench_campaign(1), bench_campaign(1, busy_poll=False), bench_campaign(2)
     print(
-        f"campaign throughput ({one['runs']} rover runs of 120 simulated s; load average {os.getloadavg()[0]:.1f} "
+        f"campaign throughput ({one['runs']} rover runs of 300 simulated s; load average {os.getloadavg()[0]:.1f} "
         f"on {os.cpu_count()} cores): 1 worker {one['per_min']:.1f} runs/min ({lone['per_min']:.1f} without "
         f"busy polling), 2 workers {two['per_min']:.1f} runs/min: {two['per_min'] / one['per_min']:.2f}x "
         f"({two['per_min'] / lone['per_min']:.2f}x; target >= 1.7x); CPU per run {one['cpu_s']:.2f} s, "
@@ -219,7 +219,7 @@ def bench_ping(sim_s: float) -> list[float]:
         return rig.stats.round_trip_us[10:]
 
 
-def bench_campaign(workers: int, runs: int = 8, sim_s: float = 120.0, busy_poll: bool = True) -> dict:
+def bench_campaign(workers: int, runs: int = 16, sim_s: float = 300.0, busy_poll: bool = True) -> dict:
     """A campaign of ``runs`` rover runs of ``sim_s`` simulated seconds on ``workers`` local
     processes: its wall time from the pool's start to the last result (docs/campaigns.md).
     ``busy_poll`` False: a lone worker does not busy-poll its spare core either."""
