@@ -50,15 +50,17 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
 
-# (on every core, a test file to a worker: a file's module fixtures run once; rigs record nothing,
-# for speed: a failed test's rerun line, run as printed, keeps its whole trace folder)
+# (a test file to a worker: a file's module fixtures run once; one worker more than cores, since
+# rigs also wait on the wall clock (process start-up, real-time runs, watchdogs); rigs record
+# nothing, for speed: a failed test's rerun line, run as printed, keeps its whole trace folder)
+WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 test: setup
-	$(PY) -m pytest -q -n auto --dist loadfile --hil-keep none
+	$(PY) -m pytest -q -n $(WORKERS) --dist loadfile --hil-keep none
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
 # core, a test file to a worker, the report and the tables gathered from all of them
 hil: setup
-	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n auto --dist loadfile -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadfile -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
