@@ -82,16 +82,19 @@ def session(tmp_path_factory):
     where = tmp_path_factory.mktemp("session")
     (where / "test_report_scenarios.py").write_text(textwrap.dedent(SCENARIOS))
     report = where / "report.html"
-    done = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-table", f"--hil-report={report}"]
-        + [f"--junitxml={where / 'junit.xml'}"]
-        + ["test_report_scenarios.py"],
+    args = ("--hil-table", f"--hil-report={report}", f"--junitxml={where / 'junit.xml'}", "test_report_scenarios.py")
+    return where, report, inner_pytest(where, *args)
+
+
+def inner_pytest(where: Path, *args: str) -> subprocess.CompletedProcess:
+    """A pytest session of its own in ``where``, as a user runs one."""
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args],
         cwd=where,
         capture_output=True,
         text=True,
         timeout=SESSION_TIMEOUT_S,
     )
-    return where, report, done
 
 
 def test_a_session_writes_one_report_and_prints_its_path_at_the_end(session):
@@ -233,13 +236,15 @@ def xdist_session(tmp_path_factory):
     (where / "test_report_first.py").write_text(passing)
     (where / "test_report_second.py").write_text("import pytest\n\n\ndef test_rover_reaches" + failing)
     report = where / "report.html"
-    done = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", "2", "--dist", "loadfile"]
-        + ["--hil-table", f"--hil-report={report}", f"--junitxml={where / 'junit.xml'}"],
-        cwd=where,
-        capture_output=True,
-        text=True,
-        timeout=SESSION_TIMEOUT_S,
+    done = inner_pytest(
+        where,
+        "-n",
+        "2",
+        "--dist",
+        "loadfile",
+        "--hil-table",
+        f"--hil-report={report}",
+        f"--junitxml={where / 'junit.xml'}",
     )
     return where, report, done
 
@@ -280,13 +285,7 @@ def test_without_a_report_a_failed_tests_rigs_keep_their_whole_trace_and_a_passe
     """The default (--hil-keep failed): every rig records; a failed test's rigs write their
     trace folder and plots beside its console, a passed test's write only the console."""
     (tmp_path / "test_keep.py").write_text(textwrap.dedent(SCENARIOS))
-    done = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "test_keep.py"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        timeout=SESSION_TIMEOUT_S,
-    )
+    done = inner_pytest(tmp_path, "test_keep.py")
     assert done.returncode == 1, done.stdout + done.stderr
     hil = tmp_path / "build" / "hil" / "test_keep"
     failed, passed = (
