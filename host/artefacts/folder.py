@@ -21,6 +21,7 @@ Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``)
 """
 
 import csv
+import heapq
 import json
 import math
 import re
@@ -82,15 +83,29 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     return folder
 
 
-def trace_notes(folder: Path, budgets: dict) -> list[tuple[int, str, str]]:
-    """(t_us, channel, text) for the VCD's events: each console line (``console``) and
-    each kept budget miss (``budget_miss``: the budget's name and value)."""
-    notes = []
-    if (folder / CONSOLE).is_file():
-        notes += [(t, "console", line) for t, line in stamped_lines(folder / CONSOLE)]
-    for b in budgets.values():
-        notes += [(t, "budget_miss", f"{b.name} {value} us") for t, value in b.first_misses if t is not None]
-    return notes
+def trace_notes(folder: Path, budgets: dict) -> "_Records":
+    """(t_us, channel, text) for the VCD's events, in time order: each console line
+    (``console``, read from the file as it goes: a chatty firmware's console is never
+    held whole) and each kept budget miss (``budget_miss``: the budget's name and value)."""
+    misses = sorted(
+        (
+            (t, "budget_miss", f"{b.name} {value} us")
+            for b in budgets.values()
+            for t, value in b.first_misses
+            if t is not None
+        ),
+        key=_time,
+    )
+    console = folder / CONSOLE
+
+    def lines():
+        return ((t, "console", line) for t, line in stamped_lines(console)) if console.is_file() else ()
+
+    return _Records(lambda: heapq.merge(lines(), misses, key=_time))
+
+
+def _time(record: tuple) -> int:
+    return record[0]
 
 
 class _Records:

@@ -39,12 +39,11 @@ _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=()) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
     order; ``truth``: (t_us, {column: value}) in time order (iterated twice); ``notes``:
-    (t_us, channel, text), each channel a string variable of the ``events`` scope.
-    ``events`` and ``truth`` may be iterables that read from disk (``events`` is iterated
-    twice too): nothing here holds them whole. Returns each variable's (full name in the
+    (t_us, channel, text) in time order (iterated twice), each channel a string variable of
+    the ``events`` scope. All three may be iterables that read from disk (``events`` is
+    iterated twice too): nothing here holds them whole. Returns each variable's (full name in the
     file, kind) by (group, name), for :func:`write_gtkw`."""
     columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
-    notes = sorted(notes, key=lambda n: n[0])
     channels = sorted({channel for _t, channel, _text in notes})
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}

