@@ -69,10 +69,15 @@ class CoverageGrid:
         same cells: each sample lies on a segment swept here); the samples stay as
         flush() leaves them. Ground truth asks for this every 50 ms."""
         pts = self.pending
-        if pts:
+        if not pts:
+            return
+        if len(pts) <= FEW_SEGMENTS:
+            path = [*pts, (x_m, y_m)]
+            self._sweep_few(path[:-1], path[1:])
+        else:
             arr = np.array([*pts, (x_m, y_m)], dtype=float)
             self._sweep(arr[:-1], arr[1:])
-            self.pending = pts[-1:]
+        self.pending = pts[-1:]
 
     def sweep(self, ax: float, ay: float, bx: float, by: float) -> None:
         """Mark the footprint along one segment."""
@@ -80,6 +85,9 @@ class CoverageGrid:
 
     def _sweep(self, a, b) -> None:
         """Mark every cell whose centre is within the half-width of any segment a[k]-b[k]."""
+        if len(a) <= FEW_SEGMENTS:
+            self._sweep_few(a.tolist(), b.tolist())
+            return
         r, c = self.half_width_m, self.cell_m
         lo = np.minimum(a.min(axis=0), b.min(axis=0)) - r
         hi = np.maximum(a.max(axis=0), b.max(axis=0)) + r
@@ -91,9 +99,6 @@ class CoverageGrid:
             return
         cx = self.x0_m + (np.arange(i0, i1) + 0.5) * c
         cy = self.y0_m + (np.arange(j0, j1) + 0.5) * c
-        if len(a) <= FEW_SEGMENTS:
-            self._mark(j0, i0, self._hit_few(cx, cy, a, b))
-            return
         px = np.repeat(cx[None, :], j1 - j0, axis=0).ravel()[:, None] - a[None, :, 0]
         py = np.repeat(cy[:, None], i1 - i0, axis=1).ravel()[:, None] - a[None, :, 1]
         u = b - a
@@ -103,22 +108,43 @@ class CoverageGrid:
         hit = ((dx * dx + dy * dy) <= r * r).any(axis=1)
         self._mark(j0, i0, hit.reshape(j1 - j0, i1 - i0))
 
-    def _hit_few(self, cx, cy, a, b):
-        """_sweep's test for a few segments, one at a time on the (rows, columns) grid of
-        the box: the same arithmetic element by element, without the repeated arrays
-        (ground truth sweeps one or two segments every 50 ms)."""
-        r2 = self.half_width_m * self.half_width_m
-        hit = None
-        for (ax, ay), (bx, by) in zip(a.tolist(), b.tolist()):
+    def _sweep_few(self, a, b) -> None:
+        """_sweep for a few segments (ground truth sweeps one or two every 50 ms): cell by
+        cell in Python, the same arithmetic as the arrays' element by element, and a cell
+        already swept is passed over before any of it (most of a moving robot's box is)."""
+        r, c, x0, y0 = self.half_width_m, self.cell_m, self.x0_m, self.y0_m
+        r2 = r * r
+        xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
+        i0 = max(0, int((min(xs_) - r - x0) / c))
+        i1 = min(self.nx, int((max(xs_) + r - x0) / c) + 1)
+        j0 = max(0, int((min(ys_) - r - y0) / c))
+        j1 = min(self.ny, int((max(ys_) + r - y0) / c) + 1)
+        if i0 >= i1 or j0 >= j1:
+            return
+        segs = []
+        for (ax, ay), (bx, by) in zip(a, b):
             ux, uy = bx - ax, by - ay
             l2 = ux * ux + uy * uy
-            px = cx[None, :] - ax
-            py = cy[:, None] - ay
-            s = np.clip((px * ux + py * uy) / (l2 if l2 > 0 else 1.0), 0.0, 1.0)
-            dx, dy = px - s * ux, py - s * uy
-            one = (dx * dx + dy * dy) <= r2
-            hit = one if hit is None else hit | one
-        return hit
+            segs.append((ax, ay, ux, uy, l2 if l2 > 0 else 1.0))
+        xs = [(i, x0 + (i + 0.5) * c) for i in range(i0, i1)]
+        covered, free = self.covered, self.free
+        new = 0
+        for j, done in zip(range(j0, j1), covered[j0:j1, i0:i1].tolist()):
+            cy = y0 + (j + 0.5) * c
+            row = covered[j]
+            for (i, cx), swept in zip(xs, done):
+                if swept:
+                    continue
+                for ax, ay, ux, uy, l2 in segs:
+                    px, py = cx - ax, cy - ay
+                    s = (px * ux + py * uy) / l2
+                    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
+                    dx, dy = px - s * ux, py - s * uy
+                    if dx * dx + dy * dy <= r2:
+                        row[i] = True
+                        new += bool(free[j, i])
+                        break
+        self.covered_free += new
 
     def _mark(self, j0: int, i0: int, hit) -> None:
         j1, i1 = j0 + hit.shape[0], i0 + hit.shape[1]

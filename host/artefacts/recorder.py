@@ -130,7 +130,11 @@ class Recorder:
         t_us = plant.t_us
         if t_us < self._next_truth_us:
             return
-        row = {k: _plain(v) for k, v in plant.truth().items() if isinstance(v, numbers.Real)}
+        row = {
+            k: v if type(v) in _PLAIN_NUMBERS else _plain(v)
+            for k, v in plant.truth().items()
+            if type(v) in _PLAIN_NUMBERS or isinstance(v, numbers.Real)
+        }
         self._truth.append((t_us, row))
         self._next_truth_us = (t_us // self.truth_period_us + 1) * self.truth_period_us
 
@@ -205,6 +209,9 @@ def _prefix(records: list, t_us: int) -> int:
 
 def _time(event) -> int:
     return event[0]
+
+
+_PLAIN_NUMBERS = {int, float}  # (the usual truth values: as they are, with no ABC check)
 
 
 def _plain(value):

@@ -64,7 +64,8 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
         sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
-        reals = ((t, 1, ("truth", col), "real", row[col]) for t, row in truth for col in columns if col in row)
+        truth_codes = [(col, ids[("truth", col)]) for col in columns]
+        reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
         texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
         # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
         merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts, key=lambda e: (e[0], e[1]))
@@ -78,12 +79,14 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         change = next(merged, None)
         while change is not None and change[0] <= 0:
             _t, _order, key, kind, value = change
-            if key in ids:
+            if key is _ROW:
+                state.update(_row_values(value, truth_codes))
+            elif key in ids:
                 state[ids[key]] = _value(kind, value, ids[key])
             change = next(merged, None)
         f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
         if change is not None:
-            _write_changes(f, itertools.chain([change], merged), ids)
+            _write_changes(f, itertools.chain([change], merged), ids, truth_codes, state)
     return paths
 
 
@@ -139,10 +142,29 @@ def _role_order(role: str) -> tuple:
 _GTKW_FORMATS = {"real": "real", "text": "ascii", "bytes": "ascii", "u16": "dec", "duty": "dec"}
 
 
-def _write_changes(f, merged, ids) -> None:
+_ROW = ("truth", None)  # a ground-truth row: one change per column in it
+
+
+def _row_values(row: dict, truth_codes) -> dict:
+    return {
+        code: f"r{float(row[col]):.9g} {code}" if row[col] is not None else f"r0 {code}"
+        for col, code in truth_codes
+        if col in row
+    }
+
+
+def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
+    """Each instant's changes, a variable's last one at that instant. A ground-truth
+    value the variable already shows is not written again (``shown``: code -> its value
+    line); every other change is, as a repeated console line is an event of its own."""
     for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
         last: dict[str, str] = {}
         for _t, _order, key, kind, value in changes:
+            if key is _ROW:
+                for code, line in _row_values(value, truth_codes).items():
+                    if shown.get(code) != line:
+                        last[code] = shown[code] = line
+                continue
             code = ids.get(key)
             if code is not None:
                 last[code] = _value(kind, value, code)
