@@ -58,9 +58,11 @@ test: setup
 	$(PY) -m pytest -q -n $(WORKERS) --dist loadfile --hil-keep none
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
-# core, a test file to a worker, the report and the tables gathered from all of them
+# core, a test to a worker (a module with module fixtures is one group: they run once), the
+# report and the tables gathered from all of them; the long sweeps (many seeds, marked
+# long) record nothing, their result lines and budgets still in the report
 hil: setup
-	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadfile -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))

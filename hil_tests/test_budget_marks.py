@@ -11,7 +11,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-pytestmark = pytest.mark.hil
+pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_budget_marks")]  # (make hil: its module fixtures run once)
 
 SESSION_TIMEOUT_S = 120
 SCENARIOS = """

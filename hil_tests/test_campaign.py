@@ -14,7 +14,7 @@ from host.campaign.report import wilson, write_report
 from host.campaign.runner import run_campaign
 from host.campaign.worker import run_one
 
-pytestmark = pytest.mark.hil
+pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_campaign")]  # (make hil: its module fixtures run once)
 
 SCENARIO = """
 [campaign]

@@ -18,7 +18,8 @@ SWEEP = (100, 40, 30, 25, 20, 10)  # Kp x 100
 HOME_TOLERANCE_M = 0.15
 START = (0.3, 0.2)
 HIL_ONLY = pytest.mark.skipif("not config.getoption('--hil-report')", reason="make hil runs all 20 seeds")
-BRANCH_SEEDS = [s if s == 1 else pytest.param(s, marks=HIL_ONLY) for s in range(1, 21)]
+LONG = pytest.mark.long  # make hil: a sweep of many runs, its rigs not recorded (the first seed's are)
+BRANCH_SEEDS = [s if s == 1 else pytest.param(s, marks=[HIL_ONLY, LONG]) for s in range(1, 21)]
 
 
 def where(rig) -> str:
@@ -195,6 +196,7 @@ def test_single_right_branch_without_snags(make_rig, record_property, seed):
 
 
 @HIL_ONLY
+@LONG
 def test_single_right_branch_with_tether_snags(make_rig, record_property):
     """§5.7: 18 of 20 runs succeeded, both failures from the tether catching. The snag
     chance, 0.29 a spin (two spins a run), is the seed's 0.1 failures a run over the share
@@ -227,6 +229,7 @@ def test_single_right_branch_with_tether_snags(make_rig, record_property):
 COST_SEEDS = range(1, 11)
 
 
+@LONG
 @pytest.mark.parametrize("spin", [0, pytest.param(1, marks=HIL_ONLY)], ids=["into-the-branch", "out-of-it"])
 def test_what_a_snag_costs(make_rig, record_property, request, spin):
     """The snag rate rests on the share of snags that cost a run (sim_plant/tether.py:

@@ -173,6 +173,7 @@ def test_decoding_errors_match_the_missed_edges_the_plant_injected(make_rig, rec
     assert error_mm <= CLOSE_TOLERANCE_MM, f"expected the square closed within 20 mm, got {error_mm:.1f} mm"
 
 
+@pytest.mark.long
 def test_square_closing_error_over_20_seeds_with_slip_and_missed_edges(make_rig, record_property):
     """The world "arena-noisy": each wheel slips by N(0, 1 %) of its travel, redrawn every
     100 ms, and 0.5 % of the edges come two at once. Dead reckoning cannot see slip: the

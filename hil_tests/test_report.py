@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-pytestmark = pytest.mark.hil
+pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_report")]  # (make hil: its module fixtures run once)
 
 SESSION_TIMEOUT_S = 120
 BROWSER_TIMEOUT_S = 90
@@ -299,3 +299,29 @@ def test_without_a_report_a_failed_tests_rigs_keep_their_whole_trace_and_a_passe
     assert f"artefacts {failed}" in done.stdout, done.stdout
     kept = sorted(p.name for p in passed.iterdir())
     assert kept == ["console.log"], f"expected only console.log of a passed test in {passed}, got {kept}"
+
+
+LONG_SCENARIO = """
+    import pytest
+
+
+    @pytest.mark.long
+    def test_a_long_sweep(make_rig, record_property):
+        rig = make_rig("rover", seed=3)
+        rig.run_for(2)
+        record_property("result", f"drove {rig.truth()['x_m']:.1f} m")
+"""
+
+
+def test_under_a_report_a_long_sweeps_rigs_record_nothing_and_the_sweep_is_still_reported(tmp_path):
+    (tmp_path / "test_long_sweep.py").write_text(textwrap.dedent(LONG_SCENARIO))
+    report = tmp_path / "report.html"
+    done = inner_pytest(tmp_path, "--hil-table", f"--hil-report={report}", "test_long_sweep.py")
+    assert done.returncode == 0, f"expected the sweep to pass, got exit {done.returncode}:\n{done.stdout}{done.stderr}"
+    rig = tmp_path / "build" / "hil" / "test_long_sweep" / "test_a_long_sweep" / "rig0"
+    kept = sorted(p.name for p in rig.iterdir()) if rig.is_dir() else []
+    assert kept == ["console.log"], f"expected only the console of a long sweep's rig in {rig}, got {kept}"
+    page = parse(report.read_text())
+    assert page.sections == ["scenario passed"] and page.tables == 1, f"{page.sections}, {page.tables} in {report}"
+    assert not page.images, f"expected no plots of an unrecorded rig in {report}, got {len(page.images)}"
+    assert any("drove" in text for text in page.text), f"the sweep's result line is missing from {report}"

@@ -16,7 +16,7 @@ from host.report.plots import plot_trace
 from host.rig.replay import replay
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
-pytestmark = pytest.mark.hil
+pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_traces")]  # (make hil: its module fixtures run once)
 
 DURATION_S = 12
 

@@ -293,9 +293,12 @@ def test_the_three_gain_sets_on_the_straight_run_from_50_0_to_150_0(vacuum, reco
         if seed in FURNITURE_SEEDS_IN_MAKE_TEST
         else pytest.param(
             seed,
-            marks=pytest.mark.skipif(
-                "not config.getoption('--hil-report')", reason="make hil runs all 20 seeds; make test the first 5"
-            ),
+            marks=[
+                pytest.mark.skipif(
+                    "not config.getoption('--hil-report')", reason="make hil runs all 20 seeds; make test the first 5"
+                ),
+                pytest.mark.long,  # (make hil records the first five)
+            ],
         )
         for seed in FURNITURE_SEEDS
     ],

@@ -25,6 +25,7 @@ from host.campaign.scenario import task_key
 from host.core import provenance
 from host.core.errors import ConfigError, HarnessError
 from host.link.faults import wrap
+from host.link.transport import BUSY_POLL_ENV
 from host.rig import Rig
 from host.rig.apps import get_app
 from host.rig.target import UnixPortTarget, end_process
@@ -32,7 +33,6 @@ from sim_plant import kinds
 from sim_plant.faults import parse_faults, with_faults
 
 MESSAGE_CHARS = 3000
-BUSY_POLL_ENV = "MPY_FIL_BUSY_POLL"  # host.link.transport.spare_core reads it
 
 
 class RunTimeout(HarnessError):

@@ -7,11 +7,14 @@ import time
 
 from host.core.errors import LinkError, LinkTimeout
 
+BUSY_POLL_ENV = "MPY_FIL_BUSY_POLL"
+
 
 def spare_core() -> bool:
     """True if this process may use two or more cores (one can busy-poll); never when
-    ``MPY_FIL_BUSY_POLL=0`` (a campaign's workers: the other cores are taken)."""
-    if os.environ.get("MPY_FIL_BUSY_POLL") == "0":
+    ``MPY_FIL_BUSY_POLL=0`` (a campaign's workers, pytest-xdist workers on every core: the
+    other cores are taken)."""
+    if os.environ.get(BUSY_POLL_ENV) == "0":
         return False
     try:
         return len(os.sched_getaffinity(0)) >= 2

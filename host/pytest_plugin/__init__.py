@@ -23,6 +23,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
+from host.link.transport import BUSY_POLL_ENV
 from host.pytest_plugin import budget_marks
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
@@ -57,10 +58,21 @@ def pytest_addoption(parser):
     )
 
 
+LONG_MARK_HELP = (
+    "long: a slow scenario (a sweep over many seeds); with --hil-report its rigs record nothing "
+    "(its result line and budgets are in the report; a failure's rerun line records)"
+)
+
+
 def pytest_configure(config):
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
         config.pluginmanager.register(SessionReport(config), "hil-session-report")
+    elif _every_core_has_a_worker():
+        # a rig's host spins on its link while the firmware computes (docs/clock.md):
+        # with a worker on every core that spin takes the core of another worker's rig
+        os.environ.setdefault(BUSY_POLL_ENV, "0")
     config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
+    config.addinivalue_line("markers", LONG_MARK_HELP)
     config.addinivalue_line("markers", budget_marks.MARK_HELP)
 
 
@@ -70,6 +82,15 @@ def pytest_collection_modifyitems(items):
     for item in items:
         if {"make_rig", "rig"} & set(getattr(item, "fixturenames", ())) and not item.get_closest_marker("hil"):
             item.add_marker(pytest.mark.hil)
+
+
+def _every_core_has_a_worker() -> bool:
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:
+        cores = os.cpu_count() or 1
+    return workers >= cores
 
 
 @pytest.hookimpl(wrapper=True)
@@ -120,8 +141,9 @@ def artefacts_for(node) -> Path:
 @pytest.fixture
 def make_rig(request):
     rigs: list[Rig] = request.node.stash.setdefault(_rigs, [])
-    recording = bool(request.config.getoption("--hil-report", None))
-    keep_failed = not recording and request.config.getoption("--hil-keep", "none") == "failed"
+    report = bool(request.config.getoption("--hil-report", None))
+    recording = report and request.node.get_closest_marker("long") is None
+    keep_failed = not report and request.config.getoption("--hil-keep", "none") == "failed"
 
     flashed = _flashed_firmware()
     marked = budget_marks.marked_limits(request.node)
