@@ -136,3 +136,17 @@ def test_the_gtkwave_save_file_shows_every_variable_grouped_by_role_then_part(tm
     assert flags.get("rover.sensors.enc_l.a", bin_flag) & bin_flag, "a level as a bit"
     assert any(f & ascii_flag for name, f in flags.items() if "uart" in name), flags
     assert any(f & dec_flag for name, f in flags.items() if "adc" in name or "pwm" in name), flags
+
+
+def test_a_truth_value_is_written_when_it_changes_and_a_repeated_console_line_each_time(tmp_path):
+    truth = [(t, {"t_us": t, "x_m": 1.0 + (t >= 100_000), "y_m": 2.0}) for t in range(0, 250_000, 50_000)]
+    notes = [(0, "console", "tick"), (50_000, "console", "tick")]
+    path = write(tmp_path, truth=truth, notes=notes)
+    vcd = read_vcd(path.read_text())
+    assert vcd.timeline("rover.truth.y_m") == [(0, 2.0)], "an unchanged truth value is not written again"
+    assert vcd.timeline("rover.truth.x_m") == [(0, 1.0), (100_000, 2.0)]
+    body = path.read_text().split("$enddefinitions", 1)[1]
+    code = vcd.vars["rover.events.console"].code
+    assert body.count(f" {code}\n") == 2, f"expected the console line twice in the body:\n{body}"
+    theirs = read_vcd(gtkwave_round_trip(path, tmp_path))
+    assert theirs.timeline("rover.truth.x_m") == [(0, 1.0), (100_000, 2.0)], "GTKWave reads the same"
