@@ -15,6 +15,7 @@
 #                table: build/conformance/table.md; docs/shim.md)
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
+#   make hil LONG=0   the same without the sweeps over many seeds (@pytest.mark.long)
 #   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file
 #   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]   (or RIG=path/to/rig.toml)
 #                compile with mpy-cross, copy what changed with mpremote, reset, show
@@ -60,9 +61,10 @@ test: setup
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
 # core, a test to a worker (a module with module fixtures is one group: they run once), the
 # report and the tables gathered from all of them; the long sweeps (many seeds, marked
-# long) record nothing, their result lines and budgets still in the report
+# long) record nothing, their result lines and budgets still in the report (LONG=0 leaves them out)
+LONG ?= 1
 hil: setup
-	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup -m hil --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup -m $(if $(filter 0,$(LONG)),"hil and not long",hil) --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))
