@@ -9,6 +9,9 @@
   of the rover firmware at 50 ms control quanta;
 - link round trip: host sends STATE -> shim answers WAIT, p50/p99 in microseconds,
   measured with a firmware that does nothing but toggle a pin and sleep;
+- duct robot: its single right branch run, bound by the cost of an exchange (a 160 Hz
+  timer, slot encoders, a record stream): real-time factor, exchanges per simulated
+  second and their cost;
 - pool cleaner mission: the whole 25 x 8 m pool (about an hour simulated) from start to
   "done", its real-time factor, unrecorded and then recorded as ``make hil`` records it
   (trace folder and link log, in a child process: its wall time, peak memory, bytes on disk).
@@ -70,6 +73,22 @@ def bench_rover(sim_s: float) -> dict:
             "wake_rtt": rig.stats.round_trip_us,
             "control": rig.budgets["control.period"].stats(),
             "compute": rig.budgets["control.compute"].stats(),
+        }
+
+
+def bench_duct(seed: int = 3, limit_s: float = 90.0) -> dict:
+    """The duct robot's single right branch run (make hil's sweeps are mostly these): bound
+    by the cost of an exchange, not of a control step (docs/clock.md)."""
+    with Rig("duct", seed=seed, time_round_trips=True) as rig:
+        t0 = time.perf_counter()
+        while "explored:" not in rig.console and rig.t_us < limit_s * 1e6:
+            rig.run_for(2.0)
+        wall = time.perf_counter() - t0
+        return {
+            "sim_s": rig.t_us / 1e6,
+            "wall_s": wall,
+            "round_trips": rig.stats.link_round_trips,
+            "state_wait": rig.stats.round_trip_us,
         }
 
 
@@ -138,6 +157,17 @@ def report_rover(rover: dict, raw_us: float) -> None:
     )
 
 
+def report_duct(duct: dict, raw_us: float) -> None:
+    per_exchange_us = duct["wall_s"] * 1e6 / duct["round_trips"]
+    p50 = percentile(duct["state_wait"], 50)
+    print(
+        f"duct robot, single right branch (seed 3): {duct['sim_s'] / duct['wall_s']:.0f}x real time "
+        f"({duct['sim_s']:.0f} simulated s in {duct['wall_s']:.1f} wall s); {duct['round_trips'] / duct['sim_s']:.0f} "
+        f"exchanges per simulated s, {per_exchange_us:.0f} us each ({ratio(per_exchange_us, raw_us)}); STATE -> WAIT "
+        f"p50 {p50:.0f} us; host share {per_exchange_us - statistics.fmean(duct['state_wait']):.0f} us an exchange"
+    )
+
+
 def report_pool(pool: dict, raw_us: float, plain: dict | None = None) -> None:
     per_exchange_us = pool["wall_s"] * 1e6 / pool["round_trips"]
     print(
@@ -172,6 +202,7 @@ def main(argv=None) -> int:
     print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
     rover = bench_rover(args.sim_minutes * 60)
     ping = bench_ping(2.0)
+    duct = bench_duct()
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -191,6 +222,7 @@ def main(argv=None) -> int:
         f"({ratio(p50, raw_us)}; target <= 1.2x), p99 {percentile(ping, 99):.0f} us, "
         f"mean {statistics.fmean(ping):.0f} us"
     )
+    report_duct(duct, raw_us)
     if plain is not None:
         print("pool cleaner, full mission, unrecorded:")
         report_pool(plain, raw_us)
