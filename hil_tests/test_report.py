@@ -4,6 +4,7 @@ headless browser (Debian's chromium) renders it, plots included, with no network
 
 import os
 import re
+import shlex
 import shutil
 import signal
 import subprocess
@@ -310,18 +311,34 @@ LONG_SCENARIO = """
         rig = make_rig("rover", seed=3)
         rig.run_for(2)
         record_property("result", f"drove {rig.truth()['x_m']:.1f} m")
+
+
+    @pytest.mark.long
+    @pytest.mark.skipif("not config.getoption('--hil-report')", reason="a seed only the report's session runs")
+    def test_a_long_sweeps_seed_that_fails(make_rig):
+        rig = make_rig("rover", seed=4)
+        rig.run_for(1)
+        assert rig.truth()["x_m"] > 50, "fails on purpose"
 """
 
 
-def test_under_a_report_a_long_sweeps_rigs_record_nothing_and_the_sweep_is_still_reported(tmp_path):
+def test_under_a_report_a_long_sweeps_rigs_record_nothing_and_a_failures_rerun_line_records(tmp_path):
     (tmp_path / "test_long_sweep.py").write_text(textwrap.dedent(LONG_SCENARIO))
     report = tmp_path / "report.html"
     done = inner_pytest(tmp_path, "--hil-table", f"--hil-report={report}", "test_long_sweep.py")
-    assert done.returncode == 0, f"expected the sweep to pass, got exit {done.returncode}:\n{done.stdout}{done.stderr}"
+    assert done.returncode == 1, (
+        f"expected one failed seed (exit 1), got {done.returncode}:\n{done.stdout}{done.stderr}"
+    )
     rig = tmp_path / "build" / "hil" / "test_long_sweep" / "test_a_long_sweep" / "rig0"
     kept = sorted(p.name for p in rig.iterdir()) if rig.is_dir() else []
     assert kept == ["console.log"], f"expected only the console of a long sweep's rig in {rig}, got {kept}"
     page = parse(report.read_text())
-    assert page.sections == ["scenario passed"] and page.tables == 1, f"{page.sections}, {page.tables} in {report}"
-    assert not page.images, f"expected no plots of an unrecorded rig in {report}, got {len(page.images)}"
+    assert page.sections == ["scenario passed", "scenario failed"], f"{page.sections} in {report}"
+    assert page.tables == 2 and not page.images, f"{page.tables} tables, {len(page.images)} plots in {report}"
     assert any("drove" in text for text in page.text), f"the sweep's result line is missing from {report}"
+    rerun = re.search(r"rerun: python -m pytest (.+?) \(from", done.stdout)
+    assert rerun and "--hil-record-long" in rerun.group(1), f"expected a rerun line that records:\n{done.stdout}"
+    again = inner_pytest(tmp_path, *shlex.split(rerun.group(1)))
+    assert again.returncode == 1, f"expected the seed to fail again:\n{again.stdout}{again.stderr}"
+    failed = tmp_path / "build" / "hil" / "test_long_sweep" / "test_a_long_sweeps_seed_that_fails" / "rig0"
+    assert (failed / "trace.vcd").is_file() and (failed / "trace.jsonl").is_file(), sorted(failed.iterdir())

@@ -115,6 +115,8 @@ class CoverageGrid:
         r, c, x0, y0 = self.half_width_m, self.cell_m, self.x0_m, self.y0_m
         r2 = r * r
         xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
+        if any(v != v for v in xs_ + ys_):  # (as the arrays' int() of a NaN bound raises)
+            raise ValueError("coverage grid: a path point is NaN")
         i0 = max(0, int((min(xs_) - r - x0) / c))
         i1 = min(self.nx, int((max(xs_) + r - x0) / c) + 1)
         j0 = max(0, int((min(ys_) - r - y0) / c))

@@ -99,9 +99,10 @@ class LinkLog:
 
 
 def _plain_ints(entry: list) -> bool:
-    """A STATE change whose numbers are plain ints (and its bytes hex text)."""
+    """A STATE change whose numbers are plain ints (and its bytes, CH_BYTES, hex text)."""
     ct, h, k, v, e = entry
-    return type(ct) is int and type(h) is int and type(k) is int and type(v) is int and type(e) in (int, str)
+    plain_extra = type(e) is str if k == F.CH_BYTES else type(e) is int
+    return type(ct) is int and type(h) is int and type(k) is int and type(v) is int and plain_extra
 
 
 class _NoLog(LinkLog):

@@ -50,6 +50,11 @@ def pytest_addoption(parser):
         help="record every rig and write an HTML report of the session to PATH",
     )
     group.addoption(
+        "--hil-record-long",
+        action="store_true",
+        help="with --hil-report: record the rigs of tests marked long too (a failed sweep's rerun line adds it)",
+    )
+    group.addoption(
         "--hil-keep",
         choices=("failed", "none"),
         default="failed",
@@ -60,7 +65,7 @@ def pytest_addoption(parser):
 
 LONG_MARK_HELP = (
     "long: a slow scenario (a sweep over many seeds); with --hil-report its rigs record nothing "
-    "(its result line and budgets are in the report; a failure's rerun line records)"
+    "(its result line and budgets are in the report; a failure's rerun line adds --hil-record-long)"
 )
 
 
@@ -119,8 +124,21 @@ def _evidence(item) -> str:
         f"{rig.app.name} rig{i}: seed {rig.seed}, virtual t={rig.t_us / 1e6:.6f} s, artefacts {rig.artefacts}"
         for i, rig in enumerate(item.stash[_rigs])
     ]
-    lines.append(f"rerun: python -m pytest {item.nodeid!r} (from {item.config.rootpath})")
+    rerun = f"python -m pytest {item.nodeid!r}"
+    if _unrecorded_long(item):  # (as it ran: under a report, which a sweep's seeds may need)
+        rerun += " --hil-report build/hil/rerun.html --hil-record-long"
+    lines.append(f"rerun: {rerun} (from {item.config.rootpath}; it records the whole trace)")
     return "\n".join(lines)
+
+
+def _unrecorded_long(node) -> bool:
+    """A test marked long under a report: its rigs record nothing (--hil-record-long: they do)."""
+    config = node.config
+    return (
+        bool(config.getoption("--hil-report", None))
+        and node.get_closest_marker("long") is not None
+        and not config.getoption("--hil-record-long", False)
+    )
 
 
 def pytest_report_header(config):
@@ -142,7 +160,7 @@ def artefacts_for(node) -> Path:
 def make_rig(request):
     rigs: list[Rig] = request.node.stash.setdefault(_rigs, [])
     report = bool(request.config.getoption("--hil-report", None))
-    recording = report and request.node.get_closest_marker("long") is None
+    recording = report and not _unrecorded_long(request.node)
     keep_failed = not report and request.config.getoption("--hil-keep", "none") == "failed"
 
     flashed = _flashed_firmware()

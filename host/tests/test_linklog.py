@@ -43,7 +43,7 @@ def test_wait_lines_are_what_the_encoder_writes(t, until, watch):
 
 
 change = st.one_of(
-    st.tuples(ints, ints, st.integers(0, 8).filter(lambda k: k != F.CH_BYTES), ints, ints),
+    st.tuples(ints, ints, st.integers(0, 8).filter(lambda k: k != F.CH_BYTES), ints, ints | st.text(max_size=4)),
     st.binary(max_size=8).map(lambda b: (5, 2, F.CH_BYTES, len(b), b)),
 )
 
