@@ -8,6 +8,12 @@ from dataclasses import dataclass
 from host.link import frames as F
 
 _NO_WATCH = frozenset()
+LOOKAHEAD_US = 20_000
+"""How far past a wait's end the plant's inputs go in its STATE (lockstep): the shim holds
+them and applies each at its time, so a firmware that wakes, finds nothing to drive and
+waits again needs no exchange for it. A lookahead the firmware voids (an output inside
+it) makes the next ones wait: 1, 2, 4 ... up to LOOKAHEAD_BACKOFF_MAX exchanges."""
+LOOKAHEAD_BACKOFF_MAX = 256
 
 
 @dataclass
@@ -29,10 +35,19 @@ class Clock:
         self.session = session
         self.log = log  # the link log (host.artefacts.linklog)
         self.wait: Wait | None = None
+        self.lookahead_us = LOOKAHEAD_US if pacing.speculates else 0
+        self.looked = False  # the last STATE looked ahead, and nothing voided it yet
+        self.look_skip = 0  # exchanges to go before the next lookahead
+        self.look_backoff = 1
+        self._woke_us = F.FOREVER_US  # the last STATE's wake time, while the firmware runs
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
+        self._woke_us = F.FOREVER_US
         self.catch_up(t_now)
+        if self.looked:  # the lookahead served: the next ones come at once
+            self.looked = False
+            self.look_backoff = 1
         self.speculation.end()
         self.wait = Wait(t_now, max(t_until, self.plant.t_us), watch)
 
@@ -43,9 +58,33 @@ class Clock:
         stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
         if stopped or self.plant.t_us >= wait.t_until:
             self.wait = None
-            self._send_state(wait.t_now, t_end_us)
+            t_wake = self.plant.t_us
+            if not stopped and wait.t_until > wait.t_now:  # (a wait of no length is a sync: none)
+                self._look_ahead(t_end_us)
+            self._send_state(wait.t_now, t_end_us, t_wake)
         elif not self.speculation.open:
             self.commit(self.plant.t_us)  # nothing in this batch can be rewound
+
+    def _look_ahead(self, t_end_us: int) -> None:
+        """Advance the plant past the wait's end (never past the run's), its changes going
+        in the same STATE, speculatively: an output inside rewinds it."""
+        plant = self.plant
+        t_look = min(plant.t_us + self.lookahead_us, t_end_us)
+        if self.look_skip:
+            self.look_skip -= 1
+            return
+        if t_look <= plant.t_us or plant.zero_delay:
+            return
+        if not self.speculation.open:
+            self.speculation.begin()
+        self.looked = True
+        self.advance(t_look, _NO_WATCH)
+
+    @property
+    def firmware_us(self) -> int:
+        """Where the firmware is known to be: the plant's time, or, while the plant has looked
+        ahead of a STATE the firmware is running from, that STATE's wake time."""
+        return min(self.plant.t_us, self._woke_us)
 
     def run_alone(self, t_end_us: int) -> None:
         """The firmware ended: the plant runs on alone."""
@@ -82,13 +121,19 @@ class Clock:
         """Bring the plant to the firmware's time: forward if the shim moved on inside
         its horizon, back if a handler changed an output inside a speculative batch."""
         plant = self.plant
-        if t_us > plant.t_us:
-            for change in plant.advance_to(t_us):
+        recorder = self.recorder
+        while t_us > plant.t_us:  # (through ground truth's sample times, as advance() goes)
+            t_next = t_us if recorder is None else min(t_us, max(recorder.next_truth_us, plant.t_us + 1))
+            for change in plant.advance_to(t_next):
                 self.stats.lease_violations += 1
                 self.inputs.route(change, _NO_WATCH)
-            if self.recorder is not None:
-                self.recorder.sample(plant)
-        elif t_us < plant.t_us and self.pacing.speculates:
+            if recorder is not None:
+                recorder.sample(plant)
+        if t_us < plant.t_us and self.pacing.speculates:
+            if self.looked:  # the firmware voided the lookahead: wait longer for the next
+                self.looked = False
+                self.look_skip = self.look_backoff
+                self.look_backoff = min(2 * self.look_backoff, LOOKAHEAD_BACKOFF_MAX)
             self.speculation.rewind(t_us, plant.t_us)
             if self.recorder is not None:
                 self.recorder.rewind(t_us)
@@ -104,12 +149,14 @@ class Clock:
         if self.recorder is not None:
             self.recorder.commit(t_us)
 
-    def _send_state(self, base_us: int, t_end_us: int) -> None:
-        t_us = self.plant.t_us
+    def _send_state(self, base_us: int, t_end_us: int, t_us: int) -> None:
+        """The STATE that wakes the firmware at ``t_us``, with the changes up to where the
+        plant is (past ``t_us`` after a lookahead)."""
         # (never past the run's end: a firmware with nothing to wake it for would run on
         # alone, far past what was asked for, while the host waits for it)
-        horizon = min(self.plant.next_change_us(), max(t_end_us, t_us))
+        horizon = min(self.plant.next_change_us(), max(t_end_us, self.plant.t_us))
         changes = self.inputs.take()
+        self._woke_us = t_us
         self.log.state(t_us, base_us, horizon, changes)
         self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))
         self.stats.link_round_trips += 1

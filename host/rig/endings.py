@@ -71,4 +71,4 @@ def reset(rig, t: int) -> None:
 def damaged(rig, error: LinkDamaged):
     """A frame from the firmware was damaged or lost: nothing after it can be trusted."""
     rig.stop()
-    raise LinkDamaged(f"{error} (at virtual t={rig.t_us / 1e6:.6f} s){rig.where()}") from None
+    raise LinkDamaged(f"{error} (at virtual t={rig.clock.firmware_us / 1e6:.6f} s){rig.where()}") from None

@@ -39,12 +39,10 @@ class Lockstep:
         plant = clock.plant
         if watch:
             return min(plant.next_change_us(), target_us), 0
-        if clock.wiring.uart:
-            return min(plant.t_us + CHUNK_US, target_us), 0
-        t_next = target_us
+        t_next = min(plant.t_us + CHUNK_US, target_us) if clock.wiring.uart else target_us
         if clock.recorder is not None:
             t_next = min(t_next, max(clock.recorder.next_truth_us, plant.t_us + 1))
-        return t_next, clock.inputs.room()
+        return t_next, 0 if clock.wiring.uart else clock.inputs.room()
 
 
 class RealTime(Lockstep):

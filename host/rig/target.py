@@ -157,13 +157,13 @@ class UnixPortTarget(Target):
             )
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
-                f"got nothing (virtual t={rig.t_us / 1e6:.6f} s, last message {last}, "
+                f"got nothing (virtual t={rig.clock.firmware_us / 1e6:.6f} s, last message {last}, "
                 f"last sent {rig.session.last_sent()}; link: {link}){where}\nthe watchdog stopped it.{rig.where()}"
             )
         code = proc.wait(timeout=EXIT_WAIT_S) if proc is not None else None
         rig.stop()
         raise FirmwareError(
             f"firmware process ended with exit code {code} while the host expected {what} "
-            f"(virtual t={rig.t_us / 1e6:.6f} s).{rig.where()}",
+            f"(virtual t={rig.clock.firmware_us / 1e6:.6f} s).{rig.where()}",
             console=rig.console,
         )

@@ -85,6 +85,12 @@ class _Link:
     zero = False
     heap_lock = heap_unlock = None  # micropython's, set by start()
     syncs = 0  # exchanges so far: a handler that blocks inside a batch makes more
+    # A STATE may carry input changes past the time it wakes the firmware (the host's
+    # lookahead, docs/clock.md): held here in time order, each applied as the clock passes
+    # it; `after` is the host's horizon past them. An output, a print or a new input drops them.
+    held = []
+    after = 0
+    ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
 
     def __init__(self, path):
@@ -201,6 +207,9 @@ def send_output(type_, payload):
     _link.queue(type_, payload)
     _horizon = _now
     _wrote = True
+    if _Link.held:
+        _Link.held = []
+        _Link.ahead = False
 
 
 def said():
@@ -209,6 +218,9 @@ def said():
     global _horizon
     if _horizon > _now:
         _horizon = _now
+    if _Link.held:
+        _Link.held = []
+        _Link.ahead = False
 
 
 def send_out(handle, attr, value):
@@ -216,6 +228,12 @@ def send_out(handle, attr, value):
 
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
+    global _horizon
+    if _Link.held or _Link.ahead:  # the host is ahead of this instant: back to it before the CFG
+        _Link.held = []
+        _Link.ahead = False
+        _horizon = _now
+        _sync(now(), None)
     _link.queue(F.CFG, F.pack_cfg(handle, kind, mode_, pull, param, str(name).encode()))
     if sync:  # inputs: learn the current level before the firmware reads it
         _sync(now(), None)
@@ -297,7 +315,13 @@ def _run_until(t_target, watch):
                     _rtime.sleep_us(t_stop - t)
                     now()
             hit = False
+        elif _Link.held:
+            hit = _apply_held(watch)
         else:
+            if _Link.ahead:  # no input change before the horizon: wait from just before it
+                _Link.ahead = False  # (the host's plant may be up to there, past a lookahead)
+                if _lockstep and _now < _horizon - 1:
+                    _now = _horizon - 1
             hit = _sync(t_stop, watch)
         if _timer_due <= _now:
             _fire_timers()
@@ -331,6 +355,7 @@ def _sync(t_until, watch):
     hit = False
     off = F.STATE_LEN
     group_t = -1
+    held = None
     for _ in range(n):
         dt, h, kind, value, extra = struct.unpack_from(change_fmt, p, off)
         off += change_len
@@ -338,6 +363,11 @@ def _sync(t_until, watch):
             extra = p[off : off + value]
             off += value
         t = base + dt
+        if t > t_end:  # past the wake: held, applied as the clock passes it
+            if held is None:
+                held = []
+            held.append((t, h, kind, value, extra))
+            continue
         if t != group_t:
             if _pending and group_t >= 0:
                 stop = _handlers_wrote(group_t)
@@ -357,7 +387,42 @@ def _sync(t_until, watch):
         _now = t_end
     else:
         now()
-    _horizon = horizon
+    _Link.ahead = _lockstep
+    if held:
+        _Link.held = held
+        _Link.after = horizon
+        _horizon = held[0][0]
+    else:
+        _horizon = horizon
+    return hit
+
+
+def _apply_held(watch):
+    """The next held changes (those of one instant), applied at their time with their
+    handlers, as _sync applies a STATE's; True when a watched input changed (or a handler
+    made a polled stream ready)."""
+    global _now, _horizon, _wake_real_us, _spin
+    held = _Link.held
+    t0 = held[0][0]
+    if _lockstep:
+        _now = t0
+    _wake_real_us = _rtime.ticks_us()
+    _spin = 0
+    hit = False
+    i = 0
+    for t, h, kind, value, extra in held:
+        if t != t0:
+            break
+        _handles[h]._hil_apply(kind, value, extra)
+        if watch and h in watch:
+            hit = True
+        i += 1
+    del held[:i]
+    _horizon = held[0][0] if held else _Link.after
+    if _pending:
+        stop = _handlers_wrote(t0)
+        if stop:
+            return hit or stop == 2
     return hit
 
 
