@@ -356,18 +356,16 @@ def _sync(t_until, watch):
     off = F.STATE_LEN
     group_t = -1
     held = None
-    for _ in range(n):
+    for i in range(n):
         dt, h, kind, value, extra = struct.unpack_from(change_fmt, p, off)
         off += change_len
         if kind == F.CH_BYTES:
             extra = p[off : off + value]
             off += value
         t = base + dt
-        if t > t_end:  # past the wake: held, applied as the clock passes it
-            if held is None:
-                held = []
-            held.append((t, h, kind, value, extra))
-            continue
+        if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
+            held = _held(p, off, base, (t, h, kind, value, extra), n - i - 1)
+            break
         if t != group_t:
             if _pending and group_t >= 0:
                 stop = _handlers_wrote(group_t)
@@ -387,6 +385,26 @@ def _sync(t_until, watch):
         _now = t_end
     else:
         now()
+    _hold(held, horizon)
+    return hit
+
+
+def _held(p, off, base, first, left):
+    """The changes of a STATE past its end: ``first`` and the ``left`` after it from ``off``."""
+    held = [first]
+    for _ in range(left):
+        dt, h, kind, value, extra = struct.unpack_from(F.CHANGE_FMT, p, off)
+        off += F.CHANGE_LEN
+        if kind == F.CH_BYTES:
+            extra = p[off : off + value]
+            off += value
+        held.append((base + dt, h, kind, value, extra))
+    return held
+
+
+def _hold(held, horizon):
+    """After a STATE: the changes past its end held, the horizon the first of them (or the host's)."""
+    global _horizon
     _Link.ahead = _lockstep
     if held:
         _Link.held = held
@@ -394,7 +412,6 @@ def _sync(t_until, watch):
         _horizon = held[0][0]
     else:
         _horizon = horizon
-    return hit
 
 
 def _apply_held(watch):
