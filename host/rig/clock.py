@@ -121,14 +121,12 @@ class Clock:
         """Bring the plant to the firmware's time: forward if the shim moved on inside
         its horizon, back if a handler changed an output inside a speculative batch."""
         plant = self.plant
-        recorder = self.recorder
         while t_us > plant.t_us:  # (through ground truth's sample times, as advance() goes)
-            t_next = t_us if recorder is None else min(t_us, max(recorder.next_truth_us, plant.t_us + 1))
-            for change in plant.advance_to(t_next):
+            for change in plant.advance_to(self.to_truth(t_us)):
                 self.stats.lease_violations += 1
                 self.inputs.route(change, _NO_WATCH)
-            if recorder is not None:
-                recorder.sample(plant)
+            if self.recorder is not None:
+                self.recorder.sample(plant)
         if t_us < plant.t_us and self.pacing.speculates:
             if self.looked:  # the firmware voided the lookahead: wait longer for the next
                 self.looked = False
@@ -141,6 +139,13 @@ class Clock:
             self.stats.rollbacks += 1
             self.log.rollback(t_us)
         self.commit(t_us)
+
+    def to_truth(self, t_us: int) -> int:
+        """``t_us``, or the next ground-truth sample time if the recorder wants one before
+        it: how far the plant may go in one step."""
+        if self.recorder is None:
+            return t_us
+        return min(t_us, max(self.recorder.next_truth_us, self.plant.t_us + 1))
 
     def commit(self, t_us: int) -> None:
         """Nothing up to ``t_us`` can be rewound: held-back budget events go to the

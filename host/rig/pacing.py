@@ -35,14 +35,13 @@ class Lockstep:
 
         A watched wait goes event by event; while UART bytes flow, in chunks (the
         byte-count limit of a batch needs the bytes); otherwise in one go, the plant
-        stopping itself once the batch is full, and at the recorder's truth samples."""
+        stopping itself once the batch is full; both stop at the recorder's truth samples."""
         plant = clock.plant
         if watch:
             return min(plant.next_change_us(), target_us), 0
-        t_next = min(plant.t_us + CHUNK_US, target_us) if clock.wiring.uart else target_us
-        if clock.recorder is not None:
-            t_next = min(t_next, max(clock.recorder.next_truth_us, plant.t_us + 1))
-        return t_next, 0 if clock.wiring.uart else clock.inputs.room()
+        if clock.wiring.uart:
+            return clock.to_truth(min(plant.t_us + CHUNK_US, target_us)), 0
+        return clock.to_truth(target_us), clock.inputs.room()
 
 
 class RealTime(Lockstep):

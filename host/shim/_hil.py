@@ -208,8 +208,7 @@ def send_output(type_, payload):
     _horizon = _now
     _wrote = True
     if _Link.held:
-        _Link.held = []
-        _Link.ahead = False
+        _drop_held()
 
 
 def said():
@@ -219,8 +218,14 @@ def said():
     if _horizon > _now:
         _horizon = _now
     if _Link.held:
-        _Link.held = []
-        _Link.ahead = False
+        _drop_held()
+
+
+def _drop_held():
+    """The firmware changed what the plant does (or printed) inside a lookahead: the held
+    changes are void, and the host, told of it, rewinds to this instant."""
+    _Link.held = []
+    _Link.ahead = False
 
 
 def send_out(handle, attr, value):
@@ -230,8 +235,7 @@ def send_out(handle, attr, value):
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
     global _horizon
     if _Link.held or _Link.ahead:  # the host is ahead of this instant: back to it before the CFG
-        _Link.held = []
-        _Link.ahead = False
+        _drop_held()
         _horizon = _now
         _sync(now(), None)
     _link.queue(F.CFG, F.pack_cfg(handle, kind, mode_, pull, param, str(name).encode()))
@@ -364,7 +368,7 @@ def _sync(t_until, watch):
             off += value
         t = base + dt
         if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
-            held = _held(p, off, base, (t, h, kind, value, extra), n - i - 1)
+            held = F.unpack_changes(p, off, base, n - i - 1, [(t, h, kind, value, extra)])
             break
         if t != group_t:
             if _pending and group_t >= 0:
@@ -387,19 +391,6 @@ def _sync(t_until, watch):
         now()
     _hold(held, horizon)
     return hit
-
-
-def _held(p, off, base, first, left):
-    """The changes of a STATE past its end: ``first`` and the ``left`` after it from ``off``."""
-    held = [first]
-    for _ in range(left):
-        dt, h, kind, value, extra = struct.unpack_from(F.CHANGE_FMT, p, off)
-        off += F.CHANGE_LEN
-        if kind == F.CH_BYTES:
-            extra = p[off : off + value]
-            off += value
-        held.append((base + dt, h, kind, value, extra))
-    return held
 
 
 def _hold(held, horizon):

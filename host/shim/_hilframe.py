@@ -421,8 +421,12 @@ def pack_state(base_us, t_end_us, horizon_us, changes):
 def unpack_state(p):
     """(base_us, t_end_us, horizon_us, changes as (t_us, handle, kind, value, extra))"""
     base, t_end, horizon, n = struct.unpack_from(STATE_FMT, p, 0)
-    off = STATE_LEN
-    changes = []
+    return base, t_end, horizon, unpack_changes(p, STATE_LEN, base, n, [])
+
+
+def unpack_changes(p, off, base, n, changes):
+    """``n`` of a STATE's changes from offset ``off``, appended to ``changes`` (returned)
+    as (t_us, handle, kind, value, extra)."""
     for _ in range(n):
         dt, h, kind, value, extra = struct.unpack_from(CHANGE_FMT, p, off)
         off += CHANGE_LEN
@@ -430,7 +434,7 @@ def unpack_state(p):
             extra = bytes(p[off : off + value])
             off += value
         changes.append((base + dt, h, kind, value, extra))
-    return base, t_end, horizon, changes
+    return changes
 
 
 CFG_PIN = 1
