@@ -91,12 +91,10 @@ class CoverageGrid:
         r, c = self.half_width_m, self.cell_m
         lo = np.minimum(a.min(axis=0), b.min(axis=0)) - r
         hi = np.maximum(a.max(axis=0), b.max(axis=0)) + r
-        i0 = max(0, int((lo[0] - self.x0_m) / c))
-        i1 = min(self.nx, int((hi[0] - self.x0_m) / c) + 1)
-        j0 = max(0, int((lo[1] - self.y0_m) / c))
-        j1 = min(self.ny, int((hi[1] - self.y0_m) / c) + 1)
-        if i0 >= i1 or j0 >= j1:
+        box = self._box(lo[0], lo[1], hi[0], hi[1])
+        if box is None:
             return
+        i0, i1, j0, j1 = box
         cx = self.x0_m + (np.arange(i0, i1) + 0.5) * c
         cy = self.y0_m + (np.arange(j0, j1) + 0.5) * c
         px = np.repeat(cx[None, :], j1 - j0, axis=0).ravel()[:, None] - a[None, :, 0]
@@ -108,6 +106,13 @@ class CoverageGrid:
         hit = ((dx * dx + dy * dy) <= r * r).any(axis=1)
         self._mark(j0, i0, hit.reshape(j1 - j0, i1 - i0))
 
+    def _box(self, lo_x: float, lo_y: float, hi_x: float, hi_y: float) -> tuple[int, int, int, int] | None:
+        """The cells (columns i0:i1, rows j0:j1) of the box [lo, hi], or None if it misses the grid."""
+        x0, y0, c = self.x0_m, self.y0_m, self.cell_m
+        i0, i1 = max(0, int((lo_x - x0) / c)), min(self.nx, int((hi_x - x0) / c) + 1)
+        j0, j1 = max(0, int((lo_y - y0) / c)), min(self.ny, int((hi_y - y0) / c) + 1)
+        return None if i0 >= i1 or j0 >= j1 else (i0, i1, j0, j1)
+
     def _sweep_few(self, a, b) -> None:
         """_sweep for a few segments (ground truth sweeps one or two every 50 ms): cell by
         cell in Python, the same arithmetic as the arrays' element by element, and a cell
@@ -117,12 +122,10 @@ class CoverageGrid:
         xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
         if any(v != v for v in xs_ + ys_):  # (as the arrays' int() of a NaN bound raises)
             raise ValueError("coverage grid: a path point is NaN")
-        i0 = max(0, int((min(xs_) - r - x0) / c))
-        i1 = min(self.nx, int((max(xs_) + r - x0) / c) + 1)
-        j0 = max(0, int((min(ys_) - r - y0) / c))
-        j1 = min(self.ny, int((max(ys_) + r - y0) / c) + 1)
-        if i0 >= i1 or j0 >= j1:
+        box = self._box(min(xs_) - r, min(ys_) - r, max(xs_) + r, max(ys_) + r)
+        if box is None:
             return
+        i0, i1, j0, j1 = box
         segs = []
         for (ax, ay), (bx, by) in zip(a, b):
             ux, uy = bx - ax, by - ay

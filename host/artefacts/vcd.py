@@ -146,11 +146,11 @@ _ROW = ("truth", None)  # a ground-truth row: one change per column in it
 
 
 def _row_values(row: dict, truth_codes) -> dict:
-    return {
-        code: f"r{float(row[col]):.9g} {code}" if row[col] is not None else f"r0 {code}"
-        for col, code in truth_codes
-        if col in row
-    }
+    return {code: _real(row[col], code) for col, code in truth_codes if col in row}
+
+
+def _real(value, code: str) -> str:
+    return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
 
 
 def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
@@ -220,7 +220,7 @@ def _value(kind: str, value, code: str) -> str:
     if kind == "text":
         return f"s{_escape(value or '')} {code}"
     if kind == "real":
-        return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
+        return _real(value, code)
     if kind == "bytes":
         if not value:
             return f"bx {code}"

@@ -10,16 +10,19 @@ from host.core.errors import LinkError, LinkTimeout
 BUSY_POLL_ENV = "MPY_FIL_BUSY_POLL"
 
 
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
 def spare_core() -> bool:
     """True if this process may use two or more cores (one can busy-poll); never when
     ``MPY_FIL_BUSY_POLL=0`` (a campaign's workers, pytest-xdist workers on every core: the
     other cores are taken)."""
-    if os.environ.get(BUSY_POLL_ENV) == "0":
-        return False
-    try:
-        return len(os.sched_getaffinity(0)) >= 2
-    except AttributeError:
-        return (os.cpu_count() or 1) >= 2
+    return os.environ.get(BUSY_POLL_ENV) != "0" and cores() >= 2
 
 
 class FdTransport:

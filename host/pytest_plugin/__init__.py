@@ -23,7 +23,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
-from host.link.transport import BUSY_POLL_ENV
+from host.link.transport import BUSY_POLL_ENV, cores
 from host.pytest_plugin import budget_marks
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
@@ -90,12 +90,7 @@ def pytest_collection_modifyitems(items):
 
 
 def _every_core_has_a_worker() -> bool:
-    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:
-        cores = os.cpu_count() or 1
-    return workers >= cores
+    return int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) >= cores()
 
 
 @pytest.hookimpl(wrapper=True)
