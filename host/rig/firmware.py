@@ -43,21 +43,41 @@ class Firmware:
         return cls(folder, [folder, folder / "lib"])
 
     def identity(self) -> dict:
-        """Which firmware ran: its folder and a hash of the files on its path (the code,
-        data and board files), so a trace says what it is the trace of."""
+        """Which firmware ran: its folder and a hash of every file it can import or read
+        on its path (the code, data and board files, packages' ``__init__.py``) and of the
+        entry file wherever it lives, so a trace says what it is the trace of."""
         digest = hashlib.sha256()
-        count = 0
-        for folder in self.folders:
-            for path in sorted(Path(folder).rglob("*")) if Path(folder).is_dir() else ():
+        files = self.files()
+        for label, path in files:
+            digest.update(f"{label}\0".encode() + path.read_bytes())
+        return {
+            "folder": str(self.main_dir),
+            "entry": self.entry,
+            "files": len(files),
+            "sha256": digest.hexdigest()[:16],
+        }
+
+    def files(self) -> list[tuple[str, Path]]:
+        """The files :meth:`identity` hashes, each once, with the label it is hashed under
+        (its place on the path: the folder's index and the path within it): the entry first."""
+        found, seen = [], set()
+        entry = (self.main_dir / self.entry).resolve()
+        if entry.is_file():
+            found.append((f"entry:{self.entry}", entry))
+            seen.add(entry)
+        for index, folder in enumerate(self.folders):
+            folder = Path(folder)
+            for path in sorted(folder.rglob("*")) if folder.is_dir() else ():
                 parts = path.relative_to(folder).parts
                 if (
                     path.suffix in FIRMWARE_SUFFIXES
+                    and not any(p.startswith(".") or p == "__pycache__" for p in parts)
                     and path.is_file()
-                    and not any(p.startswith((".", "__")) for p in parts)
+                    and path.resolve() not in seen
                 ):
-                    digest.update(f"{path.relative_to(folder)}\0".encode() + path.read_bytes())
-                    count += 1
-        return {"folder": str(self.main_dir), "entry": self.entry, "files": count, "sha256": digest.hexdigest()[:16]}
+                    seen.add(path.resolve())
+                    found.append((f"{index}:{path.relative_to(folder).as_posix()}", path))
+        return found
 
     def micropypath(self, shim: bool = True) -> str:
         folders = [SHIM_DIR, *self.folders] if shim else self.folders
