@@ -47,7 +47,7 @@ $(VENV)/.installed: pyproject.toml host/core/bootstrap.sh
 	host/core/bootstrap.sh $(PYTHON) $(VENV)
 	@touch $@
 
-$(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/micropython/sources.list
+$(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/aptsources.py
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
 

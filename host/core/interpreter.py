@@ -2,8 +2,9 @@
 Debian's ``micropython`` source package, or ``$MICROPYTHON``.
 
 ``python3 -m host.core.interpreter build`` fetches the pinned source with ``apt-get source``
-through a project-local apt configuration (``host/core/micropython/sources.list``; lists,
-cache and state under ``build/micropython/apt``), builds the standard variant with
+through a project-local apt configuration (one ``deb-src`` line for the pinned suite, on the
+Debian mirror this machine's apt already uses, :mod:`host.core.aptsources`; the sources
+file, lists, cache and state under ``build/micropython/apt``), builds the standard variant with
 ``asyncio`` frozen in, and installs the binary at :func:`default_path`. It rebuilds
 nothing when that binary exists. Standard library only: it runs before the venv.
 """
@@ -14,11 +15,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-from host.core import paths
+from host.core import aptsources, paths
 from host.core.errors import SetupError
 
 DEBIAN_VERSION = "1.25.0+ds-1"
 """Pinned source package version (Debian 13 "trixie" carries 1.25.0)."""
+DEBIAN_SUITE = "trixie"
+DEBIAN_KEYRING = "/usr/share/keyrings/debian-archive-keyring.gpg"
 
 BUILD = paths.BUILD / "micropython"
 HERE = Path(__file__).resolve().parent / "micropython"
@@ -103,7 +106,7 @@ def ensure_tools() -> None:
 def _apt(*args: str) -> list[str]:
     apt = BUILD / "apt"
     opts = {
-        "Dir::Etc::SourceList": HERE / "sources.list",
+        "Dir::Etc::SourceList": apt / "sources.list",
         "Dir::Etc::SourceParts": apt / "sources.list.d",
         "Dir::Etc::PreferencesParts": apt / "preferences.d",
         "Dir::State": apt / "state",
@@ -126,6 +129,13 @@ def source_tree() -> Path:
     return fetch_source()
 
 
+def sources_line(files=None) -> str:
+    """The one ``deb-src`` line the build fetches from: the pinned suite's ``main`` on the
+    machine's own Debian mirror."""
+    mirror = aptsources.debian_mirror(files)
+    return f"deb-src [signed-by={DEBIAN_KEYRING}] {mirror} {DEBIAN_SUITE} main"
+
+
 def fetch_source() -> Path:
     src_root = BUILD / "src"
     tree = _tree()
@@ -135,7 +145,12 @@ def fetch_source() -> Path:
     for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
         (apt / sub).mkdir(parents=True, exist_ok=True)
     (apt / "status").touch()
-    _log("apt-get update (project-local sources: host/core/micropython/sources.list)")
+    line = sources_line()
+    (apt / "sources.list").write_text(
+        "# Written by the interpreter build: the pinned source package's suite, on the Debian\n"
+        "# mirror this machine's apt uses (or $DEBIAN_MIRROR). Only for `apt-get source`.\n" + line + "\n"
+    )
+    _log(f"apt-get update (project-local sources: {line})")
     subprocess.run(_apt("update"), check=True, stdout=subprocess.DEVNULL)
     if src_root.exists():
         shutil.rmtree(src_root)
