@@ -60,9 +60,8 @@ def test_the_mirror_is_the_first_enabled_debian_main_archive_of_the_machines_sou
     assert aptsources.debian_mirror([listed]) == "http://mirror.example/debian"
     assert aptsources.debian_mirror([modern]) == "file:/srv/local-mirror/debian", "Enabled: no is skipped"
     line = interpreter.sources_line([modern])
-    assert line == (
-        f"deb-src [signed-by={interpreter.DEBIAN_KEYRING}] file:/srv/local-mirror/debian {interpreter.DEBIAN_SUITE} main"
-    )
+    keyring, suite = interpreter.DEBIAN_KEYRING, interpreter.DEBIAN_SUITE
+    assert line == f"deb-src [signed-by={keyring}] file:/srv/local-mirror/debian {suite} main"
 
 
 def test_no_debian_archive_is_a_setup_error_naming_the_files_and_the_override(tmp_path, monkeypatch):
@@ -70,7 +69,7 @@ def test_no_debian_archive_is_a_setup_error_naming_the_files_and_the_override(tm
 
     monkeypatch.delenv(aptsources.OVERRIDE, raising=False)
     other = tmp_path / "nodesource.list"
-    other.write_text("deb https://repo.example/node nodistro main\ndeb http://x.example/debian bookworm-security main\n")
+    other.write_text("deb https://repo.example/node nodistro main\ndeb http://x.example/d bookworm-security main\n")
     with pytest.raises(SetupError, match=r"no Debian archive .*nodesource\.list.*DEBIAN_MIRROR="):
         aptsources.debian_mirror([other])
     monkeypatch.setenv(aptsources.OVERRIDE, "http://given.example/debian/")
