@@ -1,13 +1,21 @@
 """The campaign's parts without firmware (host/campaign, docs/campaigns.md): the
 scenario file and its mistakes, the rig file's [[faults]], the Wilson interval, the worst
-runs, the placement error, the results file."""
+runs, the placement error, the results file; the report for every outcome and a report
+that fails."""
 
 import json
+import math
+import tempfile
+from pathlib import Path
 
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from host.campaign import load_campaign, task_key
-from host.campaign.report import summarize, wilson, worst
+from host.campaign import report as report_module
+from host.campaign.report import ReportError, error_bars, summarize, wilson, worst, write_report
+from host.campaign.runner import failed
 from host.campaign.store import ResultStore
 from host.campaign.worker import placed
 from host.core.errors import ConfigError
@@ -36,6 +44,110 @@ def test_wilson_matches_the_textbook_interval():
     assert (round(lo, 3), round(hi, 3)) == (0.699, 0.972)
     assert wilson(0, 10)[0] == 0.0 and round(wilson(0, 10)[1], 3) == 0.278
     assert wilson(10, 10)[1] == pytest.approx(1.0) and round(wilson(10, 10)[0], 3) == 0.722
+
+
+def test_the_interval_holds_the_rate_within_0_and_1_for_every_count_up_to_200():
+    for n in range(1, 201):
+        for k in range(n + 1):
+            lo, hi = wilson(k, n)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0, f"{k} of {n}: [{lo!r}, {hi!r}]"
+        assert wilson(n, n)[1] == 1.0 and wilson(0, n)[0] == 0.0, f"n={n}: the exact interval reaches the rate"
+
+
+@settings(max_examples=400, derandomize=True, database=None, deadline=None)
+@given(n=st.integers(1, 200), data=st.data())
+def test_the_plots_error_bars_are_never_negative(n, data):
+    k = data.draw(st.integers(0, n))
+    rows = summarize([result(f"a/w/{i}", i < k) for i in range(n)])
+    assert rows[0]["wilson_lo"] <= rows[0]["rate"] <= rows[0]["wilson_hi"]
+    assert min(min(side) for side in error_bars(rows)) >= 0.0
+
+
+def task(key: str) -> dict:
+    faultset, world, seed = key.split("/")
+    return {"faultset": faultset, "world": world, "seed": int(seed)}
+
+
+def outcomes(n: int, kind: str, seed: int) -> list[dict]:
+    """``n`` results of one group (and, for mixed, a second group), each with a figure
+    that is sometimes missing or NaN, as judges give them."""
+    runs = []
+    for i in range(n):
+        passed = {"pass": True, "fail": False}.get(kind, (i * 7 + seed) % 3 != 0)
+        figures = {"coverage": ((i * 37 + seed) % 100) / 100} if i % 5 else {"coverage": math.nan}
+        group = "b" if kind == "mixed" and i % 4 == 3 else "a"
+        key = f"{group}/room/{i + 1}"
+        runs.append({**failed(task(key), None if passed else "FirmwareError", ""), **result(key, passed, **figures)})
+        runs[-1].update(wall_s=1.0 + i % 3, t_end_s=2.0)
+    return runs
+
+
+@settings(max_examples=12, derandomize=True, database=None, deadline=None)
+@given(n=st.integers(1, 200), kind=st.sampled_from(["pass", "fail", "mixed"]), seed=st.integers(0, 99))
+@example(n=10, kind="pass", seed=0)  # the default campaign that passes: the report crashed
+@example(n=4, kind="pass", seed=0)
+@example(n=69, kind="fail", seed=0)  # an all-failing count whose lower bound rounded above 0
+@example(n=1, kind="fail", seed=0)
+@example(n=200, kind="mixed", seed=3)
+def test_the_report_is_written_for_every_outcome_and_count(n, kind, seed):
+    runs = outcomes(n, kind, seed)
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = write_report(Path(tmp), {"name": "x", "rig": "rover", "worst_by": "coverage"}, runs)
+        summary = json.loads(paths["json"].read_text())
+        assert summary["runs"] == n and sum(g["runs"] for g in summary["groups"]) == n
+        for g in summary["groups"]:
+            assert 0.0 <= g["wilson_lo"] <= g["rate"] <= g["wilson_hi"] <= 1.0, g
+        page = paths["html"].read_text()
+        assert page.count("data:image/png;base64,") == 3, "expected the rate, coverage and wall time plots"
+        assert len(paths["runs_csv"].read_text().splitlines()) == n + 1
+
+
+def test_a_report_that_fails_keeps_the_results_and_says_so_in_one_line(tmp_path, monkeypatch):
+    store = ResultStore(tmp_path)
+    store.open({"name": "x"})
+    runs = outcomes(10, "pass", 0)
+    for r in runs:
+        store.append(r)
+
+    def no_plots(*_a):
+        raise RuntimeError("no space left on device\nsecond line")
+
+    monkeypatch.setattr(report_module, "_plots", no_plots)
+    with pytest.raises(ReportError) as e:
+        write_report(tmp_path, {"name": "x"}, store.read())
+    message = str(e.value)
+    assert "\n" not in message and str(tmp_path / "results.jsonl") in message, message
+    assert "RuntimeError: no space left on device" in message and "the 10 results are kept" in message
+    assert len(store.read()) == 10 and (tmp_path / "summary.json").is_file(), "expected the results kept"
+
+
+def test_the_command_line_says_in_one_line_where_the_results_are_when_the_report_fails(tmp_path, monkeypatch, capsys):
+    import signal
+
+    from host import cli
+    from host.campaign import runner
+
+    def fake_run(campaign, out, **_kw):
+        store = ResultStore(out)
+        store.open(campaign.to_dict())
+        for r in outcomes(3, "pass", 0):
+            store.append(r)
+        return store.read()
+
+    def no_plots(*_a):
+        raise ValueError("'xerr' must not contain negative values")
+
+    monkeypatch.setattr(runner, "run_campaign", fake_run)
+    monkeypatch.setattr(report_module, "_plots", no_plots)
+    before = signal.getsignal(signal.SIGTERM)
+    try:
+        code = cli.main(["campaign", "rover", "--seeds", "3", "--seconds", "1", "--out", str(tmp_path / "c")])
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1, err
+    assert f"kept in {tmp_path / 'c' / 'results.jsonl'}" in err and "Traceback" not in err, err
+    assert len((tmp_path / "c" / "results.jsonl").read_text().splitlines()) == 3
 
 
 def test_a_scenario_crosses_fault_sets_worlds_and_seeds(tmp_path):
