@@ -17,6 +17,7 @@ import os
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import ResultStore
 from host.campaign.worker import BUSY_POLL_ENV, run_one
+from host.core.children import die_with_parent
 
 GUARD_S = 120.0
 MAX_BREAKS = 2
@@ -40,17 +41,21 @@ def failed(task: dict, error: str, message: str) -> dict:
     }
 
 
-def _no_busy_poll(counter=None) -> None:
-    """A worker beside others: no busy polling, and the worker (with the interpreter it
-    starts, which inherits it) kept to one core of its own, taken in turn: a rig's host
-    and firmware hand the link back and forth, cheaper on one core than across two."""
+def _start_worker(counter=None) -> None:
+    """Each pool worker's start: it dies with the campaign (a parent-death signal, so a
+    SIGKILL of ``mpy-fil campaign`` leaves no worker running), and, beside others, it does
+    not busy-poll and is kept to one core of its own, taken in turn (the interpreter it
+    starts inherits it): a rig's host and firmware hand the link back and forth, cheaper
+    on one core than across two."""
+    die_with_parent()
+    if counter is None:
+        return
     os.environ[BUSY_POLL_ENV] = "0"
-    if counter is not None:
-        with counter.get_lock():
-            n = counter.value
-            counter.value += 1
-        cores = sorted(os.sched_getaffinity(0))
-        os.sched_setaffinity(0, {cores[n % len(cores)]})
+    with counter.get_lock():
+        n = counter.value
+        counter.value += 1
+    cores = sorted(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {cores[n % len(cores)]})
 
 
 class LocalPool:
@@ -63,9 +68,10 @@ class LocalPool:
 
     def _new(self):
         context = multiprocessing.get_context("spawn")  # (no fork of a process with threads)
-        init = None if self.busy_poll else _no_busy_poll
         args = () if self.busy_poll else (context.Value("i", 0),)
-        return cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=context, initializer=init, initargs=args)
+        return cf.ProcessPoolExecutor(
+            max_workers=self.workers, mp_context=context, initializer=_start_worker, initargs=args
+        )
 
     def submit(self, task: dict, artefacts: str):
         return self.pool.submit(run_one, task, artefacts)
