@@ -264,3 +264,127 @@ def test_a_fault_set_added_grows_the_campaign_and_one_changed_is_another(tmp_pat
     store.open({"rig": "duct", "faultsets": {"a": [{"kind": "tether_snag", "rate": 0.1}], "b": []}})
     with pytest.raises(ConfigError, match=r"differs in faultsets"):
         store.open({"rig": "duct", "faultsets": {"a": [{"kind": "tether_snag", "rate": 0.5}]}})
+
+
+class Accepted(Exception):
+    """The arguments got as far as running the campaign (with this scheduler address)."""
+
+    scheduler = None
+
+
+def campaign_cli(argv: list[str], monkeypatch) -> tuple[object, str]:
+    """``mpy-fil campaign`` in this process up to the run (which is not started): the
+    exit code, or ``Accepted``; and stderr."""
+    import contextlib
+    import io
+    import signal
+
+    from host import cli
+    from host.campaign import runner
+
+    def no_run(*_a, scheduler=None, **_kw):
+        Accepted.scheduler = scheduler
+        raise Accepted
+
+    monkeypatch.setattr(runner, "run_campaign", no_run)
+    before = signal.getsignal(signal.SIGTERM)
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            code = cli.main(["campaign", *argv])
+    except SystemExit as e:
+        code = e.code
+    except Accepted:
+        code = Accepted
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    return code, err.getvalue()
+
+
+def assert_accepted_or_refused_in_one_line(code, err: str, argv) -> None:
+    assert code is Accepted or code == 2, f"{argv}: expected accepted or exit 2, got {code!r}: {err}"
+    if code == 2:
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, f"{argv}: expected one line:\n{err}"
+        assert err.startswith("mpy-fil campaign: error: "), err
+
+
+numbers = st.one_of(
+    st.integers(-(2**70), 2**70).map(str),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["", " ", "1e3", "0x10", "1_000", "nan", "-0", "١٢"]),
+    st.text(max_size=12),
+)
+hosts = st.sampled_from(["127.0.0.1", "localhost", "[::1]", "::1", "no-such-host.invalid", "", "a b", "h\x00", "-x-"])
+schedulers = st.one_of(
+    st.text(max_size=40),
+    st.builds(
+        "{}{}:{}".format,
+        st.sampled_from(["tcp://", "tls://", "ws://", "", "http://", "inproc://", "TCP://", "tcp:/"]),
+        st.one_of(hosts, st.text(max_size=10)),
+        st.one_of(st.integers(-10, 70000).map(str), st.text(max_size=6)),
+    ),
+)
+
+
+@settings(max_examples=150, derandomize=True, database=None, deadline=None)
+@given(
+    seeds=st.one_of(st.none(), numbers),
+    workers=st.one_of(st.none(), numbers),
+    seconds=st.one_of(st.none(), numbers),
+    scheduler=st.one_of(st.none(), schedulers),
+)
+@example(seeds="10", workers="2", seconds="2", scheduler=None)
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://127.0.0.1:8786")
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://127.0.0.1:65536")
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://no-such-host.invalid:8786")
+@example(seeds="100000", workers="1000", seconds="1e300", scheduler="ucx://x:1")
+def test_campaign_arguments_are_accepted_or_refused_in_one_line(seeds, workers, seconds, scheduler):
+    with tempfile.TemporaryDirectory() as tmp, pytest.MonkeyPatch.context() as monkeypatch:
+        argv = ["rover", "--out", tmp]
+        for flag, value in (("--seeds", seeds), ("--workers", workers), ("--seconds", seconds)):
+            argv += [f"{flag}={value}"] if value is not None else []
+        argv += [f"--scheduler={scheduler}"] if scheduler is not None else []
+        code, err = campaign_cli(argv, monkeypatch)
+    assert_accepted_or_refused_in_one_line(code, err, argv)
+    if scheduler == "tcp://127.0.0.1:8786" and code == 2:
+        assert "--scheduler" not in err, f"expected a good address accepted: {err}"
+    if code is Accepted and scheduler is not None:  # what Dask is given is an address it reads
+        from distributed.comm.addressing import parse_address, parse_host_port
+
+        scheme, location = parse_address(Accepted.scheduler)
+        host, port = parse_host_port(location)
+        assert scheme in ("tcp", "tls", "ws", "wss") and host and 0 < port < 65536, Accepted.scheduler
+
+
+@settings(max_examples=60, derandomize=True, database=None, deadline=None)
+@given(content=st.one_of(st.binary(max_size=80), st.text(max_size=80).map(str.encode)))
+@example(content=b"\xff\xfe[[faults]]\nkind = 'noise'\n")
+@example(content=b"[[faults]\nkind =")
+@example(content=b"faultsets = 3")
+@example(content=b"faults = [" * 2000)
+@example(content=b'[[faults]]\nkind = "noise"\nsignal = "sonar.adc"\nsd = 100\n')
+def test_a_faults_file_is_accepted_or_refused_in_one_line_naming_it(content):
+    with tempfile.TemporaryDirectory() as tmp, pytest.MonkeyPatch.context() as monkeypatch:
+        path = Path(tmp) / "faults.toml"
+        path.write_bytes(content)
+        argv = ["rover", "--faults", str(path), "--out", str(Path(tmp) / "out")]
+        code, err = campaign_cli(argv, monkeypatch)
+    assert_accepted_or_refused_in_one_line(code, err, argv)
+    if code == 2:
+        assert str(path) in err, f"expected the file named: {err}"
+
+
+def test_a_bad_scheduler_or_faults_file_is_refused_before_anything_runs(tmp_path, monkeypatch):
+    bad = tmp_path / "faults.toml"
+    bad.write_bytes(b"[[faults]]\nkind = '\xe9'\n")
+    cases = [
+        (["--scheduler", "tcp://10.0.0.5"], "argument --scheduler: expected [tcp|tls|ws|wss]://HOST:PORT"),
+        (["--scheduler", "http://127.0.0.1:8786"], "unknown scheme 'http'"),
+        (["--scheduler", "tcp://no-such-host.invalid:8786"], "the host 'no-such-host.invalid' does not resolve"),
+        (["--scheduler", "tcp://127.0.0.1:65536"], "Port out of range"),
+        (["--faults", str(bad)], f"{bad}: not UTF-8 text (byte 0xe9 at offset 19)"),
+    ]
+    for argv, message in cases:
+        code, err = campaign_cli(["rover", "--out", str(tmp_path / "out"), *argv], monkeypatch)
+        assert code == 2 and message in err and len(err.splitlines()) == 1, f"{argv}: {code} {err}"
+    assert not (tmp_path / "out" / "results.jsonl").exists()
