@@ -6,6 +6,7 @@ that fails."""
 import json
 import math
 import tempfile
+import threading
 from pathlib import Path
 
 import pytest
@@ -388,3 +389,43 @@ def test_a_bad_scheduler_or_faults_file_is_refused_before_anything_runs(tmp_path
         code, err = campaign_cli(["rover", "--out", str(tmp_path / "out"), *argv], monkeypatch)
         assert code == 2 and message in err and len(err.splitlines()) == 1, f"{argv}: {code} {err}"
     assert not (tmp_path / "out" / "results.jsonl").exists()
+
+
+RELEASE = threading.Event()
+
+
+def hang(*_a, **_kw):
+    """A run that never ends by itself (until the test lets it go)."""
+    RELEASE.wait(60)
+    return {}
+
+
+def someone_elses_work(x):
+    RELEASE.wait(60)
+    return x * 2
+
+
+def test_a_hung_campaign_on_a_shared_dask_cluster_cancels_its_own_runs_and_leaves_the_rest(tmp_path, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    from host.campaign import runner
+
+    monkeypatch.setattr(runner, "run_one", hang)
+    monkeypatch.setattr(runner, "GUARD_S", 0.0)
+    campaign = load_campaign("rover", seeds=2, seconds=1.0, timeout_s=1.0)
+    RELEASE.clear()
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=3, processes=False, protocol="tcp", host="127.0.0.1", dashboard_address=None
+    )
+    try:
+        with distributed.Client(cluster.scheduler_address) as other:
+            workers = set(other.scheduler_info()["workers"])
+            theirs = other.submit(someone_elses_work, 21, pure=False)
+            results = runner.run_campaign(campaign, tmp_path, scheduler=cluster.scheduler_address)
+            assert [r["error"] for r in results] == ["hung", "hung"], results
+            assert set(other.scheduler_info()["workers"]) == workers, "expected the cluster's workers not restarted"
+            assert theirs.status == "pending", f"expected another client's work left running, got {theirs.status}"
+            RELEASE.set()
+            assert theirs.result(timeout=10) == 42
+    finally:
+        RELEASE.set()
+        cluster.close()
