@@ -135,6 +135,8 @@ class DaskPool:
         from distributed import Client
 
         try:
+            parts = urllib.parse.urlsplit("//" + address.partition("://")[2])
+            socket.create_connection((parts.hostname, parts.port), timeout=CONNECT_S).close()  # (refused: at once)
             self.client = Client(address, timeout=f"{CONNECT_S:g}s")
         except (OSError, TimeoutError) as e:
             first = (str(e).strip().splitlines() or [type(e).__name__])[0][:200]
