@@ -141,7 +141,7 @@ class DaskPool:
         except (OSError, TimeoutError) as e:
             first = (str(e).strip().splitlines() or [type(e).__name__])[0][:200]
             raise ConfigError(
-                f"--scheduler {address}: no Dask scheduler answered within {CONNECT_S:g} s ({first}); "
+                f"--scheduler {address}: no Dask scheduler answered ({first}); "
                 "expected one running there (docs/campaigns.md, Dask cluster)"
             ) from None
         self.busy_poll = busy_poll
