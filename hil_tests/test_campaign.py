@@ -6,6 +6,7 @@ rerun, its report, a replay of a run, and a run that hangs."""
 import json
 import multiprocessing
 import os
+from pathlib import Path
 
 import pytest
 
@@ -272,3 +273,70 @@ def test_plant_faults_reach_the_firmware_a_stuck_sonar_slows_the_rover_and_a_jam
     assert abs(jammed["theta_rad"]) > 0.5 and jammed["distance_m"] < plain["distance_m"], (
         f"expected the rover to swing about its jammed wheel, got theta {jammed['theta_rad']:.2f} rad"
     )
+
+
+def descendants(pid: int) -> dict[int, str]:
+    """The living processes under ``pid`` (walking /proc's parent links): pid -> command."""
+    parents, names = {}, {}
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+        except OSError:
+            continue  # (ended while we looked)
+        name, rest = stat[stat.index("(") + 1 : stat.rindex(")")], stat[stat.rindex(")") + 2 :].split()
+        if rest[0] != "Z":
+            parents[int(entry.name)], names[int(entry.name)] = int(rest[1]), name
+    found, frontier = {}, [pid]
+    while frontier:
+        parent = frontier.pop()
+        for child, ppid in parents.items():
+            if ppid == parent and child not in found:
+                found[child] = names[child]
+                frontier.append(child)
+    return found
+
+
+def alive(pids) -> dict[int, str]:
+    left = {}
+    for pid in pids:
+        try:
+            stat = Path(f"/proc/{pid}/stat").read_text()
+        except OSError:
+            continue
+        if stat[stat.rindex(")") + 2] != "Z":
+            left[pid] = stat[stat.index("(") + 1 : stat.rindex(")")]
+    return left
+
+
+def test_a_campaign_killed_mid_run_leaves_no_worker_and_no_micropython_running(tmp_path):
+    import subprocess
+    import sys
+    import time
+
+    command = [sys.executable, "-m", "host.cli", "campaign", "rover", "--seeds", "4", "--seconds", "120"]
+    proc = subprocess.Popen(
+        [*command, "--workers", "2", "--out", str(tmp_path / "c")], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
+    tree = {}
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and sum("micropython" in n for n in tree.values()) < 2:
+            time.sleep(0.2)
+            tree = descendants(proc.pid) if proc.poll() is None else tree
+        assert sum("micropython" in n for n in tree.values()) == 2, f"expected two runs under way, saw {tree}"
+        proc.kill()  # SIGKILL: no handler runs, only the kernel's parent-death signals
+        proc.wait(timeout=10)
+        end = time.monotonic() + 5
+        while alive(tree) and time.monotonic() < end:
+            time.sleep(0.1)
+        left = alive(tree)
+        assert not left, f"expected nothing of the killed campaign's tree left after 5 s, left: {left}"
+    finally:  # (the test leaves nothing either: what it saw of the tree, ended)
+        if proc.poll() is None:
+            tree.update(descendants(proc.pid))
+            proc.kill()
+            proc.wait()
+        for pid in alive(tree):
+            os.kill(pid, 9)

@@ -39,6 +39,7 @@ EXIT_FAILED = 1
 EXIT_USAGE = 2
 MAX_DURATION_S = arguments.MAX_RUN_S  # the rig's own bounds: ten simulated days in one run
 MAX_SEED = arguments.SEED_MAX  # the plant's generator takes a 32-bit seed
+MAX_WORKERS = 256  # a campaign's local processes (each run starts an interpreter too)
 
 
 def main(argv=None) -> int:
@@ -128,11 +129,30 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--worlds", type=lambda s: s.split(","), help="worlds, comma-separated (default: the first)")
     camp.add_argument("--seconds", type=_duration_s, help="simulated seconds per run at most")
     camp.add_argument("--timeout", type=_duration_s, dest="timeout_s", help="wall seconds per run before it is hung")
-    camp.add_argument("--workers", type=_count, default=os.cpu_count() or 1, help="local processes (default: cores)")
-    camp.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) instead of local")
+    camp.add_argument(
+        "--workers", type=_workers, default=os.cpu_count() or 1, help=f"local processes, at most {MAX_WORKERS}"
+    )
+    camp.add_argument("--scheduler", metavar="ADDRESS", type=_scheduler, help="a Dask scheduler, tcp://HOST:PORT")
     camp.add_argument("--out", type=_folder, help="results and report (default: build/campaign/<name>)")
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
     camp.set_defaults(command=cmd_campaign, sub=camp)
+    camp.error = lambda message: camp.exit(EXIT_USAGE, f"{camp.prog}: error: {message}\n")  # (one line, no usage)
+
+
+def _workers(text: str) -> int:
+    value = _count(text)
+    if value > MAX_WORKERS:
+        raise argparse.ArgumentTypeError(f"expected at most {MAX_WORKERS} local processes, got {value}")
+    return value
+
+
+def _scheduler(text: str) -> str:
+    from host.campaign.runner import scheduler_address
+
+    try:
+        return scheduler_address(text)
+    except ConfigError as e:
+        raise argparse.ArgumentTypeError(str(e).removeprefix(f"--scheduler {text!r}: ")) from None
 
 
 def _count(text: str) -> int:

@@ -13,18 +13,33 @@ from pathlib import Path
 
 import numpy as np
 
+from host.campaign.store import RESULTS
+from host.core.errors import HarnessError
+
 Z_95 = 1.959964
 WORST_RUNS = 8
 
 
 def wilson(successes: int, n: int, z: float = Z_95) -> tuple[float, float]:
-    """The Wilson score interval of a success rate (95 % by default)."""
+    """The Wilson score interval of a success rate (95 % by default). It holds the rate
+    and stays in [0, 1]: in floating point the bound of an all-passing group comes out a
+    hair under 1 (10 of 10: 0.9999999999999999), of an all-failing one a hair over 0, so
+    the bounds are clamped to the rate (the exact interval reaches it there)."""
     if n == 0:
         return 0.0, 1.0
     p = successes / n
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, centre - half), min(1.0, centre + half)
+    return max(0.0, min(p, centre - half)), min(1.0, max(p, centre + half))
+
+
+def error_bars(rows: list[dict]) -> list[list[float]]:
+    """The success-rate plot's bars: how far each group's interval reaches below and
+    above its rate, never negative (an interval from an older ``summary.json`` may miss
+    its rate by a rounding)."""
+    below = [max(0.0, r["rate"] - r["wilson_lo"]) for r in rows]
+    above = [max(0.0, r["wilson_hi"] - r["rate"]) for r in rows]
+    return [below, above]
 
 
 def _quantile(values: list[float], q: float) -> float:
@@ -91,10 +106,27 @@ def replay_command(out: Path, key: str) -> str:
     return f".venv/bin/mpy-fil campaign --replay {shlex.quote(key)} --out {shlex.quote(str(out))}"
 
 
+class ReportError(HarnessError):
+    """The report could not be written; the results it was made of are kept."""
+
+
 def write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     """``summary.json``, ``summary.csv``, ``runs.csv``, ``plots/*.png`` and
-    ``campaign.html`` in ``out``; the paths written."""
+    ``campaign.html`` in ``out``; the paths written. The results are in
+    ``results.jsonl`` before this is called: whatever fails here (a plot, a full disk)
+    is a :class:`ReportError` in one line that says where they are."""
     out = Path(out)
+    try:
+        return _write_report(out, campaign, results)
+    except Exception as e:  # the report is derived data: say so, name what is kept
+        first = (str(e).strip().splitlines() or [""])[0][:200]
+        raise ReportError(
+            f"the report in {out} was not written ({type(e).__name__}: {first}); the {len(results)} results are "
+            f"kept in {out / RESULTS}: the same command writes the report again without running them"
+        ) from e
+
+
+def _write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     rows = summarize(results)
     worst_runs = worst(results, campaign.get("worst_by"), campaign.get("worst_low", False))
     for r in worst_runs:
@@ -156,8 +188,7 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     labels = [f"{r['faultset']} / {r['world']}" for r in rows]
     fig, ax = plt.subplots(figsize=(7, 0.5 + 0.45 * len(rows)))
     rates = [r["rate"] for r in rows]
-    errs = [[r["rate"] - r["wilson_lo"] for r in rows], [r["wilson_hi"] - r["rate"] for r in rows]]
-    ax.errorbar(rates, range(len(rows)), xerr=errs, fmt="o", capsize=4)
+    ax.errorbar(rates, range(len(rows)), xerr=error_bars(rows), fmt="o", capsize=4)
     ax.set_yticks(range(len(rows)), labels)
     ax.set_xlim(-0.02, 1.02)
     ax.set_xlabel("success rate (95 % Wilson interval)")
@@ -173,7 +204,7 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
                 for r in results
                 if (r["faultset"], r["world"]) == (faultset, world)
             ]
-            series.append(([v for v in values if v is not None and not math.isnan(v)], label))
+            series.append(([v for v in values if v is not None and math.isfinite(v)], label))
         every = [v for values, _ in series for v in values]
         if every:  # the same bins for every group, so their bars compare
             bins = np.histogram_bin_edges(every, bins=min(30, max(5, len(every) // 3)))

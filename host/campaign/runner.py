@@ -13,13 +13,48 @@ its runs recorded as hung. The campaign itself never waits without a deadline.
 import concurrent.futures as cf
 import multiprocessing
 import os
+import re
+import socket
+import urllib.parse
 
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import ResultStore
 from host.campaign.worker import BUSY_POLL_ENV, run_one
+from host.core.children import die_with_parent
+from host.core.errors import ConfigError
 
 GUARD_S = 120.0
 MAX_BREAKS = 2
+SCHEMES = ("tcp", "tls", "ws", "wss")
+"""The schemes of a Dask scheduler's address the harness takes (``tcp`` when none)."""
+CONNECT_S = 20.0
+HOST_NAME = re.compile(r"(?!-)[A-Za-z0-9-]{1,63}(?<!-)(\.(?!-)[A-Za-z0-9-]{1,63}(?<!-))*\.?")
+
+
+def scheduler_address(text: str) -> str:
+    """``--scheduler``, checked before anything runs: ``[scheme://]host:port`` with a
+    scheme of :data:`SCHEMES`, a host name or IP address this machine resolves, a port
+    from 1 to 65535. The address, with its scheme; a ConfigError (one line) otherwise."""
+    scheme, sep, rest = text.strip().partition("://")
+    if not sep:
+        scheme, rest = "tcp", text.strip()
+    expected = "expected [tcp|tls|ws|wss]://HOST:PORT (a port from 1 to 65535), e.g. tcp://127.0.0.1:8786"
+    if scheme not in SCHEMES:
+        raise ConfigError(f"--scheduler {text!r}: unknown scheme {scheme!r}; {expected}")
+    try:
+        parts = urllib.parse.urlsplit("//" + rest)
+        host, port = parts.hostname, parts.port
+    except ValueError as e:  # (a port out of range or not a number, a bracket unclosed)
+        raise ConfigError(f"--scheduler {text!r}: {e}; {expected}") from None
+    if not host or port is None or rest != parts.netloc or parts.username is not None or not 0 < port < 65536:
+        raise ConfigError(f"--scheduler {text!r}: {expected}")
+    if not (HOST_NAME.fullmatch(host) or ":" in host) or len(host) > 253:
+        raise ConfigError(f"--scheduler {text!r}: {host!r} is not a host name or IP address; {expected}")
+    try:
+        socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except (OSError, UnicodeError, ValueError) as e:
+        raise ConfigError(f"--scheduler {text!r}: the host {host!r} does not resolve ({e})") from None
+    return f"{scheme}://{rest}"
 
 
 def failed(task: dict, error: str, message: str) -> dict:
@@ -40,17 +75,21 @@ def failed(task: dict, error: str, message: str) -> dict:
     }
 
 
-def _no_busy_poll(counter=None) -> None:
-    """A worker beside others: no busy polling, and the worker (with the interpreter it
-    starts, which inherits it) kept to one core of its own, taken in turn: a rig's host
-    and firmware hand the link back and forth, cheaper on one core than across two."""
+def _start_worker(counter=None) -> None:
+    """Each pool worker's start: it dies with the campaign (a parent-death signal, so a
+    SIGKILL of ``mpy-fil campaign`` leaves no worker running), and, beside others, it does
+    not busy-poll and is kept to one core of its own, taken in turn (the interpreter it
+    starts inherits it): a rig's host and firmware hand the link back and forth, cheaper
+    on one core than across two."""
+    die_with_parent()
+    if counter is None:
+        return
     os.environ[BUSY_POLL_ENV] = "0"
-    if counter is not None:
-        with counter.get_lock():
-            n = counter.value
-            counter.value += 1
-        cores = sorted(os.sched_getaffinity(0))
-        os.sched_setaffinity(0, {cores[n % len(cores)]})
+    with counter.get_lock():
+        n = counter.value
+        counter.value += 1
+    cores = sorted(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {cores[n % len(cores)]})
 
 
 class LocalPool:
@@ -63,9 +102,10 @@ class LocalPool:
 
     def _new(self):
         context = multiprocessing.get_context("spawn")  # (no fork of a process with threads)
-        init = None if self.busy_poll else _no_busy_poll
         args = () if self.busy_poll else (context.Value("i", 0),)
-        return cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=context, initializer=init, initargs=args)
+        return cf.ProcessPoolExecutor(
+            max_workers=self.workers, mp_context=context, initializer=_start_worker, initargs=args
+        )
 
     def submit(self, task: dict, artefacts: str):
         return self.pool.submit(run_one, task, artefacts)
@@ -73,8 +113,9 @@ class LocalPool:
     def wait(self, futures, timeout_s: float):
         return cf.wait(futures, timeout=timeout_s, return_when=cf.FIRST_COMPLETED)
 
-    def restart(self) -> None:
-        """Stop every worker process (a hung or broken pool) and start afresh."""
+    def restart(self, futures=()) -> None:
+        """Stop every worker process (a hung or broken pool: they are all this
+        campaign's) and start afresh."""
         for proc in list(getattr(self.pool, "_processes", {}).values()):
             proc.kill()
         self.pool.shutdown(wait=True, cancel_futures=True)
@@ -93,7 +134,16 @@ class DaskPool:
     def __init__(self, address: str, busy_poll: bool):
         from distributed import Client
 
-        self.client = Client(address, timeout="20s")
+        try:
+            parts = urllib.parse.urlsplit("//" + address.partition("://")[2])
+            socket.create_connection((parts.hostname, parts.port), timeout=CONNECT_S).close()  # (refused: at once)
+            self.client = Client(address, timeout=f"{CONNECT_S:g}s")
+        except (OSError, TimeoutError) as e:
+            first = (str(e).strip().splitlines() or [type(e).__name__])[0][:200]
+            raise ConfigError(
+                f"--scheduler {address}: no Dask scheduler answered ({first}); "
+                "expected one running there (docs/campaigns.md, Dask cluster)"
+            ) from None
         self.busy_poll = busy_poll
         self.workers = sum(w.get("nthreads", 1) for w in self.client.scheduler_info()["workers"].values())
 
@@ -109,8 +159,13 @@ class DaskPool:
             done = set()
         return done, set(futures) - set(done)
 
-    def restart(self) -> None:
-        self.client.restart()
+    def restart(self, futures=()) -> None:
+        """A hung pool: cancel this campaign's own runs, and nothing else. The cluster's
+        workers are not the campaign's to restart (``client.restart()`` would restart
+        every worker of a shared cluster, and other people's work with them); a run
+        still busy in a worker thread ends at its own ``timeout_s``."""
+        if futures:
+            self.client.cancel(list(futures), force=True)
 
     def close(self) -> None:
         self.client.close()
@@ -153,7 +208,7 @@ def _run(pool, todo: list[dict], store: ResultStore, campaign: Campaign, report)
             if not done:  # nothing for too long: the pool is stuck
                 for task in futures.values():
                     _record(store, report, failed(task, "hung", _hung(campaign)))
-                pool.restart()
+                pool.restart(list(futures))
                 break
             for future in done:
                 task = futures.pop(future)

@@ -141,8 +141,14 @@ def _read_toml(path: Path) -> dict:
         raise ConfigError(f"{path}: no such file")
     try:
         return tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as e:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {e.object[e.start]:#04x} at offset {e.start})") from None
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{path}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: not valid TOML: nested too deeply") from None
+    except OSError as e:
+        raise ConfigError(f"{path}: cannot be read ({e.strerror or e})") from None
 
 
 def _table(path: Path, table) -> dict:
@@ -160,6 +166,8 @@ def _table(path: Path, table) -> dict:
 def _faultsets(path: Path, data: dict) -> dict[str, list]:
     """``[[faultsets]]`` (each a name and its [[faultsets.faults]]) or a plain ``[[faults]]``."""
     sets: dict[str, list] = {}
+    if not isinstance(data.get("faultsets", []), list):
+        raise ConfigError(f"{path}: faultsets: expected an array of tables, [[faultsets]]")
     for i, entry in enumerate(data.get("faultsets", [])):
         name = entry.get("name") if isinstance(entry, dict) else None
         if not isinstance(name, str) or not name or "/" in name:

@@ -1,13 +1,22 @@
 """The campaign's parts without firmware (host/campaign, docs/campaigns.md): the
 scenario file and its mistakes, the rig file's [[faults]], the Wilson interval, the worst
-runs, the placement error, the results file."""
+runs, the placement error, the results file; the report for every outcome and a report
+that fails."""
 
 import json
+import math
+import tempfile
+import threading
+from pathlib import Path
 
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from host.campaign import load_campaign, task_key
-from host.campaign.report import summarize, wilson, worst
+from host.campaign import report as report_module
+from host.campaign.report import ReportError, error_bars, summarize, wilson, worst, write_report
+from host.campaign.runner import failed
 from host.campaign.store import ResultStore
 from host.campaign.worker import placed
 from host.core.errors import ConfigError
@@ -36,6 +45,110 @@ def test_wilson_matches_the_textbook_interval():
     assert (round(lo, 3), round(hi, 3)) == (0.699, 0.972)
     assert wilson(0, 10)[0] == 0.0 and round(wilson(0, 10)[1], 3) == 0.278
     assert wilson(10, 10)[1] == pytest.approx(1.0) and round(wilson(10, 10)[0], 3) == 0.722
+
+
+def test_the_interval_holds_the_rate_within_0_and_1_for_every_count_up_to_200():
+    for n in range(1, 201):
+        for k in range(n + 1):
+            lo, hi = wilson(k, n)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0, f"{k} of {n}: [{lo!r}, {hi!r}]"
+        assert wilson(n, n)[1] == 1.0 and wilson(0, n)[0] == 0.0, f"n={n}: the exact interval reaches the rate"
+
+
+@settings(max_examples=400, derandomize=True, database=None, deadline=None)
+@given(n=st.integers(1, 200), data=st.data())
+def test_the_plots_error_bars_are_never_negative(n, data):
+    k = data.draw(st.integers(0, n))
+    rows = summarize([result(f"a/w/{i}", i < k) for i in range(n)])
+    assert rows[0]["wilson_lo"] <= rows[0]["rate"] <= rows[0]["wilson_hi"]
+    assert min(min(side) for side in error_bars(rows)) >= 0.0
+
+
+def task(key: str) -> dict:
+    faultset, world, seed = key.split("/")
+    return {"faultset": faultset, "world": world, "seed": int(seed)}
+
+
+def outcomes(n: int, kind: str, seed: int) -> list[dict]:
+    """``n`` results of one group (and, for mixed, a second group), each with a figure
+    that is sometimes missing or NaN, as judges give them."""
+    runs = []
+    for i in range(n):
+        passed = {"pass": True, "fail": False}.get(kind, (i * 7 + seed) % 3 != 0)
+        figures = {"coverage": ((i * 37 + seed) % 100) / 100} if i % 5 else {"coverage": math.nan}
+        group = "b" if kind == "mixed" and i % 4 == 3 else "a"
+        key = f"{group}/room/{i + 1}"
+        runs.append({**failed(task(key), None if passed else "FirmwareError", ""), **result(key, passed, **figures)})
+        runs[-1].update(wall_s=1.0 + i % 3, t_end_s=2.0)
+    return runs
+
+
+@settings(max_examples=12, derandomize=True, database=None, deadline=None)
+@given(n=st.integers(1, 200), kind=st.sampled_from(["pass", "fail", "mixed"]), seed=st.integers(0, 99))
+@example(n=10, kind="pass", seed=0)  # the default campaign that passes: the report crashed
+@example(n=4, kind="pass", seed=0)
+@example(n=69, kind="fail", seed=0)  # an all-failing count whose lower bound rounded above 0
+@example(n=1, kind="fail", seed=0)
+@example(n=200, kind="mixed", seed=3)
+def test_the_report_is_written_for_every_outcome_and_count(n, kind, seed):
+    runs = outcomes(n, kind, seed)
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = write_report(Path(tmp), {"name": "x", "rig": "rover", "worst_by": "coverage"}, runs)
+        summary = json.loads(paths["json"].read_text())
+        assert summary["runs"] == n and sum(g["runs"] for g in summary["groups"]) == n
+        for g in summary["groups"]:
+            assert 0.0 <= g["wilson_lo"] <= g["rate"] <= g["wilson_hi"] <= 1.0, g
+        page = paths["html"].read_text()
+        assert page.count("data:image/png;base64,") == 3, "expected the rate, coverage and wall time plots"
+        assert len(paths["runs_csv"].read_text().splitlines()) == n + 1
+
+
+def test_a_report_that_fails_keeps_the_results_and_says_so_in_one_line(tmp_path, monkeypatch):
+    store = ResultStore(tmp_path)
+    store.open({"name": "x"})
+    runs = outcomes(10, "pass", 0)
+    for r in runs:
+        store.append(r)
+
+    def no_plots(*_a):
+        raise RuntimeError("no space left on device\nsecond line")
+
+    monkeypatch.setattr(report_module, "_plots", no_plots)
+    with pytest.raises(ReportError) as e:
+        write_report(tmp_path, {"name": "x"}, store.read())
+    message = str(e.value)
+    assert "\n" not in message and str(tmp_path / "results.jsonl") in message, message
+    assert "RuntimeError: no space left on device" in message and "the 10 results are kept" in message
+    assert len(store.read()) == 10 and (tmp_path / "summary.json").is_file(), "expected the results kept"
+
+
+def test_the_command_line_says_in_one_line_where_the_results_are_when_the_report_fails(tmp_path, monkeypatch, capsys):
+    import signal
+
+    from host import cli
+    from host.campaign import runner
+
+    def fake_run(campaign, out, **_kw):
+        store = ResultStore(out)
+        store.open(campaign.to_dict())
+        for r in outcomes(3, "pass", 0):
+            store.append(r)
+        return store.read()
+
+    def no_plots(*_a):
+        raise ValueError("'xerr' must not contain negative values")
+
+    monkeypatch.setattr(runner, "run_campaign", fake_run)
+    monkeypatch.setattr(report_module, "_plots", no_plots)
+    before = signal.getsignal(signal.SIGTERM)
+    try:
+        code = cli.main(["campaign", "rover", "--seeds", "3", "--seconds", "1", "--out", str(tmp_path / "c")])
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1, err
+    assert f"kept in {tmp_path / 'c' / 'results.jsonl'}" in err and "Traceback" not in err, err
+    assert len((tmp_path / "c" / "results.jsonl").read_text().splitlines()) == 3
 
 
 def test_a_scenario_crosses_fault_sets_worlds_and_seeds(tmp_path):
@@ -152,3 +265,167 @@ def test_a_fault_set_added_grows_the_campaign_and_one_changed_is_another(tmp_pat
     store.open({"rig": "duct", "faultsets": {"a": [{"kind": "tether_snag", "rate": 0.1}], "b": []}})
     with pytest.raises(ConfigError, match=r"differs in faultsets"):
         store.open({"rig": "duct", "faultsets": {"a": [{"kind": "tether_snag", "rate": 0.5}]}})
+
+
+class Accepted(Exception):
+    """The arguments got as far as running the campaign (with this scheduler address)."""
+
+    scheduler = None
+
+
+def campaign_cli(argv: list[str], monkeypatch) -> tuple[object, str]:
+    """``mpy-fil campaign`` in this process up to the run (which is not started): the
+    exit code, or ``Accepted``; and stderr."""
+    import contextlib
+    import io
+    import signal
+
+    from host import cli
+    from host.campaign import runner
+
+    def no_run(*_a, scheduler=None, **_kw):
+        Accepted.scheduler = scheduler
+        raise Accepted
+
+    monkeypatch.setattr(runner, "run_campaign", no_run)
+    before = signal.getsignal(signal.SIGTERM)
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(err):
+            code = cli.main(["campaign", *argv])
+    except SystemExit as e:
+        code = e.code
+    except Accepted:
+        code = Accepted
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    return code, err.getvalue()
+
+
+def assert_accepted_or_refused_in_one_line(code, err: str, argv) -> None:
+    assert code is Accepted or code == 2, f"{argv}: expected accepted or exit 2, got {code!r}: {err}"
+    if code == 2:
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, f"{argv}: expected one line:\n{err}"
+        assert err.startswith("mpy-fil campaign: error: "), err
+
+
+numbers = st.one_of(
+    st.integers(-(2**70), 2**70).map(str),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["", " ", "1e3", "0x10", "1_000", "nan", "-0", "١٢"]),
+    st.text(max_size=12),
+)
+hosts = st.sampled_from(["127.0.0.1", "localhost", "[::1]", "::1", "no-such-host.invalid", "", "a b", "h\x00", "-x-"])
+schedulers = st.one_of(
+    st.text(max_size=40),
+    st.builds(
+        "{}{}:{}".format,
+        st.sampled_from(["tcp://", "tls://", "ws://", "", "http://", "inproc://", "TCP://", "tcp:/"]),
+        st.one_of(hosts, st.text(max_size=10)),
+        st.one_of(st.integers(-10, 70000).map(str), st.text(max_size=6)),
+    ),
+)
+
+
+@settings(max_examples=150, derandomize=True, database=None, deadline=None)
+@given(
+    seeds=st.one_of(st.none(), numbers),
+    workers=st.one_of(st.none(), numbers),
+    seconds=st.one_of(st.none(), numbers),
+    scheduler=st.one_of(st.none(), schedulers),
+)
+@example(seeds="10", workers="2", seconds="2", scheduler=None)
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://127.0.0.1:8786")
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://127.0.0.1:65536")
+@example(seeds=None, workers=None, seconds=None, scheduler="tcp://no-such-host.invalid:8786")
+@example(seeds="100000", workers="1000", seconds="1e300", scheduler="ucx://x:1")
+def test_campaign_arguments_are_accepted_or_refused_in_one_line(seeds, workers, seconds, scheduler):
+    with tempfile.TemporaryDirectory() as tmp, pytest.MonkeyPatch.context() as monkeypatch:
+        argv = ["rover", "--out", tmp]
+        for flag, value in (("--seeds", seeds), ("--workers", workers), ("--seconds", seconds)):
+            argv += [f"{flag}={value}"] if value is not None else []
+        argv += [f"--scheduler={scheduler}"] if scheduler is not None else []
+        code, err = campaign_cli(argv, monkeypatch)
+    assert_accepted_or_refused_in_one_line(code, err, argv)
+    if scheduler == "tcp://127.0.0.1:8786" and code == 2:
+        assert "--scheduler" not in err, f"expected a good address accepted: {err}"
+    if code is Accepted and scheduler is not None:  # what Dask is given is an address it reads
+        from distributed.comm.addressing import parse_address, parse_host_port
+
+        scheme, location = parse_address(Accepted.scheduler)
+        host, port = parse_host_port(location)
+        assert scheme in ("tcp", "tls", "ws", "wss") and host and 0 < port < 65536, Accepted.scheduler
+
+
+@settings(max_examples=60, derandomize=True, database=None, deadline=None)
+@given(content=st.one_of(st.binary(max_size=80), st.text(max_size=80).map(str.encode)))
+@example(content=b"\xff\xfe[[faults]]\nkind = 'noise'\n")
+@example(content=b"[[faults]\nkind =")
+@example(content=b"faultsets = 3")
+@example(content=b"faults = [" * 2000)
+@example(content=b'[[faults]]\nkind = "noise"\nsignal = "sonar.adc"\nsd = 100\n')
+def test_a_faults_file_is_accepted_or_refused_in_one_line_naming_it(content):
+    with tempfile.TemporaryDirectory() as tmp, pytest.MonkeyPatch.context() as monkeypatch:
+        path = Path(tmp) / "faults.toml"
+        path.write_bytes(content)
+        argv = ["rover", "--faults", str(path), "--out", str(Path(tmp) / "out")]
+        code, err = campaign_cli(argv, monkeypatch)
+    assert_accepted_or_refused_in_one_line(code, err, argv)
+    if code == 2:
+        assert str(path) in err, f"expected the file named: {err}"
+
+
+def test_a_bad_scheduler_or_faults_file_is_refused_before_anything_runs(tmp_path, monkeypatch):
+    bad = tmp_path / "faults.toml"
+    bad.write_bytes(b"[[faults]]\nkind = '\xe9'\n")
+    cases = [
+        (["--scheduler", "tcp://10.0.0.5"], "argument --scheduler: expected [tcp|tls|ws|wss]://HOST:PORT"),
+        (["--scheduler", "http://127.0.0.1:8786"], "unknown scheme 'http'"),
+        (["--scheduler", "tcp://no-such-host.invalid:8786"], "the host 'no-such-host.invalid' does not resolve"),
+        (["--scheduler", "tcp://127.0.0.1:65536"], "Port out of range"),
+        (["--faults", str(bad)], f"{bad}: not UTF-8 text (byte 0xe9 at offset 19)"),
+    ]
+    for argv, message in cases:
+        code, err = campaign_cli(["rover", "--out", str(tmp_path / "out"), *argv], monkeypatch)
+        assert code == 2 and message in err and len(err.splitlines()) == 1, f"{argv}: {code} {err}"
+    assert not (tmp_path / "out" / "results.jsonl").exists()
+
+
+RELEASE = threading.Event()
+
+
+def hang(*_a, **_kw):
+    """A run that never ends by itself (until the test lets it go)."""
+    RELEASE.wait(60)
+    return {}
+
+
+def someone_elses_work(x):
+    RELEASE.wait(60)
+    return x * 2
+
+
+def test_a_hung_campaign_on_a_shared_dask_cluster_cancels_its_own_runs_and_leaves_the_rest(tmp_path, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    from host.campaign import runner
+
+    monkeypatch.setattr(runner, "run_one", hang)
+    monkeypatch.setattr(runner, "GUARD_S", 0.0)
+    campaign = load_campaign("rover", seeds=2, seconds=1.0, timeout_s=1.0)
+    RELEASE.clear()
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=3, processes=False, protocol="tcp", host="127.0.0.1", dashboard_address=None
+    )
+    try:
+        with distributed.Client(cluster.scheduler_address) as other:
+            workers = set(other.scheduler_info()["workers"])
+            theirs = other.submit(someone_elses_work, 21, pure=False)
+            results = runner.run_campaign(campaign, tmp_path, scheduler=cluster.scheduler_address)
+            assert [r["error"] for r in results] == ["hung", "hung"], results
+            assert set(other.scheduler_info()["workers"]) == workers, "expected the cluster's workers not restarted"
+            assert theirs.status == "pending", f"expected another client's work left running, got {theirs.status}"
+            RELEASE.set()
+            assert theirs.result(timeout=10) == 42
+    finally:
+        RELEASE.set()
+        cluster.close()
