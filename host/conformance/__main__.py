@@ -1,9 +1,10 @@
 """``make conformance``: MicroPython's own tests on the plain unix port and in the loop,
 with upstream's ``run-tests.py``; prints the table and checks it against ``known.toml``.
 
-``python -m host.conformance [--subset] [--table FILE]``. Exit status 1 when a test that
-passes on the plain port fails in the loop and ``known.toml`` does not list it, or when
-``known.toml`` lists a test that passes after all (the list is kept true).
+``python -m host.conformance [--table FILE]``. Exit status 1 when a test that passes on
+the plain port fails in the loop and ``known.toml`` does not list it, or when
+``known.toml`` lists a test that passes after all (the list is kept true). ``make test``
+runs it whole (``host/tests/test_conformance.py``).
 """
 
 import argparse
@@ -23,17 +24,6 @@ HERE = Path(__file__).resolve().parent
 OUT = BUILD / "conformance"
 # The API the shim stands in for (machine, time, select, asyncio on them), by pattern.
 TESTS = ("extmod/machine*.py", "extmod/ticks_*.py", "extmod/time_*.py", "extmod/select_*.py", "extmod/asyncio_*.py")
-# A few of each kind, for make test (the whole set is make conformance).
-SUBSET = (
-    "extmod/machine_soft_timer.py",
-    "extmod/machine_pulse.py",
-    "extmod/ticks_add.py",
-    "extmod/time_ms_us.py",
-    "extmod/select_ipoll.py",
-    "extmod/asyncio_fair.py",
-    "extmod/asyncio_threadsafeflag.py",
-    "extmod/asyncio_wait_for.py",
-)
 # Upstream's tests that need a board on a bench (loopback wires, a UART's TX to its RX):
 # in the loop as an esp32 on the bench of host/conformance/inloop.py. The plain port
 # has no such hardware; each must pass in the loop.
@@ -54,10 +44,10 @@ def tests_dir() -> Path:
     return path
 
 
-def select(tests: Path, subset: bool) -> tuple[list[str], list[str]]:
+def select(tests: Path) -> tuple[list[str], list[str]]:
     """(the files to run, those left out because they need unittest: Debian's source
     (+ds) strips micropython-lib, where it lives, and run-tests.py stops on them)."""
-    files = SUBSET if subset else {p.relative_to(tests).as_posix() for pattern in TESTS for p in tests.glob(pattern)}
+    files = {p.relative_to(tests).as_posix() for pattern in TESTS for p in tests.glob(pattern)}
     needs = {f for f in files if "import unittest" in (tests / f).read_text()}
     return sorted(set(files) - needs), sorted(needs)
 
@@ -152,15 +142,14 @@ def verdict(files, plain, shim, reasons, bench) -> list[str]:
 
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="python -m host.conformance", description=__doc__.splitlines()[0])
-    ap.add_argument("--subset", action="store_true", help="a few files of each kind (make test)")
     ap.add_argument("--table", type=Path, help="also write the table (Markdown) to this file")
     args = ap.parse_args(argv)
     tests = tests_dir()
-    files, needs_unittest = select(tests, args.subset)
+    files, needs_unittest = select(tests)
     plain = run_tests(tests, files, interpreter.find(), "plain")
     shim = run_tests(tests, files, wrapper(), "shim")
     reasons = known()
-    bench_files = [] if args.subset else [f for f in BENCH_TESTS if (tests / f).is_file()]
+    bench_files = [f for f in BENCH_TESTS if (tests / f).is_file()]
     bench = {}
     for board in sorted({BENCH_TESTS[f] for f in bench_files}):
         group = [f for f in bench_files if BENCH_TESTS[f] == board]

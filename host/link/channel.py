@@ -36,6 +36,11 @@ class Channel:
         self._check()
         return got
 
+    def recv_despite_damage(self, timeout_s: float):
+        """The next good frame, even after a gap or a damaged frame (what the firmware
+        says when interrupted, with a lost frame before it); LinkTimeout if none."""
+        return self._recv(timeout_s, strict=False)
+
     def _check(self) -> None:
         if self.decoder.damaged:
             raise LinkDamaged(self.damage_report("from the firmware"))
@@ -49,7 +54,7 @@ class Channel:
             f"duplicates dropped {c['duplicates']}): the run cannot be trusted past it"
         )
 
-    def _recv(self, timeout_s: float):
+    def _recv(self, timeout_s: float, strict: bool = True):
         got = self.decoder.next()
         if got is not None:  # (a read brings several frames at once)
             return got
@@ -59,7 +64,8 @@ class Channel:
             got = self.decoder.next()
             if got is not None:
                 return got
-            self._check()  # (a damaged frame with nothing after it: say so now)
+            if strict:
+                self._check()  # (a damaged frame with nothing after it: say so now)
             now = time.monotonic()
             if now >= deadline:
                 pending = self.decoder.pending()

@@ -1,14 +1,18 @@
 """How a firmware run ends, and the errors that say so. Each stops the rig first and
 names the virtual time, the seed, the console's last lines and the artefacts
-(``Rig.where``): a traceback, an exit the test did not expect, a boot loop, a damaged
+(``Rig.where``): a traceback, an exit the test did not expect, a reboot storm, a damaged
 link. ``docs/reliability.md`` lists them with the tests that show them."""
 
 from host.core.errors import FirmwareError, FirmwareExited, FirmwareHung, LinkDamaged, LinkError
 from host.link import frames as F
 
-BOOT_LOOP_RESETS = 20
-BOOT_LOOP_US = 1_000
-"""BOOT_LOOP_RESETS resets within BOOT_LOOP_US of virtual time: a boot loop."""
+STORM_RESETS = 10
+STORM_RUN_US = 60_000_000
+"""A reboot storm: STORM_RESETS resets in a row, each less than STORM_RUN_US of virtual
+time after the boot before it (the firmware never ran a minute without resetting), at any
+rate, from a reset at boot to one every 59 s. A board that resets less often (a watchdog
+every few minutes) is let be. Each reset costs a process start (about 10 ms of wall time),
+so a storm ends within a second or two of wall time whatever its rate."""
 SHIM_LINK_DAMAGED = "LinkDamaged:"  # the shim's exception, last line of its traceback
 CONSOLE_TAIL_LINES = 20
 
@@ -54,16 +58,49 @@ def exited(rig, t: int, kind: int, code: int) -> None:
     )
 
 
+class ResetWatch:
+    """The resets of one run, for the storm check: the current run of short boots."""
+
+    def __init__(self, t_start_us: int = 0):
+        self.boot_us = t_start_us  # when the running boot began
+        self.streak = 0  # boots in a row that reset within STORM_RUN_US of starting
+        self.streak_from_us = t_start_us  # when the first of them began
+        self.longest_us = 0  # the longest of them
+
+    def seen(self, t_us: int) -> bool:
+        """A reset at ``t_us``; True when it makes a storm."""
+        ran_us = t_us - self.boot_us
+        if ran_us < STORM_RUN_US:
+            if not self.streak:
+                self.streak_from_us, self.longest_us = self.boot_us, 0
+            self.streak += 1
+            self.longest_us = max(self.longest_us, ran_us)
+        else:  # the firmware ran long enough: this reset is no storm's
+            self.streak = 0
+        self.boot_us = t_us
+        return self.streak >= STORM_RESETS
+
+    def describe(self, t_us: int) -> str:
+        span_us = t_us - self.streak_from_us
+        if span_us <= 0:
+            return f"{self.streak} times at one instant of virtual time (t={t_us / 1e6:.6f} s)"
+        rate = self.streak / (span_us / 1e6)
+        longest_s = self.longest_us / 1e6
+        return (
+            f"{self.streak} times in {span_us / 1e6:.6g} s of virtual time ({rate:.3g} resets per virtual second, "
+            f"from t={self.streak_from_us / 1e6:.6f} s; the longest run between two resets {longest_s:.6g} s)"
+        )
+
+
 def reset(rig, t: int) -> None:
-    """machine.reset() (or a watchdog): stop a board that does nothing but reset."""
-    run = rig.reset_times  # the last BOOT_LOOP_RESETS resets' times
-    run.append(t)
-    if len(run) == BOOT_LOOP_RESETS and run[-1] - run[0] <= BOOT_LOOP_US:
+    """machine.reset() (or a watchdog): stop a board that does little but reset, at any rate."""
+    watch = rig.reset_watch
+    if watch.seen(t):
         rig.stop()
         raise FirmwareError(
-            f"boot loop: the firmware reset {BOOT_LOOP_RESETS} times within {BOOT_LOOP_US / 1000:g} ms of "
-            f"virtual time (from t={run[0] / 1e6:.6f} s), never getting further; expected it to run."
-            f"{rig.where()}",
+            f"reboot storm: the firmware reset {watch.describe(t)}, never running {STORM_RUN_US / 1e6:g} s of "
+            f"virtual time without a reset; expected it to run (a board that resets less often, a watchdog every "
+            f"few minutes, is let be).{rig.where()}",
             console=rig.console,
         )
 

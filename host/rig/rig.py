@@ -14,7 +14,6 @@ stops answering is stopped and reported, and :meth:`Rig.stop` always ends the
 process and closes the link.
 """
 
-import collections
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -126,7 +125,7 @@ class Rig:
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
         self.resets = 0
         self.expect_from = 0  # console bytes before this were taken by an expect
-        self.reset_times = collections.deque(maxlen=endings.BOOT_LOOP_RESETS)
+        self.reset_watch = endings.ResetWatch()  # a reboot storm, at any rate
         self.linklog: LinkLog = NO_LOG
         self._started = False
         damaged = lambda error: endings.damaged(self, error)  # noqa: E731

@@ -28,7 +28,7 @@ class Session:
         ``zero_delay``: the plant's wires carry a write to an input at once;
         ``identity``: the board's (platform, machine)."""
         self.chan = chan
-        self.last_type = None
+        self.last_type = self.last_sent_type = None  # (of this boot's conversation)
         type_, payload = self.recv(HANDSHAKE_TIMEOUT_S, "HELLO")
         if type_ != F.HELLO:
             raise LinkError(f"expected HELLO from the shim, got {F.NAMES.get(type_, hex(type_))}")
@@ -67,10 +67,12 @@ class Session:
         self.last_type = type_
         return type_, payload
 
-    def poll(self, timeout_s: float):
-        """The next message, or None if none came within ``timeout_s``."""
+    def poll(self, timeout_s: float, despite_damage: bool = False):
+        """The next message, or None if none came within ``timeout_s``. ``despite_damage``:
+        after a lost or damaged frame too (the link's counters keep the loss)."""
+        recv = self.chan.recv_despite_damage if despite_damage else self.chan.recv
         try:
-            type_, _seq, payload = self.chan.recv(timeout_s)
+            type_, _seq, payload = recv(timeout_s)
         except LinkTimeout:
             return None
         self.last_type = type_

@@ -42,12 +42,49 @@ def _stack(proc, rig) -> str:
         os.kill(proc.pid, signal.SIGINT)
         deadline = time.monotonic() + STACK_WAIT_S
         while time.monotonic() < deadline:
-            got = rig.session.poll(deadline - time.monotonic())
+            # (despite a gap: the frame lost before it is what the counters are for)
+            got = rig.session.poll(deadline - time.monotonic(), despite_damage=True)
             if got is not None and got[0] == F.FAULT:
                 return F.unpack_fault(got[1])[1].decode(errors="replace")
     except (OSError, HarnessError):
         pass
     return ""
+
+
+LOSS_COUNTERS = ("seq_gaps", "bad_crc", "bad_length", "truncated")
+WAITING_ON_LINK = (" in recv", " in exchange")  # the shim's functions that wait for the host
+
+
+def waiting_on_link(stack: str) -> bool:
+    """The interrupted firmware was in the shim, waiting for a frame from the host."""
+    frames = [line for line in stack.splitlines() if line.lstrip().startswith("File ")]
+    return bool(frames) and "_hil" in frames[-1] and frames[-1].endswith(WAITING_ON_LINK)
+
+
+def diagnosis(stack: str, counters: dict, sent_any: bool) -> str:
+    """Which way a frame was lost, as the link's counters and the firmware's stack show it."""
+    lost = ", ".join(f"{k}={counters[k]}" for k in LOSS_COUNTERS if counters.get(k))
+    if lost:
+        return (
+            f"a frame from the firmware (firmware→host) was lost: the host saw it in the firmware's sequence "
+            f"numbers ({lost}), and the firmware waits for the answer to a message the host never got"
+        )
+    if stack and not waiting_on_link(stack):
+        return "nothing was lost on the link in either direction: the firmware hangs in its own code (its stack below)"
+    if not sent_any:
+        return (
+            "nothing has been sent to the firmware yet, so no frame to it was lost; the firmware's first frame "
+            "(HELLO, firmware→host) was lost on its way, or the firmware never started its shim"
+        )
+    if stack:
+        return (
+            "nothing from the firmware was lost (no gap in its sequence numbers) and it waits in the shim for the "
+            "host: a frame to the firmware (host→firmware) was lost on its way"
+        )
+    return (
+        "no stack came back and nothing from the firmware was lost (no gap in its sequence numbers): a frame "
+        "lost on its way to the firmware (host→firmware) looks the same"
+    )
 
 
 class Target:
@@ -146,19 +183,17 @@ class UnixPortTarget(Target):
     def on_silence(self, rig, timeout_s: float, what: str):
         proc = self.proc
         if proc is not None and proc.poll() is None and timeout_s > 0:
-            last = rig.last_message()
+            last, sent = rig.last_message(), rig.session.last_sent()
             stack = _stack(proc, rig)
             rig.stop()
-            link = ", ".join(f"{k}={v}" for k, v in rig.session.counters().items() if v)
-            where = (
-                f"\nwhere it was (interrupted by the watchdog):\n{stack.rstrip()}"
-                if stack
-                else "; a frame lost on its way to the firmware looks the same"
-            )
+            counters = rig.session.counters()
+            link = ", ".join(f"{k}={v}" for k, v in counters.items() if v)
+            why = diagnosis(stack, counters, sent != "nothing")
+            where = f"\nwhere it was (interrupted by the watchdog):\n{stack.rstrip()}" if stack else ""
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
                 f"got nothing (virtual t={rig.clock.firmware_us / 1e6:.6f} s, last message {last}, "
-                f"last sent {rig.session.last_sent()}; link: {link}){where}\nthe watchdog stopped it.{rig.where()}"
+                f"last sent {sent}; link: {link}); {why}{where}\nthe watchdog stopped it.{rig.where()}"
             )
         code = proc.wait(timeout=EXIT_WAIT_S) if proc is not None else None
         rig.stop()

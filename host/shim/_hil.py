@@ -272,7 +272,9 @@ def observe():
     else:
         t = now()
     if t >= _horizon or t >= _timer_due:
-        _run_until(t, None)  # (a read: not the blocking calls' checks, on this hot path)
+        # (a read: not the blocking calls' thread check, on this hot path; the heap lock
+        # released, since the firmware may read the clock under it and this may sync)
+        _released_run_until(t, None)
     else:
         _now = t
 
@@ -287,23 +289,40 @@ def run_until(t_target, watch=None):
     """Move virtual time to t_target, running timers and IRQ handlers on the way.
 
     With `watch` (a list of handles), return True as soon as one of them changes.
-    Under micropython.heap_lock() too: a board's sleep allocates nothing, the shim's
-    link work does, so the heap is unlocked around it and locked again after.
+    Under micropython.heap_lock() too (see heap_release).
     """
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
-    lock, unlock = _Link.heap_lock, _Link.heap_unlock
-    lock()
-    depth = unlock()  # (heap_unlock returns the depth left: here, the firmware's)
+    return _released_run_until(t_target, watch)
+
+
+def _released_run_until(t_target, watch):
+    depth = heap_release()
     if not depth:
         return _run_until(t_target, watch)
-    for _ in range(depth):
-        unlock()
     try:
         return _run_until(t_target, watch)
     finally:
-        for _ in range(depth):
-            lock()
+        heap_restore(depth)
+
+
+def heap_release():
+    """Under micropython.heap_lock(): a board's sleep or poll allocates nothing, the shim's
+    link work does, so the shim unlocks the heap around its own work (and heap_restore
+    locks it again). Returns the firmware's lock depth (0: not locked, nothing done)."""
+    lock, unlock = _Link.heap_lock, _Link.heap_unlock
+    lock()
+    depth = unlock()  # (heap_unlock returns the depth left: here, the firmware's)
+    for _ in range(depth):
+        unlock()
+    return depth
+
+
+def heap_restore(depth):
+    """The firmware's heap lock back, as heap_release found it."""
+    lock = _Link.heap_lock
+    for _ in range(depth):
+        lock()
 
 
 def _run_until(t_target, watch):

@@ -89,8 +89,8 @@ def _entry():
 
 
 def main(pil=False):
-    _hil.start()
     try:
+        _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
         _asyncio_in_virtual_time()
         if not pil:
             _run("boot.py")

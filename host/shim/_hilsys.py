@@ -38,20 +38,44 @@ def _ilistdir(path="."):
         yield (entry[0], entry[1], entry[2], size)
 
 
-def _printing(said):
-    builtin_print = print
+class _Unset:
+    pass
 
-    def board_print(*args, **kwargs):
-        builtin_print(*args, **kwargs)
-        said()
 
-    return board_print
+_UNSET = _Unset()  # an argument print() was not given
+_said = _print = None  # the shim's hook and the built-in print (install)
+
+
+def _board_print(a=_UNSET, b=_UNSET, c=_UNSET, d=_UNSET, e=_UNSET, f=_UNSET, *more, sep=" ", end="\n", file=None):
+    # print() as the firmware calls it: the built-in, then the shim told. Named parameters,
+    # not *args (a tuple per call), and no closure (one allocates for five arguments or more):
+    # up to six items print under micropython.heap_lock(), as the built-in does on a board.
+    out = _sys.stdout if file is None else file
+    if more:
+        _print(a, b, c, d, e, f, *more, sep=sep, end=end, file=out)
+    elif f is not _UNSET:
+        _print(a, b, c, d, e, f, sep=sep, end=end, file=out)
+    elif e is not _UNSET:
+        _print(a, b, c, d, e, sep=sep, end=end, file=out)
+    elif d is not _UNSET:
+        _print(a, b, c, d, sep=sep, end=end, file=out)
+    elif c is not _UNSET:
+        _print(a, b, c, sep=sep, end=end, file=out)
+    elif b is not _UNSET:
+        _print(a, b, sep=sep, end=end, file=out)
+    elif a is not _UNSET:
+        _print(a, sep=sep, end=end, file=out)
+    else:
+        _print(sep=sep, end=end, file=out)
+    _said()
 
 
 def install(said, platform=None, machine=None):
     import builtins
 
-    builtins.print = _printing(said)
+    global _said, _print
+    _said, _print = said, builtins.print
+    builtins.print = _board_print
     impl = _sys.implementation
     version = ".".join(str(v) for v in impl.version[:3])
     if platform:

@@ -44,14 +44,25 @@ class _Poll:
         return False
 
     def ipoll(self, timeout=-1, flags=0):
-        if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
-            _hil.observe()
-            return self._ready(flags) if self._map else _NOTHING
         if not self._map:  # nothing to poll (asyncio's sleeps): a plain virtual sleep
-            _hil.blocking()
-            if timeout:
+            if timeout == 0:  # a look, not a wait: time moves as a spin
+                _hil.observe()
+            elif timeout:
+                _hil.blocking()
                 _hil.run_until(_hil.FOREVER_US if timeout < 0 else _hil.now() + timeout * 1000)
             return _NOTHING
+        # A board's poll allocates nothing: the shim's own work here (the ready list, the
+        # handles to watch) runs with the firmware's heap lock, if any, released.
+        depth = _hil.heap_release()
+        try:
+            return self._ipoll(timeout, flags)
+        finally:
+            _hil.heap_restore(depth)
+
+    def _ipoll(self, timeout, flags):
+        if timeout == 0:  # a look, not a wait (asyncio between runnable tasks): time moves as a spin
+            _hil.observe()
+            return self._ready(flags)
         ready = self._ready(flags)
         if ready:  # (no wait: in a loop, as a spin, so time still moves)
             _hil.observe()
