@@ -32,7 +32,7 @@ from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds
+from sim_plant import kinds, option_table
 
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
@@ -192,6 +192,9 @@ def _param(text: str) -> tuple[str, object]:
             pass
     if not _finite(parsed):
         raise argparse.ArgumentTypeError(f"{name.strip()}: expected finite numbers, got {value!r}")
+    problem = option_table.check(name.strip(), parsed)  # the bounds a rig file's options have
+    if problem:
+        raise argparse.ArgumentTypeError(f"{name.strip()}: {problem}")
     return name.strip(), parsed
 
 
