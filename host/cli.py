@@ -323,10 +323,13 @@ def cmd_init(args) -> int:
     if path.exists():
         args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
     _writable(args.sub, "DIR", folder)
+    notes: list[str] = []
     try:
-        path.write_text(starter(folder))
+        path.write_text(starter(folder, notes))
     except OSError as e:
         args.sub.error(f"argument DIR: cannot read {folder} or write {path} ({e.strerror or e})")
+    for note in notes:
+        print(f"{args.sub.prog}: {note}", file=sys.stderr)
     print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
     return 0
 

@@ -180,13 +180,13 @@ def _walk(where: _Where, value, field: str, depth: int) -> None:
     """Every key and text in the file: no control characters (a NUL ends a C string, a
     newline a log line), at most ``MAX_DEPTH`` levels of tables and lists."""
     if depth > MAX_DEPTH:
-        raise where.error(field.strip(), f"nested deeper than {MAX_DEPTH} levels of tables and lists")
-    if isinstance(value, str) and not field.endswith(" marker"):  # (a marker is one byte: checked as one)
-        _text(where, field.strip(), value)
+        raise where.error(field, f"nested deeper than {MAX_DEPTH} levels of tables and lists")
+    if isinstance(value, str) and not field.endswith(".marker"):  # (a marker is one byte: checked as one)
+        _text(where, field, value)
     elif isinstance(value, dict):
         for key, item in value.items():
             _text(where, f"{field} {key!r}".strip(), key)
-            _walk(where, item, f"{field} {key}" if field else key, depth + 1)
+            _walk(where, item, f"{field}.{key}" if field else key, depth + 1)
     elif isinstance(value, list):
         for i, item in enumerate(value):
             _walk(where, item, f"{field}[{i}]", depth + 1)
@@ -398,7 +398,7 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
         if not isinstance(spec, dict):
             raise where.error(field, f"expected a table, got {spec!r}")
         budget_kind = spec.get("kind")
-        if budget_kind not in BUDGET_KINDS:
+        if not isinstance(budget_kind, str) or budget_kind not in BUDGET_KINDS:
             hint = _did_you_mean(str(budget_kind), BUDGET_KINDS)
             raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
         cls, keys = BUDGET_KINDS[budget_kind]
@@ -515,13 +515,50 @@ ranger = "hcsr04"          # hcsr04 | analog | none
 """
 
 
-def starter(folder: Path) -> str:
+INIT_MAX_FILES = 1000  # .py files `mpy-fil init` reads at most (a board's flash holds far fewer)
+INIT_MAX_BYTES = 8 << 20  # and bytes
+NOT_FIRMWARE = {"__pycache__", "node_modules", "site-packages", "build", "dist"}  # and hidden folders, venvs
+
+
+def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
+    """The ``.py`` files of a firmware folder, in order, skipping hidden folders, virtual
+    environments (a ``pyvenv.cfg``) and tool folders (``NOT_FIRMWARE``), and stopping at
+    ``INIT_MAX_FILES`` files or ``INIT_MAX_BYTES`` bytes (said in ``notes``)."""
+    import os
+
+    found, total = [], 0
+    for top, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if not _skipped(Path(top, d)))
+        for name in sorted(f for f in files if f.endswith(".py")):
+            path = Path(top, name)
+            try:
+                size = path.stat().st_size
+            except OSError:
+                continue
+            if len(found) >= INIT_MAX_FILES or total + size > INIT_MAX_BYTES:
+                if notes is not None:
+                    notes.append(
+                        f"stopped reading at {path} after {len(found)} files, {total} bytes "
+                        f"(at most {INIT_MAX_FILES} files, {INIT_MAX_BYTES} bytes): some pins may be missing"
+                    )
+                return found
+            found.append(path)
+            total += size
+    return found
+
+
+def _skipped(folder: Path) -> bool:
+    name = folder.name
+    return name.startswith(".") or name in NOT_FIRMWARE or (folder / "pyvenv.cfg").exists() or folder.is_symlink()
+
+
+def starter(folder: Path, notes: list | None = None) -> str:
     """A commented starting rig file for a firmware folder: its entry file, and the pins
     its code passes to ``Pin(...)`` (by their constant's name when it has one), ready to
-    wire."""
+    wire; what it skipped or where it stopped early goes to ``notes``."""
     files = sorted(folder.glob("*.py"))
     entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
-    trees = [tree for tree in map(_parse, sorted(folder.rglob("*.py"))) if tree is not None]
+    trees = [tree for tree in map(_parse, firmware_sources(folder, notes)) if tree is not None]
     drivers = _drivers(trees)
     pins: dict[str, int] = {}
     for tree in trees:
@@ -571,7 +608,7 @@ def _parse(source: Path):
 
     try:
         return ast.parse(source.read_text(errors="replace"))
-    except SyntaxError:
+    except (SyntaxError, ValueError, RecursionError, MemoryError, OSError):  # (a NUL, nesting: not firmware)
         return None
 
 
