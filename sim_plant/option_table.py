@@ -32,7 +32,11 @@ class Num:
     def problem(self, value):
         if value is None and self.none:
             return None
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or (self.whole and not isinstance(value, int)):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or (self.whole and not isinstance(value, int))
+        ):
             return f"expected {self.text()}, got {value!r}"
         if not math.isfinite(value) or value < self.lo or value > self.hi or (self.above and value == self.lo):
             return f"expected {self.text()}, got {value!r}"

@@ -416,7 +416,9 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
         for key in ("period_us", "limit_us", "tolerance_us"):
             least = 0 if key == "tolerance_us" else 1
             if isinstance(spec.get(key), int) and not least <= spec[key] <= MAX_BUDGET_US:
-                raise where.error(f"{field} {key}", f"expected {least} to {MAX_BUDGET_US} microseconds, got {spec[key]}")
+                raise where.error(
+                    f"{field} {key}", f"expected {least} to {MAX_BUDGET_US} microseconds, got {spec[key]}"
+                )
         marker = spec.get("marker")
         if marker is not None and not (len(marker) == 1 and 0 < ord(marker) < 128):
             raise where.error(f"{field} marker", f"expected one character of one byte (ASCII, not NUL), got {marker!r}")

@@ -13,10 +13,10 @@ import math
 import shutil
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -189,7 +189,9 @@ param_values = st.one_of(
 
 
 @SETTINGS
-@given(name=st.sampled_from(sorted(option_table.OPTIONS)), value=param_values, kind=st.sampled_from(sorted(kinds.KINDS)))
+@given(
+    name=st.sampled_from(sorted(option_table.OPTIONS)), value=param_values, kind=st.sampled_from(sorted(kinds.KINDS))
+)
 def test_a_param_is_refused_at_argument_time_or_builds_the_plant_as_the_rig_file_would(tmp_path, name, value, kind):
     """``--param NAME=VALUE``: an argument error naming the option, or a value the rig
     file takes too; a plant with it builds (or refuses it as a plant does: cmd_run names
@@ -260,7 +262,7 @@ def refused(folder: Path, text: str | bytes, field: str, says: str) -> str:
         ("room_w_m = 3.0", 'world = "../room"', "[plant.options] world", "expected a name"),
         # worlds: the same bounds; names that become a folder's name
         ("[worlds.open-room]", "[worlds.open-room]\nroom_h_m = -2", "[worlds.open-room] room_h_m", "got -2"),
-        ("[worlds.open-room]", '[worlds."../../x"]', '[worlds.../../x]', "expected a name"),
+        ("[worlds.open-room]", '[worlds."../../x"]', "[worlds.../../x]", "expected a name"),
         ('name = "pico_bot"', 'name = "../../../tmp/x"', "name", "expected a name"),
         ('name = "pico_bot"', 'name = "a\\u0000b"', "name", "control character"),
         # pins
@@ -279,10 +281,30 @@ def refused(folder: Path, text: str | bytes, field: str, says: str) -> str:
         ('entry = "main.py"', 'entry = "main.py"\nlib = ["/usr/lib"]', "[firmware] lib", "outside"),
         # heap_size: what -X heapsize reads, bounded
         ('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "1K"', "[interpreter] heap_size", "1K"),
-        ('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "99999M"', "[interpreter] heap_size", "more than a board has"),
-        ('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "010K"', "[interpreter] heap_size", "010K"),
-        ('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "1.5M"', "[interpreter] heap_size", "1.5M"),
-        ('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = true', "[interpreter] heap_size", "expected"),
+        (
+            'entry = "main.py"',
+            'entry = "main.py"\n[interpreter]\nheap_size = "99999M"',
+            "[interpreter] heap_size",
+            "more than a board has",
+        ),
+        (
+            'entry = "main.py"',
+            'entry = "main.py"\n[interpreter]\nheap_size = "010K"',
+            "[interpreter] heap_size",
+            "010K",
+        ),
+        (
+            'entry = "main.py"',
+            'entry = "main.py"\n[interpreter]\nheap_size = "1.5M"',
+            "[interpreter] heap_size",
+            "1.5M",
+        ),
+        (
+            'entry = "main.py"',
+            'entry = "main.py"\n[interpreter]\nheap_size = true',
+            "[interpreter] heap_size",
+            "expected",
+        ),
     ],
 )
 def test_each_class_of_bad_value_is_refused_by_name(pico, old, new, field, says):
@@ -374,7 +396,9 @@ def test_the_cli_refuses_bad_input_in_one_line_without_a_traceback(pico):
         timeout=60,
     )
     assert done.returncode == 2 and "Traceback" not in done.stderr
-    assert done.stderr.splitlines()[-1].endswith("argument --param: sonar_noise_m: expected a number of metres from 0 to 10, got -1")
+    assert done.stderr.splitlines()[-1].endswith(
+        "argument --param: sonar_noise_m: expected a number of metres from 0 to 10, got -1"
+    )
 
 
 def test_every_option_of_every_kind_has_bounds_and_its_default_is_within_them():
