@@ -317,11 +317,14 @@ def cmd_init(args) -> int:
     from host.rig.rigfile import starter
 
     folder = args.folder
-    if not folder.is_dir():
-        args.sub.error(f"argument DIR: no folder {folder}")
-    path = folder / "rig.toml"
-    if path.exists():
-        args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
+    try:
+        if not folder.is_dir():
+            args.sub.error(f"argument DIR: no folder {str(folder)[:200]!r}")
+        path = folder / "rig.toml"
+        if path.exists():
+            args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
+    except (OSError, ValueError) as e:  # (a name too long, a NUL)
+        args.sub.error(f"argument DIR: cannot read {str(folder)[:200]!r} ({getattr(e, 'strerror', None) or e})")
     _writable(args.sub, "DIR", folder)
     notes: list[str] = []
     try:

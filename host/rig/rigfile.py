@@ -159,9 +159,9 @@ def load_rig(path) -> App:
 def _read(path: Path) -> dict:
     """The rig file's TOML: a missing, huge, non-UTF-8, malformed or too deeply nested
     file is a ConfigError naming it."""
-    if not path.is_file():
-        raise ConfigError(f"{path}: no such rig file")
     try:
+        if not path.is_file():
+            raise ConfigError(f"{path}: no such rig file")
         raw = path.read_bytes()
         if len(raw) > MAX_RIG_BYTES:
             raise ConfigError(f"{path}: expected a rig file of at most {MAX_RIG_BYTES} bytes, got {len(raw)}")

@@ -440,3 +440,34 @@ def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
         capture_output=True, text=True, cwd=REPO, timeout=60,
     )  # fmt: skip
     assert code.returncode == 0 and "mpy-fil init: stopped reading at" in code.stderr, code.stderr
+
+
+@SETTINGS
+@given(
+    arg=st.one_of(
+        st.text(max_size=40),
+        st.text(min_size=300, max_size=5000, alphabet="ab/."),
+        st.sampled_from(["/etc/passwd", "/dev/zero", "/proc/self", "..", ".", "a\x01.toml", "x.toml"]),
+    )
+)
+def test_check_and_init_name_any_bad_argument_in_one_line(arg):
+    """Whatever the RIG or DIR argument (a name too long, a control character, a
+    device): exit 2 with one line (after argparse's usage), never a traceback."""
+    err = io.StringIO()
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+        code = cli.main(["check", arg])
+    assert code in (0, 2) and (code == 0 or err.getvalue().count("\n") == 1), err.getvalue()
+    if _is_folder(arg):
+        return  # (init would write a rig.toml there)
+    err = io.StringIO()
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err), pytest.raises(SystemExit) as done:
+        cli.main(["init", arg])
+    assert done.value.code == 2 and "Traceback" not in err.getvalue()
+    assert err.getvalue().splitlines()[-1].startswith("mpy-fil init: error: argument DIR"), err.getvalue()
+
+
+def _is_folder(arg: str) -> bool:
+    try:
+        return Path(arg).is_dir()
+    except (OSError, ValueError):
+        return False
