@@ -83,15 +83,49 @@ def toml_text(data: dict) -> str:
     return "".join(f"{json.dumps(k)} = {toml_value(v)}\n" for k, v in data.items())
 
 
+EXTRAS = """
+[interpreter]
+heap_size = "192K"
+ticks_wrap_s = 1
+
+[[faults]]
+kind = "bounce"
+signal = "button.start"
+start_s = 1
+end_s = 2
+bounce_ms = 2.0
+
+[[faults]]
+kind = "missed_edges"
+signal = "enc_l.a"
+rate = 0.01
+
+[[faults]]
+kind = "wheel_slip"
+wheel = "left"
+slip = 0.3
+
+[[faults]]
+kind = "brownout"
+at_s = 5
+
+[[faults]]
+kind = "heap"
+size = "128K"
+"""
+
+
 @pytest.fixture(scope="module")
 def folders(tmp_path_factory):
-    """Our rig files' folders copied (firmware and all), each with its rig file's data."""
+    """Our rig files' folders copied (firmware and all), each with its rig file's data;
+    and the example with every other table (interpreter, faults) as one more."""
     root = tmp_path_factory.mktemp("rigs")
     copies = []
     for i, source in enumerate(SOURCES):
         folder = root / f"{i}-{source.parent.name}"
         shutil.copytree(source.parent, folder, ignore=shutil.ignore_patterns("__pycache__", "test_*"))
         copies.append((folder, tomllib.loads(source.read_text())))
+    copies.append((copies[-1][0], tomllib.loads(SOURCES[-1].read_text() + EXTRAS)))
     return copies
 
 
@@ -152,9 +186,15 @@ values = st.one_of(
 @given(data=st.data(), value=values)
 def test_a_rig_file_with_any_value_replaced_is_refused_by_name_or_runs(folders, data, value):
     folder, parsed = data.draw(st.sampled_from(folders))
-    where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
+    if data.draw(st.booleans()):  # a value replaced
+        where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
+        mutant = replaced(parsed, where, value)
+    else:  # an option of the kind's added
+        name = data.draw(st.sampled_from(sorted(kinds.options(parsed["plant"]["kind"]))))
+        plant = {**parsed["plant"], "options": {**parsed["plant"].get("options", {}), name: value}}
+        mutant = {**parsed, "plant": plant}
     path = folder / "mutant.toml"
-    path.write_text(toml_text(replaced(parsed, where, value)))
+    path.write_text(toml_text(mutant))
     assert_checked(path)
 
 
