@@ -32,7 +32,7 @@ from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds
+from sim_plant import kinds, option_table
 
 RUNS = REPO / "build" / "runs"
 EXIT_FAILED = 1
@@ -212,6 +212,9 @@ def _param(text: str) -> tuple[str, object]:
             pass
     if not _finite(parsed):
         raise argparse.ArgumentTypeError(f"{name.strip()}: expected finite numbers, got {value!r}")
+    problem = option_table.check(name.strip(), parsed)  # the bounds a rig file's options have
+    if problem:
+        raise argparse.ArgumentTypeError(f"{name.strip()}: {problem}")
     return name.strip(), parsed
 
 
@@ -334,16 +337,22 @@ def cmd_init(args) -> int:
     from host.rig.rigfile import starter
 
     folder = args.folder
-    if not folder.is_dir():
-        args.sub.error(f"argument DIR: no folder {folder}")
-    path = folder / "rig.toml"
-    if path.exists():
-        args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
-    _writable(args.sub, "DIR", folder)
     try:
-        path.write_text(starter(folder))
+        if not folder.is_dir():
+            args.sub.error(f"argument DIR: no folder {str(folder)[:200]!r}")
+        path = folder / "rig.toml"
+        if path.exists():
+            args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
+    except (OSError, ValueError) as e:  # (a name too long, a NUL)
+        args.sub.error(f"argument DIR: cannot read {str(folder)[:200]!r} ({getattr(e, 'strerror', None) or e})")
+    _writable(args.sub, "DIR", folder)
+    notes: list[str] = []
+    try:
+        path.write_text(starter(folder, notes))
     except OSError as e:
         args.sub.error(f"argument DIR: cannot read {folder} or write {path} ({e.strerror or e})")
+    for note in notes:
+        print(f"{args.sub.prog}: {note}", file=sys.stderr)
     print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
     return 0
 

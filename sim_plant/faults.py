@@ -139,7 +139,7 @@ def _parse_one(i: int, entry) -> Fault:
     if not isinstance(entry, dict):
         raise FaultError(f"{where}: expected a table, got {entry!r}")
     kind = entry.get("kind")
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         raise FaultError(f"{where} kind: expected one of {', '.join(KINDS)}, got {kind!r}")
     spec = KINDS[kind]
     fields = {}

@@ -23,9 +23,14 @@ def apps() -> dict[str, App]:
 
 def get_app(name: str) -> App:
     """One of our apps by name, or a rig file by its path (``path/to/rig.toml``)."""
-    if name.endswith(".toml") or "/" in name or Path(name, "rig.toml").is_file():
-        path = Path(name)
-        return load_rig(path / "rig.toml" if path.is_dir() else path)  # a folder: its rig.toml
+    if any(ord(c) < 32 or 127 <= ord(c) < 160 for c in name):
+        raise ConfigError(f"app: expected an app's name or a rig file's path, got {name!r} (a control character)")
+    try:
+        if name.endswith(".toml") or "/" in name or Path(name, "rig.toml").is_file():
+            path = Path(name)
+            return load_rig(path / "rig.toml" if path.is_dir() else path)  # a folder: its rig.toml
+    except OSError as e:  # (a name too long for the file system, a folder that cannot be listed)
+        raise ConfigError(f"app: cannot read {name[:80]!r}: {e.strerror or e}") from None
     try:
         return apps()[name]
     except KeyError:

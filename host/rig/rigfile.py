@@ -9,6 +9,7 @@ are rig files too (``firmware/apps/<app>/rig*.toml``).
 """
 
 import difflib
+import re
 from pathlib import Path
 
 import tomllib
@@ -19,7 +20,7 @@ from host.rig.app import App
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.wiring import PROBE_PREFIX
-from sim_plant import kinds
+from sim_plant import kinds, option_table
 from sim_plant.faults import FaultError, parse_faults, with_faults
 
 TABLES = {
@@ -37,7 +38,7 @@ TABLES = {
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
 PLANT_KEYS = {"kind": str, "options": dict}
-INTERPRETER_KEYS = {"heap_size": str, "ticks_wrap_s": (int, float)}
+INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
     "period": (PeriodBudget, {"source": str, "period_us": (int, str), "tolerance_us": int, "marker": str}),
     "latency": (LatencyBudget, {"source": str, "limit_us": int}),
@@ -46,6 +47,17 @@ BUDGET_KINDS = {
 }
 COMMON_BUDGET_KEYS = {"kind": str, "description": str}
 TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/false", list: "a list", dict: "a table"}
+MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
+MAX_DEPTH = 8  # tables and lists within each other (an obstacle in a world: 5)
+CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
+# -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
+# without its octal (a leading 0) and signs; bounded by what the harness's shim needs to
+# start (it starts in 96K, not in 64K) and what a board could have (1G).
+HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
+HEAP_MIN_BYTES, HEAP_MAX_BYTES = 96 * 1024, 1024 * 1024 * 1024
+MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
+PIN_RANGES = {"esp32": 48, "rpi_pico": 47}  # the highest GPIO of each family (ESP32-S3, RP2350B)
+MAX_PIN = 255  # any other board
 
 
 class _Where:
@@ -91,20 +103,16 @@ def load_rig(path) -> App:
     """Read and check a rig file; the App it describes."""
     path = Path(path)
     where = _Where(path)
-    if not path.is_file():
-        raise ConfigError(f"{path}: no such rig file")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"{path}: not valid TOML: {e}") from None
+    data = _read(path)
+    _walk(where, data, "", 0)
     where.table(data, "top level:", TABLES, required=("plant", "wiring"))
     base = path.parent
     firmware = where.table(data.get("firmware", {}), "[firmware]", FIRMWARE_KEYS)
-    folder = (base / firmware.get("dir", ".")).resolve()
+    folder = _inside(where, base, "[firmware] dir", firmware.get("dir", "."), "the rig file's folder")
     if not folder.is_dir():
         raise where.error("[firmware] dir", f"no folder {folder}")
     entry = firmware.get("entry", "main.py")
-    if not (folder / entry).is_file():
+    if not _inside(where, folder, "[firmware] entry", entry, "the firmware folder").is_file():
         raise where.error("[firmware] entry", f"no {entry} in {folder}")
     default_lib = ["lib"] if (folder / "lib").is_dir() else []  # a board's /lib is on its path
     libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
@@ -116,7 +124,7 @@ def load_rig(path) -> App:
     budget_specs = _budgets(where, data.get("budgets", {}), plant, kind, wiring)
     worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options)
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
-    name = data.get("name") or folder.name
+    name = _name(where, "name", data.get("name") or folder.name)
     faults = _faults(where, data.get("faults", []), plant)
     heap = [f.size for f in faults if f.kind == "heap"]  # a smaller heap is a fault too
 
@@ -141,11 +149,70 @@ def load_rig(path) -> App:
         rig_file=path,
         plant_kind=kind,
         plant_options=dict(options),
-        heap_size=heap[-1] if heap else _heap_size(where, interpreter.get("heap_size")),
+        heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
         extra={"faults": faults},
     )
+
+
+def _read(path: Path) -> dict:
+    """The rig file's TOML: a missing, huge, non-UTF-8, malformed or too deeply nested
+    file is a ConfigError naming it."""
+    try:
+        if not path.is_file():
+            raise ConfigError(f"{path}: no such rig file")
+        raw = path.read_bytes()
+        if len(raw) > MAX_RIG_BYTES:
+            raise ConfigError(f"{path}: expected a rig file of at most {MAX_RIG_BYTES} bytes, got {len(raw)}")
+        return tomllib.loads(raw.decode("utf-8"))
+    except OSError as e:
+        raise ConfigError(f"{path}: cannot read the rig file ({e.strerror or e})") from None
+    except UnicodeDecodeError as e:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {e.start}: {raw[e.start : e.start + 1]!r})") from None
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(f"{path}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: not valid TOML: nested deeper than {MAX_DEPTH} levels") from None
+
+
+def _walk(where: _Where, value, field: str, depth: int) -> None:
+    """Every key and text in the file: no control characters (a NUL ends a C string, a
+    newline a log line), at most ``MAX_DEPTH`` levels of tables and lists."""
+    if depth > MAX_DEPTH:
+        raise where.error(field, f"nested deeper than {MAX_DEPTH} levels of tables and lists")
+    if isinstance(value, str) and not field.endswith(".marker"):  # (a marker is one byte: checked as one)
+        _text(where, field, value)
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            _text(where, f"{field} {key!r}".strip(), key)
+            _walk(where, item, f"{field}.{key}" if field else key, depth + 1)
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            _walk(where, item, f"{field}[{i}]", depth + 1)
+
+
+def _text(where: _Where, field: str, text: str) -> None:
+    bad = CONTROL.search(text)
+    if bad:
+        raise where.error(field, f"a control character ({bad.group()!r}) in {text[:60]!r}: expected plain text")
+
+
+def _name(where: _Where, field: str, name) -> str:
+    """A name that becomes a folder's name (a trace folder, a board's folder): one
+    safe path component."""
+    problem = option_table.Name().problem(name)
+    if problem:
+        raise where.error(field, problem)
+    return name
+
+
+def _inside(where: _Where, base: Path, field: str, item: str, what: str) -> Path:
+    """``base / item`` resolved (links followed), refused unless it lies in ``base``."""
+    path = (base / item).resolve()
+    if not path.is_relative_to(base.resolve()):
+        raise where.error(field, f"{item!r} is {path}, outside {what} {base.resolve()}: expected a path inside it")
+    return path
 
 
 def _faults(where: _Where, entries: list, plant) -> tuple:
@@ -155,6 +222,9 @@ def _faults(where: _Where, entries: list, plant) -> tuple:
         with_faults(plant, faults)
     except FaultError as e:
         raise where.error("[[faults]]", str(e)) from None
+    for fault in faults:
+        if fault.kind == "heap":
+            _heap_size(where, "[[faults]] (heap) size", fault.size)
     return faults
 
 
@@ -172,12 +242,22 @@ def _family(where: _Where, board) -> tuple[str, str] | None:
     return IDENTITIES[family]
 
 
-def _heap_size(where: _Where, text: str | None) -> str | None:
-    import re
-
-    if text is not None and not re.fullmatch(r"[1-9][0-9]*[KkMm]?", text):
-        raise where.error("[interpreter] heap_size", f"expected bytes like 192K or 2M, got {text!r}")
-    return text
+def _heap_size(where: _Where, field: str, size: str | int | None) -> str | None:
+    """``-X heapsize``: bytes (an integer, or text like ``192K``, ``2M``, ``0x30000``,
+    ``24wK``), from what the harness's shim needs to start to 1G."""
+    if size is None:
+        return None
+    match = HEAP_SIZE.fullmatch(str(size)) if not isinstance(size, bool) else None
+    expected = f"expected bytes from {HEAP_MIN_BYTES // 1024}K to {HEAP_MAX_BYTES >> 20}M, like 192K or 2M"
+    if not match:
+        raise where.error(field, f"{expected}, got {size!r}")
+    number, words, unit = match.groups()
+    scale = {"": 1, "k": 1024, "m": 1 << 20}[unit.lower()] * (2 if words else 1)  # w: 8-byte words, per 4 bytes
+    size_bytes = int(number, 0) * scale
+    if not HEAP_MIN_BYTES <= size_bytes <= HEAP_MAX_BYTES:
+        least = "the harness's shim does not start in less" if size_bytes < HEAP_MIN_BYTES else "more than a board has"
+        raise where.error(field, f"{expected} ({least}), got {size!r} ({size_bytes} bytes)")
+    return str(size)
 
 
 def _wrap_s(where: _Where, seconds) -> float | None:
@@ -188,7 +268,7 @@ def _wrap_s(where: _Where, seconds) -> float | None:
 
 def _folder(where: _Where, base: Path, field: str, item) -> Path:
     _check_type(where, field, item, str)
-    folder = (base / item).resolve()
+    folder = _inside(where, base, field, item, "the firmware folder")
     if not folder.is_dir():
         raise where.error(field, f"no folder {folder}")
     return folder
@@ -202,17 +282,18 @@ def _board(where: _Where, base: Path, board: dict):
     given = [k for k in ("name", "file", "pins") if k in board]
     if len(given) != 1:
         raise where.error("[board]", f"expected one of name, file or pins, got {', '.join(given) or 'none'}")
-    also = tuple(board.get("also", ()))
+    also = tuple(_name(where, "[board] also", name) for name in board.get("also", ()))
     if "pins" in board:
         pins = board["pins"]
+        highest = PIN_RANGES.get(board.get("family"), MAX_PIN)
         for pin, value in pins.items():
-            _check_type(where, f"[board.pins] {pin}", value, (int, str))
+            _pin(where, f"[board.pins] {pin}", value, highest)
         return "pins", None, dict(pins), also
     if "file" in board:
-        path = (base / board["file"]).resolve()
+        path = _inside(where, base, "[board] file", board["file"], "the rig file's folder")
         field = "[board] file"
     else:
-        path = BOARDS_DIR / board["name"] / "board.py"
+        path = BOARDS_DIR / _name(where, "[board] name", board["name"]) / "board.py"
         field = "[board] name"
         if not path.is_file():
             known, hint = ", ".join(known_boards()), _did_you_mean(board["name"], known_boards())
@@ -223,6 +304,16 @@ def _board(where: _Where, base: Path, board: dict):
         raise where.error(field, str(e)) from None
     name = board.get("name") or path.parent.name
     return name, path.parent, pins, (name, *also) if "name" in board else also
+
+
+def _pin(where: _Where, field: str, value, highest: int) -> None:
+    """A pin: its number on the board (0 to the family's highest GPIO), or the name the
+    code gives ``Pin("GP14")``."""
+    _check_type(where, field, value, (int, str))
+    if isinstance(value, int) and not 0 <= value <= highest:
+        raise where.error(field, f"expected a pin number from 0 to {highest}, got {value}")
+    if isinstance(value, str) and not option_table.SAFE_NAME.fullmatch(value):
+        raise where.error(field, f"expected a pin name of letters, digits, '_', '.', '+' or '-', got {value!r}")
 
 
 def _plant(where: _Where, plant: dict):
@@ -245,6 +336,9 @@ def _check_options(where: _Where, field: str, kind: str, options: dict) -> None:
                 f"{field} {name}", f"the {kind} plant has no such option (options: {', '.join(known)}){hint}"
             )
         _check_like(where, f"{field} {name}", value, known[name])
+        problem = option_table.check(name, value)
+        if problem:
+            raise where.error(f"{field} {name}", problem)
 
 
 def _check_like(where: _Where, field: str, value, default) -> None:
@@ -269,7 +363,7 @@ def _is_number(value) -> bool:
 def _make_plant(where: _Where, kind: str, options: dict, field: str):
     try:
         return kinds.make(kind, **options)
-    except (TypeError, ValueError) as e:
+    except (TypeError, ValueError, ArithmeticError) as e:
         raise where.error(field, f"the {kind} plant refuses it: {e}") from None
 
 
@@ -300,10 +394,11 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
     builders = []
     for name, spec in budgets.items():
         field = f"[budgets.{name}]"
+        _name(where, field, name)
         if not isinstance(spec, dict):
             raise where.error(field, f"expected a table, got {spec!r}")
         budget_kind = spec.get("kind")
-        if budget_kind not in BUDGET_KINDS:
+        if not isinstance(budget_kind, str) or budget_kind not in BUDGET_KINDS:
             hint = _did_you_mean(str(budget_kind), BUDGET_KINDS)
             raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
         cls, keys = BUDGET_KINDS[budget_kind]
@@ -319,9 +414,14 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
                 known = ", ".join([*plant.inputs, *plant.outputs])
                 raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} (signals: {known})")
         for key in ("period_us", "limit_us", "tolerance_us"):
-            if isinstance(spec.get(key), int) and (spec[key] < 0 or (spec[key] == 0 and key != "tolerance_us")):
-                least = "0 or more" if key == "tolerance_us" else "more than 0"
-                raise where.error(f"{field} {key}", f"expected {least} microseconds, got {spec[key]}")
+            least = 0 if key == "tolerance_us" else 1
+            if isinstance(spec.get(key), int) and not least <= spec[key] <= MAX_BUDGET_US:
+                raise where.error(
+                    f"{field} {key}", f"expected {least} to {MAX_BUDGET_US} microseconds, got {spec[key]}"
+                )
+        marker = spec.get("marker")
+        if marker is not None and not (len(marker) == 1 and 0 < ord(marker) < 128):
+            raise where.error(f"{field} marker", f"expected one character of one byte (ASCII, not NUL), got {marker!r}")
         build = _budget_builder(where, field, name, cls, spec, kind)
         build(plant)
         builders.append(build)
@@ -377,6 +477,7 @@ def _sample_period(where: _Where, field: str, plant, source: str) -> int:
 def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, dict]:
     for name, world in worlds.items():
         field = f"[worlds.{name}]"
+        _name(where, field, name)
         if not isinstance(world, dict):
             raise where.error(field, f"expected a table of plant options, got {world!r}")
         _check_options(where, field, kind, world)
@@ -416,13 +517,50 @@ ranger = "hcsr04"          # hcsr04 | analog | none
 """
 
 
-def starter(folder: Path) -> str:
+INIT_MAX_FILES = 1000  # .py files `mpy-fil init` reads at most (a board's flash holds far fewer)
+INIT_MAX_BYTES = 8 << 20  # and bytes
+NOT_FIRMWARE = {"__pycache__", "node_modules", "site-packages", "build", "dist"}  # and hidden folders, venvs
+
+
+def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
+    """The ``.py`` files of a firmware folder, in order, skipping hidden folders, virtual
+    environments (a ``pyvenv.cfg``) and tool folders (``NOT_FIRMWARE``), and stopping at
+    ``INIT_MAX_FILES`` files or ``INIT_MAX_BYTES`` bytes (said in ``notes``)."""
+    import os
+
+    found, total = [], 0
+    for top, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if not _skipped(Path(top, d)))
+        for name in sorted(f for f in files if f.endswith(".py")):
+            path = Path(top, name)
+            try:
+                size = path.stat().st_size
+            except OSError:
+                continue
+            if len(found) >= INIT_MAX_FILES or total + size > INIT_MAX_BYTES:
+                if notes is not None:
+                    notes.append(
+                        f"stopped reading at {path} after {len(found)} files, {total} bytes "
+                        f"(at most {INIT_MAX_FILES} files, {INIT_MAX_BYTES} bytes): some pins may be missing"
+                    )
+                return found
+            found.append(path)
+            total += size
+    return found
+
+
+def _skipped(folder: Path) -> bool:
+    name = folder.name
+    return name.startswith(".") or name in NOT_FIRMWARE or (folder / "pyvenv.cfg").exists() or folder.is_symlink()
+
+
+def starter(folder: Path, notes: list | None = None) -> str:
     """A commented starting rig file for a firmware folder: its entry file, and the pins
     its code passes to ``Pin(...)`` (by their constant's name when it has one), ready to
-    wire."""
+    wire; what it skipped or where it stopped early goes to ``notes``."""
     files = sorted(folder.glob("*.py"))
     entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
-    trees = [tree for tree in map(_parse, sorted(folder.rglob("*.py"))) if tree is not None]
+    trees = [tree for tree in map(_parse, firmware_sources(folder, notes)) if tree is not None]
     drivers = _drivers(trees)
     pins: dict[str, int] = {}
     for tree in trees:
@@ -472,7 +610,7 @@ def _parse(source: Path):
 
     try:
         return ast.parse(source.read_text(errors="replace"))
-    except SyntaxError:
+    except (SyntaxError, ValueError, RecursionError, MemoryError, OSError):  # (a NUL, nesting: not firmware)
         return None
 
 

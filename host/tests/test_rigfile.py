@@ -134,12 +134,13 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
         (('entry = "main.py"', 'entyr = "main.py"'), "[firmware] entyr", "did you mean 'entry'?"),
         (('entry = "main.py"', 'entry = "robot.py"'), "[firmware] entry", "no robot.py in"),
         (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
-        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant.options]", "room_w_m: expected a room wider"),
+        (("room_w_m = 4.0", "room_w_m = 0.2"), "[plant.options]", "room_w_m: expected a room wider"),
+        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant.options] room_w_m", "from 0.1 to 100, got -1.0"),
         (("room_w_m = 4.0", "room_w = 4.0"), "[plant.options] room_w", "no such option (options: room_w_m"),
         (("room_w_m = 4.0", 'room_w_m = "4"'), "[plant.options] room_w_m", "expected a number, got '4'"),
         (("room_w_m = 4.0", "start_pose = [1, '2', 0]"), "[plant.options] start_pose", "a list of 3 numbers"),
         (("LED = 2\n", "LED = 25\n"), "[wiring] LED", "pin 25 is LEFT_PWM too"),
-        (("period_us = 100_000", "period_us = -100_000"), "[budgets.blink] period_us", "expected more than 0"),
+        (("period_us = 100_000", "period_us = -100_000"), "[budgets.blink] period_us", "expected 1 to 3600000000"),
         (('source = "probe:led"', 'source = "probe:lde"'), "[budgets.blink] source", "no pin is wired to 'probe:lde'"),
         (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: two_wheel"),
         (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
@@ -240,7 +241,7 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     heap = int(rig.console.split("heap ")[1].split()[0])
     assert 120_000 < heap <= 128 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
-    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes like 192K"):
+    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 96K to 1024M, like 192K"):
         load_rig(bad)
 
 
