@@ -43,6 +43,12 @@ class PartsPlant(RobotPlant):
                 truth.pop(key, None)
         return truth
 
+    @property
+    def summary(self) -> str:
+        """``differential body with dc_motor motor_l, ...``: for ``mpy-fil check``."""
+        parts = ", ".join(f"{p.kind} {p.name}" for p in self.catalogue_parts)
+        return f"{self.body.kind} body with {parts or 'no parts'}"
+
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
