@@ -319,7 +319,8 @@ def cmd_check(args) -> int:
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
     print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
-    print(f"  plant: {app.plant_kind or type(plant).__name__} {app.plant_options or ''}".rstrip())
+    kind = app.plant_kind or getattr(plant, "summary", type(plant).__name__)
+    print(f"  plant: {kind} {app.plant_options or ''}".rstrip())
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
     wired = set(app.wiring.values())
@@ -369,6 +370,9 @@ def cmd_list(args) -> int:
         options = ", ".join(f"{k}={v!r}" for k, v in kinds.options(kind).items())
         print(f"  {kind}\n    options: {options}")
         print(f"    inputs: {', '.join(plant.inputs)}\n    outputs: {', '.join(plant.outputs)}")
+    from sim_plant.catalogue.docs import listing
+
+    print("\n".join(listing()))
     return 0
 
 

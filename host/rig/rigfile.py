@@ -1,7 +1,8 @@
 """Rig files: a firmware folder's test rig as data (TOML, ``docs/rig-file.md``).
 
 A rig file names the firmware (folder, entry file, library folders), the board (a board
-file or a pins table), the plant (a kind from :mod:`sim_plant.kinds` with options), the
+file or a pins table), the plant (a kind from :mod:`sim_plant.kinds` with options, or a
+body and parts from :mod:`sim_plant.catalogue`), the
 wiring (board pin -> plant signal), the timing budgets, the named worlds and interpreter
 settings. It is checked whole before anything starts: every mistake raises a
 :class:`~host.core.errors.ConfigError` that names the file and the field. Our own apps
@@ -21,6 +22,7 @@ from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds, option_table
+from sim_plant.catalogue.assembly import PartsError, assemble
 from sim_plant.faults import FaultError, parse_faults, with_faults
 
 TABLES = {
@@ -117,19 +119,27 @@ def load_rig(path) -> App:
     default_lib = ["lib"] if (folder / "lib").is_dir() else []  # a board's /lib is on its path
     libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
-    kind, options = _plant(where, data["plant"])
-    _check_options(where, "[plant.options]", kind, options)
-    plant = _make_plant(where, kind, options, "[plant.options]")
+    if isinstance(data["plant"], dict) and "body" in data["plant"]:  # a body and parts (sim_plant.catalogue)
+        kind, options, build = None, {}, _parts_builder(where, data["plant"])
+        plant = build()
+    else:
+        kind, options = _plant(where, data["plant"])
+        _check_options(where, "[plant.options]", kind, options)
+        plant = _make_plant(where, kind, options, "[plant.options]")
+
+        def build(**opts):
+            return kinds.make(kind, **opts)
+
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
     budget_specs = _budgets(where, data.get("budgets", {}), plant, kind, wiring)
-    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options)
+    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options, build)
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = _name(where, "name", data.get("name") or folder.name)
     faults = _faults(where, data.get("faults", []), plant)
     heap = [f.size for f in faults if f.kind == "heap"]  # a smaller heap is a fault too
 
     def make_plant(**extra):  # (as a plant class does: TypeError, ValueError for bad options)
-        return with_faults(kinds.make(kind, **{**options, **extra}), faults)
+        return with_faults(build(**{**options, **extra}), faults)
 
     return App(
         name=name,
@@ -360,6 +370,21 @@ def _is_number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def _parts_builder(where: _Where, table: dict):
+    """``[plant] body = ...`` with ``[[plant.parts]]``: a function building the plant
+    with a world's or ``--param``'s body options over the table's (ValueError naming the
+    field); the table itself is checked here (a ConfigError naming the file)."""
+
+    def build(**opts):
+        return assemble({**table, **opts})
+
+    try:
+        build()
+    except PartsError as e:
+        raise ConfigError(f"{where.path}: {e}") from None
+    return build
+
+
 def _make_plant(where: _Where, kind: str, options: dict, field: str):
     try:
         return kinds.make(kind, **options)
@@ -433,7 +458,7 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind:
         v = spec[key]
         if isinstance(v, str):  # "plant.<option>": the plant's own figure
             option = v.removeprefix("plant.")
-            known = kinds.options(kind)
+            known = kinds.options(kind) if kind else {}
             if not v.startswith("plant.") or option not in known:
                 us_options = ", ".join(f"plant.{k}" for k in known if k.endswith("_us"))
                 raise where.error(f"{field} {key}", f"expected microseconds or one of {us_options}; got {v!r}")
@@ -474,12 +499,18 @@ def _sample_period(where: _Where, field: str, plant, source: str) -> int:
     return period
 
 
-def _worlds(where: _Where, worlds: dict, kind: str, options: dict) -> dict[str, dict]:
+def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build) -> dict[str, dict]:
     for name, world in worlds.items():
         field = f"[worlds.{name}]"
         _name(where, field, name)
         if not isinstance(world, dict):
             raise where.error(field, f"expected a table of plant options, got {world!r}")
+        if kind is None:  # a body's options over the [plant] table's
+            try:
+                build(**world)
+            except ValueError as e:
+                raise where.error(field, str(e)) from None
+            continue
         _check_options(where, field, kind, world)
         _make_plant(where, kind, {**options, **world}, field)
     return {name: dict(world) for name, world in worlds.items()} or {"default": {}}

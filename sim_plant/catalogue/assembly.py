@@ -1,0 +1,115 @@
+"""A plant from a body and a list of parts (a rig file's ``[plant] body = ...`` and its
+``[[plant.parts]]``): :func:`assemble` checks the table whole, naming the table and
+the field of the first mistake (``[[plant.parts]] #2 (sonar_rear) period_us: expected
+...``; parts are counted from 1 in the file's order), and builds a :class:`PartsPlant`.
+"""
+
+from sim_plant import catalogue
+from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
+from sim_plant.engine import RobotPlant
+from sim_plant.option_table import Name
+
+PART_KEYS = ("kind", "name", "mount")
+POSE_KEYS = ("x_m", "y_m", "theta_rad")
+MAX_PARTS = 64
+
+
+class PartsPlant(RobotPlant):
+    """A :class:`~sim_plant.engine.RobotPlant` whose drive, encoders and parts come from
+    a body and catalogue parts; rebuilt afresh at each reset."""
+
+    def __init__(self, body, parts: list):
+        self.body = body
+        self.catalogue_parts = list(parts)
+        super().__init__()
+
+    def _build(self) -> None:
+        build = Build(body=dict(self.body.options))
+        for part in self.catalogue_parts:
+            try:
+                part.add(build)
+            except ValueError as e:
+                raise PartsError(f"{part.label} {e}") from None
+        self.world, pose = self.body.world_and_pose()
+        self.drive = self.body.drive(build, pose)
+        monitor = self.body.contact_monitor(build)
+        self.encoders = build.encoders
+        self.parts = ([monitor] if monitor is not None else []) + build.parts
+
+    def truth(self) -> dict:
+        truth = super().truth()
+        if not self.body.moves:
+            for key in POSE_KEYS:
+                truth.pop(key, None)
+        return truth
+
+    @property
+    def summary(self) -> str:
+        """``differential body with dc_motor motor_l, ...``: for ``mpy-fil check``."""
+        parts = ", ".join(f"{p.kind} {p.name}" for p in self.catalogue_parts)
+        return f"{self.body.kind} body with {parts or 'no parts'}"
+
+    def signals(self) -> dict[str, tuple[str, str]]:
+        """Every part's signals: full name -> (direction, kind)."""
+        return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
+
+
+def assemble(table: dict) -> PartsPlant:
+    """The plant a ``[plant]`` table with a ``body`` describes; :class:`PartsError` (a
+    ValueError) naming the field of the first mistake."""
+    body = _body(table)
+    entries = table.get("parts", [])
+    if not isinstance(entries, list) or len(entries) > MAX_PARTS:
+        raise PartsError(f"[[plant.parts]]: expected a list of at most {MAX_PARTS} part tables, got {entries!r}"[:200])
+    parts, names = [], {}
+    for i, entry in enumerate(entries, start=1):
+        part = _part(i, entry)
+        if part.name in names:
+            raise PartsError(f"{part.label} name: {part.name!r} is part #{names[part.name]}'s name too")
+        if part.needs_body and not body.moves:
+            raise PartsError(f"{part.label} kind: a {part.kind} needs a body that moves, not a {body.kind}")
+        names[part.name] = i
+        parts.append(part)
+    return PartsPlant(body, parts)
+
+
+def _body(table: dict):
+    if not isinstance(table, dict):
+        raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
+    bodies = catalogue.bodies()
+    kind = table.get("body")
+    if kind not in bodies:
+        raise PartsError(f"[plant] body: expected one of {', '.join(bodies)}, got {kind!r}"[:200])
+    cls = bodies[kind]
+    return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
+
+
+def _part(i: int, entry):
+    label = f"[[plant.parts]] #{i}"
+    if not isinstance(entry, dict):
+        raise PartsError(f"{label}: expected a table, got {entry!r}"[:200])
+    known = catalogue.parts()
+    kind = entry.get("kind")
+    if kind not in known:
+        raise PartsError(f"{label} kind: expected one of {', '.join(known)}, got {kind!r}"[:200])
+    name = entry.get("name")
+    problem = Name().problem(name)
+    if problem:
+        raise PartsError(f"{label} name: {problem}")
+    label = f"{label} ({name})"
+    mount = entry.get("mount", {})
+    if not isinstance(mount, dict):
+        raise PartsError(f"{label} mount: expected a table of {', '.join(MOUNT_KEYS)}, got {mount!r}"[:200])
+    for key, value in mount.items():
+        spec = MOUNT_SPEC.get(key)
+        problem = spec.problem(value) if spec else f"expected one of {', '.join(MOUNT_KEYS)}"
+        if problem:
+            raise PartsError(f"{label} mount {key}: {problem}")
+    cls = known[kind]
+    options = cls.checked(entry, label, skip=PART_KEYS)
+    try:
+        part = cls(name, mount, options)
+    except ValueError as e:
+        raise PartsError(f"{label} {e}") from None
+    part.label = label
+    return part

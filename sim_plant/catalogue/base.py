@@ -1,0 +1,183 @@
+"""What a catalogue entry declares, as data: its options (name with the unit in it,
+spec from :mod:`sim_plant.option_table`, default, doc), the signals it adds, its ground
+truth keys and its views (what a report draws for it).
+
+A **part** (:class:`PartType`) is one class in one module of :mod:`sim_plant.catalogue`;
+built with a name, a mount and its options, it adds engine pieces to a plant under
+construction (:class:`Build`). A **body** (:class:`BodyType`) owns the pose, the drive
+and the contacts. Signals are ``<name>.<signal>``; truth keys ``<name>_<key>`` mostly.
+"""
+
+import math
+from dataclasses import dataclass, field
+
+from sim_plant.option_table import Flag, Name, Num, OneOf, Row, Rows
+
+MOUNT_KEYS = ("x_m", "y_m", "heading_deg")
+MOUNT_SPEC = {
+    "x_m": Num("metres", -10, 10),
+    "y_m": Num("metres", -10, 10),
+    "heading_deg": Num("degrees", -360, 360),
+}
+
+
+class PartsError(ValueError):
+    """A plant's body or parts that cannot be built: the message names the table and
+    the field (``[[plant.parts]] #2 (sonar_rear) period_us: expected ...``)."""
+
+
+@dataclass(frozen=True)
+class Opt:
+    """One option: ``name`` (unit in it), ``spec`` (bounds), ``default`` (None with a
+    ``spec`` that allows it: not set), ``doc``."""
+
+    name: str
+    spec: object
+    default: object
+    doc: str
+
+
+@dataclass(frozen=True)
+class Sig:
+    """A signal ``<name>.<suffix>``: ``direction`` ``in`` (the firmware drives it) or
+    ``out`` (the firmware reads it), ``kind`` (level, u16, duty, pwm, bytes); present
+    only when the options match ``when`` (option -> the values it is present for)."""
+
+    suffix: str
+    direction: str
+    kind: str
+    doc: str
+    when: tuple = ()
+
+    def present(self, options: dict) -> bool:
+        return all(options.get(opt) in values for opt, values in self.when)
+
+    def condition(self) -> str:
+        return "; ".join(f"{opt} = {' or '.join(map(str, values))}" for opt, values in self.when)
+
+
+@dataclass(frozen=True)
+class View:
+    """What a report draws for a part: a ``plot`` kind (``range``, ``command``,
+    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``) of its ``signals``
+    (suffixes) against its ``truth`` (keys, ``{name}`` the part's)."""
+
+    plot: str
+    doc: str
+    signals: tuple = ()
+    truth: tuple = ()
+
+
+@dataclass
+class Build:
+    """A plant being built, what parts add to: the body's options (``body``), engine
+    parts, encoders, bumpers and motors (``motors[side] = (bridge, DcMotor)``)."""
+
+    body: dict
+    parts: list = field(default_factory=list)
+    encoders: list = field(default_factory=list)
+    bumpers: list = field(default_factory=list)
+    motors: dict = field(default_factory=dict)
+
+
+class Declared:
+    """Shared by parts and bodies: ``kind``, ``doc`` and ``OPTIONS``."""
+
+    kind: str = ""
+    doc: str = ""
+    OPTIONS: tuple = ()
+
+    @classmethod
+    def defaults(cls) -> dict:
+        return {o.name: o.default for o in cls.OPTIONS}
+
+    @classmethod
+    def checked(cls, given: dict, where: str, skip=()) -> dict:
+        """``given`` over the defaults; an unknown option or a value out of bounds is a
+        :class:`PartsError` naming ``where`` and the option."""
+        known = {o.name: o for o in cls.OPTIONS}
+        for name, value in given.items():
+            if name in skip:
+                continue
+            if name not in known:
+                raise PartsError(f"{where} {name}: the {cls.kind} has no such option (options: {', '.join(known)})")
+            opt = known[name]
+            if value is None and opt.default is None:
+                continue
+            problem = opt.spec.problem(value)
+            if problem:
+                raise PartsError(f"{where} {name}: {problem}")
+        return {**cls.defaults(), **{k: v for k, v in given.items() if k not in skip}}
+
+
+class PartType(Declared):
+    """A part: built with its ``name``, ``mount`` (x_m, y_m, heading_deg on the body)
+    and checked ``options``. ``SIGNALS``, ``TRUTH`` (keys, ``{name}`` the part's) and ``VIEWS`` are
+    declarations; :meth:`add` puts its engine pieces into a :class:`Build`.
+    ``needs_body``: it senses or acts on a body that moves (not on a bench)."""
+
+    SIGNALS: tuple = ()
+    TRUTH: tuple = ()
+    VIEWS: tuple = ()
+    needs_body = False
+
+    def __init__(self, name: str, mount: dict, options: dict):
+        self.name = name
+        self.mount = tuple(float(mount.get(k, 0.0)) for k in MOUNT_KEYS)
+        self.options = options
+        self.check()
+
+    def check(self) -> None:
+        """Refuse option combinations the bounds alone do not catch (ValueError)."""
+
+    def mount_rad(self) -> tuple[float, float, float]:
+        x, y, heading_deg = self.mount
+        return x, y, math.radians(heading_deg)
+
+    def signals(self) -> dict[str, tuple[str, str]]:
+        """Full signal name -> (direction, kind), for these options."""
+        return {f"{self.name}.{s.suffix}": (s.direction, s.kind) for s in self.SIGNALS if s.present(self.options)}
+
+    def add(self, build: Build) -> None:
+        raise NotImplementedError
+
+
+class BodyType(Declared):
+    """A body: owns the pose, the drive and the contacts; ``moves`` is False for a bench."""
+
+    moves = True
+
+    def __init__(self, options: dict):
+        self.options = options
+
+    def world_and_pose(self):
+        """(the world, the start pose (x_m, y_m, heading_rad))."""
+        raise NotImplementedError
+
+    def drive(self, build: Build, pose):
+        """The drive (an engine Part with a ``body``) from what the parts added."""
+        raise NotImplementedError
+
+    def contact_monitor(self, build: Build):
+        """The engine part that checks the body against the walls, or None."""
+        return None
+
+
+def spec_text(spec) -> str:
+    """One line for an option's bounds (docs, ``mpy-fil list``)."""
+    if isinstance(spec, Num):
+        return spec.text() + (" or unset" if spec.none else "")
+    if isinstance(spec, OneOf):
+        return "one of " + ", ".join(map(str, spec.values))
+    if isinstance(spec, Flag):
+        return "true/false"
+    if isinstance(spec, Name):
+        return "a name"
+    if isinstance(spec, Row):
+        return spec.what
+    if isinstance(spec, Rows):
+        return f"a list of {spec.least} to {spec.most} of: {spec_text(spec.item)}"
+    return type(spec).__name__
+
+
+__all__ = ["Build", "BodyType", "Opt", "PartType", "PartsError", "Sig", "View", "spec_text"]

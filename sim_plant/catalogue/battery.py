@@ -1,0 +1,74 @@
+"""Part ``battery``: the battery's voltage through a resistor divider on an ADC pin,
+draining at a fixed rate and with the motors' use (the wheels' mean speed as a share of
+full speed, taken at each sample)."""
+
+from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.engine import Part
+from sim_plant.option_table import Num
+from sim_plant.plant import Change
+from sim_plant.sonars import Adc
+
+
+class _Cell(Part):
+    FIXED_STATE = ("inputs", "outputs")
+
+    def __init__(self, name: str, o: dict):
+        self.signal, self.label = f"{name}.adc", name
+        self.outputs = {self.signal: "u16"}
+        self.v = float(o["full_v"])
+        self.empty_v, self.ratio = float(o["empty_v"]), float(o["divider_ratio"])
+        self.rate_v_s, self.motor_v_s = float(o["drain_v_per_s"]), float(o["motor_drain_v_per_s"])
+        self.adc = Adc(o["adc_bits"], o["adc_vref"])
+        self.period_us = int(o["period_us"])
+        self.t_us = 0
+        self.next_us = self.period_us
+
+    def initial_outputs(self) -> dict:
+        return {self.signal: self.adc.u16(self.v * self.ratio)}
+
+    def _load(self, plant) -> float:
+        drive = plant.drive
+        motors = getattr(drive, "motors", ())
+        if not motors:
+            return 0.0
+        shares = [abs(w) / m.max_wheel_rad_s for w, m in zip(drive.wheel_rad_s, motors)]
+        return min(1.0, sum(shares) / len(shares))
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        dt_s = (t_us - self.t_us) * 1e-6
+        self.v = max(self.empty_v, self.v - (self.rate_v_s + self.motor_v_s * self._load(plant)) * dt_s)
+        self.t_us = t_us
+        out.append(Change(t_us, self.signal, self.adc.u16(self.v * self.ratio)))
+        self.next_us = t_us + self.period_us
+
+    def truth(self, t_us: int, plant) -> dict:
+        return {f"{self.label}_v": self.v}
+
+
+class Battery(PartType):
+    kind = "battery"
+    doc = "The battery's voltage through a divider on an ADC, draining at a fixed rate and with motor use."
+    OPTIONS = (
+        Opt("full_v", Num("volts", 0.5, 100), 8.4, "the voltage at the start (2S Li-ion full)"),
+        Opt("empty_v", Num("volts", 0, 100), 6.0, "it drains no lower"),
+        Opt("divider_ratio", Num("fraction", 0, 1, above=True), 1 / 3, "ADC volts per battery volt (R2 / (R1 + R2))"),
+        Opt("drain_v_per_s", Num("volts per second", 0, 10), 0.0, "fixed drain"),
+        Opt("motor_drain_v_per_s", Num("volts per second", 0, 10), 0.0, "extra drain with the motors at full speed"),
+        Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 100_000, "a new sample every"),
+        Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
+        Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+    )
+    SIGNALS = (Sig("adc", "out", "u16", "the divided voltage's ADC reading (read_u16)"),)
+    TRUTH = ("{name}_v",)
+    VIEWS = (
+        View("voltage", "the voltage the firmware read against the battery's", signals=("adc",), truth=("{name}_v",)),
+    )
+
+    def check(self) -> None:
+        if self.options["empty_v"] > self.options["full_v"]:
+            raise ValueError(
+                f"empty_v: expected at most full_v ({self.options['full_v']}), got {self.options['empty_v']}"
+            )
+
+    def add(self, build: Build) -> None:
+        build.parts.append(_Cell(self.name, self.options))

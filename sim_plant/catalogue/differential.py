@@ -1,0 +1,69 @@
+"""Body ``differential``: a disc with two driven wheels on its centre axis (most hobby
+robots), in a room with box obstacles or one of our worlds. The ``dc_motor`` parts that
+drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
+
+from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
+from sim_plant.contacts import ContactMonitor
+from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.option_table import BOX, POINT, POSE, Num, OneOf, Rows, length
+from sim_plant.two_wheel import WORLDS
+from sim_plant.world import box, room
+
+ROOM = length(0.1, 100)
+
+
+class Differential(BodyType):
+    kind = "differential"
+    doc = "A disc body with two driven wheels on its centre axis (differential drive)."
+    OPTIONS = (
+        Opt("world", OneOf(("room", *WORLDS)), "room", "the room below, or one of our worlds"),
+        Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
+        Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
+        Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
+        Opt("start_pose", POSE, None, "where it starts; the world's own start by default ([0.4, 1.0, 0] in the room)"),
+        Opt("body_radius_m", length(0.01, 5), 0.08, "the disc's radius (its contacts with the walls)"),
+        Opt("wheel_radius_m", length(0.001, 1), 0.0325, "each wheel's radius"),
+        Opt("track_m", length(0.01, 10), 0.15, "distance between the wheels"),
+        Opt(
+            "v_max_m_s",
+            Num("metres per second", 0, 20, above=True),
+            0.4,
+            "rim speed at full duty (a motor's rpm sets its own)",
+        ),
+        Opt("tape", Rows(POINT), [], "a tape line on the floor, [x_m, y_m] points (line sensors see it)"),
+        Opt("tape_width_m", length(0.001, 1), 0.019, "the tape's width"),
+    )
+
+    def world_and_pose(self):
+        o = self.options
+        if o["world"] == "room":
+            world = room(o["room_w_m"], o["room_h_m"], [box(*b) for b in o["obstacles"]], name="room")
+            pose = o["start_pose"] or (0.4, 1.0, 0.0)
+            x, y, _ = pose
+            r = o["body_radius_m"]
+            if not (r <= x <= o["room_w_m"] - r and r <= y <= o["room_h_m"] - r):
+                raise PartsError(f"[plant] start_pose: {list(pose)} puts the robot outside the room")
+        else:
+            if o["obstacles"]:
+                raise PartsError(f"[plant] obstacles: only in the room world, not in {o['world']}")
+            make, start = WORLDS[o["world"]]
+            world, pose = make(), o["start_pose"] or start
+        return world, tuple(float(v) for v in pose)
+
+    def drive(self, build: Build, pose):
+        missing = [side for side in ("left", "right") if side not in build.motors]
+        if missing:
+            raise PartsError(
+                f"[plant] body: the differential body needs a dc_motor that drives {' and '.join(missing)}"
+            )
+        (bridge_l, motor_l), (bridge_r, motor_r) = build.motors["left"], build.motors["right"]
+        return DiffDriveTrain(
+            bridges=(bridge_l, bridge_r),
+            motors=(motor_l, motor_r),
+            wheel_radius_m=self.options["wheel_radius_m"],
+            track_m=self.options["track_m"],
+            start_pose=pose,
+        )
+
+    def contact_monitor(self, build: Build):
+        return ContactMonitor([(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)

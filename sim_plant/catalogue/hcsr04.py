@@ -1,0 +1,62 @@
+"""Part ``hcsr04``: an HC-SR04 ultrasonic ranger mounted anywhere on the body (a front
+and a rear one are two tables), as its TRIG and ECHO pins (:mod:`sim_plant.hcsr04`)."""
+
+from sim_plant import hcsr04
+from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.option_table import Num
+
+
+class _Named(hcsr04.HcSr04):
+    """The module, its truth keys after its part's name (two rangers, two sets)."""
+
+    def __init__(self, label: str, **options):
+        super().__init__(**options)
+        self.label = label
+
+    def truth(self, t_us: int, plant) -> dict:
+        return {f"{self.label}_{k}": v for k, v in super().truth(t_us, plant).items()}
+
+
+class HcSr04(PartType):
+    kind = "hcsr04"
+    doc = "HC-SR04 ultrasonic ranger: TRIG in, ECHO high for the round trip (58.31 us per cm), 4 cm to 4 m."
+    OPTIONS = (
+        Opt("noise_sd_m", Num("metres", 0, 10), 0.003, "Gaussian range noise"),
+        Opt(
+            "trigger_min_us",
+            Num("microseconds", 1, 1_000, whole=True),
+            2,
+            "shortest TRIG pulse the module answers (datasheet: 10)",
+        ),
+        Opt("cone_deg", Num("degrees", 0, 180, above=True), hcsr04.CONE_DEG, "the beam's full angle"),
+        Opt("max_range_m", Num("metres", 0.05, 10), hcsr04.MAX_RANGE_M, "farther obstacles time out (38 ms)"),
+    )
+    SIGNALS = (
+        Sig("trig", "in", "level", "TRIG: a pulse starts a ping when it falls"),
+        Sig("echo", "out", "level", "ECHO: high for the sound's round trip"),
+    )
+    TRUTH = ("{name}_ping_t_us", "{name}_ping_range_m", "{name}_ping_angle_deg")
+    VIEWS = (
+        View(
+            "range",
+            "the range the firmware read (echo width) against the true range",
+            signals=("echo",),
+            truth=("{name}_ping_range_m",),
+        ),
+    )
+    needs_body = True
+
+    def add(self, build: Build) -> None:
+        o = self.options
+        build.parts.append(
+            _Named(
+                self.name,
+                trig=f"{self.name}.trig",
+                echo=f"{self.name}.echo",
+                mount=self.mount_rad(),
+                noise_sd_m=o["noise_sd_m"],
+                max_range_m=o["max_range_m"],
+                cone_deg=o["cone_deg"],
+                trigger_min_us=o["trigger_min_us"],
+            )
+        )
