@@ -61,12 +61,21 @@ def main(argv=None) -> int:
         return 0
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """A parser whose errors are one line on stderr and exit code 2 (the usage text is
+    one ``--help`` away), as every other refusal of the command line is."""
+
+    def error(self, message: str):
+        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)  # (an argument's \r, \n)
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {shown}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="mpy-fil",
         description="Run MicroPython robot firmware in the loop, replay a recorded trace, or plot one.",
     )
-    sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
+    sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True, parser_class=OneLineParser)
 
     run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
     run.add_argument("rig", nargs="?", metavar="RIG", help="a rig file (docs/rig-file.md); default: --app")
@@ -136,7 +145,6 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--out", type=_folder, help="results and report (default: build/campaign/<name>)")
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
     camp.set_defaults(command=cmd_campaign, sub=camp)
-    camp.error = lambda message: camp.exit(EXIT_USAGE, f"{camp.prog}: error: {message}\n")  # (one line, no usage)
 
 
 def _workers(text: str) -> int:

@@ -131,3 +131,26 @@ def test_a_damaged_file_of_a_trace_folder_is_named_with_exit_code_2(tmp_path):
     code, stderr = cli_here("plot", str(trace), "--out", str(tmp_path / "plots"))
     expected = f"trace folder {trace}: budgets.json is malformed"
     assert code == 2 and expected in stderr, f"exit {code}, expected 2 and {expected!r}:\n{stderr}"
+
+
+def test_every_argument_error_of_every_command_is_one_line_with_exit_2():
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    commands = st.sampled_from([[], ["run"], ["check"], ["init"], ["list"], ["replay"], ["plot"], ["campaign"]])
+    junk = st.lists(
+        st.sampled_from(["--seconds", "--seed", "--param", "--world", "--board", "--out", "--workers", "-x", "=", "x"])
+        | st.text(min_size=1, max_size=12),
+        max_size=4,
+    )
+
+    @settings(max_examples=120, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(commands, junk)
+    def check(command, extra):
+        code, err = cli_here(*command, "--no-such-flag", *extra)
+        lines = err.strip().splitlines()
+        assert code == 2, (command, extra, code, err)
+        assert len(lines) == 1 and "Traceback" not in err, (command, extra, err)
+        assert lines[0].startswith("mpy-fil") and ": error: " in lines[0], lines
+
+    check()
