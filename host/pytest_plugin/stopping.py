@@ -1,0 +1,63 @@
+"""What a test session does when it is told to stop: nothing it started outlives it.
+
+SIGTERM (a CI timeout; ``make`` passes its own on to the recipe) and SIGHUP (the terminal
+closed) stop the session as Ctrl-C does: a ``KeyboardInterrupt`` in the running test, so
+its fixtures stop its rigs and virtual boards and pytest reports what ran. A second such
+signal ends the session at once. Under pytest-xdist the controller passes the signal on to
+its workers, and each worker gets SIGTERM from the kernel when the controller ends, however
+it ends (SIGKILL included). Whatever is left to the kernel: a rig's interpreter and a
+virtual board's server have a parent-death signal of their own (:mod:`host.core.children`).
+"""
+
+import os
+import signal
+import threading
+from pathlib import Path
+
+from host.core.children import die_with_parent
+
+SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+def install(config, worker: bool) -> None:
+    """Called from ``pytest_configure``: the handlers (unless the process has its own), and
+    a worker's parent-death signal."""
+    if worker:
+        die_with_parent(signal.SIGTERM)  # (xdist forks its workers from the controller's main thread)
+    if threading.current_thread() is not threading.main_thread():
+        return
+    forward = not worker and bool(getattr(config.option, "numprocesses", None))
+    for sig in SIGNALS:
+        if signal.getsignal(sig) is signal.SIG_DFL:
+            signal.signal(sig, _Stop(forward))
+
+
+class _Stop:
+    """The handler: the first signal interrupts the session, the next ends it."""
+
+    def __init__(self, forward: bool):
+        self.forward = forward
+
+    def __call__(self, signum, _frame):
+        for sig in SIGNALS:
+            signal.signal(sig, signal.SIG_DFL)
+        if self.forward:  # the xdist workers: each interrupts its own test
+            for pid in children(os.getpid()):
+                try:
+                    os.kill(pid, signum)
+                except ProcessLookupError:
+                    pass
+        raise KeyboardInterrupt(f"test session stopped by {signal.Signals(signum).name}")
+
+
+def children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (from /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue  # ended while listed
+        if int(fields[1]) == pid:
+            found.append(int(stat.parent.name))
+    return found
