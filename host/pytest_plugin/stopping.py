@@ -11,12 +11,16 @@ virtual board's server have a parent-death signal of their own (:mod:`host.core.
 
 import os
 import signal
+import sys
 import threading
 from pathlib import Path
+
+import pytest
 
 from host.core.children import die_with_parent
 
 SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+PLUGIN = "hil-stopping"
 
 
 def install(config, worker: bool) -> None:
@@ -24,6 +28,8 @@ def install(config, worker: bool) -> None:
     a worker's parent-death signal."""
     if worker:
         die_with_parent(signal.SIGTERM)  # (xdist forks its workers from the controller's main thread)
+    if not config.pluginmanager.has_plugin(PLUGIN):
+        config.pluginmanager.register(sys.modules[__name__], PLUGIN)
     if threading.current_thread() is not threading.main_thread():
         return
     forward = not worker and bool(getattr(config.option, "numprocesses", None))
@@ -48,6 +54,13 @@ class _Stop:
                 except ProcessLookupError:
                     pass
         raise KeyboardInterrupt(f"test session stopped by {signal.Signals(signum).name}")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_keyboard_interrupt(excinfo):
+    """An interrupt that landed on a frame with no line number (Python 3.11 has some, in the
+    rig's hot loop) makes pytest's report of it fail with a TypeError: leave those frames out."""
+    excinfo.traceback = excinfo.traceback.filter(lambda entry: getattr(entry._rawentry, "tb_lineno", 0) is not None)
 
 
 def children(pid: int) -> list[int]:

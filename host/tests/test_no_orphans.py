@@ -1,0 +1,220 @@
+"""No process outlives the command that started it (docs/reliability.md, docs/flash.md).
+
+Each front end is started, its descendants and the ptys they hold are read from /proc once
+the firmware runs, the front end gets SIGKILL or SIGTERM, and every descendant must be gone
+within seconds, no pty of theirs held by a process started meanwhile."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+from host.core.paths import REPO
+from host.device import vboard
+
+pytestmark = pytest.mark.hil
+MPY_FIL = Path(sys.executable).parent / "mpy-fil"
+APPEAR_S = 30.0  # (a loaded machine: an xdist session starts two workers, each a rig and a board)
+GONE_S = 5.0
+TICKS = os.sysconf("SC_CLK_TCK")
+
+
+def _stat(pid: int) -> list[str] | None:
+    """/proc/<pid>/stat after the command name: state, ppid, ..., or None once gone."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+
+
+def _parents() -> dict[int, int]:
+    found = {}
+    for entry in Path("/proc").glob("[0-9]*"):
+        fields = _stat(int(entry.name))
+        if fields is not None:
+            found[int(entry.name)] = int(fields[1])
+    return found
+
+
+def descendants(pid: int) -> set[int]:
+    parents = _parents()
+    found, todo = set(), [pid]
+    while todo:
+        parent = todo.pop()
+        for child, ppid in parents.items():
+            if ppid == parent and child not in found:
+                found.add(child)
+                todo.append(child)
+    return found
+
+
+def alive(pid: int) -> bool:
+    fields = _stat(pid)
+    return fields is not None and fields[0] != "Z"  # (a zombie holds nothing; init reaps it)
+
+
+def program(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+    except OSError:
+        return ""
+
+
+def ptys(pids) -> set[str]:
+    held = set()
+    for pid in pids:
+        for fd in Path(f"/proc/{pid}/fd").glob("*"):
+            try:
+                target = os.readlink(fd)
+            except OSError:
+                continue
+            if target.startswith("/dev/pts/"):
+                held.add(target)
+    return held
+
+
+def started_at(pid: int) -> int:
+    return int(_stat(pid)[19])  # clock ticks since boot
+
+
+def now_ticks() -> int:
+    return int(float(Path("/proc/uptime").read_text().split()[0]) * TICKS) + 1
+
+
+def wait_for(front: subprocess.Popen, ready) -> set[int]:
+    """The front end's descendants once ``ready(their command lines)`` says the firmware runs."""
+    deadline = time.monotonic() + APPEAR_S
+    while time.monotonic() < deadline:
+        assert front.poll() is None, f"the front end ended early:\n{front.stdout.read()}"
+        family = descendants(front.pid)
+        if ready([program(p) for p in family]):
+            return family
+        time.sleep(0.05)
+    raise AssertionError(f"not ready within {APPEAR_S} s: {[program(p) for p in descendants(front.pid)]}")
+
+
+def kill_and_check(front: subprocess.Popen, sig: int, family: set[int]) -> float:
+    """Send ``sig`` to the front end; everything it started must end. Returns the seconds
+    until the last of them ended."""
+    t0_ticks, held = started_at(front.pid), ptys(family | {front.pid})
+    assert held, "expected the firmware's ptys among the descendants' open files"
+    t0 = time.monotonic()
+    front.send_signal(sig)
+    kill_ticks = now_ticks()
+    front.wait(timeout=15)
+    deadline = time.monotonic() + GONE_S
+    while time.monotonic() < deadline and any(alive(p) for p in family):
+        time.sleep(0.02)
+    took = time.monotonic() - t0
+    left = {p: program(p) for p in family if alive(p)}
+    assert not left, f"still running {GONE_S} s after {signal.Signals(sig).name}: {left}"
+    holders = {  # a process of theirs that escaped the walk (started before the kill)
+        p: ptys([p]) & held
+        for p in _parents()
+        if alive(p) and _stat(p) and t0_ticks <= started_at(p) <= kill_ticks and ptys([p]) & held
+    }
+    assert not holders, f"their ptys still held: {holders}"
+    return took
+
+
+def start(cmd, cwd=REPO, **kw) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    return subprocess.Popen(
+        cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True, **kw
+    )
+
+
+def _micropythons(n: int):
+    return lambda cmds: sum("micropython" in c.split(" ", 1)[0] for c in cmds) >= n
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+def test_a_stopped_mpy_fil_run_leaves_nothing_running(tmp_path, sig):
+    cmd = [str(MPY_FIL), "run", "--app", "rover", "--duration", "86400", "--out", str(tmp_path / "run"), "--no-plots"]
+    front = start(cmd)
+    family = wait_for(front, _micropythons(1))
+    took = kill_and_check(front, sig, family)
+    print(f"mpy-fil run, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+
+
+HIL_TEST = """
+    import pytest
+    from host.device import vboard
+
+    @pytest.mark.parametrize("n", [0, 1])
+    def test_a_long_run_beside_a_virtual_board(rig, tmp_path, n):
+        home = tmp_path / "board"
+        vboard.start_background("esp32_devkitc", home=home, wired=False)
+        try:
+            rig.run_for(86400)
+        finally:
+            vboard.stop_background("esp32_devkitc", home)
+"""
+
+
+@pytest.mark.parametrize("workers", [0, 2])
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+def test_a_stopped_hil_session_leaves_nothing_running(tmp_path, sig, workers):
+    (tmp_path / "test_long.py").write_text(textwrap.dedent(HIL_TEST))
+    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-keep", "none", "test_long.py"]
+    cmd += ["-n", str(workers)] if workers else ["-p", "no:xdist", "-x"]
+    front = start(cmd, cwd=tmp_path)
+    # each test runs a rig and a bare virtual board (two interpreters); with workers, two at once
+    family = wait_for(front, _micropythons(4 if workers else 2))
+    took = kill_and_check(front, sig, family)
+    print(f"pytest -n {workers}, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+
+
+FLASH = "import sys, pathlib; from host.device import flash, vboard; vboard.VBOARD_ROOT = pathlib.Path(sys.argv[1]); "
+FLASH += "raise SystemExit(flash.main(['--app', 'rover']))"
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+def test_a_stopped_flash_leaves_no_virtual_board_running(tmp_path, sig):
+    """``make flash`` without PORT (``python -m host.device.flash``, its board folder in tmp):
+    stopped while mpremote talks to the virtual board it started."""
+    front = start([sys.executable, "-c", FLASH, str(tmp_path)])
+    family = wait_for(front, lambda cmds: _micropythons(1)(cmds) and any("mpremote" in c for c in cmds))
+    took = kill_and_check(front, sig, family)
+    assert not (tmp_path / "esp32_devkitc" / "port").exists() or sig == signal.SIGKILL
+    print(f"flash, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+
+
+def test_a_killed_virtual_board_server_takes_its_interpreter_with_it(tmp_path):
+    home = tmp_path / "board"
+    vboard.start_background("esp32_devkitc", home=home, wired=False)
+    server = int((home / "vboard.pid").read_text())
+    try:
+        interpreters = descendants(server)
+        assert interpreters, "expected the server's interpreter"
+        os.kill(server, signal.SIGKILL)
+        deadline = time.monotonic() + GONE_S
+        while time.monotonic() < deadline and any(alive(p) for p in interpreters | {server}):
+            time.sleep(0.02)
+            vboard._gone(server)  # (reaps it: this process started it)
+        assert not any(alive(p) for p in interpreters), [program(p) for p in interpreters]
+    finally:
+        vboard.stop_background("esp32_devkitc", home)
+
+
+def test_a_detached_virtual_board_outlives_its_starter_and_ends_when_idle(tmp_path):
+    home = tmp_path / "board"
+    cmd = [sys.executable, "-m", "host.device.vboard", "start", "--bare", "--home", str(home), "--idle-exit-s", "2"]
+    done = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and done.stdout.startswith("/dev/pts/"), done
+    server = int((home / "vboard.pid").read_text())
+    family = descendants(server) | {server}
+    try:
+        assert alive(server), "expected vboard start's server to outlive the command"
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and any(alive(p) for p in family):
+            time.sleep(0.05)
+        assert not any(alive(p) for p in family), "expected the idle server to end after 2 s with no client"
+        assert not (home / "port").exists() and not (home / "vboard.pid").exists()
+    finally:
+        vboard.stop_background("esp32_devkitc", home)
