@@ -2,7 +2,7 @@
 
 Each front end is started, its descendants and the ptys they hold are read from /proc once
 the firmware runs, the front end gets SIGKILL or SIGTERM, and every descendant must be gone
-within seconds, no pty of theirs held by a process started meanwhile."""
+within seconds, and no process that held one of their ptys still holds it."""
 
 import os
 import signal
@@ -21,7 +21,6 @@ pytestmark = pytest.mark.hil
 MPY_FIL = Path(sys.executable).parent / "mpy-fil"
 APPEAR_S = 30.0  # (a loaded machine: an xdist session starts two workers, each a rig and a board)
 GONE_S = 5.0
-TICKS = os.sysconf("SC_CLK_TCK")
 
 
 def _stat(pid: int) -> list[str] | None:
@@ -78,12 +77,22 @@ def ptys(pids) -> set[str]:
     return held
 
 
-def started_at(pid: int) -> int:
-    return int(_stat(pid)[19])  # clock ticks since boot
+def _kill(pid: int) -> None:
+    try:
+        os.kill(pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
 
 
-def now_ticks() -> int:
-    return int(float(Path("/proc/uptime").read_text().split()[0]) * TICKS) + 1
+def holders(paths: set[str]) -> dict[int, set[str]]:
+    """Every live process that has one of these ptys open (a pty's number is reused once
+    closed: compare holders from before and after)."""
+    found = {}
+    for pid in _parents():
+        mine = ptys([pid]) & paths if alive(pid) else set()
+        if mine:
+            found[pid] = mine
+    return found
 
 
 def wait_for(front: subprocess.Popen, ready) -> set[int]:
@@ -101,32 +110,45 @@ def wait_for(front: subprocess.Popen, ready) -> set[int]:
 def kill_and_check(front: subprocess.Popen, sig: int, family: set[int]) -> float:
     """Send ``sig`` to the front end; everything it started must end. Returns the seconds
     until the last of them ended."""
-    t0_ticks, held = started_at(front.pid), ptys(family | {front.pid})
+    held = ptys(family | {front.pid})
     assert held, "expected the firmware's ptys among the descendants' open files"
+    sharers = holders(held)  # (a process of theirs the walk missed would be among them)
     t0 = time.monotonic()
     front.send_signal(sig)
-    kill_ticks = now_ticks()
     front.wait(timeout=15)
     deadline = time.monotonic() + GONE_S
     while time.monotonic() < deadline and any(alive(p) for p in family):
         time.sleep(0.02)
     took = time.monotonic() - t0
     left = {p: program(p) for p in family if alive(p)}
+    for pid in left:  # (a failing test leaves nothing either)
+        _kill(pid)
     assert not left, f"still running {GONE_S} s after {signal.Signals(sig).name}: {left}"
-    holders = {  # a process of theirs that escaped the walk (started before the kill)
-        p: ptys([p]) & held
-        for p in _parents()
-        if alive(p) and _stat(p) and t0_ticks <= started_at(p) <= kill_ticks and ptys([p]) & held
-    }
-    assert not holders, f"their ptys still held: {holders}"
+    still = {p: paths for p, paths in holders(held).items() if p in sharers}
+    assert not still, f"their ptys still held: {still}"
     return took
 
 
-def start(cmd, cwd=REPO, **kw) -> subprocess.Popen:
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    return subprocess.Popen(
-        cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True, **kw
-    )
+@pytest.fixture
+def start():
+    """Starts a front end; at the end, whatever a failed test left of it is killed."""
+    started = []
+
+    def start(cmd, cwd=REPO) -> subprocess.Popen:
+        env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+        proc = subprocess.Popen(
+            cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+        )
+        started.append(proc)
+        return proc
+
+    yield start
+    for proc in started:
+        for pid in descendants(proc.pid) if proc.poll() is None else ():
+            _kill(pid)
+        proc.kill()
+        proc.wait()
+        proc.stdout.close()
 
 
 def _micropythons(n: int):
@@ -134,7 +156,7 @@ def _micropythons(n: int):
 
 
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
-def test_a_stopped_mpy_fil_run_leaves_nothing_running(tmp_path, sig):
+def test_a_stopped_mpy_fil_run_leaves_nothing_running(start, tmp_path, sig):
     cmd = [str(MPY_FIL), "run", "--app", "rover", "--duration", "86400", "--out", str(tmp_path / "run"), "--no-plots"]
     front = start(cmd)
     family = wait_for(front, _micropythons(1))
@@ -159,7 +181,7 @@ HIL_TEST = """
 
 @pytest.mark.parametrize("workers", [0, 2])
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
-def test_a_stopped_hil_session_leaves_nothing_running(tmp_path, sig, workers):
+def test_a_stopped_hil_session_leaves_nothing_running(start, tmp_path, sig, workers):
     (tmp_path / "test_long.py").write_text(textwrap.dedent(HIL_TEST))
     cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-keep", "none", "test_long.py"]
     cmd += ["-n", str(workers)] if workers else ["-p", "no:xdist", "-x"]
@@ -175,7 +197,7 @@ FLASH += "raise SystemExit(flash.main(['--app', 'rover']))"
 
 
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
-def test_a_stopped_flash_leaves_no_virtual_board_running(tmp_path, sig):
+def test_a_stopped_flash_leaves_no_virtual_board_running(start, tmp_path, sig):
     """``make flash`` without PORT (``python -m host.device.flash``, its board folder in tmp):
     stopped while mpremote talks to the virtual board it started."""
     front = start([sys.executable, "-c", FLASH, str(tmp_path)])
