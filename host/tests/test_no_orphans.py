@@ -21,6 +21,7 @@ pytestmark = pytest.mark.hil
 MPY_FIL = Path(sys.executable).parent / "mpy-fil"
 APPEAR_S = 30.0  # (a loaded machine: an xdist session starts two workers, each a rig and a board)
 GONE_S = 5.0
+FRONT_S = 30.0
 
 
 def _stat(pid: int) -> list[str] | None:
@@ -107,26 +108,39 @@ def wait_for(front: subprocess.Popen, ready) -> set[int]:
     raise AssertionError(f"not ready within {APPEAR_S} s: {[program(p) for p in descendants(front.pid)]}")
 
 
-def kill_and_check(front: subprocess.Popen, sig: int, family: set[int]) -> float:
-    """Send ``sig`` to the front end; everything it started must end. Returns the seconds
-    until the last of them ended."""
+def kill_and_check(front: subprocess.Popen, sig: int, family: set[int]) -> str:
+    """Send ``sig`` to the front end: within ``GONE_S`` no process holds the firmware's ptys
+    any more; the front end ends (within ``FRONT_S``: an interrupted pytest session reports
+    first), and by then, give or take ``GONE_S``, so has every process it started (pytest-xdist
+    workers included). Says how long each took."""
     held = ptys(family | {front.pid})
     assert held, "expected the firmware's ptys among the descendants' open files"
     sharers = holders(held)  # (a process of theirs the walk missed would be among them)
     t0 = time.monotonic()
     front.send_signal(sig)
-    front.wait(timeout=15)
+    try:
+        still = _wait_gone(lambda: {p: paths for p, paths in holders(held).items() if p in sharers})
+        assert not still, f"their ptys still held {GONE_S} s after {signal.Signals(sig).name}: {still}"
+        released = time.monotonic() - t0
+        front.wait(timeout=FRONT_S)
+        ended = time.monotonic() - t0
+        left = _wait_gone(lambda: {p: program(p) for p in family if alive(p)})
+        assert not left, f"still running {GONE_S} s after the front end ended ({signal.Signals(sig).name}): {left}"
+    finally:
+        for pid in family:  # (a failing test leaves nothing either)
+            if alive(pid):
+                _kill(pid)
+    last = time.monotonic() - t0
+    name = signal.Signals(sig).name
+    return f"{name}: ptys released in {released:.2f} s, front end ended in {ended:.2f} s, all {len(family)} in {last:.2f} s"
+
+
+def _wait_gone(what) -> dict:
+    """Poll ``what()`` until it is empty or ``GONE_S`` passed; its last value."""
     deadline = time.monotonic() + GONE_S
-    while time.monotonic() < deadline and any(alive(p) for p in family):
+    while (found := what()) and time.monotonic() < deadline:
         time.sleep(0.02)
-    took = time.monotonic() - t0
-    left = {p: program(p) for p in family if alive(p)}
-    for pid in left:  # (a failing test leaves nothing either)
-        _kill(pid)
-    assert not left, f"still running {GONE_S} s after {signal.Signals(sig).name}: {left}"
-    still = {p: paths for p, paths in holders(held).items() if p in sharers}
-    assert not still, f"their ptys still held: {still}"
-    return took
+    return found
 
 
 @pytest.fixture
@@ -160,8 +174,7 @@ def test_a_stopped_mpy_fil_run_leaves_nothing_running(start, tmp_path, sig):
     cmd = [str(MPY_FIL), "run", "--app", "rover", "--duration", "86400", "--out", str(tmp_path / "run"), "--no-plots"]
     front = start(cmd)
     family = wait_for(front, _micropythons(1))
-    took = kill_and_check(front, sig, family)
-    print(f"mpy-fil run, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+    print("mpy-fil run,", kill_and_check(front, sig, family))
 
 
 HIL_TEST = """
@@ -188,8 +201,7 @@ def test_a_stopped_hil_session_leaves_nothing_running(start, tmp_path, sig, work
     front = start(cmd, cwd=tmp_path)
     # each test runs a rig and a bare virtual board (two interpreters); with workers, two at once
     family = wait_for(front, _micropythons(4 if workers else 2))
-    took = kill_and_check(front, sig, family)
-    print(f"pytest -n {workers}, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+    print(f"pytest -n {workers},", kill_and_check(front, sig, family))
 
 
 FLASH = "import sys, pathlib; from host.device import flash, vboard; vboard.VBOARD_ROOT = pathlib.Path(sys.argv[1]); "
@@ -202,9 +214,8 @@ def test_a_stopped_flash_leaves_no_virtual_board_running(start, tmp_path, sig):
     stopped while mpremote talks to the virtual board it started."""
     front = start([sys.executable, "-c", FLASH, str(tmp_path)])
     family = wait_for(front, lambda cmds: _micropythons(1)(cmds) and any("mpremote" in c for c in cmds))
-    took = kill_and_check(front, sig, family)
-    assert not (tmp_path / "esp32_devkitc" / "port").exists() or sig == signal.SIGKILL
-    print(f"flash, {signal.Signals(sig).name}: {len(family)} descendant(s) gone in {took:.2f} s")
+    print("flash,", kill_and_check(front, sig, family))
+    assert not (tmp_path / "esp32_devkitc" / "port").exists(), "expected the server to remove its port file"
 
 
 def test_a_killed_virtual_board_server_takes_its_interpreter_with_it(tmp_path):
