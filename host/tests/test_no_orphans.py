@@ -132,7 +132,7 @@ def kill_and_check(front: subprocess.Popen, sig: int, family: set[int]) -> str:
                 _kill(pid)
     last = time.monotonic() - t0
     name = signal.Signals(sig).name
-    return f"{name}: ptys released in {released:.2f} s, front end ended in {ended:.2f} s, all {len(family)} in {last:.2f} s"
+    return f"{name}: ptys released in {released:.2f} s, it ended in {ended:.2f} s, all {len(family)} in {last:.2f} s"
 
 
 def _wait_gone(what) -> dict:
