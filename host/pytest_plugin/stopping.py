@@ -53,14 +53,24 @@ class _Stop:
                     os.kill(pid, signum)
                 except ProcessLookupError:
                     pass
-        raise KeyboardInterrupt(f"test session stopped by {signal.Signals(signum).name}")
+        raise SessionStopped(f"test session stopped by {signal.Signals(signum).name}")
+
+
+class SessionStopped(KeyboardInterrupt):
+    """Raised by the handler where the signal found the session: pytest reports it as an
+    interrupt."""
 
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_keyboard_interrupt(excinfo):
-    """An interrupt that landed on a frame with no line number (Python 3.11 has some, in the
-    rig's hot loop) makes pytest's report of it fail with a TypeError: leave those frames out."""
-    excinfo.traceback = excinfo.traceback.filter(lambda entry: getattr(entry._rawentry, "tb_lineno", 0) is not None)
+    """A stop by signal is reported by its one line, not by where it found the session (pytest
+    would read and parse the source of every frame: seconds on a loaded machine). Any other
+    interrupt: frames with no line number (Python 3.11 has some, in the rig's hot loop) make
+    pytest's report of it fail with a TypeError, so they are left out."""
+    if isinstance(excinfo.value, SessionStopped):
+        excinfo.traceback = excinfo.traceback[-1:]
+    else:
+        excinfo.traceback = excinfo.traceback.filter(lambda entry: getattr(entry._rawentry, "tb_lineno", 0) is not None)
 
 
 def children(pid: int) -> list[int]:
