@@ -52,12 +52,16 @@ def main(argv=None) -> int:
     except HarnessError as e:
         print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
         return EXIT_FAILED
-    except KeyboardInterrupt:
-        print(f"{args.sub.prog}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:  # (Ctrl-C; SIGTERM and SIGHUP where a command asks for them)
+        signum = getattr(e, "signum", signal.SIGINT)
+        print(f"{args.sub.prog}: stopped by {signal.Signals(signum).name}", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:  # (piped into head: the reader had enough)
         sys.stdout = open(os.devnull, "w")
         return 0
+    except OSError as e:  # (a plot on a full disk): the file named, no traceback
+        print(f"{args.sub.prog}: cannot write {e.filename or 'a file'}: {e.strerror or e}", file=sys.stderr)
+        return EXIT_FAILED
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -256,6 +260,7 @@ def cmd_run(args) -> int:
         sub.error(f"argument --param: {app.name}'s plant rejects {options}: {e}")
     out = _writable(sub, "--out", args.out or RUNS / f"{app.name}-{world}-seed{args.seed}")
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
+    _stop_on_signals()
     rig = Rig(
         app,
         board=board,
@@ -271,8 +276,14 @@ def cmd_run(args) -> int:
     try:
         with rig:
             rig.run_for(args.duration)
+    except KeyboardInterrupt:
+        print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
+        raise
     finally:
         _progress_done(show)
+    if rig.console_log.dropped_bytes:
+        log = rig.console_log
+        print(f"console.log capped at {log.max_bytes} bytes: {log.dropped_bytes} bytes in {log.dropped_lines} lines dropped")
     truth = rig.truth()
     print(f"trace folder: {out}")
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
@@ -286,6 +297,20 @@ def cmd_run(args) -> int:
         for path in plot_trace(out):
             print(f"plot: {path}")
     return 0
+
+
+def _stop_on_signals() -> None:
+    """SIGTERM and SIGHUP stop a run as Ctrl-C does (its trace folder written, marked
+    partial); a second signal while that is written is ignored."""
+    from host.artefacts.integrity import Stopped
+
+    def stop(signum, _frame):
+        for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+            signal.signal(s, signal.SIG_IGN)
+        raise Stopped(signum)
+
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, stop)
 
 
 def cmd_check(args) -> int:

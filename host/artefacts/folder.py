@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from host.artefacts import integrity
 from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_gtkw, write_vcd
@@ -55,32 +56,83 @@ DEFAULT_COVERAGE_CELL_M = 0.05
 
 def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) -> Path:
     """Write a stopped run's recording into ``folder``. ``run`` holds what identifies the
-    run (app, board, plant_options, seed, mode, micropython, t_end_us); ``budgets`` maps
-    names to budgets, each of which gives its own ``record()``."""
+    run (app, board, plant_options, seed, mode, micropython, t_end_us) and how it ended
+    (``stop``: None, or why it was cut; ``incomplete``: streamed files cut short;
+    ``console``: the console's counts); ``budgets`` maps names to budgets, each of which
+    gives its own ``record()``.
+
+    Each file is written whole or not at all (:func:`~host.artefacts.integrity.atomic`),
+    and ``header.json`` last, with each file's SHA-256 and the list of what is missing or
+    incomplete. A write that fails raises TraceWriteError naming its file, after the
+    header has said so (when even the header cannot be written, the one written when the
+    run began stays, marked partial)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    header = make_header(run, recorder, plant, link_trace=(folder / LINK).is_file())
-    _write_json(folder / HEADER, header)
+    incomplete = dict(run.get("incomplete") or {})
+    files: dict[str, str] = {}
+    error = None
+    for name, write in _writers(folder, run, recorder, budgets):
+        if error is not None:
+            incomplete[name] = f"not written: {error.error.strerror or error.error} writing {error.path.name}"
+            continue
+        try:
+            with integrity.atomic(folder / name) as part:
+                write(part)
+            files[name] = integrity.file_digest(folder / name)
+        except integrity.TraceWriteError as e:
+            error = e
+            incomplete[name] = f"not written: {e.error.strerror or e.error}"
+    for name in (CONSOLE, LINK):
+        if (folder / name).is_file() and name not in incomplete:
+            files[name] = integrity.file_digest(folder / name)
+    header = make_header({**run, "incomplete": incomplete}, recorder, plant, link_trace=(folder / LINK).is_file())
+    try:
+        integrity.write_text(folder / HEADER, _json(integrity.seal({**header, "files": files})))
+    except integrity.TraceWriteError as e:
+        error = error or e
+    if error is not None:
+        raise error
+    return folder
+
+
+def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
+    """As a recorded run starts: an earlier run's files go, and a header marked partial
+    ("the run did not end") stands until the run's own replaces it, so a run killed
+    outright leaves a folder that says so."""
+    folder = Path(folder)
+    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
+    stop = {"reason": "the run did not end (killed, or its machine stopped)", "signal": None}
+    header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
+    integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
+
+
+def _writers(folder: Path, run: dict, recorder, budgets: dict):
+    """(file name, write(path)) for each file made at the end, most needed first."""
     events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
     truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
-    with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
-        out = csv.writer(f, lineterminator="\n")
-        out.writerow(["t_us", "signal", "value"])
-        out.writerows(events)
-    _write_truth(folder / TRUTH, truth)
-    _write_json(folder / BUDGETS, [b.record() for b in budgets.values()])
-    paths = write_vcd(
-        folder / VCD,
-        top=run["app"],
-        comment=f"app {run['app']} board {run['board']} seed {run['seed']} commit {header['commit']}",
-        signals=recorder.signals,
-        initial=recorder.initial,
-        events=events,
-        truth=truth,
-        notes=trace_notes(folder, budgets),
+    vcd_paths: dict = {}
+
+    def signals(path):
+        with open(path, "w", newline="", encoding="utf-8") as f:
+            out = csv.writer(f, lineterminator="\n")
+            out.writerow(["t_us", "signal", "value"])
+            out.writerows(events)
+
+    def vcd(path):
+        comment = f"app {run['app']} board {run['board']} seed {run['seed']} commit {provenance.commit()}"
+        notes = trace_notes(folder, budgets)
+        signals = recorder.signals
+        vcd_paths.update(
+            write_vcd(path, top=run["app"], comment=comment, signals=signals, initial=recorder.initial, events=events, truth=truth, notes=notes)
+        )
+
+    return (
+        (SIGNALS, signals),
+        (TRUTH, lambda path: _write_truth(path, truth)),
+        (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
+        (VCD, vcd),
+        (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
     )
-    write_gtkw(folder / GTKW, VCD, paths)
-    return folder
 
 
 def trace_notes(folder: Path, budgets: dict) -> "_Records":
@@ -140,6 +192,10 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "initial": recorder.initial,
         "contacts": [list(c) for c in _truth_contacts(plant)],
         "link_trace": link_trace,
+        "partial": bool(run.get("stop") or run.get("incomplete")),
+        "stop": run.get("stop"),
+        "incomplete": run.get("incomplete") or {},
+        "console": run.get("console"),
     }
 
 
@@ -202,8 +258,8 @@ def _fmt(value) -> str:
     return str(value)
 
 
-def _write_json(path: Path, data) -> None:
-    path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+def _json(data) -> str:
+    return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
 # -- reading ------------------------------------------------------------------------

@@ -19,8 +19,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from host.artefacts.console import ConsoleLog
-from host.artefacts.folder import write_trace_folder
+from host.artefacts.console import MAX_BYTES, ConsoleLog
+from host.artefacts.folder import begin_trace_folder, write_trace_folder
+from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core.errors import ConfigError, LinkError
@@ -120,7 +121,7 @@ class Rig:
         self.artefacts = Path(artefacts) if artefacts else None
         self.trace_enabled = trace
         self.progress = progress
-        self.console_log = ConsoleLog()
+        self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
@@ -145,7 +146,7 @@ class Rig:
         return self
 
     def __exit__(self, *exc):
-        self.stop()
+        self.stop(interrupted=exc[1])
 
     @property
     def t_us(self) -> int:
@@ -173,6 +174,8 @@ class Rig:
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
             self._open(self.target.open)
+            if self.artefacts and self.recorder is not None:
+                begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
@@ -193,17 +196,26 @@ class Rig:
         self.micropython_version = version
         self.pacing.begin(self.t_us)
 
-    def stop(self) -> None:
+    def stop(self, interrupted: BaseException | None = None) -> None:
         """End the firmware and close the link; safe to call twice. Writes the console
-        and, when recording, the trace folder."""
+        and, when recording, the trace folder (marked partial when ``interrupted`` is a
+        stop signal or a failed write). A write that fails raises TraceWriteError, once."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
         if not self._started:
             return
         self._started = False
         self.linklog.close()
         self.console_log.close(self.t_us)
-        if self.artefacts and self.recorder is not None:
-            write_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant, self.budgets)
+        try:
+            if self.artefacts and self.recorder is not None:
+                run = {**run_header(self), **recording_end(self, interrupted)}
+                write_trace_folder(self.artefacts, run, self.recorder, self.plant, self.budgets)
+            error = self.console_log.error or self.linklog.error
+            if error is not None:
+                raise error
+        except TraceWriteError:
+            if not isinstance(interrupted, TraceWriteError):  # (said once: the first failed write)
+                raise
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data, self.t_us)
@@ -373,3 +385,20 @@ def run_header(rig) -> dict:
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
     }
+
+
+def recording_end(rig, interrupted: BaseException | None) -> dict:
+    """How the recording ended, for its header: ``stop`` (None when it ran its course),
+    the streamed files cut short, and the console's counts."""
+    stop = None
+    if isinstance(interrupted, KeyboardInterrupt):
+        name = stop_signal_name(interrupted)
+        stop = {"reason": f"stopped by {name}", "signal": name, "t_us": rig.t_us}
+    elif isinstance(interrupted, TraceWriteError):
+        stop = {"reason": str(interrupted), "signal": None, "t_us": rig.t_us}
+    incomplete = {
+        log.error.path.name: f"cut short: {log.error.error.strerror or log.error.error}"
+        for log in (rig.console_log, rig.linklog)
+        if log.error is not None
+    }
+    return {"stop": stop, "incomplete": incomplete, "console": rig.console_log.summary}
