@@ -283,7 +283,8 @@ def cmd_run(args) -> int:
         _progress_done(show)
     if rig.console_log.dropped_bytes:
         log = rig.console_log
-        print(f"console.log capped at {log.max_bytes} bytes: {log.dropped_bytes} bytes in {log.dropped_lines} lines dropped")
+        dropped = f"{log.dropped_bytes} bytes in {log.dropped_lines} lines dropped"
+        print(f"console.log capped at {log.max_bytes} bytes: {dropped}")
     truth = rig.truth()
     print(f"trace folder: {out}")
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
@@ -378,6 +379,8 @@ def cmd_replay(args) -> int:
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")
+    if result.partial:
+        print(f"the recording is partial ({result.partial}): compared up to its cut")
     if result.same:
         print(f"same outputs: {result.recorded} firmware outputs match the recording")
         return 0
@@ -387,9 +390,14 @@ def cmd_replay(args) -> int:
 
 
 def cmd_plot(args) -> int:
+    from host.artefacts.checks import partial_reason
+    from host.artefacts.folder import load_trace
     from host.report.plots import plot_trace
 
     out = _writable(args.sub, "--out", args.out or args.trace / "plots")
+    partial = partial_reason(load_trace(args.trace).header)
+    if partial:
+        print(f"the trace folder is partial: {partial}")
     for path in plot_trace(args.trace, out):
         print(f"plot: {path}")
     return 0

@@ -22,6 +22,7 @@ Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``)
 
 import csv
 import heapq
+import io
 import json
 import math
 import re
@@ -31,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from host.artefacts import integrity
+from host.artefacts import checks, integrity
 from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_gtkw, write_vcd
@@ -101,7 +102,11 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     outright leaves a folder that says so."""
     folder = Path(folder)
     integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
-    stop = {"reason": "the run did not end (killed, or its machine stopped)", "signal": None}
+    stop = {
+        "reason": "the run did not end (killed, or its machine stopped); "
+        "console.log and trace.jsonl hold what streamed",
+        "signal": None,
+    }
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
 
@@ -123,7 +128,16 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
         notes = trace_notes(folder, budgets)
         signals = recorder.signals
         vcd_paths.update(
-            write_vcd(path, top=run["app"], comment=comment, signals=signals, initial=recorder.initial, events=events, truth=truth, notes=notes)
+            write_vcd(
+                path,
+                top=run["app"],
+                comment=comment,
+                signals=signals,
+                initial=recorder.initial,
+                events=events,
+                truth=truth,
+                notes=notes,
+            )
         )
 
     return (
@@ -293,32 +307,48 @@ class TraceData:
 
 
 def load_trace(folder) -> TraceData:
-    """Read a trace folder; a missing or malformed one raises ConfigError naming it."""
+    """Read a trace folder; a missing, malformed or damaged one raises ConfigError naming
+    the file and what is wrong (:mod:`host.artefacts.checks`); a partial one that lacks a
+    file says it is partial."""
     folder = Path(folder)
     header_path = folder / HEADER
     if not header_path.is_file():
         raise ConfigError(f"trace folder {folder}: no {HEADER} (expected a folder written by a recorded run)")
     try:
         header = json.loads(header_path.read_text(encoding="utf-8"))
-    except ValueError as e:
-        raise ConfigError(f"trace folder {folder}: {HEADER} is not JSON ({e})") from e
-    if header.get("format") != FORMAT:
-        raise ConfigError(f"trace folder {folder}: format {header.get('format')!r}, expected {FORMAT!r}")
+    except (ValueError, RecursionError) as e:
+        raise ConfigError(f"trace folder {folder}: {HEADER} is not JSON ({type(e).__name__}: {e})") from None
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        got = header.get("format") if isinstance(header, dict) else header
+        raise ConfigError(f"trace folder {folder}: format {got!r:.80}, expected {FORMAT!r}")
+    checks.check_header(folder, header)
     data = TraceData(folder, header)
-    with _reading(folder, HEADER):
-        kinds = {n: i["kind"] for n, i in header.get("signals", {}).items()}
-    if (folder / SIGNALS).is_file():
-        with _reading(folder, SIGNALS), open(folder / SIGNALS, newline="", encoding="utf-8") as f:
-            rows = csv.reader(f)
-            next(rows, None)
-            data.events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
-    if (folder / TRUTH).is_file():
+    kinds = {n: i["kind"] for n, i in header["signals"].items()}
+    if checks.check_file(folder, header, SIGNALS, needed=True):
+        with _reading(folder, SIGNALS):
+            data.events = _read_signals(folder, kinds)
+    if checks.check_file(folder, header, TRUTH, needed=True):
         with _reading(folder, TRUTH):
-            data.truth = _read_truth(folder / TRUTH)
-    if (folder / BUDGETS).is_file():
+            data.truth = _read_truth(folder)
+    if checks.check_file(folder, header, BUDGETS, needed=False):
         with _reading(folder, BUDGETS):
             data.budgets = json.loads((folder / BUDGETS).read_text(encoding="utf-8"))
+            if not isinstance(data.budgets, list) or not all(isinstance(b, dict) for b in data.budgets):
+                raise ValueError("expected a list of objects")
+    checks.check_file(folder, header, CONSOLE, needed=False)  # (the report reads its telemetry)
     return data
+
+
+def _read_signals(folder: Path, kinds: dict) -> list:
+    text = (folder / SIGNALS).read_text(encoding="utf-8")
+    checks.whole_lines(folder, SIGNALS, text)
+    rows = csv.reader(io.StringIO(text))
+    if next(rows, None) != ["t_us", "signal", "value"]:
+        raise ValueError("expected the columns t_us,signal,value")
+    events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
+    if events and not 0 <= min(e[0] for e in events) <= max(e[0] for e in events) <= checks.MAX_T_END_US:
+        raise ValueError("a time outside 0 .. ten simulated days")
+    return events
 
 
 @contextmanager
@@ -326,7 +356,14 @@ def _reading(folder: Path, name: str):
     """A file of the folder that does not parse raises ConfigError naming it."""
     try:
         yield
-    except (ValueError, KeyError, TypeError, AttributeError) as e:  # (UnicodeDecodeError is a ValueError)
+    except (
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,
+        RecursionError,
+        csv.Error,
+    ) as e:  # (UnicodeDecodeError is a ValueError)
         raise ConfigError(
             f"trace folder {folder}: {name} is malformed ({type(e).__name__}: {e}); "
             "expected the file a recorded run writes (docs/traces.md)"
@@ -345,14 +382,24 @@ def _parse(kind: str | None, text: str):
             return text
 
 
-def _read_truth(path: Path) -> dict:
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
+def _read_truth(folder: Path) -> dict:
+    text = (folder / TRUTH).read_text(encoding="utf-8")
+    checks.whole_lines(folder, TRUTH, text)
+    rows = list(csv.reader(io.StringIO(text)))
     if not rows:
         return {}
     columns, body = rows[0], rows[1:]
+    if not columns or columns[0] != "t_us":
+        raise ValueError("expected t_us as the first column")
+    for n, row in enumerate(body, start=2):
+        if len(row) != len(columns):
+            raise ValueError(f"line {n} has {len(row)} fields, expected {len(columns)}")
     out = {}
     for i, name in enumerate(columns):
-        values = [float(r[i]) if i < len(r) and r[i] != "" else math.nan for r in body]
-        out[name] = np.asarray(values, dtype=np.int64 if name == "t_us" else float)
+        values = [float(r[i]) if r[i] != "" else math.nan for r in body]
+        out[name] = np.asarray(values, dtype=float)
+    t = out["t_us"]
+    if len(t) and not (np.all(np.isfinite(t)) and t.min() >= 0 and t.max() <= checks.MAX_T_END_US):
+        raise ValueError("a t_us outside 0 .. ten simulated days")
+    out["t_us"] = t.astype(np.int64)
     return out

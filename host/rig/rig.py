@@ -174,7 +174,7 @@ class Rig:
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
             self._open(self.target.open)
-            if self.artefacts and self.recorder is not None:
+            if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
                 begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
@@ -198,24 +198,11 @@ class Rig:
 
     def stop(self, interrupted: BaseException | None = None) -> None:
         """End the firmware and close the link; safe to call twice. Writes the console
-        and, when recording, the trace folder (marked partial when ``interrupted`` is a
-        stop signal or a failed write). A write that fails raises TraceWriteError, once."""
+        and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
-        if not self._started:
-            return
-        self._started = False
-        self.linklog.close()
-        self.console_log.close(self.t_us)
-        try:
-            if self.artefacts and self.recorder is not None:
-                run = {**run_header(self), **recording_end(self, interrupted)}
-                write_trace_folder(self.artefacts, run, self.recorder, self.plant, self.budgets)
-            error = self.console_log.error or self.linklog.error
-            if error is not None:
-                raise error
-        except TraceWriteError:
-            if not isinstance(interrupted, TraceWriteError):  # (said once: the first failed write)
-                raise
+        if self._started:
+            self._started = False
+            finish_recording(self, interrupted)
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data, self.t_us)
@@ -385,6 +372,24 @@ def run_header(rig) -> dict:
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
     }
+
+
+def finish_recording(rig, interrupted: BaseException | None) -> None:
+    """Close the console and link log and write the trace folder, marked partial when
+    ``interrupted`` is a stop signal or a failed write. A write that fails raises
+    TraceWriteError, once (not again when it is what interrupted the run)."""
+    rig.linklog.close()
+    rig.console_log.close(rig.t_us)
+    try:
+        if rig.artefacts and rig.recorder is not None:
+            run = {**run_header(rig), **recording_end(rig, interrupted)}
+            write_trace_folder(rig.artefacts, run, rig.recorder, rig.plant, rig.budgets)
+        error = rig.console_log.error or rig.linklog.error
+        if error is not None:
+            raise error
+    except TraceWriteError:
+        if not isinstance(interrupted, TraceWriteError):
+            raise
 
 
 def recording_end(rig, interrupted: BaseException | None) -> dict:
