@@ -85,7 +85,7 @@ def partial_reason(header: dict) -> str | None:
         reason += f", at t={t_us / 1e6:g} s"
     incomplete = header.get("incomplete") or {}
     if incomplete:
-        reason += "; incomplete: " + ", ".join(f"{n} ({why})" for n, why in sorted(incomplete.items()))
+        reason += f"; incomplete: {', '.join(sorted(incomplete))} (header.json says why)"
     return reason
 
 

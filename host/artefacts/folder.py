@@ -20,6 +20,7 @@ Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``)
 ``docs/traces.md`` describes the formats.
 """
 
+import contextlib
 import csv
 import heapq
 import io
@@ -87,10 +88,13 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         if (folder / name).is_file() and name not in incomplete:
             files[name] = integrity.file_digest(folder / name)
     header = make_header({**run, "incomplete": incomplete}, recorder, plant, link_trace=(folder / LINK).is_file())
+    text = _json(integrity.seal({**header, "files": files}))
     try:
-        integrity.write_text(folder / HEADER, _json(integrity.seal({**header, "files": files})))
+        integrity.write_text(folder / HEADER, text)
     except integrity.TraceWriteError as e:
         error = error or e
+        with contextlib.suppress(OSError):  # (in place: the start's header gives back its space)
+            (folder / HEADER).write_text(text, encoding="utf-8")
     if error is not None:
         raise error
     return folder

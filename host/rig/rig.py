@@ -400,7 +400,8 @@ def recording_end(rig, interrupted: BaseException | None) -> dict:
         name = stop_signal_name(interrupted)
         stop = {"reason": f"stopped by {name}", "signal": name, "t_us": rig.t_us}
     elif isinstance(interrupted, TraceWriteError):
-        stop = {"reason": str(interrupted), "signal": None, "t_us": rig.t_us}
+        reason = f"cannot write {interrupted.path.name}: {interrupted.error.strerror or interrupted.error}"
+        stop = {"reason": reason, "signal": None, "t_us": rig.t_us}
     incomplete = {
         log.error.path.name: f"cut short: {log.error.error.strerror or log.error.error}"
         for log in (rig.console_log, rig.linklog)
