@@ -350,6 +350,9 @@ def _read_signals(folder: Path, kinds: dict) -> list:
     if next(rows, None) != ["t_us", "signal", "value"]:
         raise ValueError("expected the columns t_us,signal,value")
     events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
+    unknown = {e[1] for e in events} - set(kinds)
+    if unknown:
+        raise ValueError(f"signals not in header.json's signals: {sorted(unknown)[:5]}")
     if events and not 0 <= min(e[0] for e in events) <= max(e[0] for e in events) <= checks.MAX_T_END_US:
         raise ValueError("a time outside 0 .. ten simulated days")
     return events

@@ -115,23 +115,10 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
         raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
     t_end_us = recorded_end_us(trace)
     partial = partial_reason(h)
-    app = get_app(h.get("rig_file") or h["app"])
-    try:  # the budgets as the recorded run had them
-        recorded_plant = app.make_plant(**h.get("plant_options", {}))
-    except (TypeError, ValueError, ArithmeticError):  # (a trace of a plant of one's own: the app's defaults)
-        recorded_plant = app.make_plant()
-    rig = Rig(
-        app,
-        board=h["board"],
-        seed=h["seed"],
-        plant=replay_plant(trace),
-        budgets=app.make_budgets(recorded_plant),
-        artefacts=Path(artefacts),
-        trace=True,
-        record=True,
-        watchdog_s=watchdog_s,
-        progress=progress,
-    )
+    try:
+        rig = _replay_rig(trace, Path(artefacts), watchdog_s=watchdog_s, progress=progress)
+    except ConfigError as e:  # (an app, board or option the header names that is not there)
+        raise ConfigError(f"trace {folder}: header.json: {e}") from None
     with rig:
         rig.run_until(t_end_us)
     before = (lambda t: t < t_end_us) if partial else (lambda t: t <= t_end_us)
@@ -139,6 +126,29 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     replayed = [e for e in rig.recorder.firmware_outputs() if before(e[0])]
     difference = first_difference(recorded, replayed)
     return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial)
+
+
+def _replay_rig(trace: TraceData, artefacts: Path, **options) -> Rig:
+    """The recorded app and board, driven by the recording (the budgets as it had them)."""
+    h = trace.header
+    app = get_app(h.get("rig_file") or h["app"])
+    try:
+        recorded_plant = app.make_plant(**h.get("plant_options", {}))
+    except (TypeError, ValueError, ArithmeticError):  # (a trace of a plant of one's own: the app's defaults)
+        recorded_plant = app.make_plant()
+    budgets = app.make_budgets(recorded_plant)
+    plant = replay_plant(trace)
+    return Rig(
+        app,
+        board=h["board"],
+        seed=h["seed"],
+        plant=plant,
+        budgets=budgets,
+        artefacts=artefacts,
+        trace=True,
+        record=True,
+        **options,
+    )
 
 
 def first_difference(recorded: list, replayed: list) -> Difference | None:
