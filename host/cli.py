@@ -15,12 +15,14 @@ or exits.
 
 import argparse
 import ast
+import contextlib
 import inspect
 import math
 import os
 import signal
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -260,7 +262,6 @@ def cmd_run(args) -> int:
         sub.error(f"argument --param: {app.name}'s plant rejects {options}: {e}")
     out = _writable(sub, "--out", args.out or RUNS / f"{app.name}-{world}-seed{args.seed}")
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
-    _stop_on_signals()
     rig = Rig(
         app,
         board=board,
@@ -274,7 +275,7 @@ def cmd_run(args) -> int:
         progress=show,
     )
     try:
-        with rig:
+        with _stop_on_signals(), rig:
             rig.run_for(args.duration)
     except KeyboardInterrupt:
         print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
@@ -300,18 +301,31 @@ def cmd_run(args) -> int:
     return 0
 
 
-def _stop_on_signals() -> None:
-    """SIGTERM and SIGHUP stop a run as Ctrl-C does (its trace folder written, marked
-    partial); a second signal while that is written is ignored."""
+@contextlib.contextmanager
+def _stop_on_signals():
+    """While the block runs, SIGTERM and SIGHUP stop a run as Ctrl-C does (its trace
+    folder written, marked partial); a second signal while that is written is ignored.
+    The handlers before are put back after it."""
     from host.artefacts.integrity import Stopped
 
+    signals = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
+        yield
+        return
+    previous = {s: signal.getsignal(s) for s in signals}
+
     def stop(signum, _frame):
-        for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        for s in signals:
             signal.signal(s, signal.SIG_IGN)
         raise Stopped(signum)
 
-    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+    for s in signals:
         signal.signal(s, stop)
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
 
 
 def cmd_check(args) -> int:
