@@ -17,6 +17,10 @@ file                content
 
 Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``) and
 ``console.log`` is in virtual time only: the same run gives the same bytes.
+A recorded run's folder starts with a header marked partial (:func:`begin_trace_folder`);
+at the end each file is written whole or not at all, and the header last, with every
+file's digest and what is incomplete. :func:`load_trace` refuses a damaged folder by name
+(:mod:`host.artefacts.checks`).
 ``docs/traces.md`` describes the formats.
 """
 
