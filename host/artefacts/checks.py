@@ -103,7 +103,8 @@ def check_file(folder: Path, header: dict, name: str, needed: bool) -> bool:
             why = f"the folder is partial: {partial}" if partial else "expected the files a recorded run writes"
             raise ConfigError(f"trace folder {folder}: no {name}; {why}")
         return False
-    if isinstance(files, dict) and name in files and integrity.file_digest(path) != files[name]:
+    digest = files.get(name) if isinstance(files, dict) else None
+    if digest is not None and integrity.file_digest(path) != digest:
         raise ConfigError(
             f"trace folder {folder}: {name} does not match its digest in header.json (changed or cut after the run)"
         )
