@@ -53,6 +53,7 @@ VCD = "trace.vcd"
 GTKW = "trace.gtkw"
 LINK = "trace.jsonl"
 CONSOLE = "console.log"
+NOT_ENDED = "the run did not end (killed, or its machine stopped); console.log and trace.jsonl hold what streamed"
 DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
 DEFAULT_COVERAGE_CELL_M = 0.05
 
@@ -126,13 +127,18 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     outright leaves a folder that says so."""
     folder = Path(folder)
     integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
-    stop = {
-        "reason": "the run did not end (killed, or its machine stopped); "
-        "console.log and trace.jsonl hold what streamed",
-        "signal": None,
-    }
+    stop = {"reason": NOT_ENDED, "signal": None}
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
+
+
+def drop_begun_folder(folder: Path) -> None:
+    """The recording was dropped (a passed test that keeps none): the header written as it
+    began goes too, as that run never wrote a folder."""
+    path = Path(folder) / HEADER
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        if (json.loads(path.read_text(encoding="utf-8")).get("stop") or {}).get("reason") == NOT_ENDED:
+            path.unlink()
 
 
 def _writers(folder: Path, run: dict, recorder, budgets: dict):

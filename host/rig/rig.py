@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.artefacts.console import MAX_BYTES, ConsoleLog
-from host.artefacts.folder import begin_trace_folder, write_trace_folder
+from host.artefacts.folder import begin_trace_folder, drop_begun_folder, write_trace_folder
 from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
@@ -384,6 +384,8 @@ def finish_recording(rig, interrupted: BaseException | None) -> None:
         if rig.artefacts and rig.recorder is not None:
             run = {**run_header(rig), **recording_end(rig, interrupted)}
             write_trace_folder(rig.artefacts, run, rig.recorder, rig.plant, rig.budgets)
+        elif rig.artefacts:  # (a recording dropped before the end)
+            drop_begun_folder(rig.artefacts)
         error = rig.console_log.error or rig.linklog.error
         if error is not None:
             raise error

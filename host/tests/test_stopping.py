@@ -182,13 +182,15 @@ def test_a_full_tmpfs_ends_the_run_with_one_line_and_leaves_every_file_whole_or_
     disk = tmp_path / "disk"
     if os.geteuid() != 0 or not _mount_tmpfs(disk, "1m"):
         pytest.skip("mounting a tmpfs needs root (the size-limited test covers the same case)")
+    run = LiveRun(disk / "run", "--app", "rover", "--duration", LONG_S)
     try:
-        code, out, err = LiveRun(disk / "run", "--app", "rover", "--duration", LONG_S).finish()
+        code, out, err = run.finish()
         assert code == 1 and err.splitlines() == [err.strip()], err
         assert f"cannot write {disk / 'run'}" in err and "No space left on device" in err, err
         header = assert_every_file_whole_or_marked(disk / "run")
         assert header["partial"] and header["incomplete"]
     finally:
+        run.close()
         subprocess.run(["umount", str(disk)], check=True)
 
 
