@@ -325,3 +325,15 @@ def test_a_header_end_past_what_was_recorded_is_refused_by_name(recorded, tmp_pa
     code, out, err = run_cli("replay", str(folder))
     assert code == 2 and "header.json t_end_us 1000000000 is outside what was recorded" in err, err
     load_trace(recorded)  # (the recording itself reads back whole)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [("100", "expected 4096 to 1099511627776 bytes, got 100"), ('"64M"', "expected an integer, got '64M'")],
+)
+def test_a_console_cap_out_of_bounds_is_named_at_check(tmp_path, value, message):
+    (tmp_path / "main.py").write_text(textwrap.dedent(CHATTY))
+    rig = CHATTY_RIG.replace("console_max_bytes = 65536", f"console_max_bytes = {value}")
+    (tmp_path / "rig.toml").write_text(textwrap.dedent(rig))
+    code, out, err = run_cli("check", str(tmp_path / "rig.toml"))
+    assert code == 2 and f"[trace] console_max_bytes: {message}" in err, err
