@@ -36,6 +36,7 @@ TABLES = {
     "worlds": dict,
     "interpreter": dict,
     "faults": list,
+    "trace": dict,
 }
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
@@ -163,6 +164,7 @@ def load_rig(path) -> App:
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
         extra={"faults": faults},
+        console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
     )
 
 
@@ -223,6 +225,14 @@ def _inside(where: _Where, base: Path, field: str, item: str, what: str) -> Path
     if not path.is_relative_to(base.resolve()):
         raise where.error(field, f"{item!r} is {path}, outside {what} {base.resolve()}: expected a path inside it")
     return path
+
+
+def _console_max_bytes(where: _Where, trace: dict) -> int | None:
+    """[trace] console_max_bytes: the console file's cap, 4 KiB to 1 TiB."""
+    value = where.table(trace, "[trace]", {"console_max_bytes": int}).get("console_max_bytes")
+    if value is not None and not 4096 <= value <= 2**40:
+        raise where.error("[trace] console_max_bytes", f"expected 4096 to {2**40} bytes, got {value}")
+    return value
 
 
 def _faults(where: _Where, entries: list, plant) -> tuple:

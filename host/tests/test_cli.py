@@ -112,7 +112,10 @@ def test_the_seed_and_duration_bounds_themselves_are_accepted():
 
 def fake_trace_folder(folder: Path, budgets: str | None = None) -> Path:
     folder.mkdir()
-    (folder / "header.json").write_text(json.dumps({"format": "mpy-fil-trace/1", "signals": {}}))
+    header = {"format": "mpy-fil-trace/1", "app": "rover", "board": "rpi_pico", "mode": "lockstep", "seed": 0}
+    (folder / "header.json").write_text(json.dumps({**header, "t_end_us": 0, "signals": {}}))
+    (folder / "signals.csv").write_text("t_us,signal,value\n")
+    (folder / "truth.csv").write_text("t_us\n0\n")
     if budgets is not None:
         (folder / "budgets.json").write_text(budgets)
     return folder
