@@ -20,7 +20,6 @@ from pathlib import Path
 from host.artefacts.integrity import TraceWriteError
 from host.link import frames as F
 
-CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
 OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 
 
@@ -70,9 +69,9 @@ class LinkLog:
 
     # -- one record per message ----------------------------------------------------
 
-    def cfg(self, t: int, h: int, kind: int, pin: str, mode: int, pull: int, param: int, signal) -> None:
-        kind_name = CFG_KINDS.get(kind, kind)
-        record = {"t": t, "msg": "CFG", "handle": h, "kind": kind_name, "pin": pin, "mode": mode, "pull": pull}
+    def cfg(self, t: int, h: int, kind: str | int, pin: str, mode: int, pull: int, param: int, signal) -> None:
+        """``kind``: its handler's name (``host/rig/peripherals.py``), a kind unknown its number."""
+        record = {"t": t, "msg": "CFG", "handle": h, "kind": kind, "pin": pin, "mode": mode, "pull": pull}
         self.write({**record, "param": param, "signal": signal})
 
     # OUT, WAIT and STATE, a few every exchange, are formatted by hand when every number is

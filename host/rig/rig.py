@@ -25,7 +25,7 @@ from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core.errors import ConfigError, LinkError
 from host.link import frames as F
-from host.rig import arguments, boards, endings, waits
+from host.rig import arguments, boards, endings, peripherals, waits
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
@@ -289,7 +289,7 @@ class Rig:
     def _on_cfg(self, p: bytes) -> None:
         h, kind, mode, pull, param, name = F.unpack_cfg(p)
         key = name.decode()
-        self.linklog.cfg(self.t_us, h, kind, key, mode, pull, param, self.wiring.signal_of(key))
+        self.linklog.cfg(self.t_us, h, peripherals.name_of(kind), key, mode, pull, param, self.wiring.signal_of(key))
         info = self.wiring.configure(h, kind, mode, pull, key, param)
         if info is not None and info.is_input:
             self.inputs.sync(self.t_us, h, info, self.plant)
