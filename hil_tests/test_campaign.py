@@ -197,17 +197,15 @@ def test_a_run_that_takes_too_long_is_a_failed_run_that_says_so():
 
 
 def test_no_busy_polling_in_a_campaigns_workers():
+    """The runner's choice rides in each task (no environment variable): a worker's rig
+    does not spin on its link when its task says so."""
+    from host.campaign.worker import task_spec
     from host.link import spare_core
+    from host.rig import Rig
 
-    before = os.environ.get("MPY_FIL_BUSY_POLL")
-    try:
-        os.environ["MPY_FIL_BUSY_POLL"] = "0"
-        assert spare_core() is False
-    finally:
-        if before is None:
-            os.environ.pop("MPY_FIL_BUSY_POLL")
-        else:
-            os.environ["MPY_FIL_BUSY_POLL"] = before
+    task = {"rig": "rover", "world": "room", "seed": 1, "faults": []}
+    assert Rig(task_spec({**task, "busy_poll": False})).target.busy_poll_s == 0.0
+    assert (Rig(task_spec({**task, "busy_poll": True})).target.busy_poll_s > 0.0) == spare_core()
 
 
 def test_the_command_line_runs_a_campaign_prints_progress_and_replays_a_run(tmp_path):

@@ -8,6 +8,7 @@ import pytest
 from host.core.errors import FirmwareHung, LinkDamaged
 from host.device import flash, vboard
 from host.device.pil import board_rig
+from host.rig import Recording, RigSpec
 from host.shim import _hilframe as F
 
 pytestmark = pytest.mark.hil
@@ -107,7 +108,7 @@ def board(tmp_path):
 
 @pytest.mark.parametrize("direction", ["from_firmware", "to_firmware"])
 def test_a_damaged_frame_on_a_boards_serial_ends_the_run_too(board, tmp_path, direction):
-    rig = board_rig("rover", port=board, seed=1, artefacts=tmp_path / "pil", watchdog_s=10)
+    rig = board_rig(RigSpec("rover", seed=1, watchdog_s=10), Recording(artefacts=tmp_path / "pil"), port=board)
     try:
         rig.start()
         rig.run_for(0.5)

@@ -6,6 +6,7 @@ import pytest
 
 from host.device import flash, vboard
 from host.device.pil import board_rig
+from host.rig import Recording, RigSpec
 
 pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"
@@ -25,7 +26,8 @@ def flashed_board(tmp_path):
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
 def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flashed_board, tmp_path, mode):
-    rig = board_rig("rover", port=flashed_board, seed=1, mode=mode, artefacts=tmp_path / "pil", watchdog_s=10)
+    spec = RigSpec("rover", seed=1, mode=mode, watchdog_s=10)
+    rig = board_rig(spec, Recording(artefacts=tmp_path / "pil"), port=flashed_board)
     try:
         rig.start()
         x0 = rig.truth()["x_m"]

@@ -24,10 +24,11 @@ DURATION_S = 12
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     """One 12 s rover run that bumps into the wall, recorded (shared by the tests that read it)."""
-    from host.rig import Rig
+    from host.rig import Recording, Rig, RigSpec
 
     folder = tmp_path_factory.mktemp("rover-seed11")
-    with Rig("rover", seed=11, plant_options={"room_w_m": 3.5}, trace=True, record=True, artefacts=folder) as rig:
+    spec = RigSpec("rover", seed=11, options={"room_w_m": 3.5})
+    with Rig(spec, Recording(trace=True, record=True, artefacts=folder)) as rig:
         rig.run_for(DURATION_S)
     return folder, rig
 

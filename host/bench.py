@@ -34,7 +34,8 @@ from pathlib import Path
 from host.core import children, interpreter
 from host.link import frames as F
 from host.link import rawpingpong
-from host.rig import Rig
+from host.link.transport import busy_poll_wanted
+from host.rig import Recording, Rig, RigSpec
 from host.rig.pacing import Lockstep
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
@@ -50,12 +51,12 @@ def percentile(values, pct):
 
 def bench_raw(n: int = 5000) -> list[float]:
     """The pty's own round trip with the link's frame sizes and the link's way of waiting."""
-    busy_poll_s = Lockstep().busy_poll_s()
+    busy_poll_s = Lockstep().busy_poll_s(busy_poll_wanted())
     return rawpingpong.round_trips_us(str(interpreter.find()), n, STATE_BYTES, REPLY_BYTES, busy_poll_s)
 
 
 def bench_rover(sim_s: float) -> dict:
-    with Rig("rover", seed=1, time_round_trips=True) as rig:
+    with Rig(RigSpec("rover", seed=1, busy_poll=busy_poll_wanted()), Recording(time_round_trips=True)) as rig:
         t0 = time.perf_counter()
         step = 60.0
         done = 0.0
@@ -79,7 +80,7 @@ def bench_rover(sim_s: float) -> dict:
 def bench_duct(seed: int = 3, limit_s: float = 90.0) -> dict:
     """The duct robot's single right branch run (make hil's sweeps are mostly these): bound
     by the cost of an exchange, not of a control step (docs/clock.md)."""
-    with Rig("duct", seed=seed, time_round_trips=True) as rig:
+    with Rig(RigSpec("duct", seed=seed, busy_poll=busy_poll_wanted()), Recording(time_round_trips=True)) as rig:
         t0 = time.perf_counter()
         while "explored:" not in rig.console and rig.t_us < limit_s * 1e6:
             rig.run_for(2.0)
@@ -94,7 +95,10 @@ def bench_duct(seed: int = 3, limit_s: float = 90.0) -> dict:
 
 def bench_pool(limit_s: float = 75 * 60, artefacts: Path | None = None) -> dict:
     record = artefacts is not None
-    with Rig("pool_cleaner", seed=1, record=record, trace=record, artefacts=artefacts) as rig:
+    with Rig(
+        RigSpec("pool_cleaner", seed=1, busy_poll=busy_poll_wanted()),
+        Recording(record=record, trace=record, artefacts=artefacts),
+    ) as rig:
         t0 = time.perf_counter()
         while "done:" not in rig.console and rig.t_us < limit_s * 1e6:
             rig.run_for(60.0)
@@ -246,7 +250,8 @@ def report_campaign() -> None:
 
 
 def bench_ping(sim_s: float) -> list[float]:
-    with Rig("rover", seed=0, main_dir=PING, time_round_trips=True) as rig:
+    spec = RigSpec("rover", seed=0, main_dir=PING, busy_poll=busy_poll_wanted())
+    with Rig(spec, Recording(time_round_trips=True)) as rig:
         rig.run_for(sim_s)
         return rig.stats.round_trip_us[10:]
 
@@ -259,19 +264,10 @@ def bench_campaign(workers: int, runs: int = 16, sim_s: float = 300.0, busy_poll
     from host.campaign.runner import run_campaign
 
     campaign = load_campaign("rover", seeds=runs, seconds=sim_s, step_s=10.0)
-    before = os.environ.get("MPY_FIL_BUSY_POLL")
-    if not busy_poll:
-        os.environ["MPY_FIL_BUSY_POLL"] = "0"  # (the pool's processes inherit it)
-    try:
-        with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as out:
-            t0 = time.perf_counter()
-            results = run_campaign(campaign, out, workers=workers)
-            wall = time.perf_counter() - t0
-    finally:
-        if before is None:
-            os.environ.pop("MPY_FIL_BUSY_POLL", None)
-        else:
-            os.environ["MPY_FIL_BUSY_POLL"] = before
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as out:
+        t0 = time.perf_counter()
+        results = run_campaign(campaign, out, workers=workers, busy_poll=busy_poll)
+        wall = time.perf_counter() - t0
     return {
         "runs": len(results),
         "passed": sum(r["passed"] for r in results),

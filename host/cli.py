@@ -266,7 +266,9 @@ def _trace_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from host.rig import Rig
+    from host.link.transport import busy_poll_wanted
+    from host.rig import Recording, Rig, RigSpec
+    from host.rig.spec import PlantOptionsError
 
     sub = args.sub
     app = get_app(args.rig) if args.rig else apps()[args.app]
@@ -279,7 +281,6 @@ def cmd_run(args) -> int:
     world = args.world or next(iter(app.worlds))
     if world not in app.worlds:
         sub.error(f"argument --world: unknown world {world!r} for app {app.name} (known: {', '.join(app.worlds)})")
-    options = {**app.worlds[world], **dict(args.param)}
     accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
     unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
     if unknown:
@@ -287,24 +288,22 @@ def cmd_run(args) -> int:
             f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
             f"(has: {', '.join(sorted(accepted))})"
         )
-    try:
-        plant = app.make_plant(**options)
-    except (TypeError, ValueError, ArithmeticError) as e:
-        sub.error(f"argument --param: {app.name}'s plant rejects {options}: {e}")
-    out = _writable(sub, "--out", args.out or RUNS / f"{app.name}-{world}-seed{args.seed}")
+    out = args.out or RUNS / f"{app.name}-{world}-seed{args.seed}"
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
-    rig = Rig(
-        app,
+    spec = RigSpec(
+        args.rig or args.app,
         board=board,
+        world=world,
         seed=args.seed,
+        options=dict(args.param),
         mode=args.mode,
-        plant=plant,
-        plant_options=options,
-        artefacts=out,
-        trace=True,
-        record=True,
-        progress=show,
+        busy_poll=busy_poll_wanted(),
     )
+    try:
+        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show))
+    except PlantOptionsError as e:
+        sub.error(f"argument --param: {e}")
+    _writable(sub, "--out", out)
     try:
         with _stop_on_signals(), rig:
             rig.run_for(args.duration)
@@ -360,8 +359,10 @@ def _stop_on_signals():
 
 
 def cmd_check(args) -> int:
+    from host.rig.spec import RigSpec, build_plant
+
     app = get_app(args.rig)
-    plant = app.make_plant()
+    plant, _ = build_plant(RigSpec(app), app)
     print(f"{app.rig_file or app.name}: ok")
     print(f"  firmware: {app.path} (entry {app.entry})")
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
@@ -425,12 +426,13 @@ def cmd_list(args) -> int:
 
 
 def cmd_replay(args) -> int:
+    from host.link.transport import busy_poll_wanted
     from host.rig.replay import replay
 
     out = _writable(args.sub, "--out", args.out or args.trace / "replay")
     show = _progress(f"replay {args.trace}")
     try:
-        result = replay(args.trace, out, progress=show)
+        result = replay(args.trace, out, progress=show, busy_poll=busy_poll_wanted())
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")

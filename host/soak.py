@@ -24,7 +24,8 @@ import time
 from dataclasses import dataclass
 
 from host.core.errors import HarnessError
-from host.rig import Rig
+from host.link.transport import busy_poll_wanted
+from host.rig import Rig, RigSpec
 
 STEP_S = 60.0
 WARM_UP_S = 60.0
@@ -83,7 +84,7 @@ class Sample:
 def soak(hours: float, seed: int, show=print) -> tuple[Sample, Sample, Rig]:
     """Run the rover for ``hours`` simulated hours; (start sample, end sample, stopped rig)."""
     end_s = hours * 3600
-    rig = Rig("rover", seed=seed)
+    rig = Rig(RigSpec("rover", seed=seed, busy_poll=busy_poll_wanted()))
     tty = sys.stdout.isatty()
     with rig:
         t0 = time.perf_counter()

@@ -19,7 +19,7 @@ import urllib.parse
 
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import ResultStore
-from host.campaign.worker import BUSY_POLL_ENV, run_one
+from host.campaign.worker import run_one
 from host.core.children import die_with_parent
 from host.core.errors import ConfigError
 
@@ -78,13 +78,12 @@ def failed(task: dict, error: str, message: str) -> dict:
 def _start_worker(counter=None) -> None:
     """Each pool worker's start: it dies with the campaign (a parent-death signal, so a
     SIGKILL of ``mpy-fil campaign`` leaves no worker running), and, beside others, it does
-    not busy-poll and is kept to one core of its own, taken in turn (the interpreter it
+    not busy-poll (its tasks say so) and is kept to one core of its own, taken in turn (the interpreter it
     starts inherits it): a rig's host and firmware hand the link back and forth, cheaper
     on one core than across two."""
     die_with_parent()
     if counter is None:
         return
-    os.environ[BUSY_POLL_ENV] = "0"
     with counter.get_lock():
         n = counter.value
         counter.value += 1
@@ -108,7 +107,7 @@ class LocalPool:
         )
 
     def submit(self, task: dict, artefacts: str):
-        return self.pool.submit(run_one, task, artefacts)
+        return self.pool.submit(run_one, {**task, "busy_poll": self.busy_poll}, artefacts)
 
     def wait(self, futures, timeout_s: float):
         return cf.wait(futures, timeout=timeout_s, return_when=cf.FIRST_COMPLETED)
@@ -171,9 +170,12 @@ class DaskPool:
         self.client.close()
 
 
-def run_campaign(campaign: Campaign, out, *, workers: int = 1, scheduler: str | None = None, on_result=None):
+def run_campaign(
+    campaign: Campaign, out, *, workers: int = 1, scheduler: str | None = None, on_result=None, busy_poll: bool = True
+):
     """Run what is not done yet; every result in the store (``out``), as they finish;
-    ``on_result(result, done, total)`` for progress. Returns every result in the store."""
+    ``on_result(result, done, total)`` for progress; ``busy_poll`` False: not even a lone
+    worker spins on its link. Returns every result in the store."""
     store = ResultStore(out)
     store.open(campaign.to_dict())
     tasks = campaign.tasks()
@@ -181,7 +183,7 @@ def run_campaign(campaign: Campaign, out, *, workers: int = 1, scheduler: str | 
     todo = [t for t in tasks if task_key(t) not in done_keys]
     if not todo:
         return store.read()
-    busy_poll = workers <= 1 and scheduler is None  # (a second rig takes the spare core)
+    busy_poll = busy_poll and workers <= 1 and scheduler is None  # (a second rig takes the spare core)
     pool = DaskPool(scheduler, busy_poll) if scheduler else LocalPool(min(workers, len(todo)), busy_poll)
     count = [len(tasks) - len(todo)]
 

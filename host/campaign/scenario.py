@@ -34,7 +34,8 @@ import tomllib
 from host.core.errors import ConfigError
 from host.rig import arguments
 from host.rig.apps import get_app
-from sim_plant.faults import FaultError, parse_faults, with_faults
+from host.rig.spec import RigSpec, build_plant
+from sim_plant.faults import FaultError, parse_faults
 
 CAMPAIGN_KEYS = {
     "rig": str,
@@ -199,11 +200,11 @@ def _check(campaign: Campaign) -> None:
     for name, faults in campaign.faultsets.items():  # each set fits the rig's plant
         try:
             for world in campaign.worlds:
-                with_faults(app.make_plant(**app.worlds[world]), parse_faults(faults))
+                build_plant(RigSpec(app, world=world, faults=faults), app)
         except FaultError as e:
             raise ConfigError(f"{campaign.source or campaign.rig}: fault set {name!r}: {e}") from None
     _check_placement(campaign)
-    known = [b.name for b in app.make_budgets(app.make_plant(**app.worlds[campaign.worlds[0]]))]
+    known = [b.name for b in app.make_budgets(build_plant(RigSpec(app, world=campaign.worlds[0]), app)[0])]
     for name in campaign.budgets:
         if name not in known:
             raise ConfigError(f"campaign budgets: {app.name} has no budget {name!r} (budgets: {', '.join(known)})")

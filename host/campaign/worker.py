@@ -10,51 +10,24 @@ under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
 ``-X heapsize``; the plant's faults wrap the plant (:mod:`sim_plant.faults`).
 """
 
-import dataclasses
-import math
-import os
 import resource
 import time
 import traceback
 from pathlib import Path
 
-import numpy as np
-
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
 from host.core import provenance
 from host.core.errors import ConfigError, HarnessError
-from host.link.faults import wrap
-from host.link.transport import BUSY_POLL_ENV
 from host.rig import Rig
-from host.rig.apps import get_app
-from host.rig.target import UnixPortTarget, end_process
-from sim_plant import kinds
-from sim_plant.faults import parse_faults, with_faults
+from host.rig.spec import Recording, RigSpec, fault_schedule
+from host.rig.target import FaultyLinkTarget, end_process
 
 MESSAGE_CHARS = 3000
 
 
 class RunTimeout(HarnessError):
     """A run took longer than its wall-clock limit."""
-
-
-class FaultyLinkTarget(UnixPortTarget):
-    """The unix port, with the link faults under each channel it opens (a restart draws
-    afresh: each boot has a stream of its own)."""
-
-    def __init__(self, busy_poll_s: float, faults, seed: int):
-        super().__init__(busy_poll_s)
-        self.faults = faults
-        self.seed = seed
-        self.boots = 0
-        self.transport = None
-
-    def open(self, firmware, on_console):
-        chan = wrap(super().open(firmware, on_console), self.faults, (self.seed + 7919 * self.boots) & 0xFFFFFFFF)
-        self.boots += 1
-        self.transport = chan.transport
-        return chan
 
 
 def brownout(rig) -> None:
@@ -70,8 +43,6 @@ def brownout(rig) -> None:
 
 def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> dict:
     """Run one task (``Campaign.tasks``); the result, as plain data."""
-    if task.get("busy_poll") is False:
-        os.environ[BUSY_POLL_ENV] = "0"
     started = time.monotonic()
     cpu0 = _cpu_s()
     result = {
@@ -123,22 +94,21 @@ def _cpu_s() -> float:
     return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
 
 
+def task_spec(task: dict) -> RigSpec:
+    """The rig a task runs: its rig, world, seed, fault set and placement."""
+    return RigSpec(
+        task["rig"],
+        world=task["world"],
+        seed=task["seed"],
+        faults=task["faults"],
+        placement=task.get("placement") or {},
+        busy_poll=task.get("busy_poll", True),
+    )
+
+
 def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
     """The rig with the run's faults, and the virtual times of its brown-outs."""
-    app = get_app(task["rig"])
-    schedule = parse_faults([{"kind": f.kind, **f.fields} for f in app.extra.get("faults", ())] + list(task["faults"]))
-    heap = [f.size for f in schedule if f.kind == "heap"]
-    if heap:
-        app = dataclasses.replace(app, heap_size=heap[-1])
-    world = dict(app.worlds[task["world"]])
-    options = {**app.plant_options, **world}
-    if task.get("placement"):
-        world["start_pose"] = placed(kinds.make(app.plant_kind, **options).start_pose, task["placement"], task["seed"])
-    plant = with_faults(kinds.make(app.plant_kind, **{**options, **world}), schedule)
-    target = None
-    link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
-    if link:
-        target = FaultyLinkTarget(0.0 if os.environ.get(BUSY_POLL_ENV) == "0" else _busy_poll_s(), link, task["seed"])
+    spec = task_spec(task)
     deadline = started + task["timeout_s"]
 
     def watch_the_clock(t_us: int, t_end_us: int) -> None:
@@ -148,33 +118,12 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
                 f"{task['seconds']:g} s); expected it within its timeout_s"
             )
 
-    rig = Rig(
-        app,
-        seed=task["seed"],
-        plant=plant,
-        plant_options=world,
-        target=target,
-        artefacts=Path(artefacts) if artefacts else None,
-        record=record,
-        trace=record,
-        progress=watch_the_clock,
+    recording = Recording(
+        trace=record, record=record, artefacts=Path(artefacts) if artefacts else None, progress=watch_the_clock
     )
+    rig = Rig(spec, recording)
+    schedule = fault_schedule(spec, rig.app)
     return rig, sorted(round(f.at_s * 1e6) for f in schedule if f.kind == "brownout")
-
-
-def placed(pose, placement: dict, seed: int) -> list[float]:
-    """The start pose with the seed's placement error: uniform in each given range (x_m,
-    y_m, theta_deg), from a stream of its own."""
-    rng = np.random.default_rng([seed & 0xFFFFFFFF, 0x91ACE])
-    draw = {k: float(rng.uniform(*placement[k])) if k in placement else 0.0 for k in ("x_m", "y_m", "theta_deg")}
-    x, y, theta = pose
-    return [x + draw["x_m"], y + draw["y_m"], theta + math.radians(draw["theta_deg"])]
-
-
-def _busy_poll_s() -> float:
-    from host.rig.pacing import Lockstep
-
-    return Lockstep().busy_poll_s()
 
 
 def _drive(rig: Rig, task: dict, cuts: list[int]) -> bool:

@@ -21,7 +21,8 @@ from host.core.paths import SHIM_DIR
 from host.device import flash
 from host.link import Channel, FdTransport
 from host.link import frames as F
-from host.rig import Rig
+from host.rig import Recording, Rig, RigSpec
+from host.rig.spec import NO_RECORDING
 from host.rig.target import Target
 
 SHIM_FILES = (
@@ -151,8 +152,8 @@ class BoardTarget(Target):
         )
 
 
-def board_rig(app="rover", *, port: str, **kwargs) -> Rig:
-    """A rig whose firmware runs on the board at ``port`` (its files flashed there)."""
-    rig = Rig(app, target=BoardTarget(port), **kwargs)
+def board_rig(spec: RigSpec, recording: Recording = NO_RECORDING, *, port: str) -> Rig:
+    """The rig ``spec`` describes, its firmware on the board at ``port`` (its files flashed there)."""
+    rig = Rig(spec, recording, target=BoardTarget(port))
     rig.identity = None  # a real board: its own sys.platform and machine
     return rig

@@ -39,7 +39,7 @@ from host.core.errors import HarnessError, LinkTimeout
 from host.core.paths import REPO
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
-from host.rig import Rig
+from host.rig import Rig, RigSpec
 from host.rig.firmware import Firmware
 from host.rig.target import UnixPortTarget
 
@@ -217,16 +217,10 @@ class VirtualBoard:
         self.firmware = Firmware.flashed(self.fs, require_main=False)  # a fresh board has no main.py
         self.rig = None
         if wired:
-            self.rig = Rig(
-                app,
-                board=board,
-                seed=seed,
-                mode="realtime",
-                firmware_dir=self.fs,
-                require_main=False,
-                watchdog_s=30.0,
-                target=self.target,
+            spec = RigSpec(
+                app, board=board, seed=seed, mode="realtime", firmware_dir=self.fs, require_main=False, watchdog_s=30.0
             )
+            self.rig = Rig(spec, target=self.target)
         self._stopping = False
         self.idle_exit_s = 0.0  # > 0: stop after this long with no byte from a client
 

@@ -19,10 +19,16 @@ def cores() -> int:
 
 
 def spare_core() -> bool:
-    """True if this process may use two or more cores (one can busy-poll); never when
-    ``MPY_FIL_BUSY_POLL=0`` (a campaign's workers, pytest-xdist workers on every core: the
-    other cores are taken)."""
-    return os.environ.get(BUSY_POLL_ENV) != "0" and cores() >= 2
+    """True if this process may use two or more cores (one can busy-poll). Whether it
+    should is the front end's choice (``RigSpec.busy_poll``; ``MPY_FIL_BUSY_POLL=0`` read
+    once there: :func:`busy_poll_wanted`)."""
+    return cores() >= 2
+
+
+def busy_poll_wanted(environ=os.environ) -> bool:
+    """The user's switch, read by the front ends only (the CLI, the pytest plugin, the
+    benchmarks): ``MPY_FIL_BUSY_POLL=0`` forbids spinning on the link."""
+    return environ.get(BUSY_POLL_ENV) != "0"
 
 
 class FdTransport:

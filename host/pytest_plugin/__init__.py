@@ -15,6 +15,7 @@ shows its progress on one line. SIGTERM or SIGHUP stops a session as Ctrl-C does
 nothing it started outlives it (:mod:`host.pytest_plugin.stopping`).
 """
 
+import dataclasses
 import json
 import os
 import re
@@ -24,16 +25,20 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
-from host.link.transport import BUSY_POLL_ENV, cores
+from host.link.transport import busy_poll_wanted, cores
 from host.pytest_plugin import budget_marks, stopping
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
 from host.rig import Rig
+from host.rig.spec import Recording, RigSpec
 
 _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 _records = pytest.StashKey[list]()  # what the report needs of each, once stopped
 _failed = pytest.StashKey[bool]()  # the test's setup or call failed: keep its rigs' traces
+_busy_poll = pytest.StashKey[bool]()  # this process's rigs may spin on their link
+SPEC_KEYWORDS = {f.name for f in dataclasses.fields(RigSpec)} - {"app", "options"}
+RECORDING_KEYWORDS = {f.name for f in dataclasses.fields(Recording)}
 
 
 def pytest_addoption(parser):
@@ -74,10 +79,9 @@ def pytest_configure(config):
     stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
         config.pluginmanager.register(SessionReport(config), "hil-session-report")
-    elif _every_core_has_a_worker():
-        # a rig's host spins on its link while the firmware computes (docs/clock.md):
-        # with a worker on every core that spin takes the core of another worker's rig
-        os.environ.setdefault(BUSY_POLL_ENV, "0")
+    # a rig's host spins on its link while the firmware computes (docs/clock.md): with a
+    # worker on every core that spin takes the core of another worker's rig
+    config.stash[_busy_poll] = busy_poll_wanted() and not (is_worker(config) and _every_core_has_a_worker())
     config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
     config.addinivalue_line("markers", LONG_MARK_HELP)
     config.addinivalue_line("markers", budget_marks.MARK_HELP)
@@ -175,7 +179,8 @@ def make_rig(request):
             kwargs.setdefault("record", True)
         label = f"{request.node.name} rig{len(rigs)}"
         kwargs.setdefault("progress", mission_progress(request.config, label, mission_s))
-        rig = Rig(app, **kwargs)
+        kwargs.setdefault("busy_poll", request.config.stash.get(_busy_poll, True))
+        rig = rig_from_keywords(app, **kwargs)
         budget_marks.apply(rig, marked, f"@pytest.mark.{budget_marks.MARK}")
         limits = {k: budget_marks.in_us(k, v, "make_rig budget_limits") for k, v in (budget_limits or {}).items()}
         budget_marks.apply(rig, limits, "make_rig budget_limits")
@@ -197,6 +202,17 @@ def make_rig(request):
         plot = (recording and is_worker(request.config)) or kept
         plots = plot_one(rig.artefacts) if plot and rig.recorder else ([], "")
         records.append(rig_record(f"rig{i}", rig, rows, plots))
+
+
+def rig_from_keywords(app, plant_options: dict | None = None, **kwargs) -> Rig:
+    """``make_rig``'s keywords, sorted: the spec's fields (``plant_options`` its options),
+    the recording's, and a plant, budgets or target of the test's own."""
+    unknown = sorted(set(kwargs) - SPEC_KEYWORDS - RECORDING_KEYWORDS - {"plant", "budgets", "target"})
+    if unknown:
+        raise TypeError(f"make_rig: unexpected keywords {', '.join(unknown)}")
+    spec = RigSpec(app, options=plant_options or {}, **{k: v for k, v in kwargs.items() if k in SPEC_KEYWORDS})
+    recording = Recording(**{k: v for k, v in kwargs.items() if k in RECORDING_KEYWORDS})
+    return Rig(spec, recording, **{k: v for k, v in kwargs.items() if k in ("plant", "budgets", "target")})
 
 
 def drop_recording(rig) -> None:

@@ -3,5 +3,6 @@ firmware runs on, the pacing of its clock, speculation, wiring, inputs and outpu
 budgets), the apps it knows, and replays. ``docs/architecture.md`` draws them."""
 
 from host.rig.rig import Rig
+from host.rig.spec import Recording, RigSpec
 
-__all__ = ["Rig"]
+__all__ = ["Recording", "Rig", "RigSpec"]

@@ -27,8 +27,10 @@ class Lockstep:
     def begin(self, t_us: int) -> None:
         """The firmware starts (or restarts) at virtual ``t_us``."""
 
-    def busy_poll_s(self) -> float:
-        return BUSY_POLL_S if spare_core() else 0.0
+    def busy_poll_s(self, allowed: bool = True) -> float:
+        """How long to spin on the link before sleeping: only if the front end allows it
+        (a campaign's workers, pytest-xdist workers on every core do not) and a core is spare."""
+        return BUSY_POLL_S if allowed and spare_core() else 0.0
 
     def step(self, clock, target_us: int, watch) -> tuple[int, int]:
         """How far the plant goes next toward ``target_us``: (time, change limit or 0).
@@ -56,7 +58,7 @@ class RealTime(Lockstep):
     def begin(self, t_us: int) -> None:
         self.wall0 = time.monotonic() - t_us / 1e6
 
-    def busy_poll_s(self) -> float:
+    def busy_poll_s(self, allowed: bool = True) -> float:
         return 0.0
 
     def now_us(self) -> int:

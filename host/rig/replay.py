@@ -23,8 +23,8 @@ from host.artefacts.checks import partial_reason
 from host.artefacts.folder import TraceData, load_trace
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from host.core.errors import ConfigError
-from host.rig.apps import get_app
 from host.rig.rig import Rig
+from host.rig.spec import PlantOptionsError, Recording, RigSpec, build_plant
 from sim_plant.scripted import ScriptedPlant
 
 
@@ -107,8 +107,9 @@ def recorded_end_us(trace: TraceData) -> int:
     return t_end_us
 
 
-def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> ReplayResult:
-    """Run the recorded app and board against the recorded sensor stream; compare."""
+def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None, busy_poll: bool = True) -> ReplayResult:
+    """Run the recorded spec (app, board, seed, ...) against the recorded sensor stream;
+    compare. ``busy_poll``: this process may spin on its link (the front end's choice)."""
     trace = load_trace(folder)
     h = trace.header
     if h.get("mode") != "lockstep":
@@ -116,7 +117,7 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     t_end_us = recorded_end_us(trace)
     partial = partial_reason(h)
     try:
-        rig = _replay_rig(trace, Path(artefacts), watchdog_s=watchdog_s, progress=progress)
+        rig = _replay_rig(trace, Path(artefacts), watchdog_s, progress, busy_poll)
     except ConfigError as e:  # (an app, board or option the header names that is not there)
         raise ConfigError(f"trace {folder}: header.json: {e}") from None
     with rig:
@@ -128,27 +129,16 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial)
 
 
-def _replay_rig(trace: TraceData, artefacts: Path, **options) -> Rig:
-    """The recorded app and board, driven by the recording (the budgets as it had them)."""
-    h = trace.header
-    app = get_app(h.get("rig_file") or h["app"])
+def _replay_rig(trace: TraceData, artefacts: Path, watchdog_s: float, progress, busy_poll: bool) -> Rig:
+    """The recorded spec, driven by the recording (the budgets as it had them)."""
+    spec = RigSpec.from_header(trace.header, watchdog_s=watchdog_s, busy_poll=busy_poll)
+    app = spec.resolve()
     try:
-        recorded_plant = app.make_plant(**h.get("plant_options", {}))
-    except (TypeError, ValueError, ArithmeticError):  # (a trace of a plant of one's own: the app's defaults)
-        recorded_plant = app.make_plant()
-    budgets = app.make_budgets(recorded_plant)
-    plant = replay_plant(trace)
-    return Rig(
-        app,
-        board=h["board"],
-        seed=h["seed"],
-        plant=plant,
-        budgets=budgets,
-        artefacts=artefacts,
-        trace=True,
-        record=True,
-        **options,
-    )
+        recorded_plant, _ = build_plant(spec, app)
+    except PlantOptionsError:  # (a trace of a plant of one's own: the app's defaults)
+        recorded_plant, _ = build_plant(RigSpec(app, seed=spec.seed), app)
+    recording = Recording(trace=True, record=True, artefacts=artefacts, progress=progress)
+    return Rig(spec, recording, plant=replay_plant(trace), budgets=app.make_budgets(recorded_plant))
 
 
 def first_difference(recorded: list, replayed: list) -> Difference | None:

@@ -23,10 +23,9 @@ from host.artefacts.folder import begin_trace_folder, drop_begun_folder, write_t
 from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
-from host.core.errors import ConfigError, LinkError
+from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
-from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
@@ -34,8 +33,9 @@ from host.rig.inputs import Inputs
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
 from host.rig.session import Session
+from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target
 from host.rig.speculation import Speculation
-from host.rig.target import Target, UnixPortTarget
+from host.rig.target import Target
 from host.rig.wiring import Wiring
 
 PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
@@ -56,56 +56,40 @@ class Rig:
 
     def __init__(
         self,
-        app: str | App = "rover",
+        spec: RigSpec,
+        recording: Recording = NO_RECORDING,
         *,
-        board: str | None = None,
-        seed: int | None = 0,
-        mode: str = "lockstep",
         plant=None,
-        plant_options: dict | None = None,
-        main_dir: Path | None = None,
-        firmware_dir: Path | None = None,
-        watchdog_s: float = 5.0,
-        artefacts: Path | None = None,
-        trace: bool = False,
-        record: bool = False,
-        progress=None,
-        time_round_trips: bool = False,
-        target: Target | None = None,
-        require_main: bool = True,
         budgets: list | None = None,
-        allow_exit: bool = False,
+        target: Target | None = None,
     ):
-        """``trace`` writes the link messages to ``artefacts/trace.jsonl``; ``record``
-        keeps every signal and ground truth and writes the trace folder at stop()
-        (docs/traces.md); ``progress(t_us, t_end_us)`` is called while run_until()
-        runs, at most every PROGRESS_EVERY_S of wall time and when it ends. ``target``
-        is where the firmware runs (default: the unix port here); ``firmware_dir`` a
-        flashed board folder, which needs a main.py unless ``require_main`` is False;
-        ``budgets`` replace the app's budgets for this plant; ``seed`` None draws one (and
-        every failure message names it); ``allow_exit``: the firmware may end (else an end
-        is FirmwareExited)."""
-        self.app = get_app(app) if isinstance(app, str) else app
-        self.board = board or self.app.default_board
-        if mode not in PACINGS:
-            raise ConfigError(f"mode: expected one of {sorted(PACINGS)}, got {mode!r}")
-        arguments.seconds("watchdog_s", watchdog_s, positive=True)
-        self.mode = mode
-        self.pacing = PACINGS[mode]()
-        self.seed = arguments.seed(seed)
-        self.allow_exit = allow_exit
-        self.watchdog_s = watchdog_s
+        """The rig ``spec`` describes (:mod:`host.rig.spec`), its plant built there unless
+        given (a replay's recorded stream, a test's scripted plant); ``recording`` what the
+        run keeps and shows. ``target`` is where the firmware runs (default: the unix port
+        here, with the spec's link faults under its channel); ``budgets`` replace the app's
+        budgets for this plant. Every failure message names the seed."""
+        self.spec = spec
+        self.app = spec.resolve()
+        self.board = spec.board or self.app.default_board
+        self.mode = spec.mode
+        self.pacing = PACINGS[spec.mode]()
+        self.seed = spec.seed
+        self.allow_exit = spec.allow_exit
+        self.watchdog_s = spec.watchdog_s
         board_folder, pins = self.app.board_files(self.board)
-        if firmware_dir is not None:
-            self.firmware = Firmware.flashed(firmware_dir, require_main)
+        if spec.firmware_dir is not None:
+            self.firmware = Firmware.flashed(spec.firmware_dir, spec.require_main)
         else:
-            self.firmware = Firmware.from_app(self.app, board_folder, main_dir)
-        self.plant_options = dict(plant_options or {})
-        self.plant = plant if plant is not None else self.app.make_plant(**self.plant_options)
+            self.firmware = Firmware.from_app(self.app, board_folder, spec.main_dir)
+        if plant is None:
+            plant, self.plant_options = build_plant(spec, self.app)
+        else:
+            self.plant_options = spec.plant_options
+        self.plant = plant
         self.plant.reset(self.seed)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
-        self.recorder = Recorder(self.plant) if record else None
+        self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
         self.budgets = {b.name: b for b in budgets}
@@ -116,10 +100,10 @@ class Rig:
         self.speculation = Speculation(self.plant)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
         self.outputs = Outputs(self.plant, self.wiring, hooks, self.recorder)
-        self.target = target if target is not None else UnixPortTarget(self.pacing.busy_poll_s())
-        self.artefacts = Path(artefacts) if artefacts else None
-        self.trace_enabled = trace
-        self.progress = progress
+        self.target = target if target is not None else default_target(spec, self.app, self.pacing)
+        self.artefacts = Path(recording.artefacts) if recording.artefacts else None
+        self.trace_enabled = recording.trace
+        self.progress = recording.progress
         self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
         self.exit_kind: int | None = None
@@ -130,7 +114,8 @@ class Rig:
         self.linklog: LinkLog = NO_LOG
         self._started = False
         damaged = lambda error: endings.damaged(self, error)  # noqa: E731
-        self.session = Session(self._on_silence, self.stats.round_trip_us if time_round_trips else None, damaged)
+        round_trips = self.stats.round_trip_us if recording.time_round_trips else None
+        self.session = Session(self._on_silence, round_trips, damaged)
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
@@ -365,6 +350,7 @@ def run_header(rig) -> dict:
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
         "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "spec": rig.spec.header(rig.app),
         "seed": rig.seed,
         "mode": rig.mode,
         "micropython": rig.micropython_version.split(";")[0],

@@ -17,6 +17,7 @@ from host.core.children import popen_options
 from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupError
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
+from host.link.faults import wrap
 
 EXIT_WAIT_S = 5.0
 STACK_WAIT_S = 1.0  # for the traceback of a firmware interrupted where it hung
@@ -205,3 +206,21 @@ class UnixPortTarget(Target):
             f"(virtual t={rig.clock.firmware_us / 1e6:.6f} s).{rig.where()}",
             console=rig.console,
         )
+
+
+class FaultyLinkTarget(UnixPortTarget):
+    """The unix port, with link faults under each channel it opens (a restart draws
+    afresh: each boot has a stream of its own)."""
+
+    def __init__(self, busy_poll_s: float, faults, seed: int):
+        super().__init__(busy_poll_s)
+        self.faults = faults
+        self.seed = seed
+        self.boots = 0
+        self.transport = None
+
+    def open(self, firmware, on_console):
+        chan = wrap(super().open(firmware, on_console), self.faults, (self.seed + 7919 * self.boots) & 0xFFFFFFFF)
+        self.boots += 1
+        self.transport = chan.transport
+        return chan

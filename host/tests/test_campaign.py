@@ -18,9 +18,9 @@ from host.campaign import report as report_module
 from host.campaign.report import ReportError, error_bars, summarize, wilson, worst, write_report
 from host.campaign.runner import failed
 from host.campaign.store import ResultStore
-from host.campaign.worker import placed
 from host.core.errors import ConfigError
 from host.rig.rigfile import load_rig
+from host.rig.spec import placed
 
 RIG = """
 name = "bench"

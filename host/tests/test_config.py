@@ -3,7 +3,7 @@
 import pytest
 
 from host.core.errors import ConfigError
-from host.rig import Rig
+from host.rig import Rig, RigSpec
 
 
 @pytest.mark.parametrize(
@@ -18,4 +18,4 @@ from host.rig import Rig
 )
 def test_bad_rig_settings_name_the_field(kwargs, field):
     with pytest.raises(ConfigError, match=field):
-        Rig(**kwargs)
+        Rig(RigSpec(**kwargs))

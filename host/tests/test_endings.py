@@ -11,6 +11,7 @@ import pytest
 from host.artefacts.console import stamped_lines
 from host.core.errors import ConfigError, FirmwareError, FirmwareExited, SetupError
 from host.rig.rig import Rig
+from host.rig.spec import RigSpec
 from host.tests.conftest import FIRMWARE, shim_app
 
 pytestmark = pytest.mark.hil
@@ -62,12 +63,12 @@ def test_an_interpreter_that_is_not_one_is_named_at_once(monkeypatch, tmp_path):
     fds = len(os.listdir("/proc/self/fd"))
     for _ in range(3):
         with pytest.raises(SetupError, match="cannot start the interpreter .*Exec format error"):
-            Rig("rover").start()
+            Rig(RigSpec("rover")).start()
     assert len(os.listdir("/proc/self/fd")) == fds, "a failed start leaves no pty open"
     monkeypatch.setenv("MICROPYTHON", "/bin/true")  # a program that ends at once
     start = time.monotonic()
     with pytest.raises(FirmwareError, match="exit code 0"):
-        Rig("rover").start()
+        Rig(RigSpec("rover")).start()
     assert time.monotonic() - start < 2.0
 
 
@@ -81,7 +82,7 @@ def test_a_run_without_a_seed_draws_one_records_it_and_names_it_when_it_fails(ma
 @pytest.mark.parametrize("seed", [-1, "abc", 2**32, True, 1.5])
 def test_a_bad_seed_is_named(seed):
     with pytest.raises(ConfigError, match=r"seed: expected an integer 0\.\.4294967295"):
-        Rig("rover", seed=seed)
+        RigSpec("rover", seed=seed)
 
 
 @pytest.mark.parametrize("duration", [math.nan, math.inf, -1, "10", None, 1e300])
@@ -94,7 +95,7 @@ def test_a_bad_duration_is_named(make_rig, duration):
 @pytest.mark.parametrize("watchdog", [math.nan, 0, -1, "5"])
 def test_a_bad_watchdog_is_named(watchdog):
     with pytest.raises(ConfigError, match="watchdog_s: expected a number of seconds > 0"):
-        Rig("rover", watchdog_s=watchdog)
+        RigSpec("rover", watchdog_s=watchdog)
 
 
 def test_a_chatty_console_streams_to_its_file_with_a_bounded_tail_in_memory(make_rig):

@@ -8,12 +8,12 @@ import hashlib
 
 import pytest
 
-from host.rig import Rig
+from host.rig import Recording, Rig, RigSpec
 
 
 def run(tmp_path, app: str, seconds: float, lookahead: bool) -> tuple[dict, int, int]:
     folder = tmp_path / f"{app}-{'look' if lookahead else 'plain'}"
-    rig = Rig(app, seed=3, record=True, artefacts=folder)
+    rig = Rig(RigSpec(app, seed=3), Recording(record=True, artefacts=folder))
     if not lookahead:
         rig.clock.lookahead_us = 0
     with rig:
