@@ -30,6 +30,7 @@ _OPTIONAL = {
     "incomplete": _DICT,
     "files": _DICT,
     "faults": _LIST,
+    "spec": _DICT,
 }
 _BOUNDS = {"seed": (0, SEED_MAX), "t_end_us": (0, MAX_T_END_US), "truth_period_us": (1, MAX_T_END_US)}
 

@@ -224,6 +224,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "plant": type(getattr(plant, "inner", plant)).__name__,
         "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
         "plant_options": run["plant_options"],
+        **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)
         "seed": run["seed"],
         "mode": run["mode"],
         "commit": provenance.commit(),

@@ -13,9 +13,11 @@ from pathlib import Path
 
 from host.core import interpreter
 from host.core.errors import HarnessError
+from host.link.transport import busy_poll_wanted
 from host.rig.app import App
 from host.rig.boards import identity
 from host.rig.rig import Rig
+from host.rig.spec import RigSpec
 from sim_plant.wires import wires
 
 # The bench: pin pairs joined by a wire (output pin -> input pin), on every board; GPIO4
@@ -75,7 +77,8 @@ def parse(argv: list[str]) -> tuple[Path, str | None] | None:
 
 def run(test: Path, heap: str | None) -> tuple[str, int]:
     """(what the firmware printed, its exit status)."""
-    rig = Rig(bench_app(test, heap), watchdog_s=10.0, allow_exit=True)
+    spec = RigSpec(bench_app(test, heap), watchdog_s=10.0, allow_exit=True, busy_poll=busy_poll_wanted())
+    rig = Rig(spec)
     status, note = 0, ""
     try:
         rig.start()

@@ -97,7 +97,7 @@ class RigSpec:
     def header(self, app: App) -> dict:
         """The spec as plain data for a trace folder's header (what :meth:`from_header` reads)."""
         return {
-            "app": str(app.rig_file) if app.rig_file else app.name,
+            "app": self.app if isinstance(self.app, str) else str(app.rig_file or app.name),
             "board": self.board or app.default_board,
             "world": self.world,
             "seed": self.seed,
@@ -158,7 +158,7 @@ def build_plant(spec: RigSpec, app: App) -> tuple[Plant, dict]:
     options = dict(app.worlds[_world(spec, app)]) if spec.world else {}
     options.update(spec.plant_options)
     if spec.placement:
-        start = _bare(_made(app, options)).start_pose
+        start = start_pose(_bare(_made(app, options)))
         options["start_pose"] = placed(start, spec.placement_ranges, spec.seed)
     plant = _made(app, options)
     if spec.faults:
@@ -194,6 +194,17 @@ def _made(app: App, options: dict) -> Plant:
 def _bare(plant: Plant) -> Plant:
     """The plant inside the rig file's fault wrapper (wrapped again with the whole schedule)."""
     return plant.inner if isinstance(plant, FaultyPlant) else plant
+
+
+def start_pose(plant: Plant):
+    """Where the plant's robot starts: its own ``start_pose``, or its body's (a body and parts)."""
+    pose = getattr(plant, "start_pose", None)
+    if pose is not None:
+        return pose
+    body = getattr(plant, "body", None)
+    if hasattr(body, "world_and_pose"):
+        return body.world_and_pose()[1]
+    raise ConfigError(f"placement: the {type(plant).__name__} plant has no start pose to place")
 
 
 def placed(pose, placement: dict, seed: int) -> list[float]:

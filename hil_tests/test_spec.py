@@ -1,0 +1,94 @@
+"""One spec builds every rig (host/rig/spec.py): the CLI, the pytest plugin and a
+campaign's worker given the same spec run the same link trace and record the same spec,
+which a replay reads back; a campaign runs a rig file written as a body and parts."""
+
+import hashlib
+import json
+
+import pytest
+
+from host.campaign import load_campaign
+from host.campaign.runner import run_campaign
+from host.campaign.worker import run_one
+from host.cli import main
+from host.core.paths import REPO
+from host.rig import RigSpec
+from host.rig.spec import build_plant
+
+pytestmark = pytest.mark.hil
+
+SECONDS = 2.0
+TWO_SONAR = REPO / "examples" / "two_sonar_bot" / "rig.toml"
+
+
+def _recorded(folder) -> tuple[str, dict]:
+    """(the sha256 of the folder's trace.jsonl, the spec its header recorded)."""
+    digest = hashlib.sha256((folder / "trace.jsonl").read_bytes()).hexdigest()
+    return digest, json.loads((folder / "header.json").read_text())["spec"]
+
+
+def test_the_cli_the_plugin_and_a_campaign_worker_run_the_same_spec_to_the_same_link_trace(make_rig, tmp_path):
+    cli = tmp_path / "cli"
+    argv = ["run", "--world", "long-room", "--seed", "3", "--duration", str(SECONDS), "--out", str(cli), "--no-plots"]
+    assert main(argv) == 0
+
+    rig = make_rig("rover", world="long-room", seed=3, trace=True, record=True, artefacts=tmp_path / "plugin")
+    rig.run_for(SECONDS)
+    rig.stop()
+
+    task = {"rig": "rover", "world": "long-room", "seed": 3, "faults": [], "faultset": "none", "budgets": []}
+    task.update(seconds=SECONDS, step_s=SECONDS, judge="generic", timeout_s=120)
+    result = run_one(task, str(tmp_path / "worker"), record=True)
+    assert result["passed"], result["message"]
+
+    runs = {name: _recorded(tmp_path / name) for name in ("cli", "plugin", "worker")}
+    specs = {name: spec for name, (_d, spec) in runs.items()}
+    assert specs["cli"] == specs["plugin"] == specs["worker"], specs
+    assert specs["cli"]["world"] == "long-room" and specs["cli"]["seed"] == 3
+    digests = {name: digest for name, (digest, _s) in runs.items()}
+    assert len(set(digests.values())) == 1, f"expected one link trace, got {digests}"
+    assert rig.trace_digest == digests["plugin"]
+    assert RigSpec.from_header({"spec": specs["cli"]}) == RigSpec("rover", board=rig.board, world="long-room", seed=3)
+
+
+def test_a_spec_builds_the_plant_of_its_world_with_its_options_over_the_worlds():
+    spec = RigSpec("rover", world="long-room", seed=3, options={"room_h_m": 5.0})
+    plant, options = build_plant(spec, spec.resolve())
+    assert options == {"room_w_m": 8.0, "room_h_m": 5.0}
+    assert (plant.room_w_m, plant.room_h_m) == (8.0, 5.0)
+    with pytest.raises(AttributeError):
+        spec.seed = 4  # frozen
+
+
+def test_a_campaign_runs_a_rig_file_of_a_body_and_parts(tmp_path):
+    scenario = tmp_path / "two_sonar.toml"
+    scenario.write_text(
+        f"""
+[campaign]
+rig = "{TWO_SONAR}"
+seconds = 3
+step_s = 0.5
+judge = "generic"
+until = "two_sonar_bot: pressed"
+seeds = 2
+timeout_s = 120
+placement = {{ x_m = [-0.05, 0.05], theta_deg = [-3, 3] }}
+
+[[faultsets]]
+name = "none"
+
+[[faultsets]]
+name = "rear-sonar-dropout"
+[[faultsets.faults]]
+kind = "dropout"
+signal = "sonar_rear.echo"
+"""
+    )
+    campaign = load_campaign(str(scenario))
+    results = run_campaign(campaign, tmp_path / "out", workers=2)
+    assert len(results) == 4
+    failed = [f"{r['key']}: {r['message'][:300]}" for r in results if not r["passed"]]
+    assert not failed, f"expected every run of the body+parts rig to pass: {failed}"
+    keys = sorted(r["key"] for r in results)
+    assert keys == [f"{f}/box-ahead/{s}" for f in ("none", "rear-sonar-dropout") for s in (1, 2)]
+    assert all(r["t_end_s"] >= 1.0 for r in results), "expected each run to the button's press (1 s in)"
