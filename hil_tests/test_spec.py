@@ -12,8 +12,10 @@ from host.campaign.runner import run_campaign
 from host.campaign.worker import run_one
 from host.cli import main
 from host.core.paths import REPO
-from host.rig import RigSpec
+from host.rig import Rig, RigSpec
+from host.rig.replay import replay
 from host.rig.spec import build_plant
+from host.rig.target import FaultyLinkTarget
 
 pytestmark = pytest.mark.hil
 
@@ -92,3 +94,22 @@ signal = "sonar_rear.echo"
     keys = sorted(r["key"] for r in results)
     assert keys == [f"{f}/box-ahead/{s}" for f in ("none", "rear-sonar-dropout") for s in (1, 2)]
     assert all(r["t_end_s"] >= 1.0 for r in results), "expected each run to the button's press (1 s in)"
+
+
+def test_a_replay_rebuilds_the_spec_its_folder_recorded(make_rig, tmp_path):
+    spec = {"world": "small-room", "seed": 5, "plant_options": {"room_w_m": 3.5}}
+    rig = make_rig("rover", trace=True, record=True, artefacts=tmp_path / "run", **spec)
+    rig.run_for(1.5)
+    rig.stop()
+    result = replay(tmp_path / "run", tmp_path / "replay")
+    assert result.same and result.recorded > 0, str(result.difference)
+    recorded, replayed = (json.loads((tmp_path / f / "header.json").read_text()) for f in ("run", "replay"))
+    assert replayed["spec"] == recorded["spec"]
+    assert recorded["spec"]["world"] == "small-room" and recorded["spec"]["options"] == {"room_w_m": 3.5}
+    assert replayed["plant_options"]["start_pose"] == [1.0, 1.5, 0.0], "expected the world's start pose"
+
+
+def test_a_specs_link_faults_go_under_the_channel_wherever_it_runs():
+    stall = {"kind": "link_stall", "direction": "both", "rate": 0.02, "stall_ms": 5}
+    assert isinstance(Rig(RigSpec("rover", faults=[stall])).target, FaultyLinkTarget)
+    assert not isinstance(Rig(RigSpec("rover")).target, FaultyLinkTarget)

@@ -464,6 +464,7 @@ def cmd_campaign(args) -> int:
     from host.campaign import load_campaign, replay
     from host.campaign.report import summarize, write_report
     from host.campaign.runner import run_campaign
+    from host.link.transport import busy_poll_wanted
 
     if args.replay:
         if not args.out:
@@ -497,7 +498,14 @@ def cmd_campaign(args) -> int:
         )
 
     try:
-        results = run_campaign(campaign, out, workers=args.workers, scheduler=args.scheduler, on_result=progress)
+        results = run_campaign(
+            campaign,
+            out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            on_result=progress,
+            busy_poll=busy_poll_wanted(),
+        )
     except KeyboardInterrupt:
         print(f"interrupted: the finished runs are in {out / 'results.jsonl'}; the same command goes on from there")
         raise

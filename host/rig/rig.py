@@ -33,7 +33,7 @@ from host.rig.inputs import Inputs
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
 from host.rig.session import Session
-from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target
+from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target, plant_options
 from host.rig.speculation import Speculation
 from host.rig.target import Target
 from host.rig.wiring import Wiring
@@ -84,7 +84,7 @@ class Rig:
         if plant is None:
             plant, self.plant_options = build_plant(spec, self.app)
         else:
-            self.plant_options = spec.plant_options
+            self.plant_options = plant_options(spec, self.app)
         self.plant = plant
         self.plant.reset(self.seed)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)

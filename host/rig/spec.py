@@ -155,8 +155,7 @@ def build_plant(spec: RigSpec, app: App) -> tuple[Plant, dict]:
     world's, the spec's options over them, the placement's start pose; the rig file's and
     the spec's faults wrapped around it as one schedule. A plant that refuses its options
     raises ConfigError naming them."""
-    options = dict(app.worlds[_world(spec, app)]) if spec.world else {}
-    options.update(spec.plant_options)
+    options = plant_options(spec, app)
     if spec.placement:
         start = start_pose(_bare(_made(app, options)))
         options["start_pose"] = placed(start, spec.placement_ranges, spec.seed)
@@ -164,6 +163,13 @@ def build_plant(spec: RigSpec, app: App) -> tuple[Plant, dict]:
     if spec.faults:
         plant = with_faults(_bare(plant), fault_schedule(spec, app))
     return plant, options
+
+
+def plant_options(spec: RigSpec, app: App) -> dict:
+    """The options over the app's own: the world's, the spec's over them (before placement)."""
+    options = dict(app.worlds[_world(spec, app)]) if spec.world else {}
+    options.update(spec.plant_options)
+    return options
 
 
 def default_target(spec: RigSpec, app: App, pacing) -> Target:
