@@ -1,4 +1,4 @@
-"""Plant kinds by name, for rig files (``[plant] kind = "rover_room"``): each name is a
+"""Plant kinds by name, for rig files (``[plant] kind = "lab_robot"``): each name is a
 plant class, or a function that builds one, whose keyword options are the table
 ``[plant.options]``. Unknown options and bad values are refused with the option's name.
 """
@@ -10,7 +10,6 @@ from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
-from sim_plant.rover import RoverRoom
 from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
 from sim_plant.wires import wires
@@ -29,7 +28,6 @@ pool_cleaner.options_of = PoolCleaner
 
 KINDS = {
     "two_wheel": TwoWheelRobot,
-    "rover_room": RoverRoom,
     "pool_cleaner": pool_cleaner,
     "duct_robot": DuctRobot,
     "vacuum_robot": VacuumRobot,

@@ -4,6 +4,8 @@ the field of the first mistake (``[[plant.parts]] #2 (sonar_rear) period_us: exp
 ...``; parts are counted from 1 in the file's order), and builds a :class:`PartsPlant`.
 """
 
+import tomllib
+
 from sim_plant import catalogue
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
 from sim_plant.engine import RobotPlant
@@ -113,3 +115,21 @@ def _part(i: int, entry):
         raise PartsError(f"{label} {e}") from None
     part.label = label
     return part
+
+
+def rig_plant_table(path, parts: dict | None = None, **options) -> dict:
+    """A rig file's ``[plant]`` table (a body and parts), with body ``options`` over its
+    own and ``parts`` (a part's name -> options) over those parts' options: our robots'
+    rig files, for tests and measurements that build their plants without a rig."""
+    with open(path, "rb") as f:
+        table = tomllib.load(f)["plant"]
+    changed = dict(parts or {})
+    entries = [{**entry, **changed.pop(entry.get("name"), {})} for entry in table.get("parts", [])]
+    if changed:
+        raise PartsError(f"{path}: no part named {', '.join(changed)}")
+    return {**table, **options, "parts": entries}
+
+
+def assemble_file(path, parts: dict | None = None, **options) -> PartsPlant:
+    """The plant of :func:`rig_plant_table`."""
+    return assemble(rig_plant_table(path, parts, **options))

@@ -59,7 +59,8 @@ class Sig:
 @dataclass(frozen=True)
 class View:
     """What a report draws for a part: a ``plot`` kind (``range``, ``command``,
-    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``) of its ``signals``
+    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``,
+    ``coverage``) of its ``signals``
     (suffixes) against its ``truth`` (keys, ``{name}`` the part's)."""
 
     plot: str

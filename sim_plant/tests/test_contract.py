@@ -3,19 +3,22 @@ in time order and never before next_change_us() says, the same changes however t
 cut, the same seed the same run, and snapshots that replay the same future."""
 
 import random
+from pathlib import Path
 
 import pytest
 
+from sim_plant.catalogue.assembly import assemble_file
 from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.pool import PoolCleaner
-from sim_plant.rover import RoverRoom
 from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
 
+APPS = Path(__file__).resolve().parents[2] / "firmware" / "apps"
+
 PLANTS = {
-    "rover": lambda: RoverRoom(room_w_m=3.0, room_h_m=3.0, start_pose=(1.5, 1.5, 0.0)),
+    "rover": lambda: assemble_file(APPS / "rover" / "rig.toml", room_w_m=3.0, room_h_m=3.0, start_pose=[1.5, 1.5, 0.0]),
     "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
     "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
     "pool_faults": lambda: PoolCleaner(
