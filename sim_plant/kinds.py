@@ -11,7 +11,6 @@ from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
 from sim_plant.two_wheel import TwoWheelRobot
-from sim_plant.vacuum import VacuumRobot
 from sim_plant.wires import wires
 from sim_plant.world import POOL_LENGTH_M
 
@@ -30,7 +29,6 @@ KINDS = {
     "two_wheel": TwoWheelRobot,
     "pool_cleaner": pool_cleaner,
     "duct_robot": DuctRobot,
-    "vacuum_robot": VacuumRobot,
     "lab_robot": LabRobot,
     "wires": wires,  # a loopback bench: board outputs wired to board inputs
 }

@@ -21,7 +21,6 @@ from sim_plant.catalogue.assembly import assemble_file
 from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.pool import PoolCleaner
-from sim_plant.vacuum import VacuumRobot
 from sim_plant.world import box, duct_network, rectangle, room
 
 QUANTUM_US = 50_000
@@ -78,11 +77,19 @@ def _lab(p, k):
 LONG_DUCT = duct_network([(0.0, 0.0, 20.0, 0.4), (6.0, -1.0, 6.4, 0.0), (9.0, 0.4, 9.4, 1.4)], name="bench duct")
 LONG_ROOM = room(40.0, 4.0, [box(12.0, 2.5, 0.4, 0.4), box(20.0, 3.0, 0.6, 0.3)], name="bench room")
 
+
+def _in_world(plant, world, start_pose=(0.5, 0.5, 0.0)):
+    """A plant of a rig file in a world no rig file names (the bench's long room)."""
+    plant.body.world_and_pose = lambda rng: (world, start_pose)
+    plant.reset(0)
+    return plant
+
+
 ROBOTS = [
     ("rover (rig file)", lambda: assemble_file(APPS / "rover" / "rig.toml", room_w_m=40.0), _rover),
     ("pool cleaner (PoolCleaner, NMEA)", lambda: PoolCleaner(pool_length_m=200.0), _pool),
     ("duct robot (DuctRobot)", lambda: DuctRobot(world=LONG_DUCT), _duct),
-    ("vacuum robot (VacuumRobot)", lambda: VacuumRobot(world=LONG_ROOM), _vacuum),
+    ("vacuum robot (rig file)", lambda: _in_world(assemble_file(APPS / "vacuum" / "rig.toml"), LONG_ROOM), _vacuum),
     ("lab robot (LabRobot)", lambda: LabRobot(world=rectangle(40.0, 4.0), start_pose=(1.0, 2.0, 0.0)), _lab),
 ]
 

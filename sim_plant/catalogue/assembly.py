@@ -32,7 +32,8 @@ class PartsPlant(RobotPlant):
                 part.add(build)
             except ValueError as e:
                 raise PartsError(f"{part.label} {e}") from None
-        self.world, pose = self.body.world_and_pose()
+        body = self.body
+        self.world, pose = body.world_and_pose(self.rng) if body.draws_world else body.world_and_pose()
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders

@@ -72,13 +72,15 @@ class View:
 @dataclass
 class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
-    parts, encoders, bumpers and motors (``motors[side] = (bridge, DcMotor)``)."""
+    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``) and servos
+    (``servos[name]``: what a part mounted on one turns with)."""
 
     body: dict
     parts: list = field(default_factory=list)
     encoders: list = field(default_factory=list)
     bumpers: list = field(default_factory=list)
     motors: dict = field(default_factory=dict)
+    servos: dict = field(default_factory=dict)
 
 
 class Declared:
@@ -147,12 +149,15 @@ class BodyType(Declared):
     """A body: owns the pose, the drive and the contacts; ``moves`` is False for a bench."""
 
     moves = True
+    draws_world = False
+    """True: :meth:`world_and_pose` takes the plant's generator (a world drawn per seed)."""
 
     def __init__(self, options: dict):
         self.options = options
 
     def world_and_pose(self):
-        """(the world, the start pose (x_m, y_m, heading_rad))."""
+        """(the world, the start pose (x_m, y_m, heading_rad)); with ``draws_world``,
+        called with the plant's freshly seeded generator."""
         raise NotImplementedError
 
     def drive(self, build: Build, pose):

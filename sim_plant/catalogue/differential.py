@@ -1,10 +1,12 @@
 """Body ``differential``: a disc with two driven wheels on its centre axis (most hobby
-robots), in a room with box obstacles or one of our worlds. The ``dc_motor`` parts that
+robots), in a room with box obstacles, a room furnished along a route from the plant's
+seed (:mod:`sim_plant.furniture`), or one of our worlds. The ``dc_motor`` parts that
 drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
 from sim_plant.option_table import BOX, POINT, POSE, Num, OneOf, Rows, length
 from sim_plant.two_wheel import WORLDS
 from sim_plant.world import box, room
@@ -16,10 +18,21 @@ class Differential(BodyType):
     kind = "differential"
     doc = "A disc body with two driven wheels on its centre axis (differential drive)."
     OPTIONS = (
-        Opt("world", OneOf(("room", *WORLDS)), "room", "the room below, or one of our worlds"),
+        Opt(
+            "world",
+            OneOf(("room", "furnished", *WORLDS)),
+            "room",
+            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds",
+        ),
         Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
         Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
+        Opt(
+            "route",
+            Rows(POINT, 100, least=2),
+            [list(p) for p in DEFAULT_ROUTE],
+            "the furnished room's route, [x_m, y_m] points: furniture across every leg, the start at the first",
+        ),
         Opt("start_pose", POSE, None, "where it starts; the world's own start by default ([0.4, 1.0, 0] in the room)"),
         Opt("body_radius_m", length(0.01, 5), 0.08, "the disc's radius (its contacts with the walls)"),
         Opt("wheel_radius_m", length(0.001, 1), 0.0325, "each wheel's radius"),
@@ -34,8 +47,16 @@ class Differential(BodyType):
         Opt("tape_width_m", length(0.001, 1), 0.019, "the tape's width"),
     )
 
-    def world_and_pose(self):
+    draws_world = True
+
+    def world_and_pose(self, rng):
         o = self.options
+        if o["world"] == "furnished":
+            if o["obstacles"]:
+                raise PartsError("[plant] obstacles: only in the room world, not in furnished")
+            route = [tuple(float(v) for v in p) for p in o["route"]]
+            world = furnished_room(rng, route, room_w_m=o["room_w_m"], room_h_m=o["room_h_m"])
+            return world, tuple(float(v) for v in (o["start_pose"] or (*route[0], 0.0)))
         if o["world"] == "room":
             world = room(o["room_w_m"], o["room_h_m"], [box(*b) for b in o["obstacles"]], name="room")
             pose = o["start_pose"] or (0.4, 1.0, 0.0)

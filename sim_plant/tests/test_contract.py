@@ -7,15 +7,21 @@ from pathlib import Path
 
 import pytest
 
-from sim_plant.catalogue.assembly import assemble_file
+from sim_plant.catalogue.assembly import assemble, assemble_file, rig_plant_table
 from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.pool import PoolCleaner
 from sim_plant.two_wheel import TwoWheelRobot
-from sim_plant.vacuum import VacuumRobot
 
 APPS = Path(__file__).resolve().parents[2] / "firmware" / "apps"
+
+
+def with_parts(rig_file, *parts):
+    """The plant of one of our rig files with ``parts`` added."""
+    table = rig_plant_table(rig_file)
+    return assemble({**table, "parts": [*table["parts"], *parts]})
+
 
 PLANTS = {
     "rover": lambda: assemble_file(APPS / "rover" / "rig.toml", room_w_m=3.0, room_h_m=3.0, start_pose=[1.5, 1.5, 0.0]),
@@ -27,7 +33,7 @@ PLANTS = {
         sonar_faults=[(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")],
     ),
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
-    "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
+    "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
     "two_wheel": lambda: TwoWheelRobot(
         obstacles=[[2.0, 1.0, 0.3, 0.3]],
@@ -216,7 +222,7 @@ def test_an_idle_plant_has_only_its_sensor_timeline():
     plant = DuctRobot(sonar_options={"noise_v": 0.0})
     plant.advance_to(1_000_000)
     assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
-    quiet = VacuumRobot()
+    quiet = assemble_file(APPS / "vacuum" / "rig.toml")
     assert quiet.next_change_us() == NEVER_US
 
 

@@ -1,13 +1,35 @@
-"""Seed 003's vacuum robot: HC-SR04 trigger/echo on an SG90 servo, slotted-disk IR encoders,
-an L298N-style bridge with a wide dead band."""
+"""Seed 003's vacuum robot, built from its rig file's body and parts: HC-SR04
+trigger/echo on an SG90 servo, slotted-disk IR encoders, an L298N-style bridge with a
+wide dead band."""
 
 import math
+from pathlib import Path
 
 import pytest
 
+from sim_plant.catalogue.assembly import assemble_file
 from sim_plant.hcsr04 import START_DELAY_US, TIMEOUT_US, HcSr04, echo_width_us
-from sim_plant.vacuum import VacuumRobot
 from sim_plant.world import World, box, polygon_segments, room
+
+RIG = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "vacuum" / "rig.toml"
+
+
+def VacuumRobot(world="vacuum_room", start_pose=None, sonar_noise_sd_m=None, motor_gains=None, **body):
+    """The vacuum robot of its rig file, in one of the body's worlds or in ``world``, a
+    World of the test's own (then starting at ``start_pose``)."""
+    parts = {}
+    if sonar_noise_sd_m is not None:
+        parts["sonar"] = {"noise_sd_m": sonar_noise_sd_m}
+    for side, gain in zip(("motor_l", "motor_r"), motor_gains or ()):
+        parts[side] = {"gain": gain}
+    if not isinstance(world, World):
+        pose = {} if start_pose is None else {"start_pose": list(start_pose)}
+        return assemble_file(RIG, parts, world=world, **pose, **body)
+    plant = assemble_file(RIG, parts, world="room", **body)
+    plant.body.world_and_pose = lambda rng: (world, tuple(start_pose))  # a world no rig file names
+    plant.reset(0)
+    return plant
+
 
 SENSOR_X_M = 0.10  # the HC-SR04 sits 10 cm ahead of the axle
 SERVO_DUTY_90 = round(1.5 / 20 * 65535)
@@ -104,7 +126,7 @@ def test_servo_turns_60_degrees_in_0_12_s_and_a_ping_sees_along_its_current_angl
     plant.set_input("servo.pwm", SERVO_DUTY_90)
     plant.advance_to(plant.t_us + 45_000)  # half way: 67.5 deg
     ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(67.5, abs=0.1)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(67.5, abs=0.1)
 
 
 def test_low_duty_does_not_move_the_robot():
@@ -119,7 +141,7 @@ def test_low_duty_does_not_move_the_robot():
     for side in "lr":
         plant.set_input(f"motor_{side}.pwm", int(0.6 * 65535))
     changes = plant.advance_to(2_000_000)
-    assert sum(c.name == "enc_l" for c in changes) == pytest.approx(
+    assert sum(c.name == "enc_l.out" for c in changes) == pytest.approx(
         plant.truth()["distance_m"] / (math.pi * 0.065) * 20 * 2, abs=1
     )
 
@@ -187,11 +209,11 @@ def test_a_ping_before_the_servo_settles_sees_along_the_angle_it_has_reached():
     plant.set_input("servo.pwm", servo_duty(170))
     plant.advance_to(plant.t_us + 40_000 - 10)
     rise, fall = ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(110.0, abs=0.01)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(110.0, abs=0.01)
     assert (fall - rise) / 5831 == pytest.approx(1.0 / math.sin(math.radians(27.5)), abs=0.002)
     plant.advance_to(plant.t_us + 200_000)
     rise, fall = ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(170.0, abs=0.01)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(170.0, abs=0.01)
     assert (fall - rise) / 5831 == pytest.approx(1.0 / math.sin(math.radians(87.5)), abs=0.002)
 
 
@@ -254,7 +276,8 @@ def test_the_furnished_room_is_drawn_from_the_seed_with_a_piece_across_every_leg
     for seed in range(1, 21):
         segs, plant = pieces(seed)
         walls = plant.world
-        assert plant.start_pose == (*DEFAULT_ROUTE[0], 0.0)
+        truth = plant.truth()
+        assert (truth["x_m"], truth["y_m"], truth["theta_rad"]) == (*DEFAULT_ROUTE[0], 0.0)
         for x, y in DEFAULT_ROUTE:
             assert walls.clearance(x, y)[0] >= 0.5 - 1e-9, (seed, x, y)
         for (ax, ay), (bx, by) in zip(DEFAULT_ROUTE, DEFAULT_ROUTE[1:]):
@@ -282,6 +305,6 @@ def split_polygons(segments):
 
 
 def test_an_unknown_world_is_refused_with_the_known_ones():
-    with pytest.raises(ValueError, match="vacuum_room, empty, furnished"):
+    with pytest.raises(ValueError, match="world: expected one of room, furnished, .*vacuum_room"):
         VacuumRobot(world="kitchen")
-    assert VacuumRobot(world="empty", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
+    assert VacuumRobot(world="room", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
