@@ -40,6 +40,7 @@ DIGESTS = {  # (app, world): sha256 of the link trace
 RENAMED = {  # app: (its plant class before, {signal now: signal before})
     "rover": ("RoverRoom", {"bumper.out": "bumper"}),
     "vacuum": ("VacuumRobot", {"enc_l.out": "enc_l", "enc_r.out": "enc_r"}),
+    "pico_bot": ("TwoWheelRobot", {"start.out": "button.start"}),
 }
 
 

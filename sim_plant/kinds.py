@@ -10,7 +10,6 @@ from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, PoolCleaner
-from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.wires import wires
 from sim_plant.world import POOL_LENGTH_M
 
@@ -26,7 +25,6 @@ def pool_cleaner(**options) -> PoolCleaner:
 pool_cleaner.options_of = PoolCleaner
 
 KINDS = {
-    "two_wheel": TwoWheelRobot,
     "pool_cleaner": pool_cleaner,
     "duct_robot": DuctRobot,
     "lab_robot": LabRobot,

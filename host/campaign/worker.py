@@ -11,6 +11,7 @@ under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
 """
 
 import dataclasses
+import functools
 import math
 import os
 import resource
@@ -132,9 +133,10 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
         app = dataclasses.replace(app, heap_size=heap[-1])
     world = dict(app.worlds[task["world"]])
     options = {**app.plant_options, **world}
+    build = app.extra.get("build_plant") or functools.partial(kinds.make, app.plant_kind)
     if task.get("placement"):
-        world["start_pose"] = placed(kinds.make(app.plant_kind, **options).start_pose, task["placement"], task["seed"])
-    plant = with_faults(kinds.make(app.plant_kind, **{**options, **world}), schedule)
+        world["start_pose"] = placed(build(**options).start_pose, task["placement"], task["seed"])
+    plant = with_faults(build(**{**options, **world}), schedule)
     target = None
     link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
     if link:

@@ -162,7 +162,7 @@ def load_rig(path) -> App:
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
-        extra={"faults": faults},
+        extra={"faults": faults, "build_plant": build},  # build: the plant without the faults
     )
 
 
@@ -528,15 +528,40 @@ entry = "{entry}"          # what runs after boot.py
 
 [board.pins]               # the pin numbers your code uses, by a name of your choice
 {pins}
-[plant]
-kind = "two_wheel"         # mpy-fil list: kinds, their options and their signals
+[plant]                    # a body and its parts: docs/parts.md, mpy-fil list
+body = "differential"      # or "bench": a breadboard, no body
 
-[plant.options]
+[[plant.parts]]
+kind = "dc_motor"          # signals motor_l.in1, motor_l.in2, motor_l.pwm
+name = "motor_l"
 bridge = "tb6612"          # tb6612 | l298n | drv8833 | dir_pwm
-encoder = "quadrature"     # quadrature | single | none
-ranger = "hcsr04"          # hcsr04 | analog | none
-# buttons = ["start"]
-# presses = [["start", 1.0, 1.2]]   # name, pressed at s, released at s
+drives = "left"
+
+[[plant.parts]]
+kind = "dc_motor"
+name = "motor_r"
+bridge = "tb6612"
+drives = "right"
+
+[[plant.parts]]
+kind = "encoder"           # enc_l.a, enc_l.b (channels = "single": enc_l.out)
+name = "enc_l"
+wheel = "left"
+
+[[plant.parts]]
+kind = "encoder"
+name = "enc_r"
+wheel = "right"
+
+[[plant.parts]]
+kind = "hcsr04"            # sonar.trig, sonar.echo
+name = "sonar"
+mount = {{ x_m = 0.08, y_m = 0.0, heading_deg = 0 }}
+
+# [[plant.parts]]
+# kind = "button"          # start.out
+# name = "start"
+# presses = [[1.0, 1.2]]   # pressed at s, released at s
 
 [wiring]                   # pin name = plant signal (mpy-fil check lists them), or probe:<name>
 {wiring}

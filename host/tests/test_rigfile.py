@@ -228,10 +228,10 @@ def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp
     assert again.returncode == 2 and "exists" in again.stderr and "Traceback" not in again.stderr
 
 
-def test_mpy_fil_list_shows_apps_boards_and_plant_kinds_with_their_signals():
+def test_mpy_fil_list_shows_apps_boards_bodies_and_parts_with_their_signals():
     done = mpy_fil("list")
     assert done.returncode == 0, done.stderr
-    for text in ("rover ", "rpi_pico", "two_wheel", "hcsr04_trigger_min_us=2", "outputs: bumper, sonar.echo"):
+    for text in ("rover ", "rpi_pico", "differential", "trigger_min_us=2", "signals: <name>.trig, <name>.echo"):
         assert text in done.stdout, text
 
 

@@ -290,21 +290,20 @@ def refused(folder: Path, text: str | bytes, field: str, says: str) -> str:
     ("old", "new", "field", "says"),
     [
         # sizes: infinite, huge, zero, negative, true/false
-        ("room_w_m = 3.0", "room_w_m = inf", "[plant.options] room_w_m", "from 0.1 to 100, got inf"),
-        ("room_w_m = 3.0", "room_w_m = 1e308", "[plant.options] room_w_m", "got 1e+308"),
-        ("room_w_m = 3.0", "room_w_m = true", "[plant.options] room_w_m", "got True"),
-        ("room_w_m = 3.0", "room_w_m = nan", "[plant.options] room_w_m", "got nan"),
-        ("room_w_m = 3.0", "wheel_radius_m = 0", "[plant.options] wheel_radius_m", "from 0.001 to 1, got 0"),
-        ("[[1.6, 1.0, 0.3, 0.3]]", "[[1.6, 1.0, -0.3, 0.3]]", "[plant.options] obstacles", "item 2"),
-        ("room_w_m = 3.0", "encoder_cpr = 1000000000", "[plant.options] encoder_cpr", "1 to 10000"),
-        ("room_w_m = 3.0", "encoder_cpr = 7.5", "[plant.options] encoder_cpr", "a whole number"),
-        ("room_w_m = 3.0", "ranger_period_us = 9223372036854775807", "[plant.options] ranger_period_us", "micro"),
-        ("room_w_m = 3.0", "ranger_noise_sd_m = -1", "[plant.options] ranger_noise_sd_m", "from 0 to 10"),
-        ("room_w_m = 3.0", "encoder_polarity = [1, 0]", "[plant.options] encoder_polarity", "-1 or 1"),
-        ('buttons = ["start"]', 'buttons = ["st\\u0000art"]', "plant.options.buttons[0]", "control character"),
-        ("room_w_m = 3.0", 'world = "../room"', "[plant.options] world", "expected a name"),
+        ("room_w_m = 3.0", "room_w_m = inf", "[plant] room_w_m", "from 0.1 to 100, got inf"),
+        ("room_w_m = 3.0", "room_w_m = 1e308", "[plant] room_w_m", "got 1e+308"),
+        ("room_w_m = 3.0", "room_w_m = true", "[plant] room_w_m", "got True"),
+        ("room_w_m = 3.0", "room_w_m = nan", "[plant] room_w_m", "got nan"),
+        ("room_w_m = 3.0", "wheel_radius_m = 0", "[plant] wheel_radius_m", "from 0.001 to 1, got 0"),
+        ("[[1.6, 1.0, 0.3, 0.3]]", "[[1.6, 1.0, -0.3, 0.3]]", "[plant] obstacles", "item 2"),
+        ("lines_per_rev = 7", "lines_per_rev = 1000000000", "[[plant.parts]] #4 (enc_l) lines_per_rev", "1 to 10000"),
+        ("lines_per_rev = 7", "lines_per_rev = 7.5", "[[plant.parts]] #4 (enc_l) lines_per_rev", "a whole number"),
+        ("time_constant_ms = 0 ", "time_constant_ms = -1 ", "[[plant.parts]] #1 (motor_l) time_constant_ms", "0 to"),
+        ('bridge = "tb6612"', 'bridge = "tb6612"\npolarity = 0', "[[plant.parts]] #1 (motor_l) polarity", "-1, 1"),
+        ('name = "start"', 'name = "st\\u0000art"', "plant.parts[7].name", "control character"),
+        ("room_w_m = 3.0", 'world = "../room"', "[plant] world", "expected one of room"),
         # worlds: the same bounds; names that become a folder's name
-        ("[worlds.open-room]", "[worlds.open-room]\nroom_h_m = -2", "[worlds.open-room] room_h_m", "got -2"),
+        ("[worlds.open-room]", "[worlds.open-room]\nroom_h_m = -2", "[worlds.open-room]: [plant] room_h_m", "got -2"),
         ("[worlds.open-room]", '[worlds."../../x"]', "[worlds.../../x]", "expected a name"),
         ('name = "pico_bot"', 'name = "../../../tmp/x"', "name", "expected a name"),
         ('name = "pico_bot"', 'name = "a\\u0000b"', "name", "control character"),
@@ -430,7 +429,7 @@ def test_the_cli_refuses_bad_input_in_one_line_without_a_traceback(pico):
         [sys.executable, "-m", "host.cli", "check", str(path)], capture_output=True, text=True, cwd=REPO, timeout=60
     )
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
-    assert "[plant.options] wheel_radius_m" in done.stderr and "Traceback" not in done.stderr
+    assert "[plant] wheel_radius_m" in done.stderr and "Traceback" not in done.stderr
     done = subprocess.run(
         [sys.executable, "-m", "host.cli", "run", "--param", "sonar_noise_m=-1"],
         capture_output=True,

@@ -34,6 +34,7 @@ class PartsPlant(RobotPlant):
                 raise PartsError(f"{part.label} {e}") from None
         body = self.body
         self.world, pose = body.world_and_pose(self.rng) if body.draws_world else body.world_and_pose()
+        self.start_pose = pose  # (x_m, y_m, heading_rad) at reset
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders

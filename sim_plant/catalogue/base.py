@@ -72,8 +72,9 @@ class View:
 @dataclass
 class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
-    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``) and servos
-    (``servos[name]``: what a part mounted on one turns with)."""
+    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``) servos
+    (``servos[name]``: what a part mounted on one turns with) and the motors' shared
+    ``standby`` pin."""
 
     body: dict
     parts: list = field(default_factory=list)
@@ -81,6 +82,7 @@ class Build:
     bumpers: list = field(default_factory=list)
     motors: dict = field(default_factory=dict)
     servos: dict = field(default_factory=dict)
+    standby: str | None = None
 
 
 class Declared:

@@ -3,15 +3,22 @@ robots), in a room with box obstacles, a room furnished along a route from the p
 seed (:mod:`sim_plant.furniture`), or one of our worlds. The ``dc_motor`` parts that
 drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 
+from sim_plant import world as worlds
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
 from sim_plant.option_table import BOX, POINT, POSE, Num, OneOf, Rows, length
-from sim_plant.two_wheel import WORLDS
 from sim_plant.world import box, room
 
 ROOM = length(0.1, 100)
+WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
+    "canyon": (lambda: worlds.canyon(), (0.3, 0.0, 0.0)),
+    "duct": (lambda: worlds.one_right_branch_duct(), (0.3, 0.2, 0.0)),
+    "multi_branch_duct": (lambda: worlds.multi_branch_duct(), (0.3, 0.2, 0.0)),
+    "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),
+    "pool": (lambda: worlds.pool(), (1.0, 1.0, 0.0)),
+}
 
 
 class Differential(BodyType):
@@ -84,6 +91,7 @@ class Differential(BodyType):
             wheel_radius_m=self.options["wheel_radius_m"],
             track_m=self.options["track_m"],
             start_pose=pose,
+            standby=build.standby,
         )
 
     def contact_monitor(self, build: Build):

@@ -12,9 +12,12 @@ from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.pool import PoolCleaner
-from sim_plant.two_wheel import TwoWheelRobot
 
 APPS = Path(__file__).resolve().parents[2] / "firmware" / "apps"
+MOTORS = [
+    {"kind": "dc_motor", "name": "motor_l", "drives": "left"},
+    {"kind": "dc_motor", "name": "motor_r", "drives": "right"},
+]
 
 
 def with_parts(rig_file, *parts):
@@ -35,22 +38,37 @@ PLANTS = {
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
     "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
-    "two_wheel": lambda: TwoWheelRobot(
-        obstacles=[[2.0, 1.0, 0.3, 0.3]],
-        placements=[[1.5, 1.0, 1.4, 0.2, 0.2], [4.0, 0.5, 0.5, 0.2, 0.2]],
-        standby=True,
-        buttons=["go"],
-        presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]],
+    "two_wheel": lambda: assemble(
+        {
+            "body": "differential",
+            "obstacles": [[2.0, 1.0, 0.3, 0.3]],
+            "parts": [
+                *MOTORS,
+                {"kind": "standby", "name": "motor"},
+                {"kind": "encoder", "name": "enc_l", "wheel": "left"},
+                {"kind": "encoder", "name": "enc_r", "wheel": "right"},
+                {"kind": "bumper", "name": "bumper"},
+                {"kind": "hcsr04", "name": "sonar", "mount": {"x_m": 0.08}},
+                {"kind": "placement", "name": "box1", "t_s": 1.5, "box": [1.0, 1.4, 0.2, 0.2]},
+                {"kind": "placement", "name": "box2", "t_s": 4.0, "box": [0.5, 0.5, 0.2, 0.2]},
+                {"kind": "button", "name": "go", "presses": [[0.5, 0.7], [3.0, 3.1]]},
+            ],
+        }
     ),
-    "two_wheel_drv8833": lambda: TwoWheelRobot(
-        bridge="drv8833",
-        encoder="single",
-        ranger="analog",
-        line_sensors=[[0.06, -0.01], [0.06, 0.01]],
-        tape=[[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],
-        button_bounce_us=3_000,
-        buttons=["a"],
-        presses=[["a", 1.0, 1.5]],
+    "two_wheel_drv8833": lambda: assemble(
+        {
+            "body": "differential",
+            "tape": [[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],
+            "parts": [
+                {"kind": "dc_motor", "name": "motor_l", "drives": "left", "bridge": "drv8833"},
+                {"kind": "dc_motor", "name": "motor_r", "drives": "right", "bridge": "drv8833"},
+                {"kind": "encoder", "name": "enc_l", "wheel": "left", "channels": "single"},
+                {"kind": "encoder", "name": "enc_r", "wheel": "right", "channels": "single"},
+                {"kind": "analog_ranger", "name": "ranger", "mount": {"x_m": 0.08}},
+                {"kind": "line_sensor", "name": "floor", "offsets_m": [[0.06, -0.01], [0.06, 0.01]]},
+                {"kind": "button", "name": "a", "presses": [[1.0, 1.5]], "bounce_us": 3_000},
+            ],
+        }
     ),
 }
 END_US = 8_000_000

@@ -13,9 +13,7 @@ MOTORS = [
 def test_driving_1_m_sweeps_a_strip_as_wide_as_the_body():
     """A 3 x 2 m room, a disc of r = 0.08 m driven 1 m straight: about 1.16 x 0.16 m of
     the 6 m^2 floor is swept (10 cm cells: a strip 2 cells wide, 12 long)."""
-    plant = assemble(
-        {"body": "differential", "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "cell_m": 0.1}]}
-    )
+    plant = assemble({"body": "differential", "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "cell_m": 0.1}]})
     assert plant.truth()["coverage_fraction"] < 0.01
     for side in "lr":
         plant.set_input(f"motor_{side}.in1", 1)
