@@ -38,7 +38,7 @@ PLANTS = {
     "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
     "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
-    "two_wheel": lambda: assemble(
+    "differential": lambda: assemble(
         {
             "body": "differential",
             "obstacles": [[2.0, 1.0, 0.3, 0.3]],
@@ -55,7 +55,7 @@ PLANTS = {
             ],
         }
     ),
-    "two_wheel_drv8833": lambda: assemble(
+    "differential_drv8833": lambda: assemble(
         {
             "body": "differential",
             "tape": [[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],

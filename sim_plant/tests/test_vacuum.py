@@ -14,7 +14,7 @@ from sim_plant.world import World, box, polygon_segments, room
 RIG = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "vacuum" / "rig.toml"
 
 
-def VacuumRobot(world="vacuum_room", start_pose=None, sonar_noise_sd_m=None, motor_gains=None, **body):
+def vacuum_plant(world="vacuum_room", start_pose=None, sonar_noise_sd_m=None, motor_gains=None, **body):
     """The vacuum robot of its rig file, in one of the body's worlds or in ``world``, a
     World of the test's own (then starting at ``start_pose``)."""
     parts = {}
@@ -53,7 +53,7 @@ def facing_wall(range_m, **options):
     """A robot whose sonar is ``range_m`` from a wall straight ahead (nothing else near)."""
     x = 1.0
     world = room(x + SENSOR_X_M + range_m, 20.0)
-    return VacuumRobot(world=world, start_pose=(x, 10.0, 0.0), sonar_noise_sd_m=0.0, **options)
+    return vacuum_plant(world=world, start_pose=(x, 10.0, 0.0), sonar_noise_sd_m=0.0, **options)
 
 
 @pytest.mark.parametrize("range_cm, width_us", [(10, 583), (100, 5831), (400, 23324)])
@@ -84,7 +84,7 @@ def test_the_cone_is_15_degrees():
         sx, sy = 1.0 + SENSOR_X_M, 10.0
         post = box(sx + 1.0 * math.cos(a) + 0.02, sy + 1.0 * math.sin(a), 0.04, 0.04)
         world = room(sx + 3.5, 20.0, [post])
-        plant = VacuumRobot(world=world, start_pose=(1.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+        plant = vacuum_plant(world=world, start_pose=(1.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
         rise, fall = ping(plant)
         assert (fall - rise) / 5831 == pytest.approx(expect_m, abs=0.03), angle_deg
 
@@ -149,7 +149,7 @@ def test_low_duty_does_not_move_the_robot():
 def test_unequal_wheels_veer_towards_the_weaker_one():
     """Seed 003 §7.2: "Error in estimate of ... wheel diameters" causes "a uniform veer in one
     direction": a per-wheel gain mismatch at equal duty curves the path."""
-    plant = VacuumRobot(world=room(20.0, 20.0), start_pose=(2.0, 10.0, 0.0), motor_gains=(1.0, 0.95))
+    plant = vacuum_plant(world=room(20.0, 20.0), start_pose=(2.0, 10.0, 0.0), motor_gains=(1.0, 0.95))
     for side in "lr":
         plant.set_input(f"motor_{side}.in1", 1)
         plant.set_input(f"motor_{side}.pwm", 50_000)
@@ -201,7 +201,7 @@ def test_a_ping_before_the_servo_settles_sees_along_the_angle_it_has_reached():
     at 1 / sin(87.5 deg) = 1.001 m. Triggered 40 ms into the 90 -> 170 deg turn the horn
     is at 110 deg (cone 12.5..27.5 deg left): the wall at 1 / sin(27.5 deg) = 2.166 m, a
     reading of neither angle."""
-    plant = VacuumRobot(world=room(20.0, 11.0), start_pose=(2.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+    plant = vacuum_plant(world=room(20.0, 11.0), start_pose=(2.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
     plant.set_input("servo.pwm", servo_duty(90))
     plant.advance_to(200_000)
     rise, fall = ping(plant)
@@ -247,7 +247,7 @@ def test_a_sweep_at_the_heads_own_pace_takes_about_438_ms_with_echoes_and_510_wi
     the moment the servo arrives, the next step the moment its echo ends; a ping here is
     10 us of TRIG, 213 us to the burst and the echo (23.3 ms from 4 m, 38 ms timeout)."""
     sx, sy = 10.0 + SENSOR_X_M, 10.0
-    plant = VacuumRobot(world=ring_around(sx, sy, wall_m), start_pose=(10.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+    plant = vacuum_plant(world=ring_around(sx, sy, wall_m), start_pose=(10.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
     servo = plant.part(HcSr04).servo
     plant.set_input("servo.pwm", servo_duty(10))
     plant.advance_to(400_000)
@@ -267,7 +267,7 @@ def test_the_furnished_room_is_drawn_from_the_seed_with_a_piece_across_every_leg
     from sim_plant.furniture import DEFAULT_ROUTE
 
     def pieces(seed):
-        plant = VacuumRobot(world="furnished")
+        plant = vacuum_plant(world="furnished")
         plant.reset(seed)
         segs = plant.world.segments()[4:]  # after the room's four walls
         return segs, plant
@@ -306,5 +306,5 @@ def split_polygons(segments):
 
 def test_an_unknown_world_is_refused_with_the_known_ones():
     with pytest.raises(ValueError, match="world: expected one of room, furnished, .*vacuum_room"):
-        VacuumRobot(world="kitchen")
-    assert VacuumRobot(world="room", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
+        vacuum_plant(world="kitchen")
+    assert vacuum_plant(world="room", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
