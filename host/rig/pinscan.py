@@ -429,6 +429,7 @@ class _Visitor:
         if isinstance(node, ast.Call) and id(node) not in self.done:
             self._call(node, target)
         for child in ast.iter_child_nodes(node):
+            child = child.value if isinstance(child, ast.keyword) else child  # Pin(...) given as tx=Pin(4)
             if isinstance(child, ast.expr):
                 self._expr(child, None)
 
