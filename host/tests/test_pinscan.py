@@ -342,3 +342,19 @@ def test_init_on_our_examples_names_their_pins_as_their_rig_files_do(tmp_path):
     )
     assert {name: int(v) for name, v in written.items()} == ours
     assert text.count('bridge = "tb6612"') == 2
+
+
+def test_an_rp2040_adc_channel_reads_the_gpio_check_says_it_is(make_rig, tmp_path):
+    """``ADC(0)`` on a Pico is GP26: check compares it as pin 26, and a run wires it there too."""
+    (tmp_path / "main.py").write_text(
+        "import time\nfrom machine import ADC\nbat = ADC(0)\nwhile True:\n"
+        "    print('BAT', bat.read_u16())\n    time.sleep_ms(100)\n"
+    )
+    (tmp_path / "rig.toml").write_text(
+        '[board]\nfamily = "rpi_pico"\n[board.pins]\nBAT = 26\n[plant]\nbody = "bench"\n'
+        '[[plant.parts]]\nkind = "battery"\nname = "battery"\n[wiring]\nBAT = "battery.adc"\n'
+    )
+    assert check_pins(load_rig(tmp_path / "rig.toml")).warnings == []
+    rig = make_rig(str(tmp_path / "rig.toml"))
+    reading = int(rig.expect(r"BAT (\d+)", timeout_s=1).group(1))
+    assert abs(reading - 8.4 / 3 / 3.3 * 65535) < 65536 / 4096, "a full 2S battery through a 1:3 divider, 12 bits"
