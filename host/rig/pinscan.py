@@ -23,8 +23,9 @@ SCAN_MAX_BYTES = 8 << 20  # and bytes
 NOT_FIRMWARE = {"__pycache__", "node_modules", "site-packages", "build", "dist"}  # and hidden folders, venvs
 RP2_ADC_GPIO = {0: 26, 1: 27, 2: 28, 3: 29}  # an RP2040's ADC channels (4: the temperature sensor)
 MAKERS = {"Pin": "pin", "Signal": "pin", "PWM": "pwm", "ADC": "adc_id", "UART": "uart"}  # machine's pin makers
-PIN_KEYWORDS = {"id": None, "tx": "pin", "rx": "pin", "scl": "pin", "sda": "pin", "sck": "pin", "mosi": "pin"}
-PIN_KEYWORDS |= {"miso": "pin", "cs": "pin", "dest": None, "pin": None}
+BUSES = {"UART", "I2C", "SoftI2C", "SPI", "SoftSPI"}  # their pins are keywords: UART(1, tx=4, rx=5)
+BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
+LOOP_MAX_PINS = 64  # a longer tuple is not a list of pins (a loop over it is not walked item by item)
 FACTORY_PASSES = 6  # a driver made by a driver made by a driver...
 
 
@@ -135,11 +136,22 @@ def scan_modules(modules: dict, run: list[str], family=None, scan: Scan | None =
     """The pins the modules named in ``run`` make (``modules``: name -> (shown path, tree))."""
     scan = scan or Scan()
     envs = _Envs(modules)
-    factories = _factories(modules, run, envs)
+    factories = _factories(modules, envs)
+    makers = MAKERS.keys() | BUSES | factories.keys()
     for name in run:
         shown, tree = modules[name]
-        _Visitor(shown, envs, envs.of(name), factories, family, scan).visit_body(tree.body)
+        if not _called(tree) & makers:
+            continue
+        try:
+            _Visitor(shown, envs, envs.of(name), factories, family, scan).visit_body(tree.body)
+        except RecursionError:
+            scan.notes.append(f"could not read {shown}: nested too deeply; its pins are not checked")
     return scan
+
+
+def _called(node) -> set[str]:
+    """The names of the functions called under a node (``Pin``, ``machine.Pin``: Pin)."""
+    return {_func_name(n) for n in ast.walk(node) if isinstance(n, ast.Call)}
 
 
 def _reachable(modules: dict, entry: str) -> list[str]:
@@ -280,19 +292,25 @@ def _target_name(target) -> str | None:
 # -- drivers ---------------------------------------------------------------------------------
 
 
-def _factories(modules: dict, run: list[str], envs: _Envs) -> dict[str, _Factory]:
+def _factories(modules: dict, envs: _Envs) -> dict[str, _Factory]:
     """Classes and functions that make a pin of a parameter: name -> which parameters."""
-    found: dict[str, tuple[_Factory, ast.AST, str]] = {}
+    found: dict[str, tuple[_Factory, ast.AST, str, set[str]]] = {}
     for name in modules:
         for node in modules[name][1].body:
             params = _signature(node)
-            if params is not None:
-                found[node.name] = (_Factory(params), node, name)
-    factories = {n: f for n, (f, _, _) in found.items()}
+            if params:
+                found[node.name] = (_Factory(params), node, name, _called(node))
+    factories = {n: f for n, (f, _, _, _) in found.items()}
+    makers = set(MAKERS)
     for _ in range(FACTORY_PASSES):
         before = {n: dict(f.pins) for n, f in factories.items()}
-        for factory, node, module in found.values():
-            _Visitor("", envs, envs.of(module), factories, None, Scan(), learning=factory).visit_body([node])
+        for factory, node, module, called in found.values():
+            if called & makers:
+                try:
+                    _Visitor("", envs, envs.of(module), factories, None, Scan(), learning=factory).visit_body([node])
+                except RecursionError:
+                    continue
+        makers |= {n for n, f in factories.items() if f.pins}
         if before == {n: dict(f.pins) for n, f in factories.items()}:
             break
     return {n: f for n, f in factories.items() if f.pins}
@@ -310,18 +328,16 @@ def _signature(node) -> list[str] | None:
 
 def _self_attrs(node: ast.ClassDef) -> dict:
     """``self.pin = pin`` in a class's methods: attribute -> the parameter it holds."""
-    params = {a.arg for sub in ast.walk(node) if isinstance(sub, ast.arguments) for a in [*sub.args, *sub.kwonlyargs]}
+    params: set[str] = set()
     held = {}
     for sub in ast.walk(node):
-        if isinstance(sub, ast.Assign) and isinstance(sub.value, ast.Name) and sub.value.id in params:
+        if isinstance(sub, ast.arguments):
+            params |= {a.arg for a in [*sub.args, *sub.kwonlyargs]}
+        elif isinstance(sub, ast.Assign) and isinstance(sub.value, ast.Name):
             for target in sub.targets:
-                if (
-                    isinstance(target, ast.Attribute)
-                    and isinstance(target.value, ast.Name)
-                    and target.value.id == "self"
-                ):
+                if isinstance(target, ast.Attribute) and getattr(target.value, "id", "") == "self":
                     held[target.attr] = _Param(sub.value.id)
-    return held
+    return {attr: param for attr, param in held.items() if param.name in params}
 
 
 # -- the walk --------------------------------------------------------------------------------
@@ -391,7 +407,7 @@ class _Visitor:
             self.params[target.id] = _Param(param.name, many=True)
             self.env.pop(target.id, None)
             then()
-        elif isinstance(known, tuple):
+        elif isinstance(known, tuple) and len(known) <= LOOP_MAX_PINS and not self.loop_names:
             base = _code_name(iterable)
             for i, item in enumerate(known):
                 self.env[target.id] = item
@@ -439,8 +455,8 @@ class _Visitor:
             self._maker(call, name, target)
         elif name in self.factories:
             self._driver(call, name, target)
-        for kw in call.keywords:
-            if kw.arg in PIN_KEYWORDS and PIN_KEYWORDS[kw.arg] and name not in self.factories:
+        for kw in call.keywords if name in BUSES else ():
+            if kw.arg in BUS_PINS:
                 self._pin(kw.value, "pin", f"{name}({kw.arg}={{}})", call, kw.arg)
 
     def _maker(self, call: ast.Call, name: str, target: str | None) -> None:
