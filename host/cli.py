@@ -350,6 +350,8 @@ def _check_pins(app, args) -> int:
 
     pins = check_pins(app)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
+    for line in pins.notes:
+        print(f"    {line}")
     for line in pins.unchecked if args.verbose else ():
         print(f"    not checked (computed at run time): {line}")
     for line in pins.warnings:

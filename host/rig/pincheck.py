@@ -56,6 +56,7 @@ def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:
             text += f"; the rig wires {name} = {pins[name]} ({wiring[name]}), which the code never touches"
         result.warnings.append(text)
     maybe = " (some pins are computed at run time: check -v lists them)" if scan.unchecked else ""
+    maybe = maybe or (" (some files could not be read: check lists them)" if scan.notes else "")
     for key, name in untouched.items():
         result.warnings.append(
             f"check: the rig wires {name} = {pins[name]} ({wiring[name]}), but the code never touches pin {_shown(key)}"

@@ -25,6 +25,7 @@ RP2_ADC_GPIO = {0: 26, 1: 27, 2: 28, 3: 29}  # an RP2040's ADC channels (4: the 
 MAKERS = {"Pin": "pin", "Signal": "pin", "PWM": "pwm", "ADC": "adc_id", "UART": "uart"}  # machine's pin makers
 BUSES = {"UART", "I2C", "SoftI2C", "SPI", "SoftSPI"}  # their pins are keywords: UART(1, tx=4, rx=5)
 BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
+NOTES_MAX = 5  # files that could not be read, named one by one
 LOOP_MAX_PINS = 64  # a longer tuple is not a list of pins (a loop over it is not walked item by item)
 FACTORY_PASSES = 6  # a driver made by a driver made by a driver...
 
@@ -105,10 +106,13 @@ def _skipped(folder: Path) -> bool:
     return name.startswith(".") or name in NOT_FIRMWARE or (folder / "pyvenv.cfg").exists() or folder.is_symlink()
 
 
-def _parse(source: Path):
+def _parse(source: Path, notes: list | None = None):
     try:
         return ast.parse(source.read_text(errors="replace"))
-    except (SyntaxError, ValueError, RecursionError, MemoryError, OSError):  # (a NUL, nesting: not firmware)
+    except (SyntaxError, ValueError, RecursionError, MemoryError, OSError) as e:  # (a NUL, nesting: not firmware)
+        if notes is not None:
+            why = f"line {e.lineno}: {e.msg}" if isinstance(e, SyntaxError) else type(e).__name__
+            notes.append(f"could not read {source} ({why}): its pins are not checked")
         return None
 
 
@@ -121,12 +125,16 @@ def scan_folder(folder: Path, libs=(), board_file: Path | None = None, entry: st
     modules: dict[str, tuple[str, ast.Module]] = {}  # module name -> (shown path, tree)
     for root in (folder, *libs):
         for path in firmware_sources(root, scan.notes):
-            tree = _parse(path)
+            tree = _parse(path, scan.notes)
             rel = path.relative_to(root)
             name = ".".join(rel.with_suffix("").parts).removesuffix(".__init__")
             if tree is not None and name not in modules:
                 shown = path.relative_to(folder if path.is_relative_to(folder) else root.parent)
                 modules[name] = (str(shown), tree)
+    unread = [n for n in scan.notes if n.startswith("could not read")]
+    if len(unread) > NOTES_MAX:  # (a folder of Python 2 files: the first few say it)
+        scan.notes = [n for n in scan.notes if n not in unread[NOTES_MAX:]]
+        scan.notes.append(f"and {len(unread) - NOTES_MAX} more files could not be read")
     if board_file is not None and board_file.is_file() and (tree := _parse(board_file)) is not None:
         modules.setdefault("board", (board_file.name, tree))
     return scan_modules(modules, _reachable(modules, entry) if entry else list(modules), family, scan)

@@ -358,3 +358,18 @@ def test_an_rp2040_adc_channel_reads_the_gpio_check_says_it_is(make_rig, tmp_pat
     rig = make_rig(str(tmp_path / "rig.toml"))
     reading = int(rig.expect(r"BAT (\d+)", timeout_s=1).group(1))
     assert abs(reading - 8.4 / 3 / 3.3 * 65535) < 65536 / 4096, "a full 2S battery through a 1:3 divider, 12 bits"
+
+
+def test_a_file_that_cannot_be_read_is_said_not_silently_skipped(tmp_path, capsys):
+    (tmp_path / "main.py").write_text("import drv\nfrom machine import Pin\nPin(2)\n")
+    (tmp_path / "drv.py").write_text("from machine import Pin\nprint 'python 2'\nPin(3)\n")
+    (tmp_path / "rig.toml").write_text(
+        '[board.pins]\nA = 2\nB = 3\n[plant]\nbody = "bench"\n[wiring]\nA = "probe:a"\nB = "probe:b"\n'
+    )
+    assert cli.main(["check", str(tmp_path / "rig.toml")]) == 0
+    out, err = capsys.readouterr()
+    assert f"could not read {tmp_path / 'drv.py'} (line 2: Missing parentheses" in out
+    assert err == (
+        "check: the rig wires B = 3 (probe:b), but the code never touches pin 3 "
+        "(some files could not be read: check lists them)\n"
+    )
