@@ -148,13 +148,25 @@ def scan_modules(modules: dict, run: list[str], family=None, scan: Scan | None =
     makers = MAKERS.keys() | BUSES | factories.keys()
     for name in run:
         shown, tree = modules[name]
-        if not _called(tree) & makers:
+        aliases = _aliases(tree)
+        if not _called(tree) & (makers | aliases.keys()):
             continue
         try:
-            _Visitor(shown, envs, envs.of(name), factories, family, scan).visit_body(tree.body)
+            _Visitor(shown, envs, envs.of(name), factories, family, scan, aliases).visit_body(tree.body)
         except RecursionError:
             scan.notes.append(f"could not read {shown}: nested too deeply; its pins are not checked")
     return scan
+
+
+def _aliases(tree) -> dict[str, str]:
+    """``from machine import Pin as GPIO``: GPIO -> Pin."""
+    return {
+        alias.asname: alias.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom) and node.module in ("machine", "umachine")
+        for alias in node.names
+        if alias.asname and alias.name in MAKERS.keys() | BUSES
+    }
 
 
 def _called(node) -> set[str]:
@@ -302,20 +314,23 @@ def _target_name(target) -> str | None:
 
 def _factories(modules: dict, envs: _Envs) -> dict[str, _Factory]:
     """Classes and functions that make a pin of a parameter: name -> which parameters."""
-    found: dict[str, tuple[_Factory, ast.AST, str, set[str]]] = {}
+    found: dict[str, tuple[_Factory, ast.AST, str, set[str], dict]] = {}
     for name in modules:
+        aliases = _aliases(modules[name][1])
         for node in modules[name][1].body:
             params = _signature(node)
             if params:
-                found[node.name] = (_Factory(params), node, name, _called(node))
-    factories = {n: f for n, (f, _, _, _) in found.items()}
+                called = {aliases.get(n, n) for n in _called(node)}
+                found[node.name] = (_Factory(params), node, name, called, aliases)
+    factories = {n: f for n, (f, *_) in found.items()}
     makers = set(MAKERS)
     for _ in range(FACTORY_PASSES):
         before = {n: dict(f.pins) for n, f in factories.items()}
-        for factory, node, module, called in found.values():
+        for factory, node, module, called, aliases in found.values():
             if called & makers:
                 try:
-                    _Visitor("", envs, envs.of(module), factories, None, Scan(), learning=factory).visit_body([node])
+                    visitor = _Visitor("", envs, envs.of(module), factories, None, Scan(), aliases, learning=factory)
+                    visitor.visit_body([node])
                 except RecursionError:
                     continue
         makers |= {n for n, f in factories.items() if f.pins}
@@ -354,9 +369,10 @@ def _self_attrs(node: ast.ClassDef) -> dict:
 class _Visitor:
     """Walks one module (or one driver, to learn its parameters), scope by scope."""
 
-    def __init__(self, shown: str, envs: _Envs, env: dict, factories: dict, family, scan: Scan, learning=None):
+    def __init__(self, shown: str, envs: _Envs, env: dict, factories: dict, family, scan: Scan, aliases, learning=None):
         self.shown, self.envs, self.env, self.factories, self.family = shown, envs, dict(env), factories, family
         self.scan, self.learning = scan, learning  # learning: the driver whose pin parameters are sought
+        self.aliases = aliases  # from machine import Pin as GPIO: GPIO -> Pin
         self.params: dict[str, _Param] = {}  # the parameters of the functions around
         self.self_attrs: dict = {}  # self.pin = pin in the class around
         self.loop_names: dict[str, str | None] = {}  # a loop's variable -> the name of the pin it is now
@@ -458,7 +474,7 @@ class _Visitor:
                 self._expr(child, None)
 
     def _call(self, call: ast.Call, target: str | None) -> None:
-        name = _func_name(call)
+        name = self._maker_name(call)
         if name in MAKERS:
             self._maker(call, name, target)
         elif name in self.factories:
@@ -466,6 +482,10 @@ class _Visitor:
         for kw in call.keywords if name in BUSES else ():
             if kw.arg in BUS_PINS:
                 self._pin(kw.value, "pin", f"{name}({kw.arg}={{}})", call, kw.arg)
+
+    def _maker_name(self, call: ast.Call) -> str:
+        name = _func_name(call)
+        return self.aliases.get(name, name) if isinstance(call.func, ast.Name) else name
 
     def _maker(self, call: ast.Call, name: str, target: str | None) -> None:
         kind = MAKERS[name]
@@ -476,7 +496,7 @@ class _Visitor:
         )
         if arg is None:
             return
-        if isinstance(arg, ast.Call) and _func_name(arg) in ("Pin", "Signal"):  # PWM(Pin(15)), ADC(Pin(26))
+        if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal"):  # PWM(Pin(15)), ADC(Pin(26))
             self.done.add(id(arg))
             inner = arg.args[0] if arg.args else next((k.value for k in arg.keywords if k.arg == "id"), None)
             if inner is not None:
@@ -511,7 +531,7 @@ class _Visitor:
             if self.learning is not None:
                 self.learning.pins.setdefault(param.name, (kind, param.many, shape))
             return
-        if isinstance(arg, ast.Call) and _func_name(arg) in MAKERS:  # I2C(scl=Pin(5)): read as itself
+        if isinstance(arg, ast.Call) and self._maker_name(arg) in MAKERS:  # I2C(scl=Pin(5)): read as itself
             return
         value = self.envs.value(arg, self.env)
         if isinstance(arg, ast.Name) and arg.id in self.loop_names:

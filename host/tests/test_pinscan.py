@@ -36,6 +36,8 @@ def scan(files: dict[str, str], family=None):
         "import machine\necho = machine.Pin(18, machine.Pin.IN, machine.Pin.PULL_DOWN)\n",
         "from machine import Pin\necho = Pin(id=18, mode=Pin.IN)\n",
         "from machine import Pin\nclass S:\n    def __init__(self):\n        self.echo = Pin(18, Pin.IN)\n",
+        "from machine import Pin as GPIO\necho = GPIO(18, GPIO.IN)\n",
+        "import machine as m\necho = m.Pin(18, m.Pin.IN)\n",
     ],
 )
 def test_a_literal_pin_in_every_way_code_makes_one(source):
