@@ -4,7 +4,8 @@ The pins come from :mod:`host.rig.pinscan`, each named after the code's own name
 (``ENA``, ``IN1``, ``TRIG``; ``PIN_7`` for a bare ``Pin(7)``). When the names and the pins'
 use show the motors' H-bridge (TB6612: IN1/IN2/PWM per motor and STBY; L298N: ENA/IN1/IN2,
 ENB/IN3/IN4; DRV8833: two PWM per motor; DIR+PWM), the file describes the robot as a body and
-parts (``[plant] body = "differential"``, a ``dc_motor`` part per motor, wired); otherwise it
+parts (``[plant] body = "differential"``, a ``dc_motor`` part per motor and an ``hcsr04`` per
+TRIG/ECHO pair, wired); otherwise it
 starts from the two-wheel plant's options.
 """
 
@@ -80,6 +81,9 @@ def starter(folder: Path, notes: list | None = None) -> str:
     wired = {pin.name: f"{motor}.{signal}" for motor, (_, roles) in motors.items() for signal, pin in roles.items()}
     if motors and any(pin.name == "STBY" for pin in pins):
         wired["STBY"] = "probe:stby"  # the TB6612's standby: high to run (a probe shows it)
+    rangers = guess_rangers(pins) if motors else {}
+    for ranger, (trig, echo) in rangers.items():
+        wired |= {trig.name: f"{ranger}.trig", echo.name: f"{ranger}.echo"}
     lines = "".join(f"{pin.name} = {_toml(pin.value)}\n" for pin in pins)
     wiring = "".join(
         f'{pin.name} = "{wired[pin.name]}"\n' if pin.name in wired else f'# {pin.name} = "..."\n' for pin in pins
@@ -89,7 +93,7 @@ def starter(folder: Path, notes: list | None = None) -> str:
         path=folder / "rig.toml",
         entry=entry,
         pins=lines or "# LED = 25\n",
-        plant=BODY_FORM.format(parts=_parts(motors)) if motors else KIND_FORM,
+        plant=BODY_FORM.format(parts=_parts(motors) + _ranger_parts(rangers)) if motors else KIND_FORM,
         wiring=wiring or '# LED = "probe:led"\n',
     )
 
@@ -187,6 +191,22 @@ def _bridge(roles: dict[str, _Pin], hints: set[str]) -> str | None:
     if {"dir", "pwm"} <= set(roles):
         return "dir_pwm"
     return None
+
+
+def guess_rangers(pins: list[_Pin]) -> dict[str, tuple[_Pin, _Pin]]:
+    """HC-SR04s the pins show: a TRIG and an ECHO pin whose names differ only there
+    (``TRIG``/``ECHO``, ``TRIG_F``/``ECHO_F``): ``sonar``, ``sonar_f`` -> (trig, echo)."""
+    trigs = {re.sub(r"TRIG(GER)?", "#", p.name, count=1): p for p in pins if re.search(r"TRIG", p.name)}
+    echos = {re.sub(r"ECHO", "#", p.name, count=1): p for p in pins if "ECHO" in p.name}
+    found = {}
+    for key in sorted(trigs.keys() & echos.keys()):
+        rest = re.sub(r"_?PIN\b|#", "", key).strip("_").lower()
+        found[f"sonar_{rest}" if rest else "sonar"] = (trigs[key], echos[key])
+    return found
+
+
+def _ranger_parts(rangers: dict) -> str:
+    return "".join(f'\n[[plant.parts]]\nkind = "hcsr04"\nname = "{name}"\n' for name in rangers)
 
 
 def _parts(motors: dict) -> str:

@@ -344,6 +344,9 @@ def test_init_on_our_examples_names_their_pins_as_their_rig_files_do(tmp_path):
     )
     assert {name: int(v) for name, v in written.items()} == ours
     assert text.count('bridge = "tb6612"') == 2
+    assert 'name = "sonar_f"' in text and 'name = "sonar_r"' in text and '\nECHO_R = "sonar_r.echo"\n' in text
+    (tmp_path / "rig.toml").write_text(text)
+    assert check_pins(load_rig(tmp_path / "rig.toml")).checked == len(ours)
 
 
 def test_an_rp2040_adc_channel_reads_the_gpio_check_says_it_is(make_rig, tmp_path):
