@@ -128,6 +128,8 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "plant": type(getattr(plant, "inner", plant)).__name__,
         "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
         "plant_options": run["plant_options"],
+        "parts": described_parts(plant),
+        "report": run.get("report"),
         "seed": run["seed"],
         "mode": run["mode"],
         "commit": provenance.commit(),
@@ -141,6 +143,13 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "contacts": [list(c) for c in _truth_contacts(plant)],
         "link_trace": link_trace,
     }
+
+
+def described_parts(plant) -> dict | None:
+    """A plant built from a body and parts, as data (``PartsPlant.describe``): what the
+    report draws each part's views from. None for a plant of another kind."""
+    describe = getattr(getattr(plant, "inner", plant), "describe", None)
+    return describe() if callable(describe) else None
 
 
 def describe_world(plant) -> dict | None:

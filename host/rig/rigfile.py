@@ -36,7 +36,11 @@ TABLES = {
     "worlds": dict,
     "interpreter": dict,
     "faults": list,
+    "report": dict,
 }
+REPORT_KEYS = {"views": list, "pose_line": dict}
+POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
+POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
 PLANT_KEYS = {"kind": str, "options": dict}
@@ -162,8 +166,26 @@ def load_rig(path) -> App:
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
-        extra={"faults": faults},
+        extra={"faults": faults, "report": _report(where, data.get("report", {}))},
     )
+
+
+def _report(where: _Where, table: dict) -> dict:
+    """``[report]``: the report's own views of this robot by name (``views``, listed in
+    docs/reports.md) and how its firmware prints its pose (``pose_line``)."""
+    where.table(table, "[report]", REPORT_KEYS)
+    for i, name in enumerate(table.get("views", [])):
+        if not isinstance(name, str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,39}", name):
+            raise where.error(f"[report] views[{i}]", f"expected a view's name, got {name!r}"[:200])
+    pose = table.get("pose_line")
+    if pose is not None:
+        where.table(pose, "[report.pose_line]", POSE_LINE_KEYS, required=tuple(POSE_LINE_KEYS))
+        columns = pose["columns"]
+        if len(columns) != 4 or not all(isinstance(c, str) and c.isidentifier() for c in columns):
+            raise where.error(
+                "[report.pose_line] columns", f"expected 4 names (t, x, y, heading), got {columns!r}"[:200]
+            )
+    return dict(table)
 
 
 def _read(path: Path) -> dict:

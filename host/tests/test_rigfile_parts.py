@@ -42,7 +42,11 @@ def test_the_example_rig_builds_its_plant_with_both_rangers_and_its_worlds(tmp_p
             'name = "sonar_rear"\nnoise_sd_m = 20.0',
             r"#6 \(sonar_rear\) noise_sd_m: expected a number",
         ),
-        ('drives = "right"', 'drives = "rear"', r"#2 \(motor_r\) drives: expected one of left, right, got 'rear'"),
+        (
+            'drives = "right"',
+            'drives = "front"',
+            r"#2 \(motor_r\) drives: expected one of left, right, rear, got 'front'",
+        ),
         ('kind = "probe"', 'kind = "lamp"', r"#8 kind: expected one of analog_ranger"),
         (
             "[worlds.wall-ahead]\nobstacles = []",

@@ -49,6 +49,19 @@ class PartsPlant(RobotPlant):
         parts = ", ".join(f"{p.kind} {p.name}" for p in self.catalogue_parts)
         return f"{self.body.kind} body with {parts or 'no parts'}"
 
+    def describe(self) -> dict:
+        """The body and the parts as data (a trace header keeps it; the report draws each
+        part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
+        "name", "mount", "options"}]}``."""
+        return {
+            "body": self.body.kind,
+            "body_options": dict(self.body.options),
+            "parts": [
+                {"kind": p.kind, "name": p.name, "mount": dict(zip(MOUNT_KEYS, p.mount)), "options": dict(p.options)}
+                for p in self.catalogue_parts
+            ],
+        }
+
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}

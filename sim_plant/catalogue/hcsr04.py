@@ -46,6 +46,10 @@ class HcSr04(PartType):
     )
     needs_body = True
 
+    def reading(self, suffix: str, values):
+        """The range (m) an ECHO high time (us) says, as firmware computes it."""
+        return values / hcsr04.US_PER_CM / 100.0
+
     def add(self, build: Build) -> None:
         o = self.options
         build.parts.append(
