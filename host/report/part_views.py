@@ -22,9 +22,10 @@ PLOTS = {
     "count": ("Encoders: edges on the recorded channels against the disk's true count", "edges"),
     "contacts": ("Bumpers: the switch's level against its true state", "level"),
     "voltage": ("Batteries: the voltage the ADC reading says against the battery's", "volts"),
-    "level": ("Levels: buttons, probes, line sensors", "level"),
+    "level": ("Levels: buttons, probes, line sensors (a row each, low to high)", "row + level"),
 }
 SPEED_WINDOW_US = 100_000
+LEVEL_ROW = 1.0  # a level panel's signals, one above the other
 
 
 class Recorded:
@@ -129,7 +130,7 @@ def signed_command(recorded: Recorded, part) -> tuple[np.ndarray, np.ndarray]:
         elif "dir" in kinds:
             duty = (1 if level["dir"] else -1) * level["pwm"] / 65535
         else:
-            duty = ((level["in1"] != 0) - (level["in2"] != 0)) * level["pwm"] / 65535
+            duty = (int(level["in1"] != 0) - int(level["in2"] != 0)) * level["pwm"] / 65535
         t_out.append(t / US_PER_S)
         v_out.append(duty)
     return np.asarray(t_out), np.asarray(v_out)
@@ -170,10 +171,15 @@ def draw_count(panel: Panel, part, view, trace, recorded: Recorded) -> None:
 
 
 def draw_level(panel: Panel, part, view, trace, recorded: Recorded) -> None:
+    """Each signal on a row of its own (as a logic analyser draws them), 0 to 0.8 of it."""
     for name, _suffix, kind in _signals(part, view):
         t, v = recorded.get(name)
-        values = v / 65535 if kind in ("duty", "u16") else v
-        panel.lines.append(Line(name + (" (/65535)" if kind in ("duty", "u16") else ""), t / US_PER_S, values, "step"))
+        t = np.concatenate([[0], t, [trace.header.get("t_end_us", t[-1] if len(t) else 0)]])
+        v = np.concatenate([[recorded.initial.get(name, 0)], v, v[-1:] if len(v) else [recorded.initial.get(name, 0)]])
+        values = v / 65535 if kind in ("duty", "u16") else np.asarray(v, float)
+        row = len(panel.lines) * LEVEL_ROW
+        label = f"{name}{' /65535' if kind in ('duty', 'u16') else ''} (row {row:g})"
+        panel.lines.append(Line(label, t / US_PER_S, row + 0.8 * values, "step"))
     if view.plot == "contacts":
         _truth_lines(panel, part, view, trace, "dashed")
 
