@@ -109,9 +109,11 @@ def draw_range(panel: Panel, part, view, trace, recorded: Recorded) -> None:
         t, v = recorded.get(name)
         if kind == "level":
             t, v = high_pulses(t, v, recorded.initial.get(name, 0))
-        panel.lines.append(
-            Line(f"{part.name}: read by the firmware", t / US_PER_S, _reading(part, suffix, v), "points")
-        )
+        metres = _reading(part, suffix, v)
+        panel.lines.append(Line(f"{part.name}: read by the firmware", t / US_PER_S, metres, "points"))
+        lost = int(np.isnan(metres).sum())
+        if lost:
+            panel.notes.append(f"{part.name}: {lost} of {len(metres)} readings found nothing in range (not drawn)")
     _truth_lines(panel, part, view, trace)
 
 
@@ -189,9 +191,8 @@ def draw_points(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     for name, suffix, _kind in _signals(part, view):
         t, v = recorded.get(name)
         style = "step" if view.plot == "angle" else "points"
-        panel.lines.append(
-            Line(f"{part.name}: asked or read by the firmware", t / US_PER_S, _reading(part, suffix, v), style)
-        )
+        what = "asked by the firmware's pulse" if view.plot == "angle" else "read by the firmware"
+        panel.lines.append(Line(f"{part.name}: {what}", t / US_PER_S, _reading(part, suffix, v), style))
     _truth_lines(panel, part, view, trace)
 
 
