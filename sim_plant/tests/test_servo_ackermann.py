@@ -54,7 +54,7 @@ def test_a_car_steered_left_drives_the_bicycle_models_circle():
     v = truth["v_m_s"]
     assert v == pytest.approx(0.4), "the body's v_max_m_s at full duty"
     assert truth["w_rad_s"] == pytest.approx(v * math.tan(math.radians(truth["steer_deg"])) / 0.16)
-    assert truth["theta_rad"] == pytest.approx(truth["w_rad_s"] * 0.5, rel=0.01), "it turned left at that rate"
+    assert truth["theta_rad"] == pytest.approx(truth["w_rad_s"] * 0.495), "turning left from the first 5 ms step"
 
 
 def test_the_front_wheels_stop_at_max_steer_deg():
