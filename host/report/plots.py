@@ -137,7 +137,7 @@ def signals_figure(trace: TraceData) -> Figure | None:
         return None
     height_in = 2.4 * len(panels) + 0.8
     fig = Figure(figsize=(10, height_in))
-    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     bumps = views.bumps_s(trace)
     end_s = trace.header["t_end_us"] / 1e6
