@@ -31,6 +31,7 @@ class PartsPlant(RobotPlant):
             except ValueError as e:
                 raise PartsError(f"{part.label} {e}") from None
         self.world, pose = self.body.world_and_pose()
+        self.start_pose = pose
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders
