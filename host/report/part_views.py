@@ -182,6 +182,8 @@ def draw_level(panel: Panel, part, view, trace, recorded: Recorded) -> None:
         row = len(panel.lines) * LEVEL_ROW
         label = f"{name}{' /65535' if kind in ('duty', 'u16') else ''} (row {row:g})"
         panel.lines.append(Line(label, t / US_PER_S, row + 0.8 * values, "step"))
+        if (0.8, "") not in panel.levels:
+            panel.levels.append((0.8, ""))  # a row's high: the axis spans it even when all stay low
     if view.plot == "contacts":
         _truth_lines(panel, part, view, trace, "dashed")
 
