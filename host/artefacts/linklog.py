@@ -6,12 +6,18 @@ the same (app, board, plant, seed, commit) gives the same bytes. The firmware's 
 goes to its own file, since its pipe is not ordered with the link. ``digest`` is a
 SHA-256 of the lines, kept even when no file is written. A rig that does not trace logs
 to :data:`NO_LOG`, which keeps nothing.
+
+The file is line-buffered: each record reaches the file as it is written, so a run killed
+outright (SIGKILL) leaves every record to its last whole line. A write that fails (a full
+disk) raises :class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it
+was cut (:attr:`LinkLog.error`) and later records are only hashed.
 """
 
 import hashlib
 import json
 from pathlib import Path
 
+from host.artefacts.integrity import TraceWriteError
 from host.link import frames as F
 
 CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
@@ -21,9 +27,10 @@ OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F
 class LinkLog:
     def __init__(self, path: Path | None = None):
         self.path = path
-        self._file = open(path, "w", encoding="utf-8") if path else None
+        self._file = open(path, "w", encoding="utf-8", buffering=1) if path else None  # noqa: SIM115
         self._hash = hashlib.sha256()
         self.lines = 0
+        self.error: TraceWriteError | None = None
 
     _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
 
@@ -35,7 +42,19 @@ class LinkLog:
         self._hash.update(line.encode())
         self.lines += 1
         if self._file:
-            self._file.write(line)
+            try:
+                self._file.write(line)
+            except OSError as e:
+                self._fail(e)
+
+    def _fail(self, e: OSError) -> None:
+        file, self._file = self._file, None
+        try:
+            file.close()
+        except OSError:
+            pass  # (what could not be flushed is lost: the error says where)
+        self.error = TraceWriteError(self.path, e)
+        raise self.error from e
 
     @property
     def digest(self) -> str:
@@ -43,7 +62,10 @@ class LinkLog:
 
     def close(self) -> None:
         if self._file:
-            self._file.close()
+            try:
+                self._file.close()
+            except OSError as e:
+                self.error = TraceWriteError(self.path, e)
             self._file = None
 
     # -- one record per message ----------------------------------------------------
@@ -109,6 +131,7 @@ class _NoLog(LinkLog):
     """A rig that does not trace: every record is dropped unmade."""
 
     digest = None
+    error = None
 
     def __init__(self):
         self.path = None

@@ -17,6 +17,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, NullLocator
 
+from host.artefacts import integrity
 from host.artefacts.folder import TraceData, load_trace
 from host.report import views
 
@@ -49,7 +50,8 @@ def plot_trace(folder, out_dir=None) -> list[Path]:
 
 def _save(fig: Figure, path: Path) -> None:
     FigureCanvasAgg(fig)
-    fig.savefig(path, dpi=DPI)
+    with integrity.atomic(path) as part:  # (a full disk leaves no PNG cut short)
+        fig.savefig(part, dpi=DPI, format="png")
 
 
 def _title(trace: TraceData) -> str:

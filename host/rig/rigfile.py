@@ -37,6 +37,7 @@ TABLES = {
     "interpreter": dict,
     "faults": list,
     "report": dict,
+    "trace": dict,
 }
 REPORT_KEYS = {"views": list, "pose_line": dict, "judge": dict}
 JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float), "min_coverage": (int, float)}
@@ -168,6 +169,7 @@ def load_rig(path) -> App:
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
         extra={"faults": faults, "report": _report(where, data.get("report", {}))},
+        console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
     )
 
 
@@ -251,6 +253,14 @@ def _inside(where: _Where, base: Path, field: str, item: str, what: str) -> Path
     if not path.is_relative_to(base.resolve()):
         raise where.error(field, f"{item!r} is {path}, outside {what} {base.resolve()}: expected a path inside it")
     return path
+
+
+def _console_max_bytes(where: _Where, trace: dict) -> int | None:
+    """[trace] console_max_bytes: the console file's cap, 4 KiB to 1 TiB."""
+    value = where.table(trace, "[trace]", {"console_max_bytes": int}).get("console_max_bytes")
+    if value is not None and not 4096 <= value <= 2**40:
+        raise where.error("[trace] console_max_bytes", f"expected 4096 to {2**40} bytes, got {value}")
+    return value
 
 
 def _faults(where: _Where, entries: list, plant) -> tuple:
