@@ -123,6 +123,15 @@ def _cpu_s() -> float:
     return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
 
 
+def _bare_plant(app, options: dict):
+    """The app's plant without the rig file's faults (the run's schedule has them): a
+    plant kind's, or a body and parts' (``[plant] body = ...``)."""
+    if app.plant_kind:
+        return kinds.make(app.plant_kind, **options)
+    plant = app.make_plant(**options)
+    return getattr(plant, "inner", plant)
+
+
 def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
     """The rig with the run's faults, and the virtual times of its brown-outs."""
     app = get_app(task["rig"])
@@ -133,8 +142,8 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
     world = dict(app.worlds[task["world"]])
     options = {**app.plant_options, **world}
     if task.get("placement"):
-        world["start_pose"] = placed(kinds.make(app.plant_kind, **options).start_pose, task["placement"], task["seed"])
-    plant = with_faults(kinds.make(app.plant_kind, **{**options, **world}), schedule)
+        world["start_pose"] = placed(_bare_plant(app, options).start_pose, task["placement"], task["seed"])
+    plant = with_faults(_bare_plant(app, {**options, **world}), schedule)
     target = None
     link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
     if link:

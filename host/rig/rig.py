@@ -365,6 +365,7 @@ def run_header(rig) -> dict:
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
         "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "report": rig.app.extra.get("report"),
         "seed": rig.seed,
         "mode": rig.mode,
         "micropython": rig.micropython_version.split(";")[0],

@@ -36,8 +36,13 @@ TABLES = {
     "worlds": dict,
     "interpreter": dict,
     "faults": list,
+    "report": dict,
     "trace": dict,
 }
+REPORT_KEYS = {"views": list, "pose_line": dict, "judge": dict}
+JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float), "min_coverage": (int, float)}
+POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
+POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
 PLANT_KEYS = {"kind": str, "options": dict}
@@ -163,9 +168,32 @@ def load_rig(path) -> App:
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
-        extra={"faults": faults},
+        extra={"faults": faults, "report": _report(where, data.get("report", {}))},
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
     )
+
+
+def _report(where: _Where, table: dict) -> dict:
+    """``[report]``: the report's own views of this robot by name (``views``, listed in
+    docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
+    campaign's run of it passes (``judge``: docs/campaigns.md)."""
+    where.table(table, "[report]", REPORT_KEYS)
+    for i, name in enumerate(table.get("views", [])):
+        if not isinstance(name, str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,39}", name):
+            raise where.error(f"[report] views[{i}]", f"expected a view's name, got {name!r}"[:200])
+    judge = where.table(table.get("judge", {}), "[report.judge]", JUDGE_KEYS)
+    for key, hi in (("home_within_m", 1000.0), ("min_coverage", 1.0)):
+        if key in judge and not 0 <= judge[key] <= hi:
+            raise where.error(f"[report.judge] {key}", f"expected 0 to {hi:g}, got {judge[key]!r}")
+    pose = table.get("pose_line")
+    if pose is not None:
+        where.table(pose, "[report.pose_line]", POSE_LINE_KEYS, required=tuple(POSE_LINE_KEYS))
+        columns = pose["columns"]
+        if len(columns) != 4 or not all(isinstance(c, str) and c.isidentifier() for c in columns):
+            raise where.error(
+                "[report.pose_line] columns", f"expected 4 names (t, x, y, heading), got {columns!r}"[:200]
+            )
+    return dict(table)
 
 
 def _read(path: Path) -> dict:

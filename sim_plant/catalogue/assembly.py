@@ -31,6 +31,7 @@ class PartsPlant(RobotPlant):
             except ValueError as e:
                 raise PartsError(f"{part.label} {e}") from None
         self.world, pose = self.body.world_and_pose()
+        self.start_pose = pose
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders
@@ -48,6 +49,19 @@ class PartsPlant(RobotPlant):
         """``differential body with dc_motor motor_l, ...``: for ``mpy-fil check``."""
         parts = ", ".join(f"{p.kind} {p.name}" for p in self.catalogue_parts)
         return f"{self.body.kind} body with {parts or 'no parts'}"
+
+    def describe(self) -> dict:
+        """The body and the parts as data (a trace header keeps it; the report draws each
+        part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
+        "name", "mount", "options"}]}``."""
+        return {
+            "body": self.body.kind,
+            "body_options": dict(self.body.options),
+            "parts": [
+                {"kind": p.kind, "name": p.name, "mount": dict(zip(MOUNT_KEYS, p.mount)), "options": dict(p.options)}
+                for p in self.catalogue_parts
+            ],
+        }
 
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""

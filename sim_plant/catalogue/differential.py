@@ -56,6 +56,8 @@ class Differential(BodyType):
             raise PartsError(
                 f"[plant] body: the differential body needs a dc_motor that drives {' and '.join(missing)}"
             )
+        if "rear" in build.motors:
+            raise PartsError("[plant] body: a differential body's motors drive left or right, not rear")
         (bridge_l, motor_l), (bridge_r, motor_r) = build.motors["left"], build.motors["right"]
         return DiffDriveTrain(
             bridges=(bridge_l, bridge_r),

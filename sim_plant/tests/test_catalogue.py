@@ -28,7 +28,7 @@ def plant_with(kind: str, **options):
 
 
 def test_the_registry_finds_every_part_and_body_module():
-    assert set(catalogue.bodies()) == {"differential", "bench"}
+    assert {"differential", "bench", "ackermann"} <= set(catalogue.bodies())
     assert {"dc_motor", "encoder", "hcsr04", "analog_ranger", "ir_distance", "bumper", "button"} <= set(PARTS)
     assert {"line_sensor", "battery", "probe"} <= set(PARTS)
     for kind, cls in {**catalogue.parts(), **catalogue.bodies()}.items():
@@ -62,7 +62,7 @@ def test_every_option_of_a_part_out_of_its_bounds_is_refused_by_name(kind):
 @pytest.mark.parametrize(
     ("table", "message"),
     [
-        ({"body": "hovercraft"}, r"\[plant\] body: expected one of bench, differential"),
+        ({"body": "hovercraft"}, r"\[plant\] body: expected one of ackermann, bench, differential"),
         ({"body": "differential", "track_m": -1}, r"\[plant\] track_m: expected a number of metres"),
         ({"body": "differential", "wheels": 3}, r"\[plant\] wheels: the differential has no such option"),
         ({"body": "differential", "parts": MOTORS[:1]}, r"needs a dc_motor that drives right"),
