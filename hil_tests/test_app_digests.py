@@ -11,8 +11,12 @@ pytestmark = pytest.mark.hil
 SECONDS = {"pool_cleaner": 60.0, "pool_cleaner_adc": 60.0, "duct": 8.0}
 DIGESTS = {
     # (app, plant options, seed): SHA-256 of the link trace after SECONDS[app]
-    ("pool_cleaner", (), 1): "fcd5869d4a010b71f4cb99531031cddac48db2c61855088b1826b4c74e0fbcde",
-    ("pool_cleaner_adc", (), 1): "aa745c7c73d3ffbe85fd01ed57fa733dd68d024571dd9a095edeef3bbadc056d",
+    # the pool cleaner as a tracked body over parts: its trace is line for line the one of
+    # its plant class (fcd5869d..., aa745c7c...) but for the header's plant (PartsPlant, was
+    # PoolCleaner) and its bumpers' signals in the two CFG lines (bumper_front.out, was
+    # bumper_front: a part's signals are <name>.<signal>); docs/pool_cleaner.md
+    ("pool_cleaner", (), 1): "3570ed039613942cb3b85aabc4e53f4b648a4c84fc1b05d61b2b8aa1b8affb4d",
+    ("pool_cleaner_adc", (), 1): "25c3cbec77382981f508ec26c51387a581c518f8c85f6e4b997979c81e62609d",
     ("duct", (), 1): "7324cc9c97f460346567dcc6ed3df8c4513ee3ef42e34ffbfba61842781e2891",
     ("duct", (("world", "multi_branch"),), 2): "9b8d905e8b9a3645dfc1dc1a9540d39cc620a45bd9ebb4eb6abb3730166741f2",
     ("duct", (("world", "straight_1m"),), 3): "f0e0454ab605dfaca8bf14b7f532c03efd816161f76d91239b14508eea1f7b23",
