@@ -17,10 +17,14 @@ DIGESTS = {
     # bumper_front: a part's signals are <name>.<signal>); docs/pool_cleaner.md
     ("pool_cleaner", (), 1): "3570ed039613942cb3b85aabc4e53f4b648a4c84fc1b05d61b2b8aa1b8affb4d",
     ("pool_cleaner_adc", (), 1): "25c3cbec77382981f508ec26c51387a581c518f8c85f6e4b997979c81e62609d",
-    ("duct", (), 1): "7324cc9c97f460346567dcc6ed3df8c4513ee3ef42e34ffbfba61842781e2891",
-    ("duct", (("world", "multi_branch"),), 2): "9b8d905e8b9a3645dfc1dc1a9540d39cc620a45bd9ebb4eb6abb3730166741f2",
-    ("duct", (("world", "straight_1m"),), 3): "f0e0454ab605dfaca8bf14b7f532c03efd816161f76d91239b14508eea1f7b23",
-    ("duct", (("world", "bench"),), 1): "4ebdcd72877972b18a4c21963426dcefd12fcb2c61fe8620d9b9b97f08065fb6",
+    # the duct robot as a differential body over parts: line for line the trace of its plant
+    # class (7324cc9c..., 9b8d905e..., f0e0454a..., 4ebdcd72...) but for the header's plant
+    # (PartsPlant, was DuctRobot) and its encoders' signals in their CFG lines (enc_l.out, was
+    # enc_l); the worlds are the differential body's duct worlds now; docs/duct.md
+    ("duct", (), 1): "5c2aa787f4a90135b6cdd55a8c639e8df61071d95e54eba03a5b9c7361e038a0",
+    ("duct", (("world", "multi_branch_duct"),), 2): "fff557b0b23dc97989634d409b2d5a574b7155a4764612feb7e05cb09aac50ab",
+    ("duct", (("world", "straight_duct"),), 3): "697688613f17340ce66cff2062134cba4fd4fcaa6a5f37ccae8fb88e2e1c9ed9",
+    ("duct", (("world", "bench_duct"),), 1): "13d2468d2684452de9611836bdadfe4d97d10db216a075aa2f36f0e51f8ac6c2",
 }
 
 

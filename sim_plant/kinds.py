@@ -6,7 +6,6 @@ plant class, or a function that builds one, whose keyword options are the table
 import functools
 import inspect
 
-from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.rover import RoverRoom
@@ -17,7 +16,6 @@ from sim_plant.wires import wires
 KINDS = {
     "two_wheel": TwoWheelRobot,
     "rover_room": RoverRoom,
-    "duct_robot": DuctRobot,
     "vacuum_robot": VacuumRobot,
     "lab_robot": LabRobot,
     "wires": wires,  # a loopback bench: board outputs wired to board inputs

@@ -6,11 +6,10 @@ import random
 
 import pytest
 
-from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.rover import RoverRoom
-from sim_plant.tests.rigs import pool_cleaner
+from sim_plant.tests.rigs import duct_robot, pool_cleaner
 from sim_plant.two_wheel import TwoWheelRobot
 from sim_plant.vacuum import VacuumRobot
 
@@ -28,7 +27,11 @@ PLANTS = {
         start_pose=(2.0, 3.0, 0.1),
         **{"sonar.faults": [(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")]},
     ),
-    "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
+    "duct": lambda: duct_robot(
+        "multi_branch_duct",
+        extra_parts=[{"kind": "bumper", "name": "bumper", "half_arc_deg": 60}],
+        **{"motor_l.time_constant_ms": 30.0, "motor_r.time_constant_ms": 30.0},
+    ),
     "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
     "two_wheel": lambda: TwoWheelRobot(
@@ -215,7 +218,7 @@ def test_unknown_signals_are_refused_with_their_names():
 
 
 def test_an_idle_plant_has_only_its_sensor_timeline():
-    plant = DuctRobot(sonar_options={"noise_v": 0.0})
+    plant = duct_robot(**{f"sonar_{s}.noise_sd_v": 0.0 for s in "flr"})
     plant.advance_to(1_000_000)
     assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
     quiet = VacuumRobot()
