@@ -29,7 +29,6 @@ from host.link.transport import BUSY_POLL_ENV
 from host.rig import Rig
 from host.rig.apps import get_app
 from host.rig.target import UnixPortTarget, end_process
-from sim_plant import kinds
 from sim_plant.faults import parse_faults, with_faults
 
 MESSAGE_CHARS = 3000
@@ -123,14 +122,6 @@ def _cpu_s() -> float:
     return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
 
 
-def _bare_plant(app, options: dict):
-    """The app's plant without the rig file's faults (the run's schedule has them): a
-    plant kind's, or a body and parts' (``[plant] body = ...``)."""
-    if app.plant_kind:
-        return kinds.make(app.plant_kind, **options)
-    plant = app.make_plant(**options)
-    return getattr(plant, "inner", plant)
-
 
 def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
     """The rig with the run's faults, and the virtual times of its brown-outs."""
@@ -140,10 +131,9 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
     if heap:
         app = dataclasses.replace(app, heap_size=heap[-1])
     world = dict(app.worlds[task["world"]])
-    options = {**app.plant_options, **world}
     if task.get("placement"):
-        world["start_pose"] = placed(_bare_plant(app, options).start_pose, task["placement"], task["seed"])
-    plant = with_faults(_bare_plant(app, {**options, **world}), schedule)
+        world["start_pose"] = placed(app.make_plant(**world).pose_at(0), task["placement"], task["seed"])
+    plant = with_faults(app.make_plant(**world), parse_faults(list(task["faults"])))  # (the rig file's: make_plant's)
     target = None
     link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
     if link:

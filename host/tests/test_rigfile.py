@@ -84,7 +84,7 @@ def test_our_apps_are_rig_files():
     names = [b.name for b in rover.make_budgets(plant)]
     assert names == ["control.period", "sonar.period", "sonar.latency", "control.compute"]
     adc = found["pool_cleaner_adc"]
-    assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
+    assert adc.path == found["pool_cleaner"].path and "sonar_l.adc" in adc.make_plant().outputs
     canyon = found["lab_robot_canyon"]
     assert canyon.path == found["lab_robot"].path and canyon.boards == ("esp32_lab_robot", "rpi_pico_lab_robot")
     vacuum = found["vacuum"]

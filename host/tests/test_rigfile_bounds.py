@@ -26,7 +26,7 @@ from host.core.paths import FIRMWARE, REPO
 from host.rig.pinscan import firmware_sources
 from host.rig.rigfile import load_rig
 from host.rig.starter import starter
-from sim_plant import kinds, option_table
+from sim_plant import catalogue, kinds, option_table
 
 SETTINGS = settings(
     max_examples=150,
@@ -191,10 +191,14 @@ def test_a_rig_file_with_any_value_replaced_is_refused_by_name_or_runs(folders, 
     if data.draw(st.booleans()):  # a value replaced
         where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
         mutant = replaced(parsed, where, value)
-    else:  # an option of the kind's added
+    elif "kind" in parsed["plant"]:  # an option of the kind's added
         name = data.draw(st.sampled_from(sorted(kinds.options(parsed["plant"]["kind"]))))
         plant = {**parsed["plant"], "options": {**parsed["plant"].get("options", {}), name: value}}
         mutant = {**parsed, "plant": plant}
+    else:  # an option of the body's set
+        body = catalogue.bodies()[parsed["plant"]["body"]]
+        name = data.draw(st.sampled_from([o.name for o in body.OPTIONS]))
+        mutant = {**parsed, "plant": {**parsed["plant"], name: value}}
     path = folder / "mutant.toml"
     path.write_text(toml_text(mutant))
     assert_checked(path)

@@ -47,7 +47,7 @@ def test_the_example_rig_builds_its_plant_with_both_rangers_and_its_worlds(tmp_p
             'drives = "front"',
             r"#2 \(motor_r\) drives: expected one of left, right, rear, got 'front'",
         ),
-        ('kind = "probe"', 'kind = "lamp"', r"#8 kind: expected one of analog_ranger"),
+        ('kind = "probe"', 'kind = "lamp"', r"#8 kind: expected one of (.*, )?analog_ranger"),
         (
             "[worlds.wall-ahead]\nobstacles = []",
             "[worlds.wall-ahead]\nobstacles = 3",

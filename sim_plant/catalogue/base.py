@@ -71,13 +71,15 @@ class View:
 @dataclass
 class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
-    parts, encoders, bumpers and motors (``motors[side] = (bridge, DcMotor)``)."""
+    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``) and track
+    stop inputs (``tracks[side] = signal``)."""
 
     body: dict
     parts: list = field(default_factory=list)
     encoders: list = field(default_factory=list)
     bumpers: list = field(default_factory=list)
     motors: dict = field(default_factory=dict)
+    tracks: dict = field(default_factory=dict)
 
 
 class Declared:
@@ -161,6 +163,15 @@ class BodyType(Declared):
     def contact_monitor(self, build: Build):
         """The engine part that checks the body against the walls, or None."""
         return None
+
+    def recorders(self, build: Build, world) -> list:
+        """Engine parts after the catalogue parts that only watch the body (coverage)."""
+        return []
+
+    def react(self, plant, t_us: int) -> bool:
+        """The body's own reaction after the parts fired at ``t_us`` (a machine that
+        reverses at its bumpers); True if the motion changed."""
+        return False
 
 
 def spec_text(spec) -> str:

@@ -5,11 +5,14 @@ drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
-from sim_plant.option_table import BOX, POINT, POSE, Num, OneOf, Rows, length
-from sim_plant.two_wheel import WORLDS
+from sim_plant.duct import DUCT_START, bench_duct, straight_duct
+from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, OneOf, Row, Rows, length
+from sim_plant.two_wheel import WORLDS as TWO_WHEEL_WORLDS
 from sim_plant.world import box, room
 
 ROOM = length(0.1, 100)
+WORLDS = {**TWO_WHEEL_WORLDS, "straight_duct": (straight_duct, DUCT_START), "bench_duct": (bench_duct, DUCT_START)}
+CIRCLE = Row((PLACE, PLACE, length(0.001, 5)), "[x_m, y_m, r_m]")
 
 
 class Differential(BodyType):
@@ -22,6 +25,12 @@ class Differential(BodyType):
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
         Opt("start_pose", POSE, None, "where it starts; the world's own start by default ([0.4, 1.0, 0] in the room)"),
         Opt("body_radius_m", length(0.01, 5), 0.08, "the disc's radius (its contacts with the walls)"),
+        Opt(
+            "outline",
+            Rows(CIRCLE, 16),
+            [],
+            "the body as circles [x_m, y_m, r_m] from the wheel axle's middle, instead of the disc",
+        ),
         Opt("wheel_radius_m", length(0.001, 1), 0.0325, "each wheel's radius"),
         Opt("track_m", length(0.01, 10), 0.15, "distance between the wheels"),
         Opt(
@@ -30,6 +39,7 @@ class Differential(BodyType):
             0.4,
             "rim speed at full duty (a motor's rpm sets its own)",
         ),
+        Opt("spin_slip", FRACTION, 0.0, "share of travel the backward wheel's encoder misses while spinning"),
         Opt("tape", Rows(POINT), [], "a tape line on the floor, [x_m, y_m] points (line sensors see it)"),
         Opt("tape_width_m", length(0.001, 1), 0.019, "the tape's width"),
     )
@@ -65,7 +75,9 @@ class Differential(BodyType):
             wheel_radius_m=self.options["wheel_radius_m"],
             track_m=self.options["track_m"],
             start_pose=pose,
+            spin_slip=self.options["spin_slip"],
         )
 
     def contact_monitor(self, build: Build):
-        return ContactMonitor([(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)
+        circles = [tuple(float(v) for v in c) for c in self.options["outline"]]
+        return ContactMonitor(circles or [(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)
