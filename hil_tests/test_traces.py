@@ -11,7 +11,7 @@ import pytest
 from matplotlib.image import imread
 
 from host.artefacts.console import stamped_lines
-from host.artefacts.folder import load_trace
+from host.artefacts.folder import load_trace, reseal
 from host.report.plots import plot_trace
 from host.rig.replay import replay
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
@@ -128,6 +128,7 @@ def test_replay_finds_where_a_changed_sonar_reading_changes_the_motor_commands(r
     t_sample = int(signals[target].split(",")[0])
     signals[target] = f"{t_sample},sonar.adc,{1 << 10}"  # 0.25 m: a wall appears to be close
     (copy / "signals.csv").write_text("\n".join(signals) + "\n")
+    reseal(copy)  # (an edit on purpose: else the digests refuse the folder)
 
     result = replay(copy, tmp_path / "replay")
     diff = result.difference
@@ -149,6 +150,7 @@ def test_replay_points_at_a_recorded_output_that_was_changed(recorded, tmp_path)
     index = lines.index(f"{t},{name},{value}")
     lines[index] = f"{t},{name},{value + 1}"
     (copy / "signals.csv").write_text("\n".join(lines) + "\n")
+    reseal(copy)
     result = replay(copy, tmp_path / "replay")
     assert result.difference is not None and result.difference.index == 300, result.difference
     assert result.difference.recorded == (t, name, value + 1) and result.difference.replayed == (t, name, value)

@@ -31,7 +31,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from host.core import interpreter
+from host.core import children, interpreter
 from host.link import frames as F
 from host.link import rawpingpong
 from host.rig import Rig
@@ -118,7 +118,7 @@ def bench_pool_recorded() -> dict:
     """The recorded mission in a child process, so that its peak memory is its own."""
     with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
         cmd = [sys.executable, "-m", "host.bench", "--recorded-pool-child", tmp]
-        out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True).stdout
+        out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True, **children.popen_options()).stdout
         result = json.loads(out.strip().splitlines()[-1])
         result["disk_mb"] = sum(p.stat().st_size for p in Path(tmp).rglob("*") if p.is_file()) / 1e6
         return result

@@ -15,12 +15,14 @@ or exits.
 
 import argparse
 import ast
+import contextlib
 import inspect
 import math
 import os
 import signal
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -53,20 +55,33 @@ def main(argv=None) -> int:
     except HarnessError as e:
         print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
         return EXIT_FAILED
-    except KeyboardInterrupt:
-        print(f"{args.sub.prog}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:  # (Ctrl-C; SIGTERM and SIGHUP where a command asks for them)
+        signum = getattr(e, "signum", signal.SIGINT)
+        print(f"{args.sub.prog}: stopped by {signal.Signals(signum).name}", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:  # (piped into head: the reader had enough)
         sys.stdout = open(os.devnull, "w")
         return 0
+    except OSError as e:  # (a plot on a full disk): the file named, no traceback
+        print(f"{args.sub.prog}: cannot write {e.filename or 'a file'}: {e.strerror or e}", file=sys.stderr)
+        return EXIT_FAILED
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """A parser whose errors are one line on stderr and exit code 2 (the usage text is
+    one ``--help`` away), as every other refusal of the command line is."""
+
+    def error(self, message: str):
+        shown = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)  # (an argument's \r, \n)
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {shown}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="mpy-fil",
         description="Run MicroPython robot firmware in the loop, replay a recorded trace, or plot one.",
     )
-    sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True)
+    sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True, parser_class=OneLineParser)
 
     run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
     run.add_argument("rig", nargs="?", metavar="RIG", help="a rig file (docs/rig-file.md); default: --app")
@@ -98,6 +113,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
     check.add_argument("rig", metavar="RIG", help="a rig file (docs/rig-file.md) or one of our apps")
+    check.add_argument("--strict", action="store_true", help="exit 1 when the code's pins and the wiring differ")
+    check.add_argument("-v", "--verbose", action="store_true", help="list the pin expressions only a run can tell")
     check.set_defaults(command=cmd_check, sub=check)
 
     init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
@@ -136,7 +153,6 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--out", type=_folder, help="results and report (default: build/campaign/<name>)")
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
     camp.set_defaults(command=cmd_campaign, sub=camp)
-    camp.error = lambda message: camp.exit(EXIT_USAGE, f"{camp.prog}: error: {message}\n")  # (one line, no usage)
 
 
 def _workers(text: str) -> int:
@@ -292,10 +308,17 @@ def cmd_run(args) -> int:
         progress=show,
     )
     try:
-        with rig:
+        with _stop_on_signals(), rig:
             rig.run_for(args.duration)
+    except KeyboardInterrupt:
+        print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
+        raise
     finally:
         _progress_done(show)
+    if rig.console_log.dropped_bytes:
+        log = rig.console_log
+        dropped = f"{log.dropped_bytes} bytes in {log.dropped_lines} lines dropped"
+        print(f"console.log capped at {log.max_bytes} bytes: {dropped}")
     truth = rig.truth()
     print(f"trace folder: {out}")
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
@@ -309,6 +332,33 @@ def cmd_run(args) -> int:
         for path in plot_trace(out):
             print(f"plot: {path}")
     return 0
+
+
+@contextlib.contextmanager
+def _stop_on_signals():
+    """While the block runs, SIGTERM and SIGHUP stop a run as Ctrl-C does (its trace
+    folder written, marked partial); a second signal while that is written is ignored.
+    The handlers before are put back after it."""
+    from host.artefacts.integrity import Stopped
+
+    signals = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
+        yield
+        return
+    previous = {s: signal.getsignal(s) for s in signals}
+
+    def stop(signum, _frame):
+        for s in signals:
+            signal.signal(s, signal.SIG_IGN)
+        raise Stopped(signum)
+
+    for s in signals:
+        signal.signal(s, stop)
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
 
 
 def cmd_check(args) -> int:
@@ -331,11 +381,26 @@ def cmd_check(args) -> int:
     for budget in app.make_budgets(plant):
         print(f"  budget {budget.name}: {budget.limit_text()}  {budget.description}")
     print(f"  worlds: {', '.join(app.worlds)}")
-    return 0
+    return _check_pins(app, args)
+
+
+def _check_pins(app, args) -> int:
+    """The code's pins against the wiring: warnings on stderr (exit 1 with --strict)."""
+    from host.rig.pincheck import check_pins
+
+    pins = check_pins(app)
+    print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
+    for line in pins.notes:
+        print(f"    {line}")
+    for line in pins.unchecked if args.verbose else ():
+        print(f"    not checked (computed at run time): {line}")
+    for line in pins.warnings:
+        print(line, file=sys.stderr)
+    return EXIT_FAILED if pins.warnings and args.strict else 0
 
 
 def cmd_init(args) -> int:
-    from host.rig.rigfile import starter
+    from host.rig.starter import starter
 
     folder = args.folder
     try:
@@ -386,6 +451,8 @@ def cmd_replay(args) -> int:
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")
+    if result.partial:
+        print(f"the recording is partial ({result.partial}): compared up to its cut")
     if result.same:
         print(f"same outputs: {result.recorded} firmware outputs match the recording")
         return 0
@@ -395,9 +462,14 @@ def cmd_replay(args) -> int:
 
 
 def cmd_plot(args) -> int:
+    from host.artefacts.checks import partial_reason
+    from host.artefacts.folder import load_trace
     from host.report.plots import plot_trace
 
     out = _writable(args.sub, "--out", args.out or args.trace / "plots")
+    partial = partial_reason(load_trace(args.trace).header)
+    if partial:
+        print(f"the trace folder is partial: {partial}")
     for path in plot_trace(args.trace, out):
         print(f"plot: {path}")
     return 0

@@ -9,9 +9,18 @@ firmware's code runs in zero virtual time between a wake-up and its next wait, a
 a print() the shim's next wait always goes to the host, even where it could have moved
 its clock on alone). Text the interpreter writes itself (a traceback) carries the time of
 the next wait or of the end. The tail in memory is the console as printed, without
-stamps. The stamps depend on virtual time only: the same run gives the same file."""
+stamps. The stamps depend on virtual time only: the same run gives the same file.
+
+The file is flushed at each stamp, so a run killed outright (SIGKILL) leaves what was
+stamped, to its last whole line. It is capped at ``max_bytes`` (the rig file's ``[trace]
+console_max_bytes``, default 64 MiB): past it, the rest of the run's text is dropped,
+counted (:attr:`ConsoleLog.dropped_bytes`, ``dropped_lines``) and said in the file, once at
+the cap and once, with the counts, at its end. A write that fails (a full disk) raises
+:class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it was cut."""
 
 from pathlib import Path
+
+from host.artefacts.integrity import TraceWriteError
 
 TAIL_BYTES = 256 * 1024
 """How much of the console's end stays in memory (``Rig.console``)."""
@@ -19,20 +28,32 @@ TAIL_BYTES = 256 * 1024
 PENDING_BYTES = 64 * 1024
 """Past this much text without a wait, it goes to the file with the last time known."""
 
+MAX_BYTES = 64 * 1024 * 1024
+"""The console file's default cap (``[trace] console_max_bytes``)."""
+
 
 class ConsoleLog:
-    def __init__(self, tail_bytes: int = TAIL_BYTES):
+    def __init__(self, tail_bytes: int = TAIL_BYTES, max_bytes: int = MAX_BYTES):
         self.tail_bytes = tail_bytes
+        self.max_bytes = max_bytes
         self._tail = bytearray()
         self._file = None
+        self.path: Path | None = None
         self._line_start = True  # the next byte written to the file begins a line
         self.pending = bytearray()  # read, not yet in the file: waits for its time
         self.total_bytes = 0
+        self.file_bytes = 0  # written to the file (text and stamps)
+        self.dropped_bytes = 0  # printed past the cap: not in the file
+        self.dropped_lines = 0
+        self.error: TraceWriteError | None = None  # the write that failed, if one did
 
     def open(self, path: Path | None) -> None:
         """Stream to ``path`` from now on (None: keep the tail only)."""
         self.close()
         self.pending.clear()
+        self.path = path
+        self.file_bytes = self.dropped_bytes = self.dropped_lines = 0
+        self.error = None
         if path is not None:
             self._file = open(path, "wb")  # noqa: SIM115  (closed by close())
             self._line_start = True
@@ -67,18 +88,76 @@ class ConsoleLog:
         """The pending text was printed at virtual ``t_us``: into the file with it."""
         data = bytes(self.pending)
         self.pending.clear()
-        if self._file is None or not data:
+        if not data:
+            return
+        if self._file is None or self.dropped_bytes:
+            self._drop(data)
             return
         stamp = b"[%11.6f] " % (t_us / 1e6)
         body = data[:-1].replace(b"\n", b"\n" + stamp) + data[-1:]
-        self._file.write(stamp + body if self._line_start else body)
+        out = stamp + body if self._line_start else body
+        if self.file_bytes + len(out) > self.max_bytes:
+            self._drop(data)
+            self._put(self._note(t_us, f"console.log reached its cap of {self.max_bytes} bytes; the rest is dropped"))
+            return
+        self._put(out)
         self._line_start = data.endswith(b"\n")
 
+    def _drop(self, data: bytes) -> None:
+        if self._file is not None or self.error is not None:  # (no file asked for: nothing is dropped)
+            self.dropped_bytes += len(data)
+            self.dropped_lines += data.count(b"\n")
+
+    def _note(self, t_us: int, text: str) -> bytes:
+        """A line of the harness's own in the file, on a line of its own."""
+        return (b"" if self._line_start else b"\n") + b"[%11.6f] [mpy-fil: %s]\n" % (t_us / 1e6, text.encode())
+
+    def _put(self, out: bytes) -> None:
+        if self._file is None:
+            return
+        try:
+            self._file.write(out)
+            self._file.flush()  # (a killed run leaves what was stamped)
+        except OSError as e:
+            self._abandon()
+            self.error = TraceWriteError(self.path, e)
+            raise self.error from e
+        self.file_bytes += len(out)
+        self._line_start = out.endswith(b"\n")
+
+    def _abandon(self) -> None:
+        file, self._file = self._file, None
+        try:
+            file.close()
+        except OSError:
+            pass  # (what could not be flushed is lost; the error says so)
+
+    @property
+    def summary(self) -> dict:
+        """For the trace header: what was printed, what the file holds, what it dropped."""
+        return {
+            "bytes": self.total_bytes,
+            "file_bytes": self.file_bytes,
+            "max_bytes": self.max_bytes,
+            "dropped_bytes": self.dropped_bytes,
+            "dropped_lines": self.dropped_lines,
+        }
+
     def close(self, t_us: int = 0) -> None:
-        """Write what is pending (stamped ``t_us``) and close the file."""
-        self.stamp(t_us)
+        """Write what is pending (stamped ``t_us``), the count of what was dropped, and
+        close the file."""
+        try:
+            self.stamp(t_us)
+            if self.dropped_bytes:
+                counts = f"{self.dropped_bytes} bytes in {self.dropped_lines} lines dropped past the cap"
+                self._put(self._note(t_us, counts))
+        except TraceWriteError:
+            pass  # (raised once, when it happened)
         if self._file is not None:
-            self._file.close()
+            try:
+                self._file.close()
+            except OSError as e:
+                self.error = self.error or TraceWriteError(self.path, e)
             self._file = None
 
 

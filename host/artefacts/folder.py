@@ -17,11 +17,17 @@ file                content
 
 Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``) and
 ``console.log`` is in virtual time only: the same run gives the same bytes.
+A recorded run's folder starts with a header marked partial (:func:`begin_trace_folder`);
+at the end each file is written whole or not at all, and the header last, with every
+file's digest and what is incomplete. :func:`load_trace` refuses a damaged folder by name
+(:mod:`host.artefacts.checks`).
 ``docs/traces.md`` describes the formats.
 """
 
+import contextlib
 import csv
 import heapq
+import io
 import json
 import math
 import re
@@ -31,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from host.artefacts import checks, integrity
 from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_gtkw, write_vcd
@@ -46,6 +53,7 @@ VCD = "trace.vcd"
 GTKW = "trace.gtkw"
 LINK = "trace.jsonl"
 CONSOLE = "console.log"
+NOT_ENDED = "the run did not end (killed, or its machine stopped); console.log and trace.jsonl hold what streamed"
 DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
 DEFAULT_COVERAGE_CELL_M = 0.05
 
@@ -55,32 +63,120 @@ DEFAULT_COVERAGE_CELL_M = 0.05
 
 def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) -> Path:
     """Write a stopped run's recording into ``folder``. ``run`` holds what identifies the
-    run (app, board, plant_options, seed, mode, micropython, t_end_us); ``budgets`` maps
-    names to budgets, each of which gives its own ``record()``."""
+    run (app, board, plant_options, seed, mode, micropython, t_end_us) and how it ended
+    (``stop``: None, or why it was cut; ``incomplete``: streamed files cut short;
+    ``console``: the console's counts); ``budgets`` maps names to budgets, each of which
+    gives its own ``record()``.
+
+    Each file is written whole or not at all (:func:`~host.artefacts.integrity.atomic`),
+    and ``header.json`` last, with each file's SHA-256 and the list of what is missing or
+    incomplete. A write that fails raises TraceWriteError naming its file, after the
+    header has said so (when even the header cannot be written, the one written when the
+    run began stays, marked partial)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    header = make_header(run, recorder, plant, link_trace=(folder / LINK).is_file())
-    _write_json(folder / HEADER, header)
+    incomplete = dict(run.get("incomplete") or {})
+    files: dict[str, str] = {}
+    error = None
+    for name, write in _writers(folder, run, recorder, budgets):
+        if error is not None:
+            incomplete[name] = f"not written: {error.error.strerror or error.error} writing {error.path.name}"
+            continue
+        try:
+            with integrity.atomic(folder / name) as part:
+                write(part)
+            files[name] = integrity.file_digest(folder / name)
+        except integrity.TraceWriteError as e:
+            error = e
+            incomplete[name] = f"not written: {e.error.strerror or e.error}"
+    for name in (CONSOLE, LINK):
+        if (folder / name).is_file() and name not in incomplete:
+            files[name] = integrity.file_digest(folder / name)
+    if BUDGETS in files:
+        files[BUDGETS] = None  # (whole, but no digest: its wall-clock figures differ run to run)
+    header = make_header({**run, "incomplete": incomplete}, recorder, plant, link_trace=(folder / LINK).is_file())
+    text = _json(integrity.seal({**header, "files": files}))
+    try:
+        integrity.write_text(folder / HEADER, text)
+    except integrity.TraceWriteError as e:
+        error = error or e
+        with contextlib.suppress(OSError):  # (in place: the start's header gives back its space)
+            (folder / HEADER).write_text(text, encoding="utf-8")
+    if error is not None:
+        raise error
+    return folder
+
+
+def reseal(folder: Path) -> None:
+    """After a deliberate edit of a trace folder (a test that changes a recording): the
+    header's digests made anew for the files that are there."""
+    folder = Path(folder)
+    header = json.loads((folder / HEADER).read_text(encoding="utf-8"))
+    files = header.get("files") or {}
+    header["files"] = {
+        name: (integrity.file_digest(folder / name) if digest is not None else None)
+        for name, digest in files.items()
+        if (folder / name).is_file()
+    }
+    integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
+
+
+def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
+    """As a recorded run starts: an earlier run's files go, and a header marked partial
+    ("the run did not end") stands until the run's own replaces it, so a run killed
+    outright leaves a folder that says so."""
+    folder = Path(folder)
+    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
+    stop = {"reason": NOT_ENDED, "signal": None}
+    header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
+    integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
+
+
+def drop_begun_folder(folder: Path) -> None:
+    """The recording was dropped (a passed test that keeps none): the header written as it
+    began goes too, as that run never wrote a folder."""
+    path = Path(folder) / HEADER
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        if (json.loads(path.read_text(encoding="utf-8")).get("stop") or {}).get("reason") == NOT_ENDED:
+            path.unlink()
+
+
+def _writers(folder: Path, run: dict, recorder, budgets: dict):
+    """(file name, write(path)) for each file made at the end, most needed first."""
     events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
     truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
-    with open(folder / SIGNALS, "w", newline="", encoding="utf-8") as f:
-        out = csv.writer(f, lineterminator="\n")
-        out.writerow(["t_us", "signal", "value"])
-        out.writerows(events)
-    _write_truth(folder / TRUTH, truth)
-    _write_json(folder / BUDGETS, [b.record() for b in budgets.values()])
-    paths = write_vcd(
-        folder / VCD,
-        top=run["app"],
-        comment=f"app {run['app']} board {run['board']} seed {run['seed']} commit {header['commit']}",
-        signals=recorder.signals,
-        initial=recorder.initial,
-        events=events,
-        truth=truth,
-        notes=trace_notes(folder, budgets),
+    vcd_paths: dict = {}
+
+    def signals(path):
+        with open(path, "w", newline="", encoding="utf-8") as f:
+            out = csv.writer(f, lineterminator="\n")
+            out.writerow(["t_us", "signal", "value"])
+            out.writerows(events)
+
+    def vcd(path):
+        comment = f"app {run['app']} board {run['board']} seed {run['seed']} commit {provenance.commit()}"
+        notes = trace_notes(folder, budgets)
+        signals = recorder.signals
+        vcd_paths.update(
+            write_vcd(
+                path,
+                top=run["app"],
+                comment=comment,
+                signals=signals,
+                initial=recorder.initial,
+                events=events,
+                truth=truth,
+                notes=notes,
+            )
+        )
+
+    return (
+        (SIGNALS, signals),
+        (TRUTH, lambda path: _write_truth(path, truth)),
+        (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
+        (VCD, vcd),
+        (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
     )
-    write_gtkw(folder / GTKW, VCD, paths)
-    return folder
 
 
 def trace_notes(folder: Path, budgets: dict) -> "_Records":
@@ -128,6 +224,8 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "plant": type(getattr(plant, "inner", plant)).__name__,
         "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
         "plant_options": run["plant_options"],
+        "parts": described_parts(plant),
+        "report": run.get("report"),
         "seed": run["seed"],
         "mode": run["mode"],
         "commit": provenance.commit(),
@@ -140,7 +238,18 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "initial": recorder.initial,
         "contacts": [list(c) for c in _truth_contacts(plant)],
         "link_trace": link_trace,
+        "partial": bool(run.get("stop") or run.get("incomplete")),
+        "stop": run.get("stop"),
+        "incomplete": run.get("incomplete") or {},
+        "console": run.get("console"),
     }
+
+
+def described_parts(plant) -> dict | None:
+    """A plant built from a body and parts, as data (``PartsPlant.describe``): what the
+    report draws each part's views from. None for a plant of another kind."""
+    describe = getattr(getattr(plant, "inner", plant), "describe", None)
+    return describe() if callable(describe) else None
 
 
 def describe_world(plant) -> dict | None:
@@ -202,8 +311,8 @@ def _fmt(value) -> str:
     return str(value)
 
 
-def _write_json(path: Path, data) -> None:
-    path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+def _json(data) -> str:
+    return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
 # -- reading ------------------------------------------------------------------------
@@ -237,32 +346,51 @@ class TraceData:
 
 
 def load_trace(folder) -> TraceData:
-    """Read a trace folder; a missing or malformed one raises ConfigError naming it."""
+    """Read a trace folder; a missing, malformed or damaged one raises ConfigError naming
+    the file and what is wrong (:mod:`host.artefacts.checks`); a partial one that lacks a
+    file says it is partial."""
     folder = Path(folder)
     header_path = folder / HEADER
     if not header_path.is_file():
         raise ConfigError(f"trace folder {folder}: no {HEADER} (expected a folder written by a recorded run)")
     try:
         header = json.loads(header_path.read_text(encoding="utf-8"))
-    except ValueError as e:
-        raise ConfigError(f"trace folder {folder}: {HEADER} is not JSON ({e})") from e
-    if header.get("format") != FORMAT:
-        raise ConfigError(f"trace folder {folder}: format {header.get('format')!r}, expected {FORMAT!r}")
+    except (ValueError, RecursionError) as e:
+        raise ConfigError(f"trace folder {folder}: {HEADER} is not JSON ({type(e).__name__}: {e})") from None
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        got = header.get("format") if isinstance(header, dict) else header
+        raise ConfigError(f"trace folder {folder}: format {got!r:.80}, expected {FORMAT!r}")
+    checks.check_header(folder, header)
     data = TraceData(folder, header)
-    with _reading(folder, HEADER):
-        kinds = {n: i["kind"] for n, i in header.get("signals", {}).items()}
-    if (folder / SIGNALS).is_file():
-        with _reading(folder, SIGNALS), open(folder / SIGNALS, newline="", encoding="utf-8") as f:
-            rows = csv.reader(f)
-            next(rows, None)
-            data.events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
-    if (folder / TRUTH).is_file():
+    kinds = {n: i["kind"] for n, i in header["signals"].items()}
+    if checks.check_file(folder, header, SIGNALS, needed=True):
+        with _reading(folder, SIGNALS):
+            data.events = _read_signals(folder, kinds)
+    if checks.check_file(folder, header, TRUTH, needed=True):
         with _reading(folder, TRUTH):
-            data.truth = _read_truth(folder / TRUTH)
-    if (folder / BUDGETS).is_file():
+            data.truth = _read_truth(folder)
+    if checks.check_file(folder, header, BUDGETS, needed=False):
         with _reading(folder, BUDGETS):
             data.budgets = json.loads((folder / BUDGETS).read_text(encoding="utf-8"))
+            if not isinstance(data.budgets, list) or not all(isinstance(b, dict) for b in data.budgets):
+                raise ValueError("expected a list of objects")
+    checks.check_file(folder, header, CONSOLE, needed=False)  # (the report reads its telemetry)
     return data
+
+
+def _read_signals(folder: Path, kinds: dict) -> list:
+    text = (folder / SIGNALS).read_text(encoding="utf-8")
+    checks.whole_lines(folder, SIGNALS, text)
+    rows = csv.reader(io.StringIO(text))
+    if next(rows, None) != ["t_us", "signal", "value"]:
+        raise ValueError("expected the columns t_us,signal,value")
+    events = [(int(t), name, _parse(kinds.get(name), value)) for t, name, value in rows]
+    unknown = {e[1] for e in events} - set(kinds)
+    if unknown:
+        raise ValueError(f"signals not in header.json's signals: {sorted(unknown)[:5]}")
+    if events and not 0 <= min(e[0] for e in events) <= max(e[0] for e in events) <= checks.MAX_T_END_US:
+        raise ValueError("a time outside 0 .. ten simulated days")
+    return events
 
 
 @contextmanager
@@ -270,7 +398,14 @@ def _reading(folder: Path, name: str):
     """A file of the folder that does not parse raises ConfigError naming it."""
     try:
         yield
-    except (ValueError, KeyError, TypeError, AttributeError) as e:  # (UnicodeDecodeError is a ValueError)
+    except (
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,
+        RecursionError,
+        csv.Error,
+    ) as e:  # (UnicodeDecodeError is a ValueError)
         raise ConfigError(
             f"trace folder {folder}: {name} is malformed ({type(e).__name__}: {e}); "
             "expected the file a recorded run writes (docs/traces.md)"
@@ -289,14 +424,24 @@ def _parse(kind: str | None, text: str):
             return text
 
 
-def _read_truth(path: Path) -> dict:
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
+def _read_truth(folder: Path) -> dict:
+    text = (folder / TRUTH).read_text(encoding="utf-8")
+    checks.whole_lines(folder, TRUTH, text)
+    rows = list(csv.reader(io.StringIO(text)))
     if not rows:
         return {}
     columns, body = rows[0], rows[1:]
+    if not columns or columns[0] != "t_us":
+        raise ValueError("expected t_us as the first column")
+    for n, row in enumerate(body, start=2):
+        if len(row) != len(columns):
+            raise ValueError(f"line {n} has {len(row)} fields, expected {len(columns)}")
     out = {}
     for i, name in enumerate(columns):
-        values = [float(r[i]) if i < len(r) and r[i] != "" else math.nan for r in body]
-        out[name] = np.asarray(values, dtype=np.int64 if name == "t_us" else float)
+        values = [float(r[i]) if r[i] != "" else math.nan for r in body]
+        out[name] = np.asarray(values, dtype=float)
+    t = out["t_us"]
+    if len(t) and not (np.all(np.isfinite(t)) and t.min() >= 0 and t.max() <= checks.MAX_T_END_US):
+        raise ValueError("a t_us outside 0 .. ten simulated days")
+    out["t_us"] = t.astype(np.int64)
     return out

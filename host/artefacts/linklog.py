@@ -6,24 +6,30 @@ the same (app, board, plant, seed, commit) gives the same bytes. The firmware's 
 goes to its own file, since its pipe is not ordered with the link. ``digest`` is a
 SHA-256 of the lines, kept even when no file is written. A rig that does not trace logs
 to :data:`NO_LOG`, which keeps nothing.
+
+The file is line-buffered: each record reaches the file as it is written, so a run killed
+outright (SIGKILL) leaves every record to its last whole line. A write that fails (a full
+disk) raises :class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it
+was cut (:attr:`LinkLog.error`) and later records are only hashed.
 """
 
 import hashlib
 import json
 from pathlib import Path
 
+from host.artefacts.integrity import TraceWriteError
 from host.link import frames as F
 
-CFG_KINDS = {F.CFG_PIN: "pin", F.CFG_ADC: "adc", F.CFG_PWM: "pwm", F.CFG_UART: "uart", F.CFG_IRQ: "irq"}
 OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 
 
 class LinkLog:
     def __init__(self, path: Path | None = None):
         self.path = path
-        self._file = open(path, "w", encoding="utf-8") if path else None
+        self._file = open(path, "w", encoding="utf-8", buffering=1) if path else None  # noqa: SIM115
         self._hash = hashlib.sha256()
         self.lines = 0
+        self.error: TraceWriteError | None = None
 
     _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
 
@@ -35,7 +41,19 @@ class LinkLog:
         self._hash.update(line.encode())
         self.lines += 1
         if self._file:
-            self._file.write(line)
+            try:
+                self._file.write(line)
+            except OSError as e:
+                self._fail(e)
+
+    def _fail(self, e: OSError) -> None:
+        file, self._file = self._file, None
+        try:
+            file.close()
+        except OSError:
+            pass  # (what could not be flushed is lost: the error says where)
+        self.error = TraceWriteError(self.path, e)
+        raise self.error from e
 
     @property
     def digest(self) -> str:
@@ -43,14 +61,17 @@ class LinkLog:
 
     def close(self) -> None:
         if self._file:
-            self._file.close()
+            try:
+                self._file.close()
+            except OSError as e:
+                self.error = TraceWriteError(self.path, e)
             self._file = None
 
     # -- one record per message ----------------------------------------------------
 
-    def cfg(self, t: int, h: int, kind: int, pin: str, mode: int, pull: int, param: int, signal) -> None:
-        kind_name = CFG_KINDS.get(kind, kind)
-        record = {"t": t, "msg": "CFG", "handle": h, "kind": kind_name, "pin": pin, "mode": mode, "pull": pull}
+    def cfg(self, t: int, h: int, kind: str | int, pin: str, mode: int, pull: int, param: int, signal) -> None:
+        """``kind``: its handler's name (``host/rig/peripherals.py``), a kind unknown its number."""
+        record = {"t": t, "msg": "CFG", "handle": h, "kind": kind, "pin": pin, "mode": mode, "pull": pull}
         self.write({**record, "param": param, "signal": signal})
 
     # OUT, WAIT and STATE, a few every exchange, are formatted by hand when every number is
@@ -109,6 +130,7 @@ class _NoLog(LinkLog):
     """A rig that does not trace: every record is dropped unmade."""
 
     digest = None
+    error = None
 
     def __init__(self):
         self.path = None

@@ -11,7 +11,6 @@ under the channel (:mod:`host.link.faults`), a smaller heap is the interpreter's
 """
 
 import dataclasses
-import functools
 import math
 import os
 import resource
@@ -30,7 +29,6 @@ from host.link.transport import BUSY_POLL_ENV
 from host.rig import Rig
 from host.rig.apps import get_app
 from host.rig.target import UnixPortTarget, end_process
-from sim_plant import kinds
 from sim_plant.faults import parse_faults, with_faults
 
 MESSAGE_CHARS = 3000
@@ -132,11 +130,9 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
     if heap:
         app = dataclasses.replace(app, heap_size=heap[-1])
     world = dict(app.worlds[task["world"]])
-    options = {**app.plant_options, **world}
-    build = app.extra.get("build_plant") or functools.partial(kinds.make, app.plant_kind)
     if task.get("placement"):
-        world["start_pose"] = placed(build(**options).start_pose, task["placement"], task["seed"])
-    plant = with_faults(build(**{**options, **world}), schedule)
+        world["start_pose"] = placed(app.make_plant(**world).pose_at(0), task["placement"], task["seed"])
+    plant = with_faults(app.make_plant(**world), parse_faults(list(task["faults"])))  # (the rig file's: make_plant's)
     target = None
     link = [f for f in schedule if f.kind in ("link_corrupt", "link_stall")]
     if link:

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import tomllib
 
-from host.core import interpreter
+from host.core import children, interpreter
 from host.core.paths import BUILD, REPO
 
 HERE = Path(__file__).resolve().parent
@@ -80,7 +80,9 @@ def run_tests(tests: Path, files: list[str], micropython: Path, name: str, board
         *files,
     ]  # (one at a time: some bind port 8000)
     started = time.monotonic()
-    proc = subprocess.run(cmd, cwd=tests, env=env, capture_output=True, text=True, timeout=1800)
+    proc = subprocess.run(
+        cmd, cwd=tests, env=env, capture_output=True, text=True, timeout=1800, **children.popen_options()
+    )
     (OUT / f"{name}.log").write_text(proc.stdout + proc.stderr)
     results = {}
     for line in proc.stdout.splitlines():

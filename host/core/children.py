@@ -14,6 +14,7 @@ that lives as long as they should (the main thread, or a pool's own).
 
 import ctypes
 import ctypes.util
+import functools
 import os
 import signal
 import sys
@@ -40,7 +41,10 @@ def die_with_parent(sig: int = signal.SIGKILL) -> None:
         os.kill(os.getpid(), sig)
 
 
-def popen_options() -> dict:
+def popen_options(sig: int = signal.SIGKILL) -> dict:
     """The :class:`subprocess.Popen` keyword arguments for a child of the harness: its own
-    session, and killed when the harness ends."""
-    return {"start_new_session": True, "preexec_fn": die_with_parent}
+    session, and ``sig`` (SIGKILL unless said) when the harness ends. A child that cleans up
+    after itself (the virtual board's server removes its pid and port files and stops its
+    interpreter) takes SIGTERM; what it starts has SIGKILL from it in turn."""
+    preexec = die_with_parent if sig == signal.SIGKILL else functools.partial(die_with_parent, sig)
+    return {"start_new_session": True, "preexec_fn": preexec}

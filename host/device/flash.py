@@ -25,6 +25,7 @@ import sys
 import time
 from pathlib import Path
 
+from host.core.children import popen_options
 from host.core.errors import HarnessError
 from host.core.paths import FIRMWARE, REPO
 from host.device import vboard
@@ -50,7 +51,8 @@ def _tool(name: str) -> str:
 
 
 def mpy_cross_version() -> tuple[int, int]:
-    out = subprocess.run([_tool("mpy-cross"), "--version"], capture_output=True, text=True, check=True).stdout
+    cmd = [_tool("mpy-cross"), "--version"]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, **popen_options()).stdout
     m = re.search(r"mpy v(\d+)\.(\d+)", out)
     if not m:
         raise FlashError(f"cannot read the .mpy version from `mpy-cross --version`: {out.strip()}")
@@ -61,7 +63,8 @@ def compile_module(src: Path, dst: Path) -> None:
     """mpy-cross one file; a syntax error becomes 'file:line: message'."""
     rel = os.path.relpath(src, REPO)
     dst.parent.mkdir(parents=True, exist_ok=True)
-    out = subprocess.run([_tool("mpy-cross"), "-s", src.name, "-o", str(dst), str(src)], capture_output=True, text=True)
+    cmd = [_tool("mpy-cross"), "-s", src.name, "-o", str(dst), str(src)]
+    out = subprocess.run(cmd, capture_output=True, text=True, **popen_options())
     if out.returncode != 0:
         text = out.stderr + out.stdout
         line = re.search(r"line (\d+)", text)
@@ -130,11 +133,12 @@ _interrupt = _Interrupt()
 
 
 def _mpremote(port: str, *args: str) -> str:
-    """Run mpremote in its own session (a terminal's Ctrl-C reaches only this tool)."""
+    """Run mpremote in its own session (a terminal's Ctrl-C reaches only this tool), killed
+    if this process ends first."""
     cmd = [_tool("mpremote"), "connect", port, *args]
     _interrupt.check()
     proc = subprocess.Popen(
-        cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+        cmd, cwd=str(REPO), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **popen_options()
     )
     _interrupt.proc = proc
     try:

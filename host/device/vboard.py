@@ -16,6 +16,12 @@ simulated robot like a board on a bench. A *bare* one has the unix port's own mo
 for processor-in-the-loop runs where the host serves the plant over the port.
 
 ``python -m host.device.vboard start|stop|port|serve`` manages one per board folder.
+
+Who ends it (docs/flash.md): a server belongs to the command that started it. Started by
+:func:`start_background` (``make flash``, the tests' fixtures) it gets SIGTERM when that
+command ends, however it ends, and stops with its interpreter; only ``vboard start``
+detaches one on purpose, which ends at ``vboard stop`` or after ``IDLE_EXIT_S`` with no byte
+from a client. Its interpreter always dies with it (SIGKILL from the kernel if it dies hard).
 """
 
 import argparse
@@ -28,6 +34,7 @@ import time
 from pathlib import Path
 
 from host.core import interpreter
+from host.core.children import popen_options
 from host.core.errors import HarnessError, LinkTimeout
 from host.core.paths import REPO
 from host.link import Channel, FdTransport, PtyPair
@@ -45,6 +52,11 @@ STARTUP_S = 0.2
 """Ctrl-C waits this long after a (re)start, as a board ignores it during its C start-up
 (the interpreter has no SIGINT handler until ``_vrepl`` installs one)."""
 START_TIMEOUT_S = 10.0
+IDLE_EXIT_S = 1800.0
+"""A detached server (``vboard start``) ends after this long with no byte from a client."""
+STOP_S = 5.0
+"""A server asked to stop (SIGTERM, SIGHUP, SIGINT) that has not ended by then is ended by
+SIGALRM (its interpreter with it)."""
 
 
 def board_home(board: str) -> Path:
@@ -59,6 +71,7 @@ class _Console:
         self.client = PtyPair()  # tools open client.slave_path
         self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
         self.interrupt = None  # called for a Ctrl-C that is no data (SIGINT to the interpreter)
+        self.client_t = time.monotonic()  # when a client last wrote (a detached server's idle time)
         self.reset()
 
     def reset(self) -> None:
@@ -71,6 +84,7 @@ class _Console:
     def from_client(self, data: bytes) -> None:
         """Ctrl-C: a byte for the REPL while it waits at a prompt; SIGINT to the
         interpreter while code runs (and never during a plant-link session)."""
+        self.client_t = time.monotonic()
         if self.link_session or self.prompt or b"\x03" not in data:
             _write(self.repl.master_fd, data)
             return
@@ -141,7 +155,7 @@ class VirtualBoardTarget(UnixPortTarget):
             stdin=slave,
             stdout=slave,
             stderr=slave,
-            start_new_session=True,
+            **popen_options(),  # SIGKILL when the server ends, however it ends
         )
 
     def open(self, firmware, on_console) -> Channel:
@@ -214,6 +228,7 @@ class VirtualBoard:
                 target=self.target,
             )
         self._stopping = False
+        self.idle_exit_s = 0.0  # > 0: stop after this long with no byte from a client
 
     @property
     def port(self) -> str:
@@ -247,7 +262,7 @@ class VirtualBoard:
         if ready:
             ready(self.port)
         rig = self.rig
-        while not self._stopping:
+        while not self._stopping and not self._idle():
             if self.target.ended() is not None:
                 if rig is not None:
                     rig.restart()
@@ -263,6 +278,9 @@ class VirtualBoard:
             message = rig.receive(0.005 if rig.waiting else 0.05)
             if message is not None:
                 rig.dispatch(*message)
+
+    def _idle(self) -> bool:
+        return self.idle_exit_s > 0 and time.monotonic() - self.console_pty.client_t > self.idle_exit_s
 
     def _pump_bare(self, timeout_s: float) -> None:
         con = self.console_pty
@@ -297,8 +315,21 @@ def running_port(board: str, home: Path | None = None) -> str | None:
         return None
 
 
-def start_background(board: str, *, home: Path | None = None, wired: bool = True, app: str = "rover") -> str:
-    """Start a virtual board process (if none runs in that folder) and return its port."""
+def start_background(
+    board: str,
+    *,
+    home: Path | None = None,
+    wired: bool = True,
+    app: str = "rover",
+    detached: bool = False,
+    idle_exit_s: float = IDLE_EXIT_S,
+) -> str:
+    """Start a virtual board process (if none runs in that folder) and return its port.
+
+    The server is this process's: it gets SIGTERM when the thread that called this ends
+    (call it from the main thread, or one that lives as long as the board should), and
+    stops with its interpreter. ``detached`` (``vboard start``): it outlives this process
+    and ends at ``vboard stop`` or after ``idle_exit_s`` with no client writing to it."""
     port = running_port(board, home)
     if port:
         return port
@@ -310,9 +341,10 @@ def start_background(board: str, *, home: Path | None = None, wired: bool = True
     cmd = [sys.executable, "-m", "host.device.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
     if not wired:
         cmd.append("--bare")
-    proc = subprocess.Popen(
-        cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
-    )
+    if detached:
+        cmd += ["--idle-exit-s", f"{idle_exit_s:g}"]
+    owner = {"start_new_session": True} if detached else popen_options(signal.SIGTERM)
+    proc = subprocess.Popen(cmd, cwd=str(REPO), stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, **owner)
     log.close()
     deadline = time.monotonic() + START_TIMEOUT_S
     while time.monotonic() < deadline:
@@ -367,12 +399,14 @@ def _gone(pid: int) -> bool:
 
 def _serve(args) -> int:
     vb = VirtualBoard(args.board, home=args.home, app=args.app, wired=not args.bare, seed=args.seed)
+    vb.idle_exit_s = args.idle_exit_s or 0.0
 
-    def on_term(*_):
+    def on_term(*_):  # (SIGTERM too when the command that owns this server ends)
         vb._stopping = True
+        signal.alarm(int(STOP_S))  # not ended by then (stuck, or asked while starting): SIGALRM ends it
 
-    signal.signal(signal.SIGTERM, on_term)
-    signal.signal(signal.SIGINT, on_term)
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, on_term)
     pidfile, portfile = vb.home / "vboard.pid", vb.home / "port"
     try:
         vb.start()
@@ -400,11 +434,22 @@ def main(argv=None) -> int:
     parser.add_argument("--bare", action="store_true", help="no plant: the unix port's own machine module")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--home", type=Path, help="board folder (default build/vboard/<board>); files in <home>/fs")
+    parser.add_argument(
+        "--idle-exit-s",
+        type=float,
+        help=f"end after this many seconds with no byte from a client (start: {IDLE_EXIT_S:g} unless said; "
+        "serve: never unless said; 0: never)",
+    )
     args = parser.parse_args(argv)
     if args.command == "serve":
         return _serve(args)
     if args.command == "start":
-        print(start_background(args.board, home=args.home, wired=not args.bare, app=args.app))
+        idle_s = IDLE_EXIT_S if args.idle_exit_s is None else args.idle_exit_s
+        print(
+            start_background(
+                args.board, home=args.home, wired=not args.bare, app=args.app, detached=True, idle_exit_s=idle_s
+            )
+        )
     elif args.command == "stop":
         print("stopped" if stop_background(args.board, args.home) else "not running")
     else:

@@ -4,6 +4,11 @@ One file serves both ends: ``host/shim/_hilframe.py`` runs inside MicroPython as
 shim's codec and is imported here unchanged, so the host and the shim cannot disagree
 on a byte. The host's hottest read (an OUT per actuator write) uses a compiled form of
 the same layout; ``host/tests/test_codec.py`` holds it to the codec's own on every vector.
+
+The codec names every code on the wire (message types, CFG kinds, a pin's modes and
+pulls, IRQ triggers, OUT attributes, STATE change kinds). The plant's signal kinds, which
+never cross the link and which the shim has no use for, are named here, beside them:
+the shim's heap (a board's RAM, ``heap_size``) holds no strings it never reads.
 """
 
 import struct as _struct
@@ -12,3 +17,11 @@ from host.shim import _hilframe as codec
 from host.shim._hilframe import *  # noqa: F403  (the codec's names are this module's)
 
 unpack_out = _struct.Struct(codec.OUT_FMT).unpack_from  # (t_us, handle, attr, value), as codec.unpack_out
+
+# plant signal kinds: what a plant signal carries (``plant.inputs`` / ``plant.outputs``)
+SIG_LEVEL = "level"  # 0/1
+SIG_U16 = "u16"  # an ADC's reading, 0..65535
+SIG_DUTY = "duty"  # a PWM duty, 0..65535
+SIG_PWM = "pwm"  # a PWM waveform: duty and frequency (``plant.set_pwm``)
+SIG_BYTES = "bytes"  # bytes, as a whole
+SIG_UART = "uart"  # bytes timed on the line at the baud rate (``plant.send_bytes``)

@@ -9,6 +9,7 @@ import select
 import subprocess
 import time
 
+from host.core.children import popen_options
 from host.core.errors import LinkTimeout
 from host.link.pty import PtyPair
 
@@ -46,7 +47,7 @@ def round_trips_us(
     proc = subprocess.Popen(
         [micropython, "-c", _PONG, pty.slave_path, str(out_len), str(reply_len)],
         stdin=subprocess.DEVNULL,
-        start_new_session=True,
+        **popen_options(),
     )
     try:
         return _measure(pty.master_fd, n + 50, bytes(out_len), reply_len, busy_poll_s, timeout_s)[50:]

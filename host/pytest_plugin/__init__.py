@@ -11,7 +11,8 @@ with ``--hil-report PATH`` every rig records a trace folder and the session ends
 one HTML report (docs/traces.md). Without it, every rig records as it runs and a failed
 test's rigs leave their whole trace folder and plots beside its console (``--hil-keep``:
 ``failed``, the default; ``none`` records nothing, as ``make test`` runs). A long mission
-shows its progress on one line.
+shows its progress on one line. SIGTERM or SIGHUP stops a session as Ctrl-C does, and
+nothing it started outlives it (:mod:`host.pytest_plugin.stopping`).
 """
 
 import json
@@ -24,7 +25,7 @@ import pytest
 from host.core import interpreter
 from host.core.errors import SetupError
 from host.link.transport import BUSY_POLL_ENV, cores
-from host.pytest_plugin import budget_marks
+from host.pytest_plugin import budget_marks, stopping
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
@@ -70,6 +71,7 @@ LONG_MARK_HELP = (
 
 
 def pytest_configure(config):
+    stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
         config.pluginmanager.register(SessionReport(config), "hil-session-report")
     elif _every_core_has_a_worker():

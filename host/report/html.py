@@ -11,6 +11,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from host.artefacts.checks import partial_reason
 from host.core import provenance
 
 BUDGET_COLUMNS = ("budget", "limit", "count", "p50", "p95", "p99", "max", "misses")
@@ -142,6 +143,12 @@ def _rig_title(rig: RigResult) -> str:
         return _e(rig.label)
     world = (h.get("world") or {}).get("name", "")
     text = f"{rig.label}: {h['app']} on {h['board']}, {world}, seed {h['seed']}, {h['mode']}, {h['t_end_us'] / 1e6:g} s"
+    partial = partial_reason(h)
+    console = h.get("console") or {}
+    if partial:
+        text += f"; partial: {partial}"
+    if console.get("dropped_bytes"):
+        text += f"; console.log capped: {console['dropped_bytes']} bytes in {console['dropped_lines']} lines dropped"
     return _e(text)
 
 

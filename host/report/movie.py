@@ -9,6 +9,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from PIL import Image
 
+from host.artefacts import integrity
 from host.artefacts.folder import TraceData
 
 FRAMES = 30  # at most: a mission of any length fits in a few seconds of GIF
@@ -82,4 +83,5 @@ def _save_gif(fig: Figure, draw, stops, path: Path) -> None:
     # own choice, a median cut per frame, costs more than drawing the frames
     palette = images[-1].quantize(colors=64, method=Image.Quantize.FASTOCTREE)
     frames = [image.quantize(palette=palette, dither=Image.Dither.NONE) for image in images]
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(1000 / FPS), loop=0)
+    with integrity.atomic(path) as part:  # (a full disk leaves no GIF cut short)
+        frames[0].save(part, format="GIF", save_all=True, append_images=frames[1:], duration=int(1000 / FPS), loop=0)

@@ -1,13 +1,13 @@
 """The firmware's outputs: each OUT and UART_TX applied to the plant at its virtual time,
 shown to the budgets that watch the pin, and recorded.
 
-A pin wired to a plant input drives it (a level, a PWM duty, UART bytes; a PWM's
-frequency too when the input is of kind ``pwm``, a waveform); a pin wired to
-a probe is watched by budgets only; a pin wired to nothing is recorded as ``pin.<name>``.
+The handle's kind's handler (``host/rig/peripherals.py``) says what its output does: a
+pin's level, a PWM's duty (a waveform, with its frequency, when the plant input is of
+kind ``pwm``), a UART's bytes. A pin wired to a plant input drives it; a pin wired to a
+probe is watched by budgets only; a pin wired to nothing is recorded as ``pin.<name>``.
 """
 
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_PIN, ROLE_PROBE
-from host.link import frames as F
 
 
 class Outputs:
@@ -20,47 +20,15 @@ class Outputs:
 
     def out(self, t: int, h: int, attr: int, value: int) -> None:
         info = self.wiring.handles[h]
-        signal = info.signal
-        if attr == F.OUT_FREQ:
-            info.freq = value
-            if info.level and self.plant_inputs.get(signal) == "pwm":
-                self.plant.set_pwm(signal, value, info.level)
-            return
-        if self.recorder is not None:
-            kind = "duty" if info.kind == F.CFG_PWM else "level"
-            self._record(t, info, 0 if attr == F.OUT_DEINIT else value, kind)
-        last, info.level = info.level, value
-        if signal is None:
-            return
-        if attr == F.OUT_LEVEL and (info.probe or signal in self.plant_inputs):
-            hooks = self.level_hooks.get(signal)
-            if hooks:
-                changed = last is not None and last != value
-                for call in hooks:
-                    call(t, signal, value, changed)
-        if signal not in self.plant_inputs:
-            return  # a probe: only the harness watches it
-        if info.kind == F.CFG_PWM:
-            duty = value if attr == F.OUT_DUTY else 0  # (deinit: the line held low)
-            if self.plant_inputs[signal] == "pwm":  # the plant takes the waveform
-                self.plant.set_pwm(signal, info.freq, duty)
-            else:
-                self.plant.set_input(signal, duty)
-        elif attr == F.OUT_LEVEL:
-            self.plant.set_input(signal, value)
+        info.peripheral.out(self, t, info, attr, value)
 
     def uart_tx(self, t: int, h: int, data: bytes) -> None:
         info = self.wiring.handles[h]
-        if self.recorder is not None:
-            self._record(t, info, data, "bytes")
-        kind = self.plant_inputs.get(info.signal)
-        if kind == "uart":  # the plant times the bytes on the line at the baud rate
-            self.plant.send_bytes(info.signal, data, info.freq)
-        elif kind is not None:
-            self.plant.set_input(info.signal, data)
+        info.peripheral.transmit(self, t, info, data)
 
-    def _record(self, t: int, info, value, kind: str) -> None:
-        """A firmware output, as the plant's input (or the probe, or the bare pin) saw it."""
+    def record(self, t: int, info, value, kind: str) -> None:
+        """A firmware output, as the plant's input (or the probe, or the bare pin) saw it;
+        ``kind``: a signal kind (``F.SIG_LEVEL``, ``F.SIG_DUTY``, ``F.SIG_BYTES``)."""
         if info.probe:
             self.recorder.command(t, info.signal, value, role=ROLE_PROBE, kind=kind)
         elif info.signal in self.plant_inputs:

@@ -8,11 +8,18 @@ compared one by one with the recorded ones and the first difference is reported.
 same firmware on the same recording gives none: a difference means the firmware, the
 shim or the rig changed behaviour (or the trace was taken in real time, which no
 replay reproduces).
+
+A replay never runs past what was recorded: the header's ``t_end_us`` must lie within the
+recording (no earlier than its last change, no later than a truth period past its last
+truth row). A partial recording (a run stopped by a signal, docs/traces.md) is replayed to
+its cut, and only what happened before the cut's instant is compared: the cut may fall
+between two outputs of one instant.
 """
 
 from dataclasses import dataclass
 from pathlib import Path
 
+from host.artefacts.checks import partial_reason
 from host.artefacts.folder import TraceData, load_trace
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from host.core.errors import ConfigError
@@ -64,6 +71,7 @@ class ReplayResult:
     replayed: int  # firmware outputs in the replay
     difference: Difference | None
     folder: Path  # the replay's own trace folder
+    partial: str | None = None  # why the recording is partial: compared up to its cut
 
     @property
     def same(self) -> bool:
@@ -75,9 +83,28 @@ def replay_plant(trace: TraceData) -> ReplayPlant:
     signals = h.get("signals", {})
     outputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_SENSOR}
     inputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_ACTUATOR}
-    script = [(t, n, bytes.fromhex(v) if outputs[n] == "bytes" else v) for t, n, v in trace.events if n in outputs]
-    initial = {n: (bytes.fromhex(v) if outputs[n] == "bytes" else v) for n, v in h.get("initial", {}).items()}
+    try:
+        script = [(t, n, bytes.fromhex(v) if outputs[n] == "bytes" else v) for t, n, v in trace.events if n in outputs]
+        initial = {n: (bytes.fromhex(v) if outputs.get(n) == "bytes" else v) for n, v in h.get("initial", {}).items()}
+    except (ValueError, TypeError) as e:
+        raise ConfigError(f"trace {trace.folder}: a recorded byte value is not hex text ({e})") from None
     return ReplayPlant(script, outputs=outputs, inputs=inputs, initial=initial)
+
+
+def recorded_end_us(trace: TraceData) -> int:
+    """The header's ``t_end_us``, checked against what was recorded."""
+    h = trace.header
+    t_end_us = h["t_end_us"]
+    last_event_us = max((e[0] for e in trace.events), default=0)
+    t_truth = trace.truth.get("t_us")
+    last_truth_us = int(t_truth[-1]) if t_truth is not None and len(t_truth) else 0
+    limit_us = last_truth_us + h.get("truth_period_us", 50_000)
+    if not last_event_us <= t_end_us <= limit_us:
+        raise ConfigError(
+            f"trace {trace.folder}: header.json t_end_us {t_end_us} is outside what was recorded "
+            f"(changes up to {last_event_us}, truth up to {last_truth_us}); the header does not belong to these files"
+        )
+    return t_end_us
 
 
 def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> ReplayResult:
@@ -86,28 +113,42 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None) -> Repl
     h = trace.header
     if h.get("mode") != "lockstep":
         raise ConfigError(f"trace {folder}: recorded in {h.get('mode')} mode; only lockstep runs replay exactly")
+    t_end_us = recorded_end_us(trace)
+    partial = partial_reason(h)
+    try:
+        rig = _replay_rig(trace, Path(artefacts), watchdog_s=watchdog_s, progress=progress)
+    except ConfigError as e:  # (an app, board or option the header names that is not there)
+        raise ConfigError(f"trace {folder}: header.json: {e}") from None
+    with rig:
+        rig.run_until(t_end_us)
+    before = (lambda t: t < t_end_us) if partial else (lambda t: t <= t_end_us)
+    recorded = [e for e in trace.firmware_outputs() if before(e[0])]
+    replayed = [e for e in rig.recorder.firmware_outputs() if before(e[0])]
+    difference = first_difference(recorded, replayed)
+    return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial)
+
+
+def _replay_rig(trace: TraceData, artefacts: Path, **options) -> Rig:
+    """The recorded app and board, driven by the recording (the budgets as it had them)."""
+    h = trace.header
     app = get_app(h.get("rig_file") or h["app"])
-    try:  # the budgets as the recorded run had them
+    try:
         recorded_plant = app.make_plant(**h.get("plant_options", {}))
-    except (TypeError, ValueError):  # (a trace of a plant of one's own: the app's defaults)
+    except (TypeError, ValueError, ArithmeticError):  # (a trace of a plant of one's own: the app's defaults)
         recorded_plant = app.make_plant()
-    rig = Rig(
+    budgets = app.make_budgets(recorded_plant)
+    plant = replay_plant(trace)
+    return Rig(
         app,
         board=h["board"],
         seed=h["seed"],
-        plant=replay_plant(trace),
-        budgets=app.make_budgets(recorded_plant),
-        artefacts=Path(artefacts),
+        plant=plant,
+        budgets=budgets,
+        artefacts=artefacts,
         trace=True,
         record=True,
-        watchdog_s=watchdog_s,
-        progress=progress,
+        **options,
     )
-    with rig:
-        rig.run_until(h["t_end_us"])
-    recorded = trace.firmware_outputs()
-    replayed = [e for e in rig.recorder.firmware_outputs() if e[0] <= h["t_end_us"]]
-    return ReplayResult(len(recorded), len(replayed), first_difference(recorded, replayed), Path(artefacts))
 
 
 def first_difference(recorded: list, replayed: list) -> Difference | None:

@@ -18,13 +18,15 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from host.artefacts.console import ConsoleLog
-from host.artefacts.folder import write_trace_folder
+from host.artefacts.console import MAX_BYTES, ConsoleLog
+from host.artefacts.folder import begin_trace_folder, drop_begun_folder, write_trace_folder
+from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
+from host.core import paths
 from host.core.errors import ConfigError, LinkError
 from host.link import frames as F
-from host.rig import arguments, boards, endings, waits
+from host.rig import arguments, boards, endings, peripherals, waits
 from host.rig.apps import App, get_app
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
@@ -119,7 +121,7 @@ class Rig:
         self.artefacts = Path(artefacts) if artefacts else None
         self.trace_enabled = trace
         self.progress = progress
-        self.console_log = ConsoleLog()
+        self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
@@ -144,7 +146,7 @@ class Rig:
         return self
 
     def __exit__(self, *exc):
-        self.stop()
+        self.stop(interrupted=exc[1])
 
     @property
     def t_us(self) -> int:
@@ -169,9 +171,12 @@ class Rig:
                     "mode": self.mode,
                     "firmware": self.firmware.identity(),
                 }
+                header["firmware"]["folder"] = paths.portable(header["firmware"]["folder"])  # (any checkout)
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
             self._open(self.target.open)
+            if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
+                begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
@@ -192,17 +197,13 @@ class Rig:
         self.micropython_version = version
         self.pacing.begin(self.t_us)
 
-    def stop(self) -> None:
+    def stop(self, interrupted: BaseException | None = None) -> None:
         """End the firmware and close the link; safe to call twice. Writes the console
-        and, when recording, the trace folder."""
+        and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
-        if not self._started:
-            return
-        self._started = False
-        self.linklog.close()
-        self.console_log.close(self.t_us)
-        if self.artefacts and self.recorder is not None:
-            write_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant, self.budgets)
+        if self._started:
+            self._started = False
+            finish_recording(self, interrupted)
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data, self.t_us)
@@ -290,7 +291,7 @@ class Rig:
     def _on_cfg(self, p: bytes) -> None:
         h, kind, mode, pull, param, name = F.unpack_cfg(p)
         key = name.decode()
-        self.linklog.cfg(self.t_us, h, kind, key, mode, pull, param, self.wiring.signal_of(key))
+        self.linklog.cfg(self.t_us, h, peripherals.name_of(kind), key, mode, pull, param, self.wiring.signal_of(key))
         info = self.wiring.configure(h, kind, mode, pull, key, param)
         if info is not None and info.is_input:
             self.inputs.sync(self.t_us, h, info, self.plant)
@@ -366,9 +367,48 @@ def run_header(rig) -> dict:
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
         "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "report": rig.app.extra.get("report"),
         "seed": rig.seed,
         "mode": rig.mode,
         "micropython": rig.micropython_version.split(";")[0],
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
     }
+
+
+def finish_recording(rig, interrupted: BaseException | None) -> None:
+    """Close the console and link log and write the trace folder, marked partial when
+    ``interrupted`` is a stop signal or a failed write. A write that fails raises
+    TraceWriteError, once (not again when it is what interrupted the run)."""
+    rig.linklog.close()
+    rig.console_log.close(rig.t_us)
+    try:
+        if rig.artefacts and rig.recorder is not None:
+            run = {**run_header(rig), **recording_end(rig, interrupted)}
+            write_trace_folder(rig.artefacts, run, rig.recorder, rig.plant, rig.budgets)
+        elif rig.artefacts:  # (a recording dropped before the end)
+            drop_begun_folder(rig.artefacts)
+        error = rig.console_log.error or rig.linklog.error
+        if error is not None:
+            raise error
+    except TraceWriteError:
+        if not isinstance(interrupted, TraceWriteError):
+            raise
+
+
+def recording_end(rig, interrupted: BaseException | None) -> dict:
+    """How the recording ended, for its header: ``stop`` (None when it ran its course),
+    the streamed files cut short, and the console's counts."""
+    stop = None
+    if isinstance(interrupted, KeyboardInterrupt):
+        name = stop_signal_name(interrupted)
+        stop = {"reason": f"stopped by {name}", "signal": name, "t_us": rig.t_us}
+    elif isinstance(interrupted, TraceWriteError):
+        reason = f"cannot write {interrupted.path.name}: {interrupted.error.strerror or interrupted.error}"
+        stop = {"reason": reason, "signal": None, "t_us": rig.t_us}
+    incomplete = {
+        log.error.path.name: f"cut short: {log.error.error.strerror or log.error.error}"
+        for log in (rig.console_log, rig.linklog)
+        if log.error is not None
+    }
+    return {"stop": stop, "incomplete": incomplete, "console": rig.console_log.summary}

@@ -13,6 +13,7 @@ import subprocess
 import time
 
 from host.core import interpreter
+from host.core.children import popen_options
 from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupError
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
@@ -113,7 +114,9 @@ class Target:
 
 class UnixPortTarget(Target):
     """The unix port in a child process of its own session; its console (stdout and
-    stderr) is a pipe watched with the link, so printed text keeps its place."""
+    stderr) is a pipe watched with the link, so printed text keeps its place. The child
+    dies with the thread that started it (:mod:`host.core.children`): start and run a rig
+    from one thread that lives as long as the rig."""
 
     def __init__(self, busy_poll_s: float = 0.0):
         self.busy_poll_s = busy_poll_s
@@ -134,7 +137,7 @@ class UnixPortTarget(Target):
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,
-                start_new_session=True,
+                **popen_options(),  # its own session; SIGKILL when the process that runs the rig ends
             )
         except OSError as e:  # not a program this machine runs (no shebang, wrong format)
             raise SetupError(

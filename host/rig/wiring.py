@@ -5,15 +5,16 @@ A board file names its pins (``MOTOR_L_PWM = const(25)``); an app's wiring maps 
 names to plant signals (``"MOTOR_L_PWM": "motor_l.pwm"``), or to a probe that only the
 harness watches (``"LOOP_PROBE": "probe:control"``, a logic-analyser probe). When the
 firmware creates a Pin, ADC, PWM or UART, the shim sends CFG with the object's *handle*
-and the pin's id; :class:`Wiring` keeps the table from handle to signal.
+and the pin's id; :class:`Wiring` keeps the table from handle to signal, and each handle
+its kind's handler (``host/rig/peripherals.py``).
 ``docs/wiring.md`` describes the whole chain.
 """
 
 from dataclasses import dataclass
 
-from host.core.errors import ConfigError, LinkError
-from host.link import frames as F
+from host.core.errors import ConfigError
 from host.rig.boards import pin_key
+from host.rig.peripherals import UNCONFIGURED, Peripheral, handler
 
 PROBE_PREFIX = "probe:"
 """Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
@@ -23,17 +24,18 @@ PROBE_PREFIX = "probe:"
 class Handle:
     """One shim object (pin, ADC, PWM, UART) and what it is wired to."""
 
-    kind: int  # a CFG kind: F.CFG_PIN, F.CFG_ADC, ...
+    kind: int  # its CFG kind: F.CFG_PIN, F.CFG_ADC, ...
     key: str  # pin id as the shim names it
     board_name: str | None
     signal: str | None  # plant signal or "probe:<name>"
     is_input: bool = False
-    pull: int = 0
-    irq: int = 0  # trigger mask
+    pull: int = 0  # F.PULL_NONE, F.PULL_UP, F.PULL_DOWN
+    irq: int = 0  # trigger mask: F.IRQ_RISING | F.IRQ_FALLING; a UART's F.IRQ_RX
     samples: int = 0  # ADC samples / UART lines routed to it
     level: int | None = None  # last level (or PWM duty) driven on an output
     freq: int = 0  # a PWM's frequency (Hz), a UART's baud rate
     probe: bool = False  # wired to a probe: only the harness watches it
+    peripheral: Peripheral = UNCONFIGURED  # its kind's handler: what CFG, inputs and outputs do with it
 
     def __post_init__(self):
         self.probe = self.signal is not None and self.signal.startswith(PROBE_PREFIX)
@@ -66,23 +68,24 @@ class Wiring:
         return self.wiring.get(board_name) if board_name else None
 
     def configure(self, h: int, kind: int, mode: int, pull: int, key: str, param: int = 0) -> Handle | None:
-        """A CFG from the shim: the handle's new configuration (None for an IRQ, which
-        arms an existing handle). ``param``: a PWM's frequency, a UART's baud rate."""
-        if kind == F.CFG_UART:
-            self.uart = True
-        if kind == F.CFG_IRQ:
-            if h >= len(self.handles):
-                raise LinkError(f"CFG: an IRQ on handle {h}, which the shim never configured (link protocol error)")
-            self.handles[h].irq = mode
-            self.irq_armed = any(info.irq for info in self.handles)
-            return None
+        """A CFG from the shim, handled by its kind's handler (``host/rig/peripherals.py``):
+        the handle's new configuration (None for an IRQ, which arms an existing handle).
+        ``param``: a PWM's frequency, a UART's baud rate, a pin's output level (-1: an input)."""
+        return handler(kind, h).configure(self, h, mode, pull, key, param)
+
+    def attach(self, peripheral: Peripheral, h: int, mode: int, pull: int, key: str, param: int) -> Handle:
+        """Handle ``h`` is now ``key`` as ``peripheral`` configured it, wired to its pin's signal."""
         while len(self.handles) <= h:
             self.handles.append(Handle(0, "", None, None))
         board_name = self.pin_names.get(key)
         signal = self.wiring.get(board_name) if board_name else None
-        is_input = kind == F.CFG_ADC or (kind == F.CFG_PIN and mode == 0)
-        self._check(kind, mode, key, board_name, signal)
-        info = Handle(kind, key, board_name, signal, is_input=is_input, pull=pull, freq=param)
+        sensor = self.sensors.get(signal)
+        if sensor is not None:  # what no board survives: two outputs on one line, an ADC on a logic level
+            refused = peripheral.refuse(mode, f"pin {board_name} ({key})", board_name, signal, sensor)
+            if refused:
+                raise ConfigError(refused)
+        kind = peripheral.kind
+        info = Handle(kind, key, board_name, signal, peripheral.is_input(mode), pull, freq=param, peripheral=peripheral)
         old = self.handles[h]
         if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
             info.irq, info.samples = old.irq, old.samples  # its IRQ and its samples go on
@@ -93,20 +96,3 @@ class Wiring:
             self.by_signal.setdefault(signal, []).append(h)
         self.fan_out = max(map(len, self.by_signal.values()), default=1)
         return info
-
-    def _check(self, kind: int, mode: int, key: str, board_name, signal) -> None:
-        """What no board survives: two outputs on one line, an ADC on a logic level."""
-        sensor = self.sensors.get(signal)
-        if sensor is None:
-            return
-        pin = f"pin {board_name} ({key})"
-        if kind == F.CFG_PWM or (kind == F.CFG_PIN and mode == 1):
-            raise ConfigError(
-                f"wiring: the firmware drives {pin} as an output, but it is wired to {signal}, which the plant "
-                f"drives (a sensor): check the wiring of {board_name} or the firmware's pin number"
-            )
-        if kind == F.CFG_ADC and sensor == "level":
-            raise ConfigError(
-                f"wiring: the firmware reads {pin} with an ADC, but {signal} is a logic level (0/1), not an "
-                f"analog signal: wire the pin to a u16 signal, or read it with Pin.value()"
-            )

@@ -437,20 +437,37 @@ def unpack_changes(p, off, base, n, changes):
     return changes
 
 
+# CFG kinds: one per shim class with a host side (machine.Pin, ADC, PWM, UART; an IRQ
+# arms a pin or a UART already configured). The host's handler of each: host/rig/peripherals.py.
 CFG_PIN = 1
 CFG_ADC = 2
 CFG_PWM = 3
 CFG_UART = 4
 CFG_IRQ = 5
 
+# CFG_PIN's mode and pull fields
+PIN_IN = 0
+PIN_OUT = 1
+PIN_OPEN_DRAIN = 2
+PULL_NONE = 0
+PULL_UP = 1
+PULL_DOWN = 2
+# CFG_IRQ's mode field: the edges whose handler runs (the ESP32 port's Pin.IRQ_* values);
+# for a UART, IRQ_RX: its handler runs as bytes arrive
+IRQ_RISING = 1
+IRQ_FALLING = 2
+IRQ_RX = 1
+
+# OUT attributes
 OUT_LEVEL = 0
 OUT_DUTY = 1
 OUT_FREQ = 2
 OUT_DEINIT = 3
 
+# STATE change kinds
 CH_LEVEL = 0
-CH_SAMPLE = 1
-CH_BYTES = 2
+CH_SAMPLE = 1  # extra: the sample number
+CH_BYTES = 2  # value: the byte count; the bytes follow the entry
 
 EXIT_RETURN = 0
 EXIT_RESET = 1

@@ -20,10 +20,10 @@ class Pin:
     OPEN_DRAIN = 7
     PULL_UP = 2
     PULL_DOWN = 1
-    IRQ_RISING = 1
-    IRQ_FALLING = 2
-    _MODES = {IN: 0, OUT: 1, OPEN_DRAIN: 2}
-    _PULLS = {None: 0, PULL_UP: 1, PULL_DOWN: 2}
+    IRQ_RISING = _F.IRQ_RISING  # (the wire's trigger codes are the ESP32 port's values)
+    IRQ_FALLING = _F.IRQ_FALLING
+    _MODES = {IN: _F.PIN_IN, OUT: _F.PIN_OUT, OPEN_DRAIN: _F.PIN_OPEN_DRAIN}  # as CFG_PIN says them
+    _PULLS = {None: _F.PULL_NONE, PULL_UP: _F.PULL_UP, PULL_DOWN: _F.PULL_DOWN}
     _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
 
     def __new__(cls, id, *args, **kw):
@@ -170,6 +170,12 @@ class Signal:
         self.value(0)
 
 
+def _platform():
+    import sys
+
+    return getattr(sys.modules.get("sys", sys), "platform", "")
+
+
 class ADC:
     ATTN_0DB = 0
     ATTN_2_5DB = 1
@@ -181,6 +187,8 @@ class ADC:
 
     def __new__(cls, id, *args, **kw):
         key = id._id if isinstance(id, Pin) else id
+        if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
+            key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
         adc = ADC._made.get(key)
         if adc is None:
             adc = ADC._made[key] = object.__new__(cls)
@@ -416,7 +424,8 @@ class UART:
         self._trigger = trigger if handler is not None else 0
         if self._timer is not None:
             _hil.remove_timer(self._timer)
-        _hil.configure(self._handle, _F.CFG_IRQ, "uart%s" % (self._id,), self._trigger & self.IRQ_RX)
+        rx = _F.IRQ_RX if self._trigger & self.IRQ_RX else 0  # (RXIDLE, TXIDLE: timed here, in the shim)
+        _hil.configure(self._handle, _F.CFG_IRQ, "uart%s" % (self._id,), rx)
         return _UartIRQ(self)
 
     def any(self):

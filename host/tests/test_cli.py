@@ -112,7 +112,10 @@ def test_the_seed_and_duration_bounds_themselves_are_accepted():
 
 def fake_trace_folder(folder: Path, budgets: str | None = None) -> Path:
     folder.mkdir()
-    (folder / "header.json").write_text(json.dumps({"format": "mpy-fil-trace/1", "signals": {}}))
+    header = {"format": "mpy-fil-trace/1", "app": "rover", "board": "rpi_pico", "mode": "lockstep", "seed": 0}
+    (folder / "header.json").write_text(json.dumps({**header, "t_end_us": 0, "signals": {}}))
+    (folder / "signals.csv").write_text("t_us,signal,value\n")
+    (folder / "truth.csv").write_text("t_us\n0\n")
     if budgets is not None:
         (folder / "budgets.json").write_text(budgets)
     return folder
@@ -131,3 +134,26 @@ def test_a_damaged_file_of_a_trace_folder_is_named_with_exit_code_2(tmp_path):
     code, stderr = cli_here("plot", str(trace), "--out", str(tmp_path / "plots"))
     expected = f"trace folder {trace}: budgets.json is malformed"
     assert code == 2 and expected in stderr, f"exit {code}, expected 2 and {expected!r}:\n{stderr}"
+
+
+def test_every_argument_error_of_every_command_is_one_line_with_exit_2():
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    commands = st.sampled_from([[], ["run"], ["check"], ["init"], ["list"], ["replay"], ["plot"], ["campaign"]])
+    junk = st.lists(
+        st.sampled_from(["--seconds", "--seed", "--param", "--world", "--board", "--out", "--workers", "-x", "=", "x"])
+        | st.text(min_size=1, max_size=12),
+        max_size=4,
+    )
+
+    @settings(max_examples=120, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(commands, junk)
+    def check(command, extra):
+        code, err = cli_here(*command, "--no-such-flag", *extra)
+        lines = err.strip().splitlines()
+        assert code == 2, (command, extra, code, err)
+        assert len(lines) == 1 and "Traceback" not in err, (command, extra, err)
+        assert lines[0].startswith("mpy-fil") and ": error: " in lines[0], lines
+
+    check()

@@ -94,7 +94,7 @@ def test_our_apps_are_rig_files():
     names = [b.name for b in rover.make_budgets(plant)]
     assert names == ["control.period", "sonar.period", "sonar.latency", "control.compute"]
     adc = found["pool_cleaner_adc"]
-    assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
+    assert adc.path == found["pool_cleaner"].path and "sonar_l.adc" in adc.make_plant().outputs
     canyon = found["lab_robot_canyon"]
     assert canyon.path == found["lab_robot"].path and canyon.boards == ("esp32_lab_robot", "rpi_pico_lab_robot")
     vacuum = found["vacuum"]
@@ -215,13 +215,14 @@ def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp
     (folder / "lib").mkdir()
     (folder / "lib" / "ranger.py").write_text(
         "from machine import Pin\n\nclass Ranger:\n    def __init__(self, trig, echo):\n        self.t = Pin(trig)\n"
+        "        self.e = Pin(echo)\n"
     )
     (folder / "main.py").write_text((folder / "main.py").read_text() + "TRIG, ECHO = 14, 15\nr = Ranger(TRIG, ECHO)\n")
     done = mpy_fil("init", str(folder))
     assert done.returncode == 0, done.stderr
     text = (folder / "rig.toml").read_text()
     assert "LED = 25\n" in text and "BTN = 13\n" in text and "LEFT_PWM = 21\n" in text, text
-    assert "PIN_16 = 16\n" in text and "PIN_17 = 17\n" in text, "the pins given to a driver class as numbers"
+    assert "M_PWM = 16\n" in text and "M_D = 17\n" in text, "numbers given to a driver: named as the code names them"
     assert "TRIG = 14\n" in text and "ECHO = 15\n" in text, "the pins given to a driver class in lib/"
     assert mpy_fil("check", str(folder / "rig.toml")).returncode == 0
     again = mpy_fil("init", str(folder))

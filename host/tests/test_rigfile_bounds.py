@@ -23,7 +23,9 @@ from hypothesis import strategies as st
 from host import cli
 from host.core.errors import ConfigError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.rigfile import firmware_sources, load_rig, starter
+from host.rig.pinscan import firmware_sources
+from host.rig.rigfile import load_rig
+from host.rig.starter import starter
 from sim_plant import catalogue, kinds, option_table
 
 SETTINGS = settings(
@@ -189,13 +191,14 @@ def test_a_rig_file_with_any_value_replaced_is_refused_by_name_or_runs(folders, 
     if data.draw(st.booleans()):  # a value replaced
         where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
         mutant = replaced(parsed, where, value)
-    elif "body" in parsed["plant"]:  # an option of the body's added
-        name = data.draw(st.sampled_from(sorted(o.name for o in catalogue.bodies()[parsed["plant"]["body"]].OPTIONS)))
-        mutant = {**parsed, "plant": {**parsed["plant"], name: value}}
-    else:  # an option of the kind's added
+    elif "kind" in parsed["plant"]:  # an option of the kind's added
         name = data.draw(st.sampled_from(sorted(kinds.options(parsed["plant"]["kind"]))))
         plant = {**parsed["plant"], "options": {**parsed["plant"].get("options", {}), name: value}}
         mutant = {**parsed, "plant": plant}
+    else:  # an option of the body's set
+        body = catalogue.bodies()[parsed["plant"]["body"]]
+        name = data.draw(st.sampled_from([o.name for o in body.OPTIONS]))
+        mutant = {**parsed, "plant": {**parsed["plant"], name: value}}
     path = folder / "mutant.toml"
     path.write_text(toml_text(mutant))
     assert_checked(path)
@@ -467,9 +470,9 @@ def test_init_skips_hidden_folders_and_virtual_environments(tmp_path):
 
 
 def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
-    from host.rig import rigfile
+    from host.rig import pinscan
 
-    monkeypatch.setattr(rigfile, "INIT_MAX_FILES", 5)
+    monkeypatch.setattr(pinscan, "SCAN_MAX_FILES", 5)
     for i in range(20):
         (tmp_path / f"m{i:02}.py").write_text(f"from machine import Pin\nPin({i})\n")
     notes: list[str] = []
@@ -477,7 +480,7 @@ def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
     assert len(notes) == 1 and "stopped reading at" in notes[0] and "after 5 files" in notes[0], notes
     assert "PIN_4 = 4" in text and "PIN_5 =" not in text
     code = subprocess.run(
-        [sys.executable, "-c", "import host.rig.rigfile as r; r.INIT_MAX_BYTES = 40; from host import cli; "
+        [sys.executable, "-c", "import host.rig.pinscan as r; r.SCAN_MAX_BYTES = 40; from host import cli; "
          f"raise SystemExit(cli.main(['init', {str(tmp_path)!r}]))"],
         capture_output=True, text=True, cwd=REPO, timeout=60,
     )  # fmt: skip

@@ -43,6 +43,10 @@ class AnalogRanger(PartType):
         if self.options["min_m"] >= self.options["max_m"]:
             raise ValueError(f"min_m: expected less than max_m ({self.options['max_m']}), got {self.options['min_m']}")
 
+    def reading(self, suffix: str, values):
+        """The range (m) a read_u16 value says, through the output's slope."""
+        return values / 65535 * self.options["adc_vref"] / self.options["volts_per_m"]
+
     def add(self, build: Build) -> None:
         o = self.options
         model = BeamRangeModel(self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_m"], max_m=o["max_m"])

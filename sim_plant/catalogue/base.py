@@ -72,9 +72,9 @@ class View:
 @dataclass
 class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
-    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``) servos
-    (``servos[name]``: what a part mounted on one turns with) and the motors' shared
-    ``standby`` pin."""
+    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``), servos
+    (``servos[name]``: what a part mounted on one turns with), the motors' shared
+    ``standby`` pin and track stop inputs (``tracks[side] = signal``)."""
 
     body: dict
     parts: list = field(default_factory=list)
@@ -83,6 +83,7 @@ class Build:
     motors: dict = field(default_factory=dict)
     servos: dict = field(default_factory=dict)
     standby: str | None = None
+    tracks: dict = field(default_factory=dict)
 
 
 class Declared:
@@ -169,6 +170,15 @@ class BodyType(Declared):
     def contact_monitor(self, build: Build):
         """The engine part that checks the body against the walls, or None."""
         return None
+
+    def recorders(self, build: Build, world) -> list:
+        """Engine parts after the catalogue parts that only watch the body (coverage)."""
+        return []
+
+    def react(self, plant, t_us: int) -> bool:
+        """The body's own reaction after the parts fired at ``t_us`` (a machine that
+        reverses at its bumpers); True if the motion changed."""
+        return False
 
 
 def spec_text(spec) -> str:

@@ -2,6 +2,8 @@
 and a rear one are two tables), as its TRIG and ECHO pins, fixed or on a ``servo``
 part's horn (``on_servo``: it then looks along the horn) (:mod:`sim_plant.hcsr04`)."""
 
+import numpy as np
+
 from sim_plant import hcsr04
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Name, Num
@@ -54,6 +56,11 @@ class HcSr04(PartType):
         ),
     )
     needs_body = True
+
+    def reading(self, suffix: str, values):
+        """The range (m) an ECHO high time (us) says, as firmware computes it; NaN for a
+        time-out (38 ms: nothing within range)."""
+        return np.where(values >= hcsr04.TIMEOUT_US, np.nan, values / hcsr04.US_PER_CM / 100.0)
 
     def add(self, build: Build) -> None:
         o = self.options

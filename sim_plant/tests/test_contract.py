@@ -8,10 +8,9 @@ from pathlib import Path
 import pytest
 
 from sim_plant.catalogue.assembly import assemble, assemble_file, rig_plant_table
-from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
-from sim_plant.pool import PoolCleaner
+from sim_plant.tests.rigs import duct_robot, pool_cleaner
 
 APPS = Path(__file__).resolve().parents[2] / "firmware" / "apps"
 MOTORS = [
@@ -28,14 +27,23 @@ def with_parts(rig_file, *parts):
 
 PLANTS = {
     "rover": lambda: assemble_file(APPS / "rover" / "rig.toml", room_w_m=3.0, room_h_m=3.0, start_pose=[1.5, 1.5, 0.0]),
-    "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
-    "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
-    "pool_faults": lambda: PoolCleaner(
+    "pool_nmea": lambda: pool_cleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
+    "pool_adc": lambda: pool_cleaner(
+        "rig-adc.toml",
+        pool_length_m=4.0,
+        start_pose=(2.0, 3.0, 0.0),
+        **{"bumper_front.bounce_us": 800, "bumper_rear.bounce_us": 800},
+    ),
+    "pool_faults": lambda: pool_cleaner(
         pool_length_m=4.0,
         start_pose=(2.0, 3.0, 0.1),
-        sonar_faults=[(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")],
+        **{"sonar.faults": [(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")]},
     ),
-    "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
+    "duct": lambda: duct_robot(
+        "multi_branch_duct",
+        extra_parts=[{"kind": "bumper", "name": "bumper", "half_arc_deg": 60}],
+        **{"motor_l.time_constant_ms": 30.0, "motor_r.time_constant_ms": 30.0},
+    ),
     "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
     "differential": lambda: assemble(
@@ -229,15 +237,15 @@ def test_state_declared_fixed_never_changes(kind):
 
 
 def test_unknown_signals_are_refused_with_their_names():
-    plant = PoolCleaner()
+    plant = pool_cleaner()
     with pytest.raises(KeyError, match="track_l.stop"):
         plant.set_input("motor_l.pwm", 1)
-    with pytest.raises(KeyError, match="bumper_front"):
+    with pytest.raises(KeyError, match="bumper_front.out"):
         plant.output("bumper")
 
 
 def test_an_idle_plant_has_only_its_sensor_timeline():
-    plant = DuctRobot(sonar_options={"noise_v": 0.0})
+    plant = duct_robot(**{f"sonar_{s}.noise_sd_v": 0.0 for s in "flr"})
     plant.advance_to(1_000_000)
     assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
     quiet = assemble_file(APPS / "vacuum" / "rig.toml")

@@ -21,27 +21,27 @@ def duty(pulse_ms):
     return round(pulse_ms / 20 * 65535)
 
 
-def test_a_positional_servo_reaches_the_pulses_angle_at_500_degrees_a_second():
-    plant = robot({"kind": "servo", "name": "pan"})
-    assert "pan.pwm" in plant.inputs and plant.truth()["pan_deg"] == 90.0
+def test_a_positional_servo_reaches_the_pulses_angle_at_its_slew_rate():
+    plant = robot({"kind": "servo", "name": "pan", "slew_deg_per_s": 500})
+    assert "pan.pwm" in plant.inputs and plant.truth()["pan_angle_deg"] == 90.0
     plant.set_input("pan.pwm", duty(2.5))  # 180 degrees: 90 to go, 180 ms
     plant.advance_to(90_000)
-    assert plant.truth()["pan_deg"] == pytest.approx(135.0, abs=0.1)
+    assert plant.truth()["pan_angle_deg"] == pytest.approx(135.0, abs=0.1)
     plant.advance_to(200_000)
-    assert plant.truth()["pan_deg"] == pytest.approx(180.0, abs=0.1) and plant.truth()["pan_target_deg"] == 180.0
+    assert plant.truth()["pan_angle_deg"] == pytest.approx(180.0, abs=0.1) and plant.truth()["pan_target_deg"] == 180.0
 
 
 def test_a_continuous_servo_turns_at_the_pulses_speed_and_stands_still_at_1_5_ms():
-    plant = robot({"kind": "servo", "name": "wheel", "mode": "continuous", "deg_per_s": 360, "start_deg": 0})
+    plant = robot({"kind": "servo", "name": "wheel", "type": "continuous", "rpm": 60})
     plant.set_input("wheel.pwm", duty(2.5))  # full speed on
     plant.advance_to(500_000)
-    assert plant.truth()["wheel_deg"] == pytest.approx(180.0, abs=0.5)
+    assert plant.truth()["wheel_angle_deg"] == pytest.approx(180.0, abs=0.5)
     plant.set_input("wheel.pwm", duty(1.5))
     plant.advance_to(1_000_000)
-    assert plant.truth()["wheel_deg"] == pytest.approx(180.0, abs=0.5)
+    assert plant.truth()["wheel_angle_deg"] == pytest.approx(180.0, abs=0.5)
     plant.set_input("wheel.pwm", duty(1.0))  # half speed back
     plant.advance_to(2_000_000)
-    assert plant.truth()["wheel_deg"] == pytest.approx(0.0, abs=1.0)
+    assert plant.truth()["wheel_angle_deg"] == pytest.approx(0.0, abs=1.0)
 
 
 def test_an_hcsr04_on_the_servo_looks_along_its_horn():
@@ -77,4 +77,4 @@ def test_the_servo_declares_its_signal_and_its_angle_view():
     from sim_plant.catalogue.servo import Servo
 
     assert [s.suffix for s in Servo.SIGNALS] == ["pwm"] and Servo.VIEWS[0].plot == "angle"
-    assert math.isclose(Servo.defaults()["deg_per_s"], 60 / 0.12)
+    assert math.isclose(Servo.defaults()["slew_deg_per_s"], 600) and Servo.defaults()["start_deg"] is None

@@ -112,17 +112,17 @@ def test_servo_turns_60_degrees_in_0_12_s_and_a_ping_sees_along_its_current_angl
     to_150 = round(2.1667 / 20 * 65535)  # 150 deg: 0.5 ms + 150/180 * 2 ms
     plant.set_input("servo.pwm", to_150)
     plant.advance_to(plant.t_us + 60_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(120.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(120.0, abs=0.1)
     plant.advance_to(plant.t_us + 60_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(150.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(150.0, abs=0.1)
     plant.set_input("servo.pwm", round(0.6111 / 20 * 65535))  # 10 deg
     plant.advance_to(plant.t_us + 279_000)
-    assert plant.truth()["servo_deg"] > 10.0
+    assert plant.truth()["servo_angle_deg"] > 10.0
     plant.advance_to(plant.t_us + 1_500)
-    assert plant.truth()["servo_deg"] == pytest.approx(10.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(10.0, abs=0.1)
     plant.set_input("servo.pwm", round(1.0 / 20 * 65535))  # 45 deg
     plant.advance_to(plant.t_us + 70_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(45.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(45.0, abs=0.1)
     plant.set_input("servo.pwm", SERVO_DUTY_90)
     plant.advance_to(plant.t_us + 45_000)  # half way: 67.5 deg
     ping(plant)
@@ -188,9 +188,9 @@ def test_a_35_degree_step_takes_70_ms_and_45_degrees_90_ms():
         plant.set_input("servo.pwm", servo_duty(target))
         assert servo.settle_us() - start == pytest.approx(travel_us, abs=100), target  # duty_u16 steps: 0.03 deg
         plant.advance_to(start + travel_us - 1_000)
-        assert plant.truth()["servo_deg"] < target - 0.4, "still turning 1 ms before"
+        assert plant.truth()["servo_angle_deg"] < target - 0.4, "still turning 1 ms before"
         plant.advance_to(start + travel_us + 100)
-        assert plant.truth()["servo_deg"] == pytest.approx(target, abs=0.03)
+        assert plant.truth()["servo_angle_deg"] == pytest.approx(target, abs=0.03)
     plant.set_input("servo.pwm", servo_duty(10))
     assert servo.settle_us() - plant.t_us == pytest.approx(320_000, abs=100), "the fly-back"
 

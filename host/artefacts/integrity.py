@@ -1,0 +1,95 @@
+"""Trace files that are either complete or say they are not (``docs/traces.md``).
+
+- :class:`Stopped`: the run was stopped by a signal (SIGTERM, SIGHUP; SIGINT is Python's
+  own KeyboardInterrupt); the trace folder is written, marked partial.
+- :class:`TraceWriteError`: a file of the run could not be written (a full disk): one
+  message naming the path; the run ends and what is left is marked.
+- :func:`atomic`: a file written under a temporary name and renamed when whole, so a file
+  under its own name is never cut short (a cut one is removed, its space given back).
+- :func:`file_digest` and :func:`seal`: the SHA-256 of each file and of the header
+  itself, so a reader can tell a damaged folder from a firmware that changed.
+"""
+
+import hashlib
+import json
+import os
+import signal
+from contextlib import contextmanager
+from pathlib import Path
+
+from host.core.errors import HarnessError
+
+PART = ".part"  # a file being written; never left behind by a run that ends
+
+
+class Stopped(KeyboardInterrupt):
+    """A signal asked the run to stop (raised by the command line's handler)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+        self.signal_name = signal.Signals(signum).name
+
+
+def stop_signal_name(error: BaseException) -> str:
+    """The signal that stopped a run (``SIGINT`` for a plain KeyboardInterrupt)."""
+    return getattr(error, "signal_name", "SIGINT")
+
+
+class TraceWriteError(HarnessError):
+    """A file of the run could not be written (full disk, read-only, quota)."""
+
+    def __init__(self, path: Path, error: OSError):
+        self.path = Path(path)
+        self.error = error
+        reason = error.strerror or str(error)
+        super().__init__(
+            f"cannot write {path}: {reason}; the run stopped there and its trace folder "
+            f"{self.path.parent} is marked partial (header.json lists the incomplete files)"
+        )
+
+
+@contextmanager
+def atomic(path: Path):
+    """Yields a temporary path beside ``path``; renamed to ``path`` once the block ends
+    without error, removed otherwise (an OSError becomes a TraceWriteError naming ``path``)."""
+    part = path.with_name(path.name + PART)
+    try:
+        yield part
+        os.replace(part, path)
+    except BaseException as e:
+        part.unlink(missing_ok=True)
+        if isinstance(e, OSError):
+            raise TraceWriteError(path, e) from e
+        raise
+
+
+def write_text(path: Path, text: str) -> None:
+    """``text`` into ``path``, whole or not at all."""
+    with atomic(path) as part:
+        part.write_text(text, encoding="utf-8")
+
+
+def file_digest(path: Path) -> str:
+    with open(path, "rb") as f:
+        return hashlib.file_digest(f, "sha256").hexdigest()
+
+
+def header_digest(header: dict) -> str:
+    """The SHA-256 of the header's own fields (all but ``digest``), canonical JSON."""
+    body = {k: v for k, v in header.items() if k != "digest"}
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def seal(header: dict) -> dict:
+    """The header with its own digest."""
+    return {**header, "digest": header_digest(header)}
+
+
+def remove_stale(folder: Path, names) -> None:
+    """An earlier run's files of these names (and their ``.part``), so a folder never
+    mixes two runs."""
+    for name in names:
+        (folder / name).unlink(missing_ok=True)
+        (folder / (name + PART)).unlink(missing_ok=True)
