@@ -25,7 +25,7 @@ def test_run_replay_and_plot_a_rover_mission_from_the_command_line(tmp_path):
     assert done.returncode == 0, f"mpy-fil run failed:\n{done.stdout}{done.stderr}"
     assert f"trace folder: {out}" in done.stdout and "control.period" in done.stdout, done.stdout
     header = json.loads((out / "header.json").read_text())
-    assert header["world"]["name"] == "rover room 3 x 3 m" and header["seed"] == 4 and header["t_end_us"] == 8_000_000
+    assert header["world"]["name"] == "room 3 x 3 m" and header["seed"] == 4 and header["t_end_us"] == 8_000_000
     assert header["plant_options"]["start_pose"] == [1.0, 1.5, 0.0], header["plant_options"]
 
     done = mpy_fil("replay", str(out))

@@ -37,7 +37,7 @@ def step_response(make_rig, kp100, seconds=4.0):
     """The master sets the gain and a 60-tick step on both wheels at 0; the records give
     each 50 ms period's slot counts (80 periods)."""
     script = [[0, f"K {kp100}"], [0, f"S {SET_POINT} {SET_POINT}"]]
-    rig = make_rig("duct", seed=1, plant_options={"world": "bench", "link_options": {"script": script}})
+    rig = make_rig("duct", seed=1, plant_options={"world": "bench_duct", "link.script": script})
     rig.run_for(seconds)
     reader = rig.plant.part(RecordReader)
     values = sorted(reader.values)
@@ -149,7 +149,7 @@ def test_straight_1m_duct_odometry_within_50mm(make_rig, record_property, run):
     then 40 mm off-centre and 3.4 degrees askew either way); at the duct end the firmware's
     odometry is within 50 mm of where the robot really is."""
     start = STRAIGHT_STARTS[run]
-    options = {"world": "straight_1m", "start_pose": list(start)}
+    options = {"world": "straight_duct", "start_pose": list(start)}
     rig = make_rig("duct", board=STRAIGHT_BOARDS[run], seed=run, plant_options=options)
     assert run_until(rig, "duct end", 20, 0.1), f"expected the duct end within 20 s; {where(rig)}"
     line = next(x for x in rig.console.splitlines() if x.startswith("duct end"))
@@ -180,7 +180,7 @@ def branch_run(make_rig, seed, **options):
     truth = rig.truth()
     off = math.hypot(truth["x_m"] - START[0], truth["y_m"] - START[1])
     ok = done and "explored: 1 branches found, 2 ends, 0 left" in rig.console and off <= HOME_TOLERANCE_M
-    snags = rig.plant.part(TetherSnag).events if options.get("snag_p") else []
+    snags = rig.plant.part(TetherSnag).events if options.get("tether.snag_p") else []
     return rig, ok, off, snags
 
 
@@ -205,7 +205,7 @@ def test_single_right_branch_with_tether_snags(make_rig, record_property):
     had a snag. make hil only (make test checks a snag's failure in test_what_a_snag_costs)."""
     outcomes = []
     for seed in range(1, 21):
-        rig, ok, off, snags = branch_run(make_rig, seed, snag_p=P_SNAG)
+        rig, ok, off, snags = branch_run(make_rig, seed, **{"tether.snag_p": P_SNAG})
         outcomes.append((seed, ok, len(snags), off, rig.artefacts))
         rig.stop()
     wins = sum(ok for _s, ok, _n, _o, _a in outcomes)
@@ -241,7 +241,7 @@ def test_what_a_snag_costs(make_rig, record_property, request, spin):
     seeds = COST_SEEDS if request.config.getoption("--hil-report") else range(1, 2)
     outcomes = []
     for seed in seeds:
-        rig, ok, off, snags = branch_run(make_rig, seed, snag_p=1.0, snag_options={"spins": [spin]})
+        rig, ok, off, snags = branch_run(make_rig, seed, **{"tether.snag_p": 1.0, "tether.spins": [spin]})
         outcomes.append((seed, ok, len(snags), round(off * 1000), str(rig.artefacts)))
         rig.stop()
     failed = [s for s, ok, _n, _o, _a in outcomes if not ok]
@@ -268,7 +268,12 @@ def test_multi_branch_duct_explored_recursively(make_rig, record_property, gains
     reverse), no spurious branch, the list empty, home reached; with a 10 % velocity
     error on one wheel the exploration still completes (home by the robot's own odometry;
     its true distance from the start is reported, not bounded)."""
-    rig = make_rig("duct", seed=1, plant_options={"world": "multi_branch", "motor_gains": list(gains)}, record=False)
+    rig = make_rig(
+        "duct",
+        seed=1,
+        plant_options={"world": "multi_branch_duct", "motor_l.gain": gains[0], "motor_r.gain": gains[1]},
+        record=False,
+    )
     done = run_until(rig, "explored:", 240, 5.0)
     truth = rig.truth()
     off = math.hypot(truth["x_m"] - START[0], truth["y_m"] - START[1])
@@ -291,14 +296,14 @@ def test_record_stream_none_lost_when_drained_fast_and_overrun_counted_when_not(
     order, within one poll period and the batch's time on the line. A master that polls
     every 2.5 s lets the 32-record ring overwrite: the robot counts the overruns and the
     master sees exactly that many sequence numbers missing."""
-    fast = make_rig("duct", seed=1, plant_options={"world": "bench", "link_options": {"poll_ms": 100}})
+    fast = make_rig("duct", seed=1, plant_options={"world": "bench_duct", "link.poll_ms": 100})
     fast.run_for(10.0)
     t = fast.truth()
     fast.budgets["control.period"].check()
     fast.budgets["link.latency"].check()
     made = round(fast.t_us / 50_000)
     fast.stop()
-    slow = make_rig("duct", seed=1, plant_options={"world": "bench", "link_options": {"poll_ms": 2500}})
+    slow = make_rig("duct", seed=1, plant_options={"world": "bench_duct", "link.poll_ms": 2500})
     slow.run_for(10.0)
     s = slow.truth()
     slow.stop()
@@ -326,7 +331,7 @@ def test_spin_odometry_under_reports_without_the_90_degree_override(make_rig, re
     (1 + 0.7) / 2 x 90 = 76 degrees."""
     thetas, truths = {}, {}
     for option in ("O 0 0", "O 1 0"):
-        options = {"link_options": {"script": [[100, option]]}}
+        options = {"link.script": [[0.1, option]]}
         rig = make_rig("duct", seed=1, plant_options=options, record=False, trace=False)
         assert run_until(rig, "spin right", 30, 0.5), f"expected a spin within 30 s; {where(rig)}"
         thetas[option], truths[option] = first_spin_theta(rig), math.degrees(rig.truth()["theta_rad"])
@@ -346,7 +351,7 @@ def test_spin_odometry_under_reports_without_the_90_degree_override(make_rig, re
 def test_positional_fix_still_explores_the_branch(make_rig, record_property):
     """§5.7's positional fix as an option ("O 1 1"): at each spin the position is set to the
     branch's stored spin point; the single right branch run still succeeds."""
-    rig, ok, off, _ = branch_run(make_rig, 1, link_options={"script": [[100, "O 1 1"]]})
+    rig, ok, off, _ = branch_run(make_rig, 1, **{"link.script": [[0.1, "O 1 1"]]})
     record_property("result", f"positional fix: {'success' if ok else 'FAILED'}, {off * 1000:.0f} mm from the start")
     assert ok, f"expected the positional fix run to explore the branch and come home; {where(rig)}"
 
@@ -354,7 +359,7 @@ def test_positional_fix_still_explores_the_branch(make_rig, record_property):
 def test_e_stop_from_the_master_stops_the_robot_within_a_control_period(make_rig, record_property):
     """§3.4: the master's emergency stop ("E") mid-run: both wheels stop within one 50 ms
     speed-loop period of the robot reading the line, and stay stopped."""
-    rig = make_rig("duct", seed=1, plant_options={"link_options": {"script": [[3000, "E"]]}})
+    rig = make_rig("duct", seed=1, plant_options={"link.script": [[3.0, "E"]]})
     rig.run_for(3.0)
     moving = rig.truth()["v_m_s"]
     rig.run_for(0.07)  # the line read within 10 ms, the duty zeroed at the next period

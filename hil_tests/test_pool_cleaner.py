@@ -142,7 +142,7 @@ def test_sonar_samples_are_read_within_one_quantum_and_stops_fit_their_slot(make
     """Budgets over 5 minutes, with sentences that end between two control steps (the
     firmware joins a sentence read in two pieces): every 500 ms sentence read within
     50 ms, every 50 ms step on time, every track stop at most 300 ms."""
-    rig = make_rig("pool_cleaner", seed=5, plant_options={"sonar_phase_us": 120_000})
+    rig = make_rig("pool_cleaner", seed=5, plant_options={"sonar.phase_us": 120_000})
     rig.run_for(300)
     check_budgets(rig)
     latency = rig.budgets["sonar.latency"].stats()
@@ -169,7 +169,7 @@ def test_sonar_faults_do_not_drive_the_cleaner_into_a_wall(make_rig, record_prop
     rig = make_rig(
         "pool_cleaner",
         seed=1,
-        plant_options={"start_pose": (25.0 - 0.46, start_y, 0.0), "sonar_faults": [(*window_s, kind)]},
+        plant_options={"start_pose": (25.0 - 0.46, start_y, 0.0), "sonar.faults": [(*window_s, kind)]},
     )
     run_until_console(rig, "straight 1:", 10, step_s=0.5)
     width_m = float(console_number(rig, r"width ([0-9.]+) m"))

@@ -3,6 +3,9 @@ bumper, and keeps its timing budgets (sonar every 500 ms, control every 50 ms)."
 
 import pytest
 
+from host.rig.apps import get_app
+from sim_plant.catalogue.assembly import rig_plant_table
+
 pytestmark = pytest.mark.hil
 
 
@@ -49,9 +52,11 @@ def test_sonar_updates_every_500ms_and_each_sample_is_read_within_one_quantum(ma
 
 
 def test_sonar_budget_follows_the_sonar_period_the_plant_is_given(make_rig):
-    """One source for the number: the sonar's period is the plant's option, and the
-    budget that checks it reads it from there."""
-    rig = make_rig("rover", seed=3, plant_options={"sonar_period_us": 250_000})
+    """One source for the number: the sonar's period is its part's option, and the
+    budget that checks it reads it from the plant."""
+    rover = get_app("rover")
+    parts = rig_plant_table(rover.rig_file, parts={"sonar": {"period_us": 250_000}})["parts"]
+    rig = make_rig("rover", seed=3, plant_options={"parts": parts})
     rig.run_for(10)
     period = rig.budgets["sonar.period"]
     assert period.period_us == 250_000 and "250 ms" in period.description

@@ -14,8 +14,9 @@ from host.cli import main
 from host.core.paths import REPO
 from host.rig import Rig, RigSpec
 from host.rig.replay import replay
-from host.rig.spec import build_plant
+from host.rig.spec import build_plant, fault_schedule, placed
 from host.rig.target import FaultyLinkTarget
+from sim_plant.faults import FaultyPlant
 
 pytestmark = pytest.mark.hil
 
@@ -57,7 +58,7 @@ def test_a_spec_builds_the_plant_of_its_world_with_its_options_over_the_worlds()
     spec = RigSpec("rover", world="long-room", seed=3, options={"room_h_m": 5.0})
     plant, options = build_plant(spec, spec.resolve())
     assert options == {"room_w_m": 8.0, "room_h_m": 5.0}
-    assert (plant.room_w_m, plant.room_h_m) == (8.0, 5.0)
+    assert (plant.body.options["room_w_m"], plant.body.options["room_h_m"]) == (8.0, 5.0)
     with pytest.raises(AttributeError):
         spec.seed = 4  # frozen
 
@@ -113,3 +114,23 @@ def test_a_specs_link_faults_go_under_the_channel_wherever_it_runs():
     stall = {"kind": "link_stall", "direction": "both", "rate": 0.02, "stall_ms": 5}
     assert isinstance(Rig(RigSpec("rover", faults=[stall])).target, FaultyLinkTarget)
     assert not isinstance(Rig(RigSpec("rover")).target, FaultyLinkTarget)
+
+
+def test_a_rig_files_faults_stay_inside_and_a_specs_wrap_them_once_as_a_schedule_of_their_own(tmp_path):
+    rig_file = tmp_path / "rig.toml"
+    (tmp_path / "main.py").write_bytes((TWO_SONAR.parent / "main.py").read_bytes())
+    rig_file.write_text(TWO_SONAR.read_text() + '\n[[faults]]\nkind = "dropout"\nsignal = "sonar_front.echo"\n')
+    spec = RigSpec(str(rig_file), faults=[{"kind": "dropout", "signal": "sonar_rear.echo"}])
+    plant, _options = build_plant(spec, spec.resolve())
+    assert isinstance(plant, FaultyPlant) and isinstance(plant.inner, FaultyPlant), "expected two wrappers"
+    assert [(f.signal, f.index) for f in plant.schedule] == [("sonar_rear.echo", 0)], "the spec's, indexed alone"
+    assert [(f.signal, f.index) for f in plant.inner.schedule] == [("sonar_front.echo", 0)], "the rig file's"
+    assert [f.signal for f in fault_schedule(spec, spec.resolve())] == ["sonar_front.echo", "sonar_rear.echo"]
+
+
+def test_a_placed_start_is_the_plants_pose_at_time_zero_moved_by_the_seeds_draw():
+    spec = RigSpec(str(TWO_SONAR), seed=4, placement={"x_m": [-0.05, 0.05], "theta_deg": [-3, 3]})
+    plant, options = build_plant(spec, spec.resolve())
+    bare, _ = build_plant(RigSpec(str(TWO_SONAR), seed=4), spec.resolve())
+    assert options["start_pose"] == placed(bare.pose_at(0), spec.placement_ranges, 4)
+    assert options["start_pose"] != [1.0, 1.0, 0.0] and plant.pose_at(0) == pytest.approx(options["start_pose"])

@@ -43,7 +43,7 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     where = f"(artefacts: {folder})"
     header = json.loads((folder / "header.json").read_text())
     assert header["app"] == "rover" and header["board"] == "esp32_devkitc" and header["seed"] == 11, where
-    assert header["world"]["name"] == "rover room 3.5 x 4 m" and header["plant_options"] == {"room_w_m": 3.5}, where
+    assert header["world"]["name"] == "room 3.5 x 4 m" and header["plant_options"] == {"room_w_m": 3.5}, where
     assert re.fullmatch(r"[0-9a-f]{40}(-dirty)?", header["commit"]), f"commit {header['commit']!r} {where}"
     assert header["micropython"] == "1.25.0", where
     assert header["t_end_us"] == DURATION_S * 1_000_000, where
@@ -53,7 +53,7 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     steps = [r for r in signals if r["signal"] == "probe:control"]
     assert len(samples) == rig.budgets["sonar.period"].stats()["count"] + 1, f"one row per sonar sample {where}"
     assert len(steps) >= rig.budgets["control.period"].stats()["count"] + 1, where
-    assert {"motor_l.pwm", "motor_r.pwm", "enc_l.a", "enc_r.b", "bumper"} <= {r["signal"] for r in signals}, where
+    assert {"motor_l.pwm", "motor_r.pwm", "enc_l.a", "enc_r.b", "bumper.out"} <= {r["signal"] for r in signals}, where
     t = [int(r["t_us"]) for r in signals]
     assert t == sorted(t), f"signals.csv is not in time order {where}"
 
@@ -81,7 +81,7 @@ def test_a_recorded_run_leaves_header_signals_truth_budgets_link_and_vcd(recorde
     # the console's lines carry their virtual time, in console.log and as the VCD's events
     console = list(stamped_lines(folder / "console.log"))
     assert vcd.timeline("rover.events.console") == console, where
-    bumped = min(int(r["t_us"]) for r in signals if r["signal"] == "bumper" and r["value"] == "0")
+    bumped = min(int(r["t_us"]) for r in signals if r["signal"] == "bumper.out" and r["value"] == "0")
     backup = [t for t, line in console if line.startswith("rover: backup")]
     assert backup and 0 <= backup[0] - bumped <= 50_000, (
         f"expected the backup line within one 50 ms control period of the bump at {bumped} us, got {backup} {where}"

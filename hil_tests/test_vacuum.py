@@ -23,13 +23,14 @@ import pytest
 from host.core.paths import FIRMWARE
 from host.pytest_plugin import artefacts_for
 from host.rig.budgets import Budget
+from sim_plant.catalogue.assembly import rig_plant_table
 from sim_plant.furniture import DEFAULT_ROUTE
 from sim_plant.hcsr04 import Servo
 
 pytestmark = pytest.mark.hil
 
 APP = FIRMWARE / "apps" / "vacuum"
-EMPTY_ROOM = {"world": "empty", "room_w_m": 8.0, "room_h_m": 6.0}
+EMPTY_ROOM = {"world": "room", "room_w_m": 8.0, "room_h_m": 6.0}
 STOP_BOX_CM = 5.0  # A.3: |Xg - x| < 5 && |Yg - y| < 5
 PIVOT_RAD = math.pi / 8
 PWM_MIN = 107  # chassis.py: the pivot wheel's analogWrite()
@@ -231,7 +232,12 @@ GAIN_RUNS = (
     ("(20, 10, 5)", [20, 10, 5], []),
     ("(20, 10, 5), derivative over ms as listed", [20, 10, 5], ["derivative_in_ms"]),
 )
-MISMATCHED = {"motor_gains": (1.0, 0.9), "motor_time_constant_ms": 150.0}  # a weaker right wheel, a lagging motor
+MISMATCHED = {  # a weaker right wheel, lagging motors
+    "parts": rig_plant_table(
+        APP / "rig.toml",
+        parts={"motor_l": {"time_constant_ms": 150.0}, "motor_r": {"gain": 0.9, "time_constant_ms": 150.0}},
+    )["parts"]
+}
 
 
 def straight_run(vacuum, gains, bugs):
@@ -384,7 +390,7 @@ def sweeps_ms(pings, travel):
     "where, plant_options, mission",
     [
         ("furnished room, driving", {"world": "furnished"}, None),
-        ("open floor, nothing within 4 m", {"world": "empty", "room_w_m": 12.0, "room_h_m": 12.0}, {"goals": []}),
+        ("open floor, nothing within 4 m", {"world": "room", "room_w_m": 12.0, "room_h_m": 12.0}, {"goals": []}),
     ],
     ids=["echoes", "no-echo"],
 )
@@ -461,7 +467,11 @@ def test_the_hcsr04_driver_reads_58_31_us_per_cm_through_time_pulse_us(make_rig,
         "vacuum",
         seed=1,
         main_dir=folder,
-        plant_options={**EMPTY_ROOM, "start_pose": (5.0, 3.0, 0.0), "sonar_noise_sd_m": 0.0},
+        plant_options={
+            **EMPTY_ROOM,
+            "start_pose": (5.0, 3.0, 0.0),
+            "parts": rig_plant_table(APP / "rig.toml", parts={"sonar": {"noise_sd_m": 0.0}})["parts"],
+        },
     )
     readings = []
     for angle in (90, 170, 10):
@@ -469,14 +479,14 @@ def test_the_hcsr04_driver_reads_58_31_us_per_cm_through_time_pulse_us(make_rig,
         line = [ln for ln in rig.console.splitlines() if ln.startswith(f"ping {angle} ")][0]
         width_us, cm = int(line.split()[2]), float(line.split()[3])
         truth = rig.truth()
-        readings.append((angle, cm, truth["ping_range_m"] * 100, truth["ping_angle_deg"]))
+        readings.append((angle, cm, truth["sonar_ping_range_m"] * 100, truth["sonar_ping_angle_deg"]))
         assert cm == pytest.approx(width_us / 58.31, abs=1e-3) and cm == pytest.approx(
-            truth["ping_range_m"] * 100, abs=0.05
+            truth["sonar_ping_range_m"] * 100, abs=0.05
         ), (
-            f"expected {width_us} us / 58.31 = the true {truth['ping_range_m'] * 100:.2f} cm at {angle} deg, got "
+            f"expected {width_us} us / 58.31 = the true {truth['sonar_ping_range_m'] * 100:.2f} cm at {angle} deg, got "
             f"{cm} cm; artefacts: {rig.artefacts}"
         )
-        assert truth["ping_angle_deg"] == pytest.approx(angle, abs=0.05), f"expected the servo settled: {truth}"
+        assert truth["sonar_ping_angle_deg"] == pytest.approx(angle, abs=0.05), f"expected the servo settled: {truth}"
     record_property(
         "result", "HC-SR04 driver: " + ", ".join(f"{a} deg {cm:.1f} cm (true {t:.1f})" for a, cm, t, _ in readings)
     )

@@ -113,6 +113,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
     check.add_argument("rig", metavar="RIG", help="a rig file (docs/rig-file.md) or one of our apps")
+    check.add_argument("--strict", action="store_true", help="exit 1 when the code's pins and the wiring differ")
+    check.add_argument("-v", "--verbose", action="store_true", help="list the pin expressions only a run can tell")
     check.set_defaults(command=cmd_check, sub=check)
 
     init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
@@ -380,11 +382,26 @@ def cmd_check(args) -> int:
     for budget in app.make_budgets(plant):
         print(f"  budget {budget.name}: {budget.limit_text()}  {budget.description}")
     print(f"  worlds: {', '.join(app.worlds)}")
-    return 0
+    return _check_pins(app, args)
+
+
+def _check_pins(app, args) -> int:
+    """The code's pins against the wiring: warnings on stderr (exit 1 with --strict)."""
+    from host.rig.pincheck import check_pins
+
+    pins = check_pins(app)
+    print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
+    for line in pins.notes:
+        print(f"    {line}")
+    for line in pins.unchecked if args.verbose else ():
+        print(f"    not checked (computed at run time): {line}")
+    for line in pins.warnings:
+        print(line, file=sys.stderr)
+    return EXIT_FAILED if pins.warnings and args.strict else 0
 
 
 def cmd_init(args) -> int:
-    from host.rig.rigfile import starter
+    from host.rig.starter import starter
 
     folder = args.folder
     try:

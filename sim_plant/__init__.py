@@ -3,24 +3,22 @@
 Pure Python + numpy: no I/O, no processes, no wall clock. Every plant follows the
 contract in :mod:`sim_plant.plant` (reset with a seed, set inputs, advance to a
 virtual time, read outputs, ground truth apart from what sensors report). The robots
-of the seed documents (``docs/plant.md`` tells which model comes from which seed):
+of the seed documents (``docs/plant.md`` tells which model comes from which seed) that
+are still plant classes:
 
 =====================  ==============================================================
 class                  robot
 =====================  ==============================================================
-``RoverRoom``          round differential-drive rover in a room (the first HIL plant)
-``PoolCleaner``        WEDA B400 tracked pool cleaner, seeds 000/001
-``DuctRobot``          duct inspection robot, seed 002
-``VacuumRobot``        vacuum cleaner robot with an HC-SR04 on a servo, seed 003
 ``LabRobot``           dead-reckoning lab robot with quadrature encoders, seed 004
 =====================  ==============================================================
+
+The WEDA B400 tracked pool cleaner of seeds 000/001, seed 002's duct inspection robot,
+the rover and seed 003's vacuum robot are rig files over catalogue parts
+(:mod:`sim_plant.catalogue`; the pool's and the duct's figures in :mod:`sim_plant.pool`
+and :mod:`sim_plant.duct`).
 """
 
-from sim_plant.duct import DuctRobot
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Change, Plant
-from sim_plant.pool import PoolCleaner
-from sim_plant.rover import RoverRoom
-from sim_plant.vacuum import VacuumRobot
 
-__all__ = ["Change", "DuctRobot", "LabRobot", "Plant", "PoolCleaner", "RoverRoom", "VacuumRobot"]
+__all__ = ["Change", "LabRobot", "Plant"]

@@ -94,11 +94,12 @@ class RecordReader(Part):
 
     def truth(self, t_us: int, plant) -> dict:
         lat = [v - self.first_seq_us for v in self.latencies_us] if self.latencies_us else [0]
+        key = self.rx.split(".")[0]  # link.uart: link_records, ...
         return {
-            "link_records": self.records,
-            "link_skipped": self.skipped,
-            "link_overruns": self.overruns,
-            "link_batches": self.batches,
-            "link_latency_max_us": max(lat),
-            "link_bad_lines": self.bad_lines,
+            f"{key}_records": self.records,
+            f"{key}_skipped": self.skipped,
+            f"{key}_overruns": self.overruns,
+            f"{key}_batches": self.batches,
+            f"{key}_latency_max_us": max(lat),
+            f"{key}_bad_lines": self.bad_lines,
         }

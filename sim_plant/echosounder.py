@@ -299,9 +299,14 @@ class NmeaDepthSounder(Part):
         self.sample_us = t_us + self.period_us
 
     def truth(self, t_us: int, plant) -> dict:
+        key = self.name.split(".")[0]  # sonar.uart: sonar_l_range_m, sonar_reading_m, ...
         sides = ("l", "r") if len(self.transducers) == 2 else tuple(str(i) for i in range(len(self.transducers)))
-        truth = {f"sonar_{s}_range_m": self.true_m[i] for i, s in enumerate(sides)}
+        truth = {f"{key}_{s}_range_m": self.true_m[i] for i, s in enumerate(sides)}
         truth.update(
-            {"sonar_selected": self.selected, "sonar_reading_m": self.reading_m, "sonar_sentence": self.last_sentence}
+            {
+                f"{key}_selected": self.selected,
+                f"{key}_reading_m": self.reading_m,
+                f"{key}_sentence": self.last_sentence,
+            }
         )
         return truth

@@ -224,6 +224,8 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "plant": type(getattr(plant, "inner", plant)).__name__,
         "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
         "plant_options": run["plant_options"],
+        "parts": described_parts(plant),
+        "report": run.get("report"),
         **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)
         "seed": run["seed"],
         "mode": run["mode"],
@@ -242,6 +244,13 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "incomplete": run.get("incomplete") or {},
         "console": run.get("console"),
     }
+
+
+def described_parts(plant) -> dict | None:
+    """A plant built from a body and parts, as data (``PartsPlant.describe``): what the
+    report draws each part's views from. None for a plant of another kind."""
+    describe = getattr(getattr(plant, "inner", plant), "describe", None)
+    return describe() if callable(describe) else None
 
 
 def describe_world(plant) -> dict | None:

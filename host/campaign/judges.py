@@ -65,4 +65,37 @@ def no_contact(rig, reached: bool, task: dict):
     return ok, figures, message
 
 
-JUDGES = {"generic": generic, "duct_branch": duct_branch, "pool_mission": pool_mission, "no_contact": no_contact}
+def declared(rig, reached: bool, task: dict):
+    """As the rig file's ``[report.judge]`` says: ``console`` (a text the console must
+    show), ``no_contact``, ``home_within_m`` (the robot ends this near its start; figure
+    ``home_off_m``), ``min_coverage`` (figure ``coverage``); and the ``until`` text, as
+    :func:`generic`. The first unmet condition is the message."""
+    expect = (rig.app.extra.get("report") or {}).get("judge") or {}
+    ok, figures, message = generic(rig, reached, task)
+    truth = rig.truth()
+    problems = [] if ok else [message]
+    if expect.get("console") and expect["console"] not in rig.console:
+        problems.append(f"expected {expect['console']!r} on the console")
+    if expect.get("no_contact"):
+        figures["contacts"] = len(truth.get("contacts", []))
+        if figures["contacts"]:
+            problems.append(f"expected no contact, got {figures['contacts']}")
+    if "home_within_m" in expect:
+        x0, y0 = rig.plant.start_pose[:2]
+        figures["home_off_m"] = math.hypot(truth["x_m"] - x0, truth["y_m"] - y0)
+        if figures["home_off_m"] > expect["home_within_m"]:
+            problems.append(f"expected home within {expect['home_within_m']:g} m, got {figures['home_off_m']:.3f} m")
+    if "min_coverage" in expect:
+        figures["coverage"] = truth.get("coverage_fraction", math.nan)
+        if not figures["coverage"] >= expect["min_coverage"]:
+            problems.append(f"expected >= {expect['min_coverage']:.0%} covered, got {figures['coverage']:.1%}")
+    return not problems, figures, problems[0] if problems else ""
+
+
+JUDGES = {
+    "generic": generic,
+    "declared": declared,
+    "duct_branch": duct_branch,
+    "pool_mission": pool_mission,
+    "no_contact": no_contact,
+}

@@ -64,7 +64,7 @@ class Campaign:
     seconds: float = 60.0
     until: str | None = None
     step_s: float = 1.0
-    judge: str = "generic"
+    judge: str = ""  # default: "declared" for a rig file with [report.judge], else "generic"
     worlds: list[str] = field(default_factory=list)  # default: the rig's first world
     seeds: int = 10
     first_seed: int = 1
@@ -193,6 +193,7 @@ def _check(campaign: Campaign) -> None:
     from host.campaign.judges import JUDGES
 
     app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
+    campaign.judge = campaign.judge or ("declared" if (app.extra.get("report") or {}).get("judge") else "generic")
     campaign.worlds = campaign.worlds or [next(iter(app.worlds))]
     for world in campaign.worlds:
         if world not in app.worlds:

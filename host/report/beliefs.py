@@ -119,6 +119,3 @@ def pool_stops_panel(trace: TraceData) -> Panel:
         if len(t_us):
             panel.lines.append(Line(signal, t_us / US_PER_S, sign * level, "step"))
     return panel
-
-
-VIEWS = {"pool_cleaner": pool_cleaner_view, "pool_cleaner_adc": pool_cleaner_view}

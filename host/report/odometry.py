@@ -1,7 +1,8 @@
-"""Where the firmware's odometry put the robot against where it was: the vacuum's
-odometry (``pose t_ms x_cm y_cm phi_deg`` every 500 ms, firmware/apps/vacuum/lib/robot.py)
-and the lab robot's dead reckoning (``pose t_ms x_mm y_mm theta_rad`` every 250 ms,
-firmware/apps/lab_robot/main.py), from their telemetry lines and the trace's truth.
+"""Where the firmware's odometry put the robot against where it was, from its telemetry
+lines and the trace's truth. A rig file says how its firmware prints its pose
+(``[report.pose_line]``, kept in the trace header): the vacuum's odometry prints
+``pose t_ms x_cm y_cm phi_deg`` every 500 ms, the lab robot's dead reckoning
+``pose t_ms x_mm y_mm theta_rad`` every 250 ms.
 
 The odometry counts from its own origin; its first line, taken before the robot moves,
 is matched to the true pose at that time, and every later pose is carried into the
@@ -27,11 +28,17 @@ class PoseLine:
     rad_per_unit: float
     probe: str
     what: str  # what the firmware calls it
+    tag: str = "pose"  # the telemetry line's tag
 
 
-VACUUM = PoseLine(("t_ms", "x_cm", "y_cm", "phi_deg"), 0.01, np.pi / 180, "probe:quantum", "odometry")
-LAB_ROBOT = PoseLine(("t_ms", "x_mm", "y_mm", "theta_rad"), 0.001, 1.0, "probe:control", "dead reckoning")
-POSE_LINES = {"vacuum": VACUUM, "lab_robot": LAB_ROBOT, "lab_robot_canyon": LAB_ROBOT}
+def pose_line(header: dict) -> PoseLine | None:
+    """How the run's firmware prints its pose, as its rig file declared it (None: not)."""
+    spec = (header.get("report") or {}).get("pose_line")
+    if not spec:
+        return None
+    return PoseLine(
+        tuple(spec["columns"]), spec["m_per_unit"], spec["rad_per_unit"], spec["probe"], spec["what"], spec["tag"]
+    )
 
 
 @dataclass
@@ -50,11 +57,11 @@ class BeliefPath:
 
 def belief_path(trace: TraceData) -> BeliefPath | None:
     """The app's odometry in the world's frame (None: no pose lines, or no true pose)."""
-    spec = POSE_LINES.get(trace.header.get("app"))
+    spec = pose_line(trace.header)
     tr = trace.truth
     if spec is None or not {"x_m", "y_m", "theta_rad"} <= set(tr) or not len(tr["t_us"]):
         return None
-    rows = telemetry.rows(telemetry.console_text(trace), "pose", spec.columns)
+    rows = telemetry.rows(telemetry.console_text(trace), spec.tag, spec.columns)
     if not len(rows["t_ms"]):
         return None
     t_s = (telemetry.firmware_t0_us(trace, spec.probe) + rows["t_ms"] * 1000) / US_PER_S

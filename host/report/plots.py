@@ -139,24 +139,30 @@ def signals_figure(trace: TraceData) -> Figure | None:
         return None
     height_in = 2.4 * len(panels) + 0.8
     fig = Figure(figsize=(10, height_in))
-    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     bumps = views.bumps_s(trace)
+    end_s = trace.header["t_end_us"] / 1e6
     for ax, panel in zip(axes, panels):
-        _draw_panel(ax, panel, bumps)
+        _draw_panel(ax, panel, bumps, end_s)
     axes[-1].set_xlabel("virtual time (s)" + ("; red lines: contacts with a wall" if len(bumps) else ""))
     axes[-1].set_xlim(0, trace.header["t_end_us"] / 1e6)
     fig.suptitle(f"Signals over time: {_title(trace)}", fontsize="medium")
     return fig
 
 
-def _draw_panel(ax, panel: views.Panel, bumps) -> None:
+def _draw_panel(ax, panel: views.Panel, bumps, end_s: float | None = None) -> None:
+    """The panel's lines; a step line holds its last value to ``end_s`` (the run's end)."""
+    ax.ticklabel_format(axis="y", useOffset=False)  # 90 degrees, not 1e-3 + 8.999e1
     for line in panel.lines:
         if line.style == "points":
             ax.plot(line.t_s, line.values, ".", markersize=4, label=line.label)
         elif line.style in ("step", "dashed"):
             dashes = "--" if line.style == "dashed" else "-"
-            ax.step(line.t_s, line.values, dashes, where="post", linewidth=1.2, label=line.label)
+            t_s, values = line.t_s, line.values
+            if end_s is not None and len(t_s) and t_s[-1] < end_s:
+                t_s, values = np.append(t_s, end_s), np.append(values, values[-1])
+            ax.step(t_s, values, dashes, where="post", linewidth=1.2, label=line.label)
         else:
             ax.plot(line.t_s, line.values, linewidth=1.2, label=line.label)
     for value, label in panel.levels:

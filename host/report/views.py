@@ -1,11 +1,11 @@
 """What the plots show, computed from a trace folder: plain numbers, no drawing.
 
 - :func:`coverage` rasterises the ground-truth path into the world's coverage grid.
-- :func:`signal_panels` picks the signals over time: what the sonar gave the firmware
-  against the true range, the firmware's estimate against the truth, and the actuator
-  commands. Apps whose firmware has an estimate the host can rebuild from the recorded
-  signals add a view to ``VIEWS``; other apps get the generic view (raw sensors, truth,
-  actuators).
+- :func:`signal_panels` picks the signals over time: a robot built from parts gets each
+  part's declared views (:mod:`host.report.part_views`); a rig file adds views of its
+  firmware's beliefs by name (``[report] views``, ``VIEWS`` below) and its odometry
+  (``[report.pose_line]``); a plant of another kind without views gets the generic view
+  (raw sensors, truth, actuators).
 """
 
 import math
@@ -15,7 +15,7 @@ import numpy as np
 
 from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
-from host.report import beliefs, odometry
+from host.report import beliefs, odometry, part_views
 from host.report.panels import US_PER_S, Line, Panel
 from sim_plant.coverage import CoverageGrid
 from sim_plant.world import World
@@ -83,8 +83,16 @@ def bumps_s(trace: TraceData) -> np.ndarray:
 
 
 def signal_panels(trace: TraceData) -> list[Panel]:
-    view = VIEWS.get(trace.header.get("app"), generic_view)
-    panels = view(trace)
+    declared = (trace.header.get("report") or {}).get("views", [])
+    panels = odometry.odometry_panels(trace)
+    for name in declared:
+        view = VIEWS.get(name)
+        panels += view(trace) if view else [Panel(f"[report] views: no view {name!r}", "", notes=[", ".join(VIEWS)])]
+    parts = part_views.part_panels(trace)
+    if parts is not None:
+        panels += parts
+    elif not declared:
+        panels += generic_view(trace)
     for panel in panels:  # an input never sampled in this run (the lab robot's sonars on the square) is left out
         panel.lines = [line for line in panel.lines if len(line.t_s)]
     return [p for p in panels if p.lines]
@@ -188,9 +196,6 @@ def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(t_out), np.asarray(v_out)
 
 
-def odometry_view(trace: TraceData) -> list[Panel]:
-    """The firmware's odometry against the truth, then what every app gets."""
-    return [*odometry.odometry_panels(trace), *generic_view(trace)]
-
-
-VIEWS = {"rover": rover_view, **beliefs.VIEWS, **dict.fromkeys(odometry.POSE_LINES, odometry_view)}
+VIEWS = {"rover": rover_view, "pool_lane": beliefs.pool_cleaner_view}
+"""Views a rig file names in ``[report] views``: what its firmware believes, rebuilt from
+its signals and telemetry lines by the firmware's own laws."""

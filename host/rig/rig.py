@@ -23,6 +23,7 @@ from host.artefacts.folder import begin_trace_folder, drop_begun_folder, write_t
 from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
+from host.core import paths
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
@@ -155,6 +156,7 @@ class Rig:
                     "mode": self.mode,
                     "firmware": self.firmware.identity(),
                 }
+                header["firmware"]["folder"] = paths.portable(header["firmware"]["folder"])  # (any checkout)
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
             self._open(self.target.open)
@@ -350,6 +352,7 @@ def run_header(rig) -> dict:
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
         "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "report": rig.app.extra.get("report"),
         "spec": rig.spec.header(rig.app),
         "seed": rig.seed,
         "mode": rig.mode,

@@ -36,8 +36,13 @@ TABLES = {
     "worlds": dict,
     "interpreter": dict,
     "faults": list,
+    "report": dict,
     "trace": dict,
 }
+REPORT_KEYS = {"views": list, "pose_line": dict, "judge": dict}
+JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float), "min_coverage": (int, float)}
+POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
+POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
 PLANT_KEYS = {"kind": str, "options": dict}
@@ -163,9 +168,32 @@ def load_rig(path) -> App:
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
-        extra={"faults": faults},
+        extra={"faults": faults, "report": _report(where, data.get("report", {}))},
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
     )
+
+
+def _report(where: _Where, table: dict) -> dict:
+    """``[report]``: the report's own views of this robot by name (``views``, listed in
+    docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
+    campaign's run of it passes (``judge``: docs/campaigns.md)."""
+    where.table(table, "[report]", REPORT_KEYS)
+    for i, name in enumerate(table.get("views", [])):
+        if not isinstance(name, str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,39}", name):
+            raise where.error(f"[report] views[{i}]", f"expected a view's name, got {name!r}"[:200])
+    judge = where.table(table.get("judge", {}), "[report.judge]", JUDGE_KEYS)
+    for key, hi in (("home_within_m", 1000.0), ("min_coverage", 1.0)):
+        if key in judge and not 0 <= judge[key] <= hi:
+            raise where.error(f"[report.judge] {key}", f"expected 0 to {hi:g}, got {judge[key]!r}")
+    pose = table.get("pose_line")
+    if pose is not None:
+        where.table(pose, "[report.pose_line]", POSE_LINE_KEYS, required=tuple(POSE_LINE_KEYS))
+        columns = pose["columns"]
+        if len(columns) != 4 or not all(isinstance(c, str) and c.isidentifier() for c in columns):
+            raise where.error(
+                "[report.pose_line] columns", f"expected 4 names (t, x, y, heading), got {columns!r}"[:200]
+            )
+    return dict(table)
 
 
 def _read(path: Path) -> dict:
@@ -524,156 +552,3 @@ def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build)
         _check_options(where, field, kind, world)
         _make_plant(where, kind, {**options, **world}, field)
     return {name: dict(world) for name, world in worlds.items()} or {"default": {}}
-
-
-STARTER = """\
-# The test rig of {name}: this folder's firmware on a simulated robot (docs/rig-file.md).
-# Check it with `mpy-fil check {path}`; run it with `mpy-fil run {path}`.
-name = "{name}"
-
-[firmware]
-entry = "{entry}"          # what runs after boot.py
-# lib = ["lib"]            # library folders of your own
-# harness_lib = false      # the harness's own drivers (firmware/lib): off unless you ask
-
-[board.pins]               # the pin numbers your code uses, by a name of your choice
-{pins}
-[plant]
-kind = "two_wheel"         # mpy-fil list: kinds, their options and their signals
-
-[plant.options]
-bridge = "tb6612"          # tb6612 | l298n | drv8833 | dir_pwm
-encoder = "quadrature"     # quadrature | single | none
-ranger = "hcsr04"          # hcsr04 | analog | none
-# buttons = ["start"]
-# presses = [["start", 1.0, 1.2]]   # name, pressed at s, released at s
-
-[wiring]                   # pin name = plant signal (mpy-fil check lists them), or probe:<name>
-{wiring}
-# [budgets.loop]           # a timing budget: a pin toggled once per loop, every 50 ms
-# kind = "period"
-# source = "probe:loop"
-# period_us = 50_000
-# tolerance_us = 1_000
-"""
-
-
-INIT_MAX_FILES = 1000  # .py files `mpy-fil init` reads at most (a board's flash holds far fewer)
-INIT_MAX_BYTES = 8 << 20  # and bytes
-NOT_FIRMWARE = {"__pycache__", "node_modules", "site-packages", "build", "dist"}  # and hidden folders, venvs
-
-
-def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
-    """The ``.py`` files of a firmware folder, in order, skipping hidden folders, virtual
-    environments (a ``pyvenv.cfg``) and tool folders (``NOT_FIRMWARE``), and stopping at
-    ``INIT_MAX_FILES`` files or ``INIT_MAX_BYTES`` bytes (said in ``notes``)."""
-    import os
-
-    found, total = [], 0
-    for top, dirs, files in os.walk(folder):
-        dirs[:] = sorted(d for d in dirs if not _skipped(Path(top, d)))
-        for name in sorted(f for f in files if f.endswith(".py")):
-            path = Path(top, name)
-            try:
-                size = path.stat().st_size
-            except OSError:
-                continue
-            if len(found) >= INIT_MAX_FILES or total + size > INIT_MAX_BYTES:
-                if notes is not None:
-                    notes.append(
-                        f"stopped reading at {path} after {len(found)} files, {total} bytes "
-                        f"(at most {INIT_MAX_FILES} files, {INIT_MAX_BYTES} bytes): some pins may be missing"
-                    )
-                return found
-            found.append(path)
-            total += size
-    return found
-
-
-def _skipped(folder: Path) -> bool:
-    name = folder.name
-    return name.startswith(".") or name in NOT_FIRMWARE or (folder / "pyvenv.cfg").exists() or folder.is_symlink()
-
-
-def starter(folder: Path, notes: list | None = None) -> str:
-    """A commented starting rig file for a firmware folder: its entry file, and the pins
-    its code passes to ``Pin(...)`` (by their constant's name when it has one), ready to
-    wire; what it skipped or where it stopped early goes to ``notes``."""
-    files = sorted(folder.glob("*.py"))
-    entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
-    trees = [tree for tree in map(_parse, firmware_sources(folder, notes)) if tree is not None]
-    drivers = _drivers(trees)
-    pins: dict[str, int] = {}
-    for tree in trees:
-        pins.update(_pins_used(tree, drivers))
-    lines = "".join(f"{name} = {number}\n" for name, number in sorted(pins.items(), key=lambda kv: kv[1]))
-    wiring = "".join(f'# {name} = "..."\n' for name, _ in sorted(pins.items(), key=lambda kv: kv[1]))
-    return STARTER.format(
-        name=folder.resolve().name,
-        path=folder / "rig.toml",
-        entry=entry,
-        pins=lines or "# LED = 25\n",
-        wiring=wiring or '# LED = "probe:led"\n',
-    )
-
-
-def _int_constants(tree) -> dict[str, int]:
-    """Module-level ``NAME = 16``, ``A, B = 16, 17`` and ``NAME = const(16)``."""
-    import ast
-
-    constants: dict[str, int] = {}
-    for node in tree.body:
-        if not isinstance(node, ast.Assign):
-            continue
-        for target in node.targets:
-            names = target.elts if isinstance(target, ast.Tuple) else [target]
-            values = node.value.elts if isinstance(node.value, ast.Tuple) else [node.value]
-            for name, value in zip(names, values):
-                if isinstance(value, ast.Call) and value.args:  # const(16)
-                    value = value.args[0]
-                if isinstance(name, ast.Name) and isinstance(value, ast.Constant) and type(value.value) is int:
-                    constants[name.id] = value.value
-    return constants
-
-
-def _calls(node, name: str):
-    """The calls of ``name(...)`` or ``x.name(...)`` under an AST node."""
-    import ast
-
-    for call in ast.walk(node):
-        func = getattr(call, "func", None)
-        if isinstance(call, ast.Call) and getattr(func, "id", getattr(func, "attr", "")) == name:
-            yield call
-
-
-def _parse(source: Path):
-    import ast
-
-    try:
-        return ast.parse(source.read_text(errors="replace"))
-    except (SyntaxError, ValueError, RecursionError, MemoryError, OSError):  # (a NUL, nesting: not firmware)
-        return None
-
-
-def _drivers(trees) -> list[str]:
-    """Classes that make a Pin of what they are given (``Motor(PWMA, AIN1, AIN2)``), in
-    any file of the folder (a driver in lib/)."""
-    import ast
-
-    return [c.name for tree in trees for c in tree.body if isinstance(c, ast.ClassDef) and any(_calls(c, "Pin"))]
-
-
-def _pins_used(tree, drivers: list[str]) -> dict[str, int]:
-    """Name -> pin number for every ``Pin(n)``, ``Pin(NAME)`` and driver call in a file."""
-    import ast
-
-    constants = _int_constants(tree)
-    found: dict[str, int] = {}
-    for name in ["Pin", *drivers]:
-        for call in _calls(tree, name):
-            for arg in call.args[:1] if name == "Pin" else call.args:
-                if isinstance(arg, ast.Constant) and type(arg.value) is int:  # Pin(14), TB6612(16, 17, 18)
-                    found[f"PIN_{arg.value}"] = arg.value
-                elif isinstance(arg, ast.Name) and arg.id in constants:
-                    found[arg.id] = constants[arg.id]
-    return found

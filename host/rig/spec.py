@@ -28,7 +28,7 @@ from host.rig import arguments
 from host.rig.app import App
 from host.rig.pacing import PACINGS
 from host.rig.target import FaultyLinkTarget, Target, UnixPortTarget
-from sim_plant.faults import FaultyPlant, parse_faults, with_faults
+from sim_plant.faults import parse_faults, with_faults
 from sim_plant.plant import Plant
 
 PLACEMENT_KEYS = ("x_m", "y_m", "theta_deg")
@@ -145,23 +145,26 @@ NO_RECORDING = Recording()
 
 
 def fault_schedule(spec: RigSpec, app: App) -> list:
-    """The rig file's faults, then the spec's (parsed, indexed as one schedule)."""
+    """The rig file's faults, then the spec's, as one schedule: what the harness applies
+    (a smaller heap, link faults, brown-outs; the plant's own wrap it: :func:`build_plant`)."""
     own = [{"kind": f.kind, **f.fields} for f in app.extra.get("faults", ())]
     return parse_faults(own + spec.fault_entries)
 
 
 def build_plant(spec: RigSpec, app: App) -> tuple[Plant, dict]:
     """The spec's plant and the options it was built with (over the app's own): the
-    world's, the spec's options over them, the placement's start pose; the rig file's and
-    the spec's faults wrapped around it as one schedule. A plant that refuses its options
-    raises ConfigError naming them."""
+    world's, the spec's options over them, the placement's start pose. The app builds it
+    (``App.make_plant``: a rig file's plant comes with its own faults around it); the
+    spec's faults wrap it once more, as a schedule of their own (each fault's random
+    stream keyed by its place in the spec's faults, as a campaign's fault set). A plant
+    that refuses its options raises ConfigError naming them."""
     options = plant_options(spec, app)
     if spec.placement:
-        start = start_pose(_bare(_made(app, options)))
+        start = start_pose(_made(app, options))
         options["start_pose"] = placed(start, spec.placement_ranges, spec.seed)
     plant = _made(app, options)
     if spec.faults:
-        plant = with_faults(_bare(plant), fault_schedule(spec, app))
+        plant = with_faults(plant, parse_faults(spec.fault_entries))
     return plant, options
 
 
@@ -197,20 +200,11 @@ def _made(app: App, options: dict) -> Plant:
         raise PlantOptionsError(f"{app.name}'s plant rejects {options}: {e}") from None
 
 
-def _bare(plant: Plant) -> Plant:
-    """The plant inside the rig file's fault wrapper (wrapped again with the whole schedule)."""
-    return plant.inner if isinstance(plant, FaultyPlant) else plant
-
-
 def start_pose(plant: Plant):
-    """Where the plant's robot starts: its own ``start_pose``, or its body's (a body and parts)."""
-    pose = getattr(plant, "start_pose", None)
-    if pose is not None:
-        return pose
-    body = getattr(plant, "body", None)
-    if hasattr(body, "world_and_pose"):
-        return body.world_and_pose()[1]
-    raise ConfigError(f"placement: the {type(plant).__name__} plant has no start pose to place")
+    """Where the plant's robot starts: its pose at time 0 (its body's, for a body and parts)."""
+    if getattr(plant, "pose_at", None) is None:
+        raise ConfigError(f"placement: the {type(plant).__name__} plant has no start pose to place")
+    return plant.pose_at(0)
 
 
 def placed(pose, placement: dict, seed: int) -> list[float]:

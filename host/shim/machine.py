@@ -170,6 +170,12 @@ class Signal:
         self.value(0)
 
 
+def _platform():
+    import sys
+
+    return getattr(sys.modules.get("sys", sys), "platform", "")
+
+
 class ADC:
     ATTN_0DB = 0
     ATTN_2_5DB = 1
@@ -181,6 +187,8 @@ class ADC:
 
     def __new__(cls, id, *args, **kw):
         key = id._id if isinstance(id, Pin) else id
+        if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
+            key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
         adc = ADC._made.get(key)
         if adc is None:
             adc = ADC._made[key] = object.__new__(cls)

@@ -98,7 +98,15 @@ def test_odometry_is_carried_into_the_worlds_frame_from_its_first_line_and_its_e
     (tmp_path / "console.log").write_text(
         "pose columns: t_ms x_mm y_mm theta_rad\npose 0 0.0 0.0 0.0000\npose 1000 1000.0 0.0 0.0000\n"
     )
-    header = {"app": "lab_robot", "initial": {}, "t_end_us": 2_000_000, "signals": {}}
+    pose_line = {"tag": "pose", "columns": ["t_ms", "x_mm", "y_mm", "theta_rad"], "m_per_unit": 0.001}
+    pose_line |= {"rad_per_unit": 1.0, "probe": "probe:control", "what": "dead reckoning"}  # (its rig file's)
+    header = {
+        "app": "lab_robot",
+        "initial": {},
+        "t_end_us": 2_000_000,
+        "signals": {},
+        "report": {"pose_line": pose_line},
+    }
     truth = {
         "t_us": np.asarray([0, 1_000_000, 2_000_000], dtype=np.int64),
         "x_m": np.asarray([1.0, 1.0, 1.0]),
@@ -113,4 +121,4 @@ def test_odometry_is_carried_into_the_worlds_frame_from_its_first_line_and_its_e
     error = dict((line.label, line.values) for line in panels["Dead reckoning error"].lines)
     assert error["position error (m)"] == pytest.approx([0.0, 0.1]), error
     assert panels["Dead reckoning error"].notes == ["at the end: 0.100 m and +0.0 deg off"]
-    assert odometry.belief_path(TraceData(tmp_path, {**header, "app": "rover"}, [], truth, [])) is None
+    assert odometry.belief_path(TraceData(tmp_path, {**header, "report": None}, [], truth, [])) is None, "no pose line"

@@ -46,7 +46,7 @@ def test_every_command_has_help(command):
         (("run", "--board", "arduino_uno"), "argument --board: unknown board 'arduino_uno' for app rover"),
         (("run", "--world", "moon"), "argument --world: unknown world 'moon' for app rover"),
         (("run", "--param", "room_w"), "argument --param: expected NAME=VALUE"),
-        (("run", "--param", "wheels=3"), "argument --param: rover's plant has no option wheels"),
+        (("run", "--param", "wheels=3"), "[plant] wheels: the differential has no such option"),
         (("run", "--param", "room_w_m=wide"), "argument --param: room_w_m: expected a number of metres"),
         (("run", "--param", "room_w_m=0.2"), "argument --param: rover's plant rejects"),
         (("run", "--duration", "0"), "argument --duration: expected a positive number of seconds"),

@@ -24,14 +24,24 @@ LEFT_IN2 = 27
 BUMP = 23
 LED = 2
 [plant]
-kind = "rover_room"
-[plant.options]
+body = "differential"
 room_w_m = 4.0
+[[plant.parts]]
+kind = "dc_motor"
+name = "motor_l"
+drives = "left"
+[[plant.parts]]
+kind = "dc_motor"
+name = "motor_r"
+drives = "right"
+[[plant.parts]]
+kind = "bumper"
+name = "bumper"
 [wiring]
 LEFT_PWM = "motor_l.pwm"
 LEFT_IN1 = "motor_l.in1"
 LEFT_IN2 = "motor_l.in2"
-BUMP = "bumper"
+BUMP = "bumper.out"
 LED = "probe:led"
 [budgets.blink]
 kind = "period"
@@ -80,11 +90,11 @@ def test_our_apps_are_rig_files():
     assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
     assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
     plant = rover.make_plant(**rover.worlds["small-room"])
-    assert plant.room_w_m == 3.0 and plant.start_pose == (1.0, 1.5, 0.0)
+    assert plant.body.options["room_w_m"] == 3.0 and plant.body.options["start_pose"] == [1.0, 1.5, 0.0]
     names = [b.name for b in rover.make_budgets(plant)]
     assert names == ["control.period", "sonar.period", "sonar.latency", "control.compute"]
     adc = found["pool_cleaner_adc"]
-    assert adc.path == found["pool_cleaner"].path and adc.make_plant().sonar == "adc"
+    assert adc.path == found["pool_cleaner"].path and "sonar_l.adc" in adc.make_plant().outputs
     canyon = found["lab_robot_canyon"]
     assert canyon.path == found["lab_robot"].path and canyon.boards == ("esp32_lab_robot", "rpi_pico_lab_robot")
     vacuum = found["vacuum"]
@@ -103,7 +113,7 @@ def test_a_rig_file_runs_in_the_loop_by_its_path(make_rig, tmp_path):
     rig = make_rig(str(write_rig(tmp_path / "mybot")), seed=1, allow_exit=True)
     rig.run_for(3)
     rig.stop()
-    assert f"blinked; bumper {rig.plant.output('bumper')}" in rig.console, rig.console
+    assert f"blinked; bumper {rig.plant.output('bumper.out')}" in rig.console, rig.console
     assert rig.budgets["blink"].stats()["count"] == 19 and rig.budgets["blink"].misses == 0
 
 
@@ -130,23 +140,27 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
     ("change", "field", "says"),
     [
         (('"motor_l.pwm"', '"motor_l.pwn"'), "[wiring] LEFT_PWM", "no signal 'motor_l.pwn' (inputs: motor_l.in1"),
-        (('BUMP = "bumper"', 'BUMPR = "bumper"'), "[wiring] BUMPR", "has no pin named BUMPR (pins: LEFT_PWM"),
+        (('BUMP = "bumper.out"', 'BUMPR = "bumper.out"'), "[wiring] BUMPR", "has no pin named BUMPR (pins: LEFT_PWM"),
         (('entry = "main.py"', 'entyr = "main.py"'), "[firmware] entyr", "did you mean 'entry'?"),
         (('entry = "main.py"', 'entry = "robot.py"'), "[firmware] entry", "no robot.py in"),
         (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
-        (("room_w_m = 4.0", "room_w_m = 0.2"), "[plant.options]", "room_w_m: expected a room wider"),
-        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant.options] room_w_m", "from 0.1 to 100, got -1.0"),
-        (("room_w_m = 4.0", "room_w = 4.0"), "[plant.options] room_w", "no such option (options: room_w_m"),
-        (("room_w_m = 4.0", 'room_w_m = "4"'), "[plant.options] room_w_m", "expected a number, got '4'"),
-        (("room_w_m = 4.0", "start_pose = [1, '2', 0]"), "[plant.options] start_pose", "a list of 3 numbers"),
+        (("room_w_m = 4.0", "room_w_m = 0.2"), "[plant] start_pose", "puts the robot outside the room"),
+        (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant] room_w_m", "from 0.1 to 100, got -1.0"),
+        (("room_w_m = 4.0", "room_w = 4.0"), "[plant] room_w", "no such option (options: world, room_w_m"),
+        (
+            ("room_w_m = 4.0", 'room_w_m = "4"'),
+            "[plant] room_w_m",
+            "expected a number of metres from 0.1 to 100, got '4'",
+        ),
+        (("room_w_m = 4.0", "start_pose = [1, '2', 0]"), "[plant] start_pose", "item 1: expected a number of metres"),
         (("LED = 2\n", "LED = 25\n"), "[wiring] LED", "pin 25 is LEFT_PWM too"),
         (("period_us = 100_000", "period_us = -100_000"), "[budgets.blink] period_us", "expected 1 to 3600000000"),
         (('source = "probe:led"', 'source = "probe:lde"'), "[budgets.blink] source", "no pin is wired to 'probe:lde'"),
-        (('kind = "rover_room"', 'kind = "rover"'), "[plant] kind", "unknown plant kind 'rover' (kinds: two_wheel"),
+        (('body = "differential"', 'body = "rover"'), "[plant] body", "expected one of"),
         (('source = "probe:led"', 'source = "led"'), "[budgets.blink] source", "no signal 'led'"),
         (("tolerance_us = 0", 'tolerance_us = "0"'), "[budgets.blink] tolerance_us", "expected an integer"),
-        (("room_w_m = 2.0", "room_w_m = 0.1"), "[worlds.small]", "expected a room wider"),
-        (("room_w_m = 2.0", "rom_w_m = 2.0"), "[worlds.small] rom_w_m", "did you mean 'room_w_m'?"),
+        (("room_w_m = 2.0", "room_w_m = 0.1"), "[worlds.small]", "puts the robot outside the room"),
+        (("room_w_m = 2.0", "rom_w_m = 2.0"), "[worlds.small]", "rom_w_m: the differential has no such option"),
         (("{period_ms:g}", "{period:g}"), "[budgets.blink] description", "cannot fill in 'period'"),
     ],
 )
@@ -201,23 +215,24 @@ def test_mpy_fil_init_writes_a_starting_rig_file_with_the_pins_the_code_uses(tmp
     (folder / "lib").mkdir()
     (folder / "lib" / "ranger.py").write_text(
         "from machine import Pin\n\nclass Ranger:\n    def __init__(self, trig, echo):\n        self.t = Pin(trig)\n"
+        "        self.e = Pin(echo)\n"
     )
     (folder / "main.py").write_text((folder / "main.py").read_text() + "TRIG, ECHO = 14, 15\nr = Ranger(TRIG, ECHO)\n")
     done = mpy_fil("init", str(folder))
     assert done.returncode == 0, done.stderr
     text = (folder / "rig.toml").read_text()
     assert "LED = 25\n" in text and "BTN = 13\n" in text and "LEFT_PWM = 21\n" in text, text
-    assert "PIN_16 = 16\n" in text and "PIN_17 = 17\n" in text, "the pins given to a driver class as numbers"
+    assert "M_PWM = 16\n" in text and "M_D = 17\n" in text, "numbers given to a driver: named as the code names them"
     assert "TRIG = 14\n" in text and "ECHO = 15\n" in text, "the pins given to a driver class in lib/"
     assert mpy_fil("check", str(folder / "rig.toml")).returncode == 0
     again = mpy_fil("init", str(folder))
     assert again.returncode == 2 and "exists" in again.stderr and "Traceback" not in again.stderr
 
 
-def test_mpy_fil_list_shows_apps_boards_and_plant_kinds_with_their_signals():
+def test_mpy_fil_list_shows_apps_boards_bodies_and_parts_with_their_signals():
     done = mpy_fil("list")
     assert done.returncode == 0, done.stderr
-    for text in ("rover ", "rpi_pico", "two_wheel", "hcsr04_trigger_min_us=2", "outputs: bumper, sonar.echo"):
+    for text in ("rover ", "rpi_pico", "differential", "trigger_min_us=2", "signals: <name>.trig, <name>.echo"):
         assert text in done.stdout, text
 
 
@@ -246,16 +261,16 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
 
 
 def test_a_period_budget_takes_the_plants_own_sample_period_by_default(tmp_path):
-    text = GOOD.replace('kind = "rover_room"', 'kind = "two_wheel"').replace(
-        "room_w_m = 4.0", 'ranger = "analog"\nranger_period_us = 40_000'
+    text = GOOD.replace(
+        "[wiring]", '[[plant.parts]]\nkind = "analog_ranger"\nname = "ranger"\nperiod_us = 40_000\n[wiring]'
     )
     text = text.replace("room_w_m = 2.0", "room_h_m = 1.5")
     text += '\n[budgets.ranger]\nkind = "period"\nsource = "ranger.adc"\ntolerance_us = 0\n'
     app = load_rig(write_rig(tmp_path / "mybot", text))
     budget = [b for b in app.make_budgets(app.make_plant()) if b.name == "ranger"][0]
     assert budget.period_us == 40_000
-    bad = text.replace('source = "ranger.adc"', 'source = "bumper"')
-    with pytest.raises(ConfigError, match=r"\[budgets.ranger\] period_us: missing, and the plant samples bumper"):
+    bad = text.replace('source = "ranger.adc"', 'source = "bumper.out"')
+    with pytest.raises(ConfigError, match=r"\[budgets.ranger\] period_us: missing, and the plant samples bumper.out"):
         load_rig(write_rig(tmp_path / "other", bad))
 
 
@@ -271,11 +286,11 @@ def test_make_flash_stages_a_rig_files_firmware_without_its_tests(tmp_path):
     [
         (
             "from machine import Pin\nPin(23, Pin.OUT).value(1)\n",
-            "drives pin BUMP (23) as an output, but it is wired to bumper",
+            "drives pin BUMP (23) as an output, but it is wired to bumper.out",
         ),
         (
             "from machine import ADC, Pin\nADC(Pin(23)).read_u16()\n",
-            "reads pin BUMP (23) with an ADC, but bumper is a logic level",
+            "reads pin BUMP (23) with an ADC, but bumper.out is a logic level",
         ),
     ],
 )

@@ -23,8 +23,10 @@ from hypothesis import strategies as st
 from host import cli
 from host.core.errors import ConfigError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.rigfile import firmware_sources, load_rig, starter
-from sim_plant import kinds, option_table
+from host.rig.pinscan import firmware_sources
+from host.rig.rigfile import load_rig
+from host.rig.starter import starter
+from sim_plant import catalogue, kinds, option_table
 
 SETTINGS = settings(
     max_examples=150,
@@ -189,10 +191,14 @@ def test_a_rig_file_with_any_value_replaced_is_refused_by_name_or_runs(folders, 
     if data.draw(st.booleans()):  # a value replaced
         where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
         mutant = replaced(parsed, where, value)
-    else:  # an option of the kind's added
+    elif "kind" in parsed["plant"]:  # an option of the kind's added
         name = data.draw(st.sampled_from(sorted(kinds.options(parsed["plant"]["kind"]))))
         plant = {**parsed["plant"], "options": {**parsed["plant"].get("options", {}), name: value}}
         mutant = {**parsed, "plant": plant}
+    else:  # an option of the body's set
+        body = catalogue.bodies()[parsed["plant"]["body"]]
+        name = data.draw(st.sampled_from([o.name for o in body.OPTIONS]))
+        mutant = {**parsed, "plant": {**parsed["plant"], name: value}}
     path = folder / "mutant.toml"
     path.write_text(toml_text(mutant))
     assert_checked(path)
@@ -287,21 +293,20 @@ def refused(folder: Path, text: str | bytes, field: str, says: str) -> str:
     ("old", "new", "field", "says"),
     [
         # sizes: infinite, huge, zero, negative, true/false
-        ("room_w_m = 3.0", "room_w_m = inf", "[plant.options] room_w_m", "from 0.1 to 100, got inf"),
-        ("room_w_m = 3.0", "room_w_m = 1e308", "[plant.options] room_w_m", "got 1e+308"),
-        ("room_w_m = 3.0", "room_w_m = true", "[plant.options] room_w_m", "got True"),
-        ("room_w_m = 3.0", "room_w_m = nan", "[plant.options] room_w_m", "got nan"),
-        ("room_w_m = 3.0", "wheel_radius_m = 0", "[plant.options] wheel_radius_m", "from 0.001 to 1, got 0"),
-        ("[[1.6, 1.0, 0.3, 0.3]]", "[[1.6, 1.0, -0.3, 0.3]]", "[plant.options] obstacles", "item 2"),
-        ("room_w_m = 3.0", "encoder_cpr = 1000000000", "[plant.options] encoder_cpr", "1 to 10000"),
-        ("room_w_m = 3.0", "encoder_cpr = 7.5", "[plant.options] encoder_cpr", "a whole number"),
-        ("room_w_m = 3.0", "ranger_period_us = 9223372036854775807", "[plant.options] ranger_period_us", "micro"),
-        ("room_w_m = 3.0", "ranger_noise_sd_m = -1", "[plant.options] ranger_noise_sd_m", "from 0 to 10"),
-        ("room_w_m = 3.0", "encoder_polarity = [1, 0]", "[plant.options] encoder_polarity", "-1 or 1"),
-        ('buttons = ["start"]', 'buttons = ["st\\u0000art"]', "plant.options.buttons[0]", "control character"),
-        ("room_w_m = 3.0", 'world = "../room"', "[plant.options] world", "expected a name"),
+        ("room_w_m = 3.0", "room_w_m = inf", "[plant] room_w_m", "from 0.1 to 100, got inf"),
+        ("room_w_m = 3.0", "room_w_m = 1e308", "[plant] room_w_m", "got 1e+308"),
+        ("room_w_m = 3.0", "room_w_m = true", "[plant] room_w_m", "got True"),
+        ("room_w_m = 3.0", "room_w_m = nan", "[plant] room_w_m", "got nan"),
+        ("room_w_m = 3.0", "wheel_radius_m = 0", "[plant] wheel_radius_m", "from 0.001 to 1, got 0"),
+        ("[[1.6, 1.0, 0.3, 0.3]]", "[[1.6, 1.0, -0.3, 0.3]]", "[plant] obstacles", "item 2"),
+        ("lines_per_rev = 7", "lines_per_rev = 1000000000", "[[plant.parts]] #4 (enc_l) lines_per_rev", "1 to 10000"),
+        ("lines_per_rev = 7", "lines_per_rev = 7.5", "[[plant.parts]] #4 (enc_l) lines_per_rev", "a whole number"),
+        ("time_constant_ms = 0 ", "time_constant_ms = -1 ", "[[plant.parts]] #1 (motor_l) time_constant_ms", "0 to"),
+        ('bridge = "tb6612"', 'bridge = "tb6612"\npolarity = 0', "[[plant.parts]] #1 (motor_l) polarity", "-1, 1"),
+        ('name = "start"', 'name = "st\\u0000art"', "plant.parts[7].name", "control character"),
+        ("room_w_m = 3.0", 'world = "../room"', "[plant] world", "expected one of room"),
         # worlds: the same bounds; names that become a folder's name
-        ("[worlds.open-room]", "[worlds.open-room]\nroom_h_m = -2", "[worlds.open-room] room_h_m", "got -2"),
+        ("[worlds.open-room]", "[worlds.open-room]\nroom_h_m = -2", "[worlds.open-room]: [plant] room_h_m", "got -2"),
         ("[worlds.open-room]", '[worlds."../../x"]', "[worlds.../../x]", "expected a name"),
         ('name = "pico_bot"', 'name = "../../../tmp/x"', "name", "expected a name"),
         ('name = "pico_bot"', 'name = "a\\u0000b"', "name", "control character"),
@@ -427,7 +432,7 @@ def test_the_cli_refuses_bad_input_in_one_line_without_a_traceback(pico):
         [sys.executable, "-m", "host.cli", "check", str(path)], capture_output=True, text=True, cwd=REPO, timeout=60
     )
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
-    assert "[plant.options] wheel_radius_m" in done.stderr and "Traceback" not in done.stderr
+    assert "[plant] wheel_radius_m" in done.stderr and "Traceback" not in done.stderr
     done = subprocess.run(
         [sys.executable, "-m", "host.cli", "run", "--param", "sonar_noise_m=-1"],
         capture_output=True,
@@ -465,9 +470,9 @@ def test_init_skips_hidden_folders_and_virtual_environments(tmp_path):
 
 
 def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
-    from host.rig import rigfile
+    from host.rig import pinscan
 
-    monkeypatch.setattr(rigfile, "INIT_MAX_FILES", 5)
+    monkeypatch.setattr(pinscan, "SCAN_MAX_FILES", 5)
     for i in range(20):
         (tmp_path / f"m{i:02}.py").write_text(f"from machine import Pin\nPin({i})\n")
     notes: list[str] = []
@@ -475,7 +480,7 @@ def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
     assert len(notes) == 1 and "stopped reading at" in notes[0] and "after 5 files" in notes[0], notes
     assert "PIN_4 = 4" in text and "PIN_5 =" not in text
     code = subprocess.run(
-        [sys.executable, "-c", "import host.rig.rigfile as r; r.INIT_MAX_BYTES = 40; from host import cli; "
+        [sys.executable, "-c", "import host.rig.pinscan as r; r.SCAN_MAX_BYTES = 40; from host import cli; "
          f"raise SystemExit(cli.main(['init', {str(tmp_path)!r}]))"],
         capture_output=True, text=True, cwd=REPO, timeout=60,
     )  # fmt: skip

@@ -42,8 +42,12 @@ def test_the_example_rig_builds_its_plant_with_both_rangers_and_its_worlds(tmp_p
             'name = "sonar_rear"\nnoise_sd_m = 20.0',
             r"#6 \(sonar_rear\) noise_sd_m: expected a number",
         ),
-        ('drives = "right"', 'drives = "rear"', r"#2 \(motor_r\) drives: expected one of left, right, got 'rear'"),
-        ('kind = "probe"', 'kind = "lamp"', r"#8 kind: expected one of analog_ranger"),
+        (
+            'drives = "right"',
+            'drives = "front"',
+            r"#2 \(motor_r\) drives: expected one of left, right, rear, got 'front'",
+        ),
+        ('kind = "probe"', 'kind = "lamp"', r"#8 kind: expected one of (.*, )?analog_ranger"),
         (
             "[worlds.wall-ahead]\nobstacles = []",
             "[worlds.wall-ahead]\nobstacles = 3",
@@ -82,3 +86,17 @@ def test_mpy_fil_list_lists_the_catalogue():
     assert done.returncode == 0, done.stderr
     assert "parts ([plant] body / [[plant.parts]] kind" in done.stdout
     assert "ir_distance" in done.stdout and "time_constant_ms=40.0" in done.stdout
+
+
+@pytest.mark.parametrize(
+    ("report", "message"),
+    [
+        ('[report]\nviews = ["Rover View"]', r"\[report\] views\[0\]: expected a view's name"),
+        ('[report]\nsee = ["rover"]', r"\[report\] see: unknown key"),
+        ('[report.pose_line]\ntag = "pose"', r"\[report.pose_line\]: missing columns"),
+    ],
+)
+def test_a_bad_report_table_is_refused_naming_its_field(tmp_path, report, message):
+    path = copy_rig(tmp_path, "[worlds.box-ahead]", report + "\n\n[worlds.box-ahead]")
+    with pytest.raises(ConfigError, match=message):
+        load_rig(path)

@@ -199,7 +199,7 @@ name = "chatty"
 [board.pins]
 LED = 2
 [plant]
-kind = "rover_room"
+body = "bench"
 [wiring]
 LED = "probe:led"
 [trace]

@@ -18,6 +18,12 @@ class AnalogRanger(PartType):
             "volts_per_m", Num("volts per metre", 0, 100, above=True), round(MAXBOTIX_V_PER_M, 4), "the output's slope"
         ),
         Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 50_000, "a new sample every"),
+        Opt(
+            "phase_us",
+            Num("microseconds", 0, 1_000_000_000, whole=True, none=True),
+            None,
+            "the first sample's time; unset: one period in",
+        ),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
         Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
     )
@@ -37,6 +43,10 @@ class AnalogRanger(PartType):
         if self.options["min_m"] >= self.options["max_m"]:
             raise ValueError(f"min_m: expected less than max_m ({self.options['max_m']}), got {self.options['min_m']}")
 
+    def reading(self, suffix: str, values):
+        """The range (m) a read_u16 value says, through the output's slope."""
+        return values / 65535 * self.options["adc_vref"] / self.options["volts_per_m"]
+
     def add(self, build: Build) -> None:
         o = self.options
         model = BeamRangeModel(self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_m"], max_m=o["max_m"])
@@ -45,7 +55,7 @@ class AnalogRanger(PartType):
                 f"{self.name}.adc",
                 model,
                 period_us=o["period_us"],
-                phase_us=o["period_us"],
+                phase_us=o["period_us"] if o["phase_us"] is None else o["phase_us"],
                 volts_per_m=o["volts_per_m"],
                 adc=Adc(o["adc_bits"], o["adc_vref"]),
             )

@@ -4,8 +4,12 @@ the field of the first mistake (``[[plant.parts]] #2 (sonar_rear) period_us: exp
 ...``; parts are counted from 1 in the file's order), and builds a :class:`PartsPlant`.
 """
 
+import tomllib
+
 from sim_plant import catalogue
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
+from sim_plant.contacts import ContactMonitor
+from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
 from sim_plant.option_table import Name
 
@@ -30,11 +34,33 @@ class PartsPlant(RobotPlant):
                 part.add(build)
             except ValueError as e:
                 raise PartsError(f"{part.label} {e}") from None
-        self.world, pose = self.body.world_and_pose()
+        body = self.body
+        self.world, pose = body.world_and_pose(self.rng) if body.draws_world else body.world_and_pose()
+        self.start_pose = pose  # (x_m, y_m, heading_rad) at reset
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders
-        self.parts = ([monitor] if monitor is not None else []) + build.parts
+        self.parts = ([monitor] if monitor is not None else []) + build.parts + self.body.recorders(build, self.world)
+
+    def _react(self, t: int) -> bool:
+        return self.body.react(self, t)
+
+    def carry_to(self, pose) -> None:
+        """Someone lifts the robot and sets it down at ``pose`` (x_m, y_m, theta_rad) now
+        (for test scenarios; the firmware is not told). A coverage path jumps (no swath
+        between the two places); the walls are checked at once where it was set down."""
+        if not self.body.moves:
+            raise PartsError(f"carry_to: a {self.body.kind} does not move")
+        t = self._t_us
+        body = self.drive.body
+        body.constraints = ()
+        body.rebase(t, tuple(float(v) for v in pose))
+        for part in self.parts:
+            if isinstance(part, CoverageRecorder):
+                part.jump(t, self)
+            elif isinstance(part, ContactMonitor):  # what it touches where it was set down, at once
+                part.check_us = t
+        self._motion_changed(t)
 
     def truth(self) -> dict:
         truth = super().truth()
@@ -49,6 +75,19 @@ class PartsPlant(RobotPlant):
         parts = ", ".join(f"{p.kind} {p.name}" for p in self.catalogue_parts)
         return f"{self.body.kind} body with {parts or 'no parts'}"
 
+    def describe(self) -> dict:
+        """The body and the parts as data (a trace header keeps it; the report draws each
+        part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
+        "name", "mount", "options"}]}``."""
+        return {
+            "body": self.body.kind,
+            "body_options": dict(self.body.options),
+            "parts": [
+                {"kind": p.kind, "name": p.name, "mount": dict(zip(MOUNT_KEYS, p.mount)), "options": dict(p.options)}
+                for p in self.catalogue_parts
+            ],
+        }
+
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
@@ -56,11 +95,10 @@ class PartsPlant(RobotPlant):
 
 def assemble(table: dict) -> PartsPlant:
     """The plant a ``[plant]`` table with a ``body`` describes; :class:`PartsError` (a
-    ValueError) naming the field of the first mistake."""
+    ValueError) naming the field of the first mistake. A key ``<part name>.<option>``
+    (a world's, a test's or ``--param``'s) sets that option of the part of that name."""
+    table, entries = _with_part_options(table)
     body = _body(table)
-    entries = table.get("parts", [])
-    if not isinstance(entries, list) or len(entries) > MAX_PARTS:
-        raise PartsError(f"[[plant.parts]]: expected a list of at most {MAX_PARTS} part tables, got {entries!r}"[:200])
     parts, names = [], {}
     for i, entry in enumerate(entries, start=1):
         part = _part(i, entry)
@@ -73,12 +111,34 @@ def assemble(table: dict) -> PartsPlant:
     return PartsPlant(body, parts)
 
 
+def _with_part_options(table: dict) -> tuple[dict, list]:
+    """The table without its ``<part>.<option>`` keys, and the part tables with them."""
+    if not isinstance(table, dict):
+        raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
+    entries = table.get("parts", [])
+    if not isinstance(entries, list) or len(entries) > MAX_PARTS:
+        raise PartsError(f"[[plant.parts]]: expected a list of at most {MAX_PARTS} part tables, got {entries!r}"[:200])
+    dotted = {k: v for k, v in table.items() if isinstance(k, str) and "." in k}
+    if not dotted:
+        return table, entries
+    entries = [dict(e) if isinstance(e, dict) else e for e in entries]
+    by_name = {e["name"]: e for e in entries if isinstance(e, dict) and isinstance(e.get("name"), str)}
+    for key, value in dotted.items():
+        name, option = key.split(".", 1)
+        if name not in by_name or option in PART_KEYS:
+            raise PartsError(
+                f"[plant] {key}: expected <part name>.<option> of a part (parts: {', '.join(map(str, by_name))})"[:200]
+            )
+        by_name[name][option] = value
+    return {k: v for k, v in table.items() if k not in dotted}, entries
+
+
 def _body(table: dict):
     if not isinstance(table, dict):
         raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
     bodies = catalogue.bodies()
     kind = table.get("body")
-    if kind not in bodies:
+    if not isinstance(kind, str) or kind not in bodies:
         raise PartsError(f"[plant] body: expected one of {', '.join(bodies)}, got {kind!r}"[:200])
     cls = bodies[kind]
     return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
@@ -90,7 +150,7 @@ def _part(i: int, entry):
         raise PartsError(f"{label}: expected a table, got {entry!r}"[:200])
     known = catalogue.parts()
     kind = entry.get("kind")
-    if kind not in known:
+    if not isinstance(kind, str) or kind not in known:
         raise PartsError(f"{label} kind: expected one of {', '.join(known)}, got {kind!r}"[:200])
     name = entry.get("name")
     problem = Name().problem(name)
@@ -113,3 +173,22 @@ def _part(i: int, entry):
         raise PartsError(f"{label} {e}") from None
     part.label = label
     return part
+
+
+def rig_plant_table(path, parts: dict | None = None, **options) -> dict:
+    """A rig file's ``[plant]`` table (a body and parts), with body ``options`` over its
+    own and ``parts`` (a part's name -> options) over those parts' options: our robots'
+    rig files, for tests and measurements that build their plants without a rig."""
+    with open(path, "rb") as f:
+        table = tomllib.load(f)["plant"]
+    changed = dict(parts or {})
+    entries = [{**entry, **changed.pop(entry.get("name"), {})} for entry in table.get("parts", [])]
+    if changed:
+        raise PartsError(f"{path}: no part named {', '.join(changed)}")
+    return {**table, **options, "parts": entries}
+
+
+def assemble_file(path, parts: dict | None = None, **options) -> PartsPlant:
+    """The plant of :func:`rig_plant_table` (options over the rig file's, as a world's or
+    ``--param``'s, ``<part>.<option>`` too): for benchmarks and plant tests, without the harness."""
+    return assemble(rig_plant_table(path, parts, **options))

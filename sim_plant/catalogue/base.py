@@ -59,7 +59,8 @@ class Sig:
 @dataclass(frozen=True)
 class View:
     """What a report draws for a part: a ``plot`` kind (``range``, ``command``,
-    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``) of its ``signals``
+    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``,
+    ``coverage``) of its ``signals``
     (suffixes) against its ``truth`` (keys, ``{name}`` the part's)."""
 
     plot: str
@@ -71,13 +72,18 @@ class View:
 @dataclass
 class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
-    parts, encoders, bumpers and motors (``motors[side] = (bridge, DcMotor)``)."""
+    parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``), servos
+    (``servos[name]``: what a part mounted on one turns with), the motors' shared
+    ``standby`` pin and track stop inputs (``tracks[side] = signal``)."""
 
     body: dict
     parts: list = field(default_factory=list)
     encoders: list = field(default_factory=list)
     bumpers: list = field(default_factory=list)
     motors: dict = field(default_factory=dict)
+    servos: dict = field(default_factory=dict)
+    standby: str | None = None
+    tracks: dict = field(default_factory=dict)
 
 
 class Declared:
@@ -146,12 +152,15 @@ class BodyType(Declared):
     """A body: owns the pose, the drive and the contacts; ``moves`` is False for a bench."""
 
     moves = True
+    draws_world = False
+    """True: :meth:`world_and_pose` takes the plant's generator (a world drawn per seed)."""
 
     def __init__(self, options: dict):
         self.options = options
 
     def world_and_pose(self):
-        """(the world, the start pose (x_m, y_m, heading_rad))."""
+        """(the world, the start pose (x_m, y_m, heading_rad)); with ``draws_world``,
+        called with the plant's freshly seeded generator."""
         raise NotImplementedError
 
     def drive(self, build: Build, pose):
@@ -161,6 +170,15 @@ class BodyType(Declared):
     def contact_monitor(self, build: Build):
         """The engine part that checks the body against the walls, or None."""
         return None
+
+    def recorders(self, build: Build, world) -> list:
+        """Engine parts after the catalogue parts that only watch the body (coverage)."""
+        return []
+
+    def react(self, plant, t_us: int) -> bool:
+        """The body's own reaction after the parts fired at ``t_us`` (a machine that
+        reverses at its bumpers); True if the motion changed."""
+        return False
 
 
 def spec_text(spec) -> str:

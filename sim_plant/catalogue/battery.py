@@ -70,5 +70,9 @@ class Battery(PartType):
                 f"empty_v: expected at most full_v ({self.options['full_v']}), got {self.options['empty_v']}"
             )
 
+    def reading(self, suffix: str, values):
+        """The battery's voltage a read_u16 value says, through the divider."""
+        return values / 65535 * self.options["adc_vref"] / self.options["divider_ratio"]
+
     def add(self, build: Build) -> None:
         build.parts.append(_Cell(self.name, self.options))

@@ -1,10 +1,10 @@
 """Part ``button``: a push-button pressed at scheduled times, active low (to ground, on a
 pull-up) or active high (to 3V3, on a pull-down), with contact chatter when asked
-(:class:`sim_plant.two_wheel.Buttons`)."""
+(:class:`sim_plant.buttons.Buttons`)."""
 
+from sim_plant.buttons import Buttons
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import TIME, Flag, Num, Row, Rows
-from sim_plant.two_wheel import Buttons
 
 
 class _Button(Buttons):

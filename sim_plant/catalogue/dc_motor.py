@@ -27,7 +27,7 @@ class DcMotorPart(PartType):
     doc = "A DC gear motor on one H-bridge channel (TB6612, L298N, DRV8833 or DIR+PWM), driving a wheel."
     OPTIONS = (
         Opt("bridge", OneOf(tuple(BRIDGES)), "tb6612", "the H-bridge and so its pins"),
-        Opt("drives", OneOf(("left", "right")), "left", "the wheel it turns"),
+        Opt("drives", OneOf(("left", "right", "rear")), "left", "the wheel it turns (rear: a car's rear axle)"),
         Opt("polarity", OneOf((-1, 1)), 1, "-1: leads swapped, the wheel turns backwards for a forward command"),
         Opt(
             "time_constant_ms",

@@ -1,27 +1,57 @@
 """Body ``differential``: a disc with two driven wheels on its centre axis (most hobby
-robots), in a room with box obstacles or one of our worlds. The ``dc_motor`` parts that
+robots), in a room with box obstacles, a room furnished along a route from the plant's
+seed (:mod:`sim_plant.furniture`), or one of our worlds. The ``dc_motor`` parts that
 drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 
+from sim_plant import world as worlds
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain
-from sim_plant.option_table import BOX, POINT, POSE, Num, OneOf, Rows, length
-from sim_plant.two_wheel import WORLDS
+from sim_plant.duct import DUCT_START, bench_duct, straight_duct
+from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
+from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, OneOf, Row, Rows, length
 from sim_plant.world import box, room
 
 ROOM = length(0.1, 100)
+WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
+    "canyon": (lambda: worlds.canyon(), (0.3, 0.0, 0.0)),
+    "duct": (lambda: worlds.one_right_branch_duct(), DUCT_START),
+    "multi_branch_duct": (lambda: worlds.multi_branch_duct(), DUCT_START),
+    "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),
+    "pool": (lambda: worlds.pool(), (1.0, 1.0, 0.0)),
+    "straight_duct": (straight_duct, DUCT_START),
+    "bench_duct": (bench_duct, DUCT_START),
+}
+CIRCLE = Row((PLACE, PLACE, length(0.001, 5)), "[x_m, y_m, r_m]")
 
 
 class Differential(BodyType):
     kind = "differential"
     doc = "A disc body with two driven wheels on its centre axis (differential drive)."
     OPTIONS = (
-        Opt("world", OneOf(("room", *WORLDS)), "room", "the room below, or one of our worlds"),
+        Opt(
+            "world",
+            OneOf(("room", "furnished", *WORLDS)),
+            "room",
+            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds",
+        ),
         Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
         Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
+        Opt(
+            "route",
+            Rows(POINT, 100, least=2),
+            [list(p) for p in DEFAULT_ROUTE],
+            "the furnished room's route, [x_m, y_m] points: furniture across every leg, the start at the first",
+        ),
         Opt("start_pose", POSE, None, "where it starts; the world's own start by default ([0.4, 1.0, 0] in the room)"),
         Opt("body_radius_m", length(0.01, 5), 0.08, "the disc's radius (its contacts with the walls)"),
+        Opt(
+            "outline",
+            Rows(CIRCLE, 16),
+            [],
+            "the body as circles [x_m, y_m, r_m] from the wheel axle's middle, instead of the disc",
+        ),
         Opt("wheel_radius_m", length(0.001, 1), 0.0325, "each wheel's radius"),
         Opt("track_m", length(0.01, 10), 0.15, "distance between the wheels"),
         Opt(
@@ -30,12 +60,21 @@ class Differential(BodyType):
             0.4,
             "rim speed at full duty (a motor's rpm sets its own)",
         ),
+        Opt("spin_slip", FRACTION, 0.0, "share of travel the backward wheel's encoder misses while spinning"),
         Opt("tape", Rows(POINT), [], "a tape line on the floor, [x_m, y_m] points (line sensors see it)"),
         Opt("tape_width_m", length(0.001, 1), 0.019, "the tape's width"),
     )
 
-    def world_and_pose(self):
+    draws_world = True
+
+    def world_and_pose(self, rng):
         o = self.options
+        if o["world"] == "furnished":
+            if o["obstacles"]:
+                raise PartsError("[plant] obstacles: only in the room world, not in furnished")
+            route = [tuple(float(v) for v in p) for p in o["route"]]
+            world = furnished_room(rng, route, room_w_m=o["room_w_m"], room_h_m=o["room_h_m"])
+            return world, tuple(float(v) for v in (o["start_pose"] or (*route[0], 0.0)))
         if o["world"] == "room":
             world = room(o["room_w_m"], o["room_h_m"], [box(*b) for b in o["obstacles"]], name="room")
             pose = o["start_pose"] or (0.4, 1.0, 0.0)
@@ -56,6 +95,8 @@ class Differential(BodyType):
             raise PartsError(
                 f"[plant] body: the differential body needs a dc_motor that drives {' and '.join(missing)}"
             )
+        if "rear" in build.motors:
+            raise PartsError("[plant] body: a differential body's motors drive left or right, not rear")
         (bridge_l, motor_l), (bridge_r, motor_r) = build.motors["left"], build.motors["right"]
         return DiffDriveTrain(
             bridges=(bridge_l, bridge_r),
@@ -63,7 +104,10 @@ class Differential(BodyType):
             wheel_radius_m=self.options["wheel_radius_m"],
             track_m=self.options["track_m"],
             start_pose=pose,
+            standby=build.standby,
+            spin_slip=self.options["spin_slip"],
         )
 
     def contact_monitor(self, build: Build):
-        return ContactMonitor([(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)
+        circles = [tuple(float(v) for v in c) for c in self.options["outline"]]
+        return ContactMonitor(circles or [(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)

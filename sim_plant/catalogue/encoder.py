@@ -1,6 +1,8 @@
 """Part ``encoder``: a wheel encoder, quadrature (A/B) or a single-channel slotted disk,
 on the wheel or on the motor shaft behind a gearbox (:mod:`sim_plant.encoders`)."""
 
+import math
+
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
 from sim_plant.option_table import Num, OneOf
@@ -41,6 +43,15 @@ class Encoder(PartType):
         ),
     )
     needs_body = True
+
+    def metres_per_edge(self, body: dict) -> float | None:
+        """The wheel's travel per edge on a body with ``wheel_radius_m`` (None without)."""
+        radius = body.get("wheel_radius_m")
+        if not radius:
+            return None
+        o = self.options
+        edges = o["lines_per_rev"] * (4 if o["channels"] == "quadrature" else 2)
+        return 2 * math.pi * radius / (edges * (o["gear_ratio"] if o["on"] == "motor" else 1.0))
 
     def add(self, build: Build) -> None:
         o = self.options

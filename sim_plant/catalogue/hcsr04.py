@@ -1,9 +1,12 @@
 """Part ``hcsr04``: an HC-SR04 ultrasonic ranger mounted anywhere on the body (a front
-and a rear one are two tables), as its TRIG and ECHO pins (:mod:`sim_plant.hcsr04`)."""
+and a rear one are two tables), as its TRIG and ECHO pins, fixed or on a ``servo``
+part's horn (``on_servo``: it then looks along the horn) (:mod:`sim_plant.hcsr04`)."""
+
+import numpy as np
 
 from sim_plant import hcsr04
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.option_table import Num
+from sim_plant.option_table import Name, Num
 
 
 class _Named(hcsr04.HcSr04):
@@ -12,9 +15,11 @@ class _Named(hcsr04.HcSr04):
     def __init__(self, label: str, **options):
         super().__init__(**options)
         self.label = label
+        self.inputs = {self.trig: "level"}  # a servo it rides on is its own part, with its own input
 
     def truth(self, t_us: int, plant) -> dict:
-        return {f"{self.label}_{k}": v for k, v in super().truth(t_us, plant).items()}
+        truth = super().truth(t_us, plant)
+        return {f"{self.label}_{k}": v for k, v in truth.items() if not k.startswith("servo_")}
 
 
 class HcSr04(PartType):
@@ -30,6 +35,12 @@ class HcSr04(PartType):
         ),
         Opt("cone_deg", Num("degrees", 0, 180, above=True), hcsr04.CONE_DEG, "the beam's full angle"),
         Opt("max_range_m", Num("metres", 0.05, 10), hcsr04.MAX_RANGE_M, "farther obstacles time out (38 ms)"),
+        Opt(
+            "on_servo",
+            Name(),
+            None,
+            "the name of a servo part (listed before this one) it rides on; unset: fixed on the body",
+        ),
     )
     SIGNALS = (
         Sig("trig", "in", "level", "TRIG: a pulse starts a ping when it falls"),
@@ -46,8 +57,18 @@ class HcSr04(PartType):
     )
     needs_body = True
 
+    def reading(self, suffix: str, values):
+        """The range (m) an ECHO high time (us) says, as firmware computes it; NaN for a
+        time-out (38 ms: nothing within range)."""
+        return np.where(values >= hcsr04.TIMEOUT_US, np.nan, values / hcsr04.US_PER_CM / 100.0)
+
     def add(self, build: Build) -> None:
         o = self.options
+        servo = None
+        if o["on_servo"] is not None:
+            servo = build.servos.get(o["on_servo"])
+            if servo is None:
+                raise ValueError(f"on_servo: no servo part named {o['on_servo']!r} before this part")
         build.parts.append(
             _Named(
                 self.name,
@@ -58,5 +79,6 @@ class HcSr04(PartType):
                 max_range_m=o["max_range_m"],
                 cone_deg=o["cone_deg"],
                 trigger_min_us=o["trigger_min_us"],
+                servo=servo,
             )
         )

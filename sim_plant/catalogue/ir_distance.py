@@ -4,6 +4,8 @@ ADC pin. Its output voltage falls as the inverse of the range (datasheet figure:
 Nearer than 10 cm the voltage folds back towards 0 (a reading there is ambiguous, as on
 the sensor); a new reading every 38 ms (the datasheet's measuring period)."""
 
+import numpy as np
+
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Num
 from sim_plant.plant import Change
@@ -57,6 +59,11 @@ class IrDistance(PartType):
         ),
     )
     needs_body = True
+
+    def reading(self, suffix: str, values):
+        """The range (m) a read_u16 value says, by the inverse law (beyond the fold)."""
+        v = np.maximum(values / 65535 * self.options["adc_vref"], 1e-3)
+        return np.clip((K_V_CM / v - OFFSET_CM) / 100.0, NEAR_CM / 100.0, FAR_M)
 
     def add(self, build: Build) -> None:
         o = self.options

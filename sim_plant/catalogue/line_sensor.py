@@ -1,13 +1,13 @@
 """Part ``line_sensor``: reflectance sensors looking at the floor (TCRT5000, QTR), one or
 an array at offsets from the mount, analog (an ADC reading, high over the dark tape) or
 digital (a comparator's output, 1 over the tape). The tape is the body's ``tape``
-(:class:`sim_plant.two_wheel.FloorSensors`)."""
+(:class:`sim_plant.floor.FloorSensors`)."""
 
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.floor import FloorSensors
 from sim_plant.option_table import Num, OneOf, Row, Rows, length
-from sim_plant.two_wheel import FloorSensors
 
 OFFSET = Row((length(-10, 10), length(-10, 10)), "[dx_m, dy_m]")
 

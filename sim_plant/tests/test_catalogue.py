@@ -20,6 +20,8 @@ PARTS = sorted(catalogue.parts())
 def plant_with(kind: str, **options):
     cls = catalogue.parts()[kind]
     entry = {"kind": kind, "name": "p", **options}
+    if kind == "track":  # a track is one of a tracked body's two
+        return assemble({"body": "tracked", "parts": [entry, {"kind": "track", "name": "t", "side": "right"}]})
     if cls.needs_body:
         extra = [] if kind == "dc_motor" else MOTORS
         entries = [entry, {**MOTORS[1]}] if kind == "dc_motor" else [*extra, entry]
@@ -28,9 +30,9 @@ def plant_with(kind: str, **options):
 
 
 def test_the_registry_finds_every_part_and_body_module():
-    assert set(catalogue.bodies()) == {"differential", "bench"}
+    assert {"differential", "bench", "ackermann", "tracked"} <= set(catalogue.bodies())
     assert {"dc_motor", "encoder", "hcsr04", "analog_ranger", "ir_distance", "bumper", "button"} <= set(PARTS)
-    assert {"line_sensor", "battery", "probe"} <= set(PARTS)
+    assert {"line_sensor", "battery", "probe", "track", "echo_sounder"} <= set(PARTS)
     for kind, cls in {**catalogue.parts(), **catalogue.bodies()}.items():
         assert cls.__module__ == f"sim_plant.catalogue.{kind}", "one module per part, named after its kind"
         assert cls.doc and all(o.doc for o in cls.OPTIONS)
@@ -62,7 +64,7 @@ def test_every_option_of_a_part_out_of_its_bounds_is_refused_by_name(kind):
 @pytest.mark.parametrize(
     ("table", "message"),
     [
-        ({"body": "hovercraft"}, r"\[plant\] body: expected one of bench, differential"),
+        ({"body": "hovercraft"}, r"\[plant\] body: expected one of ackermann, bench, differential"),
         ({"body": "differential", "track_m": -1}, r"\[plant\] track_m: expected a number of metres"),
         ({"body": "differential", "wheels": 3}, r"\[plant\] wheels: the differential has no such option"),
         ({"body": "differential", "parts": MOTORS[:1]}, r"needs a dc_motor that drives right"),

@@ -3,45 +3,80 @@ in time order and never before next_change_us() says, the same changes however t
 cut, the same seed the same run, and snapshots that replay the same future."""
 
 import random
+from pathlib import Path
 
 import pytest
 
-from sim_plant.duct import DuctRobot
+from sim_plant.catalogue.assembly import assemble, assemble_file, rig_plant_table
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
-from sim_plant.pool import PoolCleaner
-from sim_plant.rover import RoverRoom
-from sim_plant.two_wheel import TwoWheelRobot
-from sim_plant.vacuum import VacuumRobot
+from sim_plant.tests.rigs import duct_robot, pool_cleaner
+
+APPS = Path(__file__).resolve().parents[2] / "firmware" / "apps"
+MOTORS = [
+    {"kind": "dc_motor", "name": "motor_l", "drives": "left"},
+    {"kind": "dc_motor", "name": "motor_r", "drives": "right"},
+]
+
+
+def with_parts(rig_file, *parts):
+    """The plant of one of our rig files with ``parts`` added."""
+    table = rig_plant_table(rig_file)
+    return assemble({**table, "parts": [*table["parts"], *parts]})
+
 
 PLANTS = {
-    "rover": lambda: RoverRoom(room_w_m=3.0, room_h_m=3.0, start_pose=(1.5, 1.5, 0.0)),
-    "pool_nmea": lambda: PoolCleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
-    "pool_adc": lambda: PoolCleaner(pool_length_m=4.0, sonar="adc", start_pose=(2.0, 3.0, 0.0), bumper_bounce_us=800),
-    "pool_faults": lambda: PoolCleaner(
+    "rover": lambda: assemble_file(APPS / "rover" / "rig.toml", room_w_m=3.0, room_h_m=3.0, start_pose=[1.5, 1.5, 0.0]),
+    "pool_nmea": lambda: pool_cleaner(pool_length_m=4.0, start_pose=(2.0, 3.0, 0.2), reversal_pause_ms=300),
+    "pool_adc": lambda: pool_cleaner(
+        "rig-adc.toml",
+        pool_length_m=4.0,
+        start_pose=(2.0, 3.0, 0.0),
+        **{"bumper_front.bounce_us": 800, "bumper_rear.bounce_us": 800},
+    ),
+    "pool_faults": lambda: pool_cleaner(
         pool_length_m=4.0,
         start_pose=(2.0, 3.0, 0.1),
-        sonar_faults=[(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")],
+        **{"sonar.faults": [(1.0, 3.0, "wrong"), (3.5, 5.0, "silent"), (6.0, 7.0, "none")]},
     ),
-    "duct": lambda: DuctRobot(world="multi_branch", bumper=True, motor_time_constant_ms=30.0),
-    "vacuum": lambda: VacuumRobot(bumper=True, bumper_bounce_us=1500),
+    "duct": lambda: duct_robot(
+        "multi_branch_duct",
+        extra_parts=[{"kind": "bumper", "name": "bumper", "half_arc_deg": 60}],
+        **{"motor_l.time_constant_ms": 30.0, "motor_r.time_constant_ms": 30.0},
+    ),
+    "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
     "lab": lambda: LabRobot(world="canyon", bumper=True),
-    "two_wheel": lambda: TwoWheelRobot(
-        obstacles=[[2.0, 1.0, 0.3, 0.3]],
-        placements=[[1.5, 1.0, 1.4, 0.2, 0.2], [4.0, 0.5, 0.5, 0.2, 0.2]],
-        standby=True,
-        buttons=["go"],
-        presses=[["go", 0.5, 0.7], ["go", 3.0, 3.1]],
+    "differential": lambda: assemble(
+        {
+            "body": "differential",
+            "obstacles": [[2.0, 1.0, 0.3, 0.3]],
+            "parts": [
+                *MOTORS,
+                {"kind": "standby", "name": "motor"},
+                {"kind": "encoder", "name": "enc_l", "wheel": "left"},
+                {"kind": "encoder", "name": "enc_r", "wheel": "right"},
+                {"kind": "bumper", "name": "bumper"},
+                {"kind": "hcsr04", "name": "sonar", "mount": {"x_m": 0.08}},
+                {"kind": "placement", "name": "box1", "t_s": 1.5, "box": [1.0, 1.4, 0.2, 0.2]},
+                {"kind": "placement", "name": "box2", "t_s": 4.0, "box": [0.5, 0.5, 0.2, 0.2]},
+                {"kind": "button", "name": "go", "presses": [[0.5, 0.7], [3.0, 3.1]]},
+            ],
+        }
     ),
-    "two_wheel_drv8833": lambda: TwoWheelRobot(
-        bridge="drv8833",
-        encoder="single",
-        ranger="analog",
-        line_sensors=[[0.06, -0.01], [0.06, 0.01]],
-        tape=[[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],
-        button_bounce_us=3_000,
-        buttons=["a"],
-        presses=[["a", 1.0, 1.5]],
+    "differential_drv8833": lambda: assemble(
+        {
+            "body": "differential",
+            "tape": [[0.5, 0.3], [2.5, 1.7], [0.5, 1.7]],
+            "parts": [
+                {"kind": "dc_motor", "name": "motor_l", "drives": "left", "bridge": "drv8833"},
+                {"kind": "dc_motor", "name": "motor_r", "drives": "right", "bridge": "drv8833"},
+                {"kind": "encoder", "name": "enc_l", "wheel": "left", "channels": "single"},
+                {"kind": "encoder", "name": "enc_r", "wheel": "right", "channels": "single"},
+                {"kind": "analog_ranger", "name": "ranger", "mount": {"x_m": 0.08}},
+                {"kind": "line_sensor", "name": "floor", "offsets_m": [[0.06, -0.01], [0.06, 0.01]]},
+                {"kind": "button", "name": "a", "presses": [[1.0, 1.5]], "bounce_us": 3_000},
+            ],
+        }
     ),
 }
 END_US = 8_000_000
@@ -202,18 +237,18 @@ def test_state_declared_fixed_never_changes(kind):
 
 
 def test_unknown_signals_are_refused_with_their_names():
-    plant = PoolCleaner()
+    plant = pool_cleaner()
     with pytest.raises(KeyError, match="track_l.stop"):
         plant.set_input("motor_l.pwm", 1)
-    with pytest.raises(KeyError, match="bumper_front"):
+    with pytest.raises(KeyError, match="bumper_front.out"):
         plant.output("bumper")
 
 
 def test_an_idle_plant_has_only_its_sensor_timeline():
-    plant = DuctRobot(sonar_options={"noise_v": 0.0})
+    plant = duct_robot(**{f"sonar_{s}.noise_sd_v": 0.0 for s in "flr"})
     plant.advance_to(1_000_000)
     assert plant.next_change_us() == plant.t_us + 25_000  # the amplitude sonars' update
-    quiet = VacuumRobot()
+    quiet = assemble_file(APPS / "vacuum" / "rig.toml")
     assert quiet.next_change_us() == NEVER_US
 
 

@@ -5,11 +5,11 @@ the same cells, whatever the segments."""
 import numpy as np
 
 from sim_plant.coverage import FEW_SEGMENTS, CoverageGrid
-from sim_plant.pool import PoolCleaner
+from sim_plant.world import pool
 
 
 def test_a_few_segments_cell_by_cell_mark_the_cells_the_arrays_mark():
-    world = PoolCleaner().world
+    world = pool()
     rng = np.random.default_rng(5)
     one_by_one, at_once = CoverageGrid(world, 0.1, 0.24), CoverageGrid(world, 0.1, 0.24)
     x0, y0, x1, y1 = world.bounds

@@ -6,7 +6,8 @@ import math
 import pytest
 
 from sim_plant.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
-from sim_plant.duct import BODY_CIRCLES, DuctRobot
+from sim_plant.duct import BODY_CIRCLES
+from sim_plant.tests.rigs import duct_robot
 from sim_plant.tether import TetherSnag
 from sim_plant.world import World, one_right_branch_duct
 
@@ -66,7 +67,8 @@ def test_an_opening_makes_the_reading_slope_down_as_the_peak_detector_discharges
     """Seed 002 App. C.4.3: "the sonar circuitry stored the distance as a charge there is a
     finite discharging time. When the branch was detected, the value was effectively zero, but
     the finite discharging time created the slope seen"."""
-    plant = DuctRobot(start_pose=(1.2, 0.2, 0.0), sonar_options={"noise_v": 0.0, "corner_spike_p": 0.0})
+    quiet = {f"sonar_{s}.{o}": 0.0 for s in "flr" for o in ("noise_sd_v", "corner_spike_p")}
+    plant = duct_robot(start_pose=(1.2, 0.2, 0.0), **quiet)
     for side in "lr":
         plant.set_input(f"motor_{side}.dir", 1)
         plant.set_input(f"motor_{side}.pwm", 30_000)
@@ -99,14 +101,13 @@ def test_corners_in_the_beam_can_spike_the_reading():
 def test_slotted_disks_on_the_motor_shaft_count_slots_times_gear_ratio_per_wheel_turn():
     """Seed 002 §3.3.3: "A slotted encoder disk, mounted on the motor shaft"; one channel,
     an edge each way per slot."""
-    plant = DuctRobot(
-        world=World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0), slots_per_rev=8, gear_ratio=6.0
-    )
+    disks = {f"enc_{s}.{o}": v for s in "lr" for o, v in (("lines_per_rev", 8), ("gear_ratio", 6.0))}
+    plant = duct_robot(World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0), **disks)
     for side in "lr":
         plant.set_input(f"motor_{side}.dir", 1)
         plant.set_input(f"motor_{side}.pwm", 65535)
-    turn_us = round(2 * math.pi * plant.wheel_radius_m / plant.v_max_m_s * 1e6)
-    changes = [c for c in plant.advance_to(turn_us) if c.name == "enc_l"]
+    turn_us = round(2 * math.pi * plant.body.options["wheel_radius_m"] / plant.body.options["v_max_m_s"] * 1e6)
+    changes = [c for c in plant.advance_to(turn_us) if c.name == "enc_l.out"]
     assert len(changes) == 2 * 8 * 6
     assert [c.value for c in changes[:4]] == [1, 0, 1, 0]
 
@@ -115,7 +116,7 @@ def test_slotted_disks_cannot_tell_direction():
     """Seeds 002/003: single-channel encoders: backwards looks like forwards."""
     seqs = []
     for direction in (1, 0):
-        plant = DuctRobot(world=World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0))
+        plant = duct_robot(World([(-50, -1, 50, -1), (-50, 1, 50, 1)]), start_pose=(0, 0, 0))
         for side in "lr":
             plant.set_input(f"motor_{side}.dir", direction)
             plant.set_input(f"motor_{side}.pwm", 40_000)
@@ -127,24 +128,24 @@ def test_spins_slip_the_backward_wheel_without_counts():
     """Seed 002 §5.7: "During the spin, the right wheel was pushed back by the left wheel, not
     producing any rotation of the wheel encoder": a right spin (left +, right -) turns the
     body by the commanded amount while the right encoder sees only (1 - spin_slip) of it."""
-    plant = DuctRobot(world=World([(-50, -5, 50, -5)]), start_pose=(0, 0, 0), spin_slip=0.3)
+    plant = duct_robot(World([(-50, -5, 50, -5)]), start_pose=(0, 0, 0), spin_slip=0.3)
     plant.set_input("motor_l.dir", 1)
     plant.set_input("motor_r.dir", 0)
     for side in "lr":
         plant.set_input(f"motor_{side}.pwm", 30_000)
     changes = plant.advance_to(2_000_000)
-    left = sum(c.name == "enc_l" for c in changes)
-    right = sum(c.name == "enc_r" for c in changes)
+    left = sum(c.name == "enc_l.out" for c in changes)
+    right = sum(c.name == "enc_r.out" for c in changes)
     assert right == pytest.approx(0.7 * left, abs=2)
     w = plant.truth()["wheel_rad_s"][0]
-    turned = -2 * w * plant.wheel_radius_m / 0.18 * 2.0
+    turned = -2 * w * plant.body.options["wheel_radius_m"] / 0.18 * 2.0
     assert plant.truth()["theta_rad"] == pytest.approx(math.remainder(turned, 2 * math.pi), abs=1e-9)
 
 
 def test_lmd18200_dir_sets_the_direction_and_pwm_the_magnitude():
     """Seed 002 §3.3.3: LMD18200 H-bridges, "a PWM signal of 12V"; DIR + PWM (sign/magnitude)."""
-    plant = DuctRobot(start_pose=(1.0, 0.2, 0.0))
-    assert set(plant.inputs) == {"motor_l.dir", "motor_l.pwm", "motor_r.dir", "motor_r.pwm"}
+    plant = duct_robot(start_pose=(1.0, 0.2, 0.0))
+    assert set(plant.inputs) == {"motor_l.dir", "motor_l.pwm", "motor_r.dir", "motor_r.pwm", "link.uart"}
     plant.set_input("motor_l.pwm", 30_000)
     plant.set_input("motor_r.pwm", 30_000)
     plant.advance_to(500_000)
@@ -169,7 +170,7 @@ def test_one_right_branch_duct_is_open_to_the_right_at_the_branch():
 
 def test_touching_a_duct_wall_is_recorded_though_the_robot_has_no_bumper():
     """Seed 002 §6: the real robot had no bump sensors; contacts are ground truth only."""
-    plant = DuctRobot(start_pose=(1.0, 0.2, 0.3))
+    plant = duct_robot(start_pose=(1.0, 0.2, 0.3))
     assert not any(name.startswith("bumper") for name in plant.outputs)
     for side in "lr":
         plant.set_input(f"motor_{side}.dir", 1)
@@ -199,7 +200,7 @@ def _spin_twice(plant, seed, waste=0):
 
 
 def test_a_snag_can_be_kept_to_chosen_spins():
-    plant = DuctRobot(world="bench", start_pose=(2.0, 0.2, 0.0), snag_p=1.0, snag_options={"spins": [1]})
+    plant = duct_robot("bench_duct", start_pose=(2.0, 0.2, 0.0), **{"tether.snag_p": 1.0, "tether.spins": [1]})
     spins, events = _spin_twice(plant, 3)
     assert spins == 2 and [e[0] for e in events] == [950_000], f"expected one snag, 150 ms into spin 2: {events}"
 
@@ -207,7 +208,7 @@ def test_a_snag_can_be_kept_to_chosen_spins():
 def test_whether_and_how_a_spin_snags_depends_on_the_seed_alone():
     """The draws are taken at reset: how much the rest of the plant draws from the shared
     generator afterwards (a drive or firmware change would shift it) changes nothing."""
-    plant = DuctRobot(world="bench", start_pose=(2.0, 0.2, 0.0), snag_p=0.5)
+    plant = duct_robot("bench_duct", start_pose=(2.0, 0.2, 0.0), **{"tether.snag_p": 0.5})
     runs = {seed: _spin_twice(plant, seed) for seed in range(8)}
     assert any(events for _n, events in runs.values()) and not all(events for _n, events in runs.values())
     for seed, (spins, events) in runs.items():

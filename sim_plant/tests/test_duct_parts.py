@@ -5,18 +5,18 @@ import math
 
 import pytest
 
-from sim_plant.duct import DuctRobot
 from sim_plant.duct_link import RecordReader
 from sim_plant.plant import NEVER_US
+from sim_plant.tests.rigs import duct_robot
 from sim_plant.tether import TetherSnag
 
 
 def reader_plant(**options):
-    return DuctRobot(world="bench", link=True, link_options=options)
+    return duct_robot("bench_duct", **{f"link.{k}": v for k, v in options.items()})
 
 
 def test_the_master_polls_every_poll_ms_and_sends_its_script():
-    plant = reader_plant(poll_ms=100, script=[(0, "K 25"), (250, "S 60 60")])
+    plant = reader_plant(poll_ms=100, script=[(0, "K 25"), (0.25, "S 60 60")])
     changes = [c for c in plant.advance_to(300_000) if c.name == "link.uart"]
     assert [(c.t_us, c.value) for c in changes] == [
         (0, b"K 25\n"),
@@ -47,7 +47,7 @@ def test_records_are_counted_gaps_found_and_lines_timed_at_the_baud_rate():
 
 
 def spinning_plant(p_snag, seed=0):
-    plant = DuctRobot(world="bench", start_pose=(2.0, 0.2, 0.0), snag_p=p_snag, spin_slip=0.0)
+    plant = duct_robot("bench_duct", start_pose=(2.0, 0.2, 0.0), spin_slip=0.0, **{"tether.snag_p": p_snag})
     plant.reset(seed)
     plant.set_input("motor_l.dir", 1)
     plant.set_input("motor_r.dir", 0)
@@ -76,13 +76,13 @@ def test_a_certain_snag_pulls_the_body_back_and_twists_it_unseen_by_the_encoders
 
 
 def test_no_snag_without_a_spin_and_none_when_p_is_zero():
-    plant = DuctRobot(world="bench", start_pose=(2.0, 0.2, 0.0), snag_p=1.0)
+    plant = duct_robot("bench_duct", start_pose=(2.0, 0.2, 0.0), **{"tether.snag_p": 1.0})
     for side in "lr":
         plant.set_input(f"motor_{side}.dir", 1)
         plant.set_input(f"motor_{side}.pwm", 20_000)
     plant.advance_to(1_000_000)
     assert plant.truth()["snags"] == 0 and plant.part(TetherSnag).next_us == NEVER_US
-    assert "snags" not in DuctRobot(world="bench").truth()
+    assert "snags" not in duct_robot("bench_duct").truth()
 
 
 def test_snags_come_at_about_p_of_the_spins():

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from sim_plant.echosounder import DROPOUT_TABLE_7_1, NavmanSideSounder, dpt_sentence, nmea_checksum
-from sim_plant.pool import ADC_V_PER_M, PoolCleaner
+from sim_plant.pool import ADC_V_PER_M
+from sim_plant.tests.rigs import pool_cleaner
 from sim_plant.world import pool
 
 HALF_WIDTH_M = 0.24
@@ -104,7 +105,7 @@ def test_readings_are_corrupted_near_the_end_walls():
 def test_sentences_come_every_500ms_at_4800_baud_one_change_per_byte():
     """Seed 000 §4.3 "every 500 ms"; serial.c COMPARMS 0xc3 = 4800-n-8-1: 10 bits per byte,
     2.083 ms per character, a DPT sentence takes about 40 ms on the wire."""
-    plant = PoolCleaner(start_pose=(5.0, 4.0, 0.0), sonar_phase_us=100_000)
+    plant = pool_cleaner(start_pose=(5.0, 4.0, 0.0), **{"sonar.phase_us": 100_000})
     changes = [c for c in plant.advance_to(2_000_000) if c.name == "sonar.uart"]
     assert all(len(c.value) == 1 for c in changes)
     stream = b"".join(c.value for c in changes)
@@ -122,7 +123,7 @@ def test_sentences_come_every_500ms_at_4800_baud_one_change_per_byte():
 @pytest.mark.parametrize("group", [0, 4])
 def test_bytes_can_be_batched_into_fewer_changes(group):
     """bytes_per_change=N: N bytes per Change, at the end of the last; 0: a whole sentence."""
-    plant = PoolCleaner(start_pose=(5.0, 4.0, 0.0), bytes_per_change=group)
+    plant = pool_cleaner(start_pose=(5.0, 4.0, 0.0), **{"sonar.bytes_per_change": group})
     changes = [c for c in plant.advance_to(1_000_000) if c.name == "sonar.uart"]
     sentence = plant.truth()["sonar_sentence"]
     if group == 0:
@@ -135,7 +136,7 @@ def test_bytes_can_be_batched_into_fewer_changes(group):
 
 def test_select_line_puts_the_right_sonar_on_the_uart():
     """Seed 000 Set_Sonar: parallel-port bit 2 selects sonar 0 (left) or sonar 1 (right)."""
-    plant = PoolCleaner(start_pose=(5.0, 2.0, 0.0), bytes_per_change=0, sonar_options={"noise_sd_m": 0.0})
+    plant = pool_cleaner(start_pose=(5.0, 2.0, 0.0), **{"sonar.bytes_per_change": 0, "sonar.noise_sd_m": 0.0})
     left = [parse_dpt(c.value) for c in plant.advance_to(700_000) if c.name == "sonar.uart"]
     plant.set_input("sonar.select", 1)
     right = [parse_dpt(c.value) for c in plant.advance_to(1_700_000) if c.name == "sonar.uart"]
@@ -147,7 +148,9 @@ def test_select_line_puts_the_right_sonar_on_the_uart():
 def test_adc_option_gives_two_analog_sonars_with_the_same_model():
     """The harness's ADC sonar (design card) with the seed's range model: 0.33 V/m on a
     12-bit 3.3 V ADC, 0 V when there is no reading (the right sonar at 0.26 m < 0.8 m)."""
-    plant = PoolCleaner(sonar="adc", start_pose=(5.0, 0.5, 0.0), sonar_options={"noise_sd_m": 0.0})
+    plant = pool_cleaner(
+        "rig-adc.toml", start_pose=(5.0, 0.5, 0.0), **{"sonar_l.noise_sd_m": 0.0, "sonar_r.noise_sd_m": 0.0}
+    )
     assert "sonar.select" not in plant.inputs
     samples = {c.name: c.value for c in plant.advance_to(700_000)}
     counts = round(round(8.0 - 0.5 - HALF_WIDTH_M, 1) * ADC_V_PER_M / 3.3 * 4095)
@@ -171,8 +174,10 @@ def sentences(plant, until_us):
     return out
 
 
-def fault_pool(faults=(), **options):
-    plant = PoolCleaner(start_pose=(12.5, 3.0, 0.0), sonar_faults=faults, **options)
+def fault_pool(faults=(), rig="rig.toml"):
+    """Faults on every sounder of the rig's pool cleaner."""
+    sounders = ("sonar",) if rig == "rig.toml" else ("sonar_l", "sonar_r")
+    plant = pool_cleaner(rig, start_pose=(12.5, 3.0, 0.0), **{f"{s}.faults": list(faults) for s in sounders})
     plant.reset(5)
     plant.set_input("track_l.stop", 1)  # both tracks stopped: the machine stands still
     plant.set_input("track_r.stop", 1)
@@ -206,7 +211,7 @@ def test_a_silent_window_sends_no_sentences_and_a_none_window_empty_fields():
 
 
 def test_the_adc_option_reads_0v_while_silent():
-    plant = fault_pool([(2.0, 6.0, "silent")], sonar="adc")
+    plant = fault_pool([(2.0, 6.0, "silent")], rig="rig-adc.toml")
     plant.advance_to(4_000_000)
     assert plant.output("sonar_l.adc") == 0 and plant.output("sonar_r.adc") == 0
     plant.advance_to(7_000_000)
@@ -216,4 +221,4 @@ def test_the_adc_option_reads_0v_while_silent():
 @pytest.mark.parametrize("faults, field", [([(1.0, 2.0, "noise")], "kind"), ([(2.0, 1.0, "wrong")], "window")])
 def test_bad_fault_windows_are_rejected_by_name(faults, field):
     with pytest.raises(ValueError, match=field):
-        PoolCleaner(sonar_faults=faults)
+        pool_cleaner(**{"sonar.faults": faults})

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from sim_plant import kinds
 from sim_plant.faults import FaultError, FaultyPlant, parse_faults, with_faults
 from sim_plant.scripted import ScriptedPlant
+from sim_plant.tests.rigs import duct_robot
 
 S = 1_000_000
 
@@ -188,7 +188,7 @@ def test_bounce_follows_each_edge_within_its_window_and_settles_on_the_true_leve
 
 
 def duct(*faults, seed=3, **options):
-    plant = kinds.make("duct_robot", world="bench", **options)
+    plant = duct_robot("bench_duct", **options)
     if faults:
         plant = with_faults(plant, parse_faults(list(faults)))
     plant.reset(seed)
@@ -206,8 +206,10 @@ def test_a_stuck_wheel_stops_its_encoder_and_turns_the_robot_inside_its_window()
     before = plant.advance_to(1 * S)
     inside = plant.advance_to(2 * S)
     after = plant.advance_to(3 * S)
-    assert edges(before, "enc_l") > 50 and edges(inside, "enc_l") <= 1, "expected the left encoder still in 1-2 s"
-    assert edges(inside, "enc_r") > 50 and edges(after, "enc_l") > 50, (
+    assert edges(before, "enc_l.out") > 50 and edges(inside, "enc_l.out") <= 1, (
+        "expected the left encoder still in 1-2 s"
+    )
+    assert edges(inside, "enc_r.out") > 50 and edges(after, "enc_l.out") > 50, (
         "expected the right wheel on, the left again after"
     )
     theta = plant.truth()["theta_rad"]
@@ -217,7 +219,7 @@ def test_a_stuck_wheel_stops_its_encoder_and_turns_the_robot_inside_its_window()
 def test_wheel_slip_keeps_the_encoder_counting_while_the_ground_moves_less():
     plain, slipping = duct(), duct({"kind": "wheel_slip", "wheel": "left", "start_s": 0.5, "end_s": 2.5, "slip": 0.5})
     a, b = plain.advance_to(3 * S), slipping.advance_to(3 * S)
-    ratio = edges(b, "enc_l") / edges(a, "enc_l")
+    ratio = edges(b, "enc_l.out") / edges(a, "enc_l.out")
     assert 0.97 < ratio < 1.03, f"expected the slipping wheel's encoder to count as before, got {ratio:.2f} of it"
     theta = slipping.truth()["theta_rad"]
     assert theta > 0.5 and abs(plain.truth()["theta_rad"]) < 0.01, f"expected a turn to the left, got {theta:.2f} rad"

@@ -5,7 +5,7 @@ import statistics
 
 import pytest
 
-from sim_plant.pool import PoolCleaner
+from sim_plant.tests.rigs import pool_cleaner
 
 DEG = math.pi / 180
 
@@ -35,7 +35,7 @@ def eq_7_1(t_ms):
 def quiet_pool(**options):
     """A pool cleaner mid-pool, with the sonar on its ADC option (fewer events)."""
     options.setdefault("start_pose", (8.0, 4.0, 0.0))
-    return PoolCleaner(sonar="adc", **options)
+    return pool_cleaner("rig-adc.toml", **options)
 
 
 def stop(plant, side, duration_us):
@@ -56,15 +56,15 @@ def test_stopping_the_left_track_turns_by_eq_7_1(t_ms, theta_deg):
     plant.advance_to(1_000_000)
     before, after = stop(plant, "l", t_ms * 1000)
     plant.advance_to(plant.t_us + 1_000_000)  # running straight again: no further turn
-    assert after["theta_deg"] - before["theta_deg"] == pytest.approx(theta_deg, abs=5e-4)
-    assert plant.truth()["theta_deg"] == pytest.approx(after["theta_deg"], abs=1e-9)
+    assert after["theta_rad"] / DEG - before["theta_rad"] / DEG == pytest.approx(theta_deg, abs=5e-4)
+    assert plant.truth()["theta_rad"] / DEG == pytest.approx(after["theta_rad"] / DEG, abs=1e-9)
 
 
 def test_right_stops_turn_the_other_way_by_the_same_law():
     """Seed 000 Table 7.2: left and right stops give the same angles (mirror image)."""
     plant = quiet_pool(steer_scatter_rel=0.0)
     before, after = stop(plant, "r", 500_000)
-    assert after["theta_deg"] - before["theta_deg"] == pytest.approx(-eq_7_1(500), abs=1e-6)
+    assert after["theta_rad"] / DEG - before["theta_rad"] / DEG == pytest.approx(-eq_7_1(500), abs=1e-6)
 
 
 def test_a_long_stop_ends_as_a_pivot_about_the_stopped_track():
@@ -101,7 +101,7 @@ def _stop_trials(seeds, t_ms, side="l"):
         plant = quiet_pool()
         plant.reset(seed)
         before, after = stop(plant, side, t_ms * 1000)
-        angles.append(abs(after["theta_deg"] - before["theta_deg"]))
+        angles.append(abs(after["theta_rad"] / DEG - before["theta_rad"] / DEG))
     return angles
 
 
@@ -132,21 +132,21 @@ def test_front_bumper_closes_at_the_end_wall_and_the_machine_reverses_after_a_pa
     changes = []
     while plant.t_us < 12_000_000:
         changes += plant.advance_to(plant.t_us + 50_000)
-    bumps = [c for c in changes if c.name == "bumper_front"]
+    bumps = [c for c in changes if c.name == "bumper_front.out"]
     assert [c.value for c in bumps] == [0, 1], "pressed (active low) once, then released"
     t_hit = bumps[0].t_us
     assert t_hit == pytest.approx((25.0 - 0.45 - 23.0) / 0.3 * 1e6, abs=2_000)
     assert bumps[1].t_us - t_hit == pytest.approx(1_000_000, abs=10_000), "released as it leaves after the pause"
     truth = plant.truth()
     assert truth["direction"] == -1 and truth["reversals"] == 1
-    assert truth["contacts"][0].part == "bumper_front"
+    assert truth["contacts"][0].part == "bumper_front.out"
     assert truth["x_m"] == pytest.approx(24.55 - 0.3 * (12.0 - t_hit / 1e6 - 1.0), abs=1e-3)
 
 
 def test_reversal_heading_kick_follows_table_5_1():
     """Seed 000 §5.4 / Table 5.1: after a reversal the heading is N(-1.74e-2 rad, 3.48e-2)
     (the pump revolves anticlockwise); 3.48e-2 is taken as the standard deviation."""
-    plant = PoolCleaner(pool_length_m=2.0, start_pose=(1.0, 4.0, 0.0), sonar="adc", reversal_pause_ms=200)
+    plant = pool_cleaner("rig-adc.toml", pool_length_m=2.0, start_pose=(1.0, 4.0, 0.0), reversal_pause_ms=200)
     plant.reset(5)
     while len(plant.truth()["reversal_kicks_rad"]) < 120:
         plant.advance_to(plant.t_us + 1_000_000)
@@ -184,9 +184,9 @@ def test_a_straight_run_cleans_a_strip_as_wide_as_the_machine():
 
 def test_the_b400_has_no_encoders_and_its_inputs_are_the_track_stop_bits():
     """Seed 000 §1.3.3: "there is not a feedback on the motion of the trucks"."""
-    plant = PoolCleaner()
+    plant = pool_cleaner()
     assert set(plant.inputs) == {"track_l.stop", "track_r.stop", "sonar.select"}
-    assert set(plant.outputs) == {"bumper_front", "bumper_rear", "sonar.uart"}
+    assert set(plant.outputs) == {"bumper_front.out", "bumper_rear.out", "sonar.uart"}
     assert not any(name.startswith("enc") for name in plant.outputs)
 
 
@@ -194,11 +194,11 @@ def test_a_sonar_sample_every_0_15_m_and_about_50_per_8_m_lane():
     """Seed 001 §5: "data are collected every 500 ms" at 0.3 m/s, Delta s = 0.15 m; seed 000
     §7.3.1: along the 8 m side "the control software stores about 50 samples during each
     passage"."""
-    plant = PoolCleaner(
+    plant = pool_cleaner(
+        "rig-adc.toml",
         pool_length_m=8.0,
         pool_width_m=25.0,
         start_pose=(0.46, 12.0, 0.0),
-        sonar="adc",
         kick_sd_rad=0.0,
         kick_mean_rad=0.0,
     )
@@ -221,7 +221,7 @@ def test_carrying_the_machine_moves_it_without_sweeping_the_floor_between():
     gets no swath along the way and the machine drives on from the new place."""
     from sim_plant.coverage import CoverageRecorder
 
-    plant = PoolCleaner(start_pose=(5.0, 1.0, 0.0))
+    plant = pool_cleaner(start_pose=(5.0, 1.0, 0.0))
     plant.reset(3)
     plant.advance_to(1_000_000)
     plant.carry_to((5.0, 4.0, 0.0))
@@ -232,3 +232,18 @@ def test_carrying_the_machine_moves_it_without_sweeping_the_floor_between():
     assert grid.fraction_in(4.0, 6.0, 2.0, 3.0) == 0.0, "no swath between the two places"
     assert grid.fraction_in(5.0, 5.3, 3.8, 4.2) == 1.0
     assert grid.fraction_in(5.05, 5.25, 0.8, 1.2) == 1.0
+
+
+def test_the_rig_files_bumpers_are_the_seeds_and_the_corner_start_is_seed_000s():
+    """Both rig files (NMEA and ADC) put the seed's end bumpers (60 deg either side of
+    square on) on the machine, which starts in the corner: the front bumper 1 cm off the
+    end wall, its right side 2 cm off the side wall (seed 000 §7.3.3)."""
+    from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M, BUMPER_HALF_ARC_DEG
+
+    for rig in ("rig.toml", "rig-adc.toml"):
+        plant = pool_cleaner(rig)
+        bumpers = [p for p in plant.catalogue_parts if p.kind == "bumper"]
+        assert [b.options["half_arc_deg"] for b in bumpers] == [BUMPER_HALF_ARC_DEG] * 2, rig
+        assert [b.mount[2] for b in bumpers] == [0.0, 180.0], rig
+        x, y, theta = plant.pose_at(0)
+        assert (x + BODY_LENGTH_M / 2, y - BODY_WIDTH_M / 2, theta) == pytest.approx((25.0 - 0.01, 0.02, 0.0)), rig

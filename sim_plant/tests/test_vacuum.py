@@ -1,13 +1,35 @@
-"""Seed 003's vacuum robot: HC-SR04 trigger/echo on an SG90 servo, slotted-disk IR encoders,
-an L298N-style bridge with a wide dead band."""
+"""Seed 003's vacuum robot, built from its rig file's body and parts: HC-SR04
+trigger/echo on an SG90 servo, slotted-disk IR encoders, an L298N-style bridge with a
+wide dead band."""
 
 import math
+from pathlib import Path
 
 import pytest
 
+from sim_plant.catalogue.assembly import assemble_file
 from sim_plant.hcsr04 import START_DELAY_US, TIMEOUT_US, HcSr04, echo_width_us
-from sim_plant.vacuum import VacuumRobot
 from sim_plant.world import World, box, polygon_segments, room
+
+RIG = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "vacuum" / "rig.toml"
+
+
+def vacuum_plant(world="vacuum_room", start_pose=None, sonar_noise_sd_m=None, motor_gains=None, **body):
+    """The vacuum robot of its rig file, in one of the body's worlds or in ``world``, a
+    World of the test's own (then starting at ``start_pose``)."""
+    parts = {}
+    if sonar_noise_sd_m is not None:
+        parts["sonar"] = {"noise_sd_m": sonar_noise_sd_m}
+    for side, gain in zip(("motor_l", "motor_r"), motor_gains or ()):
+        parts[side] = {"gain": gain}
+    if not isinstance(world, World):
+        pose = {} if start_pose is None else {"start_pose": list(start_pose)}
+        return assemble_file(RIG, parts, world=world, **pose, **body)
+    plant = assemble_file(RIG, parts, world="room", **body)
+    plant.body.world_and_pose = lambda rng: (world, tuple(start_pose))  # a world no rig file names
+    plant.reset(0)
+    return plant
+
 
 SENSOR_X_M = 0.10  # the HC-SR04 sits 10 cm ahead of the axle
 SERVO_DUTY_90 = round(1.5 / 20 * 65535)
@@ -31,7 +53,7 @@ def facing_wall(range_m, **options):
     """A robot whose sonar is ``range_m`` from a wall straight ahead (nothing else near)."""
     x = 1.0
     world = room(x + SENSOR_X_M + range_m, 20.0)
-    return VacuumRobot(world=world, start_pose=(x, 10.0, 0.0), sonar_noise_sd_m=0.0, **options)
+    return vacuum_plant(world=world, start_pose=(x, 10.0, 0.0), sonar_noise_sd_m=0.0, **options)
 
 
 @pytest.mark.parametrize("range_cm, width_us", [(10, 583), (100, 5831), (400, 23324)])
@@ -62,7 +84,7 @@ def test_the_cone_is_15_degrees():
         sx, sy = 1.0 + SENSOR_X_M, 10.0
         post = box(sx + 1.0 * math.cos(a) + 0.02, sy + 1.0 * math.sin(a), 0.04, 0.04)
         world = room(sx + 3.5, 20.0, [post])
-        plant = VacuumRobot(world=world, start_pose=(1.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+        plant = vacuum_plant(world=world, start_pose=(1.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
         rise, fall = ping(plant)
         assert (fall - rise) / 5831 == pytest.approx(expect_m, abs=0.03), angle_deg
 
@@ -90,21 +112,21 @@ def test_servo_turns_60_degrees_in_0_12_s_and_a_ping_sees_along_its_current_angl
     to_150 = round(2.1667 / 20 * 65535)  # 150 deg: 0.5 ms + 150/180 * 2 ms
     plant.set_input("servo.pwm", to_150)
     plant.advance_to(plant.t_us + 60_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(120.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(120.0, abs=0.1)
     plant.advance_to(plant.t_us + 60_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(150.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(150.0, abs=0.1)
     plant.set_input("servo.pwm", round(0.6111 / 20 * 65535))  # 10 deg
     plant.advance_to(plant.t_us + 279_000)
-    assert plant.truth()["servo_deg"] > 10.0
+    assert plant.truth()["servo_angle_deg"] > 10.0
     plant.advance_to(plant.t_us + 1_500)
-    assert plant.truth()["servo_deg"] == pytest.approx(10.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(10.0, abs=0.1)
     plant.set_input("servo.pwm", round(1.0 / 20 * 65535))  # 45 deg
     plant.advance_to(plant.t_us + 70_000)
-    assert plant.truth()["servo_deg"] == pytest.approx(45.0, abs=0.1)
+    assert plant.truth()["servo_angle_deg"] == pytest.approx(45.0, abs=0.1)
     plant.set_input("servo.pwm", SERVO_DUTY_90)
     plant.advance_to(plant.t_us + 45_000)  # half way: 67.5 deg
     ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(67.5, abs=0.1)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(67.5, abs=0.1)
 
 
 def test_low_duty_does_not_move_the_robot():
@@ -119,7 +141,7 @@ def test_low_duty_does_not_move_the_robot():
     for side in "lr":
         plant.set_input(f"motor_{side}.pwm", int(0.6 * 65535))
     changes = plant.advance_to(2_000_000)
-    assert sum(c.name == "enc_l" for c in changes) == pytest.approx(
+    assert sum(c.name == "enc_l.out" for c in changes) == pytest.approx(
         plant.truth()["distance_m"] / (math.pi * 0.065) * 20 * 2, abs=1
     )
 
@@ -127,7 +149,7 @@ def test_low_duty_does_not_move_the_robot():
 def test_unequal_wheels_veer_towards_the_weaker_one():
     """Seed 003 §7.2: "Error in estimate of ... wheel diameters" causes "a uniform veer in one
     direction": a per-wheel gain mismatch at equal duty curves the path."""
-    plant = VacuumRobot(world=room(20.0, 20.0), start_pose=(2.0, 10.0, 0.0), motor_gains=(1.0, 0.95))
+    plant = vacuum_plant(world=room(20.0, 20.0), start_pose=(2.0, 10.0, 0.0), motor_gains=(1.0, 0.95))
     for side in "lr":
         plant.set_input(f"motor_{side}.in1", 1)
         plant.set_input(f"motor_{side}.pwm", 50_000)
@@ -166,9 +188,9 @@ def test_a_35_degree_step_takes_70_ms_and_45_degrees_90_ms():
         plant.set_input("servo.pwm", servo_duty(target))
         assert servo.settle_us() - start == pytest.approx(travel_us, abs=100), target  # duty_u16 steps: 0.03 deg
         plant.advance_to(start + travel_us - 1_000)
-        assert plant.truth()["servo_deg"] < target - 0.4, "still turning 1 ms before"
+        assert plant.truth()["servo_angle_deg"] < target - 0.4, "still turning 1 ms before"
         plant.advance_to(start + travel_us + 100)
-        assert plant.truth()["servo_deg"] == pytest.approx(target, abs=0.03)
+        assert plant.truth()["servo_angle_deg"] == pytest.approx(target, abs=0.03)
     plant.set_input("servo.pwm", servo_duty(10))
     assert servo.settle_us() - plant.t_us == pytest.approx(320_000, abs=100), "the fly-back"
 
@@ -179,7 +201,7 @@ def test_a_ping_before_the_servo_settles_sees_along_the_angle_it_has_reached():
     at 1 / sin(87.5 deg) = 1.001 m. Triggered 40 ms into the 90 -> 170 deg turn the horn
     is at 110 deg (cone 12.5..27.5 deg left): the wall at 1 / sin(27.5 deg) = 2.166 m, a
     reading of neither angle."""
-    plant = VacuumRobot(world=room(20.0, 11.0), start_pose=(2.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+    plant = vacuum_plant(world=room(20.0, 11.0), start_pose=(2.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
     plant.set_input("servo.pwm", servo_duty(90))
     plant.advance_to(200_000)
     rise, fall = ping(plant)
@@ -187,11 +209,11 @@ def test_a_ping_before_the_servo_settles_sees_along_the_angle_it_has_reached():
     plant.set_input("servo.pwm", servo_duty(170))
     plant.advance_to(plant.t_us + 40_000 - 10)
     rise, fall = ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(110.0, abs=0.01)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(110.0, abs=0.01)
     assert (fall - rise) / 5831 == pytest.approx(1.0 / math.sin(math.radians(27.5)), abs=0.002)
     plant.advance_to(plant.t_us + 200_000)
     rise, fall = ping(plant)
-    assert plant.truth()["ping_angle_deg"] == pytest.approx(170.0, abs=0.01)
+    assert plant.truth()["sonar_ping_angle_deg"] == pytest.approx(170.0, abs=0.01)
     assert (fall - rise) / 5831 == pytest.approx(1.0 / math.sin(math.radians(87.5)), abs=0.002)
 
 
@@ -225,7 +247,7 @@ def test_a_sweep_at_the_heads_own_pace_takes_about_438_ms_with_echoes_and_510_wi
     the moment the servo arrives, the next step the moment its echo ends; a ping here is
     10 us of TRIG, 213 us to the burst and the echo (23.3 ms from 4 m, 38 ms timeout)."""
     sx, sy = 10.0 + SENSOR_X_M, 10.0
-    plant = VacuumRobot(world=ring_around(sx, sy, wall_m), start_pose=(10.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
+    plant = vacuum_plant(world=ring_around(sx, sy, wall_m), start_pose=(10.0, 10.0, 0.0), sonar_noise_sd_m=0.0)
     servo = plant.part(HcSr04).servo
     plant.set_input("servo.pwm", servo_duty(10))
     plant.advance_to(400_000)
@@ -245,7 +267,7 @@ def test_the_furnished_room_is_drawn_from_the_seed_with_a_piece_across_every_leg
     from sim_plant.furniture import DEFAULT_ROUTE
 
     def pieces(seed):
-        plant = VacuumRobot(world="furnished")
+        plant = vacuum_plant(world="furnished")
         plant.reset(seed)
         segs = plant.world.segments()[4:]  # after the room's four walls
         return segs, plant
@@ -254,7 +276,8 @@ def test_the_furnished_room_is_drawn_from_the_seed_with_a_piece_across_every_leg
     for seed in range(1, 21):
         segs, plant = pieces(seed)
         walls = plant.world
-        assert plant.start_pose == (*DEFAULT_ROUTE[0], 0.0)
+        truth = plant.truth()
+        assert (truth["x_m"], truth["y_m"], truth["theta_rad"]) == (*DEFAULT_ROUTE[0], 0.0)
         for x, y in DEFAULT_ROUTE:
             assert walls.clearance(x, y)[0] >= 0.5 - 1e-9, (seed, x, y)
         for (ax, ay), (bx, by) in zip(DEFAULT_ROUTE, DEFAULT_ROUTE[1:]):
@@ -282,6 +305,6 @@ def split_polygons(segments):
 
 
 def test_an_unknown_world_is_refused_with_the_known_ones():
-    with pytest.raises(ValueError, match="vacuum_room, empty, furnished"):
-        VacuumRobot(world="kitchen")
-    assert VacuumRobot(world="empty", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)
+    with pytest.raises(ValueError, match="world: expected one of room, furnished, .*vacuum_room"):
+        vacuum_plant(world="kitchen")
+    assert vacuum_plant(world="room", room_w_m=8.0, room_h_m=6.0).world.bounds == (0.0, 0.0, 8.0, 6.0)

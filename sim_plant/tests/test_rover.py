@@ -1,10 +1,30 @@
-"""RoverRoom: the first plant's encoders, sonar ADC and bumper as a board sees them."""
+"""The rover, built from its rig file's body and parts: its encoders, sonar ADC and
+bumper as a board sees them."""
 
 import math
+from pathlib import Path
 
 import pytest
 
-from sim_plant.rover import SONAR_V_PER_M, RoverRoom
+from sim_plant.catalogue.assembly import assemble_file
+from sim_plant.sonars import MAXBOTIX_V_PER_M as SONAR_V_PER_M
+
+RIG = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "rover" / "rig.toml"
+WHEEL_RADIUS_M, V_MAX_M_S, BODY_RADIUS_M = 0.033, 0.5, 0.17
+
+
+def rover_plant(parts=None, **options):
+    """The rover of its rig file, with body options (and part options by name) changed."""
+    return assemble_file(RIG, parts, **options)
+
+
+def test_the_rig_file_says_what_the_rover_is():
+    body = rover_plant().body.options
+    assert (body["wheel_radius_m"], body["v_max_m_s"], body["body_radius_m"]) == (
+        WHEEL_RADIUS_M,
+        V_MAX_M_S,
+        BODY_RADIUS_M,
+    )
 
 
 def drive(plant, duty_l, duty_r, forward=True):
@@ -15,9 +35,9 @@ def drive(plant, duty_l, duty_r, forward=True):
 
 
 def test_one_wheel_revolution_gives_80_quadrature_edges_with_a_leading():
-    plant = RoverRoom(room_w_m=100, encoder_cpr=20)
+    plant = rover_plant(room_w_m=100)
     drive(plant, 65535, 65535)
-    rev_s = 2 * math.pi * plant.wheel_radius_m / plant.v_max_m_s
+    rev_s = 2 * math.pi * WHEEL_RADIUS_M / V_MAX_M_S
     changes = plant.advance_to(round(rev_s * 1e6) + 1)
     left = [c for c in changes if c.name.startswith("enc_l")]
     assert len(left) == 80
@@ -27,7 +47,7 @@ def test_one_wheel_revolution_gives_80_quadrature_edges_with_a_leading():
 
 
 def test_reverse_makes_b_lead_and_stepping_matches_one_call():
-    a, b = RoverRoom(room_w_m=100), RoverRoom(room_w_m=100)
+    a, b = rover_plant(room_w_m=100), rover_plant(room_w_m=100)
     for plant in (a, b):
         drive(plant, 40000, 30000, forward=False)
     whole = [c for c in a.advance_to(300_000) if c.name != "sonar.adc"]
@@ -40,7 +60,7 @@ def test_reverse_makes_b_lead_and_stepping_matches_one_call():
 
 
 def test_dead_band_duty_does_not_move_the_wheel():
-    plant = RoverRoom()
+    plant = rover_plant()
     drive(plant, int(0.05 * 65535), int(0.05 * 65535))
     changes = plant.advance_to(1_000_000)
     assert [c for c in changes if c.name.startswith("enc")] == []
@@ -48,39 +68,39 @@ def test_dead_band_duty_does_not_move_the_wheel():
 
 
 def test_sonar_gives_a_new_adc_sample_every_500ms_from_the_range_ahead():
-    plant = RoverRoom(room_w_m=5.0, start_pose=(1.0, 2.0, 0.0), sonar_noise_m=0.0)
+    plant = rover_plant({"sonar": {"noise_sd_m": 0.0}}, room_w_m=5.0, start_pose=[1.0, 2.0, 0.0])
     samples = [c for c in plant.advance_to(2_100_000) if c.name == "sonar.adc"]
     assert [c.t_us for c in samples] == [20_000, 520_000, 1_020_000, 1_520_000, 2_020_000]
-    range_m = 5.0 - 1.0 - plant.body_radius_m
+    range_m = 5.0 - 1.0 - BODY_RADIUS_M
     counts = round(range_m * SONAR_V_PER_M / 3.3 * 4095)
     assert samples[0].value == (counts << 4) | (counts >> 8)
 
 
 def test_bumper_closes_at_the_wall_and_is_recorded_in_ground_truth():
-    plant = RoverRoom(room_w_m=3.0, start_pose=(2.0, 2.0, 0.0))
+    plant = rover_plant(room_w_m=3.0, start_pose=[2.0, 2.0, 0.0])
     drive(plant, 30000, 30000)
     changes = plant.advance_to(10_000_000)
-    bumps = [c for c in changes if c.name == "bumper"]
+    bumps = [c for c in changes if c.name == "bumper.out"]
     assert bumps and bumps[0].value == 0
     truth = plant.truth()
-    assert truth["bumper_pressed"] and truth["contacts"][0][0] == bumps[0].t_us
-    assert math.isclose(truth["x_m"], 3.0 - plant.body_radius_m)
+    assert truth["bumper.out_pressed"] and truth["contacts"][0][0] == bumps[0].t_us
+    assert math.isclose(truth["x_m"], 3.0 - BODY_RADIUS_M)
 
 
 def test_same_seed_same_sonar_noise():
     runs = []
     for _ in range(2):
-        plant = RoverRoom()
+        plant = rover_plant()
         plant.reset(42)
         runs.append([c.value for c in plant.advance_to(5_000_000) if c.name == "sonar.adc"])
-    other = RoverRoom()
+    other = rover_plant()
     other.reset(43)
     assert runs[0] == runs[1]
     assert runs[0] != [c.value for c in other.advance_to(5_000_000) if c.name == "sonar.adc"]
 
 
 def test_snapshot_and_restore_replay_the_same_future():
-    plant = RoverRoom()
+    plant = rover_plant()
     drive(plant, 30000, 20000)
     plant.advance_to(700_000)
     snap = plant.snapshot()
@@ -106,7 +126,7 @@ def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
         old = coverage.BEND_RAD
         coverage.BEND_RAD = bend_rad
         try:
-            plant = RoverRoom(room_w_m=4.0, room_h_m=4.0, start_pose=(0.5, 0.5, 0.3))
+            plant = rover_plant(room_w_m=4.0, room_h_m=4.0, start_pose=[0.5, 0.5, 0.3])
             plant.reset(2)
             rnd = random.Random(5)
             base = [(30000, 30000), (-30000, -30000), (30000, 45000), (25000, 25000), (40000, 0)]
@@ -141,7 +161,7 @@ def test_coverage_reaches_the_point_where_the_robot_turned_back(reverse_at_us):
     from sim_plant.coverage import CoverageRecorder
 
     def swept(dense):
-        plant = RoverRoom(start_pose=(1.0, 2.0, 0.0))
+        plant = rover_plant(start_pose=[1.0, 2.0, 0.0])
         grid = plant.part(CoverageRecorder).grid
         t = 0
 

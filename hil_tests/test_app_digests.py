@@ -1,0 +1,96 @@
+"""Each app's link trace, byte for byte: a few virtual seconds of every world of its rig
+file at a fixed seed give the digest recorded before its plant was rebuilt from the parts
+catalogue (a robot described part by part must do exactly what its plant class did).
+
+The trace names the plant's class in its header and each pin's signal in its CFG records:
+a robot built from parts is a ``PartsPlant``, and a part's signals are ``<name>.<signal>``
+(the rover's ``bumper`` is ``bumper.out``). ``RENAMED`` lists those names per app; the
+trace, with them put back, must give the recorded digest (the pool cleaner's and the duct
+robot's digests were re-recorded with the new names instead: their comments say so). The
+header names the firmware folder relative to the repository, so a digest is the same in
+every checkout. Anything else that changes is a changed behaviour: record a new value only
+with the reason in the commit and the app's doc page (``docs/<app>.md``)."""
+
+import hashlib
+from pathlib import Path
+
+import pytest
+
+from host.core.paths import REPO
+from host.rig.apps import get_app
+
+pytestmark = pytest.mark.hil
+
+SECONDS = {"pool_cleaner": 60.0, "pool_cleaner_adc": 60.0, "duct": 8.0}  # others: RUN_S
+RUN_S = 4.0
+APP_PATHS = {"pico_bot": str(Path(REPO, "examples", "pico_bot", "rig.toml"))}
+
+DIGESTS = {  # (app, world of its rig file, seed): SHA-256 of the link trace after its seconds
+    # Recorded before the rover, the vacuum, the lab robot and pico_bot's plants moved to the
+    # parts catalogue, with the absolute firmware folder of the checkout they were taken in;
+    # these are the same traces (with RENAMED's names put back) with only that path made
+    # relative to the repository.
+    ("rover", "room", 11): "f1c7661bcd40aeff6cfe1a84e2db6b5cf07aef466c59677a0ec5bee3c659689b",
+    ("rover", "long-room", 11): "11d95f1dae62a4bbc2b8772055835ff64fafc4def2dd5e24af4040e996f43551",
+    ("rover", "small-room", 11): "c15b3634e3929997a91815f9702a1454dbeb1e37348812b15ad3db498c83d5d1",
+    ("vacuum", "vacuum-room", 11): "7097d9ad7f14a2003ae962d70c06bd69021fa5a54a8435460848bfd5e2c89a3c",
+    ("vacuum", "open-floor", 11): "b8661dfa5085282d2d77c378b7723b121b30e1f18e52fc710241d91dd801fd18",
+    ("lab_robot", "arena", 11): "d89cfe2ddaf3c440e09c67dda48c09efe499baedfbf4ed5ae083a46131df9b54",
+    ("lab_robot", "arena-noisy", 11): "84250ef0cf87714f1859e128db44eb41f99173a1d262e7d2060655637825063c",
+    ("lab_robot_canyon", "canyon", 11): "3c8be2d7f9229c1e100a6dd9a2d8c2152ea2f1bd26e1677c19ada9ecf6875bde",
+    ("lab_robot_canyon", "canyon-noisy", 11): "782c850de15c9c3c24fa7a9ae357656748e005002e2fba35f8b4f4d2046d0d1e",
+    ("pico_bot", "box-ahead", 11): "d57eac9d1f15c3e95747c76de9adb7a9898c24284a6dcbad966ce7a3329469ff",
+    ("pico_bot", "open-room", 11): "7544836e57479bb11aa7193beb0251fa38541799460dddbea0ee1a86d54588f5",
+    # the pool cleaner as a tracked body over parts: its trace is line for line the one of
+    # its plant class (fcd5869d..., aa745c7c...) but for the header's plant (PartsPlant, was
+    # PoolCleaner) and its bumpers' signals in the two CFG lines (bumper_front.out, was
+    # bumper_front: a part's signals are <name>.<signal>); docs/pool_cleaner.md. Recorded
+    # with the absolute folder, then re-recorded with it relative (the same traces).
+    ("pool_cleaner", "default", 1): "4577ad759d11cc8e51f2deac1839bde231fce0316c4925ef3c82283f49064524",
+    ("pool_cleaner_adc", "default", 1): "12f2dc532fd9e6af36e07bf8ebc3044def2626230cb6285ed1127e92d3628fd0",
+    # the duct robot as a differential body over parts: line for line the trace of its plant
+    # class (7324cc9c..., 9b8d905e..., f0e0454a..., 4ebdcd72...) but for the header's plant
+    # (PartsPlant, was DuctRobot) and its encoders' signals in their CFG lines (enc_l.out, was
+    # enc_l); the worlds are the differential body's duct worlds now; docs/duct.md. Recorded
+    # with the absolute folder, then re-recorded with it relative (the same traces).
+    ("duct", "one-right-branch", 1): "66c62f1749ab403f6e1e2c60512362575c2f446399d96a24688272257dffe7d4",
+    ("duct", "multi-branch", 2): "b63877eb9871f2d36a6457ae948edbe4569fecfcf6a05e0ec2c687c513673210",
+    ("duct", "straight", 3): "658618a90b2173a52da94b906e2c1c7be8996f6ee1062a3e5dff71bf69fe6c0c",
+    ("duct", "bench", 1): "d5a8fd61e903de2fbe7c740495ba333aa1972554515763ba199726eb9ef4c459",
+}
+
+RENAMED = {  # app: (its plant class before, {signal now: signal before})
+    "rover": ("RoverRoom", {"bumper.out": "bumper"}),
+    "vacuum": ("VacuumRobot", {"enc_l.out": "enc_l", "enc_r.out": "enc_r"}),
+    "pico_bot": ("TwoWheelRobot", {"start.out": "button.start"}),
+}
+
+
+def digest_before(trace: bytes, app: str) -> str:
+    """The digest of ``trace`` with the names ``RENAMED`` lists put back as they were."""
+    if app not in RENAMED:
+        return hashlib.sha256(trace).hexdigest()
+    plant, signals = RENAMED[app]
+    lines = trace.decode().splitlines(keepends=True)
+    lines[0] = lines[0].replace('"plant":"PartsPlant"', f'"plant":"{plant}"', 1)
+    for i, line in enumerate(lines):
+        if '"msg":"CFG"' in line:
+            for now, before in signals.items():
+                lines[i] = lines[i].replace(f'"signal":"{now}"', f'"signal":"{before}"')
+    return hashlib.sha256("".join(lines).encode()).hexdigest()
+
+
+@pytest.mark.parametrize("key", list(DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
+def test_link_trace_is_unchanged(make_rig, key):
+    app, world, seed = key
+    name = APP_PATHS.get(app, app)
+    seconds = SECONDS.get(app, RUN_S)
+    rig = make_rig(name, seed=seed, plant_options=dict(get_app(name).worlds[world]), trace=True)
+    rig.run_for(seconds)
+    assert rig.t_us >= seconds * 1e6 and "Traceback" not in rig.console, rig.console[-800:]
+    rig.stop()
+    trace = (rig.artefacts / "trace.jsonl").read_bytes()
+    assert hashlib.sha256(trace).hexdigest() == rig.trace_digest, "the digest is the trace file's"
+    assert b'"folder":"/' not in trace.split(b"\n", 1)[0], "the header's firmware folder is the repository's"
+    got = digest_before(trace, app)
+    assert got == DIGESTS[key], f"{app} in {world}, seed {seed}: the link trace changed to {got} ({rig.artefacts})"

@@ -1,0 +1,81 @@
+"""The code against the wiring: ``mpy-fil check``'s warnings for a pin the firmware uses that
+the rig does not wire, and for a wired pin the firmware never touches, each naming both sides.
+
+The firmware's pins come from :mod:`host.rig.pinscan` (read, not run), its board's from the rig
+file; pins are compared as the shim names them (``"18"``, ``"GP14"``, ``"uart2"``).
+"""
+
+from dataclasses import dataclass, field
+
+from host.rig.boards import identity, pin_key
+from host.rig.pinscan import PinUse, Scan, scan_folder
+
+
+@dataclass
+class PinCheck:
+    """What ``check`` says of the pins: warnings (one line each), and what it could not tell."""
+
+    warnings: list[str] = field(default_factory=list)
+    checked: int = 0  # pins the code uses that were compared
+    unchecked: list[str] = field(default_factory=list)  # "main.py:30: Pin(cfg['echo'])"
+    notes: list[str] = field(default_factory=list)
+
+
+def scan_app(app, board: str | None = None) -> Scan:
+    """The pins an app's firmware uses on ``board`` (its default): the modules its entry file
+    imports, found along the board's path (the app's folder, its libraries, the board file)."""
+    board = board or app.default_board
+    board_folder = app.board_files(board)[0]
+    folders = app.firmware_folders(board_folder)
+    platform = (app.identity or identity(board) or ("",))[0]
+    return scan_folder(folders[0], folders[1:], entry=app.entry, family=platform or None)
+
+
+def check_pins(app) -> PinCheck:
+    """The app's firmware against its wiring, on its default board."""
+    scan = scan_app(app)
+    pins = app.board_files(app.default_board)[1]
+    return compare(scan, pins, app.wiring)
+
+
+def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:
+    """``scan``'s pins against a board's ``pins`` (name -> number or name) and the rig's
+    ``wiring`` (pin name -> signal)."""
+    result = PinCheck(checked=len(scan.uses), unchecked=list(scan.unchecked), notes=list(scan.notes))
+    used = scan.by_key()
+    wired = {pin_key(name, pins[name]): name for name in wiring if name in pins}
+    untouched = {key: name for key, name in wired.items() if key not in used}
+    for key, uses in used.items():
+        if key in wired:
+            continue
+        use = uses[0]
+        text = f"check: the code uses {use.call} ({use.where}{_as(use)}) but the rig wires no pin {_shown(key)}"
+        other = _same_name(use, untouched)
+        if other is not None:
+            name = untouched.pop(other)
+            text += f"; the rig wires {name} = {pins[name]} ({wiring[name]}), which the code never touches"
+        result.warnings.append(text)
+    maybe = " (some pins are computed at run time: check -v lists them)" if scan.unchecked else ""
+    maybe = maybe or (" (some files could not be read: check lists them)" if scan.notes else "")
+    for key, name in untouched.items():
+        result.warnings.append(
+            f"check: the rig wires {name} = {pins[name]} ({wiring[name]}), but the code never touches pin {_shown(key)}"
+            + maybe
+        )
+    return result
+
+
+def _as(use: PinUse) -> str:
+    return f", as {use.name}" if use.name else ""
+
+
+def _shown(key: str) -> str:
+    return f"UART {key[4:]}" if key.startswith("uart") else key
+
+
+def _same_name(use: PinUse, untouched: dict[str, str]) -> str | None:
+    """The untouched wired pin the code's name for ``use`` names (ECHO, board.ECHO, sonar.echo)."""
+    if not use.name:
+        return None
+    names = {use.name.upper(), use.name.split(".")[-1].upper(), use.name.replace(".", "_").upper()}
+    return next((key for key, name in untouched.items() if name.upper() in names), None)

@@ -1,0 +1,110 @@
+"""The signals plot of a robot built from parts, from hand-made traces: every part draws
+its declared view (ranges through the part's law, signed commands from each bridge's
+pins, encoder counts decoded from A/B, a servo's asked angle, a battery's volts), nothing
+chosen by the app's name; and the trace header keeps the body and parts it needs."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from host.artefacts.folder import TraceData, described_parts
+from host.report import part_views, views
+from sim_plant.catalogue.assembly import assemble
+
+CAR = {
+    "body": "ackermann",
+    "parts": [
+        {"kind": "dc_motor", "name": "drive", "bridge": "drv8833", "drives": "rear"},
+        {"kind": "servo", "name": "steer", "steers": True},
+        {"kind": "hcsr04", "name": "sonar", "mount": {"x_m": 0.2}},
+        {"kind": "battery", "name": "batt", "divider_ratio": 0.25},
+        {"kind": "encoder", "name": "enc", "wheel": "left", "lines_per_rev": 10, "on": "wheel"},
+        {"kind": "probe", "name": "led"},
+    ],
+}
+
+
+def car_trace(events, truth=None) -> TraceData:
+    plant = assemble(CAR)
+    header = {"app": "anything", "parts": described_parts(plant), "initial": {}, "t_end_us": 1_000_000}
+    header["signals"] = {n: {"role": "x", "kind": k} for n, (_d, k) in plant.signals().items()}
+    columns = {k: np.asarray(v, dtype=np.int64 if k == "t_us" else float) for k, v in (truth or {}).items()}
+    return TraceData(Path("."), header, sorted(events, key=lambda e: e[0]), columns, [])
+
+
+def lines_of(panels) -> dict:
+    return {line.label: line for p in panels for line in p.lines}
+
+
+def test_the_header_keeps_the_body_and_each_part_with_its_options():
+    described = described_parts(assemble(CAR))
+    assert described["body"] == "ackermann" and described["body_options"]["wheelbase_m"] == 0.16
+    sonar = described["parts"][2]
+    assert sonar["kind"] == "hcsr04" and sonar["mount"] == {"x_m": 0.2, "y_m": 0.0, "heading_deg": 0.0}
+    assert sonar["options"]["max_range_m"] == 4.0
+    assert described_parts(object()) is None, "a plant of another kind: no parts"
+
+
+def test_each_part_draws_its_view_through_its_own_law_with_the_truth_beside_it():
+    events = [
+        (100_000, "sonar.echo", 1),
+        (100_000 + 5831, "sonar.echo", 0),  # 1.00 m
+        (200_000, "sonar.echo", 1),
+        (238_000, "sonar.echo", 0),  # a time-out: nothing in range
+        (0, "steer.pwm", int(1500 / 20000 * 65535)),  # 1.5 ms: 90 degrees
+        (300_000, "steer.pwm", int(2500 / 20000 * 65535)),  # 2.5 ms: 180
+        (0, "batt.adc", 32768),  # 1.65 V at the ADC, x4 through the divider
+    ]
+    truth = {"t_us": [0, 500_000], "sonar_ping_range_m": [1.0, 1.0], "steer_angle_deg": [90, 180], "batt_v": [6.6, 6.6]}
+    panels = part_views.part_panels(car_trace(events, truth))
+    lines = lines_of(panels)
+    assert lines["sonar: read by the firmware"].values[0] == pytest.approx(1.0, abs=0.001)
+    assert np.isnan(lines["sonar: read by the firmware"].values[1])
+    ranges = next(p for p in panels if p.title.startswith("Rangers"))
+    assert ranges.notes == ["sonar: 1 of 2 readings found nothing in range (not drawn)"]
+    assert "sonar_ping_range_m (truth)" in lines and "steer_angle_deg (truth)" in lines
+    assert lines["steer: asked by the firmware's pulse"].values == pytest.approx([90, 180], abs=0.1)
+    assert lines["batt: read by the firmware"].values == pytest.approx([6.6], abs=0.001)
+    assert "batt_v (truth)" in lines
+
+
+@pytest.mark.parametrize(
+    ("bridge", "events", "expected"),
+    [
+        ("tb6612", [(0, "m.in1", 1), (0, "m.pwm", 65535), (10, "m.in1", 0), (10, "m.in2", 1)], [0, 1, 0, -1]),
+        ("drv8833", [(0, "m.in1", 65535), (10, "m.in1", 0), (20, "m.in2", 32768)], [1, 0, -0.5]),
+        ("dir_pwm", [(0, "m.pwm", 65535), (10, "m.dir", 1)], [-1, 1]),
+    ],
+)
+def test_a_motor_command_is_signed_as_its_bridge_pins_make_it(bridge, events, expected):
+    from sim_plant import catalogue
+
+    part = catalogue.parts()["dc_motor"]("m", {}, {**catalogue.parts()["dc_motor"].defaults(), "bridge": bridge})
+    recorded = part_views.Recorded(TraceData(Path("."), {"initial": {}}, events, {}, []))
+    _t, duty = part_views.signed_command(recorded, part)
+    assert duty == pytest.approx(expected, abs=1e-4)
+
+
+def test_an_encoder_is_decoded_x4_from_its_channels_and_its_speed_from_its_options():
+    events, a, b = [], 0, 0
+    for k in range(40):  # 40 quadrature states forward (A leads B), one every 10 ms
+        if k % 2 == 0:
+            a = 1 - a
+            events.append((k * 10_000, "enc.a", a))
+        else:
+            b = 1 - b
+            events.append((k * 10_000, "enc.b", b))
+    panels = part_views.part_panels(car_trace(events, {"t_us": [0, 400_000], "enc_edges": [0, 40]}))
+    lines = lines_of(panels)
+    count = lines["enc: decoded (x4 from A/B)"]
+    assert count.values[-1] == 40 and list(count.values) == sorted(count.values)
+    metres_per_edge = 2 * np.pi * 0.0325 / 40  # the body's wheel (its default), 10 lines x 4, on the wheel
+    speed = next(line for label, line in lines.items() if label.startswith("enc: edges x"))
+    assert speed.values[0] == pytest.approx(10 * metres_per_edge / 0.1)
+
+
+def test_the_signals_plot_of_a_parts_robot_has_a_panel_per_view_and_no_generic_one():
+    events = [(0, "drive.in1", 65535), (0, "led.in", 1), (0, "batt.adc", 30000), (0, "steer.pwm", 4915)]
+    titles = [p.title.split(":")[0] for p in views.signal_panels(car_trace(events))]
+    assert titles == ["Motors", "Servos", "Batteries", "Levels"], titles

@@ -1,0 +1,384 @@
+"""The pin scanner (host/rig/pinscan.py) on firmware written as public MicroPython drivers and
+robots write it, `mpy-fil check`'s comparison of the code's pins with the wiring, and
+`mpy-fil init`'s names and bridge guess (host/rig/starter.py)."""
+
+import ast
+import shutil
+
+import pytest
+
+from host import cli
+from host.core.paths import REPO
+from host.rig.pincheck import check_pins
+from host.rig.pinscan import scan_folder, scan_modules
+from host.rig.rigfile import load_rig
+from host.rig.starter import starter
+
+
+def pins(files: dict[str, str], family=None) -> dict[str, str | None]:
+    """key -> the code's name for it, of every pin the modules make."""
+    modules = {name: (f"{name}.py", ast.parse(source)) for name, source in files.items()}
+    return {use.key: use.name for use in scan_modules(modules, list(modules), family).uses}
+
+
+def scan(files: dict[str, str], family=None):
+    modules = {name: (f"{name}.py", ast.parse(source)) for name, source in files.items()}
+    return scan_modules(modules, list(modules), family)
+
+
+# -- the scanner ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "from machine import Pin\necho = Pin(18, Pin.IN)\n",
+        "import machine\necho = machine.Pin(18, machine.Pin.IN, machine.Pin.PULL_DOWN)\n",
+        "from machine import Pin\necho = Pin(id=18, mode=Pin.IN)\n",
+        "from machine import Pin\nclass S:\n    def __init__(self):\n        self.echo = Pin(18, Pin.IN)\n",
+        "from machine import Pin as GPIO\necho = GPIO(18, GPIO.IN)\n",
+        "import machine as m\necho = m.Pin(18, m.Pin.IN)\n",
+    ],
+)
+def test_a_literal_pin_in_every_way_code_makes_one(source):
+    assert pins({"main": source}) == {"18": "echo"}
+
+
+@pytest.mark.parametrize(
+    "files",
+    [
+        {"main": "from machine import Pin\nfrom micropython import const\nECHO = const(18)\nPin(ECHO, Pin.IN)\n"},
+        {"main": "from machine import Pin\nECHO = 18\ndef setup():\n    return Pin(ECHO)\n"},
+        {"main": "from machine import Pin\nTRIG, ECHO = 17, 18\nPin(ECHO)\n"},
+        {"config": "ECHO = 18\n", "main": "import config\nfrom machine import Pin\nPin(config.ECHO)\n"},
+        {"config": "ECHO = 18\n", "main": "from config import ECHO\nfrom machine import Pin\nPin(ECHO)\n"},
+        {"board": "from micropython import const\nECHO = const(18)\n", "main": "from board import *\nPin(ECHO)\n"},
+        {"board": "BASE = 16\nECHO = BASE + 2\n", "main": "import board as b\nfrom machine import Pin\nPin(b.ECHO)\n"},
+    ],
+)
+def test_a_pin_by_its_constant_here_or_in_a_module_it_imports(files):
+    assert pins(files) == {"18": "ECHO"}
+
+
+def test_pwm_adc_and_uart_and_the_rp2040_adc_channels():
+    source = (
+        "from machine import Pin, PWM, ADC, UART\n"
+        "pwm = PWM(Pin(15), freq=1000)\n"
+        "a = ADC(Pin(27))\n"
+        "b = ADC(0)\n"
+        "t = ADC(4)\n"  # the RP2040's temperature sensor: no pin
+        "u = UART(1, baudrate=9600, tx=Pin(4), rx=5)\n"
+    )
+    found = scan({"main": source}, family="rp2").uses
+    shown = {(u.key, u.call, u.kind) for u in found}
+    assert shown == {
+        ("15", "PWM(Pin(15))", "pwm"),
+        ("27", "ADC(Pin(27))", "adc"),
+        ("26", "ADC(0) (GP26)", "adc"),
+        ("uart1", "UART(1)", "uart"),
+        ("4", "Pin(4)", "pin"),
+        ("5", "UART(rx=5)", "pin"),
+    }
+    assert "0" in pins({"main": "from machine import ADC\nADC(0)\n"}, family="esp32")  # not an RP2040: the id
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "ENC_PINS = (2, 3)\nencs = [Pin(p, Pin.IN) for p in ENC_PINS]\n",
+        "ENC_PINS = [2, 3]\nencs = []\nfor p in ENC_PINS:\n    encs.append(Pin(p, Pin.IN))\n",
+        "ENC_PINS = (2, 3)\na = Pin(ENC_PINS[0])\nb = Pin(ENC_PINS[1])\n",
+    ],
+)
+def test_pins_in_tuples_and_lists(source):
+    assert pins({"main": "from machine import Pin\n" + source}) == {"2": "ENC_PINS[0]", "3": "ENC_PINS[1]"}
+
+
+MOTOR = """\
+from machine import Pin, PWM
+class Motor:
+    def __init__(self, in1, in2, pwm, freq=1000):
+        self.in1 = Pin(in1, Pin.OUT)
+        self.in2 = Pin(in2, Pin.OUT)
+        self._pwm_pin = pwm
+        self.pwm = PWM(Pin(self._pwm_pin), freq=freq)
+"""
+
+
+@pytest.mark.parametrize(
+    ("main", "expected"),
+    [
+        ("left = Motor(16, 17, 18)", {"16": "left.in1", "17": "left.in2", "18": "left.pwm"}),
+        ("left = Motor(pwm=18, in2=17, in1=16, freq=20_000)", {"16": "left.in1", "17": "left.in2", "18": "left.pwm"}),
+        ("AIN1, AIN2, PWMA = 16, 17, 18\nm = Motor(AIN1, AIN2, PWMA)", {"16": "AIN1", "17": "AIN2", "18": "PWMA"}),
+        (  # a driver of drivers
+            "class Robot:\n    def __init__(self, l1, l2, lp):\n        self.left = Motor(l1, l2, lp)\n"
+            "bot = Robot(16, 17, 18)",
+            {"16": "bot.l1", "17": "bot.l2", "18": "bot.lp"},
+        ),
+    ],
+)
+def test_drivers_called_with_ints_positional_or_by_keyword(main, expected):
+    assert pins({"motor": MOTOR, "main": "from motor import Motor\n" + main + "\n"}) == expected
+
+
+def test_public_drivers_as_they_are_written():
+    hcsr04 = (  # rsc1975/micropython-hcsr04
+        "import machine, time\nfrom machine import Pin\n"
+        "class HCSR04:\n"
+        "    def __init__(self, trigger_pin, echo_pin, echo_timeout_us=500*2*30):\n"
+        "        self.echo_timeout_us = echo_timeout_us\n"
+        "        self.trigger = Pin(trigger_pin, mode=Pin.OUT, pull=None)\n"
+        "        self.trigger.value(0)\n"
+        "        self.echo = Pin(echo_pin, mode=Pin.IN, pull=None)\n"
+    )
+    leds = "from machine import Pin\ndef make_leds(pins):\n    return [Pin(p, Pin.OUT) for p in pins]\n"
+    main = (
+        "from hcsr04 import HCSR04\nfrom leds import make_leds\n"
+        "sensor = HCSR04(trigger_pin=5, echo_pin=18, echo_timeout_us=10000)\n"
+        "LEDS = (12, 13)\nmake_leds(LEDS)\nmake_leds([25])\n"
+    )
+    found = pins({"hcsr04": hcsr04, "leds": leds, "main": main})
+    assert found == {
+        "5": "sensor.trigger_pin",
+        "18": "sensor.echo_pin",
+        "12": "LEDS[0]",
+        "13": "LEDS[1]",
+        "25": "pins[0]",
+    }
+
+
+def test_a_pin_computed_at_run_time_is_not_checked_and_not_guessed():
+    result = scan({"main": "from machine import Pin\nimport json\ncfg = json.load(open('c.json'))\nPin(cfg['echo'])\n"})
+    assert result.uses == [] and result.unchecked == ["main.py:4: Pin(cfg['echo'])"]
+
+
+def test_check_reads_only_the_modules_the_entry_imports(tmp_path):
+    (tmp_path / "main.py").write_text("import drv\nfrom machine import Pin\nPin(2)\n")
+    (tmp_path / "drv.py").write_text("from machine import Pin\nPin(3)\n")
+    (tmp_path / "old_test_rig.py").write_text("from machine import Pin\nPin(99)\n")
+    assert {u.key for u in scan_folder(tmp_path, entry="main.py").uses} == {"2", "3"}
+    assert {u.key for u in scan_folder(tmp_path).uses} == {"2", "3", "99"}  # (init reads every file)
+
+
+# -- mpy-fil check -------------------------------------------------------------------------
+
+
+BOT = """\
+from machine import Pin
+TRIG = 17
+ECHO = 18
+trig = Pin(TRIG, Pin.OUT)
+led = Pin(25, Pin.OUT)
+
+
+echo = Pin(ECHO, Pin.IN)
+"""
+RIG = """\
+[board.pins]
+TRIG = 17
+ECHO = {echo}
+LED = 25
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "probe"
+name = "led"
+[wiring]
+TRIG = "probe:trig"
+ECHO = "probe:echo"
+LED = "led.in"
+"""
+
+
+def test_check_warns_naming_both_sides_when_the_rig_wires_another_pin(tmp_path, capsys):
+    (tmp_path / "main.py").write_text(BOT)
+    (tmp_path / "rig.toml").write_text(RIG.format(echo=16))
+    assert cli.main(["check", str(tmp_path / "rig.toml")]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err == [
+        "check: the code uses Pin(18) (main.py:8, as ECHO) but the rig wires no pin 18; "
+        "the rig wires ECHO = 16 (probe:echo), which the code never touches"
+    ]
+    assert cli.main(["check", "--strict", str(tmp_path / "rig.toml")]) == 1
+    capsys.readouterr()
+    (tmp_path / "rig.toml").write_text(RIG.format(echo=18))
+    assert cli.main(["check", "--strict", str(tmp_path / "rig.toml")]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_check_warns_for_each_side_alone(tmp_path, capsys):
+    (tmp_path / "main.py").write_text(BOT.replace("led = Pin(25, Pin.OUT)", "") + "Pin(5)\nx = Pin(int(input()))\n")
+    (tmp_path / "rig.toml").write_text(RIG.format(echo=18))
+    assert cli.main(["check", "-v", str(tmp_path / "rig.toml")]) == 0
+    out, err = capsys.readouterr()
+    assert err.splitlines() == [
+        "check: the code uses Pin(5) (main.py:9) but the rig wires no pin 5",
+        "check: the rig wires LED = 25 (led.in), but the code never touches pin 25 "
+        "(some pins are computed at run time: check -v lists them)",
+    ]
+    assert "not checked (computed at run time): main.py:10: Pin(int(input()))" in out
+
+
+RIGS = sorted([*REPO.glob("firmware/apps/*/rig*.toml"), *REPO.glob("examples/*/rig.toml")])
+
+
+@pytest.mark.parametrize("rig", RIGS, ids=[str(r.relative_to(REPO)) for r in RIGS])
+def test_check_is_silent_for_every_rig_file_we_ship(rig):
+    result = check_pins(load_rig(rig))
+    assert result.warnings == [] and result.checked >= 7, result
+
+
+# -- mpy-fil init --------------------------------------------------------------------------
+
+TB6612 = """\
+from machine import Pin, PWM
+PWMA = PWM(Pin(16))
+AIN1 = Pin(17, Pin.OUT)
+AIN2 = Pin(18, Pin.OUT)
+PWMB = PWM(Pin(21))
+BIN1 = Pin(20, Pin.OUT)
+BIN2 = Pin(19, Pin.OUT)
+STBY = Pin(22, Pin.OUT)
+trig = Pin(14, Pin.OUT)
+"""
+L298N = """\
+from machine import Pin, PWM
+ENA, IN1, IN2, ENB, IN3, IN4 = 14, 27, 26, 32, 25, 33
+ena = PWM(Pin(ENA), freq=1000)
+in1 = Pin(IN1, Pin.OUT)
+in2 = Pin(IN2, Pin.OUT)
+enb = PWM(Pin(ENB), freq=1000)
+in3 = Pin(IN3, Pin.OUT)
+in4 = Pin(IN4, Pin.OUT)
+"""
+DRV8833 = """\
+from machine import Pin, PWM
+class Motor:
+    def __init__(self, in1, in2):
+        self.a = PWM(Pin(in1), freq=20000)
+        self.b = PWM(Pin(in2), freq=20000)
+left = Motor(6, 7)
+right = Motor(8, 9)
+"""
+DIR_PWM = """\
+from machine import Pin, PWM
+LEFT_DIR, LEFT_PWM, RIGHT_DIR, RIGHT_PWM = 4, 5, 6, 7
+Pin(LEFT_DIR, Pin.OUT); PWM(Pin(LEFT_PWM)); Pin(RIGHT_DIR, Pin.OUT); PWM(Pin(RIGHT_PWM))
+"""
+
+
+@pytest.mark.parametrize(
+    ("source", "bridge", "expected"),
+    [
+        (
+            TB6612,
+            "tb6612",
+            {
+                "PWMA = 16": 'PWMA = "motor_l.pwm"',
+                "AIN1 = 17": 'AIN1 = "motor_l.in1"',
+                "AIN2 = 18": 'AIN2 = "motor_l.in2"',
+                "PWMB = 21": 'PWMB = "motor_r.pwm"',
+                "BIN1 = 20": 'BIN1 = "motor_r.in1"',
+                "BIN2 = 19": 'BIN2 = "motor_r.in2"',
+                "STBY = 22": 'STBY = "probe:stby"',
+                "TRIG = 14": '# TRIG = "..."',
+            },
+        ),
+        (
+            L298N,
+            "l298n",
+            {
+                "ENA = 14": 'ENA = "motor_l.pwm"',
+                "IN1 = 27": 'IN1 = "motor_l.in1"',
+                "IN2 = 26": 'IN2 = "motor_l.in2"',
+                "ENB = 32": 'ENB = "motor_r.pwm"',
+                "IN3 = 25": 'IN3 = "motor_r.in1"',
+                "IN4 = 33": 'IN4 = "motor_r.in2"',
+            },
+        ),
+        (
+            DRV8833,
+            "drv8833",
+            {
+                "LEFT_IN1 = 6": 'LEFT_IN1 = "motor_l.in1"',
+                "LEFT_IN2 = 7": 'LEFT_IN2 = "motor_l.in2"',
+                "RIGHT_IN1 = 8": 'RIGHT_IN1 = "motor_r.in1"',
+            },
+        ),
+        (
+            DIR_PWM,
+            "dir_pwm",
+            {"LEFT_DIR = 4": 'LEFT_DIR = "motor_l.dir"', "RIGHT_PWM = 7": 'RIGHT_PWM = "motor_r.pwm"'},
+        ),
+    ],
+    ids=["tb6612", "l298n", "drv8833", "dir_pwm"],
+)
+def test_init_names_the_pins_after_the_code_and_guesses_the_bridge(tmp_path, source, bridge, expected):
+    (tmp_path / "main.py").write_text(source)
+    text = starter(tmp_path)
+    assert 'body = "differential"' in text and text.count(f'bridge = "{bridge}"') == 2, text
+    for pin, wire in expected.items():
+        assert f"\n{pin}\n" in text and f"\n{wire}\n" in text, (pin, wire, text)
+    (tmp_path / "rig.toml").write_text(text)
+    app = load_rig(tmp_path / "rig.toml")  # a rig file that loads as written
+    assert {signal for signal in app.wiring.values()} >= {"motor_l.pwm", "motor_r.pwm"} or bridge == "drv8833"
+    assert [w for w in check_pins(app).warnings if "never touches" in w] == []
+
+
+def test_init_starts_from_a_usual_robots_parts_when_it_sees_no_bridge(tmp_path):
+    (tmp_path / "main.py").write_text("from machine import Pin\nLED = Pin(25, Pin.OUT)\nbutton = Pin(13, Pin.IN)\n")
+    text = starter(tmp_path)
+    assert (
+        'body = "differential"' in text
+        and 'kind = "two_wheel"' not in text
+        and "motor_l.pwm" not in text.split("[wiring]")[1]
+    )
+    assert "\nBUTTON = 13\n" in text and "\nLED = 25\n" in text
+
+
+def test_init_on_our_examples_names_their_pins_as_their_rig_files_do(tmp_path):
+    shutil.copy(REPO / "examples" / "two_sonar_bot" / "main.py", tmp_path / "main.py")
+    text = starter(tmp_path)
+    ours = load_rig(REPO / "examples" / "two_sonar_bot" / "rig.toml").pins
+    written = dict(
+        line.split(" = ")
+        for line in text.split("[board.pins]")[1].split("[plant]")[0].splitlines()[1:]
+        if " = " in line
+    )
+    assert {name: int(v) for name, v in written.items()} == ours
+    assert text.count('bridge = "tb6612"') == 2
+    assert 'name = "sonar_f"' in text and 'name = "sonar_r"' in text and '\nECHO_R = "sonar_r.echo"\n' in text
+    (tmp_path / "rig.toml").write_text(text)
+    assert check_pins(load_rig(tmp_path / "rig.toml")).checked == len(ours)
+
+
+def test_an_rp2040_adc_channel_reads_the_gpio_check_says_it_is(make_rig, tmp_path):
+    """``ADC(0)`` on a Pico is GP26: check compares it as pin 26, and a run wires it there too."""
+    (tmp_path / "main.py").write_text(
+        "import time\nfrom machine import ADC\nbat = ADC(0)\nwhile True:\n"
+        "    print('BAT', bat.read_u16())\n    time.sleep_ms(100)\n"
+    )
+    (tmp_path / "rig.toml").write_text(
+        '[board]\nfamily = "rpi_pico"\n[board.pins]\nBAT = 26\n[plant]\nbody = "bench"\n'
+        '[[plant.parts]]\nkind = "battery"\nname = "battery"\n[wiring]\nBAT = "battery.adc"\n'
+    )
+    assert check_pins(load_rig(tmp_path / "rig.toml")).warnings == []
+    rig = make_rig(str(tmp_path / "rig.toml"))
+    reading = int(rig.expect(r"BAT (\d+)", timeout_s=1).group(1))
+    assert abs(reading - 8.4 / 3 / 3.3 * 65535) < 65536 / 4096, "a full 2S battery through a 1:3 divider, 12 bits"
+
+
+def test_a_file_that_cannot_be_read_is_said_not_silently_skipped(tmp_path, capsys):
+    (tmp_path / "main.py").write_text("import drv\nfrom machine import Pin\nPin(2)\n")
+    (tmp_path / "drv.py").write_text("from machine import Pin\nprint 'python 2'\nPin(3)\n")
+    (tmp_path / "rig.toml").write_text(
+        '[board.pins]\nA = 2\nB = 3\n[plant]\nbody = "bench"\n[wiring]\nA = "probe:a"\nB = "probe:b"\n'
+    )
+    assert cli.main(["check", str(tmp_path / "rig.toml")]) == 0
+    out, err = capsys.readouterr()
+    assert f"could not read {tmp_path / 'drv.py'} (line 2: Missing parentheses" in out
+    assert err == (
+        "check: the rig wires B = 3 (probe:b), but the code never touches pin 3 "
+        "(some files could not be read: check lists them)\n"
+    )
