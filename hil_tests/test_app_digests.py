@@ -63,6 +63,8 @@ RENAMED = {  # app: (its plant class before, {signal now: signal before})
     "rover": ("RoverRoom", {"bumper.out": "bumper"}),
     "vacuum": ("VacuumRobot", {"enc_l.out": "enc_l", "enc_r.out": "enc_r"}),
     "pico_bot": ("TwoWheelRobot", {"start.out": "button.start"}),
+    "lab_robot": ("LabRobot", {"jumper.out": "jumper"}),
+    "lab_robot_canyon": ("LabRobot", {"jumper.out": "jumper"}),
 }
 
 

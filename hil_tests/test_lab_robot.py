@@ -12,12 +12,14 @@ reads from 1000 ms on, every 100 ms. Each scenario records its result for ``make
 import math
 import re
 import statistics
+from pathlib import Path
 
 import pytest
 
+from host.core.paths import REPO
 from host.rig.apps import get_app
 from host.rig.budgets import CHANGE, Budget
-from sim_plant.lab_robot import BODY_RADIUS_M
+from sim_plant.catalogue.assembly import rig_plant_table
 from sim_plant.world import CANYON_END_M
 
 pytestmark = pytest.mark.hil
@@ -34,6 +36,7 @@ NOISY_MAX_LIMIT_MM = 200.0  # 2.5 %
 EDGE_HANDLER_US = 200  # what the firmware's IRQ handler may take on a board (docs/lab_robot.md)
 MM_PER_COUNT = 2 * math.pi * 35.0 / 80  # the plant's wheel (r = 35 mm) and 80 counts a turn
 TRACK_M = 0.2
+BODY_RADIUS_M = rig_plant_table(Path(REPO, "firmware", "apps", "lab_robot", "rig-canyon.toml"))["body_radius_m"]
 
 
 def run_until_console(rig, text, limit_s, step_s=0.5):
@@ -157,7 +160,7 @@ def test_decoding_errors_match_the_missed_edges_the_plant_injected(make_rig, rec
     """Edges two at a time (missed_edge_p = 2 %): the firmware counts one decoding error per
     missed edge, as many as the plant injected on each wheel, and still counts every edge
     (a jump is two steps the way the wheel turns), so the square still closes."""
-    rig = make_rig("lab_robot", seed=3, plant_options={"missed_edge_p": 0.02})
+    rig = make_rig("lab_robot", seed=3, plant_options={"enc_l.missed_edge_p": 0.02, "enc_r.missed_edge_p": 0.02})
     run_until_console(rig, "square done", 60)
     truth = rig.truth()
     missed = (truth["enc_l_missed"], truth["enc_r_missed"])

@@ -39,3 +39,16 @@ class Buttons(Part):
             out.append(Change(t_us, name, level))
             self.i += 1
         self.next_us = self.events[self.i][0] if self.i < len(self.events) else NEVER_US
+
+
+class Jumper(Part):
+    """A jumper from a board input to ground: the pin reads 0 when it is fitted."""
+
+    FIXED_STATE = True
+
+    def __init__(self, name: str, fitted: bool):
+        self.outputs = {name: "level"}
+        self.level = 0 if fitted else 1
+
+    def initial_outputs(self) -> dict:
+        return {next(iter(self.outputs)): self.level}

@@ -218,3 +218,36 @@ class DiffDriveTrain(Part):
             "wheel_rad_s": (wl, wr),
             "distance_m": self.body.distance_at(t_us),
         }
+
+
+class SlipDriveTrain(DiffDriveTrain):
+    """The differential drive with wheel slip: each wheel's encoder sees its travel over
+    the floor times ``1 + slip[i]`` (spin slip comes on top)."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.slip = [0.0, 0.0]
+
+    def encoder_rad_s(self) -> tuple[float, float]:
+        wl, wr = super().encoder_rad_s()
+        return wl * (1.0 + self.slip[0]), wr * (1.0 + self.slip[1])
+
+
+class WheelSlip(Part):
+    """Draws each wheel's slip every ``period_us`` (the drive then re-plans the encoders)."""
+
+    def __init__(self, sd: float, period_us: int):
+        if sd < 0 or period_us <= 0:
+            raise ValueError(f"wheel_slip_sd must be >= 0 and slip_period_us > 0, got {sd}, {period_us}")
+        self.sd = float(sd)
+        self.period_us = int(period_us)
+        self.next_us = 0
+        self.changed = False
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        plant.drive.slip = [float(s) for s in plant.rng.normal(0.0, self.sd, 2)]
+        self.changed = True
+        self.next_us = t_us + self.period_us
+
+    def truth(self, t_us: int, plant) -> dict:
+        return {"wheel_slip": tuple(plant.drive.slip)}

@@ -139,3 +139,63 @@ class SlottedDiskEncoder(_EdgeCounter):
 
     def _levels(self, n: int) -> tuple[int]:
         return (n & 1,)
+
+
+MISS_GAPS = 4096
+"""Gaps between missed edges a :class:`MissingEdgeEncoder` is given (used in turn, then again from the first)."""
+
+
+class MissingEdgeEncoder(QuadratureEncoder):
+    """A quadrature encoder whose edges now and then come two at once, as they do for a
+    board when two edges fall closer together than its interrupt latency.
+
+    After every ``gaps[i]`` edges (drawn at reset, each >= 2) the next edge is emitted
+    at the same instant as the current one, if the wheel has turned the same way for
+    the last two edges (a board only misses edges at speed). ``missed`` counts them.
+    The disk's phase is not moved: the edge after comes when it would have, so the
+    counts still follow the wheel's travel."""
+
+    def __init__(self, names, *, gaps: tuple, **kwargs):
+        super().__init__(names, **kwargs)
+        self.gaps = gaps
+        self.gap_no = 0
+        self.until_miss = gaps[0]
+        self.missed = 0
+        self.last_dir = 0
+        self.doubled = False  # the next edge is due at the instant of the last one
+
+    def emit(self, t_us: int, out: list) -> None:
+        super().emit(t_us, out)
+        direction = 1 if self.rate > 0.0 else -1
+        same = direction == self.last_dir
+        self.last_dir = direction
+        if self.doubled:
+            self.doubled = False
+        elif self.until_miss > 1:
+            self.until_miss -= 1
+        elif same:
+            self.gap_no = (self.gap_no + 1) % len(self.gaps)
+            self.until_miss = self.gaps[self.gap_no]
+            self.missed += 1
+            self.doubled = True
+            self.next_us = t_us
+
+    @staticmethod
+    def _phase(p: float, n: int) -> float:
+        # after an edge that came early the count is one edge ahead of the disk until
+        # the disk reaches it: keep the disk's phase (the next edge comes when it would
+        # have; turning back, the early edge is taken back at once)
+        return n - 1 if p < n - 1 else (n + 2 if p > n + 2 else p)
+
+    def set_speed(self, t_us: int, wheel_rad_s: float) -> None:
+        before = self.rate
+        super().set_speed(t_us, wheel_rad_s)
+        if self.doubled:
+            if before * self.rate > 0.0:
+                self.next_us = t_us  # still due now: it turns the same way
+            else:  # stopped or turned back at that instant: the edge never comes
+                self.doubled = False
+                self.missed -= 1
+
+    def truth(self) -> dict:
+        return {**super().truth(), f"{self.names[0].split('.')[0]}_missed": self.missed}

@@ -17,7 +17,7 @@ volts per inch, i.e. 0.2537 V/m at 3.3 V.
 import math
 
 from sim_plant.engine import Part
-from sim_plant.plant import Change
+from sim_plant.plant import NEVER_US, Change
 
 MAXBOTIX_V_PER_M = 3.3 / 512 / 0.0254
 """MaxBotix LV-style analog output: Vcc/512 per inch, at Vcc = 3.3 V."""
@@ -171,3 +171,40 @@ class AnalogRangeSonar(Part):
     def truth(self, t_us: int, plant) -> dict:
         key = self.name.split(".")[0]
         return {f"{key}_range_m": self.true_m, f"{key}_reading_m": self.reading_m}
+
+
+class TriggeredSonar(AnalogRangeSonar):
+    """An analog sonar that ranges once per trigger (:class:`SonarRx`): one new reading
+    the ranging time after the RX edge, then nothing until the next edge."""
+
+    def __init__(self, name: str, model, **kwargs):
+        super().__init__(name, model, **kwargs)
+        self.period_us = None  # the board sets the pace
+        self.next_us = NEVER_US
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        self.sample(t_us, plant, out)
+        self.next_us = NEVER_US
+
+
+class SonarRx(Part):
+    """The sonars' shared RX line (a MaxBotix chain's trigger): each rising edge starts a
+    ranging of every sonar, read ``ranging_us`` later."""
+
+    FIXED_STATE = ("inputs", "outputs", "sonars")
+
+    def __init__(self, name: str, sonars: list, ranging_us: int):
+        if ranging_us <= 0:
+            raise ValueError(f"sonar_ranging_us must be > 0, got {ranging_us}")
+        self.inputs = {name: "level"}
+        self.sonars = sonars
+        self.ranging_us = int(ranging_us)
+        self.level = 0
+
+    def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        level = 1 if value else 0
+        if level and not self.level:
+            for sonar in self.sonars:
+                sonar.next_us = t_us + self.ranging_us
+        self.level = level
+        return False

@@ -1,10 +1,10 @@
 """Part ``analog_ranger``: an ultrasonic ranger with an analog output (MaxBotix LV-EZ
 style, Vcc/512 per inch) on an ADC pin, a new sample every ``period_us``
-(:mod:`sim_plant.sonars`)."""
+(:mod:`sim_plant.sonars`), or once each time a ``ranger_trigger`` line rises."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.option_table import Num
-from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeModel
+from sim_plant.option_table import Flag, Num
+from sim_plant.sonars import MAXBOTIX_V_PER_M, Adc, AnalogRangeSonar, BeamRangeModel, TriggeredSonar
 
 
 class AnalogRanger(PartType):
@@ -26,6 +26,12 @@ class AnalogRanger(PartType):
         ),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
         Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt(
+            "triggered",
+            Flag(),
+            False,
+            "true: it ranges only when a ranger_trigger part's line rises (no sample every period_us)",
+        ),
     )
     SIGNALS = (Sig("adc", "out", "u16", "the ADC reading (read_u16)"),)
     TRUTH = ("{name}_range_m", "{name}_reading_m")
@@ -50,8 +56,9 @@ class AnalogRanger(PartType):
     def add(self, build: Build) -> None:
         o = self.options
         model = BeamRangeModel(self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_m"], max_m=o["max_m"])
+        sonar_cls = TriggeredSonar if o["triggered"] else AnalogRangeSonar
         build.parts.append(
-            AnalogRangeSonar(
+            sonar_cls(
                 f"{self.name}.adc",
                 model,
                 period_us=o["period_us"],

@@ -28,7 +28,7 @@ class PartsPlant(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
-        build = Build(body=dict(self.body.options))
+        build = Build(body=dict(self.body.options), rng=self.rng)
         for part in self.catalogue_parts:
             try:
                 part.add(build)

@@ -74,7 +74,8 @@ class Build:
     """A plant being built, what parts add to: the body's options (``body``), engine
     parts, encoders, bumpers, motors (``motors[side] = (bridge, DcMotor)``), servos
     (``servos[name]``: what a part mounted on one turns with), the motors' shared
-    ``standby`` pin and track stop inputs (``tracks[side] = signal``)."""
+    ``standby`` pin and track stop inputs (``tracks[side] = signal``), and the
+    plant's generator (``rng``)."""
 
     body: dict
     parts: list = field(default_factory=list)
@@ -84,6 +85,8 @@ class Build:
     servos: dict = field(default_factory=dict)
     standby: str | None = None
     tracks: dict = field(default_factory=dict)
+    rng: object = None
+    """The plant's generator, freshly seeded: for what a part draws once at build time."""
 
 
 class Declared:

@@ -6,7 +6,7 @@ drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 from sim_plant import world as worlds
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
-from sim_plant.drivetrain import DiffDriveTrain
+from sim_plant.drivetrain import DiffDriveTrain, SlipDriveTrain, WheelSlip
 from sim_plant.duct import DUCT_START, bench_duct, straight_duct
 from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
 from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, OneOf, Row, Rows, length
@@ -61,6 +61,18 @@ class Differential(BodyType):
             "rim speed at full duty (a motor's rpm sets its own)",
         ),
         Opt("spin_slip", FRACTION, 0.0, "share of travel the backward wheel's encoder misses while spinning"),
+        Opt(
+            "wheel_slip_sd",
+            Num("", 0, 1),
+            0.0,
+            "wheel slip: every slip_period_us each wheel's encoder sees its floor travel times (1 + s), s ~ N(0, this)",
+        ),
+        Opt(
+            "slip_period_us",
+            Num("microseconds", 1_000, 1_000_000_000, whole=True),
+            100_000,
+            "how often the slip is redrawn",
+        ),
         Opt("tape", Rows(POINT), [], "a tape line on the floor, [x_m, y_m] points (line sensors see it)"),
         Opt("tape_width_m", length(0.001, 1), 0.019, "the tape's width"),
     )
@@ -98,7 +110,8 @@ class Differential(BodyType):
         if "rear" in build.motors:
             raise PartsError("[plant] body: a differential body's motors drive left or right, not rear")
         (bridge_l, motor_l), (bridge_r, motor_r) = build.motors["left"], build.motors["right"]
-        return DiffDriveTrain(
+        drive_cls = SlipDriveTrain if self.options["wheel_slip_sd"] > 0 else DiffDriveTrain
+        return drive_cls(
             bridges=(bridge_l, bridge_r),
             motors=(motor_l, motor_r),
             wheel_radius_m=self.options["wheel_radius_m"],
@@ -111,3 +124,15 @@ class Differential(BodyType):
     def contact_monitor(self, build: Build):
         circles = [tuple(float(v) for v in c) for c in self.options["outline"]]
         return ContactMonitor(circles or [(0.0, 0.0, self.options["body_radius_m"])], build.bumpers)
+
+    def recorders(self, build: Build, world) -> list:
+        o = self.options
+        return [WheelSlip(o["wheel_slip_sd"], o["slip_period_us"])] if o["wheel_slip_sd"] > 0 else []
+
+    def react(self, plant, t_us: int) -> bool:
+        """A new wheel slip re-plans the encoders."""
+        for part in plant.parts:
+            if isinstance(part, WheelSlip) and part.changed:
+                part.changed = False
+                return True
+        return False

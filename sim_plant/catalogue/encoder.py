@@ -4,7 +4,7 @@ on the wheel or on the motor shaft behind a gearbox (:mod:`sim_plant.encoders`).
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
+from sim_plant.encoders import MISS_GAPS, MissingEdgeEncoder, QuadratureEncoder, SlottedDiskEncoder
 from sim_plant.option_table import Num, OneOf
 
 
@@ -27,6 +27,13 @@ class Encoder(PartType):
         ),
         Opt("lines_per_rev", Num("", 1, 10_000, whole=True), 7, "lines (slots) per revolution of the disk"),
         Opt("polarity", OneOf((-1, 1)), 1, "-1: mounted mirrored, counts backwards when the wheel turns forwards"),
+        Opt(
+            "missed_edge_p",
+            Num("", 0, 0.49),
+            0.0,
+            "quadrature: chance per edge that the next comes at the same instant (a board's IRQ misses it); "
+            "the gaps are drawn from the plant's seed when it is built; the truth adds {name}_missed",
+        ),
     )
     SIGNALS = (
         Sig("a", "out", "level", "channel A", (("channels", ("quadrature",)),)),
@@ -43,6 +50,10 @@ class Encoder(PartType):
         ),
     )
     needs_body = True
+
+    def check(self) -> None:
+        if self.options["missed_edge_p"] > 0 and self.options["channels"] != "quadrature":
+            raise ValueError("missed_edge_p: only a quadrature encoder misses edges")
 
     def metres_per_edge(self, body: dict) -> float | None:
         """The wheel's travel per edge on a body with ``wheel_radius_m`` (None without)."""
@@ -61,7 +72,10 @@ class Encoder(PartType):
             "gear_ratio": o["gear_ratio"] if o["on"] == "motor" else 1.0,
             "polarity": o["polarity"],
         }
-        if o["channels"] == "quadrature":
+        if o["channels"] == "quadrature" and o["missed_edge_p"] > 0:
+            gaps = tuple(int(g) + 1 for g in build.rng.geometric(o["missed_edge_p"], MISS_GAPS))
+            build.encoders.append(MissingEdgeEncoder((f"{self.name}.a", f"{self.name}.b"), gaps=gaps, **options))
+        elif o["channels"] == "quadrature":
             build.encoders.append(QuadratureEncoder((f"{self.name}.a", f"{self.name}.b"), **options))
         else:
             build.encoders.append(SlottedDiskEncoder((f"{self.name}.out",), **options))
