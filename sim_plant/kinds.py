@@ -1,4 +1,4 @@
-"""Plant kinds by name, for rig files (``[plant] kind = "lab_robot"``): each name is a
+"""Plant kinds by name, for rig files (``[plant] kind = "wires"``): each name is a
 plant class, or a function that builds one, whose keyword options are the table
 ``[plant.options]``. Unknown options and bad values are refused with the option's name.
 """
@@ -6,12 +6,10 @@ plant class, or a function that builds one, whose keyword options are the table
 import functools
 import inspect
 
-from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
 from sim_plant.wires import wires
 
 KINDS = {
-    "lab_robot": LabRobot,
     "wires": wires,  # a loopback bench: board outputs wired to board inputs
 }
 

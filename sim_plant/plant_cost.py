@@ -18,8 +18,7 @@ import time
 from pathlib import Path
 
 from sim_plant.catalogue.assembly import assemble_file
-from sim_plant.lab_robot import LabRobot
-from sim_plant.world import box, duct_network, rectangle, room
+from sim_plant.world import box, duct_network, room
 
 QUANTUM_US = 50_000
 QUANTA = 600  # 30 s of virtual time per robot
@@ -97,7 +96,11 @@ ROBOTS = [
         lambda: in_world(assemble_file(APPS / "vacuum" / "rig.toml"), LONG_ROOM, (0.5, 0.5, 0.0)),
         _vacuum,
     ),
-    ("lab robot (LabRobot)", lambda: LabRobot(world=rectangle(40.0, 4.0), start_pose=(1.0, 2.0, 0.0)), _lab),
+    (
+        "lab robot (rig file)",
+        lambda: assemble_file(APPS / "lab_robot" / "rig.toml", room_w_m=40.0, start_pose=[1.0, 2.0, 0.0]),
+        _lab,
+    ),
 ]
 
 

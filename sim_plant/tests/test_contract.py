@@ -8,7 +8,6 @@ from pathlib import Path
 import pytest
 
 from sim_plant.catalogue.assembly import assemble, assemble_file, rig_plant_table
-from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import NEVER_US
 from sim_plant.tests.rigs import duct_robot, pool_cleaner
 
@@ -45,7 +44,7 @@ PLANTS = {
         **{"motor_l.time_constant_ms": 30.0, "motor_r.time_constant_ms": 30.0},
     ),
     "vacuum": lambda: with_parts(APPS / "vacuum" / "rig.toml", {"kind": "bumper", "name": "bumper", "bounce_us": 1500}),
-    "lab": lambda: LabRobot(world="canyon", bumper=True),
+    "lab": lambda: with_parts(APPS / "lab_robot" / "rig-canyon.toml", {"kind": "bumper", "name": "bumper"}),
     "differential": lambda: assemble(
         {
             "body": "differential",

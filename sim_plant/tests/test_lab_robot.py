@@ -1,16 +1,43 @@
-"""Seed 004's dead-reckoning lab robot: quadrature encoders (Table 1), DRV8833 two-PWM
-bridges, the odometry the encoders support, and its worlds."""
+"""Seed 004's dead-reckoning lab robot, built from its rig files (a differential body over
+catalogue parts): quadrature encoders (Table 1), DRV8833 two-PWM bridges, the odometry the
+encoders support, wheel slip, missed edges, the sonars' RX line, the program jumper, and
+its worlds."""
 
 import math
+from pathlib import Path
 
 import pytest
 
+from sim_plant.catalogue.assembly import assemble_file
 from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
-from sim_plant.lab_robot import LabRobot
-from sim_plant.world import CANYON_END_M, canyon_centre_m, rectangle
+from sim_plant.world import CANYON_END_M, canyon_centre_m
 
-OPEN = rectangle(100.0, 100.0)
-START = (50.0, 50.0, 0.0)
+APP = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "lab_robot"
+RIG, CANYON_RIG = APP / "rig.toml", APP / "rig-canyon.toml"
+WHEEL_RADIUS_M = 0.035  # the rig file's body: the seed's numbers are checked against these
+TRACK_M = 0.20
+
+
+def open_floor(parts=None, **options):
+    """The lab robot (rig.toml) in a 100 x 100 m room, at its middle facing +x: ``parts``
+    (a part's name -> options) and body ``options`` over the rig file's."""
+    return assemble_file(RIG, parts, room_w_m=100.0, room_h_m=100.0, start_pose=[50.0, 50.0, 0.0], **options)
+
+
+def both(prefix: str, **options) -> dict:
+    """The same options for both wheels' parts (``enc_l`` and ``enc_r`` for ``enc``)."""
+    return {f"{prefix}_{side}": dict(options) for side in "lr"}
+
+
+def test_the_rig_files_body_is_the_seeds_robot():
+    """The figures the checks below use are the rig files' (r = 35 mm, w = 0.2 m, 80
+    counts a wheel turn)."""
+    for rig in (RIG, CANYON_RIG):
+        plant = assemble_file(rig)
+        assert plant.body.options["wheel_radius_m"] == WHEEL_RADIUS_M
+        assert plant.body.options["track_m"] == TRACK_M
+        counts = {p.name: p.metres_per_edge(plant.body.options) for p in plant.catalogue_parts if p.kind == "encoder"}
+        assert counts == pytest.approx({"enc_l": 2 * math.pi * 0.035 / 80, "enc_r": 2 * math.pi * 0.035 / 80})
 
 
 def drive(plant, left: float, right: float):
@@ -80,7 +107,7 @@ def decode(changes, side="l"):
 def test_forward_runs_through_the_phases_of_table_1_and_backward_runs_them_back():
     """Seed 004 Table 1: phases AB = 00, 10, 11, 01; increasing phase one way, decreasing
     the other, one channel changing per edge."""
-    forward, backward = LabRobot(world=OPEN, start_pose=START), LabRobot(world=OPEN, start_pose=START)
+    forward, backward = open_floor(), open_floor()
     drive(forward, 0.5, 0.5)
     drive(backward, -0.5, -0.5)
     fwd = decode(forward.advance_to(500_000))
@@ -94,21 +121,21 @@ def test_decoded_counts_give_the_wheel_travel_to_one_count():
     """Seed 004 eq. 4: S = R mu sum(+-1), mu = 2 pi / counts per wheel revolution
     (4 x lines x gear ratio); with the odometry equations (Eq. 1) the decoded counts give the
     distance and heading (error-less encoders, no slip)."""
-    plant = LabRobot(world=OPEN, start_pose=START, lines_per_rev=10, gear_ratio=2.0)
+    plant = open_floor(both("enc", lines_per_rev=10, gear_ratio=2.0))
     drive(plant, 0.6, 0.3)
     changes = plant.advance_to(3_000_000)
     mu = 2 * math.pi / (4 * 10 * 2.0)
-    s_l = decode(changes, "l").count * plant.wheel_radius_m * mu
-    s_r = decode(changes, "r").count * plant.wheel_radius_m * mu
+    s_l = decode(changes, "l").count * WHEEL_RADIUS_M * mu
+    s_r = decode(changes, "r").count * WHEEL_RADIUS_M * mu
     w_l, w_r = plant.truth()["wheel_rad_s"]
-    assert s_l == pytest.approx(w_l * 3.0 * plant.wheel_radius_m, abs=plant.wheel_radius_m * mu)
-    assert s_r == pytest.approx(w_r * 3.0 * plant.wheel_radius_m, abs=plant.wheel_radius_m * mu)
-    assert (s_r - s_l) / plant.track_m == pytest.approx(plant.truth()["theta_rad"], abs=2 * mu * 0.035 / 0.2)
+    assert s_l == pytest.approx(w_l * 3.0 * WHEEL_RADIUS_M, abs=WHEEL_RADIUS_M * mu)
+    assert s_r == pytest.approx(w_r * 3.0 * WHEEL_RADIUS_M, abs=WHEEL_RADIUS_M * mu)
+    assert (s_r - s_l) / TRACK_M == pytest.approx(plant.truth()["theta_rad"], abs=2 * mu * 0.035 / 0.2)
 
 
 def test_a_mirrored_encoder_runs_its_phases_backwards():
     """Polarity -1: an encoder mounted the other way round (B leads A going forwards)."""
-    plant = LabRobot(world=OPEN, start_pose=START, polarity=(1, -1))
+    plant = open_floor({"enc_r": {"polarity": -1}})
     drive(plant, 0.5, 0.5)
     changes = plant.advance_to(500_000)
     assert decode(changes, "l").count > 0 > decode(changes, "r").count
@@ -125,7 +152,7 @@ def test_drv8833_two_pwm_truth_table():
         "brake": (65535, 65535),
         "coast": (0, 0),
     }.items():
-        plant = LabRobot(world=OPEN, start_pose=START)
+        plant = open_floor()
         for side in "lr":
             plant.set_input(f"motor_{side}.in1", in1)
             plant.set_input(f"motor_{side}.in2", in2)
@@ -148,7 +175,7 @@ def test_lines_and_gear_ratio_set_the_counts_per_wheel_turn():
 def test_square_path_sides_are_exact_arcs():
     """Seed 004 Fig. 8: a 2 m square of straight sides and turns on the spot; the plant moves
     on exact arcs, so four quarter turns and four sides close the square."""
-    plant = LabRobot(world=rectangle(6.0, 6.0), start_pose=(2.0, 2.0, 0.0), deadband_duty=0.0)
+    plant = assemble_file(RIG, both("motor", deadband_duty=0.0), room_w_m=6.0, room_h_m=6.0, start_pose=[2.0, 2.0, 0.0])
     corners = []
     for _ in range(4):
         drive(plant, 0.5, 0.5)
@@ -166,7 +193,7 @@ def test_square_path_sides_are_exact_arcs():
 def test_canyon_world_has_walls_on_both_sides_and_an_open_end():
     """Seed 004 §2.4 (Fig. 10): the S-curve "canyon"; wall following stops where no wall is
     seen. The robot starts 0.4 m off the left wall (the one it follows), 0.8 m off the right."""
-    plant = LabRobot(world="canyon")
+    plant = assemble_file(CANYON_RIG)
     x, y, th = plant.pose_at(0)
     left = plant.world.ray(x, y, th + math.pi / 2)[0]
     right = plant.world.ray(x, y, th - math.pi / 2)[0]
@@ -181,7 +208,7 @@ def test_canyon_world_has_walls_on_both_sides_and_an_open_end():
 def test_canyon_cannot_be_driven_straight_through():
     """The S shifts the corridor 1.2 m sideways: a robot that keeps its start heading hits
     a wall, so getting through it takes wall following."""
-    plant = LabRobot(world="canyon")
+    plant = assemble_file(CANYON_RIG)
     x, y, th = plant.pose_at(0)
     hit_m = plant.world.ray(x, y, th)[0]
     assert hit_m < CANYON_END_M - x
@@ -196,10 +223,10 @@ def test_canyon_bends_are_gentle_s_curve():
 
 
 def test_missed_edges_come_two_at_once_and_the_decoder_counts_each_as_an_error():
-    """missed_edge_p: now and then two edges of one encoder fall at the same instant; a
+    """The encoders' missed_edge_p: now and then two edges of one encoder fall at the same instant; a
     Table 1 decoder that reads both channels after the instant sees a two-phase jump, once
     per missed edge, and the plant counts them in its truth."""
-    plant = LabRobot(world=OPEN, start_pose=START, missed_edge_p=0.02)
+    plant = open_floor(both("enc", missed_edge_p=0.02))
     plant.reset(3)
     drive(plant, 0.6, -0.4)
     changes = plant.advance_to(4_000_000)
@@ -218,7 +245,7 @@ def test_missed_edges_come_two_at_once_and_the_decoder_counts_each_as_an_error()
 
 
 def test_no_missed_edges_by_default():
-    plant = LabRobot(world=OPEN, start_pose=START)
+    plant = open_floor()
     drive(plant, 1.0, 1.0)
     changes = plant.advance_to(2_000_000)
     times = {}
@@ -230,11 +257,11 @@ def test_no_missed_edges_by_default():
 
 
 def test_wheel_slip_moves_the_counts_off_the_floor_travel_and_is_seeded():
-    """wheel_slip_sd: each wheel's encoder sees its floor travel times (1 + s), s redrawn
+    """The body's wheel_slip_sd: each wheel's encoder sees its floor travel times (1 + s), s redrawn
     every slip period; the same seed gives the same counts."""
 
     def run(seed):
-        plant = LabRobot(world=OPEN, start_pose=START, wheel_slip_sd=0.05, slip_period_us=100_000)
+        plant = open_floor(wheel_slip_sd=0.05, slip_period_us=100_000)
         plant.reset(seed)
         drive(plant, 0.5, 0.5)
         plant.advance_to(5_000_000)
@@ -249,9 +276,10 @@ def test_wheel_slip_moves_the_counts_off_the_floor_travel_and_is_seeded():
 
 
 def test_sonars_range_on_the_rx_line_and_read_the_walls():
-    """sonar_rx: nothing until the board raises RX; then the front, left and left-front
-    sonars each give one reading 49 ms later, of the ranges to the walls along their axes."""
-    plant = LabRobot(world=rectangle(4.0, 4.0), start_pose=(1.0, 1.0, 0.0), sonar_rx=True, sonar_noise_m=0.0)
+    """Triggered rangers (ranger_trigger "sonar"): nothing until the board raises RX; then
+    the front, left and left-front sonars each give one reading 49 ms later, of the ranges
+    to the walls along their axes."""
+    plant = assemble_file(RIG, {f"sonar_{s}": {"noise_sd_m": 0.0} for s in ("f", "l", "lf")})
     assert plant.advance_to(500_000) == []
     plant.set_input("sonar.rx", 1)
     plant.set_input("sonar.rx", 0)
@@ -271,8 +299,8 @@ def test_sonars_range_on_the_rx_line_and_read_the_walls():
 
 
 def test_program_jumper_reads_low_when_fitted():
-    assert LabRobot(world=OPEN, start_pose=START).output("jumper") == 1
-    assert LabRobot(world=OPEN, start_pose=START, program_jumper=True).output("jumper") == 0
+    assert assemble_file(RIG).output("jumper.out") == 1
+    assert assemble_file(CANYON_RIG).output("jumper.out") == 0
 
 
 def test_missed_edges_leave_the_counts_on_the_wheel_travel():
@@ -281,7 +309,7 @@ def test_missed_edges_leave_the_counts_on_the_wheel_travel():
     turning back, the early edge is taken back)."""
     counts = []
     for p in (0.0, 0.1):
-        plant = LabRobot(world=OPEN, start_pose=START, missed_edge_p=p, sonar_rx=True)
+        plant = open_floor(both("enc", missed_edge_p=p))
         plant.reset(5)
         for i in range(60):  # a new duty every 37 ms, now and then backwards
             duty = 0.3 + 0.5 * ((i * 7) % 10) / 10
