@@ -106,7 +106,9 @@ class CarDrive(Part):
 class Ackermann(Differential):
     kind = "ackermann"
     doc = "A car: a rear drive motor and front wheels a steering servo turns (Ackermann steering)."
-    OPTIONS = tuple(o for o in Differential.OPTIONS if o.name not in ("track_m", "body_radius_m")) + (
+    OPTIONS = tuple(
+        o for o in Differential.OPTIONS if o.name not in ("track_m", "body_radius_m", "wheel_slip_sd", "slip_period_us")
+    ) + (
         Opt("body_radius_m", length(0.01, 5), 0.12, "the disc (half-way along the wheelbase) that touches walls"),
         Opt("wheelbase_m", length(0.01, 10), 0.16, "front axle to rear axle"),
         Opt("steer_center_deg", Num("degrees", 0, 360), 90.0, "the servo's angle with the wheels straight"),

@@ -127,7 +127,8 @@ class Differential(BodyType):
 
     def recorders(self, build: Build, world) -> list:
         o = self.options
-        return [WheelSlip(o["wheel_slip_sd"], o["slip_period_us"])] if o["wheel_slip_sd"] > 0 else []
+        sd = o.get("wheel_slip_sd", 0.0)  # (a body built on this one may not have it)
+        return [WheelSlip(sd, o["slip_period_us"])] if sd > 0 else []
 
     def react(self, plant, t_us: int) -> bool:
         """A new wheel slip re-plans the encoders."""
