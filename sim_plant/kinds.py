@@ -8,11 +8,9 @@ import inspect
 
 from sim_plant.lab_robot import LabRobot
 from sim_plant.plant import Plant
-from sim_plant.wires import wires
 
 KINDS = {
     "lab_robot": LabRobot,
-    "wires": wires,  # a loopback bench: board outputs wired to board inputs
 }
 
 
