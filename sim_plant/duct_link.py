@@ -28,7 +28,7 @@ class RecordReader(Part):
         self.outputs = {rx: "bytes"}
         self.poll_us = int(poll_ms * 1000) if poll_ms else 0
         self.byte_us = BITS_PER_BYTE * 1e6 / baud
-        self.period_us = int(period_ms * 1000)
+        self.period_us = round(period_ms * 1000)
         self.script = sorted((int(t * 1000), str(line)) for t, line in script)
         self.next_script = 0
         self.next_poll_us = self.poll_us or NEVER_US

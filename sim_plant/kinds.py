@@ -1,17 +1,18 @@
-"""Plant kinds by name, for rig files (``[plant] kind = "wires"``): each name is a
-plant class, or a function that builds one, whose keyword options are the table
+"""Plant kinds by name, for rig files (``[plant] kind = ...``): each name is a plant
+class, or a function that builds one, whose keyword options are the table
 ``[plant.options]``. Unknown options and bad values are refused with the option's name.
+
+Every robot of ours, and the loopback bench, is now a body and parts from
+:mod:`sim_plant.catalogue` (``[plant] body = ...``); no kind is registered. The table stays
+for plants a user writes as a class of their own.
 """
 
 import functools
 import inspect
 
 from sim_plant.plant import Plant
-from sim_plant.wires import wires
 
-KINDS = {
-    "wires": wires,  # a loopback bench: board outputs wired to board inputs
-}
+KINDS: dict = {}
 
 
 @functools.cache

@@ -182,7 +182,6 @@ OPTIONS = {
     "route": Rows(POINT, 1000, least=1),
     "body_radius_m": length(0.01, 5),
     "wheel_radius_m": length(0.001, 1),
-    "wheel_diameter_m": length(0.002, 2),
     "track_m": length(0.01, 10),
     "coverage_cell_m": length(0.02, 10),
     # motors and drive
@@ -199,27 +198,20 @@ OPTIONS = {
     "slip_period_us": SAMPLE,
     # encoders
     "encoder": Name(),
-    "encoder_cpr": count(1, 10_000),
     "lines_per_rev": count(1, 10_000),
-    "slots_per_rev": count(1, 10_000),
     "encoder_polarity": Row((OneOf((-1, 1)), OneOf((-1, 1))), "[left, right] of -1 or 1"),
     "polarity": Row((OneOf((-1, 1)), OneOf((-1, 1))), "[left, right] of -1 or 1"),
     "missed_edge_p": Num("probability", 0, 0.5),
     # rangers and sonars
     "ranger": Name(),
-    "ranger_noise_sd_m": NOISE,
     "ranger_period_us": SAMPLE,
     "hcsr04_trigger_min_us": period(1, 1_000),
     "sonar_period_us": SAMPLE,
     "sonar_phase_us": period(0, 1_000_000_000),
     "sonar_ranging_us": period(1, 1_000_000),
-    "sonar_noise_m": NOISE,
-    "sonar_noise_sd_m": NOISE,
-    "sonar_min_m": length(0, 100),
-    "sonar_max_m": length(0, 100, above=True),
     "sonar_rx": Flag(),
     "adc_bits": count(1, 24),
-    "adc_vref": Num("volts", 0.1, 50),
+    "adc_vref_v": Num("volts", 0.1, 50),
     # contacts, buttons, floor, links
     "bumper": Flag(),
     "bumper_bounce_us": BOUNCE,
@@ -233,7 +225,6 @@ OPTIONS = {
     "tape_u16": count(0, 65_535),
     "floor_u16": count(0, 65_535),
     "floor_period_us": SAMPLE,
-    "n": count(1, 64),
 }
 
 

@@ -1,4 +1,6 @@
 """Wires between board pins: a loopback bench, as upstream's hardware tests wire a board.
+The catalogue's ``wire`` and ``uart_wire`` parts on a ``bench`` body are built on it
+(:class:`WirePart`: every wire of a plant on one timeline).
 
 Each wire ``<name>`` has an input ``<name>.in`` (a board output drives it: a level, or a
 PWM waveform) and an output ``<name>.out`` (a board input reads it). A level written to
@@ -13,22 +15,28 @@ what it sends, each byte at the time its stop bit ends at the sender's baud rate
 a byte), one after another on the line.
 """
 
+from typing import NamedTuple
+
+from sim_plant.engine import Part
 from sim_plant.plant import NEVER_US, Change, Plant
 
-DEFAULT_WIRES = ("w0", "w1", "w2", "w3")
-DEFAULT_UARTS = ("u0", "u1", "u2")
 BITS_PER_BYTE = 10  # start, 8 data, stop
 
 
-class _Waveform:
-    """A PWM's edges: rises at t0 + round(k·P), falls at t0 + round(k·P + H)."""
+class _Waveform(NamedTuple):
+    """A PWM's edges: rises at t0 + round(k·P), falls at t0 + round(k·P + H). A value:
+    taking an edge gives the next waveform (a snapshot copies the plant's dict of them)."""
 
-    def __init__(self, t0: int, freq_hz: int, duty_u16: int):
-        self.t0 = t0
-        self.period = 1e6 / freq_hz
-        self.high = self.period * duty_u16 / 65535
-        self.k = 0  # the period the next edge belongs to
-        self.rising = False  # the next edge (the first rise is at t0 itself)
+    t0: int
+    period: float
+    high: float
+    k: int = 0  # the period the next edge belongs to
+    rising: bool = False  # the next edge (the first rise is at t0 itself)
+
+    @classmethod
+    def start(cls, t0: int, freq_hz: int, duty_u16: int) -> "_Waveform":
+        period = 1e6 / freq_hz
+        return cls(t0, period, period * duty_u16 / 65535)
 
     def next_edge(self) -> tuple[int, int]:
         base = self.k * self.period
@@ -36,16 +44,14 @@ class _Waveform:
             return self.t0 + round(base + self.period), 1
         return self.t0 + round(base + self.high), 0
 
-    def take_edge(self) -> None:
-        if self.rising:
-            self.k += 1
-        self.rising = not self.rising
+    def after_edge(self) -> "_Waveform":
+        return self._replace(k=self.k + 1 if self.rising else self.k, rising=not self.rising)
 
 
 class Wires(Plant):
     zero_delay = True
 
-    def __init__(self, wires=DEFAULT_WIRES, uarts=DEFAULT_UARTS):
+    def __init__(self, wires: tuple, uarts: tuple):
         self.names = tuple(wires)
         self.uarts = tuple(uarts)
         self.inputs = {f"{w}.in": "pwm" for w in self.names} | dict.fromkeys(self.uarts, "uart")
@@ -58,12 +64,18 @@ class Wires(Plant):
         self.waves: dict[str, _Waveform] = {}
         self.now: list[Change] = []  # changes at the current instant, not yet taken
         self.edges = 0
+        self.edges_of = dict.fromkeys(self.names, 0)
         self.bytes: list[Change] = []  # bytes on a UART line, in time order
         self.line_free = dict.fromkeys(self.uarts, 0)  # when each line's last byte ends
 
     @property
     def t_us(self) -> int:
         return self._t_us
+
+    def at(self, t_us: int) -> None:
+        """The clock to ``t_us``, when nothing is due before it (a plant around these wires
+        took every change up to then)."""
+        self._t_us = max(self._t_us, t_us)
 
     def _wire(self, name: str) -> str:
         wire = name[: -len(".in")] if name.endswith(".in") else None
@@ -75,6 +87,7 @@ class Wires(Plant):
         if self.levels[wire] != level:
             self.levels[wire] = level
             self.edges += 1
+            self.edges_of[wire] += 1
             self.now.append(Change(self._t_us, f"{wire}.out", level))
 
     def set_input(self, name: str, value) -> None:
@@ -89,7 +102,7 @@ class Wires(Plant):
         if duty_u16 <= 0 or duty_u16 >= 65535 or freq_hz <= 0:
             self._drive(wire, 1 if duty_u16 >= 65535 and freq_hz > 0 else 0)
             return
-        self.waves[wire] = _Waveform(self._t_us, freq_hz, duty_u16)
+        self.waves[wire] = _Waveform.start(self._t_us, freq_hz, duty_u16)
         self._drive(wire, 1)
 
     def send_bytes(self, name: str, data: bytes, baud: int) -> None:
@@ -127,7 +140,7 @@ class Wires(Plant):
             wire = min((w.next_edge()[0], name) for name, w in self.waves.items())[1]
             wave = self.waves[wire]
             level = wave.next_edge()[1]
-            wave.take_edge()
+            self.waves[wire] = wave.after_edge()
             self._drive(wire, level)
             changes += self.now
             self.now = []
@@ -141,8 +154,74 @@ class Wires(Plant):
         return {"t_us": self._t_us, "levels": dict(self.levels), "edges": self.edges}
 
 
-def wires(n: int = 4) -> Wires:
-    """A bench of ``n`` wires, w0 .. w<n-1>."""
-    if not (isinstance(n, int) and 1 <= n <= 32):
-        raise ValueError(f"wires: n must be 1..32, got {n!r}")
-    return Wires(tuple(f"w{i}" for i in range(n)))
+class WirePart(Part):
+    """Wires as a part of a body-and-parts plant (the catalogue's ``wire`` and
+    ``uart_wire`` on a ``bench``): the engine fires it at each change the wires have due,
+    and routes a PWM or a UART's bytes to it (``set_pwm``, ``send_bytes``)."""
+
+    FIXED_STATE = ("inputs", "outputs")
+
+    @classmethod
+    def on(cls, parts: list) -> "WirePart":
+        """The one WirePart among a plant's ``parts`` (added if none yet): every wire of a
+        bench is on one timeline, so the writes of one instant come out in their order."""
+        for part in parts:
+            if isinstance(part, cls):
+                return part
+        part = cls()
+        parts.append(part)
+        return part
+
+    def __init__(self):
+        self.wires = Wires((), ())
+        self.add()
+
+    def add(self, wires: tuple = (), uarts: tuple = ()) -> None:
+        """More wires and UART lines (while the plant is built, before any input)."""
+        self.wires = Wires(self.wires.names + tuple(wires), self.wires.uarts + tuple(uarts))
+        self.inputs = dict(self.wires.inputs)
+        self.outputs = dict(self.wires.outputs)
+        self.next_us = NEVER_US
+
+    def initial_outputs(self) -> dict:
+        return {name: self.wires.output(name) for name in self.outputs}
+
+    def _planned(self) -> None:
+        self.next_us = self.wires.next_change_us()
+
+    def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        self.wires.at(t_us)
+        self.wires.set_input(name, value)
+        self._planned()
+        return False
+
+    def set_pwm(self, name: str, freq_hz: int, duty_u16: int, t_us: int) -> None:
+        self.wires.at(t_us)
+        self.wires.set_pwm(name, freq_hz, duty_u16)
+        self._planned()
+
+    def send_bytes(self, name: str, data: bytes, baud: int, t_us: int) -> None:
+        self.wires.at(t_us)
+        self.wires.send_bytes(name, data, baud)
+        self._planned()
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        out.extend(self.wires.advance_to(t_us))
+        self._planned()
+
+    @property
+    def burst(self) -> int:
+        """How many changes the writes at this instant made, not yet taken."""
+        return len(self.wires.now)
+
+    def take(self, limit: int) -> list[Change]:
+        """The first ``limit`` changes of a larger burst (the rest stay due now)."""
+        changes = self.wires.advance_to(self.wires.t_us, limit)
+        self._planned()
+        return changes
+
+    def truth(self, t_us: int, plant) -> dict:
+        wires = self.wires
+        return {
+            f"{w}_{key}": of[w] for w in wires.names for key, of in (("level", wires.levels), ("edges", wires.edges_of))
+        }

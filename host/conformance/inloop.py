@@ -1,6 +1,6 @@
 """One MicroPython test file run in the loop, as ``micropython [-X k=v ...] file.py``
 would run it: the file is the firmware's entry file, its folder the board's ``/``, the
-plant a bench of wires (:mod:`sim_plant.wires`). What the firmware printed goes to
+plant a bench of wires (a ``bench`` body with ``wire`` and ``uart_wire`` parts). What the firmware printed goes to
 stdout and the exit status is the firmware's (1 for an uncaught exception), so
 upstream's ``run-tests.py`` can use this as its ``MICROPY_MICROPYTHON``.
 
@@ -18,16 +18,16 @@ from host.rig.app import App
 from host.rig.boards import identity
 from host.rig.rig import Rig
 from host.rig.spec import RigSpec
-from sim_plant.wires import wires
+from sim_plant.catalogue.assembly import assemble
 
 # The bench: pin pairs joined by a wire (output pin -> input pin), on every board; GPIO4
 # to GPIO5 and GPIO12 to GPIO13 are upstream's esp32 target wiring.
 PINS = {"W0_OUT": 4, "W0_IN": 5, "W1_OUT": 12, "W1_IN": 13, "W2_OUT": 18, "W2_IN": 19, "W3_OUT": 25, "W3_IN": 26}
 PINS |= {"U0_UART": 0, "U1_UART": 1, "U2_UART": 2}  # each UART's TX wired to its RX
 WIRING = {
-    "U0_UART": "u0",
-    "U1_UART": "u1",
-    "U2_UART": "u2",
+    "U0_UART": "u0.line",
+    "U1_UART": "u1.line",
+    "U2_UART": "u2.line",
     "W0_OUT": "w0.in",
     "W0_IN": "w0.out",
     "W1_OUT": "w1.in",
@@ -37,9 +37,20 @@ WIRING = {
     "W3_OUT": "w3.in",
     "W3_IN": "w3.out",
 }
+BENCH = {
+    "body": "bench",
+    "parts": [{"kind": "wire", "name": f"w{i}"} for i in range(4)]
+    + [{"kind": "uart_wire", "name": f"u{i}"} for i in range(3)],
+}
+"""The bench as a rig file's ``[plant]`` table: four wires and three UART loops."""
 BENCH_LIB = Path(__file__).resolve().parent / "bench"
 LIMIT_S = 120.0  # virtual seconds a test may run
 BOARD_ENV = "MPY_FIL_BOARD"  # a board family (esp32, rpi_pico): its sys.platform; unset: the unix port's
+
+
+def bench_plant(**options):
+    """The bench's plant (``options``: ``<part>.<option>`` keys, as a world's)."""
+    return assemble({**BENCH, **options})
 
 
 def bench_app(test: Path, heap_size: str | None = None) -> App:
@@ -47,7 +58,7 @@ def bench_app(test: Path, heap_size: str | None = None) -> App:
     return App(
         name="conformance",
         default_board=board or "bench",
-        make_plant=wires,
+        make_plant=bench_plant,
         wiring=WIRING,
         folder=test.parent,
         entry=test.name,

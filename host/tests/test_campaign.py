@@ -29,7 +29,10 @@ dir = "."
 [board.pins]
 A = 1
 [plant]
-kind = "wires"
+body = "bench"
+[[plant.parts]]
+kind = "wire"
+name = "w0"
 [wiring]
 """
 

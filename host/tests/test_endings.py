@@ -14,6 +14,8 @@ from host.rig.rig import Rig
 from host.rig.spec import RigSpec
 from host.tests.conftest import FIRMWARE, shim_app
 
+BENCH = '[plant]\nbody = "bench"\n[[plant.parts]]\nkind = "wire"\nname = "w0"\n[wiring]\nLED = "w0.in"\n'
+
 pytestmark = pytest.mark.hil
 
 
@@ -121,9 +123,7 @@ def test_the_board_family_of_a_rig_files_own_pins_gives_sys_platform(make_rig, t
     folder = tmp_path / "bot"
     folder.mkdir()
     (folder / "main.py").write_text("import sys, os\nprint('R', repr(sys.platform), repr(os.uname().machine))\n")
-    (folder / "rig.toml").write_text(
-        '[board]\nfamily = "rpi_pico"\n[board.pins]\nLED = 25\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
-    )
+    (folder / "rig.toml").write_text('[board]\nfamily = "rpi_pico"\n[board.pins]\nLED = 25\n' + BENCH)
     rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
     rig.run_for(0.1)
     rig.stop()
@@ -180,9 +180,7 @@ def test_firmware_lists_files_with_their_sizes_as_on_a_boards_vfs(make_rig, tmp_
         "import os\nfor name, kind, inode, size in os.ilistdir():\n    print('F', name, kind, size)\n"
     )
     (folder / "data").mkdir()
-    (folder / "rig.toml").write_text(
-        '[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
-    )
+    (folder / "rig.toml").write_text('[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n' + BENCH)
     rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
     rig.run_for(0.1)
     rig.stop()
@@ -191,7 +189,7 @@ def test_firmware_lists_files_with_their_sizes_as_on_a_boards_vfs(make_rig, tmp_
 
 
 def test_console_log_lines_carry_the_virtual_time_they_were_printed_at(make_rig, tmp_path):
-    """The wires plant never changes an input by itself, so the shim could sleep through
+    """A bench of wires never changes an input by itself, so the shim could sleep through
     the whole run alone; a print() still sends its next wait to the host, so the log
     knows when each line was printed. The console in memory stays as printed."""
     folder = tmp_path / "bot"
@@ -200,9 +198,7 @@ def test_console_log_lines_carry_the_virtual_time_they_were_printed_at(make_rig,
         "import time\nprint('boot')\nfor i in range(3):\n    time.sleep_ms(250)\n"
         "    print('tick', i, end='')\n    time.sleep_ms(10)\n    print(' done')\n"
     )
-    (folder / "rig.toml").write_text(
-        '[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n[plant]\nkind = "wires"\n[wiring]\nLED = "w0.in"\n'
-    )
+    (folder / "rig.toml").write_text('[board]\nfamily = "esp32"\n[board.pins]\nLED = 2\n' + BENCH)
     rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
     rig.run_for(1.0)
     rig.stop()

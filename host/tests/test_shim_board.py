@@ -1,19 +1,20 @@
-"""The shim as a board on a bench: outputs wired to inputs (sim_plant/wires.py, the pins
+"""The shim as a board on a bench: outputs wired to inputs (wire parts on a bench body, the pins
 of upstream's esp32 target wiring), the board's identity, and the APIs upstream's
 hardware tests use (PWM read back with time_pulse_us, Encoder, Counter, RTC, mem32)."""
 
 import pytest
 
-from host.conformance.inloop import BENCH_LIB, PINS, WIRING
+from host.conformance.inloop import BENCH_LIB, PINS, WIRING, bench_plant
 from host.rig.app import App
 from host.tests.conftest import FIRMWARE, results
-from sim_plant.wires import wires
 
 pytestmark = pytest.mark.hil
 
 
 def bench(board: str) -> App:
-    return App(name="bench", default_board=board, make_plant=wires, wiring=WIRING, pins=PINS, lib_dirs=(BENCH_LIB,))
+    return App(
+        name="bench", default_board=board, make_plant=bench_plant, wiring=WIRING, pins=PINS, lib_dirs=(BENCH_LIB,)
+    )
 
 
 def run(make_rig, case: str, board: str, duration_s: float):

@@ -9,7 +9,16 @@ from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import GAIN, Num, length
 from sim_plant.sonars import Adc
 
-SHARED = ("noise_sd_v", "corner_spike_p", "min_m", "max_m", "discharge_tau_ms", "period_us", "adc_bits", "adc_vref")
+SHARED = (
+    "noise_sd_v",
+    "corner_spike_p",
+    "min_range_m",
+    "max_range_m",
+    "discharge_time_constant_ms",
+    "period_us",
+    "adc_bits",
+    "adc_vref_v",
+)
 
 
 class AmplitudeSonar(PartType):
@@ -19,12 +28,12 @@ class AmplitudeSonar(PartType):
         Opt("gain", GAIN, 1.0, "this channel's gain (component spread the firmware calibrates)"),
         Opt("noise_sd_v", Num("volts", 0, 10), 0.01, "Gaussian noise on the held voltage (shared)"),
         Opt("corner_spike_p", Num("probability", 0, 1), 0.01, "chance an update sees a corner in the cone (shared)"),
-        Opt("min_m", length(0.001, 10), 0.030, "range of the full-scale echo (shared)"),
-        Opt("max_m", length(0.01, 100), 1.0, "farthest wall it hears (shared)"),
-        Opt("discharge_tau_ms", Num("milliseconds", 0, 100_000), 150.0, "the peak detector's decay (shared)"),
+        Opt("min_range_m", length(0.001, 10), 0.030, "range of the full-scale echo (shared)"),
+        Opt("max_range_m", length(0.01, 100), 1.0, "farthest wall it hears (shared)"),
+        Opt("discharge_time_constant_ms", Num("milliseconds", 0, 100_000), 150.0, "the peak detector's decay (shared)"),
         Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 25_000, "an update every (shared)"),
         Opt("adc_bits", Num("", 1, 16, whole=True), 8, "the ADC's resolution (shared)"),
-        Opt("adc_vref", Num("volts", 0.1, 50), 5.0, "the ADC's full scale (shared)"),
+        Opt("adc_vref_v", Num("volts", 0.1, 50), 5.0, "the ADC's full scale (shared)"),
     )
     SIGNALS = (Sig("adc", "out", "u16", "the ADC reading (read_u16)"),)
     TRUTH = ("{name}_range_m",)
@@ -32,8 +41,9 @@ class AmplitudeSonar(PartType):
     needs_body = True
 
     def check(self) -> None:
-        if self.options["min_m"] >= self.options["max_m"]:
-            raise ValueError(f"min_m: expected less than max_m ({self.options['max_m']}), got {self.options['min_m']}")
+        near_m, far_m = self.options["min_range_m"], self.options["max_range_m"]
+        if near_m >= far_m:
+            raise ValueError(f"min_range_m: expected less than max_range_m ({far_m}), got {near_m}")
 
     def add(self, build: Build) -> None:
         o = self.options
@@ -44,11 +54,11 @@ class AmplitudeSonar(PartType):
                 [],
                 noise_v=o["noise_sd_v"],
                 corner_spike_p=o["corner_spike_p"],
-                min_range_m=o["min_m"],
-                max_range_m=o["max_m"],
-                discharge_tau_ms=o["discharge_tau_ms"],
+                min_range_m=o["min_range_m"],
+                max_range_m=o["max_range_m"],
+                discharge_tau_ms=o["discharge_time_constant_ms"],
                 update_us=o["period_us"],
-                adc=Adc(o["adc_bits"], o["adc_vref"]),
+                adc=Adc(o["adc_bits"], o["adc_vref_v"]),
             )
             array.shared_options = {k: o[k] for k in SHARED}
             build.parts.append(array)

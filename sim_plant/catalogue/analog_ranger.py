@@ -12,8 +12,8 @@ class AnalogRanger(PartType):
     doc = "An analog ultrasonic ranger (MaxBotix LV-EZ style) on an ADC: volts proportional to range."
     OPTIONS = (
         Opt("noise_sd_m", Num("metres", 0, 10), 0.003, "Gaussian range noise"),
-        Opt("min_m", Num("metres", 0, 100), 0.15, "nearest range it reports (nearer reads this)"),
-        Opt("max_m", Num("metres", 0, 100, above=True), 6.45, "farthest range (nothing in view reads this)"),
+        Opt("min_range_m", Num("metres", 0, 100), 0.15, "nearest range it reports (nearer reads this)"),
+        Opt("max_range_m", Num("metres", 0, 100, above=True), 6.45, "farthest range (nothing in view reads this)"),
         Opt(
             "volts_per_m", Num("volts per metre", 0, 100, above=True), round(MAXBOTIX_V_PER_M, 4), "the output's slope"
         ),
@@ -25,7 +25,7 @@ class AnalogRanger(PartType):
             "the first sample's time; unset: one period in",
         ),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
-        Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
         Opt(
             "triggered",
             Flag(),
@@ -46,16 +46,19 @@ class AnalogRanger(PartType):
     needs_body = True
 
     def check(self) -> None:
-        if self.options["min_m"] >= self.options["max_m"]:
-            raise ValueError(f"min_m: expected less than max_m ({self.options['max_m']}), got {self.options['min_m']}")
+        near_m, far_m = self.options["min_range_m"], self.options["max_range_m"]
+        if near_m >= far_m:
+            raise ValueError(f"min_range_m: expected less than max_range_m ({far_m}), got {near_m}")
 
     def reading(self, suffix: str, values):
         """The range (m) a read_u16 value says, through the output's slope."""
-        return values / 65535 * self.options["adc_vref"] / self.options["volts_per_m"]
+        return values / 65535 * self.options["adc_vref_v"] / self.options["volts_per_m"]
 
     def add(self, build: Build) -> None:
         o = self.options
-        model = BeamRangeModel(self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_m"], max_m=o["max_m"])
+        model = BeamRangeModel(
+            self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_range_m"], max_m=o["max_range_m"]
+        )
         sonar_cls = TriggeredSonar if o["triggered"] else AnalogRangeSonar
         build.parts.append(
             sonar_cls(
@@ -64,6 +67,6 @@ class AnalogRanger(PartType):
                 period_us=o["period_us"],
                 phase_us=o["period_us"] if o["phase_us"] is None else o["phase_us"],
                 volts_per_m=o["volts_per_m"],
-                adc=Adc(o["adc_bits"], o["adc_vref"]),
+                adc=Adc(o["adc_bits"], o["adc_vref_v"]),
             )
         )

@@ -25,6 +25,8 @@ class PartsPlant(RobotPlant):
     def __init__(self, body, parts: list):
         self.body = body
         self.catalogue_parts = list(parts)
+        self.zero_delay = any(p.zero_delay for p in self.catalogue_parts)
+        self._reads_empty = frozenset(n for p in self.catalogue_parts if p.reads_empty for n in p.signals())
         super().__init__()
 
     def _build(self) -> None:
@@ -61,6 +63,45 @@ class PartsPlant(RobotPlant):
             elif isinstance(part, ContactMonitor):  # what it touches where it was set down, at once
                 part.check_us = t
         self._motion_changed(t)
+
+    def _wire_part(self, name: str):
+        where = self._input_route.get(name, -1)
+        part = self.parts[where] if where >= 0 else None
+        if not hasattr(part, "send_bytes"):
+            raise KeyError(f"{type(self).__name__} has no wire input {name!r} (a wire's .in, a uart_wire's .line)")
+        return part
+
+    def set_pwm(self, name: str, freq_hz: int, duty_u16: int) -> None:
+        """A PWM on a wire's input from now on (freq in Hz, duty 0..65535)."""
+        self._wire_part(name).set_pwm(name, freq_hz, duty_u16, self._t_us)
+        self._reschedule()
+
+    def send_bytes(self, name: str, data: bytes, baud: int) -> None:
+        """Bytes a UART sends on a UART wire at ``baud``, from now (after what is on it)."""
+        self._wire_part(name).send_bytes(name, data, baud, self._t_us)
+        self._reschedule()
+
+    def advance_to(self, t_us: int, limit: int = 0) -> list:
+        if limit and self.zero_delay:
+            burst = self._burst(limit)
+            if burst:
+                return burst
+        return super().advance_to(t_us, limit)
+
+    def _burst(self, limit: int) -> list:
+        """A wire's writes at this instant beyond ``limit`` (a loop of writes with no wait
+        between them): given ``limit`` at a time, at this instant."""
+        for part in self.parts:
+            if getattr(part, "burst", 0) > limit:
+                changes = part.take(limit)
+                for change in changes:
+                    self.values[change.name] = change.value
+                self._reschedule()
+                return changes
+        return []
+
+    def output(self, name: str) -> object:
+        return b"" if name in self._reads_empty else super().output(name)
 
     def truth(self) -> dict:
         truth = super().truth()

@@ -123,12 +123,16 @@ class PartType(Declared):
     """A part: built with its ``name``, ``mount`` (x_m, y_m, heading_deg on the body)
     and checked ``options``. ``SIGNALS``, ``TRUTH`` (keys, ``{name}`` the part's) and ``VIEWS`` are
     declarations; :meth:`add` puts its engine pieces into a :class:`Build`.
-    ``needs_body``: it senses or acts on a body that moves (not on a bench)."""
+    ``needs_body``: it senses or acts on a body that moves (not on a bench);
+    ``zero_delay``: an input of it may change an output at the same instant (a wire);
+    ``reads_empty``: its outputs are bytes as events (a UART configured on one reads nothing)."""
 
     SIGNALS: tuple = ()
     TRUTH: tuple = ()
     VIEWS: tuple = ()
     needs_body = False
+    zero_delay = False
+    reads_empty = False
 
     def __init__(self, name: str, mount: dict, options: dict):
         self.name = name

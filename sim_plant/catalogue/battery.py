@@ -18,7 +18,7 @@ class _Cell(Part):
         self.v = float(o["full_v"])
         self.empty_v, self.ratio = float(o["empty_v"]), float(o["divider_ratio"])
         self.rate_v_s, self.motor_v_s = float(o["drain_v_per_s"]), float(o["motor_drain_v_per_s"])
-        self.adc = Adc(o["adc_bits"], o["adc_vref"])
+        self.adc = Adc(o["adc_bits"], o["adc_vref_v"])
         self.period_us = int(o["period_us"])
         self.t_us = 0
         self.next_us = self.period_us
@@ -56,7 +56,7 @@ class Battery(PartType):
         Opt("motor_drain_v_per_s", Num("volts per second", 0, 10), 0.0, "extra drain with the motors at full speed"),
         Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 100_000, "a new sample every"),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
-        Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
     )
     SIGNALS = (Sig("adc", "out", "u16", "the divided voltage's ADC reading (read_u16)"),)
     TRUTH = ("{name}_v",)
@@ -72,7 +72,7 @@ class Battery(PartType):
 
     def reading(self, suffix: str, values):
         """The battery's voltage a read_u16 value says, through the divider."""
-        return values / 65535 * self.options["adc_vref"] / self.options["divider_ratio"]
+        return values / 65535 * self.options["adc_vref_v"] / self.options["divider_ratio"]
 
     def add(self, build: Build) -> None:
         build.parts.append(_Cell(self.name, self.options))

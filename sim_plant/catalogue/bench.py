@@ -1,5 +1,6 @@
-"""Body ``bench``: no body and no pose, a breadboard on the desk. Buttons, probes and a
-battery divider sit on it; parts that sense or act on a moving body are refused."""
+"""Body ``bench``: no body and no pose, a breadboard on the desk. Buttons, probes, a
+battery divider and wires from board outputs to board inputs (``wire``, ``uart_wire``)
+sit on it; parts that sense or act on a moving body are refused."""
 
 from sim_plant.catalogue.base import BodyType, Build
 from sim_plant.drivetrain import Body
@@ -19,7 +20,7 @@ class _Desk(Part):
 
 class Bench(BodyType):
     kind = "bench"
-    doc = "No body, no pose: parts on a breadboard (buttons, probes, a battery divider)."
+    doc = "No body, no pose: parts on a breadboard (buttons, probes, a battery divider, loopback wires)."
     OPTIONS = ()
     moves = False
 

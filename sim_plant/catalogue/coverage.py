@@ -24,7 +24,7 @@ class Coverage(PartType):
     kind = "coverage"
     doc = "The floor the robot's footprint has swept (ground truth only: the fraction of free floor covered)."
     OPTIONS = (
-        Opt("cell_m", length(0.005, 10), 0.1, "the grid's cell"),
+        Opt("coverage_cell_m", length(0.005, 10), 0.1, "the grid's cell"),
         Opt(
             "half_width_m",
             Num("metres", 0, 10, above=True, none=True),
@@ -39,4 +39,4 @@ class Coverage(PartType):
     def add(self, build: Build) -> None:
         o = self.options
         half_width_m = o["half_width_m"] or build.body.get("body_radius_m", 0.1)
-        build.parts.append(_Recorder(o["cell_m"], half_width_m))
+        build.parts.append(_Recorder(o["coverage_cell_m"], half_width_m))

@@ -30,7 +30,7 @@ class EchoSounder(PartType):
         Opt("switch_settle_s", Num("seconds", 0, 3600), 0.0, "NMEA: extra noise this long after a select change"),
         Opt("volts_per_m", Num("volts per metre", 0, 100, above=True), ADC_V_PER_M, "ADC: the output's slope"),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "ADC: the board's resolution"),
-        Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "ADC: the full scale"),
+        Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "ADC: the full scale"),
         Opt("faults", Rows(FAULT, 1000), [], "windows of wrong or missing (none) readings, or no sentence (silent)"),
     )
     SIGNALS = (
@@ -63,7 +63,7 @@ class EchoSounder(PartType):
             model = NavmanSideSounder(
                 mounts[0], noise_sd_m=o["noise_sd_m"], faults=faults + [(*w, "none") for w in silent]
             )
-            adc = Adc(o["adc_bits"], o["adc_vref"])
+            adc = Adc(o["adc_bits"], o["adc_vref_v"])
             timing = {"period_us": o["period_us"], "phase_us": o["phase_us"]}
             build.parts.append(
                 AnalogRangeSonar(f"{self.name}.adc", model, adc=adc, volts_per_m=o["volts_per_m"], **timing)

@@ -46,7 +46,7 @@ class IrDistance(PartType):
             "a new reading every (datasheet: 38.3 ms)",
         ),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
-        Opt("adc_vref", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
     )
     SIGNALS = (Sig("adc", "out", "u16", "the ADC reading (read_u16) of the output voltage"),)
     TRUTH = ("{name}_range_m", "{name}_reading_m")
@@ -62,7 +62,7 @@ class IrDistance(PartType):
 
     def reading(self, suffix: str, values):
         """The range (m) a read_u16 value says, by the inverse law (beyond the fold)."""
-        v = np.maximum(values / 65535 * self.options["adc_vref"], 1e-3)
+        v = np.maximum(values / 65535 * self.options["adc_vref_v"], 1e-3)
         return np.clip((K_V_CM / v - OFFSET_CM) / 100.0, NEAR_CM / 100.0, FAR_M)
 
     def add(self, build: Build) -> None:
@@ -73,7 +73,7 @@ class IrDistance(PartType):
             model,
             period_us=o["period_us"],
             phase_us=o["period_us"],
-            adc=Adc(o["adc_bits"], o["adc_vref"]),
+            adc=Adc(o["adc_bits"], o["adc_vref_v"]),
         )
         sensor.value = sensor.adc.u16(volts(FAR_M))
         build.parts.append(sensor)

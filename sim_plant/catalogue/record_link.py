@@ -27,7 +27,12 @@ class RecordLink(PartType):
     OPTIONS = (
         Opt("poll_ms", Num("milliseconds", 0, 1_000_000), 100, "an R every (0: never)"),
         Opt("baud", Num("bits per second", 300, 10_000_000, whole=True), 115200, "the line's speed"),
-        Opt("period_ms", Num("milliseconds", 1, 1_000_000), 50, "the robot's control period (the records' clock)"),
+        Opt(
+            "period_us",
+            Num("microseconds", 1_000, 1_000_000_000, whole=True),
+            50_000,
+            "the robot's control period (the records' clock)",
+        ),
         Opt("script", Rows(Row((TIME, Line()), "[t_s, line]"), 1000), [], "lines the master sends, at t_s each"),
     )
     SIGNALS = (Sig("uart", "in", "bytes", "the UART both ways: the robot's records in, the master's lines out"),)
@@ -40,6 +45,6 @@ class RecordLink(PartType):
         script = [(float(t_s) * 1000, line) for t_s, line in o["script"]]
         build.parts.append(
             RecordReader(
-                tx=uart, rx=uart, poll_ms=o["poll_ms"], baud=o["baud"], script=script, period_ms=o["period_ms"]
+                tx=uart, rx=uart, poll_ms=o["poll_ms"], baud=o["baud"], script=script, period_ms=o["period_us"] / 1000
             )
         )

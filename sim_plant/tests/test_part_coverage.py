@@ -13,7 +13,9 @@ MOTORS = [
 def test_driving_1_m_sweeps_a_strip_as_wide_as_the_body():
     """A 3 x 2 m room, a disc of r = 0.08 m driven 1 m straight: about 1.16 x 0.16 m of
     the 6 m^2 floor is swept (10 cm cells: a strip 2 cells wide, 12 long)."""
-    plant = assemble({"body": "differential", "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "cell_m": 0.1}]})
+    plant = assemble(
+        {"body": "differential", "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "coverage_cell_m": 0.1}]}
+    )
     assert plant.truth()["coverage_fraction"] < 0.01
     for side in "lr":
         plant.set_input(f"motor_{side}.in1", 1)
@@ -28,7 +30,7 @@ def test_the_grid_follows_the_world_and_the_width_option():
         {
             "body": "differential",
             "world": "vacuum_room",
-            "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "cell_m": 0.05, "half_width_m": 0.2}],
+            "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "coverage_cell_m": 0.05, "half_width_m": 0.2}],
         }
     )
     from sim_plant.coverage import CoverageRecorder

@@ -1,0 +1,86 @@
+"""Parts wire and uart_wire on a bench body: a loopback bench (what the ``wires`` plant
+kind was), zero-delay, PWM waveforms and UART bytes timed at the baud rate."""
+
+import pytest
+
+from sim_plant.catalogue.assembly import PartsError, assemble
+
+
+def bench(*parts):
+    return assemble({"body": "bench", "parts": list(parts)})
+
+
+def wire(name):
+    return {"kind": "wire", "name": name}
+
+
+def test_a_plant_with_a_wire_is_zero_delay_and_one_without_is_not():
+    assert bench(wire("w0")).zero_delay is True
+    assert bench({"kind": "probe", "name": "led"}).zero_delay is False
+
+
+def test_a_level_written_is_on_the_output_at_the_same_instant_in_write_order():
+    plant = bench(wire("w0"), wire("w1"))
+    plant.advance_to(100)
+    plant.set_input("w1.in", 1)
+    plant.set_input("w0.in", 1)
+    assert plant.next_change_us() == 100
+    changes = plant.advance_to(100)
+    assert [tuple(c) for c in changes] == [(100, "w1.out", 1), (100, "w0.out", 1)]
+    assert plant.output("w0.out") == 1 and plant.truth()["w1_edges"] == 1
+    assert "x_m" not in plant.truth(), "a bench has no pose"
+
+
+def test_a_burst_of_writes_at_one_instant_comes_out_limit_at_a_time():
+    plant = bench(wire("w0"))
+    for i in range(10):
+        plant.set_input("w0.in", (i + 1) % 2)
+    first, second = plant.advance_to(0, limit=4), plant.advance_to(0, limit=4)
+    assert len(first) == 4 and len(second) == 4 and plant.t_us == 0
+    assert len(plant.advance_to(0, limit=4)) == 2
+
+
+def test_a_pwm_drives_the_output_with_its_waveform_to_the_microsecond():
+    plant = bench(wire("w0"))
+    plant.set_pwm("w0.in", 1000, 65535 // 4)  # 1 kHz, a quarter high
+    changes = plant.advance_to(3000)
+    assert [(c.t_us, c.value) for c in changes] == [
+        (0, 1),
+        (250, 0),
+        (1000, 1),
+        (1250, 0),
+        (2000, 1),
+        (2250, 0),
+        (3000, 1),
+    ]
+    plant.set_pwm("w0.in", 1000, 0)
+    assert [c.value for c in plant.advance_to(3000)] == [0] and plant.next_change_us() > 10**12
+
+
+def test_a_snapshot_brings_a_waveform_back():
+    plant = bench(wire("w0"))
+    plant.set_pwm("w0.in", 500, 32768)
+    snap = plant.snapshot()
+    once = plant.advance_to(10_000)
+    plant.restore(snap)
+    assert plant.advance_to(10_000) == once
+
+
+def test_a_uart_wire_brings_the_bytes_back_at_the_baud_rate():
+    plant = bench({"kind": "uart_wire", "name": "u0"})
+    assert plant.inputs["u0.line"] == "uart" and plant.outputs["u0.line"] == "bytes"
+    plant.send_bytes("u0.line", b"ab", 115200)
+    changes = plant.advance_to(1000)
+    assert [(c.t_us, c.value) for c in changes] == [(87, b"a"), (174, b"b")]
+    assert plant.output("u0.line") == b"", "a UART configured on the line reads nothing yet"
+
+
+def test_a_wire_input_that_is_not_there_is_refused_by_name():
+    plant = bench(wire("w0"))
+    with pytest.raises(KeyError, match="no wire input 'w9.in'"):
+        plant.set_pwm("w9.in", 1000, 100)
+
+
+def test_a_wire_needs_no_body_and_two_of_one_name_are_refused():
+    with pytest.raises(PartsError, match=r"#2 \(w0\) name"):
+        bench(wire("w0"), wire("w0"))
