@@ -120,67 +120,6 @@ def actuator_panel(trace: TraceData) -> Panel:
     return panel
 
 
-# -- the rover (firmware/apps/rover) -----------------------------------------------------
-
-ROVER_M_PER_VOLT = 512 * 0.0254 / 3.3  # firmware/lib/analog_sonar.py: Vcc/512 per inch
-ROVER_VREF = 3.3
-ROVER_M_PER_COUNT = 2 * math.pi * 0.033 / 40  # firmware/apps/rover/main.py: M_PER_COUNT
-
-
-def rover_view(trace: TraceData) -> list[Panel]:
-    sonar = Panel("Sonar: what the firmware read against the true range ahead", "range (m)")
-    t, u16 = trace.series("sonar.adc")
-    sonar.lines.append(
-        Line(
-            "sonar reading (ADC sample, firmware's law)",
-            t / US_PER_S,
-            u16 * ROVER_VREF / 65535 * ROVER_M_PER_VOLT,
-            "points",
-        )
-    )
-    tr = trace.truth
-    segments = (trace.header.get("world") or {}).get("segments")
-    if segments and "theta_rad" in tr:
-        true_m = range_ahead_m(tr["x_m"], tr["y_m"], tr["theta_rad"], segments, trace.header["footprint_half_width_m"])
-        sonar.lines.append(Line("true range ahead (ground truth)", tr["t_us"] / US_PER_S, true_m))
-
-    speed = Panel("Speed: encoder estimate against the truth", "speed (m/s)")
-    steps_t, est = rover_speed_estimate(trace)
-    speed.lines.append(Line("estimate: encoder counts per control step", steps_t / US_PER_S, est, "step"))
-    if "v_m_s" in tr:
-        speed.lines.append(Line("true speed (ground truth)", tr["t_us"] / US_PER_S, tr["v_m_s"]))
-
-    commands = Panel("Motor commands (signed duty)", "duty (-1 .. 1)")
-    for side in ("l", "r"):
-        t_s, duty = signed_duty(trace, f"motor_{side}")
-        commands.lines.append(Line(f"motor_{side}", t_s, duty, "step"))
-    return [sonar, speed, commands]
-
-
-def rover_speed_estimate(trace: TraceData) -> tuple[np.ndarray, np.ndarray]:
-    """Mean wheel speed over each control step from the encoder edges, counted as the
-    firmware counts them (both edges of A, direction from B; firmware/lib/encoder.py)."""
-    t_probe, level = trace.series("probe:control")
-    changed = np.concatenate([[True], level[1:] != level[:-1]]) if len(level) else np.zeros(0, dtype=bool)
-    steps = np.unique(t_probe[changed])  # a control step starts at each toggle
-    if len(steps) < 2:
-        return np.zeros(0), np.zeros(0)
-    speeds = []
-    for a_name, b_name in (("enc_l.a", "enc_l.b"), ("enc_r.a", "enc_r.b")):
-        level_b = trace.header["initial"].get(b_name, 0)
-        times, counts = [], []
-        for t, name, value in trace.events:
-            if name == b_name:
-                level_b = value
-            elif name == a_name:
-                times.append(t)
-                counts.append(1 if value != level_b else -1)
-        idx = np.searchsorted(np.asarray(times, dtype=np.int64), steps, side="right")
-        cum = np.concatenate([[0], np.cumsum(counts)])
-        speeds.append(np.diff(cum[idx]) * ROVER_M_PER_COUNT / (np.diff(steps) / US_PER_S))
-    return steps[1:], (speeds[0] + speeds[1]) / 2
-
-
 def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
     """Duty with the direction the H-bridge pins give it (IN1 - IN2), as a step series."""
     level = {"in1": 0, "in2": 0, "pwm": 0}
@@ -196,6 +135,6 @@ def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(t_out), np.asarray(v_out)
 
 
-VIEWS = {"rover": rover_view, "pool_lane": beliefs.pool_cleaner_view}
+VIEWS = {"pool_lane": beliefs.pool_cleaner_view}
 """Views a rig file names in ``[report] views``: what its firmware believes, rebuilt from
 its signals and telemetry lines by the firmware's own laws."""

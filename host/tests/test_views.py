@@ -12,7 +12,6 @@ from host.report import views
 from host.report.progress import MissionProgress
 
 ROOM = {"name": "room 5 x 4 m", "segments": [[0, 0, 5, 0], [5, 0, 5, 4], [5, 4, 0, 4], [0, 4, 0, 0]]}
-M_PER_COUNT = views.ROVER_M_PER_COUNT
 
 
 def trace_of(events=(), truth=None, **header) -> TraceData:
@@ -39,32 +38,6 @@ def test_true_range_ahead_is_the_distance_to_the_wall_in_front_less_the_body():
         [1.0, 1.0, 2.5], [2.0, 2.0, 1.0], np.array([0.0, math.pi / 2, -math.pi / 2]), ROOM["segments"], 0.17
     )
     assert r == pytest.approx([5.0 - 1.0 - 0.17, 4.0 - 2.0 - 0.17, 1.0 - 0.17])
-
-
-def quadrature(wheel: str, states: int, t0_us: int, dt_us: int, forward: bool, state0: int = 0) -> list:
-    """Level changes of a wheel's A/B channels stepping through quadrature states
-    (00, 10, 11, 01 going forward: A leads B), one state every dt_us."""
-    a_of, b_of = (0, 1, 1, 0), (0, 0, 1, 1)
-    events, state = [], state0
-    for k in range(1, states + 1):
-        new = (state + (1 if forward else -1)) % 4
-        for channel, levels in (("a", a_of), ("b", b_of)):
-            if levels[new] != levels[state]:
-                events.append((t0_us + k * dt_us, f"enc_{wheel}.{channel}", levels[new]))
-        state = new
-    return events
-
-
-def test_speed_estimate_counts_encoder_edges_per_control_step_with_their_direction():
-    probe = [(t, "probe:control", i % 2) for i, t in enumerate(range(0, 500_001, 50_000))]
-    edges = []
-    for step in range(10):  # each 50 ms step: left 8 states forward (+4 A edges), right 4 back (-2)
-        edges += quadrature("l", 8, step * 50_000, 5_000, True)
-        edges += quadrature("r", 4, step * 50_000, 9_000, False)
-    events = sorted(probe + edges, key=lambda e: e[0])
-    t_us, speed = views.rover_speed_estimate(trace_of(events, initial={"enc_l.b": 0, "enc_r.b": 0}))
-    assert list(t_us) == list(range(50_000, 500_001, 50_000))
-    assert speed == pytest.approx([(4 - 2) / 2 * M_PER_COUNT / 0.05] * 10)
 
 
 def test_motor_command_is_the_duty_signed_by_the_h_bridge_pins():
