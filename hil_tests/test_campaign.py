@@ -155,7 +155,12 @@ def test_a_dask_local_cluster_runs_the_same_campaign_to_the_same_results(small, 
     distributed = pytest.importorskip("distributed")
     campaign, _o, results, _l = small
     campaign.faultsets = {k: campaign.faultsets[k] for k in ("none", "brownout")}
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    import dask
+
+    with (
+        dask.config.set({"temporary-directory": str(tmp_path / "scratch")}),  # (no scratch left in /tmp)
+        distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+    ):
         got = run_campaign(campaign, tmp_path / "dask", scheduler=cluster.scheduler_address)
     local = by_key(results)
     assert len(got) == 4, where(got)

@@ -414,10 +414,16 @@ def test_a_hung_campaign_on_a_shared_dask_cluster_cancels_its_own_runs_and_leave
 
     monkeypatch.setattr(runner, "run_one", hang)
     monkeypatch.setattr(runner, "GUARD_S", 0.0)
+    monkeypatch.setitem(dask_config(), "temporary-directory", str(tmp_path / "dask"))  # (no scratch left in /tmp)
     campaign = load_campaign("rover", seeds=2, seconds=1.0, timeout_s=1.0)
     RELEASE.clear()
     cluster = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=3, processes=False, protocol="tcp", host="127.0.0.1", dashboard_address=None
+        n_workers=1,
+        threads_per_worker=3,
+        processes=False,
+        protocol="tcp",
+        host="127.0.0.1",
+        dashboard_address=None,
     )
     try:
         with distributed.Client(cluster.scheduler_address) as other:
@@ -432,3 +438,10 @@ def test_a_hung_campaign_on_a_shared_dask_cluster_cancels_its_own_runs_and_leave
     finally:
         RELEASE.set()
         cluster.close()
+
+
+def dask_config() -> dict:
+    """Dask's live configuration (a test points its scratch space at its own folder)."""
+    import dask
+
+    return dask.config.config
