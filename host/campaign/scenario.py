@@ -29,12 +29,11 @@ Every mistake is a ConfigError naming the file and the field.
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import tomllib
-
 from host.core.errors import ConfigError
 from host.rig import arguments
 from host.rig.apps import get_app
 from host.rig.spec import RigSpec, build_plant
+from host.rig.tomlfile import read_toml
 from sim_plant.faults import FaultError, parse_faults
 
 CAMPAIGN_KEYS = {
@@ -115,7 +114,7 @@ def load_campaign(target: str, *, faults_file: str | None = None, **overrides) -
     path = Path(target)
     data: dict = {}
     if path.suffix == ".toml" and path.is_file():
-        data = _read_toml(path)
+        data = read_toml(path)
     if "campaign" in data:
         table = _table(path, data["campaign"])
         rig = table.pop("rig", None)
@@ -129,27 +128,12 @@ def load_campaign(target: str, *, faults_file: str | None = None, **overrides) -
         campaign = Campaign(rig=target, name=path.stem if path.suffix == ".toml" else target)
     if faults_file:
         fpath = Path(faults_file)
-        campaign.faultsets = _faultsets(fpath, _read_toml(fpath)) or {"none": []}
+        campaign.faultsets = _faultsets(fpath, read_toml(fpath)) or {"none": []}
     for key, value in overrides.items():
         if value is not None:
             setattr(campaign, key, value)
     _check(campaign)
     return campaign
-
-
-def _read_toml(path: Path) -> dict:
-    if not path.is_file():
-        raise ConfigError(f"{path}: no such file")
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as e:
-        raise ConfigError(f"{path}: not UTF-8 text (byte {e.object[e.start]:#04x} at offset {e.start})") from None
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"{path}: not valid TOML: {e}") from None
-    except RecursionError:
-        raise ConfigError(f"{path}: not valid TOML: nested too deeply") from None
-    except OSError as e:
-        raise ConfigError(f"{path}: cannot be read ({e.strerror or e})") from None
 
 
 def _table(path: Path, table) -> dict:

@@ -13,13 +13,12 @@ import difflib
 import re
 from pathlib import Path
 
-import tomllib
-
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 from host.rig.app import App
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
+from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds, option_table
 from sim_plant.catalogue.assembly import PartsError, assemble
@@ -56,7 +55,7 @@ BUDGET_KINDS = {
 COMMON_BUDGET_KEYS = {"kind": str, "description": str}
 TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/false", list: "a list", dict: "a table"}
 MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
-MAX_DEPTH = 8  # tables and lists within each other (an obstacle in a world: 5)
+MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
 # -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
 # without its octal (a leading 0) and signs; bounded by what the harness's shim needs to
@@ -111,7 +110,7 @@ def load_rig(path) -> App:
     """Read and check a rig file; the App it describes."""
     path = Path(path)
     where = _Where(path)
-    data = _read(path)
+    data = read_toml(path, "rig file", MAX_RIG_BYTES)
     _walk(where, data, "", 0)
     where.table(data, "top level:", TABLES, required=("plant", "wiring"))
     base = path.parent
@@ -194,26 +193,6 @@ def _report(where: _Where, table: dict) -> dict:
                 "[report.pose_line] columns", f"expected 4 names (t, x, y, heading), got {columns!r}"[:200]
             )
     return dict(table)
-
-
-def _read(path: Path) -> dict:
-    """The rig file's TOML: a missing, huge, non-UTF-8, malformed or too deeply nested
-    file is a ConfigError naming it."""
-    try:
-        if not path.is_file():
-            raise ConfigError(f"{path}: no such rig file")
-        raw = path.read_bytes()
-        if len(raw) > MAX_RIG_BYTES:
-            raise ConfigError(f"{path}: expected a rig file of at most {MAX_RIG_BYTES} bytes, got {len(raw)}")
-        return tomllib.loads(raw.decode("utf-8"))
-    except OSError as e:
-        raise ConfigError(f"{path}: cannot read the rig file ({e.strerror or e})") from None
-    except UnicodeDecodeError as e:
-        raise ConfigError(f"{path}: not UTF-8 text (byte {e.start}: {raw[e.start : e.start + 1]!r})") from None
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"{path}: not valid TOML: {e}") from None
-    except RecursionError:
-        raise ConfigError(f"{path}: not valid TOML: nested deeper than {MAX_DEPTH} levels") from None
 
 
 def _walk(where: _Where, value, field: str, depth: int) -> None:
