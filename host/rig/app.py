@@ -41,6 +41,8 @@ class App:
     ticks_wrap_s: float | None = None  # ticks_ms/ticks_us wrap this long into the run (10 s)
     identity: tuple[str, str] | None = None  # (sys.platform, machine): default by board name
     console_max_bytes: int | None = None  # the console file's cap (default: 64 MiB)
+    console_baud: int = 115_200  # the REPL UART's baud rate: print() takes its time (0: free)
+    allow_exit: bool = False  # the firmware may end by design ([run] allow_exit)
 
     @property
     def path(self) -> Path:

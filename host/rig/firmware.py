@@ -23,6 +23,7 @@ class Firmware:
     entry: str = "main.py"
     heap_size: str | None = None  # -X heapsize, as a board's RAM
     ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (default 10 s in)
+    console_baud: int = 115_200  # the REPL UART: print() takes its time (0: free)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -32,7 +33,7 @@ class Firmware:
         if not (main / app.entry).is_file():
             raise ConfigError(f"main_dir: no {app.entry} in {main}")
         folders = app.firmware_folders(board_folder)
-        return cls(main, [main, *folders[1:]], app.entry, app.heap_size, app.ticks_wrap_s)
+        return cls(main, [main, *folders[1:]], app.entry, app.heap_size, app.ticks_wrap_s, app.console_baud)
 
     @classmethod
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
@@ -90,6 +91,7 @@ class Firmware:
             "MICROPYPATH": self.micropypath(),
             "HIL_LINK": link_path,
             "HIL_ENTRY": self.entry,
+            "HIL_CONSOLE_BAUD": str(self.console_baud),
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
         }
 

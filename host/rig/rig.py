@@ -75,7 +75,7 @@ class Rig:
         self.mode = spec.mode
         self.pacing = PACINGS[spec.mode]()
         self.seed = spec.seed
-        self.allow_exit = spec.allow_exit
+        self.allow_exit = spec.allow_exit or self.app.allow_exit
         self.watchdog_s = spec.watchdog_s
         board_folder, pins = self.app.board_files(self.board)
         if spec.firmware_dir is not None:

@@ -42,8 +42,8 @@ REPORT_KEYS = {"views": list, "pose_line": dict, "judge": dict}
 JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float), "min_coverage": (int, float)}
 POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
 POSE_LINE_KEYS |= {"probe": str, "what": str}
-FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool}
-BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str}
+FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool, "allow_exit": bool}
+BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str, "console_baud": int}
 PLANT_KEYS = {"kind": str, "options": dict}
 INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
@@ -169,6 +169,8 @@ def load_rig(path) -> App:
         identity=_family(where, data.get("board", {})),
         extra={"faults": faults, "report": _report(where, data.get("report", {}))},
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
+        console_baud=_console_baud(where, data.get("board", {})),
+        allow_exit=firmware.get("allow_exit", False),
     )
 
 
@@ -239,6 +241,15 @@ def _console_max_bytes(where: _Where, trace: dict) -> int | None:
     value = where.table(trace, "[trace]", {"console_max_bytes": int}).get("console_max_bytes")
     if value is not None and not 4096 <= value <= 2**40:
         raise where.error("[trace] console_max_bytes", f"expected 4096 to {2**40} bytes, got {value}")
+    return value
+
+
+def _console_baud(where: _Where, board) -> int:
+    """[board] console_baud: the REPL UART's rate, at which print() takes virtual time
+    (0: printing is free); 300 baud to 12 Mbaud."""
+    value = board.get("console_baud", 115_200) if isinstance(board, dict) else 115_200
+    if isinstance(value, bool) or not (value == 0 or 300 <= value <= 12_000_000):
+        raise where.error("[board] console_baud", f"expected 0 (off) or 300 to 12000000 baud, got {value!r}")
     return value
 
 

@@ -47,6 +47,50 @@ _wake_real_us = 0
 _rt_origin_us = 0
 
 
+class _Console:
+    """The REPL UART's transmitter (docs/shim.md, "Printing takes time"): print() blocks
+    until what it printed, all but the last FIFO's worth, has left at the baud rate, as a
+    board's blocking UART TX does. The time owed is paid at the firmware's next clock
+    read, wait or output (with the wait it ends or begins: no extra exchange with the
+    host), so the text keeps the stamp of the instant it was printed at."""
+
+    ns_per_byte = 0  # 10 bits (start, 8 data, stop) at the baud rate; 0: printing is free
+    fifo_bytes = 128  # the TX FIFO (the ESP32's UART has 128 bytes, the RP2040's 32)
+    idle_ns = 0  # when the transmitter has sent all it holds (virtual time, ns)
+    debt_ns = 0  # how long print() has blocked that the clock has not yet moved for
+
+
+def console_setup(baud, fifo_bytes):
+    _Console.ns_per_byte = 10_000_000_000 // baud if baud > 0 else 0
+    _Console.fifo_bytes = fifo_bytes
+
+
+def _printed(n_bytes):
+    """n_bytes went to the console UART at the firmware's instant (_now plus what it owes)."""
+    per = _Console.ns_per_byte
+    t_ns = _now * 1000 + _Console.debt_ns
+    start = _Console.idle_ns if _Console.idle_ns > t_ns else t_ns
+    end = start + n_bytes * per
+    _Console.idle_ns = end
+    free_ns = end - _Console.fifo_bytes * per  # print() returns once the rest fits in the FIFO
+    if free_ns > t_ns:
+        _Console.debt_ns += free_ns - t_ns
+
+
+def _console_owed_us():
+    """The whole microseconds print() has blocked for, now taken off the debt."""
+    owed = _Console.debt_ns // 1000
+    _Console.debt_ns -= owed * 1000
+    return owed
+
+
+def pay_console():
+    """Move the clock on by what print() owes (before an output, which a board makes after
+    the print returned)."""
+    if _Console.debt_ns >= 1000:
+        _released_run_until(_now + _console_owed_us(), None)
+
+
 class HostGone(Exception):
     pass
 
@@ -211,10 +255,13 @@ def send_output(type_, payload):
         _drop_held()
 
 
-def said():
+def said(n_bytes=0):
     """The firmware printed: its next wait goes to the host (as after an output), so the
-    host stamps the text with the virtual time it was printed at (docs/traces.md)."""
+    host stamps the text with the virtual time it was printed at (docs/traces.md). With
+    the console's baud rate set, n_bytes (0: not counted) cost their time on the UART."""
     global _horizon
+    if n_bytes and _Console.ns_per_byte:
+        _printed(n_bytes)
     if _horizon > _now:
         _horizon = _now
     if _Link.held:
@@ -229,6 +276,8 @@ def _drop_held():
 
 
 def send_out(handle, attr, value):
+    if _Console.debt_ns >= 1000:  # a board writes once the print before has returned
+        pay_console()
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
 
 
@@ -297,6 +346,14 @@ def run_until(t_target, watch=None):
 
 
 def _released_run_until(t_target, watch):
+    if _Console.debt_ns >= 1000:
+        # print() blocked this long before the firmware read the clock or began this wait:
+        # the wait ends that much later (one exchange with the host, stamped at the print).
+        owed = _console_owed_us()
+        if watch:  # an input that changes meanwhile is seen once the print has returned
+            _released_run_until(_now + owed, None)
+        if t_target < FOREVER_US:
+            t_target += owed
     depth = heap_release()
     if not depth:
         return _run_until(t_target, watch)
@@ -567,7 +624,10 @@ def start():
     _Link.zero = bool(flags & F.WELCOME_ZERO_DELAY)
     import _hilsys  # the board's sys (sys.platform, _machine when the host names it), os, micropython
 
-    _hilsys.install(said, *(identity.decode().split(";", 1) if identity else ()))
+    board = identity.decode().split(";", 1) if identity else ()
+    baud = int(getenv("HIL_CONSOLE_BAUD") or 0) if getenv else 0  # on a board its own UART pays
+    console_setup(baud, 32 if board and board[0] == "rp2" else 128)  # the UART's TX FIFO
+    _hilsys.install(said, baud > 0, *board)
     _now = t_start
     _horizon = t_start
     _wake_real_us = _rtime.ticks_us()

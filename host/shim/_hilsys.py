@@ -44,6 +44,7 @@ class _Unset:
 
 _UNSET = _Unset()  # an argument print() was not given
 _said = _print = None  # the shim's hook and the built-in print (install)
+_counting = False  # print() costs the console UART's time: count what it writes
 
 
 def _board_print(a=_UNSET, b=_UNSET, c=_UNSET, d=_UNSET, e=_UNSET, f=_UNSET, *more, sep=" ", end="\n", file=None):
@@ -67,14 +68,35 @@ def _board_print(a=_UNSET, b=_UNSET, c=_UNSET, d=_UNSET, e=_UNSET, f=_UNSET, *mo
         _print(a, sep=sep, end=end, file=out)
     else:
         _print(sep=sep, end=end, file=out)
-    _said()
+    if _counting and (file is None or file is _sys.stdout):
+        try:
+            _said(_printed_bytes(a, b, c, d, e, f, more, sep, end))
+        except MemoryError:  # under heap_lock(): str() of a number cannot allocate
+            _said(8 * len(more) + 48)
+    else:
+        _said()
 
 
-def install(said, platform=None, machine=None):
+def _printed_bytes(a, b, c, d, e, f, more, sep, end):
+    # how many characters print() wrote (what the console UART sends), without a list
+    n = len(end)
+    items = 0
+    for x in (a, b, c, d, e, f):
+        if x is _UNSET:
+            break
+        n += len(x) if type(x) is str else len(str(x))
+        items += 1
+    for x in more:
+        n += len(x) if type(x) is str else len(str(x))
+        items += 1
+    return n + len(sep) * (items - 1) if items else n
+
+
+def install(said, counting=False, platform=None, machine=None):
     import builtins
 
-    global _said, _print
-    _said, _print = said, builtins.print
+    global _said, _print, _counting
+    _said, _print, _counting = said, builtins.print, counting
     builtins.print = _board_print
     impl = _sys.implementation
     version = ".".join(str(v) for v in impl.version[:3])

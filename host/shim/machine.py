@@ -465,6 +465,7 @@ class UART:
 
     def write(self, buf):
         data = buf.encode() if isinstance(buf, str) else bytes(buf)
+        _hil.pay_console()
         now = _hil.now()
         self._tx_end = max(now, self._tx_end) + self._line_us(len(data))
         _hil.send_output(_F.UART_TX, _F.pack_uart_tx(now, self._handle, data))
