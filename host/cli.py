@@ -109,6 +109,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep", help="clock (default: lockstep)")
     run.add_argument("--out", type=_folder, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
     run.add_argument("--no-plots", action="store_true", help="write the trace folder only")
+    run.add_argument(
+        "--allow-exit",
+        action="store_true",
+        help="a firmware that ends (returns, sys.exit) ends the run without an error (or [firmware] allow_exit)",
+    )
     run.set_defaults(command=cmd_run, sub=run)
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
@@ -299,6 +304,7 @@ def cmd_run(args) -> int:
         seed=args.seed,
         options=dict(args.param),
         mode=args.mode,
+        allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
     try:

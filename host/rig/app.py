@@ -10,6 +10,9 @@ from host.rig import boards as pin_maps
 from host.rig.budgets import Budget
 from sim_plant.plant import Plant
 
+BOARD_ONLY_MODULES = ("network", "bluetooth", "esp", "esp32", "espnow", "neopixel", "onewire", "ds18x20", "dht")
+"""Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
+
 
 @dataclass
 class App:
@@ -54,6 +57,11 @@ class App:
         import re
 
         missing = re.search(r"no module named '([\w.]+)'", traceback)
+        if missing and missing.group(1) in BOARD_ONLY_MODULES:
+            return (
+                f"\n({missing.group(1)} is built into a board's MicroPython and not into the loop: "
+                "docs/shim.md lists the modules the loop has and how they differ)"
+            )
         if missing and not self.harness_lib and (FIRMWARE / "lib" / f"{missing.group(1)}.py").is_file():
             return (
                 f"\n(the harness has a driver {missing.group(1)}.py in firmware/lib; a rig file puts "

@@ -3,6 +3,8 @@ names the virtual time, the seed, the console's last lines and the artefacts
 (``Rig.where``): a traceback, an exit the test did not expect, a reboot storm, a damaged
 link. ``docs/reliability.md`` lists them with the tests that show them."""
 
+import re
+
 from host.core.errors import FirmwareError, FirmwareExited, FirmwareHung, LinkDamaged, LinkError
 from host.link import frames as F
 
@@ -15,6 +17,10 @@ every few minutes) is let be. Each reset costs a process start (about 10 ms of w
 so a storm ends within a second or two of wall time whatever its rate."""
 SHIM_LINK_DAMAGED = "LinkDamaged:"  # the shim's exception, last line of its traceback
 CONSOLE_TAIL_LINES = 20
+SYNTAX_ERROR = re.compile(r'File "([^"]+)", line (\d+)\s*\n(SyntaxError|IndentationError): ?(.*)\s*$')
+"""A traceback that ends in a file the interpreter could not compile (no ``in <function>``)."""
+DEEPSLEEP_WAKE = 1
+"""EXIT_RESET's code when the board wakes from machine.deepsleep() (no crash: no storm)."""
 
 
 def where(rig) -> str:
@@ -35,6 +41,17 @@ def fault(rig, t: int, text: str):
     if last.startswith(SHIM_LINK_DAMAGED):
         raise LinkDamaged(
             f"{last[len(SHIM_LINK_DAMAGED) :].strip()} (seen by the shim at virtual t={t / 1e6:.6f} s){rig.where()}"
+        )
+    syntax = SYNTAX_ERROR.search(text)
+    if syntax:  # the board would not run the file at all: one error, where, and the console once
+        path, line, kind, message = syntax.groups()
+        if not path.startswith("/"):  # (the firmware runs in its folder)
+            path = str(rig.firmware.main_dir / path)
+        raise FirmwareError(
+            f"{kind.lower().replace('error', ' error')} in {path}, line {line}: {message} "
+            f"(the firmware did not start; found at virtual t={t / 1e6:.6f} s){rig.where()}",
+            traceback=text,
+            console=rig.console,
         )
     raise FirmwareError(
         f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"

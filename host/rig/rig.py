@@ -304,7 +304,8 @@ class Rig:
         self.linklog.exit(t, kind, code)
         self.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
-            endings.reset(self, t)
+            if code != endings.DEEPSLEEP_WAKE:  # (a deep sleep's wake resets by design)
+                endings.reset(self, t)
             self.restart()
             self.resets += 1
         else:

@@ -136,6 +136,7 @@ class _Link:
     after = 0
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
+    callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -345,6 +346,22 @@ def run_until(t_target, watch=None):
     return _released_run_until(t_target, watch)
 
 
+def run_until_woken(watch=None):
+    """Sleep until a wake source: an IRQ handler or a Timer callback has run (with
+    `watch`, IRQs off: until one of those pins changed). machine.lightsleep()/deepsleep()
+    without a time; with no wake source at all, to the end of the run, as a board sleeps."""
+    if watch:
+        while not run_until(FOREVER_US, watch):
+            pass
+        return
+    ran = _Link.callbacks
+    _link.woke = lambda: _Link.callbacks != ran
+    try:
+        run_until(FOREVER_US)
+    finally:
+        _link.woke = None
+
+
 def _released_run_until(t_target, watch):
     if _Console.debt_ns >= 1000:
         # print() blocked this long before the firmware read the clock or began this wait:
@@ -547,6 +564,7 @@ def dispatch():
     try:
         while _pending:
             callback, arg = _pending.pop(0)
+            _Link.callbacks += 1
             try:
                 callback(arg)
             except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)

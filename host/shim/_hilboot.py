@@ -2,8 +2,8 @@
 # the unix port (so __main__ is free for the firmware's entry file), or
 # `import _hilboot; _hilboot.main(pil=True)` at a board's REPL (processor in the loop).
 # Shakes hands with the host, makes asyncio keep its task queue in virtual time, then
-# runs boot.py and main.py from the firmware's folder as a board does (on a board, boot.py
-# already ran at power-on), reporting how the firmware ended.
+# runs boot.py and main.py from the firmware's folder as a board does, in the same globals
+# (on a board, boot.py already ran at power-on), reporting how the firmware ended.
 import io
 import sys
 
@@ -54,18 +54,25 @@ def _find(name):
     return None, None
 
 
+def _fresh_main():
+    """The __main__ module as a board's at power-on: empty (here it held the -c command's names)."""
+    import __main__
+
+    env = __main__.__dict__
+    env.clear()
+    env["__name__"] = "__main__"
+
+
 def _run(name):
     """Run a file as the board runs boot.py and main.py: in the __main__ module (so
-    `import __main__` and unittest.main() find its names), with sys.argv naming it as
-    the unix port does."""
+    `import __main__` and unittest.main() find its names), both in the same globals (what
+    boot.py defines, main.py sees), with sys.argv naming it as the unix port does."""
     path, source = _find(name)
     if source is None:
         return False
     import __main__
 
     env = __main__.__dict__
-    env.clear()
-    env["__name__"] = "__main__"
     env["__file__"] = path
     sys.argv[:] = [path]
     exec(compile(source, path, "exec"), env)
@@ -92,13 +99,14 @@ def main(pil=False):
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
         _asyncio_in_virtual_time()
-        if not pil:
+        if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
+            _fresh_main()
             _run("boot.py")
         entry = _entry()
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)
-    except _hil.ResetRequest:
-        _hil.finish(F.EXIT_RESET)
+    except _hil.ResetRequest as e:
+        _hil.finish(F.EXIT_RESET, e.args[0] if e.args else 0)  # (1: a wake from deep sleep)
         if not pil:
             sys.exit(0)
         return

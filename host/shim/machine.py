@@ -547,17 +547,29 @@ def idle():
 
 
 def lightsleep(time_ms=None):
+    """Sleep time_ms, or without it until a wake source: a pin's IRQ or a Timer (its
+    handler has run when this returns)."""
     _hil.blocking()
     if time_ms is not None:
         _hil.run_until(_hil.now() + time_ms * 1000)
+    else:
+        _hil.run_until_woken()
+
+
+DEEPSLEEP_WAKE = 1  # the reset's code to the host: a wake, not a crash (no reboot storm)
 
 
 def deepsleep(time_ms=None):
-    """The board sleeps, then wakes through a reset (the firmware starts again)."""
+    """The board sleeps (nothing runs: no IRQ handler, no Timer, no watchdog), then wakes
+    through a reset (the firmware starts again): after time_ms, or without it when a pin
+    with an IRQ changes (the wake pin; with none, never)."""
     _hil.blocking()
+    _hil.disable_irq()
     if time_ms is not None:
         _hil.run_until(_hil.now() + time_ms * 1000)
-    raise _hil.ResetRequest()
+    else:
+        _hil.run_until_woken([p._handle for p in Pin._made.values() if p._trigger] or None)
+    raise _hil.ResetRequest(DEEPSLEEP_WAKE)
 
 
 class WDT:
@@ -772,3 +784,18 @@ class Encoder(_Unit):
         elif self._phases == 4:
             a_level = _hil._handles[a._handle]._level
             self._count += 1 if (level == 1) == (a_level == 1) else -1
+
+
+_NOT_IN_THE_LOOP = ("I2C", "SoftI2C", "I2CTarget", "SPI", "SoftSPI", "I2S", "CAN", "SDCard", "TouchPad", "DAC")
+_NOT_IN_THE_LOOP += ("ADCBlock", "USBDevice", "bitstream", "dht_readinto", "wake_reason")
+
+
+def __getattr__(name):
+    # a board's class the loop has not got: an ImportError that says so (also for
+    # `from machine import I2C`, which a bare "can't import name" would leave unexplained)
+    if name in _NOT_IN_THE_LOOP:
+        raise ImportError(
+            "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, Counter, "
+            "Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)" % name
+        )
+    raise AttributeError("'module' object has no attribute '%s'" % name)

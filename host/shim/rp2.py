@@ -4,7 +4,10 @@
 import sys
 
 if sys.platform != "rp2":
-    raise ImportError("no module named 'rp2'")
+    raise ImportError(
+        "no module named 'rp2': the loop has it for an RP2040 board only; name a board rpi_pico* "
+        'or set [board] family = "rpi_pico" in the rig file (docs/rig-file.md, docs/shim.md)'
+    )
 
 import _hil
 
