@@ -69,27 +69,41 @@ def _board_print(a=_UNSET, b=_UNSET, c=_UNSET, d=_UNSET, e=_UNSET, f=_UNSET, *mo
     else:
         _print(sep=sep, end=end, file=out)
     if _counting and (file is None or file is _sys.stdout):
-        try:
-            _said(_printed_bytes(a, b, c, d, e, f, more, sep, end))
-        except MemoryError:  # under heap_lock(): str() of a number cannot allocate
-            _said(8 * len(more) + 48)
+        _said(_printed_bytes(a, b, c, d, e, f, more, sep, end))
     else:
         _said()
 
 
+def _item_bytes(x):
+    # the characters print() wrote for x (a str's own length allocates nothing)
+    if type(x) is str:
+        return len(x)
+    try:
+        return len(str(x))
+    except MemoryError:  # under heap_lock(): a number's digits cannot be counted
+        return 8
+
+
 def _printed_bytes(a, b, c, d, e, f, more, sep, end):
-    # how many characters print() wrote (what the console UART sends), without a list
-    n = len(end)
-    items = 0
-    for x in (a, b, c, d, e, f):
-        if x is _UNSET:
-            break
-        n += len(x) if type(x) is str else len(str(x))
-        items += 1
-    for x in more:
-        n += len(x) if type(x) is str else len(str(x))
-        items += 1
-    return n + len(sep) * (items - 1) if items else n
+    # what print() sent to the console, separators and end included (no tuple: this runs
+    # under heap_lock() too)
+    n = len(end) - len(sep)
+    if a is _UNSET:
+        return n + len(sep)
+    n += _item_bytes(a) + len(sep)
+    if b is not _UNSET:
+        n += _item_bytes(b) + len(sep)
+        if c is not _UNSET:
+            n += _item_bytes(c) + len(sep)
+            if d is not _UNSET:
+                n += _item_bytes(d) + len(sep)
+                if e is not _UNSET:
+                    n += _item_bytes(e) + len(sep)
+                    if f is not _UNSET:
+                        n += _item_bytes(f) + len(sep)
+                        for x in more:
+                            n += _item_bytes(x) + len(sep)
+    return n
 
 
 def install(said, counting=False, platform=None, machine=None):

@@ -27,12 +27,13 @@ OUTPUTS = {"a": "level", "b": "level", "echo": "level", "adc": "u16", "button": 
 INPUTS = {"out1": "level", "pwm": "duty"}
 
 
-def shim_app(script=(), initial=None, wiring=None) -> App:
+def shim_app(script=(), initial=None, wiring=None, console_baud=115_200) -> App:
     return App(
         name="shim-test",
         default_board="esp32_devkitc",
         wiring=wiring or WIRING,
         make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial),
+        console_baud=console_baud,
     )
 
 
