@@ -57,5 +57,6 @@ def test_the_readmes_clone_commands_run_as_printed():
     finally:
         for made in MADE:
             shutil.rmtree(REPO / made, ignore_errors=True)
-        if not runs_existed and not any((REPO / "build" / "runs").iterdir()):
-            (REPO / "build" / "runs").rmdir()
+        runs = REPO / "build" / "runs"
+        if not runs_existed and runs.is_dir() and not any(runs.iterdir()):
+            runs.rmdir()
