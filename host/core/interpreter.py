@@ -30,8 +30,9 @@ DEBIAN_VERSION = "1.25.0+ds-1"
 DEBIAN_SUITE = "trixie"
 DEBIAN_KEYRING = "/usr/share/keyrings/debian-archive-keyring.gpg"
 
-SETUP_HINT = "run `mpy-fil setup`"
-"""What to do when there is no interpreter: the one command (a checkout's ``make setup`` runs it)."""
+SETUP_HINT = "run `make setup`" if paths.CHECKOUT else "run `mpy-fil setup`"
+"""What to do when there is no interpreter: the one command, as it runs where the harness is
+(in a clone, ``mpy-fil`` is in ``.venv/bin`` and ``make setup`` builds into its build/)."""
 HERE = Path(__file__).resolve().parent / "micropython"
 APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):

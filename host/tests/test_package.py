@@ -203,3 +203,17 @@ def test_a_micropython_on_path_is_used_only_at_the_pinned_version(monkeypatch, t
     assert interpreter.on_path() == (fake if used else None)
     if not used:
         assert "needs MicroPython 1.25" in interpreter.version_problem(fake)
+
+
+def test_no_interpreter_in_a_clone_says_make_setup(monkeypatch, tmp_path):
+    from host.core import paths
+    from host.core.errors import SetupError
+
+    monkeypatch.delenv("MICROPYTHON", raising=False)
+    monkeypatch.setattr(paths, "BUILD", tmp_path / "build")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setenv("PATH", "/nonexistent")
+    with pytest.raises(SetupError) as raised:
+        interpreter.find()
+    assert str(raised.value).endswith(": run `make setup`"), raised.value
+    assert str(tmp_path / "build" / "micropython" / "1.25.0+ds-1" / "micropython") in str(raised.value)
