@@ -71,7 +71,8 @@ class Scratch:
 
     def env(self, **extra) -> dict:
         """The user's shell: the venv first on PATH, nothing of this checkout, the cache here."""
-        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "MICROPYTHON")}
+        ours = ("PYTHONPATH", "VIRTUAL_ENV", "MICROPYTHON")  # (and this session's PYTEST_* variables)
+        env = {k: v for k, v in os.environ.items() if k not in ours and not k.startswith("PYTEST_")}
         env.update(PATH=f"{self.venv / 'bin'}:/usr/bin:/bin", XDG_CACHE_HOME=str(self.cache), MPLBACKEND="Agg")
         env.update(extra)
         return {k: v for k, v in env.items() if v is not None}
