@@ -7,6 +7,8 @@ import os
 import re
 import shutil
 import subprocess
+import tempfile
+from pathlib import Path
 
 import pytest
 
@@ -17,7 +19,8 @@ pytestmark = pytest.mark.hil
 README = REPO / "README.md"
 COMMENT = re.compile(r"\s+#\s.*$")
 MADE = ("build/mybot", "build/runs/mybot-default-seed0", "build/runs/rover-long-room-seed3")
-"""What the README's commands write, removed after the test (it runs them in the clone)."""
+"""What the README's commands write: removed after the test (it runs them in the clone); a
+developer's own copies are put aside for it and back after."""
 
 
 def shell_blocks(text: str) -> list[list[str]]:
@@ -47,16 +50,22 @@ def test_the_readmes_clone_commands_run_as_printed():
     assert any(line.startswith(".venv/bin/mpy-fil run") for line in lines), lines
     env = {**os.environ, "MICROPYTHON": str(interpreter.find()), "MPLBACKEND": "Agg"}
     runs_existed = (REPO / "build" / "runs").is_dir()
-    before = {m for m in MADE if (REPO / m).exists()}
-    assert not before, f"expected none of {before} before the test: the README's commands make them"
-    try:
-        for line in lines:
-            done = subprocess.run(["bash", "-c", line], cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
-            assert done.returncode == 0, f"{line}\n{done.stdout[-2000:]}{done.stderr[-2000:]}"
-            assert "command not found" not in done.stderr, line
-    finally:
-        for made in MADE:
-            shutil.rmtree(REPO / made, ignore_errors=True)
-        runs = REPO / "build" / "runs"
-        if not runs_existed and runs.is_dir() and not any(runs.iterdir()):
-            runs.rmdir()
+    with tempfile.TemporaryDirectory() as aside:  # (a developer's own, from running them by hand)
+        kept = [m for m in MADE if (REPO / m).exists()]
+        for made in kept:
+            shutil.move(REPO / made, Path(aside) / made.replace("/", "_"))
+        try:
+            for line in lines:
+                done = subprocess.run(
+                    ["bash", "-c", line], cwd=REPO, env=env, capture_output=True, text=True, timeout=300
+                )
+                assert done.returncode == 0, f"{line}\n{done.stdout[-2000:]}{done.stderr[-2000:]}"
+                assert "command not found" not in done.stderr, line
+        finally:
+            for made in MADE:
+                shutil.rmtree(REPO / made, ignore_errors=True)
+            for made in kept:
+                shutil.move(Path(aside) / made.replace("/", "_"), REPO / made)
+            runs = REPO / "build" / "runs"
+            if not runs_existed and runs.is_dir() and not any(runs.iterdir()):
+                runs.rmdir()
