@@ -38,7 +38,7 @@ export MICROPYTHON
 
 APP ?= rover
 
-.PHONY: setup test hil bench campaign fuzz soak conformance lint format flash clean dist
+.PHONY: setup test hil bench campaign fuzz soak conformance lint format flash clean
 
 setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
@@ -53,6 +53,7 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 	$(PYTHON) -m host.core.interpreter build
 
 # the wheel and sdist a user's repository installs (docs/ci.md)
+.PHONY: dist
 dist: $(VENV)/.installed
 	$(PY) -m build --no-isolation -o build/dist .
 
