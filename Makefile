@@ -44,7 +44,7 @@ setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
 	@$(PY) -m host.core.interpreter version
 
-$(VENV)/.installed: pyproject.toml host/core/bootstrap.sh
+$(VENV)/.installed: pyproject.toml setup.py host/core/bootstrap.sh
 	host/core/bootstrap.sh $(PYTHON) $(VENV)
 	@touch $@
 
