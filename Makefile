@@ -13,6 +13,7 @@
 #                the start and the end, and the growth (not part of make test)
 #   make conformance   MicroPython's own tests on the plain port and in the loop (the
 #                table: build/conformance/table.md; docs/shim.md)
+#   make dist    the wheel and sdist in build/dist/ (pip install in a user's repository: docs/ci.md)
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
 #   make hil LONG=0   the same without the sweeps over many seeds (@pytest.mark.long)
@@ -43,13 +44,18 @@ setup: $(VENV)/.installed $(MP_DEP)
 	@host/core/report_tools.sh
 	@$(PY) -m host.core.interpreter version
 
-$(VENV)/.installed: pyproject.toml host/core/bootstrap.sh
+$(VENV)/.installed: pyproject.toml setup.py host/core/bootstrap.sh
 	host/core/bootstrap.sh $(PYTHON) $(VENV)
 	@touch $@
 
 $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/aptsources.py
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
+
+# the wheel and sdist a user's repository installs (docs/ci.md)
+.PHONY: dist
+dist: $(VENV)/.installed
+	$(PY) -m build --no-isolation -o build/dist .
 
 # (a test file to a worker: a file's module fixtures run once; one worker more than cores, since
 # rigs also wait on the wall clock (process start-up, real-time runs, watchdogs); rigs record

@@ -6,6 +6,8 @@
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
     mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2
+    mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
+    mpy-fil --version
 
 A bad argument is reported by name with exit code 2; a run that fails (firmware
 exception, watchdog) prints the harness's message and exits with 1; a replay whose
@@ -28,7 +30,7 @@ from pathlib import Path
 
 from host.artefacts.folder import HEADER
 from host.core.errors import ConfigError, HarnessError
-from host.core.paths import REPO
+from host.core.paths import FIRMWARE, output_root
 from host.report.progress import MissionProgress
 from host.report.table import format_table
 from host.rig import arguments
@@ -36,7 +38,7 @@ from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
 from sim_plant import kinds, option_table
 
-RUNS = REPO / "build" / "runs"
+CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
 EXIT_USAGE = 2
 MAX_DURATION_S = arguments.MAX_RUN_S  # the rig's own bounds: ten simulated days in one run
@@ -81,6 +83,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="mpy-fil",
         description="Run MicroPython robot firmware in the loop, replay a recorded trace, or plot one.",
     )
+    parser.add_argument("--version", action="version", version=f"mpy-fil {package_version()}")
     sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True, parser_class=OneLineParser)
 
     run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
@@ -106,8 +109,15 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="SECONDS",
         help=f"virtual seconds, at most {MAX_DURATION_S} (10 simulated days; default 30)",
     )
+    run.add_argument(  # (the campaign's word for it)
+        "--seconds", dest="duration", type=_duration_s, default=argparse.SUPPRESS, help="the same as --duration"
+    )
     run.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep", help="clock (default: lockstep)")
-    run.add_argument("--out", type=_folder, help="trace folder (default: build/runs/<app>-<world>-seed<N>)")
+    run.add_argument(
+        "--out",
+        type=_folder,
+        help="trace folder (default: build/runs/<app>-<world>-seed<N>, beside your rig file)",
+    )
     run.add_argument("--no-plots", action="store_true", help="write the trace folder only")
     run.add_argument(
         "--allow-exit",
@@ -139,7 +149,20 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--out", type=_folder, help="folder for the PNG files (default: TRACE/plots)")
     plot.set_defaults(command=cmd_plot, sub=plot)
     _campaign_parser(sub)
+
+    setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
+    setup.set_defaults(command=cmd_setup, sub=setup)
     return parser
+
+
+def package_version() -> str:
+    """The installed package's version (pyproject.toml's)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("mpy-fil")
+    except PackageNotFoundError:  # (run from a checkout that was never installed)
+        return "0+unknown"
 
 
 def _campaign_parser(sub) -> None:
@@ -295,7 +318,7 @@ def cmd_run(args) -> int:
             f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
             f"(has: {', '.join(sorted(accepted))})"
         )
-    out = args.out or RUNS / f"{app.name}-{world}-seed{args.seed}"
+    out = args.out or output_root(app.rig_file) / "runs" / f"{app.name}-{world}-seed{args.seed}"
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
     spec = RigSpec(
         args.rig or args.app,
@@ -320,12 +343,12 @@ def cmd_run(args) -> int:
         raise
     finally:
         _progress_done(show)
+    _show_console(rig.console, out)
     if rig.console_log.dropped_bytes:
         log = rig.console_log
         dropped = f"{log.dropped_bytes} bytes in {log.dropped_lines} lines dropped"
         print(f"console.log capped at {log.max_bytes} bytes: {dropped}")
     truth = rig.truth()
-    print(f"trace folder: {out}")
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
     print(f"ground truth at {rig.t_us / 1e6:g} s: {pose}; contacts: {len(truth.get('contacts', []))}")
     rows = rig.budget_rows()  # (a budget that measured nothing shows a count of 0)
@@ -334,9 +357,37 @@ def cmd_run(args) -> int:
     if not args.no_plots:
         from host.report.plots import plot_trace
 
-        for path in plot_trace(out):
-            print(f"plot: {path}")
+        plot_trace(out)
+    _list_files(out)
     return 0
+
+
+def _show_console(text: str, out: Path) -> None:
+    """The firmware's last console lines (all of them in the trace folder's console.log)."""
+    lines = text.splitlines()
+    if not lines:
+        print("console: the firmware printed nothing")
+        return
+    shown = lines[-CONSOLE_LINES:]
+    print(f"console (the last {len(shown)} lines; all in {out / 'console.log'}):")
+    for line in shown:
+        print(f"  | {line}")
+
+
+def _list_files(out: Path) -> None:
+    """Every file the run wrote, with its size: the trace, the plots, the GIF."""
+    files = sorted(p for p in out.rglob("*") if p.is_file())
+    print(f"trace folder: {out} ({len(files)} files)")
+    for path in files:
+        print(f"  {path.relative_to(out)}  {_size(path.stat().st_size)}")
+
+
+def _size(n_bytes: int) -> str:
+    for unit in ("B", "kB", "MB"):
+        if n_bytes < 1000 or unit == "MB":
+            return f"{n_bytes:.0f} {unit}" if unit == "B" else f"{n_bytes:.1f} {unit}"
+        n_bytes /= 1000
+    return ""
 
 
 @contextlib.contextmanager
@@ -371,7 +422,11 @@ def cmd_check(args) -> int:
 
     app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
-    print(f"{app.rig_file or app.name}: ok")
+    if app.wiring:
+        print(f"{app.rig_file or app.name}: ok")
+    else:  # (it loads, but the firmware and the plant are not connected)
+        print(f"{app.rig_file or app.name}: loads, but 0 pins are wired: the firmware reads nothing from the plant")
+        print("  and drives nothing of it; wire its pins to the plant's signals in [wiring] (docs/rig-file.md)")
     print(f"  firmware: {app.path} (entry {app.entry})")
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
@@ -431,9 +486,9 @@ def cmd_init(args) -> int:
 
 
 def cmd_list(args) -> int:
-    print("apps (firmware/apps/*/rig*.toml):")
+    print(f"apps ({FIRMWARE}/apps/*/rig*.toml):")
     for name, app in sorted(apps().items()):
-        print(f"  {name:<18} {app.rig_file.relative_to(REPO)}  {app.doc}")
+        print(f"  {name:<18} {app.rig_file.relative_to(FIRMWARE.parent)}  {app.doc}")
     boards = pin_maps.known_boards()
     print(f"boards (firmware/boards/<name>/board.py): {', '.join(boards)}")
     print("plant kinds ([plant] kind), their options (default) and signals:")
@@ -501,7 +556,8 @@ def cmd_campaign(args) -> int:
         args.sub.error("the following arguments are required: RIG (or --replay KEY --out DIR)")
     overrides = {k: getattr(args, k) for k in ("seeds", "first_seed", "worlds", "seconds", "timeout_s")}
     campaign = load_campaign(args.rig, faults_file=args.faults, **overrides)
-    out = _writable(args.sub, "--out", args.out or REPO / "build" / "campaign" / campaign.name)
+    rig_file = Path(args.rig) if Path(args.rig).is_file() else None
+    out = _writable(args.sub, "--out", args.out or output_root(rig_file) / "campaign" / campaign.name)
     where = args.scheduler or f"{args.workers} local worker(s)"
     total = len(campaign.tasks())
     print(
@@ -539,6 +595,15 @@ def cmd_campaign(args) -> int:
             f"{row['rate']:.0%} [95 % Wilson {row['wilson_lo']:.0%}-{row['wilson_hi']:.0%}]"
         )
     print(f"campaign report: {paths['html']}")
+    return 0
+
+
+def cmd_setup(args) -> int:
+    from host.core import interpreter
+
+    path = interpreter.setup(log=lambda msg: print(f"setup: {msg}", flush=True))
+    print(f"micropython: {interpreter.version(path)} ({path})")
+    print("next: pytest beside your rig file (docs/ci.md)")
     return 0
 
 

@@ -7,6 +7,13 @@ Debian mirror this machine's apt already uses, :mod:`host.core.aptsources`; the 
 file, lists, cache and state under ``build/micropython/apt``), builds the standard variant with
 ``asyncio`` frozen in, and installs the binary at :func:`default_path`. It rebuilds
 nothing when that binary exists. Standard library only: it runs before the venv.
+
+Where the build goes (:func:`build_root`): in a checkout of the repository, its own
+``build/micropython`` (``make setup``); installed as a package, the per-user cache
+(``$XDG_CACHE_HOME/mpy-fil/micropython/<version>/``, ``~/.cache`` when unset), shared by
+every project and virtual environment of that user, never inside ``site-packages``.
+``mpy-fil setup`` (:func:`setup`) takes ``$MICROPYTHON``, else one already built, else a
+``micropython`` on ``PATH`` of the pinned version, else builds it.
 """
 
 import os
@@ -23,7 +30,9 @@ DEBIAN_VERSION = "1.25.0+ds-1"
 DEBIAN_SUITE = "trixie"
 DEBIAN_KEYRING = "/usr/share/keyrings/debian-archive-keyring.gpg"
 
-BUILD = paths.BUILD / "micropython"
+SETUP_HINT = "run `make setup`" if paths.CHECKOUT else "run `mpy-fil setup`"
+"""What to do when there is no interpreter: the one command, as it runs where the harness is
+(in a clone, ``mpy-fil`` is in ``.venv/bin`` and ``make setup`` builds into its build/)."""
 HERE = Path(__file__).resolve().parent / "micropython"
 APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):
@@ -31,19 +40,59 @@ APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils
 MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0")
 
 
-def default_path() -> Path:
-    return BUILD / DEBIAN_VERSION / "micropython"
+def build_root(checkout: bool | None = None) -> Path:
+    """The folder builds go to: a checkout's ``build/micropython``, else the per-user cache's
+    ``micropython`` (:func:`host.core.paths.user_cache`)."""
+    checkout = paths.CHECKOUT if checkout is None else checkout
+    return paths.BUILD / "micropython" if checkout else paths.user_cache() / "micropython"
+
+
+def default_path(root: Path | None = None) -> Path:
+    """The built binary: ``<root>/<Debian version>/micropython``."""
+    return (root or build_root()) / DEBIAN_VERSION / "micropython"
+
+
+def _executable(path: Path) -> bool:
+    return path.is_file() and os.access(path, os.X_OK)
+
+
+def on_path() -> Path | None:
+    """A ``micropython`` on ``PATH`` of the pinned version (major.minor), or None."""
+    found = shutil.which("micropython")
+    if found is None:
+        return None
+    return Path(found) if version_problem(Path(found)) is None else None
+
+
+def version_problem(path: Path) -> str | None:
+    """Why the interpreter at ``path`` will not do (not the pinned MicroPython version),
+    or None when it will."""
+    want = DEBIAN_VERSION.split("+")[0].rsplit(".", 1)[0]  # "1.25"
+    try:
+        line = version(path)
+    except (OSError, subprocess.SubprocessError) as e:
+        return f"{path} does not run as MicroPython ({e})"
+    if not line.startswith(f"MicroPython v{want}."):
+        return f"{path} is {line or 'of no known version'}; the harness needs MicroPython {want}"
+    return None
 
 
 def find() -> Path:
-    """The interpreter to run: ``$MICROPYTHON`` if set, else the project's build."""
+    """The interpreter to run: ``$MICROPYTHON`` if set, else the one built by setup, else
+    one on ``PATH`` of the pinned version. A :class:`SetupError` that says the one
+    command to run when there is none."""
     override = os.environ.get("MICROPYTHON")
-    path = Path(override) if override else default_path()
-    if not (path.is_file() and os.access(path, os.X_OK)):
-        if override:
+    if override:
+        if not _executable(Path(override)):
             raise SetupError(f"MICROPYTHON={override} is not an executable file")
-        raise SetupError(f"no MicroPython at {path}: run `make setup` (or set MICROPYTHON=/path/to/micropython)")
-    return path
+        return Path(override)
+    for path in dict.fromkeys((default_path(), default_path(build_root(checkout=False)))):
+        if _executable(path):
+            return path
+    found = on_path()
+    if found is not None:
+        return found
+    raise SetupError(f"no MicroPython interpreter (looked at $MICROPYTHON, {default_path()}, PATH): {SETUP_HINT}")
 
 
 def version(path: Path | None = None) -> str:
@@ -103,8 +152,8 @@ def ensure_tools() -> None:
         raise SetupError("still missing after apt-get install: " + " ".join(still))
 
 
-def _apt(*args: str) -> list[str]:
-    apt = BUILD / "apt"
+def _apt(root: Path, *args: str) -> list[str]:
+    apt = root / "apt"
     opts = {
         "Dir::Etc::SourceList": apt / "sources.list",
         "Dir::Etc::SourceParts": apt / "sources.list.d",
@@ -120,13 +169,13 @@ def _apt(*args: str) -> list[str]:
     return ["apt-get", "-q", *flags, *args]
 
 
-def _tree() -> Path:
-    return BUILD / "src" / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
+def _tree(root: Path) -> Path:
+    return root / "src" / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
 
 
 def source_tree() -> Path:
     """MicroPython's source as the build fetched it (its tests/ too); fetched if missing."""
-    return fetch_source()
+    return fetch_source(build_root())
 
 
 def sources_line(files=None) -> str:
@@ -136,12 +185,12 @@ def sources_line(files=None) -> str:
     return f"deb-src [signed-by={DEBIAN_KEYRING}] {mirror} {DEBIAN_SUITE} main"
 
 
-def fetch_source() -> Path:
-    src_root = BUILD / "src"
-    tree = _tree()
+def fetch_source(root: Path) -> Path:
+    src_root = root / "src"
+    tree = _tree(root)
     if (tree / "ports" / "unix" / "Makefile").is_file():
         return tree
-    apt = BUILD / "apt"
+    apt = root / "apt"
     for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
         (apt / sub).mkdir(parents=True, exist_ok=True)
     (apt / "status").touch()
@@ -151,26 +200,30 @@ def fetch_source() -> Path:
         "# mirror this machine's apt uses (or $DEBIAN_MIRROR). Only for `apt-get source`.\n" + line + "\n"
     )
     _log(f"apt-get update (project-local sources: {line})")
-    subprocess.run(_apt("update"), check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(_apt(root, "update"), check=True, stdout=subprocess.DEVNULL)
     if src_root.exists():
         shutil.rmtree(src_root)
     src_root.mkdir(parents=True)
     _log(f"apt-get source micropython={DEBIAN_VERSION}")
-    subprocess.run(_apt("source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root, stdout=subprocess.DEVNULL)
+    subprocess.run(
+        _apt(root, "source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root, stdout=subprocess.DEVNULL
+    )
     if not tree.is_dir():
         raise SetupError(f"apt-get source did not unpack {tree}")
     return tree
 
 
-def build() -> Path:
-    target = default_path()
+def build(root: Path | None = None) -> Path:
+    """Build the interpreter into ``root`` (default :func:`build_root`) unless it is there."""
+    root = root or build_root()
+    target = default_path(root)
     if target.is_file():
         _log(f"up to date: {target}")
         return target
     ensure_tools()
-    tree = fetch_source()
+    tree = fetch_source(root)
     jobs = f"-j{os.cpu_count() or 2}"
-    log = BUILD / "build.log"
+    log = root / "build.log"
     _log(f"building the unix port (standard variant, asyncio frozen in); log: {log}")
     with open(log, "w") as out:
         for cmd in (
@@ -194,6 +247,31 @@ def build() -> Path:
     os.utime(target)  # newer than its inputs, so make does not rebuild it
     _log(f"built {target}: {version(target)}")
     return target
+
+
+def setup(log=_log) -> Path:
+    """``mpy-fil setup``: the interpreter the harness will run, got once. ``$MICROPYTHON``
+    when set (checked), else one built before, else a ``micropython`` on ``PATH`` of the
+    pinned version, else built from Debian's source into :func:`build_root`."""
+    override = os.environ.get("MICROPYTHON")
+    if override:
+        path = find()
+        problem = version_problem(path)
+        if problem:
+            raise SetupError(f"MICROPYTHON={override}: {problem}")
+        log(f"using MICROPYTHON={path} (keep it set where the tests run)")
+        return path
+    if _executable(default_path()):
+        log(f"up to date: {default_path()}")
+        return default_path()
+    found = shutil.which("micropython")
+    if found:
+        problem = version_problem(Path(found))
+        if problem is None:
+            log(f"using {found} from PATH")
+            return Path(found)
+        log(f"not using the micropython on PATH: {problem}")
+    return build()
 
 
 def main(argv: list[str]) -> int:

@@ -1,16 +1,47 @@
 """Where things are: the repository, the firmware tree, the build folder. Every module
-that needs a path of the project takes it from here."""
+that needs a path of the project takes it from here.
 
+Two layouts: a checkout of the repository (``firmware/`` and ``examples/`` beside
+``host/``), and the installed package, whose wheel carries them as package data under
+``host/_data/`` (setup.py). Both are found from this module's own place, never from the
+current directory."""
+
+import os
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parent.parent.parent
-FIRMWARE = REPO / "firmware"
+HOST = Path(__file__).resolve().parent.parent
+REPO = HOST.parent
+BUNDLED = HOST / "_data"
+"""Our firmware and examples as the installed package carries them."""
+CHECKOUT = (REPO / "pyproject.toml").is_file() and (REPO / "firmware").is_dir() and not BUNDLED.is_dir()
+"""True in a checkout of the repository (an editable install too), False when installed."""
+FIRMWARE = REPO / "firmware" if CHECKOUT else BUNDLED / "firmware"
+EXAMPLES = REPO / "examples" if CHECKOUT else BUNDLED / "examples"
 BOARDS_DIR = FIRMWARE / "boards"
 BUILD = REPO / "build"
-HOST = REPO / "host"
+"""The project's build folder (a checkout's; nothing of an installed package is written
+into site-packages: see :func:`output_root`)."""
 SHIM_DIR = HOST / "shim"
 """The MicroPython side of the harness (``machine``, ``time``, ``select``, the link),
 put first on the interpreter's path."""
+
+
+def user_cache() -> Path:
+    """The per-user cache folder of mpy-fil: ``$XDG_CACHE_HOME/mpy-fil`` (``~/.cache``
+    when unset), shared between projects and virtual environments."""
+    base = os.environ.get("XDG_CACHE_HOME", "").strip()
+    return (Path(base) if base and Path(base).is_absolute() else Path.home() / ".cache") / "mpy-fil"
+
+
+def output_root(rig_file: Path | None = None) -> Path:
+    """Where a command writes (``build/`` under it): the project's build folder for our
+    own apps and rigs in a checkout; beside a rig file of the user's (``build/`` in its
+    folder); else the current folder's ``build/``."""
+    if rig_file is not None:
+        folder = Path(rig_file).resolve().parent
+        if not (CHECKOUT and folder.is_relative_to(REPO)) and not folder.is_relative_to(BUNDLED):
+            return folder / "build"
+    return BUILD if CHECKOUT else Path.cwd() / "build"
 
 
 def portable(path) -> str:

@@ -1,0 +1,45 @@
+"""What `mpy-fil run` and `mpy-fil check` tell: the firmware's console and every file a run
+wrote (the moving picture too); a rig file that wires no pin said so, not just "ok"."""
+
+import re
+import subprocess
+import sys
+
+import pytest
+
+from host.core.paths import REPO
+
+pytestmark = pytest.mark.hil
+
+
+def mpy_fil(*args: str, cwd=REPO) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "host.cli", *args], cwd=cwd, capture_output=True, text=True, timeout=240
+    )
+
+
+def test_run_shows_the_console_and_lists_the_files_it_wrote_with_the_gif(tmp_path):
+    out = tmp_path / "run"
+    done = mpy_fil("run", "--app", "rover", "--seconds", "20", "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    assert re.search(rf"^console \(the last \d+ lines; all in {re.escape(str(out))}/console.log\):$", done.stdout, re.M)
+    assert "  | rover on esp32-devkitc control every 50 ms" in done.stdout
+    listed = re.findall(r"^  (\S+)  [\d.]+ k?M?B$", done.stdout, re.M)
+    written = sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
+    assert listed == written, f"expected every file listed: {written}\n{done.stdout}"
+    assert "plots/trajectory.gif" in listed and "trace.vcd" in listed, listed
+
+
+def test_check_says_when_no_pin_is_wired(tmp_path):
+    rig = (REPO / "examples" / "pico_bot" / "rig.toml").read_text()
+    (tmp_path / "main.py").write_text((REPO / "examples" / "pico_bot" / "main.py").read_text())
+    unwired = re.sub(r"^\[wiring\]\n(?:(?!\[).*\n)*", "[wiring]\n\n", rig, flags=re.M)  # (an empty table)
+    unwired = re.sub(r"^\[budgets\.loop\]\n(?:(?!\[).*\n)*", "", unwired, flags=re.M)  # (it needs a probe pin)
+    assert "[wiring]\n\n" in unwired and 'PWMA = "motor_l.pwm"' not in unwired, unwired
+    (tmp_path / "rig.toml").write_text(unwired)
+    done = mpy_fil("check", "rig.toml", cwd=tmp_path)
+    first = done.stdout.splitlines()[0]
+    assert first == "rig.toml: loads, but 0 pins are wired: the firmware reads nothing from the plant", done.stdout
+    assert ": ok" not in done.stdout and "[wiring]" in done.stdout
+    wired = mpy_fil("check", str(REPO / "examples" / "pico_bot" / "rig.toml"))
+    assert wired.stdout.splitlines()[0].endswith("rig.toml: ok"), wired.stdout
