@@ -4,7 +4,8 @@ run a failed test again (docs/rig-file.md, "Tests beside a rig").
 - **The firmware's own files are not tests.** A ``.py`` file inside a rig's firmware folder
   (``[firmware] dir`` and ``lib`` of a ``rig*.toml`` in its folder or a folder above it) is
   not collected when it imports a module only MicroPython has (``machine``, ``micropython``,
-  ``rp2``, ``esp32``, …), cannot be parsed by CPython, or matches one of that rig file's
+  ``rp2``, ``esp32``, …) or names ``micropython`` (a ``@micropython.viper`` function), cannot be
+  parsed by CPython, or matches one of that rig file's
   ``[tests] exclude`` patterns. The tests of the harness (``make_rig``) import none of them.
 - **A rig file named on the command line is a test**: ``pytest path/to/rig.toml`` runs the
   rig for ``--hil-rig-seconds`` (30 s, as ``mpy-fil run``) and checks its budgets and its
@@ -81,7 +82,8 @@ def _firmware_folders(rig_file: Path) -> tuple[list[Path], list[str]]:
 
 
 def micropython_imports(path: Path) -> list[str] | None:
-    """The MicroPython-only modules a file imports (None: CPython cannot parse it)."""
+    """The MicroPython-only modules a file imports or names (``@micropython.native`` needs no
+    import on a board); None: CPython cannot parse it."""
     try:
         tree = ast.parse(path.read_bytes(), str(path))
     except (SyntaxError, ValueError, OSError):
@@ -92,6 +94,8 @@ def micropython_imports(path: Path) -> list[str] | None:
             found += [a.name.split(".")[0] for a in node.names]
         elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
             found.append(node.module.split(".")[0])
+        elif isinstance(node, ast.Name) and node.id == "micropython":  # @micropython.viper needs no import
+            found.append(node.id)
     return sorted(set(found) & MICROPYTHON_ONLY)
 
 
