@@ -1,7 +1,9 @@
 """pytest plugin: rigs as fixtures, and the timing-budget table.
 
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
-plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
+plant) whose artefacts go to ``build/hil/<test>/`` (the project's, or beside a user's rig
+file: :mod:`host.pytest_plugin.userpath`, which also keeps a firmware's own files out of
+collection and makes a rig file named on the command line a test); every rig a test made is stopped
 when the test ends, pass or fail. ``@pytest.mark.hil_budget(name, max_ms=...)`` or
 ``make_rig(..., budget_limits={name: {...}})`` sets a test's own budget limits
 (:mod:`host.pytest_plugin.budget_marks`). ``rig`` is a started rover rig. With ``--hil-table``
