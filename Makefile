@@ -54,10 +54,11 @@ $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/cor
 
 # (a test file to a worker: a file's module fixtures run once; one worker more than cores, since
 # rigs also wait on the wall clock (process start-up, real-time runs, watchdogs); rigs record
-# nothing, for speed: a failed test's rerun line, run as printed, keeps its whole trace folder)
+# nothing, for speed: a failed test's rerun line, run as printed, keeps its whole trace folder;
+# -rs: each skipped test with its reason; the temp folders of passed tests are removed)
 WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 test: setup
-	$(PY) -m pytest -q -rs -n $(WORKERS) --dist loadfile --hil-keep none
+	$(PY) -m pytest -q -rs -n $(WORKERS) --dist loadfile --hil-keep none -o tmp_path_retention_policy=failed
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
 # core, a test to a worker (a module with module fixtures is one group: they run once), the

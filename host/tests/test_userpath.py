@@ -62,7 +62,7 @@ def test_the_makefile_hands_rig_firmware_and_long_to_the_checked_runner():
     assert '-m host.pytest_plugin.hil_run --workers 3 --long 0 --rig "a b/rig.toml" --firmware "x"' in line, line
 
 
-def test_make_test_prints_the_reasons_of_skipped_tests():
+def test_make_test_prints_the_reasons_of_skipped_tests_and_leaves_no_temp_folder():
     done = subprocess.run(
         ["make", "-n", "test"],
         cwd=REPO,
@@ -71,6 +71,7 @@ def test_make_test_prints_the_reasons_of_skipped_tests():
         env={**os.environ, "MICROPYTHON": os.environ.get("MICROPYTHON", "/bin/true")},
     )
     assert re.search(r"-m pytest .*-rs\b", done.stdout), done.stdout
+    assert "tmp_path_retention_policy=failed" in done.stdout, "a passed test's temp folder is left in $TMPDIR"
 
 
 @pytest.mark.parametrize("given", ["RIG=/nowhere/mybot", "RIG=folder-without-a-rig", "FIRMWARE=build/vboard/typo/fs"])
