@@ -3,8 +3,10 @@
 Without RIG: this project's scenarios (``hil_tests``), the table and the report in the
 project's ``build/hil/``. With ``RIG=path/to/rig.toml`` (or the folder holding it): only the
 test files beside that rig file (its folder, not the folders below or above), the report, the
-artefacts and pytest's cache under ``build/`` beside the rig file; with no test there, the rig
-file itself runs as a test of its budgets, and how to write one is printed.
+artefacts and pytest's cache under ``build/`` beside the rig file (a rig of this project,
+``examples/pico_bot``: under the project's ``build/``, the report in ``build/hil/<folder>/``);
+with no test there, the rig file itself runs as a test of its budgets, and how to write one
+is printed.
 ``FIRMWARE=build/vboard/<board>/fs``: the scenarios of the app flashed there, from the
 flashed files. A RIG or FIRMWARE that does not exist: one line, exit code 2, nothing run.
 """
@@ -60,6 +62,10 @@ def pytest_args(args) -> tuple[list[str], Path]:
         return [*common, "-m", marks, "--hil-table", "--hil-report", str(report), "hil_tests"], REPO
     rig = rig_file(args.rig)
     build = rig.parent / "build"
+    report = build / "hil" / "report.html"
+    if rig.is_relative_to(REPO):  # (one of ours, examples/pico_bot: the project's build/, its report apart)
+        build = REPO / "build"
+        report = build / "hil" / rig.parent.name / "report.html"
     tests = tests_beside(rig)
     if not tests:
         print(f"no test beside {rig}: running the rig's own budgets as a test", flush=True)
@@ -67,8 +73,7 @@ def pytest_args(args) -> tuple[list[str], Path]:
     where = [str(p.relative_to(rig.parent)) for p in tests] or [rig.name]
     placed = ["--rootdir", str(rig.parent), "-o", f"cache_dir={build / '.pytest_cache'}"]
     marks = ["-m", "not long"] if args.long == "0" else []
-    report = ["--hil-table", "--hil-report", str(build / "hil" / "report.html")]
-    return [*common, *placed, *marks, *report, *where], rig.parent
+    return [*common, *placed, *marks, "--hil-table", "--hil-report", str(report), *where], rig.parent
 
 
 def main(argv=None) -> int:

@@ -246,3 +246,14 @@ def test_firmware_runs_only_the_flashed_apps_scenarios_from_flash_and_says_which
     assert f"ran from flash: 1 tests ({flashed['app']} flashed in {fs})" in out, out[-3000:]
     assert re.search(r"PASSED +test_both.py::test_mine", out), out[-3000:]
     assert f"FIRMWARE={fs} holds {flashed['app']}; this test runs app rover, not the flashed files" in out
+
+
+def test_make_hil_rig_of_ours_writes_under_the_projects_build_and_does_not_overwrite_its_report():
+    from argparse import Namespace
+
+    from host.pytest_plugin.hil_run import pytest_args
+
+    args, folder = pytest_args(Namespace(rig="examples/pico_bot", long="1", workers="2"))
+    assert folder == PICO and args[-1] == "test_pico_bot.py", args
+    assert args[args.index("--hil-report") + 1] == str(REPO / "build" / "hil" / "pico_bot" / "report.html")
+    assert f"cache_dir={REPO / 'build' / '.pytest_cache'}" in args
