@@ -175,14 +175,16 @@ def how_to_write_a_test(rig_file: Path) -> str:
 
 
 def _looks_like_a_path(app) -> bool:
-    text = str(app)
-    return isinstance(app, Path) or text.endswith(".toml") or "/" in text
+    """A rig file's (or its folder's) path, not an app's name nor an App a test built."""
+    return isinstance(app, Path) or (isinstance(app, str) and (app.endswith(".toml") or "/" in app))
 
 
 def app_key(app, base: Path) -> str:
     """One name for an app: our app's name, or its rig file's whole path (a folder: its
     rig.toml; relative: to ``base``)."""
-    if not _looks_like_a_path(app) and not (base / str(app) / "rig.toml").is_file():
+    if not isinstance(app, (str, Path)):
+        return repr(app)
+    if not _looks_like_a_path(app) and not (base / app / "rig.toml").is_file():
         return str(app)
     path = base / app
     return str((path / "rig.toml" if path.is_dir() else path).resolve())
@@ -191,6 +193,8 @@ def app_key(app, base: Path) -> str:
 def resolve_rig(app, test_file: Path | None):
     """``make_rig``'s app: a relative rig path against the test file's folder, then the
     current directory. An app's name (``"rover"``) stays as it is."""
+    if not isinstance(app, (str, Path)):
+        return app  # (an App of the test's own)
     if not _looks_like_a_path(app) or Path(app).is_absolute():
         if not _looks_like_a_path(app) and test_file is not None and (test_file.parent / app / "rig.toml").is_file():
             return str(test_file.parent / app)
