@@ -17,7 +17,8 @@
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
 #   make hil LONG=0   the same without the sweeps over many seeds (@pytest.mark.long)
-#   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file
+#   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file (or its folder);
+#                their report and artefacts in build/ beside it
 #   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]   (or RIG=path/to/rig.toml)
 #                compile with mpy-cross, copy what changed with mpremote, reset, show
 #                the first lines; without PORT, to the virtual board (build/vboard/)
@@ -59,18 +60,21 @@ dist: $(VENV)/.installed
 
 # (a test file to a worker: a file's module fixtures run once; one worker more than cores, since
 # rigs also wait on the wall clock (process start-up, real-time runs, watchdogs); rigs record
-# nothing, for speed: a failed test's rerun line, run as printed, keeps its whole trace folder)
+# nothing, for speed: a failed test's rerun line, run as printed, keeps its whole trace folder;
+# -rs: each skipped test with its reason; the temp folders of passed tests are removed)
 WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 test: setup
-	$(PY) -m pytest -q -n $(WORKERS) --dist loadfile --hil-keep none
+	$(PY) -m pytest -q -rs -n $(WORKERS) --dist loadfile --hil-keep none -o tmp_path_retention_policy=failed
 
 # FIRMWARE=build/vboard/<board>/fs runs the scenarios from what was flashed there; on every
 # core, a test to a worker (a module with module fixtures is one group: they run once), the
 # report and the tables gathered from all of them; the long sweeps (many seeds, marked
 # long) record nothing, their result lines and budgets still in the report (LONG=0 leaves them out)
 LONG ?= 1
+# RIG=path/to/rig.toml (or its folder): only the tests beside that rig file, everything
+# written under build/ beside it; with none, the rig's own budgets as a test (host/pytest_plugin/hil_run.py)
 hil: setup
-	HIL_FIRMWARE=$(if $(FIRMWARE),$(abspath $(FIRMWARE))) $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup -m $(if $(filter 0,$(LONG)),"hil and not long",hil) --hil-table --hil-report build/hil/report.html $(if $(RIG),$(dir $(RIG)),hil_tests)
+	@$(PY) -m host.pytest_plugin.hil_run --workers $(WORKERS) --long $(LONG) --rig "$(RIG)" --firmware "$(FIRMWARE)"
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))

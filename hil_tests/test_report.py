@@ -336,9 +336,9 @@ def test_under_a_report_a_long_sweeps_rigs_record_nothing_and_a_failures_rerun_l
     assert page.sections == ["scenario passed", "scenario failed"], f"{page.sections} in {report}"
     assert page.tables == 2 and not page.images, f"{page.tables} tables, {len(page.images)} plots in {report}"
     assert any("drove" in text for text in page.text), f"the sweep's result line is missing from {report}"
-    rerun = re.search(r"rerun: python -m pytest (.+?) \(from", done.stdout)
-    assert rerun and "--hil-record-long" in rerun.group(1), f"expected a rerun line that records:\n{done.stdout}"
-    again = inner_pytest(tmp_path, *shlex.split(rerun.group(1)))
+    rerun = re.search(r"^rerun: cd (\S+) && \S+ -m pytest (.+)$", done.stdout, re.M)
+    assert rerun and "--hil-record-long" in rerun.group(2), f"expected a rerun line that records:\n{done.stdout}"
+    again = inner_pytest(Path(shlex.split(rerun.group(1))[0]), *shlex.split(rerun.group(2)))
     assert again.returncode == 1, f"expected the seed to fail again:\n{again.stdout}{again.stderr}"
     failed = tmp_path / "build" / "hil" / "test_long_sweep" / "test_a_long_sweeps_seed_that_fails" / "rig0"
     assert (failed / "trace.vcd").is_file() and (failed / "trace.jsonl").is_file(), sorted(failed.iterdir())

@@ -29,7 +29,7 @@ from host.core.children import popen_options
 from host.core.errors import HarnessError
 from host.core.paths import FIRMWARE, REPO
 from host.device import vboard
-from host.rig.apps import get_app
+from host.rig.apps import apps, get_app
 
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
@@ -243,7 +243,7 @@ def flash(
         copied, unchanged = copy(port, folder, files)
         log(f"  copied {len(copied)} file(s){': ' + ', '.join(copied) if copied else ''}; {len(unchanged)} up to date")
         if ours or port == vboard.running_port(board):  # what this virtual board now holds
-            manifest = {"app": app, "board": board, "files": files}
+            manifest = {"app": _app_id(app), "board": board, "files": files}
             (vboard.board_home(board) / "flashed.json").write_text(json.dumps(manifest, indent=1))
         _interrupt.check()
         first = reset_and_read(port, lines, wait_s)
@@ -254,6 +254,15 @@ def flash(
     finally:
         if ours:
             vboard.stop_background(ours)
+
+
+def _app_id(app: str) -> str:
+    """What flashed.json calls the app: our app's name, or its rig file's whole path
+    (``make hil FIRMWARE=`` runs the tests of that app from wherever they are)."""
+    path = Path(app)
+    if app in apps() or not path.exists():
+        return app
+    return str((path / "rig.toml" if path.is_dir() else path).resolve())
 
 
 def main(argv=None) -> int:

@@ -161,6 +161,8 @@ class VirtualBoardTarget(UnixPortTarget):
     def open(self, firmware, on_console) -> Channel:
         if self.pty is None:
             self.pty = PtyPair()
+        else:  # a restart: what the host sent the interpreter before is not for this one
+            self.pty.discard()
         self.launch(firmware)
         transport = FdTransport(self.pty.master_fd)
         transport.watch(self.console.repl.master_fd, self.console.from_interpreter)

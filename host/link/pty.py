@@ -25,6 +25,11 @@ class PtyPair:
         os.set_blocking(self.master_fd, False)
         self.slave_path = os.ttyname(self.slave_fd)
 
+    def discard(self) -> None:
+        """Drop the bytes queued in both directions (written by one end, not yet read by
+        the other): a new process on the slave starts from a quiet line."""
+        termios.tcflush(self.slave_fd, termios.TCIOFLUSH)
+
     def close(self) -> None:
         for fd in (self.master_fd, self.slave_fd):
             if fd >= 0:

@@ -1,7 +1,9 @@
 """pytest plugin: rigs as fixtures, and the timing-budget table.
 
 ``make_rig(app="rover", seed=..., ...)`` starts a rig (interpreter + shim + firmware +
-plant) whose artefacts go to ``build/hil/<test>/``; every rig a test made is stopped
+plant) whose artefacts go to ``build/hil/<test>/`` (the project's, or beside a user's rig
+file: :mod:`host.pytest_plugin.userpath`, which also keeps a firmware's own files out of
+collection and makes a rig file named on the command line a test); every rig a test made is stopped
 when the test ends, pass or fail. ``@pytest.mark.hil_budget(name, max_ms=...)`` or
 ``make_rig(..., budget_limits={name: {...}})`` sets a test's own budget limits
 (:mod:`host.pytest_plugin.budget_marks`). ``rig`` is a started rover rig. With ``--hil-table``
@@ -18,15 +20,15 @@ nothing it started outlives it (:mod:`host.pytest_plugin.stopping`).
 import dataclasses
 import json
 import os
-import re
 from pathlib import Path
 
 import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
+from host.core.paths import REPO
 from host.link.transport import busy_poll_wanted, cores
-from host.pytest_plugin import budget_marks, stopping
+from host.pytest_plugin import budget_marks, stopping, userpath
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
@@ -37,6 +39,7 @@ _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 _records = pytest.StashKey[list]()  # what the report needs of each, once stopped
 _failed = pytest.StashKey[bool]()  # the test's setup or call failed: keep its rigs' traces
 _busy_poll = pytest.StashKey[bool]()  # this process's rigs may spin on their link
+_flashed = pytest.StashKey[dict | None]()  # HIL_FIRMWARE: the app and folder flashed
 SPEC_KEYWORDS = {f.name for f in dataclasses.fields(RigSpec)} - {"app", "options"}
 RECORDING_KEYWORDS = {f.name for f in dataclasses.fields(Recording)}
 
@@ -67,6 +70,18 @@ def pytest_addoption(parser):
         help="failed (default): every rig records, and a failed test's rigs write their trace folder and plots; "
         "none: record nothing (faster; only console.log is kept)",
     )
+    group.addoption(
+        "--hil-out",
+        metavar="DIR",
+        type=Path,
+        help="the rigs' artefacts under DIR (default: build/hil/ beside a user's rig file, the project's build/hil/)",
+    )
+    group.addoption(
+        "--hil-rig-seconds",
+        metavar="S",
+        type=float,
+        help=f"a rig file named as a test runs this long (virtual seconds; default {userpath.RIG_SECONDS:g})",
+    )
 
 
 LONG_MARK_HELP = (
@@ -76,9 +91,12 @@ LONG_MARK_HELP = (
 
 
 def pytest_configure(config):
+    config.stash[_flashed] = _flashed_firmware()
     stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
         config.pluginmanager.register(SessionReport(config), "hil-session-report")
+        if config.stash[_flashed]:
+            config.pluginmanager.register(FlashSummary(config.stash[_flashed]), "hil-from-flash")
     # a rig's host spins on its link while the firmware computes (docs/clock.md): with a
     # worker on every core that spin takes the core of another worker's rig
     config.stash[_busy_poll] = busy_poll_wanted() and not (is_worker(config) and _every_core_has_a_worker())
@@ -93,6 +111,16 @@ def pytest_collection_modifyitems(items):
     for item in items:
         if {"make_rig", "rig"} & set(getattr(item, "fixturenames", ())) and not item.get_closest_marker("hil"):
             item.add_marker(pytest.mark.hil)
+
+
+def pytest_ignore_collect(collection_path, config):
+    """A firmware's own files are not tests (:mod:`host.pytest_plugin.userpath`)."""
+    return userpath.ignore_firmware(collection_path, config)
+
+
+def pytest_collect_file(file_path, parent):
+    """A rig file named on the command line is a test of its budgets."""
+    return userpath.collect_rig_file(file_path, parent)
 
 
 def _every_core_has_a_worker() -> bool:
@@ -125,10 +153,12 @@ def _evidence(item) -> str:
         f"{rig.app.name} rig{i}: seed {rig.seed}, virtual t={rig.t_us / 1e6:.6f} s, artefacts {rig.artefacts}"
         for i, rig in enumerate(item.stash[_rigs])
     ]
-    rerun = f"python -m pytest {item.nodeid!r}"
+    extra = ""
     if _unrecorded_long(item):  # (as it ran: under a report, which a sweep's seeds may need)
-        rerun += " --hil-report build/hil/rerun.html --hil-record-long"
-    lines.append(f"rerun: {rerun} (from {item.config.rootpath}; it records the whole trace)")
+        report = item.config.getoption("--hil-report").resolve().with_name("rerun.html")
+        extra = f" --hil-report {report} --hil-record-long"
+    lines.append(f"rerun: {userpath.rerun_command(item, extra)}")
+    lines.append("(it records the whole trace)")
     return "\n".join(lines)
 
 
@@ -150,11 +180,10 @@ def pytest_report_header(config):
         return f"micropython: not available ({e})"
 
 
-def artefacts_for(node) -> Path:
-    """build/hil/<test module>/<test>/ under the test session's root (beside a user's own
-    tests; this repository's build/ for ours)."""
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", node.nodeid.split("::", 1)[-1])
-    return node.config.rootpath / "build" / "hil" / node.module.__name__.rsplit(".", 1)[-1] / name
+def artefacts_for(node, app: str | Path = "rover") -> Path:
+    """build/hil/<test module>/<test>/: beside a user's rig file (or test file), under this
+    repository's build/ for ours, or under --hil-out (:func:`userpath.artefacts_root`)."""
+    return userpath.artefacts_root(node, app)
 
 
 @pytest.fixture
@@ -164,14 +193,14 @@ def make_rig(request):
     recording = report and not _unrecorded_long(request.node)
     keep_failed = not report and request.config.getoption("--hil-keep", "none") == "failed"
 
-    flashed = _flashed_firmware()
+    flashed = request.config.stash.get(_flashed, None)
     marked = budget_marks.marked_limits(request.node)
 
     def factory(app="rover", budget_limits: dict | None = None, mission_s: float | None = None, **kwargs) -> Rig:
-        kwargs.setdefault("artefacts", artefacts_for(request.node) / f"rig{len(rigs)}")
-        if flashed and app == flashed["app"] and not {"main_dir", "firmware_dir", "plant"} & set(kwargs):
-            kwargs.setdefault("firmware_dir", flashed["dir"])
-            kwargs.setdefault("board", flashed["board"])
+        app = userpath.resolve_rig(app, getattr(request.node, "path", None))
+        kwargs.setdefault("artefacts", artefacts_for(request.node, app) / f"rig{len(rigs)}")
+        if flashed:
+            _from_flash(request.node, flashed, app, kwargs)
         if recording:
             kwargs.setdefault("record", True)
             kwargs.setdefault("trace", True)
@@ -231,15 +260,53 @@ def pytest_runtest_logreport(report):
 
 def _flashed_firmware() -> dict | None:
     """HIL_FIRMWARE=<board folder>: run the scenarios of the app flashed there
-    (``make hil FIRMWARE=build/vboard/<board>/fs``), from the flashed files."""
+    (``make hil FIRMWARE=build/vboard/<board>/fs``), from the flashed files; checked once,
+    before any test runs."""
     folder = os.environ.get("HIL_FIRMWARE")
     if not folder:
         return None
     manifest = Path(folder).resolve().parent / "flashed.json"
+    if not Path(folder).is_dir():
+        raise pytest.UsageError(f"FIRMWARE={folder}: no such folder (make flash writes build/vboard/<board>/fs)")
     if not manifest.is_file():
-        raise pytest.UsageError(f"HIL_FIRMWARE={folder}: no {manifest}; flash it first with make flash")
-    info = json.loads(manifest.read_text())
-    return {"dir": Path(folder).resolve(), "app": info["app"], "board": info["board"]}
+        raise pytest.UsageError(f"FIRMWARE={folder}: no {manifest}; flash it first with make flash")
+    try:
+        info = json.loads(manifest.read_text())
+        return {"dir": Path(folder).resolve(), "app": info["app"], "board": info["board"]}
+    except (ValueError, KeyError, TypeError) as e:
+        raise pytest.UsageError(f"FIRMWARE={folder}: {manifest} is damaged ({e}); flash again") from None
+
+
+def _from_flash(node, flashed: dict, app, kwargs: dict) -> None:
+    """Under FIRMWARE=: the flashed app's rigs run from the flashed files; a test that makes
+    any other rig (another app, its own firmware folder or plant) is skipped, saying so."""
+    same = userpath.app_key(app, Path.cwd()) == userpath.app_key(flashed["app"], REPO)
+    if not same or {"main_dir", "firmware_dir", "plant"} & set(kwargs):
+        what = "its own firmware folder or plant" if same else f"app {app}"
+        pytest.skip(f"FIRMWARE={flashed['dir']} holds {flashed['app']}; this test runs {what}, not the flashed files")
+    kwargs.setdefault("firmware_dir", flashed["dir"])
+    kwargs.setdefault("board", flashed["board"])
+    if ("from flash", str(flashed["dir"])) not in node.user_properties:
+        node.user_properties.append(("from flash", str(flashed["dir"])))
+
+
+class FlashSummary:
+    """Under FIRMWARE=: at the end, the tests that ran the flashed files (the others were
+    skipped, each saying why)."""
+
+    def __init__(self, flashed: dict):
+        self.flashed = flashed
+        self.ran: list[tuple[str, str]] = []
+
+    def pytest_runtest_logreport(self, report):
+        if report.when == "call" and any(key == "from flash" for key, _ in report.user_properties):
+            self.ran.append((report.nodeid, report.outcome))
+
+    def pytest_terminal_summary(self, terminalreporter):
+        where = f"{self.flashed['app']} flashed in {self.flashed['dir']}"
+        terminalreporter.write_sep("-", f"ran from flash: {len(self.ran)} tests ({where})")
+        for nodeid, outcome in sorted(self.ran):
+            terminalreporter.write_line(f"{outcome.upper():7} {nodeid}")
 
 
 @pytest.fixture

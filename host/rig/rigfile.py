@@ -37,7 +37,9 @@ TABLES = {
     "faults": list,
     "report": dict,
     "trace": dict,
+    "tests": dict,
 }
+TESTS_KEYS = {"exclude": list}  # (read by the pytest plugin: host/pytest_plugin/userpath.py)
 REPORT_KEYS = {"views": list, "pose_line": dict, "judge": dict}
 JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float), "min_coverage": (int, float)}
 POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
@@ -141,6 +143,7 @@ def load_rig(path) -> App:
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = _name(where, "name", data.get("name") or folder.name)
     faults = _faults(where, data.get("faults", []), plant)
+    _tests(where, data.get("tests", {}))
     heap = [f.size for f in faults if f.kind == "heap"]  # a smaller heap is a fault too
 
     def make_plant(**extra):  # (as a plant class does: TypeError, ValueError for bad options)
@@ -172,6 +175,13 @@ def load_rig(path) -> App:
         console_baud=_console_baud(where, data.get("board", {})),
         allow_exit=firmware.get("allow_exit", False),
     )
+
+
+def _tests(where: _Where, table: dict) -> None:
+    """``[tests] exclude``: patterns of the files pytest must not collect as tests."""
+    for pattern in where.table(table, "[tests]", TESTS_KEYS).get("exclude", []):
+        if not isinstance(pattern, str) or not pattern:
+            raise where.error("[tests] exclude", f"expected file name patterns (text), got {pattern!r}")
 
 
 def _report(where: _Where, table: dict) -> dict:

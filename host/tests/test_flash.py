@@ -1,5 +1,6 @@
 """make flash: compiled with mpy-cross, copied with mpremote, tested on a virtual board."""
 
+import shutil
 import signal
 import subprocess
 import sys
@@ -131,3 +132,22 @@ def test_a_board_without_the_apps_pins_is_named_at_once(capsys):
     assert flash_cli.main(["--app", "pool_cleaner", "--board", "rpi_pico"]) == 2
     err = capsys.readouterr().err
     assert "stopped as it started: wiring: board rpi_pico has no pin named BUMPER_FRONT" in err, err
+
+
+def test_a_board_running_its_own_firmware_enters_the_raw_repl_after_each_soft_reset(tmp_path):
+    """A flashed pico_bot runs at boot; mpremote stops it and soft-resets into the raw REPL.
+    The restarted interpreter once read the STATE frames its predecessor left unread on the
+    plant link ("expected WELCOME from the host, got type 0x82"), so every flash after the
+    first failed with "could not enter raw repl"."""
+    shutil.copytree(REPO / "examples" / "pico_bot", tmp_path / "pico_bot")
+    home = tmp_path / "vboard"
+    (home / "fs").mkdir(parents=True)
+    shutil.copy(tmp_path / "pico_bot" / "main.py", home / "fs" / "main.py")  # as the first flash left it
+    port = vboard.start_background("pins", home=home, app=str(tmp_path / "pico_bot"))
+    try:
+        time.sleep(1.5)  # main.py drives, the plant link busy
+        for _ in range(2):
+            assert flash.target_mpy_version(port) == flash.mpy_cross_version()
+        assert "expected WELCOME" not in mpremote(port, "exec", "print('ok')").stdout
+    finally:
+        vboard.stop_background("pins", home)

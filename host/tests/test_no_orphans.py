@@ -198,7 +198,7 @@ def test_a_stopped_hil_session_leaves_nothing_running(start, tmp_path, sig, work
     (tmp_path / "test_long.py").write_text(textwrap.dedent(HIL_TEST))
     # (without hypothesis's plugin, which imports hypothesis at every session's end: seconds here)
     cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:hypothesispytest"]
-    cmd += ["--hil-keep", "none", "test_long.py"]
+    cmd += ["--hil-keep", "none", "--basetemp", str(tmp_path / "tmp"), "test_long.py"]  # (killed: no temp left)
     cmd += ["-n", str(workers)] if workers else ["-p", "no:xdist", "-x"]
     front = start(cmd, cwd=tmp_path)
     # each test runs a rig and a bare virtual board (two interpreters); with workers, two at once
