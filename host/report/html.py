@@ -161,7 +161,10 @@ def _overview(groups: dict[str, list[tuple[int, Scenario]]]) -> str:
                 _verdict_tally([b for r in s.rigs for b in r.budgets if b.get("budget") != "(plots)"]),
                 _e(s.result),
             )
-            tds = "".join(f'<td data-label="{label}">{cell}</td>' for label, cell in zip(labels, cells))
+            tds = "".join(
+                f'<td data-label="{label}"{" class=n" if 0 < k < 5 else ""}>{cell}</td>'
+                for k, (label, cell) in enumerate(zip(labels, cells))
+            )
             rows.append(f'<tr class="{s.outcome}">{tds}</tr>')
     head = "".join(f"<th>{label}</th>" for label in labels)
     return f'<table class="overview"><thead><tr>{head}</tr></thead><tbody>{"".join(rows)}</tbody></table>'
@@ -290,8 +293,9 @@ def _e(text) -> str:
 GREEN, AMBER, RED, GREY = "#2e7d32", "#b26a00", "#c62828", "#607d8b"
 CSS = f"""
 body {{ font-family: system-ui, -apple-system, "Segoe UI", "DejaVu Sans", sans-serif; margin: 1.2rem auto;
-       max-width: 2400px; padding: 0 clamp(0.5rem, 2vw, 2rem); color: #1c2329; background: #fafafa;
-       overflow-wrap: anywhere; }}
+       max-width: 2400px; padding: 0 clamp(0.5rem, 2vw, 2rem); color: #1c2329; background: #fafafa; }}
+a, code, summary, h3, .why, td {{ overflow-wrap: anywhere; }}
+td.n, th {{ white-space: nowrap; overflow-wrap: normal; }}
 h1 {{ margin-bottom: 0.2rem; }}
 code {{ font-family: ui-monospace, "DejaVu Sans Mono", monospace; font-size: 0.9em; }}
 .verdict {{ font-size: 1.15rem; font-weight: 600; margin: 0.3rem 0; }}
@@ -303,7 +307,8 @@ th, td {{ border: 1px solid #cfd8dc; padding: 0.25rem 0.6rem; text-align: left; 
 th {{ background: #eceff1; }}
 tr.group th {{ background: #cfd8dc; font-size: 1rem; }}
 .overview {{ width: 100%; }}
-.overview td:first-child {{ min-width: 14rem; }} .overview td:last-child {{ min-width: 20rem; }}
+.overview td:first-child {{ min-width: 16rem; width: 24%; }} .overview td:last-child {{ min-width: 18rem; }}
+.overview td:nth-child(6) {{ min-width: 9rem; }}
 .v {{ display: inline-block; border-radius: 4px; padding: 0 0.4rem; margin: 0 0.2rem 0.1rem 0; color: #fff;
       font-size: 0.85rem; font-weight: 600; background: {GREY}; white-space: nowrap; }}
 .v.held {{ background: {GREEN}; }} .v.tolerated {{ background: {AMBER}; }} .v.missed {{ background: {RED}; }}
@@ -334,7 +339,8 @@ figcaption {{ font-size: 0.8rem; color: #546e7a; text-align: center; }}
   thead {{ display: none; }}
   tr {{ border: 1px solid #cfd8dc; margin-bottom: 0.5rem; background: #fff; }}
   tr.group th {{ border: 0; }}
-  td {{ border: 0; border-bottom: 1px solid #eceff1; min-width: 0 !important; }}
+  td, td.n {{ border: 0; border-bottom: 1px solid #eceff1; min-width: 0 !important; width: auto !important;
+             white-space: normal; }}
   td[data-label]::before {{ content: attr(data-label) ": "; color: #546e7a; font-weight: 600; }}
   section.scenario {{ padding: 0.3rem 0.5rem 0.6rem; }}
 }}

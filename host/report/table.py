@@ -16,7 +16,7 @@ def format_table(rows: list[dict], cols=FULL) -> str:
     cells = [[("-" if r.get(c) is None else str(r.get(c))) for c in cols] for r in rows]
     widths = [max(len(c), *(len(row[i]) for row in cells)) for i, c in enumerate(cols)]
     line = "  ".join(c.ljust(w) for c, w in zip(cols, widths))
-    out = [line, "  ".join("-" * w for w in widths)]
+    out = [line.rstrip(), "  ".join("-" * w for w in widths)]
     out += ["  ".join(v.ljust(w) for v, w in zip(row, widths)).rstrip() for row in cells]
     return "\n".join(out)
 
@@ -40,8 +40,20 @@ def format_summary(rows: list[dict], failed: set[str] = frozenset(), width: int 
         if name in failed or any(verdicts.verdict_of(b) in (verdicts.MISSED, verdicts.TOLERATED) for b in budgets):
             detail += budgets
     if detail:
-        out += ["", "budgets of the scenarios that failed or did not hold every budget:", format_table(detail, NARROW)]
+        out += ["", "budgets of the scenarios that failed or did not hold every budget:", *_detail(detail)]
     return "\n".join(out)
+
+
+def _detail(rows: list[dict]) -> list[str]:
+    """One table (the columns aligned throughout), each scenario's rows under its whole name."""
+    lines = format_table(rows, NARROW[1:]).splitlines()
+    out, last = ["  " + line for line in lines[:2]], None
+    for row, line in zip(rows, lines[2:]):
+        if row["scenario"] != last:
+            out.append(f"{row['scenario']}:")
+            last = row["scenario"]
+        out.append("  " + line)
+    return out
 
 
 def scenario_verdict(budgets: list[dict]) -> str:
@@ -63,8 +75,8 @@ def scenario_verdict(budgets: list[dict]) -> str:
 
 
 def _name_and_text(name: str, text: str, column: int, width: int) -> list[str]:
+    if len(name) > column:  # its own line, the verdict under it
+        return [name, *textwrap.wrap(text, width, initial_indent="    ", subsequent_indent="      ")]
     indent = " " * (column + 1)
-    if len(name) > column:
-        return [name, *textwrap.wrap(text, width, initial_indent=indent, subsequent_indent=indent + "  ")]
     lines = textwrap.wrap(text, max(width - column - 1, 20), subsequent_indent="  ")
     return [f"{name:<{column}} {lines[0]}".rstrip(), *(indent + line for line in lines[1:])]
