@@ -54,7 +54,7 @@ def _judge_misses(row: dict, misses: int, test_failed: bool) -> tuple[str, str]:
                 f"the test checked it and failed: {misses} of {row['count']} outside {row['limit']}", detail
             )
         return TOLERATED, _join("the test expected these misses (its check() raised and the test went on)", detail)
-    why = "not checked by the test" + (" (it failed on something else)" if test_failed else "")
+    why = "not checked by the test" + (", which failed on something else" if test_failed else "")
     return TOLERATED, _join(why, detail)
 
 
