@@ -38,7 +38,7 @@ class SessionReport:
         collector = self.collector
         name = report.nodeid.split("::")[-1]
         for rig in getattr(report, RIGS_ATTRIBUTE, None) or ():
-            self.rows.extend({"scenario": name, **row} for row in rig["rows"])
+            self.rows.extend({"scenario": name, "rig": rig["label"], **row} for row in rig["rows"])
             if collector is not None:
                 collector.add_rig(report.nodeid, name, rig)
         if collector is None:

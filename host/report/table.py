@@ -6,8 +6,8 @@ import textwrap
 
 from host.rig import verdicts
 
-FULL = ("scenario", "budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
-NARROW = ("scenario", "budget", "limit", "count", "p50", "max", "misses", "verdict")
+FULL = ("scenario", "rig", "budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
+NARROW = ("scenario", "rig", "budget", "limit", "count", "p50", "max", "misses", "verdict")
 
 
 def format_table(rows: list[dict], cols=FULL) -> str:
@@ -70,8 +70,10 @@ def scenario_verdict(budgets: list[dict]) -> str:
         text = f"MISSED {worst['budget']} {worst['misses']}/{worst['count']}, max {worst['max']} ({worst['limit']})"
     else:
         text = f"tolerated {worst['budget']} {worst['misses']}/{worst['count']} ({worst.get('why') or 'not judged'})"
-    others = len(missed) + len(tolerated) - 1
-    return text + (f"; {others} more not held" if others else "") + f"; {held} held"
+    more = [
+        f"{len(group) - (worst in group)} more {name}" for name, group in (("missed", missed), ("tolerated", tolerated))
+    ]
+    return "; ".join([text, *(m for m in more if not m.startswith("0 ")), f"{held} held"])
 
 
 def _name_and_text(name: str, text: str, column: int, width: int) -> list[str]:

@@ -27,7 +27,7 @@ from host.artefacts import integrity
 HELD, TOLERATED, MISSED, INFO, UNMEASURED = "held", "tolerated", "missed", "info", "unmeasured"
 ORDER = (MISSED, TOLERATED, HELD, INFO, UNMEASURED)
 """Worst first: the order a summary names them in."""
-REPLACED_WHY = "replaced before the firmware read it (a miss by definition: docs/budgets.md)"
+REPLACED_WHY = "replaced before the firmware read it, a miss by definition (see docs/budgets.md)"
 
 
 def judge(row: dict, test_failed: bool) -> tuple[str, str]:
