@@ -116,8 +116,8 @@ def _properties(node, key: str, rig, rows: list[dict]) -> None:
     node.user_properties += [(f"{key}.seed", rig.seed), (f"{key}.artefacts", str(rig.artefacts))]
     for row in rows:
         text = f"count={row['count']} max={row['max']} misses={row['misses']} limit={row['limit']}"
-        text += f" verdict={row['verdict']} why={row['why']}"
         node.user_properties.append((f"{key}.budget.{row['budget']}", text))
+        node.user_properties.append((f"{key}.budget.{row['budget']}.verdict", f"{row['verdict']}: {row['why']}"))
 
 
 def _evidence(item) -> str:
