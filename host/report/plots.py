@@ -207,7 +207,7 @@ def _draw_panel(ax, panel: views.Panel, bumps, end_s: float | None = None) -> No
 
 
 def timing_figure(trace: TraceData) -> Figure | None:
-    budgets = [b for b in trace.budgets if len(budget_values(b)[0])]
+    budgets = [b for b in trace.budgets if _has_values(b)]
     if not budgets:
         return None
     cols = 2 if len(budgets) > 1 else 1
@@ -219,11 +219,29 @@ def timing_figure(trace: TraceData) -> Figure | None:
     )
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     for ax, budget in zip(axes, budgets):
-        _budget_histogram(ax, budget)
+        try:
+            _budget_histogram(ax, budget)
+        except (KeyError, TypeError, ValueError, AttributeError) as e:  # a damaged budgets.json: say so, plot the rest
+            ax.clear()
+            ax.set_axis_off()
+            ax.text(
+                0.5,
+                0.5,
+                f"budgets.json: a record not readable\n({type(e).__name__}: {e})",
+                ha="center",
+                fontsize="small",
+            )
     for ax in axes[len(budgets) :]:
         ax.set_visible(False)
     fig.suptitle(f"Timing budgets: {_title(trace)}", fontsize="medium")
     return fig
+
+
+def _has_values(budget) -> bool:
+    try:
+        return bool(len(budget_values(budget)[0]))
+    except (KeyError, TypeError, ValueError, AttributeError):
+        return isinstance(budget, dict)  # (drawn as a record not readable)
 
 
 def budget_values(budget: dict) -> tuple[np.ndarray, np.ndarray]:
