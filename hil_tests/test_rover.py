@@ -94,6 +94,7 @@ def test_realtime_mode_runs_the_same_firmware_on_the_wall_clock(make_rig):
     import time
 
     rig = make_rig("rover", seed=1, mode="realtime")
+    rig.budgets["control.period"].tolerate("real time on a shared machine: the period is the scheduler's, not asserted")
     t0 = time.monotonic()
     rig.run_for(1.5)
     wall = time.monotonic() - t0

@@ -32,7 +32,7 @@ from host.pytest_plugin import budget_marks, stopping, userpath
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
-from host.rig import Rig
+from host.rig import Rig, verdicts
 from host.rig.spec import Recording, RigSpec
 
 _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
@@ -145,6 +145,7 @@ def _properties(node, key: str, rig, rows: list[dict]) -> None:
     for row in rows:
         text = f"count={row['count']} max={row['max']} misses={row['misses']} limit={row['limit']}"
         node.user_properties.append((f"{key}.budget.{row['budget']}", text))
+        node.user_properties.append((f"{key}.budget.{row['budget']}.verdict", f"{row['verdict']}: {row['why']}"))
 
 
 def _evidence(item) -> str:
@@ -225,7 +226,8 @@ def make_rig(request):
         if keep_failed and not failed:
             drop_recording(rig)
         rig.stop()
-        rows = [row for row in rig.budget_rows() if row["count"]]
+        rows = verdicts.rows_of(rig.budgets.values(), failed)  # (after the test: its check()s are known)
+        verdicts.stamp(rig.artefacts if rig.recorder else None, rows)
         _properties(request.node, f"rig{i}", rig, rows)
         # a pytest-xdist worker plots its rigs as it goes; one session plots them all at its end
         plot = (recording and is_worker(request.config)) or kept

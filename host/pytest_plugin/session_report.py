@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from host.report.session import ReportCollector
-from host.report.table import format_summary, format_table
+from host.report.table import WIDTH, format_summary, format_table
+from host.rig import verdicts
 
 RIGS_ATTRIBUTE = "hil_rigs"
 
@@ -37,7 +38,7 @@ class SessionReport:
         collector = self.collector
         name = report.nodeid.split("::")[-1]
         for rig in getattr(report, RIGS_ATTRIBUTE, None) or ():
-            self.rows.extend({"scenario": name, **row} for row in rig["rows"])
+            self.rows.extend({"scenario": name, "rig": rig["label"], **row} for row in rig["rows"])
             if collector is not None:
                 collector.add_rig(report.nodeid, name, rig)
         if collector is None:
@@ -64,10 +65,12 @@ class SessionReport:
         if self.rows:
             terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
             if self.config.getoption("--hil-table-full"):
+                terminalreporter.write_line(verdicts.headline(self.rows)[1])
                 terminalreporter.write_line(format_table(self.rows))
             else:
                 failed = {r.nodeid.split("::")[-1] for r in terminalreporter.stats.get("failed", ())}
-                terminalreporter.write_line(format_summary(self.rows, failed))
+                width = getattr(getattr(terminalreporter, "_tw", None), "fullwidth", WIDTH)
+                terminalreporter.write_line(format_summary(self.rows, failed, width=max(width, 60)))
 
     @pytest.hookimpl(trylast=True)
     def pytest_sessionfinish(self):

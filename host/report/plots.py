@@ -8,6 +8,7 @@
 - ``trajectory.gif``: the same path as a moving picture (:mod:`host.report.movie`).
 """
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -20,11 +21,16 @@ from matplotlib.ticker import FuncFormatter, NullLocator
 from host.artefacts import integrity
 from host.artefacts.folder import TraceData, load_trace
 from host.report import views
+from host.rig import verdicts
 
 DPI = 100
 PLOTS = "plots"
 OK_COLOUR = "#2e7d32"
 MISS_COLOUR = "#c62828"
+TOLERATED_COLOUR = "#b26a00"
+INFO_COLOUR = "#607d8b"
+LEGEND_WIDTH_IN = 2.3  # right of a signals panel: its legend, beside the lines rather than over them
+LEGEND_CHARS = 32  # a longer label wraps (x-small letters: the legend's width holds this many)
 COVERED_RGBA = (0.55, 0.80, 0.55, 1.0)
 FREE_RGBA = (0.93, 0.93, 0.93, 1.0)
 
@@ -138,8 +144,10 @@ def signals_figure(trace: TraceData) -> Figure | None:
     if not panels:
         return None
     height_in = 2.4 * len(panels) + 0.8
-    fig = Figure(figsize=(10, height_in))
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35)
+    fig = Figure(figsize=(12, height_in))  # (the legends right of the panels, over no line)
+    fig.subplots_adjust(
+        left=0.07, right=1 - LEGEND_WIDTH_IN / 12, bottom=0.6 / height_in, top=1 - 0.8 / height_in, hspace=0.35
+    )
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     bumps = views.bumps_s(trace)
     end_s = trace.header["t_end_us"] / 1e6
@@ -182,14 +190,24 @@ def _draw_panel(ax, panel: views.Panel, bumps, end_s: float | None = None) -> No
     ax.set_title(panel.title, fontsize="medium", loc="left")
     ax.set_ylabel(panel.ylabel)
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper right", fontsize="x-small", framealpha=0.9)
+    handles, labels = ax.get_legend_handles_labels()
+    labels = [textwrap.fill(label, LEGEND_CHARS) for label in labels]
+    ax.legend(
+        handles,
+        labels,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize="x-small",
+        frameon=False,
+        borderaxespad=0,
+    )
 
 
 # -- timing ------------------------------------------------------------------------------
 
 
 def timing_figure(trace: TraceData) -> Figure | None:
-    budgets = [b for b in trace.budgets if len(budget_values(b)[0])]
+    budgets = [b for b in trace.budgets if _has_values(b)]
     if not budgets:
         return None
     cols = 2 if len(budgets) > 1 else 1
@@ -201,11 +219,29 @@ def timing_figure(trace: TraceData) -> Figure | None:
     )
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     for ax, budget in zip(axes, budgets):
-        _budget_histogram(ax, budget)
+        try:
+            _budget_histogram(ax, budget)
+        except (KeyError, TypeError, ValueError, AttributeError) as e:  # a damaged budgets.json: say so, plot the rest
+            ax.clear()
+            ax.set_axis_off()
+            ax.text(
+                0.5,
+                0.5,
+                f"budgets.json: a record not readable\n({type(e).__name__}: {e})",
+                ha="center",
+                fontsize="small",
+            )
     for ax in axes[len(budgets) :]:
         ax.set_visible(False)
     fig.suptitle(f"Timing budgets: {_title(trace)}", fontsize="medium")
     return fig
+
+
+def _has_values(budget) -> bool:
+    try:
+        return bool(len(budget_values(budget)[0]))
+    except (KeyError, TypeError, ValueError, AttributeError):
+        return isinstance(budget, dict)  # (drawn as a record not readable)
 
 
 def budget_values(budget: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -249,7 +285,7 @@ def _budget_histogram(ax, budget: dict) -> None:
     else:
         width = max(span[1] - span[0], 1e-3)
         bins = np.linspace(span[0] - 0.05 * width, span[1] + 0.05 * width, 41)
-    colour = MISS_COLOUR if stats["misses"] else "#1565c0"
+    verdict, colour = budget_verdict(budget)
     ax.hist(values_ms, bins=bins, weights=counts, color=colour, alpha=0.85, histtype="stepfilled")
     ax.set_yscale("log")  # a single late value stays visible beside hundreds on time
     ax.set_ylim(0.7, None)  # bars rise from below a count of 1
@@ -257,12 +293,48 @@ def _budget_histogram(ax, budget: dict) -> None:
     ax.set_xlabel(unit)
     ax.set_ylabel("count")
     ax.set_title(
-        f"{budget['name']}: {stats['count']} values, {stats['misses']} misses\n"
+        f"{budget['name']}: {verdict}, {_misses_text(budget)} of {stats['count']}\n"
         f"p50 {stats['p50'] / 1000:g} ms, p99 {stats['p99'] / 1000:g} ms, max {stats['max'] / 1000:g} ms",
         fontsize="small",
-        color=MISS_COLOUR if stats["misses"] else "black",
+        color=colour,
     )
     ax.legend(loc="upper right", fontsize="x-small")
+
+
+VERDICT_COLOURS = {
+    verdicts.HELD: OK_COLOUR,
+    verdicts.TOLERATED: TOLERATED_COLOUR,
+    verdicts.MISSED: MISS_COLOUR,
+    verdicts.INFO: INFO_COLOUR,
+}
+
+
+def budget_verdict(budget: dict) -> tuple[str, str]:
+    """(verdict, colour) of a budget record: the verdict its test gave it (``budgets.json``
+    as the pytest plugin stamps it), else, for a run no test judged (``mpy-fil run``),
+    ``held`` or ``N misses``, amber: measured, not enforced."""
+    verdict = budget.get("verdict")
+    if verdict is None:
+        if budget.get("wall_clock"):
+            return verdicts.INFO, INFO_COLOUR
+        misses = budget["stats"]["misses"]
+        return (
+            (f"{misses} {'miss' if misses == 1 else 'misses'} (no test judged them)", TOLERATED_COLOUR)
+            if misses
+            else (
+                verdicts.HELD,
+                OK_COLOUR,
+            )
+        )
+    return verdict, VERDICT_COLOURS.get(verdict, INFO_COLOUR)
+
+
+def _misses_text(budget: dict) -> str:
+    misses, replaced = budget["stats"]["misses"], budget.get("replaced") or 0
+    text = f"{misses} {'miss' if misses == 1 else 'misses'}"
+    if replaced:
+        text += f" ({'all' if replaced == misses else replaced} replaced before read)"
+    return text
 
 
 def _plain_log_labels(axis) -> None:

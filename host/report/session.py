@@ -24,6 +24,7 @@ class ReportCollector:
         self.micropython = ""
         self.totals: dict[str, int] = {}  # every test of the session, as pytest counts them
         self._counted: set[str] = set()
+        self.skipped: list[tuple[str, str]] = []  # (test, why) of every skipped test
 
     def count(self, nodeid: str, report) -> None:
         """Any test's phase: its outcome into the session's totals (once per test)."""
@@ -33,6 +34,8 @@ class ReportCollector:
             if nodeid not in self._counted:
                 self._counted.add(nodeid)
                 self.totals[outcome] = self.totals.get(outcome, 0) + 1
+                if outcome == "skipped":
+                    self.skipped.append((nodeid, skip_reason(report)))
 
     def scenario(self, nodeid: str, name: str) -> Scenario:
         if nodeid not in self.scenarios:
@@ -79,7 +82,20 @@ class ReportCollector:
         for rig in rigs:
             rig.header = json.loads((rig.folder / HEADER).read_text(encoding="utf-8"))
         shown = [s for s in self.scenarios.values() if s.rigs or s.outcome in ("failed", "error")]
-        return write_report(self.path, shown, micropython=self.micropython, totals=self.totals or None)
+        return write_report(
+            self.path,
+            shown,
+            micropython=self.micropython,
+            totals=self.totals or None,
+            skipped=sorted(self.skipped),
+        )
+
+
+def skip_reason(report) -> str:
+    """A skipped test's reason, as pytest's ``-rs`` prints it (without "Skipped: ")."""
+    longrepr = report.longrepr
+    text = longrepr[2] if isinstance(longrepr, tuple) and len(longrepr) == 3 else str(longrepr or "")
+    return str(text).removeprefix("Skipped: ") or "no reason given"
 
 
 def _plot_failure(error: str) -> dict:

@@ -57,6 +57,12 @@ class Budget:
         self.count = 0
         self.misses = 0
         self.first_misses: list[tuple] = []  # (virtual t_us or None, value) of the first KEPT_MISSES
+        self.checked: str | None = None
+        """None until the test calls :meth:`check`; then "held" or "missed" (what it found)."""
+        self.tolerated = ""
+        """Why the test tolerates this budget's misses (:meth:`tolerate`); "" when it does not."""
+        self.replaced = 0
+        """Misses that are samples replaced before the firmware read them (a latency budget's)."""
 
     def hooks(self) -> list[tuple]:
         """``(event, signal, callable)`` for each event this budget measures."""
@@ -105,17 +111,38 @@ class Budget:
             "stats": self.stats(),
             "histogram_us": [[value, n] for value, n in sorted(self.histogram.items())],
             "misses_at": [[t, value] for t, value in self.first_misses],  # the first KEPT_MISSES
+            "replaced": self.replaced,
         }
 
     def limit_text(self) -> str:
         return f"<= {self.limit_us} us"
 
+    def tolerate(self, why: str) -> "Budget":
+        """The test allows this budget's misses, for the reason ``why`` (said wherever
+        the budget's verdict is shown: ``tolerated``, never red); :meth:`check` then
+        only asks for measurements."""
+        if not why or not why.strip():
+            raise ValueError(f"budget {self.name}: tolerate() needs the reason the misses are allowed")
+        self.tolerated = why.strip()
+        return self
+
+    def judgement(self) -> dict:
+        """What the test made of this budget, for its verdict (:mod:`host.rig.verdicts`)."""
+        return {
+            "checked": self.checked,
+            "tolerated": self.tolerated,
+            "replaced": self.replaced,
+            "wall_clock": self.wall_clock,
+        }
+
     def check(self) -> None:
-        """Raise AssertionError naming the budget if it was missed or never measured."""
+        """Raise AssertionError naming the budget if it was missed or never measured
+        (misses the test tolerates aside: :meth:`tolerate`)."""
         s = self.stats()
+        self.checked = "missed"
         if s["count"] == 0:
             raise AssertionError(f"budget {self.name}: expected measurements of {self.source}, got none")
-        if self.misses:
+        if self.misses and not self.tolerated:
             first = ", ".join(
                 f"{value} us" + (f" at virtual t={t / 1e6:.6f} s" if t is not None else "")
                 for t, value in self.first_misses[:FIRST_MISSES]
@@ -125,6 +152,7 @@ class Budget:
                 f"got {self.misses} misses of {s['count']} (p50 {s['p50']}, p99 {s['p99']}, max {s['max']} us); "
                 f"the first: {first}"
             )
+        self.checked = "held"
 
 
 class PeriodBudget(Budget):
@@ -183,6 +211,7 @@ class LatencyBudget(Budget):
 
     def sample(self, t_us: int, sample_no: int) -> None:
         for old in [n for n in self._pending if n < sample_no]:  # superseded, never read
+            self.replaced += 1
             self._record(t_us - self._pending.pop(old), True, t_us)
         self._pending[sample_no] = t_us
 

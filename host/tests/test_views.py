@@ -85,19 +85,24 @@ def test_progress_in_a_log_writes_a_line_now_and_then_and_at_the_end():
 
 def test_the_terminal_summary_is_a_line_a_scenario_in_100_columns_naming_the_worst_budget():
     from host.report.table import format_summary
+    from host.rig.verdicts import judged
 
     long = "test_" + "long_name_" * 8
-    keys = ("scenario", "budget", "limit", "count", "p50", "max", "misses")
+    keys = ("scenario", "budget", "limit", "count", "p50", "max", "misses", "checked")
     rows = [
-        dict(zip(keys, (long, "control.period", "50000 +- 1000 us", 600, 50000, 52000, 3))),
-        dict(zip(keys, (long, "sonar.period", "500000 +- 1000 us", 60, 500000, 500000, 0))),
-        dict(zip(keys, ("test_quiet", "control.compute", "<= 50000 us wall", 10, 9, 90000, 4))),
+        dict(zip(keys, (long, "control.period", "50000 +- 1000 us", 600, 50000, 52000, 3, "missed"))),
+        dict(zip(keys, (long, "sonar.period", "500000 +- 1000 us", 60, 500000, 500000, 0, "held"))),
     ]
-    text = format_summary(rows)
+    rows = judged(rows, test_failed=True)
+    rows += judged(
+        [dict(zip(keys, ("test_quiet", "control.compute", "<= 50000 us wall", 10, 9, 90000, 4, None)))], False
+    )
+    text = format_summary(rows, {long})
     lines = text.splitlines()
     assert max(map(len, lines)) <= 100, max(map(len, lines))
-    assert "MISSED control.period 3/600, max 52000" in lines[0]
-    assert lines[1].startswith("test_quiet") and "all 0 held" in lines[1], "wall-clock budgets are informational"
+    assert lines[0].startswith("Budgets MISSED: 1 missed"), lines[0]
+    assert lines[2] == long and "MISSED control.period 3/600, max 52000" in lines[3], "a long name: a line of its own"
+    assert lines[4].startswith("test_quiet") and "all 0 held" in lines[4], "wall-clock budgets are informational"
     assert "sonar.period" in text and text.count("test_quiet") == 1, "the table: only scenarios that missed"
 
 
