@@ -18,7 +18,8 @@ CSS = (
     + """
 body { max-width: 1600px; }
 table { max-width: 100%; }
-td, th { overflow-wrap: anywhere; vertical-align: top; }
+td, th { overflow-wrap: break-word; vertical-align: top; }
+.badge { white-space: nowrap; }
 table.wide { width: 100%; }
 td.num { text-align: right; white-space: nowrap; }
 .plots { grid-template-columns: repeat(auto-fit, minmax(min(460px, 100%), 1fr)); }
@@ -28,6 +29,9 @@ p.group .expected { color: #2e7d32; } p.group .unexpected { color: #c62828; font
 section.scenario h3 { font-size: 1rem; margin: 0.5rem 0; }
 section.scenario .run { display: grid; grid-template-columns: minmax(0, 1fr) minmax(0, 1.4fr); gap: 1rem; }
 @media (max-width: 900px) { section.scenario .run { grid-template-columns: minmax(0, 1fr); } }
+@media (max-width: 600px) { body { padding: 0 0.5rem; } table { font-size: 0.8rem; }
+  th, td { padding: 0.2rem 0.3rem; } td.num { white-space: normal; }
+  section.scenario { padding: 0.3rem 0.5rem 0.6rem; } }
 code.replay { display: block; overflow-wrap: anywhere; white-space: pre-wrap; background: #f4f6f7; padding: 0.3rem; }
 """
 )

@@ -248,7 +248,7 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     labels = [f"{r['faultset']} / {r['world']}" for r in rows]
-    fig, ax = plt.subplots(figsize=(7, 0.5 + 0.45 * len(rows)))
+    fig, ax = plt.subplots(figsize=(7, 1.6 + 0.45 * len(rows)))
     rates = [r["rate"] for r in rows]
     ax.errorbar(rates, range(len(rows)), xerr=error_bars(rows), fmt="o", capsize=4)
     ax.set_yticks(range(len(rows)), labels)
