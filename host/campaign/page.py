@@ -22,6 +22,7 @@ td, th { overflow-wrap: break-word; vertical-align: top; }
 .badge { white-space: nowrap; }
 table.wide { width: 100%; }
 td.num { text-align: right; white-space: nowrap; }
+table.setup th { width: 40%; }
 .plots { grid-template-columns: repeat(auto-fit, minmax(min(460px, 100%), 1fr)); }
 .note { color: #546e7a; font-size: 0.9rem; }
 p.group { margin: 0.3rem 0; font-size: 1.05rem; }
