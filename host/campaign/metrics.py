@@ -48,13 +48,14 @@ METRICS = {
     )
 }
 JUDGED_BY = {
-    "pool_mission": "coverage",
-    "duct_branch": "home_off_m",
-    "no_contact": "contacts",
-    "generic": "t_end_s",
-    "declared": "t_end_s",
+    "pool_mission": ("coverage",),
+    "duct_branch": ("home_off_m",),
+    "no_contact": ("contacts",),
+    "generic": ("t_end_s",),
+    "declared": ("coverage", "home_off_m", "contacts", "t_end_s"),  # the first its rig file's judge gives
 }
-"""The figure each judge's campaign is ranked by when the campaign names none."""
+"""The figure each judge's campaign is ranked by when the campaign names none (the first
+of these its runs have)."""
 
 
 def metric(name: str) -> Metric:
@@ -67,10 +68,15 @@ def metric(name: str) -> Metric:
     return Metric(name, name.replace("_", " "))
 
 
-def judged_by(campaign: dict) -> tuple[str, bool]:
+def judged_by(campaign: dict, results: list[dict] | None = None) -> tuple[str, bool]:
     """The figure a campaign ranks its runs by and whether its worst runs are its lowest:
-    ``worst_by`` (or the judge's own figure), and ``worst_low`` (or the figure's known
-    direction: coverage higher is better, so its worst runs are the lowest)."""
-    name = campaign.get("worst_by") or JUDGED_BY.get(campaign.get("judge") or "generic", "t_end_s")
+    ``worst_by`` (or the judge's own figure: the first of :data:`JUDGED_BY`'s that the
+    ``results`` have), and ``worst_low`` (or the figure's known direction: coverage
+    higher is better, so its worst runs are the lowest)."""
+    name = campaign.get("worst_by")
+    if not name:
+        names = JUDGED_BY.get(campaign.get("judge") or "generic", ("t_end_s",))
+        present = {f for r in results or () for f in r["figures"]}
+        name = next((n for n in names if n in present), names[0])
     low = campaign.get("worst_low")
     return name, metric(name).higher_is_better if low is None else bool(low)

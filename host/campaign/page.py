@@ -9,7 +9,7 @@ import html
 import os
 from pathlib import Path
 
-from host.campaign.metrics import judged_by, metric
+from host.campaign.metrics import metric
 from host.core import provenance
 from host.report.html import CSS as HOUSE_CSS
 
@@ -51,11 +51,14 @@ SETUP = (
 )
 
 
-def render(campaign: dict, rows: list[dict], worst_runs: list[dict], plots: list[Path], maps: dict, n: int) -> str:
+def render(
+    campaign: dict, rows: list[dict], worst_runs: list[dict], plots: list[Path], maps: dict, n: int, judged: tuple
+) -> str:
+    """The page; ``judged``: the figure the runs are ranked by, and whether lowest is worst."""
     from host.campaign.report import expectation
 
     name = str(campaign.get("name"))
-    by, low = judged_by(campaign)
+    by, low = judged
     groups = "".join(_group_line(campaign, r, expectation(campaign, r)) for r in rows)
     parts = [
         "<!DOCTYPE html>",
@@ -79,7 +82,7 @@ def render(campaign: dict, rows: list[dict], worst_runs: list[dict], plots: list
         *[_figure(p, p.parent.parent, _plot_title(p)) for p in plots],
         "</div>",
         "<h2>Set-up</h2>",
-        _setup_table(campaign),
+        _setup_table(campaign, by, low),
         _faultset_table(campaign.get("faultsets") or {}),
         "</body></html>\n",
     ]
@@ -176,7 +179,7 @@ def _figure(path: Path, base: Path, caption: str) -> str:
     return f"<figure>{img}<figcaption>{_e(caption)}</figcaption></figure>"
 
 
-def _setup_table(campaign: dict) -> str:
+def _setup_table(campaign: dict, by: str, low: bool) -> str:
     rows = []
     for key, label in SETUP:
         value = campaign.get(key)
@@ -186,7 +189,6 @@ def _setup_table(campaign: dict) -> str:
         if value in (None, [], {}, ""):
             continue
         rows.append(f"<tr><th>{_e(label)}</th><td>{_e(_plain(value))}</td></tr>")
-    by, low = judged_by(campaign)
     ranked = f"{metric(by).label} ({'lowest' if low else 'highest'} first)"
     rows.append(f"<tr><th>worst runs ranked by</th><td>{_e(ranked)}</td></tr>")
     if campaign.get("source"):

@@ -121,7 +121,7 @@ def summary_lines(campaign: dict, results: list[dict]) -> list[str]:
     """What ``mpy-fil campaign`` prints at the end: per group, n passed of n, the rate and
     its Wilson bounds, whether that is a showcase's expected figure; the failures by
     reason, and the worst runs by the judged figure."""
-    by, low = judged_by(campaign)
+    by, low = judged_by(campaign, results)
     m = metric(by)
     lines = []
     for row in summarize(results):
@@ -188,7 +188,7 @@ def write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
 
 def _write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     rows = summarize(results)
-    by, low = judged_by(campaign)
+    by, low = judged_by(campaign, results)
     worst_runs = [dict(r) for r in worst(results, by, low)]
     for r in worst_runs:
         r["replay"] = replay_command(out, r["key"])
@@ -199,7 +199,7 @@ def _write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     plots = _plots(out / "plots", results, rows)
     maps = coverage_maps(out, worst_runs)
     page = out / "campaign.html"
-    page.write_text(render(campaign, rows, worst_runs, plots, maps, len(results)), encoding="utf-8")
+    page.write_text(render(campaign, rows, worst_runs, plots, maps, len(results), (by, low)), encoding="utf-8")
     return {"html": page, "json": out / "summary.json", "csv": out / "summary.csv", "runs_csv": out / "runs.csv"}
 
 

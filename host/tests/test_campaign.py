@@ -569,3 +569,9 @@ def test_missed_floor_is_counted_by_the_wall_it_lies_along():
     assert where["in the corners"] == pytest.approx(10 * 20 * 0.0025)  # the corners)
     assert where["in the middle, between lanes"] == pytest.approx(40 * 0.0025)
     assert where["along the side wall at y = 0.0 m"] == 0.0
+
+
+def test_a_declared_judges_campaign_is_ranked_by_the_figure_its_rig_file_judges():
+    runs = [result("a/w/1", True, t_end_s=4.0, coverage=0.97), result("a/w/2", True, t_end_s=4.0, coverage=0.90)]
+    assert report_module.judged_by({"judge": "declared"}, runs) == ("coverage", True)
+    assert report_module.judged_by({"judge": "declared"}, [result("a/w/1", True, t_end_s=4.0)]) == ("t_end_s", False)
