@@ -8,6 +8,7 @@ import multiprocessing
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from host.campaign import load_campaign, replay
@@ -130,7 +131,10 @@ def test_the_report_gives_wilson_intervals_distributions_worst_runs_csv_and_json
     assert {w["key"] for w in worst[:4]} == {"corrupt/room/1", "corrupt/room/2", "heap-128K/room/1", "heap-128K/room/2"}
     assert all(w["replay"].startswith(".venv/bin/mpy-fil campaign --replay ") for w in worst)
     page = paths["html"].read_text()
-    assert "Worst runs" in page and "data:image/png;base64," in page and "LinkDamaged" in page
+    assert "Worst runs" in page and 'src="plots/success_rate.png"' in page and "LinkDamaged" in page
+    grid = np.load(out / "runs" / "none" / "room" / "1" / "coverage.npz")
+    assert grid["covered"].shape == grid["free"].shape and 0 < grid["covered"].sum() < grid["free"].sum()
+    assert 'src="maps/none_room_' in page, "expected a map of the floor for a worst run that has its grid"
     assert len(paths["runs_csv"].read_text().splitlines()) == 11
     assert (out / "plots" / "success_rate.png").stat().st_size > 1000
 

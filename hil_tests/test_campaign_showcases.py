@@ -3,11 +3,14 @@ tether-snag claim over 20 duct runs, and the pool cleaner over 50 placements wit
 dropouts. Each goes on from the results already in ``build/campaign/<name>/`` (make
 campaign's command lines leave them there) and checks the statistics against the seeds."""
 
+import json
 import os
 
+import numpy as np
 import pytest
 
 from host.campaign import load_campaign
+from host.campaign.maps import missed_by_place
 from host.campaign.report import wilson, write_report
 from host.campaign.runner import run_campaign
 from host.core.paths import REPO
@@ -58,3 +61,13 @@ def test_pool_cleaner_over_50_placements_with_sonar_dropouts_finishes_every_miss
     assert not unfinished, f"expected every mission done in 50-60 min, not: {unfinished}; {page}"
     low = [(r["key"], r["figures"]["coverage"]) for r in results if r["figures"]["coverage"] < 0.88]
     assert not low, f"expected at least 88 % covered from every placement, got {low}; {page}"
+    summary = json.loads((page.parent / "summary.json").read_text())
+    worst = [w["figures"]["coverage"] for w in summary["worst"]]
+    lowest = sorted(r["figures"]["coverage"] for r in results)[: len(worst)]
+    assert worst == lowest, f"expected the worst runs to be the lowest coverage, got {worst}; {page}"
+    for w in summary["worst"]:  # where they missed: the strips along the side walls (docs/campaigns.md)
+        with np.load(page.parent / "runs" / w["key"] / "coverage.npz") as grid:
+            where = missed_by_place(grid["covered"], grid["free"], grid["extent"])
+        sides = sum(area for place, area in where.items() if "side wall" in place)
+        assert sides > 0.5 * sum(where.values()), f"{w['key']}: expected most missed along the side walls: {where}"
+        assert (page.parent / "maps" / (w["key"].replace("/", "_") + ".png")).is_file(), f"no map of {w['key']}"

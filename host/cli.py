@@ -540,7 +540,8 @@ def cmd_plot(args) -> int:
 
 def cmd_campaign(args) -> int:
     from host.campaign import load_campaign, replay
-    from host.campaign.report import summarize, write_report
+    from host.campaign.metrics import judged_by
+    from host.campaign.report import progress_line, summary_lines, write_report
     from host.campaign.runner import run_campaign
     from host.link.transport import busy_poll_wanted
 
@@ -567,14 +568,11 @@ def cmd_campaign(args) -> int:
     started = time.monotonic()
     signal.signal(signal.SIGTERM, signal.default_int_handler)  # (kill: as Ctrl-C, the pool stopped, results kept)
 
+    judged = judged_by(campaign.to_dict())[0]
+
     def progress(r, done, total):
         rate = done / max(time.monotonic() - started, 1e-9) * 60
-        first = (r["message"] or "").splitlines()[:1]
-        print(
-            f"[{done}/{total}] {'pass' if r['passed'] else 'FAIL'} {r['key']} {r.get('wall_s', 0):.1f} s"
-            f"{': ' + first[0][:160] if first else ''}  ({rate:.1f} runs/min)",
-            flush=True,
-        )
+        print(progress_line(r, done, total, judged, rate), flush=True)
 
     try:
         results = run_campaign(
@@ -589,11 +587,7 @@ def cmd_campaign(args) -> int:
         print(f"interrupted: the finished runs are in {out / 'results.jsonl'}; the same command goes on from there")
         raise
     paths = write_report(out, campaign.to_dict(), results)
-    for row in summarize(results):
-        print(
-            f"  {row['faultset']} / {row['world']}: {row['passed']} of {row['runs']} passed, "
-            f"{row['rate']:.0%} [95 % Wilson {row['wilson_lo']:.0%}-{row['wilson_hi']:.0%}]"
-        )
+    print("\n".join(summary_lines(campaign.to_dict(), results)))
     print(f"campaign report: {paths['html']}")
     return 0
 

@@ -1,11 +1,10 @@
 """A campaign's results people can use (``docs/campaigns.md``): per (fault set, world) the
 success rate with its 95 % Wilson interval and each figure's spread; the figures'
-distributions as plots; the worst runs with their seed and the command that replays
-each; one self-contained HTML page, and CSV and JSON beside it."""
+distributions as plots; the worst runs by the judged figure, with their seed, a map of
+the floor each missed and the command that replays each; an HTML page with its images
+in files beside it (:mod:`.page`), and CSV and JSON; the lines the command prints."""
 
-import base64
 import csv
-import html
 import json
 import math
 import shlex
@@ -13,6 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
+from host.campaign.maps import coverage_maps
+from host.campaign.metrics import judged_by, metric
+from host.campaign.page import render
 from host.campaign.store import RESULTS
 from host.core.errors import HarnessError
 
@@ -89,16 +91,74 @@ def summarize(results: list[dict]) -> list[dict]:
 
 
 def worst(results: list[dict], by: str | None, low: bool = False, n: int = WORST_RUNS) -> list[dict]:
-    """Failed runs first (by fault set, world, seed), then the passes ranked by the figure
-    ``by`` (the highest first, or the lowest when ``low``)."""
-    fails = sorted((r for r in results if not r["passed"]), key=lambda r: (r["faultset"], r["world"], r["seed"]))
+    """The ``n`` worst runs: the failed runs first, then the passes; within each, a run
+    without the figure ``by`` (one that ended in an error) first, then by ``by``, worst
+    first (the lowest when ``low``: coverage; the highest otherwise: time, distance);
+    ties by fault set, world and seed."""
 
-    def badness(r):
+    def rank(r):
         v = r["figures"].get(by, math.nan) if by else math.nan
-        return -math.inf if math.isnan(v) else (-v if low else v)
+        missing = v is None or not math.isfinite(v)
+        badness = 0.0 if missing else (v if low else -v)
+        return (bool(r["passed"]), not missing, badness, r["faultset"], r["world"], r["seed"])
 
-    passes = sorted((r for r in results if r["passed"]), key=badness, reverse=True)
-    return (fails + passes)[:n]
+    return sorted(results, key=rank)[:n]
+
+
+def expectation(campaign: dict, row: dict) -> str:
+    """For a showcase's group (``expected`` in its scenario file): whether its rate is the
+    known one (inside this run's 95 % interval) and where that is explained; else ""."""
+    rate = (campaign.get("expected") or {}).get(row["faultset"])
+    if rate is None:
+        return ""
+    where = campaign.get("explained") or "docs/campaigns.md"
+    if row["wilson_lo"] <= rate <= row["wilson_hi"]:
+        return f"the expected showcase figure (about {rate:.0%}; explained in {where})"
+    return f"NOT the showcase's expected {rate:.0%} (outside this interval; see {where})"
+
+
+def summary_lines(campaign: dict, results: list[dict]) -> list[str]:
+    """What ``mpy-fil campaign`` prints at the end: per group, n passed of n, the rate and
+    its Wilson bounds, whether that is a showcase's expected figure; the failures by
+    reason, and the worst runs by the judged figure."""
+    by, low = judged_by(campaign, results)
+    m = metric(by)
+    lines = []
+    for row in summarize(results):
+        runs = [r for r in results if (r["faultset"], r["world"]) == (row["faultset"], row["world"])]
+        line = (
+            f"  {row['faultset']} / {row['world']}: {row['passed']} of {row['runs']} passed, "
+            f"{row['rate']:.0%} [95 % Wilson {row['wilson_lo']:.0%}-{row['wilson_hi']:.0%}]"
+        )
+        note = expectation(campaign, row)
+        lines.append(line + (f": {note}" if note else ""))
+        reasons: dict[str, int] = {}
+        for r in runs:
+            if not r["passed"]:
+                reason = ((r.get("message") or r.get("error") or "failed").splitlines() or ["failed"])[0]
+                reason = reason.split(", got ")[0][:100]
+                reasons[reason] = reasons.get(reason, 0) + 1
+        for reason, count in sorted(reasons.items(), key=lambda kv: -kv[1]):
+            lines.append(f"    {count} failed: {reason}")
+        bad = [r for r in worst(runs, by, low, n=5) if not r["passed"] or len(runs) > 5]
+        if bad:
+            shown = ", ".join(f"seed {r['seed']} ({m.show(r['figures'].get(by))})" for r in bad)
+            lines.append(f"    worst by {m.label}: {shown}")
+    return lines
+
+
+def progress_line(r: dict, done: int, total: int, by: str, rate_per_min: float) -> str:
+    """One short line per finished run: pass or fail, its key, the judged figure, the
+    wall time; a failure's reason cut to its first 100 characters."""
+    m = metric(by)
+    value = r["figures"].get(by)
+    figure = f" {m.label} {m.show(value)}" if value is not None else ""
+    first = ((r.get("message") or "").splitlines() or [""])[0]
+    why = f": {first[:100]}" if not r["passed"] and first else ""
+    return (
+        f"[{done}/{total}] {'pass' if r['passed'] else 'fail'} {r['key']}{figure}, {r.get('wall_s', 0):.0f} s"
+        f"{why}  ({rate_per_min:.1f} runs/min)"
+    )
 
 
 def replay_command(out: Path, key: str) -> str:
@@ -128,16 +188,18 @@ def write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
 
 def _write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     rows = summarize(results)
-    worst_runs = worst(results, campaign.get("worst_by"), campaign.get("worst_low", False))
+    by, low = judged_by(campaign, results)
+    worst_runs = [dict(r) for r in worst(results, by, low)]
     for r in worst_runs:
         r["replay"] = replay_command(out, r["key"])
-    summary = {"campaign": campaign, "groups": rows, "worst": worst_runs, "runs": len(results)}
+    summary = {"campaign": campaign, "groups": rows, "worst": worst_runs, "worst_by": by, "runs": len(results)}
     (out / "summary.json").write_text(json.dumps(summary, indent=1, default=str) + "\n", encoding="utf-8")
     _write_group_csv(out / "summary.csv", rows)
     _write_runs_csv(out / "runs.csv", results)
     plots = _plots(out / "plots", results, rows)
+    maps = coverage_maps(out, worst_runs)
     page = out / "campaign.html"
-    page.write_text(_html(campaign, rows, worst_runs, plots, len(results)), encoding="utf-8")
+    page.write_text(render(campaign, rows, worst_runs, plots, maps, len(results), (by, low)), encoding="utf-8")
     return {"html": page, "json": out / "summary.json", "csv": out / "summary.csv", "runs_csv": out / "runs.csv"}
 
 
@@ -186,7 +248,7 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     labels = [f"{r['faultset']} / {r['world']}" for r in rows]
-    fig, ax = plt.subplots(figsize=(7, 0.5 + 0.45 * len(rows)))
+    fig, ax = plt.subplots(figsize=(7, 1.6 + 0.45 * len(rows)))
     rates = [r["rate"] for r in rows]
     ax.errorbar(rates, range(len(rows)), xerr=error_bars(rows), fmt="o", capsize=4)
     ax.set_yticks(range(len(rows)), labels)
@@ -196,28 +258,47 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     paths.append(_save(fig, folder / "success_rate.png"))
     names = sorted({f for r in results for f in r["figures"]}) + ["wall_s"]
     for name in names:
-        fig, ax = plt.subplots(figsize=(7, 3.2))
-        series = []
-        for (faultset, world), label in zip(((r["faultset"], r["world"]) for r in rows), labels):
-            values = [
-                (r["figures"].get(name) if name != "wall_s" else r.get("wall_s"))
-                for r in results
-                if (r["faultset"], r["world"]) == (faultset, world)
-            ]
-            series.append(([v for v in values if v is not None and math.isfinite(v)], label))
-        every = [v for values, _ in series for v in values]
-        if every:  # the same bins for every group, so their bars compare
-            bins = np.histogram_bin_edges(every, bins=min(30, max(5, len(every) // 3)))
-            for values, label in series:
-                if values:
-                    ax.hist(values, bins=bins, alpha=0.6, label=label)
-        ax.set_xlabel(name)
-        ax.set_ylabel("runs")
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize="small")
-        fig.tight_layout()
-        paths.append(_save(fig, folder / f"{name}.png"))
+        paths.append(_histogram(plt, folder / f"{name}.png", name, results, rows, labels))
     return paths
+
+
+def histogram_bins(values: list[float], integer: bool) -> np.ndarray:
+    """The same bins for every group, so their bars compare; a count's bins are whole
+    numbers, centred on each (one a value, or a few values each when they spread wide)."""
+    if integer:
+        lo, hi = math.floor(min(values)), math.ceil(max(values))
+        step = max(1, math.ceil((hi - lo + 1) / 30))
+        return np.arange(lo - 0.5, hi + step + 0.5, step)
+    return np.histogram_bin_edges(values, bins=min(30, max(5, len(values) // 3)))
+
+
+def _histogram(plt, path: Path, name: str, results: list[dict], rows: list[dict], labels: list[str]) -> Path:
+    m = metric(name)
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    series = []
+    for row, label in zip(rows, labels):
+        values = [
+            (r["figures"].get(name) if name != "wall_s" else r.get("wall_s"))
+            for r in results
+            if (r["faultset"], r["world"]) == (row["faultset"], row["world"])
+        ]
+        series.append(([m.scaled(v) for v in values if v is not None and math.isfinite(v)], label))
+    every = [v for values, _ in series for v in values]
+    if every:
+        bins = histogram_bins(every, m.integer)
+        for values, label in series:
+            if values:
+                ax.hist(values, bins=bins, alpha=0.6, label=label)
+        if m.integer:
+            ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.yaxis.get_major_locator().set_params(integer=True)
+    ax.set_xlabel(m.title)
+    ax.set_ylabel("runs")
+    ax.set_title(m.label[:1].upper() + m.label[1:], fontsize="medium")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize="small")
+    fig.tight_layout()
+    return _save(fig, path)
 
 
 def _save(fig, path: Path) -> Path:
@@ -226,55 +307,6 @@ def _save(fig, path: Path) -> Path:
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
-
-
-def _html(campaign: dict, rows: list[dict], worst_runs: list[dict], plots: list[Path], n: int) -> str:
-    e = html.escape
-    names = sorted({f for r in rows for f in r["figures"]})
-    head = "".join(f"<th>{e(x)} (median, 5-95 %)</th>" for x in names)
-    body = []
-    for r in rows:
-        figs = "".join(
-            f"<td>{_num(r['figures'][x]['median'])} ({_num(r['figures'][x]['p5'])}-{_num(r['figures'][x]['p95'])})</td>"
-            if x in r["figures"]
-            else "<td></td>"
-            for x in names
-        )
-        errors = ", ".join(f"{k} {v}" for k, v in r["errors"].items())
-        body.append(
-            f"<tr><td>{e(r['faultset'])}</td><td>{e(r['world'])}</td><td>{r['passed']} / {r['runs']}</td>"
-            f"<td>{r['rate']:.0%} [{r['wilson_lo']:.0%}, {r['wilson_hi']:.0%}]</td><td>{e(errors)}</td>{figs}</tr>"
-        )
-    worst_rows = "".join(
-        f"<tr><td>{'pass' if r['passed'] else '<b>FAIL</b>'}</td><td>{e(r['faultset'])}</td><td>{e(r['world'])}</td>"
-        f"<td>{r['seed']}</td><td>{e(', '.join(f'{k}={_num(v)}' for k, v in r['figures'].items()))}</td>"
-        f"<td><pre>{e((r.get('message') or '')[:600])}</pre></td><td><code>{e(r['replay'])}</code></td></tr>"
-        for r in worst_runs
-    )
-    images = "".join(
-        f'<figure><img alt="{e(p.stem)}" src="data:image/png;base64,{base64.b64encode(p.read_bytes()).decode()}">'
-        f"<figcaption>{e(p.stem)}</figcaption></figure>"
-        for p in plots
-    )
-    setup = e(json.dumps({k: v for k, v in campaign.items() if k != "faultsets"}, default=str))
-    faultsets = e(json.dumps(campaign.get("faultsets", {}), default=str, indent=1))
-    return f"""<!doctype html><html><head><meta charset="utf-8"><title>campaign {e(str(campaign.get("name")))}</title>
-<style>body{{font-family:sans-serif;margin:1.5em}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;
-padding:3px 6px;font-size:13px;vertical-align:top}}pre{{margin:0;white-space:pre-wrap;max-width:40em}}
-figure{{display:inline-block;margin:6px}}</style></head><body>
-<h1>Campaign {e(str(campaign.get("name")))}: {n} runs</h1>
-<p>rig <code>{e(str(campaign.get("rig")))}</code>; <a href="summary.csv">summary.csv</a>,
-<a href="runs.csv">runs.csv</a>, <a href="summary.json">summary.json</a>, <a href="results.jsonl">results.jsonl</a></p>
-<h2>Success by fault set and world</h2>
-<table><tr><th>fault set</th><th>world</th><th>passed</th><th>rate [95 % Wilson]</th><th>errors</th>{head}</tr>
-{"".join(body)}</table>
-<h2>Worst runs</h2>
-<table><tr><th></th><th>fault set</th><th>world</th><th>seed</th><th>figures</th><th>message</th><th>replay</th></tr>
-{worst_rows}</table>
-<h2>Distributions</h2>{images}
-<h2>Set-up</h2><pre>{setup}</pre><pre>{faultsets}</pre>
-</body></html>
-"""
 
 
 def _num(v) -> str:

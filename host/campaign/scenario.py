@@ -14,7 +14,9 @@ A campaign is a rig (an app's name or a rig file) or a scenario file: TOML with 
     seeds = 20
     timeout_s = 300           # wall seconds a run may take before it counts as hung
     budgets = ["control.period"]   # budgets a run must keep to pass
-    worst_by = "home_off_m"   # the figure that ranks the worst runs (largest first)
+    worst_by = "home_off_m"   # the figure that ranks the worst runs (default: the judge's own)
+    expected = { snags = 0.9 }     # a showcase's known pass rate per fault set ...
+    explained = "docs/campaigns.md, The duct robot and its tether"   # ... and where it is explained
 
     [[faultsets]]             # none, or one named set of [[faultsets.faults]] each
     name = "snags"
@@ -49,6 +51,8 @@ CAMPAIGN_KEYS = {
     "budgets": list,
     "worst_by": str,
     "worst_low": bool,
+    "expected": dict,
+    "explained": str,
     "figures": list,
     "placement": dict,
 }
@@ -70,7 +74,9 @@ class Campaign:
     timeout_s: float = 600.0
     budgets: list[str] = field(default_factory=list)
     worst_by: str | None = None
-    worst_low: bool = False  # the worst runs have the lowest worst_by (coverage) rather than the highest
+    worst_low: bool | None = None  # the worst runs have the lowest worst_by; default: the figure's direction
+    expected: dict = field(default_factory=dict)  # fault set -> the pass rate a showcase is known to give
+    explained: str | None = None  # where that rate is explained (docs/campaigns.md, a section)
     figures: list[str] = field(default_factory=list)  # truth fields recorded as figures
     placement: dict = field(default_factory=dict)  # x_m, y_m, theta_deg: [low, high] added to the start pose
     faultsets: dict[str, list] = field(default_factory=lambda: {"none": []})  # name -> raw [[faults]] tables
@@ -189,6 +195,7 @@ def _check(campaign: Campaign) -> None:
         except FaultError as e:
             raise ConfigError(f"{campaign.source or campaign.rig}: fault set {name!r}: {e}") from None
     _check_placement(campaign)
+    _check_expected(campaign)
     known = [b.name for b in app.make_budgets(build_plant(RigSpec(app, world=campaign.worlds[0]), app)[0])]
     for name in campaign.budgets:
         if name not in known:
@@ -213,3 +220,13 @@ def _check_placement(campaign: Campaign) -> None:
             raise ConfigError(
                 f"campaign placement {key}: expected one of {', '.join(PLACEMENT_KEYS)} = [low, high], got {span!r}"
             )
+
+
+def _check_expected(campaign: Campaign) -> None:
+    """``expected = { <fault set> = rate }``: each a fault set's name and a rate in [0, 1]."""
+    for name, rate in campaign.expected.items():
+        if name not in campaign.faultsets:
+            known = ", ".join(campaign.faultsets)
+            raise ConfigError(f"campaign expected {name}: no such fault set (fault sets: {known})")
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0 <= rate <= 1:
+            raise ConfigError(f"campaign expected {name}: expected a pass rate from 0 to 1, got {rate!r}")

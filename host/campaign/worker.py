@@ -15,6 +15,9 @@ import time
 import traceback
 from pathlib import Path
 
+import numpy as np
+
+from host.artefacts.folder import coverage_grid
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
 from host.core import provenance
@@ -24,6 +27,7 @@ from host.rig.spec import Recording, RigSpec, fault_schedule
 from host.rig.target import FaultyLinkTarget, end_process
 
 MESSAGE_CHARS = 3000
+COVERAGE_FILE = "coverage.npz"
 
 
 class RunTimeout(HarnessError):
@@ -68,6 +72,7 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
         passed, figures, message = JUDGES[task["judge"]](rig, reached, task)
         result["figures"] = {k: float(v) for k, v in figures.items()}
         result["budgets"] = {b.name: _budget(b) for b in rig.budgets.values()}
+        save_coverage(rig, artefacts)
         missed = [f"{n} ({result['budgets'][n]['misses']} misses)" for n in task["budgets"] if rig.budgets[n].misses]
         if passed and missed:
             passed, message = False, f"expected the budgets kept, missed: {', '.join(missed)}"
@@ -87,6 +92,31 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
     result["wall_s"] = time.monotonic() - started
     result["cpu_s"] = _cpu_s() - cpu0  # this process and the firmware's (reaped at stop)
     return result
+
+
+def save_coverage(rig, artefacts: str | None) -> Path | None:
+    """The floor's coverage grid at the run's end, ``<artefacts>/coverage.npz`` (``covered``
+    and ``free`` cells, the grid's ``extent`` in metres, the ``start`` and ``end`` poses):
+    what the report's map of a worst run draws. None for a plant without a grid."""
+    plant = rig.plant
+    grid = coverage_grid(plant) or coverage_grid(getattr(plant, "inner", plant))
+    if grid is None or not artefacts:
+        return None
+    grid.flush()
+    path = Path(artefacts) / COVERAGE_FILE
+    path.parent.mkdir(parents=True, exist_ok=True)
+    extent = (grid.x0_m, grid.x0_m + grid.nx * grid.cell_m, grid.y0_m, grid.y0_m + grid.ny * grid.cell_m)
+    truth = rig.truth()
+    start = getattr(plant, "start_pose", None) or getattr(getattr(plant, "inner", None), "start_pose", (0, 0, 0))
+    np.savez_compressed(
+        path,
+        covered=grid.covered & grid.free,
+        free=grid.free,
+        extent=np.array(extent, dtype=float),
+        start=np.array(start[:3], dtype=float),
+        end=np.array([truth.get("x_m", np.nan), truth.get("y_m", np.nan), truth.get("theta_rad", np.nan)]),
+    )
+    return path
 
 
 def _cpu_s() -> float:
