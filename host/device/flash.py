@@ -14,6 +14,8 @@ the HIL scenarios from exactly those files).
 """
 
 import argparse
+import contextlib
+import fcntl
 import json
 import os
 import re
@@ -221,6 +223,22 @@ def flash(
     app: str, board: str | None = None, port: str | None = None, *, lines: int = 10, wait_s: float = 3.0, log=print
 ) -> dict:
     board = board or get_app(app).default_board
+    with staging_lock(app, board):  # (two flashes of one app and board at once take turns)
+        return _flash(app, board, port, lines=lines, wait_s=wait_s, log=log)
+
+
+@contextlib.contextmanager
+def staging_lock(app: str, board: str):
+    """Hold the staging folder of one app and board while it is built and copied: a second
+    ``make flash`` (or a test) of the same app waits instead of rebuilding the folder
+    under the first one's copy."""
+    STAGING.mkdir(parents=True, exist_ok=True)
+    with open(STAGING / f".{get_app(app).name}-{board}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield
+
+
+def _flash(app: str, board: str, port: str | None, *, lines: int, wait_s: float, log) -> dict:
     folder, files = stage(app, board)
     ours = None
     if port is None:

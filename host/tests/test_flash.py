@@ -4,6 +4,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -151,3 +152,17 @@ def test_a_board_running_its_own_firmware_enters_the_raw_repl_after_each_soft_re
         assert "expected WELCOME" not in mpremote(port, "exec", "print('ok')").stdout
     finally:
         vboard.stop_background("pins", home)
+
+
+def test_a_second_flash_of_the_same_app_waits_for_the_first_instead_of_rebuilding_its_folder(board_port):
+    """Two flashes of one app and board at once (two terminals, or two test workers) share
+    build/flash/<app>-<board>/: the second waits while the first builds and copies it."""
+    port, _home = board_port
+    done = {}
+    with flash.staging_lock("rover", BOARD):
+        worker = threading.Thread(target=lambda: done.update(flash.flash("rover", BOARD, port, wait_s=1.0, log=len)))
+        worker.start()
+        worker.join(timeout=1.5)
+        assert worker.is_alive() and not done, "expected the flash to wait for the staging folder's lock"
+    worker.join(timeout=120)
+    assert not worker.is_alive() and "main.py" in done["copied"], done
