@@ -249,7 +249,9 @@ class BusName:
 def address_problem(bus: str, address) -> str | None:
     """Why a device cannot sit at ``address`` on ``bus`` (None: it can)."""
     if bus.startswith("spi"):
-        return None if address is None else f"expected no address on SPI bus {bus} (a chip select instead), got {address}"
+        return (
+            None if address is None else f"expected no address on SPI bus {bus} (a chip select instead), got {address}"
+        )
     if address is None:
         return f"expected a 7-bit address on I2C bus {bus}, got none"
     if not FIRST_ADDRESS <= address <= LAST_ADDRESS:

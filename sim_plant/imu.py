@@ -161,7 +161,11 @@ class ImuPart(PartType):
     )
     TRUTH = ("{name}_rate_dps", "{name}_sample_dps")
     VIEWS = (
-        View("angle", "the gyro's z reading against the body's true turn rate", truth=("{name}_rate_dps", "{name}_sample_dps")),
+        View(
+            "angle",
+            "the gyro's z reading against the body's true turn rate",
+            truth=("{name}_rate_dps", "{name}_sample_dps"),
+        ),
     )
     on_bus = True
 
@@ -173,18 +177,25 @@ class ImuPart(PartType):
             Opt("address", Num("", 0, 127, whole=True), default_address, "its 7-bit I2C address"),
             Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address)"),
             Opt("holds_bus", Flag(), False, "true: it holds SDA low (a stuck bus: every transfer times out)"),
-            Opt("gyro_bias_dps", Row((Num("deg/s", -100, 100),) * 3, "[x, y, z] in deg/s"), [0.0, 0.0, 0.0], "the gyro's bias"),
+            Opt(
+                "gyro_bias_dps",
+                Row((Num("deg/s", -100, 100),) * 3, "[x, y, z] in deg/s"),
+                [0.0, 0.0, 0.0],
+                "the gyro's bias",
+            ),
             Opt("gyro_noise_dps", Num("deg/s", 0, 100), 0.05, "the gyro's noise (standard deviation, each sample)"),
             Opt("accel_noise_m_s2", Num("m/s²", 0, 100), 0.02, "the accelerometer's noise (standard deviation)"),
         )
 
     def check(self) -> None:
         o = self.options
+        if o["spi"] != o["bus"].startswith("spi"):
+            raise ValueError(
+                f"spi: expected {str(not o['spi']).lower()} on bus {o['bus']}, got {str(o['spi']).lower()}"
+            )
         problem = address_problem(o["bus"], None if o["spi"] else o["address"])
         if problem:
             raise ValueError(f"address: {problem}")
-        if o["spi"] != o["bus"].startswith("spi"):
-            raise ValueError(f"spi: expected {not o['spi']} on bus {o['bus']}, got {o['spi']}")
 
     def signals(self) -> dict[str, tuple[str, str]]:
         signals = {f"{self.name}.int": ("out", "level")}

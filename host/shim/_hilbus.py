@@ -7,9 +7,10 @@
 # clocks a byte (8 bits and the acknowledge) plus a clock for each start and stop; SPI 8 a
 # byte. Errors are the OSError the board family raises (ports/esp32/machine_i2c.c,
 # ports/rp2/machine_i2c.c, extmod/machine_i2c.c): a board's message is the errno alone.
+import machine
+
 import _hil
 import _hilframe as F
-import machine
 
 ENODEV = 19
 EIO = 5
@@ -253,7 +254,9 @@ class SPI(SoftSPI):
     """The hardware SPI controller: SPI(id, baudrate, *, polarity, phase, bits, firstbit,
     sck, mosi, miso); ids 1 and 2 on an ESP32, 0 and 1 on an RP2040."""
 
-    def __init__(self, id, baudrate=1000000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None):
+    def __init__(
+        self, id, baudrate=1000000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None
+    ):
         self._id = id
         self.init(baudrate, polarity=polarity, phase=phase, bits=bits, firstbit=firstbit, sck=sck, mosi=mosi, miso=miso)
 

@@ -803,6 +803,7 @@ def __getattr__(name):
     if name in _NOT_IN_THE_LOOP:
         raise ImportError(
             "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, I2C, SoftI2C, "
-            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)" % name
+            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)"
+            % name
         )
     raise AttributeError("'module' object has no attribute '%s'" % name)

@@ -43,11 +43,16 @@ def run(make_rig, case: str, board: str = "esp32_bench", plant: dict = IMUS, dur
     return rig, results(rig.console)
 
 
-def test_i2c_api_reads_and_writes_registers_and_raises_enodev_for_a_missing_device(make_rig):
-    rig, r = run(make_rig, "i2c_api")
+@pytest.mark.parametrize("board, nack_errno", [("esp32_bench", 19), ("rpi_pico_bench", 5)])
+def test_i2c_api_reads_and_writes_registers_and_raises_the_boards_errno_for_a_missing_device(
+    make_rig, board, nack_errno
+):
+    """ESP32: ENODEV (esp-idf's ESP_FAIL); RP2040: EIO (the Pico SDK's PICO_ERROR_GENERIC);
+    SoftI2C: ENODEV on both (extmod/machine_i2c.c)."""
+    rig, r = run(make_rig, "i2c_api", board)
     assert r["scan"] == [0x6A], rig.console
     assert r["who"] == [0x6C]
-    assert r["missing"] == 19 and r["missing_write"] == 19  # ESP32: ENODEV, as esp-idf's ESP_FAIL
+    assert r["missing"] == nack_errno and r["missing_write"] == nack_errno
     assert r["ctrl2"] == [0x40] and r["ctrl12"] == [0x40, 0x40]
     assert r["int1"] == [0x02]
     assert r["writeto"] == 2  # the hardware controller returns the bytes written
@@ -64,6 +69,25 @@ def test_a_register_read_takes_its_clocks_at_the_bus_frequency(make_rig):
     address+R, the byte, stop = 9 x 4 + 3 clocks = 39 clocks = 97.5 us."""
     _rig, r = run(make_rig, "i2c_api")
     assert 98 <= r["who_us"] <= 100, r["who_us"]
+
+
+def test_spi_api_with_a_chip_select_pin_and_8_clocks_a_byte(make_rig):
+    rig, r = run(make_rig, "spi_api")
+    assert r["unselected"] == [0xFF, 0xFF], rig.console
+    assert r["who"] == [0x6C] and r["readinto"] == [0x6C]
+    assert r["spi_us"] == 16, "2 bytes at 1 MHz: 16 us"
+    assert r["ctrl"] == [0x00, 0x00, 0x40]
+    assert r["lengths"] == "ValueError" and r["bad_id"] == "SPI(0) doesn't exist"
+    assert r["lsb_who"] == [0x36], "LSB first against an MSB-first chip: 0x6C with its bits reversed"
+    assert r["soft"] == [0xFF]
+
+
+def test_a_held_bus_raises_etimedout_after_the_timeout_and_scan_finds_nothing(make_rig):
+    plant = {"body": "bench", "parts": [{"kind": "lsm6dsox", "name": "imu", "bus": "i2c0", "holds_bus": True}]}
+    rig, r = run(make_rig, "i2c_stuck", plant=plant)
+    assert r["stuck"] == 110, rig.console  # ETIMEDOUT
+    assert r["stuck_us"] == 2000
+    assert r["scan"] == []
 
 
 SPIN = {

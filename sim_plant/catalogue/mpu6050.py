@@ -77,7 +77,12 @@ class Mpu6050(ImuPart):
     CHIP = Mpu6050Chip
     OPTIONS = (
         *ImuPart.bus_options(0x68),
-        Opt("who_am_i", OneOf((0x68, 0x70, 0x19, 0x71)), 0x68, "what WHO_AM_I reads (the family member a driver expects)"),
+        Opt(
+            "who_am_i",
+            OneOf((0x68, 0x70, 0x19, 0x71)),
+            0x68,
+            "what WHO_AM_I reads (the family member a driver expects)",
+        ),
     )
 
     def engine(self, build):

@@ -1,7 +1,6 @@
 # The I2C API against the bench's LSM6DSOX (0x6A on i2c0) and nothing at 0x50.
 import time
-
-from machine import I2C, SoftI2C, Pin
+from machine import I2C, Pin, SoftI2C
 
 i2c = I2C(0, scl=Pin(18), sda=Pin(19), freq=400_000)
 print("R scan", i2c.scan())

@@ -3,8 +3,8 @@
 # gyro says 90 degrees, then stops and settles.
 import math
 import time
-
 from machine import I2C, PWM, Pin
+
 from micropython_lsm6dsox import lsm6dsox
 
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
