@@ -105,10 +105,8 @@ class SoftI2C(_Bus):
         elif n_read:
             clocks += 9 * n_read
         _hil.bus_time(t + self._clocks(clocks, self._freq))
-        if status == F.BUS_NACK_DATA:
-            if self._hard:
-                raise OSError(EIO if _rp2() else ENODEV)
-            return count, got
+        if status == F.BUS_NACK_DATA and self._hard:
+            raise OSError(EIO if _rp2() else ENODEV)  # (SoftI2C stops there and returns the acks)
         return count, got
 
     def _nack_errno(self, data, n_read):
