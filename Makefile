@@ -41,12 +41,17 @@ APP ?= rover
 
 .PHONY: setup test hil bench campaign fuzz soak conformance lint format flash clean
 
-setup: $(VENV)/.installed $(MP_DEP)
+setup: $(VENV)/.installed $(MP_DEP) build/drivers/.fetched
 	@host/core/report_tools.sh
 	@$(PY) -m host.core.interpreter version
 
 $(VENV)/.installed: pyproject.toml setup.py host/core/bootstrap.sh
 	host/core/bootstrap.sh $(PYTHON) $(VENV)
+	@touch $@
+
+# published MicroPython drivers the tests run unchanged, pinned by hash (host/core/drivers.txt)
+build/drivers/.fetched: host/core/drivers.txt host/core/drivers.py $(VENV)/.installed
+	$(PY) -m host.core.drivers
 	@touch $@
 
 $(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/aptsources.py

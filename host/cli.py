@@ -443,14 +443,14 @@ def cmd_check(args) -> int:
     for budget in app.make_budgets(plant):
         print(f"  budget {budget.name}: {budget.limit_text()}  {budget.description}")
     print(f"  worlds: {', '.join(app.worlds)}")
-    return _check_pins(app, args)
+    return _check_pins(app, args, plant)
 
 
-def _check_pins(app, args) -> int:
-    """The code's pins against the wiring: warnings on stderr (exit 1 with --strict)."""
+def _check_pins(app, args, plant=None) -> int:
+    """The code's pins (and buses) against the wiring: warnings on stderr (exit 1 with --strict)."""
     from host.rig.pincheck import check_pins
 
-    pins = check_pins(app)
+    pins = check_pins(app, plant)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
     for line in pins.notes:
         print(f"    {line}")

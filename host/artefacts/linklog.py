@@ -109,6 +109,10 @@ class LinkLog:
     def uart_tx(self, t: int, h: int, data: bytes) -> None:
         self.write({"t": t, "msg": "UART_TX", "handle": h, "data": data.hex()})
 
+    def bus(self, t: int, h: int, op: int, address: int, wrote: bytes, status: int, got: bytes) -> None:
+        record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote.hex()}
+        self.write({**record, "status": status, "read": got.hex()})
+
     def fault(self, t: int) -> None:
         self.write({"t": t, "msg": "FAULT"})
 

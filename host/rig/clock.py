@@ -40,6 +40,7 @@ class Clock:
         self.look_skip = 0  # exchanges to go before the next lookahead
         self.look_backoff = 1
         self._woke_us = F.FOREVER_US  # the last STATE's wake time, while the firmware runs
+        self.end_us = 0  # the end of the run being served (a bus transfer's lease stops there)
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
@@ -55,6 +56,7 @@ class Clock:
         """Advance the plant for the pending wait, no further than ``t_end_us``; answer
         the wait when it is over."""
         wait = self.wait
+        self.end_us = t_end_us
         stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
         if stopped or self.plant.t_us >= wait.t_until:
             self.wait = None
@@ -153,6 +155,11 @@ class Clock:
         self.speculation.commit(t_us)
         if self.recorder is not None:
             self.recorder.commit(t_us)
+
+    def lease_us(self) -> int:
+        """How far the firmware may run on alone from the plant's time, as a STATE's horizon
+        says (after a bus transfer): to the next input change, never past the run's end."""
+        return min(self.plant.next_change_us(), max(self.end_us, self.plant.t_us))
 
     def _send_state(self, base_us: int, t_end_us: int, t_us: int) -> None:
         """The STATE that wakes the firmware at ``t_us``, with the changes up to where the

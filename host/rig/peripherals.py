@@ -15,7 +15,8 @@ A handler owns what its kind means to the host:
 :class:`~host.rig.wiring.Wiring` looks the kind up once, at CFG; the handle keeps its
 handler, and :class:`~host.rig.inputs.Inputs` and :class:`~host.rig.outputs.Outputs`
 call it. Every code is the codec's name (``F.PIN_OUT``, ``F.IRQ_RISING``, ``F.SIG_PWM``).
-A bus (I2C, SPI) is a CFG kind in the codec, a class here and :func:`register`.
+A bus (I2C, SPI) is a handle too (:class:`BusPeripheral`): its transfers are BUS frames
+the rig answers from the plant's devices (``Rig._on_bus``, ``PartsPlant.bus_transfer``).
 ``machine.Timer`` has no host side: it runs in the shim's virtual time.
 """
 
@@ -242,6 +243,29 @@ class IrqPeripheral(Peripheral):
         return None
 
 
+class BusPeripheral(Peripheral):
+    """``machine.I2C`` / ``SoftI2C`` (CFG_I2C), ``SPI`` / ``SoftSPI`` (CFG_SPI): a handle
+    named as the plant's parts name their bus (``i2c0``, ``i2c:<scl>,<sda>``, ``spi1``), the
+    clock in ``param``; no inputs, no outputs: its transfers are BUS frames."""
+
+    def __init__(self, kind: int, name: str):
+        self.kind = kind
+        self.name = name
+
+    def configure(self, wiring, h, mode, pull, key, param):
+        wiring.buses.add(key)
+        return super().configure(wiring, h, mode, pull, key, param)
+
+    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
+        """(status, count, bytes read) from the devices on the handle's bus; a plant with
+        no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF)."""
+        if hasattr(plant, "bus_transfer"):
+            return plant.bus_transfer(info.key, op, address, n_read, data)
+        if op == F.BUS_SPI_XFER:
+            return F.BUS_OK, len(data), b"\xff" * len(data)
+        return (F.BUS_OK, 0, b"") if op not in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else (F.BUS_NACK_ADDRESS, 0, b"")
+
+
 UNCONFIGURED = Peripheral()
 """A handle below one the shim configured, not configured itself."""
 
@@ -259,7 +283,8 @@ def register(peripheral: Peripheral) -> Peripheral:
 
 for _peripheral in (PinPeripheral(), AdcPeripheral(), PwmPeripheral(), UartPeripheral(), IrqPeripheral()):
     register(_peripheral)
-# buses to come: register(I2cPeripheral()), register(SpiPeripheral()), each with its CFG kind
+register(BusPeripheral(F.CFG_I2C, "i2c"))
+register(BusPeripheral(F.CFG_SPI, "spi"))
 
 
 def handler(kind: int, h: int) -> Peripheral:

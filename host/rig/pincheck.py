@@ -31,11 +31,28 @@ def scan_app(app, board: str | None = None) -> Scan:
     return scan_folder(folders[0], folders[1:], entry=app.entry, family=platform or None)
 
 
-def check_pins(app) -> PinCheck:
-    """The app's firmware against its wiring, on its default board."""
+def check_pins(app, plant=None) -> PinCheck:
+    """The app's firmware against its wiring, on its default board (and, given the
+    ``plant``, its buses against the devices the plant puts on them)."""
     scan = scan_app(app)
     pins = app.board_files(app.default_board)[1]
-    return compare(scan, pins, app.wiring)
+    result = compare(scan, pins, app.wiring)
+    if plant is not None and hasattr(plant, "bus_names"):
+        result.warnings += compare_buses(scan, plant.bus_names())
+    return result
+
+
+def compare_buses(scan: Scan, devices: dict[str, list[str]]) -> list[str]:
+    """A device on a bus the code never creates (``devices``: bus -> part names), named."""
+    if scan.buses_unknown:
+        return []  # (a bus made from values only a run can tell may be that one)
+    made = ", ".join(sorted(scan.buses)) or "none"
+    return [
+        f"check: the rig puts {', '.join(names)} on bus {bus}, but the code never creates {bus} "
+        f"(the buses it creates: {made}); I2C(n) is i2cn, SPI(n) spin, SoftI2C(scl, sda) i2c:<scl>,<sda>"
+        for bus, names in sorted(devices.items())
+        if bus not in scan.buses
+    ]
 
 
 def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:

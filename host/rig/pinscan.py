@@ -25,6 +25,8 @@ RP2_ADC_GPIO = {0: 26, 1: 27, 2: 28, 3: 29}  # an RP2040's ADC channels (4: the 
 MAKERS = {"Pin": "pin", "Signal": "pin", "PWM": "pwm", "ADC": "adc_id", "UART": "uart"}  # machine's pin makers
 BUSES = {"UART", "I2C", "SoftI2C", "SPI", "SoftSPI"}  # their pins are keywords: UART(1, tx=4, rx=5)
 BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
+BUS_NAMES = {"I2C": ("id",), "SPI": ("id",), "SoftI2C": ("scl", "sda"), "SoftSPI": ("sck", "mosi", "miso")}
+# (their arguments that name the bus, as the shim names it: i2c0, spi1, i2c:<scl>,<sda>)
 NOTES_MAX = 5  # files that could not be read, named one by one
 LOOP_MAX_PINS = 64  # a longer tuple is not a list of pins (a loop over it is not walked item by item)
 FACTORY_PASSES = 6  # a driver made by a driver made by a driver...
@@ -48,6 +50,8 @@ class Scan:
     uses: list[PinUse] = field(default_factory=list)
     unchecked: list[str] = field(default_factory=list)  # "main.py:30: Pin(cfg['echo'])"
     notes: list[str] = field(default_factory=list)
+    buses: dict[str, str] = field(default_factory=dict)  # bus as the shim names it -> where it is made
+    buses_unknown: list[str] = field(default_factory=list)  # buses made with arguments only a run can tell
 
     def by_key(self) -> dict[str, list[PinUse]]:
         keys: dict[str, list[PinUse]] = {}
@@ -482,6 +486,29 @@ class _Visitor:
         for kw in call.keywords if name in BUSES else ():
             if kw.arg in BUS_PINS:
                 self._pin(kw.value, "pin", f"{name}({kw.arg}={{}})", call, kw.arg)
+        if name in BUS_NAMES and self.learning is None:
+            self._bus(call, name)
+
+    def _bus(self, call: ast.Call, name: str) -> None:
+        """The bus an I2C/SoftI2C/SPI/SoftSPI call makes, named as the shim names it."""
+        where = f"{self.shown}:{call.lineno}"
+        args = {k.arg: k.value for k in call.keywords if k.arg}
+        order = BUS_NAMES[name]
+        for param, arg in zip(order, call.args):
+            args.setdefault(param, arg)
+        values = []
+        for param in order[:1] if name in ("I2C", "SPI") else order:
+            arg = args.get(param)
+            if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal") and arg.args:
+                arg = arg.args[0]
+            value = 0 if arg is None and name == "I2C" else self.envs.value(arg, self.env) if arg is not None else None
+            if not isinstance(value, int | str) or type(value) is bool:
+                self.scan.buses_unknown.append(f"{where}: {ast.unparse(call)[:80]}")
+                return
+            values.append(str(value))
+        kind = "i2c" if "I2C" in name else "spi"
+        key = f"{kind}{values[0]}" if name in ("I2C", "SPI") else f"{kind}:{','.join(values)}"
+        self.scan.buses.setdefault(key, f"{where}: {name}(...)")
 
     def _maker_name(self, call: ast.Call) -> str:
         name = _func_name(call)

@@ -121,7 +121,7 @@ class Rig:
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
         self._progress_last = None
-        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT")  # each to its _on_<name>
+        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT", "BUS")  # each to its _on_<name>
         self._handlers = {getattr(F, m): getattr(self, "_on_" + m.lower()) for m in messages}
 
     # -- life cycle -------------------------------------------------------------------
@@ -293,6 +293,15 @@ class Rig:
         self.clock.catch_up(t)
         self.outputs.uart_tx(t, h, data)
         self.linklog.uart_tx(t, h, data)
+
+    def _on_bus(self, p: bytes) -> None:
+        """A bus transfer: answered at once from the devices as the plant is at its instant."""
+        t, h, op, address, n_read, data = F.unpack_bus(p)
+        self.clock.catch_up(t)
+        info = self.wiring.handles[h]
+        status, count, got = info.peripheral.transfer(self.plant, info, op, address, n_read, data)
+        self.linklog.bus(t, h, op, address, data, status, got)
+        self.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, self.clock.lease_us(), got))
 
     def _on_fault(self, p: bytes) -> None:
         t, text = F.unpack_fault(p)

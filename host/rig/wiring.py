@@ -54,6 +54,7 @@ class Wiring:
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
         self.sensors = dict(sensors or {})
         self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
+        self.buses: set[str] = set()  # the buses the firmware created (i2c0, spi1, ...)
         self.clear()
 
     def clear(self) -> None:

@@ -293,6 +293,44 @@ def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
         _sync(now(), None)
 
 
+def transfer(handle, op, address, n_read, data):
+    """A bus transfer (I2C, SPI: host/shim/_hilbus.py) at the firmware's instant: the
+    host answers it from the devices as the plant is at that instant (BUS, BUS_REPLY:
+    docs/protocol.md), then the clock moves on by the transfer's time on the bus. Like an
+    output it may change what the plant does next (a register written, a data-ready pin
+    cleared). Returns (status, count, bytes read, the instant): the caller passes the time
+    the transfer took on the bus (which depends on its outcome) to bus_time()."""
+    global _horizon, _wrote
+    if _Console.debt_ns >= 1000:  # a board starts the transfer once the print before has returned
+        pay_console()
+    depth = heap_release()
+    try:
+        t = now()
+        if _Link.held:
+            _drop_held()  # (the host rewinds to this instant)
+        _link.queue(F.BUS, F.pack_bus(t, handle, op, address, n_read, data))
+        _link.flush()
+        while True:
+            type_, _seq, p = _link.recv()
+            if type_ == F.BYE:
+                raise HostStop()
+            if type_ == F.BUS_REPLY:
+                break
+        _t, status, count, horizon, got = F.unpack_bus_reply(p)
+        _Link.ahead = False  # the host's plant is at this instant
+        _horizon = horizon
+        _wrote = True
+    finally:
+        heap_restore(depth)
+    return status, count, got, t
+
+
+def bus_time(t_end):
+    """The firmware blocks on the bus until t_end (a transfer's end, virtual time)."""
+    if t_end > _now:
+        _released_run_until(t_end, None)
+
+
 # -- clock ------------------------------------------------------------------------
 
 

@@ -269,10 +269,12 @@ SEEN = 0x05
 UART_TX = 0x06
 FAULT = 0x07
 EXIT = 0x08
+BUS = 0x09  # a bus transfer (I2C, SPI): the shim waits for its BUS_REPLY
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
 BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
+BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's instant
 
 NAMES = {
     HELLO: "HELLO",
@@ -283,9 +285,11 @@ NAMES = {
     UART_TX: "UART_TX",
     FAULT: "FAULT",
     EXIT: "EXIT",
+    BUS: "BUS",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
+    BUS_REPLY: "BUS_REPLY",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
@@ -302,6 +306,8 @@ FAULT_FMT = "<Q"  # t_us, then UTF-8 traceback
 EXIT_FMT = "<QBi"  # t_us, kind, code
 STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
 CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
+BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
+BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 
 HELLO_LEN = struct.calcsize(HELLO_FMT)
 CFG_LEN = struct.calcsize(CFG_FMT)
@@ -311,6 +317,8 @@ UART_TX_LEN = struct.calcsize(UART_TX_FMT)
 FAULT_LEN = struct.calcsize(FAULT_FMT)
 STATE_LEN = struct.calcsize(STATE_FMT)
 CHANGE_LEN = struct.calcsize(CHANGE_FMT)
+BUS_LEN = struct.calcsize(BUS_FMT)
+BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
 
 
 def pack_hello(info):
@@ -405,6 +413,24 @@ def unpack_exit(p):
     return struct.unpack_from(EXIT_FMT, p, 0)
 
 
+def pack_bus(t_us, handle, op, address, n_read, data):
+    return struct.pack(BUS_FMT, t_us, handle, op, address, n_read) + data
+
+
+def unpack_bus(p):
+    """(t_us, handle, op, address, read count, bytes written)"""
+    return struct.unpack_from(BUS_FMT, p, 0) + (bytes(p[BUS_LEN:]),)
+
+
+def pack_bus_reply(t_us, status, count, horizon_us, data):
+    return struct.pack(BUS_REPLY_FMT, t_us, status, count, horizon_us) + data
+
+
+def unpack_bus_reply(p):
+    """(t_us, status, count, horizon_us, bytes read)"""
+    return struct.unpack_from(BUS_REPLY_FMT, p, 0) + (bytes(p[BUS_REPLY_LEN:]),)
+
+
 def pack_state(base_us, t_end_us, horizon_us, changes):
     """changes: (t_us, handle, kind, value, extra) in time order; for CH_BYTES, value is
     the byte count and extra the bytes. Times before base_us are sent as base_us."""
@@ -444,6 +470,28 @@ CFG_ADC = 2
 CFG_PWM = 3
 CFG_UART = 4
 CFG_IRQ = 5
+CFG_I2C = 6  # machine.I2C / SoftI2C: name "i2c<id>" or "i2c:<scl>,<sda>"; param the clock (Hz)
+CFG_SPI = 7  # machine.SPI / SoftSPI: name "spi<id>" or "spi:<sck>,<mosi>,<miso>"; param the baud rate
+
+# BUS ops. I2C: XFER is [start, address+W, the bytes written][(re)start, address+R, read
+# count bytes][stop]: no bytes written and none read is a probe (scan's). XFER_NOSTOP
+# leaves the bus held. The SoftI2C primitives: START, WRITE (the first byte after a start
+# is the address byte), READ (NACK its last byte; READ_ACK: ACK it), STOP. SPI: SPI_XFER
+# clocks the bytes written out, as many in (the devices whose chip select is low).
+BUS_XFER = 0
+BUS_XFER_NOSTOP = 1
+BUS_START = 2
+BUS_WRITE = 3
+BUS_READ = 4
+BUS_READ_ACK = 5
+BUS_STOP = 6
+BUS_SPI_XFER = 7
+BUS_SCAN = 8  # every address 0x08..0x77 probed: the bytes read are those that acknowledged
+# BUS_REPLY statuses: the shim turns each into its board's OSError (ENODEV, EIO, ETIMEDOUT)
+BUS_OK = 0
+BUS_NACK_ADDRESS = 1  # nobody acknowledged the address byte
+BUS_NACK_DATA = 2  # a written byte was not acknowledged (count: the acks before it)
+BUS_STUCK = 3  # a device holds the bus: the transfer times out
 
 # CFG_PIN's mode and pull fields
 PIN_IN = 0

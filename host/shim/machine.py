@@ -786,16 +786,24 @@ class Encoder(_Unit):
             self._count += 1 if (level == 1) == (a_level == 1) else -1
 
 
-_NOT_IN_THE_LOOP = ("I2C", "SoftI2C", "I2CTarget", "SPI", "SoftSPI", "I2S", "CAN", "SDCard", "TouchPad", "DAC")
+_BUSES = ("I2C", "SoftI2C", "SPI", "SoftSPI")  # in _hilbus, imported at their first use only
+_NOT_IN_THE_LOOP = ("I2CTarget", "I2S", "CAN", "SDCard", "TouchPad", "DAC")
 _NOT_IN_THE_LOOP += ("ADCBlock", "USBDevice", "bitstream", "dht_readinto", "wake_reason")
 
 
 def __getattr__(name):
     # a board's class the loop has not got: an ImportError that says so (also for
-    # `from machine import I2C`, which a bare "can't import name" would leave unexplained)
+    # `from machine import I2S`, which a bare "can't import name" would leave unexplained)
+    if name in _BUSES:
+        import _hilbus
+
+        cls = getattr(_hilbus, name)
+        globals()[name] = cls  # (found directly from now on)
+        return cls
     if name in _NOT_IN_THE_LOOP:
         raise ImportError(
-            "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, Counter, "
-            "Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)" % name
+            "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, I2C, SoftI2C, "
+            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)"
+            % name
         )
     raise AttributeError("'module' object has no attribute '%s'" % name)

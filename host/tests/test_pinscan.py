@@ -382,3 +382,33 @@ def test_a_file_that_cannot_be_read_is_said_not_silently_skipped(tmp_path, capsy
         "check: the rig wires B = 3 (probe:b), but the code never touches pin 3 "
         "(some files could not be read: check lists them)\n"
     )
+
+
+# -- buses: the devices' buses against those the code creates ----------------------------
+
+
+@pytest.mark.parametrize(
+    "source, made",
+    [
+        ("from machine import I2C, Pin\ni2c = I2C(1, sda=Pin(2), scl=Pin(3))\n", {"i2c1"}),
+        ("from machine import I2C\ni2c = I2C(scl=22, sda=21)\n", {"i2c0"}),
+        ("import machine\nspi = machine.SPI(2, baudrate=1_000_000)\n", {"spi2"}),
+        ("from machine import SoftI2C, Pin\nb = SoftI2C(Pin(5), Pin(4))\n", {"i2c:5,4"}),
+        ("from machine import SoftSPI\nb = SoftSPI(sck=14, mosi=13, miso=12)\n", {"spi:14,13,12"}),
+    ],
+)
+def test_the_scanner_names_the_buses_the_code_creates_as_the_shim_names_them(source, made):
+    assert set(scan({"main": source}).buses) == made
+
+
+def test_check_names_a_device_on_a_bus_the_code_never_creates():
+    from host.rig.pincheck import compare_buses
+
+    code = scan({"main": "from machine import I2C\ni2c = I2C(1)\n"})
+    warnings = compare_buses(code, {"i2c0": ["imu"], "i2c1": ["baro"]})
+    assert warnings == [
+        "check: the rig puts imu on bus i2c0, but the code never creates i2c0 (the buses it creates: i2c1); "
+        "I2C(n) is i2cn, SPI(n) spin, SoftI2C(scl, sda) i2c:<scl>,<sda>"
+    ]
+    computed = scan({"main": "from machine import I2C\nimport cfg\ni2c = I2C(cfg.BUS)\n"})
+    assert compare_buses(computed, {"i2c0": ["imu"]}) == [], "a bus only a run can tell: no guess"

@@ -7,6 +7,7 @@ the field of the first mistake (``[[plant.parts]] #2 (sonar_rear) period_us: exp
 import tomllib
 
 from sim_plant import catalogue
+from sim_plant.buses import BusDevice, BusSet
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.coverage import CoverageRecorder
@@ -42,6 +43,7 @@ class PartsPlant(RobotPlant):
         self.drive = self.body.drive(build, pose)
         monitor = self.body.contact_monitor(build)
         self.encoders = build.encoders
+        self.bus_set = BusSet([p for p in build.parts if isinstance(p, BusDevice)])
         self.parts = ([monitor] if monitor is not None else []) + build.parts + self.body.recorders(build, self.world)
 
     def _react(self, t: int) -> bool:
@@ -80,6 +82,25 @@ class PartsPlant(RobotPlant):
         """Bytes a UART sends on a UART wire at ``baud``, from now (after what is on it)."""
         self._wire_part(name).send_bytes(name, data, baud, self._t_us)
         self._reschedule()
+
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple:
+        """A bus transfer (a BUS frame, ``sim_plant.buses``) at the plant's time, against the
+        devices on ``bus``: (status, count, bytes read). It may change what the devices do
+        next (a data-ready line that falls, a rate written)."""
+        if self._motion_pending:
+            self._settle()
+        result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
+        self._reschedule()
+        return result
+
+    def bus_names(self) -> dict:
+        """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""
+        names: dict = {}
+        for part in self.catalogue_parts:
+            bus = part.options["bus"] if part.on_bus else None
+            if bus:
+                names.setdefault(bus, []).append(part.name)
+        return names
 
     def advance_to(self, t_us: int, limit: int = 0) -> list:
         if limit and self.zero_delay:
@@ -149,7 +170,25 @@ def assemble(table: dict) -> PartsPlant:
             raise PartsError(f"{part.label} kind: a {part.kind} needs a body that moves, not a {body.kind}")
         names[part.name] = i
         parts.append(part)
+    _check_addresses(parts)
     return PartsPlant(body, parts)
+
+
+def _check_addresses(parts: list) -> None:
+    """Two devices at one address on one bus: refused, naming both."""
+    taken = {}
+    for part in parts:
+        bus = part.options["bus"] if part.on_bus else None
+        if not bus or part.options.get("spi"):
+            continue
+        where = (bus, part.options.get("address"))
+        if where in taken:
+            other = taken[where]
+            raise PartsError(
+                f"{part.label} address: 0x{where[1]:02x} on bus {bus} is {other.label}'s too "
+                f"(two devices at one address: give one its other address)"
+            )
+        taken[where] = part
 
 
 def _with_part_options(table: dict) -> tuple[dict, list]:

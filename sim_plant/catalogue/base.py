@@ -125,7 +125,8 @@ class PartType(Declared):
     declarations; :meth:`add` puts its engine pieces into a :class:`Build`.
     ``needs_body``: it senses or acts on a body that moves (not on a bench);
     ``zero_delay``: an input of it may change an output at the same instant (a wire);
-    ``reads_empty``: its outputs are bytes as events (a UART configured on one reads nothing)."""
+    ``reads_empty``: its outputs are bytes as events (a UART configured on one reads nothing);
+    ``on_bus``: a chip on a bus (options ``bus``, ``address``, ``spi``: ``sim_plant.buses``)."""
 
     SIGNALS: tuple = ()
     TRUTH: tuple = ()
@@ -133,6 +134,7 @@ class PartType(Declared):
     needs_body = False
     zero_delay = False
     reads_empty = False
+    on_bus = False
 
     def __init__(self, name: str, mount: dict, options: dict):
         self.name = name
@@ -202,7 +204,7 @@ def spec_text(spec) -> str:
         return spec.what
     if isinstance(spec, Rows):
         return f"a list of {spec.least} to {spec.most} of: {spec_text(spec.item)}"
-    return type(spec).__name__
+    return getattr(spec, "what", type(spec).__name__)
 
 
 __all__ = ["Build", "BodyType", "Opt", "PartType", "PartsError", "Sig", "View", "spec_text"]

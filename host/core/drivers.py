@@ -1,0 +1,88 @@
+"""The published MicroPython drivers the tests run unchanged (``host/core/drivers.txt``):
+fetched by ``make setup`` with the venv's pip (``pip download --no-deps --require-hashes``,
+pinned by version and hash) into ``build/drivers/``, each unpacked into its own folder, a
+firmware's library folder (``driver_folder``). Never copied into the repository.
+
+``python -m host.core.drivers`` fetches what is missing.
+"""
+
+import subprocess
+import sys
+import tarfile
+import zipfile
+from pathlib import Path
+
+from host.core.children import popen_options
+from host.core.errors import HarnessError
+
+ROOT = Path(__file__).resolve().parents[2]
+LIST = Path(__file__).with_name("drivers.txt")
+FOLDER = ROOT / "build" / "drivers"
+
+
+class DriverMissing(HarnessError):
+    """A pinned driver is not in build/drivers/ (``make setup`` fetches it)."""
+
+
+def pinned() -> dict[str, str]:
+    """Project name -> its pinned version, from the list."""
+    out = {}
+    for line in LIST.read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            name, _, rest = line.partition("==")
+            out[name] = rest.split()[0]
+    return out
+
+
+def driver_folder(name: str) -> Path:
+    """The unpacked driver ``name`` (a project name of the list): a folder of modules."""
+    folder = FOLDER / f"{name}-{pinned()[name]}"
+    if not (folder / ".unpacked").exists():
+        raise DriverMissing(f"expected the driver {name} unpacked in {folder}; got nothing there: run make setup")
+    return folder
+
+
+def fetch() -> None:
+    """Download what the list pins (hashes checked by pip) and unpack each archive."""
+    download = FOLDER / "download"
+    download.mkdir(parents=True, exist_ok=True)
+    command = [sys.executable, "-m", "pip", "download", "--no-deps", "--require-hashes", "-q"]
+    command += ["-r", str(LIST), "-d", str(download)]
+    done = subprocess.run(command, capture_output=True, text=True, **popen_options())
+    if done.returncode:
+        raise HarnessError(f"pip download of {LIST} failed (exit {done.returncode}): {done.stderr.strip()[-600:]}")
+    for name, version in pinned().items():
+        _unpack(download, name, version)
+
+
+def _unpack(download: Path, name: str, version: str) -> None:
+    folder = FOLDER / f"{name}-{version}"
+    if (folder / ".unpacked").exists():
+        return
+    stem = name.replace("-", "_")
+    archives = [p for p in download.iterdir() if p.name.replace("-", "_").startswith(f"{stem}_{version}")]
+    if not archives:
+        raise HarnessError(f"expected {name} {version} in {download}, got {sorted(p.name for p in download.iterdir())}")
+    folder.mkdir(parents=True, exist_ok=True)
+    archive = archives[0]
+    if archive.suffix == ".whl":
+        with zipfile.ZipFile(archive) as z:
+            members = [m for m in z.namelist() if ".dist-info/" not in m]
+            z.extractall(folder, members)
+    else:  # an sdist: its modules, from the top folder
+        with tarfile.open(archive) as t:
+            for member in t.getmembers():
+                parts = Path(member.name).parts
+                if member.isfile() and len(parts) == 2 and parts[1].endswith(".py") and parts[1] != "setup.py":
+                    member.name = parts[1]
+                    t.extract(member, folder, filter="data")
+    (folder / ".unpacked").write_text(archive.name + "\n")
+
+
+if __name__ == "__main__":
+    try:
+        fetch()
+    except HarnessError as e:
+        print(e, file=sys.stderr)
+        sys.exit(2)

@@ -1,0 +1,266 @@
+# machine.I2C, SoftI2C, SPI and SoftSPI in the loop (docs/shim.md, "Buses").
+#
+# Imported by machine at the first use of one of them: a firmware with no bus runs none of
+# this. Each bus is a handle (CFG_I2C, CFG_SPI); each transfer is one BUS frame the host
+# answers from the devices on that bus as the plant is at the transfer's instant
+# (_hil.transfer), then the clock moves on by the transfer's time at the bus clock: I2C 9
+# clocks a byte (8 bits and the acknowledge) plus a clock for each start and stop; SPI 8 a
+# byte. Errors are the OSError the board family raises (ports/esp32/machine_i2c.c,
+# ports/rp2/machine_i2c.c, extmod/machine_i2c.c): a board's message is the errno alone.
+import machine
+
+import _hil
+import _hilframe as F
+
+ENODEV = 19
+EIO = 5
+ETIMEDOUT = 110
+_RP2_PINS = {0: ("GP5", "GP4"), 1: ("GP7", "GP6")}  # the Pico's default I2C pins (scl, sda)
+_ESP32_PINS = {0: (18, 19), 1: (25, 26)}
+
+
+def _key(pin):
+    """A pin as the shim names it (a Pin, a number or a name)."""
+    return str(pin._id if isinstance(pin, machine.Pin) else pin)
+
+
+def _rp2():
+    return machine._platform() == "rp2"
+
+
+def _reverse(data):
+    """Each byte's bits in the other order (an SPI set to LSB first against an MSB-first chip)."""
+    out = bytearray(len(data))
+    for i, b in enumerate(data):
+        r = 0
+        for _ in range(8):
+            r = (r << 1) | (b & 1)
+            b >>= 1
+        out[i] = r
+    return bytes(out)
+
+
+class _Bus:
+    _made = {}  # bus name -> its handle (one per bus, as on a board)
+
+    def _open(self, kind, key, clock_hz):
+        self._key = key
+        handle = _Bus._made.get(key)
+        if handle is None:
+            handle = _Bus._made[key] = _hil.register(self)
+        else:
+            _hil._handles[handle] = self
+        self._handle = handle
+        _hil.configure(handle, kind, key, param=clock_hz)
+
+    def _hil_apply(self, kind, value, extra):
+        pass  # (a bus takes no input changes: the host answers its transfers)
+
+    def _clocks(self, n_clocks, clock_hz):
+        return (n_clocks * 1_000_000 + clock_hz - 1) // clock_hz
+
+    def deinit(self):
+        pass
+
+
+class SoftI2C(_Bus):
+    """Bit-banged I2C on any two pins: an address not acknowledged raises ENODEV; a data
+    byte not acknowledged ends the write (writeto returns the acks so far)."""
+
+    _hard = False
+
+    def __init__(self, scl, sda, *, freq=400000, timeout=50000):
+        self.init(scl, sda, freq=freq, timeout=timeout)
+
+    def init(self, scl, sda, *, freq=400000, timeout=50000):
+        self._scl, self._sda = _key(scl), _key(sda)
+        self._setup(freq, timeout, "i2c:%s,%s" % (self._scl, self._sda))
+
+    def _setup(self, freq, timeout, key):
+        if freq <= 0:
+            raise ValueError("freq must be positive")
+        self._freq = freq
+        self._timeout_us = timeout
+        self._open(F.CFG_I2C, key, freq)
+
+    def __repr__(self):
+        return "SoftI2C(scl=%s, sda=%s, freq=%d)" % (self._scl, self._sda, self._freq)
+
+    # -- transfers ------------------------------------------------------------------
+
+    def _xfer(self, addr, data, n_read, stop=True):
+        op = F.BUS_XFER if stop else F.BUS_XFER_NOSTOP
+        status, count, got, t = _hil.transfer(self._handle, op, addr, n_read, bytes(data))
+        wrote = len(data)
+        if status == F.BUS_STUCK:
+            _hil.bus_time(t + self._timeout_us)
+            raise OSError(ETIMEDOUT)
+        if status == F.BUS_NACK_ADDRESS:
+            _hil.bus_time(t + self._clocks(9 + 2, self._freq))
+            raise OSError(self._nack_errno(data, n_read))
+        on_wire = 1 + (count if status == F.BUS_NACK_DATA else wrote)
+        clocks = 9 * on_wire + 1 + (1 if stop else 0)
+        if n_read and wrote:
+            clocks += 9 * (1 + n_read) + 1  # the repeated start, the address again, the bytes
+        elif n_read:
+            clocks += 9 * n_read
+        _hil.bus_time(t + self._clocks(clocks, self._freq))
+        if status == F.BUS_NACK_DATA and self._hard:
+            raise OSError(EIO if _rp2() else ENODEV)  # (SoftI2C stops there and returns the acks)
+        return count, got
+
+    def _nack_errno(self, data, n_read):
+        if self._hard and _rp2() and (data or n_read):
+            return EIO  # (the RP2040's hardware; its zero-length write goes through SoftI2C)
+        return ENODEV
+
+    def scan(self):
+        status, _count, got, t = _hil.transfer(self._handle, F.BUS_SCAN, 0, 0, b"")
+        _hil.bus_time(t + self._clocks((0x78 - 0x08) * (9 + 2), self._freq))
+        if status == F.BUS_STUCK:
+            return []
+        return list(got)
+
+    def readfrom(self, addr, nbytes, stop=True):
+        return self._xfer(addr, b"", nbytes, stop)[1]
+
+    def readfrom_into(self, addr, buf, stop=True):
+        got = self._xfer(addr, b"", len(buf), stop)[1]
+        buf[: len(got)] = got
+
+    def writeto(self, addr, buf, stop=True):
+        acks = self._xfer(addr, buf, 0, stop)[0]
+        return len(buf) if self._hard else acks
+
+    def writevto(self, addr, vector, stop=True):
+        data = b"".join(bytes(b) for b in vector)
+        acks = self._xfer(addr, data, 0, stop)[0]
+        return len(data) if self._hard else acks
+
+    def _memaddr(self, memaddr, addrsize):
+        if addrsize not in (8, 16, 24, 32):
+            raise ValueError("invalid addrsize")
+        return bytes((memaddr >> s) & 0xFF for s in range(addrsize - 8, -1, -8))
+
+    def readfrom_mem(self, addr, memaddr, nbytes, *, addrsize=8):
+        return self._xfer(addr, self._memaddr(memaddr, addrsize), nbytes)[1]
+
+    def readfrom_mem_into(self, addr, memaddr, buf, *, addrsize=8):
+        got = self._xfer(addr, self._memaddr(memaddr, addrsize), len(buf))[1]
+        buf[: len(got)] = got
+
+    def writeto_mem(self, addr, memaddr, buf, *, addrsize=8):
+        self._xfer(addr, self._memaddr(memaddr, addrsize) + bytes(buf), 0)
+
+    # -- primitives (SoftI2C's; a hardware I2C has none) -------------------------------
+
+    def _primitive(self, op, data=b"", n_read=0):
+        if self._hard:
+            raise OSError("I2C operation not supported")
+        status, count, got, t = _hil.transfer(self._handle, op, 0, n_read, data)
+        if status == F.BUS_STUCK:
+            _hil.bus_time(t + self._timeout_us)
+            raise OSError(ETIMEDOUT)
+        _hil.bus_time(t + self._clocks(9 * (len(data) + n_read) or 1, self._freq))
+        return count, got
+
+    def start(self):
+        self._primitive(F.BUS_START)
+
+    def stop(self):
+        self._primitive(F.BUS_STOP)
+
+    def write(self, buf):
+        return self._primitive(F.BUS_WRITE, bytes(buf))[0]
+
+    def readinto(self, buf, nack=True):
+        got = self._primitive(F.BUS_READ if nack else F.BUS_READ_ACK, b"", len(buf))[1]
+        buf[: len(got)] = got
+
+
+class I2C(SoftI2C):
+    """The hardware I2C controller: I2C(id, *, scl, sda, freq=400000, timeout=50000) as on an
+    ESP32 (id 0 by default); on an RP2040, I2C(id, freq, scl, sda) too. A NACK raises
+    ENODEV (ESP32) or EIO (RP2040); a held bus ETIMEDOUT."""
+
+    _hard = True
+
+    def __init__(self, id=0, freq=400000, scl=None, sda=None, *, timeout=50000):
+        self.init(id, freq, scl, sda, timeout=timeout)
+
+    def init(self, id=0, freq=400000, scl=None, sda=None, *, timeout=50000):
+        if id == -1:
+            raise ValueError("I2C(-1) is SoftI2C on a board: use SoftI2C(scl, sda)")
+        pins = _RP2_PINS if _rp2() else _ESP32_PINS
+        if id not in pins:
+            raise ValueError("I2C(%d) doesn't exist" % id)
+        self._id = id
+        self._scl = _key(scl) if scl is not None else str(pins[id][0])
+        self._sda = _key(sda) if sda is not None else str(pins[id][1])
+        self._setup(freq, timeout, "i2c%d" % id)
+
+    def __repr__(self):
+        return "I2C(%d, scl=%s, sda=%s, freq=%d)" % (self._id, self._scl, self._sda, self._freq)
+
+
+class SoftSPI(_Bus):
+    """Bit-banged SPI: the bytes written go out on MOSI, as many come in on MISO from the
+    device whose chip select (a Pin the firmware drives) is low; 0xFF when none is."""
+
+    MSB = 0
+    LSB = 1
+
+    def __init__(self, baudrate=500000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None):
+        self.init(baudrate, polarity=polarity, phase=phase, bits=bits, firstbit=firstbit, sck=sck, mosi=mosi, miso=miso)
+
+    def init(self, baudrate=500000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None):
+        if sck is None or mosi is None or miso is None:
+            raise TypeError("SoftSPI needs sck, mosi and miso pins")
+        self._pins = (_key(sck), _key(mosi), _key(miso))
+        self._setup(baudrate, polarity, phase, bits, firstbit, "spi:%s,%s,%s" % self._pins)
+
+    def _setup(self, baudrate, polarity, phase, bits, firstbit, key):
+        if baudrate <= 0:
+            raise ValueError("baudrate must be positive")
+        self._baud = baudrate
+        self._polarity, self._phase, self._bits, self._firstbit = polarity, phase, bits, firstbit
+        self._open(F.CFG_SPI, key, baudrate)
+
+    def _xfer(self, data):
+        if self._firstbit == self.LSB:
+            data = _reverse(data)
+        _status, _count, got, t = _hil.transfer(self._handle, F.BUS_SPI_XFER, 0, 0, bytes(data))
+        _hil.bus_time(t + self._clocks(8 * len(data), self._baud))
+        return _reverse(got) if self._firstbit == self.LSB else got
+
+    def read(self, nbytes, write=0x00):
+        return self._xfer(bytes((write,)) * nbytes)
+
+    def readinto(self, buf, write=0x00):
+        buf[:] = self._xfer(bytes((write,)) * len(buf))
+
+    def write(self, buf):
+        self._xfer(buf)
+
+    def write_readinto(self, write_buf, read_buf):
+        if len(write_buf) != len(read_buf):
+            raise ValueError("buffers must be the same length")
+        read_buf[:] = self._xfer(write_buf)
+
+
+class SPI(SoftSPI):
+    """The hardware SPI controller: SPI(id, baudrate, *, polarity, phase, bits, firstbit,
+    sck, mosi, miso); ids 1 and 2 on an ESP32, 0 and 1 on an RP2040."""
+
+    def __init__(
+        self, id, baudrate=1000000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None
+    ):
+        self._id = id
+        self.init(baudrate, polarity=polarity, phase=phase, bits=bits, firstbit=firstbit, sck=sck, mosi=mosi, miso=miso)
+
+    def init(self, baudrate=1000000, *, polarity=0, phase=0, bits=8, firstbit=0, sck=None, mosi=None, miso=None):
+        ids = (0, 1) if _rp2() else (1, 2)
+        if self._id not in ids:
+            raise ValueError("SPI(%s) doesn't exist" % (self._id,))
+        self._pins = tuple(_key(p) if p is not None else "" for p in (sck, mosi, miso))
+        self._setup(baudrate, polarity, phase, bits, firstbit, "spi%d" % self._id)

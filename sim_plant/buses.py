@@ -1,0 +1,270 @@
+"""Chips on a bus: the register-level device framework and the buses' byte-level rules
+(``docs/shim.md``, "Buses"; ``docs/parts.md``).
+
+A :class:`BusDevice` is an engine part on a named bus (``i2c0``, ``spi1``, a SoftI2C's
+``i2c:<scl>,<sda>``) at a 7-bit address, or, on SPI, selected by its chip-select input
+(``<name>.cs``, low: selected). :class:`RegisterDevice` adds a register file (a list of
+256 ints, so that a plant snapshot copies it), an identity register, a register pointer
+that auto-increments, and hooks for the registers a chip computes (its samples) or acts
+on (a reset bit). :class:`BusSet` holds a plant's devices by bus and plays each
+transfer the shim sends byte by byte against them, as the wire would.
+
+A transfer happens at one instant (its start, the plant's time): a multi-byte read is one
+coherent sample, as a chip's block-data update gives.
+"""
+
+import re
+from dataclasses import dataclass
+
+from sim_plant.engine import Part
+from sim_plant.plant import NEVER_US, Change
+
+# ops and statuses, as the link codec names them (host/shim/_hilframe.py: BUS_*)
+XFER, XFER_NOSTOP, START, WRITE, READ, READ_ACK, STOP, SPI_XFER, SCAN = range(9)
+OK, NACK_ADDRESS, NACK_DATA, STUCK = range(4)
+FIRST_ADDRESS, LAST_ADDRESS = 0x08, 0x77
+"""The 7-bit addresses a device may have (the others are reserved by the I2C standard)."""
+
+
+class BusDevice(Part):
+    """A chip on a bus. I2C: :meth:`begin` (its address matched) then :meth:`write` /
+    :meth:`read` a byte at a time, :meth:`end` at the stop. SPI: :meth:`select`,
+    :meth:`exchange` a byte at a time, :meth:`deselect` when chip select rises."""
+
+    FIXED_STATE = ("inputs", "outputs", "bus", "address", "label")
+    holds_bus = False  # a device that holds SDA low: every transfer on its bus times out
+
+    def __init__(self, name: str, bus: str, address: int | None):
+        self.label = name
+        self.bus = bus
+        self.address = address
+        self.cs_signal = f"{name}.cs" if address is None else None
+        self.inputs = {self.cs_signal: "level"} if self.cs_signal else {}
+        self.outputs = {}
+        self.selected = False
+
+    def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        if name != self.cs_signal:
+            raise KeyError(name)
+        selected = not value
+        if selected and not self.selected:
+            self.select(t_us)
+        elif self.selected and not selected:
+            self.deselect(t_us)
+        self.selected = selected
+        return False
+
+    def initial_outputs(self) -> dict:
+        return {}
+
+    # I2C
+    def begin(self, t_us: int, reading: bool) -> None:
+        pass
+
+    def write(self, t_us: int, byte: int) -> bool:
+        return True
+
+    def read(self, t_us: int) -> int:
+        return 0xFF
+
+    def end(self, t_us: int) -> None:
+        pass
+
+    # SPI
+    def select(self, t_us: int) -> None:
+        pass
+
+    def exchange(self, t_us: int, byte: int) -> int:
+        return 0xFF
+
+    def deselect(self, t_us: int) -> None:
+        pass
+
+
+class RegisterDevice(BusDevice):
+    """A device with a register file: the first byte written after its address (I2C) or
+    after chip select falls (SPI, bit 7 set: a read) is the register pointer; each byte
+    read or written after it moves the pointer on (auto-increment). Subclasses set
+    ``RESET`` (register -> value at power-on and after a software reset) and override
+    :meth:`load` (a register the chip computes, read at ``t_us``) and :meth:`store` (a
+    write the chip acts on)."""
+
+    RESET: dict = {}
+    SPI_READ = 0x80
+
+    def __init__(self, name: str, bus: str, address: int | None):
+        super().__init__(name, bus, address)
+        self.regs = [0] * 256
+        self.pointer = 0
+        self.pointed = False  # the pointer was set in this transfer
+        self.spi_read = False
+        self.power_on()
+
+    def power_on(self) -> None:
+        self.regs = [0] * 256
+        for reg, value in self.RESET.items():
+            self.regs[reg] = value
+
+    def load(self, t_us: int, reg: int) -> int:
+        return self.regs[reg]
+
+    def store(self, t_us: int, reg: int, value: int) -> None:
+        self.regs[reg] = value & 0xFF
+
+    def next_register(self, reg: int) -> int:
+        return (reg + 1) & 0xFF
+
+    def begin(self, t_us, reading):
+        self.pointed = reading  # (a read goes on from the pointer as it is)
+
+    def write(self, t_us, byte):
+        if not self.pointed:
+            self.pointer, self.pointed = byte, True
+        else:
+            self.store(t_us, self.pointer, byte)
+            self.pointer = self.next_register(self.pointer)
+        return True
+
+    def read(self, t_us):
+        value = self.load(t_us, self.pointer)
+        self.pointer = self.next_register(self.pointer)
+        return value
+
+    def select(self, t_us):
+        self.pointed = False
+
+    def exchange(self, t_us, byte):
+        if not self.pointed:
+            self.pointer, self.spi_read, self.pointed = byte & 0x7F, bool(byte & self.SPI_READ), True
+            return 0x00
+        if self.spi_read:
+            return self.read(t_us)
+        self.write(t_us, byte)
+        return 0x00
+
+
+class BusSet:
+    """A plant's bus devices by bus name, and the state of each bus between the
+    primitives of a SoftI2C (a start, the address byte, the bytes after it)."""
+
+    def __init__(self, devices: list):
+        self.devices = list(devices)
+        self.state = {}  # bus -> (device index or -1, expecting the address byte, reading)
+
+    def on(self, bus: str) -> list:
+        return [d for d in self.devices if d.bus == bus]
+
+    def transfer(self, t_us: int, bus: str, op: int, address: int, n_read: int, data: bytes):
+        """One BUS frame's transfer: (status, count, bytes read)."""
+        devices = self.on(bus)
+        if any(d.holds_bus for d in devices):
+            return STUCK, 0, b""
+        if op == SPI_XFER:
+            chosen = [d for d in devices if d.selected]
+            out = bytearray()
+            for byte in data:
+                value = 0xFF
+                for d in chosen:  # (two selected at once: their outputs fight; the lower wins)
+                    value &= d.exchange(t_us, byte)
+                out.append(value)
+            return OK, len(data), bytes(out)
+        if op == SCAN:
+            found = sorted({d.address for d in devices if d.address is not None})
+            return OK, len(found), bytes(a for a in found if FIRST_ADDRESS <= a <= LAST_ADDRESS)
+        if op in (XFER, XFER_NOSTOP):
+            return self._xfer(t_us, devices, op == XFER, address, n_read, data)
+        return self._primitive(t_us, bus, devices, op, n_read, data)
+
+    @staticmethod
+    def _at(devices: list, address: int):
+        return next((d for d in devices if d.address == address), None)
+
+    def _xfer(self, t_us, devices, stop, address, n_read, data):
+        device = self._at(devices, address)
+        if device is None:
+            return NACK_ADDRESS, 0, b""
+        acks = 0
+        if data or not n_read:
+            device.begin(t_us, False)
+            for byte in data:
+                if not device.write(t_us, byte):
+                    device.end(t_us)
+                    return NACK_DATA, acks, b""
+                acks += 1
+        got = b""
+        if n_read:
+            device.begin(t_us, True)
+            got = bytes(device.read(t_us) for _ in range(n_read))
+        if stop:
+            device.end(t_us)
+        return OK, acks, got
+
+    def _primitive(self, t_us, bus, devices, op, n_read, data):
+        index, expecting, reading = self.state.get(bus, (-1, False, False))
+        device = devices[index] if 0 <= index < len(devices) else None
+        if op == START:
+            self.state[bus] = (-1, True, False)
+            return OK, 0, b""
+        if op == STOP:
+            if device is not None:
+                device.end(t_us)
+            self.state[bus] = (-1, False, False)
+            return OK, 0, b""
+        if op == WRITE:
+            acks = 0
+            for byte in data:
+                if expecting:
+                    device = self._at(devices, byte >> 1)
+                    if device is None:
+                        self.state[bus] = (-1, False, False)
+                        return OK, acks, b""
+                    reading, expecting = bool(byte & 1), False
+                    index = devices.index(device)
+                    device.begin(t_us, reading)
+                elif device is None or reading or not device.write(t_us, byte):
+                    break
+                acks += 1
+            self.state[bus] = (index, expecting, reading)
+            return OK, acks, b""
+        got = bytes(device.read(t_us) if device is not None and reading else 0xFF for _ in range(n_read))
+        return OK, n_read, got
+
+
+BUS_NAME = re.compile(r"(i2c|spi)[0-9]|i2c:[A-Za-z0-9_]+,[A-Za-z0-9_]+|spi:[A-Za-z0-9_]+,[A-Za-z0-9_]*,[A-Za-z0-9_]*")
+
+
+@dataclass(frozen=True)
+class BusName:
+    """A bus as the shim names it: ``i2c0``, ``spi1`` (the board's controllers), or a
+    SoftI2C's ``i2c:<scl>,<sda>`` / a SoftSPI's ``spi:<sck>,<mosi>,<miso>`` (its pins)."""
+
+    what = "a bus name (i2c0, i2c1, spi1, i2c:<scl>,<sda>, spi:<sck>,<mosi>,<miso>)"
+
+    def problem(self, value):
+        if isinstance(value, str) and BUS_NAME.fullmatch(value):
+            return None
+        return f"expected {self.what}, got {value!r}"
+
+
+def address_problem(bus: str, address) -> str | None:
+    """Why a device cannot sit at ``address`` on ``bus`` (None: it can)."""
+    if bus.startswith("spi"):
+        return (
+            None if address is None else f"expected no address on SPI bus {bus} (a chip select instead), got {address}"
+        )
+    if address is None:
+        return f"expected a 7-bit address on I2C bus {bus}, got none"
+    if not FIRST_ADDRESS <= address <= LAST_ADDRESS:
+        return (
+            f"expected an address from 0x{FIRST_ADDRESS:02x} to 0x{LAST_ADDRESS:02x} on I2C bus {bus} "
+            f"(the others are reserved), got 0x{address:02x}"
+        )
+    return None
+
+
+def tick_after(t_us: int, period_us: int) -> int:
+    """The first output-data-rate tick strictly after ``t_us`` (ticks at multiples)."""
+    return (t_us // period_us + 1) * period_us
+
+
+__all__ = ["NEVER_US", "BusDevice", "BusName", "BusSet", "Change", "RegisterDevice", "address_problem", "tick_after"]

@@ -1,0 +1,72 @@
+"""Part ``lsm6dsox``: an ST LSM6DSOX-class 6-axis IMU (LSM6DS family registers) on I2C
+(address 0x6A, 0x6B with SA0 high) or SPI (chip select ``<name>.cs``), fed by the
+body's motion (:mod:`sim_plant.imu`).
+
+Modelled registers: WHO_AM_I (0x0F, reads 0x6C), INT1_CTRL (0x0D: INT1_DRDY_XL/G drive
+``<name>.int``), CTRL1_XL (0x10: ODR_XL, FS_XL), CTRL2_G (0x11: ODR_G, FS_G, FS_125),
+CTRL3_C (0x12: SW_RESET clears at once and resets the registers, IF_INC), STATUS_REG
+(0x1E: XLDA, GDA), OUT_TEMP (0x20, 25 °C), OUTX_L_G..OUTZ_H_G (0x22), OUTX_L_A..OUTZ_H_A
+(0x28), little-endian. Every other register is plain memory. One output data rate: the
+gyro's (the accelerometer's while the gyro is powered down)."""
+
+from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
+
+WHO_AM_I = 0x0F
+INT1_CTRL = 0x0D
+CTRL1_XL, CTRL2_G, CTRL3_C = 0x10, 0x11, 0x12
+STATUS_REG = 0x1E
+OUT_TEMP_L, OUTX_L_G, OUTX_L_A, OUT_END = 0x20, 0x22, 0x28, 0x2E
+ODR_HZ = {1: 12.5, 2: 26, 3: 52, 4: 104, 5: 208, 6: 416, 7: 833, 8: 1666, 9: 3332, 10: 6664, 11: 1.6}
+GYRO_MDPS = {0: 8.75, 1: 17.5, 2: 35.0, 3: 70.0}  # per count, by FS_G
+ACCEL_MG = {0: 0.061, 1: 0.488, 2: 0.122, 3: 0.244}  # per count, by FS_XL (2, 16, 4, 8 g)
+
+
+class Lsm6dsoxChip(Imu):
+    RESET = {WHO_AM_I: 0x6C, CTRL3_C: 0x04}
+
+    def period_us(self) -> int:
+        code = self.regs[CTRL2_G] >> 4 or self.regs[CTRL1_XL] >> 4
+        hz = ODR_HZ.get(code)
+        return round(1e6 / hz) if hz else 0
+
+    def drdy_enabled(self) -> bool:
+        return bool(self.regs[INT1_CTRL] & 0x03)
+
+    def next_register(self, reg: int) -> int:
+        return (reg + 1) & 0xFF if self.regs[CTRL3_C] & 0x04 else reg
+
+    def load(self, t_us, reg):
+        if reg == STATUS_REG:
+            return 0x03 if self.fresh(t_us) else 0x00
+        if OUT_TEMP_L <= reg < OUT_END:
+            self._fill(t_us)
+            if reg >= OUTX_L_G:
+                self.taken(t_us)
+        return self.regs[reg]
+
+    def _fill(self, t_us: int) -> None:
+        gx, gy, gz, ax, ay, az = self.current(t_us)
+        regs = self.regs
+        gyro_dps = GYRO_MDPS[regs[CTRL2_G] >> 2 & 3] / 1000 if not regs[CTRL2_G] & 0x02 else 0.004375
+        accel_m_s2 = ACCEL_MG[regs[CTRL1_XL] >> 2 & 3] / 1000 * G_M_S2
+        put16(regs, OUT_TEMP_L, 0, False)
+        for i, value in enumerate((gx, gy, gz)):
+            put16(regs, OUTX_L_G + 2 * i, counts(value, gyro_dps), False)
+        for i, value in enumerate((ax, ay, az)):
+            put16(regs, OUTX_L_A + 2 * i, counts(value, accel_m_s2), False)
+
+    def store(self, t_us, reg, value):
+        if reg == WHO_AM_I or OUT_TEMP_L <= reg < OUT_END or reg == STATUS_REG:
+            return  # read-only
+        if reg == CTRL3_C and value & 0x01:
+            self.power_on()
+        else:
+            self.regs[reg] = value & 0xFF
+        self.rearm(t_us)
+
+
+class Lsm6dsox(ImuPart):
+    kind = "lsm6dsox"
+    doc = "An LSM6DSOX-class 6-axis IMU (WHO_AM_I 0x6C) on I2C or SPI: gyro and accelerometer from the body's motion."
+    CHIP = Lsm6dsoxChip
+    OPTIONS = ImuPart.bus_options(0x6A)

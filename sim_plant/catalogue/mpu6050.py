@@ -1,0 +1,92 @@
+"""Part ``mpu6050``: an InvenSense MPU-6050-class 6-axis IMU (the MPU-6xxx register map)
+on I2C (address 0x68, 0x69 with AD0 high) or SPI (the MPU-6500/6886/9250 have it;
+chip select ``<name>.cs``), fed by the body's motion (:mod:`sim_plant.imu`).
+``who_am_i`` picks the family member a driver checks for (0x68 MPU-6050, 0x70 MPU-6500,
+0x19 MPU-6886, 0x71 MPU-9250).
+
+Modelled registers: SMPLRT_DIV (0x19) and CONFIG's DLPF_CFG (0x1A: 8 kHz with the filter
+off, else 1 kHz, divided by 1 + SMPLRT_DIV), GYRO_CONFIG (0x1B: FS_SEL), ACCEL_CONFIG
+(0x1C: AFS_SEL), INT_ENABLE (0x38: DATA_RDY_EN drives ``<name>.int``), INT_STATUS (0x3A:
+DATA_RDY_INT, cleared by reading it), ACCEL_XOUT_H..GYRO_ZOUT_L (0x3B..0x48, big-endian,
+temperature 25 °C), PWR_MGMT_1 (0x6B: resets to SLEEP, 0x40; DEVICE_RESET resets the
+registers; asleep, no samples), WHO_AM_I (0x75). Every other register is plain memory."""
+
+from sim_plant.catalogue.base import Opt
+from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
+from sim_plant.option_table import OneOf
+
+SMPLRT_DIV, CONFIG, GYRO_CONFIG, ACCEL_CONFIG = 0x19, 0x1A, 0x1B, 0x1C
+INT_ENABLE, INT_STATUS = 0x38, 0x3A
+ACCEL_XOUT_H, TEMP_OUT_H, GYRO_XOUT_H, OUT_END = 0x3B, 0x41, 0x43, 0x49
+PWR_MGMT_1, WHO_AM_I = 0x6B, 0x75
+GYRO_LSB_PER_DPS = (131.0, 65.5, 32.8, 16.4)
+ACCEL_LSB_PER_G = (16384, 8192, 4096, 2048)
+TEMP_25C = -3920  # (25 - 36.53) * 340: the MPU-6050's formula
+
+
+class Mpu6050Chip(Imu):
+    RESET = {PWR_MGMT_1: 0x40, WHO_AM_I: 0x68}
+
+    def power_on(self) -> None:
+        super().power_on()
+        self.regs[WHO_AM_I] = getattr(self, "who_am_i", 0x68)
+
+    def period_us(self) -> int:
+        if self.regs[PWR_MGMT_1] & 0x40:
+            return 0
+        base_hz = 8000 if self.regs[CONFIG] & 0x07 in (0, 7) else 1000
+        return round(1e6 * (1 + self.regs[SMPLRT_DIV]) / base_hz)
+
+    def drdy_enabled(self) -> bool:
+        return bool(self.regs[INT_ENABLE] & 0x01)
+
+    def load(self, t_us, reg):
+        if reg == INT_STATUS:
+            value = 0x01 if self.fresh(t_us) else 0x00
+            self.taken(t_us)
+            return value
+        if ACCEL_XOUT_H <= reg < OUT_END:
+            self._fill(t_us)
+            self.taken(t_us)
+        return self.regs[reg]
+
+    def _fill(self, t_us: int) -> None:
+        gx, gy, gz, ax, ay, az = self.current(t_us)
+        regs = self.regs
+        per_dps = 1 / GYRO_LSB_PER_DPS[regs[GYRO_CONFIG] >> 3 & 3]
+        per_m_s2 = G_M_S2 / ACCEL_LSB_PER_G[regs[ACCEL_CONFIG] >> 3 & 3]
+        for i, value in enumerate((ax, ay, az)):
+            put16(regs, ACCEL_XOUT_H + 2 * i, counts(value, per_m_s2), True)
+        put16(regs, TEMP_OUT_H, TEMP_25C, True)
+        for i, value in enumerate((gx, gy, gz)):
+            put16(regs, GYRO_XOUT_H + 2 * i, counts(value, per_dps), True)
+
+    def store(self, t_us, reg, value):
+        if reg == WHO_AM_I or ACCEL_XOUT_H <= reg < OUT_END or reg == INT_STATUS:
+            return  # read-only
+        if reg == PWR_MGMT_1 and value & 0x80:
+            self.power_on()
+        else:
+            self.regs[reg] = value & 0xFF
+        self.rearm(t_us)
+
+
+class Mpu6050(ImuPart):
+    kind = "mpu6050"
+    doc = "An MPU-6050-class 6-axis IMU (MPU-6xxx registers, WHO_AM_I as chosen) on I2C or SPI, from the body's motion."
+    CHIP = Mpu6050Chip
+    OPTIONS = (
+        *ImuPart.bus_options(0x68),
+        Opt(
+            "who_am_i",
+            OneOf((0x68, 0x70, 0x19, 0x71)),
+            0x68,
+            "what WHO_AM_I reads (the family member a driver expects)",
+        ),
+    )
+
+    def engine(self, build):
+        device = super().engine(build)
+        device.who_am_i = self.options["who_am_i"]
+        device.power_on()
+        return device
