@@ -63,7 +63,15 @@ def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:
     wired = {pin_key(name, pins[name]): name for name in wiring if name in pins}
     untouched = {key: name for key, name in wired.items() if key not in used}
     for key, uses in used.items():
-        if key in wired:
+        lines = [use for use in uses if use.kind == "bus"]
+        if lines and key in wired:  # a bus line is no plant signal: both cannot be right
+            name = wired[key]
+            result.warnings.append(
+                f"check: the code makes {lines[0].call} ({lines[0].where}), a bus line, on pin {_shown(key)}, "
+                f"but the rig wires {name} = {pins[name]} to the plant's {wiring[name]}"
+            )
+        uses = [use for use in uses if use.kind != "bus"]
+        if not uses or key in wired:
             continue
         use = uses[0]
         text = f"check: the code uses {use.call} ({use.where}{_as(use)}) but the rig wires no pin {_shown(key)}"

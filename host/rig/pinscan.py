@@ -40,7 +40,7 @@ class PinUse:
     call: str  # what the code makes: "Pin(18)", "PWM(Pin(15))", "ADC(0) (GP26)", "UART(1)"
     where: str  # "main.py:12"
     name: str | None  # the code's own name for it: "ECHO", "ENC_PINS[1]", "left.in1"
-    kind: str  # pin, pwm, adc, uart
+    kind: str  # pin, pwm, adc, uart, bus (a line of an I2C or SPI bus)
 
 
 @dataclass
@@ -485,9 +485,22 @@ class _Visitor:
             self._driver(call, name, target)
         for kw in call.keywords if name in BUSES else ():
             if kw.arg in BUS_PINS:
-                self._pin(kw.value, "pin", f"{name}({kw.arg}={{}})", call, kw.arg)
+                self._bus_pin(kw.value, name, kw.arg, call)
+        for param, arg in zip(BUS_NAMES.get(name, ()), call.args) if name.startswith("Soft") else ():
+            self._bus_pin(arg, name, param, call)
         if name in BUS_NAMES and self.learning is None:
             self._bus(call, name)
+
+    def _bus_pin(self, arg, name: str, param: str, call: ast.Call) -> None:
+        """A pin a bus is made on (``I2C(0, scl=Pin(5), sda=4)``): a bus line, not a plant
+        signal; ``kind`` ``bus`` (a UART's stay pins: the shim names the UART, not them)."""
+        if name == "UART":
+            self._pin(arg, "pin", f"{name}({param}={{}})", call, param)
+            return
+        if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal") and arg.args:
+            self.done.add(id(arg))  # (its Pin(5) is this bus's line, not a pin of its own)
+            arg = arg.args[0]
+        self._pin(arg, "bus", f"{name}({param}={{}})", call, param)
 
     def _bus(self, call: ast.Call, name: str) -> None:
         """The bus an I2C/SoftI2C/SPI/SoftSPI call makes, named as the shim names it."""

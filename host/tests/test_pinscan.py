@@ -412,3 +412,28 @@ def test_check_names_a_device_on_a_bus_the_code_never_creates():
     ]
     computed = scan({"main": "from machine import I2C\nimport cfg\ni2c = I2C(cfg.BUS)\n"})
     assert compare_buses(computed, {"i2c0": ["imu"]}) == [], "a bus only a run can tell: no guess"
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        "I2C(0, scl=Pin(5), sda=Pin(4), freq=400000)",
+        "I2C(0, scl=5, sda=4)",
+        "SoftI2C(Pin(5), Pin(4))",
+        "SoftI2C(scl=Pin(5, Pin.OPEN_DRAIN), sda=Pin(4))",
+        "SPI(1, sck=Pin(5), mosi=Pin(4), miso=Pin(19))",
+    ],
+)
+def test_a_buss_lines_are_no_plant_signals_and_clash_with_a_wired_one(make):
+    """Bus lines need no wiring (the rig puts chips on the bus by its name); a bus line on a
+    pin the rig wires to a plant signal is a mistake on one side, named with both."""
+    from host.rig.pincheck import compare
+
+    code = scan({"main": f"from machine import Pin, I2C, SoftI2C, SPI\nbus = {make}\nled = Pin(2, Pin.OUT)\n"})
+    lines = {use.key for use in code.uses if use.kind == "bus"}
+    assert {"5", "4"} <= lines and "2" not in lines, code.uses
+    alone = compare(code, {"LED": 2}, {"LED": "led.in"})
+    assert alone.warnings == [], f"expected no warning for bus lines the rig does not wire: {alone.warnings}"
+    clash = compare(code, {"LED": 2, "ENC": 4}, {"LED": "led.in", "ENC": "enc.a"})
+    assert len(clash.warnings) == 1 and "a bus line, on pin 4" in clash.warnings[0], clash.warnings
+    assert "ENC = 4 to the plant's enc.a" in clash.warnings[0], clash.warnings
