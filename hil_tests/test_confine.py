@@ -2,6 +2,7 @@
 folder runs no firmware the user did not name."""
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -94,3 +95,168 @@ def test_mpy_fil_replay_says_which_firmware_and_refuses_a_hostile_one_in_one_lin
         timeout=120,
     )
     assert own.returncode == 0 and "our app rover" in own.stdout, own.stdout + own.stderr
+
+
+# -- hostile firmware: what it reaches on the host -----------------------------------------
+
+PROBE = """\
+import os
+
+def attempt(what, f):
+    try:
+        result = f()
+    except Exception as e:
+        print("REFUSED", what, type(e).__name__, e)
+    else:
+        print("REACHED", what, repr(result)[:80])
+
+"""
+
+
+ENOENT = ("REFUSED", "OSError [Errno 2] ENOENT")
+
+
+def run_firmware(tmp_path, body, rig_lines=""):
+    """Run ``body`` as a firmware's main.py (after PROBE) on the rover's rig; its console
+    lines by what they tried, and the run's folder."""
+    fw = tmp_path / "fw"
+    fw.mkdir(exist_ok=True)
+    (fw / "main.py").write_text(PROBE + body)
+    rig = (FIRMWARE / "apps" / "rover" / "rig.toml").read_text()
+    rig = rig.replace('dir = "."', f'dir = "{fw}"').replace(
+        "harness_lib = true", "harness_lib = true\nallow_exit = true"
+    )
+    rig = rig.replace('name = "esp32_devkitc"', 'name = "esp32_devkitc"\n' + rig_lines, 1)
+    (tmp_path / "rig.toml").write_text(rig)
+    from host.rig import Recording, Rig, RigSpec
+
+    out = tmp_path / "run"
+    with Rig(RigSpec(str(tmp_path / "rig.toml"), seed=1), Recording(record=True, artefacts=out)) as rig:
+        rig.run_for(0.5)
+    said = {}
+    for line in rig.console.splitlines():
+        verdict, _, rest = line.partition(" ")
+        if verdict in ("REACHED", "REFUSED"):
+            what, _, how = rest.partition(" ")
+            said[what] = (verdict, how)
+    return said, out
+
+
+def test_firmware_cannot_read_host_files(tmp_path):
+    home = os.path.expanduser("~")
+    said, _ = run_firmware(
+        tmp_path,
+        f"""
+attempt("passwd", lambda: open("/etc/passwd").read())
+attempt("dotdot", lambda: open("../../../../../../etc/passwd").read())
+attempt("ssh", lambda: os.listdir("{home}/.ssh"))
+attempt("makefile", lambda: open("{REPO}/Makefile").read())
+attempt("root", lambda: os.listdir("/"))
+attempt("up", lambda: os.listdir("/.."))
+""",
+    )
+    for what in ("passwd", "dotdot", "ssh", "makefile"):
+        assert said[what] == ENOENT, (what, said)  # ENOENT, as on a board
+    assert said["root"][0] == "REACHED" and "main.py" in said["root"][1] and "etc" not in said["root"][1], said
+    assert said["up"] == said["root"], said  # / has no parent
+
+
+def test_firmware_writes_stay_on_its_board_and_are_kept(tmp_path):
+    said, out = run_firmware(
+        tmp_path,
+        f"""
+attempt("tmp", lambda: open("{tmp_path}/outside.txt", "w").write("x"))
+attempt("up", lambda: open("../../outside.txt", "w").write("x"))
+attempt("log", lambda: open("log.txt", "w").write("hello"))
+attempt("mkdir", lambda: os.mkdir("data"))
+attempt("nested", lambda: open("/data/n.txt", "w").write("n"))
+attempt("missing", lambda: open("nothing.txt"))
+attempt("remove_main", lambda: os.remove("main.py"))
+""",
+    )
+    assert said["tmp"] == ENOENT, said
+    assert said["up"][0] == "REACHED" and said["log"][0] == "REACHED" and said["nested"][0] == "REACHED", said
+    assert said["missing"] == ENOENT, said
+    assert not (tmp_path / "outside.txt").exists() and not (tmp_path.parent / "outside.txt").exists()
+    assert sorted(p.name for p in (tmp_path / "fw").iterdir()) == ["main.py"], "the sources were written to"
+    assert (out / "board_fs" / "log.txt").read_text() == "hello" and (out / "board_fs" / "outside.txt").is_file()
+    header = json.loads((out / "header.json").read_text())
+    assert header["board_fs"] == ["data/n.txt", "log.txt", "outside.txt"], header.get("board_fs")
+
+
+def test_firmware_has_no_host_process_environment_ffi_socket_or_thread(tmp_path):
+    import socket
+
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(1)
+    listener.settimeout(0)
+    port = listener.getsockname()[1]
+    marker = tmp_path / "system-ran"
+    try:
+        said, _ = run_firmware(
+            tmp_path,
+            f"""
+attempt("system", lambda: os.system("touch {marker}"))
+attempt("getenv", lambda: os.getenv("HOME"))
+attempt("ffi", lambda: __import__("ffi").open("libc.so.6").func("i", "system", "s")("touch {marker}"))
+def connect():
+    import socket
+    s = socket.socket()
+    s.connect(socket.getaddrinfo("127.0.0.1", {port})[0][-1])
+    return s
+attempt("socket", connect)
+attempt("thread", lambda: __import__("_thread").start_new_thread(print, ("thread",)))
+attempt("termios", lambda: __import__("termios"))
+attempt("vfs", lambda: __import__("vfs").VfsPosix("/"))
+""",
+        )
+        try:
+            conn, _ = listener.accept()
+            conn.close()
+            connected = True
+        except BlockingIOError:
+            connected = False
+    finally:
+        listener.close()
+    assert said["system"][:1] == ("REFUSED",) and said["system"][1].startswith("AttributeError"), said
+    assert said["getenv"][1].startswith("AttributeError"), said
+    for what in ("ffi", "socket", "thread", "termios"):
+        assert said[what][0] == "REFUSED" and said[what][1].startswith("ImportError"), (what, said)
+    assert said["vfs"][1].startswith("AttributeError"), said
+    assert not marker.exists() and not connected
+
+
+def test_a_rig_file_allows_a_module_by_name_with_its_reason(tmp_path):
+    said, _ = run_firmware(
+        tmp_path,
+        'attempt("thread", lambda: __import__("_thread").get_ident() > 0)\n'
+        'attempt("socket", lambda: __import__("socket"))\n',
+        'allow_modules = {_thread = "the ESP32 port has threads"}',
+    )
+    assert said["thread"] == ("REACHED", "True") and said["socket"][0] == "REFUSED", said
+
+
+def test_the_flash_has_its_size_and_statvfs_agrees(tmp_path):
+    said, out = run_firmware(
+        tmp_path,
+        """
+st = os.statvfs("/")
+print("FLASH", st[0] * st[2], st[0] * st[3])
+free = st[0] * st[3]
+def fill():
+    with open("big.bin", "wb") as f:
+        for i in range(free // 1024 + 8):
+            f.write(bytes(1024))
+attempt("fill", fill)
+after = os.statvfs("/")
+print("FREE", after[0] * after[3])
+attempt("remove", lambda: os.remove("big.bin"))
+print("FREED", os.statvfs("/")[0] * os.statvfs("/")[3] == free)
+""",
+        'flash_size = "64K"',
+    )
+    console = (out / "console.log").read_text()
+    assert "FLASH 65536 " in console, console
+    assert said["fill"] == ("REFUSED", "OSError 28"), said  # ENOSPC (MicroPython names few errnos: a board says 28 too)
+    assert "FREE 0" in console and "FREED True" in console, console

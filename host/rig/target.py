@@ -92,7 +92,10 @@ def diagnosis(stack: str, counters: dict, sent_any: bool) -> str:
 class Target:
     """The contract. ``open`` starts the firmware and returns the framed channel to its
     shim; ``restart`` does so again after the firmware reset the board; ``close`` ends it
-    (safe to call twice); ``on_silence`` raises the error for a firmware that went quiet."""
+    (safe to call twice); ``on_silence`` raises the error for a firmware that went quiet.
+    ``board_fs``: the firmware runs here on a per-run copy of its files (the unix port)."""
+
+    board_fs = False
 
     def open(self, firmware, on_console) -> Channel:
         raise NotImplementedError
@@ -119,6 +122,8 @@ class UnixPortTarget(Target):
     dies with the thread that started it (:mod:`host.core.children`): start and run a rig
     from one thread that lives as long as the rig."""
 
+    board_fs = True
+
     def __init__(self, busy_poll_s: float = 0.0):
         self.busy_poll_s = busy_poll_s
         self.proc: subprocess.Popen | None = None
@@ -134,7 +139,7 @@ class UnixPortTarget(Target):
             self.proc = subprocess.Popen(
                 [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
                 env=firmware.env(self.pty.slave_path),
-                cwd=str(firmware.main_dir),
+                cwd=str(firmware.board_root or firmware.main_dir),
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,

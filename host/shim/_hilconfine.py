@@ -1,0 +1,56 @@
+# Confine the firmware to its board (docs/shim.md, "Only a board's modules"; docs/security.md).
+# Called by _hilboot once the shim has started (it keeps what it took from the host: the
+# link's pty, the real select and time) and before boot.py runs:
+# - the board's flash at / (_hilfs), the firmware's path as a board's: the shim, /, /lib;
+# - the unix port's host reach taken away: os.system, os.getenv/putenv/unsetenv, os.errno,
+#   os.VfsPosix and vfs.VfsPosix go; ffi, socket, _thread and termios import as on a port
+#   without them (ImportError), unless the rig file allows one by name ([board] allow_modules).
+import builtins
+import sys
+
+HOST_MODULES = ("ffi", "socket", "usocket", "_thread", "termios")
+OS_HOST_NAMES = ("system", "getenv", "putenv", "unsetenv", "errno", "VfsPosix", "unlink")
+
+
+class _Module:
+    pass
+
+
+def _without(module, names):
+    copy = _Module()
+    for name in dir(module):
+        if not name.startswith("__") and name not in names:
+            setattr(copy, name, getattr(module, name))
+    return copy
+
+
+def _board_import(real, blocked):
+    def board_import(name, globals=None, locals=None, fromlist=(), level=0):
+        if not level and name.split(".", 1)[0] in blocked:
+            raise ImportError("no module named '%s'" % name)
+        return real(name, globals, locals, fromlist, level)
+
+    return board_import
+
+
+def confine(env, shim_dir):
+    """``env``: the host's settings (read before os.getenv goes): HIL_BOARD_FS (the board's
+    folder on the host; none: the firmware's own folders, unconfined), HIL_FLASH_BYTES,
+    HIL_ALLOW (names the rig file allows: modules, or os.<name>)."""
+    allowed = [n for n in (env.get("HIL_ALLOW") or "").split(",") if n]
+    root = env.get("HIL_BOARD_FS")
+    if root:
+        import _hilfs
+
+        _hilfs.mount(root, int(env.get("HIL_FLASH_BYTES") or 2 * 1024 * 1024), shim_dir)
+        sys.path[:] = ["/_hil", "", "/lib", ".frozen"]
+    import vfs
+
+    board_os = sys.modules["os"]  # (the shim's board os: _hilsys)
+    for name in OS_HOST_NAMES:
+        if "os." + name not in allowed and hasattr(board_os, name):
+            delattr(board_os, name)
+    if "vfs.VfsPosix" not in allowed:
+        sys.modules["vfs"] = _without(vfs, ("VfsPosix",))
+    blocked = tuple(m for m in HOST_MODULES if m not in allowed)
+    builtins.__import__ = _board_import(builtins.__import__, blocked)
