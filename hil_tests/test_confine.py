@@ -260,3 +260,65 @@ print("FREED", os.statvfs("/")[0] * os.statvfs("/")[3] == free)
     assert "FLASH 65536 " in console, console
     assert said["fill"] == ("REFUSED", "OSError 28"), said  # ENOSPC (MicroPython names few errnos: a board says 28 too)
     assert "FREE 0" in console and "FREED True" in console, console
+
+
+# -- defence in depth: a firmware that gets round the shim meets the sandbox --------------
+
+GET_ROUND = """
+import sys
+import builtins
+sys.modules.pop("vfs", None)
+del builtins.__import__  # the unix port's own import again
+import vfs
+host = vfs.VfsPosix()
+attempt("passwd", lambda: host.open("/etc/passwd", "r").read())
+attempt("sources", lambda: host.open("{repo}/Makefile", "r").read())
+attempt("tmp", lambda: host.open("/tmp/x", "w"))
+def connect():
+    import socket
+    s = socket.socket()
+    s.connect(socket.getaddrinfo("127.0.0.1", {port})[0][-1])
+    return s
+attempt("socket", connect)
+"""
+
+
+def get_round(tmp_path, monkeypatch, mode):
+    import socket
+
+    monkeypatch.setenv("MPY_FIL_SANDBOX", mode)
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(1)
+    try:
+        said, _ = run_firmware(tmp_path, GET_ROUND.format(repo=REPO, port=listener.getsockname()[1]))
+    finally:
+        listener.close()
+    return said
+
+
+def test_without_the_sandbox_a_firmware_that_gets_round_the_shim_reaches_the_host(tmp_path, monkeypatch):
+    """What the sandbox is for: the shim's confinement is a board's view, not a wall."""
+    said = get_round(tmp_path, monkeypatch, "off")
+    assert said["passwd"][0] == "REACHED" and said["socket"][0] == "REACHED", said
+
+
+def test_in_the_sandbox_a_firmware_that_gets_round_the_shim_reaches_nothing(tmp_path, monkeypatch):
+    from host.rig import sandbox
+
+    if sandbox.refusal():
+        pytest.skip(f"no sandbox on this machine: {sandbox.refusal()}")
+    said = get_round(tmp_path, monkeypatch, "require")
+    assert said["passwd"] == ENOENT and said["sources"] == ENOENT, said
+    assert said["tmp"][0] == "REFUSED", said  # (a read-only view: only the board's folder is writable)
+    assert said["socket"][0] == "REFUSED" and said["socket"][1].startswith("OSError"), said
+
+
+def test_a_required_sandbox_that_cannot_start_refuses_the_run(tmp_path, monkeypatch):
+    from host.core.errors import SetupError
+    from host.rig import sandbox
+
+    monkeypatch.setattr(sandbox, "refusal", lambda: "the kernel refuses new namespaces (a test)")
+    monkeypatch.setenv("MPY_FIL_SANDBOX", "require")
+    with pytest.raises(SetupError, match="the sandbox is required"):
+        run_firmware(tmp_path, "")

@@ -27,6 +27,7 @@ class Firmware:
     console_baud: int = 115_200  # the REPL UART: print() takes its time (0: free)
     flash_bytes: int = DEFAULT_FLASH_BYTES  # the board's filesystem ([board] flash_size)
     allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
+    sandbox: str = "auto"  # the interpreter in namespaces of its own ([board] sandbox, host/rig/sandbox.py)
     board_root: Path | None = None  # this run's copy, the board's / (host/rig/boardfs.py)
 
     @classmethod
@@ -47,6 +48,7 @@ class Firmware:
             app.console_baud,
             confine.get("flash_bytes", DEFAULT_FLASH_BYTES),
             confine.get("allow", ()),
+            confine.get("sandbox", "auto"),
         )
 
     @classmethod

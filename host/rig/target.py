@@ -18,6 +18,7 @@ from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupErr
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.link.faults import wrap
+from host.rig import sandbox
 
 EXIT_WAIT_S = 5.0
 STACK_WAIT_S = 1.0  # for the traceback of a firmware interrupted where it hung
@@ -41,7 +42,7 @@ def _stack(proc, rig) -> str:
     """Where a silent firmware is: SIGINT makes MicroPython raise KeyboardInterrupt in the
     code it runs, and the shim sends that traceback (FAULT). Empty if none comes."""
     try:
-        os.kill(proc.pid, signal.SIGINT)
+        os.kill(sandbox.interpreter_pid(proc), signal.SIGINT)
         deadline = time.monotonic() + STACK_WAIT_S
         while time.monotonic() < deadline:
             # (despite a gap: the frame lost before it is what the counters are for)
@@ -135,9 +136,11 @@ class UnixPortTarget(Target):
             self.pty = PtyPair()
         self._on_console = on_console
         program = str(interpreter.find())
+        argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
+        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, sandbox.setting(firmware.sandbox))
         try:
             self.proc = subprocess.Popen(
-                [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
+                argv,
                 env=firmware.env(self.pty.slave_path),
                 cwd=str(firmware.board_root or firmware.main_dir),
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
