@@ -24,9 +24,27 @@ def _without(module, names):
     return copy
 
 
+def _relative(real, name, fromlist, level):
+    # A relative import reached here in the shim's globals, not the importing module's
+    # (MicroPython passes __import__ no globals): made absolute in each loaded package in
+    # turn, the first that has the name wins (a relative import never reaches a host module).
+    error = ImportError("can't perform relative import")
+    for package, module in list(sys.modules.items()):
+        if getattr(module, "__path__", None) is None:
+            continue
+        base = package.rsplit(".", level - 1)[0] if level > 1 else package
+        try:
+            return real(base + "." + name if name else base, None, None, fromlist, 0)
+        except ImportError as e:
+            error = e
+    raise error
+
+
 def _board_import(real, blocked):
     def board_import(name, globals=None, locals=None, fromlist=(), level=0):
-        if not level and name.split(".", 1)[0] in blocked:
+        if level:
+            return _relative(real, name, fromlist, level)
+        if name.split(".", 1)[0] in blocked:
             raise ImportError("no module named '%s'" % name)
         return real(name, globals, locals, fromlist, level)
 
