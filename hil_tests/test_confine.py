@@ -322,3 +322,22 @@ def test_a_required_sandbox_that_cannot_start_refuses_the_run(tmp_path, monkeypa
     monkeypatch.setenv("MPY_FIL_SANDBOX", "require")
     with pytest.raises(SetupError, match="the sandbox is required"):
         run_firmware(tmp_path, "")
+
+
+def test_a_firmware_package_imports_relatively_on_its_board(tmp_path):
+    pkg = tmp_path / "fw" / "lib" / "pkg"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("from . import helper\nfrom .helper import VALUE\n")
+    (pkg / "helper.py").write_text("VALUE = 42\n")
+    said, _ = run_firmware(tmp_path, 'attempt("pkg", lambda: __import__("pkg").VALUE)\n')
+    assert said["pkg"] == ("REACHED", "42"), said
+
+
+def test_mpy_fil_run_lists_what_the_firmware_wrote_on_its_flash(tmp_path):
+    run_firmware(tmp_path, 'open("log.txt", "w").write("hello")\n')  # (writes the rig file and firmware)
+    out = tmp_path / "cli"
+    cmd = [sys.executable, "-m", "host.cli", "run", str(tmp_path / "rig.toml"), "--duration", "0.5", "--out", str(out)]
+    done = subprocess.run([*cmd, "--no-plots"], capture_output=True, text=True, cwd=REPO, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "board_fs/log.txt" in done.stdout and (out / "board_fs" / "log.txt").read_text() == "hello", done.stdout
+    assert sorted(p.name for p in (tmp_path / "fw").iterdir()) == ["main.py"], "the sources were written to"
