@@ -196,7 +196,8 @@ def replay(
         spec, which = chosen_spec(trace.header, choice, watchdog_s=watchdog_s, busy_poll=busy_poll)
         rig = _replay_rig(trace, spec, Path(artefacts), progress)
     except ConfigError as e:  # (an app, board or option the header names that is not there)
-        raise ConfigError(f"trace {folder}: header.json: {e}") from None
+        named = choice.app is not None or choice.firmware is not None
+        raise ConfigError(f"trace {folder}: {'the firmware you named' if named else 'header.json'}: {e}") from None
     if say is not None:
         say(which)
     with rig:
