@@ -2,10 +2,11 @@
 
 Each run gets the files a board would have after ``make flash`` (the entry, ``boot.py``,
 the app's modules and data files at ``/``, its libraries, the pin map and the project's
-drivers in ``/lib``: the files the firmware's identity hashes, :meth:`Firmware.files`) in a
-folder of its own; the shim (``host/shim/_hilfs.py``) maps every path the firmware names
-into it, so writes never touch the user's sources. At the end, what the firmware wrote
-(files created or changed) is kept in the trace folder's ``board_fs/`` and listed.
+drivers in ``/lib``: the files the firmware's identity hashes, :meth:`Firmware.files`,
+and the firmware folder's subfolders) in a folder of its own; the shim
+(``host/shim/_hilfs.py``) maps every path the firmware names into it, so writes never
+touch the user's sources. At the end, what the firmware wrote (files created or changed)
+is kept in the trace folder's ``board_fs/`` and listed.
 
 The rig file's ``[board]`` table sets the flash (``flash_size``, default an ESP32's
 2 MiB filesystem partition of its 4 MB flash), the host modules a port has
@@ -91,6 +92,16 @@ def board_name(label: str) -> str:
     return rel if where in ("entry", "0") else f"lib/{rel}"
 
 
+def _folders(main: Path) -> list[str]:
+    """The firmware folder's own subfolders (not hidden, not ``__pycache__``), relative."""
+    found = []
+    for path in sorted(main.rglob("*")) if main.is_dir() else ():
+        parts = path.relative_to(main).parts
+        if path.is_dir() and not any(p.startswith(".") or p == "__pycache__" for p in parts):
+            found.append(path.relative_to(main).as_posix())
+    return found
+
+
 def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
@@ -102,6 +113,8 @@ class BoardFs:
         self.root = Path(tempfile.mkdtemp(prefix="mpy-fil-board-"))
         self.flashed: dict[str, str] = {}  # board path: digest of what was flashed
         try:
+            for folder in _folders(Path(firmware.main_dir)):  # (its folders too, empty ones included)
+                (self.root / folder).mkdir(parents=True, exist_ok=True)
             for label, path in firmware.files():
                 name = board_name(label)
                 if name in self.flashed:

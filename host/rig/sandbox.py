@@ -78,7 +78,7 @@ def command(argv: list[str], board_root: Path | None, link_path: str, wanted: st
     SetupError when it is required and refused)."""
     if wanted == "off" or board_root is None:
         return argv
-    why = refusal()
+    why = refusal() or _not_elf(argv[0])
     if why is not None:
         if wanted == "require":
             raise SetupError(f"the sandbox is required ({ENV} or [board] sandbox) but {why}")
@@ -106,6 +106,18 @@ def command(argv: list[str], board_root: Path | None, link_path: str, wanted: st
         program,
         *argv[1:],
     ]
+
+
+def _not_elf(program: str) -> str | None:
+    """Why ``program`` cannot run alone in the sandbox (a script needs its interpreter;
+    a file the kernel does not run is left to fail as it does outside)."""
+    try:
+        with open(program, "rb") as f:
+            if f.read(4) == b"\x7fELF":
+                return None
+    except OSError:
+        pass
+    return f"{program} is not an ELF program"
 
 
 def _note(why: str) -> None:

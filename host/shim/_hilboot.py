@@ -5,6 +5,7 @@
 # runs boot.py and main.py from the firmware's folder as a board does, in the same globals
 # (on a board, boot.py already ran at power-on), reporting how the firmware ended.
 import io
+import micropython as _micropython
 import sys
 
 import _hil
@@ -80,11 +81,10 @@ def _run(name):
 
 
 def _heap_unlocked():
-    import micropython
-
-    micropython.heap_lock()
-    for _ in range(micropython.heap_unlock()):
-        micropython.heap_unlock()
+    # (no import statement: under heap_lock the board's import filter cannot run)
+    _micropython.heap_lock()
+    for _ in range(_micropython.heap_unlock()):
+        _micropython.heap_unlock()
 
 
 def _entry():

@@ -41,11 +41,17 @@ def _relative(real, name, fromlist, level):
 
 
 def _board_import(real, blocked):
+    dotted = tuple(name + "." for name in blocked)
+
     def board_import(name, globals=None, locals=None, fromlist=(), level=0):
+        # (allocates nothing on the way to an allowed module: imports run under heap_lock too)
         if level:
             return _relative(real, name, fromlist, level)
-        if name.split(".", 1)[0] in blocked:
+        if name in blocked:
             raise ImportError("no module named '%s'" % name)
+        for prefix in dotted:
+            if name.startswith(prefix):
+                raise ImportError("no module named '%s'" % name)
         return real(name, globals, locals, fromlist, level)
 
     return board_import
