@@ -341,3 +341,26 @@ def test_mpy_fil_run_lists_what_the_firmware_wrote_on_its_flash(tmp_path):
     assert done.returncode == 0, done.stdout + done.stderr
     assert "board_fs/log.txt" in done.stdout and (out / "board_fs" / "log.txt").read_text() == "hello", done.stdout
     assert sorted(p.name for p in (tmp_path / "fw").iterdir()) == ["main.py"], "the sources were written to"
+
+
+def test_a_board_folder_left_by_a_killed_harness_goes_with_the_next_run(tmp_path, monkeypatch):
+    import signal
+    import tempfile
+
+    from host.rig import Rig, RigSpec
+
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    monkeypatch.setattr(tempfile, "tempdir", None)  # (read TMPDIR again)
+    code = "from host.rig import Rig, RigSpec\nRig(RigSpec('rover', seed=1)).start()\nprint('up', flush=True)\n"
+    code += "import time\ntime.sleep(60)\n"
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, cwd=REPO)
+    try:
+        assert proc.stdout.readline() == "up\n"
+    finally:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+        proc.stdout.close()
+    assert len(list(tmp_path.glob("mpy-fil-board-*"))) == 1, "expected the killed run's board folder"
+    with Rig(RigSpec("rover", seed=1)):
+        pass
+    assert not list(tmp_path.glob("mpy-fil-board-*")), "the killed run's board folder is still there"

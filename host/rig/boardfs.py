@@ -15,6 +15,7 @@ whether the sandbox is required (``sandbox = "require"``, docs/security.md).
 """
 
 import hashlib
+import os
 import re
 import shutil
 import tempfile
@@ -106,11 +107,24 @@ def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
+PREFIX = "mpy-fil-board-"
+
+
+def remove_stale() -> None:
+    """Remove the board folders of processes that are gone (killed outright: SIGKILL, an
+    OOM kill), named by their pid (``mpy-fil-board-<pid>-…``)."""
+    for folder in Path(tempfile.gettempdir()).glob(PREFIX + "*-*"):
+        pid = folder.name[len(PREFIX) :].split("-", 1)[0]
+        if pid.isdigit() and not Path("/proc", pid).exists():
+            shutil.rmtree(folder, ignore_errors=True)
+
+
 class BoardFs:
     """One run's board folder: made from the firmware, kept in part, removed."""
 
     def __init__(self, firmware):
-        self.root = Path(tempfile.mkdtemp(prefix="mpy-fil-board-"))
+        remove_stale()
+        self.root = Path(tempfile.mkdtemp(prefix=f"{PREFIX}{os.getpid()}-"))
         self.flashed: dict[str, str] = {}  # board path: digest of what was flashed
         try:
             for folder in _folders(Path(firmware.main_dir)):  # (its folders too, empty ones included)
