@@ -43,6 +43,7 @@ APP ?= rover
 
 setup: $(VENV)/.installed $(MP_DEP) build/drivers/.fetched
 	@host/core/report_tools.sh
+	@host/core/sandbox_tools.sh
 	@$(PY) -m host.core.interpreter version
 
 $(VENV)/.installed: pyproject.toml setup.py host/core/bootstrap.sh

@@ -142,6 +142,11 @@ def build_parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
     rep.add_argument("--out", type=_folder, help="the replay's own trace folder (default: TRACE/replay)")
+    rep.add_argument("--app", metavar="RIG", help="run this rig file or app of ours (not the one TRACE names)")
+    rep.add_argument("--firmware", metavar="DIR", type=_folder, help="run the firmware in this folder (the board's /)")
+    rep.add_argument(
+        "--trust-folder", action="store_true", help="run the rig file or firmware folder TRACE's header names"
+    )
     rep.set_defaults(command=cmd_replay, sub=rep)
 
     plot = sub.add_parser("plot", help="write a trace folder's plots (PNG)")
@@ -505,12 +510,20 @@ def cmd_list(args) -> int:
 
 def cmd_replay(args) -> int:
     from host.link.transport import busy_poll_wanted
-    from host.rig.replay import replay
+    from host.rig.replay import FirmwareChoice, replay
 
     out = _writable(args.sub, "--out", args.out or args.trace / "replay")
     show = _progress(f"replay {args.trace}")
+    choice = FirmwareChoice(args.app, args.firmware, args.trust_folder)
     try:
-        result = replay(args.trace, out, progress=show, busy_poll=busy_poll_wanted())
+        result = replay(
+            args.trace,
+            out,
+            progress=show,
+            busy_poll=busy_poll_wanted(),
+            choice=choice,
+            say=lambda which: print(f"replay runs the firmware in {which}", flush=True),
+        )
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")

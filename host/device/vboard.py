@@ -128,6 +128,8 @@ class VirtualBoardTarget(UnixPortTarget):
     its ``machine`` and ``time`` are the shim and the link is a pty of its own. A unix-port
     target in all but how it starts, restarts and goes quiet: ending it is the same."""
 
+    board_fs = False  # (its folder is the board's flash already, kept between runs)
+
     def __init__(self, board: str, fs: Path, wired: bool):
         super().__init__()
         self.board = board

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
+from host.rig.boardfs import DEFAULT_FLASH_BYTES
 
 FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
 
@@ -24,6 +25,10 @@ class Firmware:
     heap_size: str | None = None  # -X heapsize, as a board's RAM
     ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (default 10 s in)
     console_baud: int = 115_200  # the REPL UART: print() takes its time (0: free)
+    flash_bytes: int = DEFAULT_FLASH_BYTES  # the board's filesystem ([board] flash_size)
+    allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
+    sandbox: str = "auto"  # the interpreter in namespaces of its own ([board] sandbox, host/rig/sandbox.py)
+    board_root: Path | None = None  # this run's copy, the board's / (host/rig/boardfs.py)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -33,7 +38,18 @@ class Firmware:
         if not (main / app.entry).is_file():
             raise ConfigError(f"main_dir: no {app.entry} in {main}")
         folders = app.firmware_folders(board_folder)
-        return cls(main, [main, *folders[1:]], app.entry, app.heap_size, app.ticks_wrap_s, app.console_baud)
+        confine = app.extra.get("confine", {})
+        return cls(
+            main,
+            [main, *folders[1:]],
+            app.entry,
+            app.heap_size,
+            app.ticks_wrap_s,
+            app.console_baud,
+            confine.get("flash_bytes", DEFAULT_FLASH_BYTES),
+            confine.get("allow", ()),
+            confine.get("sandbox", "auto"),
+        )
 
     @classmethod
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
@@ -81,15 +97,20 @@ class Firmware:
         return found
 
     def micropypath(self, shim: bool = True) -> str:
-        folders = [SHIM_DIR, *self.folders] if shim else self.folders
+        board = [self.board_root, self.board_root / "lib"] if self.board_root else self.folders
+        folders = [SHIM_DIR, *board] if shim else board
         return ":".join([*map(str, folders), ".frozen"])
 
     def env(self, link_path: str) -> dict:
-        """The interpreter's environment: the path, and the pty the shim opens."""
+        """The interpreter's environment: the path, the pty the shim opens, the board's
+        folder and flash size, the host modules allowed (read by the shim at start)."""
+        board = {"HIL_BOARD_FS": str(self.board_root), "HIL_FLASH_BYTES": str(self.flash_bytes)}
         return {
             "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
             "MICROPYPATH": self.micropypath(),
             "HIL_LINK": link_path,
+            "HIL_ALLOW": ",".join(self.allow),
+            **(board if self.board_root else {}),
             "HIL_ENTRY": self.entry,
             "HIL_CONSOLE_BAUD": str(self.console_baud),
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),

@@ -14,6 +14,12 @@ recording (no earlier than its last change, no later than a truth period past it
 truth row). A partial recording (a run stopped by a signal, docs/traces.md) is replayed to
 its cut, and only what happened before the cut's instant is compared: the cut may fall
 between two outputs of one instant.
+
+A trace folder is data: a replay never runs a firmware the user did not name
+(docs/security.md). It runs the firmware given by :class:`FirmwareChoice` (``--app``, a
+rig file or one of our apps; ``--firmware``, a firmware folder), or one of our own apps
+that the header names by name (code the harness ships); a rig file or firmware folder the
+header names runs only with ``trust_folder`` (``--trust-folder``). The result says which ran.
 """
 
 from dataclasses import dataclass
@@ -72,10 +78,69 @@ class ReplayResult:
     difference: Difference | None
     folder: Path  # the replay's own trace folder
     partial: str | None = None  # why the recording is partial: compared up to its cut
+    firmware: str = ""  # which firmware ran, and who named it
 
     @property
     def same(self) -> bool:
         return self.difference is None
+
+
+@dataclass(frozen=True)
+class FirmwareChoice:
+    """The firmware a replay runs: ``app`` (a rig file or one of our apps) and/or
+    ``firmware`` (a firmware folder, the board's /) as the user names them; ``trust_folder``:
+    run the rig file or folder the trace's header names."""
+
+    app: str | None = None
+    firmware: Path | None = None
+    trust_folder: bool = False
+
+
+FOLDER_FIRMWARE_FIELDS = ("main_dir", "firmware_dir")  # a header's spec fields that name code to run
+
+
+def chosen_spec(header: dict, choice: FirmwareChoice, **changes) -> tuple[RigSpec, str]:
+    """The spec a replay runs and a sentence saying which firmware and who named it; a
+    ConfigError when the header alone names code from outside the harness (a rig file, a
+    firmware folder) and the user did not name one nor pass ``trust_folder``."""
+    spec = RigSpec.from_header(header, **changes)
+    named = [f"{f} {getattr(spec, f)}" for f in FOLDER_FIRMWARE_FIELDS if getattr(spec, f)]
+    if choice.app is not None:
+        spec = spec.replace(app=choice.app)
+    elif not _ours(spec.app):
+        named.append(f"the rig file {spec.app}")
+    if choice.firmware is not None:
+        spec = spec.replace(main_dir=Path(choice.firmware), firmware_dir=None)
+        named = [n for n in named if not n.startswith(FOLDER_FIRMWARE_FIELDS)]
+    if named and not choice.trust_folder:
+        raise ConfigError(
+            f"the trace folder's header names a firmware to run ({'; '.join(named)}): a replay runs only "
+            "a firmware you name: --app RIG (a rig file or one of our apps), --firmware DIR (a firmware "
+            "folder), or --trust-folder to run the one the header names"
+        )
+    return spec, _which(spec, choice, bool(named))
+
+
+def _ours(app) -> bool:
+    """One of the apps the harness ships, named by its name (not a path)."""
+    from host.rig.apps import apps
+
+    return isinstance(app, str) and app in apps()
+
+
+def _which(spec: RigSpec, choice: FirmwareChoice, from_folder: bool) -> str:
+    folder = spec.firmware_dir or spec.main_dir
+    app = spec.resolve()
+    where = folder or app.path
+    if choice.firmware is not None:
+        who = "named by --firmware"
+    elif choice.app is not None:
+        who = "named by --app"
+    elif from_folder:
+        who = "named by the trace folder's header, run because of --trust-folder"
+    else:
+        who = f"our app {app.name}, named by the trace folder's header"
+    return f"{where} ({who})"
 
 
 def replay_plant(trace: TraceData) -> ReplayPlant:
@@ -107,9 +172,20 @@ def recorded_end_us(trace: TraceData) -> int:
     return t_end_us
 
 
-def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None, busy_poll: bool = True) -> ReplayResult:
+def replay(
+    folder,
+    artefacts,
+    *,
+    watchdog_s: float = 5.0,
+    progress=None,
+    busy_poll: bool = True,
+    choice: FirmwareChoice = FirmwareChoice(),
+    say=None,
+) -> ReplayResult:
     """Run the recorded spec (app, board, seed, ...) against the recorded sensor stream;
-    compare. ``busy_poll``: this process may spin on its link (the front end's choice)."""
+    compare. ``busy_poll``: this process may spin on its link (the front end's choice);
+    ``choice``: the firmware the user named (a trace folder's own runs only when trusted);
+    ``say(text)`` is told which firmware runs, before it starts."""
     trace = load_trace(folder)
     h = trace.header
     if h.get("mode") != "lockstep":
@@ -117,21 +193,24 @@ def replay(folder, artefacts, *, watchdog_s: float = 5.0, progress=None, busy_po
     t_end_us = recorded_end_us(trace)
     partial = partial_reason(h)
     try:
-        rig = _replay_rig(trace, Path(artefacts), watchdog_s, progress, busy_poll)
+        spec, which = chosen_spec(trace.header, choice, watchdog_s=watchdog_s, busy_poll=busy_poll)
+        rig = _replay_rig(trace, spec, Path(artefacts), progress)
     except ConfigError as e:  # (an app, board or option the header names that is not there)
-        raise ConfigError(f"trace {folder}: header.json: {e}") from None
+        named = choice.app is not None or choice.firmware is not None
+        raise ConfigError(f"trace {folder}: {'the firmware you named' if named else 'header.json'}: {e}") from None
+    if say is not None:
+        say(which)
     with rig:
         rig.run_until(t_end_us)
     before = (lambda t: t < t_end_us) if partial else (lambda t: t <= t_end_us)
     recorded = [e for e in trace.firmware_outputs() if before(e[0])]
     replayed = [e for e in rig.recorder.firmware_outputs() if before(e[0])]
     difference = first_difference(recorded, replayed)
-    return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial)
+    return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial, which)
 
 
-def _replay_rig(trace: TraceData, artefacts: Path, watchdog_s: float, progress, busy_poll: bool) -> Rig:
-    """The recorded spec, driven by the recording (the budgets as it had them)."""
-    spec = RigSpec.from_header(trace.header, watchdog_s=watchdog_s, busy_poll=busy_poll)
+def _replay_rig(trace: TraceData, spec: RigSpec, artefacts: Path, progress) -> Rig:
+    """The spec, driven by the recording (the budgets as it had them)."""
     app = spec.resolve()
     try:
         recorded_plant, _ = build_plant(spec, app)

@@ -27,6 +27,7 @@ from host.core import paths
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
+from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
@@ -114,6 +115,8 @@ class Rig:
         self.reset_watch = endings.ResetWatch()  # a reboot storm, at any rate
         self.linklog: LinkLog = NO_LOG
         self._started = False
+        self.board_fs: BoardFs | None = None  # the board's flash while it runs (host/rig/boardfs.py)
+        self.board_fs_written: list[str] = []  # what the firmware wrote there (kept in board_fs/)
         damaged = lambda error: endings.damaged(self, error)  # noqa: E731
         round_trips = self.stats.round_trip_us if recording.time_round_trips else None
         self.session = Session(self._on_silence, round_trips, damaged)
@@ -159,12 +162,16 @@ class Rig:
                 header["firmware"]["folder"] = paths.portable(header["firmware"]["folder"])  # (any checkout)
                 self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
                 self.clock.log = self.linklog
+            if self.target.board_fs:
+                self.board_fs = BoardFs(self.firmware)
+                self.firmware.board_root = self.board_fs.root
             self._open(self.target.open)
             if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
                 begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
+            self._end_board_fs()
             self.linklog.close()
             raise
         return self
@@ -186,9 +193,19 @@ class Rig:
         """End the firmware and close the link; safe to call twice. Writes the console
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
+        self._end_board_fs()
         if self._started:
             self._started = False
             finish_recording(self, interrupted)
+
+    def _end_board_fs(self) -> None:
+        """Keep what the firmware wrote on its flash (``artefacts/board_fs/``); remove the copy."""
+        board, self.board_fs = self.board_fs, None
+        if board is not None:
+            try:
+                self.board_fs_written = board.keep(self.artefacts / "board_fs") if self.artefacts else board.written()
+            finally:
+                board.remove()
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data, self.t_us)
@@ -369,6 +386,7 @@ def run_header(rig) -> dict:
         "micropython": rig.micropython_version.split(";")[0],
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
+        **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
     }
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
 from host.rig.app import App
+from host.rig.boardfs import confinement
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
@@ -46,6 +47,7 @@ POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_
 POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool, "allow_exit": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str, "console_baud": int}
+BOARD_KEYS |= {"flash_size": (str, int), "allow_modules": dict, "sandbox": str}  # (host/rig/boardfs.py)
 PLANT_KEYS = {"kind": str, "options": dict}
 INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
@@ -170,7 +172,11 @@ def load_rig(path) -> App:
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
-        extra={"faults": faults, "report": _report(where, data.get("report", {}))},
+        extra={
+            "faults": faults,
+            "report": _report(where, data.get("report", {})),
+            "confine": confinement(where, data.get("board", {})),
+        },
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
         console_baud=_console_baud(where, data.get("board", {})),
         allow_exit=firmware.get("allow_exit", False),

@@ -18,6 +18,7 @@ from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupErr
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.link.faults import wrap
+from host.rig import sandbox
 
 EXIT_WAIT_S = 5.0
 STACK_WAIT_S = 1.0  # for the traceback of a firmware interrupted where it hung
@@ -41,7 +42,7 @@ def _stack(proc, rig) -> str:
     """Where a silent firmware is: SIGINT makes MicroPython raise KeyboardInterrupt in the
     code it runs, and the shim sends that traceback (FAULT). Empty if none comes."""
     try:
-        os.kill(proc.pid, signal.SIGINT)
+        os.kill(sandbox.interpreter_pid(proc), signal.SIGINT)
         deadline = time.monotonic() + STACK_WAIT_S
         while time.monotonic() < deadline:
             # (despite a gap: the frame lost before it is what the counters are for)
@@ -92,7 +93,10 @@ def diagnosis(stack: str, counters: dict, sent_any: bool) -> str:
 class Target:
     """The contract. ``open`` starts the firmware and returns the framed channel to its
     shim; ``restart`` does so again after the firmware reset the board; ``close`` ends it
-    (safe to call twice); ``on_silence`` raises the error for a firmware that went quiet."""
+    (safe to call twice); ``on_silence`` raises the error for a firmware that went quiet.
+    ``board_fs``: the firmware runs here on a per-run copy of its files (the unix port)."""
+
+    board_fs = False
 
     def open(self, firmware, on_console) -> Channel:
         raise NotImplementedError
@@ -119,6 +123,8 @@ class UnixPortTarget(Target):
     dies with the thread that started it (:mod:`host.core.children`): start and run a rig
     from one thread that lives as long as the rig."""
 
+    board_fs = True
+
     def __init__(self, busy_poll_s: float = 0.0):
         self.busy_poll_s = busy_poll_s
         self.proc: subprocess.Popen | None = None
@@ -130,11 +136,13 @@ class UnixPortTarget(Target):
             self.pty = PtyPair()
         self._on_console = on_console
         program = str(interpreter.find())
+        argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
+        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, sandbox.setting(firmware.sandbox))
         try:
             self.proc = subprocess.Popen(
-                [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"],
+                argv,
                 env=firmware.env(self.pty.slave_path),
-                cwd=str(firmware.main_dir),
+                cwd=str(firmware.board_root or firmware.main_dir),
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,

@@ -5,6 +5,7 @@
 # runs boot.py and main.py from the firmware's folder as a board does, in the same globals
 # (on a board, boot.py already ran at power-on), reporting how the firmware ended.
 import io
+import micropython as _micropython
 import sys
 
 import _hil
@@ -80,11 +81,10 @@ def _run(name):
 
 
 def _heap_unlocked():
-    import micropython
-
-    micropython.heap_lock()
-    for _ in range(micropython.heap_unlock()):
-        micropython.heap_unlock()
+    # (no import statement: under heap_lock the board's import filter cannot run)
+    _micropython.heap_lock()
+    for _ in range(_micropython.heap_unlock()):
+        _micropython.heap_unlock()
 
 
 def _entry():
@@ -95,14 +95,26 @@ def _entry():
     return (getenv("HIL_ENTRY") if getenv else None) or "main.py"
 
 
+def _confine():
+    """The firmware's view made a board's: its flash at /, no host reach (_hilconfine)."""
+    import os
+
+    import _hilconfine
+
+    names = ("HIL_BOARD_FS", "HIL_FLASH_BYTES", "HIL_ALLOW")
+    env = {name: os.getenv(name) for name in names}
+    _hilconfine.confine(env, __file__.rsplit("/", 1)[0])
+
+
 def main(pil=False):
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
         _asyncio_in_virtual_time()
+        entry = _entry()
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
+            _confine()
             _fresh_main()
             _run("boot.py")
-        entry = _entry()
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)
     except _hil.ResetRequest as e:

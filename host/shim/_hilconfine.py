@@ -1,0 +1,80 @@
+# Confine the firmware to its board (docs/shim.md, "Only a board's modules"; docs/security.md).
+# Called by _hilboot once the shim has started (it keeps what it took from the host: the
+# link's pty, the real select and time) and before boot.py runs:
+# - the board's flash at / (_hilfs), the firmware's path as a board's: the shim, /, /lib;
+# - the unix port's host reach taken away: os.system, os.getenv/putenv/unsetenv, os.errno,
+#   os.VfsPosix and vfs.VfsPosix go; ffi, socket, _thread and termios import as on a port
+#   without them (ImportError), unless the rig file allows one by name ([board] allow_modules).
+import builtins
+import sys
+
+HOST_MODULES = ("ffi", "socket", "usocket", "_thread", "termios")
+OS_HOST_NAMES = ("system", "getenv", "putenv", "unsetenv", "errno", "VfsPosix", "unlink")
+
+
+class _Module:
+    pass
+
+
+def _without(module, names):
+    copy = _Module()
+    for name in dir(module):
+        if not name.startswith("__") and name not in names:
+            setattr(copy, name, getattr(module, name))
+    return copy
+
+
+def _relative(real, name, fromlist, level):
+    # A relative import reached here in the shim's globals, not the importing module's
+    # (MicroPython passes __import__ no globals): made absolute in each loaded package in
+    # turn, the first that has the name wins (a relative import never reaches a host module).
+    error = ImportError("can't perform relative import")
+    for package, module in list(sys.modules.items()):
+        if getattr(module, "__path__", None) is None:
+            continue
+        base = package.rsplit(".", level - 1)[0] if level > 1 else package
+        try:
+            return real(base + "." + name if name else base, None, None, fromlist, 0)
+        except ImportError as e:
+            error = e
+    raise error
+
+
+def _board_import(real, blocked):
+    dotted = tuple(name + "." for name in blocked)
+
+    def board_import(name, globals=None, locals=None, fromlist=(), level=0):
+        # (allocates nothing on the way to an allowed module: imports run under heap_lock too)
+        if level:
+            return _relative(real, name, fromlist, level)
+        if name in blocked:
+            raise ImportError("no module named '%s'" % name)
+        for prefix in dotted:
+            if name.startswith(prefix):
+                raise ImportError("no module named '%s'" % name)
+        return real(name, globals, locals, fromlist, level)
+
+    return board_import
+
+
+def confine(env, shim_dir):
+    """``env``: the host's settings (read before os.getenv goes): HIL_BOARD_FS (the board's
+    folder on the host; none: the firmware's own folders, unconfined), HIL_FLASH_BYTES,
+    HIL_ALLOW (names the rig file allows: modules, or os.<name>)."""
+    allowed = [n for n in (env.get("HIL_ALLOW") or "").split(",") if n]
+    root = env.get("HIL_BOARD_FS")
+    if root:
+        import _hilfs
+
+        _hilfs.mount(root, int(env.get("HIL_FLASH_BYTES") or 2 * 1024 * 1024), shim_dir)
+        sys.path[:] = ["/_hil", "", "/lib", ".frozen"]
+    import vfs
+
+    board_os = sys.modules["os"]  # (the shim's board os: _hilsys)
+    for name in OS_HOST_NAMES:
+        if "os." + name not in allowed and hasattr(board_os, name):
+            delattr(board_os, name)
+    if "vfs.VfsPosix" not in allowed:
+        sys.modules["vfs"] = _without(vfs, ("VfsPosix",))
+    blocked = tuple(m for m in HOST_MODULES if m not in allowed)
+    builtins.__import__ = _board_import(builtins.__import__, blocked)
