@@ -45,6 +45,23 @@ class PartsPlant(RobotPlant):
         self.encoders = build.encoders
         self.bus_set = BusSet([p for p in build.parts if isinstance(p, BusDevice)])
         self.parts = ([monitor] if monitor is not None else []) + build.parts + self.body.recorders(build, self.world)
+        self._check_driven()
+
+    def _check_driven(self) -> None:
+        """Every input a device drives (a PWM expander's channel) is another part's."""
+        inputs = set(self.drive.inputs).union(*(p.inputs for p in self.parts))
+        for device in self.bus_set.devices:
+            for name in getattr(device, "targets", ()):
+                if name != "-" and name not in inputs:
+                    raise PartsError(
+                        f"{device.label} drives: expected inputs of the plant's parts ({', '.join(sorted(inputs))}), "
+                        f"got {name!r}"
+                    )
+
+    def input_owner(self, name: str):
+        """The engine part (or the drive) that takes input ``name``."""
+        where = self._input_route[name]
+        return self.drive if where < 0 else self.parts[where]
 
     def _react(self, t: int) -> bool:
         return self.body.react(self, t)
@@ -90,6 +107,8 @@ class PartsPlant(RobotPlant):
         if self._motion_pending:
             self._settle()
         result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
+        for device in self.bus_set.on(bus):
+            device.pass_on(self)
         self._reschedule()
         return result
 
