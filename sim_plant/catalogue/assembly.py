@@ -112,6 +112,14 @@ class PartsPlant(RobotPlant):
         self._reschedule()
         return result
 
+    def bitstream(self, name: str, timing_ns: tuple, data: bytes) -> None:
+        """``machine.bitstream`` on the pin wired to input ``name`` from now: the part that
+        takes it (a ``ws2812_strip``'s ``.din``) decodes it; another part's input ignores it."""
+        part = self.input_owner(name) if name in self._input_route else None
+        if hasattr(part, "bitstream"):
+            part.bitstream(self._t_us, timing_ns, data)
+            self._reschedule()
+
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""
         names: dict = {}
