@@ -1,6 +1,9 @@
 """Published MicroPython drivers for the bus parts (host/core/drivers.txt, fetched pinned
 by make setup into build/drivers/), each run unchanged through a firmware written as its
-README or examples show, asserting the physics: a servo on a PCA9685 reaches its angle."""
+README or examples show, asserting the physics: a servo on a PCA9685 reaches its angle,
+the LIS3MDL compass follows the heading, the MPU-6886's integrated gyro reads a turn."""
+
+import math
 
 import pytest
 
@@ -93,3 +96,19 @@ def test_published_lis3mdl_driver_compass_follows_the_heading_after_a_hard_iron_
     assert angle_off(r["heading_deg"], truth_deg) < 3, (r["heading_deg"], truth_deg)
     assert angle_off(r["raw_deg"], truth_deg) > 10, (r["raw_deg"], truth_deg)
     assert r["z_ut"] == pytest.approx(-44 + 3, abs=2)
+
+
+def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(make_rig):
+    """micropython-mpu6886 0.1.0, unchanged, as its README sets it up (I2C(scl=Pin(22),
+    sda=Pin(21)): bus i2c0), against the mpu6050 part answering WHO_AM_I 0x19: the robot
+    spins left until the integrated gyro says 90 degrees; the true turn agrees within 3."""
+    imu = {"kind": "mpu6050", "name": "imu", "bus": "i2c0", "who_am_i": 0x19, "gyro_bias_dps": [0.0, 0.0, 0.3]}
+    plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.0], "parts": [*MOTORS, imu]}
+    rig, r, _ = run_driver(
+        make_rig, "mpu6886_spin", plant, "micropython-mpu6886", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS
+    )
+    truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
+    assert "heading_deg" in r, rig.console
+    assert r["whoami"] == 0x19
+    assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
+    assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
