@@ -1,7 +1,8 @@
 """Published MicroPython drivers for the bus parts (host/core/drivers.txt, fetched pinned
 by make setup into build/drivers/), each run unchanged through a firmware written as its
 README or examples show, asserting the physics: a servo on a PCA9685 reaches its angle,
-the LIS3MDL compass follows the heading, the MPU-6886's integrated gyro reads a turn."""
+the LIS3MDL compass follows the heading, the MPU-6886's integrated gyro reads a turn; and
+the vl53l0x part read as its drivers read it (no MicroPython VL53L0X driver is on PyPI)."""
 
 import math
 
@@ -112,3 +113,30 @@ def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(ma
     assert r["whoami"] == 0x19
     assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
     assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
+
+
+def test_vl53l0x_ranges_the_wall_along_its_ray_once_per_budget_and_the_robot_stops_at_it(make_rig):
+    """A firmware reading the vl53l0x part as its drivers do (back-to-back): the first range
+    is the wall's along the mount's ray within the datasheet's 3 %; a range every 33 ms
+    (the timing budget); the robot stops 0.3 m from the wall."""
+    tof = {"kind": "vl53l0x", "name": "tof", "bus": "i2c0", "mount": {"x_m": 0.05}}
+    plant = {"body": "differential", "start_pose": [2.0, 1.0, 0.0], "parts": [*MOTORS, tof]}
+    pins = {"PWMA": 16, "AIN1": 17, "AIN2": 18, "PWMB": 4, "BIN1": 23, "BIN2": 19}
+    app = App(
+        name="tof",
+        default_board="esp32_bench",
+        make_plant=lambda: assemble(plant),
+        wiring=SPIN_WIRING,
+        pins=pins,
+        console_baud=0,
+    )
+    rig = make_rig(app, main_dir=FIRMWARE / "tof_stop", allow_exit=True)
+    rig.run_for(8.0)
+    truth = rig.plant.truth()
+    rig.stop()
+    r = results(rig.console)
+    assert r.get("ident") == [0xEE, 0xAA, 0x10], rig.console
+    assert r["first_mm"] == pytest.approx(950, rel=0.03)  # the wall at x = 3 m, the chip at 2.05 m
+    assert r["stop_mm"] <= 300
+    assert r["period_ms"] == pytest.approx(33, abs=1.5)
+    assert truth["tof_range_m"] == pytest.approx(0.3, abs=0.05), truth["tof_range_m"]
