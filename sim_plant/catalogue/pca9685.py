@@ -20,7 +20,7 @@ inverted and open-drain outputs of MODE2, OE, EXTCLK, the sub-addresses and all-
 address, the software reset general call."""
 
 from sim_plant.buses import BusName, RegisterDevice, address_problem
-from sim_plant.catalogue.base import Build, Opt, PartType, View
+from sim_plant.catalogue.base import Build, Opt, PartType
 from sim_plant.option_table import Name, Num, Rows
 
 MODE1, MODE2, LED0, ALL_LED, PRE_SCALE = 0x00, 0x01, 0x06, 0xFA, 0xFE
@@ -138,7 +138,7 @@ class Pca9685(PartType):
     )
     SIGNALS = ()
     TRUTH = ("{name}_freq_hz",)  # (and {name}_ch<n>_pulse_us for each channel that drives an input)
-    VIEWS = (View("command", "the PWM frequency the firmware set", truth=("{name}_freq_hz",)),)
+    VIEWS = ()  # (what its channels do shows in the views of the parts they drive: a servo's angle)
     on_bus = True
 
     def check(self) -> None:

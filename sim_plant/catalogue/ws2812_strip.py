@@ -121,7 +121,9 @@ class Ws2812StripPart(PartType):
         Sig("led<i>", "out", "u16", "LED i's colour, 0xRRGGBB, from each latch (one per LED: led0, led1, ...)"),
     )
     TRUTH = ("{name}_lit", "{name}_timing_faults", "{name}_writes")
-    VIEWS = (View("count", "how many LEDs are lit, and the streams out of the WS2812's timing", truth=TRUTH[:2]),)
+    VIEWS = (
+        View("strip", "each LED's colour over time, a row each (the report draws the colours)", signals=("led<i>",)),
+    )
 
     def signals(self) -> dict[str, tuple[str, str]]:
         signals = {f"{self.name}.din": ("in", "level")}
