@@ -50,13 +50,18 @@ class PartsPlant(RobotPlant):
     def _check_driven(self) -> None:
         """Every input a device drives (a PWM expander's channel) is another part's."""
         inputs = set(self.drive.inputs).union(*(p.inputs for p in self.parts))
+        labels = {p.name: p.label for p in self.catalogue_parts}
         for device in self.bus_set.devices:
             for name in getattr(device, "targets", ()):
                 if name != "-" and name not in inputs:
                     raise PartsError(
-                        f"{device.label} drives: expected inputs of the plant's parts ({', '.join(sorted(inputs))}), "
-                        f"got {name!r}"
+                        f"{labels.get(device.label, device.label)} drives: expected inputs of the plant's parts "
+                        f"({', '.join(sorted(inputs))}), got {name!r}"
                     )
+
+    def driven_inputs(self) -> set:
+        """The inputs a bus device drives (a PWM expander's channels): no pin needs wiring to them."""
+        return {n for d in self.bus_set.devices for n in getattr(d, "targets", ()) if n != "-"}
 
     def input_owner(self, name: str):
         """The engine part (or the drive) that takes input ``name``."""

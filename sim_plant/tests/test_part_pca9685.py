@@ -100,7 +100,7 @@ def test_channels_drive_a_motor_bridge_pwm_and_direction_inputs():
 @pytest.mark.parametrize(
     "options, words",
     [
-        ({"drives": ["nope.pwm"]}, "pwm drives: expected inputs of the plant's parts"),
+        ({"drives": ["nope.pwm"]}, r"\[\[plant.parts\]\] #2 \(pwm\) drives: expected inputs of the plant.s parts"),
         ({"drives": ["pan.pwm", "pan.pwm"]}, "pan.pwm twice"),
         ({"address": 0x7F}, "reserved"),
         ({"bus": "spi1"}, "the PCA9685 has no SPI"),
