@@ -209,6 +209,11 @@ def draw_strip(panel: Panel, part, view, trace, recorded: Recorded) -> None:
         t = np.concatenate([[0], t])
         v = np.concatenate([[recorded.initial.get(name, 0)], v])
         panel.lines.append(Line(name, t / US_PER_S, v, "colours"))
+    faults = trace.truth.get(f"{part.name}_timing_faults")
+    if faults is not None and len(faults) and np.nanmax(faults) > 0:
+        panel.notes.append(
+            f"{part.name}: {int(np.nanmax(faults))} streams out of the WS2812's timing (decoded as a chip would)"
+        )
 
 
 DRAW = {
