@@ -1,6 +1,10 @@
 """The ws2812_strip part (sim_plant/catalogue/ws2812_strip.py): a bitstream decoded as a
 WS2812 decodes it (GRB order, a LED per 24 bits, the latch after reset_us), colours as
-outputs, and a timing out of the datasheet's tolerance counted and named."""
+outputs, and a timing out of the datasheet's tolerance counted and named (any colours,
+any timing: hypothesis)."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from sim_plant.catalogue.assembly import assemble
 
@@ -42,3 +46,18 @@ def test_a_timing_out_of_tolerance_is_counted_named_and_decoded_as_the_chip_woul
     p.bitstream("leds.din", (450, 800, 750, 500), bytes((0, 1, 0)))  # 50 ns off: within
     p.advance_to(10_000)
     assert p.truth()["leds_timing_faults"] == 1 and p.output("leds.led0") == 0x010000
+
+
+rgb = st.tuples(*[st.integers(0, 255)] * 3)
+
+
+@settings(max_examples=50, deadline=None)
+@given(colours=st.lists(rgb, min_size=1, max_size=8), timing=st.tuples(*[st.integers(0, 3000)] * 4))
+def test_any_colours_sent_in_grb_order_show_and_a_timing_is_a_fault_iff_one_time_is_off(colours, timing):
+    p = strip(count=len(colours))
+    p.bitstream("leds.din", WS2812, bytes(c for r, g, b in colours for c in (g, r, b)))
+    p.advance_to(100_000)
+    assert [p.output(f"leds.led{i}") for i in range(len(colours))] == [r << 16 | g << 8 | b for r, g, b in colours]
+    p.bitstream("leds.din", timing, b"\x00")
+    off = any(abs(t - want) > 150 for t, want in zip(timing, WS2812))
+    assert p.truth()["leds_timing_faults"] == int(off)
