@@ -10,7 +10,10 @@ after another until 0x00 is written), RESULT_INTERRUPT_STATUS (0x13: 0x04 when a
 measurement is ready), RESULT_RANGE_STATUS (0x14: its bits 6:3 are 11, a valid range, or
 4, out of range) with the range in mm at 0x1E..0x1F (big-endian; 8190 out of range),
 SYSTEM_INTERRUPT_CLEAR (0x0B: writing bit 0 clears the ready flag), and the two handshakes
-of the drivers' start-up (0x83 reads non-zero, 0x92 the SPAD count and type). Each
+of the drivers' start-up (0x83 reads non-zero, 0x92 the SPAD count and type), and the
+GPIO1 interrupt pin (``<name>.gpio1``): asserted while a range is ready when
+SYSTEM_INTERRUPT_CONFIG_GPIO (0x0A) is 4, active high while GPIO_HV_MUX_ACTIVE_HIGH (0x84)
+has bit 4 set (its power-on value, 0x11; the drivers clear it: active low). Each
 measurement takes ``budget_us`` (the chip's timing budget: 33 ms by default); a driver's
 writes that set another budget are stored but not decoded. Every other register is plain
 memory.
@@ -18,22 +21,23 @@ memory.
 Range limits: ``min_m`` to ``max_m`` (the datasheet's default mode: up to 1.2 m indoors on
 a white target); beyond, no target (8190). Noise: ``noise_sd_m`` plus ``noise_fraction`` of
 the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: the
-GPIO1 interrupt pin, timed (inter-measurement) mode, the signal rate and ambient light,
+timed (inter-measurement) mode, the GPIO1 thresholds, the signal rate and ambient light,
 cross-talk, a target's reflectance."""
 
-from sim_plant.buses import NEVER_US, BusName, RegisterDevice, address_problem
-from sim_plant.catalogue.base import Build, Opt, PartType, View
+from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, address_problem
+from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Num
 from sim_plant.sonars import BeamRangeModel
 
 SYSRANGE_START, INTERRUPT_CLEAR, INTERRUPT_STATUS, RANGE_STATUS, RANGE_MM = 0x00, 0x0B, 0x13, 0x14, 0x1E
 HANDSHAKE, SPAD_INFO = 0x83, 0x92
+GPIO_CONFIG, GPIO_HV_MUX = 0x0A, 0x84  # SYSTEM_INTERRUPT_CONFIG_GPIO (4: new sample ready), its polarity (bit 4: high)
 OUT_OF_RANGE_MM = 8190
 VALID, NO_TARGET = 11, 4  # RESULT_RANGE_STATUS bits 6:3
 
 
 class Vl53l0xChip(RegisterDevice):
-    RESET = {0xC0: 0xEE, 0xC1: 0xAA, 0xC2: 0x10, 0x8A: 0x29, SPAD_INFO: 0x85}
+    RESET = {0xC0: 0xEE, 0xC1: 0xAA, 0xC2: 0x10, 0x8A: 0x29, SPAD_INFO: 0x85, GPIO_HV_MUX: 0x11}
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "model", "budget_us", "noise_fraction")
 
     def __init__(self, name, bus, address, model: BeamRangeModel, budget_us: int, noise_fraction: float):
@@ -42,12 +46,25 @@ class Vl53l0xChip(RegisterDevice):
         self.budget_us = int(budget_us)
         self.noise_fraction = float(noise_fraction)
         self.next_us = NEVER_US
+        self.measure_us = NEVER_US  # the running measurement's end
+        self.gpio_signal = f"{name}.gpio1"
+        self.outputs = {self.gpio_signal: "level"}
+        self.gpio_level = self.gpio_line()
         self.true_m = float("nan")
         self.reading_m = float("nan")
         self.measurements = 0
 
     def initial_outputs(self) -> dict:
-        return {}
+        return {self.gpio_signal: self.gpio_level}
+
+    def gpio_line(self) -> int:
+        """GPIO1's level: asserted (its polarity) while a sample is ready and configured to say so."""
+        active = bool(self.regs[INTERRUPT_STATUS] & 0x07) and self.regs[GPIO_CONFIG] & 0x07 == 0x04
+        return int(active == bool(self.regs[GPIO_HV_MUX] & 0x10))
+
+    def _plan(self, t_us: int) -> None:
+        """The next event: GPIO1's change now, else the measurement's end."""
+        self.next_us = t_us if self.gpio_line() != self.gpio_level else self.measure_us
 
     def load(self, t_us, reg):
         if reg == HANDSHAKE:
@@ -64,14 +81,24 @@ class Vl53l0xChip(RegisterDevice):
         elif reg == SYSRANGE_START:
             self.regs[reg] = value & 0x02  # (bit 0 reads back 0: the measurement started)
             if value & 0x03:
-                if self.next_us == NEVER_US:
-                    self.next_us = t_us + self.budget_us
+                if self.measure_us == NEVER_US:
+                    self.measure_us = t_us + self.budget_us
             else:
-                self.next_us = NEVER_US  # stopped
+                self.measure_us = NEVER_US  # stopped
         else:
             self.regs[reg] = value & 0xFF
+        self._plan(t_us)
 
     def fire(self, t_us, plant, out) -> None:
+        if t_us >= self.measure_us:
+            self._measure(t_us, plant)
+        level = self.gpio_line()
+        if level != self.gpio_level:
+            self.gpio_level = level
+            out.append(Change(t_us, self.gpio_signal, level))
+        self._plan(t_us)
+
+    def _measure(self, t_us, plant) -> None:
         self.true_m, reading = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
         if reading is not None and self.noise_fraction:
             reading = max(self.model.min_m, reading + plant.rng.normal(0.0, self.noise_fraction * self.true_m))
@@ -81,7 +108,7 @@ class Vl53l0xChip(RegisterDevice):
         self.regs[RANGE_MM], self.regs[RANGE_MM + 1] = mm >> 8 & 0xFF, mm & 0xFF
         self.regs[INTERRUPT_STATUS] = 0x04
         self.measurements += 1
-        self.next_us = t_us + self.budget_us if self.regs[SYSRANGE_START] & 0x02 else NEVER_US
+        self.measure_us = t_us + self.budget_us if self.regs[SYSRANGE_START] & 0x02 else NEVER_US
 
     def truth(self, t_us, plant) -> dict:
         return {
@@ -107,6 +134,14 @@ class Vl53l0x(PartType):
         Opt("max_m", Num("metres", 0.1, 4), 1.2, "farther than this: no target (8190 mm)"),
         Opt("noise_sd_m", Num("metres", 0, 1), 0.003, "the noise at any range (standard deviation)"),
         Opt("noise_fraction", Num("", 0, 1), 0.01, "and the noise as a fraction of the range"),
+    )
+    SIGNALS = (
+        Sig(
+            "gpio1",
+            "out",
+            "level",
+            "the interrupt pin: asserted while a range is ready (0x0A = 4; 0x84 bit 4: active high)",
+        ),
     )
     TRUTH = ("{name}_range_m", "{name}_reading_m", "{name}_measurements")
     VIEWS = (View("range", "the range the chip measured against the true range", truth=TRUTH[:2]),)

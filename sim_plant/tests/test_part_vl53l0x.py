@@ -78,3 +78,16 @@ def test_back_to_back_measurements_come_one_per_budget_until_stopped():
 def test_a_bad_address_bus_or_range_is_refused_by_name(options, words):
     with pytest.raises(PartsError, match=words):
         plant(**options)
+
+
+def test_gpio1_is_asserted_while_a_range_is_ready_with_the_polarity_the_driver_sets():
+    p = plant()
+    assert p.output("tof.gpio1") == 0, "power-on: active high, nothing ready"
+    write(p, 0x0A, 0x04)  # new sample ready
+    write(p, 0x84, read(p, 0x84)[0] & ~0x10)  # active low, as the drivers set it
+    assert [(c.name, c.value) for c in p.advance_to(1_000)] == [("tof.gpio1", 1)]
+    write(p, 0x00, 0x01)
+    changes = p.advance_to(40_000)
+    assert [(c.t_us, c.value) for c in changes] == [(1_000 + 33_000, 0)], "asserted (low) at the range's end"
+    write(p, 0x0B, 0x01)
+    assert [(c.name, c.value) for c in p.advance_to(41_000)] == [("tof.gpio1", 1)]
