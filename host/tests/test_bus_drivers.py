@@ -111,6 +111,7 @@ def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(ma
     truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
     assert "heading_deg" in r, rig.console
     assert r["whoami"] == 0x19
+    assert r["temperature"] == pytest.approx(25.0), "the MPU-6886's temperature formula"
     assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
     assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
 

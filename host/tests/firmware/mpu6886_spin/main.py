@@ -48,3 +48,4 @@ for _ in range(100):  # stopped: the turn settles (the wheels' lag), still integ
     time.sleep_ms(5)
 print("R heading_deg", math.degrees(heading_rad))
 print("R whoami", sensor.whoami)
+print("R temperature", sensor.temperature)
