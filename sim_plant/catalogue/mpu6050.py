@@ -9,7 +9,8 @@ off, else 1 kHz, divided by 1 + SMPLRT_DIV), GYRO_CONFIG (0x1B: FS_SEL), ACCEL_C
 (0x1C: AFS_SEL), INT_ENABLE (0x38: DATA_RDY_EN drives ``<name>.int``), INT_STATUS (0x3A:
 DATA_RDY_INT, cleared by reading it), ACCEL_XOUT_H..GYRO_ZOUT_L (0x3B..0x48, big-endian,
 temperature 25 °C by the formula of the member WHO_AM_I says), PWR_MGMT_1 (0x6B: resets
-to SLEEP, 0x40; DEVICE_RESET resets the registers; asleep, no samples), WHO_AM_I (0x75). Every other register is plain memory."""
+to SLEEP, 0x40; DEVICE_RESET resets the registers; asleep, no samples), WHO_AM_I (0x75).
+Every other register is plain memory."""
 
 from sim_plant.catalogue.base import Opt
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
