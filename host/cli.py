@@ -440,7 +440,7 @@ def cmd_check(args) -> int:
     print(f"  plant: {kind} {app.plant_options or ''}".rstrip())
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
-    wired = set(app.wiring.values())
+    wired = set(app.wiring.values()) | set(getattr(plant, "driven_inputs", set)())  # (a PWM expander's)
     loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
     print(
         f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")

@@ -80,6 +80,10 @@ class BusDevice(Part):
     def deselect(self, t_us: int) -> None:
         pass
 
+    # outputs that are other parts' inputs (a PWM expander's channels)
+    def pass_on(self, plant) -> None:
+        """Set on the plant's inputs what the last transfer changed (after it)."""
+
 
 class RegisterDevice(BusDevice):
     """A device with a register file: the first byte written after its address (I2C) or

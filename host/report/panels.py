@@ -14,7 +14,8 @@ class Line:
     label: str
     t_s: np.ndarray
     values: np.ndarray
-    style: str = "line"  # "line", "step" (held until the next value), "points" or "dashed" (a step)
+    style: str = "line"  # "line", "step" (held until the next value), "points", "dashed" (a step)
+    # or "colours" (values are 0xRRGGBB colours: a bar of each colour until the next, a row a line)
 
 
 @dataclass

@@ -5,9 +5,10 @@ each part's kind, name, mount and options) and the recorded signals and truth.
 One panel per kind of view, each part's lines in it: ``range`` (the range the firmware
 read, through the part's own law, against the true range), ``command`` (a motor's signed
 duty, as its bridge's pins make it), ``count`` (an encoder's edges, decoded from the
-recorded channels, against the disk's true count), ``contacts``, ``level``, ``voltage``
-and ``angle``; then the body's speed, true and as the encoders' edges say it. A part
-draws what it declares: nothing here names a robot.
+recorded channels, against the disk's true count), ``contacts``, ``level``, ``voltage``,
+``angle`` and ``strip`` (a LED strip's colours, a row a LED); then the body's speed, true
+and as the encoders' edges say it. A part draws what it declares: nothing here names a
+robot.
 """
 
 import numpy as np
@@ -23,6 +24,7 @@ PLOTS = {
     "contacts": ("Bumpers: the switch's level against its true state", "level"),
     "voltage": ("Batteries: the voltage the ADC reading says against the battery's", "volts"),
     "level": ("Levels: buttons, probes, line sensors (a row each, low to high)", "row + level"),
+    "strip": ("LED strips: each LED's colour over time (a row each, LED 0 at the bottom)", "LED"),
 }
 SPEED_WINDOW_US = 100_000
 LEVEL_ROW = 1.0  # a level panel's signals, one above the other
@@ -198,6 +200,22 @@ def draw_points(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     _truth_lines(panel, part, view, trace)
 
 
+def draw_strip(panel: Panel, part, view, trace, recorded: Recorded) -> None:
+    """Each LED's colour (``0xRRGGBB`` outputs) as a bar of that colour on a row of its own."""
+    for name, (direction, _kind) in part.signals().items():
+        if direction != "out":
+            continue
+        t, v = recorded.get(name)
+        t = np.concatenate([[0], t])
+        v = np.concatenate([[recorded.initial.get(name, 0)], v])
+        panel.lines.append(Line(name, t / US_PER_S, v, "colours"))
+    faults = trace.truth.get(f"{part.name}_timing_faults")
+    if faults is not None and len(faults) and np.nanmax(faults) > 0:
+        panel.notes.append(
+            f"{part.name}: {int(np.nanmax(faults))} streams out of the WS2812's timing (decoded as a chip would)"
+        )
+
+
 DRAW = {
     "range": draw_range,
     "command": draw_command,
@@ -206,6 +224,7 @@ DRAW = {
     "level": draw_level,
     "voltage": draw_points,
     "angle": draw_points,
+    "strip": draw_strip,
 }
 
 

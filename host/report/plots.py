@@ -159,11 +159,24 @@ def signals_figure(trace: TraceData) -> Figure | None:
     return fig
 
 
+def _draw_colours(ax, line: views.Line, row: int, end_s: float | None) -> None:
+    """A LED's colours (0xRRGGBB) as bars on row ``row``, each until the next change."""
+    ends = np.append(line.t_s[1:], end_s if end_s is not None else line.t_s[-1])
+    for start, end, rgb in zip(line.t_s, ends, line.values.astype(int)):
+        colour = ((rgb >> 16 & 0xFF) / 255, (rgb >> 8 & 0xFF) / 255, (rgb & 0xFF) / 255)
+        ax.broken_barh([(start, max(end - start, 0.0))], (row + 0.1, 0.8), facecolors=[colour], edgecolor="#9e9e9e")
+    ax.text(0, row + 0.5, f" {line.label}", fontsize="x-small", va="center", color="#455a64")
+
+
 def _draw_panel(ax, panel: views.Panel, bumps, end_s: float | None = None) -> None:
     """The panel's lines; a step line holds its last value to ``end_s`` (the run's end)."""
     ax.ticklabel_format(axis="y", useOffset=False)  # 90 degrees, not 1e-3 + 8.999e1
+    rows = 0
     for line in panel.lines:
-        if line.style == "points":
+        if line.style == "colours":
+            _draw_colours(ax, line, rows, end_s)
+            rows += 1
+        elif line.style == "points":
             ax.plot(line.t_s, line.values, ".", markersize=4, label=line.label)
         elif line.style in ("step", "dashed"):
             dashes = "--" if line.style == "dashed" else "-"

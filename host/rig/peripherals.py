@@ -20,6 +20,8 @@ the rig answers from the plant's devices (``Rig._on_bus``, ``PartsPlant.bus_tran
 ``machine.Timer`` has no host side: it runs in the shim's virtual time.
 """
 
+import struct
+
 from host.core.errors import LinkError
 from host.link import frames as F
 
@@ -126,6 +128,17 @@ class PinPeripheral(Peripheral):
                     call(t_us, signal, value, changed)
         if signal in plant_inputs:
             outputs.plant.set_input(signal, value)
+
+    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
+        """``machine.bitstream`` on the pin (BUS_BITSTREAM: the timing, 4 x <I ns, then the
+        bytes): the plant part wired to the pin takes the stream (``PartsPlant.bitstream``);
+        a pin wired to nothing sends it to nobody."""
+        if op != F.BUS_BITSTREAM or len(data) < 16:
+            raise LinkError(f"BUS op {op} on {self._what(info)}, which only sends a bitstream (link protocol error)")
+        timing_ns = struct.unpack_from("<4I", data, 0)
+        if info.signal is not None and hasattr(plant, "bitstream"):
+            plant.bitstream(info.signal, timing_ns, data[16:])
+        return F.BUS_OK, len(data) - 16, b""
 
 
 class AdcPeripheral(Peripheral):

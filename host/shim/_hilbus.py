@@ -8,6 +8,7 @@
 # byte. Errors are the OSError the board family raises (ports/esp32/machine_i2c.c,
 # ports/rp2/machine_i2c.c, extmod/machine_i2c.c): a board's message is the errno alone.
 import machine
+import struct
 
 import _hil
 import _hilframe as F
@@ -264,3 +265,35 @@ class SPI(SoftSPI):
             raise ValueError("SPI(%s) doesn't exist" % (self._id,))
         self._pins = tuple(_key(p) if p is not None else "" for p in (sck, mosi, miso))
         self._setup(baudrate, polarity, phase, bits, firstbit, "spi%d" % self._id)
+
+
+# -- machine.bitstream (docs/shim.md, "Buses": NeoPixels) --------------------------------
+
+
+def _ones(data):
+    n = 0
+    for b in data:
+        while b:
+            n += b & 1
+            b >>= 1
+    return n
+
+
+def bitstream(pin, encoding, timing, data):
+    """machine.bitstream (extmod/machine_bitstream.c): encoding 0 sends each bit, MSB
+    first, as a high then a low of the timing's (high_0, low_0, high_1, low_1) ns. One BUS
+    frame on the pin's handle carries the timing and the bytes; the firmware is blocked for
+    the stream's time (a board sends it with interrupts off), the pin low after it."""
+    if not isinstance(pin, machine.Pin):
+        pin = machine.Pin(pin, machine.Pin.OUT)
+    if encoding != 0:
+        raise ValueError("encoding")
+    if len(timing) != 4:
+        raise ValueError("tuple/list has wrong length")
+    ns = [int(t) for t in timing]
+    data = bytes(data)
+    ones = _ones(data)
+    total_ns = ones * (ns[2] + ns[3]) + (8 * len(data) - ones) * (ns[0] + ns[1])
+    payload = struct.pack("<4I", *[t & 0xFFFFFFFF for t in ns]) + data
+    _status, _count, _got, t = _hil.transfer(pin._handle, F.BUS_BITSTREAM, 0, 0, payload)
+    _hil.bus_time(t + (total_ns + 999) // 1000)

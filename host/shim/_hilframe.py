@@ -487,6 +487,7 @@ BUS_READ_ACK = 5
 BUS_STOP = 6
 BUS_SPI_XFER = 7
 BUS_SCAN = 8  # every address 0x08..0x77 probed: the bytes read are those that acknowledged
+BUS_BITSTREAM = 9  # machine.bitstream on a pin's handle: data = the timing (4 x <I, ns), then the bytes
 # BUS_REPLY statuses: the shim turns each into its board's OSError (ENODEV, EIO, ETIMEDOUT)
 BUS_OK = 0
 BUS_NACK_ADDRESS = 1  # nobody acknowledged the address byte

@@ -786,9 +786,9 @@ class Encoder(_Unit):
             self._count += 1 if (level == 1) == (a_level == 1) else -1
 
 
-_BUSES = ("I2C", "SoftI2C", "SPI", "SoftSPI")  # in _hilbus, imported at their first use only
+_BUSES = ("I2C", "SoftI2C", "SPI", "SoftSPI", "bitstream")  # in _hilbus, imported at their first use only
 _NOT_IN_THE_LOOP = ("I2CTarget", "I2S", "CAN", "SDCard", "TouchPad", "DAC")
-_NOT_IN_THE_LOOP += ("ADCBlock", "USBDevice", "bitstream", "dht_readinto", "wake_reason")
+_NOT_IN_THE_LOOP += ("ADCBlock", "USBDevice", "dht_readinto", "wake_reason")
 
 
 def __getattr__(name):
@@ -803,7 +803,7 @@ def __getattr__(name):
     if name in _NOT_IN_THE_LOOP:
         raise ImportError(
             "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, I2C, SoftI2C, "
-            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, mem8/16/32 and the board functions (docs/shim.md)"
-            % name
+            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, bitstream, mem8/16/32 and the board functions "
+            "(docs/shim.md)" % name
         )
     raise AttributeError("'module' object has no attribute '%s'" % name)

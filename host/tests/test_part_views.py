@@ -108,3 +108,25 @@ def test_the_signals_plot_of_a_parts_robot_has_a_panel_per_view_and_no_generic_o
     events = [(0, "drive.in1", 65535), (0, "led.in", 1), (0, "batt.adc", 30000), (0, "steer.pwm", 4915)]
     titles = [p.title.split(":")[0] for p in views.signal_panels(car_trace(events))]
     assert titles == ["Motors", "Servos", "Batteries", "Levels"], titles
+
+
+def test_a_led_strip_draws_each_leds_colours_as_bars_on_a_row_of_its_own():
+    from matplotlib.figure import Figure
+
+    from host.report import plots
+
+    plant = assemble({"body": "bench", "parts": [{"kind": "ws2812_strip", "name": "leds", "count": 2}]})
+    header = {"app": "strip", "parts": described_parts(plant), "initial": {}, "t_end_us": 1_000_000}
+    events = [(400, "leds.led0", 0xFF0000), (400, "leds.led1", 0x00FF00), (500_000, "leds.led0", 0x101010)]
+    truth = {"t_us": np.asarray([0, 500_000]), "leds_timing_faults": np.asarray([0.0, 1.0])}
+    panels = part_views.part_panels(TraceData(Path("."), header, events, truth, []))
+    (strip,) = [p for p in panels if p.title.startswith("LED strips")]
+    assert strip.notes == ["leds: 1 streams out of the WS2812's timing (decoded as a chip would)"]
+    led0, led1 = strip.lines
+    assert (led0.label, led0.style) == ("leds.led0", "colours")
+    assert list(led0.values) == [0, 0xFF0000, 0x101010] and list(led1.values) == [0, 0x00FF00]
+    ax = Figure().subplots()
+    plots._draw_panel(ax, strip, [], end_s=1.0)
+    bars = ax.collections
+    assert len(bars) == 5, "a bar per colour held: 3 on LED 0's row, 2 on LED 1's"
+    assert tuple(bars[1].get_facecolor()[0][:3]) == (1.0, 0.0, 0.0)

@@ -45,6 +45,28 @@ class PartsPlant(RobotPlant):
         self.encoders = build.encoders
         self.bus_set = BusSet([p for p in build.parts if isinstance(p, BusDevice)])
         self.parts = ([monitor] if monitor is not None else []) + build.parts + self.body.recorders(build, self.world)
+        self._check_driven()
+
+    def _check_driven(self) -> None:
+        """Every input a device drives (a PWM expander's channel) is another part's."""
+        inputs = set(self.drive.inputs).union(*(p.inputs for p in self.parts))
+        labels = {p.name: p.label for p in self.catalogue_parts}
+        for device in self.bus_set.devices:
+            for name in getattr(device, "targets", ()):
+                if name != "-" and name not in inputs:
+                    raise PartsError(
+                        f"{labels.get(device.label, device.label)} drives: expected inputs of the plant's parts "
+                        f"({', '.join(sorted(inputs))}), got {name!r}"
+                    )
+
+    def driven_inputs(self) -> set:
+        """The inputs a bus device drives (a PWM expander's channels): no pin needs wiring to them."""
+        return {n for d in self.bus_set.devices for n in getattr(d, "targets", ()) if n != "-"}
+
+    def input_owner(self, name: str):
+        """The engine part (or the drive) that takes input ``name``."""
+        where = self._input_route[name]
+        return self.drive if where < 0 else self.parts[where]
 
     def _react(self, t: int) -> bool:
         return self.body.react(self, t)
@@ -90,8 +112,18 @@ class PartsPlant(RobotPlant):
         if self._motion_pending:
             self._settle()
         result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
+        for device in self.bus_set.on(bus):
+            device.pass_on(self)
         self._reschedule()
         return result
+
+    def bitstream(self, name: str, timing_ns: tuple, data: bytes) -> None:
+        """``machine.bitstream`` on the pin wired to input ``name`` from now: the part that
+        takes it (a ``ws2812_strip``'s ``.din``) decodes it; another part's input ignores it."""
+        part = self.input_owner(name) if name in self._input_route else None
+        if hasattr(part, "bitstream"):
+            part.bitstream(self._t_us, timing_ns, data)
+            self._reschedule()
 
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""

@@ -8,8 +8,9 @@ Modelled registers: SMPLRT_DIV (0x19) and CONFIG's DLPF_CFG (0x1A: 8 kHz with th
 off, else 1 kHz, divided by 1 + SMPLRT_DIV), GYRO_CONFIG (0x1B: FS_SEL), ACCEL_CONFIG
 (0x1C: AFS_SEL), INT_ENABLE (0x38: DATA_RDY_EN drives ``<name>.int``), INT_STATUS (0x3A:
 DATA_RDY_INT, cleared by reading it), ACCEL_XOUT_H..GYRO_ZOUT_L (0x3B..0x48, big-endian,
-temperature 25 °C), PWR_MGMT_1 (0x6B: resets to SLEEP, 0x40; DEVICE_RESET resets the
-registers; asleep, no samples), WHO_AM_I (0x75). Every other register is plain memory."""
+temperature 25 °C by the formula of the member WHO_AM_I says), PWR_MGMT_1 (0x6B: resets
+to SLEEP, 0x40; DEVICE_RESET resets the registers; asleep, no samples), WHO_AM_I (0x75).
+Every other register is plain memory."""
 
 from sim_plant.catalogue.base import Opt
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
@@ -21,7 +22,9 @@ ACCEL_XOUT_H, TEMP_OUT_H, GYRO_XOUT_H, OUT_END = 0x3B, 0x41, 0x43, 0x49
 PWR_MGMT_1, WHO_AM_I = 0x6B, 0x75
 GYRO_LSB_PER_DPS = (131.0, 65.5, 32.8, 16.4)
 ACCEL_LSB_PER_G = (16384, 8192, 4096, 2048)
-TEMP_25C = -3920  # (25 - 36.53) * 340: the MPU-6050's formula
+TEMP_25C = {0x68: -3920, 0x19: 0, 0x70: 1336, 0x71: 1336}
+"""TEMP_OUT at 25 °C by WHO_AM_I, each member's formula: MPU-6050 (25 - 36.53) * 340;
+MPU-6886 (25 - 25) * 326.8; MPU-6500 and MPU-9250 (25 - 21) * 333.87."""
 
 
 class Mpu6050Chip(Imu):
@@ -57,7 +60,7 @@ class Mpu6050Chip(Imu):
         per_m_s2 = G_M_S2 / ACCEL_LSB_PER_G[regs[ACCEL_CONFIG] >> 3 & 3]
         for i, value in enumerate((ax, ay, az)):
             put16(regs, ACCEL_XOUT_H + 2 * i, counts(value, per_m_s2), True)
-        put16(regs, TEMP_OUT_H, TEMP_25C, True)
+        put16(regs, TEMP_OUT_H, TEMP_25C[regs[WHO_AM_I]], True)
         for i, value in enumerate((gx, gy, gz)):
             put16(regs, GYRO_XOUT_H + 2 * i, counts(value, per_dps), True)
 
