@@ -7,12 +7,33 @@ harness's), then the firmware's folders, then the frozen modules (``asyncio``).
 
 import hashlib
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
 from host.rig.boardfs import DEFAULT_FLASH_BYTES
+
+# The shim's own modules and state on the heap (measured: 60K resident after a collect, more
+# while it compiles at start-up). On a board the firmware has none of it, so the interpreter
+# gets ``heap_size`` plus this: the firmware's gc.mem_free() is about its board's heap.
+SHIM_HEAP_BYTES = 64 * 1024
+# -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
+# without its octal (a leading 0) and signs
+HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
+
+
+def heap_bytes(size: str | int) -> int | None:
+    """Bytes of a ``heap_size`` (``192K``, ``2M``, ``0x30000``, ``24wK``, 262144), or None
+    for text the unix port would not read."""
+    match = HEAP_SIZE.fullmatch(str(size)) if not isinstance(size, bool) else None
+    if not match:
+        return None
+    number, words, unit = match.groups()
+    scale = {"": 1, "k": 1024, "m": 1 << 20}[unit.lower()] * (2 if words else 1)  # w: 8-byte words, per 4 bytes
+    return int(number, 0) * scale
+
 
 FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
 
@@ -117,4 +138,6 @@ class Firmware:
         }
 
     def interpreter_args(self) -> list[str]:
-        return ["-X", f"heapsize={self.heap_size}"] if self.heap_size else []
+        if not self.heap_size:
+            return []
+        return ["-X", f"heapsize={heap_bytes(self.heap_size) + SHIM_HEAP_BYTES}"]

@@ -19,6 +19,7 @@ from host.rig.app import App
 from host.rig.boardfs import confinement
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
+from host.rig.firmware import heap_bytes
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds, option_table
@@ -61,11 +62,9 @@ TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/fal
 MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
-# -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
-# without its octal (a leading 0) and signs; bounded by what the harness's shim needs to
-# start (it starts in 96K, not in 64K) and what a board could have (1G).
-HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
-HEAP_MIN_BYTES, HEAP_MAX_BYTES = 96 * 1024, 1024 * 1024 * 1024
+# The firmware's heap (the shim's own is added: host/rig/firmware.py), from what a firmware
+# of a few lines needs to start to what a board could have (1G).
+HEAP_MIN_BYTES, HEAP_MAX_BYTES = 48 * 1024, 1024 * 1024 * 1024
 MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
 PIN_RANGES = {"esp32": 48, "rpi_pico": 47}  # the highest GPIO of each family (ESP32-S3, RP2350B)
 MAX_PIN = 255  # any other board
@@ -297,19 +296,16 @@ def _family(where: _Where, board) -> tuple[str, str] | None:
 
 
 def _heap_size(where: _Where, field: str, size: str | int | None) -> str | None:
-    """``-X heapsize``: bytes (an integer, or text like ``192K``, ``2M``, ``0x30000``,
-    ``24wK``), from what the harness's shim needs to start to 1G."""
+    """The firmware's heap: bytes (an integer, or text like ``192K``, ``2M``, ``0x30000``,
+    ``24wK``, as ``-X heapsize`` reads them), from 48K to 1G."""
     if size is None:
         return None
-    match = HEAP_SIZE.fullmatch(str(size)) if not isinstance(size, bool) else None
+    size_bytes = heap_bytes(size)
     expected = f"expected bytes from {HEAP_MIN_BYTES // 1024}K to {HEAP_MAX_BYTES >> 20}M, like 192K or 2M"
-    if not match:
+    if size_bytes is None:
         raise where.error(field, f"{expected}, got {size!r}")
-    number, words, unit = match.groups()
-    scale = {"": 1, "k": 1024, "m": 1 << 20}[unit.lower()] * (2 if words else 1)  # w: 8-byte words, per 4 bytes
-    size_bytes = int(number, 0) * scale
     if not HEAP_MIN_BYTES <= size_bytes <= HEAP_MAX_BYTES:
-        least = "the harness's shim does not start in less" if size_bytes < HEAP_MIN_BYTES else "more than a board has"
+        least = "a firmware hardly starts in less" if size_bytes < HEAP_MIN_BYTES else "more than a board has"
         raise where.error(field, f"{expected} ({least}), got {size!r} ({size_bytes} bytes)")
     return str(size)
 

@@ -241,7 +241,7 @@ import gc
 import time
 
 gc.collect()
-print("heap", gc.mem_free() + gc.mem_alloc())
+print("heap", gc.mem_free())
 t0 = time.ticks_ms()
 time.sleep_ms(1500)
 print("wrapped", time.ticks_ms() < t0)
@@ -254,9 +254,10 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     rig.run_for(2)
     rig.stop()
     heap = int(rig.console.split("heap ")[1].split()[0])
-    assert 120_000 < heap <= 128 * 1024 and "wrapped True" in rig.console, rig.console
+    # (the firmware's free heap is its board's: the shim's own is on top, host/rig/firmware.py)
+    assert 120 * 1024 < heap <= 136 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
-    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 96K to 1024M, like 192K"):
+    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 48K to 1024M, like 192K"):
         load_rig(bad)
 
 

@@ -379,7 +379,16 @@ def test_a_symlink_out_of_the_firmware_is_outside_it(pico):
 
 @pytest.mark.parametrize(
     ("size", "ok"),
-    [("96K", True), ("192k", True), ("2M", True), ("0x30000", True), ("64wK", True), (262144, True), ("1G", False)],
+    [
+        ("48K", True),
+        ("47K", False),
+        ("192k", True),
+        ("2M", True),
+        ("0x30000", True),
+        ("64wK", True),
+        (262144, True),
+        ("1G", False),
+    ],
 )
 def test_heap_size_takes_what_the_unix_port_reads(pico, size, ok):
     value = json.dumps(size) if isinstance(size, str) else str(size)
@@ -388,15 +397,15 @@ def test_heap_size_takes_what_the_unix_port_reads(pico, size, ok):
     if ok:
         assert load_rig(path).heap_size == str(size)
     else:
-        with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 96K to 1024M"):
+        with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 48K to 1024M"):
             load_rig(path)
 
 
 def test_the_smallest_heap_a_rig_file_takes_still_starts_the_firmware(make_rig, pico):
-    """The lower bound is real: at 96K the shim starts and the firmware runs."""
+    """The lower bound is real: with 48K of its own the firmware starts and runs (the shim's heap is on top)."""
     (pico / "main.py").write_text("print('started')\n")
     path = pico / "rig.toml"
-    path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "96K"'))
+    path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "48K"'))
     rig = make_rig(str(path), allow_exit=True)
     rig.run_for(0.1)
     rig.stop()
