@@ -53,6 +53,21 @@ class RunStats:
     round_trip_us: list = field(default_factory=list)
 
 
+def open_link_log(rig: "Rig") -> LinkLog:
+    """The rig's link log (``trace.jsonl``), opened with its header: what ran, on what."""
+    log = LinkLog(rig.artefacts / "trace.jsonl" if rig.artefacts else None)
+    header = {
+        "app": rig.app.name,
+        "board": rig.board,
+        "seed": rig.seed,
+        "mode": rig.mode,
+        "firmware": rig.firmware.identity(),
+    }
+    header["firmware"]["folder"] = paths.portable(header["firmware"]["folder"])  # (any checkout)
+    log.write({"header": {**header, "plant": type(rig.plant).__name__}})
+    return log
+
+
 class Rig:
     """Firmware in the loop. Use as a context manager, or call start() and stop()."""
 
@@ -151,17 +166,7 @@ class Rig:
                 self.artefacts.mkdir(parents=True, exist_ok=True)
             self.console_log.open(self.artefacts / "console.log" if self.artefacts else None)
             if self.trace_enabled:
-                self.linklog = LinkLog(self.artefacts / "trace.jsonl" if self.artefacts else None)
-                header = {
-                    "app": self.app.name,
-                    "board": self.board,
-                    "seed": self.seed,
-                    "mode": self.mode,
-                    "firmware": self.firmware.identity(),
-                }
-                header["firmware"]["folder"] = paths.portable(header["firmware"]["folder"])  # (any checkout)
-                self.linklog.write({"header": {**header, "plant": type(self.plant).__name__}})
-                self.clock.log = self.linklog
+                self.linklog = self.clock.log = open_link_log(self)
             if self.target.board_fs:
                 self.board_fs = BoardFs(self.firmware)
                 self.firmware.board_root = self.board_fs.root

@@ -18,7 +18,7 @@ measurement takes ``budget_us`` (the chip's timing budget: 33 ms by default); a 
 writes that set another budget are stored but not decoded. Every other register is plain
 memory.
 
-Range limits: ``min_m`` to ``max_m`` (the datasheet's default mode: up to 1.2 m indoors on
+Range limits: ``min_range_m`` to ``max_range_m`` (the datasheet's default mode: up to 1.2 m indoors on
 a white target); beyond, no target (8190). Noise: ``noise_sd_m`` plus ``noise_fraction`` of
 the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: the
 timed (inter-measurement) mode, the GPIO1 thresholds, the signal rate and ambient light,
@@ -130,8 +130,8 @@ class Vl53l0x(PartType):
             33_000,
             "how long a measurement takes (the chip's timing budget)",
         ),
-        Opt("min_m", Num("metres", 0, 1), 0.03, "nearer than this reads this"),
-        Opt("max_m", Num("metres", 0.1, 4), 1.2, "farther than this: no target (8190 mm)"),
+        Opt("min_range_m", Num("metres", 0, 1), 0.03, "nearer than this reads this"),
+        Opt("max_range_m", Num("metres", 0.1, 4), 1.2, "farther than this: no target (8190 mm)"),
         Opt("noise_sd_m", Num("metres", 0, 1), 0.003, "the noise at any range (standard deviation)"),
         Opt("noise_fraction", Num("", 0, 1), 0.01, "and the noise as a fraction of the range"),
     )
@@ -155,12 +155,14 @@ class Vl53l0x(PartType):
         problem = address_problem(o["bus"], o["address"])
         if problem:
             raise ValueError(f"address: {problem}")
-        if o["min_m"] >= o["max_m"]:
-            raise ValueError(f"min_m: expected less than max_m ({o['max_m']}), got {o['min_m']}")
+        if o["min_range_m"] >= o["max_range_m"]:
+            raise ValueError(
+                f"min_range_m: expected less than max_range_m ({o['max_range_m']}), got {o['min_range_m']}"
+            )
 
     def add(self, build: Build) -> None:
         o = self.options
         model = BeamRangeModel(
-            self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_m"], max_m=o["max_m"], no_echo="none"
+            self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_range_m"], max_m=o["max_range_m"], no_echo="none"
         )
         build.parts.append(Vl53l0xChip(self.name, o["bus"], o["address"], model, o["budget_us"], o["noise_fraction"]))

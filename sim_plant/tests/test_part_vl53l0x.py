@@ -73,7 +73,11 @@ def test_back_to_back_measurements_come_one_per_budget_until_stopped():
 
 @pytest.mark.parametrize(
     "options, words",
-    [({"address": 0x78}, "reserved"), ({"bus": "spi1"}, "has no SPI"), ({"min_m": 2.0, "max_m": 1.0}, "min_m")],
+    [
+        ({"address": 0x78}, "reserved"),
+        ({"bus": "spi1"}, "has no SPI"),
+        ({"min_range_m": 2.0, "max_range_m": 1.0}, "min_range_m"),
+    ],
 )
 def test_a_bad_address_bus_or_range_is_refused_by_name(options, words):
     with pytest.raises(PartsError, match=words):
