@@ -34,10 +34,11 @@ SETUP_HINT = "run `make setup`" if paths.CHECKOUT else "run `mpy-fil setup`"
 """What to do when there is no interpreter: the one command, as it runs where the harness is
 (in a clone, ``mpy-fil`` is in ``.venv/bin`` and ``make setup`` builds into its build/)."""
 HERE = Path(__file__).resolve().parent / "micropython"
-APT_PACKAGES = ("gcc", "make", "pkg-config", "libffi-dev", "dpkg-dev", "xz-utils", "python3")
+APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):
-# TLS (mbedTLS/axTLS) and btree (Berkeley DB).
-MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0")
+# TLS (mbedTLS/axTLS) and btree (Berkeley DB); and less ffi, which no board has (a firmware
+# could call the host's libc through it: docs/security.md).
+MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0", "MICROPY_PY_FFI=0")
 
 
 def build_root(checkout: bool | None = None) -> Path:

@@ -99,3 +99,23 @@ def test_no_mirror_host_is_named_in_the_repository():
             for match in pattern.finditer(path.read_text(errors="replace")):
                 named.append(f"{rel}: {match.group(0)}")
     assert not named, f"expected no Debian mirror host in the repository, found: {named}"
+
+
+def test_the_interpreter_we_build_has_no_ffi():
+    """No board has ``ffi`` (a firmware could call the host's libc through it): our build
+    leaves it out (``MAKE_OPTIONS``), and keeps the modules a rig file may give back."""
+    import subprocess
+
+    built = interpreter.default_path()
+    probe = """
+for m in ("ffi", "socket", "_thread"):
+    try:
+        __import__(m)
+        print(m, "in")
+    except ImportError:
+        print(m, "out")
+"""
+    said = subprocess.run([str(built), "-c", probe], capture_output=True, text=True, timeout=30).stdout.split("\n")
+    assert said[:3] == ["ffi out", "socket in", "_thread in"], (
+        f"{built} (MAKE_OPTIONS {interpreter.MAKE_OPTIONS}): {said}"
+    )
