@@ -111,6 +111,8 @@ class PartsPlant(RobotPlant):
         next (a data-ready line that falls, a rate written)."""
         if self._motion_pending:
             self._settle()
+        for device in self.bus_set.on(bus):
+            device.take_in(self)
         result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
         for device in self.bus_set.on(bus):
             device.pass_on(self)
