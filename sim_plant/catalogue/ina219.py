@@ -141,7 +141,7 @@ class Ina219(PartType):
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
         Opt("address", Num("", 0, 127, whole=True), 0x40, "its 7-bit I2C address (0x40 to 0x4F by A0, A1)"),
-        Opt("battery", Name(), "", "the battery part whose voltage is the bus voltage ('': bus_v)"),
+        Opt("battery", Name(), None, "the battery part whose voltage is the bus voltage (unset: bus_v)"),
         Opt("bus_v", Num("volts", 0, 26), 5.0, "the bus voltage without a battery part"),
         Opt("shunt_ohm", Num("ohms", 0.001, 10), 0.1, "the shunt resistor (the breakout boards': 0.1)"),
         Opt("idle_a", Num("amperes", 0, 10), 0.05, "the current with the motors stopped"),
