@@ -128,7 +128,8 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     ("the run did not end") stands until the run's own replaces it, so a run killed
     outright leaves a folder that says so."""
     folder = Path(folder)
-    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
+    shown = [name for name, _write in pictures.writers(plant)]  # (a display's pictures)
+    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW, *shown))
     stop = {"reason": NOT_ENDED, "signal": None}
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))

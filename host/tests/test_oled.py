@@ -3,11 +3,14 @@ unchanged (host/core/drivers.txt), on I2C (128x64) and SPI (128x32): the picture
 glass is the text the firmware drew, pixel for pixel what MicroPython's framebuf draws
 for that text, and the trace folder has it as a PNG and a GIF."""
 
+import json
+
 import pytest
 from PIL import Image
 
 from host.artefacts.pictures import SCALE
 from host.core.drivers import driver_folder
+from host.report.html import RigResult, _displays
 from host.rig.app import App
 from host.tests.conftest import FIRMWARE, results
 from sim_plant.catalogue.assembly import assemble
@@ -57,3 +60,7 @@ def test_published_ssd1306_driver_shows_the_text_framebuf_draws_on_i2c_and_spi(m
     assert bytes(lit) == expected, "the PNG is the picture"
     gif = Image.open(tmp_path / "oled.gif")
     assert gif.n_frames == oled.display_frames()[2].__len__() >= 2  # (the cleared screen, then the text)
+    html = "".join(
+        _displays(RigResult("rig0", tmp_path, header=json.loads((tmp_path / "header.json").read_text())), tmp_path)
+    )
+    assert 'src="oled.png"' in html and 'href="oled.gif"' in html and 'src="small.png"' in html

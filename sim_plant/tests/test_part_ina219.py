@@ -76,3 +76,8 @@ def test_the_pga_range_clips_the_shunt_and_sets_ovf_and_cnvr_clears_when_power_i
 def test_an_spi_bus_is_refused():
     with pytest.raises(PartsError, match="expected an I2C bus"):
         plant(bus="spi1")
+
+
+def test_a_battery_that_is_no_battery_part_is_refused():
+    with pytest.raises(PartsError, match=r"\(power\) battery: no battery part named 'nope'"):
+        plant(battery="nope")
