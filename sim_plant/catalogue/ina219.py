@@ -149,7 +149,7 @@ class Ina219(PartType):
     )
     SIGNALS = ()
     TRUTH = ("{name}_current_a", "{name}_bus_v")
-    VIEWS = (View("voltage", "the supply's true current and voltage", truth=TRUTH),)
+    VIEWS = (View("voltage", "the supply's true voltage (its bus voltage)", truth=TRUTH[1:]),)
     on_bus = True
 
     def check(self) -> None:
