@@ -80,6 +80,10 @@ class BusDevice(Part):
     def deselect(self, t_us: int) -> None:
         pass
 
+    def take_in(self, plant) -> None:
+        """Read what the chip measures from the plant as it is at a transfer's instant
+        (before it: an INA219's current and voltage)."""
+
     # outputs that are other parts' inputs (a PWM expander's channels)
     def pass_on(self, plant) -> None:
         """Set on the plant's inputs what the last transfer changed (after it)."""

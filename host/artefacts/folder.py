@@ -12,6 +12,8 @@ file                content
 ``trace.vcd``       the signals, the ground truth, the console's lines and the budgets'
                     misses, for a wave viewer
 ``trace.gtkw``      GTKWave's save file for it: ``gtkwave trace.gtkw`` shows it all
+``<display>.png``   a display part's last picture, ``<display>.gif`` all of them in turn
+                    (:mod:`host.artefacts.pictures`: an ``ssd1306``'s)
 ``console.log``     what the firmware printed (written by the rig)
 ==================  ==================================================================
 
@@ -37,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from host.artefacts import checks, integrity
+from host.artefacts import checks, integrity, pictures
 from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_gtkw, write_vcd
@@ -78,7 +80,7 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     incomplete = dict(run.get("incomplete") or {})
     files: dict[str, str] = {}
     error = None
-    for name, write in _writers(folder, run, recorder, budgets):
+    for name, write in (*_writers(folder, run, recorder, budgets), *pictures.writers(plant)):
         if error is not None:
             incomplete[name] = f"not written: {error.error.strerror or error.error} writing {error.path.name}"
             continue
@@ -126,7 +128,8 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     ("the run did not end") stands until the run's own replaces it, so a run killed
     outright leaves a folder that says so."""
     folder = Path(folder)
-    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW))
+    shown = [name for name, _write in pictures.writers(plant)]  # (a display's pictures)
+    integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW, *shown))
     stop = {"reason": NOT_ENDED, "signal": None}
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))

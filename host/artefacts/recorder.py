@@ -28,7 +28,8 @@ ROLE_SENSOR = "sensor"  # a plant output, read by the firmware
 ROLE_ACTUATOR = "actuator"  # a firmware output that drives a plant input
 ROLE_PROBE = "probe"  # a firmware output only the harness watches
 ROLE_PIN = "pin"  # a firmware output wired to nothing
-ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN)
+ROLE_BUS = "bus"  # a bus's transactions, decoded as text (host/rig/bustrace.py)
+ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN, ROLE_BUS)
 
 TRUTH_PERIOD_US = 50_000
 """Ground truth is sampled once per control quantum."""

@@ -13,6 +13,7 @@ recorded kind              VCD variable           value
  (its ``<name>_text``)     ``string``             the line being received or sent as text
 ground truth               ``real 64``            SI units as the column names say
 notes (``events`` scope)   ``string``             a console line, a budget miss
+``text`` (``buses`` scope) ``string``             a bus transaction, decoded (``bus:i2c0``)
 =========================  =====================  ========================================
 
 Time is virtual: ``$timescale 1us``, ``#t`` is microseconds since the run started.
@@ -33,6 +34,7 @@ import re
 from vcd.gtkw import GTKWSave
 
 TIMESCALE = "1us"
+_SCOPES = {"bus": "buses"}  # a role's scope when its plural is not role + "s"
 _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 
@@ -48,7 +50,7 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
     for name, info in signals.items():
-        parts = [info["role"] + "s", *name.split(":", 1)[-1].split(".")]
+        parts = [_SCOPES.get(info["role"], info["role"] + "s"), *name.split(":", 1)[-1].split(".")]
         _insert(tree, parts, ("sig", name, info["kind"]))
         if _SAME_AS.get(info["kind"], info["kind"]) == "bytes":
             _insert(tree, [*parts[:-1], parts[-1] + "_text"], ("text", name, "text"))
@@ -135,7 +137,7 @@ def write_gtkw(path, vcd_path, paths: dict) -> None:
 
 
 def _role_order(role: str) -> tuple:
-    order = ["sensors", "actuators", "probes", "pins", "truth", "events"]
+    order = ["sensors", "actuators", "probes", "pins", "buses", "truth", "events"]
     return (order.index(role) if role in order else len(order), role)
 
 

@@ -3,12 +3,18 @@ fetched by ``make setup`` with the venv's pip (``pip download --no-deps --requir
 pinned by version and hash) into ``build/drivers/``, each unpacked into its own folder, a
 firmware's library folder (``driver_folder``). Never copied into the repository.
 
+A project whose sdist pip cannot prepare (no ``setup.py``: ``micropython-ssd1306``) is
+listed as ``name==version @ <its PyPI file URL> --hash=sha256:...``: that one file is
+fetched from PyPI as listed and its hash checked here, as pip checks the others.
+
 ``python -m host.core.drivers`` fetches what is missing.
 """
 
+import hashlib
 import subprocess
 import sys
 import tarfile
+import urllib.request
 import zipfile
 from pathlib import Path
 
@@ -35,6 +41,15 @@ def pinned() -> dict[str, str]:
     return out
 
 
+def _direct(line: str) -> tuple[str, str] | None:
+    """(URL, sha256) of a line pinning a file by its URL (`` @ ``), else None."""
+    if " @ " not in line:
+        return None
+    url = line.split(" @ ", 1)[1].split()[0]
+    digest = line.rpartition("--hash=sha256:")[2].split()[0]
+    return url, digest
+
+
 def driver_folder(name: str) -> Path:
     """The unpacked driver ``name`` (a project name of the list): a folder of modules."""
     folder = FOLDER / f"{name}-{pinned()[name]}"
@@ -48,12 +63,32 @@ def fetch() -> None:
     download = FOLDER / "download"
     download.mkdir(parents=True, exist_ok=True)
     command = [sys.executable, "-m", "pip", "download", "--no-deps", "--require-hashes", "-q"]
-    command += ["-r", str(LIST), "-d", str(download)]
+    lines = [line.split("#", 1)[0].strip() for line in LIST.read_text().splitlines()]
+    for url, digest in filter(None, map(_direct, lines)):
+        _download(url, digest, download)
+    requirements = download / "pip-requirements.txt"
+    requirements.write_text("".join(line + "\n" for line in lines if line and not _direct(line)))
+    command += ["-r", str(requirements), "-d", str(download)]
     done = subprocess.run(command, capture_output=True, text=True, **popen_options())
     if done.returncode:
         raise HarnessError(f"pip download of {LIST} failed (exit {done.returncode}): {done.stderr.strip()[-600:]}")
     for name, version in pinned().items():
         _unpack(download, name, version)
+
+
+def _download(url: str, digest: str, download: Path) -> None:
+    target = download / url.rsplit("/", 1)[1]
+    if target.exists() and hashlib.sha256(target.read_bytes()).hexdigest() == digest:
+        return
+    try:
+        with urllib.request.urlopen(url, timeout=60) as response:
+            data = response.read()
+    except OSError as e:
+        raise HarnessError(f"download of {url} (pinned in {LIST}) failed: {e}") from None
+    got = hashlib.sha256(data).hexdigest()
+    if got != digest:
+        raise HarnessError(f"{url}: expected sha256 {digest} as {LIST} pins, got {got}")
+    target.write_bytes(data)
 
 
 def _unpack(download: Path, name: str, version: str) -> None:

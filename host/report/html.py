@@ -214,10 +214,26 @@ def _plots(rig: RigResult, base: Path) -> str:
         img = f'<a href="{_e(_rel(plot, base))}"><img alt="{_e(alt)}" src="{_e(_rel(plot, base))}"></a>'
         out.append(f'<figure class="{_e(plot.stem)}">{img}<figcaption>{_e(alt)}</figcaption></figure>')
     out.append("</div>")
+    out += _displays(rig, base)
     movie = rig.plots[0].parent / "trajectory.gif"
     if movie.is_file():
         out.append(f'<p class="movie"><a href="{_e(_rel(movie, base))}">the run as a moving picture (GIF)</a></p>')
     return "\n".join(out)
+
+
+def _displays(rig: RigResult, base: Path) -> list[str]:
+    """Each display part's last picture (``<name>.png`` of the trace folder), linked to
+    all its pictures in turn (``<name>.gif``)."""
+    out = []
+    for part in ((rig.header or {}).get("parts") or {}).get("parts", []):
+        still, moving = rig.folder / f"{part.get('name')}.png", rig.folder / f"{part.get('name')}.gif"
+        if part.get("kind") == "ssd1306" and still.is_file():
+            alt = f"{part['name']}: the display's last picture"
+            img = f'<a href="{_e(_rel(moving, base))}"><img alt="{_e(alt)}" src="{_e(_rel(still, base))}"></a>'
+            out.append(
+                f'<figure class="display">{img}<figcaption>{_e(alt)} (all of them: the GIF)</figcaption></figure>'
+            )
+    return out
 
 
 def _rig_title(rig: RigResult) -> str:

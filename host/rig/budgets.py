@@ -16,6 +16,7 @@ event           when                                           call
 ``SEEN``        the firmware first read that sample            ``f(t_us, sample_no)``
 ``LEVEL``       the firmware drove a pin to a level            ``f(t_us, signal, value, changed)``
 ``COMPUTE``     the firmware blocked after running             ``f(compute_us)`` (signal None)
+``BUS``         a transfer on a bus (the signal: its name)     ``f(transaction)``
 ==============  =============================================  =============================
 
 ``CHANGE`` and ``SAMPLE`` come from speculative plant batches: the rig holds them back
@@ -36,7 +37,8 @@ SAMPLE = "sample"
 SEEN = "seen"
 LEVEL = "level"
 COMPUTE = "compute"
-EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE)
+BUS = "bus"
+EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE, BUS)
 
 
 FIRST_MISSES = 5  # misses a budget's failure message names, with their times
@@ -270,6 +272,85 @@ class ComputeBudget(Budget):
         return f"<= {self.limit_us} us wall"
 
 
+class BusLatencyBudget(Budget):
+    """How long each transfer on the bus ``source`` takes at its clock (to ``address``
+    only, when given): a transfer longer than ``limit_us`` is a miss. A stuck bus's
+    transfer (its timeout, which the host is not told) is a miss of ``limit_us + 1``."""
+
+    def __init__(self, name, source, *, limit_us: int, address: int | None = None, description=""):
+        super().__init__(name, source, limit_us=limit_us, description=description)
+        self.address = address
+
+    def hooks(self) -> list[tuple]:
+        return [(BUS, self.source, self.transfer)]
+
+    def transfer(self, tx) -> None:
+        if self.address is not None and tx.address != self.address:
+            return
+        took = self.limit_us + 1 if tx.duration_us is None else tx.duration_us
+        self._record(took, took > self.limit_us, tx.t_us)
+
+    def record(self) -> dict:
+        return {**super().record(), "address": self.address}
+
+
+class BusSampleBudget(PeriodBudget):
+    """A sensor's sample period read over a bus: the time between successive reads of
+    the data registers from ``register`` of the device at ``address`` on the bus
+    ``source`` (``period_us`` +- ``tolerance_us``). With ``ready`` (the device's
+    data-ready output, ``imu.int1``), the time from its rise to the next such read
+    instead, against ``limit_us``; a sample ready again before it was read is a miss."""
+
+    def __init__(
+        self,
+        name,
+        source,
+        *,
+        register: int,
+        address: int | None = None,
+        period_us: int = 0,
+        tolerance_us: int = 0,
+        ready: str | None = None,
+        limit_us: int = 0,
+        description="",
+    ):
+        super().__init__(name, source, period_us=period_us, tolerance_us=tolerance_us, description=description)
+        if ready is not None:
+            self.limit_us = limit_us
+        self.address, self.register, self.ready = address, register, ready
+        self._ready_us = None
+
+    def hooks(self) -> list[tuple]:
+        hooks = [(BUS, self.source, self.transfer)]
+        return hooks + [(CHANGE, self.ready, self.on_ready)] if self.ready else hooks
+
+    def transfer(self, tx) -> None:
+        if not tx.reads or tx.register != self.register:
+            return
+        if self.address is not None and tx.address != self.address:
+            return
+        if self.ready is None:
+            self.event(tx.t_us)
+        elif self._ready_us is not None:
+            waited = tx.t_us - self._ready_us
+            self._record(waited, waited > self.limit_us, tx.t_us)
+            self._ready_us = None
+
+    def on_ready(self, t_us: int, value) -> None:
+        if not value:
+            return
+        if self._ready_us is not None:  # (the sample before was never read)
+            self.replaced += 1
+            self._record(t_us - self._ready_us, True, t_us)
+        self._ready_us = t_us
+
+    def limit_text(self) -> str:
+        return f"<= {self.limit_us} us from {self.ready}" if self.ready else super().limit_text()
+
+    def record(self) -> dict:
+        return {**super().record(), "address": self.address, "register": self.register, "ready": self.ready}
+
+
 class BudgetHooks:
     """The budgets' hooks by event and signal, as the rig calls them: ``change[signal]``
     is the list of callables for a change of that signal, and so on."""
@@ -279,6 +360,7 @@ class BudgetHooks:
         self.sample: dict[str, list] = {}
         self.seen: dict[str, list] = {}
         self.level: dict[str, list] = {}
+        self.bus: dict[str, list] = {}
         self.compute: list = []
         for budget in budgets:
             for event, signal, call in budget.hooks():

@@ -29,6 +29,7 @@ from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks
+from host.rig.bustrace import BusTrace
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
 from host.rig.inputs import Inputs
@@ -113,6 +114,7 @@ class Rig:
         hooks = BudgetHooks(self.budgets.values())
         self._compute_hooks = hooks.compute
         self._seen_hooks = hooks.seen
+        self.bus_trace = BusTrace(hooks.bus, self.recorder, lambda: self.linklog)
         self.stats = RunStats()
         self.speculation = Speculation(self.plant)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
@@ -320,9 +322,7 @@ class Rig:
         """A bus transfer: answered at once from the devices as the plant is at its instant."""
         t, h, op, address, n_read, data = F.unpack_bus(p)
         self.clock.catch_up(t)
-        info = self.wiring.handles[h]
-        status, count, got = info.peripheral.transfer(self.plant, info, op, address, n_read, data)
-        self.linklog.bus(t, h, op, address, data, status, got)
+        status, count, got = self.bus_trace.answer(self.plant, self.wiring.handles[h], h, t, op, address, n_read, data)
         self.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, self.clock.lease_us(), got))
 
     def _on_fault(self, p: bytes) -> None:

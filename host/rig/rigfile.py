@@ -18,7 +18,7 @@ from host.core.paths import BOARDS_DIR
 from host.rig.app import App
 from host.rig.boardfs import confinement
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
-from host.rig.budgets import ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
+from host.rig.budgets import BusLatencyBudget, BusSampleBudget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.firmware import heap_bytes
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
@@ -56,7 +56,13 @@ BUDGET_KINDS = {
     "latency": (LatencyBudget, {"source": str, "limit_us": int}),
     "pulse": (PulseBudget, {"sources": list, "limit_us": int}),
     "compute": (ComputeBudget, {"limit_us": int}),
+    "bus_latency": (BusLatencyBudget, {"source": str, "limit_us": int, "address": int}),
+    "bus_sample": (
+        BusSampleBudget,
+        {"source": str, "register": int, "address": int, "period_us": int, "tolerance_us": int, "ready": str},
+    ),
 }
+BUS_OPTIONAL = {"bus_latency": ("address",), "bus_sample": ("address", "period_us", "tolerance_us", "ready")}
 COMMON_BUDGET_KEYS = {"kind": str, "description": str}
 TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/false", list: "a list", dict: "a table"}
 MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
@@ -467,9 +473,16 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
             hint = _did_you_mean(str(budget_kind), BUDGET_KINDS)
             raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
         cls, keys = BUDGET_KINDS[budget_kind]
-        optional = ("marker", "period_us") if budget_kind == "period" else ()  # period: the plant's own by default
+        optional = ("marker", "period_us") if budget_kind == "period" else BUS_OPTIONAL.get(budget_kind, ())
+        if budget_kind == "bus_sample":  # (ready: its limit_us; else its period_us and tolerance_us)
+            keys = {**keys, "limit_us": int}
+            optional = ("address", "ready", "limit_us") if "ready" not in spec else optional
         where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k not in optional])
-        for key, signal in [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]:
+        sources = [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]
+        if budget_kind in BUS_OPTIONAL:
+            _bus_source(where, field, plant, spec)
+            sources = [("ready", spec.get("ready"))]
+        for key, signal in sources:
             if signal is None:
                 continue
             _check_type(where, f"{field} {key}", signal, str)
@@ -525,6 +538,17 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind:
         return budget
 
     return build
+
+
+def _bus_source(where: _Where, field: str, plant, spec: dict) -> None:
+    """A bus budget's source is a bus one of the plant's devices is on."""
+    bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
+    buses = sorted({d.bus for d in getattr(bus_set, "devices", ())})
+    if spec["source"] not in buses:
+        raise where.error(
+            f"{field} source",
+            f"no device of the plant is on bus {spec['source']!r} (buses: {', '.join(buses) or 'none'})",
+        )
 
 
 def _sample_period(where: _Where, field: str, plant, source: str) -> int:

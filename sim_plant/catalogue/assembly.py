@@ -52,6 +52,9 @@ class PartsPlant(RobotPlant):
         inputs = set(self.drive.inputs).union(*(p.inputs for p in self.parts))
         labels = {p.name: p.label for p in self.catalogue_parts}
         for device in self.bus_set.devices:
+            supply = getattr(device, "battery", None)  # (an INA219's battery part)
+            if supply and not any(getattr(p, "label", None) == supply and hasattr(p, "v") for p in self.parts):
+                raise PartsError(f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r}")
             for name in getattr(device, "targets", ()):
                 if name != "-" and name not in inputs:
                     raise PartsError(
@@ -111,6 +114,8 @@ class PartsPlant(RobotPlant):
         next (a data-ready line that falls, a rate written)."""
         if self._motion_pending:
             self._settle()
+        for device in self.bus_set.on(bus):
+            device.take_in(self)
         result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
         for device in self.bus_set.on(bus):
             device.pass_on(self)

@@ -1,0 +1,55 @@
+"""The pictures a plant's displays showed, as files of the trace folder
+(``docs/traces.md``): for each part that keeps its frames (``display_frames()``: an
+``ssd1306``), ``<name>.png``, the last picture, and ``<name>.gif``, every distinct picture
+in turn, each held for the virtual time it was shown (at least 20 ms, a GIF's least).
+
+Pixels are drawn ``SCALE`` times larger, lit ones in the panel's colour on black."""
+
+from PIL import Image
+
+SCALE = 4
+LIT = (120, 220, 255)  # a white-blue OLED's glow
+DARK = (0, 0, 0)
+LEAST_MS = 20
+LAST_HOLD_MS = 1000
+
+
+def displays(plant) -> list:
+    """(name, width, height, [(t_us, picture)]) of each part with a display."""
+    inner = getattr(plant, "inner", plant)
+    found = []
+    for part in getattr(inner, "parts", ()):
+        frames = getattr(part, "display_frames", None)
+        if callable(frames):
+            width, height, shown = frames()
+            found.append((part.label, width, height, shown))
+    return found
+
+
+def image(width: int, height: int, picture: bytes) -> Image.Image:
+    """A picture (a byte a pixel, rows of ``width``; 0: dark) as an RGB image, scaled."""
+    mono = Image.frombytes("L", (width, height), bytes(255 if p else 0 for p in picture))
+    rgb = Image.merge("RGB", [mono.point(lambda v, c=c, d=d: c if v else d) for c, d in zip(LIT, DARK, strict=True)])
+    return rgb.resize((width * SCALE, height * SCALE), Image.NEAREST)
+
+
+def writers(plant) -> list:
+    """(file name, write(path)) for each display's two files."""
+    out = []
+    for name, width, height, frames in displays(plant):
+        blank = bytes(width * height)
+        shown = frames or [(0, blank)]
+        out.append((f"{name}.png", lambda path, w=width, h=height, s=shown: _png(path, w, h, s)))
+        out.append((f"{name}.gif", lambda path, w=width, h=height, s=shown: _gif(path, w, h, s)))
+    return out
+
+
+def _png(path, width, height, frames) -> None:
+    image(width, height, frames[-1][1]).save(path, format="PNG")
+
+
+def _gif(path, width, height, frames) -> None:
+    times = [t for t, _ in frames]
+    durations = [max(LEAST_MS, (b - a) // 1000) for a, b in zip(times, times[1:])] + [LAST_HOLD_MS]
+    images = [image(width, height, picture) for _t, picture in frames]
+    images[0].save(path, format="GIF", save_all=True, append_images=images[1:], duration=durations, loop=0)
