@@ -3,17 +3,20 @@ fetched by ``make setup`` with the venv's pip (``pip download --no-deps --requir
 pinned by version and hash) into ``build/drivers/``, each unpacked into its own folder, a
 firmware's library folder (``driver_folder``). Never copied into the repository.
 
-A project whose sdist pip cannot prepare (no ``setup.py``: ``micropython-ssd1306``) is
-listed as ``name==version @ <its PyPI file URL> --hash=sha256:...``: that one file is
-fetched from PyPI as listed and its hash checked here, as pip checks the others.
+A project whose sdist pip cannot prepare (no ``setup.py``: ``micropython-ssd1306``, in
+``AS_FILES``) is fetched as a file: its sdist found on the index pip is configured with (the
+simple API, PEP 691), and its hash checked here, as pip checks the others.
 
 ``python -m host.core.drivers`` fetches what is missing.
 """
 
 import hashlib
+import json
+import os
 import subprocess
 import sys
 import tarfile
+import urllib.parse
 import urllib.request
 import zipfile
 from pathlib import Path
@@ -41,13 +44,28 @@ def pinned() -> dict[str, str]:
     return out
 
 
-def _direct(line: str) -> tuple[str, str] | None:
-    """(URL, sha256) of a line pinning a file by its URL (`` @ ``), else None."""
-    if " @ " not in line:
+AS_FILES = {"micropython-ssd1306"}  # sdists without setup.py: pip cannot prepare them
+
+
+def _as_file(line: str) -> tuple[str, str, str] | None:
+    """(name, version, sha256) of a line whose project is fetched as a file, else None."""
+    name, _, rest = line.partition("==")
+    if name.strip() not in AS_FILES:
         return None
-    url = line.split(" @ ", 1)[1].split()[0]
-    digest = line.rpartition("--hash=sha256:")[2].split()[0]
-    return url, digest
+    return name.strip(), rest.split()[0], line.rpartition("--hash=sha256:")[2].split()[0]
+
+
+def index_url() -> str:
+    """The index pip is configured with (``pip config``, ``PIP_INDEX_URL``), else pip's own default."""
+    done = subprocess.run(
+        [sys.executable, "-m", "pip", "config", "get", "global.index-url"], capture_output=True, text=True
+    )
+    configured = os.environ.get("PIP_INDEX_URL") or (done.stdout.strip() if done.returncode == 0 else "")
+    if configured:
+        return configured.rstrip("/")
+    from pip._internal.models.index import PyPI  # (pip's default index: named by pip, not here)
+
+    return PyPI.simple_url.rstrip("/")
 
 
 def driver_folder(name: str) -> Path:
@@ -64,10 +82,10 @@ def fetch() -> None:
     download.mkdir(parents=True, exist_ok=True)
     command = [sys.executable, "-m", "pip", "download", "--no-deps", "--require-hashes", "-q"]
     lines = [line.split("#", 1)[0].strip() for line in LIST.read_text().splitlines()]
-    for url, digest in filter(None, map(_direct, lines)):
-        _download(url, digest, download)
+    for name, version, digest in filter(None, map(_as_file, lines)):
+        _download(name, version, digest, download)
     requirements = download / "pip-requirements.txt"
-    requirements.write_text("".join(line + "\n" for line in lines if line and not _direct(line)))
+    requirements.write_text("".join(line + "\n" for line in lines if line and not _as_file(line)))
     command += ["-r", str(requirements), "-d", str(download)]
     done = subprocess.run(command, capture_output=True, text=True, **popen_options())
     if done.returncode:
@@ -76,18 +94,25 @@ def fetch() -> None:
         _unpack(download, name, version)
 
 
-def _download(url: str, digest: str, download: Path) -> None:
-    target = download / url.rsplit("/", 1)[1]
+def _download(name: str, version: str, digest: str, download: Path) -> None:
+    """The sdist of ``name`` ``version`` from the index's simple API, checked against ``digest``."""
+    filename = f"{name}-{version}.tar.gz"
+    target = download / filename
     if target.exists() and hashlib.sha256(target.read_bytes()).hexdigest() == digest:
         return
+    page = f"{index_url()}/{name}/"
     try:
-        with urllib.request.urlopen(url, timeout=60) as response:
+        request = urllib.request.Request(page, headers={"Accept": "application/vnd.pypi.simple.v1+json"})
+        with urllib.request.urlopen(request, timeout=60) as response:
+            files = json.load(response)["files"]
+        url = next(f["url"] for f in files if f["filename"] == filename)
+        with urllib.request.urlopen(urllib.parse.urljoin(page, url), timeout=60) as response:
             data = response.read()
-    except OSError as e:
-        raise HarnessError(f"download of {url} (pinned in {LIST}) failed: {e}") from None
+    except (OSError, ValueError, KeyError, StopIteration) as e:
+        raise HarnessError(f"download of {filename} from {page} (pinned in {LIST}) failed: {e!r}") from None
     got = hashlib.sha256(data).hexdigest()
     if got != digest:
-        raise HarnessError(f"{url}: expected sha256 {digest} as {LIST} pins, got {got}")
+        raise HarnessError(f"{filename}: expected sha256 {digest} as {LIST} pins, got {got}")
     target.write_bytes(data)
 
 
