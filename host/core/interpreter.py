@@ -226,6 +226,8 @@ def build(root: Path | None = None) -> Path:
     jobs = f"-j{os.cpu_count() or 2}"
     log = root / "build.log"
     _log(f"building the unix port (standard variant, asyncio frozen in); log: {log}")
+    # (objects of an earlier build with other options would be linked in: start from none)
+    shutil.rmtree(tree / "ports" / "unix" / "build-standard", ignore_errors=True)
     with open(log, "w") as out:
         for cmd in (
             ["make", jobs, "-C", str(tree / "mpy-cross")],
