@@ -30,6 +30,7 @@ TESTS = ("extmod/machine*.py", "extmod/ticks_*.py", "extmod/time_*.py", "extmod/
 BENCH_TESTS = {  # file: the board it runs as (upstream's test names pins for it)
     "extmod/machine_uart_tx.py": "esp32",
     "extmod/machine_uart_irq_txidle.py": "rpi_pico",
+    "extmod/machine_spi_rate.py": "esp32",
     "extmod_hardware/machine_uart_irq_rx.py": "esp32",
     "extmod_hardware/machine_uart_irq_rxidle.py": "esp32",
     "extmod_hardware/machine_uart_irq_break.py": "esp32",

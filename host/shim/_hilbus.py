@@ -227,6 +227,11 @@ class SoftSPI(_Bus):
         self._polarity, self._phase, self._bits, self._firstbit = polarity, phase, bits, firstbit
         self._open(F.CFG_SPI, key, baudrate)
 
+    def __repr__(self):  # (as extmod's soft SPI prints itself)
+        return "SoftSPI(baudrate=%d, polarity=%d, phase=%d, sck=%s, mosi=%s, miso=%s)" % (
+            (self._baud, self._polarity, self._phase) + self._pins
+        )
+
     def _xfer(self, data):
         if self._firstbit == self.LSB:
             data = _reverse(data)
@@ -263,8 +268,18 @@ class SPI(SoftSPI):
         ids = (0, 1) if _rp2() else (1, 2)
         if self._id not in ids:
             raise ValueError("SPI(%s) doesn't exist" % (self._id,))
-        self._pins = tuple(_key(p) if p is not None else "" for p in (sck, mosi, miso))
+        self._pins = tuple(_key(p) if p is not None else "-1" for p in (sck, mosi, miso))
         self._setup(baudrate, polarity, phase, bits, firstbit, "spi%d" % self._id)
+
+    def __repr__(self):  # (as each port prints its SPI: drivers and tests parse the baudrate)
+        settings = (self._baud, self._polarity, self._phase, self._bits)
+        if _rp2():
+            return "SPI(%d, baudrate=%d, polarity=%d, phase=%d, bits=%d, sck=%s, mosi=%s, miso=%s)" % (
+                (self._id,) + settings + self._pins
+            )
+        return "SPI(id=%d, baudrate=%d, polarity=%d, phase=%d, bits=%d, firstbit=%d, sck=%s, mosi=%s, miso=%s)" % (
+            (self._id,) + settings + (self._firstbit,) + self._pins
+        )
 
 
 # -- machine.bitstream (docs/shim.md, "Buses": NeoPixels) --------------------------------
