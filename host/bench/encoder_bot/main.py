@@ -4,10 +4,9 @@
 # After config.RUN_MS it brakes, waits for the wheels, and prints both counts.
 import time
 
-from machine import PWM, Pin, Timer
-
 import config
 from encoder import QuadEncoder
+from machine import PWM, Pin, Timer
 
 PWMA, AIN1, AIN2 = 16, 17, 18
 PWMB, BIN1, BIN2 = 21, 20, 19
