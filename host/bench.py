@@ -14,7 +14,12 @@
   second and their cost;
 - pool cleaner mission: the whole 25 x 8 m pool (about an hour simulated) from start to
   "done", its real-time factor, unrecorded and then recorded as ``make hil`` records it
-  (trace folder and link log, in a child process: its wall time, peak memory, bytes on disk).
+  (trace folder and link log, in a child process: its wall time, peak memory, bytes on disk);
+- encoder-heavy robot (``host/bench/encoder_bot``): Pico motor-control firmware counting
+  every edge of two quadrature encoders (28 counts a motor turn, 98.5:1 gearboxes) in
+  ``Pin.irq`` handlers, a velocity PID in a ``Timer`` callback, at 10,000 and 40,000 edges
+  a second: real-time factor, wall us per edge, and the same handler's bare cost in a
+  MicroPython loop (the limit), measured in the same run, with the ratio.
 These are measurements, not pass/fail tests; the target figures are printed beside them.
 """
 
@@ -39,6 +44,8 @@ from host.rig import Recording, Rig, RigSpec
 from host.rig.pacing import Lockstep
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
+ENCODER_BOT = Path(__file__).parent / "bench" / "encoder_bot"
+ENCODER_RATES = (10_000, 40_000)  # edges a second, both wheels together
 STEP_US = 50_000  # the rover's control quantum
 STATE_BYTES = F.HEADER_LEN + F.CRC_LEN + F.STATE_LEN  # an empty STATE
 REPLY_BYTES = 2 * (F.HEADER_LEN + F.CRC_LEN) + struct.calcsize(F.OUT_FMT) + F.WAIT_LEN  # an OUT and a WAIT
@@ -135,6 +142,95 @@ def _recorded_pool_child(folder: str) -> int:
     return 0
 
 
+def encoder_firmware(folder: Path, edges_per_s: int, run_ms: int) -> Path:
+    """A copy of the encoder robot's firmware in ``folder`` whose config.py drives both
+    wheels at ``edges_per_s`` edges a second together, for ``run_ms``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in ("main.py", "encoder.py"):
+        (folder / name).write_bytes((ENCODER_BOT / name).read_bytes())
+    (folder / "config.py").write_text(f"TARGET_CPS = {edges_per_s // 2}\nRUN_MS = {run_ms}\n")
+    return folder
+
+
+def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, **recording) -> dict:
+    """The encoder robot driven for ``run_ms`` at ``edges_per_s``, braked, and run to its end:
+    the firmware's counts, the plant's edges, the wall time."""
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
+        main_dir = encoder_firmware(Path(tmp) / "fw", edges_per_s, run_ms)
+        spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True)
+        with Rig(spec, Recording(**recording)) as rig:
+            t0 = time.perf_counter()
+            rig.run_for(run_ms / 1000 + 0.5)
+            wall = time.perf_counter() - t0
+            truth = rig.truth()
+            counts = [line for line in rig.console.splitlines() if line.startswith("counts ")]
+            return {
+                "sim_s": rig.t_us / 1e6,
+                "wall_s": wall,
+                "counts": tuple(int(c) for c in counts[-1].split()[1:]) if counts else None,
+                "edges": (truth["enc_l_edges"], truth["enc_r_edges"]),
+                "round_trips": rig.stats.link_round_trips,
+            }
+
+
+BARE_HANDLER = """
+import sys, time
+class Pin:
+    IN = 0; PULL_UP = 1; IRQ_RISING = 1; IRQ_FALLING = 2
+    def __init__(self, id, *a): self.v = 0
+    def value(self): return self.v
+    def irq(self, **kw): pass
+class machine: Pin = Pin
+sys.modules["machine"] = machine
+sys.path.insert(0, %r)
+from encoder import QuadEncoder
+enc = QuadEncoder(2, 3)
+a, b, on_a, on_b = enc.a, enc.b, enc.on_a, enc.on_b
+def edges(n, call):
+    t0 = time.ticks_us()
+    for i in range(n):
+        a.v = 1; call and on_a(a); b.v = 1; call and on_b(b); a.v = 0; call and on_a(a); b.v = 0; call and on_b(b)
+    return time.ticks_diff(time.ticks_us(), t0)
+best = min(edges(%d, True) - edges(%d, False) for _ in range(5))
+print(best / (4 * %d), enc.count)
+"""
+
+
+def bare_handler_us(quads: int = 50_000) -> float:
+    """The encoder's handlers called in a bare MicroPython loop (no shim, no link): wall us an
+    edge, the loop's own cost taken off; the best of 5."""
+    script = BARE_HANDLER % (str(ENCODER_BOT), quads, quads, quads)
+    out = subprocess.run(
+        [str(interpreter.find()), "-c", script],
+        check=True,
+        stdout=subprocess.PIPE,
+        text=True,
+        **children.popen_options(),
+    ).stdout
+    return float(out.split()[0])
+
+
+def bench_encoders(run_ms: int = 10_000) -> dict:
+    """Both edge rates, then the bare handler."""
+    return {"runs": {rate: run_encoder_bot(rate, run_ms) for rate in ENCODER_RATES}, "bare_us": bare_handler_us()}
+
+
+def report_encoders(enc: dict) -> None:
+    bare_us = enc["bare_us"]
+    for rate, run in enc["runs"].items():
+        edges = sum(run["edges"])
+        per_edge_us = run["wall_s"] * 1e6 / edges
+        same = (
+            "counts = plant's edges" if run["counts"] == run["edges"] else f"COUNTS {run['counts']} != {run['edges']}"
+        )
+        print(
+            f"  {rate:,} edges/s: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
+            f"{run['wall_s']:.2f} wall s: {per_edge_us:.2f} us an edge = {per_edge_us / bare_us:.0f}x the bare "
+            f"handler; {run['round_trips'] / run['sim_s']:.0f} exchanges per simulated s; {same}"
+        )
+    print(f"  bare handler in a MicroPython loop (the limit): {bare_us:.2f} us an edge")
+
+
 def ratio(value_us: float, raw_us: float) -> str:
     return f"{value_us / raw_us:.2f}x raw"
 
@@ -196,10 +292,16 @@ def main(argv=None) -> int:
     parser.add_argument("--no-pool", action="store_true", help="skip the pool cleaner's full mission")
     parser.add_argument("--no-recorded", action="store_true", help="skip the recorded pool cleaner mission")
     parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
+    parser.add_argument("--no-encoders", action="store_true", help="skip the encoder-heavy robot")
+    parser.add_argument("--only-encoders", action="store_true", help="the encoder-heavy robot only")
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
         return _recorded_pool_child(args.recorded_pool_child)
+    if args.only_encoders:
+        print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
+        report_encoders(bench_encoders())
+        return 0
     print(f"raw pty round trip, CPython <-> MicroPython: {STATE_BYTES} bytes out, {REPLY_BYTES} back")
     raw_before = bench_raw()
     print(f"  p50 {statistics.median(raw_before):.1f} us, p99 {percentile(raw_before, 99):.0f} us")
@@ -207,6 +309,7 @@ def main(argv=None) -> int:
     rover = bench_rover(args.sim_minutes * 60)
     ping = bench_ping(2.0)
     duct = bench_duct()
+    encoders = None if args.no_encoders else bench_encoders()
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -227,6 +330,9 @@ def main(argv=None) -> int:
         f"mean {statistics.fmean(ping):.0f} us"
     )
     report_duct(duct, raw_us)
+    if encoders is not None:
+        print("encoder-heavy robot (host/bench/encoder_bot: Pin.irq on A and B of two wheels, a Timer PID):")
+        report_encoders(encoders)
     if plain is not None:
         print("pool cleaner, full mission, unrecorded:")
         report_pool(plain, raw_us)

@@ -42,11 +42,14 @@ class Inputs:
         irq = hit = False
         if self.recorder is not None:
             self.recorder.sensor(t, name, value)
-        defer = self.speculation.defer
-        for call in self.change_hooks.get(name, ()):
-            defer(t, call, (t, value))
-        handles = self.wiring.handles
-        for h in self.wiring.by_signal.get(name, ()):
+        hooks = self.change_hooks.get(name)
+        if hooks:
+            defer = self.speculation.defer
+            for call in hooks:
+                defer(t, call, (t, value))
+        wiring = self.wiring
+        handles = wiring.handles
+        for h in wiring.by_signal.get(name, ()):
             info = handles[h]
             took = info.peripheral.deliver(self, t, h, info, value, watch)
             if took:

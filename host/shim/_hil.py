@@ -491,10 +491,11 @@ def _sync(t_until, watch):
     off = F.STATE_LEN
     group_t = -1
     held = None
+    ch_bytes, unpack_from, handles, pending = F.CH_BYTES, struct.unpack_from, _handles, _pending
     for i in range(n):
-        dt, h, kind, value, extra = struct.unpack_from(change_fmt, p, off)
+        dt, h, kind, value, extra = unpack_from(change_fmt, p, off)
         off += change_len
-        if kind == F.CH_BYTES:
+        if kind == ch_bytes:
             extra = p[off : off + value]
             off += value
         t = base + dt
@@ -502,14 +503,14 @@ def _sync(t_until, watch):
             held = F.unpack_changes(p, off, base, n - i - 1, [(t, h, kind, value, extra)])
             break
         if t != group_t:
-            if _pending and group_t >= 0:
+            if pending and group_t >= 0:
                 stop = _handlers_wrote(group_t)
                 if stop:
                     return hit or stop == 2
             group_t = t
             if _lockstep:
                 _now = t
-        _handles[h]._hil_apply(kind, value, extra)
+        handles[h]._hil_apply(kind, value, extra)
         if watch and h in watch:
             hit = True
     if _pending and group_t >= 0:
@@ -599,10 +600,11 @@ def dispatch():
     if _dispatching or _irq_off:
         return
     _dispatching = True
+    pending, link = _pending, _Link
     try:
-        while _pending:
-            callback, arg = _pending.pop(0)
-            _Link.callbacks += 1
+        while pending:
+            callback, arg = pending.pop(0)
+            link.callbacks += 1
             try:
                 callback(arg)
             except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)

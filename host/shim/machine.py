@@ -4,6 +4,9 @@
 import _hil
 import _hilframe as _F
 
+_pending = _hil._pending  # callbacks due (the one list, never rebound)
+_RISING, _FALLING = _F.IRQ_RISING, _F.IRQ_FALLING
+
 _UNIQUE_ID = b"\x24\x0a\xc4\x00\xf1\x1e"
 PWRON_RESET = 1
 HARD_RESET = 2
@@ -71,21 +74,24 @@ class Pin:
 
     def _hil_apply(self, kind, value, extra):
         old = self._level
+        if old == value:
+            return
         self._level = value
-        if self._counters is not None and old != value:
+        if self._counters is not None:
             for unit in self._counters:
                 unit._hil_edge(self, value)
-        if self._handler is not None and old != value:
-            edge = self.IRQ_RISING if value else self.IRQ_FALLING
+        if self._handler is not None:
+            edge = _RISING if value else _FALLING
             if self._trigger & edge:
                 self._flags = edge
-                _hil.schedule(self._handler, self)
+                _pending.append((self._handler, self))  # (_hil.schedule, on the hot path)
 
     def value(self, x=None):
         if x is None:
-            if self._mode == self.OUT:
+            if self._mode == 3:  # Pin.OUT
                 return self._out
-            _hil.observe()
+            if not _hil._dispatching:  # (a handler's reads move no time: no call for them)
+                _hil.observe()
             return self._level
         x = 1 if x else 0
         if x != self._out:
