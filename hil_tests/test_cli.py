@@ -41,3 +41,16 @@ def test_run_replay_and_plot_a_rover_mission_from_the_command_line(tmp_path):
     assert done.returncode == 0, done.stderr
     pngs = sorted(p.name for p in (tmp_path / "plots").glob("*.png"))
     assert pngs == ["signals.png", "timing.png", "trajectory.png"], pngs
+
+
+def test_a_robot_with_chips_on_a_bus_replays_its_recorded_transfers(tmp_path):
+    """A replay answers the firmware's bus transfers from the recording (each bus's
+    transfers in order, trace.jsonl), as it feeds back every other recorded input: the
+    IMU, ranger and OLED robot replays to the same outputs (it stopped at the first
+    transfer with ENODEV before)."""
+    out = tmp_path / "run"
+    rig = str(Path(__file__).resolve().parents[1] / "examples" / "oled_bot" / "rig.toml")
+    done = mpy_fil("run", rig, "--duration", "4", "--out", str(out), "--no-plots")
+    assert done.returncode == 0, f"mpy-fil run failed:\n{done.stdout}{done.stderr}"
+    done = mpy_fil("replay", str(out), "--app", rig)
+    assert done.returncode == 0 and "same outputs" in done.stdout, f"replay of {out}:\n{done.stdout}{done.stderr}"

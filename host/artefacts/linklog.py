@@ -109,11 +109,13 @@ class LinkLog:
     def uart_tx(self, t: int, h: int, data: bytes) -> None:
         self.write({"t": t, "msg": "UART_TX", "handle": h, "data": data.hex()})
 
-    def bus(self, t: int, h: int, op: int, address: int, wrote: bytes, status: int, got: bytes, more=None) -> None:
-        """A bus transfer; ``more``: the transaction's bus, register and duration_us
-        (host/rig/bustrace.py), for a bus's handle (a bitstream has none)."""
+    def bus(self, t: int, h: int, op: int, address: int, wrote: bytes, reply: tuple, more=None) -> None:
+        """A bus transfer and its ``reply`` (status, count, bytes read); ``more``: the
+        transaction's bus, register and duration_us (host/rig/bustrace.py), for a bus's
+        handle (a bitstream has none). ``replay`` answers a bus from these."""
+        status, count, got = reply
         record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote.hex()}
-        self.write({**record, "status": status, "read": got.hex(), **(more or {})})
+        self.write({**record, "status": status, "count": count, "read": got.hex(), **(more or {})})
 
     def fault(self, t: int) -> None:
         self.write({"t": t, "msg": "FAULT"})

@@ -142,7 +142,7 @@ class BusTrace:
         more = None
         if isinstance(info.peripheral, BusPeripheral):  # (not a pin's bitstream)
             more = self.transfer(t_us, info, op, address, n_read, data, status, count, got).record()
-        self.linklog().bus(t_us, h, op, address, data, status, got, more)
+        self.linklog().bus(t_us, h, op, address, data, (status, count, got), more)
         return status, count, got
 
     def transfer(self, t_us, info, op, address, n_read, wrote, status, count, got) -> Transaction:

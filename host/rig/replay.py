@@ -22,13 +22,15 @@ that the header names by name (code the harness ships); a rig file or firmware f
 header names runs only with ``trust_folder`` (``--trust-folder``). The result says which ran.
 """
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from host.artefacts.checks import partial_reason
-from host.artefacts.folder import TraceData, load_trace
+from host.artefacts.folder import LINK, TraceData, load_trace
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from host.core.errors import ConfigError
+from host.link import frames as F
 from host.rig.rig import Rig
 from host.rig.spec import PlantOptionsError, Recording, RigSpec, build_plant
 from sim_plant.scripted import ScriptedPlant
@@ -44,14 +46,28 @@ class ReplayPlant(ScriptedPlant):
         if unknown:
             raise ConfigError(f"replay: the recording drives unknown plant outputs {unknown}")
         self.script = sorted(script, key=lambda e: e[0])  # stable: same-time order as recorded
+        self.transfers: dict[str, list] = {}  # bus -> its recorded transfers, in order
+        self.answered: dict[str, int] = {}  # bus -> how many of them were answered
+
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple:
+        """The recorded reply to the bus's next transfer (status, count, bytes read); a
+        transfer the recording does not have (another op or address, or one more) is
+        answered as by no device: the replay has diverged, and says so by its outputs."""
+        done = self.answered.get(bus, 0)
+        recorded = self.transfers.get(bus, [])
+        if done >= len(recorded) or recorded[done][:2] != (op, address):
+            return (F.BUS_NACK_ADDRESS, 0, b"") if op in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else (F.BUS_OK, 0, b"")
+        self.answered[bus] = done + 1
+        return recorded[done][2]
 
     def snapshot(self):
-        return self._t_us, self._next, dict(self.values), len(self.log)
+        return self._t_us, self._next, dict(self.values), len(self.log), dict(self.answered)
 
     def restore(self, snap) -> None:
-        self._t_us, self._next, values, n_log = snap
+        self._t_us, self._next, values, n_log, answered = snap
         self.values = dict(values)
         del self.log[n_log:]
+        self.answered = dict(answered)
 
 
 @dataclass
@@ -153,7 +169,28 @@ def replay_plant(trace: TraceData) -> ReplayPlant:
         initial = {n: (bytes.fromhex(v) if outputs.get(n) == "bytes" else v) for n, v in h.get("initial", {}).items()}
     except (ValueError, TypeError) as e:
         raise ConfigError(f"trace {trace.folder}: a recorded byte value is not hex text ({e})") from None
-    return ReplayPlant(script, outputs=outputs, inputs=inputs, initial=initial)
+    plant = ReplayPlant(script, outputs=outputs, inputs=inputs, initial=initial)
+    plant.transfers = recorded_transfers(trace.folder / LINK)
+    return plant
+
+
+def recorded_transfers(link_log: Path) -> dict[str, list]:
+    """Each bus's transfers in the link log, in order: (op, address, (status, count, read))."""
+    transfers: dict[str, list] = {}
+    if not link_log.is_file():
+        return transfers
+    with open(link_log) as lines:
+        for line in lines:
+            if '"BUS"' not in line:
+                continue
+            try:
+                r = json.loads(line)
+                if r.get("msg") == "BUS" and "bus" in r:
+                    reply = (r["status"], r.get("count", len(bytes.fromhex(r["read"]))), bytes.fromhex(r["read"]))
+                    transfers.setdefault(r["bus"], []).append((r["op"], r["address"], reply))
+            except (ValueError, KeyError, TypeError) as e:
+                raise ConfigError(f"{link_log}: a BUS record is damaged ({e}): {line[:120]}") from None
+    return transfers
 
 
 def recorded_end_us(trace: TraceData) -> int:
