@@ -134,6 +134,7 @@ class BusTrace:
         self.hooks = hooks  # bus name -> [call(tx)]
         self.recorder = recorder
         self.linklog = linklog  # () -> the rig's link log (it changes when a trace begins)
+        self.last_failed: Transaction | None = None  # (a board's OSError names no address: errors do)
 
     def answer(self, plant, info, h, t_us, op, address, n_read, data) -> tuple:
         """A BUS frame's transfer answered from the plant's devices (status, count, bytes
@@ -141,7 +142,10 @@ class BusTrace:
         status, count, got = info.peripheral.transfer(plant, info, op, address, n_read, data)
         more = None
         if isinstance(info.peripheral, BusPeripheral):  # (not a pin's bitstream)
-            more = self.transfer(t_us, info, op, address, n_read, data, status, count, got).record()
+            tx = self.transfer(t_us, info, op, address, n_read, data, status, count, got)
+            more = tx.record()
+            if status != F.BUS_OK:
+                self.last_failed = tx
         self.linklog().bus(t_us, h, op, address, data, (status, count, got), more)
         return status, count, got
 
@@ -152,3 +156,16 @@ class BusTrace:
         if self.recorder is not None:
             self.recorder.command(t_us, f"bus:{tx.bus}", describe(tx), role=ROLE_BUS, kind="text")
         return tx
+
+
+def failed_hint(bus_trace: "BusTrace | None", traceback: str) -> str:
+    """For a firmware that ended on an OSError: the last bus transfer that failed, by
+    address (the board's error, and so the loop's, is the errno alone)."""
+    tx = bus_trace.last_failed if bus_trace is not None else None
+    last = traceback.rstrip().splitlines()[-1] if traceback.strip() else ""
+    if tx is None or not last.startswith("OSError"):
+        return ""
+    return (
+        f"\n(the last bus transfer that failed: {tx.bus} {describe(tx)} at virtual t={tx.t_us / 1e6:.6f} s; "
+        "a board's OSError names no address: docs/shim.md, 'Buses')"
+    )

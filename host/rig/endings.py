@@ -7,6 +7,7 @@ import re
 
 from host.core.errors import FirmwareError, FirmwareExited, FirmwareHung, LinkDamaged, LinkError
 from host.link import frames as F
+from host.rig.bustrace import failed_hint
 
 STORM_RESETS = 10
 STORM_RUN_US = 60_000_000
@@ -55,7 +56,8 @@ def fault(rig, t: int, text: str):
         )
     raise FirmwareError(
         f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
-        f"MicroPython traceback:\n{text.rstrip()}{rig.app.import_hint(text)}{rig.where()}",
+        f"MicroPython traceback:\n{text.rstrip()}{rig.app.import_hint(text)}"
+        f"{failed_hint(getattr(rig, 'bus_trace', None), text)}{rig.where()}",
         traceback=text,
         console=rig.console,
     )

@@ -133,3 +133,19 @@ def test_published_lsm6dsox_driver_integrates_a_turn_in_place_within_3_degrees(m
     assert "heading_deg" in r, rig.console
     assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
     assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
+
+
+def test_an_uncaught_bus_error_ends_the_run_naming_the_address_nobody_answered(make_rig, tmp_path):
+    """The firmware sees the board's OSError (the errno alone); the harness's error adds
+    the transfer that failed: bus, address and instant."""
+    from host.core.errors import FirmwareError
+
+    (tmp_path / "main.py").write_text(
+        "import time\nfrom machine import I2C\ni2c = I2C(0)\ntime.sleep_ms(5)\ni2c.readfrom_mem(0x50, 0x0F, 1)\n"
+    )
+    rig = make_rig(bench(), main_dir=tmp_path)
+    with pytest.raises(FirmwareError) as raised:
+        rig.run_for(1)
+    text = str(raised.value)
+    assert "OSError: [Errno 19] ENODEV" in text, text
+    assert "the last bus transfer that failed: i2c0 0x50" in text and "t=0.005" in text, text
