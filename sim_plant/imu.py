@@ -162,7 +162,7 @@ class ImuPart(PartType):
     TRUTH = ("{name}_rate_dps", "{name}_sample_dps")
     VIEWS = (
         View(
-            "angle",
+            "rate",
             "the gyro's z reading against the body's true turn rate",
             truth=("{name}_rate_dps", "{name}_sample_dps"),
         ),

@@ -348,6 +348,7 @@ details {{ margin: 0.6rem 0; }} summary {{ cursor: pointer; font-weight: 600; }}
 .plots {{ display: grid; grid-template-columns: repeat(auto-fit, minmax(min(420px, 100%), 1fr)); gap: 0.8rem; }}
 figure {{ margin: 0; min-width: 0; }} figure.signals {{ grid-column: 1 / -1; }}
 figure img {{ width: 100%; height: auto; border: 1px solid #eceff1; background: #fff; }}
+figure.display img {{ width: min(100%, 512px); image-rendering: pixelated; }}  /* (a 128 x 64 screen at 4x) */
 @media (min-width: 1800px) {{ figure.signals {{ grid-column: auto; }} }}
 figcaption {{ font-size: 0.8rem; color: #546e7a; text-align: center; }}
 @media (max-width: 760px) {{

@@ -6,9 +6,9 @@ One panel per kind of view, each part's lines in it: ``range`` (the range the fi
 read, through the part's own law, against the true range), ``command`` (a motor's signed
 duty, as its bridge's pins make it), ``count`` (an encoder's edges, decoded from the
 recorded channels, against the disk's true count), ``contacts``, ``level``, ``voltage``,
-``angle`` and ``strip`` (a LED strip's colours, a row a LED); then the body's speed, true
-and as the encoders' edges say it. A part draws what it declares: nothing here names a
-robot.
+``angle``, ``rate`` (a gyro's), ``heading`` (a compass's) and ``strip`` (a LED strip's
+colours, a row a LED); then the body's speed, true and as the encoders' edges say it. A
+part draws what it declares: nothing here names a robot.
 """
 
 import numpy as np
@@ -20,6 +20,8 @@ PLOTS = {
     "range": ("Rangers: the range the firmware read against the true range", "range (m)"),
     "command": ("Motors: the signed command the bridge's pins make", "duty (-1 .. 1)"),
     "angle": ("Servos: the angle the pulse asks for against the true angle", "degrees"),
+    "rate": ("Gyros: the turn rate the chip reads against the body's true rate", "degrees/s"),
+    "heading": ("Compasses: the heading the chip's field gives against the body's", "degrees"),
     "count": ("Encoders: edges on the recorded channels against the disk's true count", "edges"),
     "contacts": ("Bumpers: the switch's level against its true state", "level"),
     "voltage": ("Batteries: the voltage the ADC reading says against the battery's", "volts"),
@@ -224,6 +226,8 @@ DRAW = {
     "level": draw_level,
     "voltage": draw_points,
     "angle": draw_points,
+    "rate": draw_points,
+    "heading": draw_points,
     "strip": draw_strip,
 }
 

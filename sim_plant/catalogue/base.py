@@ -59,7 +59,7 @@ class Sig:
 @dataclass(frozen=True)
 class View:
     """What a report draws for a part: a ``plot`` kind (``range``, ``command``,
-    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``,
+    ``count``, ``contacts``, ``level``, ``voltage``, ``angle``, ``rate``, ``heading``,
     ``coverage``) of its ``signals``
     (suffixes) against its ``truth`` (keys, ``{name}`` the part's)."""
 

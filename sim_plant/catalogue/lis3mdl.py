@@ -137,7 +137,7 @@ class Lis3mdl(PartType):
         Opt("noise_ut", Num("microtesla", 0, 100), 0.3, "the noise on each axis (standard deviation, each sample)"),
     )
     TRUTH = ("{name}_heading_deg",)
-    VIEWS = (View("angle", "the compass heading the field gives (clockwise from north)", truth=TRUTH),)
+    VIEWS = (View("heading", "the compass heading the field gives (clockwise from north)", truth=TRUTH),)
     on_bus = True
     needs_body = True
 
