@@ -270,9 +270,33 @@ def address_problem(bus: str, address) -> str | None:
     return None
 
 
+def check_placement(options: dict, i2c_only: str | None = None) -> None:
+    """A bus part's ``bus`` and ``address`` options (and ``spi``, for a chip on either bus):
+    ValueError naming the option. ``i2c_only``: the chip's name, for a chip with no SPI."""
+    bus = options["bus"]
+    spi = options.get("spi", False)
+    if i2c_only is not None and bus.startswith("spi"):
+        raise ValueError(f"bus: expected an I2C bus ({i2c_only} has no SPI), got {bus}")
+    if i2c_only is None and spi != bus.startswith("spi"):
+        raise ValueError(f"spi: expected {str(not spi).lower()} on bus {bus}, got {str(spi).lower()}")
+    problem = address_problem(bus, None if spi else options["address"])
+    if problem:
+        raise ValueError(f"address: {problem}")
+
+
 def tick_after(t_us: int, period_us: int) -> int:
     """The first output-data-rate tick strictly after ``t_us`` (ticks at multiples)."""
     return (t_us // period_us + 1) * period_us
 
 
-__all__ = ["NEVER_US", "BusDevice", "BusName", "BusSet", "Change", "RegisterDevice", "address_problem", "tick_after"]
+__all__ = [
+    "NEVER_US",
+    "BusDevice",
+    "BusName",
+    "BusSet",
+    "Change",
+    "RegisterDevice",
+    "address_problem",
+    "check_placement",
+    "tick_after",
+]

@@ -18,7 +18,7 @@ recent history (``on_motion_change``) so that a tick is evaluated at its own tim
 
 import math
 
-from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, address_problem, tick_after
+from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, check_placement, tick_after
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Flag, Num, Row
 
@@ -188,14 +188,7 @@ class ImuPart(PartType):
         )
 
     def check(self) -> None:
-        o = self.options
-        if o["spi"] != o["bus"].startswith("spi"):
-            raise ValueError(
-                f"spi: expected {str(not o['spi']).lower()} on bus {o['bus']}, got {str(o['spi']).lower()}"
-            )
-        problem = address_problem(o["bus"], None if o["spi"] else o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
+        check_placement(self.options)
 
     def signals(self) -> dict[str, tuple[str, str]]:
         signals = {f"{self.name}.int": ("out", "level")}

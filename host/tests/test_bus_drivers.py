@@ -11,6 +11,7 @@ import pytest
 from host.core.drivers import driver_folder
 from host.rig.app import App
 from host.tests.conftest import FIRMWARE, results
+from host.tests.test_buses import SPIN_PINS, SPIN_WIRING
 from sim_plant.catalogue.assembly import assemble
 
 pytestmark = pytest.mark.hil
@@ -62,15 +63,6 @@ def test_published_pca9685_driver_turns_a_servo_on_channel_0_to_its_angle(make_r
     assert rig.plant.truth()["pwm_freq_hz"] == pytest.approx(25e6 / 4096 / 123)
 
 
-SPIN_PINS = {"PWMA": 16, "AIN1": 17, "AIN2": 18, "PWMB": 21, "BIN1": 22, "BIN2": 23}
-SPIN_WIRING = {
-    "PWMA": "motor_l.pwm",
-    "AIN1": "motor_l.in1",
-    "AIN2": "motor_l.in2",
-    "PWMB": "motor_r.pwm",
-    "BIN1": "motor_r.in1",
-    "BIN2": "motor_r.in2",
-}
 MOTORS = [
     {"kind": "dc_motor", "name": "motor_l", "bridge": "tb6612", "drives": "left"},
     {"kind": "dc_motor", "name": "motor_r", "bridge": "tb6612", "drives": "right"},

@@ -19,7 +19,7 @@ Not modelled: the triggered modes (1 to 6 convert continuously), the averaging's
 smoothing, the ADC's offset and gain errors, the bus voltage's own range limit (BRNG
 only sets the OVF bit beyond 16 V)."""
 
-from sim_plant.buses import BusName, RegisterDevice, address_problem
+from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
 from sim_plant.option_table import Name, Num
 
@@ -153,12 +153,7 @@ class Ina219(PartType):
     on_bus = True
 
     def check(self) -> None:
-        o = self.options
-        if o["bus"].startswith("spi"):
-            raise ValueError(f"bus: expected an I2C bus (the INA219 has no SPI), got {o['bus']}")
-        problem = address_problem(o["bus"], o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
+        check_placement(self.options, "the INA219")
 
     def add(self, build: Build) -> None:
         o = self.options

@@ -21,7 +21,7 @@ soft-iron distortion, BDU."""
 
 import math
 
-from sim_plant.buses import BusName, RegisterDevice, address_problem
+from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
 from sim_plant.imu import counts, put16
 from sim_plant.option_table import Num, Row
@@ -142,12 +142,7 @@ class Lis3mdl(PartType):
     needs_body = True
 
     def check(self) -> None:
-        o = self.options
-        if o["bus"].startswith("spi"):
-            raise ValueError(f"bus: expected an I2C bus (the lis3mdl part has no SPI), got {o['bus']}")
-        problem = address_problem(o["bus"], o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
+        check_placement(self.options, "the lis3mdl part")
 
     def add(self, build: Build) -> None:
         o = self.options

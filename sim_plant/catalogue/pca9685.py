@@ -19,7 +19,7 @@ Not modelled: the output delay (ON counts other than 0 only shift the pulse), th
 inverted and open-drain outputs of MODE2, OE, EXTCLK, the sub-addresses and all-call
 address, the software reset general call."""
 
-from sim_plant.buses import BusName, RegisterDevice, address_problem
+from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType
 from sim_plant.option_table import Name, Num, Rows
 
@@ -142,12 +142,8 @@ class Pca9685(PartType):
     on_bus = True
 
     def check(self) -> None:
+        check_placement(self.options, "the PCA9685")
         o = self.options
-        if o["bus"].startswith("spi"):
-            raise ValueError(f"bus: expected an I2C bus (the PCA9685 has no SPI), got {o['bus']}")
-        problem = address_problem(o["bus"], o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
         taken = [t for t in o["drives"] if t != NO_TARGET]
         twice = sorted({t for t in taken if taken.count(t) > 1})
         if twice:

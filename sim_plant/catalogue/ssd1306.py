@@ -28,7 +28,7 @@ Not modelled: the COM pins configuration's effect (a 32-row panel with 0x12 woul
 every other row), the display offset, contrast as a brightness, the charge pump (the
 display lights without it), scrolling, the 64-column panels' shift."""
 
-from sim_plant.buses import BusDevice, BusName, address_problem
+from sim_plant.buses import BusDevice, BusName, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig
 from sim_plant.option_table import Flag, Num, OneOf
 
@@ -229,14 +229,7 @@ class Ssd1306(PartType):
     on_bus = True
 
     def check(self) -> None:
-        o = self.options
-        if o["spi"] != o["bus"].startswith("spi"):
-            raise ValueError(
-                f"spi: expected {str(not o['spi']).lower()} on bus {o['bus']}, got {str(o['spi']).lower()}"
-            )
-        problem = address_problem(o["bus"], None if o["spi"] else o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
+        check_placement(self.options)
 
     def add(self, build: Build) -> None:
         o = self.options

@@ -24,7 +24,7 @@ the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: 
 timed (inter-measurement) mode, the GPIO1 thresholds, the signal rate and ambient light,
 cross-talk, a target's reflectance."""
 
-from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, address_problem
+from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Num
 from sim_plant.sonars import BeamRangeModel
@@ -149,12 +149,8 @@ class Vl53l0x(PartType):
     needs_body = True
 
     def check(self) -> None:
+        check_placement(self.options, "the VL53L0X")
         o = self.options
-        if o["bus"].startswith("spi"):
-            raise ValueError(f"bus: expected an I2C bus (the VL53L0X has no SPI), got {o['bus']}")
-        problem = address_problem(o["bus"], o["address"])
-        if problem:
-            raise ValueError(f"address: {problem}")
         if o["min_range_m"] >= o["max_range_m"]:
             raise ValueError(
                 f"min_range_m: expected less than max_range_m ({o['max_range_m']}), got {o['min_range_m']}"
