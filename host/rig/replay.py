@@ -179,12 +179,13 @@ def recorded_transfers(link_log: Path) -> dict[str, list]:
     transfers: dict[str, list] = {}
     if not link_log.is_file():
         return transfers
-    with open(link_log) as lines:
-        for line in lines:
-            if '"BUS"' not in line:
+    with open(link_log, "rb") as lines:
+        for raw in lines:
+            if b'"BUS"' not in raw:
                 continue
+            line = raw.decode("utf-8", "replace")
             try:
-                r = json.loads(line)
+                r = json.loads(raw)
                 if r.get("msg") == "BUS" and "bus" in r:
                     reply = (r["status"], r.get("count", len(bytes.fromhex(r["read"]))), bytes.fromhex(r["read"]))
                     transfers.setdefault(r["bus"], []).append((r["op"], r["address"], reply))
