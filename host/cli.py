@@ -3,6 +3,8 @@
     mpy-fil run --app rover --world long-room --seed 3 --duration 60
     mpy-fil run path/to/rig.toml --duration 20
     mpy-fil check path/to/rig.toml
+    mpy-fil run path/to/wokwi-project/     (its diagram.json and main.py: docs/wokwi.md)
+    mpy-fil import-wokwi path/to/wokwi-project/
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
     mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2

@@ -420,7 +420,7 @@ TABLE = {
             "wokwi-neopixel-matrix",
             "ws2812_strip",
             {"rows": "`count` = rows x cols", "cols": "`count`"},
-            (*LOOKS, "pixleate", "pixelate", "layout", "brightness", "animation"),
+            (*LOOKS, "pixelate", "layout", "brightness", "animation"),
             "one strip in the order the data runs; at most 256 LEDs",
             neopixel_matrix,
         ),
@@ -450,7 +450,7 @@ TABLE = {
         ),
         PartMap(
             "wokwi-logic-analyzer",
-            "probe",
+            "(probe pins)",
             {},
             (*LOOKS, "bufferSize", "channels", "colors", "triggerMode", "triggerPin", "filename"),
             "no part: each channel D0..D7 is a `probe:<id>_D<n>` pin, in the trace and its VCD",
