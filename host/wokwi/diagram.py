@@ -133,18 +133,18 @@ def read_diagram(path: Path) -> Diagram:
     twice = sorted({i for i in ids if ids.count(i) > 1})
     if twice:
         raise ConfigError(f"{path}: parts: the id {twice[0]!r} is given twice: each part needs its own")
-    boards = [p for p in parts if p.type in BOARDS or p.type.startswith(("board-", "wokwi-arduino"))]
-    boards = [p for p in boards if p.type != "board-ssd1306"]
-    if len(boards) != 1:
-        found = ", ".join(f"{p.id} ({p.type})" for p in boards) or "none"
-        raise ConfigError(f"{path}: expected one board part ({', '.join(BOARDS)}), got {found}")
+    boards = [p for p in parts if p.type in BOARDS]
+    if not boards:  # a board of Wokwi's we do not run (an Arduino, an STM32), or a misspelt one
+        others = [p for p in parts if p.type.startswith("board-") or difflib.get_close_matches(p.type, list(BOARDS))]
+        other = next((p for p in others if p.type != "board-ssd1306"), None)
+        if other is None:
+            raise ConfigError(f"{path}: expected one board part ({', '.join(BOARDS)}), got none")
+        near = difflib.get_close_matches(other.type, list(BOARDS), n=1, cutoff=0)
+        raise ConfigError(f"{path}: {other.where()}: a board we do not run; nearest we have: {near[0]!r}")
+    if len(boards) > 1:
+        found = ", ".join(f"{p.id} ({p.type})" for p in boards)
+        raise ConfigError(f"{path}: expected one board part, got {found}: one board a rig")
     board_part = boards[0]
-    if board_part.type not in BOARDS:
-        near = difflib.get_close_matches(board_part.type, list(BOARDS), n=1, cutoff=0)
-        raise ConfigError(
-            f"{path}: {board_part.where()}: a board we do not run; nearest we have: {near[0]!r} "
-            f"(boards: {', '.join(BOARDS)})"
-        )
     wires = _wires(path, data.get("connections", []), set(ids))
     return Diagram(path, [p for p in parts if p is not board_part], board_part, BOARDS[board_part.type], wires)
 
@@ -165,7 +165,9 @@ def _wires(path: Path, connections, ids: set) -> list[tuple[str, str]]:
     for i, c in enumerate(connections):
         ok = isinstance(c, list) and len(c) >= 2 and all(isinstance(e, str) and ":" in e for e in c[:2])
         if not ok:
-            raise ConfigError(f'{path}: connections[{i}]: expected ["part:pin", "part:pin", colour, route], got {c!r}'[:200])
+            raise ConfigError(
+                f'{path}: connections[{i}]: expected ["part:pin", "part:pin", colour, route], got {c!r}'[:200]
+            )
         a, b = c[0], c[1]
         if CONSOLE in (a.split(":")[0], b.split(":")[0]):
             continue  # the console: the rig's REPL UART

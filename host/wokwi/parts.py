@@ -282,7 +282,10 @@ def mpu6050(part, ctx: Context) -> Mapped:
     at_rest = {"accelX": 0, "accelY": 0, "accelZ": 1}
     for name, value in at_rest.items():
         if number(part, name, value, -16, 16, "of g ") != value:
-            raise _error(part, f"attrs.{name}: only {value} g is modelled (a still board reads 0, 0, 1 g); got {part.attrs[name]!r}")
+            raise _error(
+                part,
+                f"attrs.{name}: only {value} g is modelled (a still board reads 0, 0, 1 g); got {part.attrs[name]!r}",
+            )
     bias = [number(part, f"rotation{axis}", 0, -100, 100, "of deg/s ") for axis in "XYZ"]
     if number(part, "temperature", 25, -40, 85, "of degrees C ") != 25:
         raise _error(part, f"attrs.temperature: the chip reads 25 degrees C; got {part.attrs['temperature']!r}")
@@ -336,7 +339,7 @@ TABLE = {
         PartMap(
             "wokwi-slide-switch",
             "slide_switch",
-            {"value": "`position` (\"1\": right)", "bounce": "none"},
+            {"value": '`position` ("1": right)', "bounce": "none"},
             LOOKS,
             "pins 1 and 3 tied to ground read 0, to a supply 1, open 1 (the pull-up); no bounce",
             slide_switch,
@@ -376,7 +379,12 @@ TABLE = {
         PartMap(
             "wokwi-photoresistor-sensor",
             "photoresistor",
-            {"lux": "`lux`", "rl10": "`rl10_kohm` (kilo-ohms)", "gamma": "`gamma`", "threshold": "`threshold_v` (volts)"},
+            {
+                "lux": "`lux`",
+                "rl10": "`rl10_kohm` (kilo-ohms)",
+                "gamma": "`gamma`",
+                "threshold": "`threshold_v` (volts)",
+            },
             LOOKS,
             "the same divider (LDR and 10 kOhm); a fixed light unless a scenario sets it",
             photoresistor,
@@ -405,9 +413,7 @@ TABLE = {
             "the contacts switch no circuit: `<id>_closed` in the truth",
             relay,
         ),
-        PartMap(
-            "wokwi-neopixel", "ws2812_strip", {}, LOOKS, "one LED; a chain through DOUT is refused", neopixel
-        ),
+        PartMap("wokwi-neopixel", "ws2812_strip", {}, LOOKS, "one LED; a chain through DOUT is refused", neopixel),
         PartMap(
             "wokwi-led-ring",
             "ws2812_strip",

@@ -10,8 +10,9 @@ a chip's SDA and SCL (``I2C(0)`` or ``SoftI2C``)."""
 
 import difflib
 import re
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 from host.core.errors import ConfigError
 from host.rig.app import App

@@ -27,11 +27,7 @@ class Desk(BodyType):
         Opt("room_w_m", ROOM, 10.0, "the room's width (x)"),
         Opt("room_h_m", ROOM, 10.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
-        Opt(
-            "start_pose",
-            POSE,
-            None,
-            "where the desk stands, [x_m, y_m, heading_rad]; the room's middle by default"),
+        Opt("start_pose", POSE, None, "where the desk stands, [x_m, y_m, heading_rad]; the room's middle by default"),
     )
 
     def world_and_pose(self):

@@ -1,6 +1,7 @@
 # A button on D4 (to ground, on the pull-up) toggles the blue LED on D2 in its IRQ.
-from machine import Pin
 import time
+
+from machine import Pin
 
 led = Pin(2, Pin.OUT, value=0)
 button = Pin(4, Pin.IN, Pin.PULL_UP)
