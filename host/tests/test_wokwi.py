@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from host.cli import main
 from host.core.drivers import driver_folder
 from host.core.errors import ConfigError
 from host.rig.rigfile import load_rig
@@ -143,12 +144,12 @@ def broken(tmp_path: Path, change) -> Path:
         ),
     ],
 )
-def test_an_unknown_part_or_attribute_is_one_line_and_exit_2(tmp_path, change, message):
+def test_an_unknown_part_or_attribute_is_one_line_and_exit_2(tmp_path, capsys, change, message):
     folder = broken(tmp_path, change)
     for command in (["run", str(folder), "--duration", "0.1"], ["import-wokwi", str(folder)], ["check", str(folder)]):
-        result = cli(*command)
-        assert result.returncode == 2, result.stderr
-        assert len(result.stderr.strip().splitlines()) == 1 and re.search(message, result.stderr), result.stderr
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1 and re.search(message, err), err
     assert not (folder / "rig.toml").exists()
 
 
@@ -161,14 +162,12 @@ def test_an_attribute_out_of_its_bounds_names_its_unit(tmp_path):
         rig_from_project(broken(tmp_path, far))
 
 
-def test_cli_import_then_check_and_run_take_the_rig_file(tmp_path):
+def test_cli_import_then_check_and_run_take_the_rig_file(tmp_path, capsys):
     folder = project("devkit_v1_button", tmp_path, oled=False)
-    first = cli("import-wokwi", str(folder))
-    assert first.returncode == 0 and (folder / "rig.toml").is_file(), first.stderr
-    again = cli("import-wokwi", str(folder))
-    assert again.returncode == 2 and "--force" in again.stderr
-    check = cli("check", str(folder / "rig.toml"))
-    assert check.returncode == 0 and "bench body with button button, probe blue_led" in check.stdout, check.stderr
+    assert main(["import-wokwi", str(folder)]) == 0 and (folder / "rig.toml").is_file()
+    assert main(["import-wokwi", str(folder)]) == 2 and "--force" in capsys.readouterr().err
+    assert main(["check", str(folder / "rig.toml")]) == 0
+    assert "bench body with button button, probe blue_led" in capsys.readouterr().out
     run = cli("run", str(folder), "--duration", "0.5", "--no-plots", "--param", "button.presses=[[0.1, 0.2]]")
     assert run.returncode == 0 and "toggled 1 100" in run.stdout, run.stdout + run.stderr
 

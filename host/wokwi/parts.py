@@ -171,11 +171,8 @@ def rgb_led(part, ctx: Context) -> Mapped:
 def potentiometer(part, ctx: Context) -> Mapped:
     m = Mapped(None)
     wire(m, ctx, part, "SIG", f"{part.id}.sig")
-    lo = number(part, "min", 0, 0, 1e6, "")
-    hi = number(part, "max", 1023, lo + 1, 1e6, "")
-    value = number(part, "value", lo, lo, hi, "")
-    m.entry = entry(part, "potentiometer", position=round((value - lo) / (hi - lo), 6))
-    m.entry["supply_v"] = supply_v(ctx, part, "VCC", m)
+    value = number(part, "value", 0, 0, 1023, "")
+    m.entry = entry(part, "potentiometer", position=round(value / 1023, 6))
     return m
 
 
@@ -363,15 +360,15 @@ TABLE = {
         PartMap(
             "wokwi-potentiometer",
             "potentiometer",
-            {"value": "`position` = value / 1023", "min": "the value's 0", "max": "the value's full"},
+            {"value": "`position` = value / 1023 (0 by default)"},
             LOOKS,
-            "a fixed reading (a scenario turns it); the supply from the pin VCC is wired to",
+            "a fixed reading (a scenario turns it); as Wokwi's, value / 1023 of the ADC's full scale whatever VCC is",
             potentiometer,
         ),
         PartMap(
             "wokwi-slide-potentiometer",
             "potentiometer",
-            {"value": "`position`", "min": "the value's 0", "max": "the value's full"},
+            {"value": "`position` = value / 1023"},
             (*LOOKS, "travelLength"),
             "as wokwi-potentiometer",
             potentiometer,
