@@ -153,6 +153,24 @@ def test_an_unknown_part_or_attribute_is_one_line_and_exit_2(tmp_path, capsys, c
     assert not (folder / "rig.toml").exists()
 
 
+def test_a_power_led_is_left_out_and_an_analyser_channel_shares_a_parts_pin(tmp_path):
+    def extra(d):
+        d["parts"] += [
+            {"type": "wokwi-led", "id": "power", "attrs": {}},
+            {"type": "wokwi-logic-analyzer", "id": "la", "attrs": {}},
+        ]
+        d["connections"] += [
+            ["power:A", "esp:3V3", "", []],
+            ["power:C", "esp:GND.1", "", []],
+            ["la:D0", "esp:D2", "", []],
+            ["la:D1", "esp:D5", "", []],
+        ]
+
+    app = rig_from_project(broken(tmp_path, extra))
+    assert app.wiring == {"D4": "button.out", "D2": "blue_led.in", "D5": "probe:la_D1"}
+    assert "power" not in app.make_plant().describe()
+
+
 def test_an_attribute_out_of_its_bounds_names_its_unit(tmp_path):
     def far(d):
         d["parts"].append({"type": "wokwi-hc-sr04", "id": "s", "attrs": {"distance": "900"}})

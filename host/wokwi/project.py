@@ -90,11 +90,7 @@ def rig_data(folder: Path) -> tuple[dict, dict]:
     for part in diagram.parts:
         pmap = table.mapper(part)
         mapped = pmap.build(part, ctx)
-        for key, gpio in mapped.pins.items():
-            if key in pins:
-                raise ConfigError(f"{diagram.path}: {part.where()}: {key} is wired to another part too")
-            pins[key] = gpio
-        wiring.update(mapped.wiring)
+        _merge(diagram, part, mapped, pins, wiring)
         if mapped.entry is not None:
             entries.append(mapped.entry)
         notes[part.id] = [f"{part.type}", *mapped.notes]
@@ -108,6 +104,20 @@ def rig_data(folder: Path) -> tuple[dict, dict]:
         "wiring": wiring,
     }
     return data, notes
+
+
+def _merge(diagram, part, mapped, pins: dict, wiring: dict) -> None:
+    """A part's pins into the rig's: a pin wired to two parts is refused, unless one of
+    them is a logic analyser's probe (the trace records the pin anyway: the part keeps it)."""
+    for key, gpio in mapped.pins.items():
+        signal = mapped.wiring[key]
+        if key in pins and not (signal.startswith("probe:") or wiring[key].startswith("probe:")):
+            raise ConfigError(f"{diagram.path}: {part.where()}: {key} is wired to {wiring[key]} too: one part a pin")
+        if key in pins and signal.startswith("probe:"):
+            mapped.notes.append(f"{key} is {wiring[key]}'s pin: the trace records it as such")
+            continue
+        pins[key] = gpio
+        wiring[key] = signal
 
 
 def _desk(sonars: list) -> dict:
