@@ -171,6 +171,25 @@ def test_a_power_led_is_left_out_and_an_analyser_channel_shares_a_parts_pin(tmp_
     assert "power" not in app.make_plant().describe()
 
 
+@pytest.mark.parametrize(
+    "toml, message",
+    [
+        ('[wokwi]\nversion = 1\nfirmware = "micropython.bin"\n', None),
+        ('[wokwi]\nversion = 1\nfirmwre = "micropython.bin"\n', r"\[wokwi\] firmwre: unknown key; nearest: 'firmware'"),
+        ('[wokwi]\nversion = 1\n[[chip]]\nname = "x"\n', r"\[\[chip\]\]: custom chips are not run here"),
+        ("[wokwi\n", r"wokwi.toml: not TOML"),
+    ],
+)
+def test_wokwi_toml_changes_nothing_and_custom_chips_are_refused(tmp_path, toml, message):
+    folder = project("devkit_v1_button", tmp_path, oled=False)
+    (folder / "wokwi.toml").write_text(toml)
+    if message is None:
+        assert rig_from_project(folder).wiring == {"D4": "button.out", "D2": "blue_led.in"}
+    else:
+        with pytest.raises(ConfigError, match=message):
+            rig_from_project(folder)
+
+
 def test_an_attribute_out_of_its_bounds_names_its_unit(tmp_path):
     def far(d):
         d["parts"].append({"type": "wokwi-hc-sr04", "id": "s", "attrs": {"distance": "900"}})
