@@ -81,7 +81,7 @@ def test_a_pico_project_runs_with_every_part(make_rig, tmp_path):
     assert truth["relay1_closed"] == 1 and truth["rgb1_rgb"] == 0xFF00FF, "a PNP relay low; a common cathode magenta"
     assert plant.output("matrix1.led7") == 0x00FF00 and plant.output("px1.led0") == 0x0A141E
     assert sum(next(p for p in plant.parts if getattr(p, "label", "") == "oled1").picture()) > 30
-    assert rig.app.plant_options == {} and rig.app.extra["faults"] == ()
+    assert rig.app.wiring["GP17"] == "probe:logic1_D1" and rig.app.wiring["GP16"] == "led1.in", "D0 shares the LED's"
 
 
 def test_a_devkit_v1_button_toggles_its_led_in_the_irq(make_rig):

@@ -68,5 +68,7 @@ print("ldr_u16", ldr.read_u16())
 print("dark", dark.value())
 print("switch", switch.value())
 print("ready")
+probe = Pin(17, Pin.OUT)
 while True:
+    probe.value(not probe.value())
     time.sleep_ms(20)
