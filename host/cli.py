@@ -3,6 +3,8 @@
     mpy-fil run --app rover --world long-room --seed 3 --duration 60
     mpy-fil run path/to/rig.toml --duration 20
     mpy-fil check path/to/rig.toml
+    mpy-fil run path/to/wokwi-project/     (its diagram.json and main.py: docs/wokwi.md)
+    mpy-fil import-wokwi path/to/wokwi-project/
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
     mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2
@@ -87,7 +89,9 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True, parser_class=OneLineParser)
 
     run = sub.add_parser("run", help="run an app in a world for a duration; writes a trace folder")
-    run.add_argument("rig", nargs="?", metavar="RIG", help="a rig file (docs/rig-file.md); default: --app")
+    run.add_argument(
+        "rig", nargs="?", metavar="RIG", help="a rig file (docs/rig-file.md) or a Wokwi project folder; default: --app"
+    )
     run.add_argument("--app", default="rover", choices=sorted(apps()), help="one of our apps (default: rover)")
     run.add_argument("--board", help="board pin map (default: the app's own; see firmware/boards)")
     run.add_argument("--world", help="named world of the app (default: its first)")
@@ -135,6 +139,11 @@ def build_parser() -> argparse.ArgumentParser:
     init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
     init.add_argument("folder", metavar="DIR", type=_folder, help="the firmware folder (its main.py)")
     init.set_defaults(command=cmd_init, sub=init)
+
+    wok = sub.add_parser("import-wokwi", help="write the rig.toml of a Wokwi project folder (its diagram.json)")
+    wok.add_argument("folder", metavar="DIR", type=_folder, help="the Wokwi project (diagram.json, main.py)")
+    wok.add_argument("--force", action="store_true", help="overwrite its rig.toml")
+    wok.set_defaults(command=cmd_import_wokwi, sub=wok)
 
     lst = sub.add_parser("list", help="our apps, boards and plant kinds with their options and signals")
     lst.set_defaults(command=cmd_list, sub=lst)
@@ -487,6 +496,14 @@ def cmd_init(args) -> int:
     for note in notes:
         print(f"{args.sub.prog}: {note}", file=sys.stderr)
     print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
+    return 0
+
+
+def cmd_import_wokwi(args) -> int:
+    from host.wokwi.project import import_wokwi
+
+    path = import_wokwi(args.folder, force=args.force)
+    print(f"wrote {path}: mpy-fil check {path}, then add budgets, faults and worlds (docs/rig-file.md)")
     return 0
 
 

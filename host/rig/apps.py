@@ -21,13 +21,21 @@ def apps() -> dict[str, App]:
     return _APPS
 
 
+WHAT_FOLDERS_HOLD = ("rig.toml", "diagram.json")  # a folder named alone: a rig file's, a Wokwi project's
+
+
 def get_app(name: str) -> App:
-    """One of our apps by name, or a rig file by its path (``path/to/rig.toml``)."""
+    """One of our apps by name, a rig file by its path (``path/to/rig.toml``), or a Wokwi
+    project by its folder or its ``diagram.json`` (without a rig.toml: ``docs/wokwi.md``)."""
     if any(ord(c) < 32 or 127 <= ord(c) < 160 for c in name):
         raise ConfigError(f"app: expected an app's name or a rig file's path, got {name!r} (a control character)")
     try:
-        if name.endswith(".toml") or "/" in name or Path(name, "rig.toml").is_file():
+        if name.endswith((".toml", ".json")) or "/" in name or any(Path(name, f).is_file() for f in WHAT_FOLDERS_HOLD):
             path = Path(name)
+            from host.wokwi.project import is_project, rig_from_project
+
+            if is_project(path):  # a Wokwi project: its diagram.json (docs/wokwi.md)
+                return rig_from_project(path)
             return load_rig(path / "rig.toml" if path.is_dir() else path)  # a folder: its rig.toml
     except OSError as e:  # (a name too long for the file system, a folder that cannot be listed)
         raise ConfigError(f"app: cannot read {name[:80]!r}: {e.strerror or e}") from None

@@ -118,8 +118,15 @@ def _check_type(where: _Where, field: str, value, expected) -> None:
 def load_rig(path) -> App:
     """Read and check a rig file; the App it describes."""
     path = Path(path)
+    return rig_from_data(path, read_toml(path, "rig file", MAX_RIG_BYTES))
+
+
+def rig_from_data(path, data: dict) -> App:
+    """Check a rig given as data (a rig file's tables, as TOML reads them, from another
+    format: a Wokwi diagram, ``host/wokwi``); ``path`` is the file it came from, relative
+    paths are relative to its folder and messages name it. The App it describes."""
+    path = Path(path)
     where = _Where(path)
-    data = read_toml(path, "rig file", MAX_RIG_BYTES)
     _walk(where, data, "", 0)
     where.table(data, "top level:", TABLES, required=("plant", "wiring"))
     base = path.parent

@@ -12,6 +12,7 @@ LAYERS = {
     "host.link": 1,
     "host.artefacts": 2,
     "host.rig": 3,
+    "host.wokwi": 3,  # a Wokwi project as a rig (host.rig.apps reads one by its path)
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,

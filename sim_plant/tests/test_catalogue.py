@@ -64,7 +64,7 @@ def test_every_option_of_a_part_out_of_its_bounds_is_refused_by_name(kind):
 @pytest.mark.parametrize(
     ("table", "message"),
     [
-        ({"body": "hovercraft"}, r"\[plant\] body: expected one of ackermann, bench, differential"),
+        ({"body": "hovercraft"}, r"\[plant\] body: expected one of ackermann, bench, desk, differential"),
         ({"body": "differential", "track_m": -1}, r"\[plant\] track_m: expected a number of metres"),
         ({"body": "differential", "wheels": 3}, r"\[plant\] wheels: the differential has no such option"),
         ({"body": "differential", "parts": MOTORS[:1]}, r"needs a dc_motor that drives right"),
