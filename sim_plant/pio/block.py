@@ -27,6 +27,8 @@ class Running:
         self.t0_us = t0_us
         self.cycle = 0
         self.active = False
+        self.orbit = 0  # the period (cycles) of the loop it is in, drives nothing: 0 unknown
+        self.orbit_version = -1  # ... as long as the block's version is this one
 
     def cycle_at(self, t_us: int) -> int:
         """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
@@ -51,6 +53,8 @@ class PioBlock:
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
+        self.version = 0  # bumped by every change from outside: a pin, a FIFO access, an exec
+        self._run: Running | None = None  # (the state machine stepping: the instant of a drive)
         self._now_us = 0.0
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
         self._cycle = 0
@@ -77,6 +81,14 @@ class PioBlock:
         run.active = active
 
     # -- what the state machines do to the world -------------------------------------------
+    def now_us(self) -> float:
+        run = self._run
+        return run.time_us(self._cycle) if run is not None else self._now_us
+
+    def touch(self) -> None:
+        """Something outside the state machines changed what they may do next."""
+        self.version += 1
+
     def drive(self, gpio: int, level: int, dirs: bool = False) -> None:
         if self._log is not None:
             self._log.append((self._cycle, self.drive, (gpio, level, dirs)))
@@ -85,16 +97,17 @@ class PioBlock:
             return
         if self.levels.get(gpio) != level:
             self.levels[gpio] = level
-            self.events.append((self._now_us, gpio, level))
+            self.events.append((self.now_us(), gpio, level))
 
     def raise_irq(self, flag: int, sm_id: int) -> None:
         if self._log is not None:
             self._log.append((self._cycle, self.raise_irq, (flag, sm_id)))
         self.irq_flags |= 1 << flag
         if flag < 4:
-            self.irqs.append((self._now_us, flag, sm_id))
+            self.irqs.append((self.now_us(), flag, sm_id))
 
     def set_input(self, gpio: int, level: int) -> None:
+        self.version += 1
         if level:
             self.gpio_in |= 1 << gpio
         else:
@@ -133,17 +146,21 @@ class PioBlock:
 
 def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
     """Step ``run``'s state machine up to (not including) cycle ``c_end``, pins constant,
-    skipping whole periods of a loop it has come back to."""
+    skipping whole periods of a loop it has come back to (one known from before, while
+    nothing changed, is skipped at once)."""
     sm = run.sm
     c = run.cycle
+    if run.orbit and run.orbit_version == block.version and c < c_end:
+        c += (c_end - c) // run.orbit * run.orbit
     seen: dict = {}
     block._log = log = []
+    block._run = run
+    step = sm.step
     try:
         while c < c_end:
             pc = sm.pc
             block._cycle = c
-            block._now_us = run.time_us(c)
-            c += sm.step()
+            c += step()
             block.steps += 1
             if sm.pc > pc:
                 continue
@@ -155,11 +172,15 @@ def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
                     log.clear()
                 seen[key] = (c, len(log))
                 continue
+            period = c - first[0]
+            if len(log) == first[1]:  # (a loop that drives nothing: remembered until something changes)
+                run.orbit, run.orbit_version = period, block.version
             c = _skip_periods(block, run, first, c, c_end, log)
             seen.clear()
             log.clear()
     finally:
         block._log = None
+        block._run = None
     run.cycle = c
 
 
@@ -176,7 +197,7 @@ def _skip_periods(block, run, first, c, c_end, log) -> int:
     try:
         for k in range(1, periods + 1) if pattern else ():
             for cycle, call, args in pattern:
-                block._now_us = run.time_us(cycle + k * period)
+                block._cycle = cycle + k * period
                 call(*args)
     finally:
         block._log = log

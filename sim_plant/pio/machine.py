@@ -89,6 +89,7 @@ class StateMachine:
         self.set_base = c.pinctrl >> 5 & 0x1F
         self.out_base = c.pinctrl & 0x1F
         self.delay_bits = 5 - self.side_count
+        self.delay_mask = (1 << self.delay_bits) - 1
         self.side_bits = self.side_count - self.side_en  # (value bits)
 
     def restart(self) -> None:
@@ -129,8 +130,6 @@ class StateMachine:
             self.block.drive((base + i) & 31, value >> i & 1, dirs)
 
     def _side_set(self, word: int) -> None:
-        if not self.side_count:
-            return
         field = word >> 8 & 0x1F
         if self.side_en and not field & 0x10:
             return
@@ -147,7 +146,8 @@ class StateMachine:
         else:
             word = self.block.memory[self.pc]
             pc_next = self.wrap_bottom if self.pc == self.wrap_top else (self.pc + 1) & 31
-        self._side_set(word)
+        if self.side_count:
+            self._side_set(word)
         try:
             jump = _EXECUTE[word >> 13](self, word)
         except PioStall:
@@ -155,7 +155,7 @@ class StateMachine:
                 self.pending_exec = executed  # (a stalled exec'd instruction runs again)
             return 1
         self.pc = pc_next if jump is None else jump
-        return 1 + ((word >> 8 & 0x1F) & _bits(self.delay_bits))
+        return 1 + ((word >> 8) & self.delay_mask)
 
     # -- instructions (each returns the pc it jumps to, or None) --------------------
     def _jmp(self, w):
