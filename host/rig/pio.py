@@ -21,6 +21,7 @@ import struct
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig.peripherals import Peripheral, register
+from host.rig.pio_out import PioOutputs
 from sim_plant.pio import PioBlock, PioConfig
 
 PROBE_US = 100_000  # how far ahead a blocked FIFO is looked at (the shim asks again after)
@@ -44,11 +45,13 @@ class PioHost:
         self.levels: dict[int, int] = {}  # gpio -> its level up to the last change given to the blocks
         self.pending: list[tuple] = []  # (t_us, gpio, level) committed, not yet given to the blocks
         self.tracked = False
+        self.outputs = PioOutputs(plant, wiring)
         self.reset()
 
     def reset(self) -> None:
         """A new interpreter run: the PIO blocks are reset (the pins keep their levels)."""
         self.blocks = (PioBlock(0), PioBlock(1))
+        self.outputs.clear()
         for block in self.blocks:
             for gpio, level in self.levels.items():
                 block.set_input(gpio, level)
@@ -108,7 +111,11 @@ class PioHost:
         handler = _OPS.get(op)
         if handler is None:
             raise LinkError(f"BUS op {op} on state machine {sm_id}, which is no PIO op (link protocol error)")
-        return handler(self, block, local, t_us, address, n_read, data)
+        block.touch()
+        reply = handler(self, block, local, t_us, address, n_read, data)
+        if op != F.BUS_PIO_LEVELS:
+            self.outputs.after(block, t_us)
+        return reply
 
     def _init(self, block, local, t_us, data) -> tuple:
         execctrl, shiftctrl, pinctrl, div256, pc = _INIT.unpack_from(data, 0)

@@ -169,11 +169,12 @@ class StateMachine:
     ):
         pio = self._id >> 2
         div256 = 256
-        if freq != -1:
-            if freq <= 0 or not 1 <= _SYS_HZ / freq < 65536:
+        if freq == 0:
+            div256 = 65536 * 256  # (clkdiv 0: the slowest, as the port sets it)
+        elif freq > 0:
+            div256 = _SYS_HZ * 256 // freq
+            if not 256 <= div256 <= 65536 * 256:
                 raise ValueError("freq out of range")
-            div = _SYS_HZ / freq
-            div256 = int(div) * 256 + int((div - int(div)) * 256)
         offset = _MEMORY[pio].add(pio, program)
         execctrl = program[3] + (offset << 12 | offset << 7)
         side_en = execctrl >> 30 & 1
@@ -188,11 +189,15 @@ class StateMachine:
             if value is not None:
                 mask = ((1 << width) - 1) << bit
                 shiftctrl = (shiftctrl & ~mask) | ((value << bit) & mask)
+        # as the port: a group of pins (and its count) only when its base is given
         ins, outs, sets, sides = _pin(in_base) or 0, _pin(out_base), _pin(set_base), _pin(sideset_base)
-        side_pins = _count(program[7])
-        pinctrl = (side_pins + side_en) << 29 | _count(program[6]) << 26 | _count(program[5]) << 20
-        pinctrl |= ins << 15 | (sides or 0) << 10 | (sets or 0) << 5 | (outs or 0)
-        self._side = (side_pins + side_en, side_en)
+        side_count = _count(program[7]) + side_en if sides is not None else 0
+        pinctrl = side_count << 29 | ins << 15 | (sides or 0) << 10
+        if sets is not None:
+            pinctrl |= _count(program[6]) << 26 | sets << 5
+        if outs is not None:
+            pinctrl |= _count(program[5]) << 20 | outs
+        self._side = (side_count, side_en)
         pins = _levels(program[5], outs) + _levels(program[6], sets) + _levels(program[7], sides)
         if self._handle is None:
             self._handle = _hil.register(self)

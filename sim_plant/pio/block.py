@@ -29,6 +29,7 @@ class Running:
         self.active = False
         self.orbit = 0  # the period (cycles) of the loop it is in, drives nothing: 0 unknown
         self.orbit_version = -1  # ... as long as the block's version is this one
+        self.drive_period = 0  # the period (cycles) of the last loop found that drives pins
 
     def cycle_at(self, t_us: int) -> int:
         """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
@@ -175,6 +176,8 @@ def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
             period = c - first[0]
             if len(log) == first[1]:  # (a loop that drives nothing: remembered until something changes)
                 run.orbit, run.orbit_version = period, block.version
+            else:
+                run.drive_period = period
             c = _skip_periods(block, run, first, c, c_end, log)
             seen.clear()
             log.clear()
