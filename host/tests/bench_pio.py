@@ -59,7 +59,7 @@ import time
 from machine import Pin, PWM
 import rp2
 from main_decoder import quadrature
-sm = rp2.StateMachine(0, quadrature, in_base=Pin(2))
+sm = rp2.StateMachine(0, quadrature, in_base=IN_BASE)
 sm.active(1)
 def count():
     for _ in range(sm.rx_fifo()):
@@ -72,11 +72,14 @@ import time
 from machine import Pin, PWM
 a, b = Pin(2, Pin.IN), Pin(3, Pin.IN)
 n = 0
-def edge(p):
+def edge_a(p):
     global n
     n += 1 if a.value() != b.value() else -1
-a.irq(edge, Pin.IRQ_RISING | Pin.IRQ_FALLING)
-b.irq(edge, Pin.IRQ_RISING | Pin.IRQ_FALLING)
+def edge_b(p):
+    global n
+    n += 1 if a.value() == b.value() else -1
+a.irq(edge_a, Pin.IRQ_RISING | Pin.IRQ_FALLING)
+b.irq(edge_b, Pin.IRQ_RISING | Pin.IRQ_FALLING)
 def count():
     return n
 """
@@ -84,28 +87,38 @@ DRIVE = """
 Pin(22, Pin.OUT, value=1)
 Pin(17, Pin.OUT, value=1)
 Pin(18, Pin.OUT, value=0)
-PWM(Pin(16), freq=20000, duty_u16=65535)
-while True:
+motor = PWM(Pin(16), freq=20000, duty_u16=DUTY)
+t_stop = time.ticks_add(time.ticks_ms(), RUN_MS)
+while time.ticks_diff(t_stop, time.ticks_ms()) > 0:
     time.sleep_ms(20)
-    print("count", count())
+    count()
+motor.duty_u16(0)
+time.sleep_ms(50)
+print("count", count())
+while True:
+    time.sleep_ms(100)
 """
 
 
-def _rig_folder(folder: Path, firmware: str, lines_per_rev: int) -> Path:
+def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in_base: str) -> Path:
     rig = (REPO / "examples" / "pico_pio_bot" / "rig.toml").read_text()
     rig = rig.replace("lines_per_rev = 7", f"lines_per_rev = {lines_per_rev}", 1)
     rig = rig.replace("room_w_m = 3.0\nroom_h_m = 2.0", "room_w_m = 40.0\nroom_h_m = 40.0")
     (folder / "rig.toml").write_text(rig)
-    (folder / "main.py").write_text(firmware + DRIVE)
+    settings = f"DUTY = 65535\nRUN_MS = {run_ms}\nIN_BASE = {in_base}\n"
+    (folder / "main.py").write_text(firmware.replace("from machine import Pin, PWM\n", "from machine import Pin, PWM\n" + settings, 1) + DRIVE)
     main = (REPO / "examples" / "pico_pio_bot" / "main.py").read_text()
     decoder = main[main.index("@rp2.asm_pio") : main.index("class PioEncoder")]
     (folder / "main_decoder.py").write_text("# ruff: noqa\nimport rp2\n\n\n" + decoder)
     return folder / "rig.toml"
 
 
-def in_the_loop(seconds: float, firmware: str, lines_per_rev: int = 300) -> dict:
+def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64) -> dict:
+    """The robot driving ahead for ``seconds`` (after 0.2 s of start-up), then stopping: the
+    wall time of the drive, the edges a second, the count read at the end."""
     with tempfile.TemporaryDirectory() as tmp:
-        rig = rig_from_keywords(str(_rig_folder(Path(tmp), firmware, lines_per_rev)), seed=1)
+        folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base)
+        rig = rig_from_keywords(str(folder), seed=1, record=False)
         rig.start()
         try:
             rig.run_for(0.2)  # (start-up, and the wheel at speed)
@@ -114,15 +127,16 @@ def in_the_loop(seconds: float, firmware: str, lines_per_rev: int = 300) -> dict
             rig.run_for(seconds)
             wall = time.perf_counter() - wall
             edges = rig.truth()["enc_l_edges"]
-            rig.run_for(0.03)
+            rig.run_for(0.2)
             counts = re.findall(r"count (-?\d+)", rig.console)
+            final = rig.truth()["enc_l_edges"]
         finally:
             rig.stop()
     return {
         "edges_per_s": (edges - edges0) / seconds,
         "x_real_time": seconds / wall,
-        "last_count": int(counts[-1]),
-        "plant_edges": edges,
+        "last_count": int(counts[-1]) if counts else None,
+        "plant_edges": final,
     }
 
 
@@ -133,8 +147,13 @@ def main(argv: list[str]) -> None:
         f"emulator: {emu['edges']} edges at {EDGES_PER_S}/s, {emu['steps_per_edge']:.1f} steps and "
         f"{emu['wall_us_per_edge']:.1f} us a edge: {emu['x_real_time']:.1f}x real time"
     )
-    for name, firmware in (("PIO decoder", FIRMWARE_PIO), ("Pin.irq", FIRMWARE_IRQ)):
-        loop = in_the_loop(seconds, firmware)
+    cases = (
+        ("PIO decoder, in_base=Pin(2)", FIRMWARE_PIO, "Pin(2)"),
+        ("PIO decoder, in_base=2", FIRMWARE_PIO, "2"),
+        ("Pin.irq on A and B", FIRMWARE_IRQ, "None"),
+    )
+    for name, firmware, in_base in cases:
+        loop = in_the_loop(seconds, firmware, in_base)
         print(
             f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time "
             f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
