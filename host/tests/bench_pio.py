@@ -106,7 +106,8 @@ def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in
     rig = rig.replace("room_w_m = 3.0\nroom_h_m = 2.0", "room_w_m = 40.0\nroom_h_m = 40.0")
     (folder / "rig.toml").write_text(rig)
     settings = f"DUTY = 65535\nRUN_MS = {run_ms}\nIN_BASE = {in_base}\n"
-    (folder / "main.py").write_text(firmware.replace("from machine import Pin, PWM\n", "from machine import Pin, PWM\n" + settings, 1) + DRIVE)
+    imports = "from machine import Pin, PWM\n"
+    (folder / "main.py").write_text(firmware.replace(imports, imports + settings, 1) + DRIVE)
     main = (REPO / "examples" / "pico_pio_bot" / "main.py").read_text()
     decoder = main[main.index("@rp2.asm_pio") : main.index("class PioEncoder")]
     (folder / "main_decoder.py").write_text("# ruff: noqa\nimport rp2\n\n\n" + decoder)
