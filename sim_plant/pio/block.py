@@ -14,6 +14,7 @@ costs a few steps per input change, whatever the time between changes.
 
 import copy
 
+from sim_plant.pio import trace
 from sim_plant.pio.machine import PioConfig, StateMachine
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
@@ -30,6 +31,17 @@ class Running:
         self.orbit = 0  # the period (cycles) of the loop it is in, drives nothing: 0 unknown
         self.orbit_version = -1  # ... as long as the block's version is this one
         self.drive_period = 0  # the period (cycles) of the last loop found that drives pins
+        self.entries: dict = {}  # shape -> [trace.Entry]: stretches after a change, replayed
+        self.unaliased: set = set()  # shapes whose shift register only matched X or Y by chance
+        self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
+
+    def __deepcopy__(self, memo):
+        twin = Running.__new__(Running)
+        memo[id(self)] = twin
+        for name, value in self.__dict__.items():  # (the table's entries never change: shared)
+            shared = name in ("entries", "table", "unaliased")
+            twin.__dict__[name] = value if shared else copy.deepcopy(value, memo)
+        return twin
 
     def cycle_at(self, t_us: int) -> int:
         """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
@@ -54,6 +66,7 @@ class PioBlock:
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
+        self.replays = 0  # stretches taken from a table instead
         self.version = 0  # bumped by every change from outside: a pin, a FIFO access, an exec
         self._run: Running | None = None  # (the state machine stepping: the instant of a drive)
         self._now_us = 0.0
@@ -63,6 +76,8 @@ class PioBlock:
     # -- configuration ---------------------------------------------------------------
     def load(self, memory: list[int]) -> None:
         self.memory = list(memory) + [0] * (32 - len(memory))
+        for run in self.running.values():
+            run.entries, run.table, run.unaliased = {}, None, set()
 
     def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
         old = self.running.get(sm_id)
@@ -148,11 +163,29 @@ class PioBlock:
 def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
     """Step ``run``'s state machine up to (not including) cycle ``c_end``, pins constant,
     skipping whole periods of a loop it has come back to (one known from before, while
-    nothing changed, is skipped at once)."""
+    nothing changed, is skipped at once; a stretch after a change seen before with the same
+    state but X and Y is taken from the table: :mod:`.trace`)."""
     sm = run.sm
     c = run.cycle
-    if run.orbit and run.orbit_version == block.version and c < c_end:
+    if c >= c_end:
+        return
+    if run.orbit and run.orbit_version == block.version:
+        if run.table is not None:
+            run.cycle = run.table[0].at(run, c_end)
+            return
         c += (c_end - c) // run.orbit * run.orbit
+    elif not (sm.set_count or sm.out_count or sm.side_count) and trace.plain(sm):
+        c = _stretch(block, run, c, c_end)
+        if c < c_end and run.table is not None and run.orbit_version == block.version:
+            run.cycle = run.table[0].at(run, c_end)
+            return
+    run.cycle = _steps(block, run, c, c_end, False)[0]
+
+
+def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bool) -> tuple:
+    """The stepping loop: (the cycle it got to, the period of the loop it found when
+    ``stop_at_repeat``, else 0; whether it drove a pin or raised an IRQ on the way)."""
+    sm = run.sm
     seen: dict = {}
     block._log = log = []
     block._run = run
@@ -174,8 +207,10 @@ def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
                 seen[key] = (c, len(log))
                 continue
             period = c - first[0]
+            if stop_at_repeat:
+                return c, period, bool(log)
             if len(log) == first[1]:  # (a loop that drives nothing: remembered until something changes)
-                run.orbit, run.orbit_version = period, block.version
+                run.orbit, run.orbit_version, run.table = period, block.version, None
             else:
                 run.drive_period = period
             c = _skip_periods(block, run, first, c, c_end, log)
@@ -184,7 +219,78 @@ def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
     finally:
         block._log = None
         block._run = None
-    run.cycle = c
+    return c, 0, False
+
+
+def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
+    """From a change to the loop it leads to: from the table when the same shape with this
+    X and Y was seen, else run with X and Y as symbols (and kept when it is fit)."""
+    sm = run.sm
+    key = trace.shape(sm)
+    if key in run.unaliased:  # (a shift register equal to X or Y by chance, and used as a number)
+        key = trace.shape(sm, aliases=False)
+    x, y, rx_old = sm.x, sm.y, list(sm.rx)
+    for entry in run.entries.get(key, ()):
+        if c0 + entry.cycles <= c_end and entry.holds(x, y):
+            anchor = c0 + entry.cycles
+            run.table = (entry, x, y, rx_old, anchor)
+            trace.restore(sm, entry.states[0], x, y, rx_old)
+            run.orbit, run.orbit_version = entry.period, block.version
+            block.replays += 1
+            return anchor
+    rec = trace.Recorder()
+    sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
+    if key[1] in ("x", "y"):
+        sm.isr = sm.x if key[1] == "x" else sm.y
+    if key[3] in ("x", "y"):
+        sm.osr = sm.x if key[3] == "x" else sm.y
+    try:
+        c, period, drove = _steps(block, run, c0, c_end, True)
+        if rec.tainted and (key[1] in ("x", "y") or key[3] in ("x", "y")):
+            run.unaliased.add(key)
+        if period and not drove and not rec.tainted and c + period <= c_end:
+            table = _one_period(block, run, c, period, len(rx_old))
+            if table is not None and not rec.tainted:
+                entry = trace.Entry(list(rec.guards), c - c0, period, table)
+                entries = run.entries
+                if len(entries) >= trace.ENTRIES_MAX:
+                    entries.clear()
+                entries.setdefault(key, []).append(entry)
+                run.table = (entry, x, y, rx_old, c + period)
+                run.orbit, run.orbit_version = period, block.version
+            c += period
+    finally:
+        _concrete(sm)
+    return c
+
+
+def _one_period(block: PioBlock, run: Running, c: int, period: int, rx_from: int) -> list | None:
+    """Step one period from ``c`` (the loop's state), keeping the state at each step."""
+    sm = run.sm
+    table = [(0, trace.capture(sm, rx_from))]
+    block._run = run
+    try:
+        c_start = c
+        while True:
+            block._cycle = c
+            c += sm.step()
+            block.steps += 1
+            if c - c_start >= period:
+                break
+            table.append((c - c_start, trace.capture(sm, rx_from)))
+    finally:
+        block._run = None
+    return table if c - c_start == period and trace.capture(sm, rx_from) == table[0][1] else None
+
+
+def _concrete(sm) -> None:
+    """X, Y, ISR, OSR and the RX words as numbers again (their symbols' values)."""
+    for name in ("x", "y", "isr", "osr"):
+        v = getattr(sm, name)
+        if isinstance(v, trace.Sym):
+            setattr(sm, name, v.c)
+    if any(isinstance(v, trace.Sym) for v in sm.rx):
+        sm.rx = type(sm.rx)(v.c if isinstance(v, trace.Sym) else v for v in sm.rx)
 
 
 def _skip_periods(block, run, first, c, c_end, log) -> int:
