@@ -102,8 +102,14 @@ class PioHost:
     def transfer(self, t_us: int, sm_id: int, op: int, address: int, n_read: int, data: bytes) -> tuple:
         """A BUS_PIO_* frame at ``t_us`` on state machine ``sm_id``: (status, count, bytes)."""
         self.track()
-        self.advance(t_us)
         block, local = self.blocks[sm_id >> 2], sm_id & 3
+        popped, address = address >> 8, address & 0xFF
+        if popped and local in block.running:  # (words the firmware took at the last frame's instant)
+            rx = block.sm(local).rx
+            for _ in range(min(popped, len(rx))):
+                rx.popleft()
+            block.touch()
+        self.advance(t_us)
         if op == F.BUS_PIO_INIT:
             return self._init(block, local, t_us, data)
         if local not in block.running:
@@ -160,8 +166,9 @@ class PioHost:
         return 0 if t_ready is None else max(1, int(t_ready - t_us))
 
     def _levels(self, block, local, t_us, address, n_read, data) -> tuple:
+        """(rx, tx) levels, then the RX words (the shim serves gets at this instant from them)."""
         sm = block.sm(local)
-        return F.BUS_OK, 2, bytes((len(sm.rx), len(sm.tx)))
+        return F.BUS_OK, 2, bytes((len(sm.rx), len(sm.tx))) + struct.pack(f"<{len(sm.rx)}I", *sm.rx)
 
     def _exec(self, block, local, t_us, address, n_read, data) -> tuple:
         (word,) = struct.unpack_from("<H", data, 0)

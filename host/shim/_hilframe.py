@@ -493,7 +493,9 @@ BUS_BITSTREAM = 9  # machine.bitstream on a pin's handle: data = the timing (4 x
 # INIT: data = <IIIII execctrl shiftctrl pinctrl freq_hz pc>, the PIO's 32 words <32H>, then
 # <BBB gpio, is_output, level> per pin the program's *_init sets. PUT: data = <I words; GET: read
 # count words. PUT and GET reply <I wait_us> (how long until it may go on with the pins as they
-# are, 0: never) before the words taken (count) or read. LEVELS replies <BB rx, tx>. EXEC: <H word>.
+# are, 0: never) before the words taken (count) or read. LEVELS replies <BB rx, tx>, then the RX
+# words (the shim takes gets at that instant from them). EXEC: <H word>. Every op's address
+# carries, above its low byte, the RX words the firmware took since (at the last frame's instant).
 BUS_PIO_INIT = 16
 BUS_PIO_ACTIVE = 17  # address: 1 run, 0 stop
 BUS_PIO_PUT = 18

@@ -127,6 +127,7 @@ def _levels(init, base):
 
 
 _SMS = {}
+_POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 
 
 class StateMachine:
@@ -143,6 +144,10 @@ class StateMachine:
             sm._active = 0
             sm._handle = None
             sm._side = (0, 0)
+            sm._rx = []  # the RX words the host last gave, at instant _at (a get at that instant takes them)
+            sm._tx_level = 0
+            sm._at = -1
+            sm._popped = 0  # words taken from _rx the host is told with the next frame
         return sm
 
     def __init__(self, id, program=None, *args, **kw):
@@ -212,7 +217,19 @@ class StateMachine:
     def _call(self, op, address=0, n_read=0, data=b""):
         if self._handle is None:
             raise OSError("StateMachine(%d) has no program: init() it first" % self._id)
-        status, count, got, _t = _hil.transfer(self._handle, op, address, n_read, data)
+        now = _hil.now()
+        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
+            if other is not self and other._at != now:
+                other._call(F.BUS_PIO_LEVELS, 0, 2)
+        popped, self._popped = self._popped, 0
+        if self in _POPPED:
+            _POPPED.remove(self)
+        status, count, got, t = _hil.transfer(self._handle, op, address | popped << 8, n_read, data)
+        self._at = -1
+        if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
+            self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
+            self._tx_level = got[1]
+            self._at = t
         return count, got
 
     def active(self, value=None):
@@ -246,6 +263,12 @@ class StateMachine:
         n = 1 if buf is None else len(buf)
         out = []
         while len(out) < n:
+            if self._rx and self._at == _hil.now():
+                out.append(self._rx.pop(0))
+                self._popped += 1
+                if self not in _POPPED:
+                    _POPPED.append(self)
+                continue
             count, got = self._call(F.BUS_PIO_GET, 0, n - len(out))
             out += struct.unpack_from("<%dI" % count, got, 4)
             if len(out) < n:
@@ -263,9 +286,13 @@ class StateMachine:
         _hil.run_until(_hil.now() + wait_us)
 
     def rx_fifo(self):
+        if self._at == _hil.now():
+            return len(self._rx)
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][0]
 
     def tx_fifo(self):
+        if self._at == _hil.now():
+            return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
     def irq(self, handler=None, trigger=0, hard=False):

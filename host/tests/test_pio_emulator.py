@@ -135,3 +135,12 @@ def test_a_uart_tx_sends_start_eight_bits_lsb_first_and_stop_at_its_baud():
         got.append(sum(level_at(t0 + (1.5 + i) * bit_us) << i for i in range(8)))
         assert level_at(t0 + 9.5 * bit_us) == 1, "stop bit"
     assert got == [0x55, 0xA3]
+
+
+def test_a_decoder_following_10000_edges_a_second_steps_under_one_instruction_an_edge():
+    """Each edge's stretch is taken from the table after its first few (sim_plant/pio/trace.py):
+    the count is every edge's, the instructions stepped a handful for the whole run."""
+    from host.tests.bench_pio import emulator_only
+
+    figures = emulator_only(0.5)  # 5,000 edges at 125 MHz; it checks the count itself
+    assert figures["steps_per_edge"] < 1.0, figures
