@@ -130,12 +130,12 @@ good_stop:
 
 
 def servo():
-    pull(noblock)
+    pull(noblock)  # a new pulse width, or X (the last one: a non-blocking pull of nothing)
     mov(x, osr)
-    mov(y, isr).side(1)
+    mov(y, x).side(1)  # the high time counted in Y: X keeps the width
     label("high")
-    jmp(x_dec, "high")
-    nop().side(0)
+    jmp(y_dec, "high")
+    mov(y, isr).side(0)  # the low time, from ISR
     label("low")
     jmp(y_dec, "low")
 
@@ -144,10 +144,10 @@ SERVO = """
 .side_set 1 opt
     pull noblock
     mov x, osr
-    mov y, isr side 1
+    mov y, x side 1
 high:
-    jmp x-- high
-    nop side 0
+    jmp y-- high
+    mov y, isr side 0
 low:
     jmp y-- low
 """

@@ -144,3 +144,22 @@ def test_a_decoder_following_10000_edges_a_second_steps_under_one_instruction_an
 
     figures = emulator_only(0.5)  # 5,000 edges at 125 MHz; it checks the count itself
     assert figures["steps_per_edge"] < 1.0, figures
+
+
+def test_servo_pulses_are_x_plus_2_cycles_high_every_x_plus_y_plus_6():
+    """A servo program as RP2040 servo libraries write it (corpus 'servo'): the high count
+    in the TX FIFO, the low count in ISR; at 1 MHz, 1.5 ms pulses every 20 ms."""
+    block, sm = machine("servo", 1_000_000, pinctrl(side_base=15, side_count=2))
+    high, low = 1500 - 2, 20_000 - 6 - 1498
+    sm.tx.append(low)
+    sm.pending_exec = _pioasm.asm_pio_encode("pull()", 2, True)
+    block.advance(1)
+    sm.pending_exec = _pioasm.asm_pio_encode("mov(isr, osr)", 2, True)
+    sm.tx.append(high)
+    block.advance(100_000)
+    levels = edges(block, 15)
+    rises = [t for t, level in levels if level == 1]
+    falls = [t for t, level in levels if level == 0 and t > rises[0]]
+    assert len(rises) >= 4
+    assert all(abs((b - a) - 20_000) < 1e-6 for a, b in zip(rises, rises[1:])), rises
+    assert all(abs((f - r) - 1500) < 1e-6 for r, f in zip(rises, falls)), list(zip(rises, falls))
