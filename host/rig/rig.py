@@ -35,6 +35,7 @@ from host.rig.firmware import Firmware
 from host.rig.inputs import Inputs
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
+from host.rig.pio import PioHost
 from host.rig.session import Session
 from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target, plant_options
 from host.rig.speculation import Speculation
@@ -119,6 +120,7 @@ class Rig:
         self.speculation = Speculation(self.plant)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
         self.outputs = Outputs(self.plant, self.wiring, hooks, self.recorder)
+        self.wiring.pio = PioHost(self.plant, self.wiring, hooks.change)  # rp2.StateMachine's PIO
         self.target = target if target is not None else default_target(spec, self.app, self.pacing)
         self.artefacts = Path(recording.artefacts) if recording.artefacts else None
         self.trace_enabled = recording.trace
@@ -345,6 +347,7 @@ class Rig:
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
+        self.wiring.pio.reset()
         self._open(self.target.restart)
 
     # -- link ------------------------------------------------------------------------

@@ -472,6 +472,7 @@ CFG_UART = 4
 CFG_IRQ = 5
 CFG_I2C = 6  # machine.I2C / SoftI2C: name "i2c<id>" or "i2c:<scl>,<sda>"; param the clock (Hz)
 CFG_SPI = 7  # machine.SPI / SoftSPI: name "spi<id>" or "spi:<sck>,<mosi>,<miso>"; param the baud rate
+CFG_PIO = 16  # rp2.StateMachine: name "sm<id>" (0..7; 4..7 are PIO1's); its ops are BUS_PIO_* frames
 
 # BUS ops. I2C: XFER is [start, address+W, the bytes written][(re)start, address+R, read
 # count bytes][stop]: no bytes written and none read is a probe (scan's). XFER_NOSTOP
@@ -488,6 +489,20 @@ BUS_STOP = 6
 BUS_SPI_XFER = 7
 BUS_SCAN = 8  # every address 0x08..0x77 probed: the bytes read are those that acknowledged
 BUS_BITSTREAM = 9  # machine.bitstream on a pin's handle: data = the timing (4 x <I, ns), then the bytes
+# BUS ops on a state machine's handle (rp2, docs/shim.md "PIO"; the host runs the PIO: sim_plant/pio).
+# INIT: data = <IIIII execctrl shiftctrl pinctrl freq_hz pc>, the PIO's 32 words <32H>, then
+# <BBB gpio, is_output, level> per pin the program's *_init sets. PUT: data = <I words; GET: read
+# count words. PUT and GET reply <I wait_us> (how long until it may go on with the pins as they
+# are, 0: never) before the words taken (count) or read. LEVELS replies <BB rx, tx>, then the RX
+# words (the shim takes gets at that instant from them). EXEC: <H word>. Every op's address
+# carries, above its low byte, the RX words the firmware took since (at the last frame's instant).
+BUS_PIO_INIT = 16
+BUS_PIO_ACTIVE = 17  # address: 1 run, 0 stop
+BUS_PIO_PUT = 18
+BUS_PIO_GET = 19
+BUS_PIO_LEVELS = 20
+BUS_PIO_EXEC = 21
+BUS_PIO_RESTART = 22
 # BUS_REPLY statuses: the shim turns each into its board's OSError (ENODEV, EIO, ETIMEDOUT)
 BUS_OK = 0
 BUS_NACK_ADDRESS = 1  # nobody acknowledged the address byte

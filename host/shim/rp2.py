@@ -1,5 +1,7 @@
-# rp2 module for RP2040 firmware in the loop: the PIO's names, so code that sets up
-# state machines imports and runs; a PIO program does not run here (docs/shim.md).
+# rp2 module for RP2040 firmware in the loop (docs/shim.md, "PIO"): asm_pio assembles as the
+# port does (_pioasm.py); a StateMachine's program runs on the host, beside the plant, in
+# virtual time (sim_plant/pio): its pins are the plant's, and the firmware sees what a board's
+# CPU sees of it, its FIFOs (put, get, rx_fifo, tx_fifo), each access one BUS exchange.
 # Only an rp2 board has it: elsewhere `import rp2` fails, as on an ESP32.
 import sys
 
@@ -9,7 +11,54 @@ if sys.platform != "rp2":
         'or set [board] family = "rpi_pico" in the rig file (docs/rig-file.md, docs/shim.md)'
     )
 
+import struct
+
 import _hil
+import _hilframe as F
+from _pioasm import PIOASMError, asm_pio, asm_pio_encode  # noqa: F401  (the port's names)
+
+_SYS_HZ = 125_000_000
+_ENOMEM = 12
+_RETRY_US = 1000  # a FIFO the pins as they are never serve: look again this much later
+
+
+class _Memory:
+    """A PIO's 32 instruction slots; a program goes at the highest offset it fits (the
+    SDK's pio_add_program, as the port calls it), its jumps moved by its offset."""
+
+    def __init__(self):
+        self.words = [0] * 32
+        self.used = 0
+        self.programs = []
+
+    def add(self, pio_id, prog):
+        if prog[1 + pio_id] >= 0:
+            return prog[1 + pio_id]
+        code = prog[0]
+        n = len(code)
+        mask = (1 << n) - 1
+        for offset in range(32 - n, -1, -1):
+            if not self.used & (mask << offset):
+                break
+        else:
+            raise OSError(_ENOMEM)
+        for i in range(n):
+            word = code[i]
+            self.words[offset + i] = word + offset if word >> 13 == 0 else word
+        self.used |= mask << offset
+        prog[1 + pio_id] = offset
+        self.programs.append(prog)
+        return offset
+
+    def remove(self, pio_id, prog=None):
+        for p in list(self.programs):
+            if prog is None or p is prog:
+                self.used &= ~(((1 << len(p[0])) - 1) << p[1 + pio_id])
+                p[1 + pio_id] = -1
+                self.programs.remove(p)
+
+
+_MEMORY = (_Memory(), _Memory())
 
 
 class PIO:
@@ -28,72 +77,247 @@ class PIO:
     IRQ_SM3 = 0x800
 
     def __init__(self, id):
+        if id not in (0, 1):
+            raise ValueError("invalid PIO")
         self._id = id
 
-    def state_machine(self, id, *args, **kw):
-        return StateMachine(self._id * 4 + id, *args, **kw)
-
-    def irq(self, handler=None, trigger=0, hard=False):
-        return None
+    def add_program(self, program):
+        _MEMORY[self._id].add(self._id, program)
 
     def remove_program(self, program=None):
-        pass
+        _MEMORY[self._id].remove(self._id, program)
+
+    def state_machine(self, id, program=None, *args, **kw):
+        if not 0 <= id < 4:
+            raise ValueError("invalid StateMachine")
+        sm = StateMachine(self._id * 4 + id)
+        if program is not None:
+            sm.init(program, *args, **kw)
+        return sm
+
+    def irq(self, handler=None, trigger=0xF00, hard=False):
+        raise NotImplementedError(
+            "PIO(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the firmware "
+            "(docs/shim.md, 'PIO')" % self._id
+        )
 
 
-def asm_pio(**settings):
-    """The program's settings, kept; its body (PIO assembly) is not assembled or run."""
+def _pin(pin):
+    """A pin argument (a Pin, a number, "GP5") as its GPIO number."""
+    if pin is None:
+        return None
+    pid = getattr(pin, "_id", pin)
+    if isinstance(pid, str):
+        pid = int(pid[2:] if pid.upper().startswith("GP") else pid)
+    return pid
 
-    def program(fn):
-        return ("pio", fn.__name__, settings)
 
-    return program
+def _count(init):
+    if init is None:
+        return 0
+    return 1 if isinstance(init, int) else len(init)
 
 
-def asm_pio_encode(instr, sideset_count, sideset_opt=False):
-    return 0
+def _levels(init, base):
+    """What a program's out_init/set_init/sideset_init sets: (gpio, is_output, level)."""
+    if init is None or base is None:
+        return []
+    init = (init,) if isinstance(init, int) else init
+    return [(base + i, v >> 1, v & 1) for i, v in enumerate(init)]
+
+
+_SMS = {}
+_POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 
 
 class StateMachine:
-    """A state machine that takes its program and settings and runs nothing: what is put
-    in its TX FIFO is dropped; get() has nothing to give (docs/shim.md)."""
+    """One of the eight state machines (0..3 in PIO0, 4..7 in PIO1); its program runs on the
+    host, against the plant's pins, from active(1) on."""
 
-    def __init__(self, id, program=None, freq=-1, **kw):
-        self._id = id
-        self._active = 0
-        self.puts = 0
+    def __new__(cls, id, *args, **kw):
+        if not 0 <= id < 8:
+            raise ValueError("invalid StateMachine")
+        sm = _SMS.get(id)
+        if sm is None:
+            sm = _SMS[id] = object.__new__(cls)
+            sm._id = id
+            sm._active = 0
+            sm._handle = None
+            sm._side = (0, 0)
+            sm._rx = []  # the RX words the host last gave, at instant _at (a get at that instant takes them)
+            sm._tx_level = 0
+            sm._at = -1
+            sm._popped = 0  # words taken from _rx the host is told with the next frame
+        return sm
+
+    def __init__(self, id, program=None, *args, **kw):
         if program is not None:
-            self.init(program, freq, **kw)
+            self.init(program, *args, **kw)
 
-    def init(self, program, freq=-1, **kw):
-        self._program = program
+    def _hil_apply(self, kind, value, extra):
+        pass  # (the host answers its FIFOs; nothing comes unasked)
+
+    def init(
+        self,
+        program,
+        freq=-1,
+        *,
+        in_base=None,
+        out_base=None,
+        set_base=None,
+        jmp_pin=None,
+        sideset_base=None,
+        in_shiftdir=None,
+        out_shiftdir=None,
+        push_thresh=None,
+        pull_thresh=None,
+    ):
+        pio = self._id >> 2
+        div256 = 256
+        if freq == 0:
+            div256 = 65536 * 256  # (clkdiv 0: the slowest, as the port sets it)
+        elif freq > 0:
+            div256 = _SYS_HZ * 256 // freq
+            if not 256 <= div256 <= 65536 * 256:
+                raise ValueError("freq out of range")
+        offset = _MEMORY[pio].add(pio, program)
+        execctrl = program[3] + (offset << 12 | offset << 7)
+        side_en = execctrl >> 30 & 1
+        execctrl |= (_pin(jmp_pin) or 0) << 24
+        shiftctrl = program[4]
+        for value, bit, width in (
+            (in_shiftdir, 18, 1),
+            (out_shiftdir, 19, 1),
+            (push_thresh, 20, 5),
+            (pull_thresh, 25, 5),
+        ):
+            if value is not None:
+                mask = ((1 << width) - 1) << bit
+                shiftctrl = (shiftctrl & ~mask) | ((value << bit) & mask)
+        # as the port: a group of pins (and its count) only when its base is given
+        ins, outs, sets, sides = _pin(in_base) or 0, _pin(out_base), _pin(set_base), _pin(sideset_base)
+        side_count = _count(program[7]) + side_en if sides is not None else 0
+        pinctrl = side_count << 29 | ins << 15 | (sides or 0) << 10
+        if sets is not None:
+            pinctrl |= _count(program[6]) << 26 | sets << 5
+        if outs is not None:
+            pinctrl |= _count(program[5]) << 20 | outs
+        self._side = (side_count, side_en)
+        pins = _levels(program[5], outs) + _levels(program[6], sets) + _levels(program[7], sides)
+        if self._handle is None:
+            self._handle = _hil.register(self)
+            _hil.configure(self._handle, F.CFG_PIO, "sm%d" % self._id, param=div256)
+        data = struct.pack("<IIIII", execctrl, shiftctrl & 0xFFFFFFFF, pinctrl, div256, offset)
+        data += struct.pack("<32H", *_MEMORY[pio].words)
+        for gpio, out, level in pins:
+            data += struct.pack("<BBB", gpio, out, level)
+        self._call(F.BUS_PIO_INIT, 0, 0, data)
+        self._active = 0
+
+    def _call(self, op, address=0, n_read=0, data=b""):
+        if self._handle is None:
+            raise OSError("StateMachine(%d) has no program: init() it first" % self._id)
+        now = _hil.now()
+        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
+            if other is not self and other._at != now:
+                other._call(F.BUS_PIO_LEVELS, 0, 2)
+        popped, self._popped = self._popped, 0
+        if self in _POPPED:
+            _POPPED.remove(self)
+        status, count, got, t = _hil.transfer(self._handle, op, address | popped << 8, n_read, data)
+        self._at = -1
+        if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
+            self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
+            self._tx_level = got[1]
+            self._at = t
+        return count, got
 
     def active(self, value=None):
         if value is None:
             return self._active
         self._active = 1 if value else 0
+        self._call(F.BUS_PIO_ACTIVE, self._active)
+        return self._active
 
     def restart(self):
-        pass
+        self._call(F.BUS_PIO_RESTART)
 
     def exec(self, instr):
-        pass
+        if isinstance(instr, str):
+            instr = asm_pio_encode(instr, self._side[0], self._side[1])
+        self._call(F.BUS_PIO_EXEC, 0, 0, struct.pack("<H", instr))
 
     def put(self, value, shift=0):
-        self.puts += 1 if isinstance(value, int) else len(value)
+        if isinstance(value, int):
+            words = [value]
+        else:
+            words = list(value)
+        words = [(w << shift) & 0xFFFFFFFF for w in words]
+        while words:
+            count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack("<%dI" % len(words), *words))
+            words = words[count:]
+            if words:
+                self._wait(got)
 
     def get(self, buf=None, shift=0):
-        raise OSError("PIO programs do not run in the loop: StateMachine(%d).get() has nothing to read" % self._id)
+        n = 1 if buf is None else len(buf)
+        out = []
+        while len(out) < n:
+            if self._rx and self._at == _hil.now():
+                out.append(self._rx.pop(0))
+                self._popped += 1
+                if self not in _POPPED:
+                    _POPPED.append(self)
+                continue
+            count, got = self._call(F.BUS_PIO_GET, 0, n - len(out))
+            out += struct.unpack_from("<%dI" % count, got, 4)
+            if len(out) < n:
+                self._wait(got)
+        if buf is None:
+            return out[0] >> shift
+        for i in range(n):
+            buf[i] = out[i] >> shift
+        return None
+
+    def _wait(self, reply):
+        """The FIFO is not ready: the board's CPU blocks; so does virtual time, until the
+        state machine may have moved it (the host says when, with the pins as they are)."""
+        wait_us = struct.unpack_from("<I", reply, 0)[0] or _RETRY_US
+        _hil.run_until(_hil.now() + wait_us)
 
     def rx_fifo(self):
-        return 0
+        if self._at == _hil.now():
+            return len(self._rx)
+        return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][0]
 
     def tx_fifo(self):
-        return 0
+        if self._at == _hil.now():
+            return self._tx_level
+        return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
     def irq(self, handler=None, trigger=0, hard=False):
-        return None
+        raise NotImplementedError(
+            "StateMachine(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the "
+            "firmware (docs/shim.md, 'PIO')" % self._id
+        )
+
+
+class DMA:
+    def __init__(self, *args, **kw):
+        raise NotImplementedError(
+            "rp2.DMA is not in the loop: feed a StateMachine with put() and read it with get() (docs/shim.md, 'PIO')"
+        )
+
+
+class Flash:
+    def __init__(self, *args, **kw):
+        raise NotImplementedError("rp2.Flash is not in the loop: the board's filesystem is (docs/shim.md)")
 
 
 def bootsel_button():
     _hil.observe()
     return 0
+
+
+def country(code=None):
+    return "XX"

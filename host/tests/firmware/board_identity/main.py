@@ -8,7 +8,8 @@ print("R argv", repr(sys.argv[0].split("/")[-1]))
 try:
     import rp2
 
-    print("R rp2", [rp2.PIO.OUT_LOW, rp2.asm_pio(set_init=rp2.PIO.OUT_LOW)(lambda: None)[0]])
+    blink = rp2.asm_pio(set_init=rp2.PIO.OUT_LOW)(lambda: set(pins, 1))  # noqa: F821
+    print("R rp2", [rp2.PIO.OUT_LOW, list(blink[0])])
 except ImportError:
     print("R rp2", None)
 import __main__  # noqa: E402

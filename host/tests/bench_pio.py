@@ -1,0 +1,165 @@
+"""What a PIO quadrature decoder costs (docs/shim.md, "PIO"): run with
+``.venv/bin/python -m host.tests.bench_pio [seconds]``; it prints two figures.
+
+- **emulator**: the host's PIO alone (sim_plant/pio) following an encoder at 10,000
+  edges a second: instructions stepped per edge and wall time per virtual second;
+- **in the loop**: examples/pico_pio_bot's decoder on a robot whose left encoder gives
+  10,000 edges a second, the firmware reading the count every 20 ms: virtual seconds per
+  wall second, and the same robot counted with ``Pin.irq`` (an edge is a round trip to the
+  firmware) for comparison.
+"""
+
+import re
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from host.core.paths import REPO
+from host.pytest_plugin import rig_from_keywords
+from host.tests import pio_corpus
+from sim_plant.pio import PioBlock, PioConfig
+
+sys.path.insert(0, str(REPO / "host" / "shim"))
+import _pioasm  # noqa: E402
+
+EDGES_PER_S = 10_000
+QUAD = [(0, 0), (1, 0), (1, 1), (0, 1)]
+
+
+def emulator_only(seconds: float, edges_per_s: int = EDGES_PER_S) -> dict:
+    body, settings, _text = pio_corpus.CORPUS["quadrature"]
+    prog = _pioasm.asm_pio(**settings)(body)
+    block = PioBlock()
+    block.load(list(prog[0]))
+    sm = block.init(0, PioConfig(prog[3], prog[4], 2 << 15, 256, 0), 0)  # 125 MHz, in_base GP2
+    block.set_active(0, True, 0)
+    n_edges = int(seconds * edges_per_s)
+    gap_us = 1_000_000 // edges_per_s
+    wall = time.perf_counter()
+    for i in range(1, n_edges + 1):
+        block.advance(i * gap_us)
+        a, b = QUAD[i % 4]
+        block.set_input(2, a)
+        block.set_input(3, b)
+    block.advance((n_edges + 1) * gap_us)
+    wall = time.perf_counter() - wall
+    count = sm.x - (1 << 32) if sm.x & 0x80000000 else sm.x
+    assert count == n_edges, (count, n_edges)
+    return {
+        "edges": n_edges,
+        "steps_per_edge": block.steps / n_edges,
+        "wall_us_per_edge": wall / n_edges * 1e6,
+        "x_real_time": seconds / wall,
+    }
+
+
+FIRMWARE_PIO = """
+import time
+from machine import Pin, PWM
+import rp2
+from main_decoder import quadrature
+sm = rp2.StateMachine(0, quadrature, in_base=IN_BASE)
+sm.active(1)
+def count():
+    for _ in range(sm.rx_fifo()):
+        sm.get()
+    n = sm.get()
+    return n - (1 << 32) if n & 0x80000000 else n
+"""
+FIRMWARE_IRQ = """
+import time
+from machine import Pin, PWM
+a, b = Pin(2, Pin.IN), Pin(3, Pin.IN)
+n = 0
+def edge_a(p):
+    global n
+    n += 1 if a.value() != b.value() else -1
+def edge_b(p):
+    global n
+    n += 1 if a.value() == b.value() else -1
+a.irq(edge_a, Pin.IRQ_RISING | Pin.IRQ_FALLING)
+b.irq(edge_b, Pin.IRQ_RISING | Pin.IRQ_FALLING)
+def count():
+    return n
+"""
+DRIVE = """
+Pin(22, Pin.OUT, value=1)
+Pin(17, Pin.OUT, value=1)
+Pin(18, Pin.OUT, value=0)
+motor = PWM(Pin(16), freq=20000, duty_u16=DUTY)
+t_stop = time.ticks_add(time.ticks_ms(), RUN_MS)
+while time.ticks_diff(t_stop, time.ticks_ms()) > 0:
+    time.sleep_ms(20)
+    count()
+motor.duty_u16(0)
+time.sleep_ms(50)
+print("count", count())
+while True:
+    time.sleep_ms(100)
+"""
+
+
+def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in_base: str) -> Path:
+    rig = (REPO / "examples" / "pico_pio_bot" / "rig.toml").read_text()
+    rig = rig.replace("lines_per_rev = 7", f"lines_per_rev = {lines_per_rev}", 1)
+    rig = rig.replace("room_w_m = 3.0\nroom_h_m = 2.0", "room_w_m = 40.0\nroom_h_m = 40.0")
+    (folder / "rig.toml").write_text(rig)
+    settings = f"DUTY = 65535\nRUN_MS = {run_ms}\nIN_BASE = {in_base}\n"
+    imports = "from machine import Pin, PWM\n"
+    (folder / "main.py").write_text(firmware.replace(imports, imports + settings, 1) + DRIVE)
+    main = (REPO / "examples" / "pico_pio_bot" / "main.py").read_text()
+    decoder = main[main.index("@rp2.asm_pio") : main.index("class PioEncoder")]
+    (folder / "main_decoder.py").write_text("# ruff: noqa\nimport rp2\n\n\n" + decoder)
+    return folder / "rig.toml"
+
+
+def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64) -> dict:
+    """The robot driving ahead for ``seconds`` (after 0.2 s of start-up), then stopping: the
+    wall time of the drive, the edges a second, the count read at the end."""
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base)
+        rig = rig_from_keywords(str(folder), seed=1, record=False)
+        rig.start()
+        try:
+            rig.run_for(0.2)  # (start-up, and the wheel at speed)
+            edges0 = rig.truth()["enc_l_edges"]
+            wall = time.perf_counter()
+            rig.run_for(seconds)
+            wall = time.perf_counter() - wall
+            edges = rig.truth()["enc_l_edges"]
+            rig.run_for(0.2)
+            counts = re.findall(r"count (-?\d+)", rig.console)
+            final = rig.truth()["enc_l_edges"]
+        finally:
+            rig.stop()
+    return {
+        "edges_per_s": (edges - edges0) / seconds,
+        "x_real_time": seconds / wall,
+        "last_count": int(counts[-1]) if counts else None,
+        "plant_edges": final,
+    }
+
+
+def main(argv: list[str]) -> None:
+    seconds = float(argv[0]) if argv else 2.0
+    emu = emulator_only(seconds)
+    print(
+        f"emulator: {emu['edges']} edges at {EDGES_PER_S}/s, {emu['steps_per_edge']:.1f} steps and "
+        f"{emu['wall_us_per_edge']:.1f} us a edge: {emu['x_real_time']:.1f}x real time"
+    )
+    cases = (
+        ("PIO decoder, in_base=Pin(2)", FIRMWARE_PIO, "Pin(2)"),
+        ("PIO decoder, in_base=2", FIRMWARE_PIO, "2"),
+        ("Pin.irq on A and B", FIRMWARE_IRQ, "None"),
+    )
+    for name, firmware, in_base in cases:
+        loop = in_the_loop(seconds, firmware, in_base)
+        print(
+            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time "
+            f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
+        )
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

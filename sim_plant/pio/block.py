@@ -1,0 +1,313 @@
+"""One PIO block in virtual time: instruction memory, IRQ flags, the GPIO levels its state
+machines read, the levels they drive (with their instants), run forward over a timeline
+of input changes.
+
+Time: a state machine started at ``t0_us`` runs its cycle ``c`` at
+``t0_us + c / freq`` (which cycle a time falls on is integer arithmetic); a pin change at ``t_us`` is seen
+from the first cycle at or after it. Between two changes the pins are constant, and a
+state machine that comes back to a state it was in (its registers, FIFOs, program counter
+and the block's IRQ flags: :meth:`StateMachine.key`) repeats the same stretch for ever:
+:func:`run_cycles` skips every whole period at once, replaying what the period drives.
+A ``wait`` on a pin, a blocked FIFO, a polling loop (a quadrature decoder between edges)
+costs a few steps per input change, whatever the time between changes.
+"""
+
+import copy
+
+from sim_plant.pio import trace
+from sim_plant.pio.machine import PioConfig, StateMachine
+
+SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
+
+
+class Running:
+    """A state machine's clock: started at ``t0_us``, ``cycle`` cycles run since."""
+
+    def __init__(self, sm: StateMachine, t0_us: int):
+        self.sm = sm
+        self.t0_us = t0_us
+        self.cycle = 0
+        self.active = False
+        self.orbit = 0  # the period (cycles) of the loop it is in, drives nothing: 0 unknown
+        self.orbit_version = -1  # ... as long as the block's version is this one
+        self.drive_period = 0  # the period (cycles) of the last loop found that drives pins
+        self.entries: dict = {}  # shape -> [trace.Entry]: stretches after a change, replayed
+        self.unaliased: set = set()  # shapes whose shift register only matched X or Y by chance
+        self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
+
+    def __deepcopy__(self, memo):
+        twin = Running.__new__(Running)
+        memo[id(self)] = twin
+        for name, value in self.__dict__.items():  # (the table's entries never change: shared)
+            shared = name in ("entries", "table", "unaliased")
+            twin.__dict__[name] = value if shared else copy.deepcopy(value, memo)
+        return twin
+
+    def cycle_at(self, t_us: int) -> int:
+        """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
+        num = (t_us - self.t0_us) * self.sm.config.SYS_HZ * 256
+        return -((-num) // (self.sm.config.div256 * 1_000_000))
+
+    def time_us(self, cycle: int) -> float:
+        return self.t0_us + cycle * self.sm.config.div256 * 1_000_000 / (self.sm.config.SYS_HZ * 256)
+
+
+class PioBlock:
+    """PIO0 or PIO1: up to four state machines sharing memory, IRQ flags and GPIOs."""
+
+    def __init__(self, block_id: int = 0):
+        self.block_id = block_id
+        self.memory = [0] * 32
+        self.irq_flags = 0
+        self.gpio_in = 0
+        self.levels: dict[int, int] = {}  # gpio -> the level a state machine drives
+        self.dirs: dict[int, int] = {}  # gpio -> 1 output, 0 input (pindirs)
+        self.events: list[tuple] = []  # (t_us float, gpio, level): driven changes, in time order
+        self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
+        self.running: dict[int, Running] = {}
+        self.steps = 0  # instructions stepped (the cost)
+        self.replays = 0  # stretches taken from a table instead
+        self.version = 0  # bumped by every change from outside: a pin, a FIFO access, an exec
+        self._run: Running | None = None  # (the state machine stepping: the instant of a drive)
+        self._now_us = 0.0
+        self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
+        self._cycle = 0
+
+    # -- configuration ---------------------------------------------------------------
+    def load(self, memory: list[int]) -> None:
+        self.memory = list(memory) + [0] * (32 - len(memory))
+        for run in self.running.values():
+            run.entries, run.table, run.unaliased = {}, None, set()
+
+    def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
+        old = self.running.get(sm_id)
+        sm = StateMachine(self, sm_id, config)
+        if old is not None:
+            sm.tx, sm.rx = old.sm.tx, old.sm.rx
+        self.running[sm_id] = Running(sm, t_us)
+        return sm
+
+    def sm(self, sm_id: int) -> StateMachine:
+        return self.running[sm_id].sm
+
+    def set_active(self, sm_id: int, active: bool, t_us: int) -> None:
+        run = self.running[sm_id]
+        if active and not run.active:
+            run.t0_us, run.cycle = t_us, 0
+        run.active = active
+
+    # -- what the state machines do to the world -------------------------------------------
+    def now_us(self) -> float:
+        run = self._run
+        return run.time_us(self._cycle) if run is not None else self._now_us
+
+    def touch(self) -> None:
+        """Something outside the state machines changed what they may do next."""
+        self.version += 1
+
+    def drive(self, gpio: int, level: int, dirs: bool = False) -> None:
+        if self._log is not None:
+            self._log.append((self._cycle, self.drive, (gpio, level, dirs)))
+        if dirs:
+            self.dirs[gpio] = level
+            return
+        if self.levels.get(gpio) != level:
+            self.levels[gpio] = level
+            self.events.append((self.now_us(), gpio, level))
+
+    def raise_irq(self, flag: int, sm_id: int) -> None:
+        if self._log is not None:
+            self._log.append((self._cycle, self.raise_irq, (flag, sm_id)))
+        self.irq_flags |= 1 << flag
+        if flag < 4:
+            self.irqs.append((self.now_us(), flag, sm_id))
+
+    def set_input(self, gpio: int, level: int) -> None:
+        self.version += 1
+        if level:
+            self.gpio_in |= 1 << gpio
+        else:
+            self.gpio_in &= ~(1 << gpio)
+
+    # -- time --------------------------------------------------------------------------
+    def advance(self, t_us: int, changes=()) -> None:
+        """Run every active state machine to ``t_us`` (not its cycle at ``t_us``), the pin
+        changes ``(t_us, gpio, level)`` (in time order, none after ``t_us``) applied as
+        they come."""
+        for t_change, gpio, level in changes:
+            self._run_all(t_change)
+            self.set_input(gpio, level)
+        self._run_all(t_us)
+
+    def _run_all(self, t_us: int) -> None:
+        for run in self.running.values():
+            if run.active:
+                run_cycles(self, run, run.cycle_at(t_us))
+
+    def probe(self, sm_id: int, t_us: int, horizon_us: int, want) -> float | None:
+        """When ``want(sm)`` first holds if the pins stay as they are, looking no further
+        than ``horizon_us`` (None: not by then); the block itself is not moved."""
+        twin = copy.deepcopy(self)
+        run = twin.running[sm_id]
+        step_us = 1
+        t = t_us
+        while t < t_us + horizon_us:
+            t = min(t_us + horizon_us, t + step_us)
+            twin._run_all(t)
+            if want(run.sm):
+                return t
+            step_us *= 2
+        return None
+
+
+def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
+    """Step ``run``'s state machine up to (not including) cycle ``c_end``, pins constant,
+    skipping whole periods of a loop it has come back to (one known from before, while
+    nothing changed, is skipped at once; a stretch after a change seen before with the same
+    state but X and Y is taken from the table: :mod:`.trace`)."""
+    sm = run.sm
+    c = run.cycle
+    if c >= c_end:
+        return
+    if run.orbit and run.orbit_version == block.version:
+        if run.table is not None:
+            run.cycle = run.table[0].at(run, c_end)
+            return
+        c += (c_end - c) // run.orbit * run.orbit
+    elif not (sm.set_count or sm.out_count or sm.side_count) and trace.plain(sm):
+        c = _stretch(block, run, c, c_end)
+        if c < c_end and run.table is not None and run.orbit_version == block.version:
+            run.cycle = run.table[0].at(run, c_end)
+            return
+    run.cycle = _steps(block, run, c, c_end, False)[0]
+
+
+def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bool) -> tuple:
+    """The stepping loop: (the cycle it got to, the period of the loop it found when
+    ``stop_at_repeat``, else 0; whether it drove a pin or raised an IRQ on the way)."""
+    sm = run.sm
+    seen: dict = {}
+    block._log = log = []
+    block._run = run
+    step = sm.step
+    try:
+        while c < c_end:
+            pc = sm.pc
+            block._cycle = c
+            c += step()
+            block.steps += 1
+            if sm.pc > pc:
+                continue
+            key = sm.key()
+            first = seen.get(key)
+            if first is None:
+                if len(seen) >= SEEN_MAX:
+                    seen.clear()
+                    log.clear()
+                seen[key] = (c, len(log))
+                continue
+            period = c - first[0]
+            if stop_at_repeat:
+                return c, period, bool(log)
+            if len(log) == first[1]:  # (a loop that drives nothing: remembered until something changes)
+                run.orbit, run.orbit_version, run.table = period, block.version, None
+            else:
+                run.drive_period = period
+            c = _skip_periods(block, run, first, c, c_end, log)
+            seen.clear()
+            log.clear()
+    finally:
+        block._log = None
+        block._run = None
+    return c, 0, False
+
+
+def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
+    """From a change to the loop it leads to: from the table when the same shape with this
+    X and Y was seen, else run with X and Y as symbols (and kept when it is fit)."""
+    sm = run.sm
+    key = trace.shape(sm)
+    if key in run.unaliased:  # (a shift register equal to X or Y by chance, and used as a number)
+        key = trace.shape(sm, aliases=False)
+    x, y, rx_old = sm.x, sm.y, list(sm.rx)
+    for entry in run.entries.get(key, ()):
+        if c0 + entry.cycles <= c_end and entry.holds(x, y):
+            anchor = c0 + entry.cycles
+            run.table = (entry, x, y, rx_old, anchor)
+            trace.restore(sm, entry.states[0], x, y, rx_old)
+            run.orbit, run.orbit_version = entry.period, block.version
+            block.replays += 1
+            return anchor
+    rec = trace.Recorder()
+    sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
+    if key[1] in ("x", "y"):
+        sm.isr = sm.x if key[1] == "x" else sm.y
+    if key[3] in ("x", "y"):
+        sm.osr = sm.x if key[3] == "x" else sm.y
+    try:
+        c, period, drove = _steps(block, run, c0, c_end, True)
+        if rec.tainted and (key[1] in ("x", "y") or key[3] in ("x", "y")):
+            run.unaliased.add(key)
+        if period and not drove and not rec.tainted and c + period <= c_end:
+            table = _one_period(block, run, c, period, len(rx_old))
+            if table is not None and not rec.tainted:
+                entry = trace.Entry(list(rec.guards), c - c0, period, table)
+                entries = run.entries
+                if len(entries) >= trace.ENTRIES_MAX:
+                    entries.clear()
+                entries.setdefault(key, []).append(entry)
+                run.table = (entry, x, y, rx_old, c + period)
+                run.orbit, run.orbit_version = period, block.version
+            c += period
+    finally:
+        _concrete(sm)
+    return c
+
+
+def _one_period(block: PioBlock, run: Running, c: int, period: int, rx_from: int) -> list | None:
+    """Step one period from ``c`` (the loop's state), keeping the state at each step."""
+    sm = run.sm
+    table = [(0, trace.capture(sm, rx_from))]
+    block._run = run
+    try:
+        c_start = c
+        while True:
+            block._cycle = c
+            c += sm.step()
+            block.steps += 1
+            if c - c_start >= period:
+                break
+            table.append((c - c_start, trace.capture(sm, rx_from)))
+    finally:
+        block._run = None
+    return table if c - c_start == period and trace.capture(sm, rx_from) == table[0][1] else None
+
+
+def _concrete(sm) -> None:
+    """X, Y, ISR, OSR and the RX words as numbers again (their symbols' values)."""
+    for name in ("x", "y", "isr", "osr"):
+        v = getattr(sm, name)
+        if isinstance(v, trace.Sym):
+            setattr(sm, name, v.c)
+    if any(isinstance(v, trace.Sym) for v in sm.rx):
+        sm.rx = type(sm.rx)(v.c if isinstance(v, trace.Sym) else v for v in sm.rx)
+
+
+def _skip_periods(block, run, first, c, c_end, log) -> int:
+    """``sm`` is at cycle ``c`` in the state it had at ``first[0]``: jump over the whole
+    periods that fit before ``c_end``, replaying the period's drives for each."""
+    c_first, i_first = first
+    period = c - c_first
+    periods = (c_end - c) // period
+    if periods <= 0:
+        return c
+    pattern = log[i_first:]
+    block._log = None
+    try:
+        for k in range(1, periods + 1) if pattern else ():
+            for cycle, call, args in pattern:
+                block._cycle = cycle + k * period
+                call(*args)
+    finally:
+        block._log = log
+    return c + periods * period

@@ -1,0 +1,226 @@
+"""The stretch after a pin change, replayed from a table (``docs/shim.md``, "PIO", cost).
+
+A state machine's X and Y are often counts the program only moves, compares with 0 (or
+with each other) and copies (a quadrature decoder's count): the stretch from a pin change
+until its loop repeats does the same whatever their values, but for those comparisons.
+It is run once with X and Y as symbols (:class:`Sym`: ``±X + k`` or ``±Y + k``, which
+records each comparison's outcome as a guard, and marks the stretch unfit for the table
+when used any other way: shifted, masked, driven, jumped to); then the same start (every
+other field, the pins) with an X and Y that pass the guards ends where the table says.
+The loop it ends in is kept as its states along one period (:class:`Entry`), so a stretch
+with nothing changed goes to any cycle at once too: an edge costs two look-ups, not the
+few dozen instructions of its stretch.
+"""
+
+from bisect import bisect_left
+from collections import deque
+
+MASK = 0xFFFFFFFF
+ENTRIES_MAX = 4096  # table entries a state machine keeps (then it starts afresh)
+
+
+class Recorder:
+    def __init__(self):
+        self.guards: list[tuple] = []
+        self.tainted = False
+
+
+class Sym:
+    """A register's value as ``(-B if neg else B) + off`` of the stretch's starting X or Y
+    (``base``), with its concrete value ``c`` (what the step computes with)."""
+
+    __slots__ = ("c", "base", "neg", "off", "rec")
+
+    def __init__(self, c, base, neg, off, rec):
+        self.c, self.base, self.neg, self.off, self.rec = c & MASK, base, neg, off & MASK, rec
+
+    def form(self) -> tuple:
+        return (self.base, self.neg, self.off)
+
+    def _new(self, c, neg, off):
+        return Sym(c, self.base, neg, off, self.rec)
+
+    def __invert__(self):
+        return self._new(~self.c, not self.neg, -self.off - 1)
+
+    def __sub__(self, k):
+        if type(k) is int:
+            return self._new(self.c - k, self.neg, self.off - k)
+        return self._taint() - k
+
+    def __add__(self, k):
+        if type(k) is int:
+            return self._new(self.c + k, self.neg, self.off + k)
+        return self._taint() + k
+
+    def __and__(self, mask):
+        return self if mask == MASK else self._taint() & mask
+
+    __rand__ = __and__
+
+    def __eq__(self, other):
+        if isinstance(other, Sym):  # (a state compared with a state: the same for every X, Y)
+            return self.form() == other.form()
+        result = self.c == other
+        self.rec.guards.append(("==", self.form(), other, result))
+        return result
+
+    def __ne__(self, other):
+        if isinstance(other, Sym):  # (jmp x!=y)
+            result = self.c != other.c
+            self.rec.guards.append(("S!=", self.form(), other.form(), result))
+            return result
+        result = self.c != other
+        self.rec.guards.append(("==", self.form(), other, not result))
+        return result
+
+    def __hash__(self):
+        return hash(self.form())
+
+    def _taint(self) -> int:
+        self.rec.tainted = True
+        return self.c
+
+    def __rshift__(self, k):
+        return self._taint() >> k
+
+    def __lshift__(self, k):
+        return self._taint() << k
+
+    def __or__(self, k):
+        return self._taint() | k
+
+    __ror__ = __or__
+
+    def __rlshift__(self, k):
+        return k << self._taint()
+
+    def __rrshift__(self, k):
+        return k >> self._taint()
+
+    def __xor__(self, k):
+        return self._taint() ^ k
+
+    def __format__(self, spec):
+        return format(self._taint(), spec)
+
+    def __index__(self):
+        return self._taint()
+
+    __int__ = __index__
+
+    def __bool__(self):
+        return bool(self._taint())
+
+    def __lt__(self, k):
+        return self._taint() < k
+
+    def __gt__(self, k):
+        return self._taint() > k
+
+
+def spec(v):
+    return v.form() if isinstance(v, Sym) else v
+
+
+def value(s, x: int, y: int) -> int:
+    if type(s) is tuple:
+        base, neg, off = s
+        b = x if base == "x" else y
+        return ((-b if neg else b) + off) & MASK
+    return s
+
+
+def alias(v: int, x: int, y: int):
+    """A shift register's value as the shape keeps it: "x" or "y" when it holds a copy
+    (not 0: an unused register and an empty shift register are 0 by chance, mostly)."""
+    if not v:
+        return v
+    return "x" if v == x else ("y" if v == y else v)
+
+
+def shape(sm, aliases: bool = True) -> tuple:
+    """What a stretch's table entry is kept under: the state but X, Y (and, ``aliases``, a
+    shift register holding a copy of one) and the RX words."""
+    x, y = (sm.x, sm.y) if aliases else (None, None)
+    return (
+        sm.pc,
+        alias(sm.isr, x, y),
+        sm.isr_n,
+        alias(sm.osr, x, y),
+        sm.osr_n,
+        len(sm.rx),
+        tuple(sm.tx),
+        sm.pending_exec,
+        sm.irq_waiting,
+        sm.block.irq_flags,
+        sm.block.gpio_in,
+    )
+
+
+def capture(sm, rx_from: int) -> tuple:
+    rx = list(sm.rx)[rx_from:]
+    return (
+        sm.pc,
+        spec(sm.x),
+        spec(sm.y),
+        spec(sm.isr),
+        sm.isr_n,
+        spec(sm.osr),
+        sm.osr_n,
+        sm.pending_exec,
+        sm.irq_waiting,
+        sm.block.irq_flags,
+        tuple(sm.tx),
+        tuple(spec(v) for v in rx),
+    )
+
+
+def restore(sm, state: tuple, x: int, y: int, rx_old: list) -> None:
+    pc, sx, sy, isr, isr_n, osr, osr_n, pending, waiting, flags, tx, rx_new = state
+    sm.pc, sm.isr_n, sm.osr_n, sm.pending_exec, sm.irq_waiting = pc, isr_n, osr_n, pending, waiting
+    sm.x = sx if type(sx) is int else value(sx, x, y)
+    sm.y = sy if type(sy) is int else value(sy, x, y)
+    sm.isr = isr if type(isr) is int else value(isr, x, y)
+    sm.osr = osr if type(osr) is int else value(osr, x, y)
+    sm.block.irq_flags = flags
+    if tx or sm.tx:
+        sm.tx = deque(tx)
+    if rx_new or len(sm.rx) != len(rx_old):  # (else the RX FIFO holds what it held)
+        sm.rx = deque(rx_old + [value(v, x, y) for v in rx_new])
+
+
+class Entry:
+    """A stretch: its guards, its length to the loop, the loop's period and its states
+    along one period ((offset, state), offset 0 the state the stretch ends in)."""
+
+    def __init__(self, guards, cycles, period, table):
+        self.guards = guards
+        self.cycles = cycles
+        self.period = period
+        self.offsets = [off for off, _state in table]
+        self.states = [state for _off, state in table]
+
+    def holds(self, x: int, y: int) -> bool:
+        for kind, a, b, result in self.guards:
+            if kind == "==":
+                if (value(a, x, y) == b) != result:
+                    return False
+            elif (value(a, x, y) != value(b, x, y)) != result:
+                return False
+        return True
+
+    def at(self, run, c_end: int) -> int:
+        """Put ``run``'s state machine at its first step boundary at or after ``c_end``
+        along this loop (anchored where ``run.table`` says): the cycle it is at."""
+        _entry, x, y, rx_old, anchor = run.table
+        k, r = divmod(c_end - anchor, self.period)
+        j = bisect_left(self.offsets, r)
+        if j == len(self.offsets):
+            k, j = k + 1, 0
+        restore(run.sm, self.states[j], x, y, rx_old)
+        return anchor + k * self.period + self.offsets[j]
+
+
+def plain(sm) -> bool:
+    return type(sm.x) is int and type(sm.y) is int and type(sm.isr) is int and type(sm.osr) is int
