@@ -71,27 +71,39 @@ def _board_pin(rig, pin: str) -> bool:
     return pin in (pins or {}) or pin.upper().lstrip("GPD").isdigit()
 
 
-def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: int | None = None, echo=None) -> Outcome:
-    """Run the scenario in ``path`` against its rig; StepFailed when a step fails."""
-    from host.rig import Recording, Rig, RigSpec
-
+def prepare(path, timeout_us: int | None = None) -> tuple:
+    """(the scenario in ``path``, with ``timeout_us`` over its own; the rig's App)."""
     scenario = load_scenario(path)
     if timeout_us is not None:
         scenario = type(scenario)(scenario.path, scenario.name, scenario.steps, timeout_us, scenario.author)
-    app = load_rig_for(path)
+    return scenario, load_rig_for(path)
+
+
+def run_on(rig, scenario, echo=None) -> Outcome:
+    """Run ``scenario``'s steps on ``rig`` (started); StepFailed when a step fails."""
+    outcome = Outcome(scenario, rig.artefacts)
+    wall0 = time.perf_counter()
+    run = ScenarioRun(rig, scenario, echo)
+    try:
+        outcome.results = run.run()
+    finally:
+        outcome.results = run.results
+        outcome.t_end_us = rig.t_us
+        outcome.wall_s = time.perf_counter() - wall0
+    return outcome
+
+
+def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: int | None = None, echo=None) -> Outcome:
+    """Run the scenario in ``path`` against its rig, with a trace folder (``out``, or
+    ``build/scenarios/<name>`` beside the rig); StepFailed when a step fails."""
+    from host.rig import Recording, Rig, RigSpec
+
+    scenario, app = prepare(path, timeout_us)
     out = Path(out) if out is not None else output_root(app.rig_file) / "scenarios" / Path(path).name.split(".")[0]
     rig = Rig(RigSpec(app, seed=seed, allow_exit=True), Recording(trace=True, record=True, artefacts=out))
     check_steps(scenario, rig)
-    outcome = Outcome(scenario, out)
     wall0 = time.perf_counter()
-    try:
-        with rig:
-            run = ScenarioRun(rig, scenario, echo)
-            try:
-                outcome.results = run.run()
-            finally:
-                outcome.results = run.results
-                outcome.t_end_us = rig.t_us
-    finally:
-        outcome.wall_s = time.perf_counter() - wall0
+    with rig:
+        outcome = run_on(rig, scenario, echo)
+    outcome.wall_s = time.perf_counter() - wall0  # (with the firmware's start and the trace folder written)
     return outcome

@@ -4,7 +4,8 @@
 # board, usys the same; micropython with alloc_emergency_exception_buf (a board's, here
 # nothing to allocate); os with uname(), which the unix port leaves out, and ilistdir()
 # with each file's size, as a board's VFS gives it. print() tells the shim it printed, so
-# the host stamps the text with its virtual time (console.log, docs/traces.md).
+# the host stamps the text with its virtual time (console.log, docs/traces.md). input()
+# waits for the console in virtual time (a scenario's write-serial), as a board's does.
 import micropython as _micropython
 import os as _os
 import sys as _sys
@@ -106,12 +107,52 @@ def _printed_bytes(a, b, c, d, e, f, more, sep, end):
     return n
 
 
+_input = None  # the built-in input (install)
+TICK_US = 1000  # a board's system tick: how often a wait for the console looks again
+
+
+def _console_ready():
+    # a byte waits on the console's input (the unix port's stdin: a scenario's write-serial)
+    import _hil
+
+    p = _hil._rselect.poll()
+    p.register(_sys.stdin, _hil._rselect.POLLIN)
+    return bool(p.poll(0))
+
+
+def _board_input(prompt=None):
+    # input() as on a board: waits in virtual time, a system tick at a time, for each
+    # character typed on the console, and echoes the line (a board's readline does)
+    import _hil
+
+    if isinstance(_hil._link, _hil._StdioLink):  # (the console is the link itself)
+        return _input(prompt) if prompt is not None else _input()
+    if prompt:
+        _board_print(prompt, end="")
+    line = b""
+    while True:
+        while not _console_ready():
+            _hil.blocking()
+            _hil.run_until(_hil.now() + TICK_US)
+        c = _sys.stdin.buffer.read(1)
+        if not c:  # (the console closed: what a board never does; the line so far)
+            break
+        if c == b"\n":
+            break
+        if c != b"\r":
+            line += c
+    text = line.decode()
+    _board_print(text)
+    return text
+
+
 def install(said, counting=False, platform=None, machine=None):
     import builtins
 
-    global _said, _print, _counting
+    global _said, _print, _counting, _input
     _said, _print, _counting = said, builtins.print, counting
     builtins.print = _board_print
+    _input, builtins.input = builtins.input, _board_input
     impl = _sys.implementation
     version = ".".join(str(v) for v in impl.version[:3])
     if platform:
