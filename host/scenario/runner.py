@@ -45,6 +45,7 @@ class ScenarioRun:
         self.deadline_us = rig.t_us + scenario.timeout_us
         self.line_from = rig.console_log.total_bytes  # where the console's next unread line starts
         self.results: list[StepResult] = []
+        self.previous = None  # the step before this one
 
     def run(self) -> list[StepResult]:
         for step in self.scenario.steps:
@@ -52,6 +53,7 @@ class ScenarioRun:
             self.echo(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}")
             getattr(self, "_" + step.kind.replace("-", "_"))(step)
             self.results.append(StepResult(step, t0_us, self.rig.t_us, time.perf_counter() - wall0))
+            self.previous = step
         return self.results
 
     # -- steps ----------------------------------------------------------------------
@@ -65,7 +67,8 @@ class ScenarioRun:
 
     def _wait_serial(self, step) -> None:
         text = step.args["text"]
-        self._skip_to_line_start()
+        if self.previous is None or self.previous.kind != "wait-serial":  # (wait-serials in a row read on)
+            self._skip_to_line_start()
         while True:
             if self._line_with(text):
                 return
@@ -110,8 +113,9 @@ class ScenarioRun:
             self.rig.run_until(t_us)
 
     def _skip_to_line_start(self) -> None:
-        """Lines that ended before this step are not looked at (Wokwi's wait-serial
-        looks at the lines completed while it waits)."""
+        """Lines that ended before this step are not looked at: Wokwi's wait-serial looks
+        at the lines completed while it waits (wait-serials in a row read the console on,
+        line after line, from the last one matched)."""
         text, start = self.rig.console_log.since(self.line_from)
         end = text.rfind("\n")
         if end >= 0:

@@ -99,7 +99,8 @@ def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: in
     from host.rig import Recording, Rig, RigSpec
 
     scenario, app = prepare(path, timeout_us)
-    out = Path(out) if out is not None else output_root(app.rig_file) / "scenarios" / Path(path).name.split(".")[0]
+    stem = Path(path).name.split(".")[0]
+    out = Path(out) if out is not None else output_root(app.rig_file) / "scenarios" / f"{app.name}-{stem}"
     rig = Rig(RigSpec(app, seed=seed, allow_exit=True), Recording(trace=True, record=True, artefacts=out))
     check_steps(scenario, rig)
     wall0 = time.perf_counter()
