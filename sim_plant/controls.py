@@ -53,7 +53,9 @@ class ControlTimeline(Part):
         """``part``'s ``control`` is ``value`` from ``t_us`` on; ``change``: the output
         (signal, level) it sets at that instant, if any."""
         if self.entries and t_us < self.entries[-1][0]:
-            raise ControlError(f"{part}.{control}: set at t={t_us} us, before the last control set ({self.entries[-1][0]} us)")
+            raise ControlError(
+                f"{part}.{control}: set at t={t_us} us, before the last control set ({self.entries[-1][0]} us)"
+            )
         signal, level = change if change is not None else (None, None)
         self.entries.append((t_us, part, control, value, signal, level))
 

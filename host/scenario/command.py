@@ -15,12 +15,14 @@ EXIT_OK, EXIT_FAILED = 0, 1
 
 def add_parser(sub, folder_type, seed_type) -> None:
     """The subcommand's arguments (``host/cli.py`` calls this, then dispatches to :func:`cmd_scenario`)."""
-    sc = sub.add_parser("scenario", help="run a Wokwi automation scenario (*.test.yaml) against its rig, in virtual time")
+    sc = sub.add_parser(
+        "scenario", help="run a Wokwi automation scenario (*.test.yaml) against its rig, in virtual time"
+    )
     sc.add_argument("scenario", metavar="SCENARIO", help="a scenario file; its rig: rig.toml in its folder or above")
     sc.add_argument(
         "--timeout",
         metavar="TIME",
-        help="the run's timeout in simulated time, with its unit (30s, 90000ms); default: the file's, or 30s as Wokwi's",
+        help="the run's timeout in simulated time (30s, 90000ms); default: the file's, or 30s as Wokwi's",
     )
     sc.add_argument("--seed", type=seed_type, default=0, help="seed of the plant's generator (default: 0)")
     sc.add_argument("--out", type=folder_type, help="trace folder (default: build/scenarios/<name> beside the rig)")
@@ -43,6 +45,7 @@ def cmd_scenario(args) -> int:
     sim_s = outcome.t_end_us / 1e6
     print(
         f"pass: {outcome.scenario.name}: {len(outcome.results)} steps, {sim_s:g} simulated s in "
-        f"{outcome.wall_s:.2f} wall s ({sim_s / max(outcome.wall_s, 1e-9):.1f}x real time); trace folder: {outcome.artefacts}"
+        f"{outcome.wall_s:.2f} wall s ({sim_s / max(outcome.wall_s, 1e-9):.1f}x real time); "
+        f"trace folder: {outcome.artefacts}"
     )
     return EXIT_OK

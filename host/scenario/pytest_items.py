@@ -5,16 +5,28 @@ trace folder always kept; a failing step fails the item with its line and what w
 
 import pytest
 
+from host.scenario.runner import StepFailed
+from host.scenario.scenario import ScenarioError
 from host.scenario.session import check_steps, prepare, run_on
 
 SUFFIX = ".test.yaml"
+
+
+class ScenarioItem(pytest.Function):
+    """The scenario's test: a failing step (or a file that cannot run) is its message
+    alone, no traceback of the harness."""
+
+    def repr_failure(self, excinfo, style=None):
+        if isinstance(excinfo.value, (StepFailed, ScenarioError)):
+            return str(excinfo.value)
+        return super().repr_failure(excinfo, style)
 
 
 class ScenarioFile(pytest.File):
     """A scenario file: one test, its steps."""
 
     def collect(self):
-        yield pytest.Function.from_parent(self, name="scenario", callobj=_run_scenario_file)
+        yield ScenarioItem.from_parent(self, name="scenario", callobj=_run_scenario_file)
 
 
 def collect_scenario(file_path, parent):

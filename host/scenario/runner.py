@@ -74,11 +74,14 @@ class ScenarioRun:
                 return
             if self.rig.t_us >= self.deadline_us or self.rig.exit_kind is not None:
                 why = "the firmware ended" if self.rig.exit_kind is not None else "the scenario's timeout came"
-                self._fail(step, f"{why} before a line with {text!r}{self._timeout_text()}", console=True)
+                self._fail(step, f"{why} before a line with {text!r}{self._timeout_text()}")
             self._run_to(min(self.deadline_us, self.rig.t_us + LOOK_US))
 
     def _write_serial(self, step) -> None:
-        write_console(self.rig, step.args["data"])
+        try:
+            write_console(self.rig, step.args["data"])
+        except StepFailed as e:
+            self._fail(step, str(e))
 
     def _set_control(self, step) -> None:
         a = step.args
@@ -136,13 +139,13 @@ class ScenarioRun:
     def _timeout_text(self) -> str:
         return f" (timeout {self.scenario.timeout_us / 1e6:g} simulated s, at t={self.deadline_us / 1e6:g} s)"
 
-    def _fail(self, step, what: str, console: bool = True) -> None:
+    def _fail(self, step, what: str) -> None:
         lines = self.rig.console.rstrip().splitlines()[-TAIL_LINES:]
         seen = "\n  ".join(lines) if lines else "(nothing)"
         artefacts = f"\nartefacts: {self.rig.artefacts}" if self.rig.artefacts else ""
         raise StepFailed(
-            f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual t={self.rig.t_us / 1e6:.6f} s: "
-            f"{what}\nlast serial lines:\n  {seen}{artefacts}"
+            f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual "
+            f"t={self.rig.t_us / 1e6:.6f} s: {what}\nlast serial lines:\n  {seen}{artefacts}"
         )
 
 
@@ -151,12 +154,12 @@ def write_console(rig, data: bytes) -> None:
     from ``sys.stdin`` when it next looks (the unix port's stdin)."""
     proc = getattr(rig.target, "proc", None)
     if proc is None or proc.stdin is None or rig.exit_kind is not None:
-        raise StepFailed("write-serial: the firmware is not running (nothing reads the console)")
+        raise StepFailed("the firmware is not running (nothing reads the console)")
     try:
         proc.stdin.write(data)
         proc.stdin.flush()
     except OSError as e:
-        raise StepFailed(f"write-serial: the console's input is closed ({e.strerror or e})") from None
+        raise StepFailed(f"the console's input is closed ({e.strerror or e})") from None
 
 
 def pin_level(rig, part: str, pin: str) -> tuple[int, str]:

@@ -133,7 +133,7 @@ def _step(path: Path, item, line: int) -> Step:
     where = f"{path}:{line}"
     if not isinstance(item, dict) or len(item) != 1:
         raise ScenarioError(f"{where}: a step is a mapping of one key (one of {', '.join(STEP_KEYS)}), got {item!r}")
-    (kind, value), = item.items()
+    ((kind, value),) = item.items()
     if kind not in STEP_KEYS:
         raise ScenarioError(f"{where}: unknown step {kind!r} (steps: {', '.join(STEP_KEYS)})")
     where = f"{where}: {kind}"

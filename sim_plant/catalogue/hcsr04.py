@@ -71,7 +71,9 @@ class HcSr04(PartType):
     )
     needs_body = True
     CONTROLS = (
-        Control("distance", Num("centimetres", 2, 400), "the obstacle's distance; each ping from then on says it exactly"),
+        Control(
+            "distance", Num("centimetres", 2, 400), "the obstacle's distance; each ping from then on says it exactly"
+        ),
     )
 
     def reading(self, suffix: str, values):

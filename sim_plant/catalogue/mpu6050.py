@@ -65,8 +65,10 @@ class Mpu6050Chip(Imu):
         if controls is None or not controls.entries:
             return sample, 25.0
         gyro = [controls.value_at(self.label, c, t_us, v) for c, v in zip(GYRO_CONTROLS, sample[:3])]
-        accel = [sample[3 + i] if g is None else g * G_M_S2 for i, g in enumerate(
-            controls.value_at(self.label, c, t_us) for c in ACCEL_CONTROLS)]
+        accel = [
+            sample[3 + i] if g is None else g * G_M_S2
+            for i, g in enumerate(controls.value_at(self.label, c, t_us) for c in ACCEL_CONTROLS)
+        ]
         return (*gyro, *accel), controls.value_at(self.label, "temperature", t_us, 25.0)
 
     def _fill(self, t_us: int) -> None:
@@ -107,7 +109,10 @@ class Mpu6050(ImuPart):
     )
 
     CONTROLS = (
-        *(Control(n, Num("g", -16, 16), f"the {n[-1]} acceleration in g (replaces the motion's)") for n in ACCEL_CONTROLS),
+        *(
+            Control(n, Num("g", -16, 16), f"the {n[-1]} acceleration in g (replaces the motion's)")
+            for n in ACCEL_CONTROLS
+        ),
         *(Control(n, Num("deg/s", -2000, 2000), f"the {n[-1]} turn rate in deg/s") for n in GYRO_CONTROLS),
         Control("temperature", Num("°C", -40, 85), "the die temperature"),
     )

@@ -1,4 +1,5 @@
 import time
+
 from machine import Pin
 
 led = Pin(2, Pin.OUT)

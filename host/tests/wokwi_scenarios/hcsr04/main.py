@@ -1,6 +1,7 @@
 # An HC-SR04 on a Pico, read as public MicroPython examples do: a 10 us TRIG pulse, the
 # ECHO pulse's width by time_pulse_us, 58 us per cm; the LED lights under 50 cm.
 import time
+
 from machine import Pin, time_pulse_us
 
 trig = Pin(3, Pin.OUT)

@@ -2,6 +2,7 @@
 # drivers of public MicroPython projects do: accel in g, gyro in deg/s, temperature in C.
 import struct
 import time
+
 from machine import I2C, Pin
 
 i2c = I2C(0, scl=Pin(22), sda=Pin(21), freq=400000)
