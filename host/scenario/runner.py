@@ -183,12 +183,18 @@ def pin_level(rig, part: str, pin: str) -> tuple[int, str]:
 
 
 def _signal(rig, part: str, pin: str) -> str | None:
-    """The plant signal or probe ``part``/``pin`` names (None: a board pin)."""
+    """The plant signal or probe ``part``/``pin`` names (None: a board pin): the part's
+    signal of that name (any case: Wokwi's ``ECHO`` is our ``echo``), else a part's only
+    signal (an LED's ``A``, a button's ``1.l``: the one line the board sees), else the
+    probe ``probe:<part>``."""
     signals = {**rig.plant.inputs, **rig.plant.outputs}
     wanted = f"{part}.{pin}".lower()
     for name in signals:
         if name.lower() == wanted:
             return name
+    own = [name for name in signals if name.startswith(part + ".")]
+    if len(own) == 1:
+        return own[0]
     probe = PROBE_PREFIX + part
     if probe in rig.app.wiring.values():
         return probe

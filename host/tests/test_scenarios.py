@@ -108,7 +108,7 @@ def test_expect_pin_that_differs_says_the_level_it_saw(tmp_path):
     """
     message = failure(project(tmp_path, "button_irq", steps))
     assert "x.test.yaml:6: step expect-pin led1:A == 1 failed at virtual t=0.001000 s" in message
-    assert "led1:A (probe:led1) is 0, expected 1" in message
+    assert "led1:A (led1.in) is 0, expected 1" in message
 
 
 def test_wait_pin_times_out_in_simulated_time_with_the_level_it_saw(tmp_path):
@@ -274,3 +274,14 @@ def test_an_active_high_button_reads_1_pressed_and_a_part_without_controls_says_
     assert plant.advance_to(10) == [(0, "b.out", 1)]
     with pytest.raises(ControlError, match=r"led1 \(probe\) has no control 'pressed' \(controls: none\)"):
         plant.set_control("led1", "pressed", 1)
+
+
+def test_a_board_pin_is_read_by_its_wokwi_name_whatever_the_board_part_is_called(tmp_path):
+    steps = """
+    - wait-serial: ready
+    - expect-pin: {part-id: esp, pin: D2, value: 0}
+    - expect-pin: {part-id: esp, pin: D4, value: 1}
+    - expect-pin: {part-id: esp, pin: D2, value: 1}
+    """
+    message = failure(project(tmp_path, "button_irq", steps))
+    assert "x.test.yaml:8: step expect-pin esp:D2 == 1" in message and "esp:D2 (led1.in) is 0" in message
