@@ -51,7 +51,14 @@ class ScenarioRun:
         for step in self.scenario.steps:
             t0_us, wall0 = self.rig.t_us, time.perf_counter()
             self.echo(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}")
-            getattr(self, "_" + step.kind.replace("-", "_"))(step)
+            try:
+                getattr(self, "_" + step.kind.replace("-", "_"))(step)
+            except StepFailed:
+                raise
+            except HarnessError as e:  # (the firmware hung, crashed, ended with an error)
+                raise StepFailed(
+                    f"{self.scenario.path}:{step.line}: step {step.describe()} failed: {type(e).__name__}: {e}"
+                ) from e
             self.results.append(StepResult(step, t0_us, self.rig.t_us, time.perf_counter() - wall0))
             self.previous = step
         return self.results

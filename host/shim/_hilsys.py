@@ -120,12 +120,73 @@ def _console_ready():
     return bool(p.poll(0))
 
 
+def _hil_link():
+    import _hil
+
+    return _hil._link
+
+
+def _StdioLinkType():
+    import _hil
+
+    return _hil._StdioLink
+
+
+def _wait_console():
+    import _hil
+
+    while not _console_ready():
+        _hil.blocking()
+        _hil.run_until(_hil.now() + TICK_US)
+
+
+class _BoardStdin:
+    # sys.stdin as a board's: a read waits in virtual time for the bytes typed on the
+    # console (a scenario's write-serial); select.poll asks it (_poll_ready) each tick.
+    # Text, and its .buffer the same in bytes.
+    def __init__(self, binary=False):
+        self._binary = binary
+        self.buffer = self if binary else _BoardStdin(True)
+
+    def _poll_ready(self, mask):
+        return _console_ready()
+
+    def fileno(self):
+        return _sys.stdin.fileno()
+
+    def _out(self, data):
+        return data if self._binary else data.decode()
+
+    def read(self, n=-1):
+        # n bytes (waiting for each); n < 0: what is there once something is
+        data = b""
+        while n < 0 or len(data) < n:
+            _wait_console()
+            c = _sys.stdin.buffer.read(1)
+            if not c:
+                break
+            data += c
+            if n < 0 and not _console_ready():
+                break
+        return self._out(data)
+
+    def readline(self):
+        line = b""
+        while True:
+            _wait_console()
+            c = _sys.stdin.buffer.read(1)
+            line += c
+            if not c or c == b"\n":
+                break
+        return self._out(line)
+
+
 def _board_input(prompt=None):
     # input() as on a board: waits in virtual time, a system tick at a time, for each
     # character typed on the console, and echoes the line (a board's readline does)
     import _hil
 
-    if isinstance(_hil._link, _hil._StdioLink):  # (the console is the link itself)
+    if isinstance(_hil_link(), _StdioLinkType()):  # (the console is the link itself)
         return _input(prompt) if prompt is not None else _input()
     if prompt:
         _board_print(prompt, end="")
@@ -158,6 +219,8 @@ def install(said, counting=False, platform=None, machine=None):
     if platform:
         board = _copy(_sys)
         board.platform = platform
+        if not isinstance(_hil_link(), _StdioLinkType()):  # (on a board the console is the link)
+            board.stdin = _BoardStdin()
         board.implementation = _Implementation(
             impl.name, impl.version, machine, getattr(impl, "_mpy", 0), getattr(impl, "_build", "")
         )

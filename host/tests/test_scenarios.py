@@ -285,3 +285,35 @@ def test_a_board_pin_is_read_by_its_wokwi_name_whatever_the_board_part_is_called
     """
     message = failure(project(tmp_path, "button_irq", steps))
     assert "x.test.yaml:8: step expect-pin esp:D2 == 1" in message and "esp:D2 (led1.in) is 0" in message
+
+
+def test_sys_stdin_reads_wait_for_write_serial_in_virtual_time(tmp_path):
+    """readline() that blocks before anything is typed, select.poll on sys.stdin, a read
+    of n bytes and a read of what is there: each waits in virtual time, as on a board."""
+    steps = """
+    - delay: 1s
+    - write-serial: "hi\\n"
+    - wait-serial: got hi
+    - delay: 1s
+    - write-serial: abcdef
+    - wait-serial: rest def
+    """
+    path = project(tmp_path, "serial_echo", steps)
+    (path.parent / "main.py").write_text(
+        textwrap.dedent("""
+        import select
+        import sys
+        print("ready")
+        print("got", sys.stdin.readline().strip())
+        p = select.poll()
+        p.register(sys.stdin, select.POLLIN)
+        while not p.poll(50):
+            pass
+        print("raw", sys.stdin.buffer.read(3))
+        print("rest", sys.stdin.read())
+        """)
+    )
+    outcome = run_scenario(path, out=tmp_path / "out")
+    assert [r.end_us for r in outcome.results] == [1_000_000, 1_000_000, 1_001_000, 2_001_000, 2_001_000, 2_002_000]
+    console = (tmp_path / "out" / "console.log").read_text()
+    assert "[   1.001000] got hi" in console and "raw b'abc'" in console
