@@ -317,3 +317,9 @@ def test_sys_stdin_reads_wait_for_write_serial_in_virtual_time(tmp_path):
     assert [r.end_us for r in outcome.results] == [1_000_000, 1_000_000, 1_001_000, 2_001_000, 2_001_000, 2_002_000]
     console = (tmp_path / "out" / "console.log").read_text()
     assert "[   1.001000] got hi" in console and "raw b'abc'" in console
+
+
+def test_the_command_has_help():
+    with pytest.raises(SystemExit) as done:
+        main(["scenario", "--help"])
+    assert done.value.code == 0
