@@ -323,3 +323,11 @@ def test_the_command_has_help():
     with pytest.raises(SystemExit) as done:
         main(["scenario", "--help"])
     assert done.value.code == 0
+
+
+def test_make_hil_beside_a_rig_runs_its_scenario_files_too(tmp_path):
+    from host.pytest_plugin.hil_run import tests_beside
+
+    for name in ("rig.toml", "main.py", "test_mybot.py", "press.test.yaml", "notes.yaml"):
+        (tmp_path / name).write_text("")
+    assert [p.name for p in tests_beside(tmp_path / "rig.toml")] == ["press.test.yaml", "test_mybot.py"]
