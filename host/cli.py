@@ -163,6 +163,9 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--out", type=_folder, help="folder for the PNG files (default: TRACE/plots)")
     plot.set_defaults(command=cmd_plot, sub=plot)
     _campaign_parser(sub)
+    from host.scenario.command import add_parser as _scenario_parser  # (Wokwi automation scenarios)
+
+    _scenario_parser(sub, _folder, _seed)
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
     setup.set_defaults(command=cmd_setup, sub=setup)

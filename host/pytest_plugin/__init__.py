@@ -119,7 +119,12 @@ def pytest_ignore_collect(collection_path, config):
 
 
 def pytest_collect_file(file_path, parent):
-    """A rig file named on the command line is a test of its budgets."""
+    """A rig file named on the command line is a test of its budgets; a Wokwi scenario
+    file (``*.test.yaml``) a test of its steps (``host/scenario``)."""
+    if file_path.name.endswith(".test.yaml"):
+        from host.scenario.pytest_items import collect_scenario
+
+        return collect_scenario(file_path, parent)
     return userpath.collect_rig_file(file_path, parent)
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from host.core.paths import REPO
 from host.pytest_plugin.userpath import firmware_file, how_to_write_a_test
 
-TEST_FILES = ("test_*.py", "*_test.py")
+TEST_FILES = ("test_*.py", "*_test.py", "*.test.yaml")  # (the last: Wokwi automation scenarios)
 
 
 class UsageProblem(Exception):
@@ -41,7 +41,7 @@ def rig_file(rig: str) -> Path:
 def tests_beside(rig: Path) -> list[Path]:
     """The test files in the rig file's folder, without the firmware's own."""
     found = sorted({p for pattern in TEST_FILES for p in rig.parent.glob(pattern) if p.is_file()})
-    return [p for p in found if not firmware_file(p, rig.parent)]
+    return [p for p in found if p.suffix != ".py" or not firmware_file(p, rig.parent)]
 
 
 def firmware_folder(firmware: str) -> Path:

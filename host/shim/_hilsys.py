@@ -4,7 +4,8 @@
 # board, usys the same; micropython with alloc_emergency_exception_buf (a board's, here
 # nothing to allocate); os with uname(), which the unix port leaves out, and ilistdir()
 # with each file's size, as a board's VFS gives it. print() tells the shim it printed, so
-# the host stamps the text with its virtual time (console.log, docs/traces.md).
+# the host stamps the text with its virtual time (console.log, docs/traces.md). input()
+# waits for the console in virtual time (a scenario's write-serial), as a board's does.
 import micropython as _micropython
 import os as _os
 import sys as _sys
@@ -106,17 +107,120 @@ def _printed_bytes(a, b, c, d, e, f, more, sep, end):
     return n
 
 
+_input = None  # the built-in input (install)
+TICK_US = 1000  # a board's system tick: how often a wait for the console looks again
+
+
+def _console_ready():
+    # a byte waits on the console's input (the unix port's stdin: a scenario's write-serial)
+    import _hil
+
+    p = _hil._rselect.poll()
+    p.register(_sys.stdin, _hil._rselect.POLLIN)
+    return bool(p.poll(0))
+
+
+def _hil_link():
+    import _hil
+
+    return _hil._link
+
+
+def _StdioLinkType():
+    import _hil
+
+    return _hil._StdioLink
+
+
+def _wait_console():
+    import _hil
+
+    while not _console_ready():
+        _hil.blocking()
+        _hil.run_until(_hil.now() + TICK_US)
+
+
+class _BoardStdin:
+    # sys.stdin as a board's: a read waits in virtual time for the bytes typed on the
+    # console (a scenario's write-serial); select.poll asks it (_poll_ready) each tick.
+    # Text, and its .buffer the same in bytes.
+    def __init__(self, binary=False):
+        self._binary = binary
+        self.buffer = self if binary else _BoardStdin(True)
+
+    def _poll_ready(self, mask):
+        return _console_ready()
+
+    def fileno(self):
+        return _sys.stdin.fileno()
+
+    def _out(self, data):
+        return data if self._binary else data.decode()
+
+    def read(self, n=-1):
+        # n bytes (waiting for each); n < 0: what is there once something is
+        data = b""
+        while n < 0 or len(data) < n:
+            _wait_console()
+            c = _sys.stdin.buffer.read(1)
+            if not c:
+                break
+            data += c
+            if n < 0 and not _console_ready():
+                break
+        return self._out(data)
+
+    def readline(self):
+        line = b""
+        while True:
+            _wait_console()
+            c = _sys.stdin.buffer.read(1)
+            line += c
+            if not c or c == b"\n":
+                break
+        return self._out(line)
+
+
+def _board_input(prompt=None):
+    # input() as on a board: waits in virtual time, a system tick at a time, for each
+    # character typed on the console, and echoes the line (a board's readline does)
+    import _hil
+
+    if isinstance(_hil_link(), _StdioLinkType()):  # (the console is the link itself)
+        return _input(prompt) if prompt is not None else _input()
+    if prompt:
+        _board_print(prompt, end="")
+    line = b""
+    while True:
+        while not _console_ready():
+            _hil.blocking()
+            _hil.run_until(_hil.now() + TICK_US)
+        c = _sys.stdin.buffer.read(1)
+        if not c:  # (the console closed: what a board never does; the line so far)
+            break
+        if c == b"\n":
+            break
+        if c != b"\r":
+            line += c
+    text = line.decode()
+    _board_print(text)
+    return text
+
+
 def install(said, counting=False, platform=None, machine=None):
     import builtins
 
-    global _said, _print, _counting
+    global _said, _print, _counting, _input
     _said, _print, _counting = said, builtins.print, counting
     builtins.print = _board_print
+    _input, builtins.input = builtins.input, _board_input
     impl = _sys.implementation
     version = ".".join(str(v) for v in impl.version[:3])
     if platform:
         board = _copy(_sys)
         board.platform = platform
+        if not isinstance(_hil_link(), _StdioLinkType()):  # (on a board the console is the link)
+            board.stdin = _BoardStdin()
         board.implementation = _Implementation(
             impl.name, impl.version, machine, getattr(impl, "_mpy", 0), getattr(impl, "_build", "")
         )

@@ -16,6 +16,7 @@ LAYERS = {
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,
+    "host.scenario": 5,
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,

@@ -10,6 +10,7 @@ from sim_plant import catalogue
 from sim_plant.buses import BusDevice, BusSet
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
 from sim_plant.contacts import ContactMonitor
+from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
 from sim_plant.option_table import Name
@@ -31,7 +32,7 @@ class PartsPlant(RobotPlant):
         super().__init__()
 
     def _build(self) -> None:
-        build = Build(body=dict(self.body.options), rng=self.rng)
+        build = Build(body=dict(self.body.options), rng=self.rng, controls=ControlTimeline())
         for part in self.catalogue_parts:
             try:
                 part.add(build)
@@ -45,6 +46,8 @@ class PartsPlant(RobotPlant):
         self.encoders = build.encoders
         self.bus_set = BusSet([p for p in build.parts if isinstance(p, BusDevice)])
         self.parts = ([monitor] if monitor is not None else []) + build.parts + self.body.recorders(build, self.world)
+        self.controls = build.controls
+        self.parts.append(self.controls)
         self._check_driven()
 
     def _check_driven(self) -> None:
@@ -90,6 +93,22 @@ class PartsPlant(RobotPlant):
             elif isinstance(part, ContactMonitor):  # what it touches where it was set down, at once
                 part.check_us = t
         self._motion_changed(t)
+
+    def set_control(self, name: str, control: str, value) -> None:
+        """Part ``name``'s ``control`` (``PartType.CONTROLS``) is ``value`` from now on (a
+        scenario's ``set-control``); a ControlError names the part's controls."""
+        part = next((p for p in self.catalogue_parts if p.name == name), None)
+        if part is None:
+            with_controls = [p.name for p in self.catalogue_parts if p.CONTROLS]
+            raise ControlError(f"no part {name!r} (parts with controls: {', '.join(with_controls) or 'none'})")
+        change = part.control_change(control, value)  # (checks the control and the value)
+        self.controls.set(self._t_us, name, control, value, change)
+        self._reschedule()
+
+    def restore(self, snap) -> None:
+        super().restore(snap)
+        if self.controls.entries:  # (a control set after the snapshot is due again)
+            self._reschedule()
 
     def _wire_part(self, name: str):
         where = self._input_route.get(name, -1)

@@ -87,6 +87,9 @@ class Build:
     tracks: dict = field(default_factory=dict)
     rng: object = None
     """The plant's generator, freshly seeded: for what a part draws once at build time."""
+    controls: object = None
+    """The plant's control timeline (:mod:`sim_plant.controls`): what a part with
+    ``CONTROLS`` reads its controls' values from."""
 
 
 class Declared:
@@ -131,6 +134,7 @@ class PartType(Declared):
     SIGNALS: tuple = ()
     TRUTH: tuple = ()
     VIEWS: tuple = ()
+    CONTROLS: tuple = ()  # sim_plant.controls.Control: what a scenario's set-control sets
     needs_body = False
     zero_delay = False
     reads_empty = False
@@ -155,6 +159,20 @@ class PartType(Declared):
 
     def add(self, build: Build) -> None:
         raise NotImplementedError
+
+    def control_change(self, control: str, value) -> tuple | None:
+        """Check ``value`` for ``control`` (a ControlError names the part's controls); the
+        output (signal, level) it sets at once, or None when the part reads it on demand."""
+        from sim_plant.controls import ControlError
+
+        known = {c.name: c for c in self.CONTROLS}
+        if control not in known:
+            has = ", ".join(known) if known else "none"
+            raise ControlError(f"{self.name} ({self.kind}) has no control {control!r} (controls: {has})")
+        problem = known[control].spec.problem(value)
+        if problem:
+            raise ControlError(f"{self.name} ({self.kind}) {control}: {problem}")
+        return None
 
 
 class BodyType(Declared):

@@ -4,7 +4,8 @@ pull-up) or active high (to 3V3, on a pull-down), with contact chatter when aske
 
 from sim_plant.buttons import Buttons
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.option_table import TIME, Flag, Num, Row, Rows
+from sim_plant.controls import Control
+from sim_plant.option_table import TIME, Flag, Num, OneOf, Row, Rows
 
 
 class _Button(Buttons):
@@ -39,9 +40,15 @@ class Button(PartType):
     SIGNALS = (Sig("out", "out", "level", "the button's level"),)
     TRUTH = ()
     VIEWS = (View("level", "the button's level over time", signals=("out",)),)
+    CONTROLS = (Control("pressed", OneOf((0, 1)), "1: held down, 0: let go (at the scenario's instant)"),)
 
     def check(self) -> None:
         _Button(self.name, self.options["presses"], 0, True)  # refuse a release before its press
+
+    def control_change(self, control: str, value) -> tuple | None:
+        super().control_change(control, value)
+        pressed_level = 0 if self.options["active_low"] else 1
+        return f"{self.name}.out", pressed_level if value else 1 - pressed_level
 
     def add(self, build: Build) -> None:
         o = self.options

@@ -60,6 +60,9 @@ def _part(cls) -> list[str]:
     lines.append("")
     if cls.TRUTH:
         lines += ["Ground truth: " + ", ".join(f"`{k}`" for k in cls.TRUTH) + ".", ""]
+    if cls.CONTROLS:
+        controls = "; ".join(f"`{c.name}` ({spec_text(c.spec)}): {c.doc}" for c in cls.CONTROLS)
+        lines += [f"Controls (a scenario's `set-control`, docs/wokwi-scenarios.md): {controls}.", ""]
     for v in cls.VIEWS:
         what = ", ".join([*(f"`<name>.{s}`" for s in v.signals), *(f"`{t}`" for t in v.truth)])
         lines += [f"View `{v.plot}`: {v.doc} ({what}).", ""]

@@ -6,16 +6,30 @@ import numpy as np
 
 from sim_plant import hcsr04
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.controls import Control
 from sim_plant.option_table import Name, Num
 
 
 class _Named(hcsr04.HcSr04):
     """The module, its truth keys after its part's name (two rangers, two sets)."""
 
-    def __init__(self, label: str, **options):
+    def __init__(self, label: str, controls=None, **options):
         super().__init__(**options)
         self.label = label
+        self.controls = controls
         self.inputs = {self.trig: "level"}  # a servo it rides on is its own part, with its own input
+
+    def _ping(self, t_us: int, plant) -> None:
+        """A ping; with its ``distance`` control set, the echo says that distance, exactly."""
+        distance_cm = self.controls.value_at(self.label, "distance", t_us) if self.controls else None
+        if distance_cm is None:
+            return super()._ping(t_us, plant)
+        self.pings += 1
+        angle_deg = self.servo.angle_at(t_us) if self.servo is not None else 90.0
+        self.last = {"ping_t_us": t_us, "ping_range_m": distance_cm / 100.0, "ping_angle_deg": angle_deg}
+        self.rise_us = t_us + hcsr04.START_DELAY_US
+        self.fall_us = self.rise_us + hcsr04.echo_width_us(distance_cm / 100.0)
+        self.next_us = self.rise_us
 
     def truth(self, t_us: int, plant) -> dict:
         truth = super().truth(t_us, plant)
@@ -56,6 +70,11 @@ class HcSr04(PartType):
         ),
     )
     needs_body = True
+    CONTROLS = (
+        Control(
+            "distance", Num("centimetres", 2, 400), "the obstacle's distance; each ping from then on says it exactly"
+        ),
+    )
 
     def reading(self, suffix: str, values):
         """The range (m) an ECHO high time (us) says, as firmware computes it; NaN for a
@@ -72,6 +91,7 @@ class HcSr04(PartType):
         build.parts.append(
             _Named(
                 self.name,
+                controls=build.controls,
                 trig=f"{self.name}.trig",
                 echo=f"{self.name}.echo",
                 mount=self.mount_rad(),

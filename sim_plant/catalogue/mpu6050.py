@@ -13,8 +13,9 @@ to SLEEP, 0x40; DEVICE_RESET resets the registers; asleep, no samples), WHO_AM_I
 Every other register is plain memory."""
 
 from sim_plant.catalogue.base import Opt
+from sim_plant.controls import Control
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
-from sim_plant.option_table import OneOf
+from sim_plant.option_table import Num, OneOf
 
 SMPLRT_DIV, CONFIG, GYRO_CONFIG, ACCEL_CONFIG = 0x19, 0x1A, 0x1B, 0x1C
 INT_ENABLE, INT_STATUS = 0x38, 0x3A
@@ -25,6 +26,10 @@ ACCEL_LSB_PER_G = (16384, 8192, 4096, 2048)
 TEMP_25C = {0x68: -3920, 0x19: 0, 0x70: 1336, 0x71: 1336}
 """TEMP_OUT at 25 °C by WHO_AM_I, each member's formula: MPU-6050 (25 - 36.53) * 340;
 MPU-6886 (25 - 25) * 326.8; MPU-6500 and MPU-9250 (25 - 21) * 333.87."""
+TEMP_FORMULA = {0x68: (36.53, 340.0), 0x19: (25.0, 326.8), 0x70: (21.0, 333.87), 0x71: (21.0, 333.87)}
+"""(offset °C, counts per °C) by WHO_AM_I: TEMP_OUT = (T - offset) * counts, the formulas above."""
+ACCEL_CONTROLS = ("accelX", "accelY", "accelZ")  # in g, as Wokwi's
+GYRO_CONTROLS = ("rotationX", "rotationY", "rotationZ")  # in deg/s
 
 
 class Mpu6050Chip(Imu):
@@ -53,14 +58,29 @@ class Mpu6050Chip(Imu):
             self.taken(t_us)
         return self.regs[reg]
 
+    def _controlled(self, t_us: int, sample: tuple) -> tuple:
+        """The sample with each axis a scenario's set-control set replaced (g and deg/s
+        to m/s² and deg/s); the temperature in °C (25 unless set)."""
+        controls = getattr(self, "controls", None)
+        if controls is None or not controls.entries:
+            return sample, 25.0
+        gyro = [controls.value_at(self.label, c, t_us, v) for c, v in zip(GYRO_CONTROLS, sample[:3])]
+        accel = [
+            sample[3 + i] if g is None else g * G_M_S2
+            for i, g in enumerate(controls.value_at(self.label, c, t_us) for c in ACCEL_CONTROLS)
+        ]
+        return (*gyro, *accel), controls.value_at(self.label, "temperature", t_us, 25.0)
+
     def _fill(self, t_us: int) -> None:
-        gx, gy, gz, ax, ay, az = self.current(t_us)
+        (gx, gy, gz, ax, ay, az), temp_c = self._controlled(t_us, self.current(t_us))
         regs = self.regs
         per_dps = 1 / GYRO_LSB_PER_DPS[regs[GYRO_CONFIG] >> 3 & 3]
         per_m_s2 = G_M_S2 / ACCEL_LSB_PER_G[regs[ACCEL_CONFIG] >> 3 & 3]
         for i, value in enumerate((ax, ay, az)):
             put16(regs, ACCEL_XOUT_H + 2 * i, counts(value, per_m_s2), True)
-        put16(regs, TEMP_OUT_H, TEMP_25C[regs[WHO_AM_I]], True)
+        offset_c, per_c = TEMP_FORMULA[regs[WHO_AM_I]]
+        temp = TEMP_25C[regs[WHO_AM_I]] if temp_c == 25.0 else counts((temp_c - offset_c) * per_c, 1)
+        put16(regs, TEMP_OUT_H, temp, True)
         for i, value in enumerate((gx, gy, gz)):
             put16(regs, GYRO_XOUT_H + 2 * i, counts(value, per_dps), True)
 
@@ -88,8 +108,18 @@ class Mpu6050(ImuPart):
         ),
     )
 
+    CONTROLS = (
+        *(
+            Control(n, Num("g", -16, 16), f"the {n[-1]} acceleration in g (replaces the motion's)")
+            for n in ACCEL_CONTROLS
+        ),
+        *(Control(n, Num("deg/s", -2000, 2000), f"the {n[-1]} turn rate in deg/s") for n in GYRO_CONTROLS),
+        Control("temperature", Num("°C", -40, 85), "the die temperature"),
+    )
+
     def engine(self, build):
         device = super().engine(build)
+        device.controls = build.controls
         device.who_am_i = self.options["who_am_i"]
         device.power_on()
         return device

@@ -1,0 +1,110 @@
+"""A scenario file run whole: the rig it runs against (a ``rig.toml`` in its folder or
+the nearest folder above), checked against the scenario before anything starts, started
+with a trace folder, the steps run, the outcome (steps, simulated and wall time)."""
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from host.core.paths import output_root
+from host.scenario.runner import ScenarioRun, known_ids
+from host.scenario.scenario import ScenarioError, load_scenario
+from sim_plant.controls import ControlError
+
+RIG_NAME = "rig.toml"
+
+
+def find_rig(scenario_path) -> Path:
+    """The rig file a scenario runs against: ``rig.toml`` in its folder or the nearest
+    folder above it."""
+    start = Path(scenario_path).resolve().parent
+    for folder in (start, *start.parents):
+        candidate = folder / RIG_NAME
+        if candidate.is_file():
+            return candidate
+    raise ScenarioError(f"{scenario_path}: no {RIG_NAME} in its folder or a folder above ({start})")
+
+
+def load_rig_for(scenario_path):
+    """The rig (an App, as ``load_rig`` returns it) a scenario runs against. (The one
+    place a Wokwi project's diagram.json will be read as a rig, when there is no rig.toml.)"""
+    from host.rig.rigfile import load_rig
+
+    return load_rig(find_rig(scenario_path))
+
+
+@dataclass
+class Outcome:
+    scenario: object
+    artefacts: Path
+    results: list = field(default_factory=list)
+    t_end_us: int = 0
+    wall_s: float = 0.0
+
+
+def check_steps(scenario, rig) -> None:
+    """Every part-id, control and value the steps name exists on this rig, before it
+    starts: a ScenarioError names the line and what the rig has."""
+    ids = known_ids(rig.app, rig.plant)
+    parts = {p.name: p for p in getattr(rig.plant, "catalogue_parts", ())}
+    for step in scenario.steps:
+        where = f"{scenario.path}:{step.line}: {step.kind}"
+        part = step.args.get("part")
+        if step.kind == "set-control":
+            if part not in parts:
+                with_controls = ", ".join(n for n, p in parts.items() if p.CONTROLS) or "none"
+                raise ScenarioError(f"{where}: no part {part!r} on the rig (parts with controls: {with_controls})")
+            try:
+                parts[part].control_change(step.args["control"], step.args["value"])
+            except ControlError as e:
+                raise ScenarioError(f"{where}: {e}") from None
+        elif part is not None and part not in ids and not _board_pin(rig, step.args["pin"]):
+            raise ScenarioError(
+                f"{where}: no part or probe {part!r} on the rig (has: {', '.join(sorted(ids)) or 'none'}), "
+                f"and {step.args['pin']!r} is no board pin"
+            )
+
+
+def _board_pin(rig, pin: str) -> bool:
+    """``pin`` names one of the board's pins: its rig name, or its number (GP25, D2, 25)."""
+    _folder, pins = rig.app.board_files(rig.board)
+    return pin in (pins or {}) or pin.upper().lstrip("GPD").isdigit()
+
+
+def prepare(path, timeout_us: int | None = None) -> tuple:
+    """(the scenario in ``path``, with ``timeout_us`` over its own; the rig's App)."""
+    scenario = load_scenario(path)
+    if timeout_us is not None:
+        scenario = type(scenario)(scenario.path, scenario.name, scenario.steps, timeout_us, scenario.author)
+    return scenario, load_rig_for(path)
+
+
+def run_on(rig, scenario, echo=None) -> Outcome:
+    """Run ``scenario``'s steps on ``rig`` (started); StepFailed when a step fails."""
+    outcome = Outcome(scenario, rig.artefacts)
+    wall0 = time.perf_counter()
+    run = ScenarioRun(rig, scenario, echo)
+    try:
+        outcome.results = run.run()
+    finally:
+        outcome.results = run.results
+        outcome.t_end_us = rig.t_us
+        outcome.wall_s = time.perf_counter() - wall0
+    return outcome
+
+
+def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: int | None = None, echo=None) -> Outcome:
+    """Run the scenario in ``path`` against its rig, with a trace folder (``out``, or
+    ``build/scenarios/<name>`` beside the rig); StepFailed when a step fails."""
+    from host.rig import Recording, Rig, RigSpec
+
+    scenario, app = prepare(path, timeout_us)
+    stem = Path(path).name.split(".")[0]
+    out = Path(out) if out is not None else output_root(app.rig_file) / "scenarios" / f"{app.name}-{stem}"
+    rig = Rig(RigSpec(app, seed=seed, allow_exit=True), Recording(trace=True, record=True, artefacts=out))
+    check_steps(scenario, rig)
+    wall0 = time.perf_counter()
+    with rig:
+        outcome = run_on(rig, scenario, echo)
+    outcome.wall_s = time.perf_counter() - wall0  # (with the firmware's start and the trace folder written)
+    return outcome
