@@ -34,7 +34,8 @@ class ControlError(ValueError):
 
 class ControlTimeline(Part):
     """Every control value set, in the order of its instant: ``entries`` of
-    ``(t_us, part, control, value, signal, level)`` (``signal`` None: read on demand)."""
+    ``(t_us, part, control, value, changes)`` (``changes``: the (signal, level) outputs it
+    sets at that instant; empty: read on demand)."""
 
     FIXED_STATE = ("entries", "inputs", "outputs")  # (never rewound: see the module doc)
 
@@ -45,19 +46,19 @@ class ControlTimeline(Part):
     @property
     def next_us(self) -> int:
         entries, i = self.entries, self.i
-        while i < len(entries) and entries[i][4] is None:
+        while i < len(entries) and not entries[i][4]:
             i += 1
         return entries[i][0] if i < len(entries) else NEVER_US
 
-    def set(self, t_us: int, part: str, control: str, value, change: tuple | None = None) -> None:
+    def set(self, t_us: int, part: str, control: str, value, change=None) -> None:
         """``part``'s ``control`` is ``value`` from ``t_us`` on; ``change``: the output
-        (signal, level) it sets at that instant, if any."""
+        (signal, level) it sets at that instant, a list of them, or None."""
         if self.entries and t_us < self.entries[-1][0]:
             raise ControlError(
                 f"{part}.{control}: set at t={t_us} us, before the last control set ({self.entries[-1][0]} us)"
             )
-        signal, level = change if change is not None else (None, None)
-        self.entries.append((t_us, part, control, value, signal, level))
+        changes = () if change is None else (change,) if isinstance(change[0], str) else tuple(change)
+        self.entries.append((t_us, part, control, value, changes))
 
     def value_at(self, part: str, control: str, t_us: int, default=None):
         """The value of ``part``'s ``control`` in force at ``t_us`` (``default``: never set)."""
@@ -69,7 +70,6 @@ class ControlTimeline(Part):
     def fire(self, t_us: int, plant, out: list) -> None:
         entries = self.entries
         while self.i < len(entries) and entries[self.i][0] <= t_us:
-            signal, level = entries[self.i][4:]
-            if signal is not None:
+            for signal, level in entries[self.i][4]:
                 out.append(Change(t_us, signal, level))
             self.i += 1

@@ -12,25 +12,32 @@ from host.scenario.scenario import ScenarioError, load_scenario
 from sim_plant.controls import ControlError
 
 RIG_NAME = "rig.toml"
+DIAGRAM_NAME = "diagram.json"
 
 
 def find_rig(scenario_path) -> Path:
-    """The rig file a scenario runs against: ``rig.toml`` in its folder or the nearest
-    folder above it."""
+    """The rig a scenario runs against: ``rig.toml`` (or else a Wokwi project's
+    ``diagram.json``) in its folder or the nearest folder above it."""
     start = Path(scenario_path).resolve().parent
     for folder in (start, *start.parents):
-        candidate = folder / RIG_NAME
-        if candidate.is_file():
-            return candidate
-    raise ScenarioError(f"{scenario_path}: no {RIG_NAME} in its folder or a folder above ({start})")
+        for name in (RIG_NAME, DIAGRAM_NAME):
+            candidate = folder / name
+            if candidate.is_file():
+                return candidate
+    raise ScenarioError(f"{scenario_path}: no {RIG_NAME} or {DIAGRAM_NAME} in its folder or a folder above ({start})")
 
 
 def load_rig_for(scenario_path):
-    """The rig (an App, as ``load_rig`` returns it) a scenario runs against. (The one
-    place a Wokwi project's diagram.json will be read as a rig, when there is no rig.toml.)"""
+    """The rig (an App, as ``load_rig`` returns it) a scenario runs against: a rig file,
+    or a Wokwi project read as one (:func:`host.wokwi.project.rig_from_project`)."""
     from host.rig.rigfile import load_rig
 
-    return load_rig(find_rig(scenario_path))
+    found = find_rig(scenario_path)
+    if found.name == DIAGRAM_NAME:
+        from host.wokwi.project import rig_from_project
+
+        return rig_from_project(found.parent)
+    return load_rig(found)
 
 
 @dataclass

@@ -162,7 +162,8 @@ class PartType(Declared):
 
     def control_change(self, control: str, value) -> tuple | None:
         """Check ``value`` for ``control`` (a ControlError names the part's controls); the
-        output (signal, level) it sets at once, or None when the part reads it on demand."""
+        output (signal, level) it sets at once (or a list of them), or None when the part
+        reads it on demand."""
         from sim_plant.controls import ControlError
 
         known = {c.name: c for c in self.CONTROLS}

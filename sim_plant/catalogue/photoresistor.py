@@ -6,6 +6,7 @@ resistance at ``lux`` is ``rl10_kohm * (10 / lux) ** gamma``."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.catalogue.potentiometer import Constant, adc_u16
+from sim_plant.controls import Control
 from sim_plant.option_table import Num
 
 SERIES_OHM = 10_000.0
@@ -35,8 +36,18 @@ class Photoresistor(PartType):
     TRUTH = ()
     VIEWS = (View("level", "the analog reading", signals=("ao",)),)
 
-    def add(self, build: Build) -> None:
+    CONTROLS = (Control("lux", Num("lux", 0.01, 200_000), "the light falling on it from then on (Wokwi's control)"),)
+
+    def outputs_at(self, lux: float) -> dict:
+        """The analog and digital outputs under ``lux``."""
         o = self.options
-        volts = ao_volts(o["lux"], o["rl10_kohm"], o["gamma"], o["supply_v"])
-        values = {f"{self.name}.ao": adc_u16(volts, o["adc_vref_v"]), f"{self.name}.do": int(volts > o["threshold_v"])}
+        volts = ao_volts(lux, o["rl10_kohm"], o["gamma"], o["supply_v"])
+        return {f"{self.name}.ao": adc_u16(volts, o["adc_vref_v"]), f"{self.name}.do": int(volts > o["threshold_v"])}
+
+    def control_change(self, control: str, value):
+        super().control_change(control, value)
+        return list(self.outputs_at(value).items())
+
+    def add(self, build: Build) -> None:
+        values = self.outputs_at(self.options["lux"])
         build.parts.append(Constant(values, {f"{self.name}.ao": "u16", f"{self.name}.do": "level"}))

@@ -3,6 +3,7 @@
 Wokwi ``wokwi-potentiometer``'s ``value`` 0..1023 is ``position`` = value / 1023)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.controls import Control
 from sim_plant.engine import Part
 from sim_plant.option_table import Num
 
@@ -39,8 +40,14 @@ class Potentiometer(PartType):
     TRUTH = ()
     VIEWS = (View("level", "the wiper's reading", signals=("sig",)),)
 
-    def volts(self) -> float:
-        return self.options["position"] * self.options["supply_v"]
+    CONTROLS = (Control("position", Num("", 0, 1), "the wiper's place from then on, 0 to 1 (Wokwi's control)"),)
+
+    def volts(self, position=None) -> float:
+        return (self.options["position"] if position is None else position) * self.options["supply_v"]
+
+    def control_change(self, control: str, value) -> tuple | None:
+        super().control_change(control, value)
+        return f"{self.name}.sig", adc_u16(self.volts(value), self.options["adc_vref_v"])
 
     def add(self, build: Build) -> None:
         reading = adc_u16(self.volts(), self.options["adc_vref_v"])

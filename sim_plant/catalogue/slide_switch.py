@@ -4,6 +4,7 @@ supply (1) as the wiring has it."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.catalogue.potentiometer import Constant
+from sim_plant.controls import Control
 from sim_plant.option_table import OneOf
 
 
@@ -18,6 +19,12 @@ class SlideSwitch(PartType):
     SIGNALS = (Sig("out", "out", "level", "the common pin's level"),)
     TRUTH = ()
     VIEWS = (View("level", "the switch's level", signals=("out",)),)
+
+    CONTROLS = (Control("position", OneOf(("left", "right")), "where the handle is from then on"),)
+
+    def control_change(self, control: str, value) -> tuple | None:
+        super().control_change(control, value)
+        return f"{self.name}.out", self.options[f"{value}_level"]
 
     def add(self, build: Build) -> None:
         level = self.options[f"{self.options['position']}_level"]
