@@ -24,6 +24,7 @@ from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core import paths
+from host.coverage import collector as coverage
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
@@ -122,6 +123,7 @@ class Rig:
         self.target = target if target is not None else default_target(spec, self.app, self.pacing)
         self.artefacts = Path(recording.artefacts) if recording.artefacts else None
         self.trace_enabled = recording.trace
+        self.coverage_file, self.coverage = recording.coverage, None  # (host/coverage)
         self.progress = recording.progress
         self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
@@ -172,6 +174,7 @@ class Rig:
             if self.target.board_fs:
                 self.board_fs = BoardFs(self.firmware)
                 self.firmware.board_root = self.board_fs.root
+            coverage.start(self)
             self._open(self.target.open)
             if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
                 begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
@@ -180,6 +183,7 @@ class Rig:
             self.target.close()
             self._end_board_fs()
             self.linklog.close()
+            coverage.end(self, write=False)
             raise
         return self
 
@@ -201,9 +205,12 @@ class Rig:
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
         self._end_board_fs()
-        if self._started:
-            self._started = False
-            finish_recording(self, interrupted)
+        try:
+            if self._started:
+                self._started = False
+                finish_recording(self, interrupted)
+        finally:
+            coverage.end(self)  # (host/coverage: this run's data file)
 
     def _end_board_fs(self) -> None:
         """Keep what the firmware wrote on its flash (``artefacts/board_fs/``); remove the copy."""

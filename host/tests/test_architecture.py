@@ -12,6 +12,7 @@ LAYERS = {
     "host.link": 1,
     "host.artefacts": 2,
     "host.rig": 3,
+    "host.coverage": 3,  # firmware coverage: beside the rig it measures
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,
