@@ -23,7 +23,6 @@ command and binary are untouched by it.
 """
 
 import fcntl
-
 import os
 import shutil
 import subprocess

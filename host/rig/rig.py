@@ -24,8 +24,8 @@ from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core import paths
-from host.coverage import collector as coverage
 from host.core.errors import LinkError
+from host.coverage import collector as coverage
 from host.link import frames as F
 from host.rig import arguments, boards, endings, peripherals, waits
 from host.rig.boardfs import BoardFs
