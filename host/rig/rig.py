@@ -205,12 +205,9 @@ class Rig:
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
         self._end_board_fs()
-        try:
-            if self._started:
-                self._started = False
-                finish_recording(self, interrupted)
-        finally:
-            coverage.end(self)  # (host/coverage: this run's data file)
+        if self._started:
+            self._started = False
+            finish_recording(self, interrupted)
 
     def _end_board_fs(self) -> None:
         """Keep what the firmware wrote on its flash (``artefacts/board_fs/``); remove the copy."""
@@ -404,8 +401,16 @@ def run_header(rig) -> dict:
 
 def finish_recording(rig, interrupted: BaseException | None) -> None:
     """Close the console and link log and write the trace folder, marked partial when
-    ``interrupted`` is a stop signal or a failed write. A write that fails raises
-    TraceWriteError, once (not again when it is what interrupted the run)."""
+    ``interrupted`` is a stop signal or a failed write, and the firmware's coverage when
+    measured (host/coverage). A write that fails raises TraceWriteError, once (not again
+    when it is what interrupted the run)."""
+    try:
+        _finish_trace(rig, interrupted)
+    finally:
+        coverage.end(rig)
+
+
+def _finish_trace(rig, interrupted: BaseException | None) -> None:
     rig.linklog.close()
     rig.console_log.close(rig.t_us)
     try:
