@@ -124,6 +124,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="a firmware that ends (returns, sys.exit) ends the run without an error (or [firmware] allow_exit)",
     )
+    run.add_argument(
+        "--coverage", action="store_true", help="the firmware's line and branch coverage (docs/coverage.md)"
+    )
     run.set_defaults(command=cmd_run, sub=run)
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
@@ -335,8 +338,9 @@ def cmd_run(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
+    coverage = _coverage_file(out) if args.coverage else None
     try:
-        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show))
+        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
     except PlantOptionsError as e:
         sub.error(f"argument --param: {e}")
     _writable(sub, "--out", out)
@@ -364,7 +368,17 @@ def cmd_run(args) -> int:
 
         plot_trace(out)
     _list_files(out)
+    if coverage is not None:
+        from host.coverage.session import run_summary
+
+        print(run_summary(coverage))
     return 0
+
+
+def _coverage_file(out: Path) -> Path:
+    from host.coverage.session import prepare_run
+
+    return prepare_run(out)
 
 
 def _show_console(text: str, out: Path) -> None:

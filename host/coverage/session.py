@@ -59,3 +59,23 @@ def report(data_file: Path, html_dir: Path | None = None) -> float:
             return cov.report(file=sink)
     except (CoverageException, OSError) as e:
         raise CoverageError(f"cannot report the firmware's coverage of {data_file}: {e}") from e
+
+
+def prepare_run(trace_folder: Path) -> Path:
+    """``mpy-fil run --coverage``: the settrace variant built if missing; the run's data file
+    (``<trace folder>/coverage/.coverage``, an earlier one removed)."""
+    from host.core import interpreter
+
+    interpreter.build_variant("settrace")
+    data_file = Path(trace_folder) / "coverage" / MERGED
+    data_file.unlink(missing_ok=True)
+    return data_file
+
+
+def run_summary(data_file: Path) -> str:
+    """One run's coverage: its HTML beside its data, and the line that says where."""
+    if not Path(data_file).is_file():
+        return f"firmware coverage: none written ({data_file})"
+    html = Path(data_file).parent / "html"
+    total = report(data_file, html)
+    return f"firmware coverage: {total:.0f}% of lines and branches: {html / 'index.html'} (data: {data_file})"
