@@ -247,6 +247,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "incomplete": run.get("incomplete") or {},
         "console": run.get("console"),
         **({"board_fs": run["board_fs"]} if run.get("board_fs") else {}),  # what the firmware wrote on its flash
+        **({"manifest": run["manifest"]} if run.get("manifest") else {}),  # manifest.json's SHA-256
     }
 
 

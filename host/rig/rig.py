@@ -27,7 +27,7 @@ from host.core import paths
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
 from host.link import frames as F
-from host.rig import arguments, boards, endings, peripherals, waits
+from host.rig import arguments, boards, endings, manifest, peripherals, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks
 from host.rig.bustrace import BusTrace
@@ -176,8 +176,7 @@ class Rig:
                 self.firmware.board_root = self.board_fs.root
             coverage.start(self)
             self._open(self.target.open)
-            if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
-                begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
+            begin_recording(self)  # (manifest.json; a header marked partial until the end)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
@@ -381,6 +380,15 @@ class Rig:
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
 
 
+def begin_recording(rig) -> None:
+    """As a recorded run starts (a trace folder, or a link trace): its manifest
+    (host/rig/manifest.py), and the trace folder's header marked partial."""
+    if rig.artefacts and (rig.recorder is not None or rig.trace_enabled):
+        manifest.write(rig.artefacts, manifest.of_rig(rig))
+    if rig.artefacts and rig.recorder is not None:
+        begin_trace_folder(rig.artefacts, run_header(rig), rig.recorder, rig.plant)
+
+
 def run_header(rig) -> dict:
     """The run's header for its trace folder (docs/traces.md)."""
     return {
@@ -396,6 +404,7 @@ def run_header(rig) -> dict:
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
         **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
+        "manifest": manifest.digest(rig.artefacts) if rig.artefacts else None,
     }
 
 
