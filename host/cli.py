@@ -150,6 +150,9 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument(
         "--trust-folder", action="store_true", help="run the rig file or firmware folder TRACE's header names"
     )
+    rep.add_argument(
+        "--ignore-manifest", action="store_true", help="replay even where TRACE's manifest.json differs from this run"
+    )
     rep.set_defaults(command=cmd_replay, sub=rep)
 
     plot = sub.add_parser("plot", help="write a trace folder's plots (PNG)")
@@ -537,10 +540,12 @@ def cmd_replay(args) -> int:
             busy_poll=busy_poll_wanted(),
             choice=choice,
             say=lambda which: print(f"replay runs the firmware in {which}", flush=True),
+            ignore_manifest=args.ignore_manifest,
         )
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")
+    _manifest_lines(result.manifest)
     if result.partial:
         print(f"the recording is partial ({result.partial}): compared up to its cut")
     if result.same:
@@ -549,6 +554,13 @@ def cmd_replay(args) -> int:
     print(f"outputs differ: {result.difference}")
     print(f"recorded {result.recorded} firmware outputs, replay {result.replayed}")
     return EXIT_FAILED
+
+
+def _manifest_lines(differs: list[str] | None) -> None:
+    if differs is None:
+        print("manifest: none in the trace folder (written before manifests): not checked")
+    for line in differs or ():
+        print(f"manifest differs: {line}")
 
 
 def cmd_plot(args) -> int:
