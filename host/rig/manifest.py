@@ -242,3 +242,27 @@ def _line(key: str, was, now) -> str:
     if now is _MISSING:
         return f"{key}: was {_short(was)}, now none"
     return f"{key}: was {_short(was)}, now {_short(now)}"
+
+
+def of_campaign(rig: str, campaign: dict) -> dict:
+    """A campaign's manifest: what its runs share (the rig's firmware, the interpreter, the
+    shim, the plant of its first world, harness and tools) and the campaign itself (its
+    seeds, worlds and fault sets: each run's seed and faults are in results.jsonl)."""
+    from host.rig.firmware import Firmware
+    from host.rig.spec import RigSpec, build_plant
+
+    spec = RigSpec(rig, world=(campaign.get("worlds") or [None])[0])
+    app = spec.resolve()
+    board_folder, _pins = app.board_files(spec.board or app.default_board)
+    plant, options = build_plant(spec, app)
+    found = build(app, spec, Firmware.from_app(app, board_folder), plant, {**app.plant_options, **options})
+    found["run"] = {**found["run"], "seed": None, "campaign": _plain(campaign)}
+    return found
+
+
+def write_campaign(out: Path, rig: str, campaign: dict) -> Path | None:
+    """``manifest.json`` in a campaign's folder, as its first run starts (a campaign that
+    resumes keeps the one it began with)."""
+    if (Path(out) / FILE).is_file():
+        return None
+    return write(out, of_campaign(rig, campaign))
