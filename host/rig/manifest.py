@@ -234,9 +234,10 @@ _MISSING = object()
 
 
 def _line(key: str, was, now) -> str:
-    for section, what in (("firmware", "firmware file"), ("shim", "shim file")):
-        if key.startswith(f"{section}.files.") and key.endswith(".sha256"):
-            key = f"{what} {key[len(section) + 7 : -7]}"
+    if key.startswith("firmware.files.") and key.endswith(".sha256"):
+        key = f"firmware file {key[len('firmware.files.') : -len('.sha256')]}"
+    elif key.startswith("shim.files."):
+        key = f"shim file {key[len('shim.files.') :]}"
     if was is _MISSING:
         return f"{key}: not in the recording, now {_short(now)}"
     if now is _MISSING:

@@ -26,8 +26,9 @@ against the run it is about to make: each difference (a firmware file, the inter
 binary, the shim, a tool's version, the plant's parts...) is one line, and a difference
 stops the replay (:class:`ManifestMismatch`) unless ``ignore_manifest``
 (``--ignore-manifest``); the firmware's own differences do not stop it when the user named
-the firmware (``--app``, ``--firmware``, or ``--trust-folder`` for the one the header
-names: that is the point); they are still listed. A folder without a manifest
+the firmware (``--app``, ``--firmware``: that is the point; they are still listed).
+``--trust-folder`` runs the firmware the header names, which must still be what was
+recorded. A folder without a manifest
 (written before them) is replayed as before, and the result says it was not checked.
 """
 
@@ -133,7 +134,7 @@ def check_manifest(folder: Path, rig: Rig, plant, choice: "FirmwareChoice", igno
         return None
     lines = manifest.differences(recorded, manifest.of_rig(rig, plant=plant))
     chosen = ("firmware", "firmware file", "run.app", "run.rig_file")
-    named = choice.app is not None or choice.firmware is not None or choice.trust_folder
+    named = choice.app is not None or choice.firmware is not None
     stopping = [line for line in lines if not (named and line.startswith(chosen))]
     if stopping and not ignore:
         raise ManifestMismatch(folder, lines)
