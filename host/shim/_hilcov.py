@@ -1,7 +1,7 @@
 # Firmware coverage (docs/coverage.md): a sys.settrace tracer, on the interpreter variant
 # built with MICROPY_PY_SYS_SETTRACE, that records the arcs (and so the lines) the
 # firmware's own files run: not the shim's (/_hil, or the shim's folder unconfined) nor
-# the frozen modules. Started by _hilboot before boot.py when the host passes
+# the frozen modules (no file on the flash: asyncio/core.py). Started by _hilboot before boot.py when the host passes
 # HIL_COVERAGE_FD (a file it opened for appending); saved there before the shim tells the
 # host the firmware ended, one block per boot:
 #   F <filename>
@@ -9,6 +9,7 @@
 # It changes nothing the firmware or the host sees but wall time and the heap (the
 # closures and frame objects it costs are garbage at once); under heap_lock it records
 # what it can without allocating.
+import os
 import sys
 
 _OFFSET = 1 << 20  # an arc packed into one small int: (from + _OFFSET) << 21 | to
@@ -31,10 +32,19 @@ def _arcs_of(filename):
     arcs = _files.get(filename, 0)
     if arcs == 0:
         arcs = None
-        if not filename.startswith(_skip) and filename != "<stdin>":
+        if not filename.startswith(_skip) and _on_flash(filename):
             arcs = set()
         _files[filename] = arcs
     return arcs
+
+
+def _on_flash(filename):
+    """A file the firmware has (a frozen module, a string's code: none)."""
+    try:
+        os.stat(filename)
+        return True
+    except OSError:
+        return False
 
 
 def _call(frame, event, arg):
