@@ -428,6 +428,8 @@ def _finish_trace(rig, interrupted: BaseException | None) -> None:
             write_trace_folder(rig.artefacts, run, rig.recorder, rig.plant, rig.budgets)
         elif rig.artefacts:  # (a recording dropped before the end)
             drop_begun_folder(rig.artefacts)
+            if not rig.trace_enabled:  # (nothing recorded stays: its manifest goes too)
+                (rig.artefacts / manifest.FILE).unlink(missing_ok=True)
         error = rig.console_log.error or rig.linklog.error
         if error is not None:
             raise error
