@@ -155,3 +155,14 @@ def test_a_missing_variant_names_the_command_that_builds_it(monkeypatch, tmp_pat
         interpreter.find_variant("settrace")
     with pytest.raises(SetupError, match="no interpreter variant 'fast'"):
         interpreter.variant_path("fast")
+
+
+def test_the_hil_report_links_the_merged_coverage(tmp_path):
+    from host.report.html import write_report
+
+    html = tmp_path / "coverage" / "html" / "index.html"
+    summary = {"total": 61.6, "html": html, "data": tmp_path / "coverage" / ".coverage"}
+    text = write_report(tmp_path / "report.html", [], coverage=summary).read_text()
+    assert '<a href="coverage/html/index.html">62% of lines and branches</a>' in text
+    none = write_report(tmp_path / "r2.html", [], coverage={"error": "no rig ran"}).read_text()
+    assert "firmware coverage: none (no rig ran)" in none
