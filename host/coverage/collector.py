@@ -122,6 +122,10 @@ def start(rig) -> None:
 def end(rig, write: bool = True) -> None:
     """The rig's run ended: its coverage written (``write``) or dropped."""
     run, rig.coverage = rig.coverage, None
-    if run is not None:
-        rig.firmware.coverage_fd = None
-        run.finish() if write else run.abandon()
+    if run is None:
+        return
+    rig.firmware.coverage_fd = None
+    if write:
+        run.finish()
+    else:
+        run.abandon()
