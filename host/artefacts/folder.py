@@ -48,6 +48,7 @@ from host.core.errors import ConfigError
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"
+MANIFEST = "manifest.json"  # what made the run (host/rig/manifest.py), sealed with the rest
 SIGNALS = "signals.csv"
 TRUTH = "truth.csv"
 BUDGETS = "budgets.json"
@@ -91,7 +92,7 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         except integrity.TraceWriteError as e:
             error = e
             incomplete[name] = f"not written: {e.error.strerror or e.error}"
-    for name in (CONSOLE, LINK):
+    for name in (CONSOLE, LINK, MANIFEST):  # (the manifest: written whole as the run began)
         if (folder / name).is_file() and name not in incomplete:
             files[name] = integrity.file_digest(folder / name)
     if BUDGETS in files:
@@ -247,7 +248,6 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "incomplete": run.get("incomplete") or {},
         "console": run.get("console"),
         **({"board_fs": run["board_fs"]} if run.get("board_fs") else {}),  # what the firmware wrote on its flash
-        **({"manifest": run["manifest"]} if run.get("manifest") else {}),  # manifest.json's SHA-256
     }
 
 

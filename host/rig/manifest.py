@@ -15,7 +15,7 @@ that made the result, each piece by hash or version.
 
 The trace header (``header.json``, ``trace.jsonl``) keeps its own short record (commit,
 firmware digest, MicroPython version); the manifest holds the rest, and ``header.json``
-names the manifest's SHA-256. :func:`differences` says, one line each, what differs
+seals it with the folder's other files (``files``: its SHA-256). :func:`differences` says, one line each, what differs
 between two manifests: ``mpy-fil replay`` checks a recording's before it runs.
 """
 
@@ -28,13 +28,14 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-from host.artefacts.folder import described_parts
+from host.artefacts import integrity
+from host.artefacts.folder import MANIFEST, described_parts
 from host.core import interpreter, paths, provenance
 from host.core.errors import SetupError
 from host.rig.boardfs import board_name
 from host.rig.spec import fault_schedule
 
-FILE = "manifest.json"
+FILE = MANIFEST
 VERSION = 1
 IGNORED = ("interpreter.path", "harness.commit_time")  # (where a checkout lives is not what ran)
 
@@ -172,10 +173,15 @@ def of_rig(rig, plant=None) -> dict:
     return build(rig.app, rig.spec, rig.firmware, plant or rig.plant, options, variant=variant, flashed=flashed)
 
 
-def write(folder: Path, manifest: dict) -> Path:
+def write(folder: Path, manifest: dict) -> Path | None:
+    """``manifest.json`` in ``folder``, whole or not at all: a disk that refuses it leaves
+    none (the run goes on; a replay of its folder says it was not checked)."""
     path = Path(folder) / FILE
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        integrity.write_text(path, json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    except (OSError, integrity.TraceWriteError):
+        return None
     return path
 
 

@@ -219,7 +219,7 @@ def recorded_transfers(link_log: Path) -> dict[str, list]:
     transfers: dict[str, list] = {}
     if not link_log.is_file():
         return transfers
-    with open(link_log) as lines:
+    with open(link_log, encoding="utf-8", errors="replace") as lines:  # (damaged bytes: not a BUS record)
         for line in lines:
             if '"BUS"' not in line:
                 continue

@@ -404,7 +404,6 @@ def run_header(rig) -> dict:
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
         **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
-        "manifest": manifest.digest(rig.artefacts) if rig.artefacts else None,
     }
 
 

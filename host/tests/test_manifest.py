@@ -39,7 +39,7 @@ def test_a_runs_manifest_names_every_file_the_build_the_shim_the_plant_and_the_t
     header = json.loads((run / "header.json").read_text())
     link_header = json.loads((run / "trace.jsonl").read_text().splitlines()[0])["header"]
     assert found["firmware"]["sha256"] == link_header["firmware"]["sha256"], "the digest the trace names"
-    assert header["manifest"] == sha256(run / "manifest.json")
+    assert header["files"]["manifest.json"] == sha256(run / "manifest.json"), "sealed with the folder's files"
     binary = interpreter.find()
     build = found["interpreter"]
     assert build["sha256"] == sha256(binary) and build["variant"] == "standard"
