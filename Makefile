@@ -17,6 +17,8 @@
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
 #   make hil LONG=0   the same without the sweeps over many seeds (@pytest.mark.long)
+#   make hil COVERAGE=1   the same on the line-tracing interpreter (built once, ~30 s): the
+#                firmware's line and branch coverage in build/hil/coverage/ (docs/coverage.md)
 #   make hil RIG=path/to/rig.toml   the in-the-loop tests beside that rig file (or its folder);
 #                their report and artefacts in build/ beside it
 #   make flash APP=rover [BOARD=esp32_devkitc] [PORT=/dev/ttyUSB0]   (or RIG=path/to/rig.toml)
@@ -80,7 +82,7 @@ LONG ?= 1
 # RIG=path/to/rig.toml (or its folder): only the tests beside that rig file, everything
 # written under build/ beside it; with none, the rig's own budgets as a test (host/pytest_plugin/hil_run.py)
 hil: setup
-	@$(PY) -m host.pytest_plugin.hil_run --workers $(WORKERS) --long $(LONG) --rig "$(RIG)" --firmware "$(FIRMWARE)"
+	@$(PY) -m host.pytest_plugin.hil_run --workers $(WORKERS) --long $(LONG) --rig "$(RIG)" --firmware "$(FIRMWARE)" $(if $(COVERAGE),--coverage)
 
 flash: setup
 	@$(PY) -m host.device.flash --app $(or $(RIG),$(APP)) $(if $(BOARD),--board $(BOARD)) $(if $(PORT),--port $(PORT))

@@ -128,6 +128,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="a firmware that ends (returns, sys.exit) ends the run without an error (or [firmware] allow_exit)",
     )
+    run.add_argument(
+        "--coverage", action="store_true", help="the firmware's line and branch coverage (docs/coverage.md)"
+    )
     run.set_defaults(command=cmd_run, sub=run)
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
@@ -155,6 +158,9 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--firmware", metavar="DIR", type=_folder, help="run the firmware in this folder (the board's /)")
     rep.add_argument(
         "--trust-folder", action="store_true", help="run the rig file or firmware folder TRACE's header names"
+    )
+    rep.add_argument(
+        "--ignore-manifest", action="store_true", help="replay even where TRACE's manifest.json differs from this run"
     )
     rep.set_defaults(command=cmd_replay, sub=rep)
 
@@ -347,8 +353,9 @@ def cmd_run(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
+    coverage = _coverage_file(out) if args.coverage else None
     try:
-        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show))
+        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
     except PlantOptionsError as e:
         sub.error(f"argument --param: {e}")
     _writable(sub, "--out", out)
@@ -376,7 +383,17 @@ def cmd_run(args) -> int:
 
         plot_trace(out)
     _list_files(out)
+    if coverage is not None:
+        from host.coverage.session import run_summary
+
+        print(run_summary(coverage))
     return 0
+
+
+def _coverage_file(out: Path) -> Path:
+    from host.coverage.session import prepare_run
+
+    return prepare_run(out)
 
 
 def _show_console(text: str, out: Path) -> None:
@@ -543,10 +560,12 @@ def cmd_replay(args) -> int:
             busy_poll=busy_poll_wanted(),
             choice=choice,
             say=lambda which: print(f"replay runs the firmware in {which}", flush=True),
+            ignore_manifest=args.ignore_manifest,
         )
     finally:
         _progress_done(show)
     print(f"replay trace folder: {result.folder}")
+    _manifest_lines(result.manifest)
     if result.partial:
         print(f"the recording is partial ({result.partial}): compared up to its cut")
     if result.same:
@@ -555,6 +574,13 @@ def cmd_replay(args) -> int:
     print(f"outputs differ: {result.difference}")
     print(f"recorded {result.recorded} firmware outputs, replay {result.replayed}")
     return EXIT_FAILED
+
+
+def _manifest_lines(differs: list[str] | None) -> None:
+    if differs is None:
+        print("manifest: none in the trace folder (written before manifests): not checked")
+    for line in differs or ():
+        print(f"manifest differs: {line}")
 
 
 def cmd_plot(args) -> int:

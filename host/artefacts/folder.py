@@ -48,6 +48,7 @@ from host.core.errors import ConfigError
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"
+MANIFEST = "manifest.json"  # what made the run (host/rig/manifest.py), sealed with the rest
 SIGNALS = "signals.csv"
 TRUTH = "truth.csv"
 BUDGETS = "budgets.json"
@@ -91,7 +92,7 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         except integrity.TraceWriteError as e:
             error = e
             incomplete[name] = f"not written: {e.error.strerror or e.error}"
-    for name in (CONSOLE, LINK):
+    for name in (CONSOLE, LINK, MANIFEST):  # (the manifest: written whole as the run began)
         if (folder / name).is_file() and name not in incomplete:
             files[name] = integrity.file_digest(folder / name)
     if BUDGETS in files:

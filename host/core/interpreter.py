@@ -14,8 +14,15 @@ Where the build goes (:func:`build_root`): in a checkout of the repository, its 
 every project and virtual environment of that user, never inside ``site-packages``.
 ``mpy-fil setup`` (:func:`setup`) takes ``$MICROPYTHON``, else one already built, else a
 ``micropython`` on ``PATH`` of the pinned version, else builds it.
+
+A second variant, ``settrace`` (:func:`build_variant`): the same build with line tracing
+(``sys.settrace``) for firmware coverage (docs/coverage.md), built only when coverage is
+asked for, into its own objects (``build-settrace``) and binary (``micropython-settrace``
+beside the standard one); ``$MICROPYTHON_SETTRACE`` overrides it. The standard build's
+command and binary are untouched by it.
 """
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -39,6 +46,12 @@ APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "python3")
 # TLS (mbedTLS/axTLS) and btree (Berkeley DB); and less ffi, which no board has (a firmware
 # could call the host's libc through it: docs/security.md).
 MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0", "MICROPY_PY_FFI=0")
+VARIANT_OPTIONS = {
+    "standard": (),
+    # line tracing (py/profile.c; it implies MICROPY_PERSISTENT_CODE_SAVE), objects of its own
+    "settrace": ("CFLAGS_EXTRA=-DMICROPY_PY_SYS_SETTRACE=1", "BUILD=build-settrace"),
+}
+"""What each variant adds to :data:`MAKE_OPTIONS` (its make command: :func:`make_options`)."""
 
 
 def build_root(checkout: bool | None = None) -> Path:
@@ -51,6 +64,20 @@ def build_root(checkout: bool | None = None) -> Path:
 def default_path(root: Path | None = None) -> Path:
     """The built binary: ``<root>/<Debian version>/micropython``."""
     return (root or build_root()) / DEBIAN_VERSION / "micropython"
+
+
+def variant_path(variant: str, root: Path | None = None) -> Path:
+    """A variant's binary: the standard one at :func:`default_path`, another beside it
+    (``micropython-<variant>``)."""
+    if variant not in VARIANT_OPTIONS:
+        raise SetupError(f"no interpreter variant {variant!r}: expected one of {', '.join(VARIANT_OPTIONS)}")
+    target = default_path(root)
+    return target if variant == "standard" else target.with_name(f"micropython-{variant}")
+
+
+def make_options(variant: str = "standard") -> tuple[str, ...]:
+    """The unix port's make options of a variant (without the frozen manifest)."""
+    return (*MAKE_OPTIONS, *VARIANT_OPTIONS[variant])
 
 
 def _executable(path: Path) -> bool:
@@ -214,6 +241,63 @@ def fetch_source(root: Path) -> Path:
     return tree
 
 
+def find_variant(variant: str) -> Path:
+    """A variant's interpreter: the standard one is :func:`find`; ``settrace`` is
+    ``$MICROPYTHON_SETTRACE`` if set, else the one built (:func:`build_variant`), else a
+    :class:`SetupError` naming the command that builds it."""
+    if variant == "standard":
+        return find()
+    override = os.environ.get(f"MICROPYTHON_{variant.upper()}")
+    if override:
+        if not _executable(Path(override)):
+            raise SetupError(f"MICROPYTHON_{variant.upper()}={override} is not an executable file")
+        return Path(override)
+    for path in dict.fromkeys((variant_path(variant), variant_path(variant, build_root(checkout=False)))):
+        if _executable(path):
+            return path
+    raise SetupError(
+        f"no {variant} interpreter (looked at $MICROPYTHON_{variant.upper()}, {variant_path(variant)}): "
+        f"run `python3 -m host.core.interpreter build {variant}` (or ask for coverage: make hil COVERAGE=1)"
+    )
+
+
+def build_variant(variant: str, root: Path | None = None) -> Path:
+    """Build a variant other than the standard one into ``root`` unless it is there (or
+    ``$MICROPYTHON_<VARIANT>`` names it), one build at a time (a lock beside it)."""
+    if variant == "standard":
+        return build(root)
+    override = os.environ.get(f"MICROPYTHON_{variant.upper()}")
+    if override and root is None:
+        return find_variant(variant)
+    root = root or build_root()
+    target = variant_path(variant, root)
+    root.mkdir(parents=True, exist_ok=True)
+    with open(root / f".{variant}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
+        if target.is_file():
+            return target
+        ensure_tools()
+        _compile(fetch_source(root), root / f"build-{variant}.log", variant, target)
+    return target
+
+
+def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
+    jobs = f"-j{os.cpu_count() or 2}"
+    objects = tree / "ports" / "unix" / f"build-{variant}"
+    _log(f"building the unix port ({variant} variant, asyncio frozen in); log: {log}")
+    shutil.rmtree(objects, ignore_errors=True)
+    unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *make_options(variant)]
+    with open(log, "w") as out:
+        for cmd in (["make", jobs, "-C", str(tree / "mpy-cross")], [*unix, f"FROZEN_MANIFEST={HERE / 'manifest.py'}"]):
+            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
+                tail = log.read_text().splitlines()[-20:]
+                raise SetupError(f"build failed: {' '.join(cmd)}\n" + "\n".join(tail) + f"\n(full log: {log})")
+    tmp = target.with_suffix(".tmp")
+    shutil.copy2(objects / "micropython", tmp)
+    tmp.replace(target)
+    _log(f"built {target}: {version(target)}")
+
+
 def build(root: Path | None = None) -> Path:
     """Build the interpreter into ``root`` (default :func:`build_root`) unless it is there."""
     root = root or build_root()
@@ -281,14 +365,17 @@ def main(argv: list[str]) -> int:
     cmd = argv[0] if argv else "path"
     try:
         if cmd == "build":
-            build()
+            if len(argv) > 1:
+                print(build_variant(argv[1]))
+            else:
+                build()
         elif cmd == "path":
             print(find())
         elif cmd == "version":
             path = find()
             print(f"{version(path)} ({path})")
         else:
-            print("usage: python3 -m host.core.interpreter [build|path|version]", file=sys.stderr)
+            print("usage: python3 -m host.core.interpreter [build [VARIANT]|path|version]", file=sys.stderr)
             return 2
     except SetupError as e:
         print(f"error: {e}", file=sys.stderr)

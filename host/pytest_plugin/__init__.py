@@ -28,7 +28,7 @@ from host.core import interpreter
 from host.core.errors import SetupError
 from host.core.paths import REPO
 from host.link.transport import busy_poll_wanted, cores
-from host.pytest_plugin import budget_marks, stopping, userpath
+from host.pytest_plugin import budget_marks, hil_coverage, stopping, userpath
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
@@ -82,6 +82,7 @@ def pytest_addoption(parser):
         type=float,
         help=f"a rig file named as a test runs this long (virtual seconds; default {userpath.RIG_SECONDS:g})",
     )
+    hil_coverage.addoption(group)
 
 
 LONG_MARK_HELP = (
@@ -103,6 +104,7 @@ def pytest_configure(config):
     config.addinivalue_line("markers", "hil: runs firmware in the loop (MicroPython + plant)")
     config.addinivalue_line("markers", LONG_MARK_HELP)
     config.addinivalue_line("markers", budget_marks.MARK_HELP)
+    hil_coverage.configure(config)  # --hil-coverage (docs/coverage.md)
 
 
 def pytest_collection_modifyitems(items):
@@ -215,6 +217,7 @@ def make_rig(request):
         label = f"{request.node.name} rig{len(rigs)}"
         kwargs.setdefault("progress", mission_progress(request.config, label, mission_s))
         kwargs.setdefault("busy_poll", request.config.stash.get(_busy_poll, True))
+        kwargs.setdefault("coverage", hil_coverage.data_file(request.config, request.node.nodeid, len(rigs)))
         rig = rig_from_keywords(app, **kwargs)
         budget_marks.apply(rig, marked, f"@pytest.mark.{budget_marks.MARK}")
         limits = {k: budget_marks.in_us(k, v, "make_rig budget_limits") for k, v in (budget_limits or {}).items()}

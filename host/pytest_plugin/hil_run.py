@@ -8,7 +8,8 @@ artefacts and pytest's cache under ``build/`` beside the rig file (a rig of this
 with no test there, the rig file itself runs as a test of its budgets, and how to write one
 is printed.
 ``FIRMWARE=build/vboard/<board>/fs``: the scenarios of the app flashed there, from the
-flashed files. A RIG or FIRMWARE that does not exist: one line, exit code 2, nothing run.
+flashed files. ``COVERAGE=1``: the firmware's coverage too (``--hil-coverage``, docs/coverage.md).
+A RIG or FIRMWARE that does not exist: one line, exit code 2, nothing run.
 """
 
 import argparse
@@ -82,6 +83,7 @@ def main(argv=None) -> int:
     parser.add_argument("--firmware", default="", help="a flashed board folder (build/vboard/<board>/fs)")
     parser.add_argument("--long", default="1", help="0: leave out the tests marked long")
     parser.add_argument("--workers", default=str((os.cpu_count() or 1) + 1))
+    parser.add_argument("--coverage", action="store_true", help="the firmware's coverage too (docs/coverage.md)")
     args = parser.parse_args(argv)
     try:
         if args.firmware:
@@ -89,6 +91,7 @@ def main(argv=None) -> int:
         else:
             os.environ.pop("HIL_FIRMWARE", None)
         argv, folder = pytest_args(args)
+        argv += ["--hil-coverage"] if args.coverage else []
     except UsageProblem as e:
         print(f"make hil: {e}", file=sys.stderr)
         return 2

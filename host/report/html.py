@@ -64,10 +64,13 @@ def write_report(
     title: str = "HIL report",
     totals: dict | None = None,
     skipped: list[tuple[str, str]] = (),
+    coverage: dict | None = None,
 ) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     text = render(scenarios, base=path.parent, micropython=micropython, title=title, totals=totals, skipped=skipped)
+    if coverage:
+        text = text.replace("</header>", coverage_line(coverage, path.parent) + "</header>", 1)
     path.write_text(text, encoding="utf-8")
     return path
 
@@ -115,6 +118,18 @@ def render(
     parts.append(_skipped(skipped))
     parts.append("</body></html>\n")
     return "\n".join(parts)
+
+
+def coverage_line(coverage: dict, base: Path) -> str:
+    """The firmware's coverage in the header: its total, linked to its HTML (docs/coverage.md)."""
+    if "total" not in coverage:
+        return f'<p id="coverage">firmware coverage: none ({_e(coverage.get("error", ""))})</p>'
+    html, data = Path(coverage["html"]), Path(coverage["data"])
+    href = os.path.relpath(html, base)
+    return (
+        f'<p id="coverage">firmware coverage <a href="{_e(href)}">{coverage["total"]:.0f}% of lines and branches</a>'
+        f" · data <code>{_e(str(data))}</code> (<code>coverage report --data-file=…</code>)</p>"
+    )
 
 
 def grouped(scenarios: list[Scenario]) -> dict[str, list[tuple[int, Scenario]]]:

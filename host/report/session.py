@@ -25,6 +25,7 @@ class ReportCollector:
         self.totals: dict[str, int] = {}  # every test of the session, as pytest counts them
         self._counted: set[str] = set()
         self.skipped: list[tuple[str, str]] = []  # (test, why) of every skipped test
+        self.coverage: dict | None = None  # the firmware's coverage (host/pytest_plugin/hil_coverage.py)
 
     def count(self, nodeid: str, report) -> None:
         """Any test's phase: its outcome into the session's totals (once per test)."""
@@ -88,6 +89,7 @@ class ReportCollector:
             micropython=self.micropython,
             totals=self.totals or None,
             skipped=sorted(self.skipped),
+            coverage=self.coverage,
         )
 
 

@@ -19,6 +19,7 @@ from host.rig.boardfs import DEFAULT_FLASH_BYTES
 # while it compiles at start-up). On a board the firmware has none of it, so the interpreter
 # gets ``heap_size`` plus this: the firmware's gc.mem_free() is about its board's heap.
 SHIM_HEAP_BYTES = 64 * 1024
+COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (docs/coverage.md)
 # -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
 # without its octal (a leading 0) and signs
 HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
@@ -50,6 +51,7 @@ class Firmware:
     allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
     sandbox: str = "auto"  # the interpreter in namespaces of its own ([board] sandbox, host/rig/sandbox.py)
     board_root: Path | None = None  # this run's copy, the board's / (host/rig/boardfs.py)
+    coverage_fd: int | None = None  # the tracer writes here (host/coverage, docs/coverage.md)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -135,9 +137,11 @@ class Firmware:
             "HIL_ENTRY": self.entry,
             "HIL_CONSOLE_BAUD": str(self.console_baud),
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
+            **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
         }
 
     def interpreter_args(self) -> list[str]:
         if not self.heap_size:
             return []
-        return ["-X", f"heapsize={heap_bytes(self.heap_size) + SHIM_HEAP_BYTES}"]
+        tracer = COVERAGE_HEAP_BYTES if self.coverage_fd is not None else 0
+        return ["-X", f"heapsize={heap_bytes(self.heap_size) + SHIM_HEAP_BYTES + tracer}"]

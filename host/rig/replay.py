@@ -20,6 +20,16 @@ A trace folder is data: a replay never runs a firmware the user did not name
 rig file or one of our apps; ``--firmware``, a firmware folder), or one of our own apps
 that the header names by name (code the harness ships); a rig file or firmware folder the
 header names runs only with ``trust_folder`` (``--trust-folder``). The result says which ran.
+
+Before it runs, a replay checks the recording's ``manifest.json`` (host/rig/manifest.py)
+against the run it is about to make: each difference (a firmware file, the interpreter's
+binary, the shim, a tool's version, the plant's parts...) is one line, and a difference
+stops the replay (:class:`ManifestMismatch`) unless ``ignore_manifest``
+(``--ignore-manifest``); the firmware's own differences do not stop it when the user named
+the firmware (``--app``, ``--firmware``: that is the point; they are still listed).
+``--trust-folder`` runs the firmware the header names, which must still be what was
+recorded. A folder without a manifest
+(written before them) is replayed as before, and the result says it was not checked.
 """
 
 import json
@@ -29,8 +39,9 @@ from pathlib import Path
 from host.artefacts.checks import partial_reason
 from host.artefacts.folder import LINK, TraceData, load_trace
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
-from host.core.errors import ConfigError
+from host.core.errors import ConfigError, HarnessError
 from host.link import frames as F
+from host.rig import manifest
 from host.rig.rig import Rig
 from host.rig.spec import PlantOptionsError, Recording, RigSpec, build_plant
 from sim_plant.scripted import ScriptedPlant
@@ -95,10 +106,39 @@ class ReplayResult:
     folder: Path  # the replay's own trace folder
     partial: str | None = None  # why the recording is partial: compared up to its cut
     firmware: str = ""  # which firmware ran, and who named it
+    manifest: list[str] | None = None  # what differs from the recording's manifest (None: it has none)
 
     @property
     def same(self) -> bool:
         return self.difference is None
+
+
+class ManifestMismatch(HarnessError):
+    """The run a replay would make differs from the one recorded (its manifest.json)."""
+
+    def __init__(self, folder, lines: list[str]):
+        self.lines = lines
+        listed = "\n".join(f"  {line}" for line in lines)
+        super().__init__(
+            f"trace {folder}: this replay would not run what made the recording; manifest.json differs "
+            f"in {len(lines)} place(s):\n{listed}\nreplay it anyway with --ignore-manifest"
+        )
+
+
+def check_manifest(folder: Path, rig: Rig, plant, choice: "FirmwareChoice", ignore: bool) -> list[str] | None:
+    """What differs between the recording's manifest and this replay's run (``plant``: the
+    recorded one, as the manifest describes it), one line each; None without a manifest.
+    Raises ManifestMismatch on a difference the user did not choose, unless ``ignore``."""
+    recorded = manifest.read(folder)
+    if recorded is None:
+        return None
+    lines = manifest.differences(recorded, manifest.of_rig(rig, plant=plant))
+    chosen = ("firmware", "firmware file", "run.app", "run.rig_file")
+    named = choice.app is not None or choice.firmware is not None
+    stopping = [line for line in lines if not (named and line.startswith(chosen))]
+    if stopping and not ignore:
+        raise ManifestMismatch(folder, lines)
+    return lines
 
 
 @dataclass(frozen=True)
@@ -219,11 +259,13 @@ def replay(
     busy_poll: bool = True,
     choice: FirmwareChoice = FirmwareChoice(),
     say=None,
+    ignore_manifest: bool = False,
 ) -> ReplayResult:
     """Run the recorded spec (app, board, seed, ...) against the recorded sensor stream;
     compare. ``busy_poll``: this process may spin on its link (the front end's choice);
     ``choice``: the firmware the user named (a trace folder's own runs only when trusted);
-    ``say(text)`` is told which firmware runs, before it starts."""
+    ``say(text)`` is told which firmware runs, before it starts; ``ignore_manifest``: run
+    despite differences from the recording's manifest (:func:`check_manifest`)."""
     trace = load_trace(folder)
     h = trace.header
     if h.get("mode") != "lockstep":
@@ -232,10 +274,11 @@ def replay(
     partial = partial_reason(h)
     try:
         spec, which = chosen_spec(trace.header, choice, watchdog_s=watchdog_s, busy_poll=busy_poll)
-        rig = _replay_rig(trace, spec, Path(artefacts), progress)
+        rig, recorded_plant = _replay_rig(trace, spec, Path(artefacts), progress)
     except ConfigError as e:  # (an app, board or option the header names that is not there)
         named = choice.app is not None or choice.firmware is not None
         raise ConfigError(f"trace {folder}: {'the firmware you named' if named else 'header.json'}: {e}") from None
+    differs = check_manifest(Path(folder), rig, recorded_plant, choice, ignore_manifest)
     if say is not None:
         say(which)
     with rig:
@@ -244,18 +287,19 @@ def replay(
     recorded = [e for e in trace.firmware_outputs() if before(e[0])]
     replayed = [e for e in rig.recorder.firmware_outputs() if before(e[0])]
     difference = first_difference(recorded, replayed)
-    return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial, which)
+    return ReplayResult(len(recorded), len(replayed), difference, Path(artefacts), partial, which, differs)
 
 
-def _replay_rig(trace: TraceData, spec: RigSpec, artefacts: Path, progress) -> Rig:
-    """The spec, driven by the recording (the budgets as it had them)."""
+def _replay_rig(trace: TraceData, spec: RigSpec, artefacts: Path, progress) -> tuple[Rig, object]:
+    """The spec, driven by the recording (the budgets as it had them), and the plant the
+    recording was made with (its manifest describes that one)."""
     app = spec.resolve()
     try:
         recorded_plant, _ = build_plant(spec, app)
     except PlantOptionsError:  # (a trace of a plant of one's own: the app's defaults)
         recorded_plant, _ = build_plant(RigSpec(app, seed=spec.seed), app)
     recording = Recording(trace=True, record=True, artefacts=artefacts, progress=progress)
-    return Rig(spec, recording, plant=replay_plant(trace), budgets=app.make_budgets(recorded_plant))
+    return Rig(spec, recording, plant=replay_plant(trace), budgets=app.make_budgets(recorded_plant)), recorded_plant
 
 
 def first_difference(recorded: list, replayed: list) -> Difference | None:

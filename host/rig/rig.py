@@ -25,8 +25,9 @@ from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
 from host.core import paths
 from host.core.errors import LinkError
+from host.coverage import collector as coverage
 from host.link import frames as F
-from host.rig import arguments, boards, endings, peripherals, waits
+from host.rig import arguments, boards, endings, manifest, peripherals, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks
 from host.rig.bustrace import BusTrace
@@ -124,6 +125,7 @@ class Rig:
         self.target = target if target is not None else default_target(spec, self.app, self.pacing)
         self.artefacts = Path(recording.artefacts) if recording.artefacts else None
         self.trace_enabled = recording.trace
+        self.coverage_file, self.coverage = recording.coverage, None  # (host/coverage)
         self.progress = recording.progress
         self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
@@ -174,14 +176,15 @@ class Rig:
             if self.target.board_fs:
                 self.board_fs = BoardFs(self.firmware)
                 self.firmware.board_root = self.board_fs.root
+            coverage.start(self)
             self._open(self.target.open)
-            if self.artefacts and self.recorder is not None:  # (a header marked partial until the end)
-                begin_trace_folder(self.artefacts, run_header(self), self.recorder, self.plant)
+            begin_recording(self)  # (manifest.json; a header marked partial until the end)
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
             self._end_board_fs()
             self.linklog.close()
+            coverage.end(self, write=False)
             raise
         return self
 
@@ -380,6 +383,15 @@ class Rig:
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
 
 
+def begin_recording(rig) -> None:
+    """As a recorded run starts (a trace folder, or a link trace): its manifest
+    (host/rig/manifest.py), and the trace folder's header marked partial."""
+    if rig.artefacts and (rig.recorder is not None or rig.trace_enabled):
+        manifest.write(rig.artefacts, manifest.of_rig(rig))
+    if rig.artefacts and rig.recorder is not None:
+        begin_trace_folder(rig.artefacts, run_header(rig), rig.recorder, rig.plant)
+
+
 def run_header(rig) -> dict:
     """The run's header for its trace folder (docs/traces.md)."""
     return {
@@ -400,8 +412,16 @@ def run_header(rig) -> dict:
 
 def finish_recording(rig, interrupted: BaseException | None) -> None:
     """Close the console and link log and write the trace folder, marked partial when
-    ``interrupted`` is a stop signal or a failed write. A write that fails raises
-    TraceWriteError, once (not again when it is what interrupted the run)."""
+    ``interrupted`` is a stop signal or a failed write, and the firmware's coverage when
+    measured (host/coverage). A write that fails raises TraceWriteError, once (not again
+    when it is what interrupted the run)."""
+    try:
+        _finish_trace(rig, interrupted)
+    finally:
+        coverage.end(rig)
+
+
+def _finish_trace(rig, interrupted: BaseException | None) -> None:
     rig.linklog.close()
     rig.console_log.close(rig.t_us)
     try:
@@ -410,6 +430,8 @@ def finish_recording(rig, interrupted: BaseException | None) -> None:
             write_trace_folder(rig.artefacts, run, rig.recorder, rig.plant, rig.budgets)
         elif rig.artefacts:  # (a recording dropped before the end)
             drop_begun_folder(rig.artefacts)
+            if not rig.trace_enabled:  # (nothing recorded stays: its manifest goes too)
+                (rig.artefacts / manifest.FILE).unlink(missing_ok=True)
         error = rig.console_log.error or rig.linklog.error
         if error is not None:
             raise error

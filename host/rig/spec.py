@@ -132,13 +132,15 @@ class Recording:
     """What a run keeps and shows: ``trace`` the link messages (``artefacts/trace.jsonl``),
     ``record`` every signal and ground truth (the trace folder, written at stop), in
     ``artefacts``; ``progress(t_us, t_end_us)`` called while it runs; ``time_round_trips``
-    the wall time of each link round trip (the benchmarks)."""
+    the wall time of each link round trip (the benchmarks); ``coverage`` the firmware's
+    coverage, written to that coverage.py data file (docs/coverage.md)."""
 
     trace: bool = False
     record: bool = False
     artefacts: Path | None = None
     progress: Callable | None = None
     time_round_trips: bool = False
+    coverage: Path | None = None
 
 
 NO_RECORDING = Recording()

@@ -14,13 +14,14 @@ import time
 
 from host.core import interpreter
 from host.core.children import popen_options
-from host.core.errors import FirmwareError, FirmwareHung, HarnessError, SetupError
+from host.core.errors import FirmwareError, FirmwareHung, HarnessError, LinkTimeout, SetupError
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.link.faults import wrap
 from host.rig import sandbox
 
 EXIT_WAIT_S = 5.0
+COVERAGE_STOP_S = 10.0  # for a traced firmware to save its coverage after BYE (docs/coverage.md)
 STACK_WAIT_S = 1.0  # for the traceback of a firmware interrupted where it hung
 
 
@@ -36,6 +37,10 @@ def end_process(proc: subprocess.Popen) -> None:
     except subprocess.TimeoutExpired:
         proc.kill()
         proc.wait(timeout=EXIT_WAIT_S)
+
+
+def _discard(_data: bytes) -> None:
+    pass
 
 
 def _stack(proc, rig) -> str:
@@ -130,12 +135,14 @@ class UnixPortTarget(Target):
         self.proc: subprocess.Popen | None = None
         self.pty: PtyPair | None = None
         self._on_console = None
+        self._traced: Channel | None = None  # the channel of a firmware that records coverage
 
     def open(self, firmware, on_console) -> Channel:
         if self.pty is None:
             self.pty = PtyPair()
         self._on_console = on_console
-        program = str(interpreter.find())
+        tracing = firmware.coverage_fd is not None  # (docs/coverage.md: the settrace variant)
+        program = str(interpreter.find_variant("settrace") if tracing else interpreter.find())
         argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
         argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, sandbox.setting(firmware.sandbox))
         try:
@@ -146,6 +153,7 @@ class UnixPortTarget(Target):
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,
+                pass_fds=(firmware.coverage_fd,) if tracing else (),
                 **popen_options(),  # its own session; SIGKILL when the process that runs the rig ends
             )
         except OSError as e:  # not a program this machine runs (no shebang, wrong format)
@@ -155,7 +163,9 @@ class UnixPortTarget(Target):
             ) from None
         transport = FdTransport(self.pty.master_fd, busy_poll_s=self.busy_poll_s)
         transport.watch(self.proc.stdout.fileno(), on_console)
-        return Channel(transport)
+        chan = Channel(transport)
+        self._traced = chan if tracing else None
+        return chan
 
     def restart(self, firmware, on_console) -> Channel:
         """machine.reset(): the process ends by itself after EXIT; start a new one on
@@ -170,6 +180,9 @@ class UnixPortTarget(Target):
 
     def close(self, session_open: bool = False) -> None:
         proc, self.proc = self.proc, None
+        traced, self._traced = self._traced, None
+        if proc is not None and traced is not None and session_open:
+            self._bye(proc, traced)
         if proc is not None:
             end_process(proc)
             self._drain(proc)
@@ -177,7 +190,31 @@ class UnixPortTarget(Target):
             self.pty.close()
             self.pty = None
 
-    def _drain(self, proc) -> None:
+    def _bye(self, proc, chan) -> None:
+        """A traced firmware stops as at a board's REPL (BYE; again at each wait it makes
+        while it unwinds), so its tracer saves before EXIT. What it prints after BYE is not
+        the run's: the console keeps what came before, as when the process is killed."""
+        self._drain(proc, close=False)
+        self._on_console = None
+        side = getattr(chan.transport, "side", {})
+        for fd in side:
+            side[fd] = _discard
+        deadline = time.monotonic() + COVERAGE_STOP_S
+        try:
+            chan.send(F.BYE, b"")
+            while proc.poll() is None and time.monotonic() < deadline:
+                try:
+                    type_, _seq, _payload = chan.recv_despite_damage(min(0.2, deadline - time.monotonic()))
+                except LinkTimeout:
+                    continue
+                if type_ == F.EXIT:
+                    return
+                if type_ in (F.WAIT, F.BUS):
+                    chan.send(F.BYE, b"")
+        except (OSError, HarnessError):
+            pass
+
+    def _drain(self, proc, close: bool = True) -> None:
         """The rest of what the process printed, then close its pipe."""
         if proc.stdout is None:
             return
@@ -188,6 +225,8 @@ class UnixPortTarget(Target):
                 self._on_console(rest)
         except (OSError, ValueError):
             pass
+        if not close:
+            return
         proc.stdout.close()
         if proc.stdin is not None:
             proc.stdin.close()

@@ -106,28 +106,52 @@ def _confine():
     _hilconfine.confine(env, __file__.rsplit("/", 1)[0])
 
 
+def _coverage():
+    """Firmware coverage when the host asks (HIL_COVERAGE_FD: _hilcov, docs/coverage.md)."""
+    import os
+
+    getenv = getattr(os, "getenv", None)
+    fd = getenv("HIL_COVERAGE_FD") if getenv else None
+    if not fd:
+        return None
+    import _hilcov
+
+    shim = __file__.rsplit("/", 1)[0]
+    _hilcov.start(fd, (shim + "/", "/_hil/", ".frozen"))
+    return _hilcov
+
+
+def _finish(coverage, kind, code=0, text=None):
+    if coverage is not None:  # (before EXIT: then the host may end the process)
+        _heap_unlocked()
+        coverage.save()
+    _hil.finish(kind, code, text)
+
+
 def main(pil=False):
+    coverage = None
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
         _asyncio_in_virtual_time()
         entry = _entry()
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
+            coverage = _coverage()
             _confine()
             _fresh_main()
             _run("boot.py")
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)
     except _hil.ResetRequest as e:
-        _hil.finish(F.EXIT_RESET, e.args[0] if e.args else 0)  # (1: a wake from deep sleep)
+        _finish(coverage, F.EXIT_RESET, e.args[0] if e.args else 0)  # (1: a wake from deep sleep)
         if not pil:
             sys.exit(0)
         return
     except _hil.HostStop:
-        _hil.finish(F.EXIT_RETURN)
+        _finish(coverage, F.EXIT_RETURN)
         return
     except SystemExit as e:
         code = e.args[0] if e.args and isinstance(e.args[0], int) else 0
-        _hil.finish(F.EXIT_SYSEXIT, code)
+        _finish(coverage, F.EXIT_SYSEXIT, code)
         if pil:
             return
         raise
@@ -142,8 +166,8 @@ def main(pil=False):
         text = buf.getvalue()
         if not pil:  # on a board the console is the link: the traceback goes in FAULT
             sys.stderr.write(text)
-        _hil.finish(F.EXIT_SYSEXIT, 1, text)
+        _finish(coverage, F.EXIT_SYSEXIT, 1, text)
         if not pil:
             sys.exit(1)
         return
-    _hil.finish(F.EXIT_RETURN)
+    _finish(coverage, F.EXIT_RETURN)

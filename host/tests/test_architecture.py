@@ -13,6 +13,7 @@ LAYERS = {
     "host.artefacts": 2,
     "host.rig": 3,
     "host.wokwi": 3,  # a Wokwi project as a rig (host.rig.apps reads one by its path)
+    "host.coverage": 3,  # firmware coverage: beside the rig it measures
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,
