@@ -57,3 +57,16 @@ def run_case(make_rig):
         return rig, results(rig.console)
 
     return run
+
+
+@pytest.fixture(scope="session")
+def settrace():
+    """The line-tracing interpreter of firmware coverage: ``make setup`` builds it; built
+    here (once, under a lock) when it is missing, e.g. beside a user's own MICROPYTHON."""
+    from host.core import interpreter
+    from host.core.errors import SetupError
+
+    try:
+        return interpreter.find_variant("settrace")
+    except SetupError:
+        return interpreter.build_variant("settrace")

@@ -76,7 +76,7 @@ def measured(make_rig, tmp_path, name: str, presses: str, **kw):
 
 
 @pytest.mark.hil
-def test_a_branch_taken_only_when_the_sensor_reads_high_is_covered_only_then(make_rig, tmp_path):
+def test_a_branch_taken_only_when_the_sensor_reads_high_is_covered_only_then(make_rig, tmp_path, settrace):
     _, pressed, folder = measured(make_rig, tmp_path, "pressed", "[[0.5, 0.7]]")
     _, idle, idle_folder = measured(make_rig, tmp_path, "idle", "[]")
     main, reaction = str(folder / "main.py"), str(folder / "reaction.py")
@@ -97,7 +97,7 @@ def test_a_branch_taken_only_when_the_sensor_reads_high_is_covered_only_then(mak
 
 
 @pytest.mark.hil
-def test_the_link_trace_is_the_same_with_coverage_on(make_rig, tmp_path):
+def test_the_link_trace_is_the_same_with_coverage_on(make_rig, tmp_path, settrace):
     rig_file = covbot(tmp_path / "bot", "[[0.2, 0.25], [0.6, 0.9]]")
     traces, consoles = [], []
     for n, data in enumerate((None, tmp_path / ".coverage.on")):
@@ -111,7 +111,7 @@ def test_the_link_trace_is_the_same_with_coverage_on(make_rig, tmp_path):
 
 
 @pytest.mark.hil
-def test_a_session_merges_its_runs_with_each_scenario_as_context(make_rig, tmp_path):
+def test_a_session_merges_its_runs_with_each_scenario_as_context(make_rig, tmp_path, settrace):
     measured(make_rig, tmp_path, "pressed", "[[0.5, 0.7]]")
     measured(make_rig, tmp_path, "idle", "[]")
     merged = session.merge(tmp_path / "cov")

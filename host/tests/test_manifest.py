@@ -68,7 +68,7 @@ def test_the_manifest_hashes_an_entry_file_outside_the_firmware_folder(make_rig,
     assert entry["source"] == str((tmp_path / "elsewhere" / "main.py").resolve())
 
 
-def test_a_run_with_coverage_names_the_settrace_build(make_rig, tmp_path):
+def test_a_run_with_coverage_names_the_settrace_build(make_rig, tmp_path, settrace):
     _, run = recorded(make_rig, tmp_path, coverage=tmp_path / ".coverage.run")
     build = json.loads((run / "manifest.json").read_text())["interpreter"]
     assert build["variant"] == "settrace" and build["sha256"] == sha256(interpreter.find_variant("settrace"))
