@@ -193,7 +193,7 @@ def _campaign_parser(sub) -> None:
 def _testing_parsers(sub) -> None:
     """``shrink`` and ``diff`` (docs/testing-tools.md); their bodies are in host/shrink, host/diff."""
     shr = sub.add_parser("shrink", help="shrink a failing run to a minimal one that fails the same way")
-    shr.add_argument("run", metavar="RUN", help="a trace folder, or a campaign's run (CAMPAIGN/runs/faultset/world/seed)")
+    shr.add_argument("run", metavar="RUN", help="a trace folder, or a campaign's run: CAMPAIGN/runs/KEY")
     shr.add_argument("--out", type=_folder, help="the minimal run's folder (default: build/shrink/<run>)")
     shr.add_argument("--workers", type=_workers, default=os.cpu_count() or 1, help="runs at once (default: the cores)")
     shr.add_argument("--resolution", type=_duration_s, metavar="SECONDS", help="windows and duration to this")

@@ -53,7 +53,7 @@ class Shrunk:
                 rows.append({"what": what, "before": _window_text(fault, self.original), "after": "removed"})
             else:
                 start, end = self.windows.get(i, (None, None))
-                after = f"{start:g}-{end:g} s" if start is not None else "kept"
+                after = f"{start:g}-{min(end, self.minimal['seconds']):g} s" if start is not None else "kept"
                 rows.append({"what": what, "before": _window_text(fault, self.original), "after": after})
         rows.append(
             {"what": "duration", "before": f"{self.original['seconds']:g} s", "after": f"{self.minimal['seconds']:g} s"}
@@ -175,7 +175,7 @@ class Shrinker:
     def shrink_duration(self) -> None:
         if self.signature.deadline:
             self.notes.append(
-                "duration kept: the failure is the judge's deadline (a shorter run would fail that way whatever happens)"
+                "duration kept: the failure is the judge's deadline (a shorter run fails so whatever happens)"
             )
             return
         low = max([a for a, _ in self.windows.values()] + [0.0])  # (no shorter: a window would start after the end)

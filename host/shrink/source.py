@@ -72,7 +72,7 @@ def _from_trace(folder: Path, app: str | None, trust_folder: bool) -> Source:
     if spec.get("mode", "lockstep") != "lockstep":
         raise ConfigError(f"RUN {folder}: a {spec.get('mode')} run; expected a lockstep run (its runs repeat)")
     if spec.get("options"):
-        raise ConfigError(f"RUN {folder}: the run had plant options {spec['options']} (--param), which a shrink cannot set")
+        raise ConfigError(f"RUN {folder}: the run had plant options {spec['options']} (--param); a shrink sets none")
     rig = app or spec.get("app") or header.get("app")
     if not isinstance(rig, str) or not rig:
         raise ConfigError(f"RUN {folder}: {HEADER} names no rig (spec.app)")

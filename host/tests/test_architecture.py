@@ -15,6 +15,8 @@ LAYERS = {
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,
+    "host.shrink": 5,  # over campaign runs
+    "host.diff": 5,
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,
