@@ -11,7 +11,8 @@ original's failure signature (:mod:`.signature`).
    together: shorter, and later where it can), then trimmed by a quarter at either end,
    until no cut fails the same way or the window is ``resolution_s`` long.
 3. **Duration**: the shortest duration (to ``resolution_s``) that still fails the same
-   way, ``workers`` durations tried at once per round; windows end with it. Skipped for a
+   way, three durations tried at once per round (the quartiles of what is left: the
+   same answer for any number of workers); windows end with it. Skipped for a
    deadline failure (:attr:`.signature.Signature.deadline`).
 """
 
@@ -28,6 +29,7 @@ EMPTY_SLOT = {"kind": "brownout", "at_s": FOREVER_S}
 at most ten simulated days)."""
 MIN_RESOLUTION_S = 0.01
 STEPS = 64  # the default resolution: the duration over this
+PROBES = 3  # durations tried per round (the same for any number of workers: the same answer)
 
 
 @dataclass
@@ -181,8 +183,7 @@ class Shrinker:
         low = max([a for a, _ in self.windows.values()] + [0.0])  # (no shorter: a window would start after the end)
         high = self.seconds
         while high - low > self.resolution_s:
-            k = self.runs.workers
-            probes = sorted({round(low + (high - low) * j / (k + 1), 3) for j in range(1, k + 1)})
+            probes = sorted({round(low + (high - low) * j / (PROBES + 1), 3) for j in range(1, PROBES + 1)})
             answers = self.same([self.build(seconds=p) for p in probes])
             failing = [p for p, ok in zip(probes, answers) if ok]
             high = min(failing + [high])
