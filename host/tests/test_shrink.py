@@ -180,8 +180,8 @@ def test_a_fault_whose_removal_changes_the_failure_is_kept(campaign_folder):
 
 def test_campaign_shrink_shrinks_each_distinct_failure_on_the_pool_to_the_same_answer(campaign_folder):
     folder, _ = campaign_folder
-    code, text, err = run_cli("campaign", str(BENCH), "--faults", str(folder / "faults.toml"), "--seeds", "1",
-                              "--seconds", "4", "--workers", "2", "--out", str(folder / "campaign"), "--shrink")  # fmt: skip
+    args = ["--seeds", "1", "--seconds", "4", "--workers", "2", "--out", str(folder / "campaign"), "--shrink"]
+    code, text, err = run_cli("campaign", str(BENCH), "--faults", str(folder / "faults.toml"), *args)
     assert code == 0, err
     assert "shrink 1 of 2: one-matters/default/1" in text and "shrink 2 of 2: spare-first/default/1" in text
     pooled = json.loads((folder / "campaign/shrink/1/shrink.json").read_text())["minimal"]
