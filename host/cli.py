@@ -5,7 +5,9 @@
     mpy-fil check path/to/rig.toml
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
-    mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2
+    mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2 [--shrink]
+    mpy-fil shrink build/campaign/duct_snag/runs/tether-snags/one-right-branch/8
+    mpy-fil diff build/runs/old build/runs/new --max-pos-m 0.05
     mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
     mpy-fil --version
 
