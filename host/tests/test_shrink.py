@@ -8,6 +8,7 @@ each distinct failure of a campaign on its process pool to the same answer."""
 import contextlib
 import io
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -106,7 +107,7 @@ def run_cli(*args) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
-            code = main(list(args))
+            code = main([str(a) for a in args])
         except SystemExit as e:
             code = e.code
     return code, out.getvalue(), err.getvalue()
@@ -199,3 +200,20 @@ def test_a_passing_run_or_a_folder_that_is_no_run_is_refused_in_one_line(campaig
     assert code == 2 and err.count("\n") == 1 and "the run passed when run again: nothing to shrink" in err
     code, _, err = run_cli("shrink", str(tmp_path), "--workers", "1")
     assert code == 2 and err.count("\n") == 1 and "expected a trace folder" in err
+
+
+def test_a_trace_folder_outside_a_campaign_shrinks_from_its_header(campaign_folder, tmp_path):
+    """A recorded run's folder alone: its header's rig, seed and faults, its duration; the
+    rig file it names is run only when the user says so."""
+    folder, _ = campaign_folder
+    result = replay(folder / "campaign", "one-matters/default/1")
+    trace = tmp_path / "trace"
+    shutil.copytree(result["artefacts"], trace)
+    code, _, err = run_cli("shrink", trace, "--workers", "1", "--out", tmp_path / "out")
+    assert code == 2 and "--trust-folder" in err and err.count("\n") == 1
+    code, text, err = run_cli("shrink", trace, "--workers", "1", "--out", tmp_path / "out", "--trust-folder")
+    assert code == 0, err
+    minimal = json.loads((tmp_path / "out" / "shrink.json").read_text())["minimal"]
+    assert [(f["kind"], f["signal"]) for f in minimal["faults"]] == [("stuck", "batt.adc")]
+    recorded_s = json.loads((trace / "header.json").read_text())["t_end_us"] / 1e6
+    assert minimal["faultset"] == "trace" and 1.5 <= minimal["seconds"] <= recorded_s, "no longer than the recording"
