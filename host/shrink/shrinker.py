@@ -148,6 +148,8 @@ class Shrinker:
                 continue
             start = float(fault.get("start_s", 0.0))
             end = min(float(fault.get("end_s", FOREVER_S)), self.seconds)
+            if end <= start:  # (a window after the run's end: the fault never acts, nothing to cut)
+                continue
             self.windows[i] = (start, end)
             while True:
                 cut = self._cut(i, *self.windows[i])
