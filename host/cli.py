@@ -7,7 +7,9 @@
     mpy-fil import-wokwi path/to/wokwi-project/
     mpy-fil replay build/runs/rover-long-room-seed3
     mpy-fil plot build/runs/rover-long-room-seed3
-    mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2
+    mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2 [--shrink]
+    mpy-fil shrink build/campaign/duct_snag/runs/tether-snags/one-right-branch/8
+    mpy-fil diff build/runs/old build/runs/new --max-pos-m 0.05
     mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
     mpy-fil --version
 
@@ -172,6 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     from host.scenario.command import add_parser as _scenario_parser  # (Wokwi automation scenarios)
 
     _scenario_parser(sub, _folder, _seed)
+    _testing_parsers(sub)
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
     setup.set_defaults(command=cmd_setup, sub=setup)
@@ -203,7 +206,38 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--scheduler", metavar="ADDRESS", type=_scheduler, help="a Dask scheduler, tcp://HOST:PORT")
     camp.add_argument("--out", type=_folder, help="results and report (default: build/campaign/<name>)")
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
+    camp.add_argument("--shrink", action="store_true", help="then shrink each distinct failure (docs/testing-tools.md)")
     camp.set_defaults(command=cmd_campaign, sub=camp)
+
+
+def _testing_parsers(sub) -> None:
+    """``shrink`` and ``diff`` (docs/testing-tools.md); their bodies are in host/shrink, host/diff."""
+    shr = sub.add_parser("shrink", help="shrink a failing run to a minimal one that fails the same way")
+    shr.add_argument("run", metavar="RUN", help="a trace folder, or a campaign's run: CAMPAIGN/runs/KEY")
+    shr.add_argument("--out", type=_folder, help="the minimal run's folder (default: build/shrink/<run>)")
+    shr.add_argument("--workers", type=_workers, default=os.cpu_count() or 1, help="runs at once (default: the cores)")
+    shr.add_argument("--resolution", type=_duration_s, metavar="SECONDS", help="windows and duration to this")
+    shr.add_argument("--app", metavar="RIG", help="run this rig file or app (a trace folder's run)")
+    shr.add_argument("--trust-folder", action="store_true", help="run the rig file a trace folder's header names")
+    shr.set_defaults(command=lambda args: _say_command("host.shrink.command", "shrink_command", args), sub=shr)
+
+    diff = sub.add_parser("diff", help="compare two trace folders: trajectories, outputs, budgets")
+    diff.add_argument("a", metavar="A", type=_trace_folder, help="trace folder (the reference)")
+    diff.add_argument("b", metavar="B", type=_trace_folder, help="trace folder (compared with A)")
+    diff.add_argument("--out", type=_folder, help="folder for the plot (default: B/diff)")
+    diff.add_argument("--max-pos-m", type=float, default=0.0, help="largest position deviation allowed (default 0)")
+    diff.add_argument("--max-rms-m", type=float, default=0.0, help="largest RMS position deviation allowed (default 0)")
+    diff.add_argument("--fail-on-output", action="store_true", help="differ when any output diverges")
+    diff.add_argument("--max-p99-change-us", type=float, help="largest change of a budget's p99 allowed")
+    diff.add_argument("--max-misses-change", type=int, help="largest rise of a budget's misses allowed")
+    diff.set_defaults(command=lambda args: _say_command("host.diff.command", "diff_command", args), sub=diff)
+
+
+def _say_command(module: str, name: str, args) -> int:
+    """Run a command whose body lives in its own module, printing what it says."""
+    import importlib
+
+    return getattr(importlib.import_module(module), name)(args, say=lambda text: print(text, flush=True))
 
 
 def _workers(text: str) -> int:
@@ -648,6 +682,10 @@ def cmd_campaign(args) -> int:
     paths = write_report(out, campaign.to_dict(), results)
     print("\n".join(summary_lines(campaign.to_dict(), results)))
     print(f"campaign report: {paths['html']}")
+    if args.shrink:
+        from host.shrink.command import shrink_campaign
+
+        shrink_campaign(campaign, results, out, workers=args.workers, say=lambda text: print(text, flush=True))
     return 0
 
 

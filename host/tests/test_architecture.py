@@ -18,6 +18,8 @@ LAYERS = {
     "host.device": 5,
     "host.campaign": 5,
     "host.scenario": 5,
+    "host.shrink": 5,  # over campaign runs
+    "host.diff": 5,
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,

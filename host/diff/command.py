@@ -1,0 +1,92 @@
+"""``mpy-fil diff A B``: the two trace folders compared (:mod:`.compare`), as tables on the
+terminal and a plot (:mod:`.plot`); exit status 0 when within every threshold, 1 beyond
+one (each named), 2 for a folder that cannot be read (the command line's one line). The
+command line hands in ``say``."""
+
+import math
+from pathlib import Path
+
+from host.artefacts.folder import load_trace
+from host.core.errors import ConfigError
+from host.diff.compare import Thresholds, compare
+from host.diff.plot import plot_diff
+from host.report.table import format_table
+
+EXIT_SAME, EXIT_DIFFERS = 0, 1
+
+
+def thresholds(args) -> Thresholds:
+    limits = Thresholds(
+        max_pos_m=args.max_pos_m,
+        max_rms_m=args.max_rms_m,
+        fail_on_output=args.fail_on_output,
+        max_p99_change_us=args.max_p99_change_us,
+        max_misses_change=args.max_misses_change,
+    )
+    for name in ("max_pos_m", "max_rms_m", "max_p99_change_us", "max_misses_change"):
+        value = getattr(limits, name)
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise ConfigError(f"--{name.replace('_', '-')}: expected a number >= 0, got {value}")
+    return limits
+
+
+def diff_command(args, say) -> int:
+    limits = thresholds(args)
+    a, b = load_trace(args.a), load_trace(args.b)
+    diff = compare(a, b)
+    say(f"A: {args.a} ({a.header['app']}, seed {a.header['seed']}, {a.header['t_end_us'] / 1e6:g} s)")
+    say(f"B: {args.b} ({b.header['app']}, seed {b.header['seed']}, {b.header['t_end_us'] / 1e6:g} s)")
+    for line in report_lines(diff):
+        say(line)
+    path = plot_diff(diff, Path(args.out) if args.out else Path(args.b) / "diff")
+    say(f"plot: {path}")
+    beyond = diff.beyond(limits)
+    if beyond:
+        say("DIFFERS beyond the thresholds: " + "; ".join(beyond))
+        return EXIT_DIFFERS
+    say("same within the thresholds")
+    return EXIT_SAME
+
+
+def report_lines(diff) -> list[str]:
+    """The trajectory, outputs and budgets tables, with the notes."""
+    out = []
+    if diff.fields:
+        out += ["", "trajectory (ground truth, |A - B| over the common times):"]
+        rows = [
+            {"field": f["field"], "max": f"{f['max']:.6g}", "rms": f"{f['rms']:.6g}", "at (s)": _t(f["at_s"])}
+            for f in diff.fields
+        ]
+        out += format_table(rows, ("field", "max", "rms", "at (s)")).splitlines()
+    out += ["", "firmware outputs (their changes in order):"]
+    rows = [
+        {
+            "output": o["signal"],
+            "changes A": o["changes_a"],
+            "changes B": o["changes_b"],
+            "first divergence (s)": _t(o["first_t_s"]) if o["first_t_s"] is not None else "same",
+            "A": o["a"],
+            "B": o["b"],
+        }
+        for o in diff.outputs
+    ]
+    out += format_table(rows, ("output", "changes A", "changes B", "first divergence (s)", "A", "B")).splitlines()
+    if diff.budgets:
+        out += ["", "budgets (us; wall-clock ones informational):"]
+        cols = ("budget", "p50 A", "p50 B", "p99 A", "p99 B", "p99 change", "misses A", "misses B", "misses change")
+        rows = [
+            {
+                "budget": r["budget"] + (" (wall)" if r["wall_clock"] else ""),
+                **{f"{s} {side}": r[f"{s}_{side.lower()}"] for s in ("p50", "p99", "misses") for side in "AB"},
+                "p99 change": r["p99_change"],
+                "misses change": r["misses_change"],
+            }
+            for r in diff.budgets
+        ]
+        out += format_table(rows, cols).splitlines()
+    out += [f"note: {n}" for n in diff.notes]
+    return out
+
+
+def _t(t_s) -> str:
+    return "-" if t_s is None else f"{t_s:.6f}"
