@@ -102,7 +102,8 @@ def compare_truth(diff: Diff) -> None:
         diff.position_m = np.hypot(dx, dy)
         diff.fields.append(_row("position (m)", diff.t_s, diff.position_m))
     for name in names:
-        d = diff.a.truth[name][ia] - diff.b.truth[name][ib]
+        with np.errstate(invalid="ignore"):  # (inf - inf: a reading out of range on both: no difference)
+            d = diff.a.truth[name][ia] - diff.b.truth[name][ib]
         if name == HEADING:
             d = (d + math.pi) % (2 * math.pi) - math.pi
         diff.fields.append(_row(name, diff.t_s, np.abs(d)))

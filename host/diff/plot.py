@@ -67,6 +67,7 @@ def _output(ax, diff: Diff, output: dict) -> None:
         if len(t_us) and values.dtype.kind == "f":
             ax.step(t_us / 1e6, values, style, where="post", label=label)
     ax.axvline(t0, color="red", linewidth=0.8)
-    ax.set_xlim(max(0.0, t0 - AROUND_S), t0 + AROUND_S)
+    end_s = max(trace.header.get("t_end_us", 0) for trace in (diff.a, diff.b)) / 1e6
+    ax.set_xlim(max(0.0, t0 - AROUND_S), min(t0 + AROUND_S, end_s) if end_s > t0 else t0 + AROUND_S)
     ax.set_title(f"{output['signal']}: first differs at t={t0:.6f} s", fontsize=9)
     ax.legend(loc="upper right")
