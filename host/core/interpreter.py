@@ -39,6 +39,9 @@ APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "python3")
 # TLS (mbedTLS/axTLS) and btree (Berkeley DB); and less ffi, which no board has (a firmware
 # could call the host's libc through it: docs/security.md).
 MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0", "MICROPY_PY_FFI=0")
+# The shim's hot path in C (host/shim/cmod/_hilfast), linked in as a user C module: the shim
+# uses it when it can import it, its pure-Python path otherwise (a user's own interpreter).
+USER_C_MODULES = HERE.parent.parent / "shim" / "cmod"
 
 
 def build_root(checkout: bool | None = None) -> Path:
@@ -237,6 +240,7 @@ def build(root: Path | None = None) -> Path:
                 "-C",
                 str(tree / "ports" / "unix"),
                 *MAKE_OPTIONS,
+                f"USER_C_MODULES={USER_C_MODULES}",
                 f"FROZEN_MANIFEST={HERE / 'manifest.py'}",
             ],
         ):
