@@ -142,6 +142,7 @@ class _Link:
     fast = None
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
+    ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -495,7 +496,7 @@ def _sync(t_until, watch):
     fast = _Link.fast
     if fast is not None:  # the same loop in C (host/shim/cmod/_hilfast)
         cur = [F.STATE_LEN, 0, False]
-        stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _handlers_wrote, _Link.g)
+        stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
         if stop:
             return cur[2] or stop == 2
         i = cur[1]
@@ -746,6 +747,7 @@ def _fast_path(getenv):
     except ImportError:
         return None
     _Link.g = globals() if _lockstep else None
+    _Link.ctx = (globals(), _Link, CallbackFailed)
     return _hilfast.apply_state
 
 
