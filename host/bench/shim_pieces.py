@@ -58,8 +58,6 @@ def main():
     _hil._Link.fast = _hil._fast_path(getenv) if not (getenv and getenv("HIL_PURE")) else None
     from encoder import QuadEncoder
 
-    from machine import Pin
-
     enc = QuadEncoder(4, 5)
     link.state = _state(enc.a, enc.b, 0)
     frame = F.encode(F.STATE, 0, link.state)

@@ -481,7 +481,7 @@ def _sync(t_until, watch):
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
-    state_fmt, change_fmt, change_len = F.STATE_FMT, F.CHANGE_FMT, F.CHANGE_LEN
+    state_fmt = F.STATE_FMT
     payload = struct.pack(F.WAIT_FMT, _now, t_until, compute_us if compute_us > 0 else 0)
     if watch:
         for h in watch:
@@ -494,19 +494,28 @@ def _sync(t_until, watch):
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
     fast = _Link.fast
-    if fast is not None:  # the same loop in C (host/shim/cmod/_hilfast)
-        cur = [F.STATE_LEN, 0, False]
-        stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
-        if stop:
-            return cur[2] or stop == 2
-        i = cur[1]
-        _finish_state(F.unpack_changes(p, cur[0], base, n - i, []) if i < n else None, t_end, horizon)
-        return cur[2]
+    if fast is None:
+        return _apply_state(p, base, t_end, horizon, n, watch)
+    # the same as _apply_state, in C (host/shim/cmod/_hilfast)
+    cur = [F.STATE_LEN, 0, False]
+    stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
+    if stop:
+        return cur[2] or stop == 2
+    i = cur[1]
+    _finish_state(F.unpack_changes(p, cur[0], base, n - i, []) if i < n else None, t_end, horizon)
+    return cur[2]
+
+
+def _apply_state(p, base, t_end, horizon, n, watch):
+    """A STATE's changes applied in time order, the handlers due at each instant run before
+    the next (the pure-Python path; _hilfast.apply_state does the same in C)."""
+    global _now
     hit = False
     off = F.STATE_LEN
     group_t = -1
     held = None
     ch_bytes, unpack_from, handles, pending = F.CH_BYTES, struct.unpack_from, _handles, _pending
+    change_fmt, change_len = F.CHANGE_FMT, F.CHANGE_LEN
     for i in range(n):
         dt, h, kind, value, extra = unpack_from(change_fmt, p, off)
         off += change_len
