@@ -8,7 +8,7 @@ in time order, at one instant in the order of the encoders, as the plant's event
 emits them one by one; a batch limit cuts after the instant that reached it, as there.
 An encoder whose ``emit`` is its own (:class:`MissingEdgeEncoder`), a rate of an edge a
 microsecond or more (emit's clamp to later instants could bite) or a window too short
-to pay for numpy's calls goes the loop's way. ``host/tests/test_edge_window.py`` checks
+to pay for numpy's calls (``MIN_EDGES``) goes the loop's way. ``host/tests/test_edge_window.py`` checks
 the two ways give the same changes.
 """
 
@@ -18,7 +18,10 @@ from sim_plant.encoders import _EdgeCounter
 from sim_plant.plant import Change
 
 _new_tuple = tuple.__new__
-MIN_EDGES = 24  # fewer edges expected in a window: the loop's way (numpy's calls cost more)
+# Fewer edges expected in a window: the loop's way. numpy's fixed cost (some 25 calls a
+# window) is about 4 us an edge over the encoder bench's windows of ~46 edges (the drive's
+# speed steps come every few ms), against about 1 us an edge for the loop (docs/bench.md).
+MIN_EDGES = 1024
 
 
 def plain(encoders) -> bool:
@@ -53,11 +56,11 @@ def _times(enc, t_stop: int):
     return times[:m], counts[:m], int(times[m])
 
 
-def emit_window(encoders, t_stop: int, out: list, limit: int):
+def emit_window(encoders, t_stop: int, out: list, limit: int, min_edges: int = MIN_EDGES):
     """Every edge of ``encoders`` from their next ones through ``t_stop`` appended to ``out``
     (no other part's event in between), up to the instant that brings ``out`` to ``limit``
     (0: no limit). Returns the last instant emitted, or None (nothing done: the loop's way)."""
-    if sum(abs(enc.rate) for enc in encoders) * (t_stop - min(enc.next_us for enc in encoders)) < MIN_EDGES:
+    if sum(abs(enc.rate) for enc in encoders) * (t_stop - min(enc.next_us for enc in encoders)) < min_edges:
         return None
     parts = []
     for k, enc in enumerate(encoders):

@@ -59,7 +59,7 @@ def test_a_window_emits_what_the_loop_emits(speeds, t0, span, limit, steps):
         t_stop = t0 + span * (step + 1)
         want, got = [], []
         last_want = _one_by_one(a, t_stop, want, limit)
-        last_got = edge_window.emit_window(b, t_stop, got, limit)
+        last_got = edge_window.emit_window(b, t_stop, got, limit, min_edges=8)  # (windows of every size)
         if last_got is None:  # (the loop's way: too few edges, or a rate it leaves alone)
             last_got = _one_by_one(b, t_stop, got, limit)
         assert got == want
@@ -71,7 +71,8 @@ def test_a_window_emits_what_the_loop_emits(speeds, t0, span, limit, steps):
 def test_a_window_is_taken_at_speed_and_left_to_the_loop_for_a_missing_edge_encoder():
     fast = _encoders([60.0, -55.0], 1000)
     out = []
-    assert edge_window.emit_window(fast, 20_000, out, 0) is not None and len(out) > 100
+    assert edge_window.emit_window(fast, 2_000, out, 0) is None and not out  # (too few: the loop's)
+    assert edge_window.emit_window(fast, 200_000, out, 0) is not None and len(out) > edge_window.MIN_EDGES
     assert edge_window.plain(fast)
     odd = MissingEdgeEncoder(("m.a", "m.b"), gaps=(5, 7), wheel=0, lines_per_rev=7, gear_ratio=98.5)
     assert not edge_window.plain([*fast, odd])
