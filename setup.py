@@ -21,6 +21,6 @@ setup(
         "host.core": ["micropython/manifest.py", "*.sh"],
         "host.device": ["vrepl/*.py"],
         "host.conformance": ["*.toml", "bench/*.py"],
-        "host.shim": ["*.py"],
+        "host.shim": ["*.py", "cmod/*/*.c", "cmod/*/*.mk"],  # (cmod: the C hot path, built in)
     },
 )

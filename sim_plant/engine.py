@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from sim_plant import edge_window
 from sim_plant.motors import DcMotor
 from sim_plant.plant import NEVER_US, Change, Plant
 
@@ -247,7 +248,20 @@ class RobotPlant(Plant):
         nxt = self._next_us
         if nxt <= t_us:
             encoders = self.encoders
+            window_at = nxt if edge_window.plain(encoders) else NEVER_US
             while nxt <= t_us:
+                if nxt >= window_at and self._next_part_us > nxt:
+                    # the edges until the next part's event at once (sim_plant/edge_window.py)
+                    t_last = edge_window.emit_window(encoders, min(t_us, self._next_part_us - 1), out, limit)
+                    if t_last is None:
+                        window_at = self._next_part_us  # (too few: one by one until then)
+                    else:
+                        self._t_us = t_last
+                        nxt = min(self._next_part_us, *(enc.next_us for enc in encoders))
+                        if limit and len(out) >= limit and nxt > t_last:
+                            self._next_us = nxt
+                            return out
+                        continue
                 # everything due at nxt: encoder edges first (they follow the speeds that
                 # held until nxt), then the drive, then the other parts in order
                 self._t_us = nxt

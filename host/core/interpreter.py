@@ -45,13 +45,31 @@ APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):
 # TLS (mbedTLS/axTLS) and btree (Berkeley DB); and less ffi, which no board has (a firmware
 # could call the host's libc through it: docs/security.md).
-MAKE_OPTIONS = ("VARIANT=standard", "MICROPY_PY_SSL=0", "MICROPY_PY_BTREE=0", "MICROPY_PY_FFI=0")
+# With the shim's hot path in C (host/shim/cmod/_hilfast), linked in as a user C module: the
+# shim uses it when it can import it, its pure-Python path otherwise (a user's own interpreter).
+# (The folder is named from the project's root here, as the manifest records it; given to make
+# as an absolute path: :func:`_absolute`.)
+MAKE_OPTIONS = (
+    "VARIANT=standard",
+    "MICROPY_PY_SSL=0",
+    "MICROPY_PY_BTREE=0",
+    "MICROPY_PY_FFI=0",
+    "USER_C_MODULES=host/shim/cmod",
+)
 VARIANT_OPTIONS = {
     "standard": (),
     # line tracing (py/profile.c; it implies MICROPY_PERSISTENT_CODE_SAVE), objects of its own
     "settrace": ("CFLAGS_EXTRA=-DMICROPY_PY_SYS_SETTRACE=1", "BUILD=build-settrace"),
 }
 """What each variant adds to :data:`MAKE_OPTIONS` (its make command: :func:`make_options`)."""
+PROJECT_ROOT = HERE.parent.parent.parent
+"""What a relative folder in :data:`MAKE_OPTIONS` is relative to."""
+
+
+def _absolute(option: str) -> str:
+    """``USER_C_MODULES=host/shim/cmod`` as make needs it (an absolute folder)."""
+    name, _, value = option.partition("=")
+    return f"{name}={PROJECT_ROOT / value}" if name == "USER_C_MODULES" else option
 
 
 def build_root(checkout: bool | None = None) -> Path:
@@ -286,7 +304,7 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
     objects = tree / "ports" / "unix" / f"build-{variant}"
     _log(f"building the unix port ({variant} variant, asyncio frozen in); log: {log}")
     shutil.rmtree(objects, ignore_errors=True)
-    unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *make_options(variant)]
+    unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *map(_absolute, make_options(variant))]
     with open(log, "w") as out:
         for cmd in (["make", jobs, "-C", str(tree / "mpy-cross")], [*unix, f"FROZEN_MANIFEST={HERE / 'manifest.py'}"]):
             if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
@@ -306,33 +324,9 @@ def build(root: Path | None = None) -> Path:
         _log(f"up to date: {target}")
         return target
     ensure_tools()
-    tree = fetch_source(root)
-    jobs = f"-j{os.cpu_count() or 2}"
-    log = root / "build.log"
-    _log(f"building the unix port (standard variant, asyncio frozen in); log: {log}")
-    # (objects of an earlier build with other options would be linked in: start from none)
-    shutil.rmtree(tree / "ports" / "unix" / "build-standard", ignore_errors=True)
-    with open(log, "w") as out:
-        for cmd in (
-            ["make", jobs, "-C", str(tree / "mpy-cross")],
-            [
-                "make",
-                jobs,
-                "-C",
-                str(tree / "ports" / "unix"),
-                *MAKE_OPTIONS,
-                f"FROZEN_MANIFEST={HERE / 'manifest.py'}",
-            ],
-        ):
-            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
-                tail = log.read_text().splitlines()[-20:]
-                raise SetupError(f"build failed: {' '.join(cmd)}\n" + "\n".join(tail) + f"\n(full log: {log})")
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_suffix(".tmp")
-    shutil.copy2(tree / "ports" / "unix" / "build-standard" / "micropython", tmp)
-    tmp.replace(target)
+    _compile(fetch_source(root), root / "build.log", "standard", target)
     os.utime(target)  # newer than its inputs, so make does not rebuild it
-    _log(f"built {target}: {version(target)}")
     return target
 
 

@@ -100,7 +100,7 @@ class Clock:
         must go now: a watched input changed, the batch is full, or (real time) an IRQ
         edge is due. Lockstep batches IRQ edges speculatively."""
         plant, pacing, inputs, recorder = self.plant, self.pacing, self.inputs, self.recorder
-        route = inputs.route
+        route, route_all = inputs.route, inputs.route_all
         if pacing.speculates and not self.speculation.open and self.wait is not None and self.wiring.irq_armed:
             self.speculation.begin()
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
@@ -108,11 +108,7 @@ class Clock:
                 route(change, watch)
         while plant.t_us < target_us:
             t_next, limit = pacing.step(self, target_us, watch)
-            irq = hit = False
-            for change in plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next):
-                i, h = route(change, watch)
-                irq |= i
-                hit |= h
+            irq, hit = route_all(plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next), watch)
             if recorder is not None:
                 recorder.sample(plant)
             if hit or (irq and pacing.irq_ends_batch) or inputs.full():

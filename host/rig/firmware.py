@@ -138,6 +138,8 @@ class Firmware:
             "HIL_CONSOLE_BAUD": str(self.console_baud),
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
             **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
+            # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
+            **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }
 
     def interpreter_args(self) -> list[str]:

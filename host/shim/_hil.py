@@ -137,6 +137,12 @@ class _Link:
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
     callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
+    # _hilfast.apply_state when the interpreter has it (the harness's build) and HIL_PURE
+    # is not set, else None (the pure-Python loop of _sync: a user's own interpreter)
+    fast = None
+    pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
+    g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
+    ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
 
     def __init__(self, path):
         self.f = open(path, "r+b")
@@ -475,7 +481,7 @@ def _sync(t_until, watch):
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
-    state_fmt, change_fmt, change_len = F.STATE_FMT, F.CHANGE_FMT, F.CHANGE_LEN
+    state_fmt = F.STATE_FMT
     payload = struct.pack(F.WAIT_FMT, _now, t_until, compute_us if compute_us > 0 else 0)
     if watch:
         for h in watch:
@@ -487,11 +493,29 @@ def _sync(t_until, watch):
     _wake_real_us = _rtime.ticks_us()
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
+    fast = _Link.fast
+    if fast is None:
+        return _apply_state(p, base, t_end, horizon, n, watch)
+    # the same as _apply_state, in C (host/shim/cmod/_hilfast)
+    cur = [F.STATE_LEN, 0, False]
+    stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
+    if stop:
+        return cur[2] or stop == 2
+    i = cur[1]
+    _finish_state(F.unpack_changes(p, cur[0], base, n - i, []) if i < n else None, t_end, horizon)
+    return cur[2]
+
+
+def _apply_state(p, base, t_end, horizon, n, watch):
+    """A STATE's changes applied in time order, the handlers due at each instant run before
+    the next (the pure-Python path; _hilfast.apply_state does the same in C)."""
+    global _now
     hit = False
     off = F.STATE_LEN
     group_t = -1
     held = None
     ch_bytes, unpack_from, handles, pending = F.CH_BYTES, struct.unpack_from, _handles, _pending
+    change_fmt, change_len = F.CHANGE_FMT, F.CHANGE_LEN
     for i in range(n):
         dt, h, kind, value, extra = unpack_from(change_fmt, p, off)
         off += change_len
@@ -517,12 +541,18 @@ def _sync(t_until, watch):
         stop = _handlers_wrote(group_t)
         if stop:
             return hit or stop == 2
+    _finish_state(held, t_end, horizon)
+    return hit
+
+
+def _finish_state(held, t_end, horizon):
+    """A STATE applied up to its end: the clock at t_end, the changes past it held."""
+    global _now
     if _lockstep:
         _now = t_end
     else:
         now()
     _hold(held, horizon)
-    return hit
 
 
 def _hold(held, horizon):
@@ -706,6 +736,7 @@ def start():
     except ImportError:  # a board without threads
         _Link.thread = int
     _Link.main_thread = _Link.thread()
+    _Link.fast = _fast_path(getenv)
     import select as shim_select  # (asyncio imports both anyway)
     import time as shim_time
 
@@ -714,6 +745,19 @@ def start():
     sys.modules["umachine"] = _umachine
     sys.modules["uselect"] = shim_select
     sys.modules["utime"] = shim_time
+
+
+def _fast_path(getenv):
+    """The C loop of a STATE's changes, or None: not in this interpreter, or HIL_PURE set."""
+    if getenv and getenv("HIL_PURE"):
+        return None
+    try:
+        import _hilfast
+    except ImportError:
+        return None
+    _Link.g = globals() if _lockstep else None
+    _Link.ctx = (globals(), _Link, CallbackFailed)
+    return _hilfast.apply_state
 
 
 def finish(kind, code=0, text=None):

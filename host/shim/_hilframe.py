@@ -434,6 +434,18 @@ def unpack_bus_reply(p):
 def pack_state(base_us, t_end_us, horizon_us, changes):
     """changes: (t_us, handle, kind, value, extra) in time order; for CH_BYTES, value is
     the byte count and extra the bytes. Times before base_us are sent as base_us."""
+    flat = []
+    add = flat.extend
+    for t, h, kind, value, extra in changes:
+        if kind == CH_BYTES:
+            return _pack_state_bytes(base_us, t_end_us, horizon_us, changes)
+        add((t - base_us if t > base_us else 0, h, kind, value, extra))
+    n = len(changes)
+    return struct.pack(STATE_FMT + CHANGE_FMT[1:] * n, base_us, t_end_us, horizon_us, n, *flat)
+
+
+def _pack_state_bytes(base_us, t_end_us, horizon_us, changes):
+    """pack_state with UART bytes among the changes: a part at a time."""
     parts = [struct.pack(STATE_FMT, base_us, t_end_us, horizon_us, len(changes))]
     for t, h, kind, value, extra in changes:
         dt = t - base_us if t > base_us else 0

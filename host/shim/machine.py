@@ -139,6 +139,9 @@ class Pin:
         return "Pin(%r)" % (self._id,)
 
 
+_hil._Link.pin = Pin  # (its changes are applied in C when the shim has _hilfast)
+
+
 class _PinIRQ:
     def __init__(self, pin):
         self._pin = pin

@@ -111,6 +111,8 @@ def test_the_wheel_carries_what_the_harness_needs_and_not_the_tests(scratch):
         "host/_data/examples/pico_bot/rig.toml",
         "host/shim/machine.py",
         "host/core/micropython/manifest.py",  # (the interpreter's build)
+        "host/shim/cmod/_hilfast/_hilfast.c",  # (its user C module)
+        "host/shim/cmod/_hilfast/micropython.mk",
         "host/core/aptsources.py",  # (its deb-src line)
         "sim_plant/catalogue/__init__.py",
     ):

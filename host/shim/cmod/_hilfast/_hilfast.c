@@ -1,0 +1,213 @@
+// _hilfast: the shim's per-edge hot path in C, for the harness's own MicroPython build.
+//
+// host/shim/_hil.py uses it when it can import it (and HIL_PURE is not set); a user's own
+// interpreter runs the pure-Python path, which does exactly the same thing: the tests run
+// both and compare the traces byte for byte (host/tests/test_hilfast.py). One function:
+//
+// apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g)
+//   applies a STATE's changes from offset cur[0] (change cur[1] of n) as _hil._sync's loop
+//   does: at each new instant first the handlers due at the one before (_handlers_wrote and
+//   dispatch, here in C; ctx: (_hil's globals, _Link, CallbackFailed)), then _now = t (in
+//   the module globals g, None in real time), then each change:
+//   a machine.Pin (exactly pin_type, no counters) in C as Pin._hil_apply does, anything
+//   else through its own _hil_apply. It stops at the first change past t_end (held by the
+//   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
+//   returns handlers_wrote's stop code (0: every change up to t_end applied).
+#include <string.h>
+
+#include "py/obj.h"
+#include "py/objlist.h"
+#include "py/objtuple.h"
+#include "py/runtime.h"
+
+#define CHANGE_LEN 15  // "<IHBiI": dt_us, handle, kind, value, extra
+#define CH_BYTES 2     // _hilframe.CH_BYTES: value is a byte count, the bytes follow
+#define IRQ_RISING 1   // _hilframe.IRQ_RISING / IRQ_FALLING (the ESP32 port's codes)
+#define IRQ_FALLING 2
+
+static uint32_t get_u32(const uint8_t *b) {
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+// Pin._hil_apply, for a Pin with no counters; false when it must go through Python.
+static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
+    if (mp_load_attr(pin, MP_QSTR__counters) != mp_const_none) {
+        return false;
+    }
+    if (mp_obj_equal(mp_load_attr(pin, MP_QSTR__level), value)) {
+        return true;
+    }
+    mp_store_attr(pin, MP_QSTR__level, value);
+    mp_obj_t handler = mp_load_attr(pin, MP_QSTR__handler);
+    if (handler != mp_const_none) {
+        mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
+        if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
+            mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
+            mp_obj_t item[2] = {handler, pin};
+            mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
+        }
+    }
+    return true;
+}
+
+static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value, mp_obj_t extra, mp_obj_t pending) {
+    if (mp_obj_get_type(obj) == MP_OBJ_TO_PTR(pin_type) && pin_apply(obj, value, pending)) {
+        return;
+    }
+    mp_obj_t dest[5];
+    mp_load_method(obj, MP_QSTR__hil_apply, dest);
+    dest[2] = MP_OBJ_NEW_SMALL_INT(kind);
+    dest[3] = value;
+    dest[4] = extra;
+    mp_call_method_n_kw(3, 0, dest);
+}
+
+static bool pending_any(mp_obj_t pending) {
+    mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
+    return list->len > 0;
+}
+
+// _hil.dispatch: the pending callbacks in order, never re-entrantly, unless IRQs are off.
+// ctx: (the _hil module's globals, _Link, CallbackFailed).
+static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
+    mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
+    mp_obj_t g = c[0], link = c[1], failed = c[2];
+    mp_obj_t dispatching = MP_OBJ_NEW_QSTR(MP_QSTR__dispatching);
+    if (mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))
+        || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
+        return;
+    }
+    mp_obj_dict_store(g, dispatching, mp_const_true);
+    mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
+    while (list->len > 0) {
+        mp_obj_t item = list->items[0];  // pending.pop(0)
+        list->len--;
+        memmove(list->items, list->items + 1, list->len * sizeof(mp_obj_t));
+        list->items[list->len] = MP_OBJ_NULL;
+        mp_obj_t *cb;
+        mp_obj_get_array_fixed_n(item, 2, &cb);
+        mp_obj_t callback = cb[0], arg = cb[1];
+        mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
+        nlr_buf_t nlr;
+        if (nlr_push(&nlr) == 0) {
+            mp_call_function_1(callback, arg);
+            nlr_pop();
+        } else {
+            mp_obj_dict_store(g, dispatching, mp_const_false);
+            mp_obj_t exc = MP_OBJ_FROM_PTR(nlr.ret_val);
+            if (mp_obj_is_subclass_fast(MP_OBJ_FROM_PTR(mp_obj_get_type(exc)), MP_OBJ_FROM_PTR(&mp_type_Exception))) {
+                nlr_raise(mp_call_function_2(failed, callback, exc));  // (a reset, a host stop go through)
+            }
+            nlr_jump(nlr.ret_val);
+        }
+    }
+    mp_obj_dict_store(g, dispatching, mp_const_false);
+}
+
+static mp_obj_t global(mp_obj_t g, qstr name) {
+    return mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(name));
+}
+
+// _hil._handlers_wrote(t): run the handlers due at t; 1 if they wrote an output, 2 if they
+// made a polled stream ready, 3 if one blocked (made exchanges), 0: carry on.
+static mp_int_t handlers_wrote(mp_obj_t ctx, mp_obj_t pending, mp_int_t t) {
+    mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
+    mp_obj_t g = c[0], link = c[1];
+    mp_obj_dict_store(g, MP_OBJ_NEW_QSTR(MP_QSTR__wrote), mp_const_false);
+    mp_obj_t syncs = mp_load_attr(link, MP_QSTR_syncs);
+    dispatch(ctx, pending);
+    if (!mp_obj_equal(mp_load_attr(link, MP_QSTR_syncs), syncs)) {
+        return 3;
+    }
+    mp_obj_t woke_fn = mp_load_attr(global(g, MP_QSTR__link), MP_QSTR_woke);
+    bool woke = woke_fn != mp_const_none && mp_obj_is_true(mp_call_function_0(woke_fn));
+    if (mp_obj_is_true(global(g, MP_QSTR__wrote)) || woke) {
+        if (mp_obj_is_true(global(g, MP_QSTR__lockstep))) {
+            mp_obj_dict_store(g, MP_OBJ_NEW_QSTR(MP_QSTR__now), mp_obj_new_int(t));
+        }
+        mp_obj_dict_store(g, MP_OBJ_NEW_QSTR(MP_QSTR__horizon), global(g, MP_QSTR__now));
+        return woke ? 2 : 1;
+    }
+    return 0;
+}
+
+static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(args[0], &buf, MP_BUFFER_READ);
+    mp_obj_list_t *cur = MP_OBJ_TO_PTR(args[1]);
+    mp_int_t base = mp_obj_get_int(args[2]);
+    mp_int_t t_end = mp_obj_get_int(args[3]);
+    mp_int_t n = mp_obj_get_int(args[4]);
+    mp_obj_t handles = args[5], pin_type = args[6], pending = args[7], watch = args[8];
+    mp_obj_t ctx = args[9], globals = args[10];
+    bool watching = mp_obj_is_true(watch);
+    const uint8_t *p = buf.buf;
+    size_t off = MP_OBJ_SMALL_INT_VALUE(cur->items[0]);
+    mp_int_t i = MP_OBJ_SMALL_INT_VALUE(cur->items[1]);
+    mp_int_t group_t = -1;
+    bool hit = false;
+    mp_int_t stop = 0;
+    for (; i < n; i++) {
+        if (off + CHANGE_LEN > buf.len) {
+            mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+        }
+        const uint8_t *c = p + off;
+        mp_int_t t = base + (mp_int_t)get_u32(c);
+        if (t > t_end) {
+            break;  // held by the caller (the host's lookahead)
+        }
+        mp_int_t h = c[4] | c[5] << 8;
+        int kind = c[6];
+        mp_int_t value = (int32_t)get_u32(c + 7);
+        uint32_t extra_u = get_u32(c + 11);
+        off += CHANGE_LEN;
+        mp_obj_t extra;
+        if (kind == CH_BYTES) {
+            if (value < 0 || off + value > buf.len) {
+                mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+            }
+            extra = mp_obj_new_bytes(p + off, value);
+            off += value;
+        } else {
+            extra = mp_obj_new_int_from_uint(extra_u);
+        }
+        if (t != group_t) {
+            if (group_t >= 0 && pending_any(pending)) {
+                stop = handlers_wrote(ctx, pending, group_t);
+                if (stop) {
+                    break;
+                }
+            }
+            group_t = t;
+            if (globals != mp_const_none) {
+                mp_obj_dict_store(globals, MP_OBJ_NEW_QSTR(MP_QSTR__now), mp_obj_new_int(t));
+            }
+        }
+        mp_obj_t obj = mp_obj_subscr(handles, MP_OBJ_NEW_SMALL_INT(h), MP_OBJ_SENTINEL);
+        apply_one(obj, pin_type, kind, mp_obj_new_int(value), extra, pending);
+        if (watching && mp_obj_is_true(mp_binary_op(MP_BINARY_OP_CONTAINS, watch, MP_OBJ_NEW_SMALL_INT(h)))) {
+            hit = true;
+        }
+    }
+    if (!stop && group_t >= 0 && pending_any(pending)) {
+        stop = handlers_wrote(ctx, pending, group_t);
+    }
+    cur->items[0] = MP_OBJ_NEW_SMALL_INT(off);
+    cur->items[1] = MP_OBJ_NEW_SMALL_INT(i);
+    cur->items[2] = mp_obj_new_bool(hit);
+    return MP_OBJ_NEW_SMALL_INT(stop);
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state);
+
+static const mp_rom_map_elem_t hilfast_globals_table[] = {
+    {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
+    {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
+};
+static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);
+
+const mp_obj_module_t hilfast_user_cmodule = {
+    .base = {&mp_type_module},
+    .globals = (mp_obj_dict_t *)&hilfast_globals,
+};
+
+MP_REGISTER_MODULE(MP_QSTR__hilfast, hilfast_user_cmodule);
