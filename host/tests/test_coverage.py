@@ -139,7 +139,10 @@ def test_the_settrace_variant_is_the_standard_build_plus_line_tracing():
         "MICROPY_PY_SSL=0",
         "MICROPY_PY_BTREE=0",
         "MICROPY_PY_FFI=0",
+        "USER_C_MODULES=host/shim/cmod",
     ), "the standard build's command is unchanged"
+    assert interpreter._absolute("USER_C_MODULES=host/shim/cmod").endswith("/host/shim/cmod/".rstrip("/"))
+    assert (interpreter.PROJECT_ROOT / "host" / "shim" / "cmod").is_dir()
     traced = interpreter.make_options("settrace")
     assert traced[: len(interpreter.MAKE_OPTIONS)] == interpreter.MAKE_OPTIONS
     assert "CFLAGS_EXTRA=-DMICROPY_PY_SYS_SETTRACE=1" in traced and "BUILD=build-settrace" in traced
