@@ -84,17 +84,22 @@ class PioHost:
             block.set_input(gpio, level)
 
     def advance(self, t_us: int) -> None:
-        """Both blocks to ``t_us``, over the changes committed up to it."""
+        """Both blocks to ``t_us``, over the changes committed up to it (a block with no
+        state machine running only takes the levels)."""
         pending, upto = self.pending, 0
         while upto < len(pending) and pending[upto][0] <= t_us:
             upto += 1
         changes, self.pending = pending[:upto], pending[upto:]
-        for t_change, gpio, level in changes:
-            for block in self.blocks:
-                block.advance(t_change)
-            self._set(gpio, level)
+        live = [block for block in self.blocks if not block.idle]
+        for block in live:
+            block.advance(t_us, changes)
+        levels = self.levels
+        for _t, gpio, level in changes:
+            levels[gpio] = level
         for block in self.blocks:
-            block.advance(t_us)
+            if block not in live:
+                for _t, gpio, level in changes:
+                    block.set_input(gpio, level)
             block.events.clear()  # (the levels the PIO drives are not yet given to the plant)
             block.irqs.clear()
 

@@ -144,6 +144,11 @@ class PioBlock:
             if run.active:
                 run_cycles(self, run, run.cycle_at(t_us))
 
+    @property
+    def idle(self) -> bool:
+        """No state machine runs: time and pin changes do nothing to the block."""
+        return not any(run.active for run in self.running.values())
+
     def probe(self, sm_id: int, t_us: int, horizon_us: int, want) -> float | None:
         """When ``want(sm)`` first holds if the pins stay as they are, looking no further
         than ``horizon_us`` (None: not by then); the block itself is not moved."""
@@ -232,12 +237,10 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
     x, y, rx_old = sm.x, sm.y, list(sm.rx)
     for entry in run.entries.get(key, ()):
         if c0 + entry.cycles <= c_end and entry.holds(x, y):
-            anchor = c0 + entry.cycles
-            run.table = (entry, x, y, rx_old, anchor)
-            trace.restore(sm, entry.states[0], x, y, rx_old)
+            run.table = (entry, x, y, rx_old, c0 + entry.cycles)
             run.orbit, run.orbit_version = entry.period, block.version
             block.replays += 1
-            return anchor
+            return entry.at(run, c_end)  # (straight to c_end's state along the loop: one restore)
     rec = trace.Recorder()
     sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
     if key[1] in ("x", "y"):
