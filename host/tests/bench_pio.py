@@ -124,9 +124,11 @@ def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_pe
         try:
             rig.run_for(0.2)  # (start-up, and the wheel at speed)
             edges0 = rig.truth()["enc_l_edges"]
+            trips = rig.stats.link_round_trips
             wall = time.perf_counter()
             rig.run_for(seconds)
             wall = time.perf_counter() - wall
+            trips = rig.stats.link_round_trips - trips
             edges = rig.truth()["enc_l_edges"]
             rig.run_for(0.2)
             counts = re.findall(r"count (-?\d+)", rig.console)
@@ -136,6 +138,7 @@ def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_pe
     return {
         "edges_per_s": (edges - edges0) / seconds,
         "x_real_time": seconds / wall,
+        "round_trips": trips,
         "last_count": int(counts[-1]) if counts else None,
         "plant_edges": final,
     }
@@ -156,8 +159,8 @@ def main(argv: list[str]) -> None:
     for name, firmware, in_base in cases:
         loop = in_the_loop(seconds, firmware, in_base)
         print(
-            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time "
-            f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
+            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time, "
+            f"{loop['round_trips']} round trips (the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
         )
 
 
