@@ -96,10 +96,13 @@ class PIO:
         return sm
 
     def irq(self, handler=None, trigger=0xF00, hard=False):
-        raise NotImplementedError(
-            "PIO(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the firmware "
-            "(docs/shim.md, 'PIO')" % self._id
-        )
+        """PIO(n).irq(handler, trigger): ``handler(pio)`` for each raise of the flags 0..3 in
+        ``trigger`` (IRQ_SM0..IRQ_SM3); ``irq().flags()`` the raise's. Soft, as the port's
+        handler with hard=False: scheduled after the raise (at the next poll, docs/shim.md)."""
+        irq = _Irq.of(self)
+        if handler is not None or trigger != 0xF00 or hard:
+            irq._set(handler, (trigger >> 8) & 0xF if handler is not None else 0)
+        return irq
 
 
 def _pin(pin):
@@ -295,11 +298,98 @@ class StateMachine:
             return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
-    def irq(self, handler=None, trigger=0, hard=False):
-        raise NotImplementedError(
-            "StateMachine(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the "
-            "firmware (docs/shim.md, 'PIO')" % self._id
-        )
+    def irq(self, handler=None, trigger=0 | 1, hard=False):
+        """``handler(sm)`` when the program raises its own IRQ flag (``irq(rel(0))``: flag
+        ``id % 4`` of its block), as the port's soft handler (docs/shim.md, "PIO", IRQs)."""
+        irq = _Irq.of(self)
+        irq._set(handler, 1 << (self._id & 3) if handler is not None and trigger else 0)
+        return irq
+
+
+POLL_US = 1000  # while a PIO IRQ handler is armed, the shim asks for raised flags this often
+
+
+class _Irq:
+    """The IRQ of a StateMachine or a PIO: its handler and the flags (0..3 of the block)
+    it watches. The host clears a watched flag as it is raised (the port's interrupt
+    handler does) and keeps the raise; a soft timer polls for them every POLL_US."""
+
+    _all = {}  # owner -> its _Irq
+    _timer = None
+
+    @classmethod
+    def of(cls, owner):
+        key = (isinstance(owner, PIO), owner._id)  # (PIO(0) is one block however often made)
+        irq = cls._all.get(key)
+        if irq is None:
+            irq = cls._all[key] = object.__new__(cls)
+            irq._owner, irq._handler, irq._mask, irq._flags = owner, None, 0, 0
+        return irq
+
+    def flags(self):
+        return self._flags
+
+    def trigger(self):
+        return self._mask << 8 if isinstance(self._owner, PIO) else (1 if self._mask else 0)
+
+    def _set(self, handler, mask):
+        self._handler, self._mask = handler, mask
+        _Irq._arm()
+
+    @staticmethod
+    def _block(owner):
+        return owner._id if isinstance(owner, PIO) else owner._id >> 2
+
+    @classmethod
+    def _armed(cls, block):
+        mask = 0
+        for irq in cls._all.values():
+            if irq._handler is not None and cls._block(irq._owner) == block:
+                mask |= irq._mask
+        return mask
+
+    @classmethod
+    def _arm(cls):
+        import machine
+
+        for block in (0, 1):
+            sm = _Irq._sm_of(block)
+            if sm is not None:
+                sm._call(F.BUS_PIO_IRQ, cls._armed(block))
+        live = any(irq._handler is not None and irq._mask for irq in cls._all.values())
+        if live and cls._timer is None:
+            cls._timer = machine.Timer(-1)
+            cls._timer.init(period=POLL_US, tick_hz=1_000_000, callback=cls._poll)
+        elif not live and cls._timer is not None:
+            cls._timer.deinit()
+            cls._timer = None
+
+    @staticmethod
+    def _sm_of(block):
+        for sm_id in range(block * 4, block * 4 + 4):
+            sm = _SMS.get(sm_id)
+            if sm is not None and sm._handle is not None:
+                return sm
+        return None
+
+    @classmethod
+    def _poll(cls, _timer=None):
+        for block in (0, 1):
+            mask = cls._armed(block)
+            sm = cls._sm_of(block)
+            if not mask or sm is None:
+                continue
+            count, got = sm._call(F.BUS_PIO_IRQ, mask)
+            for flag in got[4 * count : 5 * count]:
+                cls._fire(block, flag)
+
+    @classmethod
+    def _fire(cls, block, flag):
+        for irq in list(cls._all.values()):
+            if irq._handler is None or not irq._mask >> flag & 1 or cls._block(irq._owner) != block:
+                continue
+            irq._flags = 0x100 << flag if isinstance(irq._owner, PIO) else 1
+            irq._handler(irq._owner)
 
 
 class DMA:

@@ -160,7 +160,8 @@ def main(argv: list[str]) -> None:
         loop = in_the_loop(seconds, firmware, in_base)
         print(
             f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time, "
-            f"{loop['round_trips']} round trips (the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
+            f"{loop['round_trips']} round trips "
+            f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
         )
 
 

@@ -64,6 +64,7 @@ class PioBlock:
         self.dirs: dict[int, int] = {}  # gpio -> 1 output, 0 input (pindirs)
         self.events: list[tuple] = []  # (t_us float, gpio, level): driven changes, in time order
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
+        self.irq_clears = 0  # flags 0..3 the CPU's interrupt handler clears as they are raised
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
         self.replays = 0  # stretches taken from a table instead
@@ -118,9 +119,11 @@ class PioBlock:
     def raise_irq(self, flag: int, sm_id: int) -> None:
         if self._log is not None:
             self._log.append((self._cycle, self.raise_irq, (flag, sm_id)))
-        self.irq_flags |= 1 << flag
         if flag < 4:
             self.irqs.append((self.now_us(), flag, sm_id))
+            if self.irq_clears >> flag & 1:  # (the interrupt is enabled: its handler clears it at once)
+                return
+        self.irq_flags |= 1 << flag
 
     def set_input(self, gpio: int, level: int) -> None:
         self.version += 1
