@@ -42,16 +42,12 @@ class Pin:
             pin._trigger = 0
             pin._flags = 0
             pin._counters = None  # Counter and Encoder units counting this pin's edges
-            pin._cfg = False  # configured: Pin(id) alone leaves it as it is until it is read
+            pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
             pin._handle = _hil.register(pin)
         return pin
 
     def __init__(self, id, mode=-1, pull=-1, *, value=None, **_kw):
-        if mode != -1 or pull != -1 or value is not None or _kw or self._cfg:
-            self.init(mode, pull, value=value)
-        # (Pin(id) alone configures nothing, as on a board: a pin only named, for
-        # StateMachine(in_base=Pin(2)) or PWM(Pin(16)), is no input of the firmware's
-        # and costs the link nothing; its first read or IRQ configures it)
+        self.init(mode, pull, value=value)
 
     def init(self, mode=-1, pull=-1, *, value=None, **_kw):
         if mode != -1:

@@ -115,6 +115,19 @@ def _pin(pin):
     return pid
 
 
+def _unwire(pin):
+    """A Pin object given to the PIO (``in_base=Pin(2)``) that the firmware does not watch
+    (no IRQ, no counter): its handle no longer takes the pin's changes, so they cost the
+    link nothing (the PIO reads the pin on the host). Its next read or IRQ wires it again
+    (``Pin._cfg``), as the firmware made it."""
+    if not hasattr(pin, "_cfg") or pin._handler is not None or pin._counters is not None or not pin._cfg:
+        return
+    if pin._mode != pin.IN:
+        return
+    pin._cfg = False
+    _hil.configure(pin._handle, F.CFG_PIN, "pio:%s" % pin._id, F.PIN_IN, F.PULL_NONE, -1)
+
+
 def _count(init):
     if init is None:
         return 0
@@ -199,6 +212,8 @@ class StateMachine:
                 shiftctrl = (shiftctrl & ~mask) | ((value << bit) & mask)
         # as the port: a group of pins (and its count) only when its base is given
         ins, outs, sets, sides = _pin(in_base) or 0, _pin(out_base), _pin(set_base), _pin(sideset_base)
+        _unwire(in_base)
+        _unwire(jmp_pin)
         side_count = _count(program[7]) + side_en if sides is not None else 0
         pinctrl = side_count << 29 | ins << 15 | (sides or 0) << 10
         if sets is not None:
