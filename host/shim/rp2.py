@@ -143,6 +143,7 @@ def _levels(init, base):
 
 
 _SMS = {}
+_KEEP = object()  # (irq() with no argument: the IRQ object as it is)
 _POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 
 
@@ -313,11 +314,14 @@ class StateMachine:
             return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
-    def irq(self, handler=None, trigger=0 | 1, hard=False):
+    def irq(self, handler=_KEEP, trigger=1, hard=False):
         """``handler(sm)`` when the program raises its own IRQ flag (``irq(rel(0))``: flag
-        ``id % 4`` of its block), as the port's soft handler (docs/shim.md, "PIO", IRQs)."""
+        ``id % 4`` of its block), as the port's soft handler (docs/shim.md, "PIO", IRQs);
+        ``irq()`` the IRQ object as it is."""
         irq = _Irq.of(self)
-        irq._set(handler, 1 << (self._id & 3) if handler is not None and trigger else 0)
+        if handler is not _KEEP or trigger != 1 or hard:
+            handler = None if handler is _KEEP else handler
+            irq._set(handler, 1 << (self._id & 3) if handler is not None and trigger else 0)
         return irq
 
 

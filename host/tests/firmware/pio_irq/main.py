@@ -43,7 +43,9 @@ def on_tick(pio):
 
 rp2.PIO(0).irq(on_tick, rp2.PIO.IRQ_SM1)
 sm1.active(1)
-time.sleep_ms(100)
+time.sleep_ms(50)
+assert sm0.irq().trigger() == 1  # (irq() with no argument leaves the handler armed)
+time.sleep_ms(50)
 sm0.active(0)
 sm1.active(0)
 print("R pulses", len(pulses))
