@@ -36,13 +36,14 @@ class Lockstep:
         """How far the plant goes next toward ``target_us``: (time, change limit or 0).
 
         A watched wait goes event by event; while UART bytes flow, in chunks (the
-        byte-count limit of a batch needs the bytes); otherwise in one go, the plant
-        stopping itself once the batch is full; both stop at the recorder's truth samples."""
+        byte-count limit of a batch needs the bytes); otherwise in one go; the plant
+        stopping itself once the batch is full (also inside a chunk: a fast output wired
+        to an input fills one); both stop at the recorder's truth samples."""
         plant = clock.plant
         if watch:
             return min(plant.next_change_us(), target_us), 0
         if clock.wiring.uart:
-            return clock.to_truth(min(plant.t_us + CHUNK_US, target_us)), 0
+            return clock.to_truth(min(plant.t_us + CHUNK_US, target_us)), clock.inputs.room()
         return clock.to_truth(target_us), clock.inputs.room()
 
 

@@ -45,12 +45,14 @@ class PioHost:
         self.levels: dict[int, int] = {}  # gpio -> its level up to the last change given to the blocks
         self.pending: list[tuple] = []  # (t_us, gpio, level) committed, not yet given to the blocks
         self.tracked = False
+        self.raised: tuple = ([], [])  # per block: (t_us, flag) raised with a handler armed, not yet told
         self.outputs = PioOutputs(plant, wiring)
         self.reset()
 
     def reset(self) -> None:
         """A new interpreter run: the PIO blocks are reset (the pins keep their levels)."""
         self.blocks = (PioBlock(0), PioBlock(1))
+        self.raised = ([], [])
         self.outputs.clear()
         for block in self.blocks:
             for gpio, level in self.levels.items():
@@ -84,18 +86,25 @@ class PioHost:
             block.set_input(gpio, level)
 
     def advance(self, t_us: int) -> None:
-        """Both blocks to ``t_us``, over the changes committed up to it."""
+        """Both blocks to ``t_us``, over the changes committed up to it (a block with no
+        state machine running only takes the levels)."""
         pending, upto = self.pending, 0
         while upto < len(pending) and pending[upto][0] <= t_us:
             upto += 1
         changes, self.pending = pending[:upto], pending[upto:]
-        for t_change, gpio, level in changes:
-            for block in self.blocks:
-                block.advance(t_change)
-            self._set(gpio, level)
+        live = [block for block in self.blocks if not block.idle]
+        for block in live:
+            block.advance(t_us, changes)
+        levels = self.levels
+        for _t, gpio, level in changes:
+            levels[gpio] = level
         for block in self.blocks:
-            block.advance(t_us)
+            if block not in live:
+                for _t, gpio, level in changes:
+                    block.set_input(gpio, level)
             block.events.clear()  # (the levels the PIO drives are not yet given to the plant)
+            if block.irq_clears:
+                self.raised[block.block_id].extend((t, f) for t, f, _sm in block.irqs if block.irq_clears >> f & 1)
             block.irqs.clear()
 
     # -- the firmware's frames -----------------------------------------------------------
@@ -179,6 +188,23 @@ class PioHost:
             sm.step()
         return F.BUS_OK, 0, b""
 
+    def _irq(self, block, local, t_us, address, n_read, data) -> tuple:
+        """The firmware's IRQ handlers poll (``docs/shim.md``, "PIO", IRQs): ``address``
+        the block's flags 0..3 with a handler (their interrupt enabled: cleared as raised,
+        a flag already up fires at once); the reply: the raises since the last poll."""
+        armed = address & 0xF
+        pending = block.irq_flags & armed & ~block.irq_clears
+        block.irq_clears = armed
+        raised = self.raised[block.block_id]
+        for flag in range(4):
+            if pending >> flag & 1:
+                raised.append((float(t_us), flag))
+        block.irq_flags &= ~armed
+        mine = [(t, f) for t, f in raised if armed >> f & 1]
+        raised.clear()
+        times = [min(int(t), t_us) for t, _f in mine]
+        return F.BUS_OK, len(mine), struct.pack(f"<{len(mine)}I", *times) + bytes(f for _t, f in mine)
+
     def _restart(self, block, local, t_us, address, n_read, data) -> tuple:
         block.sm(local).restart()
         return F.BUS_OK, 0, b""
@@ -191,6 +217,7 @@ _OPS = {
     F.BUS_PIO_LEVELS: PioHost._levels,
     F.BUS_PIO_EXEC: PioHost._exec,
     F.BUS_PIO_RESTART: PioHost._restart,
+    F.BUS_PIO_IRQ: PioHost._irq,
 }
 
 

@@ -515,6 +515,7 @@ BUS_PIO_GET = 19
 BUS_PIO_LEVELS = 20
 BUS_PIO_EXEC = 21
 BUS_PIO_RESTART = 22
+BUS_PIO_IRQ = 23  # address: the block's flags 0..3 with a handler; reply: count raises, <I t_us> each, then their flags
 # BUS_REPLY statuses: the shim turns each into its board's OSError (ENODEV, EIO, ETIMEDOUT)
 BUS_OK = 0
 BUS_NACK_ADDRESS = 1  # nobody acknowledged the address byte

@@ -42,6 +42,7 @@ class Pin:
             pin._trigger = 0
             pin._flags = 0
             pin._counters = None  # Counter and Encoder units counting this pin's edges
+            pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
             pin._handle = _hil.register(pin)
         return pin
 
@@ -59,6 +60,7 @@ class Pin:
             self._pull = pull
         if value is not None:
             self._out = 1 if value else 0
+        self._cfg = True
         is_input = self._mode == self.IN
         _hil.configure(
             self._handle,
@@ -90,6 +92,8 @@ class Pin:
         if x is None:
             if self._mode == 3:  # Pin.OUT
                 return self._out
+            if not self._cfg:
+                self.init()
             if not _hil._dispatching:  # (a handler's reads move no time: no call for them)
                 _hil.observe()
             return self._level
@@ -130,6 +134,8 @@ class Pin:
         if handler is _UNSET and not _kw and trigger == self.IRQ_FALLING | self.IRQ_RISING:
             return _PinIRQ(self)  # pin.irq(): the IRQ object as it is (its flags: the last edge)
         handler = None if handler is _UNSET else handler
+        if not self._cfg:
+            self.init()
         self._handler = handler
         self._trigger = trigger if handler is not None else 0
         _hil.configure(self._handle, _F.CFG_IRQ, self._id, self._trigger)
@@ -692,6 +698,8 @@ class RTC:
 
 def _attach(pin, unit):
     pin = _hil._handles[pin._handle]  # the pin's newest object gets its edges
+    if not pin._cfg:
+        pin.init()
     if pin._counters is None:
         pin._counters = []
     pin._counters.append(unit)

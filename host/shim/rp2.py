@@ -96,10 +96,13 @@ class PIO:
         return sm
 
     def irq(self, handler=None, trigger=0xF00, hard=False):
-        raise NotImplementedError(
-            "PIO(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the firmware "
-            "(docs/shim.md, 'PIO')" % self._id
-        )
+        """PIO(n).irq(handler, trigger): ``handler(pio)`` for each raise of the flags 0..3 in
+        ``trigger`` (IRQ_SM0..IRQ_SM3); ``irq().flags()`` the raise's. Soft, as the port's
+        handler with hard=False: scheduled after the raise (at the next poll, docs/shim.md)."""
+        irq = _Irq.of(self)
+        if handler is not None or trigger != 0xF00 or hard:
+            irq._set(handler, (trigger >> 8) & 0xF if handler is not None else 0)
+        return irq
 
 
 def _pin(pin):
@@ -110,6 +113,19 @@ def _pin(pin):
     if isinstance(pid, str):
         pid = int(pid[2:] if pid.upper().startswith("GP") else pid)
     return pid
+
+
+def _unwire(pin):
+    """A Pin object given to the PIO (``in_base=Pin(2)``) that the firmware does not watch
+    (no IRQ, no counter): its handle no longer takes the pin's changes, so they cost the
+    link nothing (the PIO reads the pin on the host). Its next read or IRQ wires it again
+    (``Pin._cfg``), as the firmware made it."""
+    if not hasattr(pin, "_cfg") or pin._handler is not None or pin._counters is not None or not pin._cfg:
+        return
+    if pin._mode != pin.IN:
+        return
+    pin._cfg = False
+    _hil.configure(pin._handle, F.CFG_PIN, "pio:%s" % pin._id, F.PIN_IN, F.PULL_NONE, -1)
 
 
 def _count(init):
@@ -127,6 +143,7 @@ def _levels(init, base):
 
 
 _SMS = {}
+_KEEP = object()  # (irq() with no argument: the IRQ object as it is)
 _POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 
 
@@ -196,6 +213,8 @@ class StateMachine:
                 shiftctrl = (shiftctrl & ~mask) | ((value << bit) & mask)
         # as the port: a group of pins (and its count) only when its base is given
         ins, outs, sets, sides = _pin(in_base) or 0, _pin(out_base), _pin(set_base), _pin(sideset_base)
+        _unwire(in_base)
+        _unwire(jmp_pin)
         side_count = _count(program[7]) + side_en if sides is not None else 0
         pinctrl = side_count << 29 | ins << 15 | (sides or 0) << 10
         if sets is not None:
@@ -295,11 +314,101 @@ class StateMachine:
             return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
-    def irq(self, handler=None, trigger=0, hard=False):
-        raise NotImplementedError(
-            "StateMachine(%d).irq is not in the loop: a state machine's IRQ flags are not sent to the "
-            "firmware (docs/shim.md, 'PIO')" % self._id
-        )
+    def irq(self, handler=_KEEP, trigger=1, hard=False):
+        """``handler(sm)`` when the program raises its own IRQ flag (``irq(rel(0))``: flag
+        ``id % 4`` of its block), as the port's soft handler (docs/shim.md, "PIO", IRQs);
+        ``irq()`` the IRQ object as it is."""
+        irq = _Irq.of(self)
+        if handler is not _KEEP or trigger != 1 or hard:
+            handler = None if handler is _KEEP else handler
+            irq._set(handler, 1 << (self._id & 3) if handler is not None and trigger else 0)
+        return irq
+
+
+POLL_US = 1000  # while a PIO IRQ handler is armed, the shim asks for raised flags this often
+
+
+class _Irq:
+    """The IRQ of a StateMachine or a PIO: its handler and the flags (0..3 of the block)
+    it watches. The host clears a watched flag as it is raised (the port's interrupt
+    handler does) and keeps the raise; a soft timer polls for them every POLL_US."""
+
+    _all = {}  # owner -> its _Irq
+    _timer = None
+
+    @classmethod
+    def of(cls, owner):
+        key = (isinstance(owner, PIO), owner._id)  # (PIO(0) is one block however often made)
+        irq = cls._all.get(key)
+        if irq is None:
+            irq = cls._all[key] = object.__new__(cls)
+            irq._owner, irq._handler, irq._mask, irq._flags = owner, None, 0, 0
+        return irq
+
+    def flags(self):
+        return self._flags
+
+    def trigger(self):
+        return self._mask << 8 if isinstance(self._owner, PIO) else (1 if self._mask else 0)
+
+    def _set(self, handler, mask):
+        self._handler, self._mask = handler, mask
+        _Irq._arm()
+
+    @staticmethod
+    def _block(owner):
+        return owner._id if isinstance(owner, PIO) else owner._id >> 2
+
+    @classmethod
+    def _armed(cls, block):
+        mask = 0
+        for irq in cls._all.values():
+            if irq._handler is not None and cls._block(irq._owner) == block:
+                mask |= irq._mask
+        return mask
+
+    @classmethod
+    def _arm(cls):
+        import machine
+
+        for block in (0, 1):
+            sm = _Irq._sm_of(block)
+            if sm is not None:
+                sm._call(F.BUS_PIO_IRQ, cls._armed(block))
+        live = any(irq._handler is not None and irq._mask for irq in cls._all.values())
+        if live and cls._timer is None:
+            cls._timer = machine.Timer(-1)
+            cls._timer.init(period=POLL_US, tick_hz=1_000_000, callback=cls._poll)
+        elif not live and cls._timer is not None:
+            cls._timer.deinit()
+            cls._timer = None
+
+    @staticmethod
+    def _sm_of(block):
+        for sm_id in range(block * 4, block * 4 + 4):
+            sm = _SMS.get(sm_id)
+            if sm is not None and sm._handle is not None:
+                return sm
+        return None
+
+    @classmethod
+    def _poll(cls, _timer=None):
+        for block in (0, 1):
+            mask = cls._armed(block)
+            sm = cls._sm_of(block)
+            if not mask or sm is None:
+                continue
+            count, got = sm._call(F.BUS_PIO_IRQ, mask)
+            for flag in got[4 * count : 5 * count]:
+                cls._fire(block, flag)
+
+    @classmethod
+    def _fire(cls, block, flag):
+        for irq in list(cls._all.values()):
+            if irq._handler is None or not irq._mask >> flag & 1 or cls._block(irq._owner) != block:
+                continue
+            irq._flags = 0x100 << flag if isinstance(irq._owner, PIO) else 1
+            irq._handler(irq._owner)
 
 
 class DMA:

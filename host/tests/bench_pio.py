@@ -114,29 +114,49 @@ def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in
     return folder / "rig.toml"
 
 
+def _count_sent(inputs) -> list:
+    """[the input changes the rig has sent the firmware so far] (counted as STATEs take them)."""
+    sent, take = [0], inputs.take
+
+    def counted():
+        batch = take()
+        sent[0] += len(batch)
+        return batch
+
+    inputs.take = counted
+    return sent
+
+
 def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64) -> dict:
     """The robot driving ahead for ``seconds`` (after 0.2 s of start-up), then stopping: the
     wall time of the drive, the edges a second, the count read at the end."""
     with tempfile.TemporaryDirectory() as tmp:
         folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base)
         rig = rig_from_keywords(str(folder), seed=1, record=False)
+        sent = _count_sent(rig.inputs)
         rig.start()
         try:
             rig.run_for(0.2)  # (start-up, and the wheel at speed)
             edges0 = rig.truth()["enc_l_edges"]
+            trips, sent0 = rig.stats.link_round_trips, sent[0]
             wall = time.perf_counter()
             rig.run_for(seconds)
             wall = time.perf_counter() - wall
+            trips, sent0 = rig.stats.link_round_trips - trips, sent[0] - sent0
             edges = rig.truth()["enc_l_edges"]
             rig.run_for(0.2)
-            counts = re.findall(r"count (-?\d+)", rig.console)
+            console = rig.console
+            counts = re.findall(r"count (-?\d+)", console)
             final = rig.truth()["enc_l_edges"]
         finally:
             rig.stop()
     return {
         "edges_per_s": (edges - edges0) / seconds,
         "x_real_time": seconds / wall,
+        "round_trips": trips,
+        "changes_sent": sent0,
         "last_count": int(counts[-1]) if counts else None,
+        "console": console,
         "plant_edges": final,
     }
 
@@ -156,7 +176,8 @@ def main(argv: list[str]) -> None:
     for name, firmware, in_base in cases:
         loop = in_the_loop(seconds, firmware, in_base)
         print(
-            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time "
+            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time, "
+            f"{loop['round_trips']} round trips, {loop['changes_sent']} input changes sent "
             f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
         )
 

@@ -64,6 +64,7 @@ class PioBlock:
         self.dirs: dict[int, int] = {}  # gpio -> 1 output, 0 input (pindirs)
         self.events: list[tuple] = []  # (t_us float, gpio, level): driven changes, in time order
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
+        self.irq_clears = 0  # flags 0..3 the CPU's interrupt handler clears as they are raised
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
         self.replays = 0  # stretches taken from a table instead
@@ -118,9 +119,11 @@ class PioBlock:
     def raise_irq(self, flag: int, sm_id: int) -> None:
         if self._log is not None:
             self._log.append((self._cycle, self.raise_irq, (flag, sm_id)))
-        self.irq_flags |= 1 << flag
         if flag < 4:
             self.irqs.append((self.now_us(), flag, sm_id))
+            if self.irq_clears >> flag & 1:  # (the interrupt is enabled: its handler clears it at once)
+                return
+        self.irq_flags |= 1 << flag
 
     def set_input(self, gpio: int, level: int) -> None:
         self.version += 1
@@ -143,6 +146,11 @@ class PioBlock:
         for run in self.running.values():
             if run.active:
                 run_cycles(self, run, run.cycle_at(t_us))
+
+    @property
+    def idle(self) -> bool:
+        """No state machine runs: time and pin changes do nothing to the block."""
+        return not any(run.active for run in self.running.values())
 
     def probe(self, sm_id: int, t_us: int, horizon_us: int, want) -> float | None:
         """When ``want(sm)`` first holds if the pins stay as they are, looking no further
@@ -232,12 +240,10 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
     x, y, rx_old = sm.x, sm.y, list(sm.rx)
     for entry in run.entries.get(key, ()):
         if c0 + entry.cycles <= c_end and entry.holds(x, y):
-            anchor = c0 + entry.cycles
-            run.table = (entry, x, y, rx_old, anchor)
-            trace.restore(sm, entry.states[0], x, y, rx_old)
+            run.table = (entry, x, y, rx_old, c0 + entry.cycles)
             run.orbit, run.orbit_version = entry.period, block.version
             block.replays += 1
-            return anchor
+            return entry.at(run, c_end)  # (straight to c_end's state along the loop: one restore)
     rec = trace.Recorder()
     sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
     if key[1] in ("x", "y"):
