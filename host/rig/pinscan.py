@@ -27,6 +27,8 @@ BUSES = {"UART", "I2C", "SoftI2C", "SPI", "SoftSPI"}  # their pins are keywords:
 BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
 BUS_NAMES = {"I2C": ("id",), "SPI": ("id",), "SoftI2C": ("scl", "sda"), "SoftSPI": ("sck", "mosi", "miso")}
 # (their arguments that name the bus, as the shim names it: i2c0, spi1, i2c:<scl>,<sda>)
+PIO_MAKERS = {"StateMachine", "init", "state_machine"}  # rp2's: a state machine and its pin groups
+PIO_BASES = {"in_base", "out_base", "set_base", "sideset_base"}  # the first pin of a group (its size: the program's)
 NOTES_MAX = 5  # files that could not be read, named one by one
 LOOP_MAX_PINS = 64  # a longer tuple is not a list of pins (a loop over it is not walked item by item)
 FACTORY_PASSES = 6  # a driver made by a driver made by a driver...
@@ -40,7 +42,7 @@ class PinUse:
     call: str  # what the code makes: "Pin(18)", "PWM(Pin(15))", "ADC(0) (GP26)", "UART(1)"
     where: str  # "main.py:12"
     name: str | None  # the code's own name for it: "ECHO", "ENC_PINS[1]", "left.in1"
-    kind: str  # pin, pwm, adc, uart, bus (a line of an I2C or SPI bus)
+    kind: str  # pin, pwm, adc, uart, bus (a line of an I2C or SPI bus), pio (a PIO pin group's first pin)
 
 
 @dataclass
@@ -149,7 +151,7 @@ def scan_modules(modules: dict, run: list[str], family=None, scan: Scan | None =
     scan = scan or Scan()
     envs = _Envs(modules)
     factories = _factories(modules, envs)
-    makers = MAKERS.keys() | BUSES | factories.keys()
+    makers = MAKERS.keys() | BUSES | PIO_MAKERS | factories.keys()
     for name in run:
         shown, tree = modules[name]
         aliases = _aliases(tree)
@@ -327,7 +329,7 @@ def _factories(modules: dict, envs: _Envs) -> dict[str, _Factory]:
                 called = {aliases.get(n, n) for n in _called(node)}
                 found[node.name] = (_Factory(params), node, name, called, aliases)
     factories = {n: f for n, (f, *_) in found.items()}
-    makers = set(MAKERS)
+    makers = set(MAKERS) | PIO_MAKERS
     for _ in range(FACTORY_PASSES):
         before = {n: dict(f.pins) for n, f in factories.items()}
         for factory, node, module, called, aliases in found.values():
@@ -490,6 +492,16 @@ class _Visitor:
             self._bus_pin(arg, name, param, call)
         if name in BUS_NAMES and self.learning is None:
             self._bus(call, name)
+        for kw in call.keywords if name in PIO_MAKERS else ():
+            if kw.arg in PIO_BASES:
+                self._pio_base(kw.value, name, kw.arg, call)
+
+    def _pio_base(self, arg, name: str, param: str, call: ast.Call) -> None:
+        """A PIO pin group's first pin (``in_base=Pin(2)`` or ``in_base=2``): the pins after
+        it may be the group's too, as many as the program reads or drives."""
+        if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal") and arg.args:
+            arg = arg.args[0]  # (its Pin(2) is a pin use of its own as well)
+        self._pin(arg, "pio", f"{name}({param}={{}})", call, param)
 
     def _bus_pin(self, arg, name: str, param: str, call: ast.Call) -> None:
         """A pin a bus is made on (``I2C(0, scl=Pin(5), sda=4)``): a bus line, not a plant

@@ -437,3 +437,21 @@ def test_a_buss_lines_are_no_plant_signals_and_clash_with_a_wired_one(make):
     clash = compare(code, {"LED": 2, "ENC": 4}, {"LED": "led.in", "ENC": "enc.a"})
     assert len(clash.warnings) == 1 and "a bus line, on pin 4" in clash.warnings[0], clash.warnings
     assert "ENC = 4 to the plant's enc.a" in clash.warnings[0], clash.warnings
+
+
+@pytest.mark.parametrize("base", ["Pin(6)", "6", "Pin(6, Pin.IN, Pin.PULL_UP)"])
+def test_the_pins_after_a_pio_groups_first_pin_are_a_note_not_a_warning(base):
+    """A PIO program reads or drives as many pins from ``in_base`` (``out_base``, ``set_base``,
+    ``sideset_base``) as it says; the scan cannot tell how many, so a wired pin after the first
+    one the code names is a note; a wired pin before it, or far past it, still a warning."""
+    from host.rig.pincheck import compare
+
+    source = f"import rp2\nfrom machine import Pin\nsm = rp2.StateMachine(0, prog, freq=1_000_000, in_base={base})\n"
+    code = scan({"main": source}, family="rp2")
+    assert any(use.kind == "pio" and use.key == "6" for use in code.uses), code.uses
+    pins = {"ENC_A": 6, "ENC_B": 7, "LED": 5, "FAR": 40}
+    wiring = {"ENC_A": "enc.a", "ENC_B": "enc.b", "LED": "led.in", "FAR": "probe.in"}
+    result = compare(code, pins, wiring)
+    assert [n for n in result.notes if "ENC_B = 7" in n and "in_base=6" in n], result
+    assert not [w for w in result.warnings if "ENC_B" in w or "ENC_A" in w], result.warnings
+    assert [w for w in result.warnings if "LED = 5" in w] and [w for w in result.warnings if "FAR = 40" in w], result
