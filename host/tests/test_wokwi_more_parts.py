@@ -1,7 +1,9 @@
 """The Wokwi parts a survey of public MicroPython projects finds common beside the first
 ones (docs/wokwi.md): an I2C LCD1602 / LCD2004 driven by an lcd_api.py / i2c_lcd.py pair,
-a buzzer's tones, a KY-040 knob's turns and presses; on an ESP32 and on a Pico."""
+a buzzer's tones, a KY-040 knob's turns and presses, a DHT11 read by the dht module (the
+DHT22 and set-control: host/tests/wokwi_scenarios/dht_knob); on an ESP32 and on a Pico."""
 
+import json
 import shutil
 from pathlib import Path
 
@@ -74,3 +76,33 @@ def test_an_lcd_on_its_parallel_pins_or_a_bad_address_is_refused(tmp_path, attrs
     )
     with pytest.raises(ConfigError, match=message):
         rig_from_project(folder)
+
+
+def dht11_reply_us(data: bytes) -> int:
+    """The read's length after the start (10 us, the sensor's 30 us wake, its 160 us preamble,
+    40 bits of 50 us low and 26 or 70 us high, its last 50 us low), as _hildht.py times it."""
+    ones = sum(bin(b).count("1") for b in data)
+    return 10 + 30 + 160 + 40 * 50 + ones * 70 + (40 - ones) * 26 + 50
+
+
+def test_a_pico_dht11_read_by_the_dht_module_takes_the_protocols_time(make_rig):
+    rig = make_rig(str(PROJECTS / "pico_dht11"))
+    rig.run_for(3.5)
+    reads = [line.split() for line in rig.console.splitlines() if line.startswith("dht")]
+    assert [r[1:3] for r in reads] == [["31", "62"]] * 3
+    length_us = 250_000 + 18_000 + dht11_reply_us(bytes((62, 0, 31, 0, 93)))
+    assert all(abs(int(r[3]) - length_us) < 300 for r in reads), (reads, length_us)
+    assert rig.plant.truth()["dht1_reads"] == 3
+
+
+def test_a_dht_read_with_no_sensor_on_its_pin_times_out(make_rig, tmp_path):
+    folder = tmp_path / "no_dht"
+    shutil.copytree(PROJECTS / "pico_dht11", folder)
+    diagram = json.loads((folder / "diagram.json").read_text())
+    diagram["parts"] = [p for p in diagram["parts"] if p["id"] != "dht1"]
+    diagram["connections"] = [c for c in diagram["connections"] if not c[0].startswith("dht1:")]
+    (folder / "diagram.json").write_text(json.dumps(diagram))
+    rig = make_rig(str(folder))
+    rig.run_for(1.5)
+    errors = [line.split() for line in rig.console.splitlines() if line.startswith("dht error")]
+    assert errors and errors[0][2] == "110" and abs(int(errors[0][3]) - 268_110) < 300, rig.console

@@ -302,6 +302,20 @@ def ssd1306(part, ctx: Context) -> Mapped:
     return m
 
 
+def dht(part, ctx: Context) -> Mapped:
+    m = Mapped(None)
+    found = ctx.diagram.gpio(f"{part.id}:SDA")
+    if found is None:
+        raise _error(part, "pin SDA is wired to no GPIO of the board: expected one (its data line)")
+    model = "dht11" if part.type == "wokwi-dht11" else "dht22"
+    (t_lo, t_hi), (h_lo, h_hi) = {"dht22": ((-40, 80), (0, 100)), "dht11": ((0, 50), (20, 90))}[model]
+    temperature = number(part, "temperature", 24, t_lo, t_hi, "of degrees C ")
+    humidity = number(part, "humidity", 40, h_lo, h_hi, "of percent ")
+    m.entry = entry(part, "dht", bus=f"dht:{found[1]}", model=model, temperature_c=temperature, humidity_pct=humidity)
+    m.notes.append("read by the dht module a frame at a time (the line dht:<gpio>); set-control temperature, humidity")
+    return m
+
+
 def char_lcd(part, ctx: Context, cols: int, rows: int) -> Mapped:
     m = Mapped(None)
     if choice(part, "pins", "full", ("full", "i2c")) != "i2c":
@@ -496,6 +510,24 @@ TABLE = {
             ssd1306,
         ),
         PartMap(
+            "wokwi-dht22",
+            "dht",
+            {"temperature": "`temperature_c` (-40 to 80)", "humidity": "`humidity_pct` (0 to 100)"},
+            LOOKS,
+            "the dht module's read is answered a frame at a time (the start pulse is on the pin; the 40 bits' "
+            "timing is the clock's, not edges); a read sooner than 2 s after the last is fresh, not the last "
+            "value; set-control `temperature`, `humidity`",
+            dht,
+        ),
+        PartMap(
+            "wokwi-dht11",
+            "dht",
+            {"temperature": "`temperature_c` (0 to 50)", "humidity": "`humidity_pct` (20 to 90)"},
+            LOOKS,
+            "whole degrees and percent; as wokwi-dht22",
+            dht,
+        ),
+        PartMap(
             "wokwi-lcd1602",
             "char_lcd",
             {
@@ -554,9 +586,6 @@ TABLE = {
 """The Wokwi parts we map, by type."""
 
 REFUSED = {
-    "wokwi-dht22": "no DHT22 part: its single-wire reply (the dht module's dht_readinto) needs a pin both the "
-    "board and the part drive (open drain), which the plant does not model yet",
-    "wokwi-dht11": "as wokwi-dht22",
     "wokwi-ntc-temperature-sensor": "no thermistor part",
     "wokwi-ds1307": "no RTC chip part (the board's clock is the virtual one)",
     "wokwi-membrane-keypad": "no keypad part",

@@ -242,8 +242,9 @@ def _check_addresses(parts: list) -> None:
         where = (bus, part.options.get("address"))
         if where in taken:
             other = taken[where]
+            at = f"0x{where[1]:02x}" if where[1] is not None else "the line"
             raise PartsError(
-                f"{part.label} address: 0x{where[1]:02x} on bus {bus} is {other.label}'s too "
+                f"{part.label} address: {at} on bus {bus} is {other.label}'s too "
                 f"(two devices at one address: give one its other address)"
             )
         taken[where] = part
