@@ -26,6 +26,7 @@ MAKERS = {"Pin": "pin", "Signal": "pin", "PWM": "pwm", "ADC": "adc_id", "UART": 
 BUSES = {"UART", "I2C", "SoftI2C", "SPI", "SoftSPI"}  # their pins are keywords: UART(1, tx=4, rx=5)
 BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
 BUS_NAMES = {"I2C": ("id",), "SPI": ("id",), "SoftI2C": ("scl", "sda"), "SoftSPI": ("sck", "mosi", "miso")}
+DHT_MAKERS = ("DHT11", "DHT22")  # dht.DHT22(Pin(4)): its pin is the sensor's line, dht:4 (host/shim/_hildht.py)
 # (their arguments that name the bus, as the shim names it: i2c0, spi1, i2c:<scl>,<sda>)
 NOTES_MAX = 5  # files that could not be read, named one by one
 LOOP_MAX_PINS = 64  # a longer tuple is not a list of pins (a loop over it is not walked item by item)
@@ -490,6 +491,21 @@ class _Visitor:
             self._bus_pin(arg, name, param, call)
         if name in BUS_NAMES and self.learning is None:
             self._bus(call, name)
+        if name in DHT_MAKERS and call.args and self.learning is None:
+            self._dht(call, name)
+
+    def _dht(self, call: ast.Call, name: str) -> None:
+        """A DHT sensor's pin: a line (dht:<pin>) the shim reads a frame at a time."""
+        arg = call.args[0]
+        self._bus_pin(arg, name, "pin", call)
+        if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal") and arg.args:
+            arg = arg.args[0]
+        value = self.envs.value(arg, self.env)
+        where = f"{self.shown}:{call.lineno}"
+        if isinstance(value, int | str) and type(value) is not bool:
+            self.scan.buses.setdefault(f"dht:{value}", f"{where}: {name}(...)")
+        else:
+            self.scan.buses_unknown.append(f"{where}: {ast.unparse(call)[:80]}")
 
     def _bus_pin(self, arg, name: str, param: str, call: ast.Call) -> None:
         """A pin a bus is made on (``I2C(0, scl=Pin(5), sda=4)``): a bus line, not a plant

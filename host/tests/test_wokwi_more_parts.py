@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from host.cli import main
 from host.core.errors import ConfigError
 from host.wokwi.project import rig_from_project
 
@@ -106,3 +107,10 @@ def test_a_dht_read_with_no_sensor_on_its_pin_times_out(make_rig, tmp_path):
     rig.run_for(1.5)
     errors = [line.split() for line in rig.console.splitlines() if line.startswith("dht error")]
     assert errors and errors[0][2] == "110" and abs(int(errors[0][3]) - 268_110) < 300, rig.console
+
+
+def test_check_reads_a_dht_sensors_pin_as_its_line(capsys):
+    assert main(["check", str(PROJECTS / "pico_dht11")]) == 0
+    said = "".join(capsys.readouterr())
+    assert "plant: bench body with dht dht1" in said
+    assert "dht:28" not in said and "Pin(28)" not in said, "the code's DHT22(Pin(28)) is the line dht:28"

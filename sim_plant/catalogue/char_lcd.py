@@ -95,9 +95,9 @@ class CharLcdChip(BusDevice):
         elif op & 0x20:
             self.eight_bit, self.two_lines, self.high = bool(op & 0x10), bool(op & 0x08), None
         elif op & 0x10:
-            step = 1 if op & 0x04 else -1
+            step = 1 if op & 0x04 else -1  # right, left
             if op & 0x08:
-                self.shift += step
+                self.shift -= step  # the text moves right: the glass shows from one address before
             else:
                 self.address_counter = self._next(self.address_counter, step)
         elif op & 0x08:
