@@ -238,7 +238,9 @@ class BusSet:
         return OK, n_read, got
 
 
-BUS_NAME = re.compile(r"(i2c|spi)[0-9]|i2c:[A-Za-z0-9_]+,[A-Za-z0-9_]+|spi:[A-Za-z0-9_]+,[A-Za-z0-9_]*,[A-Za-z0-9_]*")
+BUS_NAME = re.compile(
+    r"(i2c|spi)[0-9]|i2c:[A-Za-z0-9_]+,[A-Za-z0-9_]+|spi:[A-Za-z0-9_]+,[A-Za-z0-9_]*,[A-Za-z0-9_]*|dht:[A-Za-z0-9_]+"
+)  # (dht:<pin>: a DHT sensor's data line, read a frame at a time: sim_plant/catalogue/dht.py)
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ from host.rig import boards as pin_maps
 from host.rig.budgets import Budget
 from sim_plant.plant import Plant
 
-BOARD_ONLY_MODULES = ("network", "bluetooth", "esp", "esp32", "espnow", "onewire", "ds18x20", "dht")
+BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow", "onewire", "ds18x20")
 """Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
 
 

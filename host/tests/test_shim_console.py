@@ -156,6 +156,7 @@ def test_a_run_that_ends_by_design_is_a_rig_setting(make_rig, tmp_path):
     ("main", "expected"),
     [
         ("import rp2\n", r'set \[board\] family = "rpi_pico"'),
+        ("import esp\n", r"no module named 'esp': the loop has it for an ESP32 board only"),
         ("from machine import I2S\n", r"machine.I2S is not in the loop; it has Pin, .*\(docs/shim.md\)"),
         ("import machine\nmachine.CAN(1)\n", r"machine.CAN is not in the loop; .*\(docs/shim.md\)"),
         ("import network\n", r"network is built into a board's MicroPython and not into the loop: docs/shim.md"),

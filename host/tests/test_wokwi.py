@@ -123,8 +123,8 @@ def broken(tmp_path: Path, change) -> Path:
     "change, message",
     [
         (
-            lambda d: d["parts"].append({"type": "wokwi-dht22", "id": "dht1", "attrs": {}}),
-            r"parts\[3\] \('dht1', wokwi-dht22\): not mapped \(no DHT22 part.*\); nearest we have: 'wokwi-",
+            lambda d: d["parts"].append({"type": "wokwi-ntc-temperature-sensor", "id": "ntc1", "attrs": {}}),
+            r"parts\[3\] \('ntc1', wokwi-ntc-temperature-sensor\): not mapped \(no thermistor part\); nearest we ha",
         ),
         (
             lambda d: d["parts"][2].update(type="wokwi-ledd"),

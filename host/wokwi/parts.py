@@ -302,6 +302,63 @@ def ssd1306(part, ctx: Context) -> Mapped:
     return m
 
 
+def dht(part, ctx: Context) -> Mapped:
+    m = Mapped(None)
+    found = ctx.diagram.gpio(f"{part.id}:SDA")
+    if found is None:
+        raise _error(part, "pin SDA is wired to no GPIO of the board: expected one (its data line)")
+    model = "dht11" if part.type == "wokwi-dht11" else "dht22"
+    (t_lo, t_hi), (h_lo, h_hi) = {"dht22": ((-40, 80), (0, 100)), "dht11": ((0, 50), (20, 90))}[model]
+    temperature = number(part, "temperature", 24, t_lo, t_hi, "of degrees C ")
+    humidity = number(part, "humidity", 40, h_lo, h_hi, "of percent ")
+    m.entry = entry(part, "dht", bus=f"dht:{found[1]}", model=model, temperature_c=temperature, humidity_pct=humidity)
+    m.notes.append("read by the dht module a frame at a time (the line dht:<gpio>); set-control temperature, humidity")
+    return m
+
+
+def char_lcd(part, ctx: Context, cols: int, rows: int) -> Mapped:
+    m = Mapped(None)
+    if choice(part, "pins", "full", ("full", "i2c")) != "i2c":
+        raise _error(
+            part, 'attrs.pins: only "i2c" (the PCF8574 backpack) is mapped; the parallel pins ("full") are not'
+        )
+    bus = i2c_bus(part, ctx, m)
+    address = int(number(part, "i2cAddress", 0x27, 0x08, 0x77, ""))
+    m.entry = entry(part, "char_lcd", bus=bus, address=address, cols=cols, rows=rows)
+    m.notes.append(f"{cols} x {rows} characters; the text it shows is in the part's screens")
+    return m
+
+
+def lcd1602(part, ctx: Context) -> Mapped:
+    return char_lcd(part, ctx, 16, 2)
+
+
+def lcd2004(part, ctx: Context) -> Mapped:
+    return char_lcd(part, ctx, 20, 4)
+
+
+def buzzer(part, ctx: Context) -> Mapped:
+    m = Mapped(None)
+    wire(m, ctx, part, "2", f"{part.id}.in")
+    if ctx.diagram.rail(f"{part.id}:1") != GND:
+        m.notes.append(f"{part.id}:1 is not on ground: taken as if it were")
+    choice(part, "mode", "smooth", ("smooth", "accurate"))
+    number(part, "volume", 1.0, 0.01, 1.0, "")
+    m.entry = entry(part, "buzzer")
+    m.notes.append("its tones (frequency, start, end) are recorded; no sound (mode and volume change nothing)")
+    return m
+
+
+def ky040(part, ctx: Context) -> Mapped:
+    m = Mapped(None)
+    wire(m, ctx, part, "CLK", f"{part.id}.clk")
+    wire(m, ctx, part, "DT", f"{part.id}.dt")
+    wire(m, ctx, part, "SW", f"{part.id}.sw", required=False)
+    m.entry = entry(part, "rotary_knob")
+    m.notes.append("turned by `turns` ([t_s, detents]) and pressed by `presses` (or a scenario's set-control pressed)")
+    return m
+
+
 def logic_analyzer(part, ctx: Context) -> Mapped:
     m = Mapped(None)
     for n in range(8):
@@ -453,6 +510,62 @@ TABLE = {
             ssd1306,
         ),
         PartMap(
+            "wokwi-dht22",
+            "dht",
+            {"temperature": "`temperature_c` (-40 to 80)", "humidity": "`humidity_pct` (0 to 100)"},
+            LOOKS,
+            "the dht module's read is answered a frame at a time (the start pulse is on the pin; the 40 bits' "
+            "timing is the clock's, not edges); a read sooner than 2 s after the last is fresh, not the last "
+            "value; set-control `temperature`, `humidity`",
+            dht,
+        ),
+        PartMap(
+            "wokwi-dht11",
+            "dht",
+            {"temperature": "`temperature_c` (0 to 50)", "humidity": "`humidity_pct` (20 to 90)"},
+            LOOKS,
+            "whole degrees and percent; as wokwi-dht22",
+            dht,
+        ),
+        PartMap(
+            "wokwi-lcd1602",
+            "char_lcd",
+            {
+                "pins": 'only "i2c" (the PCF8574 backpack); "full" (parallel) is refused',
+                "i2cAddress": "`address` (0x27 by default)",
+            },
+            (*LOOKS, "background", "characters"),
+            "16 x 2; HD44780 in 4-bit mode behind a PCF8574 (P0 RS, P1 RW, P2 E, P3 backlight, P4-P7 D4-D7); "
+            "its text is kept, not drawn; no busy flag, no instruction times",
+            lcd1602,
+        ),
+        PartMap(
+            "wokwi-lcd2004",
+            "char_lcd",
+            {"pins": "as wokwi-lcd1602", "i2cAddress": "as wokwi-lcd1602"},
+            (*LOOKS, "background", "characters"),
+            "20 x 4, rows at DDRAM 0x00, 0x40, 0x14, 0x54; as wokwi-lcd1602",
+            lcd2004,
+        ),
+        PartMap(
+            "wokwi-buzzer",
+            "buzzer",
+            {"mode": "none: no sound here (checked: smooth or accurate)", "volume": "none (checked: 0.01 to 1)"},
+            LOOKS,
+            "its tones are recorded (frequency, start, end: `<id>_freq_hz`, `<id>_tones`); a PWM of duty 0 or full, "
+            "or a plain level, is silence",
+            buzzer,
+        ),
+        PartMap(
+            "wokwi-ky-040",
+            "rotary_knob",
+            {},
+            LOOKS,
+            "turned by `turns` ([t_s, detents], negative: counter-clockwise), 4 edges 1 ms apart a detent, CLK "
+            "leading clockwise; SW pressed by `presses` or set-control `pressed`; no bounce",
+            ky040,
+        ),
+        PartMap(
             "wokwi-logic-analyzer",
             "(probe pins)",
             {},
@@ -473,12 +586,6 @@ TABLE = {
 """The Wokwi parts we map, by type."""
 
 REFUSED = {
-    "wokwi-dht22": "no DHT22 part: its one-wire protocol (the dht module) is not in the shim",
-    "wokwi-dht11": "as wokwi-dht22",
-    "wokwi-lcd1602": "no HD44780 character LCD part (nor its PCF8574 I2C backpack)",
-    "wokwi-lcd2004": "as wokwi-lcd1602",
-    "wokwi-buzzer": "no buzzer part: wire its pin to a logic analyser channel to record its PWM",
-    "wokwi-ky-040": "no rotary knob part (our `encoder` is a wheel's)",
     "wokwi-ntc-temperature-sensor": "no thermistor part",
     "wokwi-ds1307": "no RTC chip part (the board's clock is the virtual one)",
     "wokwi-membrane-keypad": "no keypad part",

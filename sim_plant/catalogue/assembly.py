@@ -118,8 +118,10 @@ class PartsPlant(RobotPlant):
         return part
 
     def set_pwm(self, name: str, freq_hz: int, duty_u16: int) -> None:
-        """A PWM on a wire's input from now on (freq in Hz, duty 0..65535)."""
-        self._wire_part(name).set_pwm(name, freq_hz, duty_u16, self._t_us)
+        """A PWM on a wire's (or a buzzer's) input from now on (freq in Hz, duty 0..65535)."""
+        where = self._input_route.get(name, -1)
+        part = self.parts[where] if where >= 0 else None
+        (part if hasattr(part, "set_pwm") else self._wire_part(name)).set_pwm(name, freq_hz, duty_u16, self._t_us)
         self._reschedule()
 
     def send_bytes(self, name: str, data: bytes, baud: int) -> None:
@@ -240,8 +242,9 @@ def _check_addresses(parts: list) -> None:
         where = (bus, part.options.get("address"))
         if where in taken:
             other = taken[where]
+            at = f"0x{where[1]:02x}" if where[1] is not None else "the line"
             raise PartsError(
-                f"{part.label} address: 0x{where[1]:02x} on bus {bus} is {other.label}'s too "
+                f"{part.label} address: {at} on bus {bus} is {other.label}'s too "
                 f"(two devices at one address: give one its other address)"
             )
         taken[where] = part
