@@ -126,3 +126,19 @@ def test_differences_are_one_line_each_and_ignore_where_a_checkout_lives():
     assert manifest.differences(was, now) == ["shim file t.py: was 1, now 2"]
     now["tools"] = {"numpy": "2.4.6"}
     assert manifest.differences(was, now)[-1] == "tools.numpy: not in the recording, now 2.4.6"
+
+
+def test_a_newer_harness_or_tool_is_told_but_does_not_stop_a_replay(make_rig, tmp_path):
+    """A regression check replays an old recording with a newer harness: its commit and its
+    tools' versions are listed, and the replay runs (a commit made while a run was recorded
+    stopped every replay before)."""
+    _, run = recorded(make_rig, tmp_path)
+    found = json.loads((run / "manifest.json").read_text())
+    found["harness"]["commit"] = "0" * 40
+    found["tools"]["numpy"] = "1.0.0"
+    (run / "manifest.json").write_text(json.dumps(found))
+    cmd = [sys.executable, "-m", "host.cli", "replay", str(run), "--trust-folder", "--out", str(tmp_path / "o")]
+    went = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=120)
+    assert went.returncode == 0, went.stdout + went.stderr
+    assert "manifest differs: harness.commit: was 0000000000000000000000000000000000000000" in went.stdout, went.stdout
+    assert "manifest differs: tools.numpy: was 1.0.0" in went.stdout and "same outputs" in went.stdout
