@@ -490,8 +490,12 @@ def cmd_check(args) -> int:
 
     app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
+    bus_set = getattr(plant, "bus_set", None)
+    on_buses = sorted({d.bus for d in bus_set.devices}) if bus_set is not None else []
     if app.wiring:
         print(f"{app.rig_file or app.name}: ok")
+    elif on_buses:  # (chips on buses or lines need no wiring: the rig puts them there by name)
+        print(f"{app.rig_file or app.name}: ok (0 pins wired; its parts are on {', '.join(on_buses)})")
     else:  # (it loads, but the firmware and the plant are not connected)
         print(f"{app.rig_file or app.name}: loads, but 0 pins are wired: the firmware reads nothing from the plant")
         print("  and drives nothing of it; wire its pins to the plant's signals in [wiring] (docs/rig-file.md)")

@@ -43,3 +43,23 @@ def test_check_says_when_no_pin_is_wired(tmp_path):
     assert ": ok" not in done.stdout and "[wiring]" in done.stdout
     wired = mpy_fil("check", str(REPO / "examples" / "pico_bot" / "rig.toml"))
     assert wired.stdout.splitlines()[0].endswith("rig.toml: ok"), wired.stdout
+
+
+def test_check_of_a_rig_whose_parts_are_all_on_buses_is_ok_and_names_them(tmp_path):
+    """Chips on a bus or a sensor's line need no [wiring]: a Wokwi project with only a DHT22
+    is not 'the firmware reads nothing from the plant'."""
+    import json
+
+    diagram = {
+        "version": 1,
+        "parts": [
+            {"type": "board-esp32-devkit-c-v4", "id": "esp", "attrs": {}},
+            {"type": "wokwi-dht22", "id": "dht1", "attrs": {"temperature": "21.5"}},
+        ],
+        "connections": [["dht1:SDA", "esp:15", "green", []], ["dht1:GND", "esp:GND.1", "black", []]],
+    }
+    (tmp_path / "diagram.json").write_text(json.dumps(diagram))
+    (tmp_path / "main.py").write_text("import dht\nfrom machine import Pin\nd = dht.DHT22(Pin(15))\n")
+    done = mpy_fil("check", str(tmp_path))
+    first = done.stdout.splitlines()[0]
+    assert first.endswith("ok (0 pins wired; its parts are on dht:15)"), done.stdout + done.stderr
