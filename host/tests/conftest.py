@@ -3,6 +3,8 @@ against a ScriptedPlant wired to the esp32_devkitc pin map. Each firmware prints
 ``R <name> <value>`` lines that the tests read back."""
 
 import ast
+import contextlib
+import io
 from pathlib import Path
 
 import pytest
@@ -70,3 +72,16 @@ def settrace():
         return interpreter.find_variant("settrace")
     except SetupError:
         return interpreter.build_variant("settrace")
+
+
+def run_cli(*args) -> tuple[int, str, str]:
+    """mpy-fil's main() in this process: (exit code, stdout, stderr)."""
+    from host.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main([str(a) for a in args])
+        except SystemExit as e:
+            code = e.code
+    return code, out.getvalue(), err.getvalue()

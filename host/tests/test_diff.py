@@ -3,8 +3,6 @@ scenario, is flagged (the robot's path moves, the outputs diverge at a virtual t
 a run and its replay are the same, budgets' changes are judged against thresholds, and
 a folder that cannot be read is one line with exit 2."""
 
-import contextlib
-import io
 import shutil
 from pathlib import Path
 
@@ -12,22 +10,12 @@ import pytest
 
 from host.campaign import load_campaign
 from host.campaign.worker import run_one
-from host.cli import main
 from host.core.paths import REPO
 from host.diff.compare import Thresholds, compare_budgets
+from host.tests.conftest import run_cli
 
 EXAMPLE = REPO / "examples" / "two_sonar_bot"
 CHANGE = ("FRONT_STOP_CM = 30", "FRONT_STOP_CM = 32")
-
-
-def run_cli(*args) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            code = main([str(a) for a in args])
-        except SystemExit as e:
-            code = e.code
-    return code, out.getvalue(), err.getvalue()
 
 
 def judged_run(rig: Path, out: Path) -> dict:

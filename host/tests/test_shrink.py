@@ -5,8 +5,6 @@ its clock matters) shrinks to that one fault, a window around that instant and a
 run, which the printed command runs again to the same failure; campaign --shrink shrinks
 each distinct failure of a campaign on its process pool to the same answer."""
 
-import contextlib
-import io
 import json
 import shutil
 from pathlib import Path
@@ -17,9 +15,9 @@ from hypothesis import strategies as st
 
 from host.campaign import load_campaign, replay
 from host.campaign.runner import run_campaign
-from host.cli import main
 from host.shrink.ddmin import ddmin
 from host.shrink.signature import Signature, message_class, signature
+from host.tests.conftest import run_cli
 
 BENCH = Path(__file__).parent / "shrink_bench" / "rig.toml"
 STUCK_BATT = {"kind": "stuck", "signal": "batt.adc", "value": 1000}
@@ -101,16 +99,6 @@ def test_a_signature_keeps_the_kind_of_failure_and_drops_the_numbers():
 
 
 # -- planted failures on a small firmware ----------------------------------------------
-
-
-def run_cli(*args) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            code = main([str(a) for a in args])
-        except SystemExit as e:
-            code = e.code
-    return code, out.getvalue(), err.getvalue()
 
 
 @pytest.fixture(scope="module")

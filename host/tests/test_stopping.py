@@ -3,7 +3,6 @@
 docs/reliability.md). Each case is done to a live `mpy-fil run` subprocess."""
 
 import contextlib
-import io
 import json
 import os
 import resource
@@ -23,21 +22,9 @@ from host.artefacts import integrity
 from host.artefacts.folder import load_trace
 from host.core.children import die_with_parent
 from host.core.paths import REPO
+from host.tests.conftest import run_cli
 
 LONG_S = "3000"  # longer than any test waits: the run is stopped before its end
-
-
-def run_cli(*args: str) -> tuple[int, str, str]:
-    """mpy-fil's main() in this process: (exit code, stdout, stderr)."""
-    from host.cli import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
-        try:
-            code = main(list(args))
-        except SystemExit as e:
-            code = e.code
-    return code, out.getvalue(), err.getvalue()
 
 
 def _children(pid: int) -> set[int]:
