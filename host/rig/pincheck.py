@@ -82,8 +82,9 @@ def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:
         result.warnings.append(text)
     maybe = " (some pins are computed at run time: check -v lists them)" if scan.unchecked else ""
     maybe = maybe or (" (some files could not be read: check lists them)" if scan.notes else "")
+    bases = [(int(k), u) for k, uses in used.items() if k.isdigit() for u in uses if u.kind == "pio"]
     for key, name in untouched.items():
-        group = _pio_group(key, used)
+        group = _pio_group(key, bases)
         if group is not None:
             result.notes.append(
                 f"check: the rig wires {name} = {pins[name]} ({wiring[name]}), which the code does not name; "
@@ -100,11 +101,11 @@ def compare(scan: Scan, pins: dict, wiring: dict[str, str]) -> PinCheck:
 PIO_GROUP_MAX = 32  # a PIO pin group's pins at most (the RP2040's in_count: 32; set: 5; side-set: 5)
 
 
-def _pio_group(key: str, used: dict) -> PinUse | None:
-    """The PIO pin group (its first pin's use) that pin ``key`` may belong to, or None."""
+def _pio_group(key: str, bases: list) -> PinUse | None:
+    """The PIO pin group (its first pin's use, of ``bases``: (pin, use)) that pin ``key``
+    may belong to, or None."""
     if not key.isdigit():
         return None
-    bases = [(int(k), u) for k, uses in used.items() if k.isdigit() for u in uses if u.kind == "pio"]
     near = [(int(key) - b, u) for b, u in bases if 0 < int(key) - b < PIO_GROUP_MAX]
     return min(near, key=lambda d: d[0])[1] if near else None
 
