@@ -14,7 +14,7 @@ costs a few steps per input change, whatever the time between changes.
 
 import copy
 
-from sim_plant.pio import trace
+from sim_plant.pio import trace, walk
 from sim_plant.pio.machine import PioConfig, StateMachine
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
@@ -137,9 +137,17 @@ class PioBlock:
         """Run every active state machine to ``t_us`` (not its cycle at ``t_us``), the pin
         changes ``(t_us, gpio, level)`` (in time order, none after ``t_us``) applied as
         they come."""
-        for t_change, gpio, level in changes:
+        i, n = 0, len(changes)
+        while i < n:
+            i = walk.walk(self, t_us, changes, i)  # (along the table while it holds: walk.py)
+            if i > n:
+                return
+            if i == n:
+                break
+            t_change, gpio, level = changes[i]
             self._run_all(t_change)
             self.set_input(gpio, level)
+            i += 1
         self._run_all(t_us)
 
     def _run_all(self, t_us: int) -> None:

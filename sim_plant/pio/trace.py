@@ -200,6 +200,7 @@ class Entry:
         self.period = period
         self.offsets = [off for off, _state in table]
         self.states = [state for _off, state in table]
+        self.shapes: dict = {}  # (state index, pins, RX words) -> a stretch's shape from it (walk.py)
 
     def holds(self, x: int, y: int) -> bool:
         for kind, a, b, result in self.guards:
