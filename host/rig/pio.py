@@ -98,10 +98,11 @@ class PioHost:
         levels = self.levels
         for _t, gpio, level in changes:
             levels[gpio] = level
+        changed = {gpio for _t, gpio, _level in changes}
         for block in self.blocks:
-            if block not in live:
-                for _t, gpio, level in changes:
-                    block.set_input(gpio, level)
+            if block not in live:  # (a block that runs nothing needs only the levels now)
+                for gpio in changed:
+                    block.set_input(gpio, levels[gpio])
             block.events.clear()  # (the levels the PIO drives are not yet given to the plant)
             if block.irq_clears:
                 self.raised[block.block_id].extend((t, f) for t, f, _sm in block.irqs if block.irq_clears >> f & 1)

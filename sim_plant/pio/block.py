@@ -74,6 +74,18 @@ class PioBlock:
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
         self._cycle = 0
 
+    def __deepcopy__(self, memo):
+        """Numbers, containers of numbers and tuples, and the state machines."""
+        twin = PioBlock.__new__(PioBlock)
+        memo[id(self)] = twin
+        twin.__dict__.update(self.__dict__)
+        twin.memory, twin.levels, twin.dirs = list(self.memory), dict(self.levels), dict(self.dirs)
+        twin.events, twin.irqs = list(self.events), list(self.irqs)
+        twin.running = {sm_id: copy.deepcopy(run, memo) for sm_id, run in self.running.items()}
+        twin._run = None if self._run is None else copy.deepcopy(self._run, memo)
+        twin._log = None if self._log is None else copy.deepcopy(self._log, memo)
+        return twin
+
     # -- configuration ---------------------------------------------------------------
     def load(self, memory: list[int]) -> None:
         self.memory = list(memory) + [0] * (32 - len(memory))

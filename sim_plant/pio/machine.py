@@ -12,6 +12,7 @@ Not modelled: the two-cycle input synchroniser, the fractional clock divider's j
 autopull between instructions (the refill happens at the ``out`` that needs it).
 """
 
+import copy
 from collections import deque
 from dataclasses import dataclass
 
@@ -65,6 +66,19 @@ class StateMachine:
         self.restart()
         self.tx = deque()
         self.rx = deque()
+
+    def __deepcopy__(self, memo):
+        """Its fields are numbers, the frozen config and the two FIFOs (a look-ahead's copy,
+        often: :meth:`PioBlock.probe`, ``host/rig/pio_out.py``)."""
+        twin = StateMachine.__new__(StateMachine)
+        memo[id(self)] = twin
+        twin.__dict__.update(self.__dict__)
+        twin.block = copy.deepcopy(self.block, memo)
+        twin.tx, twin.rx = deque(self.tx), deque(self.rx)
+        if type(self.x) is not int or type(self.y) is not int or type(self.isr) is not int or type(self.osr) is not int:
+            for name in ("x", "y", "isr", "osr"):
+                setattr(twin, name, copy.deepcopy(getattr(self, name), memo))
+        return twin
 
     def configure(self, config: PioConfig) -> None:
         c = config
