@@ -8,10 +8,13 @@ runs it whole (``host/tests/test_conformance.py``).
 """
 
 import argparse
+import contextlib
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -96,6 +99,30 @@ def run_tests(tests: Path, files: list[str], micropython: Path, name: str, board
     return results
 
 
+@contextlib.contextmanager
+def fork_server():
+    """The runs in the loop through one process that imported the harness once
+    (:mod:`host.conformance.forkserver`), stopped and its socket removed after."""
+    from host.conformance.forkserver import SOCKET_ENV
+
+    folder = tempfile.mkdtemp(prefix="mpy-fil-conformance-")
+    path = os.path.join(folder, "server")
+    env = {**os.environ, "PYTHONPATH": str(REPO), "OPENBLAS_NUM_THREADS": "1"}  # (no BLAS threads to fork)
+    cmd = [sys.executable, "-m", "host.conformance.forkserver", path]
+    server = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True, **children.popen_options())
+    try:
+        if server.stdout.readline().strip() != "ready":
+            raise SystemExit(f"error: the conformance server did not start (exit {server.wait()}): {' '.join(cmd)}")
+        os.environ[SOCKET_ENV] = path
+        yield path
+    finally:
+        os.environ.pop(SOCKET_ENV, None)
+        server.kill()
+        server.wait()
+        server.stdout.close()
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def known() -> dict[str, str]:
     data = tomllib.loads((HERE / "known.toml").read_text())
     return {name: entry["reason"] for name, entry in data.get("test", {}).items()}
@@ -150,13 +177,14 @@ def main(argv: list[str]) -> int:
     tests = tests_dir()
     files, needs_unittest = select(tests)
     plain = run_tests(tests, files, interpreter.find(), "plain")
-    shim = run_tests(tests, files, wrapper(), "shim")
-    reasons = known()
     bench_files = [f for f in BENCH_TESTS if (tests / f).is_file()]
     bench = {}
-    for board in sorted({BENCH_TESTS[f] for f in bench_files}):
-        group = [f for f in bench_files if BENCH_TESTS[f] == board]
-        bench |= run_tests(tests, group, wrapper(), f"bench-{board}", board)
+    with fork_server():
+        shim = run_tests(tests, files, wrapper(), "shim")
+        for board in sorted({BENCH_TESTS[f] for f in bench_files}):
+            group = [f for f in bench_files if BENCH_TESTS[f] == board]
+            bench |= run_tests(tests, group, wrapper(), f"bench-{board}", board)
+    reasons = known()
     text = table(files, plain, shim, reasons)
     if needs_unittest:
         text += f"Not run (they need unittest, which Debian's source leaves out): {', '.join(needs_unittest)}.\n"

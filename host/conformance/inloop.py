@@ -4,7 +4,15 @@ plant a bench of wires (a ``bench`` body with ``wire`` and ``uart_wire`` parts).
 stdout and the exit status is the firmware's (1 for an uncaught exception), so
 upstream's ``run-tests.py`` can use this as its ``MICROPY_MICROPYTHON``.
 
-Anything else (``-c``, other options) runs on the plain interpreter.
+Anything else (``-c``, other options) runs on the plain interpreter, and so do
+``run-tests.py``'s feature checks but ``target_info.py``: they ask the interpreter what it
+has (big ints, sets, async, complex, f-strings ...), and the loop runs that same binary;
+``target_info.py`` names the platform, which in the loop is the board's. (Compared once
+for each board: the same output in the loop and plain, but for the inline assemblers'
+tracebacks, which fail either way.) They are 16 of every run's first 17 runs, and a run
+in the loop costs about a second: the harness's import and the rig's start.
+
+The harness is imported only for a run in the loop: a plain run starts at once.
 """
 
 import os
@@ -12,13 +20,6 @@ import sys
 from pathlib import Path
 
 from host.core import interpreter
-from host.core.errors import HarnessError
-from host.link.transport import busy_poll_wanted
-from host.rig.app import App
-from host.rig.boards import identity
-from host.rig.rig import Rig
-from host.rig.spec import RigSpec
-from sim_plant.catalogue.assembly import assemble
 
 # The bench: pin pairs joined by a wire (output pin -> input pin), on every board; GPIO4
 # to GPIO5 and GPIO12 to GPIO13 are upstream's esp32 target wiring.
@@ -48,12 +49,20 @@ LIMIT_S = 120.0  # virtual seconds a test may run
 BOARD_ENV = "MPY_FIL_BOARD"  # a board family (esp32, rpi_pico): its sys.platform; unset: the unix port's
 
 
+IN_THE_LOOP_CHECKS = ("target_info.py",)  # feature checks whose answer is the board's
+
+
 def bench_plant(**options):
     """The bench's plant (``options``: ``<part>.<option>`` keys, as a world's)."""
+    from sim_plant.catalogue.assembly import assemble
+
     return assemble({**BENCH, **options})
 
 
-def bench_app(test: Path, heap_size: str | None = None) -> App:
+def bench_app(test: Path, heap_size: str | None = None):
+    from host.rig.app import App
+    from host.rig.boards import identity
+
     board = os.environ.get(BOARD_ENV, "")
     return App(
         name="conformance",
@@ -86,11 +95,19 @@ def parse(argv: list[str]) -> tuple[Path, str | None] | None:
         args = args[2:]
     if len(args) != 1 or not args[0].endswith(".py"):
         return None
-    return Path(args[0]).resolve(), heap
+    path = Path(args[0])
+    if path.parent.name == "feature_check" and path.name not in IN_THE_LOOP_CHECKS:
+        return None  # (the interpreter's own features: the same binary as in the loop)
+    return path.resolve(), heap
 
 
 def run(test: Path, heap: str | None) -> tuple[str, int]:
     """(what the firmware printed, its exit status)."""
+    from host.core.errors import HarnessError
+    from host.link.transport import busy_poll_wanted
+    from host.rig.rig import Rig
+    from host.rig.spec import RigSpec
+
     spec = RigSpec(bench_app(test, heap), watchdog_s=10.0, allow_exit=True, busy_poll=busy_poll_wanted())
     rig = Rig(spec)
     status, note = 0, ""
@@ -116,7 +133,16 @@ def main(argv: list[str]) -> int:
     if parsed is None:
         plain = str(interpreter.find())
         os.execv(plain, [plain, *argv])
-    console, status = run(*parsed)
+    from host.conformance import forkserver
+
+    server = os.environ.get(forkserver.SOCKET_ENV)
+    if server:  # (python -m host.conformance's server: the harness imported once)
+        reply = forkserver.ask(server, argv)
+        sys.stderr.write(reply["stderr"])
+        sys.stderr.flush()
+        console, status = reply["stdout"] + reply["console"], reply["status"]
+    else:
+        console, status = run(*parsed)
     sys.stdout.write(console)
     sys.stdout.flush()
     return status

@@ -9,6 +9,7 @@
   firmware) for comparison.
 """
 
+import os
 import re
 import sys
 import tempfile
@@ -16,7 +17,9 @@ import time
 from pathlib import Path
 
 from host.core.paths import REPO
+from host.bench import bench_raw
 from host.pytest_plugin import rig_from_keywords
+from host.rig.sandbox import interpreter_pid
 from host.tests import pio_corpus
 from sim_plant.pio import PioBlock, PioConfig
 
@@ -129,22 +132,45 @@ def _count_sent(inputs) -> list:
     return sent
 
 
+def _count_frames(rig) -> list:
+    """[the frames the shim has sent so far]."""
+    frames, dispatch = [0], rig.dispatch
+
+    def counted(type_, payload):
+        frames[0] += 1
+        return dispatch(type_, payload)
+
+    rig.dispatch = counted
+    return frames
+
+
+def _cpu_s(pid: int) -> float:
+    """A process's CPU time (user + system) from /proc."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64) -> dict:
     """The robot driving ahead for ``seconds`` (after 0.2 s of start-up), then stopping: the
-    wall time of the drive, the edges a second, the count read at the end."""
+    wall time of the drive, the host's and the interpreter's CPU time, the frames the shim
+    sent, the edges a second, the count read at the end."""
     with tempfile.TemporaryDirectory() as tmp:
         folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base)
         rig = rig_from_keywords(str(folder), seed=1, record=False)
         sent = _count_sent(rig.inputs)
         rig.start()
+        frames = _count_frames(rig)
         try:
             rig.run_for(0.2)  # (start-up, and the wheel at speed)
+            pid = interpreter_pid(rig.target.proc)
             edges0 = rig.truth()["enc_l_edges"]
-            trips, sent0 = rig.stats.link_round_trips, sent[0]
+            trips, sent0, frames0 = rig.stats.link_round_trips, sent[0], frames[0]
+            cpu_fw, cpu_host = _cpu_s(pid), time.process_time()
             wall = time.perf_counter()
             rig.run_for(seconds)
             wall = time.perf_counter() - wall
-            trips, sent0 = rig.stats.link_round_trips - trips, sent[0] - sent0
+            cpu_fw, cpu_host = _cpu_s(pid) - cpu_fw, time.process_time() - cpu_host
+            trips, sent0, frames0 = rig.stats.link_round_trips - trips, sent[0] - sent0, frames[0] - frames0
             edges = rig.truth()["enc_l_edges"]
             rig.run_for(0.2)
             console = rig.console
@@ -152,9 +178,13 @@ def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_pe
             final = rig.truth()["enc_l_edges"]
         finally:
             rig.stop()
+    n = max(1, edges - edges0)
     return {
         "edges_per_s": (edges - edges0) / seconds,
         "x_real_time": seconds / wall,
+        "host_cpu_us_per_edge": cpu_host / n * 1e6,
+        "firmware_cpu_us_per_edge": cpu_fw / n * 1e6,
+        "frames_per_s": frames0 / seconds,
         "round_trips": trips,
         "changes_sent": sent0,
         "last_count": int(counts[-1]) if counts else None,
@@ -165,6 +195,9 @@ def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_pe
 
 def main(argv: list[str]) -> None:
     seconds = float(argv[0]) if argv else 2.0
+    raw = sorted(bench_raw(2000))
+    raw_us = raw[len(raw) // 2]
+    print(f"raw pty round trip, CPython <-> MicroPython: p50 {raw_us:.0f} us")
     emu = emulator_only(seconds)
     print(
         f"emulator: {emu['edges']} edges at {EDGES_PER_S}/s, {emu['steps_per_edge']:.1f} steps and "
@@ -177,10 +210,14 @@ def main(argv: list[str]) -> None:
     )
     for name, firmware, in_base in cases:
         loop = in_the_loop(seconds, firmware, in_base)
+        floor = 1e6 / (loop["frames_per_s"] * raw_us)
         print(
-            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time, "
-            f"{loop['round_trips']} round trips, {loop['changes_sent']} input changes sent "
-            f"(the count read {loop['last_count']}, the plant's edges {loop['plant_edges']})"
+            f"in the loop, {name}: {loop['edges_per_s']:.0f} edges/s, {loop['x_real_time']:.1f}x real time "
+            f"(target >= 50x); CPU an edge: host {loop['host_cpu_us_per_edge']:.1f} us, interpreter "
+            f"{loop['firmware_cpu_us_per_edge']:.1f} us; {loop['frames_per_s']:.0f} frames a simulated s "
+            f"({loop['round_trips']} round trips), {loop['changes_sent']} input changes sent; the link alone "
+            f"(frames x raw round trip) allows {floor:.0f}x (the count read {loop['last_count']}, the plant's "
+            f"edges {loop['plant_edges']})"
         )
 
 
