@@ -31,8 +31,6 @@ import heapq
 import itertools
 import re
 
-from vcd.gtkw import GTKWSave
-
 TIMESCALE = "1us"
 _SCOPES = {"bus": "buses"}  # a role's scope when its plural is not role + "s"
 _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
@@ -118,6 +116,8 @@ def write_gtkw(path, vcd_path, paths: dict) -> None:
         parts = full.split(".")
         part = parts[2] if len(parts) > 3 else ""
         groups.setdefault(parts[1], {}).setdefault(part, []).append((full, kind))
+    from vcd.gtkw import GTKWSave  # (only when a trace folder is written)
+
     with open(path, "w", encoding="utf-8") as f:
         save = GTKWSave(f)
         save.comment("mpy-fil: open with `gtkwave trace.gtkw` from this folder")

@@ -14,8 +14,6 @@ import os
 import tempfile
 from pathlib import Path
 
-from coverage import CoverageData
-
 from host.core.errors import HarnessError
 from host.rig.boardfs import board_name
 
@@ -101,6 +99,8 @@ def write_data(data_file: Path, arcs: dict, known: dict[str, Path], context: str
     try:
         data_file.parent.mkdir(parents=True, exist_ok=True)
         data_file.unlink(missing_ok=True)
+        from coverage import CoverageData  # (coverage.py only when there is coverage to write)
+
         data = CoverageData(basename=str(data_file))
         data.set_context(context)
         data.add_arcs(by_source)

@@ -25,7 +25,6 @@ import json
 import platform
 import re
 import subprocess
-from importlib import metadata
 from pathlib import Path
 
 from host.artefacts import integrity
@@ -112,6 +111,8 @@ def plant_part(plant, options: dict) -> dict:
 @functools.cache
 def tools_part() -> dict:
     """Python and the versions of the packages the harness pins (its requirements)."""
+    from importlib import metadata  # (only when a manifest is written)
+
     found = {"python": platform.python_version()}
     try:
         wanted = metadata.requires("mpy-fil") or []
@@ -127,6 +128,8 @@ def tools_part() -> dict:
 
 
 def harness_part() -> dict:
+    from importlib import metadata
+
     try:
         version = metadata.version("mpy-fil")
     except metadata.PackageNotFoundError:
