@@ -298,23 +298,20 @@ def _truth_contacts(plant) -> list:
 
 def _write_truth(path: Path, truth: list) -> None:
     columns: list[str] = []
+    seen = {"t_us"}
     for _t, row in truth:
+        if row.keys() <= seen:
+            continue
         for key in row:
-            if key != "t_us" and key not in columns:
+            if key not in seen:
+                seen.add(key)
                 columns.append(key)
     with open(path, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", *columns])
-        for t, row in truth:
-            out.writerow([t, *(_fmt(row.get(c)) for c in columns)])
-
-
-def _fmt(value) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return repr(value)
-    return str(value)
+        # (csv writes None as "", a float as float's repr, the rest as str: the recorder's
+        # values are plain ints and floats, numpy's made plain)
+        out.writerows([t, *map(row.get, columns)] for t, row in truth)
 
 
 def _json(data) -> str:

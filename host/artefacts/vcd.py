@@ -70,7 +70,9 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
         texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
         # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
-        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts, key=lambda e: (e[0], e[1]))
+        # (no key: at one (time, order) a signal's change and a UART's text compare by
+        # ("sig", ...) < ("text", ...), the order of their streams, as a stable merge has it)
+        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts)
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
@@ -155,24 +157,48 @@ def _real(value, code: str) -> str:
     return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
 
 
+_UNSET = object()
+_CHUNK = 2048  # instants formatted before each write
+
+
 def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
     """Each instant's changes, a variable's last one at that instant. A ground-truth
     value the variable already shows is not written again (``shown``: code -> its value
-    line); every other change is, as a repeated console line is an event of its own."""
-    for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
-        last: dict[str, str] = {}
-        for _t, _order, key, kind, value in changes:
-            if key is _ROW:
-                for code, line in _row_values(value, truth_codes).items():
-                    if shown.get(code) != line:
-                        last[code] = shown[code] = line
-                continue
-            code = ids.get(key)
-            if code is not None:
-                last[code] = _value(kind, value, code)
-        if last:
-            f.write(f"#{t}\n")
-            f.write("\n".join(last.values()) + "\n")
+    line); every other change is, as a repeated console line is an event of its own.
+    A truth value equal to the column's last one (same type, not zero: -0.0 == 0.0 but
+    reads otherwise) gives the same line, so it is not formatted again."""
+    out: list[str] = []
+    last: dict[str, str] = {}
+    raw: dict[str, object] = {}  # column -> its last value formatted
+    t_now = None
+    for t, _order, key, kind, value in merged:
+        if t != t_now:
+            if last:
+                out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
+                last = {}
+                if len(out) >= _CHUNK:
+                    f.write("".join(out))
+                    out = []
+            t_now = t
+        if key is _ROW:
+            for col, code in truth_codes:
+                v = value.get(col, _UNSET)
+                if v is _UNSET:
+                    continue
+                before = raw.get(col, _UNSET)
+                if v == before and type(v) is type(before) and v != 0:
+                    continue
+                raw[col] = v
+                line = _real(v, code)
+                if shown.get(code) != line:
+                    last[code] = shown[code] = line
+            continue
+        code = ids.get(key)
+        if code is not None:
+            last[code] = _value(kind, value, code)
+    if last:
+        out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
+    f.write("".join(out))
 
 
 def _insert(tree: dict, path: list[str], leaf) -> None:
