@@ -171,12 +171,13 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
                 events=events,
                 truth=truth,
                 notes=notes,
+                columns=recorder.truth_columns(),
             )
         )
 
     return (
         (SIGNALS, signals),
-        (TRUTH, lambda path: _write_truth(path, truth)),
+        (TRUTH, lambda path: _write_truth(path, truth, recorder.truth_columns())),
         (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
         (VCD, vcd),
         (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
@@ -296,16 +297,7 @@ def _truth_contacts(plant) -> list:
     return [[int(c[0]), float(c[1]), float(c[2])] for c in contacts if isinstance(c, (list, tuple)) and len(c) >= 3]
 
 
-def _write_truth(path: Path, truth: list) -> None:
-    columns: list[str] = []
-    seen = {"t_us"}
-    for _t, row in truth:
-        if row.keys() <= seen:
-            continue
-        for key in row:
-            if key not in seen:
-                seen.add(key)
-                columns.append(key)
+def _write_truth(path: Path, truth, columns: list[str]) -> None:
     with open(path, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", *columns])

@@ -88,6 +88,7 @@ class Recorder:
         self._spilled_truth = Spill()
         self._last_event_us = -1  # of the last event spilled
         self._truth_spilled_to_us = -1  # of the last truth row spilled
+        self._spilled_columns: dict[str, None] = {}  # the truth columns of the rows spilled, in order
         self.sorted = True  # so far, every event came at or after the time of the one before
         self._next_truth_us = 0
         self.sample(plant)
@@ -110,6 +111,13 @@ class Recorder:
         """The ground-truth samples in chunks (lists), in time order."""
         yield from self._spilled_truth.chunks()
         yield self._truth
+
+    def truth_columns(self) -> list[str]:
+        """The ground truth's columns (``t_us`` aside), in the order they first came: those of
+        the rows spilled were noted as they went, so nothing is read back from disk."""
+        columns = dict(self._spilled_columns)
+        _note_columns(columns, self._truth)
+        return list(columns)
 
     def sensor(self, t_us: int, name: str, value) -> None:
         """A plant output changed (or took a new sample) at ``t_us``."""
@@ -163,6 +171,7 @@ class Recorder:
         n = _prefix(self._truth, t_us)
         if n:
             self._truth_spilled_to_us = self._truth[n - 1][0]
+            _note_columns(self._spilled_columns, self._truth[:n])
             self._spilled_truth.append(self._truth[:n])
             self._truth = self._truth[n:]
 
@@ -196,6 +205,18 @@ class Recorder:
         """Drop what went to disk (the temporary files)."""
         self._spilled_events.close()
         self._spilled_truth.close()
+
+
+def _note_columns(columns: dict, rows: list) -> None:
+    """Add to ``columns`` (an ordered set) each key of ``rows`` not in it, ``t_us`` aside."""
+    seen = columns.keys() | {"t_us"}
+    for _t, row in rows:
+        if row.keys() <= seen:
+            continue
+        for key in row:
+            if key not in seen:
+                seen.add(key)
+                columns[key] = None
 
 
 def _prefix(records: list, t_us: int) -> int:

@@ -38,14 +38,19 @@ _SCOPES = {"bus": "buses"}  # a role's scope when its plural is not role + "s"
 _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 
-def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=()) -> dict:
+def write_vcd(
+    path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=(), columns=None
+) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
-    order; ``truth``: (t_us, {column: value}) in time order (iterated twice); ``notes``:
+    order; ``truth``: (t_us, {column: value}) in time order; ``notes``:
     (t_us, channel, text) in time order (iterated twice), each channel a string variable of
     the ``events`` scope. All three may be iterables that read from disk (``events`` is
-    iterated twice too): nothing here holds them whole. Returns each variable's (full name in the
+    read once): nothing here holds them whole. ``columns``: the truth's columns, when
+    known (else found in a first pass over ``truth``). Returns each variable's (full name in the
     file, kind) by (group, name), for :func:`write_gtkw`."""
-    columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
+    if columns is None:
+        columns = {k for _t, row in truth for k in row}
+    columns = sorted(set(columns) - {"t_us"})
     channels = sorted({channel for _t, channel, _text in notes})
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
@@ -65,14 +70,13 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         _declare(f, tree, ids, paths, _ident(top))
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
-        sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
+        sigs = _changes(events, kinds, {name for kind, name in ids if kind == "text"})
         truth_codes = [(col, ids[("truth", col)]) for col in columns]
         reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
         texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
         # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
-        # (no key: at one (time, order) a signal's change and a UART's text compare by
-        # ("sig", ...) < ("text", ...), the order of their streams, as a stable merge has it)
-        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts)
+        # (no key: each stream's own order is kept, and no two streams share an order)
+        merged = heapq.merge(sigs, reals, texts)
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
@@ -97,18 +101,37 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 
-def _uart_text(events, ids):
+def _changes(events, kinds: dict, texts: set):
+    """Each event as a change of its variable and, after an instant's changes, each UART's
+    text (its ``_text`` variable) that changed then, in the order of its events: one pass
+    over ``events`` (read from disk), in the order a stable sort of the two would give."""
+    held = []
+    t_held = None
+    uart = _uart_text(texts)
+    for t, name, v in events:
+        if held and t != t_held:
+            yield from held
+            held.clear()
+        yield (t, 0, ("sig", name), kinds.get(name, "level"), v)
+        if name in texts and v:
+            held.append(uart(t, name, v))
+            t_held = t
+    yield from held
+
+
+def _uart_text(texts: set):
     """For each UART (a ``_text`` variable): at each chunk, the line being received,
     or the line just completed until the next one starts."""
     lines: dict[str, str] = {}
-    for t, name, value in events:
-        if ("text", name) not in ids or not value:
-            continue
+
+    def text_at(t, name, value):
         text = lines.get(name, "") + bytes.fromhex(value).decode("latin-1").replace("\r", "")
         done, _, partial = text.rpartition("\n")
         lines[name] = partial[-TEXT_LINE_MAX:]
         shown = partial or done.rpartition("\n")[2]
-        yield (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+        return (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+
+    return text_at
 
 
 def write_gtkw(path, vcd_path, paths: dict) -> None:
