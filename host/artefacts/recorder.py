@@ -139,11 +139,15 @@ class Recorder:
         t_us = plant.t_us
         if t_us < self._next_truth_us:
             return
-        row = {
-            k: v if type(v) in _PLAIN_NUMBERS else _plain(v)
-            for k, v in plant.truth().items()
-            if type(v) in _PLAIN_NUMBERS or isinstance(v, numbers.Real)
-        }
+        row = {}
+        for k, v in plant.truth().items():  # (the scalars: a number as CSV and JSON hold it)
+            kind = type(v)
+            if kind in _PLAIN_NUMBERS:
+                row[k] = v
+            elif kind is bool:
+                row[k] = int(v)
+            elif kind not in _NOT_REAL and isinstance(v, numbers.Real):
+                row[k] = _plain(v)
         self._truth.append((t_us, row))
         self._next_truth_us = (t_us // self.truth_period_us + 1) * self.truth_period_us
 
@@ -234,6 +238,7 @@ def _time(event) -> int:
 
 
 _PLAIN_NUMBERS = {int, float}  # (the usual truth values: as they are, with no ABC check)
+_NOT_REAL = {tuple, list, dict, str, bytes, bytearray, type(None)}  # (left out, with no ABC check)
 
 
 def _plain(value):
