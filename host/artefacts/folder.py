@@ -171,12 +171,13 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
                 events=events,
                 truth=truth,
                 notes=notes,
+                columns=recorder.truth_columns(),
             )
         )
 
     return (
         (SIGNALS, signals),
-        (TRUTH, lambda path: _write_truth(path, truth)),
+        (TRUTH, lambda path: _write_truth(path, truth, recorder.truth_columns())),
         (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
         (VCD, vcd),
         (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
@@ -296,25 +297,13 @@ def _truth_contacts(plant) -> list:
     return [[int(c[0]), float(c[1]), float(c[2])] for c in contacts if isinstance(c, (list, tuple)) and len(c) >= 3]
 
 
-def _write_truth(path: Path, truth: list) -> None:
-    columns: list[str] = []
-    for _t, row in truth:
-        for key in row:
-            if key != "t_us" and key not in columns:
-                columns.append(key)
+def _write_truth(path: Path, truth, columns: list[str]) -> None:
     with open(path, "w", newline="", encoding="utf-8") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(["t_us", *columns])
-        for t, row in truth:
-            out.writerow([t, *(_fmt(row.get(c)) for c in columns)])
-
-
-def _fmt(value) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return repr(value)
-    return str(value)
+        # (csv writes None as "", a float as float's repr, the rest as str: the recorder's
+        # values are plain ints and floats, numpy's made plain)
+        out.writerows([t, *map(row.get, columns)] for t, row in truth)
 
 
 def _json(data) -> str:

@@ -7,18 +7,25 @@ goes to its own file, since its pipe is not ordered with the link. ``digest`` is
 SHA-256 of the lines, kept even when no file is written. A rig that does not trace logs
 to :data:`NO_LOG`, which keeps nothing.
 
-The file is line-buffered: each record reaches the file as it is written, so a run killed
-outright (SIGKILL) leaves every record to its last whole line. A write that fails (a full
-disk) raises :class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it
-was cut (:attr:`LinkLog.error`) and later records are only hashed.
+The records of an exchange are kept as they come (their numbers, not yet text) and written
+together when its STATE is logged, which the clock does once the STATE is on its way: the
+formatting, hashing and one write then overlap the firmware's own work on it. Each write
+ends at a whole line and reaches the file at once (line-buffered), so a run killed outright
+(SIGKILL) leaves every record up to the last STATE sent, to its last whole line; a stopped
+run's (``close``) and the digest hold every record. A write that fails (a full disk)
+raises :class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it was
+cut (:attr:`LinkLog.error`) and later records are only hashed.
 """
 
+import contextlib
 import hashlib
 import json
 from pathlib import Path
 
 from host.artefacts.integrity import TraceWriteError
 from host.link import frames as F
+
+KEPT_MAX = 512  # records kept unwritten at most (a run with no STATE to write them at)
 
 OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F.OUT_DEINIT: "deinit"}
 
@@ -28,21 +35,34 @@ class LinkLog:
         self.path = path
         self._file = open(path, "w", encoding="utf-8", buffering=1) if path else None  # noqa: SIM115
         self._hash = hashlib.sha256()
-        self.lines = 0
+        self._written = 0  # lines hashed (and written)
+        self._pending: list[tuple] = []  # (format, args) of each record not yet written
         self.error: TraceWriteError | None = None
 
     _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
 
     def write(self, record: dict) -> None:
-        self.line(self._encode(record) + "\n")
+        self._pending.append((_as_is, (self._encode(record) + "\n",)))
+        if len(self._pending) >= KEPT_MAX:
+            self.flush()
 
     def line(self, line: str) -> None:
-        """One record already in JSON (the hot messages: written by hand, the same bytes)."""
-        self._hash.update(line.encode())
-        self.lines += 1
+        """One record already in JSON, written now with those before it."""
+        self._pending.append((_as_is, (line,)))
+        self.flush()
+
+    def flush(self) -> None:
+        """Write (and hash) the records kept so far, in one write."""
+        pending, self._pending = self._pending, []
+        if pending:
+            self._put("".join([form(*args) for form, args in pending]), len(pending))
+
+    def _put(self, text: str, lines: int) -> None:
+        self._hash.update(text.encode())
+        self._written += lines
         if self._file:
             try:
-                self._file.write(line)
+                self._file.write(text)
             except OSError as e:
                 self._fail(e)
 
@@ -56,10 +76,19 @@ class LinkLog:
         raise self.error from e
 
     @property
+    def lines(self) -> int:
+        """Records logged so far."""
+        return self._written + len(self._pending)
+
+    @property
     def digest(self) -> str:
+        self.flush()
         return self._hash.hexdigest()
 
     def close(self) -> None:
+        if self._pending:
+            with contextlib.suppress(TraceWriteError):  # (kept in self.error)
+                self.flush()
         if self._file:
             try:
                 self._file.close()
@@ -74,34 +103,23 @@ class LinkLog:
         record = {"t": t, "msg": "CFG", "handle": h, "kind": kind, "pin": pin, "mode": mode, "pull": pull}
         self.write({**record, "param": param, "signal": signal})
 
-    # OUT, WAIT and STATE, a few every exchange, are formatted by hand when every number is
-    # a plain int: the encoder's bytes (sorted keys, no spaces) at a fraction of its cost.
+    # OUT, WAIT and STATE, a few every exchange, are kept as their numbers and formatted by
+    # hand when written (every number a plain int: the encoder's bytes, sorted keys and no
+    # spaces, at a fraction of its cost).
 
     def out(self, t: int, h: int, attr: int, value: int) -> None:
-        name = OUT_ATTRS.get(attr)
-        if name is not None and type(t) is int and type(h) is int and type(value) is int:
-            self.line(f'{{"attr":"{name}","handle":{h},"msg":"OUT","t":{t},"value":{value}}}\n')
-        else:
-            self.write({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value})
+        self._pending.append((_out_line, (t, h, attr, value)))
 
     def wait(self, t: int, until: int, watch) -> None:
-        watched = sorted(watch)
-        if type(t) is int and type(until) is int and all(type(h) is int for h in watched):
-            listed = ",".join(map(str, watched))
-            self.line(f'{{"msg":"WAIT","t":{t},"until":{until},"watch":[{listed}]}}\n')
-        else:
-            self.write({"t": t, "msg": "WAIT", "until": until, "watch": watched})
+        self._pending.append((_wait_line, (t, until, watch)))
+        if len(self._pending) >= KEPT_MAX:
+            self.flush()  # (a link that sends no STATE: a board's)
 
     def state(self, t: int, base: int, horizon: int, changes) -> None:
-        entries = [[ct, h, k, v, e.hex() if k == F.CH_BYTES else e] for ct, h, k, v, e in changes]
-        if type(t) is int and type(base) is int and type(horizon) is int and all(_plain_ints(e) for e in entries):
-            listed = ",".join(
-                f'[{ct},{h},{k},{v},"{e}"]' if type(e) is str else f"[{ct},{h},{k},{v},{e}]"
-                for ct, h, k, v, e in entries
-            )
-            self.line(f'{{"base":{base},"changes":[{listed}],"horizon":{horizon},"msg":"STATE","t":{t},"to":"fw"}}\n')
-        else:
-            self.write({"t": t, "to": "fw", "msg": "STATE", "base": base, "horizon": horizon, "changes": entries})
+        """A STATE sent (``changes`` is not changed after): written now, with the
+        exchange's records before it."""
+        self._pending.append((_state_line, (t, base, horizon, changes)))
+        self.flush()
 
     def seen(self, t: int, h: int, sample_no: int) -> None:
         self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
@@ -127,6 +145,39 @@ class LinkLog:
         self.write({"t": t, "msg": "ROLLBACK"})
 
 
+_encode = LinkLog._encode
+
+
+def _as_is(line: str) -> str:
+    return line
+
+
+def _out_line(t, h, attr, value) -> str:
+    name = OUT_ATTRS.get(attr)
+    if name is not None and type(t) is int and type(h) is int and type(value) is int:
+        return f'{{"attr":"{name}","handle":{h},"msg":"OUT","t":{t},"value":{value}}}\n'
+    return _encode({"t": t, "msg": "OUT", "handle": h, "attr": OUT_ATTRS.get(attr, attr), "value": value}) + "\n"
+
+
+def _wait_line(t, until, watch) -> str:
+    watched = sorted(watch)
+    if type(t) is int and type(until) is int and all(type(h) is int for h in watched):
+        listed = ",".join(map(str, watched))
+        return f'{{"msg":"WAIT","t":{t},"until":{until},"watch":[{listed}]}}\n'
+    return _encode({"t": t, "msg": "WAIT", "until": until, "watch": watched}) + "\n"
+
+
+def _state_line(t, base, horizon, changes) -> str:
+    entries = [[ct, h, k, v, e.hex() if k == F.CH_BYTES else e] for ct, h, k, v, e in changes]
+    if type(t) is int and type(base) is int and type(horizon) is int and all(_plain_ints(e) for e in entries):
+        listed = ",".join(
+            f'[{ct},{h},{k},{v},"{e}"]' if type(e) is str else f"[{ct},{h},{k},{v},{e}]" for ct, h, k, v, e in entries
+        )
+        return f'{{"base":{base},"changes":[{listed}],"horizon":{horizon},"msg":"STATE","t":{t},"to":"fw"}}\n'
+    entries = {"t": t, "to": "fw", "msg": "STATE", "base": base, "horizon": horizon, "changes": entries}
+    return _encode(entries) + "\n"
+
+
 def _plain_ints(entry: list) -> bool:
     """A STATE change whose numbers are plain ints (and its bytes, CH_BYTES, hex text)."""
     ct, h, k, v, e = entry
@@ -139,10 +190,10 @@ class _NoLog(LinkLog):
 
     digest = None
     error = None
+    lines = 0
 
     def __init__(self):
         self.path = None
-        self.lines = 0
 
     def write(self, record: dict) -> None:
         pass
@@ -150,7 +201,7 @@ class _NoLog(LinkLog):
     def close(self) -> None:
         pass
 
-    line = cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
+    line = flush = cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
 
 
 NO_LOG = _NoLog()

@@ -88,6 +88,7 @@ class Recorder:
         self._spilled_truth = Spill()
         self._last_event_us = -1  # of the last event spilled
         self._truth_spilled_to_us = -1  # of the last truth row spilled
+        self._spilled_columns: dict[str, None] = {}  # the truth columns of the rows spilled, in order
         self.sorted = True  # so far, every event came at or after the time of the one before
         self._next_truth_us = 0
         self.sample(plant)
@@ -111,6 +112,13 @@ class Recorder:
         yield from self._spilled_truth.chunks()
         yield self._truth
 
+    def truth_columns(self) -> list[str]:
+        """The ground truth's columns (``t_us`` aside), in the order they first came: those of
+        the rows spilled were noted as they went, so nothing is read back from disk."""
+        columns = dict(self._spilled_columns)
+        _note_columns(columns, self._truth)
+        return list(columns)
+
     def sensor(self, t_us: int, name: str, value) -> None:
         """A plant output changed (or took a new sample) at ``t_us``."""
         self._events.append((t_us, name, _plain(value)))
@@ -131,11 +139,15 @@ class Recorder:
         t_us = plant.t_us
         if t_us < self._next_truth_us:
             return
-        row = {
-            k: v if type(v) in _PLAIN_NUMBERS else _plain(v)
-            for k, v in plant.truth().items()
-            if type(v) in _PLAIN_NUMBERS or isinstance(v, numbers.Real)
-        }
+        row = {}
+        for k, v in plant.truth().items():  # (the scalars: a number as CSV and JSON hold it)
+            kind = type(v)
+            if kind in _PLAIN_NUMBERS:
+                row[k] = v
+            elif kind is bool:
+                row[k] = int(v)
+            elif kind not in _NOT_REAL and isinstance(v, numbers.Real):
+                row[k] = _plain(v)
         self._truth.append((t_us, row))
         self._next_truth_us = (t_us // self.truth_period_us + 1) * self.truth_period_us
 
@@ -163,6 +175,7 @@ class Recorder:
         n = _prefix(self._truth, t_us)
         if n:
             self._truth_spilled_to_us = self._truth[n - 1][0]
+            _note_columns(self._spilled_columns, self._truth[:n])
             self._spilled_truth.append(self._truth[:n])
             self._truth = self._truth[n:]
 
@@ -198,6 +211,18 @@ class Recorder:
         self._spilled_truth.close()
 
 
+def _note_columns(columns: dict, rows: list) -> None:
+    """Add to ``columns`` (an ordered set) each key of ``rows`` not in it, ``t_us`` aside."""
+    seen = columns.keys() | {"t_us"}
+    for _t, row in rows:
+        if row.keys() <= seen:
+            continue
+        for key in row:
+            if key not in seen:
+                seen.add(key)
+                columns[key] = None
+
+
 def _prefix(records: list, t_us: int) -> int:
     """How many records from the start are at or before ``t_us``."""
     n = 0
@@ -213,6 +238,7 @@ def _time(event) -> int:
 
 
 _PLAIN_NUMBERS = {int, float}  # (the usual truth values: as they are, with no ABC check)
+_NOT_REAL = {tuple, list, dict, str, bytes, bytearray, type(None)}  # (left out, with no ABC check)
 
 
 def _plain(value):

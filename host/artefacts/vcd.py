@@ -36,14 +36,19 @@ _SCOPES = {"bus": "buses"}  # a role's scope when its plural is not role + "s"
 _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 
-def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=()) -> dict:
+def write_vcd(
+    path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=(), columns=None
+) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
-    order; ``truth``: (t_us, {column: value}) in time order (iterated twice); ``notes``:
+    order; ``truth``: (t_us, {column: value}) in time order; ``notes``:
     (t_us, channel, text) in time order (iterated twice), each channel a string variable of
     the ``events`` scope. All three may be iterables that read from disk (``events`` is
-    iterated twice too): nothing here holds them whole. Returns each variable's (full name in the
+    read once): nothing here holds them whole. ``columns``: the truth's columns, when
+    known (else found in a first pass over ``truth``). Returns each variable's (full name in the
     file, kind) by (group, name), for :func:`write_gtkw`."""
-    columns = sorted({k for _t, row in truth for k in row if k != "t_us"})
+    if columns is None:
+        columns = {k for _t, row in truth for k in row}
+    columns = sorted(set(columns) - {"t_us"})
     channels = sorted({channel for _t, channel, _text in notes})
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
@@ -63,12 +68,13 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
         _declare(f, tree, ids, paths, _ident(top))
         f.write("$upscope $end\n$enddefinitions $end\n")
         kinds = {name: info["kind"] for name, info in signals.items()}
-        sigs = ((t, 0, ("sig", name), kinds.get(name, "level"), v) for t, name, v in events)
+        sigs = _changes(events, kinds, {name for kind, name in ids if kind == "text"})
         truth_codes = [(col, ids[("truth", col)]) for col in columns]
         reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
         texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
         # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
-        merged = heapq.merge(sigs, _uart_text(events, ids), reals, texts, key=lambda e: (e[0], e[1]))
+        # (no key: each stream's own order is kept, and no two streams share an order)
+        merged = heapq.merge(sigs, reals, texts)
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
@@ -93,18 +99,37 @@ def write_vcd(path, *, top: str, comment: str, signals: dict, initial: dict, eve
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 
-def _uart_text(events, ids):
+def _changes(events, kinds: dict, texts: set):
+    """Each event as a change of its variable and, after an instant's changes, each UART's
+    text (its ``_text`` variable) that changed then, in the order of its events: one pass
+    over ``events`` (read from disk), in the order a stable sort of the two would give."""
+    held = []
+    t_held = None
+    uart = _uart_text(texts)
+    for t, name, v in events:
+        if held and t != t_held:
+            yield from held
+            held.clear()
+        yield (t, 0, ("sig", name), kinds.get(name, "level"), v)
+        if name in texts and v:
+            held.append(uart(t, name, v))
+            t_held = t
+    yield from held
+
+
+def _uart_text(texts: set):
     """For each UART (a ``_text`` variable): at each chunk, the line being received,
     or the line just completed until the next one starts."""
     lines: dict[str, str] = {}
-    for t, name, value in events:
-        if ("text", name) not in ids or not value:
-            continue
+
+    def text_at(t, name, value):
         text = lines.get(name, "") + bytes.fromhex(value).decode("latin-1").replace("\r", "")
         done, _, partial = text.rpartition("\n")
         lines[name] = partial[-TEXT_LINE_MAX:]
         shown = partial or done.rpartition("\n")[2]
-        yield (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+        return (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+
+    return text_at
 
 
 def write_gtkw(path, vcd_path, paths: dict) -> None:
@@ -155,24 +180,48 @@ def _real(value, code: str) -> str:
     return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
 
 
+_UNSET = object()
+_CHUNK = 2048  # instants formatted before each write
+
+
 def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
     """Each instant's changes, a variable's last one at that instant. A ground-truth
     value the variable already shows is not written again (``shown``: code -> its value
-    line); every other change is, as a repeated console line is an event of its own."""
-    for t, changes in itertools.groupby(merged, key=lambda e: e[0]):
-        last: dict[str, str] = {}
-        for _t, _order, key, kind, value in changes:
-            if key is _ROW:
-                for code, line in _row_values(value, truth_codes).items():
-                    if shown.get(code) != line:
-                        last[code] = shown[code] = line
-                continue
-            code = ids.get(key)
-            if code is not None:
-                last[code] = _value(kind, value, code)
-        if last:
-            f.write(f"#{t}\n")
-            f.write("\n".join(last.values()) + "\n")
+    line); every other change is, as a repeated console line is an event of its own.
+    A truth value equal to the column's last one (same type, not zero: -0.0 == 0.0 but
+    reads otherwise) gives the same line, so it is not formatted again."""
+    out: list[str] = []
+    last: dict[str, str] = {}
+    raw: dict[str, object] = {}  # column -> its last value formatted
+    t_now = None
+    for t, _order, key, kind, value in merged:
+        if t != t_now:
+            if last:
+                out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
+                last = {}
+                if len(out) >= _CHUNK:
+                    f.write("".join(out))
+                    out = []
+            t_now = t
+        if key is _ROW:
+            for col, code in truth_codes:
+                v = value.get(col, _UNSET)
+                if v is _UNSET:
+                    continue
+                before = raw.get(col, _UNSET)
+                if v == before and type(v) is type(before) and v != 0:
+                    continue
+                raw[col] = v
+                line = _real(v, code)
+                if shown.get(code) != line:
+                    last[code] = shown[code] = line
+            continue
+        code = ids.get(key)
+        if code is not None:
+            last[code] = _value(kind, value, code)
+    if last:
+        out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
+    f.write("".join(out))
 
 
 def _insert(tree: dict, path: list[str], leaf) -> None:

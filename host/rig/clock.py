@@ -165,6 +165,8 @@ class Clock:
         horizon = min(self.plant.next_change_us(), max(t_end_us, self.plant.t_us))
         changes = self.inputs.take()
         self._woke_us = t_us
-        self.log.state(t_us, base_us, horizon, changes)
-        self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))
+        try:
+            self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))
+        finally:  # (logged once sent: its writing overlaps the firmware's work)
+            self.log.state(t_us, base_us, horizon, changes)
         self.stats.link_round_trips += 1

@@ -1,6 +1,7 @@
 """The link log's hot messages (OUT, WAIT, STATE) are formatted by hand for speed: the
 same bytes as the JSON encoder writes for the other messages, whatever the numbers."""
 
+import hashlib
 import json
 
 from hypothesis import given
@@ -18,14 +19,15 @@ class Lines(LinkLog):
         super().__init__()
         self.written = []
 
-    def line(self, line: str) -> None:
-        super().line(line)
-        self.written.append(line)
+    def _put(self, text: str, lines: int) -> None:
+        super()._put(text, lines)
+        self.written += text.splitlines(keepends=True)
 
 
 def one_line(call) -> str:
     log = Lines()
     call(log)
+    log.flush()
     assert len(log.written) == 1, f"expected one line, got {log.written}"
     return log.written[0]
 
@@ -60,3 +62,19 @@ def test_the_digest_covers_the_hand_written_lines():
     a.out(1, 2, F.OUT_LEVEL, 1)
     b.out(1, 2, F.OUT_LEVEL, 0)
     assert a.digest != b.digest and a.lines == b.lines == 1
+
+
+def test_records_kept_until_the_state_are_written_in_order_whole_and_counted(tmp_path):
+    log = LinkLog(tmp_path / "trace.jsonl")
+    log.out(1, 2, F.OUT_LEVEL, 1)
+    log.wait(1, 5, frozenset({2}))
+    assert log.lines == 2 and (tmp_path / "trace.jsonl").read_text() == ""  # (kept until the STATE)
+    log.state(5, 1, 9, [(5, 2, 0, 1, 0)])
+    written = (tmp_path / "trace.jsonl").read_text().splitlines()
+    assert [json.loads(line)["msg"] for line in written] == ["OUT", "WAIT", "STATE"]
+    log.fault(6)
+    digest = log.digest  # (writes what is kept)
+    log.close()
+    text = (tmp_path / "trace.jsonl").read_text()
+    assert text.endswith('{"msg":"FAULT","t":6}\n') and log.lines == 4
+    assert digest == hashlib.sha256(text.encode()).hexdigest()
