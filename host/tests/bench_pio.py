@@ -16,8 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from host.core.paths import REPO
 from host.bench import bench_raw
+from host.core.paths import REPO
 from host.pytest_plugin import rig_from_keywords
 from host.rig.sandbox import interpreter_pid
 from host.tests import pio_corpus
