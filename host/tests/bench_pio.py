@@ -1,12 +1,16 @@
 """What a PIO quadrature decoder costs (docs/shim.md, "PIO"): run with
-``.venv/bin/python -m host.tests.bench_pio [seconds]``; it prints two figures.
+``.venv/bin/python -m host.tests.bench_pio [seconds]``; it prints:
 
+- the raw pty round trip, measured first;
 - **emulator**: the host's PIO alone (sim_plant/pio) following an encoder at 10,000
-  edges a second: instructions stepped per edge and wall time per virtual second;
+  edges a second, a frame's changes at a time: instructions stepped and wall time per edge;
+- **the wheel still**: the in-the-loop firmware below with its motor off, no edge at all:
+  what its frames alone cost, a bound on the in-the-loop figures;
 - **in the loop**: examples/pico_pio_bot's decoder on a robot whose left encoder gives
   10,000 edges a second, the firmware reading the count every 20 ms: virtual seconds per
-  wall second, and the same robot counted with ``Pin.irq`` (an edge is a round trip to the
-  firmware) for comparison.
+  wall second, the host's and the interpreter's CPU time an edge, the frames a simulated
+  second and what the link alone allows; and the same robot counted with ``Pin.irq`` (an
+  edge is a change sent to the firmware) for comparison.
 """
 
 import os
@@ -105,12 +109,12 @@ while True:
 """
 
 
-def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in_base: str) -> Path:
+def _rig_folder(folder: Path, firmware: str, lines_per_rev: int, run_ms: int, in_base: str, duty: int) -> Path:
     rig = (REPO / "examples" / "pico_pio_bot" / "rig.toml").read_text()
     rig = rig.replace("lines_per_rev = 7", f"lines_per_rev = {lines_per_rev}", 1)
     rig = rig.replace("room_w_m = 3.0\nroom_h_m = 2.0", "room_w_m = 40.0\nroom_h_m = 40.0")
     (folder / "rig.toml").write_text(rig)
-    settings = f"DUTY = 65535\nRUN_MS = {run_ms}\nIN_BASE = {in_base}\n"
+    settings = f"DUTY = {duty}\nRUN_MS = {run_ms}\nIN_BASE = {in_base}\n"
     imports = "from machine import Pin, PWM\n"
     (folder / "main.py").write_text(firmware.replace(imports, imports + settings, 1) + DRIVE)
     main = (REPO / "examples" / "pico_pio_bot" / "main.py").read_text()
@@ -150,12 +154,14 @@ def _cpu_s(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def in_the_loop(seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64) -> dict:
+def in_the_loop(
+    seconds: float, firmware: str, in_base: str = "Pin(2)", lines_per_rev: int = 64, duty: int = 65535
+) -> dict:
     """The robot driving ahead for ``seconds`` (after 0.2 s of start-up), then stopping: the
     wall time of the drive, the host's and the interpreter's CPU time, the frames the shim
     sent, the edges a second, the count read at the end."""
     with tempfile.TemporaryDirectory() as tmp:
-        folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base)
+        folder = _rig_folder(Path(tmp), firmware, lines_per_rev, round((seconds + 0.2) * 1000), in_base, duty)
         rig = rig_from_keywords(str(folder), seed=1, record=False)
         sent = _count_sent(rig.inputs)
         rig.start()
@@ -207,6 +213,11 @@ def main(argv: list[str]) -> None:
         ("PIO decoder, in_base=Pin(2)", FIRMWARE_PIO, "Pin(2)"),
         ("PIO decoder, in_base=2", FIRMWARE_PIO, "2"),
         ("Pin.irq on A and B", FIRMWARE_IRQ, "None"),
+    )
+    still = in_the_loop(seconds, FIRMWARE_PIO, "2", duty=0)
+    print(
+        f"the same firmware with the wheel still (no edge at all): {still['x_real_time']:.1f}x real time, "
+        f"{still['frames_per_s']:.0f} frames a simulated s: the frames' own cost, a bound on the cases below"
     )
     for name, firmware, in_base in cases:
         loop = in_the_loop(seconds, firmware, in_base)
