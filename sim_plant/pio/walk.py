@@ -9,7 +9,7 @@ between two changes but the next look-up: this walk keeps each state machine as 
 table entry, X, Y, the RX words, the anchor, the cycle, the loop state it is at) and builds
 the next look-up's key from the entry's state directly, restoring the registers once, at
 the end of the batch. It takes exactly the slow path's steps (the same keys, guards, cycles
-and replay count: ``host/tests/test_pio_emulator.py`` runs both on the same changes and
+and replay count: ``host/tests/test_pio_walk.py`` runs both on the same changes and
 compares them); the first change whose stretch is not in the table, or whose state machine
 drives pins or raises IRQ flags, ends the walk, and the slow path goes on from it.
 """
