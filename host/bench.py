@@ -340,7 +340,7 @@ def report_pool(pool: dict, raw_us: float, plain: dict | None = None) -> None:
         print(f"  {lockstep_floor_line(pool, raw_us, POOL_TARGET)}")
     print(
         f"  link exchanges: {pool['round_trips']} ({pool['round_trips'] / pool['sim_s']:.0f} per simulated s), "
-        f"{per_exchange_us:.0f} us each ({ratio(per_exchange_us, raw_us)}); floor covered {pool['coverage']:.1%}"
+        f"{per_exchange_us:.0f} us each ({ratio(per_exchange_us, raw_us)}); pool floor cleaned {pool['coverage']:.1%}"
     )
     if plain is not None:
         print(
