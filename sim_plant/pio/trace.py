@@ -158,6 +158,14 @@ def shape(sm, aliases: bool = True) -> tuple:
     )
 
 
+def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int) -> tuple:
+    """:func:`shape` of a state machine at ``state`` (as :func:`capture` keeps it), given its
+    shift registers as :func:`alias` keeps them, its RX words' count and the pins (walk.py:
+    the next stretch's key along a loop, the registers not restored)."""
+    pc, _x, _y, _isr, isr_n, _osr, osr_n, pending, waiting, flags, tx, _rx_new = state
+    return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, gpio_in)
+
+
 def capture(sm, rx_from: int) -> tuple:
     rx = list(sm.rx)[rx_from:]
     return (

@@ -62,12 +62,8 @@ class _Walker:
         return shape, xv, yv, rx
 
     def _shape(self, state, xv: int, yv: int, n_rx: int, block) -> tuple:
-        x, y = self.x, self.y
-        pc, _sx, _sy, isr, isr_n, osr, osr_n, pending, waiting, flags, tx, _rx_new = state
-        isr = isr if type(isr) is int else _value(isr, x, y)
-        osr = osr if type(osr) is int else _value(osr, x, y)
-        isr, osr = _alias(isr, xv, yv), _alias(osr, xv, yv)
-        return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, block.gpio_in)
+        isr, osr = _value(state[3], self.x, self.y), _value(state[5], self.x, self.y)
+        return trace.shape_of_state(state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in)
 
     def resolve(self, block, c_end: int) -> bool:
         """The pending stretch from the table (False: not there, or not one to walk)."""
@@ -142,8 +138,7 @@ def _shape_of(state, mkey: tuple) -> tuple:
             kept.append("y")
         else:
             return None, danger_x, danger_y, x_eq_y
-    pc, _sx, _sy, _isr, isr_n, _osr, osr_n, pending, waiting, flags, tx, _rx_new = state
-    shape = (pc, kept[0], isr_n, kept[1], osr_n, n_rx, tx, pending, waiting, flags, gpio_in)
+    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in)
     return shape, frozenset(danger_x), frozenset(danger_y), x_eq_y
 
 
