@@ -11,6 +11,7 @@ import pytest
 
 from host.rig.apps import App
 from host.rig.wiring import PROBE_PREFIX
+from sim_plant.catalogue.assembly import assemble
 from sim_plant.scripted import ScriptedPlant
 
 FIRMWARE = Path(__file__).parent / "firmware"
@@ -36,6 +37,21 @@ def shim_app(script=(), initial=None, wiring=None, console_baud=115_200) -> App:
         wiring=wiring or WIRING,
         make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial),
         console_baud=console_baud,
+    )
+
+
+def bench_app(name: str, plant: dict, *, board: str = "esp32_bench", wiring=None, pins=None, **options) -> App:
+    """A firmware on a bench board (``esp32_bench``, ``rpi_pico_bench``) against a plant
+    built from the catalogue (``plant``: a rig file's ``[plant]`` table), printing taking
+    no time (``console_baud=0``); ``options``: the rest of :class:`App`'s (``lib_dirs`` ...)."""
+    return App(
+        name=name,
+        default_board=board,
+        make_plant=lambda: assemble(plant),
+        wiring=wiring or {},
+        pins=pins or {},
+        console_baud=0,
+        **options,
     )
 
 

@@ -9,10 +9,8 @@ import math
 import pytest
 
 from host.core.drivers import driver_folder
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
+from host.tests.conftest import FIRMWARE, bench_app, results
 from host.tests.test_buses import SPIN_PINS, SPIN_WIRING
-from sim_plant.catalogue.assembly import assemble
 
 pytestmark = pytest.mark.hil
 
@@ -20,15 +18,7 @@ pytestmark = pytest.mark.hil
 def run_driver(make_rig, case: str, plant: dict, driver: str, duration_s: float, probe=None, **app):
     """Run firmware ``case`` with ``driver``'s folder on its path; ``probe(rig)`` (if
     given) is called at each second of virtual time; returns (rig, results, probes)."""
-    options = {"wiring": {}, "pins": {}, **app}
-    the_app = App(
-        name=case,
-        default_board="esp32_bench",
-        make_plant=lambda: assemble(plant),
-        lib_dirs=(driver_folder(driver),),
-        console_baud=0,
-        **options,
-    )
+    the_app = bench_app(case, plant, lib_dirs=(driver_folder(driver),), **app)
     rig = make_rig(the_app, main_dir=FIRMWARE / case, allow_exit=True)
     probes = []
     for _ in range(int(duration_s)):
@@ -115,14 +105,7 @@ def test_vl53l0x_ranges_the_wall_along_its_ray_once_per_budget_and_the_robot_sto
     tof = {"kind": "vl53l0x", "name": "tof", "bus": "i2c0", "mount": {"x_m": 0.05}}
     plant = {"body": "differential", "start_pose": [2.0, 1.0, 0.0], "parts": [*MOTORS, tof]}
     pins = {"PWMA": 16, "AIN1": 17, "AIN2": 18, "PWMB": 4, "BIN1": 23, "BIN2": 19}
-    app = App(
-        name="tof",
-        default_board="esp32_bench",
-        make_plant=lambda: assemble(plant),
-        wiring=SPIN_WIRING,
-        pins=pins,
-        console_baud=0,
-    )
+    app = bench_app("tof", plant, wiring=SPIN_WIRING, pins=pins)
     rig = make_rig(app, main_dir=FIRMWARE / "tof_stop", allow_exit=True)
     rig.run_for(8.0)
     truth = rig.plant.truth()

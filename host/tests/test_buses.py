@@ -8,8 +8,7 @@ import math
 import pytest
 
 from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -26,14 +25,7 @@ WIRING = {"IMU_CS": "spi_imu.cs", "IMU_INT": "imu.int"}
 
 
 def bench(board: str = "esp32_bench", plant: dict = IMUS) -> App:
-    return App(
-        name="buses",
-        default_board=board,
-        make_plant=lambda: assemble(plant),
-        wiring=WIRING,
-        pins=PINS,
-        console_baud=0,
-    )
+    return bench_app("buses", plant, board=board, wiring=WIRING, pins=PINS)
 
 
 def run(make_rig, case: str, board: str = "esp32_bench", plant: dict = IMUS, duration_s: float = 2.0):
@@ -116,15 +108,7 @@ def test_published_lsm6dsox_driver_integrates_a_turn_in_place_within_3_degrees(m
     says 90 degrees; the body's true turn agrees within 3 degrees."""
     from host.core.drivers import driver_folder
 
-    app = App(
-        name="spin",
-        default_board="esp32_bench",
-        make_plant=lambda: assemble(SPIN),
-        wiring=SPIN_WIRING,
-        pins=SPIN_PINS,
-        lib_dirs=(driver_folder("micropython-lsm6dsox"),),
-        console_baud=0,
-    )
+    app = bench_app("spin", SPIN, wiring=SPIN_WIRING, pins=SPIN_PINS, lib_dirs=(driver_folder("micropython-lsm6dsox"),))
     rig = make_rig(app, main_dir=FIRMWARE / "lsm6dsox_spin", allow_exit=True)
     rig.run_for(6.0)
     truth_deg = math.degrees(rig.plant.truth()["theta_rad"])

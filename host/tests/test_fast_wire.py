@@ -4,9 +4,7 @@
 
 import pytest
 
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -18,14 +16,7 @@ WIRING = {"PIO_OUT": "w0.in", "PIO_IN": "w0.out", "PWM_OUT": "w1.in", "PWM_IN": 
 def test_fast_outputs_into_inputs_with_no_irq_split_into_frames_that_fit():
     from host.pytest_plugin import rig_from_keywords
 
-    app = App(
-        name="fast_wire",
-        default_board="rpi_pico_bench",
-        make_plant=lambda: assemble(PLANT),
-        wiring=WIRING,
-        pins=PINS,
-        console_baud=0,
-    )
+    app = bench_app("fast_wire", PLANT, board="rpi_pico_bench", wiring=WIRING, pins=PINS)
     rig = rig_from_keywords(app, main_dir=FIRMWARE / "fast_wire")
     rig.start()
     try:

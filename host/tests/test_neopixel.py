@@ -5,9 +5,7 @@ bit rate; a 400 kHz timing on this strip is counted as out of tolerance."""
 
 import pytest
 
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -15,14 +13,7 @@ STRIP = {"body": "bench", "parts": [{"kind": "ws2812_strip", "name": "leds", "co
 
 
 def test_neopixel_writes_colours_the_strip_shows_over_time(make_rig):
-    app = App(
-        name="neopixel",
-        default_board="esp32_bench",
-        make_plant=lambda: assemble(STRIP),
-        wiring={"LED_DIN": "leds.din"},
-        pins={"LED_DIN": 13},
-        console_baud=0,
-    )
+    app = bench_app("neopixel", STRIP, wiring={"LED_DIN": "leds.din"}, pins={"LED_DIN": 13})
     rig = make_rig(app, main_dir=FIRMWARE / "neopixel_strip", allow_exit=True)
     seen = []
     for _ in range(4):

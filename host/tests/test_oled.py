@@ -11,9 +11,7 @@ from PIL import Image
 from host.artefacts.pictures import SCALE
 from host.core.drivers import driver_folder
 from host.report.html import RigResult, _displays
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -32,14 +30,12 @@ def vlsb_rows(buffer: list, width: int, height: int) -> bytes:
 
 
 def test_published_ssd1306_driver_shows_the_text_framebuf_draws_on_i2c_and_spi(make_rig, tmp_path):
-    app = App(
-        name="oled_text",
-        default_board="esp32_bench",
-        make_plant=lambda: assemble(PLANT),
+    app = bench_app(
+        "oled_text",
+        PLANT,
         lib_dirs=(driver_folder("micropython-ssd1306"),),
         wiring={"OLED_DC": "small.dc", "OLED_RES": "small.res", "OLED_CS": "small.cs"},
         pins={"OLED_DC": 4, "OLED_RES": 5, "OLED_CS": 15},
-        console_baud=0,
     )
     rig = make_rig(app, main_dir=FIRMWARE / "oled_text", allow_exit=True, artefacts=tmp_path, record=True)
     rig.run_for(0.5)

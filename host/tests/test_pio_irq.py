@@ -4,9 +4,7 @@ CPU to clear its flag; each raise runs its handler once, soon after (a poll each
 
 import pytest
 
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -19,14 +17,7 @@ WIRING = {"SRC": "w0.in", "ECHO": "w0.out"}
 def r():
     from host.pytest_plugin import rig_from_keywords
 
-    app = App(
-        name="pio_irq",
-        default_board="rpi_pico_bench",
-        make_plant=lambda: assemble(PLANT),
-        wiring=WIRING,
-        pins=PINS,
-        console_baud=0,
-    )
+    app = bench_app("pio_irq", PLANT, board="rpi_pico_bench", wiring=WIRING, pins=PINS)
     rig = rig_from_keywords(app, main_dir=FIRMWARE / "pio_irq")
     rig.start()
     try:

@@ -5,9 +5,7 @@ examples/rp2 ones (host/tests/firmware/pio_outputs)."""
 
 import pytest
 
-from host.rig.app import App
-from host.tests.conftest import FIRMWARE, results
-from sim_plant.catalogue.assembly import assemble
+from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
@@ -35,14 +33,7 @@ WIRING = {
 def outcome(request):
     from host.pytest_plugin import rig_from_keywords
 
-    app = App(
-        name="pio_outputs",
-        default_board="rpi_pico_bench",
-        make_plant=lambda: assemble(PLANT),
-        wiring=WIRING,
-        pins=PINS,
-        console_baud=0,
-    )
+    app = bench_app("pio_outputs", PLANT, board="rpi_pico_bench", wiring=WIRING, pins=PINS)
     rig = rig_from_keywords(app, main_dir=FIRMWARE / "pio_outputs")
     rig.start()
     try:
