@@ -30,6 +30,17 @@ def recorded(make_rig, tmp_path, presses="[[0.2, 0.4]]", **kw):
     return rig_file.parent, tmp_path / "run"
 
 
+def edited_replay(run, tmp_path, changes: dict) -> list:
+    """``run``'s manifest with ``changes`` (``"part.field": value``) written in: the replay
+    command of that folder."""
+    found = json.loads((run / "manifest.json").read_text())
+    for where, value in changes.items():
+        part, field = where.split(".")
+        found[part][field] = value
+    (run / "manifest.json").write_text(json.dumps(found))
+    return [sys.executable, "-m", "host.cli", "replay", str(run), "--trust-folder", "--out", str(tmp_path / "o")]
+
+
 def test_a_runs_manifest_names_every_file_the_build_the_shim_the_plant_and_the_tools(make_rig, tmp_path):
     firmware, run = recorded(make_rig, tmp_path)
     found = json.loads((run / "manifest.json").read_text())
@@ -99,12 +110,8 @@ def test_replay_of_a_folder_without_a_manifest_says_it_was_not_checked(make_rig,
 
 
 def test_mpy_fil_replay_prints_each_difference_and_exits_1_unless_told(make_rig, tmp_path):
-    firmware, run = recorded(make_rig, tmp_path)
-    found = json.loads((run / "manifest.json").read_text())
-    found["interpreter"]["sha256"] = "0" * 64
-    found["tools"]["numpy"] = "1.0.0"
-    (run / "manifest.json").write_text(json.dumps(found))
-    cmd = [sys.executable, "-m", "host.cli", "replay", str(run), "--trust-folder", "--out", str(tmp_path / "o")]
+    _, run = recorded(make_rig, tmp_path)
+    cmd = edited_replay(run, tmp_path, {"interpreter.sha256": "0" * 64, "tools.numpy": "1.0.0"})
     refused = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=120)
     assert refused.returncode == 1 and "Traceback" not in refused.stderr, refused.stderr
     assert "  interpreter.sha256: was 000000000000, now " in refused.stderr
@@ -133,11 +140,7 @@ def test_a_newer_harness_or_tool_is_told_but_does_not_stop_a_replay(make_rig, tm
     tools' versions are listed, and the replay runs (a commit made while a run was recorded
     stopped every replay before)."""
     _, run = recorded(make_rig, tmp_path)
-    found = json.loads((run / "manifest.json").read_text())
-    found["harness"]["commit"] = "0" * 40
-    found["tools"]["numpy"] = "1.0.0"
-    (run / "manifest.json").write_text(json.dumps(found))
-    cmd = [sys.executable, "-m", "host.cli", "replay", str(run), "--trust-folder", "--out", str(tmp_path / "o")]
+    cmd = edited_replay(run, tmp_path, {"harness.commit": "0" * 40, "tools.numpy": "1.0.0"})
     went = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, timeout=120)
     assert went.returncode == 0, went.stdout + went.stderr
     assert "manifest differs: harness.commit: was 0000000000000000000000000000000000000000" in went.stdout, went.stdout

@@ -78,15 +78,21 @@ def edges(block, gpio):
     return [(t, level) for t, g, level in block.events if g == gpio]
 
 
+def preload_isr(block, sm, word: int) -> None:
+    """``word`` into the ISR as public PWM and servo classes do: ``put``, then ``exec`` of
+    ``pull()`` and ``mov(isr, osr)`` (side-set of 1 bit, optional)."""
+    sm.tx.append(word)
+    sm.pending_exec = _pioasm.asm_pio_encode("pull()", 2, True)
+    block.advance(1)
+    sm.pending_exec = _pioasm.asm_pio_encode("mov(isr, osr)", 2, True)
+
+
 def test_pwm_pulses_come_at_the_pio_clocks_instants():
     """The MicroPython docs' PWM (examples/rp2/pio_pwm.py): put the period into ISR once,
     then each put is a duty count; high for 2 * count + 2 cycles of 2 * (period + 1) + 4."""
     freq, period, count = 1_000_000, 100, 30
     block, sm = machine("pwm", freq, pinctrl(side_base=9, side_count=2))
-    sm.tx.append(period)
-    sm.pending_exec = _pioasm.asm_pio_encode("pull()", 2, True)
-    block.advance(1)
-    sm.pending_exec = _pioasm.asm_pio_encode("mov(isr, osr)", 2, True)
+    preload_isr(block, sm, period)
     sm.tx.append(count)
     block.advance(2_000)
     rises = [t for t, level in edges(block, 9) if level == 1]
@@ -151,10 +157,7 @@ def test_servo_pulses_are_x_plus_2_cycles_high_every_x_plus_y_plus_6():
     in the TX FIFO, the low count in ISR; at 1 MHz, 1.5 ms pulses every 20 ms."""
     block, sm = machine("servo", 1_000_000, pinctrl(side_base=15, side_count=2))
     high, low = 1500 - 2, 20_000 - 6 - 1498
-    sm.tx.append(low)
-    sm.pending_exec = _pioasm.asm_pio_encode("pull()", 2, True)
-    block.advance(1)
-    sm.pending_exec = _pioasm.asm_pio_encode("mov(isr, osr)", 2, True)
+    preload_isr(block, sm, low)
     sm.tx.append(high)
     block.advance(100_000)
     levels = edges(block, 15)
