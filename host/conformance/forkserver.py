@@ -78,10 +78,7 @@ def _child(conn, listener, request: dict) -> None:
 
 def serve(path: str) -> None:
     """Answer requests at ``path``, one at a time (``run-tests.py -j 1``), until killed."""
-    import host.rig.rig  # noqa: F401  (what every run needs, imported once, before the forks)
-    import host.rig.spec  # noqa: F401
-    import sim_plant.catalogue.assembly  # noqa: F401
-
+    inloop.preload()  # (what every run needs, imported once, before the forks)
     with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as listener:
         listener.bind(path)
         listener.listen(4)

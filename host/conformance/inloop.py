@@ -52,6 +52,16 @@ BOARD_ENV = "MPY_FIL_BOARD"  # a board family (esp32, rpi_pico): its sys.platfor
 IN_THE_LOOP_CHECKS = ("target_info.py",)  # feature checks whose answer is the board's
 
 
+def preload() -> None:
+    """Import what a run in the loop needs (the functions below import it when called):
+    the conformance server does, once, before it forks a child per file."""
+    import host.rig.app  # noqa: F401
+    import host.rig.boards  # noqa: F401
+    import host.rig.rig  # noqa: F401
+    import host.rig.spec  # noqa: F401
+    import sim_plant.catalogue.assembly  # noqa: F401
+
+
 def bench_plant(**options):
     """The bench's plant (``options``: ``<part>.<option>`` keys, as a world's)."""
     from sim_plant.catalogue.assembly import assemble
