@@ -209,6 +209,8 @@ class Entry:
         self.offsets = [off for off, _state in table]
         self.states = [state for _off, state in table]
         self.shapes: dict = {}  # (state index, pins, RX words) -> a stretch's shape from it (walk.py)
+        flags = {state[9] for state in self.states}  # the block's IRQ flags along the loop
+        self.irq_flags = flags.pop() if len(flags) == 1 else -1  # (-1: they change on the way)
 
     def holds(self, x: int, y: int) -> bool:
         for kind, a, b, result in self.guards:

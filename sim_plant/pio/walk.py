@@ -77,7 +77,7 @@ class _Walker:
                 break
         else:
             return False
-        if not _quiet(entry, block.irq_flags):
+        if entry.irq_flags != block.irq_flags:  # (a restore sets them: only a loop that keeps them)
             return False
         self.entry, self.x, self.y, self.rx, self.anchor = entry, x, y, rx, c0 + entry.cycles
         self.pending = False
@@ -150,15 +150,6 @@ def _position(entry, since: int) -> int:
     return j
 
 
-def _quiet(entry, flags: int) -> bool:
-    """The entry's loop keeps the block's IRQ flags as they are (a restore sets them)."""
-    quiet = getattr(entry, "quiet_flags", None)
-    if quiet is None:
-        found = {state[9] for state in entry.states}
-        quiet = entry.quiet_flags = found.pop() if len(found) == 1 else -1
-    return quiet == flags
-
-
 def walkers(block) -> list | None:
     """The block's active state machines as walkers, or None when one cannot be walked."""
     out = []
@@ -171,7 +162,7 @@ def walkers(block) -> list | None:
         if run.orbit and run.orbit_version == block.version:
             if run.table is None:
                 return None
-            if not _quiet(run.table[0], block.irq_flags):
+            if run.table[0].irq_flags != block.irq_flags:
                 return None
             try:
                 out.append(_Walker(run, False))
