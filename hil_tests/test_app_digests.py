@@ -9,12 +9,17 @@ trace, with them put back, must give the recorded digest (the pool cleaner's and
 robot's digests were re-recorded with the new names instead: their comments say so). The
 header names the firmware folder relative to the repository, so a digest is the same in
 every checkout. Anything else that changes is a changed behaviour: record a new value only
-with the reason in the commit and the app's doc page (``docs/<app>.md``)."""
+with the reason in the commit and the app's doc page (``docs/<app>.md``).
+
+Run from a flashed board (``make hil FIRMWARE=build/vboard/<board>/fs``), the flashed app's
+trace is held to the same digest with its header's firmware put back as the sources' (the
+flash holds the same code as ``.mpy``: only that header entry may differ, hil_tests/flashed.py)."""
 
 import hashlib
 from pathlib import Path
 
 import pytest
+from flashed import as_from_sources
 
 from host.core.paths import REPO
 from host.rig.apps import get_app
@@ -93,6 +98,7 @@ def test_link_trace_is_unchanged(make_rig, key):
     rig.stop()
     trace = (rig.artefacts / "trace.jsonl").read_bytes()
     assert hashlib.sha256(trace).hexdigest() == rig.trace_digest, "the digest is the trace file's"
+    trace = as_from_sources(trace, rig)  # (run from a flash: the sources' firmware in its header)
     assert b'"folder":"/' not in trace.split(b"\n", 1)[0], "the header's firmware folder is the repository's"
     got = digest_before(trace, app)
     assert got == DIGESTS[key], f"{app} in {world}, seed {seed}: the link trace changed to {got} ({rig.artefacts})"

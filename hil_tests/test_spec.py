@@ -1,11 +1,17 @@
 """One spec builds every rig (host/rig/spec.py): the CLI, the pytest plugin and a
 campaign's worker given the same spec run the same link trace and record the same spec,
-which a replay reads back; a campaign runs a rig file written as a body and parts."""
+which a replay reads back; a campaign runs a rig file written as a body and parts.
+
+Run from a flashed board (``make hil FIRMWARE=build/vboard/<board>/fs``), the plugin's rigs
+run the flashed files while the CLI and a worker run the app's sources: the plugin's trace
+must then be theirs but for its header's firmware (hil_tests/flashed.py), and a replay runs
+the flashed files its recording ran."""
 
 import hashlib
 import json
 
 import pytest
+from flashed import as_from_sources, ran_from_flash
 
 from host.campaign import load_campaign
 from host.campaign.runner import run_campaign
@@ -13,7 +19,7 @@ from host.campaign.worker import run_one
 from host.cli import main
 from host.core.paths import REPO
 from host.rig import Rig, RigSpec
-from host.rig.replay import replay
+from host.rig.replay import FirmwareChoice, replay
 from host.rig.spec import build_plant, fault_schedule, placed
 from host.rig.target import FaultyLinkTarget
 from sim_plant.faults import FaultyPlant
@@ -24,9 +30,11 @@ SECONDS = 2.0
 TWO_SONAR = REPO / "examples" / "two_sonar_bot" / "rig.toml"
 
 
-def _recorded(folder) -> tuple[str, dict]:
-    """(the sha256 of the folder's trace.jsonl, the spec its header recorded)."""
-    digest = hashlib.sha256((folder / "trace.jsonl").read_bytes()).hexdigest()
+def _recorded(folder, rig=None) -> tuple[str, dict]:
+    """(the sha256 of the folder's trace.jsonl, as from the sources when ``rig`` ran from a
+    flash, the spec its header recorded)."""
+    trace = (folder / "trace.jsonl").read_bytes()
+    digest = hashlib.sha256(as_from_sources(trace, rig) if rig else trace).hexdigest()
     return digest, json.loads((folder / "header.json").read_text())["spec"]
 
 
@@ -44,13 +52,13 @@ def test_the_cli_the_plugin_and_a_campaign_worker_run_the_same_spec_to_the_same_
     result = run_one(task, str(tmp_path / "worker"), record=True)
     assert result["passed"], result["message"]
 
-    runs = {name: _recorded(tmp_path / name) for name in ("cli", "plugin", "worker")}
+    runs = {name: _recorded(tmp_path / name, rig if name == "plugin" else None) for name in ("cli", "plugin", "worker")}
     specs = {name: spec for name, (_d, spec) in runs.items()}
     assert specs["cli"] == specs["plugin"] == specs["worker"], specs
     assert specs["cli"]["world"] == "long-room" and specs["cli"]["seed"] == 3
     digests = {name: digest for name, (digest, _s) in runs.items()}
     assert len(set(digests.values())) == 1, f"expected one link trace, got {digests}"
-    assert rig.trace_digest == digests["plugin"]
+    assert rig.trace_digest == hashlib.sha256((tmp_path / "plugin" / "trace.jsonl").read_bytes()).hexdigest()
     assert RigSpec.from_header({"spec": specs["cli"]}) == RigSpec("rover", board=rig.board, world="long-room", seed=3)
 
 
@@ -102,7 +110,9 @@ def test_a_replay_rebuilds_the_spec_its_folder_recorded(make_rig, tmp_path):
     rig = make_rig("rover", trace=True, record=True, artefacts=tmp_path / "run", **spec)
     rig.run_for(1.5)
     rig.stop()
-    result = replay(tmp_path / "run", tmp_path / "replay")
+    # (from a flash: the flashed files, which the recording's manifest lists, not the app's sources)
+    choice = FirmwareChoice(firmware=rig.spec.firmware_dir) if ran_from_flash(rig) else FirmwareChoice()
+    result = replay(tmp_path / "run", tmp_path / "replay", choice=choice)
     assert result.same and result.recorded > 0, str(result.difference)
     recorded, replayed = (json.loads((tmp_path / f / "header.json").read_text()) for f in ("run", "replay"))
     assert replayed["spec"] == recorded["spec"]

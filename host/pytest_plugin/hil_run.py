@@ -10,6 +10,9 @@ is printed.
 ``FIRMWARE=build/vboard/<board>/fs``: the scenarios of the app flashed there, from the
 flashed files. ``COVERAGE=1``: the firmware's coverage too (``--hil-coverage``, docs/coverage.md).
 A RIG or FIRMWARE that does not exist: one line, exit code 2, nothing run.
+``--out DIR`` (not in the Makefile): the artefacts, the report and pytest's cache under DIR;
+``-k EXPR``: only the tests pytest's ``-k`` selects (host/tests/test_flash.py runs the
+FIRMWARE= path so, on a few scenarios, without touching the project's build/).
 """
 
 import argparse
@@ -56,10 +59,13 @@ def firmware_folder(firmware: str) -> Path:
 
 def pytest_args(args) -> tuple[list[str], Path]:
     """pytest's arguments and the folder to run it in."""
-    common = ["-q", "-rs", "-n", str(args.workers), "--dist", "loadgroup"]
+    common = ["-q", "-rs", "-n", str(args.workers), "--dist", "loadgroup", *(["-k", args.k] if args.k else [])]
+    out = Path(args.out).resolve() if args.out else None
+    if out is not None:
+        common += ["--hil-out", str(out), "-o", f"cache_dir={out / '.pytest_cache'}"]
     if not args.rig:
         marks = "hil and not long" if args.long == "0" else "hil"
-        report = REPO / "build" / "hil" / "report.html"
+        report = (out or REPO / "build" / "hil") / "report.html"
         return [*common, "-m", marks, "--hil-table", "--hil-report", str(report), "hil_tests"], REPO
     rig = rig_file(args.rig)
     build = rig.parent / "build"
@@ -72,6 +78,8 @@ def pytest_args(args) -> tuple[list[str], Path]:
         print(f"no test beside {rig}: running the rig's own budgets as a test", flush=True)
         print(how_to_write_a_test(rig), flush=True)
     where = [str(p.relative_to(rig.parent)) for p in tests] or [rig.name]
+    if out is not None:
+        build, report = out, out / "report.html"
     placed = ["--rootdir", str(rig.parent), "-o", f"cache_dir={build / '.pytest_cache'}"]
     marks = ["-m", "not long"] if args.long == "0" else []
     return [*common, *placed, *marks, "--hil-table", "--hil-report", str(report), *where], rig.parent
@@ -84,6 +92,8 @@ def main(argv=None) -> int:
     parser.add_argument("--long", default="1", help="0: leave out the tests marked long")
     parser.add_argument("--workers", default=str((os.cpu_count() or 1) + 1))
     parser.add_argument("--coverage", action="store_true", help="the firmware's coverage too (docs/coverage.md)")
+    parser.add_argument("--out", default="", help="the artefacts, report and pytest's cache under this folder")
+    parser.add_argument("-k", default="", metavar="EXPR", help="only the tests pytest -k EXPR selects")
     args = parser.parse_args(argv)
     try:
         if args.firmware:

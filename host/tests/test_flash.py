@@ -166,3 +166,25 @@ def test_a_second_flash_of_the_same_app_waits_for_the_first_instead_of_rebuildin
         assert worker.is_alive() and not done, "expected the flash to wait for the staging folder's lock"
     worker.join(timeout=120)
     assert not worker.is_alive() and "main.py" in done["copied"], done
+
+
+# the scenarios make hil FIRMWARE= runs from a flash here: the rover's pinned link traces,
+# the spec's one trace from the CLI, the plugin and a worker, a replay, real time
+FROM_FLASH = "link_trace_is_unchanged and rover or cli_the_plugin or replay_rebuilds or realtime_mode_runs"
+
+
+def test_make_hil_firmware_passes_on_what_make_flash_put_on_the_virtual_board(tmp_path, monkeypatch):
+    """Before: the README's `make flash` then `make hil FIRMWARE=build/vboard/esp32_devkitc/fs`
+    failed 6 scenarios (pinned digests and the spec's one trace held against .mpy files)."""
+    monkeypatch.setattr(vboard, "VBOARD_ROOT", tmp_path / "vboard")  # (make flash's own folder, here)
+    flash.flash("rover", BOARD, None, wait_s=1.0, log=lambda _: None)  # as `make flash APP=rover BOARD=...`
+    fs = tmp_path / "vboard" / BOARD / "fs"
+    assert (fs.parent / "flashed.json").is_file() and (fs / "rover_control.mpy").is_file()
+    assert vboard.running_port(BOARD) is None, "make flash stops the virtual board it started"
+    cmd = [sys.executable, "-m", "host.pytest_plugin.hil_run", "--workers", "0", "--long", "0", "--rig", ""]
+    cmd += ["--firmware", str(fs), "--out", str(tmp_path / "hil"), "-k", FROM_FLASH]
+    done = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=600)
+    out = done.stdout + done.stderr
+    assert done.returncode == 0, out[-4000:]
+    assert "ran from flash: 6 tests" in out and "6 passed" in out, out[-4000:]
+    assert (tmp_path / "hil" / "report.html").is_file(), "the report under --out, not the project's build/hil"
