@@ -57,6 +57,8 @@ class Clock:
         the wait when it is over."""
         wait = self.wait
         self.end_us = t_end_us
+        if self.pacing.walled:  # (real time: a pause before this wait is not the firmware's time)
+            self.pacing.resume(wait.t_now, self.plant.t_us)
         stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
         if stopped or self.plant.t_us >= wait.t_until:
             self.wait = None
@@ -166,7 +168,8 @@ class Clock:
         changes = self.inputs.take()
         self._woke_us = t_us
         try:
-            self.session.send(F.STATE, F.pack_state(base_us, t_us, horizon, changes))
+            state = F.pack_state(base_us, t_us, horizon, changes)
+            self.session.send(F.STATE, state + self.pacing.take_trailer() if self.pacing.walled else state)
         finally:  # (logged once sent: its writing overlaps the firmware's work)
             self.log.state(t_us, base_us, horizon, changes)
         self.stats.link_round_trips += 1

@@ -244,6 +244,12 @@ class Rig:
             return waits.until(self, t_end_us, timeout_s)
         if not self.target.alive():
             raise LinkError("the rig is not running: call start() first")
+        try:
+            self._serve_until(t_end_us)
+        finally:  # (real time: until the next run call, a pause, docs/clock.md)
+            self.pacing.pause()
+
+    def _serve_until(self, t_end_us: int) -> None:
         while True:
             if self.progress is not None:
                 self._report_progress(t_end_us)

@@ -477,7 +477,7 @@ def _run_until(t_target, watch):
 
 
 def _sync(t_until, watch):
-    global _now, _horizon, _wake_real_us, _spin
+    global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
@@ -491,6 +491,8 @@ def _sync(t_until, watch):
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     p = _link.exchange(payload, _now, state_fmt)
     _wake_real_us = _rtime.ticks_us()
+    if not _lockstep:  # real time: the STATE ends in the µs the host paused, which this clock skips (docs/clock.md)
+        _rt_origin_us = _rtime.ticks_add(_rt_origin_us, struct.unpack_from("<Q", p, len(p) - 8)[0])
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
     fast = _Link.fast
