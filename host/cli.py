@@ -19,28 +19,63 @@ outputs differ from the recording exits with 1. This is the only layer that prin
 or exits.
 """
 
-import argparse
-import ast
-import contextlib
-import inspect
-import math
 import os
 import signal
 import sys
-import tempfile
-import threading
-import time
-from pathlib import Path
 
-from host.artefacts.folder import HEADER
-from host.core.errors import ConfigError, HarnessError
-from host.core.paths import FIRMWARE, output_root
-from host.report.progress import MissionProgress
-from host.report.table import format_table
-from host.rig import arguments
-from host.rig import boards as pin_maps
-from host.rig.apps import apps, get_app
-from sim_plant import kinds, option_table
+from host.artefacts.integrity import Stopped
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+def _stop(signum, _frame):
+    """A stop signal, as the command's first: the others are ignored from now on (what is
+    being written is written, what was started is stopped), and the command stops as at
+    Ctrl-C, the signal named (:class:`Stopped`; main says which, exit code 128 + it)."""
+    for s in STOP_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
+    raise Stopped(signum)
+
+
+def _stopped_uncaught(kind, value, traceback) -> None:
+    """sys.excepthook of the program: a stop signal main cannot catch (during the imports,
+    before main runs) is one line and its exit code, not a traceback."""
+    if not issubclass(kind, KeyboardInterrupt):
+        return sys.__excepthook__(kind, value, traceback)
+    signum = getattr(value, "signum", signal.SIGINT)
+    sys.stdout.flush()
+    sys.stderr.write(f"mpy-fil: stopped by {signal.Signals(signum).name}\n")
+    sys.stderr.flush()
+    os._exit(128 + signum)
+
+
+# (the program itself, the mpy-fil script or python -m host.cli, not a module a test or a
+# tool imports: from here on every stop signal is reported as itself, the imports included)
+if __name__ == "__main__" or os.path.basename(sys.argv[0] or "") == "mpy-fil":
+    sys.excepthook = _stopped_uncaught
+    for _signum in STOP_SIGNALS:
+        if signal.getsignal(_signum) is not signal.SIG_IGN:  # (nohup, a shell's background job: ignored)
+            signal.signal(_signum, _stop)
+
+import argparse  # noqa: E402
+import ast  # noqa: E402
+import contextlib  # noqa: E402
+import inspect  # noqa: E402
+import math  # noqa: E402
+import tempfile  # noqa: E402
+import threading  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from host.artefacts.folder import HEADER  # noqa: E402
+from host.core.errors import ConfigError, HarnessError  # noqa: E402
+from host.core.paths import FIRMWARE, output_root  # noqa: E402
+from host.report.progress import MissionProgress  # noqa: E402
+from host.report.table import format_table  # noqa: E402
+from host.rig import arguments  # noqa: E402
+from host.rig import boards as pin_maps  # noqa: E402
+from host.rig.apps import apps, get_app  # noqa: E402
+from sim_plant import kinds, option_table  # noqa: E402
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -51,25 +86,34 @@ MAX_WORKERS = 256  # a campaign's local processes (each run starts an interprete
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Every command: SIGINT (Ctrl-C), SIGTERM and SIGHUP stop it as Ctrl-C does, each
+    reported as itself with exit code 128 + its number, whenever it comes (parsing,
+    running, writing, plotting); the handlers before are put back at the end."""
+    with _stop_on_signals():
+        return _main(argv)
+
+
+def _main(argv) -> int:
+    prog = "mpy-fil"
     try:
+        args = build_parser().parse_args(argv)
+        prog = args.sub.prog
         return args.command(args)
     except ConfigError as e:  # names its file and field: one line, no usage text
-        print(f"{args.sub.prog}: error: {e}", file=sys.stderr)
+        print(f"{prog}: error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except HarnessError as e:
-        print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
+        print(f"{prog}: {type(e).__name__}: {e}", file=sys.stderr)
         return EXIT_FAILED
-    except KeyboardInterrupt as e:  # (Ctrl-C; SIGTERM and SIGHUP where a command asks for them)
+    except KeyboardInterrupt as e:  # (a stop signal: Stopped names it; a bare one is Ctrl-C)
         signum = getattr(e, "signum", signal.SIGINT)
-        print(f"{args.sub.prog}: stopped by {signal.Signals(signum).name}", file=sys.stderr)
+        print(f"{prog}: stopped by {signal.Signals(signum).name}", file=sys.stderr)
         return 128 + signum
     except BrokenPipeError:  # (piped into head: the reader had enough)
         sys.stdout = open(os.devnull, "w")
         return 0
     except OSError as e:  # (a plot on a full disk): the file named, no traceback
-        print(f"{args.sub.prog}: cannot write {e.filename or 'a file'}: {e.strerror or e}", file=sys.stderr)
+        print(f"{prog}: cannot write {e.filename or 'a file'}: {e.strerror or e}", file=sys.stderr)
         return EXIT_FAILED
 
 
@@ -394,7 +438,7 @@ def cmd_run(args) -> int:
         sub.error(f"argument --param: {e}")
     _writable(sub, "--out", out)
     try:
-        with _stop_on_signals(), rig:
+        with rig:  # (main stops it at a signal, as at Ctrl-C)
             rig.run_for(args.duration)
     except KeyboardInterrupt:
         print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
@@ -413,9 +457,14 @@ def cmd_run(args) -> int:
     if rows:
         print(format_table(rows))
     if not args.no_plots:
-        from host.report.plots import plot_trace
+        try:
+            print("plots: drawing them ...", flush=True)
+            from host.report.plots import plot_trace
 
-        plot_trace(out)
+            plot_trace(out)
+        except KeyboardInterrupt:  # (the trace folder is whole: only plots are missing)
+            print(f"plots: stopped; the trace folder {out} is whole (mpy-fil plot {out} draws them)")
+            raise
     _list_files(out)
     if coverage is not None:
         from host.coverage.session import run_summary
@@ -460,24 +509,17 @@ def _size(n_bytes: int) -> str:
 
 @contextlib.contextmanager
 def _stop_on_signals():
-    """While the block runs, SIGTERM and SIGHUP stop a run as Ctrl-C does (its trace
-    folder written, marked partial); a second signal while that is written is ignored.
-    The handlers before are put back after it."""
-    from host.artefacts.integrity import Stopped
-
-    signals = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    """While the block runs, SIGINT, SIGTERM and SIGHUP stop the command as Ctrl-C does
+    (a run's trace folder written, marked partial; a campaign's pool stopped, its results
+    kept), raising :class:`Stopped` with the signal; a second signal while that is done is
+    ignored. The handlers before are put back after it."""
     if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
         yield
         return
-    previous = {s: signal.getsignal(s) for s in signals}
-
-    def stop(signum, _frame):
-        for s in signals:
-            signal.signal(s, signal.SIG_IGN)
-        raise Stopped(signum)
-
-    for s in signals:
-        signal.signal(s, stop)
+    previous = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+    for s in STOP_SIGNALS:
+        if previous[s] is not signal.SIG_IGN:  # (nohup, a shell's background job: still ignored)
+            signal.signal(s, _stop)
     try:
         yield
     finally:
@@ -663,7 +705,6 @@ def cmd_campaign(args) -> int:
         f"{len(campaign.worlds)} world(s) x {campaign.seeds} seeds) on {where}; results in {out}"
     )
     started = time.monotonic()
-    signal.signal(signal.SIGTERM, signal.default_int_handler)  # (kill: as Ctrl-C, the pool stopped, results kept)
 
     judged = judged_by(campaign.to_dict())[0]
 
