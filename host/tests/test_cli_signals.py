@@ -96,13 +96,28 @@ def _long_scenario(tmp_path: Path) -> Path:
     return scenario
 
 
+def _failed_run(tmp_path: Path) -> Path:
+    """A campaign run that failed, for shrink: the bench with a stuck battery among
+    harmless faults (host/tests/test_shrink.py's), one seed, 4 s."""
+    from host.campaign import load_campaign
+    from host.campaign.runner import run_campaign
+    from host.tests.test_shrink import BENCH, HARMLESS, STUCK_BATT, toml_faults
+
+    faults = tmp_path / "faults.toml"
+    faults.write_text(f'[[faultsets]]\nname = "one-matters"\n{toml_faults([*HARMLESS, STUCK_BATT])}\n')
+    campaign = load_campaign(str(BENCH), faults_file=str(faults), seeds=1, seconds=4.0)
+    (result,) = run_campaign(campaign, tmp_path / "campaign", workers=1)
+    assert not result["passed"], result
+    return tmp_path / "campaign" / "runs" / "one-matters" / "default" / "1"
+
+
 def commands(tmp_path: Path) -> dict[str, list[str]]:
     """Each command a user runs for long, with arguments that run it."""
     return {
         "run": ["run", "--duration", "86400", "--out", str(tmp_path / "run"), "--no-plots"],
         "campaign": ["campaign", str(CAMPAIGN), "--workers", "2", "--seeds", "20", "--out", str(tmp_path / "camp")],
         "scenario": ["scenario", str(_long_scenario(tmp_path)), "--timeout", "86400s", "--out", str(tmp_path / "sc")],
-        "shrink": ["shrink", str(tmp_path / "no-such-run"), "--out", str(tmp_path / "shrunk")],
+        "shrink": ["shrink", str(tmp_path / "campaign/runs/one-matters/default/1"), "--out", str(tmp_path / "shrunk")],
         "replay": ["replay", str(tmp_path / "recorded"), "--out", str(tmp_path / "replayed")],
     }
 
@@ -128,6 +143,7 @@ MID_RUN = [
     ("campaign", signal.SIGINT, 2),
     ("scenario", signal.SIGTERM, 1),
     ("replay", signal.SIGTERM, 1),
+    ("shrink", signal.SIGTERM, 1),
 ]
 
 
@@ -136,6 +152,8 @@ def test_a_signal_while_the_firmware_runs_stops_the_command_naming_it(start, tmp
     """Before: SIGTERM to a campaign said "stopped by SIGINT" and exited 130."""
     if command == "replay":
         _record(tmp_path, 30.0)
+    if command == "shrink":
+        _failed_run(tmp_path)
     front = start([str(MPY_FIL), *commands(tmp_path)[command]])
     deadline = time.monotonic() + 60
     while not _micropythons(firmwares)([program(p) for p in descendants(front.pid)]):
