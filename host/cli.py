@@ -19,63 +19,32 @@ outputs differ from the recording exits with 1. This is the only layer that prin
 or exits.
 """
 
+import host.core.stop_signals  # (first: a stop signal during the imports below, a second's, is named)
+
+# isort: split
+
+import argparse
+import ast
+import contextlib
+import inspect
+import math
 import os
 import signal
 import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
 
-from host.artefacts.integrity import Stopped
-
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
-def _stop(signum, _frame):
-    """A stop signal, as the command's first: the others are ignored from now on (what is
-    being written is written, what was started is stopped), and the command stops as at
-    Ctrl-C, the signal named (:class:`Stopped`; main says which, exit code 128 + it)."""
-    for s in STOP_SIGNALS:
-        signal.signal(s, signal.SIG_IGN)
-    raise Stopped(signum)
-
-
-def _stopped_uncaught(kind, value, traceback) -> None:
-    """sys.excepthook of the program: a stop signal main cannot catch (during the imports,
-    before main runs) is one line and its exit code, not a traceback."""
-    if not issubclass(kind, KeyboardInterrupt):
-        return sys.__excepthook__(kind, value, traceback)
-    signum = getattr(value, "signum", signal.SIGINT)
-    sys.stdout.flush()
-    sys.stderr.write(f"mpy-fil: stopped by {signal.Signals(signum).name}\n")
-    sys.stderr.flush()
-    os._exit(128 + signum)
-
-
-# (the program itself, the mpy-fil script or python -m host.cli, not a module a test or a
-# tool imports: from here on every stop signal is reported as itself, the imports included)
-if __name__ == "__main__" or os.path.basename(sys.argv[0] or "") == "mpy-fil":
-    sys.excepthook = _stopped_uncaught
-    for _signum in STOP_SIGNALS:
-        if signal.getsignal(_signum) is not signal.SIG_IGN:  # (nohup, a shell's background job: ignored)
-            signal.signal(_signum, _stop)
-
-import argparse  # noqa: E402
-import ast  # noqa: E402
-import contextlib  # noqa: E402
-import inspect  # noqa: E402
-import math  # noqa: E402
-import tempfile  # noqa: E402
-import threading  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-from host.artefacts.folder import HEADER  # noqa: E402
-from host.core.errors import ConfigError, HarnessError  # noqa: E402
-from host.core.paths import FIRMWARE, output_root  # noqa: E402
-from host.report.progress import MissionProgress  # noqa: E402
-from host.report.table import format_table  # noqa: E402
-from host.rig import arguments  # noqa: E402
-from host.rig import boards as pin_maps  # noqa: E402
-from host.rig.apps import apps, get_app  # noqa: E402
-from sim_plant import kinds, option_table  # noqa: E402
+from host.artefacts.folder import HEADER
+from host.core.errors import ConfigError, HarnessError
+from host.core.paths import FIRMWARE, output_root
+from host.report.progress import MissionProgress
+from host.report.table import format_table
+from host.rig import arguments
+from host.rig import boards as pin_maps
+from host.rig.apps import apps, get_app
+from sim_plant import kinds, option_table
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -516,10 +485,7 @@ def _stop_on_signals():
     if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
         yield
         return
-    previous = {s: signal.getsignal(s) for s in STOP_SIGNALS}
-    for s in STOP_SIGNALS:
-        if previous[s] is not signal.SIG_IGN:  # (nohup, a shell's background job: still ignored)
-            signal.signal(s, _stop)
+    previous = host.core.stop_signals.install()  # (a signal ignored from the start, as by nohup, stays ignored)
     try:
         yield
     finally:

@@ -1,0 +1,60 @@
+"""The stop signals of the ``mpy-fil`` command: SIGINT (Ctrl-C), SIGTERM (a CI timeout,
+``kill``) and SIGHUP (the terminal closed) stop a command as Ctrl-C does, each reported as
+itself with exit code 128 + its number (``host/cli.py``'s main says which).
+
+Imported first by ``host/cli.py``: when that module is the program (the ``mpy-fil`` script,
+or ``python -m host.cli``) and not a module a test or a tool imports, the handlers are in
+place before its imports, which take a second, and a stop signal during them is one line,
+``mpy-fil: stopped by SIGTERM``, not a traceback (or, for SIGTERM, no word at all). A
+signal the program was started ignoring (nohup, a shell's background job) stays ignored.
+"""
+
+import os
+import signal
+import sys
+
+from host.artefacts.integrity import Stopped
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+def stop(signum, _frame):
+    """A stop signal, as the command's first: the others are ignored from now on (what is
+    being written is written, what was started is stopped), and the command stops as at
+    Ctrl-C, the signal named (:class:`Stopped`)."""
+    for s in STOP_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
+    raise Stopped(signum)
+
+
+def install() -> dict:
+    """``stop`` for every stop signal not ignored; the handlers before, to put back."""
+    previous = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+    for s, handler in previous.items():
+        if handler is not signal.SIG_IGN:
+            signal.signal(s, stop)
+    return previous
+
+
+def _stopped_uncaught(kind, value, traceback) -> None:
+    """sys.excepthook of the program: a stop signal main cannot catch (during the imports,
+    before main runs) is one line and its exit code, not a traceback."""
+    if not issubclass(kind, KeyboardInterrupt):
+        return sys.__excepthook__(kind, value, traceback)
+    signum = getattr(value, "signum", signal.SIGINT)
+    sys.stdout.flush()
+    sys.stderr.write(f"mpy-fil: stopped by {signal.Signals(signum).name}\n")
+    sys.stderr.flush()
+    os._exit(128 + signum)
+
+
+def _the_program() -> bool:
+    """host.cli runs as the program: the mpy-fil script, or python -m host.cli."""
+    main = sys.modules.get("__main__")
+    spec = getattr(main, "__spec__", None)
+    return os.path.basename(sys.argv[0] or "") == "mpy-fil" or getattr(spec, "name", None) == "host.cli"
+
+
+if _the_program():
+    sys.excepthook = _stopped_uncaught
+    install()
