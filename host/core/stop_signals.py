@@ -49,8 +49,11 @@ def _stopped_uncaught(kind, value, traceback) -> None:
 
 
 def _the_program() -> bool:
-    """host.cli runs as the program: the mpy-fil script, or python -m host.cli."""
+    """host.cli runs as the program: the mpy-fil script, or python -m host.cli (and not a
+    campaign's pool worker, which imports the script again as ``__mp_main__``)."""
     main = sys.modules.get("__main__")
+    if getattr(main, "__name__", None) == "__mp_main__":
+        return False
     spec = getattr(main, "__spec__", None)
     return os.path.basename(sys.argv[0] or "") == "mpy-fil" or getattr(spec, "name", None) == "host.cli"
 
