@@ -59,8 +59,9 @@ def firmware_folder(firmware: str) -> Path:
 
 def pytest_args(args) -> tuple[list[str], Path]:
     """pytest's arguments and the folder to run it in."""
-    common = ["-q", "-rs", "-n", str(args.workers), "--dist", "loadgroup", *(["-k", args.k] if args.k else [])]
-    out = Path(args.out).resolve() if args.out else None
+    selected = getattr(args, "k", "")  # (--out and -k: not the Makefile's)
+    common = ["-q", "-rs", "-n", str(args.workers), "--dist", "loadgroup", *(["-k", selected] if selected else [])]
+    out = Path(args.out).resolve() if getattr(args, "out", "") else None
     if out is not None:
         common += ["--hil-out", str(out), "-o", f"cache_dir={out / '.pytest_cache'}"]
     if not args.rig:
