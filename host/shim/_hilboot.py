@@ -161,6 +161,8 @@ def main(pil=False):
         return
     except BaseException as e:  # noqa: BLE001  any firmware failure goes to the host
         _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
+        if _hil._Link.reserve is not None:
+            _hil.spend_reserve()  # (raised with the heap full: the same)
         buf = io.StringIO()
         sys.print_exception(e, buf)
         text = buf.getvalue()
