@@ -45,6 +45,7 @@ _irq_off = 0
 _link = None
 _wake_real_us = 0
 _rt_origin_us = 0
+ballast = None  # the interpreter's heap beyond the firmware's (_hilboot._board_heap)
 
 
 class _Console:
@@ -158,18 +159,35 @@ class _Link:
 
     def _read(self):
         n = self.f.readinto(self.got)
-        return self.got[:n] if n else b""  # (the decoder copies it before the next read)
+        if not n:
+            return b""
+        try:
+            return self.got[:n]  # (the decoder copies it before the next read)
+        except MemoryError:  # (read already: it must not be lost)
+            spend_reserve()
+            return self.got[:n]
 
     def close(self):
         self.f.close()
 
+    # The frames' own allocations are made before anything is sent or taken: where one
+    # fails (a frame longer than the room make_room saw), the reserve goes and it is made again.
     def queue(self, type_, payload):
-        self.out.append(F.encode(type_, self.seq, payload))
+        try:
+            frame = F.encode(type_, self.seq, payload)
+        except MemoryError:
+            spend_reserve()
+            frame = F.encode(type_, self.seq, payload)
+        self.out.append(frame)
         self.seq = (self.seq + 1) & 0xFF
 
     def flush(self):
         if self.out:
-            data = b"".join(self.out)
+            try:
+                data = b"".join(self.out)
+            except MemoryError:
+                spend_reserve()
+                data = b"".join(self.out)
             self.out = []
             view = memoryview(data)
             while view:
@@ -189,7 +207,11 @@ class _Link:
 
     def recv(self):
         while True:
-            frame = self.dec.next()
+            try:
+                frame = self.dec.next()
+            except MemoryError:
+                spend_reserve()
+                frame = self.dec.next()
             if frame is not None or self.dec.damaged:
                 if self.dec.damaged:
                     c = self.dec.counters()
@@ -210,7 +232,11 @@ class _Link:
             data = self._read()
             if not data:
                 raise HostGone("plant link closed")
-            self.dec.feed(data)
+            try:
+                self.dec.feed(data)  # (the decoder's buffer is replaced only once it is made)
+            except MemoryError:
+                spend_reserve()
+                self.dec.feed(data)
 
 
 class _StdioLink(_Link):
@@ -449,9 +475,11 @@ def _released_run_until(t_target, watch):
 # decoder's bytes, its lists) cannot stop it coming back. Measured: a wait with its
 # exchanges, timer callbacks and IRQs allocates at most 2.2K, most of it garbage before
 # the rest is needed; the link reads into a buffer of its own (_Link._read).
-ROOM_BYTES = 1024  # free heap, in one piece, the shim's work needs at once
-RESERVE_PIECES = 8  # held back from the firmware, in the shim's share of the heap
-RESERVE_PIECE_BYTES = 512  # (host/rig/heap.py counts them)
+ROOM_BYTES = 1024  # free heap, in one piece, an exchange's work needs at once
+# held back from the firmware, in the shim's share of the heap (host/rig/heap.py): the
+# first piece holds the longest frame (_hilframe.MAX_PAYLOAD), the link's own allocations
+# take the reserve when one fails
+RESERVE_PIECES = (4096 + 256, 1024, 1024, 512, 512)
 
 
 def make_room():
@@ -466,7 +494,7 @@ def make_room():
 def spend_reserve():
     """The reserve back to the heap (for the shim's work, or the firmware's last words)."""
     pieces = _Link.reserve
-    for i in range(RESERVE_PIECES):
+    for i in range(len(pieces)):
         pieces[i] = None
     _Link.spent = True
     _Link.collect()
@@ -476,10 +504,10 @@ def keep_reserve():
     """The reserve taken again, once the shim's work is garbage (what the firmware, or a
     callback of its, holds meanwhile is not taken: the rest at the next wait)."""
     pieces = _Link.reserve
-    for i in range(RESERVE_PIECES):
+    for i in range(len(pieces)):
         if pieces[i] is None:
             try:
-                pieces[i] = bytearray(RESERVE_PIECE_BYTES)
+                pieces[i] = bytearray(RESERVE_PIECES[i])
             except MemoryError:
                 return
     _Link.spent = False
@@ -794,8 +822,7 @@ def start():
 
     _Link.heap_lock, _Link.heap_unlock = micropython.heap_lock, micropython.heap_unlock
     _Link.collect = gc.collect
-    _Link.reserve = [None] * RESERVE_PIECES
-    keep_reserve()
+    _Link.reserve = [None] * len(RESERVE_PIECES)  # (taken by _hilboot once the shim has imported all it keeps)
     try:
         import _thread
 

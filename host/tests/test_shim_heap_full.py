@@ -12,7 +12,7 @@ pytestmark = pytest.mark.hil
 
 SCRIPT = [(t, "a", k % 2) for k, t in enumerate(range(5_000, 520_000, 20_000), start=1)]
 SCRIPT += [(0, "adc", 1000), (250_000, "adc", 3000)]
-HEAP = "256K"  # the firmware's heap: small, so that filling it is quick
+HEAP = "64K"  # the firmware's heap: small, so that filling it is quick
 
 
 @pytest.fixture
