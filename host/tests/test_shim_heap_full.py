@@ -46,3 +46,11 @@ def test_a_firmware_that_keeps_its_heap_full_sleeps_reads_prints_and_runs_its_ca
     assert rig.console.count("tick\n") == 50, rig.console
     assert r["edges"] == 13 and r["highs"] == 26, r
     assert r["total"] == 1000 * 24 + 3000 * 26, r
+
+
+def test_each_package_finds_its_own_module_in_a_relative_import_whatever_else_is_loaded(run_case):
+    """The shim takes machine (and its buses) before the firmware runs, so more modules are
+    loaded: a relative import still goes to the importing package's own module, not to the
+    first package sys.modules happens to list (asyncio, another of the firmware's)."""
+    rig, r = run_case("relative_packages", 0.1)
+    assert r == {"a": "aa", "b": "bb"}, rig.console
