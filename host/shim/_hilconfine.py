@@ -55,7 +55,8 @@ def _relative(real, name, fromlist, level):
         except ImportError as e:
             error = e
             continue
-        if all(_has(real, module, target, item) for item in fromlist or ()):
+        names = fromlist if isinstance(fromlist, (tuple, list)) else ()  # (asyncio passes True)
+        if all(_has(real, module, target, item) for item in names):
             return module
     raise error
 
