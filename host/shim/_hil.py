@@ -45,7 +45,6 @@ _irq_off = 0
 _link = None
 _wake_real_us = 0
 _rt_origin_us = 0
-ballast = None  # the interpreter's heap beyond the firmware's (_hilboot._board_heap)
 
 
 class _Console:
@@ -132,6 +131,7 @@ class _Link:
     collect = None  # gc.collect, set by start()
     reserve = None  # the shim's slice of the heap, in pieces (make_room)
     spent = True  # some of the reserve is not held: take it again after the shim's work
+    ballast = None  # the interpreter's heap beyond the firmware's (_hilboot._board_heap)
     syncs = 0  # exchanges so far: a handler that blocks inside a batch makes more
     # A STATE may carry input changes past the time it wakes the firmware (the host's
     # lookahead, docs/clock.md): held here in time order, each applied as the clock passes

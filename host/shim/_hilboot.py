@@ -184,7 +184,7 @@ def main(pil=False):
             coverage = _coverage()
             want = _firmware_heap()  # (before _confine: then os.getenv is gone)
             _confine()
-            _hil.ballast = _board_heap(want)
+            _hil._Link.ballast = _board_heap(want)
             _fresh_main()
             _run("boot.py")
         if not _run(entry):
