@@ -467,7 +467,7 @@ def _released_run_until(t_target, watch):
 # and ADC reads, prints and soft IRQs allocate nothing (py/scheduler.c keeps scheduled
 # callbacks in a fixed queue; ports/esp32/mphalport.c and ports/unix/unix_mphal.c wait
 # without the heap), and py/gc.c's gc_alloc collects and tries once more before
-# py/malloc.c's m_malloc_fail raises. The shim's link work does allocate (frames, the
+# py/runtime.c's m_malloc_fail raises. The shim's link work does allocate (frames, the
 # callbacks' queue), so it keeps a reserve the firmware never gets: before its own
 # allocations it checks for room (make_room), lets the reserve go when there is none (the
 # collect gives it back to the heap), and takes it again once its work is garbage
