@@ -14,11 +14,8 @@ from pathlib import Path
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
 from host.rig.boardfs import DEFAULT_FLASH_BYTES
+from host.rig.heap import SHIM_HEAP_BYTES  # the shim's share: the interpreter gets heap_size plus this
 
-# The shim's own modules and state on the heap (measured: 60K resident after a collect, more
-# while it compiles at start-up). On a board the firmware has none of it, so the interpreter
-# gets ``heap_size`` plus this: the firmware's gc.mem_free() is about its board's heap.
-SHIM_HEAP_BYTES = 64 * 1024
 COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (docs/coverage.md)
 # -X heapsize as MicroPython's unix port reads it (strtol, then an optional w and K or M),
 # without its octal (a leading 0) and signs
@@ -138,12 +135,16 @@ class Firmware:
             "HIL_CONSOLE_BAUD": str(self.console_baud),
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
             **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
+            **({"HIL_HEAP_BYTES": str(self.firmware_heap_bytes())} if self.heap_size else {}),
             # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
             **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }
 
+    def firmware_heap_bytes(self) -> int:
+        """The heap the firmware finds free as it starts (the shim takes the rest: _hilboot)."""
+        return heap_bytes(self.heap_size) + (COVERAGE_HEAP_BYTES if self.coverage_fd is not None else 0)
+
     def interpreter_args(self) -> list[str]:
         if not self.heap_size:
             return []
-        tracer = COVERAGE_HEAP_BYTES if self.coverage_fd is not None else 0
-        return ["-X", f"heapsize={heap_bytes(self.heap_size) + SHIM_HEAP_BYTES + tracer}"]
+        return ["-X", f"heapsize={self.firmware_heap_bytes() + SHIM_HEAP_BYTES}"]

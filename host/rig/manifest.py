@@ -31,12 +31,14 @@ from host.artefacts import integrity
 from host.artefacts.folder import MANIFEST, described_parts
 from host.core import interpreter, paths, provenance
 from host.core.errors import SetupError
+from host.rig import sandbox
 from host.rig.boardfs import board_name
 from host.rig.spec import fault_schedule
 
 FILE = MANIFEST
 VERSION = 1
 IGNORED = ("interpreter.path", "harness.commit_time")  # (where a checkout lives is not what ran)
+IGNORED += tuple(f"sandbox.{key}" for key in ("setting", "running", "why", "received"))  # (how it was confined)
 
 
 def _sha256(path: Path) -> str:
@@ -173,7 +175,9 @@ def of_rig(rig, plant=None) -> dict:
     options = {**rig.app.plant_options, **rig.plant_options}
     variant = "settrace" if getattr(rig, "coverage_file", None) is not None else "standard"
     flashed = rig.board_fs.flashed if getattr(rig, "board_fs", None) is not None else None
-    return build(rig.app, rig.spec, rig.firmware, plant or rig.plant, options, variant=variant, flashed=flashed)
+    found = build(rig.app, rig.spec, rig.firmware, plant or rig.plant, options, variant=variant, flashed=flashed)
+    found["sandbox"] = sandbox.record(rig.firmware.board_root)  # how it ran, not what ran: IGNORED
+    return found
 
 
 def write(folder: Path, manifest: dict) -> Path | None:

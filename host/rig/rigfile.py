@@ -20,6 +20,7 @@ from host.rig.boardfs import confinement
 from host.rig.boards import IDENTITIES, known_boards, read_board_file
 from host.rig.budgets import BusLatencyBudget, BusSampleBudget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.firmware import heap_bytes
+from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds, option_table
@@ -68,9 +69,6 @@ TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/fal
 MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
-# The firmware's heap (the shim's own is added: host/rig/firmware.py), from what a firmware
-# of a few lines needs to start to what a board could have (1G).
-HEAP_MIN_BYTES, HEAP_MAX_BYTES = 48 * 1024, 1024 * 1024 * 1024
 MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
 PIN_RANGES = {"esp32": 48, "rpi_pico": 47}  # the highest GPIO of each family (ESP32-S3, RP2350B)
 MAX_PIN = 255  # any other board

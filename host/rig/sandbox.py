@@ -8,11 +8,15 @@ under ``/dev``, ``null``, ``urandom`` and the link's pty. Nothing else of the ho
 filesystem is there: no ``/etc``, no home, no ``/tmp``, no sources.
 
 Where the kernel refuses (a container without user namespaces) or ``bwrap`` is missing,
-the run says so once on stderr and goes on with the shim's confinement, unless the
-sandbox is required: ``[board] sandbox = "require"`` in the rig file or
-``MPY_FIL_SANDBOX=require`` in the environment (``off`` turns it off, ``auto`` is the
-default). No PID namespace: the harness signals the interpreter itself (its stack on a
-hang), found as bwrap's child.
+the run goes on with the shim's confinement, unless the sandbox is required:
+``[board] sandbox = "require"`` in the rig file or ``MPY_FIL_SANDBOX=require`` in the
+environment (``off`` turns it off, ``auto`` is the default). How loudly it says so depends
+on whose firmware it is (:func:`received`): for a folder in the user's own repository, a
+note; for any other (a folder received, downloaded, or a third party's), a warning block
+on stderr (and a ``SandboxWarning`` under pytest), since a firmware written to get round
+the shim's confinement then reaches this machine. Either way the manifest records it
+(:func:`record`: ``sandbox`` in ``manifest.json``). No PID namespace: the harness signals
+the interpreter itself (its stack on a hang), found as bwrap's child.
 """
 
 import functools
@@ -21,16 +25,23 @@ import re
 import shutil
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 from host.core.children import popen_options
 from host.core.errors import SetupError
-from host.core.paths import SHIM_DIR
+from host.core.paths import BUNDLED, REPO, SHIM_DIR
 
 ENV = "MPY_FIL_SANDBOX"
 CHOICES = ("auto", "require", "off")
 PROBE_TIMEOUT_S = 10.0
-_said = False  # the "no sandbox here" note goes out once per process
+_said: set = set()  # the notes and warnings given in this process (a note once, a warning once a folder)
+_records: dict = {}  # board folder -> how its interpreter ran (record())
+_RECORDS_KEPT = 64
+
+
+class SandboxWarning(UserWarning):
+    """A firmware from outside the user's own repository ran without the sandbox."""
 
 
 def setting(rig_setting: str = "auto") -> str:
@@ -73,17 +84,71 @@ def refusal() -> str | None:
     return None
 
 
-def command(argv: list[str], board_root: Path | None, link_path: str, wanted: str) -> list[str]:
+def _work_tree(path: Path) -> Path | None:
+    """The git work tree ``path`` is in (a folder holding ``.git``), or None."""
+    for folder in (path, *path.parents):
+        if (folder / ".git").exists():
+            return folder
+    return None
+
+
+def received(folder: Path | None, cwd: Path | None = None) -> bool:
+    """Whether a firmware folder is someone else's: neither in the harness's own files
+    (its examples and firmware) nor in the git work tree the command runs in (``cwd``'s:
+    the user's own repository). A folder in no work tree, a download, a clone beside one's
+    own repository, a folder someone sent are received (docs/security.md)."""
+    if folder is None:
+        return False
+    folder = Path(folder).resolve()
+    if folder.is_relative_to(REPO.resolve()) or folder.is_relative_to(BUNDLED.resolve()):
+        return False
+    own = _work_tree(Path(cwd or Path.cwd()).resolve())
+    return own is None or not folder.is_relative_to(own)
+
+
+def record(board_root: Path | None) -> dict:
+    """How the interpreter of the run on ``board_root`` was confined, for its manifest:
+    the setting, whether the sandbox ran, why not, and whether the firmware was received."""
+    found = _records.get(str(board_root)) if board_root is not None else None
+    return found or {"setting": "off", "running": False, "why": "no per-run board folder", "received": False}
+
+
+def _keep(board_root: Path, entry: dict) -> None:
+    _records[str(board_root)] = entry
+    while len(_records) > _RECORDS_KEPT:
+        _records.pop(next(iter(_records)))
+
+
+def command(
+    argv: list[str], board_root: Path | None, link_path: str, wanted: str, source: Path | None = None
+) -> list[str]:
     """``argv`` inside the sandbox, or as it is when the sandbox is off or refused (a
-    SetupError when it is required and refused)."""
-    if wanted == "off" or board_root is None:
+    SetupError when it is required and refused). ``source``: the firmware's folder (whose
+    firmware it is decides how loudly a refused sandbox is told: :func:`received`)."""
+    if board_root is None:
+        return argv
+    foreign = received(source)
+    if wanted == "off":
+        _keep(
+            board_root,
+            {"setting": wanted, "running": False, "why": f"{ENV} or [board] sandbox is off", "received": foreign},
+        )
         return argv
     why = refusal() or _not_elf(argv[0])
     if why is not None:
         if wanted == "require":
-            raise SetupError(f"the sandbox is required ({ENV} or [board] sandbox) but {why}")
-        _note(why)
+            by = f"{ENV}=require" if os.environ.get(ENV, "").strip() else '[board] sandbox = "require" in the rig file'
+            raise SetupError(
+                f"the sandbox is required ({by}) but {why}: the firmware in {source or board_root} "
+                "was not started (docs/security.md)"
+            )
+        _keep(board_root, {"setting": wanted, "running": False, "why": why, "received": foreign})
+        if foreign:
+            _warn(why, source)
+        else:
+            _note(why)
         return argv
+    _keep(board_root, {"setting": wanted, "running": True, "why": None, "received": foreign})
     program = str(Path(argv[0]).resolve())
     view = ["--tmpfs", "/", "--dir", "/tmp"]  # (an empty root: only what is bound below)
     for path in (*libraries(program), program):
@@ -121,14 +186,43 @@ def _not_elf(program: str) -> str | None:
 
 
 def _note(why: str) -> None:
-    global _said
-    if not _said:
-        _said = True
+    if "note" not in _said:
+        _said.add("note")
         print(
             f"mpy-fil: note: the firmware runs without a sandbox here ({why}); the shim still confines it "
             f"(docs/security.md; {ENV}=require to refuse such runs)",
             file=sys.stderr,
         )
+
+
+def warning_text(why: str, source: Path | None) -> str:
+    """The warning block for a received firmware that runs without the sandbox."""
+    rule = "mpy-fil: WARNING " + "=" * 62
+    return "\n".join(
+        [
+            rule,
+            f"mpy-fil: WARNING: the firmware in {source} runs WITHOUT the sandbox: {why}.",
+            "mpy-fil: WARNING: it is not in your own repository (nor one of the harness's examples): only the",
+            "mpy-fil: WARNING: shim confines it, and a firmware written to get round the shim reaches this",
+            "mpy-fil: WARNING: machine as you: your files, your network, your processes (docs/security.md).",
+            "mpy-fil: WARNING: install bubblewrap (`make setup`, or apt-get install bubblewrap) where user",
+            f"mpy-fil: WARNING: namespaces are allowed; refuse such runs with {ENV}=require or",
+            f'mpy-fil: WARNING: [board] sandbox = "require"; {ENV}=off says you trust it.',
+            "mpy-fil: WARNING: manifest.json records how it ran (sandbox).",
+            rule,
+        ]
+    )
+
+
+def _warn(why: str, source: Path | None) -> None:
+    key = f"warning {source}"
+    if key in _said:
+        return
+    _said.add(key)
+    text = warning_text(why, source)
+    print(text, file=sys.stderr)
+    if "_pytest" in sys.modules:  # (pytest keeps a passing test's stderr: its warnings summary shows this)
+        warnings.warn(SandboxWarning(text), stacklevel=3)
 
 
 def interpreter_pid(proc: subprocess.Popen) -> int:

@@ -144,7 +144,8 @@ class UnixPortTarget(Target):
         tracing = firmware.coverage_fd is not None  # (docs/coverage.md: the settrace variant)
         program = str(interpreter.find_variant("settrace") if tracing else interpreter.find())
         argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
-        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, sandbox.setting(firmware.sandbox))
+        setting = sandbox.setting(firmware.sandbox)
+        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, setting, firmware.main_dir)
         try:
             self.proc = subprocess.Popen(
                 argv,

@@ -128,6 +128,10 @@ class _Link:
     # after a write then syncs at that instant (the WELCOME's flag).
     zero = False
     heap_lock = heap_unlock = None  # micropython's, set by start()
+    collect = None  # gc.collect, set by start()
+    reserve = None  # the shim's slice of the heap, in pieces (make_room)
+    spent = True  # some of the reserve is not held: take it again after the shim's work
+    ballast = None  # the interpreter's heap beyond the firmware's (_hilboot._board_heap)
     syncs = 0  # exchanges so far: a handler that blocks inside a batch makes more
     # A STATE may carry input changes past the time it wakes the firmware (the host's
     # lookahead, docs/clock.md): held here in time order, each applied as the clock passes
@@ -151,20 +155,39 @@ class _Link:
         self.dec = F.Decoder()
         self.seq = 0
         self.out = []
+        self.got = memoryview(bytearray(512))  # (read into: no 512 bytes in one piece per read)
 
     def _read(self):
-        return self.f.read(512)
+        n = self.f.readinto(self.got)
+        if not n:
+            return b""
+        try:
+            return self.got[:n]  # (the decoder copies it before the next read)
+        except MemoryError:  # (read already: it must not be lost)
+            spend_reserve()
+            return self.got[:n]
 
     def close(self):
         self.f.close()
 
+    # The frames' own allocations are made before anything is sent or taken: where one
+    # fails (a frame longer than the room make_room saw), the reserve goes and it is made again.
     def queue(self, type_, payload):
-        self.out.append(F.encode(type_, self.seq, payload))
+        try:
+            frame = F.encode(type_, self.seq, payload)
+        except MemoryError:
+            spend_reserve()
+            frame = F.encode(type_, self.seq, payload)
+        self.out.append(frame)
         self.seq = (self.seq + 1) & 0xFF
 
     def flush(self):
         if self.out:
-            data = b"".join(self.out)
+            try:
+                data = b"".join(self.out)
+            except MemoryError:
+                spend_reserve()
+                data = b"".join(self.out)
             self.out = []
             view = memoryview(data)
             while view:
@@ -184,7 +207,11 @@ class _Link:
 
     def recv(self):
         while True:
-            frame = self.dec.next()
+            try:
+                frame = self.dec.next()
+            except MemoryError:
+                spend_reserve()
+                frame = self.dec.next()
             if frame is not None or self.dec.damaged:
                 if self.dec.damaged:
                     c = self.dec.counters()
@@ -205,7 +232,11 @@ class _Link:
             data = self._read()
             if not data:
                 raise HostGone("plant link closed")
-            self.dec.feed(data)
+            try:
+                self.dec.feed(data)  # (the decoder's buffer is replaced only once it is made)
+            except MemoryError:
+                spend_reserve()
+                self.dec.feed(data)
 
 
 class _StdioLink(_Link):
@@ -310,6 +341,7 @@ def transfer(handle, op, address, n_read, data):
     if _Console.debt_ns >= 1000:  # a board starts the transfer once the print before has returned
         pay_console()
     depth = heap_release()
+    make_room()
     try:
         t = now()
         if _Link.held:
@@ -327,6 +359,8 @@ def transfer(handle, op, address, n_read, data):
         _horizon = horizon
         _wrote = True
     finally:
+        if _Link.spent:
+            keep_reserve()
         heap_restore(depth)
     return status, count, got, t
 
@@ -417,11 +451,66 @@ def _released_run_until(t_target, watch):
             t_target += owed
     depth = heap_release()
     if not depth:
-        return _run_until(t_target, watch)
+        hit = _run_until(t_target, watch)
+        if _Link.spent:
+            keep_reserve()
+        return hit
     try:
         return _run_until(t_target, watch)
     finally:
+        if _Link.spent:
+            keep_reserve()
         heap_restore(depth)
+
+
+# A firmware may fill its heap, catch the MemoryError and go on: on a board its sleeps, pin
+# and ADC reads, prints and soft IRQs allocate nothing (py/scheduler.c keeps scheduled
+# callbacks in a fixed queue; ports/esp32/mphalport.c and ports/unix/unix_mphal.c wait
+# without the heap), and py/gc.c's gc_alloc collects and tries once more before
+# py/runtime.c's m_malloc_fail raises. The shim's link work does allocate (frames, the
+# callbacks' queue), so it keeps a reserve the firmware never gets: before its own
+# allocations it checks for room (make_room), lets the reserve go when there is none (the
+# collect gives it back to the heap), and takes it again once its work is garbage
+# (keep_reserve). The reserve is in pieces, so that what the shim keeps between waits (the
+# decoder's bytes, its lists) cannot stop it coming back. Measured: a wait with its
+# exchanges, timer callbacks and IRQs allocates at most 2.2K, most of it garbage before
+# the rest is needed; the link reads into a buffer of its own (_Link._read).
+ROOM_BYTES = 1024  # free heap, in one piece, an exchange's work needs at once
+# held back from the firmware, in the shim's share of the heap (host/rig/heap.py): the
+# first piece holds the longest frame (_hilframe.MAX_PAYLOAD), the link's own allocations
+# take the reserve when one fails
+RESERVE_PIECES = (4096 + 256, 1024, 1024, 512, 512)
+
+
+def make_room():
+    """Before the shim allocates: when the firmware has left less than ROOM_BYTES, the
+    reserve goes back to the heap. (The probe is garbage at once.)"""
+    try:
+        bytearray(ROOM_BYTES)
+    except MemoryError:
+        spend_reserve()
+
+
+def spend_reserve():
+    """The reserve back to the heap (for the shim's work, or the firmware's last words)."""
+    pieces = _Link.reserve
+    for i in range(len(pieces)):
+        pieces[i] = None
+    _Link.spent = True
+    _Link.collect()
+
+
+def keep_reserve():
+    """The reserve taken again, once the shim's work is garbage (what the firmware, or a
+    callback of its, holds meanwhile is not taken: the rest at the next wait)."""
+    pieces = _Link.reserve
+    for i in range(len(pieces)):
+        if pieces[i] is None:
+            try:
+                pieces[i] = bytearray(RESERVE_PIECES[i])
+            except MemoryError:
+                return
+    _Link.spent = False
 
 
 def heap_release():
@@ -478,6 +567,7 @@ def _run_until(t_target, watch):
 
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
+    make_room()
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
@@ -681,6 +771,7 @@ def _update_timer_due():
 
 
 def _fire_timers():
+    make_room()  # (the copy, the queue's entries)
     for tm in list(_timers):
         if tm._due <= _now:
             schedule(tm._callback, tm)
@@ -728,9 +819,12 @@ def start():
     # The u-prefixed names resolve to the built-ins before any file on the path; in
     # sys.modules they are the shim's, as utime is time on a board. (Locals, not module
     # globals: more globals here slow every global lookup of the hot paths.)
+    import gc
     import micropython
 
     _Link.heap_lock, _Link.heap_unlock = micropython.heap_lock, micropython.heap_unlock
+    _Link.collect = gc.collect
+    _Link.reserve = [None] * len(RESERVE_PIECES)  # (taken by _hilboot once the shim has imported all it keeps)
     try:
         import _thread
 
@@ -766,6 +860,8 @@ def finish(kind, code=0, text=None):
     """Tell the host the firmware ended (returned, reset, exited or raised)."""
     if _link is None:
         return
+    if _Link.reserve is not None:
+        spend_reserve()  # (the firmware may have left no room for the last frames)
     if text is not None:
         send(F.FAULT, F.pack_fault(now(), text.encode()))
     if isinstance(_link, _StdioLink):

@@ -121,6 +121,52 @@ def _coverage():
     return _hilcov
 
 
+BALLAST_PIECE_BYTES = 256  # (the heap's own, tuple and bytearray objects included)
+
+
+def _firmware_heap():
+    """The firmware's heap_size in bytes (HIL_HEAP_BYTES; 0: the interpreter's whole heap)."""
+    import os
+
+    getenv = getattr(os, "getenv", None)
+    return int(getenv("HIL_HEAP_BYTES") or 0) if getenv else 0
+
+
+def _board_heap(want):
+    """The heap as the firmware's board has it. machine (with its buses, and rp2 on an
+    RP2040) is imported first: on a board it is C in flash, so its code (compiled here,
+    the shim's biggest moment) is no part of the firmware's heap. Then the shim's reserve
+    is taken (_hil.make_room), and what the interpreter has beyond the firmware's
+    heap_size (``want``; the shim's share, host/rig/heap.py, sized for that compile) is
+    held, so that the firmware's gc.mem_free() starts at its board's heap and a
+    MemoryError comes where a board's does. Held in small pieces, lowest first (py/gc.c's
+    gc_alloc takes the first free blocks that fit): the holes the compile left go first,
+    and the firmware gets the heap's top in one piece, as a board's fresh heap."""
+    import gc
+    import machine  # noqa: F401
+
+    import _hilbus  # noqa: F401  machine's buses (I2C, SPI), imported at their first use otherwise
+
+    if sys.modules.get("sys", sys).platform == "rp2":  # (the board's sys: _hilsys) rp2, with its PIO assembler
+        import rp2  # noqa: F401
+
+    _hil.keep_reserve()
+    if not want:
+        return None
+    gc.collect()
+    held = None
+    data = BALLAST_PIECE_BYTES - 64
+    while True:
+        excess = gc.mem_free() - want
+        if excess < BALLAST_PIECE_BYTES:
+            return held
+        try:
+            for _ in range(excess // BALLAST_PIECE_BYTES):
+                held = (held, bytearray(data))
+        except MemoryError:
+            return held
+
+
 def _finish(coverage, kind, code=0, text=None):
     if coverage is not None:  # (before EXIT: then the host may end the process)
         _heap_unlocked()
@@ -136,7 +182,9 @@ def main(pil=False):
         entry = _entry()
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
             coverage = _coverage()
+            want = _firmware_heap()  # (before _confine: then os.getenv is gone)
             _confine()
+            _hil._Link.ballast = _board_heap(want)
             _fresh_main()
             _run("boot.py")
         if not _run(entry):
@@ -161,6 +209,8 @@ def main(pil=False):
         return
     except BaseException as e:  # noqa: BLE001  any firmware failure goes to the host
         _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
+        if _hil._Link.reserve is not None:
+            _hil.spend_reserve()  # (raised with the heap full: the same)
         buf = io.StringIO()
         sys.print_exception(e, buf)
         text = buf.getvalue()

@@ -24,20 +24,51 @@ def _without(module, names):
     return copy
 
 
+_importing = [None] * 64  # the absolute imports under way, innermost last (no allocation)
+_depth = [0]
+
+
 def _relative(real, name, fromlist, level):
     # A relative import reached here in the shim's globals, not the importing module's
-    # (MicroPython passes __import__ no globals): made absolute in each loaded package in
-    # turn, the first that has the name wins (a relative import never reaches a host module).
+    # (MicroPython passes __import__ no globals): made absolute in the package of the module
+    # being imported (the innermost import under way), as MicroPython does with the
+    # importer's __name__; at run time (no import under way), in each loaded package in
+    # turn, the firmware's before the frozen ones (asyncio), the first that has what it
+    # names wins. A relative import never reaches a host module.
+    depth = _depth[0]
+    if 0 < depth <= len(_importing):
+        importer = _importing[depth - 1]
+        module = sys.modules.get(importer)
+        package = importer if getattr(module, "__path__", None) is not None else importer.rpartition(".")[0]
+        if level > 1:
+            package = package.rsplit(".", level - 1)[0]
+        if package:
+            return real(package + "." + name if name else package, None, None, fromlist, 0)
     error = ImportError("can't perform relative import")
-    for package, module in list(sys.modules.items()):
-        if getattr(module, "__path__", None) is None:
-            continue
+    packages = [p for p, m in list(sys.modules.items()) if getattr(m, "__path__", None) is not None]
+    packages.sort(key=lambda p: str(getattr(sys.modules[p], "__path__", "")).startswith(".frozen"))
+    for package in packages:
         base = package.rsplit(".", level - 1)[0] if level > 1 else package
+        target = base + "." + name if name else base
         try:
-            return real(base + "." + name if name else base, None, None, fromlist, 0)
+            module = real(target, None, None, fromlist, 0)
         except ImportError as e:
             error = e
+            continue
+        names = fromlist if isinstance(fromlist, (tuple, list)) else ()  # (asyncio passes True)
+        if all(_has(real, module, target, item) for item in names):
+            return module
     raise error
+
+
+def _has(real, module, target, item):
+    if item == "*" or hasattr(module, item):
+        return True
+    try:
+        real(target + "." + item, None, None, None, 0)
+    except ImportError:
+        return False
+    return True
 
 
 def _board_import(real, blocked):
@@ -52,7 +83,16 @@ def _board_import(real, blocked):
         for prefix in dotted:
             if name.startswith(prefix):
                 raise ImportError("no module named '%s'" % name)
-        return real(name, globals, locals, fromlist, level)
+        if name in sys.modules:
+            return real(name, globals, locals, fromlist, level)
+        depth = _depth[0]  # (a first import: its relative imports are made in its package)
+        if depth < len(_importing):
+            _importing[depth] = name
+        _depth[0] = depth + 1
+        try:
+            return real(name, globals, locals, fromlist, level)
+        finally:
+            _depth[0] = depth
 
     return board_import
 

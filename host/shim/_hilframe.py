@@ -191,20 +191,22 @@ class Decoder:
                 self.damaged += 1
                 pos = i + 1
                 continue
-            self.pos = pos = end + CRC_LEN
             seq = buf[i + 2]
+            if self.expect_seq >= 0 and seq == (self.expect_seq - 1) & 0xFF:  # the last frame again
+                self.pos = pos = end + CRC_LEN
+                self.duplicates += 1
+                self.duplicate_bytes += end + CRC_LEN - i
+                continue
+            # the payload copied before the decoder moves on: a MemoryError here leaves the
+            # frame to be taken again (the shim's reserve, host/shim/_hil.py)
+            payload = bytes(buf[i + HEADER_LEN : end]) if self._grown else buf[i + HEADER_LEN : end]
+            self.pos = end + CRC_LEN
             if self.expect_seq >= 0 and seq != self.expect_seq:
-                if seq == (self.expect_seq - 1) & 0xFF:  # the last frame again
-                    self.duplicates += 1
-                    self.duplicate_bytes += end + CRC_LEN - i
-                    continue
                 self.seq_gaps += 1
                 self.damaged += 1
             self.frames += 1
             self.expect_seq = (seq + 1) & 0xFF
-            if self._grown:
-                return buf[i + 1], seq, bytes(buf[i + HEADER_LEN : end])
-            return buf[i + 1], seq, buf[i + HEADER_LEN : end]
+            return buf[i + 1], seq, payload
 
     def _crc_ok(self, buf, view, start, end):
         """Whether the four bytes at ``end`` are the CRC-32 of buf[start:end], a long body."""

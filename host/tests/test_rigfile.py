@@ -257,7 +257,7 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     # (the firmware's free heap is its board's: the shim's own is on top, host/rig/firmware.py)
     assert 120 * 1024 < heap <= 136 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
-    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 48K to 1024M, like 192K"):
+    with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M, like 192K"):
         load_rig(bad)
 
 

@@ -380,8 +380,8 @@ def test_a_symlink_out_of_the_firmware_is_outside_it(pico):
 @pytest.mark.parametrize(
     ("size", "ok"),
     [
-        ("48K", True),
-        ("47K", False),
+        ("24K", True),
+        ("23K", False),
         ("192k", True),
         ("2M", True),
         ("0x30000", True),
@@ -397,15 +397,15 @@ def test_heap_size_takes_what_the_unix_port_reads(pico, size, ok):
     if ok:
         assert load_rig(path).heap_size == str(size)
     else:
-        with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 48K to 1024M"):
+        with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M"):
             load_rig(path)
 
 
 def test_the_smallest_heap_a_rig_file_takes_still_starts_the_firmware(make_rig, pico):
-    """The lower bound is real: with 48K of its own the firmware starts and runs (the shim's heap is on top)."""
+    """The lower bound is real: with 24K of its own the firmware starts and runs (the shim's heap is on top)."""
     (pico / "main.py").write_text("print('started')\n")
     path = pico / "rig.toml"
-    path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "48K"'))
+    path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nheap_size = "24K"'))
     rig = make_rig(str(path), allow_exit=True)
     rig.run_for(0.1)
     rig.stop()
