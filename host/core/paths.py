@@ -33,14 +33,51 @@ def user_cache() -> Path:
     return (Path(base) if base and Path(base).is_absolute() else Path.home() / ".cache") / "mpy-fil"
 
 
+PROJECT_MARKERS = (".git", "pyproject.toml")
+"""What makes a folder a user's repository root (the nearest one holding either)."""
+
+
+def project_root(folder: Path) -> Path | None:
+    """The user's repository ``folder`` is in: the nearest folder, ``folder`` itself or one
+    above it, holding a ``.git`` or a ``pyproject.toml``; None when there is none."""
+    folder = Path(folder).resolve()
+    for candidate in (folder, *folder.parents):
+        if any((candidate / marker).exists() for marker in PROJECT_MARKERS):
+            return candidate
+    return None
+
+
+def _firmware_dir(rig_file: Path) -> Path:
+    """The rig file's ``[firmware] dir`` (its own folder when unset or unreadable: the rig
+    file's checks name what is wrong with it, host/rig/rigfile.py)."""
+    import tomllib
+
+    folder = rig_file.parent
+    try:
+        table = tomllib.loads(rig_file.read_text(encoding="utf-8")).get("firmware", {})
+        chosen = table.get("dir", ".") if isinstance(table, dict) else "."
+        return (folder / chosen).resolve() if isinstance(chosen, str) else folder
+    except (OSError, ValueError):
+        return folder
+
+
 def output_root(rig_file: Path | None = None) -> Path:
-    """Where a command writes (``build/`` under it): the project's build folder for our
-    own apps and rigs in a checkout; beside a rig file of the user's (``build/`` in its
-    folder); else the current folder's ``build/``."""
+    """Where a command writes (``build/`` under it), never inside a firmware folder: the
+    project's build folder for our own apps and rigs in a checkout; for a rig file of the
+    user's, ``build/`` at the root of the user's repository (:func:`project_root`: the nearest
+    folder above the rig file with a ``.git`` or a ``pyproject.toml``), else ``build/`` in the
+    rig file's folder when that is not inside its firmware folder, else ``build/`` beside the
+    firmware folder; without a rig file, the current folder's ``build/``. (``build/`` is never
+    put on a board either: host/rig/boardfs.py.)"""
     if rig_file is not None:
-        folder = Path(rig_file).resolve().parent
+        rig_file = Path(rig_file).resolve()
+        folder = rig_file.parent
         if not (CHECKOUT and folder.is_relative_to(REPO)) and not folder.is_relative_to(BUNDLED):
-            return folder / "build"
+            root = project_root(folder)
+            if root is not None:
+                return root / "build"
+            firmware = _firmware_dir(rig_file)
+            return (firmware.parent if folder.is_relative_to(firmware) else folder) / "build"
     return BUILD if CHECKOUT else Path.cwd() / "build"
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
-from host.rig.boardfs import DEFAULT_FLASH_BYTES
+from host.rig.boardfs import DEFAULT_FLASH_BYTES, flash_files, regular_file
 
 # The shim's own modules and state on the heap (measured: 60K resident after a collect, more
 # while it compiles at start-up). On a board the firmware has none of it, so the interpreter
@@ -36,9 +36,6 @@ def heap_bytes(size: str | int) -> int | None:
     return int(number, 0) * scale
 
 
-FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
-
-
 @dataclass
 class Firmware:
     main_dir: Path  # the folder the entry file runs in (the board's /)
@@ -58,7 +55,7 @@ class Firmware:
         """The app's folder (or ``main_dir``), its libraries, the board's pin map and,
         when the app asks for them, the project's drivers."""
         main = Path(main_dir) if main_dir else app.path
-        if not (main / app.entry).is_file():
+        if regular_file(main, app.entry) is None:
             raise ConfigError(f"main_dir: no {app.entry} in {main}")
         folders = app.firmware_folders(board_folder)
         confine = app.extra.get("confine", {})
@@ -78,7 +75,7 @@ class Firmware:
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
         """A flashed board folder: main.py, board.mpy, lib/."""
         folder = Path(folder)
-        if require_main and not (folder / "main.py").is_file():
+        if require_main and regular_file(folder, "main.py") is None:
             raise ConfigError(f"firmware_dir: no main.py in {folder} (flash it first: make flash)")
         return cls(folder, [folder, folder / "lib"])
 
@@ -99,24 +96,19 @@ class Firmware:
 
     def files(self) -> list[tuple[str, Path]]:
         """The files :meth:`identity` hashes, each once, with the label it is hashed under
-        (its place on the path: the folder's index and the path within it): the entry first."""
+        (its place on the path: the folder's index and the path within it): the entry first.
+        What each folder gives is what ``make flash`` puts on a board (:func:`flash_files`:
+        no tests, no ``build/``, no trace folders; a link is refused by name)."""
         found, seen = [], set()
-        entry = (self.main_dir / self.entry).resolve()
-        if entry.is_file():
+        entry = regular_file(self.main_dir, self.entry)
+        if entry is not None:
             found.append((f"entry:{self.entry}", entry))
             seen.add(entry)
         for index, folder in enumerate(self.folders):
-            folder = Path(folder)
-            for path in sorted(folder.rglob("*")) if folder.is_dir() else ():
-                parts = path.relative_to(folder).parts
-                if (
-                    path.suffix in FIRMWARE_SUFFIXES
-                    and not any(p.startswith(".") or p == "__pycache__" for p in parts)
-                    and path.is_file()
-                    and path.resolve() not in seen
-                ):
-                    seen.add(path.resolve())
-                    found.append((f"{index}:{path.relative_to(folder).as_posix()}", path))
+            for rel, path in flash_files(folder)[0]:
+                if path not in seen:
+                    seen.add(path)
+                    found.append((f"{index}:{rel}", path))
         return found
 
     def micropypath(self, shim: bool = True) -> str:

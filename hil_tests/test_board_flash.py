@@ -1,0 +1,119 @@
+"""The board's flash (issue 40): only what ``make flash`` puts on a board goes in the per-run
+copy, counted as littlefs counts it, and nothing the shim leaves reachable holds the host."""
+
+import json
+import os
+
+import pytest
+
+from host.core.errors import ConfigError
+from hil_tests.test_confine import run_firmware
+
+pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_board_flash")]
+
+FLASH_64K = 'flash_size = "64K"'
+
+
+def test_a_sparse_write_past_the_flash_is_refused_and_never_reaches_the_host(tmp_path):
+    said, out = run_firmware(
+        tmp_path,
+        """
+def sparse():
+    with open("sparse.bin", "wb") as f:
+        f.seek(1 << 30)
+        f.write(b"x")
+attempt("sparse", sparse)
+def big():
+    with open("big.bin", "wb") as f:
+        for i in range(20 * 1024):
+            f.write(bytes(1024))
+attempt("big", big)
+st = os.statvfs("/")
+print("FREE", st[0] * st[3], "SIZE", os.stat("big.bin")[6])
+os.remove("big.bin")
+def two_handles():
+    a = open("two.bin", "wb")
+    a.write(bytes(8192))
+    b = open("two.bin", "wb")  # (truncates what a still writes past)
+    for i in range(64):
+        a.write(bytes(1024))
+attempt("two", two_handles)
+def renames():
+    with open("r.bin", "wb") as f:
+        f.write(bytes(8192))
+    for i in range(100):
+        os.rename("r.bin", "r.bin")  # (onto itself: frees nothing)
+    with open("more.bin", "wb") as f:
+        for i in range(64):
+            f.write(bytes(1024))
+os.remove("two.bin")
+attempt("renames", renames)
+""",
+        FLASH_64K,
+    )
+    console = (out / "console.log").read_text()
+    for what in ("sparse", "big", "two", "renames"):
+        assert said[what] == ("REFUSED", "OSError 28"), (what, said)
+    size = int(console.split("SIZE ")[1].split()[0])
+    free = int(console.split("FREE ")[1].split()[0])
+    assert size < 64 * 1024 and free < 4096, console  # (what the flash held, and no more)
+    kept = sum(p.stat().st_size for p in (out / "board_fs").rglob("*") if p.is_file())
+    assert kept <= 64 * 1024, kept
+
+
+def test_empty_files_and_folders_take_the_flashs_metadata_blocks_until_enospc(tmp_path):
+    said, out = run_firmware(
+        tmp_path,
+        """
+print("FREE0", os.statvfs("/")[3])
+n = 0
+def many():
+    global n
+    while n < 30000:
+        open("f%05d" % n, "w").close()
+        n += 1
+attempt("many", many)
+print("FILES", n)
+def dirs():
+    for i in range(1000):
+        os.mkdir("d%d" % i)
+attempt("dirs", dirs)
+st = os.statvfs("/")
+print("STATVFS", st[0], st[2], st[3])
+""",
+        FLASH_64K,
+    )
+    console = (out / "console.log").read_text()
+    files = int(console.split("FILES ")[1].split()[0])
+    free = int(console.split("FREE0 ")[1].split()[0])
+    assert said["many"] == ("REFUSED", "OSError 28"), said
+    # each new pair of 2 blocks holds 2 KiB of entries of 18 bytes (12 of tags, a 6-letter name)
+    per_pair = 2048 // 18
+    assert (free // 2) * per_pair <= files <= (free // 2 + 1) * per_pair, console
+    assert said["dirs"] == ("REFUSED", "OSError 28") and "STATVFS 4096 16 " in console, said
+
+
+def test_a_symlinked_data_file_in_the_firmware_folder_is_refused_by_name(tmp_path):
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    os.symlink("/etc/passwd", fw / "passwd.json")
+    with pytest.raises(ConfigError, match=r"passwd\.json is a symbolic link \(to /etc/passwd\)"):
+        run_firmware(tmp_path, 'print(open("passwd.json").read())\n')
+
+
+def test_tests_build_and_trace_folders_beside_the_firmware_are_not_on_its_flash(tmp_path):
+    fw = tmp_path / "fw"
+    (fw / "build" / "runs" / "old").mkdir(parents=True)
+    (fw / "build" / "runs" / "old" / "header.json").write_text("{}")
+    (fw / "trace1").mkdir()
+    (fw / "trace1" / "trace.jsonl").write_text("")
+    (fw / "trace1" / "data.json").write_text("{}")
+    (fw / "test_main.py").write_text("def test_x():\n    pass\n")
+    (fw / "conftest.py").write_text("")
+    (fw / "config.json").write_text('{"speed": 1}')
+    said, out = run_firmware(tmp_path, 'attempt("ls", lambda: sorted(os.listdir("/")))\n')
+    assert said["ls"] == ("REACHED", repr(["config.json", "lib", "main.py"])), said
+    files = json.loads((out / "manifest.json").read_text())["firmware"]["files"]
+    assert not [name for name in files if "build" in name or "test_" in name or "trace1" in name], files
+    assert "config.json" in files and "main.py" in files
+

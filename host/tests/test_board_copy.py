@@ -1,0 +1,108 @@
+"""What goes on the board (issue 40): one rule for the per-run copy, the manifest and
+``make flash``; the host reads back no more than the flash holds; artefacts never land in
+the firmware folder; the manifest tells the harness's commit from the user's."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from host.core import paths, provenance
+from host.core.errors import ConfigError
+from host.rig.boardfs import BoardFs, flash_files, on_board
+from host.rig.firmware import Firmware
+
+
+def firmware_in(folder: Path, flash_bytes: int = 64 * 1024) -> Firmware:
+    return Firmware(folder, [folder], flash_bytes=flash_bytes)
+
+
+def test_a_file_past_the_flash_is_named_and_never_read_or_copied(tmp_path):
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    (fw / "main.py").write_text("print(1)\n")
+    board = BoardFs(firmware_in(fw))
+    try:
+        with open(board.root / "huge.bin", "wb") as f:  # (as a firmware round the shim could)
+            f.seek(1 << 30)
+            f.write(b"x")
+        (board.root / "log.txt").write_text("hello")
+        os.symlink("/etc/passwd", board.root / "passwd.txt")
+        names = board.keep(tmp_path / "kept")
+    finally:
+        board.remove()
+    assert names == ["log.txt"], names
+    assert sorted(p.name for p in (tmp_path / "kept").iterdir()) == ["log.txt"]
+    assert board.faults == [
+        f"board_fs/huge.bin: {(1 << 30) + 1} bytes, more than the 65536-byte flash holds "
+        "(written round the shim's filesystem): not kept"
+    ], board.faults
+
+
+def test_one_rule_for_the_board_copy_the_manifest_and_make_flash(tmp_path):
+    fw = tmp_path / "fw"
+    (fw / "drivers").mkdir(parents=True)
+    (fw / "build" / "runs").mkdir(parents=True)
+    (fw / "tests").mkdir()
+    (fw / "old_run").mkdir()
+    for name in ("main.py", "drivers/motor.py", "mission.json", "build/runs/x.json", "tests/helper.py"):
+        (fw / name).write_text("x = 1\n")
+    for name in ("test_main.py", "conftest.py", "main_test.py", "old_run/header.json", "old_run/data.json"):
+        (fw / name).write_text("{}\n")
+    files, folders = flash_files(fw)
+    assert [rel for rel, _ in files] == ["drivers/motor.py", "main.py", "mission.json"], files
+    assert folders == ["drivers"], folders
+    firmware = firmware_in(fw)
+    assert sorted(on_board(firmware)) == ["drivers/motor.py", "main.py", "mission.json"]
+    board = BoardFs(firmware)
+    try:
+        copied = sorted(p.relative_to(board.root).as_posix() for p in board.root.rglob("*") if p.is_file())
+    finally:
+        board.remove()
+    assert copied == ["drivers/motor.py", "main.py", "mission.json"], copied
+
+
+@pytest.mark.parametrize("link", ["data.json", "lib", "main.py"])
+def test_a_link_in_the_firmware_folder_is_refused_by_name(tmp_path, link):
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    if link != "main.py":
+        (fw / "main.py").write_text("print(1)\n")
+    target = "/etc" if link == "lib" else "/etc/passwd"
+    os.symlink(target, fw / link)
+    with pytest.raises(ConfigError, match=rf"firmware folder {fw}: {link} is a symbolic link \(to {target}\)"):
+        firmware_in(fw).files()
+
+
+def test_a_users_artefacts_go_to_its_repository_build_never_in_the_firmware_folder(tmp_path):
+    repo = tmp_path / "robot"
+    bot = repo / "firmware" / "bot"
+    bot.mkdir(parents=True)
+    (repo / "pyproject.toml").write_text("[project]\nname = 'robot'\n")
+    (bot / "rig.toml").write_text("[firmware]\n")
+    assert paths.output_root(bot / "rig.toml") == repo / "build"
+    bare = tmp_path / "bare" / "bot"  # (no repository around it: beside the firmware folder)
+    bare.mkdir(parents=True)
+    (bare / "rig.toml").write_text("[firmware]\n")
+    assert paths.output_root(bare / "rig.toml") == tmp_path / "bare" / "build"
+    apart = tmp_path / "apart"  # (a rig file outside its firmware folder: beside the rig file)
+    (apart / "fw").mkdir(parents=True)
+    (apart / "rig.toml").write_text('[firmware]\ndir = "fw"\n')
+    assert paths.output_root(apart / "rig.toml") == apart / "build"
+
+
+def test_the_manifest_names_the_users_commit_apart_from_the_harnesss(tmp_path):
+    repo = tmp_path / "robot"
+    repo.mkdir()
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run([*git, "init", "-q"], check=True)
+    (repo / "rig.toml").write_text("[firmware]\n")
+    subprocess.run([*git, "add", "rig.toml"], check=True)
+    subprocess.run([*git, "commit", "-qm", "first"], check=True)
+    head = subprocess.run([*git, "rev-parse", "HEAD"], capture_output=True, text=True, check=True).stdout.strip()
+    provenance.project_commit.cache_clear()
+    found = provenance.project_commit(repo)
+    assert found == {"root": str(repo), "commit": head}, found
+    assert provenance.commit() != head
+    assert provenance.project_commit(paths.REPO) is None  # (our own checkout: the harness's commit only)
