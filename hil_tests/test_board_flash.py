@@ -6,8 +6,8 @@ import os
 
 import pytest
 
-from host.core.errors import ConfigError
 from hil_tests.test_confine import run_firmware
+from host.core.errors import ConfigError
 
 pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_board_flash")]
 
@@ -117,3 +117,81 @@ def test_tests_build_and_trace_folders_beside_the_firmware_are_not_on_its_flash(
     assert not [name for name in files if "build" in name or "test_" in name or "trace1" in name], files
     assert "config.json" in files and "main.py" in files
 
+
+WALK = """
+import sys, builtins, vfs, machine, time, select
+HOSTISH = ("system", "getenv", "VfsPosix", "putenv", "unsetenv")
+HOST_MODULES = ("ffi", "socket", "usocket", "termios", "_thread")
+seen = {}
+found = []
+def host_handle(value):
+    kind = type(value).__name__
+    if kind == "VfsPosix" or (hasattr(vfs, "VfsPosix") and value is vfs.VfsPosix):
+        return "a VfsPosix"
+    if kind == "module" and getattr(value, "__name__", "") in HOST_MODULES:
+        return "module " + value.__name__
+    for name in HOSTISH:
+        try:
+            if hasattr(value, name) and kind != "str":
+                return "has " + name
+        except Exception:
+            pass
+    if isinstance(value, str) and (value.startswith("{board}") or value.startswith("{repo}")):
+        return "host path " + value[:60]
+    return None
+def walk(value, where, depth):
+    key = id(value)
+    if key in seen or len(seen) > 40000:
+        return
+    seen[key] = 1
+    bad = host_handle(value)
+    if bad:
+        found.append(where + ": " + bad)
+        return
+    if depth > 7 or isinstance(value, (int, float, str, bytes, bool)) or value is None:
+        return
+    if isinstance(value, dict):
+        for k in list(value):
+            walk(value[k], where + "[" + repr(k)[:30] + "]", depth + 1)
+        return
+    if isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            walk(item, where + "[" + str(i) + "]", depth + 1)
+        return
+    try:
+        names = dir(value)
+    except Exception:
+        return
+    for name in names + ["__globals__", "__self__", "__func__", "__dict__", "__class__"]:
+        if name in ("__init__", "__new__") and depth:
+            pass
+        try:
+            item = getattr(value, name)
+        except Exception:
+            continue
+        walk(item, where + "." + name, depth + 1)
+roots = {"sys.modules": sys.modules, "builtins": builtins, "mounts": vfs.mount(), "machine": machine,
+         "time": time, "select": select, "sys": sys}
+for name in roots:
+    walk(roots[name], name, 0)
+for hit in found[:30]:
+    print("HOST", hit)
+print("WALKED", len(seen), "FOUND", len(found))
+"""
+
+
+def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_off(tmp_path, monkeypatch):
+    """Attribute walks over everything reachable from vfs, machine, sys.modules, time,
+    select and builtins (functions' __globals__ too) meet no VfsPosix, no host os or host
+    module and no host path of the board's copy or the shim."""
+    monkeypatch.setenv("MPY_FIL_SANDBOX", "off")
+    import tempfile
+
+    from host.core.paths import REPO
+    from host.rig.boardfs import PREFIX
+
+    board = os.path.join(tempfile.gettempdir(), PREFIX)
+    said, out = run_firmware(tmp_path, WALK.replace("{board}", board).replace("{repo}", str(REPO)))
+    console = (out / "console.log").read_text()
+    hits = [line for line in console.splitlines() if " HOST " in line]
+    assert "WALKED" in console and not hits, "\n".join(hits[:30])

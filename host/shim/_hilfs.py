@@ -87,7 +87,7 @@ def mount(root, flash_bytes, shim_dir):
     os.chdir("/")
 
 
-def _board(host, root, shim, flash_bytes):
+def _board(host, root, shim, flash_bytes):  # noqa: C901  (its closures hold the host: one scope by design)
     total = flash_bytes // _BLOCK
     cwd = ["/"]
     meta = {}  # board folder ("" is /) -> bytes of its entries
