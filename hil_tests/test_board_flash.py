@@ -107,15 +107,18 @@ def test_tests_build_and_trace_folders_beside_the_firmware_are_not_on_its_flash(
     (fw / "build" / "runs" / "old" / "header.json").write_text("{}")
     (fw / "trace1").mkdir()
     (fw / "trace1" / "trace.jsonl").write_text("")
+    (fw / "trace1" / "console.log").write_text("")
+    (fw / "assets").mkdir()
+    (fw / "assets" / "manifest.json").write_text("{}")  # (one alone: the firmware's own data)
     (fw / "trace1" / "data.json").write_text("{}")
     (fw / "test_main.py").write_text("def test_x():\n    pass\n")
     (fw / "conftest.py").write_text("")
     (fw / "config.json").write_text('{"speed": 1}')
     said, out = run_firmware(tmp_path, 'attempt("ls", lambda: sorted(os.listdir("/")))\n')
-    assert said["ls"] == ("REACHED", repr(["config.json", "lib", "main.py"])), said
+    assert said["ls"] == ("REACHED", repr(["assets", "config.json", "lib", "main.py"])), said
     files = json.loads((out / "manifest.json").read_text())["firmware"]["files"]
     assert not [name for name in files if "build" in name or "test_" in name or "trace1" in name], files
-    assert "config.json" in files and "main.py" in files
+    assert "config.json" in files and "main.py" in files and "assets/manifest.json" in files
 
 
 WALK = """

@@ -108,8 +108,9 @@ FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
 """The files a board's flash gets: code (source or compiled) and JSON data."""
 NOT_FIRMWARE_FOLDERS = ("build", "__pycache__", "tests", "test", "venv", "node_modules")
 """Folders ``make flash`` never puts on a board (and hidden ones, and trace folders)."""
-TRACE_FILES = ("header.json", "trace.jsonl", "manifest.json")
-"""A folder holding one of these is a run's trace folder (docs/traces.md), not firmware."""
+TRACE_FILES = ("header.json", "trace.jsonl", "manifest.json", "console.log")
+"""A folder holding two of these is a run's trace folder (docs/traces.md), not firmware (one
+alone may be the firmware's own data: a ``manifest.json`` of its assets)."""
 
 
 def is_test_file(name: str) -> bool:
@@ -121,7 +122,7 @@ def _skipped_folder(path: Path) -> bool:
     name = path.name
     if name.startswith(".") or name in NOT_FIRMWARE_FOLDERS:
         return True
-    return any((path / marker).exists() or (path / marker).is_symlink() for marker in TRACE_FILES)
+    return sum((path / marker).exists() or (path / marker).is_symlink() for marker in TRACE_FILES) >= 2
 
 
 def _takes(name: str) -> bool:
@@ -143,7 +144,8 @@ def flash_files(folder: Path) -> tuple[list[tuple[str, Path]], list[str]]:
     per-run board copy, the manifest and ``make flash`` (host/device/flash.py): every
     ``.py``, ``.mpy`` and ``.json`` file inside it, subfolders too, except hidden ones,
     pytest's files (``test_*.py``, ``conftest.py``), ``build/``, ``tests/``, ``__pycache__``
-    and trace folders (a folder with a ``header.json``, ``trace.jsonl`` or ``manifest.json``).
+    and trace folders (a folder with two of ``header.json``, ``trace.jsonl``, ``manifest.json``
+    and ``console.log``).
     A link (to a file or a folder) or a special file where such a file would be taken is
     refused by name (ConfigError), never followed. Returns ([(path in the folder, file)], [its
     subfolders, empty ones too]), sorted."""

@@ -174,16 +174,19 @@ def _board(host, root, shim, flash_bytes):  # noqa: C901  (its closures hold the
 
         def write(self, buf):
             f, board, append = opened(self._key)
-            old = size_of(path_of("/" + board)) or 0
+            host_path = path_of("/" + board)
+            old = size_of(host_path) or 0
             end = (old if append else f.tell()) + len(buf)
-            if end > old:
-                resize(board, old, end)
+            if end > old and len(buf):
+                resize(board, old, end)  # (ENOSPC here: nothing written)
+            else:
+                end = old
             try:
                 return f.write(buf)
-            except OSError:
-                if end > old:
-                    resize(board, end, old)
-                raise
+            finally:
+                now = size_of(host_path) or 0
+                if now != end:  # (a short or failed write: the count follows the file)
+                    resize(board, end, now)
 
         def read(self, *n):
             return opened(self._key)[0].read(*n)
@@ -292,17 +295,32 @@ def _board(host, root, shim, flash_bytes):  # noqa: C901  (its closures hold the
                     raise
                 resize(old_board, size, None)
                 return
-            host.rename(old_host, new_host)
-            if size is None and old_board != new_board:  # a folder: its entries move with it
-                moved = {}
-                for folder in list(meta):
-                    if folder == old_board or folder.startswith(old_board + "/"):
-                        moved[new_board + folder[len(old_board) :]] = meta.pop(folder)
-                meta.update(moved)
-                parent, name = split(old_board)
-                meta[parent] -= entry_bytes(name)
-                parent, name = split(new_board)
-                meta[parent] = meta.get(parent, 0) + entry_bytes(name)
+            if old_board == new_board:
+                host.rename(old_host, new_host)  # (onto itself: nothing moves, nothing is freed)
+                return
+            # a folder: its entry moves to the new parent (first: ENOSPC leaves all as it was)
+            old_parent, old_name = split(old_board)
+            new_parent, new_name = split(new_board)
+            try:
+                replaced = host.stat(new_host)[0] & _DIR  # (an empty folder there goes)
+            except OSError:
+                replaced = 0
+            if not replaced:
+                change(new_parent, entry_bytes(new_name), 0)
+            try:
+                host.rename(old_host, new_host)
+            except OSError:
+                if not replaced:
+                    change(new_parent, -entry_bytes(new_name), 0)
+                raise
+            change(old_parent, -entry_bytes(old_name), 0)
+            if replaced:
+                used[0] -= pair_blocks(meta.pop(new_board, 0))
+            moved = {}
+            for folder in list(meta):
+                if folder == old_board or folder.startswith(old_board + "/"):
+                    moved[new_board + folder[len(old_board) :]] = meta.pop(folder)
+            meta.update(moved)
 
         def mkdir(self, path):
             board, host_path = writable(path)

@@ -48,7 +48,7 @@ def test_one_rule_for_the_board_copy_the_manifest_and_make_flash(tmp_path):
     (fw / "old_run").mkdir()
     for name in ("main.py", "drivers/motor.py", "mission.json", "build/runs/x.json", "tests/helper.py"):
         (fw / name).write_text("x = 1\n")
-    for name in ("test_main.py", "conftest.py", "main_test.py", "old_run/header.json", "old_run/data.json"):
+    for name in ("test_main.py", "conftest.py", "main_test.py", "old_run/header.json", "old_run/manifest.json"):
         (fw / name).write_text("{}\n")
     files, folders = flash_files(fw)
     assert [rel for rel, _ in files] == ["drivers/motor.py", "main.py", "mission.json"], files
@@ -106,3 +106,65 @@ def test_the_manifest_names_the_users_commit_apart_from_the_harnesss(tmp_path):
     assert found == {"root": str(repo), "commit": head}, found
     assert provenance.commit() != head
     assert provenance.project_commit(paths.REPO) is None  # (our own checkout: the harness's commit only)
+
+
+class PosixHost:
+    """The unix port's VfsPosix as _hilfs uses it, for CPython."""
+
+    def stat(self, path):
+        return tuple(os.stat(path))
+
+    def ilistdir(self, path):
+        return [(e.name, 0x4000 if e.is_dir() else 0x8000, 0) for e in os.scandir(path)]
+
+    def open(self, path, mode):
+        return open(path, mode, buffering=0)  # (VfsPosix's files write through, unbuffered)
+
+    remove, rename, mkdir, rmdir = (staticmethod(f) for f in (os.remove, os.rename, os.mkdir, os.rmdir))
+
+
+@pytest.mark.parametrize("seed", [7, 8, 9])
+def test_the_flashs_count_after_any_changes_is_what_a_fresh_count_of_its_files_gives(tmp_path, seed):
+    import random
+
+    from host.shim import _hilfs
+
+    root = tmp_path / "flash"
+    root.mkdir()
+    board = _hilfs._board(PosixHost(), str(root), str(tmp_path / "shim"), 64 * 1024)
+    rng = random.Random(seed)
+    names = ["a", "b", "d/c", "d/e", "d", "x/y", "x"]
+    refused = 0
+    for _ in range(400):
+        name = rng.choice(names)
+        op = rng.choice(["write", "write", "append", "sparse", "remove", "rename", "mkdir", "rmdir"])
+        try:
+            if op in ("write", "append", "sparse"):
+                with board.open(name, "ab" if op == "append" else "wb") as f:
+                    if op == "sparse":
+                        f.seek(rng.choice([100, 5000, 70000]))
+                    f.write(bytes(rng.choice([0, 10, 128, 129, 4000, 9000, 30000])))
+            elif op == "remove":
+                board.remove(name)
+            elif op == "rename":
+                board.rename(name, rng.choice(names))
+            elif op == "mkdir":
+                board.mkdir(name)
+            else:
+                board.rmdir(name)
+        except OSError as e:
+            refused += e.errno == 28 or e.args[:1] == (28,)
+        fresh = _hilfs._board(PosixHost(), str(root), str(tmp_path / "shim"), 64 * 1024)
+        assert board.statvfs("/") == fresh.statvfs("/"), (op, name, sorted(p.name for p in root.rglob("*")))
+        held = sum(p.stat().st_size for p in root.rglob("*") if p.is_file())
+        assert held <= 64 * 1024, held
+    assert refused, "expected the 64K flash to fill at least once"
+
+
+def test_the_flashs_blocks_are_littlefss():
+    from host.shim._hilfs import data_blocks, entry_bytes, pair_blocks
+
+    assert [data_blocks(n) for n in (0, 128, 129, 4096, 4097, 8188, 8189)] == [0, 0, 1, 1, 2, 2, 3]
+    # (block 0 holds 4096 bytes, block 1 4092: 1 pointer, block 2 4088: 2 pointers; lfs_ctz_index)
+    assert data_blocks(1 << 20) == 257 and entry_bytes("log.txt", 5) == 24 and entry_bytes("lib") == 23
+    assert [pair_blocks(b) for b in (0, 2048, 2049)] == [2, 2, 4]
