@@ -47,37 +47,19 @@ def project_root(folder: Path) -> Path | None:
     return None
 
 
-def _firmware_dir(rig_file: Path) -> Path:
-    """The rig file's ``[firmware] dir`` (its own folder when unset or unreadable: the rig
-    file's checks name what is wrong with it, host/rig/rigfile.py)."""
-    import tomllib
-
-    folder = rig_file.parent
-    try:
-        table = tomllib.loads(rig_file.read_text(encoding="utf-8")).get("firmware", {})
-        chosen = table.get("dir", ".") if isinstance(table, dict) else "."
-        return (folder / chosen).resolve() if isinstance(chosen, str) else folder
-    except (OSError, ValueError):
-        return folder
-
-
 def output_root(rig_file: Path | None = None) -> Path:
-    """Where a command writes (``build/`` under it), never inside a firmware folder: the
-    project's build folder for our own apps and rigs in a checkout; for a rig file of the
-    user's, ``build/`` at the root of the user's repository (:func:`project_root`: the nearest
-    folder above the rig file with a ``.git`` or a ``pyproject.toml``), else ``build/`` in the
-    rig file's folder when that is not inside its firmware folder, else ``build/`` beside the
-    firmware folder; without a rig file, the current folder's ``build/``. (``build/`` is never
-    put on a board either: host/rig/boardfs.py.)"""
+    """Where a command writes (``build/`` under it): the project's build folder for our own
+    apps and rigs in a checkout; for a rig file of the user's, ``build/`` at the root of the
+    user's repository (:func:`project_root`: the nearest folder above the rig file with a
+    ``.git`` or a ``pyproject.toml``; the rig file's folder when there is none), so never in
+    a firmware folder of its own (``firmware/bot/build/``); where the firmware folder is the
+    repository's root itself, ``build/`` is there and never put on the board
+    (host/rig/boardfs.py, :func:`flash_files`). Without a rig file, the current folder's
+    ``build/``."""
     if rig_file is not None:
-        rig_file = Path(rig_file).resolve()
-        folder = rig_file.parent
+        folder = Path(rig_file).resolve().parent
         if not (CHECKOUT and folder.is_relative_to(REPO)) and not folder.is_relative_to(BUNDLED):
-            root = project_root(folder)
-            if root is not None:
-                return root / "build"
-            firmware = _firmware_dir(rig_file)
-            return (firmware.parent if folder.is_relative_to(firmware) else folder) / "build"
+            return (project_root(folder) or folder) / "build"
     return BUILD if CHECKOUT else Path.cwd() / "build"
 
 

@@ -62,7 +62,7 @@ def pytest_args(args) -> tuple[list[str], Path]:
         report = REPO / "build" / "hil" / "report.html"
         return [*common, "-m", marks, "--hil-table", "--hil-report", str(report), "hil_tests"], REPO
     rig = rig_file(args.rig)
-    build = output_root(rig)  # (the user's repository's build/, never in the firmware folder)
+    build = output_root(rig)  # (build/ at the root of the user's repository)
     report = build / "hil" / "report.html"
     if rig.is_relative_to(REPO):  # (one of ours, examples/pico_bot: the project's build/, its report apart)
         build = REPO / "build"

@@ -12,7 +12,7 @@ run a failed test again (docs/rig-file.md, "Tests beside a rig").
   ``[report.judge]`` (what ``make hil RIG=…`` runs when no test is beside the rig).
 - **Where a run writes**: a rig made from a rig file outside this repository writes under
   ``build/hil/`` at the root of the user's repository (``host.core.paths.output_root``:
-  never inside the firmware folder); a test outside the repository, under its
+  not in a firmware folder of its own); a test outside the repository, under its
   repository's ``build/hil/`` (beside itself when it is in none); ours
   under the repository's ``build/hil/``; ``--hil-out DIR`` puts them all under DIR.
 - **make_rig("rig.toml")** resolves a relative rig path against the calling test file's

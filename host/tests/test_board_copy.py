@@ -82,14 +82,10 @@ def test_a_users_artefacts_go_to_its_repository_build_never_in_the_firmware_fold
     (repo / "pyproject.toml").write_text("[project]\nname = 'robot'\n")
     (bot / "rig.toml").write_text("[firmware]\n")
     assert paths.output_root(bot / "rig.toml") == repo / "build"
-    bare = tmp_path / "bare" / "bot"  # (no repository around it: beside the firmware folder)
-    bare.mkdir(parents=True)
-    (bare / "rig.toml").write_text("[firmware]\n")
-    assert paths.output_root(bare / "rig.toml") == tmp_path / "bare" / "build"
-    apart = tmp_path / "apart"  # (a rig file outside its firmware folder: beside the rig file)
-    (apart / "fw").mkdir(parents=True)
-    (apart / "rig.toml").write_text('[firmware]\ndir = "fw"\n')
-    assert paths.output_root(apart / "rig.toml") == apart / "build"
+    alone = tmp_path / "alone"  # (no repository around it: the rig file's folder is its root)
+    alone.mkdir()
+    (alone / "rig.toml").write_text("[firmware]\n")
+    assert paths.output_root(alone / "rig.toml") == alone / "build"
 
 
 def test_the_manifest_names_the_users_commit_apart_from_the_harnesss(tmp_path):

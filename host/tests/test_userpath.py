@@ -100,11 +100,10 @@ def test_make_hil_rig_runs_only_the_tests_beside_the_rig_and_writes_only_beside_
     out = done.stdout + done.stderr
     assert done.returncode == 0 and "1 passed" in done.stdout, out[-3000:]
     assert "not_mine" not in out and "below" not in out and "pin_test" not in out, out[-3000:]
-    build = parent / "build"  # (no repository around it: beside the firmware folder, never in it)
-    assert (build / "hil" / "report.html").is_file()
-    assert (build / "hil" / "test_mybot" / "test_mybot_says_press_start" / "rig0").is_dir()
+    assert (bot / "build" / "hil" / "report.html").is_file()
+    assert (bot / "build" / "hil" / "test_mybot" / "test_mybot_says_press_start" / "rig0").is_dir()
     new = everything_under(parent) - before
-    assert all(p.startswith("build/") or p == "build" or "__pycache__" in p for p in new), sorted(new)[:10]
+    assert all(p.startswith("mybot/build/") or p == "mybot/build" for p in new), sorted(new)[:10]
     assert not [p for p in new if "__pycache__" in p and not p.startswith("mybot/")], new
 
 
