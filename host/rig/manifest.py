@@ -38,7 +38,8 @@ from host.rig.spec import fault_schedule
 
 FILE = MANIFEST
 VERSION = 1
-IGNORED = ("interpreter.path", "harness.commit_time", "project.root")  # (where a checkout lives is not what ran)
+IGNORED = ("interpreter.path", "harness.commit_time")  # (where a checkout lives is not what ran)
+IGNORED_SECTIONS = ("project",)  # (the user's commit: the firmware's files are hashed one by one)
 
 
 def _sha256(path: Path) -> str:
@@ -235,7 +236,11 @@ def differences(recorded: dict, now: dict) -> list[str]:
     if "error" in recorded:
         return [f"the recorded manifest: {recorded['error']}"]
     a, b = _flat(recorded), _flat(now)
-    changed = [k for k in sorted(set(a) | set(b)) if k not in IGNORED and a.get(k, _MISSING) != b.get(k, _MISSING)]
+    changed = [
+        k
+        for k in sorted(set(a) | set(b))
+        if k not in IGNORED and k.split(".", 1)[0] not in IGNORED_SECTIONS and a.get(k, _MISSING) != b.get(k, _MISSING)
+    ]
     lines = []
     for key in changed:
         section = key.split(".", 1)[0]

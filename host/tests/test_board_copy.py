@@ -164,3 +164,12 @@ def test_the_flashs_blocks_are_littlefss():
     # (block 0 holds 4096 bytes, block 1 4092: 1 pointer, block 2 4088: 2 pointers; lfs_ctz_index)
     assert data_blocks(1 << 20) == 257 and entry_bytes("log.txt", 5) == 24 and entry_bytes("lib") == 23
     assert [pair_blocks(b) for b in (0, 2048, 2049)] == [2, 2, 4]
+
+
+def test_a_replay_is_not_refused_for_the_users_commit_alone():
+    from host.rig.manifest import differences
+
+    recorded = {"firmware": {"sha256": "a"}, "harness": {"commit": "h"}}
+    now = {"firmware": {"sha256": "a"}, "harness": {"commit": "h"}, "project": {"root": "/r", "commit": "c"}}
+    assert differences(recorded, now) == []
+    assert differences({**recorded, "project": {"root": "/r", "commit": "b"}}, now) == []
