@@ -183,6 +183,26 @@ print("WALKED", len(seen), "FOUND", len(found))
 """
 
 
+def test_open_takes_a_path_never_a_host_file_descriptor_as_on_a_board(tmp_path, monkeypatch):
+    monkeypatch.setenv("MPY_FIL_SANDBOX", "off")
+    said, _ = run_firmware(
+        tmp_path,
+        """
+import io
+import _hilboot
+for fd in range(0, 12):
+    attempt("open%d" % fd, lambda: open(fd, "rb"))
+attempt("io", lambda: io.open(3, "rb"))
+attempt("shim_io", lambda: _hilboot.io.open(3, "rb"))
+attempt("path", lambda: open("main.py").read(6))
+""",
+    )
+    refused = ("REFUSED", "TypeError can't convert 'int' object to str implicitly")
+    for what in [f"open{fd}" for fd in range(12)] + ["io", "shim_io"]:
+        assert said[what] == refused, (what, said)
+    assert said["path"][0] == "REACHED", said
+
+
 def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_off(tmp_path, monkeypatch):
     """Attribute walks over everything reachable from vfs, machine, sys.modules, time,
     select and builtins (functions' __globals__ too) meet no VfsPosix, no host os or host
