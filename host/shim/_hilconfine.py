@@ -113,8 +113,9 @@ def _builtin(name):
 def _scrub(allowed, blocked, shim_dir, board_vfs, real_io, board_io):
     """No host handle stays on the shim's own modules (docs/security.md, "The shim's objects
     hold no host handle"): a module global that is the unix port's os, vfs or io becomes a
-    copy without the host's names (io's open takes no file descriptor), a host module (ffi, socket, ...) goes, and a module's
-    __file__ names its board path (/_hil/...), not the host's."""
+    copy without the host's names (io's open takes no file descriptor), a host module (ffi,
+    socket, ...) goes, and a module's __file__ names its board path (/_hil/...), not the
+    host's."""
     real_os, real_vfs = _builtin("os"), _builtin("vfs")
     safe_os = _without(real_os, tuple(n for n in OS_HOST_NAMES if "os." + n not in allowed))
     host = [sys.modules[m] for m in blocked if m in sys.modules]
