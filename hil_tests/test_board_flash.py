@@ -38,6 +38,10 @@ def two_handles():
     for i in range(64):
         a.write(bytes(1024))
 attempt("two", two_handles)
+def round_the_count():
+    f = open("round.bin", "wb")
+    return f._op("attr", f._key, "write")
+attempt("round", round_the_count)
 def renames():
     with open("r.bin", "wb") as f:
         f.write(bytes(8192))
@@ -54,6 +58,7 @@ attempt("renames", renames)
     console = (out / "console.log").read_text()
     for what in ("sparse", "big", "two", "renames"):
         assert said[what] == ("REFUSED", "OSError 28"), (what, said)
+    assert said["round"] == ("REFUSED", "AttributeError write"), said
     size = int(console.split("SIZE ")[1].split()[0])
     free = int(console.split("FREE ")[1].split()[0])
     assert size < 64 * 1024 and free < 4096, console  # (what the flash held, and no more)

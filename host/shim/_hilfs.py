@@ -23,8 +23,10 @@
 #   made; os.statvfs gives the tuple of vfs_lfsx.c's statvfs with the same blocks.
 #
 # Nothing reachable from the firmware holds the host: the interpreter's VfsPosix, the
-# copy's host path and the open host files live in the closures of `mount` (MicroPython
-# has no __closure__), never in an attribute, a global or a mounted object's field.
+# copy's host path, the count and the open host files live in the closure of _board's op
+# (MicroPython has no __closure__), never in an attribute or a global; the mounted object
+# and its files hold only that op, which does what a board's VFS does and no more (an open
+# file gives its read methods, never its host file's write).
 _ENOSPC, _EROFS, _ENOTDIR, _EBADF = 28, 30, 20, 9  # (MicroPython's errno names few of them)
 
 _BLOCK = 4096  # a board filesystem's block (littlefs on 4 KiB flash sectors)
@@ -35,6 +37,7 @@ _ROOT = _TAG + 8 + 24  # the superblock's entry in the root pair ("littlefs", it
 _DIR = 0x4000
 _FILE = 0x8000
 SHIM = "_hil"  # where the shim's folder is seen
+_READS = ("read", "readinto", "readline", "readlines", "seek", "tell", "flush")
 
 
 def _popc(n):
@@ -87,262 +90,300 @@ def mount(root, flash_bytes, shim_dir):
     os.chdir("/")
 
 
-def _board(host, root, shim, flash_bytes):  # noqa: C901  (its closures hold the host: one scope by design)
-    total = flash_bytes // _BLOCK
-    cwd = ["/"]
-    meta = {}  # board folder ("" is /) -> bytes of its entries
-    used = [0]  # blocks in use
-    handles = {}  # an open file's key -> [host file, board path, append]
-    serial = [0]
+# The count's state, [meta, used, total]: meta maps a board folder ("" is /) to the bytes of
+# its entries, used and total are blocks. It lives in _board's closures only; these
+# functions are handed it (and the host, when they need it), never keep it.
 
-    def path_of(path):
-        parts = _parts(path, cwd[0])
-        if parts and parts[0] == SHIM:
-            return "/".join([shim] + parts[1:])
-        return "/".join([root] + parts) or "/"
 
-    def writable(path):
-        # (the board path and the host path) of a path the firmware may write
-        parts = _parts(path, cwd[0])
-        if parts and parts[0] == SHIM:
+def _split(board):
+    folder, _, name = board.rpartition("/")
+    return folder, name
+
+
+def _change(st, folder, dmeta, ddata, new_folder=None):
+    # take (or give back) dmeta bytes of folder's metadata and ddata blocks; ENOSPC, nothing
+    # changed, when the flash has not the blocks
+    meta = st[0]
+    before = meta.get(folder, 0)
+    after = before + dmeta
+    grow = pair_blocks(after) - pair_blocks(before) + ddata
+    if new_folder is not None:
+        grow += pair_blocks(0)
+    if grow > 0 and grow > st[2] - st[1]:
+        raise OSError(_ENOSPC)
+    meta[folder] = after
+    if new_folder is not None:
+        meta[new_folder] = 0
+    st[1] += grow
+
+
+def _resize(st, board, old, new):
+    # a file's size from old (None: new) to new (None: gone)
+    folder, name = _split(board)
+    was = entry_bytes(name, old) if old is not None else 0
+    now = entry_bytes(name, new) if new is not None else 0
+    blocks = (data_blocks(new) if new is not None else 0) - (data_blocks(old) if old is not None else 0)
+    _change(st, folder, now - was, blocks)
+
+
+def _size(host, host_path):
+    try:
+        st = host.stat(host_path)
+    except OSError:
+        return None
+    return st[6] if st[0] & _FILE else None
+
+
+def _count(host, root, st, board):
+    host_folder = "/".join([root] + ([board] if board else []))
+    meta = st[0]
+    meta[board] = _ROOT if not board else 0
+    for entry in host.ilistdir(host_folder):
+        name = entry[0]
+        if entry[1] == _DIR:
+            meta[board] += entry_bytes(name)
+            _count(host, root, st, board + "/" + name if board else name)
+        else:
+            size = host.stat(host_folder + "/" + name)[6]
+            meta[board] += entry_bytes(name, size)
+            st[1] += data_blocks(size)
+    st[1] += pair_blocks(meta[board])
+
+
+def _host_path(root, shim, cwd, path, write=False):
+    # (the board path, the host path) of a path the firmware names
+    parts = _parts(path, cwd)
+    if parts and parts[0] == SHIM:
+        if write:
             raise OSError(_EROFS)
-        if not parts:
-            raise OSError(_EROFS)  # (/ itself)
-        return "/".join(parts), "/".join([root] + parts)
+        return None, "/".join([shim] + parts[1:])
+    if write and not parts:
+        raise OSError(_EROFS)  # (/ itself)
+    return "/".join(parts), "/".join([root] + parts) or "/"
 
-    def split(board):
-        folder, _, name = board.rpartition("/")
-        return folder, name
 
-    def size_of(host_path):
+class _File:
+    # a file open for writing: a write that grows it takes the flash's blocks first. It holds
+    # its key and the board's op (what the firmware may do anyway), never the host file.
+    def __init__(self, op, key):
+        self._op, self._key = op, key
+
+    def write(self, buf):
+        return self._op("write", self._key, buf)
+
+    def __getattr__(self, name):  # read, readinto, readline, readlines, seek, tell, flush
+        if name in _READS:
+            return self._op("attr", self._key, name)  # (a bound method: no __self__ in MicroPython)
+        raise AttributeError(name)
+
+    def close(self):
+        self._op("close", self._key)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __iter__(self):
+        return self
+
+    def __next__(self):
+        line = self._op("attr", self._key, "readline")()
+        if not line:
+            raise StopIteration
+        return line
+
+
+class _Board:
+    # the board's flash as MicroPython's VFS calls it: each method is one of the op's
+    def __init__(self, op):
+        self._op = op
+
+    def mount(self, readonly, mkfs):
+        pass
+
+    def umount(self):
+        pass
+
+    def chdir(self, path):
+        self._op("chdir", path)
+
+    def getcwd(self):
+        return self._op("getcwd")
+
+    def ilistdir(self, path):
+        return self._op("ilistdir", path)
+
+    def stat(self, path):
+        return self._op("stat", path)
+
+    def open(self, path, mode):
+        return self._op("open", path, mode)
+
+    def remove(self, path):
+        self._op("remove", path)
+
+    def rename(self, old, new):
+        self._op("rename", old, new)
+
+    def mkdir(self, path):
+        self._op("mkdir", path)
+
+    def rmdir(self, path):
+        self._op("rmdir", path)
+
+    def statvfs(self, path):
+        # (extmod/vfs_lfsx.c statvfs: bsize, frsize, blocks, bfree, bavail, 0, 0, 0, 0, namemax)
+        return self._op("statvfs")
+
+
+def _write(host, st, f, board, append, host_path, buf):
+    old = _size(host, host_path) or 0
+    end = (old if append else f.tell()) + len(buf)
+    if end > old and len(buf):
+        _resize(st, board, old, end)  # (ENOSPC here: nothing written)
+    else:
+        end = old
+    try:
+        return f.write(buf)
+    finally:
+        now = _size(host, host_path) or 0
+        if now != end:  # (a short or failed write: the count follows the file)
+            _resize(st, board, end, now)
+
+
+def _open(host, st, board, host_path, mode):
+    size = _size(host, host_path)
+    if size is None:
+        _resize(st, board, None, 0)  # (a new entry in its folder's metadata)
         try:
-            st = host.stat(host_path)
+            return host.open(host_path, mode)
         except OSError:
-            return None
-        return st[6] if st[0] & _FILE else None
+            _resize(st, board, 0, None)
+            raise
+    f = host.open(host_path, mode)
+    if "w" in mode and size:
+        _resize(st, board, size, 0)  # truncated
+    return f
 
-    def change(folder, dmeta, ddata, new_folder=None):
-        """Take (or give back) ``dmeta`` bytes of ``folder``'s metadata and ``ddata`` blocks;
-        ENOSPC, nothing changed, when the flash has not the blocks."""
-        before = meta.get(folder, 0)
-        after = before + dmeta
-        grow = pair_blocks(after) - pair_blocks(before) + ddata
-        if new_folder is not None:
-            grow += pair_blocks(0)
-        if grow > 0 and grow > total - used[0]:
-            raise OSError(_ENOSPC)
-        meta[folder] = after
-        if new_folder is not None:
-            meta[new_folder] = 0
-        used[0] += grow
 
-    def resize(board, old, new):
-        """A file's size from ``old`` (None: new) to ``new`` (None: gone)."""
-        folder, name = split(board)
-        was = entry_bytes(name, old) if old is not None else 0
-        now = entry_bytes(name, new) if new is not None else 0
-        blocks = (data_blocks(new) if new is not None else 0) - (data_blocks(old) if old is not None else 0)
-        change(folder, now - was, blocks)
+def _rename(host, st, old_board, old_host, new_board, new_host):
+    size = _size(host, old_host)
+    target = _size(host, new_host)
+    if size is not None and old_board != new_board:
+        # the new entry (over the replaced file's) first: ENOSPC leaves all as it was
+        _resize(st, new_board, target, size)
+        try:
+            host.rename(old_host, new_host)
+        except OSError:
+            _resize(st, new_board, size, target)
+            raise
+        _resize(st, old_board, size, None)
+        return
+    if old_board == new_board:
+        host.rename(old_host, new_host)  # (onto itself: nothing moves, nothing is freed)
+        return
+    # a folder: its entry moves to the new parent (first: ENOSPC leaves all as it was)
+    old_parent, old_name = _split(old_board)
+    new_parent, new_name = _split(new_board)
+    try:
+        replaced = host.stat(new_host)[0] & _DIR  # (an empty folder there goes)
+    except OSError:
+        replaced = 0
+    if not replaced:
+        _change(st, new_parent, entry_bytes(new_name), 0)
+    try:
+        host.rename(old_host, new_host)
+    except OSError:
+        if not replaced:
+            _change(st, new_parent, -entry_bytes(new_name), 0)
+        raise
+    _change(st, old_parent, -entry_bytes(old_name), 0)
+    meta = st[0]
+    if replaced:
+        st[1] -= pair_blocks(meta.pop(new_board, 0))
+    moved = {}
+    for folder in list(meta):
+        if folder == old_board or folder.startswith(old_board + "/"):
+            moved[new_board + folder[len(old_board) :]] = meta.pop(folder)
+    meta.update(moved)
 
-    def count(board):
-        host_folder = "/".join([root] + ([board] if board else []))
-        meta[board] = _ROOT if not board else 0
-        for entry in host.ilistdir(host_folder):
-            name = entry[0]
-            inner = board + "/" + name if board else name
-            if entry[1] == _DIR:
-                meta[board] += entry_bytes(name)
-                count(inner)
-            else:
-                size = host.stat(host_folder + "/" + name)[6]
-                meta[board] += entry_bytes(name, size)
-                used[0] += data_blocks(size)
-        used[0] += pair_blocks(meta[board])
 
-    count("")
+def _mkdir(host, st, board, host_path):
+    folder, name = _split(board)
+    _change(st, folder, entry_bytes(name), 0, new_folder=board)
+    try:
+        host.mkdir(host_path)
+    except OSError:
+        st[0].pop(board, None)
+        _change(st, folder, -entry_bytes(name), -pair_blocks(0))
+        raise
 
-    def opened(key):
-        found = handles.get(key)
-        if found is None:
-            raise OSError(_EBADF)
-        return found
 
-    class File:
-        # a file open for writing: a write that grows it takes the flash's blocks first
-        def __init__(self, key):
-            self._key = key
+def _rmdir(host, st, board, host_path):
+    host.rmdir(host_path)
+    folder, name = _split(board)
+    _change(st, folder, -entry_bytes(name), -pair_blocks(st[0].pop(board, 0)))
 
-        def write(self, buf):
-            f, board, append = opened(self._key)
-            host_path = path_of("/" + board)
-            old = size_of(host_path) or 0
-            end = (old if append else f.tell()) + len(buf)
-            if end > old and len(buf):
-                resize(board, old, end)  # (ENOSPC here: nothing written)
-            else:
-                end = old
-            try:
-                return f.write(buf)
-            finally:
-                now = size_of(host_path) or 0
-                if now != end:  # (a short or failed write: the count follows the file)
-                    resize(board, end, now)
 
-        def read(self, *n):
-            return opened(self._key)[0].read(*n)
+def _board(host, root, shim, flash_bytes):  # noqa: C901  (one closure: the host in no attribute)
+    """The mounted object: the host, the copy's path, the count and the open host files are
+    in the closure of its one op, which only does what a board's VFS does."""
+    st = [{}, 0, flash_bytes // _BLOCK]  # (the count: see above)
+    cwd = ["/"]
+    handles = {}  # an open file's key -> [host file, board path, append]
+    _count(host, root, st, "")
 
-        def readinto(self, *buf):
-            return opened(self._key)[0].readinto(*buf)
-
-        def readline(self, *n):
-            return opened(self._key)[0].readline(*n)
-
-        def readlines(self):
-            return opened(self._key)[0].readlines()
-
-        def seek(self, *where):
-            return opened(self._key)[0].seek(*where)
-
-        def tell(self):
-            return opened(self._key)[0].tell()
-
-        def flush(self):
-            return opened(self._key)[0].flush()
-
-        def close(self):
-            found = handles.pop(self._key, None)
-            if found is not None:
-                found[0].close()
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            self.close()
-
-        def __iter__(self):
-            return self
-
-        def __next__(self):
-            line = opened(self._key)[0].readline()
-            if not line:
-                raise StopIteration
-            return line
-
-    class Board:
-        """The board's flash: a folder of the host counted as a littlefs of its size."""
-
-        def mount(self, readonly, mkfs):
-            pass
-
-        def umount(self):
-            pass
-
-        def chdir(self, path):
-            parts = _parts(path, cwd[0])
-            if not host.stat(path_of("/" + "/".join(parts)))[0] & _DIR:
-                raise OSError(_ENOTDIR)
-            cwd[0] = "/" + "/".join(parts)
-
-        def getcwd(self):
+    def op(name, a=None, b=None):  # noqa: C901  (one closure: the host in no attribute)
+        if name in ("write", "attr", "close"):
+            found = handles.pop(a, None) if name == "close" else handles.get(a)
+            if found is None:
+                if name == "close":
+                    return None
+                raise OSError(_EBADF)
+            if name == "close":
+                return found[0].close()
+            if name == "attr":
+                if b not in _READS:  # (never the host file's own write)
+                    raise AttributeError(b)
+                return getattr(found[0], b)
+            return _write(host, st, found[0], found[1], found[2], _host_path(root, shim, "/", found[1])[1], b)
+        if name == "statvfs":
+            free = max(0, st[2] - st[1])
+            return (_BLOCK, _BLOCK, st[2], free, free, 0, 0, 0, 0, 255)
+        if name == "getcwd":
             return cwd[0]
-
-        def ilistdir(self, path):
-            return host.ilistdir(path_of(path))
-
-        def stat(self, path):
-            return host.stat(path_of(path))
-
-        def open(self, path, mode):
-            if not ("w" in mode or "a" in mode or "x" in mode or "+" in mode):
-                return host.open(path_of(path), mode)
-            board, host_path = writable(path)
-            size = size_of(host_path)
-            if size is None:
-                resize(board, None, 0)  # (a new entry in its folder's metadata)
-                try:
-                    f = host.open(host_path, mode)
-                except OSError:
-                    resize(board, 0, None)
-                    raise
-            else:
-                f = host.open(host_path, mode)
-                if "w" in mode and size:
-                    resize(board, size, 0)  # truncated
-            serial[0] += 1
-            handles[serial[0]] = [f, board, "a" in mode]
-            return File(serial[0])
-
-        def remove(self, path):
-            board, host_path = writable(path)
-            size = size_of(host_path)
-            host.remove(host_path)
+        if name in ("stat", "ilistdir", "chdir") or (name == "open" and not _writes(b)):
+            path = _host_path(root, shim, cwd[0], a)[1]
+            if name == "open":
+                return host.open(path, b)
+            if name == "chdir":
+                if not host.stat(path)[0] & _DIR:
+                    raise OSError(_ENOTDIR)
+                cwd[0] = "/" + "/".join(_parts(a, cwd[0]))
+                return None
+            return host.stat(path) if name == "stat" else host.ilistdir(path)
+        board, path = _host_path(root, shim, cwd[0], a, True)
+        if name == "open":
+            key = len(handles) and max(handles) + 1 or 1
+            handles[key] = [_open(host, st, board, path, b), board, "a" in b]
+            return _File(op, key)
+        if name == "remove":
+            size = _size(host, path)
+            host.remove(path)
             if size is not None:
-                resize(board, size, None)
+                _resize(st, board, size, None)
+        elif name == "rename":
+            _rename(host, st, board, path, *_host_path(root, shim, cwd[0], b, True))
+        elif name == "mkdir":
+            _mkdir(host, st, board, path)
+        elif name == "rmdir":
+            _rmdir(host, st, board, path)
+        return None
 
-        def rename(self, old, new):
-            old_board, old_host = writable(old)
-            new_board, new_host = writable(new)
-            size = size_of(old_host)
-            target = size_of(new_host)
-            if size is not None and old_board != new_board:
-                # the new entry (over the replaced file's) first: ENOSPC leaves all as it was
-                resize(new_board, target, size)
-                try:
-                    host.rename(old_host, new_host)
-                except OSError:
-                    resize(new_board, size, target)
-                    raise
-                resize(old_board, size, None)
-                return
-            if old_board == new_board:
-                host.rename(old_host, new_host)  # (onto itself: nothing moves, nothing is freed)
-                return
-            # a folder: its entry moves to the new parent (first: ENOSPC leaves all as it was)
-            old_parent, old_name = split(old_board)
-            new_parent, new_name = split(new_board)
-            try:
-                replaced = host.stat(new_host)[0] & _DIR  # (an empty folder there goes)
-            except OSError:
-                replaced = 0
-            if not replaced:
-                change(new_parent, entry_bytes(new_name), 0)
-            try:
-                host.rename(old_host, new_host)
-            except OSError:
-                if not replaced:
-                    change(new_parent, -entry_bytes(new_name), 0)
-                raise
-            change(old_parent, -entry_bytes(old_name), 0)
-            if replaced:
-                used[0] -= pair_blocks(meta.pop(new_board, 0))
-            moved = {}
-            for folder in list(meta):
-                if folder == old_board or folder.startswith(old_board + "/"):
-                    moved[new_board + folder[len(old_board) :]] = meta.pop(folder)
-            meta.update(moved)
+    return _Board(op)
 
-        def mkdir(self, path):
-            board, host_path = writable(path)
-            folder, name = split(board)
-            change(folder, entry_bytes(name), 0, new_folder=board)
-            try:
-                host.mkdir(host_path)
-            except OSError:
-                meta.pop(board, None)
-                change(folder, -entry_bytes(name), -pair_blocks(0))
-                raise
 
-        def rmdir(self, path):
-            board, host_path = writable(path)
-            host.rmdir(host_path)
-            folder, name = split(board)
-            mine = meta.pop(board, 0)
-            change(folder, -entry_bytes(name), -pair_blocks(mine))
-
-        def statvfs(self, path):
-            # (extmod/vfs_lfsx.c statvfs: bsize, frsize, blocks, bfree, bavail, 0, 0, 0, 0, namemax)
-            free = max(0, total - used[0])
-            return (_BLOCK, _BLOCK, total, free, free, 0, 0, 0, 0, 255)
-
-    return Board()
+def _writes(mode):
+    return "w" in mode or "a" in mode or "x" in mode or "+" in mode
