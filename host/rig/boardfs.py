@@ -226,7 +226,17 @@ class BoardFs:
         try:
             for folder in flash_files(firmware.main_dir)[1]:  # (its folders too, empty ones included)
                 (self.root / folder).mkdir(parents=True, exist_ok=True)
-            for name, path in on_board(firmware).items():
+            placed = on_board(firmware)
+            total = sum(path.stat().st_size for path in placed.values())
+            if total > self.flash_bytes:
+                from host.core.errors import ConfigError
+
+                raise ConfigError(
+                    f"firmware folder {firmware.main_dir}: its {len(placed)} files take {total} bytes, more than "
+                    f"the board's {self.flash_bytes}-byte flash ([board] flash_size) holds: as `make flash` "
+                    "would, the run stops (a bigger flash_size, or fewer files)"
+                )
+            for name, path in placed.items():
                 dest = self.root / name
                 dest.parent.mkdir(parents=True, exist_ok=True)
                 shutil.copyfile(path, dest)

@@ -173,3 +173,12 @@ def test_a_replay_is_not_refused_for_the_users_commit_alone():
     now = {"firmware": {"sha256": "a"}, "harness": {"commit": "h"}, "project": {"root": "/r", "commit": "c"}}
     assert differences(recorded, now) == []
     assert differences({**recorded, "project": {"root": "/r", "commit": "b"}}, now) == []
+
+
+def test_a_firmware_bigger_than_its_flash_is_refused_before_it_runs(tmp_path):
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    (fw / "main.py").write_text("print(1)\n")
+    (fw / "table.json").write_text("[" + "0," * 40_000 + "0]")
+    with pytest.raises(ConfigError, match=r"its 2 files take 80\d+ bytes, more than the board's 65536-byte flash"):
+        BoardFs(firmware_in(fw))
