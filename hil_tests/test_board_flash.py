@@ -223,3 +223,30 @@ def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_
     console = (out / "console.log").read_text()
     hits = [line for line in console.splitlines() if " HOST " in line]
     assert "WALKED" in console and not hits, "\n".join(hits[:30])
+
+
+def test_mpy_fil_run_writes_at_the_users_repository_root_never_in_the_firmware_folder(tmp_path):
+    import shutil
+    import subprocess
+    import sys
+
+    from host.core.paths import REPO
+
+    repo = tmp_path / "robot"
+    bot = repo / "firmware" / "bot"
+    shutil.copytree(REPO / "examples" / "pico_bot", bot, ignore=shutil.ignore_patterns("build", "__pycache__"))
+    (repo / "pyproject.toml").write_text("[project]\nname = 'robot'\n")
+    before = {p.relative_to(bot) for p in bot.rglob("*")}
+    done = subprocess.run(
+        [sys.executable, "-m", "host.cli", "run", str(bot / "rig.toml"), "--seconds", "1"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    assert f"trace folder: {repo / 'build' / 'runs'}" in done.stdout, done.stdout
+    assert {p.relative_to(bot) for p in bot.rglob("*")} == before, "the run wrote into the firmware folder"
+    manifest = json.loads(next((repo / "build" / "runs").glob("*/manifest.json")).read_text())
+    assert manifest["project"] == {"root": str(repo), "commit": None}, manifest["project"]
+    assert sorted(manifest["firmware"]["files"]) == ["main.py"], manifest["firmware"]["files"]
