@@ -185,7 +185,12 @@ def regular_file(folder: Path, name: str) -> Path | None:
     folder = Path(folder).resolve()
     path = folder / name
     if not path.is_relative_to(folder) or ".." in Path(name).parts:
-        raise _refuse(folder, folder, f"the folder of an entry {name!r} that leaves it")
+        from host.core.errors import ConfigError
+
+        raise ConfigError(
+            f"firmware folder {folder}: an entry {name!r} that leaves it; a board's flash holds only "
+            "files from inside the firmware folder (put the entry in it)"
+        )
     if path.is_symlink():
         raise _refuse(folder, path, f"a symbolic link (to {os.readlink(path)})")
     if not path.exists():
