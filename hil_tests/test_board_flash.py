@@ -250,3 +250,42 @@ def test_mpy_fil_run_writes_at_the_users_repository_root_never_in_the_firmware_f
     manifest = json.loads(next((repo / "build" / "runs").glob("*/manifest.json")).read_text())
     assert manifest["project"] == {"root": str(repo), "commit": None}, manifest["project"]
     assert sorted(manifest["firmware"]["files"]) == ["main.py"], manifest["firmware"]["files"]
+
+
+def test_print_and_json_write_through_a_file_on_the_flash_as_on_a_board(tmp_path):
+    said, _ = run_firmware(
+        tmp_path,
+        """
+import json
+def printed():
+    with open("p.txt", "w") as f:
+        print("hello", 1, file=f)
+    return open("p.txt").read()
+attempt("print", printed)
+def dumped():
+    with open("j.json", "w") as f:
+        json.dump({"a": 1}, f)
+    with open("j.json") as f:
+        return json.load(f)
+attempt("json", dumped)
+def full():
+    with open("big.txt", "w") as f:
+        while True:
+            print("x" * 1000, file=f)
+attempt("full", full)
+def closed():
+    a = open("a.txt", "w")
+    a.close()
+    b = open("b.txt", "w")
+    try:
+        a.write("into b?")
+    finally:
+        b.close()
+attempt("closed", closed)
+print("B", repr(open("b.txt").read()))
+""",
+        FLASH_64K,
+    )
+    assert said["print"] == ("REACHED", "'hello 1\\n'") and said["json"] == ("REACHED", "{'a': 1}"), said
+    assert said["full"] == ("REFUSED", "OSError 28"), said
+    assert said["closed"] == ("REFUSED", "ValueError "), said  # (a closed file stays closed)

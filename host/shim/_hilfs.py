@@ -27,7 +27,9 @@
 # (MicroPython has no __closure__), never in an attribute or a global; the mounted object
 # and its files hold only that op, which does what a board's VFS does and no more (an open
 # file gives its read methods, never its host file's write).
-_ENOSPC, _EROFS, _ENOTDIR, _EBADF = 28, 30, 20, 9  # (MicroPython's errno names few of them)
+from io import IOBase as _IOBase
+
+_ENOSPC, _EROFS, _ENOTDIR = 28, 30, 20  # (MicroPython's errno names few of them)
 
 _BLOCK = 4096  # a board filesystem's block (littlefs on 4 KiB flash sectors)
 _INLINE = 128  # littlefs's inline_max under MicroPython's VfsLfs2 (see above)
@@ -162,19 +164,39 @@ def _host_path(root, shim, cwd, path, write=False):
     return "/".join(parts), "/".join([root] + parts) or "/"
 
 
-class _File:
+class _File(_IOBase):
     # a file open for writing: a write that grows it takes the flash's blocks first. It holds
-    # its key and the board's op (what the firmware may do anyway), never the host file.
+    # its key and the board's op (what the firmware may do anyway), never the host file. An
+    # io.IOBase, so print(file=f) and json.dump(x, f) write through it as on a board's file.
     def __init__(self, op, key):
         self._op, self._key = op, key
 
     def write(self, buf):
         return self._op("write", self._key, buf)
 
-    def __getattr__(self, name):  # read, readinto, readline, readlines, seek, tell, flush
-        if name in _READS:
-            return self._op("attr", self._key, name)  # (a bound method: no __self__ in MicroPython)
-        raise AttributeError(name)
+    def _do(self, name, args):  # (the host file's bound method: no __self__ in MicroPython)
+        return self._op("attr", self._key, name)(*args)
+
+    def read(self, *args):
+        return self._do("read", args)
+
+    def readinto(self, *args):
+        return self._do("readinto", args)
+
+    def readline(self, *args):
+        return self._do("readline", args)
+
+    def readlines(self, *args):
+        return self._do("readlines", args)
+
+    def seek(self, *args):
+        return self._do("seek", args)
+
+    def tell(self):
+        return self._do("tell", ())
+
+    def flush(self):
+        return self._do("flush", ())
 
     def close(self):
         self._op("close", self._key)
@@ -189,7 +211,7 @@ class _File:
         return self
 
     def __next__(self):
-        line = self._op("attr", self._key, "readline")()
+        line = self._do("readline", ())
         if not line:
             raise StopIteration
         return line
@@ -333,15 +355,16 @@ def _board(host, root, shim, flash_bytes):  # noqa: C901  (one closure: the host
     st = [{}, 0, flash_bytes // _BLOCK]  # (the count: see above)
     cwd = ["/"]
     handles = {}  # an open file's key -> [host file, board path, append]
+    serial = [0]
     _count(host, root, st, "")
 
     def op(name, a=None, b=None):  # noqa: C901  (one closure: the host in no attribute)
         if name in ("write", "attr", "close"):
             found = handles.pop(a, None) if name == "close" else handles.get(a)
-            if found is None:
+            if found is None:  # (closed: extmod/vfs_lfsx_file.c check_open, a bare ValueError)
                 if name == "close":
                     return None
-                raise OSError(_EBADF)
+                raise ValueError()
             if name == "close":
                 return found[0].close()
             if name == "attr":
@@ -366,9 +389,9 @@ def _board(host, root, shim, flash_bytes):  # noqa: C901  (one closure: the host
             return host.stat(path) if name == "stat" else host.ilistdir(path)
         board, path = _host_path(root, shim, cwd[0], a, True)
         if name == "open":
-            key = len(handles) and max(handles) + 1 or 1
-            handles[key] = [_open(host, st, board, path, b), board, "a" in b]
-            return _File(op, key)
+            serial[0] += 1  # (a key never reused: a closed file's object stays closed)
+            handles[serial[0]] = [_open(host, st, board, path, b), board, "a" in b]
+            return _File(op, serial[0])
         if name == "remove":
             size = _size(host, path)
             host.remove(path)
