@@ -33,14 +33,33 @@ def user_cache() -> Path:
     return (Path(base) if base and Path(base).is_absolute() else Path.home() / ".cache") / "mpy-fil"
 
 
+PROJECT_MARKERS = (".git", "pyproject.toml")
+"""What makes a folder a user's repository root (the nearest one holding either)."""
+
+
+def project_root(folder: Path) -> Path | None:
+    """The user's repository ``folder`` is in: the nearest folder, ``folder`` itself or one
+    above it, holding a ``.git`` or a ``pyproject.toml``; None when there is none."""
+    folder = Path(folder).resolve()
+    for candidate in (folder, *folder.parents):
+        if any((candidate / marker).exists() for marker in PROJECT_MARKERS):
+            return candidate
+    return None
+
+
 def output_root(rig_file: Path | None = None) -> Path:
-    """Where a command writes (``build/`` under it): the project's build folder for our
-    own apps and rigs in a checkout; beside a rig file of the user's (``build/`` in its
-    folder); else the current folder's ``build/``."""
+    """Where a command writes (``build/`` under it): the project's build folder for our own
+    apps and rigs in a checkout; for a rig file of the user's, ``build/`` at the root of the
+    user's repository (:func:`project_root`: the nearest folder above the rig file with a
+    ``.git`` or a ``pyproject.toml``; the rig file's folder when there is none), so never in
+    a firmware folder of its own (``firmware/bot/build/``); where the firmware folder is the
+    repository's root itself, ``build/`` is there and never put on the board
+    (host/rig/boardfs.py, :func:`flash_files`). Without a rig file, the current folder's
+    ``build/``."""
     if rig_file is not None:
         folder = Path(rig_file).resolve().parent
         if not (CHECKOUT and folder.is_relative_to(REPO)) and not folder.is_relative_to(BUNDLED):
-            return folder / "build"
+            return (project_root(folder) or folder) / "build"
     return BUILD if CHECKOUT else Path.cwd() / "build"
 
 

@@ -29,9 +29,11 @@ from pathlib import Path
 
 from host.core.children import popen_options
 from host.core.errors import HarnessError
-from host.core.paths import FIRMWARE, REPO
+from host.core.paths import REPO
 from host.device import vboard
 from host.rig.apps import apps, get_app
+from host.rig.boardfs import on_board
+from host.rig.firmware import Firmware
 
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
@@ -83,24 +85,18 @@ def stage(app_name: str, board: str, root: Path | None = None) -> tuple[Path, li
         shutil.rmtree(out)
     out.mkdir(parents=True)
     files: list[str] = []
-    sources = [(p, p.name) for p in sorted(app.path.glob("*.py")) if not p.name.startswith(("test_", "conftest"))]
     board_folder, _pins = app.board_files(board)
-    if board_folder is not None:
-        sources.append((board_folder / "board.py", "board.py"))
-    for lib in [*app.lib_dirs, *([FIRMWARE / "lib"] if app.harness_lib else [])]:
-        sources += [(p, f"lib/{p.name}") for p in sorted(lib.glob("*.py"))]
-    for src, name in sources:
-        if name in ("main.py", "boot.py", app.entry):
-            compile_module(src, out.parent / ".check" / name.replace(".py", ".mpy"))  # syntax check only
+    for name, src in on_board(Firmware.from_app(app, board_folder)).items():  # (host/rig/boardfs.py)
+        if name in ("main.py", "boot.py", app.entry) or not name.endswith(".py"):
+            if name.endswith(".py"):
+                compile_module(src, out.parent / ".check" / name.replace(".py", ".mpy"))  # syntax check only
+            (out / name).parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(src, out / name)
             files.append(name)
         else:
             mpy = name[:-3] + ".mpy"
             compile_module(src, out / mpy)
             files.append(mpy)
-    for data in sorted(app.path.glob("*.json")):  # data the firmware opens at /, as the vacuum's mission
-        shutil.copyfile(data, out / data.name)
-        files.append(data.name)
     return out, files
 
 
@@ -171,8 +167,8 @@ def copy(port: str, folder: Path, files: list[str]) -> tuple[list[str], list[str
     """Copy what changed; return (copied, unchanged)."""
     root = [str(folder / f) for f in files if "/" not in f]
     args = ["cp", *root, ":"]
-    if any(f.startswith("lib/") for f in files):
-        args += ["+", "cp", "-r", str(folder / "lib"), ":"]
+    for top in sorted({f.split("/", 1)[0] for f in files if "/" in f}):  # /lib and the app's own folders
+        args += ["+", "cp", "-r", str(folder / top), ":"]
     stale = [f[:-4] + ".py" for f in files if f.endswith(".mpy")]
     args += ["+", "exec", "import os\nfor f in %r:\n try:\n  os.remove(f)\n except OSError:\n  pass" % stale]
     out = _mpremote(port, *args)

@@ -20,7 +20,7 @@ import os
 import sys
 from pathlib import Path
 
-from host.core.paths import REPO
+from host.core.paths import REPO, output_root
 from host.pytest_plugin.userpath import firmware_file, how_to_write_a_test
 
 TEST_FILES = ("test_*.py", "*_test.py", "*.test.yaml")  # (the last: Wokwi automation scenarios)
@@ -69,7 +69,7 @@ def pytest_args(args) -> tuple[list[str], Path]:
         report = (out or REPO / "build" / "hil") / "report.html"
         return [*common, "-m", marks, "--hil-table", "--hil-report", str(report), "hil_tests"], REPO
     rig = rig_file(args.rig)
-    build = rig.parent / "build"
+    build = output_root(rig)  # (build/ at the root of the user's repository)
     report = build / "hil" / "report.html"
     if rig.is_relative_to(REPO):  # (one of ours, examples/pico_bot: the project's build/, its report apart)
         build = REPO / "build"

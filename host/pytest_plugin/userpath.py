@@ -11,7 +11,9 @@ run a failed test again (docs/rig-file.md, "Tests beside a rig").
   rig for ``--hil-rig-seconds`` (30 s, as ``mpy-fil run``) and checks its budgets and its
   ``[report.judge]`` (what ``make hil RIG=…`` runs when no test is beside the rig).
 - **Where a run writes**: a rig made from a rig file outside this repository writes under
-  ``build/hil/`` beside that rig file; a test outside the repository, beside itself; ours
+  ``build/hil/`` at the root of the user's repository (``host.core.paths.output_root``:
+  not in a firmware folder of its own); a test outside the repository, under its
+  repository's ``build/hil/`` (beside itself when it is in none); ours
   under the repository's ``build/hil/``; ``--hil-out DIR`` puts them all under DIR.
 - **make_rig("rig.toml")** resolves a relative rig path against the calling test file's
   folder, then the current directory; a missing file's error names both.
@@ -30,7 +32,7 @@ from pathlib import Path
 import pytest
 
 from host.core.errors import ConfigError
-from host.core.paths import REPO
+from host.core.paths import REPO, output_root, project_root
 from host.rig.tomlfile import read_toml
 
 MICROPYTHON_ONLY = frozenset(
@@ -218,9 +220,9 @@ def artefacts_root(node, app) -> Path:
         base = Path(chosen)
     elif _looks_like_a_path(app) and not _in_repo(app):
         rig = Path(app)
-        base = (rig if rig.is_dir() else rig.parent) / "build" / "hil"
+        base = output_root(rig / "rig.toml" if rig.is_dir() else rig) / "hil"  # (never in its firmware folder)
     elif not _in_repo(node.path):
-        base = node.path.parent / "build" / "hil"
+        base = (project_root(node.path.parent) or node.path.parent) / "build" / "hil"
     else:
         base = REPO / "build" / "hil"
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", node.nodeid.split("::", 1)[-1])

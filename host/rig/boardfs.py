@@ -93,14 +93,114 @@ def board_name(label: str) -> str:
     return rel if where in ("entry", "0") else f"lib/{rel}"
 
 
-def _folders(main: Path) -> list[str]:
-    """The firmware folder's own subfolders (not hidden, not ``__pycache__``), relative."""
-    found = []
-    for path in sorted(main.rglob("*")) if main.is_dir() else ():
-        parts = path.relative_to(main).parts
-        if path.is_dir() and not any(p.startswith(".") or p == "__pycache__" for p in parts):
-            found.append(path.relative_to(main).as_posix())
-    return found
+def on_board(firmware) -> dict[str, Path]:
+    """The board's flash as ``make flash`` writes it: board path -> the file it comes from,
+    for the per-run copy (:class:`BoardFs`), the manifest (host/rig/manifest.py) and
+    ``make flash`` (host/device/flash.py) alike. The first file on the path wins a board
+    path, as an import finds it; the files are :meth:`Firmware.files` (:func:`flash_files`)."""
+    placed: dict[str, Path] = {}
+    for label, path in firmware.files():
+        placed.setdefault(board_name(label), path)
+    return placed
+
+
+FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
+"""The files a board's flash gets: code (source or compiled) and JSON data."""
+NOT_FIRMWARE_FOLDERS = ("build", "__pycache__", "tests", "test", "venv", "node_modules")
+"""Folders ``make flash`` never puts on a board (and hidden ones, and trace folders)."""
+TRACE_FILES = ("header.json", "trace.jsonl", "manifest.json", "console.log")
+"""A folder holding two of these is a run's trace folder (docs/traces.md), not firmware (one
+alone may be the firmware's own data: a ``manifest.json`` of its assets)."""
+
+
+def is_test_file(name: str) -> bool:
+    """pytest's files (``test_*.py``, ``*_test.py``, ``conftest.py``): the host's, not the board's."""
+    return name.startswith("test_") or name.endswith("_test.py") or name == "conftest.py"
+
+
+def _skipped_folder(path: Path) -> bool:
+    name = path.name
+    if name.startswith(".") or name in NOT_FIRMWARE_FOLDERS:
+        return True
+    return sum((path / marker).exists() or (path / marker).is_symlink() for marker in TRACE_FILES) >= 2
+
+
+def _takes(name: str) -> bool:
+    return not name.startswith(".") and Path(name).suffix in FIRMWARE_SUFFIXES and not is_test_file(name)
+
+
+def _refuse(folder: Path, path: Path, what: str):
+    from host.core.errors import ConfigError
+
+    return ConfigError(
+        f"firmware folder {folder}: {path.relative_to(folder).as_posix()} is {what}; a board's flash "
+        "holds only regular files from inside the firmware folder (copy the file in, or move it out "
+        "of the folder)"
+    )
+
+
+def flash_files(folder: Path) -> tuple[list[tuple[str, Path]], list[str]]:
+    """What ``make flash`` puts on a board from one firmware folder, the one rule of the
+    per-run board copy, the manifest and ``make flash`` (host/device/flash.py): every
+    ``.py``, ``.mpy`` and ``.json`` file inside it, subfolders too, except hidden ones,
+    pytest's files (``test_*.py``, ``conftest.py``), ``build/``, ``tests/``, ``__pycache__``
+    and trace folders (a folder with two of ``header.json``, ``trace.jsonl``, ``manifest.json``
+    and ``console.log``).
+    A link (to a file or a folder) or a special file where such a file would be taken is
+    refused by name (ConfigError), never followed. Returns ([(path in the folder, file)], [its
+    subfolders, empty ones too]), sorted."""
+    folder = Path(folder).resolve()
+    files: list[tuple[str, Path]] = []
+    folders: list[str] = []
+    if not folder.is_dir():
+        return files, folders
+    pending = [folder]
+    while pending:
+        here = pending.pop()
+        with os.scandir(here) as entries:
+            found = sorted(entries, key=lambda e: e.name)
+        for entry in found:
+            path = Path(entry.path)
+            if entry.is_symlink():
+                target = os.readlink(path)
+                if entry.name.startswith(".") or entry.name in NOT_FIRMWARE_FOLDERS:
+                    continue
+                if path.is_dir() or _takes(entry.name):
+                    raise _refuse(folder, path, f"a symbolic link (to {target})")
+                continue
+            if entry.is_dir(follow_symlinks=False):
+                if not _skipped_folder(path):
+                    folders.append(path.relative_to(folder).as_posix())
+                    pending.append(path)
+            elif _takes(entry.name):
+                if not entry.is_file(follow_symlinks=False):
+                    raise _refuse(folder, path, "not a regular file (a FIFO, socket or device)")
+                files.append((path.relative_to(folder).as_posix(), path))
+    return sorted(files), sorted(folders)
+
+
+def regular_file(folder: Path, name: str) -> Path | None:
+    """``folder/name`` when it is a regular file inside ``folder`` (the entry file), None
+    when there is none; a link or a special file there is refused by name."""
+    folder = Path(folder).resolve()
+    path = folder / name
+    if not path.is_relative_to(folder) or ".." in Path(name).parts:
+        from host.core.errors import ConfigError
+
+        raise ConfigError(
+            f"firmware folder {folder}: an entry {name!r} that leaves it; a board's flash holds only "
+            "files from inside the firmware folder (put the entry in it)"
+        )
+    if path.is_symlink():
+        raise _refuse(folder, path, f"a symbolic link (to {os.readlink(path)})")
+    if not path.exists():
+        return None
+    for parent in path.relative_to(folder).parents:
+        if (folder / parent).is_symlink():
+            raise _refuse(folder, folder / parent, f"a symbolic link (to {os.readlink(folder / parent)})")
+    if not path.is_file():
+        raise _refuse(folder, path, "not a regular file")
+    return path
 
 
 def _digest(path: Path) -> str:
@@ -123,16 +223,25 @@ class BoardFs:
     """One run's board folder: made from the firmware, kept in part, removed."""
 
     def __init__(self, firmware):
+        self.flash_bytes = firmware.flash_bytes
+        self.faults: list[str] = []  # files past the flash's size (:meth:`written`)
         remove_stale()
         self.root = Path(tempfile.mkdtemp(prefix=f"{PREFIX}{os.getpid()}-"))
         self.flashed: dict[str, str] = {}  # board path: digest of what was flashed
         try:
-            for folder in _folders(Path(firmware.main_dir)):  # (its folders too, empty ones included)
+            for folder in flash_files(firmware.main_dir)[1]:  # (its folders too, empty ones included)
                 (self.root / folder).mkdir(parents=True, exist_ok=True)
-            for label, path in firmware.files():
-                name = board_name(label)
-                if name in self.flashed:
-                    continue  # (the first on the path wins, as imports find it)
+            placed = on_board(firmware)
+            total = sum(path.stat().st_size for path in placed.values())
+            if total > self.flash_bytes:
+                from host.core.errors import ConfigError
+
+                raise ConfigError(
+                    f"firmware folder {firmware.main_dir}: its {len(placed)} files take {total} bytes, more than "
+                    f"the board's {self.flash_bytes}-byte flash ([board] flash_size) holds: as `make flash` "
+                    "would, the run stops (a bigger flash_size, or fewer files)"
+                )
+            for name, path in placed.items():
                 dest = self.root / name
                 dest.parent.mkdir(parents=True, exist_ok=True)
                 shutil.copyfile(path, dest)
@@ -142,14 +251,34 @@ class BoardFs:
             raise
 
     def written(self) -> list[str]:
-        """Board paths of the files the firmware created or changed, sorted."""
-        found = []
-        for path in sorted(self.root.rglob("*")):
-            if path.is_file() and not path.is_symlink():
-                name = path.relative_to(self.root).as_posix()
-                if self.flashed.get(name) != _digest(path):
-                    found.append(name)
+        """Board paths of the files the firmware created or changed, sorted: regular files
+        only (a link or a special file is never followed or read), at most the flash's size
+        read in all; what is past it is named in :attr:`faults` and not read."""
+        found, budget = [], self.flash_bytes
+        self.faults = []
+        for path in self._files():
+            name = path.relative_to(self.root).as_posix()
+            size = path.lstat().st_size
+            if size > budget:
+                self.faults.append(
+                    f"board_fs/{name}: {size} bytes, more than the {self.flash_bytes}-byte flash holds "
+                    "(written round the shim's filesystem): not kept"
+                )
+                continue
+            budget -= size
+            if self.flashed.get(name) != _digest(path):
+                found.append(name)
         return found
+
+    def _files(self) -> list[Path]:
+        out = []
+        for folder, dirs, files in os.walk(self.root):  # (links never followed)
+            dirs.sort()
+            for name in sorted(files):
+                path = Path(folder) / name
+                if path.is_file() and not path.is_symlink():
+                    out.append(path)
+        return sorted(out)
 
     def keep(self, folder: Path) -> list[str]:
         """Copy what the firmware wrote into ``folder`` (made only if there is any)."""
@@ -157,7 +286,8 @@ class BoardFs:
         for name in names:
             dest = Path(folder) / name
             dest.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(self.root / name, dest)
+            with open(self.root / name, "rb") as src, open(dest, "wb") as out:
+                shutil.copyfileobj(src, out)
         return names
 
     def remove(self) -> None:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
-from host.rig.boardfs import DEFAULT_FLASH_BYTES
+from host.rig.boardfs import DEFAULT_FLASH_BYTES, flash_files, regular_file
 from host.rig.heap import SHIM_HEAP_BYTES  # the shim's share: the interpreter gets heap_size plus this
 
 COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (docs/coverage.md)
@@ -31,9 +31,6 @@ def heap_bytes(size: str | int) -> int | None:
     number, words, unit = match.groups()
     scale = {"": 1, "k": 1024, "m": 1 << 20}[unit.lower()] * (2 if words else 1)  # w: 8-byte words, per 4 bytes
     return int(number, 0) * scale
-
-
-FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
 
 
 @dataclass
@@ -55,7 +52,7 @@ class Firmware:
         """The app's folder (or ``main_dir``), its libraries, the board's pin map and,
         when the app asks for them, the project's drivers."""
         main = Path(main_dir) if main_dir else app.path
-        if not (main / app.entry).is_file():
+        if regular_file(main, app.entry) is None:
             raise ConfigError(f"main_dir: no {app.entry} in {main}")
         folders = app.firmware_folders(board_folder)
         confine = app.extra.get("confine", {})
@@ -75,7 +72,7 @@ class Firmware:
     def flashed(cls, folder: Path, require_main: bool = True) -> "Firmware":
         """A flashed board folder: main.py, board.mpy, lib/."""
         folder = Path(folder)
-        if require_main and not (folder / "main.py").is_file():
+        if require_main and regular_file(folder, "main.py") is None:
             raise ConfigError(f"firmware_dir: no main.py in {folder} (flash it first: make flash)")
         return cls(folder, [folder, folder / "lib"])
 
@@ -96,24 +93,19 @@ class Firmware:
 
     def files(self) -> list[tuple[str, Path]]:
         """The files :meth:`identity` hashes, each once, with the label it is hashed under
-        (its place on the path: the folder's index and the path within it): the entry first."""
+        (its place on the path: the folder's index and the path within it): the entry first.
+        What each folder gives is what ``make flash`` puts on a board (:func:`flash_files`:
+        no tests, no ``build/``, no trace folders; a link is refused by name)."""
         found, seen = [], set()
-        entry = (self.main_dir / self.entry).resolve()
-        if entry.is_file():
+        entry = regular_file(self.main_dir, self.entry)
+        if entry is not None:
             found.append((f"entry:{self.entry}", entry))
             seen.add(entry)
         for index, folder in enumerate(self.folders):
-            folder = Path(folder)
-            for path in sorted(folder.rglob("*")) if folder.is_dir() else ():
-                parts = path.relative_to(folder).parts
-                if (
-                    path.suffix in FIRMWARE_SUFFIXES
-                    and not any(p.startswith(".") or p == "__pycache__" for p in parts)
-                    and path.is_file()
-                    and path.resolve() not in seen
-                ):
-                    seen.add(path.resolve())
-                    found.append((f"{index}:{path.relative_to(folder).as_posix()}", path))
+            for rel, path in flash_files(folder)[0]:
+                if path not in seen:
+                    seen.add(path)
+                    found.append((f"{index}:{rel}", path))
         return found
 
     def micropypath(self, shim: bool = True) -> str:

@@ -11,7 +11,9 @@ that made the result, each piece by hash or version.
 - ``shim``: the SHA-256 of each file of ``host/shim`` and of them all;
 - ``plant``: its class, options and, for a robot built of parts, the body and each part;
 - ``run``: app, rig file, board, seed, mode, world, faults (the rig file's and the run's);
-- ``harness``: its version and commit; ``tools``: Python and each pinned package's version.
+- ``harness``: its version and commit (a checkout's; ``unknown`` when installed);
+- ``project``: the user's repository the rig file is in (its root and commit), apart from
+  the harness's; None for our own apps; ``tools``: Python and each pinned package's version.
 
 The trace header (``header.json``, ``trace.jsonl``) keeps its own short record (commit,
 firmware digest, MicroPython version); the manifest holds the rest, and ``header.json``
@@ -32,13 +34,14 @@ from host.artefacts.folder import MANIFEST, described_parts
 from host.core import interpreter, paths, provenance
 from host.core.errors import SetupError
 from host.rig import sandbox
-from host.rig.boardfs import board_name
+from host.rig.boardfs import on_board
 from host.rig.spec import fault_schedule
 
 FILE = MANIFEST
 VERSION = 1
 IGNORED = ("interpreter.path", "harness.commit_time")  # (where a checkout lives is not what ran)
 IGNORED += tuple(f"sandbox.{key}" for key in ("setting", "running", "why", "received"))  # (how it was confined)
+IGNORED_SECTIONS = ("project",)  # (the user's commit: the firmware's files are hashed one by one)
 
 
 def _sha256(path: Path) -> str:
@@ -62,10 +65,7 @@ def firmware_part(firmware, flashed: dict | None = None) -> dict:
     """The firmware's files: board path -> its source and SHA-256 (the flashed copy's when
     the run has one), and the digest the trace header names."""
     files = {}
-    for label, path in firmware.files():
-        name = board_name(label)
-        if name in files:
-            continue  # (the first on the path is what an import finds)
+    for name, path in on_board(firmware).items():  # (what make flash puts on the board)
         digest = (flashed or {}).get(name) or _sha256(path)
         files[name] = {"source": paths.portable(path), "sha256": digest}
     identity = firmware.identity()
@@ -139,6 +139,14 @@ def harness_part() -> dict:
     return {"version": version, "commit": provenance.commit()}
 
 
+def project_part(app) -> dict | None:
+    """The user's repository the rig file is in, apart from the harness's: its root and
+    commit (None for our own apps, or a rig file in no repository)."""
+    if app.rig_file is None:
+        return None
+    return provenance.project_commit(Path(app.rig_file).resolve().parent)
+
+
 def _plain(value):
     """JSON's types only (tuples as lists, paths and other objects as text)."""
     return json.loads(json.dumps(value, default=str))
@@ -165,6 +173,7 @@ def build(app, spec, firmware, plant, plant_options: dict, *, variant="standard"
         "shim": shim_part(),
         "plant": plant_part(plant, plant_options),
         "harness": harness_part(),
+        "project": project_part(app),
         "tools": tools_part(),
     }
 
@@ -231,7 +240,11 @@ def differences(recorded: dict, now: dict) -> list[str]:
     if "error" in recorded:
         return [f"the recorded manifest: {recorded['error']}"]
     a, b = _flat(recorded), _flat(now)
-    changed = [k for k in sorted(set(a) | set(b)) if k not in IGNORED and a.get(k, _MISSING) != b.get(k, _MISSING)]
+    changed = [
+        k
+        for k in sorted(set(a) | set(b))
+        if k not in IGNORED and k.split(".", 1)[0] not in IGNORED_SECTIONS and a.get(k, _MISSING) != b.get(k, _MISSING)
+    ]
     lines = []
     for key in changed:
         section = key.split(".", 1)[0]

@@ -138,6 +138,7 @@ class Rig:
         self._started = False
         self.board_fs: BoardFs | None = None  # the board's flash while it runs (host/rig/boardfs.py)
         self.board_fs_written: list[str] = []  # what the firmware wrote there (kept in board_fs/)
+        self.board_fs_faults: list[str] = []  # files past the flash's size, not kept (host/rig/boardfs.py)
         damaged = lambda error: endings.damaged(self, error)  # noqa: E731
         round_trips = self.stats.round_trip_us if recording.time_round_trips else None
         self.session = Session(self._on_silence, round_trips, damaged)
@@ -216,6 +217,7 @@ class Rig:
         if board is not None:
             try:
                 self.board_fs_written = board.keep(self.artefacts / "board_fs") if self.artefacts else board.written()
+                self.board_fs_faults = board.faults
             finally:
                 board.remove()
 
@@ -413,6 +415,7 @@ def run_header(rig) -> dict:
         "firmware": rig.firmware.identity(),
         "t_end_us": rig.t_us,
         **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
+        **({"board_fs_faults": rig.board_fs_faults} if rig.board_fs_faults else {}),
     }
 
 

@@ -117,4 +117,67 @@ def confine(env, shim_dir):
     if "vfs.VfsPosix" not in allowed:
         sys.modules["vfs"] = _without(vfs, ("VfsPosix",))
     blocked = tuple(m for m in HOST_MODULES if m not in allowed)
+    board_open = _board_open(builtins.open)
+    real_io = _builtin("io")
+    board_io = _without(real_io, ("open",))
+    board_io.open = board_open
+    sys.modules["io"] = board_io
+    builtins.open = board_open
+    _scrub(allowed, blocked, shim_dir, sys.modules["vfs"], real_io, board_io)
     builtins.__import__ = _board_import(builtins.__import__, blocked)
+
+
+def _board_open(real):
+    # open() as a board's VFS has it: a path, never a number. (The unix port's
+    # extmod/vfs.c mp_vfs_open hands a small int straight to VfsPosix, a host file
+    # descriptor: the link's pty, stdin; a board's lookup_path takes the path as a str:
+    # TypeError.)
+    def open(file, *args, **kwargs):
+        if not isinstance(file, (str, bytes)):
+            raise TypeError("can't convert '%s' object to str implicitly" % type(file).__name__)
+        return real(file, *args, **kwargs)
+
+    return open
+
+
+def _builtin(name):
+    # the built-in module itself, under the shim's entry in sys.modules
+    mine = sys.modules.pop(name, None)
+    try:
+        return __import__(name)
+    finally:
+        if mine is not None:
+            sys.modules[name] = mine
+
+
+def _scrub(allowed, blocked, shim_dir, board_vfs, real_io, board_io):
+    """No host handle stays on the shim's own modules (docs/security.md, "The shim's objects
+    hold no host handle"): a module global that is the unix port's os, vfs or io becomes a
+    copy without the host's names (io's open takes no file descriptor), a host module (ffi,
+    socket, ...) goes, and a module's __file__ names its board path (/_hil/...), not the
+    host's."""
+    real_os, real_vfs = _builtin("os"), _builtin("vfs")
+    safe_os = _without(real_os, tuple(n for n in OS_HOST_NAMES if "os." + n not in allowed))
+    host = [sys.modules[m] for m in blocked if m in sys.modules]
+    prefix = shim_dir.rstrip("/") + "/"
+    for module in list(sys.modules.values()):
+        names = getattr(module, "__dict__", None)
+        if names is None or module is sys or module is builtins:
+            continue
+        for name in list(names):
+            value = names[name]
+            try:
+                if value is real_os:
+                    names[name] = safe_os
+                elif value is real_vfs:
+                    names[name] = board_vfs
+                elif value is real_io:
+                    names[name] = board_io
+                elif any(value is h for h in host):
+                    del names[name]
+                elif name == "__file__" and isinstance(value, str) and value.startswith(prefix):
+                    names[name] = "/_hil/" + value[len(prefix) :]
+            except (TypeError, AttributeError):
+                pass  # (a built-in module's names are in ROM, and hold none of these)
+    for m in blocked:
+        sys.modules.pop(m, None)

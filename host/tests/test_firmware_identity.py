@@ -1,6 +1,9 @@
 """The trace header's firmware hash covers every file the firmware can import, the entry
-included wherever it lives (docs/reliability.md)."""
+included (docs/reliability.md)."""
 
+import pytest
+
+from host.core.errors import ConfigError
 from host.rig.firmware import Firmware
 
 
@@ -12,14 +15,17 @@ def _tree(root, files):
     return root
 
 
-def test_an_entry_file_outside_the_firmware_folder_is_in_the_hash(tmp_path):
-    board = _tree(tmp_path / "board", {"lib/drv.py": "X = 1\n"})
-    _tree(tmp_path / "a", {"app.py": "print('a')\n"})
-    _tree(tmp_path / "b", {"app.py": "print('b')\n"})
-    first = Firmware(board, [board, board / "lib"], entry="../a/app.py").identity()
-    second = Firmware(board, [board, board / "lib"], entry="../b/app.py").identity()
+def test_an_entry_file_is_in_the_hash_and_one_outside_the_firmware_folder_is_refused(tmp_path):
+    """The entry is on the board's flash like every other file (issue 40): inside the
+    firmware folder, hashed; one outside it (``../a/app.py``) is refused by name."""
+    board = _tree(tmp_path / "board", {"lib/drv.py": "X = 1\n", "a/app.py": "print('a')\n", "b/app.py": "print('b')\n"})
+    first = Firmware(board, [board / "lib"], entry="a/app.py").identity()
+    second = Firmware(board, [board / "lib"], entry="b/app.py").identity()
     assert first["sha256"] != second["sha256"], f"two different entry files, one hash: {first} {second}"
     assert first["files"] == 2, first
+    _tree(tmp_path / "a", {"app.py": "print('a')\n"})
+    with pytest.raises(ConfigError, match=r"an entry '\.\./a/app\.py' that leaves it"):
+        Firmware(board, [board, board / "lib"], entry="../a/app.py").identity()
 
 
 def test_a_packages_init_and_a_data_file_change_the_hash_and_caches_do_not(tmp_path):
