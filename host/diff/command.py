@@ -47,8 +47,11 @@ def diff_command(args, say) -> int:
     say(f"B: {args.b} ({b.header['app']}, seed {b.header['seed']}, {b.header['t_end_us'] / 1e6:g} s)")
     for line in report_lines(diff):
         say(line)
-    path = plot_diff(diff, Path(args.out) if args.out else Path(args.b) / "diff")
-    say(f"plot: {path}")
+    out = Path(args.out) if args.out else Path(args.b) / "diff"
+    try:
+        say(f"plot: {plot_diff(diff, out)}")
+    except OSError as e:  # (a full disk: the verdict stands, and its exit status)
+        say(f"plot: not written ({e.filename or out}: {e.strerror or e})")
     beyond = diff.beyond(limits)
     if beyond:
         say("DIFFERS beyond the thresholds: " + "; ".join(beyond))
