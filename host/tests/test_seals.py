@@ -119,3 +119,16 @@ def test_the_outputs_later_commands_write_into_the_folder_are_not_part_of_its_se
     code, _, err = run_cli("plot", copy)
     assert code == 0 and (copy / "plots").is_dir(), err
     load_trace(copy)  # (plots/, replay/, diff/: made from the folder, not read back)
+
+
+def test_the_budgets_verdicts_stamped_after_the_run_are_sealed_with_it(recorded, tmp_path):
+    from host.rig.verdicts import stamp
+
+    copy = copy_of(recorded, tmp_path)
+    name = json.loads((copy / "budgets.json").read_text())[0]["name"]
+    stamp(copy, [{"budget": name, "verdict": "held", "why": "within its limit"}])
+    assert json.loads((copy / "budgets.json").read_text())[0]["verdict"] == "held"
+    load_trace(copy)  # (the harness's own edit: sealed again)
+    (copy / "budgets.json").write_text((copy / "budgets.json").read_text().replace("held", "missed"))
+    with pytest.raises(DamagedFolder, match="budgets.json does not match its digest"):
+        load_trace(copy)
