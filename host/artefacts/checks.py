@@ -123,7 +123,9 @@ def check_seal(folder: Path, header: dict) -> None:
         raise DamagedFolder(f"{where}: {HEADER} seals no files (no 'files'); expected the header a recorded run writes")
     problems = []
     for name, digest in files.items():
-        if not isinstance(digest, str) or not _SHA256.fullmatch(digest):
+        if digest is None:
+            problems.append(f"{name}: sealed with no digest (a folder written before every file was sealed)")
+        elif not isinstance(digest, str) or not _SHA256.fullmatch(digest):
             problems.append(f"{name!r:.80}: header.json's digest {digest!r:.80} is not a SHA-256")
         elif not _sealable(name):
             problems.append(f"{name!r:.80}: not a name inside the folder")
