@@ -122,3 +122,15 @@ def test_the_same_exception_raised_by_another_line_is_another_failure():
     assert signature(raised(40), "generic") == signature(raised(40), "generic")
     assert signature(raised(40), "generic") != signature(raised(80), "generic")
     assert signature(raised(40), "generic").message_class.endswith("| AssertionError: @ main.py:40")
+
+
+def test_campaign_shrink_says_a_refused_failure_and_goes_on(console_judged, tmp_path):
+    from host.shrink.command import shrink_campaign
+
+    _, firmware, _ = console_judged
+    campaign = load_campaign(str(firmware / "rig.toml"), seeds=1, seconds=2.0)
+    results = run_campaign(campaign, tmp_path / "campaign", workers=1)
+    said = []
+    rows = shrink_campaign(campaign, results, tmp_path / "campaign", workers=1, say=said.append)
+    assert len(rows) == 1 and "nothing can be shrunk soundly" in rows[0]["refused"], rows
+    assert any("shrink 1 of 1: refused:" in line for line in said), said
