@@ -3,14 +3,17 @@ that names the file and what is wrong), a partial one is said to be partial.
 
 - the header's fields, each of its type and within bounds (a ``t_end_us`` of 1e30, a NaN,
   a negative seed are refused);
-- the header's own digest and each file's (``files``): a file changed, cut or missing
-  after the run is named; a folder written before digests is checked by its form alone
-  (a CSV that does not end with a whole line, a row of the wrong width);
+- the header's own digest (a header without one is damaged) and the seal of every file
+  of the folder (``files``, :func:`check_seal`): a file changed, cut, missing, added after
+  the run or not a regular file is named, with what differs (:class:`DamagedFolder`);
+  the files' form too (a CSV that does not end with a whole line, a row of the wrong
+  width);
 - a file a reader needs that the run never wrote: the folder is partial (``stop`` says
   why) and the message says so rather than anything about the firmware.
 """
 
 import math
+import re
 from pathlib import Path
 
 from host.artefacts import integrity
@@ -32,6 +35,16 @@ _OPTIONAL = {
     "faults": _LIST,
     "spec": _DICT,
 }
+HEADER = "header.json"  # (host.artefacts.folder.HEADER)
+SHOWN = 8  # a damaged folder's files named in its one message
+_SHA256 = re.compile(r"[0-9a-f]{64}")
+
+
+class DamagedFolder(ConfigError):
+    """A trace folder whose seal does not hold: a file changed, cut, missing or added after
+    the run, or a header without its digest. The message names each file and what differs."""
+
+
 _BOUNDS = {"seed": (0, SEED_MAX), "t_end_us": (0, MAX_T_END_US), "truth_period_us": (1, MAX_T_END_US)}
 
 
@@ -46,8 +59,12 @@ def check_header(folder: Path, header) -> None:
     where = f"trace folder {folder}: header.json"
     if not isinstance(header, dict):
         raise ConfigError(f"{where}: expected a JSON object, got {type(header).__name__}")
-    if "digest" in header and header["digest"] != integrity.header_digest(header):
-        raise ConfigError(f"{where}: its digest does not match its fields (changed or damaged after the run)")
+    if "digest" not in header:
+        raise DamagedFolder(
+            f"{where}: no 'digest' (every header a run writes is sealed: this one was edited or damaged after the run)"
+        )
+    if header["digest"] != integrity.header_digest(header):
+        raise DamagedFolder(f"{where}: its digest does not match its fields (changed or damaged after the run)")
     for name, kind in {**_REQUIRED, **_OPTIONAL}.items():
         if name not in header:
             if name in _REQUIRED:
@@ -88,6 +105,58 @@ def partial_reason(header: dict) -> str | None:
     if incomplete:
         reason += f"; incomplete: {', '.join(sorted(incomplete))} (header.json says why)"
     return reason
+
+
+def check_seal(folder: Path, header: dict) -> None:
+    """Every file of the folder against the header's seal (``files``: each file's SHA-256,
+    :func:`host.artefacts.integrity.folder_digests`): one :class:`DamagedFolder` naming
+    each file missing, changed or cut (its size and digest against the sealed one), added
+    after the run, or not a regular file (a link, a FIFO). A run that did not end sealed
+    nothing: the folder is refused as partial. Every command that reads a trace folder
+    calls this (through :func:`host.artefacts.folder.load_trace`)."""
+    where = f"trace folder {folder}"
+    files = header.get("files")
+    if files is None:
+        partial = partial_reason(header)
+        if partial:  # (a run killed outright: its header, written as it began, names no file)
+            raise ConfigError(f"{where}: no signals.csv; the folder is partial: {partial} ({HEADER} seals no files)")
+        raise DamagedFolder(f"{where}: {HEADER} seals no files (no 'files'); expected the header a recorded run writes")
+    problems = []
+    for name, digest in files.items():
+        if digest is None:
+            problems.append(f"{name}: sealed with no digest (a folder written before every file was sealed)")
+        elif not isinstance(digest, str) or not _SHA256.fullmatch(digest):
+            problems.append(f"{name!r:.80}: header.json's digest {digest!r:.80} is not a SHA-256")
+        elif not _sealable(name):
+            problems.append(f"{name!r:.80}: not a name inside the folder")
+    entries = integrity.folder_entries(folder, HEADER)
+    for name, digest in files.items():
+        if not _sealable(name):
+            continue
+        path = entries.get(name)
+        if path is None:
+            problems.append(f"{name}: missing (header.json seals it)")
+        elif path.is_symlink() or not path.is_file():
+            problems.append(f"{name}: not a regular file (a link or a device): expected the file the run wrote")
+        elif isinstance(digest, str) and (got := integrity.file_digest(path)) != digest:
+            problems.append(
+                f"{name} does not match its digest in header.json (changed or cut after the run: "
+                f"{path.stat().st_size} bytes, SHA-256 {got[:12]}..., sealed {digest[:12]}...)"
+            )
+    for name, path in entries.items():
+        if name not in files:
+            kind = "a link" if path.is_symlink() else "a file" if path.is_file() else "not a regular file"
+            problems.append(f"{name}: {kind} added after the run (header.json does not seal it)")
+    if problems:
+        shown = "; ".join(problems[:SHOWN]) + (f"; and {len(problems) - SHOWN} more" if len(problems) > SHOWN else "")
+        raise DamagedFolder(f"{where}: damaged, its seal does not hold: {shown}")
+
+
+def _sealable(name) -> bool:
+    """A name ``files`` may hold: a relative path inside the folder (no ``..``)."""
+    if not isinstance(name, str) or not name or name.startswith("/") or "\\" in name or "\0" in name:
+        return False
+    return all(part not in ("", ".", "..") for part in name.split("/"))
 
 
 def check_file(folder: Path, header: dict, name: str, needed: bool) -> bool:

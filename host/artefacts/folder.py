@@ -20,9 +20,10 @@ file                content
 Everything but ``budgets.json`` (which holds the wall-clock ``control.compute``) and
 ``console.log`` is in virtual time only: the same run gives the same bytes.
 A recorded run's folder starts with a header marked partial (:func:`begin_trace_folder`);
-at the end each file is written whole or not at all, and the header last, with every
-file's digest and what is incomplete. :func:`load_trace` refuses a damaged folder by name
-(:mod:`host.artefacts.checks`).
+at the end each file is written whole or not at all, and the header last, sealing every
+file of the folder (each one's digest, ``board_fs/`` included) and saying what is
+incomplete. :func:`load_trace`, which every command that reads a folder goes through,
+refuses a damaged folder by name (:func:`host.artefacts.checks.check_seal`).
 ``docs/traces.md`` describes the formats.
 """
 
@@ -79,7 +80,6 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     incomplete = dict(run.get("incomplete") or {})
-    files: dict[str, str] = {}
     error = None
     for name, write in (*_writers(folder, run, recorder, budgets), *pictures.writers(plant)):
         if error is not None:
@@ -88,15 +88,10 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         try:
             with integrity.atomic(folder / name) as part:
                 write(part)
-            files[name] = integrity.file_digest(folder / name)
         except integrity.TraceWriteError as e:
             error = e
             incomplete[name] = f"not written: {e.error.strerror or e.error}"
-    for name in (CONSOLE, LINK, MANIFEST):  # (the manifest: written whole as the run began)
-        if (folder / name).is_file() and name not in incomplete:
-            files[name] = integrity.file_digest(folder / name)
-    if BUDGETS in files:
-        files[BUDGETS] = None  # (whole, but no digest: its wall-clock figures differ run to run)
+    files = integrity.folder_digests(folder, HEADER)  # (every file, streamed ones cut short too: sealed as they are)
     header = make_header({**run, "incomplete": incomplete}, recorder, plant, link_trace=(folder / LINK).is_file())
     text = _json(integrity.seal({**header, "files": files}))
     try:
@@ -112,15 +107,26 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
 
 def reseal(folder: Path) -> None:
     """After a deliberate edit of a trace folder (a test that changes a recording): the
-    header's digests made anew for the files that are there."""
+    header's seal made anew over the files that are there."""
     folder = Path(folder)
     header = json.loads((folder / HEADER).read_text(encoding="utf-8"))
-    files = header.get("files") or {}
-    header["files"] = {
-        name: (integrity.file_digest(folder / name) if digest is not None else None)
-        for name, digest in files.items()
-        if (folder / name).is_file()
-    }
+    header["files"] = integrity.folder_digests(folder, HEADER)
+    integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
+
+
+def reseal_file(folder: Path, name: str) -> None:
+    """The harness changed one file of a sealed folder on purpose after the run (the budgets'
+    verdicts, stamped once the test has judged them): that file's digest in the seal made
+    anew, and the header's; nothing when the header does not seal it."""
+    folder = Path(folder)
+    try:
+        header = json.loads((folder / HEADER).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return
+    files = header.get("files") if isinstance(header, dict) else None
+    if not isinstance(files, dict) or name not in files or not (folder / name).is_file():
+        return
+    files[name] = integrity.file_digest(folder / name)
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
 
 
@@ -356,6 +362,7 @@ def load_trace(folder) -> TraceData:
         got = header.get("format") if isinstance(header, dict) else header
         raise ConfigError(f"trace folder {folder}: format {got!r:.80}, expected {FORMAT!r}")
     checks.check_header(folder, header)
+    checks.check_seal(folder, header)  # (every file: the ones read below and the others)
     data = TraceData(folder, header)
     kinds = {n: i["kind"] for n, i in header["signals"].items()}
     if checks.check_file(folder, header, SIGNALS, needed=True):

@@ -7,7 +7,9 @@
 - :func:`atomic`: a file written under a temporary name and renamed when whole, so a file
   under its own name is never cut short (a cut one is removed, its space given back).
 - :func:`file_digest` and :func:`seal`: the SHA-256 of each file and of the header
-  itself, so a reader can tell a damaged folder from a firmware that changed.
+  itself, so a reader can tell a damaged folder from a firmware that changed;
+  :func:`folder_digests` every file of a trace folder (its top level and ``board_fs/``),
+  what the header seals and :func:`host.artefacts.checks.check_seal` checks.
 """
 
 import hashlib
@@ -73,6 +75,42 @@ def write_text(path: Path, text: str) -> None:
 def file_digest(path: Path) -> str:
     with open(path, "rb") as f:
         return hashlib.file_digest(f, "sha256").hexdigest()
+
+
+SEALED_FOLDERS = ("board_fs",)
+"""Subfolders a run writes into its trace folder, sealed with it; the others (``plots/``,
+``replay/``, ``diff/``, ``coverage/``) are what later commands make from it."""
+
+
+def folder_entries(folder: Path, header_name: str) -> dict[str, Path]:
+    """Every entry of a trace folder that its seal covers, by its name in ``files``
+    (``board_fs/log.txt``): the top level's files (links and other non-directories
+    included, so a reader can refuse them by name) but ``header_name`` and ``.part``
+    files, and everything under :data:`SEALED_FOLDERS`."""
+    folder = Path(folder)
+    found: dict[str, Path] = {}
+    for path in sorted(folder.iterdir()):
+        name = path.name
+        if name == header_name or name.endswith(PART):
+            continue
+        if path.is_dir() and not path.is_symlink():
+            if name in SEALED_FOLDERS:
+                for inner in sorted(path.rglob("*")):
+                    if inner.is_symlink() or not inner.is_dir():
+                        found[inner.relative_to(folder).as_posix()] = inner
+            continue
+        found[name] = path
+    return found
+
+
+def folder_digests(folder: Path, header_name: str) -> dict[str, str]:
+    """The SHA-256 of every regular file :func:`folder_entries` lists (what the header
+    seals); an entry that is not a regular file is left out, so a reader names it."""
+    return {
+        name: file_digest(path)
+        for name, path in folder_entries(folder, header_name).items()
+        if path.is_file() and not path.is_symlink()
+    }
 
 
 def header_digest(header: dict) -> str:

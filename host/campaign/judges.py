@@ -69,7 +69,8 @@ def declared(rig, reached: bool, task: dict):
     """As the rig file's ``[report.judge]`` says: ``console`` (a text the console must
     show), ``no_contact``, ``home_within_m`` (the robot ends this near its start; figure
     ``home_off_m``), ``min_coverage`` (figure ``coverage``); and the ``until`` text, as
-    :func:`generic`. The first unmet condition is the message."""
+    :func:`generic`. Every unmet condition, in that order, is the message (joined by
+    ``; ``): a shrink's candidate fails the same way only when it misses the same ones."""
     expect = (rig.app.extra.get("report") or {}).get("judge") or {}
     ok, figures, message = generic(rig, reached, task)
     truth = rig.truth()
@@ -89,7 +90,7 @@ def declared(rig, reached: bool, task: dict):
         figures["coverage"] = truth.get("coverage_fraction", math.nan)
         if not figures["coverage"] >= expect["min_coverage"]:
             problems.append(f"expected >= {expect['min_coverage']:.0%} covered, got {figures['coverage']:.1%}")
-    return not problems, figures, problems[0] if problems else ""
+    return not problems, figures, "; ".join(problems)
 
 
 JUDGES = {

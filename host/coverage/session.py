@@ -1,10 +1,10 @@
 """A session's firmware coverage: every run's data file merged into one, its HTML and its
 total (docs/coverage.md).
 
-The runs' files (``.coverage.<scenario>.rig<n>``, each with its scenario as coverage
+The runs' files (``.coverage.<test>.rig<n>``, each with its test's node id as coverage
 context) and the merged ``.coverage`` sit in one folder, so ``coverage report`` and
 ``coverage html`` run there as in any Python project (``coverage combine`` reads the same
-files); ``html/index.html`` shows each line's scenarios (its contexts).
+files); ``html/index.html`` shows the tests that ran each line (its contexts).
 """
 
 from pathlib import Path

@@ -1,7 +1,9 @@
 """``mpy-fil diff A B``: the two trace folders compared (:mod:`.compare`), as tables on the
 terminal and a plot (:mod:`.plot`); exit status 0 when within every threshold, 1 beyond
-one (each named), 2 for a folder that cannot be read (the command line's one line). The
-command line hands in ``say``."""
+one (each named), 2 when they could not be compared: a folder that cannot be read or is
+damaged (the command line's one line, :class:`CannotCompare` or another ConfigError), or a
+pose or output that is no number (NaN, inf: each named). The command line hands in
+``say``."""
 
 import math
 from pathlib import Path
@@ -12,7 +14,11 @@ from host.diff.compare import Thresholds, compare
 from host.diff.plot import plot_diff
 from host.report.table import format_table
 
-EXIT_SAME, EXIT_DIFFERS = 0, 1
+EXIT_SAME, EXIT_DIFFERS, EXIT_CANNOT_COMPARE = 0, 1, 2
+
+
+class CannotCompare(ConfigError):
+    """Two trace folders that could not be compared (exit 2, not 1: "differs")."""
 
 
 def thresholds(args) -> Thresholds:
@@ -33,17 +39,26 @@ def thresholds(args) -> Thresholds:
 def diff_command(args, say) -> int:
     limits = thresholds(args)
     a, b = load_trace(args.a), load_trace(args.b)
-    diff = compare(a, b)
+    try:
+        diff = compare(a, b)
+    except (ValueError, TypeError, KeyError, IndexError, ArithmeticError) as e:
+        raise CannotCompare(f"A {args.a} and B {args.b} could not be compared: {type(e).__name__}: {e}") from e
     say(f"A: {args.a} ({a.header['app']}, seed {a.header['seed']}, {a.header['t_end_us'] / 1e6:g} s)")
     say(f"B: {args.b} ({b.header['app']}, seed {b.header['seed']}, {b.header['t_end_us'] / 1e6:g} s)")
     for line in report_lines(diff):
         say(line)
-    path = plot_diff(diff, Path(args.out) if args.out else Path(args.b) / "diff")
-    say(f"plot: {path}")
+    out = Path(args.out) if args.out else Path(args.b) / "diff"
+    try:
+        say(f"plot: {plot_diff(diff, out)}")
+    except OSError as e:  # (a full disk: the verdict stands, and its exit status)
+        say(f"plot: not written ({e.filename or out}: {e.strerror or e})")
     beyond = diff.beyond(limits)
     if beyond:
         say("DIFFERS beyond the thresholds: " + "; ".join(beyond))
         return EXIT_DIFFERS
+    if diff.uncompared:
+        say("could not compare: " + "; ".join(diff.uncompared))
+        return EXIT_CANNOT_COMPARE
     say("same within the thresholds")
     return EXIT_SAME
 

@@ -10,7 +10,14 @@
 - **budgets**: each budget's p50, p99 and misses in A and B, and their change; wall-clock
   budgets are listed but never judged (they change run to run).
 
-A verdict (:meth:`Diff.beyond`) names each threshold exceeded.
+A verdict (:meth:`Diff.beyond`) names each threshold exceeded. A value that is no number
+(NaN, inf) where a number must be (a pose, a firmware output) is named
+(:attr:`Diff.uncompared`): such a diff is never "same". A sensor's ground truth may be
+inf or NaN (nothing in range): the same on both sides is no difference, on one side only
+it is one, and named in a note.
+
+Every signal kind the recorder keeps is compared: numbers, and text (a bus's transfers,
+a display's text, bytes as hex, an LED's colour), value by value.
 """
 
 import math
@@ -44,6 +51,7 @@ class Diff:
     outputs: list[dict] = field(default_factory=list)
     budgets: list[dict] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    uncompared: list[str] = field(default_factory=list)  # what is no number where one must be
 
     @property
     def max_pos_m(self) -> float:
@@ -80,7 +88,7 @@ class Diff:
 def compare(a: TraceData, b: TraceData) -> Diff:
     diff = Diff(a, b)
     compare_truth(diff)
-    diff.outputs = compare_outputs(a, b)
+    diff.outputs = compare_outputs(a, b, diff.uncompared)
     diff.budgets = compare_budgets(a.budgets, b.budgets)
     return diff
 
@@ -96,21 +104,48 @@ def compare_truth(diff: Diff) -> None:
     if len(ta) != len(tb):
         diff.notes.append(f"truth compared over the {len(t)} times both have (A {len(ta)}, B {len(tb)} rows)")
     diff.t_s = t / 1e6
+    for name in (*POSE, HEADING):
+        for side, trace, index in (("A", diff.a, ia), ("B", diff.b, ib)):
+            if name in trace.truth:
+                _name_non_finite(diff, f"{side}'s {name}", trace.truth[name][index], diff.t_s, "the pose")
     if all(n in names for n in POSE):
         dx = diff.a.truth["x_m"][ia] - diff.b.truth["x_m"][ib]
         dy = diff.a.truth["y_m"][ia] - diff.b.truth["y_m"][ib]
         diff.position_m = np.hypot(dx, dy)
         diff.fields.append(_row("position (m)", diff.t_s, diff.position_m))
     for name in names:
-        with np.errstate(invalid="ignore"):  # (inf - inf: a reading out of range on both: no difference)
-            d = diff.a.truth[name][ia] - diff.b.truth[name][ib]
+        va, vb = diff.a.truth[name][ia], diff.b.truth[name][ib]
+        with np.errstate(invalid="ignore"):
+            d = np.abs(va - vb)
         if name == HEADING:
-            d = (d + math.pi) % (2 * math.pi) - math.pi
-        diff.fields.append(_row(name, diff.t_s, np.abs(d)))
+            d = np.abs((va - vb + math.pi) % (2 * math.pi) - math.pi)
+        same = _same_non_finite(va, vb)  # (nan and nan, inf and inf: nothing in range on both)
+        apart = ~np.isfinite(va) | ~np.isfinite(vb)
+        d = np.where(same, 0.0, np.where(apart, math.inf, d))
+        if np.any(apart & ~same):
+            i = int(np.argmax(apart & ~same))
+            diff.notes.append(
+                f"{name} at t={diff.t_s[i]:.6f} s: {va[i]:g} in A, {vb[i]:g} in B (not a number on one side)"
+            )
+        diff.fields.append(_row(name, diff.t_s, d))
+
+
+def _same_non_finite(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Where both are the same non-number: NaN and NaN, or inf and inf of one sign."""
+    return (np.isnan(a) & np.isnan(b)) | (np.isinf(a) & (a == b))
+
+
+def _name_non_finite(diff: Diff, what: str, values: np.ndarray, t_s: np.ndarray, where: str) -> None:
+    bad = ~np.isfinite(np.asarray(values, dtype=float))
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        diff.uncompared.append(
+            f"{what} is {values[i]:g} at t={t_s[i]:.6f} s ({int(bad.sum())} of {len(bad)} rows): {where} is no number"
+        )
 
 
 def _row(name: str, t_s: np.ndarray, d: np.ndarray) -> dict:
-    both = np.where(np.isnan(d), 0.0, d)  # (a field neither knew yet: no difference)
+    both = np.where(np.isnan(d), 0.0, d)  # (a pose that is no number: named in Diff.uncompared)
     i = int(np.argmax(both)) if len(both) else 0
     finite = both[np.isfinite(both)]
     return {
@@ -125,8 +160,10 @@ def firmware_outputs(trace: TraceData) -> list[str]:
     return sorted(n for n, info in trace.signals().items() if info["role"] != ROLE_SENSOR)
 
 
-def compare_outputs(a: TraceData, b: TraceData) -> list[dict]:
-    """A row per firmware output of either: its change counts and its first divergence."""
+def compare_outputs(a: TraceData, b: TraceData, uncompared: list | None = None) -> list[dict]:
+    """A row per firmware output of either: its change counts and its first divergence
+    (values of any kind: numbers or text); a value that is no number (NaN, inf) is named
+    in ``uncompared``."""
     changes: dict[str, tuple[list, list]] = {n: ([], []) for n in set(firmware_outputs(a)) | set(firmware_outputs(b))}
     for side, trace in enumerate((a, b)):
         for t_us, name, value in trace.events:
@@ -135,7 +172,14 @@ def compare_outputs(a: TraceData, b: TraceData) -> list[dict]:
     rows = []
     for name in sorted(changes):
         ea, eb = changes[name]
-        first = next((i for i, (x, y) in enumerate(zip(ea, eb)) if x != y), None)
+        for side, events in (("A", ea), ("B", eb)):
+            bad = [(t, v) for t, v in events if isinstance(v, float) and not math.isfinite(v)]
+            if bad and uncompared is not None:
+                uncompared.append(
+                    f"output {name} is {bad[0][1]:g} in {side} at t={bad[0][0] / 1e6:.6f} s ({len(bad)} of "
+                    f"{len(events)} changes): a firmware output is no number"
+                )
+        first = next((i for i, (x, y) in enumerate(zip(ea, eb)) if not _same_change(x, y)), None)
         if first is None and len(ea) != len(eb):
             first = min(len(ea), len(eb))
         row = {"signal": name, "changes_a": len(ea), "changes_b": len(eb), "first_t_s": None, "a": "", "b": ""}
@@ -146,6 +190,16 @@ def compare_outputs(a: TraceData, b: TraceData) -> list[dict]:
             row["b"] = _change_text(xb)
         rows.append(row)
     return rows
+
+
+def _same_change(x: tuple, y: tuple) -> bool:
+    """Two changes at one time to one value (NaN is NaN: named apart, in Diff.uncompared)."""
+    if x[0] != y[0]:
+        return False
+    a, b = x[1], y[1]
+    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
+        return True
+    return a == b
 
 
 def _change_text(change) -> str:

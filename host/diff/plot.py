@@ -14,6 +14,21 @@ DPI = 100
 OUTPUTS_SHOWN = 4
 AROUND_S = 2.0  # an output's panel: this long either side of its first divergence
 NAME = "diff.png"
+TEXT_LEVELS_SHOWN = 8  # a text output's panel: this many of its values named on the axis
+TEXT_CHARS = 28
+
+
+def _runs(diff: Diff):
+    return ((diff.a, "A", "-"), (diff.b, "B", "--"))
+
+
+def _changes(trace, name: str) -> list[tuple[int, object]]:
+    """(t_us, value) of each change of one output, its values as recorded (numbers or text)."""
+    return [(t, v) for t, n, v in trace.events if n == name]
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= TEXT_CHARS else text[: TEXT_CHARS - 3] + "..."
 
 
 def plot_diff(diff: Diff, out: Path) -> Path:
@@ -62,10 +77,18 @@ def _deviation(ax, diff: Diff) -> None:
 
 def _output(ax, diff: Diff, output: dict) -> None:
     t0 = output["first_t_s"]
-    for trace, label, style in ((diff.a, "A", "-"), (diff.b, "B", "--")):
-        t_us, values = trace.series(output["signal"])
-        if len(t_us) and values.dtype.kind == "f":
-            ax.step(t_us / 1e6, values, style, where="post", label=label)
+    runs = [(label, style, _changes(trace, output["signal"])) for trace, label, style in _runs(diff)]
+    values = [v for _l, _s, changes in runs for _t, v in changes]
+    numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
+    levels = {} if numeric else {v: i for i, v in enumerate(dict.fromkeys(map(str, values)))}
+    for label, style, changes in runs:
+        if changes:
+            t_s = [t / 1e6 for t, _v in changes]
+            ys = [v if numeric else levels[str(v)] for _t, v in changes]
+            ax.step(t_s, ys, style, where="post", label=label)
+    if levels:  # (text: a bus's transfers, a display's text, an LED's colour: each value a level)
+        shown = list(levels.items())[:: max(1, len(levels) // TEXT_LEVELS_SHOWN)]
+        ax.set_yticks([i for _v, i in shown], [_short(v) for v, _i in shown], fontsize=7)
     ax.axvline(t0, color="red", linewidth=0.8)
     end_s = max(trace.header.get("t_end_us", 0) for trace in (diff.a, diff.b)) / 1e6
     ax.set_xlim(max(0.0, t0 - AROUND_S), min(t0 + AROUND_S, end_s) if end_s > t0 else t0 + AROUND_S)

@@ -3,7 +3,8 @@ its coverage (docs/coverage.md).
 
 Before any test runs (in the controller under pytest-xdist) the variant is built if it is
 not there and the coverage folder's earlier data removed. Each rig writes
-``.coverage.<test>.rig<n>`` there (the test as its coverage context); at the end of the
+``.coverage.<test>.rig<n>`` there (the test's node id as its coverage context, so the HTML
+shows which tests ran each line); at the end of the
 session they are merged into ``.coverage``, the HTML written to ``html/`` and linked from
 the HIL report (``--hil-report``), and the total printed. The folder: ``--hil-coverage-dir``,
 else ``coverage/`` beside the HIL report, else the rigs' artefacts root's.
@@ -17,7 +18,7 @@ import pytest
 from host.core import interpreter
 from host.core.errors import HarnessError
 from host.core.paths import REPO
-from host.coverage import session
+from host.coverage import collector, session
 from host.pytest_plugin.session_report import is_worker
 
 PLUGIN_NAME = "hil-coverage"
@@ -63,7 +64,9 @@ def data_file(config, nodeid: str, n: int) -> Path | None:
     if plugin is None:
         return None
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", nodeid).strip("_")
-    return plugin.folder / f"{session.MERGED}.{name}.rig{n}"
+    path = plugin.folder / f"{session.MERGED}.{name}.rig{n}"
+    collector.name_context(path, nodeid)  # (the test is the context of each line its rigs run)
+    return path
 
 
 class HilCoverage:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import CAMPAIGN
+from host.core.errors import ConfigError
 from host.report.table import format_table
 from host.shrink.runs import Runs
 from host.shrink.shrinker import Shrinker, Shrunk
@@ -94,7 +95,12 @@ def shrink_campaign(campaign: Campaign, results: list[dict], out: Path, *, worke
     rows = []
     for n, (sig, keys) in enumerate(groups.items(), start=1):
         say(f"shrink {n} of {len(groups)}: {keys[0]} ({len(keys)} run(s) failed as {sig})")
-        shrunk, command = shrink_task(tasks[keys[0]], out / "shrink" / str(n), workers=workers, say=say)
+        try:
+            shrunk, command = shrink_task(tasks[keys[0]], out / "shrink" / str(n), workers=workers, say=say)
+        except ConfigError as e:  # (refused: the harness's own failure, a judge it cannot shrink soundly)
+            say(f"shrink {n} of {len(groups)}: refused: {e}")
+            rows.append({"signature": str(sig), "runs_failed": len(keys), "shrunk": keys[0], "refused": str(e)})
+            continue
         rows.append(
             {
                 "signature": str(sig), "runs_failed": len(keys), "shrunk": keys[0],

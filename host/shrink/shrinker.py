@@ -12,13 +12,22 @@ original's failure signature (:mod:`.signature`).
    until no cut fails the same way or the window is ``resolution_s`` long.
 3. **Duration**: the shortest duration (to ``resolution_s``) that still fails the same
    way, three durations tried at once per round (the quartiles of what is left: the
-   same answer for any number of workers); windows end with it. Skipped for a
-   deadline failure (:attr:`.signature.Signature.deadline`).
+   same answer for any number of workers); windows end with it. Skipped for a failure a
+   shorter run has whatever the firmware does (:attr:`.signature.Signature.needs_duration`:
+   a deadline, a console text or a coverage the judge wants): a fixed firmware would fail
+   the cut run the same way.
+
+A run is refused (ConfigError, nothing shrunk) when it passes when run again, when its
+failure is the harness's own (a crash, a setting refused:
+:attr:`.signature.Signature.harness_own`), when its judge is not one the shrink knows, or
+when the failure needs its whole duration and there is no fault to shrink.
 """
 
 import time
 from dataclasses import dataclass, field
 
+from host.campaign.judges import JUDGES
+from host.core.errors import ConfigError
 from host.shrink.ddmin import ddmin
 from host.shrink.runs import Runs
 from host.shrink.signature import Signature, signature
@@ -115,12 +124,25 @@ class Shrinker:
     # -- the phases ----------------------------------------------------------------
     def shrink(self) -> Shrunk:
         started = time.monotonic()
+        if self.task["judge"] not in JUDGES:
+            raise ConfigError(
+                f"judge {self.task['judge']!r}: a shrink knows only the judges {', '.join(sorted(JUDGES))} "
+                "(what each failure means, so that a candidate fails the same way)"
+            )
         first = self.runs.run([self.build()])[0]
         self.signature = signature(first, self.task["judge"])
         if self.signature is None:
-            from host.core.errors import ConfigError
-
             raise ConfigError("the run passed when run again: nothing to shrink (expected a failing run)")
+        if self.signature.harness_own:
+            raise ConfigError(
+                f"the run fails with the harness's own error, not the firmware's ({_first_line(first)}); "
+                "expected a failure of the firmware or its judge: nothing to shrink"
+            )
+        if self.signature.needs_duration and not self.faults:
+            raise ConfigError(
+                f"the run fails as {self.signature}: a shorter run fails so whatever the firmware does, and the run "
+                "has no faults to take out: nothing can be shrunk soundly"
+            )
         self.say(f"shrink: the run fails as {self.signature}")
         self.shrink_faults()
         self.shrink_windows()
@@ -177,10 +199,9 @@ class Shrinker:
         return None
 
     def shrink_duration(self) -> None:
-        if self.signature.deadline:
-            self.notes.append(
-                "duration kept: the failure is the judge's deadline (a shorter run fails so whatever happens)"
-            )
+        if self.signature.needs_duration:
+            what = "the judge's deadline" if self.signature.deadline else "something the judge wants did not happen"
+            self.notes.append(f"duration kept: the failure is {what} (a shorter run fails so whatever happens)")
             return
         low = max([a for a, _ in self.windows.values()] + [0.0])  # (no shorter: a window would start after the end)
         high = self.seconds
@@ -219,3 +240,8 @@ def _window_text(fault: dict, task: dict) -> str:
     start = float(fault.get("start_s", 0.0))
     end = min(float(fault.get("end_s", FOREVER_S)), task["seconds"])
     return f"{start:g}-{end:g} s"
+
+
+def _first_line(result: dict) -> str:
+    lines = (result.get("message") or "").strip().splitlines()
+    return lines[0][:300] if lines else str(result.get("error"))

@@ -12,6 +12,7 @@ from host.campaign.scenario import Campaign, load_campaign, task_key
 from host.campaign.store import CAMPAIGN, ResultStore
 from host.core.errors import ConfigError
 from host.core.paths import REPO
+from sim_plant.faults import FaultError, parse_faults
 
 SUBFOLDERS = ("runs", "replay")
 TRACE_FAULTSET = "trace"
@@ -69,6 +70,7 @@ def _from_trace(folder: Path, app: str | None, trust_folder: bool) -> Source:
 
     header = load_trace(folder).header
     spec = header.get("spec") or {}
+    _check_spec(folder, spec)
     if spec.get("mode", "lockstep") != "lockstep":
         raise ConfigError(f"RUN {folder}: a {spec.get('mode')} run; expected a lockstep run (its runs repeat)")
     if spec.get("options"):
@@ -92,3 +94,17 @@ def _from_trace(folder: Path, app: str | None, trust_folder: bool) -> Source:
     campaign.faultsets = {TRACE_FAULTSET: list(spec.get("faults") or [])}
     campaign.placement = dict(spec.get("placement") or {})
     return Source(campaign.tasks()[0], str(folder))
+
+
+def _check_spec(folder: Path, spec: dict) -> None:
+    """The header's spec as a shrink reads it: faults the harness can apply, a world's name,
+    a placement table; else a ConfigError naming the field (never a run of the harness
+    failing on it, shrunk as if it were the firmware's failure)."""
+    where = f"RUN {folder}: {HEADER} spec"
+    try:
+        parse_faults([] if spec.get("faults") is None else spec["faults"])
+    except FaultError as e:
+        raise ConfigError(f"{where}.{e}; expected the faults a recorded run lists (docs/campaigns.md)") from None
+    for name, kinds in (("world", (str, type(None))), ("placement", (dict, type(None))), ("seed", (int, type(None)))):
+        if not isinstance(spec.get(name), kinds) or isinstance(spec.get(name), bool):
+            raise ConfigError(f"{where}.{name}: expected {kinds[0].__name__}, got {spec.get(name)!r:.80}")

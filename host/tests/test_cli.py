@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from host.artefacts.folder import reseal
 from host.core.paths import REPO
 
 
@@ -118,6 +119,7 @@ def fake_trace_folder(folder: Path, budgets: str | None = None) -> Path:
     (folder / "truth.csv").write_text("t_us\n0\n")
     if budgets is not None:
         (folder / "budgets.json").write_text(budgets)
+    reseal(folder)  # (sealed as a run seals its folder: a damaged file is found by its form)
     return folder
 
 

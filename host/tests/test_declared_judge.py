@@ -1,6 +1,7 @@
 """A rig file says how a campaign's run of it passes (``[report.judge]``): the campaign
-takes that judge when it names none, and the judge fails a run on the first condition it
-misses, with its figures; a bad judge table is refused naming its field."""
+takes that judge when it names none, and the judge fails a run on every condition it
+misses (in order: a shrink tells the failures apart by them), with its figures; a bad
+judge table is refused naming its field."""
 
 from types import SimpleNamespace
 
@@ -40,9 +41,14 @@ def test_a_campaign_of_a_rig_file_with_a_judge_takes_it_and_one_without_takes_th
         (fake_rig("stopped", {"no_contact": True}, contacts=[(1, 2.0, 1.0)]), False, "expected no contact, got 1"),
         (fake_rig("", {"home_within_m": 0.15}, x_m=1.2), False, "expected home within 0.15 m, got 0.200 m"),
         (fake_rig("", {"min_coverage": 0.95}), False, "expected >= 95% covered, got 50.0%"),
+        (
+            fake_rig("driving", {"console": "stopped", "no_contact": True}, contacts=[(1, 2.0, 1.0)]),
+            False,
+            "expected 'stopped' on the console; expected no contact, got 1",
+        ),
     ],
 )
-def test_the_declared_judge_fails_on_the_first_condition_missed(rig, passed, message):
+def test_the_declared_judge_fails_on_every_condition_missed_in_order(rig, passed, message):
     ok, figures, said = declared(rig, True, {"until": None, "seconds": 28})
     assert (ok, said) == (passed, message)
     assert figures["t_end_s"] == 28.0

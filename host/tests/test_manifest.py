@@ -8,6 +8,7 @@ from importlib import metadata
 
 import pytest
 
+from host.artefacts.folder import reseal
 from host.core import interpreter
 from host.core.paths import REPO, SHIM_DIR
 from host.rig import manifest
@@ -38,6 +39,7 @@ def edited_replay(run, tmp_path, changes: dict) -> list:
         part, field = where.split(".")
         found[part][field] = value
     (run / "manifest.json").write_text(json.dumps(found))
+    reseal(run)  # (an edit on purpose: else the seal refuses the folder)
     return [sys.executable, "-m", "host.cli", "replay", str(run), "--trust-folder", "--out", str(tmp_path / "o")]
 
 
@@ -105,6 +107,7 @@ def test_replay_names_a_changed_firmware_file_and_goes_on_only_when_told(make_ri
 def test_replay_of_a_folder_without_a_manifest_says_it_was_not_checked(make_rig, tmp_path):
     _, run = recorded(make_rig, tmp_path)
     (run / "manifest.json").unlink()
+    reseal(run)  # (a folder written before manifests: nothing else is missing)
     result = replay(run, tmp_path / "again", choice=TRUSTED)
     assert result.same and result.manifest is None
 

@@ -135,7 +135,7 @@ def test_a_fault_that_matters_only_inside_a_window_shrinks_to_it_and_replays(cam
     assert fault["end_s"] - fault["start_s"] <= resolution_s + 1e-9
     assert 1.4 <= fault["start_s"] < 2.0, "a window where the firmware reads a sample in its 1.5-2.0 s check"
     assert 1.5 <= minimal["seconds"] <= 2.0 + resolution_s, "the run ends soon after the failure"
-    assert report["signature"]["message_class"].endswith("| RuntimeError: battery low: # at # ms")
+    assert report["signature"]["message_class"].endswith("| RuntimeError: battery low: # at # ms @ main.py:21")
     assert [r["after"] for r in report["removed"]][:5] == [
         "removed",
         "removed",
