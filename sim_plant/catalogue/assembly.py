@@ -13,6 +13,7 @@ from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
+from sim_plant.names import unknown
 from sim_plant.option_table import Name
 
 PART_KEYS = ("kind", "name", "mount")
@@ -278,7 +279,9 @@ def _body(table: dict):
     bodies = catalogue.bodies()
     kind = table.get("body")
     if not isinstance(kind, str) or kind not in bodies:
-        raise PartsError(f"[plant] body: expected one of {', '.join(bodies)}, got {kind!r}"[:200])
+        described = {k: c.doc for k, c in bodies.items()}
+        known = unknown(kind, bodies, described, "bodies")
+        raise PartsError(f"[plant] body: expected one of the catalogue's bodies, got {_short(kind)} {known}")
     cls = bodies[kind]
     return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
 
@@ -290,10 +293,13 @@ def _part(i: int, entry):
     known = catalogue.parts()
     kind = entry.get("kind")
     if not isinstance(kind, str) or kind not in known:
-        raise PartsError(f"{label} kind: expected one of {', '.join(known)}, got {kind!r}"[:200])
+        described = {k: c.doc for k, c in known.items()}
+        kinds = unknown(kind, known, described, "parts")
+        raise PartsError(f"{label} kind: expected one of the catalogue's parts, got {_short(kind)} {kinds}")
     name = entry.get("name")
     problem = Name().problem(name)
-    if problem:
+    if problem or "." in name:
+        problem = problem or f"expected no '.' (its signals are <name>.<signal>), got {name!r}"
         raise PartsError(f"{label} name: {problem}")
     label = f"{label} ({name})"
     mount = entry.get("mount", {})
@@ -312,6 +318,11 @@ def _part(i: int, entry):
         raise PartsError(f"{label} {e}") from None
     part.label = label
     return part
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def rig_plant_table(path, parts: dict | None = None, **options) -> dict:

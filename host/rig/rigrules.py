@@ -1,0 +1,172 @@
+"""The rules a rig file's fields must keep together, which no one field shows wrong alone:
+what a board could not be wired as, and what a run could not mean.
+
+- **One line, one use.** A pin is wired once; a plant input is driven by one pin (or by
+  one device: a PWM expander's channel); a probe watches one pin; a pin a bus runs on
+  (a SoftI2C's ``i2c:<scl>,<sda>``, a SoftSPI's ``spi:<sck>,<mosi>,<miso>``, a DHT's
+  ``dht:<pin>``) is no other bus's and no wired pin, and appears once in its bus.
+- **Only what the board has.** A pin number in a bus's name is one of the family's GPIOs;
+  a board's bus controller (``i2c<n>``, ``spi<n>``) is one the family has (as the shim's
+  ``machine.I2C``/``SPI`` take them: ``host/shim/_hilbus.py``, after MicroPython's
+  ``ports/esp32/machine_i2c.c``, ``machine_hw_spi.c``, ``ports/rp2/machine_i2c.c``,
+  ``machine_spi.c``).
+- **A start that can happen.** The body's start pose (each world's) is in free floor:
+  inside the room, outside every obstacle.
+
+Each rule raises the rig file's :class:`~host.core.errors.ConfigError`, naming the field
+and both sides of the clash, through ``where.error(field, message)``.
+"""
+
+import math
+import re
+
+from host.rig.boards import pin_key
+from host.rig.wiring import PROBE_PREFIX
+from sim_plant.contacts import ContactMonitor
+from sim_plant.names import unknown
+from sim_plant.option_table import SAFE_NAME
+
+PIN_RANGES = {"esp32": 48, "rp2": 47}
+"""The highest GPIO of each family, by ``sys.platform`` (ESP32-S3: 48, RP2350B: 47)."""
+MAX_PIN = 255  # a board of no known family
+BUS_IDS = {"rp2": {"i2c": (0, 1), "spi": (0, 1)}}
+"""A family's bus controllers by ``sys.platform``; any other (an ESP32, the unix port's
+boards of no family): I2C 0 and 1, SPI 1 and 2 (HSPI and VSPI)."""
+OTHER_BUS_IDS = {"i2c": (0, 1), "spi": (1, 2)}
+HARDWARE_BUS = re.compile(r"(i2c|spi)([0-9])")
+GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]+)")  # 16, GP16, GPIO16: a number of the family's
+MAX_PROBE = 40
+
+
+def highest_pin(platform: str | None) -> int:
+    return PIN_RANGES.get(platform or "", MAX_PIN)
+
+
+def plain_name(name) -> str | None:
+    """Why ``name`` cannot be a part's or a probe's name (None: it can): one path component
+    of letters, digits, ``_ + -`` (no ``.``: a signal is ``<name>.<signal>``)."""
+    if isinstance(name, str) and SAFE_NAME.fullmatch(name) and "." not in name:
+        return None
+    shown = repr(name) if len(repr(name)) < 70 else repr(name)[:66] + "..."
+    return f"expected a name of letters, digits, '_', '+' or '-' (no '.', no '/', at most 64), got {shown}"
+
+
+def check_wiring(where, wiring: dict, pins: dict, plant) -> None:
+    """One pin for each plant input and each probe; probes named as one path component."""
+    inputs = set(plant.inputs)
+    driven = set(getattr(plant, "driven_inputs", set)())
+    by_signal: dict = {}
+    for pin, signal in wiring.items():
+        field = f"[wiring] {pin}"
+        if signal.startswith(PROBE_PREFIX):
+            problem = plain_name(signal[len(PROBE_PREFIX) :])
+            if problem:
+                raise where.error(field, f"a probe's name: {problem}")
+        if signal in driven:
+            raise where.error(
+                field, f"{signal} is driven by a device of the plant (a PWM expander's channel): no pin may drive it"
+            )
+        if signal in inputs or signal.startswith(PROBE_PREFIX):
+            other = by_signal.setdefault(signal, pin)
+            if other != pin:
+                what = "one probe watches one pin" if signal.startswith(PROBE_PREFIX) else "two outputs on one line"
+                raise where.error(field, f"{signal} is wired to {other} too ({what}): expected one pin for it")
+
+
+def check_boards(where, also: tuple, wiring: dict, known: list, read_pins) -> None:
+    """Each ``[board] also`` is a board of ours that has every wired pin's name."""
+    for name in also:
+        if name not in known:
+            raise where.error("[board] also", f"no board {name!r} {unknown(name, known, what='boards')}")
+        missing = [pin for pin in wiring if pin not in read_pins(name)]
+        if missing:
+            raise where.error(
+                "[board] also", f"board {name} has no pin named {', '.join(missing)} (the wiring needs every one)"
+            )
+
+
+def bus_pins(bus: str) -> list[str]:
+    """The pins a bus's name gives (a SoftI2C's, a SoftSPI's, a DHT's line), as the shim names them."""
+    if ":" not in bus:
+        return []
+    return [p for p in bus.split(":", 1)[1].split(",") if p]
+
+
+def check_buses(where, plant, wiring: dict, pins: dict, platform: str | None) -> None:
+    """Every bus a part is on: a controller the family has, pins the family has, each pin
+    once and on no other bus and wired to nothing."""
+    wired = {pin_key(name, pins[name]): name for name in wiring if name in pins}
+    taken: dict = {}  # pin -> (bus, the field that put it there)
+    highest = highest_pin(platform)
+    for field, bus in _bus_fields(plant):
+        hard = HARDWARE_BUS.fullmatch(bus)
+        if hard:
+            ids = BUS_IDS.get(platform or "", OTHER_BUS_IDS)[hard.group(1)]
+            if int(hard.group(2)) not in ids:
+                has = [f"{hard.group(1)}{i}" for i in ids]
+                soft = "i2c:<scl>,<sda>" if hard.group(1) == "i2c" else "spi:<sck>,<mosi>,<miso>"
+                raise where.error(
+                    field,
+                    f"{_family(platform)} has no bus {bus} {unknown(bus, has, what='its ' + hard.group(1).upper())}"
+                    f"; or {soft} for a software bus on any pins",
+                )
+            continue
+        seen: list = []
+        for pin in bus_pins(bus):
+            number = GPIO_NAME.fullmatch(pin)
+            if number and int(number.group(1)) > highest:
+                raise where.error(
+                    field, f"pin {pin} of bus {bus}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)"
+                )
+            if pin in seen:
+                raise where.error(field, f"pin {pin} is twice in bus {bus}: expected a pin for each line")
+            seen.append(pin)
+            if pin in wired:
+                name = wired[pin]
+                raise where.error(
+                    field,
+                    f"pin {pin} of bus {bus} is wired as {name} = {pins[name]} to {wiring[name]} too: "
+                    "one pin is one line (move the bus or the wire)",
+                )
+            other = taken.setdefault(pin, (bus, field))
+            if other[0] != bus:
+                clash = f"pin {pin} of bus {bus} is bus {other[0]}'s too ({other[1]})"
+                raise where.error(field, f"{clash}: one pin is one line")
+
+
+def _family(platform: str | None) -> str:
+    return f"the {platform} family" if platform else "a board of no family ([board] family)"
+
+
+def _bus_fields(plant):
+    """(the field that names it, bus) for each part on a bus (each device, for a plant of a kind)."""
+    parts = getattr(plant, "catalogue_parts", None)
+    if parts is not None:
+        return [(f"{p.label} bus", p.options["bus"]) for p in parts if p.on_bus and p.options.get("bus")]
+    bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
+    return [(f"[plant] ({d.label}) bus", d.bus) for d in getattr(bus_set, "devices", ())]
+
+
+def check_start(where, field: str, plant) -> None:
+    """The body starts in free floor: each of its circles' centres inside the room and
+    outside every obstacle of the world (a plant with no world or no body: nothing to check)."""
+    inner = getattr(plant, "inner", plant)
+    world = getattr(inner, "world", None)
+    body = getattr(inner, "body", None)
+    if world is None or not getattr(world, "walls", None) or not getattr(body, "moves", True):
+        return
+    pose_at = getattr(inner, "pose_at", None)
+    if pose_at is None:
+        return
+    x, y, theta = pose_at(0)
+    monitor = next((p for p in getattr(inner, "parts", ()) if isinstance(p, ContactMonitor)), None)
+    circles = monitor.circles if monitor is not None else ((0.0, 0.0, 0.0),)
+    c, s = math.cos(theta), math.sin(theta)
+    for ox, oy, _r in circles:
+        px, py = x + ox * c - oy * s, y + ox * s + oy * c
+        if not world.contains(px, py):
+            raise where.error(
+                field,
+                f"the start pose ({x:g}, {y:g}) puts the body at ({px:g}, {py:g}), inside an obstacle or outside "
+                "the room: expected a start pose in free floor",
+            )
