@@ -9,11 +9,11 @@ up through one is not tied to the supply. ``$serialMonitor`` is the console, whi
 rig has anyway."""
 
 import difflib
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.core.errors import ConfigError
+from host.core.nesting import loads_json
 from host.wokwi.boards import BOARDS, Board, rail
 
 MAX_DIAGRAM_BYTES = 1 << 20
@@ -122,10 +122,7 @@ def read_diagram(path: Path) -> Diagram:
         raise ConfigError(f"{path}: cannot read: {e.strerror or e}") from None
     if len(raw) > MAX_DIAGRAM_BYTES:
         raise ConfigError(f"{path}: {len(raw)} bytes: expected a diagram of at most {MAX_DIAGRAM_BYTES}")
-    try:
-        data = json.loads(raw)
-    except (ValueError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{path}: not JSON: {e}") from None
+    data = loads_json(raw, str(path))
     if not isinstance(data, dict) or not isinstance(data.get("parts"), list):
         raise ConfigError(f"{path}: expected an object with a list of parts (Wokwi's diagram format)")
     parts = [_part(path, i, p) for i, p in enumerate(data["parts"])]
