@@ -35,6 +35,7 @@ from pathlib import Path
 from host.artefacts.folder import HEADER
 from host.core.errors import ConfigError, HarnessError
 from host.core.paths import FIRMWARE, output_root
+from host.core.printable import printable
 from host.report.progress import MissionProgress
 from host.report.table import format_table
 from host.rig import arguments
@@ -56,10 +57,10 @@ def main(argv=None) -> int:
     try:
         return args.command(args)
     except ConfigError as e:  # names its file and field: one line, no usage text
-        print(f"{args.sub.prog}: error: {e}", file=sys.stderr)
+        print(f"{args.sub.prog}: error: {printable(e)}", file=sys.stderr)
         return EXIT_USAGE
     except HarnessError as e:
-        print(f"{args.sub.prog}: {type(e).__name__}: {e}", file=sys.stderr)
+        print(f"{args.sub.prog}: {type(e).__name__}: {printable(e)}", file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt as e:  # (Ctrl-C; SIGTERM and SIGHUP where a command asks for them)
         signum = getattr(e, "signum", signal.SIGINT)
@@ -439,7 +440,7 @@ def _show_console(text: str, out: Path) -> None:
     shown = lines[-CONSOLE_LINES:]
     print(f"console (the last {len(shown)} lines; all in {out / 'console.log'}):")
     for line in shown:
-        print(f"  | {line}")
+        print(f"  | {printable(line)}")
 
 
 def _list_files(out: Path) -> None:
@@ -525,11 +526,11 @@ def _check_pins(app, args, plant=None) -> int:
     pins = check_pins(app, plant)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
     for line in pins.notes:
-        print(f"    {line}")
+        print(f"    {printable(line)}")
     for line in pins.unchecked if args.verbose else ():
-        print(f"    not checked (computed at run time): {line}")
+        print(f"    not checked (computed at run time): {printable(line)}")
     for line in pins.warnings:
-        print(line, file=sys.stderr)
+        print(printable(line), file=sys.stderr)
     return EXIT_FAILED if pins.warnings and args.strict else 0
 
 

@@ -15,6 +15,7 @@ import time
 from dataclasses import dataclass
 
 from host.core.errors import HarnessError
+from host.core.printable import printable
 from host.link import frames as F
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant.controls import ControlError
@@ -50,14 +51,16 @@ class ScenarioRun:
     def run(self) -> list[StepResult]:
         for step in self.scenario.steps:
             t0_us, wall0 = self.rig.t_us, time.perf_counter()
-            self.echo(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}")
+            self.echo(printable(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}"))
             try:
                 getattr(self, "_" + step.kind.replace("-", "_"))(step)
             except StepFailed:
                 raise
             except HarnessError as e:  # (the firmware hung, crashed, ended with an error)
                 raise StepFailed(
-                    f"{self.scenario.path}:{step.line}: step {step.describe()} failed: {type(e).__name__}: {e}"
+                    printable(
+                        f"{self.scenario.path}:{step.line}: step {step.describe()} failed: {type(e).__name__}: {e}"
+                    )
                 ) from e
             self.results.append(StepResult(step, t0_us, self.rig.t_us, time.perf_counter() - wall0))
             self.previous = step
@@ -151,8 +154,10 @@ class ScenarioRun:
         seen = "\n  ".join(lines) if lines else "(nothing)"
         artefacts = f"\nartefacts: {self.rig.artefacts}" if self.rig.artefacts else ""
         raise StepFailed(
-            f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual "
-            f"t={self.rig.t_us / 1e6:.6f} s: {what}\nlast serial lines:\n  {seen}{artefacts}"
+            printable(
+                f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual "
+                f"t={self.rig.t_us / 1e6:.6f} s: {what}\nlast serial lines:\n  {seen}{artefacts}"
+            )
         )
 
 
