@@ -9,6 +9,7 @@ up through one is not tied to the supply. ``$serialMonitor`` is the console, whi
 rig has anyway."""
 
 import difflib
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -143,7 +144,29 @@ def read_diagram(path: Path) -> Diagram:
         raise ConfigError(f"{path}: expected one board part, got {found}: one board a rig")
     board_part = boards[0]
     wires = _wires(path, data.get("connections", []), set(ids))
+    _board_pins(path, wires, board_part.id, BOARDS[board_part.type])
     return Diagram(path, [p for p in parts if p is not board_part], board_part, BOARDS[board_part.type], wires)
+
+
+def _board_pins(path: Path, wires: list, board_id: str, board) -> None:
+    """Every board pin a wire ends on is one the board has: a GPIO numbered past its
+    highest (``esp:99``, ``pico:GP40``) is refused with the board's GPIO names."""
+    style = {"devkit_v1": r"D(\d+)", "number": r"(\d+)", "pico": r"GP(\d+)"}[board.style]
+    for i, (a, b) in enumerate(wires):
+        for end in (a, b):
+            part_id, _, pin = end.partition(":")
+            numbered = re.fullmatch(rf"{style}|GPIO(\d+)|(\d+)", pin)
+            if part_id != board_id or not numbered or board.gpio(pin) is not None:
+                continue
+            example = {"devkit_v1": "D{}", "number": "{}", "pico": "GP{}"}[board.style]
+            names = [example.format(n) for n in range(board.highest + 1)] + [n for n, _ in board.named]
+            close = difflib.get_close_matches(pin, names, n=3)
+            near = f"; nearest: {', '.join(close)}" if close else ""
+            also = "".join(f", {n}" for n in names[board.highest + 1 :])
+            raise ConfigError(
+                f"{path}: connections[{i}]: {end}: the {board.title} has no pin {pin!r} (its GPIOs: "
+                f"{example.format(0)} to {example.format(board.highest)}{also}; and its ground and supply pins){near}"
+            )
 
 
 def _part(path: Path, i: int, entry) -> Part:

@@ -12,11 +12,13 @@ import difflib
 import re
 from pathlib import Path
 
+import tomllib
+
 from host.core.errors import ConfigError
+from host.core.nesting import too_deep
 from host.rig.app import App
 from host.rig.pinscan import scan_folder
 from host.rig.rigfile import rig_from_data
-from host.rig.tomlfile import read_toml
 from host.wokwi import parts as table
 from host.wokwi.boards import BOARD_ATTRS
 from host.wokwi.diagram import read_diagram
@@ -157,7 +159,12 @@ def _check_wokwi_toml(folder: Path) -> None:
     path = folder / "wokwi.toml"
     if not path.is_file():
         return
-    data = read_toml(path, "Wokwi settings file")  # (a ConfigError for any way it cannot be read)
+    try:
+        data = tomllib.loads(path.read_text())
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as e:
+        raise ConfigError(f"{path}: not TOML: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: not TOML: {too_deep(path.read_bytes()) or 'nested too deep'}") from None
     if "chip" in data:
         raise ConfigError(f"{path}: [[chip]]: custom chips are not run here (docs/wokwi.md)")
     for key in data:
