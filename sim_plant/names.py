@@ -20,14 +20,20 @@ def nearest(word, choices, described: dict | None = None) -> list[str]:
     choices = [str(c) for c in choices]
     if not isinstance(word, str) or not word:
         return []
-    found = difflib.get_close_matches(word, choices, n=MAX_NEAREST, cutoff=0.6)
     lower = word.lower()
-    if lower != word:
-        found += [c for c in difflib.get_close_matches(lower, choices, n=MAX_NEAREST, cutoff=0.6) if c not in found]
     key = "".join(WORD.findall(lower))
+    said, like = [], []  # described by the word itself; by a word close to it
     for name, text in (described or {}).items():
         words = set(WORD.findall(str(text).lower())) | set(WORD.findall(name.lower()))
-        if key and (key in words or difflib.get_close_matches(key, words, n=1, cutoff=0.85)) and name not in found:
+        if key and key in words:
+            said.append(name)
+        elif key and difflib.get_close_matches(key, words, n=1, cutoff=0.85):
+            like.append(name)
+    spelt = difflib.get_close_matches(word, choices, n=MAX_NEAREST, cutoff=0.6)
+    spelt += difflib.get_close_matches(lower, choices, n=MAX_NEAREST, cutoff=0.6) if lower != word else []
+    found: list[str] = []
+    for name in [*said, *spelt, *like]:
+        if name not in found:
             found.append(name)
     return found[:MAX_NEAREST]
 
