@@ -43,7 +43,7 @@ BAD_RIGS = [  # (what is changed, into what, the field named, words the message 
     (IMU, IMU.replace('"i2c0"', '"i2c:99,98"'), "[[plant.parts]] #3 (imu) bus", ["from 0 to 48", "esp32"]),
     (OLED, 'name = "oled"\nbus = "i2c9"', "[[plant.parts]] #5 (oled) bus", ["i2c0, i2c1", "did you mean"]),
     (OLED, 'name = "oled"\nbus = "spi0"\nspi = true', "[[plant.parts]] #5 (oled) bus", ["spi1, spi2"]),
-    (IMU, IMU.replace('"i2c0"', '"dht:16"'), "[[plant.parts]] #3 (imu)", []),  # (the part says no itself)
+    (IMU, IMU.replace('"i2c0"', '"dht:16"'), "[[plant.parts]] #3 (imu)", []),  # (a DHT's line: no IMU's bus)
     ('PWMB = "motor_r.pwm"', 'PWMB = "motor_l.pwm"', "[wiring] PWMB", ["motor_l.pwm is wired to PWMA"]),
     ('BIN2 = "motor_r.in2"', 'BIN2 = "probe:../../x"', "[wiring] BIN2", ["'../../x'"]),
     ('BIN2 = "motor_r.in2"', 'BIN2 = "probe:a.b"', "[wiring] BIN2", ["no '.'"]),
