@@ -204,7 +204,7 @@ def rig_from_data(path, data: dict) -> App:
         identity=_family(where, data.get("board", {})),
         extra={
             "faults": faults,
-            "report": _report(where, data.get("report", {})),
+            "report": _report(where, data.get("report", {}), wiring),
             "confine": confinement(where, data.get("board", {})),
         },
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
@@ -220,7 +220,7 @@ def _tests(where: _Where, table: dict) -> None:
             raise where.error("[tests] exclude", f"expected file name patterns (text), got {pattern!r}")
 
 
-def _report(where: _Where, table: dict) -> dict:
+def _report(where: _Where, table: dict, wiring: dict) -> dict:
     """``[report]``: the report's own views of this robot by name (``views``, listed in
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
@@ -237,6 +237,10 @@ def _report(where: _Where, table: dict) -> dict:
     pose = table.get("pose_line")
     if pose is not None:
         where.table(pose, "[report.pose_line]", POSE_LINE_KEYS, required=tuple(POSE_LINE_KEYS))
+        probes = [s for s in wiring.values() if s.startswith(PROBE_PREFIX)]
+        if pose["probe"] not in probes:
+            known = unknown(pose["probe"], probes, what="the wiring's probes")
+            raise where.error("[report.pose_line] probe", f"no pin is wired to {pose['probe']!r} {known}")
         columns = pose["columns"]
         if len(columns) != 4 or not all(isinstance(c, str) and c.isidentifier() for c in columns):
             raise where.error(
@@ -517,8 +521,8 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
             if signal.startswith(PROBE_PREFIX) and signal not in wiring.values():
                 raise where.error(f"{field} {key}", f"no pin is wired to {signal!r}: the budget would measure nothing")
             if not signal.startswith(PROBE_PREFIX) and signal not in {**plant.inputs, **plant.outputs}:
-                known = ", ".join([*plant.inputs, *plant.outputs])
-                raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} (signals: {known})")
+                known = unknown(signal, [*plant.inputs, *plant.outputs], what="signals")
+                raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} {known}")
         for key in ("period_us", "limit_us", "tolerance_us"):
             least = 0 if key == "tolerance_us" else 1
             if isinstance(spec.get(key), int) and not least <= spec[key] <= MAX_BUDGET_US:

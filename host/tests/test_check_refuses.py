@@ -37,6 +37,14 @@ def rig_with(tmp_path, old: str, new: str):
     return path
 
 
+POSE_LINE = """[report.pose_line]
+tag = "pose"
+columns = ["t", "x", "y", "h"]
+m_per_unit = 0.01
+rad_per_unit = 0.01
+probe = "probe:quantm"
+what = "odometry"
+"""
 BAD_RIGS = [  # (what is changed, into what, the field named, words the message must hold)
     (IMU, IMU.replace('"i2c0"', '"i2c:16,17"'), "[[plant.parts]] #3 (imu) bus", ["PWMA = 16", "motor_l.pwm"]),
     (OLED, 'name = "oled"\nbus = "spi:5,5,5"\nspi = true', "[[plant.parts]] #5 (oled) bus", ["pin 5 is twice"]),
@@ -77,6 +85,9 @@ BAD_RIGS = [  # (what is changed, into what, the field named, words the message 
         "[worlds.moved] [[plant.parts]] #3 (imu) bus",
         ["PWMA"],
     ),
+    ("[wiring]", POSE_LINE + "\n[wiring]", "[report.pose_line] probe", ["no pin is wired to 'probe:quantm'"]),
+    ("[wiring]", '[[faults]]\nkind = "dropot"\n\n[wiring]', "[[faults]]", ["did you mean 'dropout'"]),
+    ('source = "i2c0"\naddress = 0x29', 'source = "tof.rang"\naddress = 0x29', "[budgets.ranging] source", ["i2c0"]),
     ('kind = "ssd1306"', 'kind = "neopixel"', "[[plant.parts]] #5 kind", ["ws2812_strip", "vl53l0x", "did you mean"]),
     ('kind = "ssd1306"', 'kind = "oled"', "[[plant.parts]] #5 kind", ["did you mean 'ssd1306'"]),
     ('body = "differential"', 'body = "diferential"', "[plant] body", ["did you mean 'differential'"]),
