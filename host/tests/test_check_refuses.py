@@ -268,3 +268,19 @@ def test_run_shows_the_console_with_escapes_escaped(capsys, tmp_path):
     cli._show_console(HOSTILE + "\n", tmp_path)
     out = capsys.readouterr().out
     assert "\x1b" not in out and "\r" not in out and "\\x1b]0;owned\\x07" in out
+
+
+def test_a_trace_folder_or_campaign_nested_past_reading_is_refused_by_name_not_a_traceback(tmp_path):
+    from host.artefacts.folder import load_trace
+    from host.rig import manifest
+    from host.shrink.source import campaign_run
+
+    bomb = "[" * 100_000
+    (tmp_path / "header.json").write_text(bomb)
+    with pytest.raises(ConfigError, match="header.json is not JSON"):
+        load_trace(tmp_path)
+    (tmp_path / "manifest.json").write_text(bomb)
+    assert "not readable JSON" in manifest.read(tmp_path)["error"]
+    (tmp_path / "campaign.json").write_text(bomb)
+    with pytest.raises(ConfigError, match="campaign.json cannot be read \\(RecursionError"):
+        campaign_run(tmp_path, "a/b/0")
