@@ -284,3 +284,19 @@ def test_a_trace_folder_or_campaign_nested_past_reading_is_refused_by_name_not_a
     (tmp_path / "campaign.json").write_text(bomb)
     with pytest.raises(ConfigError, match="campaign.json cannot be read \\(RecursionError"):
         campaign_run(tmp_path, "a/b/0")
+
+
+def test_check_and_init_name_a_fifo_among_the_firmware_instead_of_waiting_on_it(tmp_path):
+    import os
+
+    shutil.copy(OLED_BOT / "main.py", tmp_path / "main.py")
+    shutil.copy(OLED_BOT / "rig.toml", tmp_path / "rig.toml")
+    os.mkfifo(tmp_path / "helper.py")
+    run = [sys.executable, "-m", "host.cli"]
+    checked = subprocess.run([*run, "check", str(tmp_path / "rig.toml")], capture_output=True, text=True, timeout=60)
+    assert checked.returncode == 0, checked.stderr
+    assert f"{tmp_path / 'helper.py'} is a FIFO (a named pipe), not a file: not read" in checked.stdout
+    (tmp_path / "rig.toml").unlink()
+    started = subprocess.run([*run, "init", str(tmp_path)], capture_output=True, text=True, timeout=60)
+    assert started.returncode == 0, started.stderr
+    assert "helper.py is a FIFO" in started.stderr and (tmp_path / "rig.toml").is_file()
