@@ -41,7 +41,7 @@ from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds, option_table
+from sim_plant import kinds, names, option_table
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -365,10 +365,12 @@ def cmd_run(args) -> int:
     if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
         known_boards = tuple(pin_maps.known_boards())
     if board not in known_boards:
-        sub.error(f"argument --board: unknown board {board!r} for app {app.name} (known: {', '.join(known_boards)})")
+        known = names.unknown(board, known_boards, what="known")
+        sub.error(f"argument --board: unknown board {board!r} for app {app.name} {known}")
     world = args.world or next(iter(app.worlds))
     if world not in app.worlds:
-        sub.error(f"argument --world: unknown world {world!r} for app {app.name} (known: {', '.join(app.worlds)})")
+        known = names.unknown(world, app.worlds, what="known")
+        sub.error(f"argument --world: unknown world {world!r} for app {app.name} {known}")
     accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
     unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
     if unknown:
