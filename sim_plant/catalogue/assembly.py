@@ -13,7 +13,7 @@ from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
-from sim_plant.names import unknown
+from sim_plant.names import nearest, unknown
 from sim_plant.option_table import Name
 
 PART_KEYS = ("kind", "name", "mount")
@@ -266,9 +266,8 @@ def _with_part_options(table: dict) -> tuple[dict, list]:
     for key, value in dotted.items():
         name, option = key.split(".", 1)
         if name not in by_name or option in PART_KEYS:
-            raise PartsError(
-                f"[plant] {key}: expected <part name>.<option> of a part (parts: {', '.join(map(str, by_name))})"[:200]
-            )
+            known = unknown(name, by_name, what="parts")
+            raise PartsError(f"[plant] {_short(key)[1:-1]}: expected <part name>.<option> of a part {known}")
         by_name[name][option] = value
     return {k: v for k, v in table.items() if k not in dotted}, entries
 
@@ -280,8 +279,9 @@ def _body(table: dict):
     kind = table.get("body")
     if not isinstance(kind, str) or kind not in bodies:
         described = {k: c.doc for k, c in bodies.items()}
-        known = unknown(kind, bodies, described, "bodies")
-        raise PartsError(f"[plant] body: expected one of the catalogue's bodies, got {_short(kind)} {known}")
+        raise PartsError(
+            f"[plant] body: expected one of {', '.join(bodies)}, got {_short(kind)}{_hint(kind, described)}"
+        )
     cls = bodies[kind]
     return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
 
@@ -294,8 +294,9 @@ def _part(i: int, entry):
     kind = entry.get("kind")
     if not isinstance(kind, str) or kind not in known:
         described = {k: c.doc for k, c in known.items()}
-        kinds = unknown(kind, known, described, "parts")
-        raise PartsError(f"{label} kind: expected one of the catalogue's parts, got {_short(kind)} {kinds}")
+        raise PartsError(
+            f"{label} kind: expected one of {', '.join(known)}, got {_short(kind)}{_hint(kind, described)}"
+        )
     name = entry.get("name")
     problem = Name().problem(name)
     if problem or "." in name:
@@ -318,6 +319,12 @@ def _part(i: int, entry):
         raise PartsError(f"{label} {e}") from None
     part.label = label
     return part
+
+
+def _hint(word, described: dict) -> str:
+    """``; did you mean 'x'?``: the kinds nearest ``word`` by spelling and by what they are."""
+    close = nearest(word, described, described)
+    return f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
 
 
 def _short(value) -> str:

@@ -11,6 +11,7 @@ and the contacts. Signals are ``<name>.<signal>``; truth keys ``<name>_<key>`` m
 import math
 from dataclasses import dataclass, field
 
+from sim_plant.names import unknown
 from sim_plant.option_table import Flag, Name, Num, OneOf, Row, Rows
 
 MOUNT_KEYS = ("x_m", "y_m", "heading_deg")
@@ -112,7 +113,8 @@ class Declared:
             if name in skip:
                 continue
             if name not in known:
-                raise PartsError(f"{where} {name}: the {cls.kind} has no such option (options: {', '.join(known)})")
+                options = unknown(name, known, what="options")
+                raise PartsError(f"{where} {name}: the {cls.kind} has no such option {options}")
             opt = known[name]
             if value is None and opt.default is None:
                 continue
