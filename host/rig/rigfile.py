@@ -165,7 +165,7 @@ def rig_from_data(path, data: dict) -> App:
             return kinds.make(kind, **opts)
 
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
-    rigrules.check_wiring(where, wiring, pins, plant)
+    rigrules.check_wiring(where, wiring, pins, plant, platform)
     rigrules.check_buses(where, plant, wiring, pins, platform)
     also = data["board"].get("also", ()) if isinstance(data.get("board"), dict) else ()
     rigrules.check_boards(where, tuple(also), wiring, known_boards(), read_pin_map)

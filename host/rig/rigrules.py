@@ -11,7 +11,7 @@ what a board could not be wired as, and what a run could not mean.
   ``ports/esp32/machine_i2c.c``, ``machine_hw_spi.c``, ``ports/rp2/machine_i2c.c``,
   ``machine_spi.c``).
 - **A start that can happen.** The body's start pose (each world's) is in free floor:
-  inside the room, outside every obstacle.
+  inside the room, outside every obstacle, the body clear of every wall (touching at most).
 
 Each rule raises the rig file's :class:`~host.core.errors.ConfigError`, naming the field
 and both sides of the clash, through ``where.error(field, message)``.
@@ -35,7 +35,7 @@ boards of no family): I2C 0 and 1, SPI 1 and 2 (HSPI and VSPI)."""
 OTHER_BUS_IDS = {"i2c": (0, 1), "spi": (1, 2)}
 HARDWARE_BUS = re.compile(r"(i2c|spi)([0-9])")
 GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]+)")  # 16, GP16, GPIO16: a number of the family's
-MAX_PROBE = 40
+OVERLAP_M = 0.001  # a body may start touching a wall, not inside it
 
 
 def highest_pin(platform: str | None) -> int:
@@ -51,8 +51,17 @@ def plain_name(name) -> str | None:
     return f"expected a name of letters, digits, '_', '+' or '-' (no '.', no '/', at most 64), got {shown}"
 
 
-def check_wiring(where, wiring: dict, pins: dict, plant) -> None:
-    """One pin for each plant input and each probe; probes named as one path component."""
+def check_wiring(where, wiring: dict, pins: dict, plant, platform: str | None = None) -> None:
+    """Each wired pin one the family has; one pin for each plant input and each probe;
+    probes named as one path component."""
+    highest = highest_pin(platform)
+    for name in wiring:
+        number = GPIO_NAME.fullmatch(str(pins.get(name, "")))
+        if not name.endswith("_UART") and number and int(number.group(1)) > highest:
+            raise where.error(
+                f"[wiring] {name}",
+                f"pin {name} = {pins[name]!r}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)",
+            )
     inputs = set(plant.inputs)
     driven = set(getattr(plant, "driven_inputs", set)())
     by_signal: dict = {}
@@ -95,7 +104,7 @@ def bus_pins(bus: str) -> list[str]:
 def check_buses(where, plant, wiring: dict, pins: dict, platform: str | None) -> None:
     """Every bus a part is on: a controller the family has, pins the family has, each pin
     once and on no other bus and wired to nothing."""
-    wired = {pin_key(name, pins[name]): name for name in wiring if name in pins}
+    wired = {_line(pin_key(name, pins[name])): name for name in wiring if name in pins}
     taken: dict = {}  # pin -> (bus, the field that put it there)
     highest = highest_pin(platform)
     for field, bus in _bus_fields(plant):
@@ -118,20 +127,26 @@ def check_buses(where, plant, wiring: dict, pins: dict, platform: str | None) ->
                 raise where.error(
                     field, f"pin {pin} of bus {bus}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)"
                 )
-            if pin in seen:
+            if _line(pin) in seen:
                 raise where.error(field, f"pin {pin} is twice in bus {bus}: expected a pin for each line")
-            seen.append(pin)
-            if pin in wired:
-                name = wired[pin]
+            seen.append(_line(pin))
+            if _line(pin) in wired:
+                name = wired[_line(pin)]
                 raise where.error(
                     field,
                     f"pin {pin} of bus {bus} is wired as {name} = {pins[name]} to {wiring[name]} too: "
                     "one pin is one line (move the bus or the wire)",
                 )
-            other = taken.setdefault(pin, (bus, field))
+            other = taken.setdefault(_line(pin), (bus, field))
             if other[0] != bus:
                 clash = f"pin {pin} of bus {bus} is bus {other[0]}'s too ({other[1]})"
                 raise where.error(field, f"{clash}: one pin is one line")
+
+
+def _line(pin: str) -> str:
+    """A pin as the line it is: ``GP5``, ``GPIO5``, ``D5`` and ``5`` are GPIO 5."""
+    number = GPIO_NAME.fullmatch(pin)
+    return str(int(number.group(1))) if number else pin
 
 
 def _family(platform: str | None) -> str:
@@ -149,24 +164,32 @@ def _bus_fields(plant):
 
 def check_start(where, field: str, plant) -> None:
     """The body starts in free floor: each of its circles' centres inside the room and
-    outside every obstacle of the world (a plant with no world or no body: nothing to check)."""
+    outside every obstacle of the world, and no circle into a wall by more than
+    ``OVERLAP_M`` (a plant with no world or no body: nothing to check)."""
     inner = getattr(plant, "inner", plant)
     world = getattr(inner, "world", None)
     body = getattr(inner, "body", None)
     if world is None or not getattr(world, "walls", None) or not getattr(body, "moves", True):
         return
-    pose_at = getattr(inner, "pose_at", None)
-    if pose_at is None:
+    start = getattr(inner, "start_pose", None)  # (as given: the plant pushes a body out of a wall at reset)
+    if start is None:
         return
-    x, y, theta = pose_at(0)
+    x, y, theta = (float(v) for v in start)
     monitor = next((p for p in getattr(inner, "parts", ()) if isinstance(p, ContactMonitor)), None)
     circles = monitor.circles if monitor is not None else ((0.0, 0.0, 0.0),)
     c, s = math.cos(theta), math.sin(theta)
-    for ox, oy, _r in circles:
+    for ox, oy, r in circles:
         px, py = x + ox * c - oy * s, y + ox * s + oy * c
         if not world.contains(px, py):
             raise where.error(
                 field,
                 f"the start pose ({x:g}, {y:g}) puts the body at ({px:g}, {py:g}), inside an obstacle or outside "
                 "the room: expected a start pose in free floor",
+            )
+        gap, _nx, _ny = world.clearance(px, py)
+        if gap - r < -OVERLAP_M:
+            raise where.error(
+                field,
+                f"the start pose ({x:g}, {y:g}) puts the body {(r - gap) * 1000:.0f} mm into a wall or an obstacle "
+                f"(its circle of {r:g} m at ({px:g}, {py:g})): expected a start pose where the body fits",
             )

@@ -48,6 +48,14 @@ what = "odometry"
 BAD_RIGS = [  # (what is changed, into what, the field named, words the message must hold)
     (IMU, IMU.replace('"i2c0"', '"i2c:16,17"'), "[[plant.parts]] #3 (imu) bus", ["PWMA = 16", "motor_l.pwm"]),
     (OLED, 'name = "oled"\nbus = "spi:5,5,5"\nspi = true', "[[plant.parts]] #5 (oled) bus", ["pin 5 is twice"]),
+    (IMU, IMU.replace('"i2c0"', '"i2c:GPIO16,4"'), "[[plant.parts]] #3 (imu) bus", ["GPIO16", "PWMA = 16"]),
+    (OLED, 'name = "oled"\nbus = "spi:5,GP5,"\nspi = true', "[[plant.parts]] #5 (oled) bus", ["pin GP5 is twice"]),
+    (
+        "start_pose = [1.0, 0.5, 0.0]",
+        "start_pose = [1.0, 0.5, 0.0]\nobstacles = [[1.1, 0.5, 0.1, 0.4]]",
+        "[plant] start_pose",
+        ["mm into a wall or an obstacle"],
+    ),
     (IMU, IMU.replace('"i2c0"', '"i2c:99,98"'), "[[plant.parts]] #3 (imu) bus", ["from 0 to 48", "esp32"]),
     (OLED, 'name = "oled"\nbus = "i2c9"', "[[plant.parts]] #5 (oled) bus", ["i2c0, i2c1", "did you mean"]),
     (OLED, 'name = "oled"\nbus = "spi0"\nspi = true', "[[plant.parts]] #5 (oled) bus", ["spi1, spi2"]),
@@ -103,6 +111,16 @@ def test_check_refuses_a_rig_that_cannot_mean_anything_naming_field_and_nearest(
     assert message.startswith(f"{path}: {field}"), message
     for words in says:
         assert words in message, message
+
+
+def test_a_wired_pin_past_the_familys_gpios_in_a_board_file_is_refused(tmp_path):
+    path = rig_with(tmp_path, 'family = "esp32"', 'family = "esp32"\nfile = "board.py"')
+    path.write_text(re.sub(r"\[board.pins\][^\[]*", "", path.read_text()))
+    (path.parent / "board.py").write_text(
+        "from micropython import const\nPWMA = const(99)\nAIN1 = 17\nAIN2 = 18\nPWMB = 4\nBIN1 = 23\nBIN2 = 19\n"
+    )
+    with pytest.raises(ConfigError, match=r"\[wiring\] PWMA: pin PWMA = 99: expected a GPIO from 0 to 48"):
+        load_rig(path)
 
 
 def test_an_unknown_part_kind_is_listed_whole_with_the_nearest(tmp_path):
