@@ -64,7 +64,10 @@ def check_steps(scenario, rig) -> None:
         if step.kind == "set-control":
             if part not in parts:
                 with_controls = ", ".join(n for n, p in parts.items() if p.CONTROLS) or "none"
-                raise ScenarioError(f"{where}: no part {part!r} on the rig (parts with controls: {with_controls})")
+                close = unknown(part, [n for n, p in parts.items() if p.CONTROLS]).rpartition(")")[2]
+                raise ScenarioError(
+                    f"{where}: no part {part!r} on the rig (parts with controls: {with_controls}){close}"
+                )
             try:
                 parts[part].control_change(step.args["control"], step.args["value"])
             except ControlError as e:

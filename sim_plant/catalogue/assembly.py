@@ -58,7 +58,11 @@ class PartsPlant(RobotPlant):
         for device in self.bus_set.devices:
             supply = getattr(device, "battery", None)  # (an INA219's battery part)
             if supply and not any(getattr(p, "label", None) == supply and hasattr(p, "v") for p in self.parts):
-                raise PartsError(f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r}")
+                batteries = [p.label for p in self.parts if hasattr(p, "v") and getattr(p, "label", None)]
+                known = unknown(supply, batteries, what="batteries")
+                raise PartsError(
+                    f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r} {known}"
+                )
             for name in getattr(device, "targets", ()):
                 if name != "-" and name not in inputs:
                     raise PartsError(
@@ -101,7 +105,8 @@ class PartsPlant(RobotPlant):
         part = next((p for p in self.catalogue_parts if p.name == name), None)
         if part is None:
             with_controls = [p.name for p in self.catalogue_parts if p.CONTROLS]
-            raise ControlError(f"no part {name!r} (parts with controls: {', '.join(with_controls) or 'none'})")
+            close = unknown(name, with_controls).rpartition(")")[2]
+            raise ControlError(f"no part {name!r} (parts with controls: {', '.join(with_controls) or 'none'}){close}")
         change = part.control_change(control, value)  # (checks the control and the value)
         self.controls.set(self._t_us, name, control, value, change)
         self._reschedule()

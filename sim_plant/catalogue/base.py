@@ -171,7 +171,8 @@ class PartType(Declared):
         known = {c.name: c for c in self.CONTROLS}
         if control not in known:
             has = ", ".join(known) if known else "none"
-            raise ControlError(f"{self.name} ({self.kind}) has no control {control!r} (controls: {has})")
+            close = unknown(control, known, what="controls").rpartition(")")[2]
+            raise ControlError(f"{self.name} ({self.kind}) has no control {control!r} (controls: {has}){close}")
         problem = known[control].spec.problem(value)
         if problem:
             raise ControlError(f"{self.name} ({self.kind}) {control}: {problem}")
