@@ -148,7 +148,8 @@ def rig_from_data(path, data: dict) -> App:
         raise where.error("[firmware] dir", f"no folder {folder}")
     entry = firmware.get("entry", "main.py")
     if not _inside(where, folder, "[firmware] entry", entry, "the firmware folder").is_file():
-        raise where.error("[firmware] entry", f"no {entry} in {folder}")
+        found = sorted(p.name for p in folder.glob("*.py"))[:50]  # (a folder of thousands: the first 50)
+        raise where.error("[firmware] entry", f"no {entry} in {folder} {unknown(entry, found, what='its .py files')}")
     default_lib = ["lib"] if (folder / "lib").is_dir() else []  # a board's /lib is on its path
     libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
