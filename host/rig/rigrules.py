@@ -34,7 +34,7 @@ BUS_IDS = {"rp2": {"i2c": (0, 1), "spi": (0, 1)}}
 boards of no family): I2C 0 and 1, SPI 1 and 2 (HSPI and VSPI)."""
 OTHER_BUS_IDS = {"i2c": (0, 1), "spi": (1, 2)}
 HARDWARE_BUS = re.compile(r"(i2c|spi)([0-9])")
-GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]+)")  # 16, GP16, GPIO16: a number of the family's
+GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]{1,9})")  # 16, GP16, GPIO16: a number of the family's
 OVERLAP_M = 0.001  # a body may start touching a wall, not inside it
 
 

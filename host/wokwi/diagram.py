@@ -150,9 +150,9 @@ def read_diagram(path: Path) -> Diagram:
 def _board_pin(path: Path, i: int, end: str, board) -> None:
     """A board pin a wire ends on is one the board has: a GPIO numbered past its highest
     (``esp:99``, ``pico:GP40``) is refused with the board's GPIO names."""
-    style = {"devkit_v1": r"D(\d+)", "number": r"(\d+)", "pico": r"GP(\d+)"}[board.style]
+    style = {"devkit_v1": r"D\d+", "number": r"\d+", "pico": r"GP\d+"}[board.style]
     pin = end.partition(":")[2]
-    if not re.fullmatch(rf"{style}|GPIO(\d+)|(\d+)", pin) or board.gpio(pin) is not None:
+    if not re.fullmatch(rf"{style}|GPIO\d+|\d+", pin) or board.gpio(pin) is not None:
         return
     example = {"devkit_v1": "D{}", "number": "{}", "pico": "GP{}"}[board.style]
     names = [example.format(n) for n in range(board.highest + 1)] + [n for n, _ in board.named]
@@ -160,7 +160,7 @@ def _board_pin(path: Path, i: int, end: str, board) -> None:
     near = f"; nearest: {', '.join(close)}" if close else ""
     also = "".join(f", {n}" for n in names[board.highest + 1 :])
     raise ConfigError(
-        f"{path}: connections[{i}]: {end}: the {board.title} has no pin {pin!r} (its GPIOs: "
+        f"{path}: connections[{i}]: {end[:60]}: the {board.title} has no pin {pin[:40]!r} (its GPIOs: "
         f"{example.format(0)} to {example.format(board.highest)}{also}; and its ground and supply pins){near}"
     )
 
