@@ -34,7 +34,7 @@ BUS_IDS = {"rp2": {"i2c": (0, 1), "spi": (0, 1)}}
 boards of no family): I2C 0 and 1, SPI 1 and 2 (HSPI and VSPI)."""
 OTHER_BUS_IDS = {"i2c": (0, 1), "spi": (1, 2)}
 HARDWARE_BUS = re.compile(r"(i2c|spi)([0-9])")
-GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]{1,9})")  # 16, GP16, GPIO16: a number of the family's
+GPIO_NAME = re.compile(r"(?:GP|GPIO|D)?([0-9]+)")  # 16, GP16, GPIO16: a number of the family's
 OVERLAP_M = 0.001  # a body may start touching a wall, not inside it
 
 
@@ -56,8 +56,8 @@ def check_wiring(where, wiring: dict, pins: dict, plant, platform: str | None = 
     probes named as one path component."""
     highest = highest_pin(platform)
     for name in wiring:
-        number = GPIO_NAME.fullmatch(str(pins.get(name, "")))
-        if not name.endswith("_UART") and number and int(number.group(1)) > highest:
+        number = _gpio(str(pins.get(name, "")))
+        if not name.endswith("_UART") and number is not None and number > highest:
             raise where.error(
                 f"[wiring] {name}",
                 f"pin {name} = {pins[name]!r}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)",
@@ -108,6 +108,7 @@ def check_buses(where, plant, wiring: dict, pins: dict, platform: str | None) ->
     taken: dict = {}  # pin -> (bus, the field that put it there)
     highest = highest_pin(platform)
     for field, bus in _bus_fields(plant):
+        shown = _short(bus)
         hard = HARDWARE_BUS.fullmatch(bus)
         if hard:
             ids = BUS_IDS.get(platform or "", OTHER_BUS_IDS)[hard.group(1)]
@@ -116,37 +117,50 @@ def check_buses(where, plant, wiring: dict, pins: dict, platform: str | None) ->
                 soft = "i2c:<scl>,<sda>" if hard.group(1) == "i2c" else "spi:<sck>,<mosi>,<miso>"
                 raise where.error(
                     field,
-                    f"{_family(platform)} has no bus {bus} {unknown(bus, has, what='its ' + hard.group(1).upper())}"
+                    f"{_family(platform)} has no bus {shown} {unknown(bus, has, what='its ' + hard.group(1).upper())}"
                     f"; or {soft} for a software bus on any pins",
                 )
             continue
         seen: list = []
         for pin in bus_pins(bus):
-            number = GPIO_NAME.fullmatch(pin)
-            if number and int(number.group(1)) > highest:
-                raise where.error(
-                    field, f"pin {pin} of bus {bus}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)"
-                )
+            number = _gpio(pin)
+            if number is not None and number > highest:
+                expected = f"expected a GPIO from 0 to {highest} ({_family(platform)}'s)"
+                raise where.error(field, f"pin {_short(pin)} of bus {shown}: {expected}")
             if _line(pin) in seen:
-                raise where.error(field, f"pin {pin} is twice in bus {bus}: expected a pin for each line")
+                raise where.error(field, f"pin {_short(pin)} is twice in bus {shown}: expected a pin for each line")
             seen.append(_line(pin))
             if _line(pin) in wired:
                 name = wired[_line(pin)]
                 raise where.error(
                     field,
-                    f"pin {pin} of bus {bus} is wired as {name} = {pins[name]} to {wiring[name]} too: "
+                    f"pin {_short(pin)} of bus {shown} is wired as {name} = {pins[name]} to {wiring[name]} too: "
                     "one pin is one line (move the bus or the wire)",
                 )
             other = taken.setdefault(_line(pin), (bus, field))
             if other[0] != bus:
-                clash = f"pin {pin} of bus {bus} is bus {other[0]}'s too ({other[1]})"
+                clash = f"pin {_short(pin)} of bus {shown} is bus {_short(other[0])}'s too ({other[1]})"
                 raise where.error(field, f"{clash}: one pin is one line")
+
+
+def _short(text: str) -> str:
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _gpio(pin: str) -> int | None:
+    """The GPIO a pin's name is (``GP5``, ``GPIO5``, ``D5``, ``5``: 5), None for a name;
+    a number of more digits than any GPIO has: past every family's (not read whole)."""
+    number = GPIO_NAME.fullmatch(pin)
+    if number is None:
+        return None
+    digits = number.group(1)
+    return int(digits) if len(digits) <= 6 else MAX_PIN + 1
 
 
 def _line(pin: str) -> str:
     """A pin as the line it is: ``GP5``, ``GPIO5``, ``D5`` and ``5`` are GPIO 5."""
-    number = GPIO_NAME.fullmatch(pin)
-    return str(int(number.group(1))) if number else pin
+    number = _gpio(pin)
+    return pin if number is None or number > MAX_PIN else str(number)
 
 
 def _family(platform: str | None) -> str:
