@@ -238,7 +238,7 @@ def _say_command(module: str, name: str, args) -> int:
     """Run a command whose body lives in its own module, printing what it says."""
     import importlib
 
-    return getattr(importlib.import_module(module), name)(args, say=lambda text: print(text, flush=True))
+    return getattr(importlib.import_module(module), name)(args, say=lambda text: print(printable(text), flush=True))
 
 
 def _workers(text: str) -> int:
@@ -612,7 +612,7 @@ def cmd_replay(args) -> int:
     if result.same:
         print(f"same outputs: {result.recorded} firmware outputs match the recording")
         return 0
-    print(f"outputs differ: {result.difference}")
+    print(f"outputs differ: {printable(result.difference)}")
     print(f"recorded {result.recorded} firmware outputs, replay {result.replayed}")
     return EXIT_FAILED
 
@@ -692,7 +692,8 @@ def cmd_campaign(args) -> int:
     if args.shrink:
         from host.shrink.command import shrink_campaign
 
-        shrink_campaign(campaign, results, out, workers=args.workers, say=lambda text: print(text, flush=True))
+        say = lambda text: print(printable(text), flush=True)  # noqa: E731  (a run's failure quotes its console)
+        shrink_campaign(campaign, results, out, workers=args.workers, say=say)
     return 0
 
 

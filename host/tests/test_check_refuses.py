@@ -319,3 +319,11 @@ def test_check_and_init_name_a_fifo_among_the_firmware_instead_of_waiting_on_it(
     started = subprocess.run([*run, "init", str(tmp_path)], capture_output=True, text=True, timeout=60)
     assert started.returncode == 0, started.stderr
     assert "helper.py is a FIFO" in started.stderr and (tmp_path / "rig.toml").is_file()
+
+
+def test_what_diff_and_shrink_say_is_escaped(capsys, tmp_path, monkeypatch):
+    (tmp_path / "saying.py").write_text("def command(args, say):\n    say('A: \\x1b]0;t\\x07 \\x1b[2K\\rB')\n    return 0\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert cli._say_command("saying", "command", None) == 0
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\r" not in out and "\\x1b]0;t\\x07 \\x1b[2K\\rB" in out
