@@ -322,7 +322,8 @@ def test_check_and_init_name_a_fifo_among_the_firmware_instead_of_waiting_on_it(
 
 
 def test_what_diff_and_shrink_say_is_escaped(capsys, tmp_path, monkeypatch):
-    (tmp_path / "saying.py").write_text("def command(args, say):\n    say('A: \\x1b]0;t\\x07 \\x1b[2K\\rB')\n    return 0\n")
+    body = "def command(args, say):\n    say('A: \\x1b]0;t\\x07 \\x1b[2K\\rB')\n    return 0\n"
+    (tmp_path / "saying.py").write_text(body)
     monkeypatch.syspath_prepend(str(tmp_path))
     assert cli._say_command("saying", "command", None) == 0
     out = capsys.readouterr().out
