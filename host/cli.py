@@ -39,12 +39,13 @@ from pathlib import Path
 from host.artefacts.folder import HEADER
 from host.core.errors import ConfigError, HarnessError
 from host.core.paths import FIRMWARE, output_root
+from host.core.printable import printable
 from host.report.progress import MissionProgress
 from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds, option_table
+from sim_plant import kinds, names, option_table
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -69,10 +70,10 @@ def _main(argv) -> int:
         prog = args.sub.prog
         return args.command(args)
     except ConfigError as e:  # names its file and field: one line, no usage text
-        print(f"{prog}: error: {e}", file=sys.stderr)
+        print(f"{prog}: error: {printable(e)}", file=sys.stderr)
         return EXIT_USAGE
     except HarnessError as e:
-        print(f"{prog}: {type(e).__name__}: {e}", file=sys.stderr)
+        print(f"{prog}: {type(e).__name__}: {printable(e)}", file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt as e:  # (a stop signal: Stopped names it; a bare one is Ctrl-C)
         signum = getattr(e, "signum", signal.SIGINT)
@@ -250,7 +251,7 @@ def _say_command(module: str, name: str, args) -> int:
     """Run a command whose body lives in its own module, printing what it says."""
     import importlib
 
-    return getattr(importlib.import_module(module), name)(args, say=lambda text: print(text, flush=True))
+    return getattr(importlib.import_module(module), name)(args, say=lambda text: print(printable(text), flush=True))
 
 
 def _workers(text: str) -> int:
@@ -377,10 +378,12 @@ def cmd_run(args) -> int:
     if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
         known_boards = tuple(pin_maps.known_boards())
     if board not in known_boards:
-        sub.error(f"argument --board: unknown board {board!r} for app {app.name} (known: {', '.join(known_boards)})")
+        known = names.unknown(board, known_boards, what="known")
+        sub.error(f"argument --board: unknown board {board!r} for app {app.name} {known}")
     world = args.world or next(iter(app.worlds))
     if world not in app.worlds:
-        sub.error(f"argument --world: unknown world {world!r} for app {app.name} (known: {', '.join(app.worlds)})")
+        known = names.unknown(world, app.worlds, what="known")
+        sub.error(f"argument --world: unknown world {world!r} for app {app.name} {known}")
     accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
     unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
     if unknown:
@@ -457,7 +460,7 @@ def _show_console(text: str, out: Path) -> None:
     shown = lines[-CONSOLE_LINES:]
     print(f"console (the last {len(shown)} lines; all in {out / 'console.log'}):")
     for line in shown:
-        print(f"  | {line}")
+        print(f"  | {printable(line)}")
 
 
 def _list_files(out: Path) -> None:
@@ -533,11 +536,11 @@ def _check_pins(app, args, plant=None) -> int:
     pins = check_pins(app, plant)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
     for line in pins.notes:
-        print(f"    {line}")
+        print(f"    {printable(line)}")
     for line in pins.unchecked if args.verbose else ():
-        print(f"    not checked (computed at run time): {line}")
+        print(f"    not checked (computed at run time): {printable(line)}")
     for line in pins.warnings:
-        print(line, file=sys.stderr)
+        print(printable(line), file=sys.stderr)
     return EXIT_FAILED if pins.warnings and args.strict else 0
 
 
@@ -617,7 +620,7 @@ def cmd_replay(args) -> int:
     if result.same:
         print(f"same outputs: {result.recorded} firmware outputs match the recording")
         return 0
-    print(f"outputs differ: {result.difference}")
+    print(f"outputs differ: {printable(result.difference)}")
     print(f"recorded {result.recorded} firmware outputs, replay {result.replayed}")
     return EXIT_FAILED
 
@@ -696,7 +699,8 @@ def cmd_campaign(args) -> int:
     if args.shrink:
         from host.shrink.command import shrink_campaign
 
-        shrink_campaign(campaign, results, out, workers=args.workers, say=lambda text: print(text, flush=True))
+        say = lambda text: print(printable(text), flush=True)  # noqa: E731  (a run's failure quotes its console)
+        shrink_campaign(campaign, results, out, workers=args.workers, say=say)
     return 0
 
 

@@ -44,6 +44,7 @@ from typing import NamedTuple
 import numpy as np
 
 from sim_plant.engine import Part
+from sim_plant.names import nearest
 from sim_plant.plant import NEVER_US, Change, Plant
 from sim_plant.tether import TetherSnag
 
@@ -134,20 +135,26 @@ def parse_faults(entries) -> tuple[Fault, ...]:
     return tuple(_parse_one(i, entry) for i, entry in enumerate(entries))
 
 
+def _hint(word, choices) -> str:
+    close = nearest(word, choices)
+    return f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
+
+
 def _parse_one(i: int, entry) -> Fault:
     where = f"faults[{i}]"
     if not isinstance(entry, dict):
         raise FaultError(f"{where}: expected a table, got {entry!r}")
     kind = entry.get("kind")
     if not isinstance(kind, str) or kind not in KINDS:
-        raise FaultError(f"{where} kind: expected one of {', '.join(KINDS)}, got {kind!r}")
+        raise FaultError(f"{where} kind: expected one of {', '.join(KINDS)}, got {kind!r}{_hint(kind, KINDS)}")
     spec = KINDS[kind]
     fields = {}
     for name, value in entry.items():
         if name == "kind":
             continue
         if name not in spec:
-            raise FaultError(f"{where} ({kind}) {name}: unknown field (fields of {kind}: {', '.join(spec)})")
+            known = f"(fields of {kind}: {', '.join(spec)}){_hint(name, spec)}"
+            raise FaultError(f"{where} ({kind}) {name}: unknown field {known}")
         fields[name] = _check_field(f"{where} ({kind}) {name}", value, *spec[name])
     for name, (_types, default, _range) in spec.items():
         if name not in fields:

@@ -10,12 +10,12 @@ Dask cluster, with a report of success rates, distributions and the worst runs
 - :mod:`.report`: Wilson intervals, plots, HTML, CSV and JSON.
 """
 
-import json
 from pathlib import Path
 
 from host.campaign.scenario import Campaign, load_campaign, task_key
 from host.campaign.store import CAMPAIGN
 from host.core.errors import ConfigError
+from host.core.nesting import read_json
 
 
 def replay(out, key: str) -> dict:
@@ -26,7 +26,7 @@ def replay(out, key: str) -> dict:
     path = Path(out) / CAMPAIGN
     if not path.is_file():
         raise ConfigError(f"--out {out}: no {CAMPAIGN} (not a campaign's folder)")
-    campaign = Campaign(**json.loads(path.read_text(encoding="utf-8")))
+    campaign = Campaign(**read_json(path, "campaign file"))
     tasks = {task_key(t): t for t in campaign.tasks()}
     if key not in tasks:
         some = ", ".join(list(tasks)[:3])

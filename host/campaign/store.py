@@ -37,7 +37,7 @@ class ResultStore:
             return
         try:
             old = json.loads(old_path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError:
+        except (json.JSONDecodeError, RecursionError):
             return
         new = json.loads(json.dumps(campaign, default=str))
         differ = [k for k in SAME if k != "faultsets" and k in old and old.get(k) != new.get(k)]
@@ -58,7 +58,7 @@ class ResultStore:
         for line in self.path.read_text(encoding="utf-8").splitlines():
             try:
                 result = json.loads(line)
-            except json.JSONDecodeError:
+            except (json.JSONDecodeError, RecursionError):
                 continue  # (a line the crash cut short)
             if isinstance(result, dict) and "key" in result:
                 by_key[result["key"]] = result

@@ -283,7 +283,7 @@ def _flashed_firmware() -> dict | None:
     try:
         info = json.loads(manifest.read_text())
         return {"dir": Path(folder).resolve(), "app": info["app"], "board": info["board"]}
-    except (ValueError, KeyError, TypeError) as e:
+    except (ValueError, KeyError, TypeError, RecursionError) as e:
         raise pytest.UsageError(f"FIRMWARE={folder}: {manifest} is damaged ({e}); flash again") from None
 
 

@@ -6,6 +6,7 @@ link. ``docs/reliability.md`` lists them with the tests that show them."""
 import re
 
 from host.core.errors import FirmwareError, FirmwareExited, FirmwareHung, LinkDamaged, LinkError
+from host.core.printable import printable
 from host.link import frames as F
 from host.rig.bustrace import failed_hint
 
@@ -26,7 +27,7 @@ DEEPSLEEP_WAKE = 1
 
 def where(rig) -> str:
     """The console's last lines, the seed and the artefacts folder, for error messages."""
-    tail = "\n".join(rig.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:])
+    tail = printable("\n".join(rig.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:]))
     console = f"\nconsole (last {CONSOLE_TAIL_LINES} lines):\n{tail}" if tail else "\nconsole: (empty)"
     return console + f"\nseed: {rig.seed}" + (f"\nartefacts: {rig.artefacts}" if rig.artefacts else "")
 
@@ -41,7 +42,8 @@ def fault(rig, t: int, text: str):
     last = text.rstrip().splitlines()[-1] if text.strip() else ""
     if last.startswith(SHIM_LINK_DAMAGED):
         raise LinkDamaged(
-            f"{last[len(SHIM_LINK_DAMAGED) :].strip()} (seen by the shim at virtual t={t / 1e6:.6f} s){rig.where()}"
+            f"{printable(last[len(SHIM_LINK_DAMAGED) :].strip())} (seen by the shim at virtual t={t / 1e6:.6f} s)"
+            f"{rig.where()}"
         )
     syntax = SYNTAX_ERROR.search(text)
     if syntax:  # the board would not run the file at all: one error, where, and the console once
@@ -49,14 +51,14 @@ def fault(rig, t: int, text: str):
         if not path.startswith("/"):  # (the firmware runs in its folder)
             path = str(rig.firmware.main_dir / path)
         raise FirmwareError(
-            f"{kind.lower().replace('error', ' error')} in {path}, line {line}: {message} "
+            f"{kind.lower().replace('error', ' error')} in {printable(path)}, line {line}: {printable(message)} "
             f"(the firmware did not start; found at virtual t={t / 1e6:.6f} s){rig.where()}",
             traceback=text,
             console=rig.console,
         )
     raise FirmwareError(
         f"firmware raised at virtual t={t / 1e6:.6f} s; expected it to keep running.\n"
-        f"MicroPython traceback:\n{text.rstrip()}{rig.app.import_hint(text)}"
+        f"MicroPython traceback:\n{printable(text.rstrip())}{printable(rig.app.import_hint(text))}"
         f"{failed_hint(getattr(rig, 'bus_trace', None), text)}{rig.where()}",
         traceback=text,
         console=rig.console,

@@ -208,7 +208,7 @@ def read(folder: Path) -> dict | None:
         return None
     try:
         found = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return {"error": f"{path} is not readable JSON"}
     return found if isinstance(found, dict) else {"error": f"{path} is not a JSON object"}
 

@@ -15,6 +15,7 @@ run time cannot be known here: it is listed as not checked.
 
 import ast
 import os
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -93,9 +94,14 @@ def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
         for name in sorted(f for f in files if f.endswith(".py")):
             path = Path(top, name)
             try:
-                size = path.stat().st_size
+                info = path.stat()
             except OSError:
                 continue
+            if not stat.S_ISREG(info.st_mode):  # (a FIFO would block the read for ever; a device never end)
+                if notes is not None:
+                    notes.append(f"{path} is {_kind_of(info.st_mode)}, not a file: not read")
+                continue
+            size = info.st_size
             if len(found) >= SCAN_MAX_FILES or total + size > SCAN_MAX_BYTES:
                 if notes is not None:
                     notes.append(
@@ -106,6 +112,14 @@ def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
             found.append(path)
             total += size
     return found
+
+
+def _kind_of(mode: int) -> str:
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (a named pipe)"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a folder"
 
 
 def _skipped(folder: Path) -> bool:

@@ -235,7 +235,7 @@ def recorded_transfers(link_log: Path) -> dict[str, list]:
                 if r.get("msg") == "BUS" and "bus" in r:
                     reply = (r["status"], r.get("count", len(bytes.fromhex(r["read"]))), bytes.fromhex(r["read"]))
                     transfers.setdefault(r["bus"], []).append((r["op"], r["address"], reply))
-            except (ValueError, KeyError, TypeError) as e:
+            except (ValueError, KeyError, TypeError, RecursionError) as e:
                 raise ConfigError(f"{link_log}: a BUS record is damaged ({e}): {line[:120]}") from None
     return transfers
 

@@ -15,9 +15,10 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
+from host.rig import rigrules
 from host.rig.app import App
 from host.rig.boardfs import confinement
-from host.rig.boards import IDENTITIES, known_boards, read_board_file
+from host.rig.boards import IDENTITIES, identity, known_boards, read_board_file, read_pin_map
 from host.rig.budgets import BusLatencyBudget, BusSampleBudget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.firmware import heap_bytes
 from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
@@ -26,6 +27,7 @@ from host.rig.wiring import PROBE_PREFIX
 from sim_plant import kinds, option_table
 from sim_plant.catalogue.assembly import PartsError, assemble
 from sim_plant.faults import FaultError, parse_faults, with_faults
+from sim_plant.names import unknown
 
 TABLES = {
     "name": str,
@@ -70,8 +72,8 @@ MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
 MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
-PIN_RANGES = {"esp32": 48, "rpi_pico": 47}  # the highest GPIO of each family (ESP32-S3, RP2350B)
-MAX_PIN = 255  # any other board
+REPORT_VIEWS = ("pool_lane",)
+"""The views a rig file may name in ``[report] views`` (``host/report/views.py`` VIEWS draws them)."""
 
 
 class _Where:
@@ -95,6 +97,16 @@ class _Where:
         if missing:
             raise self.error(name.rstrip(":"), f"missing {', '.join(missing)}")
         return data
+
+
+class _Within:
+    """A world's field before the rule's own: ``[worlds.dark] [[plant.parts]] #3 (imu) bus``."""
+
+    def __init__(self, where: _Where, prefix: str):
+        self.where, self.prefix = where, prefix
+
+    def error(self, field: str, message: str) -> ConfigError:
+        return self.where.error(f"{self.prefix} {field}", message)
 
 
 def _did_you_mean(word: str, choices) -> str:
@@ -134,10 +146,12 @@ def rig_from_data(path, data: dict) -> App:
         raise where.error("[firmware] dir", f"no folder {folder}")
     entry = firmware.get("entry", "main.py")
     if not _inside(where, folder, "[firmware] entry", entry, "the firmware folder").is_file():
-        raise where.error("[firmware] entry", f"no {entry} in {folder}")
+        found = sorted(p.name for p in folder.glob("*.py"))[:50]  # (a folder of thousands: the first 50)
+        raise where.error("[firmware] entry", f"no {entry} in {folder} {unknown(entry, found, what='its .py files')}")
     default_lib = ["lib"] if (folder / "lib").is_dir() else []  # a board's /lib is on its path
     libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
+    platform = (_family(where, data.get("board", {})) or identity(board_name) or (None,))[0]
     if isinstance(data["plant"], dict) and "body" in data["plant"]:  # a body and parts (sim_plant.catalogue)
         kind, options, build = None, {}, _parts_builder(where, data["plant"])
         plant = build()
@@ -150,8 +164,13 @@ def rig_from_data(path, data: dict) -> App:
             return kinds.make(kind, **opts)
 
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
+    rigrules.check_wiring(where, wiring, pins, plant, platform)
+    rigrules.check_buses(where, plant, wiring, pins, platform)
+    also = data["board"].get("also", ()) if isinstance(data.get("board"), dict) else ()
+    rigrules.check_boards(where, tuple(also), wiring, known_boards(), read_pin_map)
+    rigrules.check_start(where, "[plant] start_pose", plant)
     budget_specs = _budgets(where, data.get("budgets", {}), plant, kind, wiring)
-    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options, build)
+    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options, build, (wiring, pins, platform))
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = _name(where, "name", data.get("name") or folder.name)
     faults = _faults(where, data.get("faults", []), plant)
@@ -184,7 +203,7 @@ def rig_from_data(path, data: dict) -> App:
         identity=_family(where, data.get("board", {})),
         extra={
             "faults": faults,
-            "report": _report(where, data.get("report", {})),
+            "report": _report(where, data.get("report", {}), wiring),
             "confine": confinement(where, data.get("board", {})),
         },
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
@@ -200,14 +219,16 @@ def _tests(where: _Where, table: dict) -> None:
             raise where.error("[tests] exclude", f"expected file name patterns (text), got {pattern!r}")
 
 
-def _report(where: _Where, table: dict) -> dict:
+def _report(where: _Where, table: dict, wiring: dict) -> dict:
     """``[report]``: the report's own views of this robot by name (``views``, listed in
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
     where.table(table, "[report]", REPORT_KEYS)
     for i, name in enumerate(table.get("views", [])):
-        if not isinstance(name, str) or not re.fullmatch(r"[a-z][a-z0-9_]{0,39}", name):
-            raise where.error(f"[report] views[{i}]", f"expected a view's name, got {name!r}"[:200])
+        if not isinstance(name, str) or name not in REPORT_VIEWS:
+            shown = repr(name) if len(repr(name)) < 70 else repr(name)[:66] + "..."
+            known = unknown(name, REPORT_VIEWS, what="views")
+            raise where.error(f"[report] views[{i}]", f"expected a view's name, got {shown} {known}")
     judge = where.table(table.get("judge", {}), "[report.judge]", JUDGE_KEYS)
     for key, hi in (("home_within_m", 1000.0), ("min_coverage", 1.0)):
         if key in judge and not 0 <= judge[key] <= hi:
@@ -215,6 +236,10 @@ def _report(where: _Where, table: dict) -> dict:
     pose = table.get("pose_line")
     if pose is not None:
         where.table(pose, "[report.pose_line]", POSE_LINE_KEYS, required=tuple(POSE_LINE_KEYS))
+        probes = [s for s in wiring.values() if s.startswith(PROBE_PREFIX)]
+        if pose["probe"] not in probes:
+            known = unknown(pose["probe"], probes, what="the wiring's probes")
+            raise where.error("[report.pose_line] probe", f"no pin is wired to {pose['probe']!r} {known}")
         columns = pose["columns"]
         if len(columns) != 4 or not all(isinstance(c, str) and c.isidentifier() for c in columns):
             raise where.error(
@@ -346,7 +371,7 @@ def _board(where: _Where, base: Path, board: dict):
     also = tuple(_name(where, "[board] also", name) for name in board.get("also", ()))
     if "pins" in board:
         pins = board["pins"]
-        highest = PIN_RANGES.get(board.get("family"), MAX_PIN)
+        highest = rigrules.highest_pin(IDENTITIES.get(board.get("family"), (None,))[0])
         for pin, value in pins.items():
             _pin(where, f"[board.pins] {pin}", value, highest)
         return "pins", None, dict(pins), also
@@ -357,8 +382,8 @@ def _board(where: _Where, base: Path, board: dict):
         path = BOARDS_DIR / _name(where, "[board] name", board["name"]) / "board.py"
         field = "[board] name"
         if not path.is_file():
-            known, hint = ", ".join(known_boards()), _did_you_mean(board["name"], known_boards())
-            raise where.error(field, f"no board {board['name']!r} (known: {known}){hint}")
+            known = unknown(board["name"], known_boards(), what="boards")
+            raise where.error(field, f"no board {board['name']!r} {known}")
     try:
         pins = read_board_file(path)
     except ConfigError as e:
@@ -449,12 +474,13 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
         field = f"[wiring] {pin}"
         _check_type(where, field, signal, str)
         if pin not in pins:
-            raise where.error(field, f"board {board} has no pin named {pin} (pins: {', '.join(pins)})")
+            raise where.error(field, f"board {board} has no pin named {pin} {unknown(pin, pins, what='pins')}")
         if not signal.startswith(PROBE_PREFIX) and signal not in signals:
+            close = unknown(signal, signals, what="signals").rpartition(")")[2]
             raise where.error(
                 field,
                 f"the plant has no signal {signal!r} (inputs: {', '.join(plant.inputs)}; "
-                f"outputs: {', '.join(plant.outputs)}; or probe:<name> for a pin only the harness watches)",
+                f"outputs: {', '.join(plant.outputs)}; or probe:<name> for a pin only the harness watches){close}",
             )
     by_pin: dict = {}
     for pin in wiring:
@@ -494,8 +520,8 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
             if signal.startswith(PROBE_PREFIX) and signal not in wiring.values():
                 raise where.error(f"{field} {key}", f"no pin is wired to {signal!r}: the budget would measure nothing")
             if not signal.startswith(PROBE_PREFIX) and signal not in {**plant.inputs, **plant.outputs}:
-                known = ", ".join([*plant.inputs, *plant.outputs])
-                raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} (signals: {known})")
+                known = unknown(signal, [*plant.inputs, *plant.outputs], what="signals")
+                raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} {known}")
         for key in ("period_us", "limit_us", "tolerance_us"):
             least = 0 if key == "tolerance_us" else 1
             if isinstance(spec.get(key), int) and not least <= spec[key] <= MAX_BUDGET_US:
@@ -546,14 +572,27 @@ def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind:
 
 
 def _bus_source(where: _Where, field: str, plant, spec: dict) -> None:
-    """A bus budget's source is a bus one of the plant's devices is on."""
+    """A bus budget's source is a bus one of the plant's devices is on; its ``address``
+    one of a device on that bus (an SPI bus's devices have none: chip selects); its
+    ``register`` one of 256: else the budget could never match a transfer."""
     bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
-    buses = sorted({d.bus for d in getattr(bus_set, "devices", ())})
+    devices = getattr(bus_set, "devices", ())
+    buses = sorted({d.bus for d in devices})
     if spec["source"] not in buses:
-        raise where.error(
-            f"{field} source",
-            f"no device of the plant is on bus {spec['source']!r} (buses: {', '.join(buses) or 'none'})",
-        )
+        known = unknown(spec["source"], buses, what="buses")
+        raise where.error(f"{field} source", f"no device of the plant is on bus {spec['source']!r} {known}")
+    if "address" in spec:
+        at = {d.address: d.label for d in devices if d.bus == spec["source"] and d.address is not None}
+        if spec["address"] not in at:
+            known = ", ".join(f"0x{a:02x} ({n})" for a, n in sorted(at.items())) or "none: SPI devices are selected"
+            raise where.error(
+                f"{field} address",
+                f"no device on bus {spec['source']} at {spec['address']!r}: the budget would match no transfer "
+                f"(addresses on it: {known})",
+            )
+    register = spec.get("register")
+    if register is not None and not 0 <= register <= 0xFF:
+        raise where.error(f"{field} register", f"expected a register from 0 to 255 (0xff), got {register}")
 
 
 def _sample_period(where: _Where, field: str, plant, source: str) -> int:
@@ -568,7 +607,11 @@ def _sample_period(where: _Where, field: str, plant, source: str) -> int:
     return period
 
 
-def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build) -> dict[str, dict]:
+def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build, board) -> dict[str, dict]:
+    """Each world's options, checked by building its plant (and that plant against the
+    rules of ``host/rig/rigrules.py``: its buses, its start pose; ``board``: (wiring,
+    pins, platform))."""
+    wiring, pins, platform = board
     for name, world in worlds.items():
         field = f"[worlds.{name}]"
         _name(where, field, name)
@@ -576,10 +619,13 @@ def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build)
             raise where.error(field, f"expected a table of plant options, got {world!r}")
         if kind is None:  # a body's options over the [plant] table's
             try:
-                build(**world)
+                plant = build(**world)
             except ValueError as e:
                 raise where.error(field, str(e)) from None
-            continue
-        _check_options(where, field, kind, world)
-        _make_plant(where, kind, {**options, **world}, field)
+        else:
+            _check_options(where, field, kind, world)
+            plant = _make_plant(where, kind, {**options, **world}, field)
+        if world:
+            rigrules.check_buses(_Within(where, field), plant, wiring, pins, platform)
+            rigrules.check_start(where, f"{field} start_pose", plant)
     return {name: dict(world) for name, world in worlds.items()} or {"default": {}}

@@ -29,6 +29,7 @@ from host.rig.app import App
 from host.rig.pacing import PACINGS
 from host.rig.target import FaultyLinkTarget, Target, UnixPortTarget
 from sim_plant.faults import parse_faults, with_faults
+from sim_plant.names import unknown
 from sim_plant.plant import Plant
 
 PLACEMENT_KEYS = ("x_m", "y_m", "theta_deg")
@@ -187,7 +188,8 @@ def default_target(spec: RigSpec, app: App, pacing) -> Target:
 
 def _world(spec: RigSpec, app: App) -> str:
     if spec.world not in app.worlds:
-        raise ConfigError(f"world: unknown world {spec.world!r} for app {app.name} (known: {', '.join(app.worlds)})")
+        known = unknown(spec.world, app.worlds, what="known")
+        raise ConfigError(f"world: unknown world {spec.world!r} for app {app.name} {known}")
     return spec.world
 
 

@@ -15,6 +15,7 @@ import time
 from host.core import interpreter
 from host.core.children import popen_options
 from host.core.errors import FirmwareError, FirmwareHung, HarnessError, LinkTimeout, SetupError
+from host.core.printable import printable
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.link.faults import wrap
@@ -241,7 +242,7 @@ class UnixPortTarget(Target):
             counters = rig.session.counters()
             link = ", ".join(f"{k}={v}" for k, v in counters.items() if v)
             why = diagnosis(stack, counters, sent != "nothing")
-            where = f"\nwhere it was (interrupted by the watchdog):\n{stack.rstrip()}" if stack else ""
+            where = f"\nwhere it was (interrupted by the watchdog):\n{printable(stack.rstrip())}" if stack else ""
             raise FirmwareHung(
                 f"firmware stopped answering: expected {what} within {timeout_s:g} s of wall time, "
                 f"got nothing (virtual t={rig.clock.firmware_us / 1e6:.6f} s, last message {last}, "

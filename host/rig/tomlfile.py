@@ -7,6 +7,7 @@ from pathlib import Path
 import tomllib
 
 from host.core.errors import ConfigError
+from host.core.nesting import too_deep
 
 NESTED_DEPTH = 8  # tables and lists within each other that a file of ours needs at most
 
@@ -19,7 +20,8 @@ def read_toml(path: Path, what: str = "file", max_bytes: int | None = None) -> d
         raw = path.read_bytes()
         if max_bytes is not None and len(raw) > max_bytes:
             raise ConfigError(f"{path}: expected a {what} of at most {max_bytes} bytes, got {len(raw)}")
-        return tomllib.loads(raw.decode("utf-8"))
+        text = raw.decode("utf-8")
+        return tomllib.loads(text)
     except OSError as e:
         raise ConfigError(f"{path}: cannot read the {what} ({e.strerror or e})") from None
     except UnicodeDecodeError as e:
@@ -27,4 +29,4 @@ def read_toml(path: Path, what: str = "file", max_bytes: int | None = None) -> d
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{path}: not valid TOML: {e}") from None
     except RecursionError:
-        raise ConfigError(f"{path}: not valid TOML: nested deeper than {NESTED_DEPTH} levels") from None
+        raise ConfigError(f"{path}: not valid TOML: {too_deep(text, NESTED_DEPTH) or 'nested too deep'}") from None

@@ -5,6 +5,7 @@ or a condition on the rig becoming true, within a simulated timeout."""
 import re
 
 from host.core.errors import HarnessError
+from host.core.printable import printable
 from host.rig import arguments
 
 STEP_S = 0.01  # simulated seconds between two looks
@@ -29,9 +30,9 @@ def expect(rig, pattern, timeout_s: float, step_s: float = STEP_S) -> re.Match:
         if rig.t_us >= deadline or rig.exit_kind is not None:
             break
         rig.run_until(min(deadline, rig.t_us + round(step_s * 1e6)))
-    tail = "\n".join(text.rstrip().splitlines()[-20:]) or "(nothing)"
+    tail = printable("\n".join(text.rstrip().splitlines()[-20:])) or "(nothing)"
     raise ExpectTimeout(
-        f"expected the console to match {regex.pattern!r} within {timeout_s:g} simulated s "
+        f"expected the console to match {printable(repr(regex.pattern))} within {timeout_s:g} simulated s "
         f"(until virtual t={deadline / 1e6:.6f} s); it did not. Console since the last match:\n{tail}"
         f"\nseed: {rig.seed}" + (f"\nartefacts: {rig.artefacts}" if rig.artefacts else "")
     )

@@ -15,10 +15,16 @@ import time
 from dataclasses import dataclass
 
 from host.core.errors import HarnessError
+from host.core.printable import printable
 from host.link import frames as F
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant.controls import ControlError
 
+ONE_LINE_PINS = {"button": ("1.l", "1.r", "2.l", "2.r"), "slide_switch": ("1", "2", "3"), "probe": ("A", "C")}
+ONE_LINE_PINS["buzzer"] = ("1", "2")
+"""Wokwi's pin names of a part whose one line the board sees under another name (its
+contacts, an LED's anode and cathode: host/wokwi/parts.py's mappers); every other pin is
+named as its signal (Wokwi's ``TRIG`` is ``<part>.trig``)."""
 LOOK_US = 1_000  # simulated time between two looks of a wait (a board's system tick)
 TAIL_LINES = 5  # console lines a failure shows
 
@@ -50,14 +56,16 @@ class ScenarioRun:
     def run(self) -> list[StepResult]:
         for step in self.scenario.steps:
             t0_us, wall0 = self.rig.t_us, time.perf_counter()
-            self.echo(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}")
+            self.echo(printable(f"[{t0_us / 1e6:11.6f} s] line {step.line}: {step.describe()}"))
             try:
                 getattr(self, "_" + step.kind.replace("-", "_"))(step)
             except StepFailed:
                 raise
             except HarnessError as e:  # (the firmware hung, crashed, ended with an error)
                 raise StepFailed(
-                    f"{self.scenario.path}:{step.line}: step {step.describe()} failed: {type(e).__name__}: {e}"
+                    printable(
+                        f"{self.scenario.path}:{step.line}: step {step.describe()} failed: {type(e).__name__}: {e}"
+                    )
                 ) from e
             self.results.append(StepResult(step, t0_us, self.rig.t_us, time.perf_counter() - wall0))
             self.previous = step
@@ -151,8 +159,10 @@ class ScenarioRun:
         seen = "\n  ".join(lines) if lines else "(nothing)"
         artefacts = f"\nartefacts: {self.rig.artefacts}" if self.rig.artefacts else ""
         raise StepFailed(
-            f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual "
-            f"t={self.rig.t_us / 1e6:.6f} s: {what}\nlast serial lines:\n  {seen}{artefacts}"
+            printable(
+                f"{self.scenario.path}:{step.line}: step {step.describe()} failed at virtual "
+                f"t={self.rig.t_us / 1e6:.6f} s: {what}\nlast serial lines:\n  {seen}{artefacts}"
+            )
         )
 
 
@@ -200,12 +210,24 @@ def _signal(rig, part: str, pin: str) -> str | None:
         if name.lower() == wanted:
             return name
     own = [name for name in signals if name.startswith(part + ".")]
-    if len(own) == 1:
+    if len(own) == 1 and pin.lower() in {p.lower() for p in one_line_pins(rig.plant, part)}:
         return own[0]
     probe = PROBE_PREFIX + part
     if probe in rig.app.wiring.values():
         return probe
     return None
+
+
+def one_line_pins(plant, part: str) -> tuple:
+    """The Wokwi pin names of ``part`` that mean its one line (ONE_LINE_PINS, by its kind)."""
+    kind = next((p.kind for p in getattr(plant, "catalogue_parts", ()) if p.name == part), None)
+    return ONE_LINE_PINS.get(kind, ())
+
+
+def part_pins(plant, part: str) -> list[str]:
+    """Every pin name ``part`` answers to: its signals' names, and its one line's Wokwi names."""
+    own = [name.split(".", 1)[1] for name in {**plant.inputs, **plant.outputs} if name.startswith(part + ".")]
+    return own + (list(one_line_pins(plant, part)) if len(own) == 1 else [])
 
 
 def _is(handle, signal: str | None, pin: str) -> bool:

@@ -17,6 +17,7 @@ from pathlib import Path
 import yaml
 
 from host.core.errors import ConfigError
+from host.core.nesting import too_deep
 
 TIME = re.compile(r"^(\d+(?:\.\d*)?)\s*(ns|us|ms|s)$|^0(?:\.?0*)$", re.IGNORECASE)
 UNIT_US = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}
@@ -87,10 +88,15 @@ def load_scenario(path) -> Scenario:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise ScenarioError(f"{path}: cannot read it: {getattr(e, 'strerror', None) or e}") from None
+    deep = too_deep(text)
+    if deep:  # (PyYAML's composer is recursive: seconds, then a RecursionError)
+        raise ScenarioError(f"{path}: not a scenario: {deep}")
     loader = yaml.SafeLoader(text)
     try:
         node = loader.get_single_node()
         data = loader.construct_document(node) if node is not None else None
+    except RecursionError:  # (block style nests by indentation alone)
+        raise ScenarioError(f"{path}: not a scenario: nested too deep for a scenario") from None
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         line = f":{mark.line + 1}" if mark is not None else ""

@@ -7,9 +7,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.core.paths import output_root
-from host.scenario.runner import ScenarioRun, known_ids
+from host.rig.wiring import PROBE_PREFIX
+from host.scenario.runner import ScenarioRun, known_ids, part_pins
 from host.scenario.scenario import ScenarioError, load_scenario
 from sim_plant.controls import ControlError
+from sim_plant.names import unknown
 
 RIG_NAME = "rig.toml"
 DIAGRAM_NAME = "diagram.json"
@@ -53,6 +55,8 @@ def check_steps(scenario, rig) -> None:
     """Every part-id, control and value the steps name exists on this rig, before it
     starts: a ScenarioError names the line and what the rig has."""
     ids = known_ids(rig.app, rig.plant)
+    probes = {v[len(PROBE_PREFIX) :] for v in rig.app.wiring.values() if v.startswith(PROBE_PREFIX)}
+    probes -= {name.split(".", 1)[0] for name in {**rig.plant.inputs, **rig.plant.outputs}}
     parts = {p.name: p for p in getattr(rig.plant, "catalogue_parts", ())}
     for step in scenario.steps:
         where = f"{scenario.path}:{step.line}: {step.kind}"
@@ -60,16 +64,24 @@ def check_steps(scenario, rig) -> None:
         if step.kind == "set-control":
             if part not in parts:
                 with_controls = ", ".join(n for n, p in parts.items() if p.CONTROLS) or "none"
-                raise ScenarioError(f"{where}: no part {part!r} on the rig (parts with controls: {with_controls})")
+                close = unknown(part, [n for n, p in parts.items() if p.CONTROLS]).rpartition(")")[2]
+                raise ScenarioError(
+                    f"{where}: no part {part!r} on the rig (parts with controls: {with_controls}){close}"
+                )
             try:
                 parts[part].control_change(step.args["control"], step.args["value"])
             except ControlError as e:
                 raise ScenarioError(f"{where}: {e}") from None
         elif part is not None and part not in ids and not _board_pin(rig, step.args["pin"]):
             raise ScenarioError(
-                f"{where}: no part or probe {part!r} on the rig (has: {', '.join(sorted(ids)) or 'none'}), "
+                f"{where}: no part or probe {part!r} on the rig {unknown(part, sorted(ids), what='has')}, "
                 f"and {step.args['pin']!r} is no board pin"
             )
+        elif part in ids and part not in probes:
+            pins = part_pins(rig.plant, part)
+            if step.args["pin"].lower() not in {p.lower() for p in pins}:
+                known = unknown(step.args["pin"], pins, what="its pins")
+                raise ScenarioError(f"{where}: pin: part {part!r} has no pin {step.args['pin']!r} {known}")
 
 
 def _board_pin(rig, pin: str) -> bool:

@@ -55,8 +55,8 @@ def campaign_run(folder: Path, key: str) -> Source:
     """Run ``key`` of the campaign in ``folder``, with its stored result."""
     try:
         campaign = Campaign(**json.loads((folder / CAMPAIGN).read_text(encoding="utf-8")))
-    except (OSError, ValueError, TypeError) as e:
-        raise ConfigError(f"RUN: {folder / CAMPAIGN} cannot be read ({e})") from None
+    except (OSError, ValueError, TypeError, RecursionError) as e:
+        raise ConfigError(f"RUN: {folder / CAMPAIGN} cannot be read ({type(e).__name__}: {e})") from None
     tasks = {task_key(t): t for t in campaign.tasks()}
     if key not in tasks:
         some = ", ".join(list(tasks)[:3])

@@ -25,7 +25,7 @@ class Board:
         named = dict(self.named)
         if pin in named:
             return named[pin]
-        pattern = {"devkit_v1": r"D(\d+)", "number": r"(\d+)", "pico": r"GP(\d+)"}[self.style]
+        pattern = {"devkit_v1": r"D(\d{1,9})", "number": r"(\d{1,9})", "pico": r"GP(\d{1,9})"}[self.style]
         m = re.fullmatch(pattern, pin)
         if m and int(m.group(1)) <= self.highest:
             return int(m.group(1))

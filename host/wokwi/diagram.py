@@ -9,11 +9,12 @@ up through one is not tied to the supply. ``$serialMonitor`` is the console, whi
 rig has anyway."""
 
 import difflib
-import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.core.errors import ConfigError
+from host.core.nesting import loads_json
 from host.wokwi.boards import BOARDS, Board, rail
 
 MAX_DIAGRAM_BYTES = 1 << 20
@@ -122,10 +123,7 @@ def read_diagram(path: Path) -> Diagram:
         raise ConfigError(f"{path}: cannot read: {e.strerror or e}") from None
     if len(raw) > MAX_DIAGRAM_BYTES:
         raise ConfigError(f"{path}: {len(raw)} bytes: expected a diagram of at most {MAX_DIAGRAM_BYTES}")
-    try:
-        data = json.loads(raw)
-    except (ValueError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{path}: not JSON: {e}") from None
+    data = loads_json(raw, str(path))
     if not isinstance(data, dict) or not isinstance(data.get("parts"), list):
         raise ConfigError(f"{path}: expected an object with a list of parts (Wokwi's diagram format)")
     parts = [_part(path, i, p) for i, p in enumerate(data["parts"])]
@@ -145,8 +143,26 @@ def read_diagram(path: Path) -> Diagram:
         found = ", ".join(f"{p.id} ({p.type})" for p in boards)
         raise ConfigError(f"{path}: expected one board part, got {found}: one board a rig")
     board_part = boards[0]
-    wires = _wires(path, data.get("connections", []), set(ids))
+    wires = _wires(path, data.get("connections", []), set(ids), board_part.id, BOARDS[board_part.type])
     return Diagram(path, [p for p in parts if p is not board_part], board_part, BOARDS[board_part.type], wires)
+
+
+def _board_pin(path: Path, i: int, end: str, board) -> None:
+    """A board pin a wire ends on is one the board has: a GPIO numbered past its highest
+    (``esp:99``, ``pico:GP40``) is refused with the board's GPIO names."""
+    style = {"devkit_v1": r"D\d+", "number": r"\d+", "pico": r"GP\d+"}[board.style]
+    pin = end.partition(":")[2]
+    if not re.fullmatch(rf"{style}|GPIO\d+|\d+", pin) or board.gpio(pin) is not None:
+        return
+    example = {"devkit_v1": "D{}", "number": "{}", "pico": "GP{}"}[board.style]
+    names = [example.format(n) for n in range(board.highest + 1)] + [n for n, _ in board.named]
+    close = difflib.get_close_matches(pin, names, n=3)
+    near = f"; nearest: {', '.join(close)}" if close else ""
+    also = "".join(f", {n}" for n in names[board.highest + 1 :])
+    raise ConfigError(
+        f"{path}: connections[{i}]: {end[:60]}: the {board.title} has no pin {pin[:40]!r} (its GPIOs: "
+        f"{example.format(0)} to {example.format(board.highest)}{also}; and its ground and supply pins){near}"
+    )
 
 
 def _part(path: Path, i: int, entry) -> Part:
@@ -158,7 +174,7 @@ def _part(path: Path, i: int, entry) -> Part:
     return Part(i, entry["type"], entry["id"], {str(k): v for k, v in attrs.items()})
 
 
-def _wires(path: Path, connections, ids: set) -> list[tuple[str, str]]:
+def _wires(path: Path, connections, ids: set, board_id: str, board) -> list[tuple[str, str]]:
     if not isinstance(connections, list):
         raise ConfigError(f"{path}: connections: expected a list, got {str(connections)[:80]}")
     wires = []
@@ -177,5 +193,7 @@ def _wires(path: Path, connections, ids: set) -> list[tuple[str, str]]:
                 hint = difflib.get_close_matches(part_id, list(ids), n=1)
                 near = f"; nearest: {hint[0]!r}" if hint else ""
                 raise ConfigError(f"{path}: connections[{i}]: {end}: no part with id {part_id!r}{near}")
+            if part_id == board_id:
+                _board_pin(path, i, end, board)
         wires.append((a, b))
     return wires

@@ -15,6 +15,7 @@ from pathlib import Path
 import tomllib
 
 from host.core.errors import ConfigError
+from host.core.nesting import too_deep
 from host.rig.app import App
 from host.rig.pinscan import scan_folder
 from host.rig.rigfile import rig_from_data
@@ -162,6 +163,8 @@ def _check_wokwi_toml(folder: Path) -> None:
         data = tomllib.loads(path.read_text())
     except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as e:
         raise ConfigError(f"{path}: not TOML: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: not TOML: {too_deep(path.read_bytes()) or 'nested too deep'}") from None
     if "chip" in data:
         raise ConfigError(f"{path}: [[chip]]: custom chips are not run here (docs/wokwi.md)")
     for key in data:

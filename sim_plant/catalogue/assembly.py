@@ -13,6 +13,7 @@ from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
+from sim_plant.names import nearest, unknown
 from sim_plant.option_table import Name
 
 PART_KEYS = ("kind", "name", "mount")
@@ -57,7 +58,11 @@ class PartsPlant(RobotPlant):
         for device in self.bus_set.devices:
             supply = getattr(device, "battery", None)  # (an INA219's battery part)
             if supply and not any(getattr(p, "label", None) == supply and hasattr(p, "v") for p in self.parts):
-                raise PartsError(f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r}")
+                batteries = [p.label for p in self.parts if hasattr(p, "v") and getattr(p, "label", None)]
+                known = unknown(supply, batteries, what="batteries")
+                raise PartsError(
+                    f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r} {known}"
+                )
             for name in getattr(device, "targets", ()):
                 if name != "-" and name not in inputs:
                     raise PartsError(
@@ -100,7 +105,8 @@ class PartsPlant(RobotPlant):
         part = next((p for p in self.catalogue_parts if p.name == name), None)
         if part is None:
             with_controls = [p.name for p in self.catalogue_parts if p.CONTROLS]
-            raise ControlError(f"no part {name!r} (parts with controls: {', '.join(with_controls) or 'none'})")
+            close = unknown(name, with_controls).rpartition(")")[2]
+            raise ControlError(f"no part {name!r} (parts with controls: {', '.join(with_controls) or 'none'}){close}")
         change = part.control_change(control, value)  # (checks the control and the value)
         self.controls.set(self._t_us, name, control, value, change)
         self._reschedule()
@@ -265,9 +271,8 @@ def _with_part_options(table: dict) -> tuple[dict, list]:
     for key, value in dotted.items():
         name, option = key.split(".", 1)
         if name not in by_name or option in PART_KEYS:
-            raise PartsError(
-                f"[plant] {key}: expected <part name>.<option> of a part (parts: {', '.join(map(str, by_name))})"[:200]
-            )
+            known = unknown(name, by_name, what="parts")
+            raise PartsError(f"[plant] {_short(key)[1:-1]}: expected <part name>.<option> of a part {known}")
         by_name[name][option] = value
     return {k: v for k, v in table.items() if k not in dotted}, entries
 
@@ -278,7 +283,10 @@ def _body(table: dict):
     bodies = catalogue.bodies()
     kind = table.get("body")
     if not isinstance(kind, str) or kind not in bodies:
-        raise PartsError(f"[plant] body: expected one of {', '.join(bodies)}, got {kind!r}"[:200])
+        described = {k: c.doc for k, c in bodies.items()}
+        raise PartsError(
+            f"[plant] body: expected one of {', '.join(bodies)}, got {_short(kind)}{_hint(kind, described)}"
+        )
     cls = bodies[kind]
     return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
 
@@ -290,10 +298,14 @@ def _part(i: int, entry):
     known = catalogue.parts()
     kind = entry.get("kind")
     if not isinstance(kind, str) or kind not in known:
-        raise PartsError(f"{label} kind: expected one of {', '.join(known)}, got {kind!r}"[:200])
+        described = {k: c.doc for k, c in known.items()}
+        raise PartsError(
+            f"{label} kind: expected one of {', '.join(known)}, got {_short(kind)}{_hint(kind, described)}"
+        )
     name = entry.get("name")
     problem = Name().problem(name)
-    if problem:
+    if problem or "." in name:
+        problem = problem or f"expected no '.' (its signals are <name>.<signal>), got {name!r}"
         raise PartsError(f"{label} name: {problem}")
     label = f"{label} ({name})"
     mount = entry.get("mount", {})
@@ -312,6 +324,17 @@ def _part(i: int, entry):
         raise PartsError(f"{label} {e}") from None
     part.label = label
     return part
+
+
+def _hint(word, described: dict) -> str:
+    """``; did you mean 'x'?``: the kinds nearest ``word`` by spelling and by what they are."""
+    close = nearest(word, described, described)
+    return f"; did you mean {' or '.join(map(repr, close))}?" if close else ""
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def rig_plant_table(path, parts: dict | None = None, **options) -> dict:

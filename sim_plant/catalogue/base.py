@@ -11,6 +11,7 @@ and the contacts. Signals are ``<name>.<signal>``; truth keys ``<name>_<key>`` m
 import math
 from dataclasses import dataclass, field
 
+from sim_plant.names import unknown
 from sim_plant.option_table import Flag, Name, Num, OneOf, Row, Rows
 
 MOUNT_KEYS = ("x_m", "y_m", "heading_deg")
@@ -112,7 +113,8 @@ class Declared:
             if name in skip:
                 continue
             if name not in known:
-                raise PartsError(f"{where} {name}: the {cls.kind} has no such option (options: {', '.join(known)})")
+                options = unknown(name, known, what="options")
+                raise PartsError(f"{where} {name}: the {cls.kind} has no such option {options}")
             opt = known[name]
             if value is None and opt.default is None:
                 continue
@@ -169,7 +171,8 @@ class PartType(Declared):
         known = {c.name: c for c in self.CONTROLS}
         if control not in known:
             has = ", ".join(known) if known else "none"
-            raise ControlError(f"{self.name} ({self.kind}) has no control {control!r} (controls: {has})")
+            close = unknown(control, known, what="controls").rpartition(")")[2]
+            raise ControlError(f"{self.name} ({self.kind}) has no control {control!r} (controls: {has}){close}")
         problem = known[control].spec.problem(value)
         if problem:
             raise ControlError(f"{self.name} ({self.kind}) {control}: {problem}")
