@@ -14,6 +14,7 @@ import os
 import tempfile
 from pathlib import Path
 
+from host.core import safefs
 from host.core.errors import HarnessError
 from host.rig.boardfs import board_name
 
@@ -97,7 +98,7 @@ def write_data(data_file: Path, arcs: dict, known: dict[str, Path], context: str
         if source is not None:
             by_source.setdefault(str(source), set()).update(pairs)
     try:
-        data_file.parent.mkdir(parents=True, exist_ok=True)
+        safefs.drop_links(safefs.make_folder(data_file.parent))  # (sqlite opens its files by name)
         data_file.unlink(missing_ok=True)
         from coverage import CoverageData  # (coverage.py only when there is coverage to write)
 

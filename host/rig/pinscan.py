@@ -18,6 +18,8 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from host.core import safefs
+
 SCAN_MAX_FILES = 1000  # .py files a scan reads at most (a board's flash holds far fewer)
 SCAN_MAX_BYTES = 8 << 20  # and bytes
 NOT_FIRMWARE = {"__pycache__", "node_modules", "site-packages", "build", "dist"}  # and hidden folders, venvs
@@ -95,6 +97,11 @@ def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
             try:
                 size = path.stat().st_size
             except OSError:
+                continue
+            if not safefs.regular_file(path):  # (a FIFO's read waits for ever; a device's never ends)
+                if notes is not None:
+                    what = safefs.kind(path, follow=True) or "not a regular file"
+                    notes.append(f"skipped {path}: {what}, not a file to read")
                 continue
             if len(found) >= SCAN_MAX_FILES or total + size > SCAN_MAX_BYTES:
                 if notes is not None:

@@ -37,7 +37,7 @@ def project(tmp_path: Path, name: str, steps: str, extra: str = "") -> Path:
 
 def failure(path: Path, **kwargs) -> str:
     with pytest.raises(StepFailed) as caught:
-        run_scenario(path, out=path.parent / "out", **kwargs)
+        run_scenario(path, out=path.parent.parent / "out", **kwargs)  # (beside the project, not in it)
     return str(caught.value)
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import tomllib
 
+from host.core import safefs
 from host.core.errors import ConfigError
 from host.rig.app import App
 from host.rig.pinscan import scan_folder
@@ -58,9 +59,10 @@ def import_wokwi(folder, force: bool = False) -> Path:
     folder = _folder(folder)
     text = rig_text(folder)
     path = folder / "rig.toml"
+    safefs.refuse_link(path)  # (--force replaces a file, never what a link points to)
     if path.exists() and not force:
         raise ConfigError(f"{path}: exists: expected --force to overwrite it")
-    path.write_text(text)
+    safefs.write_text(path, text, refuse_links=True)
     return path
 
 
