@@ -95,6 +95,7 @@ def output_folder(
     inputs: dict | None = None,
     owned: dict | None = None,
     base=None,
+    create: bool = True,
 ) -> Path:
     """The folder a command writes into, made, as a real path (no link in it).
 
@@ -104,7 +105,8 @@ def output_folder(
     of that input (a trace folder's ``plots/``, ``replay/``, ``diff/``: the command's own
     default; an absolute path is taken as it is). ``base``: the folder the user named,
     whose links are followed (default: the output's parent); the output and every folder
-    made between the two must be real folders, never links."""
+    made between the two must be real folders, never links. ``create=False``: checked
+    only, made later (by :func:`make_folder`), so a command refused afterwards leaves none."""
     folder = Path(folder)
     real = Path(os.path.realpath(folder))
     for label, path in (inputs or {}).items():
@@ -128,14 +130,15 @@ def output_folder(
                 f"{what} {folder}: lies inside {label} ({path}) that the command reads; expected a "
                 f"folder outside it{where}"
             )
-    return make_folder(folder, base=base, what=what)
+    return make_folder(folder, base=base, what=what, create=create)
 
 
-def make_folder(path, base=None, what: str = "") -> Path:
+def make_folder(path, base=None, what: str = "", create: bool = True) -> Path:
     """``path`` made where it is missing, as a real path. ``base`` (default: ``path``'s
     parent) is trusted as named (its links followed, made if missing); each part of
     ``path`` below it must be a real folder or nothing: a link (dangling too) or a file
-    there is refused by name. Returns the folder's real path."""
+    there is refused by name. Returns the folder's real path. ``create=False``: the
+    parts that are there checked, nothing made."""
     path = Path(path)
     base = Path(base) if base is not None else path.parent
     try:
@@ -143,10 +146,12 @@ def make_folder(path, base=None, what: str = "") -> Path:
     except ValueError:
         raise ValueError(f"{path} is not below {base}") from None
     try:
-        base.mkdir(parents=True, exist_ok=True)
+        if create:
+            base.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
         raise OutputRefused(f"{what + ' ' if what else ''}{base}: exists and is not a folder") from None
     current = Path(os.path.realpath(base))
+    missing = not current.is_dir()
     shown = base
     for part in rel.parts:
         if part in ("", "."):
@@ -154,11 +159,18 @@ def make_folder(path, base=None, what: str = "") -> Path:
         if part == "..":
             raise OutputRefused(f"{what + ' ' if what else ''}{path}: '..' in a folder the harness makes")
         current, shown = current / part, shown / part
-        try:
-            os.mkdir(current)
+        if missing:
             continue
+        try:
+            if create:
+                os.mkdir(current)
+                continue
+            os.lstat(current)
         except FileExistsError:
             pass
+        except FileNotFoundError:
+            missing = True
+            continue
         mode = os.lstat(current).st_mode
         if stat.S_ISLNK(mode):
             refuse_link(shown, what)

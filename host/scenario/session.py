@@ -115,6 +115,7 @@ def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: in
         inputs={"the firmware folder": app.path},
         owned={"the firmware folder": root},
         base=None if out is not None else root.parent,
+        create=False,  # (made as the run starts: a scenario refused before it leaves none)
     )
     rig = Rig(RigSpec(app, seed=seed, allow_exit=True), Recording(trace=True, record=True, artefacts=out))
     check_steps(scenario, rig)
