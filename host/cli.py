@@ -37,6 +37,7 @@ import time
 from pathlib import Path
 
 from host.artefacts.folder import HEADER
+from host.core import safefs
 from host.core.errors import ConfigError, HarnessError
 from host.core.paths import FIRMWARE, output_root
 from host.core.printable import printable
@@ -343,15 +344,18 @@ def _finite(value) -> bool:
     return not isinstance(value, float) or math.isfinite(value)
 
 
-def _writable(sub, argument: str, folder: Path) -> Path:
-    """``folder``, made if need be; an argument error naming it if it cannot be written."""
+def _writable(sub, argument: str, folder: Path, inputs: dict | None = None, owned=None, base=None) -> Path:
+    """``folder``, made if need be, as its real path (:func:`host.core.safefs.output_folder`:
+    never one of ``inputs``, around or inside one but for its ``owned`` sub-folder, no link
+    where it is made below ``base``); an argument error naming it if it cannot be written."""
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=folder):
+        what = f"argument {argument}:" if base is None else ""  # (a default below base: not an argument's)
+        real = safefs.output_folder(folder, what=what, inputs=inputs, owned=owned, base=base)
+        with tempfile.TemporaryFile(dir=real):
             pass
     except OSError as e:
         sub.error(f"argument {argument}: cannot write to the folder {folder} ({e.strerror or e})")
-    return folder
+    return real
 
 
 def _trace_folder(text: str) -> Path:
@@ -391,7 +395,15 @@ def cmd_run(args) -> int:
             f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
             f"(has: {', '.join(sorted(accepted))})"
         )
-    out = args.out or output_root(app.rig_file) / "runs" / f"{app.name}-{world}-seed{args.seed}"
+    root = output_root(app.rig_file)
+    out = _writable(
+        sub,
+        "--out",
+        args.out or root / "runs" / f"{app.name}-{world}-seed{args.seed}",
+        inputs={"the firmware folder": app.path},
+        owned={"the firmware folder": root},  # (build/ beside a rig file in its firmware folder)
+        base=None if args.out else root.parent,
+    )
     show = _progress(f"{app.name} in {world}, seed {args.seed}")
     spec = RigSpec(
         args.rig or args.app,
@@ -408,7 +420,6 @@ def cmd_run(args) -> int:
         rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
     except PlantOptionsError as e:
         sub.error(f"argument --param: {e}")
-    _writable(sub, "--out", out)
     try:
         with rig:  # (main stops it at a signal, as at Ctrl-C)
             rig.run_for(args.duration)
@@ -552,14 +563,17 @@ def cmd_init(args) -> int:
         if not folder.is_dir():
             args.sub.error(f"argument DIR: no folder {str(folder)[:200]!r}")
         path = folder / "rig.toml"
+        safefs.refuse_link(path, "argument DIR:")  # (a dangling one would make the file where it points)
         if path.exists():
             args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
     except (OSError, ValueError) as e:  # (a name too long, a NUL)
         args.sub.error(f"argument DIR: cannot read {str(folder)[:200]!r} ({getattr(e, 'strerror', None) or e})")
-    _writable(args.sub, "DIR", folder)
+    _writable(args.sub, "DIR", folder, base=folder)
     notes: list[str] = []
     try:
-        path.write_text(starter(folder, notes))
+        safefs.write_new(path, starter(folder, notes))
+    except FileExistsError:
+        args.sub.error(f"argument DIR: {path} exists; check it with mpy-fil check {path}")
     except OSError as e:
         args.sub.error(f"argument DIR: cannot read {folder} or write {path} ({e.strerror or e})")
     for note in notes:
@@ -598,7 +612,15 @@ def cmd_replay(args) -> int:
     from host.link.transport import busy_poll_wanted
     from host.rig.replay import FirmwareChoice, replay
 
-    out = _writable(args.sub, "--out", args.out or args.trace / "replay")
+    trace = "the trace folder TRACE"
+    out = _writable(
+        args.sub,
+        "--out",
+        args.out or args.trace / "replay",
+        inputs={trace: args.trace, **({"the firmware folder --firmware": args.firmware} if args.firmware else {})},
+        owned={trace: "replay"},
+        base=None if args.out else args.trace,
+    )
     show = _progress(f"replay {args.trace}")
     choice = FirmwareChoice(args.app, args.firmware, args.trust_folder)
     try:
@@ -637,7 +659,15 @@ def cmd_plot(args) -> int:
     from host.artefacts.folder import load_trace
     from host.report.plots import plot_trace
 
-    out = _writable(args.sub, "--out", args.out or args.trace / "plots")
+    trace = "the trace folder TRACE"
+    out = _writable(
+        args.sub,
+        "--out",
+        args.out or args.trace / "plots",
+        inputs={trace: args.trace},
+        owned={trace: "plots"},
+        base=None if args.out else args.trace,
+    )
     partial = partial_reason(load_trace(args.trace).header)
     if partial:
         print(f"the trace folder is partial: {partial}")
@@ -666,7 +696,14 @@ def cmd_campaign(args) -> int:
     overrides = {k: getattr(args, k) for k in ("seeds", "first_seed", "worlds", "seconds", "timeout_s")}
     campaign = load_campaign(args.rig, faults_file=args.faults, **overrides)
     rig_file = Path(args.rig) if Path(args.rig).is_file() else None
-    out = _writable(args.sub, "--out", args.out or output_root(rig_file) / "campaign" / campaign.name)
+    root = output_root(rig_file)
+    out = _writable(
+        args.sub,
+        "--out",
+        args.out or root / "campaign" / campaign.name,
+        inputs={"the campaign's file RIG": rig_file} if rig_file else None,
+        base=None if args.out else root.parent,
+    )
     where = args.scheduler or f"{args.workers} local worker(s)"
     total = len(campaign.tasks())
     print(

@@ -21,6 +21,7 @@ the cap and once, with the counts, at its end. A write that fails (a full disk) 
 from pathlib import Path
 
 from host.artefacts.integrity import TraceWriteError
+from host.core import safefs
 
 TAIL_BYTES = 256 * 1024
 """How much of the console's end stays in memory (``Rig.console``)."""
@@ -55,7 +56,7 @@ class ConsoleLog:
         self.file_bytes = self.dropped_bytes = self.dropped_lines = 0
         self.error = None
         if path is not None:
-            self._file = open(path, "wb")  # noqa: SIM115  (closed by close())
+            self._file = safefs.open_write(path, "wb")  # (closed by close(); a link at the name: refused)
             self._line_start = True
 
     def write(self, data: bytes, t_us: int = 0) -> None:

@@ -44,8 +44,8 @@ from host.artefacts import checks, integrity, pictures
 from host.artefacts.console import stamped_lines
 from host.artefacts.recorder import ROLE_SENSOR
 from host.artefacts.vcd import write_gtkw, write_vcd
-from host.core import provenance
-from host.core.errors import ConfigError
+from host.core import provenance, safefs
+from host.core.errors import ConfigError, OutputRefused
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"
@@ -78,7 +78,7 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
     header has said so (when even the header cannot be written, the one written when the
     run began stays, marked partial)."""
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
+    safefs.make_folder(folder)  # (the folder itself a link: refused)
     incomplete = dict(run.get("incomplete") or {})
     error = None
     for name, write in (*_writers(folder, run, recorder, budgets), *pictures.writers(plant)):
@@ -98,8 +98,9 @@ def write_trace_folder(folder: Path, run: dict, recorder, plant, budgets: dict) 
         integrity.write_text(folder / HEADER, text)
     except integrity.TraceWriteError as e:
         error = error or e
-        with contextlib.suppress(OSError):  # (in place: the start's header gives back its space)
-            (folder / HEADER).write_text(text, encoding="utf-8")
+        with contextlib.suppress(OSError, OutputRefused):  # (in place: the start's header gives back its space)
+            with safefs.open_write(folder / HEADER, "w", encoding="utf-8") as f:
+                f.write(text)
     if error is not None:
         raise error
     return folder

@@ -20,6 +20,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from host.core.errors import HarnessError
+from host.core.safefs import fresh_file
 
 PART = ".part"  # a file being written; never left behind by a run that ends
 
@@ -57,6 +58,7 @@ def atomic(path: Path):
     without error, removed otherwise (an OSError becomes a TraceWriteError naming ``path``)."""
     part = path.with_name(path.name + PART)
     try:
+        fresh_file(part)  # (a link left at the name is removed, never written through)
         yield part
         os.replace(part, path)
     except BaseException as e:

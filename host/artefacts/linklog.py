@@ -23,6 +23,7 @@ import json
 from pathlib import Path
 
 from host.artefacts.integrity import TraceWriteError
+from host.core import safefs
 from host.link import frames as F
 
 KEPT_MAX = 512  # records kept unwritten at most (a run with no STATE to write them at)
@@ -33,7 +34,7 @@ OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F
 class LinkLog:
     def __init__(self, path: Path | None = None):
         self.path = path
-        self._file = open(path, "w", encoding="utf-8", buffering=1) if path else None  # noqa: SIM115
+        self._file = safefs.open_write(path, "w", encoding="utf-8", buffering=1) if path else None  # (no link)
         self._hash = hashlib.sha256()
         self._written = 0  # lines hashed (and written)
         self._pending: list[tuple] = []  # (format, args) of each record not yet written

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from host.campaign.scenario import Campaign, load_campaign, task_key
 from host.campaign.store import CAMPAIGN
+from host.core import safefs
 from host.core.errors import ConfigError
 from host.core.nesting import read_json
 
@@ -31,7 +32,8 @@ def replay(out, key: str) -> dict:
     if key not in tasks:
         some = ", ".join(list(tasks)[:3])
         raise ConfigError(f"--replay: no run {key!r} in {out} (runs are faultset/world/seed, e.g. {some})")
-    return run_one(tasks[key], str(Path(out) / "replay" / key), record=True)
+    folder = safefs.make_folder(Path(out) / "replay" / key, base=out)  # (replay/ or a part of it a link: refused)
+    return run_one(tasks[key], str(folder), record=True)
 
 
 __all__ = ["Campaign", "load_campaign", "replay", "task_key"]

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from host.core import safefs
+
 WALL_BAND_M = 0.5
 """A missed cell this near a wall is counted as that wall's."""
 COVERED_RGB = (0.55, 0.80, 0.55)
@@ -86,7 +88,8 @@ def draw_map(grid: dict, path: Path, title: str) -> None:
     ax.set_title(title, fontsize="medium")
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncols=4, fontsize="small", frameon=False)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    with safefs.replacing(path) as temp:
+        fig.savefig(temp, dpi=90, format="png")
     plt.close(fig)
 
 
@@ -99,8 +102,7 @@ def coverage_maps(out: Path, runs: list[dict]) -> dict[str, FloorMap]:
             continue
         with np.load(source) as data:
             grid = {k: data[k] for k in data.files}
-        folder = Path(out) / "maps"
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = safefs.make_folder(Path(out) / "maps")  # (maps/ a link: refused)
         image = folder / (r["key"].replace("/", "_") + ".png")
         free, covered = grid["free"], grid["covered"]
         cell_m2 = ((grid["extent"][1] - grid["extent"][0]) / free.shape[1]) ** 2

@@ -16,7 +16,8 @@ from host.campaign.maps import coverage_maps
 from host.campaign.metrics import judged_by, metric
 from host.campaign.page import render
 from host.campaign.store import RESULTS
-from host.core.errors import HarnessError
+from host.core import safefs
+from host.core.errors import HarnessError, OutputRefused
 
 Z_95 = 1.959964
 WORST_RUNS = 8
@@ -178,6 +179,8 @@ def write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     out = Path(out)
     try:
         return _write_report(out, campaign, results)
+    except OutputRefused:  # (a link where a file of the report goes: named as such)
+        raise
     except Exception as e:  # the report is derived data: say so, name what is kept
         first = (str(e).strip().splitlines() or [""])[0][:200]
         raise ReportError(
@@ -193,19 +196,19 @@ def _write_report(out: Path, campaign: dict, results: list[dict]) -> dict:
     for r in worst_runs:
         r["replay"] = replay_command(out, r["key"])
     summary = {"campaign": campaign, "groups": rows, "worst": worst_runs, "worst_by": by, "runs": len(results)}
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=str) + "\n", encoding="utf-8")
+    safefs.write_text(out / "summary.json", json.dumps(summary, indent=1, default=str) + "\n")
     _write_group_csv(out / "summary.csv", rows)
     _write_runs_csv(out / "runs.csv", results)
     plots = _plots(out / "plots", results, rows)
     maps = coverage_maps(out, worst_runs)
     page = out / "campaign.html"
-    page.write_text(render(campaign, rows, worst_runs, plots, maps, len(results), (by, low)), encoding="utf-8")
+    safefs.write_text(page, render(campaign, rows, worst_runs, plots, maps, len(results), (by, low)))
     return {"html": page, "json": out / "summary.json", "csv": out / "summary.csv", "runs_csv": out / "runs.csv"}
 
 
 def _write_group_csv(path: Path, rows: list[dict]) -> None:
     names = sorted({f for r in rows for f in r["figures"]})
-    with path.open("w", newline="", encoding="utf-8") as f:
+    with safefs.open_write(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         head = ["faultset", "world", "runs", "passed", "rate", "wilson_lo", "wilson_hi"]
         w.writerow(head + [f"{n}_{q}" for n in names for q in ("p5", "median", "p95")])
@@ -216,7 +219,7 @@ def _write_group_csv(path: Path, rows: list[dict]) -> None:
 
 def _write_runs_csv(path: Path, results: list[dict]) -> None:
     names = sorted({f for r in results for f in r["figures"]})
-    with path.open("w", newline="", encoding="utf-8") as f:
+    with safefs.open_write(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow(["faultset", "world", "seed", "passed", "error", "t_end_s", "wall_s", *names, "message"])
         for r in sorted(results, key=lambda r: (r["faultset"], r["world"], r["seed"])):
@@ -245,7 +248,7 @@ def _plots(folder: Path, results: list[dict], rows: list[dict]) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = safefs.make_folder(folder)  # (plots/ a link: refused)
     paths = []
     labels = [f"{r['faultset']} / {r['world']}" for r in rows]
     fig, ax = plt.subplots(figsize=(7, 1.6 + 0.45 * len(rows)))
@@ -304,7 +307,8 @@ def _histogram(plt, path: Path, name: str, results: list[dict], rows: list[dict]
 def _save(fig, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    fig.savefig(path, dpi=90)
+    with safefs.replacing(path) as temp:  # (a link at the name replaced, never written through)
+        fig.savefig(temp, dpi=90, format="png")
     plt.close(fig)
     return path
 

@@ -20,6 +20,7 @@ import urllib.parse
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import ResultStore
 from host.campaign.worker import run_one
+from host.core import safefs
 from host.core.children import die_with_parent
 from host.core.errors import ConfigError
 from host.rig import manifest
@@ -204,8 +205,9 @@ def run_campaign(
 def _run(pool, todo: list[dict], store: ResultStore, campaign: Campaign, report) -> None:
     breaks: dict[str, int] = {}
     pending = list(todo)
+    runs = {task_key(t): safefs.make_folder(store.folder / "runs" / task_key(t), base=store.folder) for t in todo}
     while pending:
-        futures = {pool.submit(t, str(store.folder / "runs" / task_key(t))): t for t in pending}
+        futures = {pool.submit(t, str(runs[task_key(t)])): t for t in pending}
         pending = []
         while futures:
             done, _ = pool.wait(list(futures), campaign.timeout_s + GUARD_S)

@@ -6,6 +6,7 @@ import json
 import os
 from pathlib import Path
 
+from host.core import safefs
 from host.core.errors import ConfigError
 
 RESULTS = "results.jsonl"
@@ -22,14 +23,16 @@ class ResultStore:
     def open(self, campaign: dict) -> None:
         """Start, or go on with, the results of ``campaign`` in this folder; a folder that
         holds another campaign's results is refused (ConfigError)."""
-        self.folder.mkdir(parents=True, exist_ok=True)
+        self.folder = safefs.make_folder(self.folder)  # (made by the command line; a link since: refused)
+        self.path = self.folder / RESULTS
+        safefs.refuse_link(self.path)  # (appended to, kept across runs: never a file elsewhere)
         self._same(campaign)
         if self.path.is_file() and self.path.stat().st_size:
             with self.path.open("rb+") as f:  # a line the crash cut short stays alone on its line
                 f.seek(-1, os.SEEK_END)
                 if f.read(1) != b"\n":
                     f.write(b"\n")
-        (self.folder / CAMPAIGN).write_text(json.dumps(campaign, indent=1, default=str) + "\n", encoding="utf-8")
+        safefs.write_text(self.folder / CAMPAIGN, json.dumps(campaign, indent=1, default=str) + "\n")
 
     def _same(self, campaign: dict) -> None:
         old_path = self.folder / CAMPAIGN
@@ -69,7 +72,7 @@ class ResultStore:
 
     def append(self, result: dict) -> None:
         line = json.dumps(result, default=str) + "\n"
-        with self.path.open("a", encoding="utf-8") as f:
+        with safefs.open_write(self.path, "a", encoding="utf-8") as f:
             f.write(line)
             f.flush()
             os.fsync(f.fileno())

@@ -20,7 +20,7 @@ import numpy as np
 from host.artefacts.folder import coverage_grid
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
-from host.core import provenance
+from host.core import provenance, safefs
 from host.core.errors import ConfigError, HarnessError
 from host.rig import Rig
 from host.rig.spec import Recording, RigSpec, fault_schedule
@@ -103,19 +103,19 @@ def save_coverage(rig, artefacts: str | None) -> Path | None:
     if grid is None or not artefacts:
         return None
     grid.flush()
-    path = Path(artefacts) / COVERAGE_FILE
-    path.parent.mkdir(parents=True, exist_ok=True)
+    path = safefs.make_folder(Path(artefacts)) / COVERAGE_FILE
     extent = (grid.x0_m, grid.x0_m + grid.nx * grid.cell_m, grid.y0_m, grid.y0_m + grid.ny * grid.cell_m)
     truth = rig.truth()
     start = getattr(plant, "start_pose", None) or getattr(getattr(plant, "inner", None), "start_pose", (0, 0, 0))
-    np.savez_compressed(
-        path,
-        covered=grid.covered & grid.free,
-        free=grid.free,
-        extent=np.array(extent, dtype=float),
-        start=np.array(start[:3], dtype=float),
-        end=np.array([truth.get("x_m", np.nan), truth.get("y_m", np.nan), truth.get("theta_rad", np.nan)]),
-    )
+    with safefs.open_write(path, "wb") as f:  # (a link at the name: refused)
+        np.savez_compressed(
+            f,
+            covered=grid.covered & grid.free,
+            free=grid.free,
+            extent=np.array(extent, dtype=float),
+            start=np.array(start[:3], dtype=float),
+            end=np.array([truth.get("x_m", np.nan), truth.get("y_m", np.nan), truth.get("theta_rad", np.nan)]),
+        )
     return path
 
 

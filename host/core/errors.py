@@ -45,3 +45,8 @@ class FirmwareExited(FirmwareError):
 
 class FirmwareHung(HarnessError):
     """The firmware stopped answering: the wall-clock watchdog stopped it."""
+
+
+class OutputRefused(ConfigError):
+    """A command was asked to write where it must not: through a link, over or around
+    its own input, or onto something that is not a folder (``host/core/safefs.py``)."""

@@ -29,7 +29,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from host.core import aptsources, paths
+from host.core import aptsources, paths, safefs
 from host.core.errors import SetupError
 
 DEBIAN_VERSION = "1.25.0+ds-1"
@@ -77,6 +77,17 @@ def build_root(checkout: bool | None = None) -> Path:
     ``micropython`` (:func:`host.core.paths.user_cache`)."""
     checkout = paths.CHECKOUT if checkout is None else checkout
     return paths.BUILD / "micropython" if checkout else paths.user_cache() / "micropython"
+
+
+def made_root(root: Path) -> Path:
+    """The build folder ``root``, made: below the per-user cache's parent (``~/.cache``) or
+    the repository, each folder on the way a real one (a link there is refused by name,
+    never built through)."""
+    root = Path(root)
+    for base in (paths.user_cache().parent, paths.REPO):
+        if root.is_relative_to(base):
+            return safefs.make_folder(root, base=base)
+    return safefs.make_folder(root)
 
 
 def default_path(root: Path | None = None) -> Path:
@@ -238,18 +249,22 @@ def fetch_source(root: Path) -> Path:
         return tree
     apt = root / "apt"
     for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
-        (apt / sub).mkdir(parents=True, exist_ok=True)
-    (apt / "status").touch()
+        safefs.make_folder(apt / sub, base=root)  # (a link on the way: refused)
+    if not (apt / "status").is_file():
+        safefs.fresh_file(apt / "status")
     line = sources_line()
-    (apt / "sources.list").write_text(
+    safefs.write_text(
+        apt / "sources.list",
         "# Written by the interpreter build: the pinned source package's suite, on the Debian\n"
-        "# mirror this machine's apt uses (or $DEBIAN_MIRROR). Only for `apt-get source`.\n" + line + "\n"
+        "# mirror this machine's apt uses (or $DEBIAN_MIRROR). Only for `apt-get source`.\n" + line + "\n",
     )
     _log(f"apt-get update (project-local sources: {line})")
     subprocess.run(_apt(root, "update"), check=True, stdout=subprocess.DEVNULL)
+    if src_root.is_symlink():
+        safefs.refuse_link(src_root)
     if src_root.exists():
         shutil.rmtree(src_root)
-    src_root.mkdir(parents=True)
+    safefs.make_folder(src_root)
     _log(f"apt-get source micropython={DEBIAN_VERSION}")
     subprocess.run(
         _apt(root, "source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root, stdout=subprocess.DEVNULL
@@ -287,10 +302,9 @@ def build_variant(variant: str, root: Path | None = None) -> Path:
     override = os.environ.get(f"MICROPYTHON_{variant.upper()}")
     if override and root is None:
         return find_variant(variant)
-    root = root or build_root()
+    root = made_root(root or build_root())
     target = variant_path(variant, root)
-    root.mkdir(parents=True, exist_ok=True)
-    with open(root / f".{variant}.lock", "w") as lock:
+    with safefs.open_write(root / f".{variant}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
         if target.is_file():
             return target
@@ -305,12 +319,12 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
     _log(f"building the unix port ({variant} variant, asyncio frozen in); log: {log}")
     shutil.rmtree(objects, ignore_errors=True)
     unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *map(_absolute, make_options(variant))]
-    with open(log, "w") as out:
+    with safefs.open_write(log, "w") as out:
         for cmd in (["make", jobs, "-C", str(tree / "mpy-cross")], [*unix, f"FROZEN_MANIFEST={HERE / 'manifest.py'}"]):
             if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
                 tail = log.read_text().splitlines()[-20:]
                 raise SetupError(f"build failed: {' '.join(cmd)}\n" + "\n".join(tail) + f"\n(full log: {log})")
-    tmp = target.with_suffix(".tmp")
+    tmp = safefs.fresh_file(target.with_suffix(".tmp"))  # (a link left there: removed, not written through)
     shutil.copy2(objects / "micropython", tmp)
     tmp.replace(target)
     _log(f"built {target}: {version(target)}")
@@ -318,13 +332,13 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
 
 def build(root: Path | None = None) -> Path:
     """Build the interpreter into ``root`` (default :func:`build_root`) unless it is there."""
-    root = root or build_root()
+    root = made_root(root or build_root())
     target = default_path(root)
     if target.is_file():
         _log(f"up to date: {target}")
         return target
     ensure_tools()
-    target.parent.mkdir(parents=True, exist_ok=True)
+    safefs.make_folder(target.parent, base=root)
     _compile(fetch_source(root), root / "build.log", "standard", target)
     os.utime(target)  # newer than its inputs, so make does not rebuild it
     return target

@@ -18,6 +18,7 @@ import os
 import tempfile
 from pathlib import Path
 
+from host.core import safefs
 from host.core.errors import HarnessError
 from host.rig.boardfs import board_name
 
@@ -137,7 +138,7 @@ def write_data(
     if micropython is not None:
         by_source = {source: as_micropython_runs(source, pairs, micropython) for source, pairs in by_source.items()}
     try:
-        data_file.parent.mkdir(parents=True, exist_ok=True)
+        safefs.drop_links(safefs.make_folder(data_file.parent))  # (sqlite opens its files by name)
         data_file.unlink(missing_ok=True)
         from coverage import CoverageData  # (coverage.py only when there is coverage to write)
 

@@ -13,6 +13,7 @@ import coverage
 from coverage import CoverageData
 from coverage.exceptions import CoverageException
 
+from host.core import safefs
 from host.coverage.collector import CoverageError
 
 MERGED = ".coverage"
@@ -67,7 +68,7 @@ def prepare_run(trace_folder: Path) -> Path:
     from host.core import interpreter
 
     interpreter.build_variant("settrace")
-    data_file = Path(trace_folder) / "coverage" / MERGED
+    data_file = safefs.drop_links(safefs.make_folder(Path(trace_folder) / "coverage")) / MERGED
     data_file.unlink(missing_ok=True)
     return data_file
 
@@ -76,6 +77,6 @@ def run_summary(data_file: Path) -> str:
     """One run's coverage: its HTML beside its data, and the line that says where."""
     if not Path(data_file).is_file():
         return f"firmware coverage: none written ({data_file})"
-    html = Path(data_file).parent / "html"
+    html = safefs.drop_links(safefs.make_folder(Path(data_file).parent / "html"))  # (coverage.py writes by name)
     total = report(data_file, html)
     return f"firmware coverage: {total:.0f}% of lines and branches: {html / 'index.html'} (data: {data_file})"

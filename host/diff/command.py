@@ -9,6 +9,7 @@ import math
 from pathlib import Path
 
 from host.artefacts.folder import load_trace
+from host.core import safefs
 from host.core.errors import ConfigError
 from host.diff.compare import Thresholds, compare
 from host.diff.plot import plot_diff
@@ -36,8 +37,22 @@ def thresholds(args) -> Thresholds:
     return limits
 
 
+def _out(args) -> Path:
+    """The plot's folder (default ``B/diff``): never A or B, around them or inside them but
+    for their ``diff/`` (:func:`host.core.safefs.output_folder`)."""
+    folders = {"the trace folder A": args.a, "the trace folder B": args.b}
+    return safefs.output_folder(
+        Path(args.out) if args.out else Path(args.b) / "diff",
+        what="--out",
+        inputs=folders,
+        owned=dict.fromkeys(folders, "diff"),
+        base=None if args.out else args.b,
+    )
+
+
 def diff_command(args, say) -> int:
     limits = thresholds(args)
+    out = _out(args)
     a, b = load_trace(args.a), load_trace(args.b)
     try:
         diff = compare(a, b)
@@ -47,7 +62,6 @@ def diff_command(args, say) -> int:
     say(f"B: {args.b} ({b.header['app']}, seed {b.header['seed']}, {b.header['t_end_us'] / 1e6:g} s)")
     for line in report_lines(diff):
         say(line)
-    out = Path(args.out) if args.out else Path(args.b) / "diff"
     try:
         say(f"plot: {plot_diff(diff, out)}")
     except OSError as e:  # (a full disk: the verdict stands, and its exit status)

@@ -8,6 +8,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from host.artefacts import integrity
+from host.core import safefs
 from host.diff.compare import Diff
 
 DPI = 100
@@ -43,8 +44,7 @@ def plot_diff(diff: Diff, out: Path) -> Path:
         _output(fig.add_subplot(grid[row, :]), diff, output)
     fig.suptitle(f"A: {diff.a.folder}\nB: {diff.b.folder}", fontsize=9)
     fig.tight_layout()
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / NAME
+    path = safefs.make_folder(out) / NAME  # (a link at out: refused)
     FigureCanvasAgg(fig)
     with integrity.atomic(path) as part:
         fig.savefig(part, dpi=DPI, format="png")

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.artefacts.checks import partial_reason
-from host.core import provenance
+from host.core import provenance, safefs
 from host.rig import verdicts
 
 BUDGET_COLUMNS = ("budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
@@ -67,11 +67,11 @@ def write_report(
     coverage: dict | None = None,
 ) -> Path:
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    safefs.make_folder(path.parent)  # (its folder a link: refused)
     text = render(scenarios, base=path.parent, micropython=micropython, title=title, totals=totals, skipped=skipped)
     if coverage:
         text = text.replace("</header>", coverage_line(coverage, path.parent) + "</header>", 1)
-    path.write_text(text, encoding="utf-8")
+    safefs.write_text(path, text)  # (a link at its name replaced, never written through)
     return path
 
 

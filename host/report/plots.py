@@ -20,6 +20,7 @@ from matplotlib.ticker import FuncFormatter, NullLocator
 
 from host.artefacts import integrity
 from host.artefacts.folder import TraceData, load_trace
+from host.core import safefs
 from host.report import views
 from host.rig import verdicts
 
@@ -39,8 +40,7 @@ def plot_trace(folder, out_dir=None) -> list[Path]:
     """Write every plot of a trace folder into ``out_dir`` (default ``<folder>/plots``);
     returns the files written."""
     trace = load_trace(folder)
-    out = Path(out_dir) if out_dir else Path(folder) / PLOTS
-    out.mkdir(parents=True, exist_ok=True)
+    out = safefs.make_folder(Path(out_dir) if out_dir else Path(folder) / PLOTS)  # (plots/ a link: refused)
     written = []
     for name, draw in (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure)):
         fig = draw(trace)

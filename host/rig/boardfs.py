@@ -21,6 +21,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from host.core import safefs
+
 DEFAULT_FLASH_BYTES = 2 * 1024 * 1024  # MicroPython's ESP32 build: the vfs partition of 4 MB
 FLASH_MIN_BYTES, FLASH_MAX_BYTES = 16 * 1024, 1 << 30
 SIZE = re.compile(r"(\d+|0x[0-9a-fA-F]+)([kKmM]?)")
@@ -283,11 +285,10 @@ class BoardFs:
     def keep(self, folder: Path) -> list[str]:
         """Copy what the firmware wrote into ``folder`` (made only if there is any)."""
         names = self.written()
-        for name in names:
-            dest = Path(folder) / name
-            dest.parent.mkdir(parents=True, exist_ok=True)
-            with open(self.root / name, "rb") as src, open(dest, "wb") as out:
-                shutil.copyfileobj(src, out)
+        for name in names:  # (board_fs/ or a folder in it a link: refused; a link at a file's name replaced)
+            dest = safefs.make_folder((Path(folder) / name).parent, base=Path(folder).parent) / Path(name).name
+            with safefs.replacing(dest) as temp:
+                shutil.copyfile(self.root / name, temp)
         return names
 
     def remove(self) -> None:

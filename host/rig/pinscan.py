@@ -15,9 +15,10 @@ run time cannot be known here: it is listed as not checked.
 
 import ast
 import os
-import stat
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from host.core import safefs
 
 SCAN_MAX_FILES = 1000  # .py files a scan reads at most (a board's flash holds far fewer)
 SCAN_MAX_BYTES = 8 << 20  # and bytes
@@ -97,9 +98,10 @@ def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
                 info = path.stat()
             except OSError:
                 continue
-            if not stat.S_ISREG(info.st_mode):  # (a FIFO would block the read for ever; a device never end)
+            if not safefs.regular_file(path):  # (a FIFO's read waits for ever; a device's never ends)
                 if notes is not None:
-                    notes.append(f"{path} is {_kind_of(info.st_mode)}, not a file: not read")
+                    what = safefs.kind(path, follow=True) or "not a regular file"
+                    notes.append(f"skipped {path}: {what}, not a file to read")
                 continue
             size = info.st_size
             if len(found) >= SCAN_MAX_FILES or total + size > SCAN_MAX_BYTES:
@@ -112,14 +114,6 @@ def firmware_sources(folder: Path, notes: list | None = None) -> list[Path]:
             found.append(path)
             total += size
     return found
-
-
-def _kind_of(mode: int) -> str:
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (a named pipe)"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a folder"
 
 
 def _skipped(folder: Path) -> bool:

@@ -39,6 +39,7 @@ from pathlib import Path
 from host.artefacts.checks import partial_reason
 from host.artefacts.folder import LINK, TraceData, load_trace
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
+from host.core import safefs
 from host.core.errors import ConfigError, HarnessError
 from host.link import frames as F
 from host.rig import manifest
@@ -272,6 +273,8 @@ def replay(
     ``choice``: the firmware the user named (a trace folder's own runs only when trusted);
     ``say(text)`` is told which firmware runs, before it starts; ``ignore_manifest``: run
     despite differences from the recording's manifest (:func:`check_manifest`)."""
+    label = "the trace folder replayed"
+    safefs.output_folder(artefacts, what="replay's trace folder", inputs={label: folder}, owned={label: "replay"})
     trace = load_trace(folder)
     h = trace.header
     if h.get("mode") != "lockstep":

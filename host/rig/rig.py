@@ -23,7 +23,7 @@ from host.artefacts.folder import begin_trace_folder, drop_begun_folder, write_t
 from host.artefacts.integrity import TraceWriteError, stop_signal_name
 from host.artefacts.linklog import NO_LOG, LinkLog
 from host.artefacts.recorder import Recorder
-from host.core import paths
+from host.core import paths, safefs
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
 from host.link import frames as F
@@ -169,8 +169,8 @@ class Rig:
     def start(self) -> "Rig":
         self._started = True
         try:
-            if self.artefacts:
-                self.artefacts.mkdir(parents=True, exist_ok=True)
+            if self.artefacts:  # (its parent as named; the folder itself a link: refused)
+                safefs.make_folder(self.artefacts)
             self.console_log.open(self.artefacts / "console.log" if self.artefacts else None)
             if self.trace_enabled:
                 self.linklog = self.clock.log = open_link_log(self)

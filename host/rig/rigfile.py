@@ -131,15 +131,15 @@ def load_rig(path) -> App:
     return rig_from_data(path, read_toml(path, "rig file", MAX_RIG_BYTES))
 
 
-def rig_from_data(path, data: dict) -> App:
+def rig_from_data(path, data: dict, base=None) -> App:
     """Check a rig given as data (a rig file's tables, as TOML reads them, from another
     format: a Wokwi diagram, ``host/wokwi``); ``path`` is the file it came from, relative
-    paths are relative to its folder and messages name it. The App it describes."""
+    paths are relative to its folder (or ``base``) and messages name it. The App it describes."""
     path = Path(path)
     where = _Where(path)
     _walk(where, data, "", 0)
     where.table(data, "top level:", TABLES, required=("plant", "wiring"))
-    base = path.parent
+    base = Path(base) if base is not None else path.parent
     firmware = where.table(data.get("firmware", {}), "[firmware]", FIRMWARE_KEYS)
     folder = _inside(where, base, "[firmware] dir", firmware.get("dir", "."), "the rig file's folder")
     if not folder.is_dir():

@@ -6,6 +6,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from host.core import safefs
 from host.core.paths import output_root
 from host.rig.wiring import PROBE_PREFIX
 from host.scenario.runner import ScenarioRun, known_ids, part_pins
@@ -119,7 +120,15 @@ def run_scenario(path, *, out: Path | None = None, seed: int = 0, timeout_us: in
 
     scenario, app = prepare(path, timeout_us)
     stem = Path(path).name.split(".")[0]
-    out = Path(out) if out is not None else output_root(app.rig_file) / "scenarios" / f"{app.name}-{stem}"
+    root = output_root(app.rig_file)
+    out = safefs.output_folder(  # (never the firmware folder, around it or inside it but for build/)
+        Path(out) if out is not None else root / "scenarios" / f"{app.name}-{stem}",
+        what="--out",
+        inputs={"the firmware folder": app.path},
+        owned={"the firmware folder": root},
+        base=None if out is not None else root.parent,
+        create=False,  # (made as the run starts: a scenario refused before it leaves none)
+    )
     rig = Rig(RigSpec(app, seed=seed, allow_exit=True), Recording(trace=True, record=True, artefacts=out))
     check_steps(scenario, rig)
     wall0 = time.perf_counter()

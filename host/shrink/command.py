@@ -8,6 +8,7 @@ from pathlib import Path
 
 from host.campaign.scenario import Campaign, task_key
 from host.campaign.store import CAMPAIGN
+from host.core import safefs
 from host.core.errors import ConfigError
 from host.report.table import format_table
 from host.shrink.runs import Runs
@@ -30,8 +31,8 @@ def write_minimal(shrunk: Shrunk, out: Path) -> str:
         budgets=list(task.get("budgets") or []), figures=list(task.get("figures") or []),
         placement=dict(task.get("placement") or {}), faultsets={MINIMAL: task["faults"]},
     )  # fmt: skip
-    out.mkdir(parents=True, exist_ok=True)
-    (out / CAMPAIGN).write_text(json.dumps(campaign.to_dict(), indent=1, default=str) + "\n", encoding="utf-8")
+    out = safefs.make_folder(out)  # (made by the caller; a link put there since is refused)
+    safefs.write_text(out / CAMPAIGN, json.dumps(campaign.to_dict(), indent=1, default=str) + "\n")
     key = task_key({**task, "faultset": MINIMAL})
     command = f"mpy-fil campaign --replay {key} --out {out}"
     report = {
@@ -45,7 +46,7 @@ def write_minimal(shrunk: Shrunk, out: Path) -> str:
         "wall_s": round(shrunk.wall_s, 3),
         "notes": shrunk.notes,
     }
-    (out / REPORT).write_text(json.dumps(report, indent=1, default=str) + "\n", encoding="utf-8")
+    safefs.write_text(out / REPORT, json.dumps(report, indent=1, default=str) + "\n")
     return command
 
 
@@ -67,7 +68,13 @@ def shrink_task(task: dict, out: Path, *, workers: int, say, resolution_s: float
 def shrink_command(args, say) -> int:
     """``mpy-fil shrink RUN``: 0 when shrunk (the minimal run still fails the same way)."""
     source = find_run(args.run, app=args.app, trust_folder=args.trust_folder)
-    out = Path(args.out) if args.out else _default_out(source.label)
+    default = _default_out(source.label)
+    out = safefs.output_folder(
+        Path(args.out) if args.out else default,
+        what="--out",
+        inputs={"the run RUN": args.run},
+        base=None if args.out else default.parent.parent.parent,  # (the folder build/shrink/ is in)
+    )
     say(f"shrink {source.label}: {len(source.task['faults'])} faults, {source.task['seconds']:g} s; out {out}")
     if source.result is not None and source.result.get("passed"):
         say("note: the campaign recorded this run as passed")
@@ -95,8 +102,9 @@ def shrink_campaign(campaign: Campaign, results: list[dict], out: Path, *, worke
     rows = []
     for n, (sig, keys) in enumerate(groups.items(), start=1):
         say(f"shrink {n} of {len(groups)}: {keys[0]} ({len(keys)} run(s) failed as {sig})")
+        folder = safefs.make_folder(Path(out) / "shrink" / str(n), base=out)
         try:
-            shrunk, command = shrink_task(tasks[keys[0]], out / "shrink" / str(n), workers=workers, say=say)
+            shrunk, command = shrink_task(tasks[keys[0]], folder, workers=workers, say=say)
         except ConfigError as e:  # (refused: the harness's own failure, a judge it cannot shrink soundly)
             say(f"shrink {n} of {len(groups)}: refused: {e}")
             rows.append({"signature": str(sig), "runs_failed": len(keys), "shrunk": keys[0], "refused": str(e)})

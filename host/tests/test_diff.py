@@ -62,7 +62,7 @@ def test_a_run_and_its_replay_are_the_same(two_versions, tmp_path):
     folder, a, _ = two_versions
     code, _, err = run_cli("replay", a["artefacts"], "--app", EXAMPLE / "rig.toml", "--out", tmp_path / "replay")
     assert code == 0, err
-    code, text, err = run_cli("diff", a["artefacts"], tmp_path / "replay", "--fail-on-output", "--out", tmp_path)
+    code, text, err = run_cli("diff", a["artefacts"], tmp_path / "replay", "--fail-on-output", "--out", tmp_path / "d")
     assert code == 0, text + err
     rows = [line for line in text.splitlines() if line.startswith(("motor_", "led.in", "sonar_"))]
     assert len(rows) == 9 and all(" same" in row for row in rows), rows
@@ -98,7 +98,7 @@ def test_a_folder_that_cannot_be_read_is_one_line_and_exit_2(two_versions, tmp_p
     shutil.copytree(a["artefacts"], damaged)
     with (damaged / "signals.csv").open("a") as f:
         f.write("1,led.in,1\n")
-    code, _, err = run_cli("diff", a["artefacts"], damaged, "--out", tmp_path)
+    code, _, err = run_cli("diff", a["artefacts"], damaged, "--out", tmp_path / "plot")
     assert code == 2 and err.count("\n") == 1 and "signals.csv does not match its digest" in err
     code, _, err = run_cli("diff", a["artefacts"], a["artefacts"], "--max-rms-m", "nan")
     assert code == 2 and err.count("\n") == 1 and "--max-rms-m: expected a number >= 0" in err

@@ -37,7 +37,7 @@ def project(tmp_path: Path, name: str, steps: str, extra: str = "") -> Path:
 
 def failure(path: Path, **kwargs) -> str:
     with pytest.raises(StepFailed) as caught:
-        run_scenario(path, out=path.parent / "out", **kwargs)
+        run_scenario(path, out=path.parent.parent / "out", **kwargs)  # (beside the project, not in it)
     return str(caught.value)
 
 
@@ -86,7 +86,8 @@ def test_wait_serial_that_never_comes_names_its_line_and_the_last_serial_lines(t
     assert "x.test.yaml:7: step wait-serial 'Button pressed 1' failed at virtual t=2.000000 s" in message
     assert "timeout 2 simulated s" in message
     assert "last serial lines:\n  ready" in message
-    assert f"artefacts: {path.parent / 'out'}" in message and (path.parent / "out" / "console.log").is_file()
+    out = path.parent.parent / "out"
+    assert f"artefacts: {out}" in message and (out / "console.log").is_file()
 
 
 def test_wait_serial_passes_over_a_line_printed_before_it_began_as_wokwi_does(tmp_path):

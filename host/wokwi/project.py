@@ -14,6 +14,7 @@ from pathlib import Path
 
 import tomllib
 
+from host.core import safefs
 from host.core.errors import ConfigError
 from host.core.nesting import too_deep
 from host.rig.app import App
@@ -43,25 +44,47 @@ def rig_from_project(folder) -> App:
     would give for the rig file ``import-wokwi`` writes."""
     folder = _folder(folder)
     data, _notes = rig_data(folder)
-    return rig_from_data(folder / DIAGRAM, data)
+    return rig_from_data(folder / DIAGRAM, data, base=code_folder(folder))
 
 
 def rig_text(folder) -> str:
     """The project's rig file, commented (what ``mpy-fil import-wokwi`` writes)."""
     folder = _folder(folder)
     data, notes = rig_data(folder)
-    rig_from_data(folder / DIAGRAM, data)  # (what is written must load)
+    rig_from_data(rig_path(folder), data)  # (what is written must load)
     return rig_toml(data, notes)
 
 
+def code_folder(folder: Path) -> Path:
+    """Where the project's ``main.py`` is: the project folder, or the folder above it when
+    the project is one board's folder of Wokwi's MicroPython template (``esp32/diagram.json``,
+    ``esp32/wokwi.toml``, ... and one ``main.py`` at the repository's root, which mpremote
+    puts on the board: github.com/wokwi/wokwi-vscode-micropython)."""
+    if safefs.regular_file(folder / ENTRY):
+        return folder
+    up = folder.resolve().parent
+    if safefs.regular_file(up / ENTRY) and not (up / DIAGRAM).is_file():
+        return up
+    return folder
+
+
+def rig_path(folder: Path) -> Path:
+    """The rig file ``import-wokwi`` writes: ``rig.toml`` beside the diagram, or, for a
+    board's folder of Wokwi's template, ``rig-<board folder>.toml`` beside ``main.py`` (a rig
+    file's firmware lies in its own folder)."""
+    code = code_folder(folder)
+    return folder / "rig.toml" if code == folder else code / f"rig-{folder.resolve().name}.toml"
+
+
 def import_wokwi(folder, force: bool = False) -> Path:
-    """Write ``rig.toml`` beside the diagram; an existing one only with ``force``."""
+    """Write the project's rig file (:func:`rig_path`); an existing one only with ``force``."""
     folder = _folder(folder)
     text = rig_text(folder)
-    path = folder / "rig.toml"
+    path = rig_path(folder)
+    safefs.refuse_link(path)  # (--force replaces a file, never what a link points to)
     if path.exists() and not force:
         raise ConfigError(f"{path}: exists: expected --force to overwrite it")
-    path.write_text(text)
+    safefs.write_text(path, text, refuse_links=True)
     return path
 
 
@@ -70,8 +93,11 @@ def _folder(path) -> Path:
     folder = path.parent if path.name == DIAGRAM else path
     if not (folder / DIAGRAM).is_file():
         raise ConfigError(f"{folder}: no {DIAGRAM}: expected a Wokwi project folder")
-    if not (folder / ENTRY).is_file():
-        raise ConfigError(f"{folder}: no {ENTRY}: a Wokwi MicroPython project runs main.py")
+    if not safefs.regular_file(code_folder(folder) / ENTRY):
+        raise ConfigError(
+            f"{folder}: no {ENTRY}: a Wokwi MicroPython project runs main.py (looked in {folder} and, as "
+            f"Wokwi's MicroPython template keeps it, in the folder above, {folder.resolve().parent})"
+        )
     return folder
 
 
@@ -82,12 +108,15 @@ def rig_data(folder: Path) -> tuple[dict, dict]:
     _check_wokwi_toml(folder)
     board = diagram.board
     _check_board_attrs(diagram)
-    libs = (folder / "lib",) if (folder / "lib").is_dir() else ()
-    scan = scan_folder(folder, libs, None, ENTRY, "rp2" if board.family == "rpi_pico" else None)
+    code = code_folder(folder)
+    libs = (code / "lib",) if (code / "lib").is_dir() else ()
+    scan = scan_folder(code, libs, None, ENTRY, "rp2" if board.family == "rpi_pico" else None)
     pwm = {int(u.key) for u in scan.uses if u.kind == "pwm" and u.key.isdigit()}
     ctx = table.Context(diagram, board.family, pwm, dict(scan.buses))
     pins, wiring, entries = {}, {}, []
     notes = {"board": [f"{board.title} ({board.wokwi}, part {diagram.board_part.id!r}): the {board.family} family"]}
+    if code != folder:  # (Wokwi's MicroPython template: a folder per board, main.py at the root)
+        notes["board"].append(f"diagram: {folder.resolve().name}/{DIAGRAM}; firmware: {code / ENTRY}")
     for part in diagram.parts:
         pmap = table.mapper(part)
         mapped = pmap.build(part, ctx)

@@ -2,6 +2,7 @@
 # with asyncio (a frozen package) and machine loaded: each finds its own.
 import asyncio  # noqa: F401
 import machine  # noqa: F401
+
 import pkg_a
 import pkg_b
 

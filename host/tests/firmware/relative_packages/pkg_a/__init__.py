@@ -1,2 +1,2 @@
-from . import helper
-from .helper import VALUE
+from . import helper  # noqa: F401
+from .helper import VALUE  # noqa: F401
