@@ -16,14 +16,16 @@ the message, then each frame of the user's own code (the test, its helpers, its
 conftest.py) that led there, one line each. "On purpose": the error is one of the
 harness's own (:class:`host.core.errors.HarnessError`), or any other exception raised by
 an explicit ``raise`` in the harness's code (``budget.check()``'s AssertionError, a
-``make_rig`` keyword's TypeError). Anything else that fails inside the harness (a
-``KeyError`` in its code) is a harness bug and keeps pytest's full traceback, as do
-``--fulltrace`` and ``--tb=native``, ``line`` or ``no``. The harness's own tests
-(``host/tests``, ``sim_plant/tests``) count as a user's code.
+``make_rig`` keyword's TypeError), or an ``assert`` of its own (a rig file run as a test).
+Anything else that fails inside the harness (a ``KeyError`` in its code) is a harness bug
+and keeps pytest's full traceback, as do ``--fulltrace`` and ``--tb=native``, ``line`` or
+``no``, and an item that words its own failures (a Wokwi scenario's). The harness's own
+tests (``host/tests``, ``sim_plant/tests``) count as a user's code.
 """
 
 from pathlib import Path
 
+import pytest
 from _pytest._code.code import ExceptionChainRepr, FormattedExcinfo, ReprEntry, ReprFileLocation, ReprTraceback
 
 from host.core.errors import HarnessError
@@ -55,9 +57,10 @@ def on_purpose(excinfo) -> bool:
     if not harness_frame(last.path):
         return False
     try:
-        return str(last.statement).lstrip().startswith("raise ")
+        statement = str(last.statement).lstrip()
     except (IndexError, OSError, ValueError):
         return False
+    return statement.startswith("raise ") or (excinfo.errisinstance(AssertionError) and statement.startswith("assert "))
 
 
 def lead_with_message(item, call, report) -> None:
@@ -65,6 +68,8 @@ def lead_with_message(item, call, report) -> None:
     excinfo = call.excinfo
     config = item.config
     if not report.failed or excinfo is None or report.when not in ("setup", "call"):
+        return
+    if type(item).repr_failure is not pytest.Function.repr_failure:  # (an item that words its own: a scenario's)
         return
     if config.getoption("fulltrace", False) or config.getoption("tbstyle", "auto") not in STYLES:
         return
@@ -74,6 +79,8 @@ def lead_with_message(item, call, report) -> None:
     formatter = FormattedExcinfo(style="short", abspath=False, tbfilter=False)
     entries = [formatter.repr_traceback_entry(e) for e in frames]  # (no excinfo: no E lines of their own)
     message = message_of(excinfo.value)
+    if excinfo.errisinstance(AssertionError) and harness_frame(excinfo.traceback[-1].path):
+        message = message.split("\nassert ", 1)[0]  # (a harness assert's own words, not pytest's rewrite of it)
     head = ReprEntry([FAIL + line for line in message.splitlines() or [""]], None, None, None, "long")
     last = frames[-1] if frames else (excinfo.traceback[-1] if excinfo.traceback else None)
     crash = ReprFileLocation(formatter._makepath(last.path), last.lineno + 1, message) if last is not None else None

@@ -80,7 +80,7 @@ def pytest_in(folder: Path, *args: str) -> subprocess.CompletedProcess:
 def failure_sections(stdout: str) -> dict[str, list[str]]:
     """Each failed test's section of the FAILURES block: its lines, blank ones out."""
     block = stdout.split("= FAILURES =", 1)[1].split("short test summary info", 1)[0]
-    parts = re.split(r"^_{3,} (\w+) _{3,}$", block, flags=re.M)
+    parts = re.split(r"^_{3,} (\S+) _{3,}$", block, flags=re.M)
     return {name: [line for line in text.splitlines() if line.strip()] for name, text in zip(parts[1::2], parts[2::2])}
 
 
@@ -126,6 +126,19 @@ def test_every_error_the_harness_raises_on_purpose_leads_with_its_message(failed
     lines = failure_sections(failed_session[1])[test]
     assert lines[0].startswith(message), lines
     assert lines[1].startswith("_ _") and lines[2] == f"robot/test_bot.py:{line}: in {test}" and len(lines) == 4, lines
+
+
+@pytest.mark.hil
+def test_a_rig_file_run_as_a_test_leads_with_the_budgets_it_missed(tmp_path):
+    robot = repository(tmp_path)
+    rig = (robot / "rig.toml").read_text().replace("tolerance_us = 2_000", "tolerance_us = 1")
+    (robot / "rig.toml").write_text(rig)
+    done = pytest_in(robot, "--hil-rig-seconds", "3", "rig.toml")
+    assert done.returncode == 1, done.stdout[-3000:]
+    (lines,) = failure_sections(done.stdout).values()
+    assert lines[0] == f"E   AssertionError: {robot / 'rig.toml'} for 3 s:", lines
+    assert lines[1].startswith("E     budget loop: expected every value 50000 +- 1 us"), lines
+    assert lines[2].startswith("----") and not [line for line in lines if "assert not" in line or "def " in line]
 
 
 @pytest.mark.hil
