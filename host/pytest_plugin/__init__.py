@@ -14,7 +14,11 @@ one HTML report (docs/traces.md). Without it, every rig records as it runs and a
 test's rigs leave their whole trace folder and plots beside its console (``--hil-keep``:
 ``failed``, the default; ``none`` records nothing, as ``make test`` runs). A long mission
 shows its progress on one line. SIGTERM or SIGHUP stops a session as Ctrl-C does, and
-nothing it started outlives it (:mod:`host.pytest_plugin.stopping`).
+nothing it started outlives it (:mod:`host.pytest_plugin.stopping`). A failure the harness
+raised leads its report with the message (:mod:`host.pytest_plugin.failure`); a session
+that collects no test beside a rig file says how to write one
+(:mod:`host.pytest_plugin.first_test`); JUnit's artefacts properties are relative to the
+JUnit file (:func:`junit_path`).
 """
 
 import dataclasses
