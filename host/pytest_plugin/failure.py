@@ -56,11 +56,23 @@ def on_purpose(excinfo) -> bool:
     last = excinfo.traceback[-1]
     if not harness_frame(last.path):
         return False
+    return _statement(last).startswith("raise ") or _harness_assert(excinfo)
+
+
+def _statement(entry) -> str:
     try:
-        statement = str(last.statement).lstrip()
+        return str(entry.statement).lstrip()
     except (IndexError, OSError, ValueError):
+        return ""
+
+
+def _harness_assert(excinfo) -> bool:
+    """An ``assert`` statement of the harness's failed (pytest rewrote it: its message
+    ends with pytest's explanation)."""
+    if not excinfo.errisinstance(AssertionError) or not excinfo.traceback:
         return False
-    return statement.startswith("raise ") or (excinfo.errisinstance(AssertionError) and statement.startswith("assert "))
+    last = excinfo.traceback[-1]
+    return harness_frame(last.path) and _statement(last).startswith("assert ")
 
 
 def lead_with_message(item, call, report) -> None:
@@ -79,8 +91,8 @@ def lead_with_message(item, call, report) -> None:
     formatter = FormattedExcinfo(style="short", abspath=False, tbfilter=False)
     entries = [formatter.repr_traceback_entry(e) for e in frames]  # (no excinfo: no E lines of their own)
     message = message_of(excinfo.value)
-    if excinfo.errisinstance(AssertionError) and harness_frame(excinfo.traceback[-1].path):
-        message = message.split("\nassert ", 1)[0]  # (a harness assert's own words, not pytest's rewrite of it)
+    if _harness_assert(excinfo):
+        message = message.split("\nassert ", 1)[0]  # (the assert's own words, not pytest's rewrite of it)
     head = ReprEntry([FAIL + line for line in message.splitlines() or [""]], None, None, None, "long")
     last = frames[-1] if frames else (excinfo.traceback[-1] if excinfo.traceback else None)
     crash = ReprFileLocation(formatter._makepath(last.path), last.lineno + 1, message) if last is not None else None

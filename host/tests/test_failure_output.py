@@ -211,3 +211,23 @@ def test_tests_deselected_beside_a_rig_file_are_no_missing_first_test(tmp_path):
     repository(tmp_path, {"test_a.py": "def test_a():\n    pass\n"})
     done = pytest_in(tmp_path, "-k", "nothing_matches")
     assert done.returncode == 5 and "deselected" in done.stdout and "first test" not in done.stdout, done.stdout
+
+
+def test_a_harness_message_with_a_console_line_that_starts_with_assert_is_kept_whole():
+    """Only a harness `assert` statement's message loses pytest's explanation after it."""
+    from host.pytest_plugin import failure
+    from host.rig import waits
+
+    class Rig:
+        t_us, seed, artefacts = 0, 1, None
+
+        def run_until(self, t_us):
+            self.t_us = t_us
+
+        def where(self):
+            return "\nconsole (last 20 lines):\nassert x failed on the board\nseed: 1"
+
+    with pytest.raises(waits.ExpectTimeout) as raised:
+        waits.until(Rig(), lambda: False, 0.02)
+    assert failure.on_purpose(raised) and not failure._harness_assert(raised)
+    assert failure.message_of(raised.value).endswith("assert x failed on the board\nseed: 1")
