@@ -11,6 +11,7 @@
     mpy-fil shrink build/campaign/duct_snag/runs/tether-snags/one-right-branch/8
     mpy-fil diff build/runs/old build/runs/new --max-pos-m 0.05
     mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
+    mpy-fil docs ci      (docs/NAME.md, as every message names a page: mpy-fil docs NAME)
     mpy-fil --version
 
 A bad argument is reported by name with exit code 2; a run that fails (firmware
@@ -38,6 +39,7 @@ from pathlib import Path
 
 from host.artefacts.folder import HEADER
 from host.core import safefs
+from host.core.docs import add_parser as _docs_parser
 from host.core.errors import ConfigError, HarnessError
 from host.core.paths import FIRMWARE, output_root
 from host.core.printable import printable
@@ -101,6 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(
         prog="mpy-fil",
         description="Run MicroPython robot firmware in the loop, replay a recorded trace, or plot one.",
+        epilog="docs/NAME.md, as help and messages name a page: `mpy-fil docs NAME` prints it "
+        "(`mpy-fil docs` lists them).",
     )
     parser.add_argument("--version", action="version", version=f"mpy-fil {package_version()}")
     sub = parser.add_subparsers(title="commands", metavar="COMMAND", required=True, parser_class=OneLineParser)
@@ -193,6 +197,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
     setup.set_defaults(command=cmd_setup, sub=setup)
+    _docs_parser(sub)  # mpy-fil docs [TOPIC]: the pages the package carries (host/core/docs.py)
     return parser
 
 

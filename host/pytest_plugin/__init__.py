@@ -14,7 +14,11 @@ one HTML report (docs/traces.md). Without it, every rig records as it runs and a
 test's rigs leave their whole trace folder and plots beside its console (``--hil-keep``:
 ``failed``, the default; ``none`` records nothing, as ``make test`` runs). A long mission
 shows its progress on one line. SIGTERM or SIGHUP stops a session as Ctrl-C does, and
-nothing it started outlives it (:mod:`host.pytest_plugin.stopping`).
+nothing it started outlives it (:mod:`host.pytest_plugin.stopping`). A failure the harness
+raised leads its report with the message (:mod:`host.pytest_plugin.failure`); a session
+that collects no test beside a rig file says how to write one
+(:mod:`host.pytest_plugin.first_test`); JUnit's artefacts properties are relative to the
+JUnit file (:func:`junit_path`).
 """
 
 import dataclasses
@@ -28,7 +32,7 @@ from host.core import interpreter
 from host.core.errors import SetupError
 from host.core.paths import REPO
 from host.link.transport import busy_poll_wanted, cores
-from host.pytest_plugin import budget_marks, hil_coverage, stopping, userpath
+from host.pytest_plugin import budget_marks, failure, first_test, hil_coverage, stopping, userpath
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
@@ -51,7 +55,9 @@ def pytest_addoption(parser):
         action="store_true",
         help="at the end, a line per scenario with its worst budget (and the table of those that failed or missed)",
     )
-    group.addoption("--hil-table-full", action="store_true", help="with --hil-table: every budget of every rig")
+    group.addoption(
+        "--hil-table-full", action="store_true", help="--hil-table, with the table of every budget of every rig"
+    )
     group.addoption(
         "--hil-report",
         metavar="PATH",
@@ -61,7 +67,8 @@ def pytest_addoption(parser):
     group.addoption(
         "--hil-record-long",
         action="store_true",
-        help="with --hil-report: record the rigs of tests marked long too (a failed sweep's rerun line adds it)",
+        help="with --hil-report (refused without): record the rigs of tests marked long too "
+        "(a failed sweep's rerun line adds it)",
     )
     group.addoption(
         "--hil-keep",
@@ -92,6 +99,7 @@ LONG_MARK_HELP = (
 
 
 def pytest_configure(config):
+    _options_that_need_another(config)
     config.stash[_flashed] = _flashed_firmware()
     stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
@@ -105,6 +113,15 @@ def pytest_configure(config):
     config.addinivalue_line("markers", LONG_MARK_HELP)
     config.addinivalue_line("markers", budget_marks.MARK_HELP)
     hil_coverage.configure(config)  # --hil-coverage (docs/coverage.md)
+
+
+def _options_that_need_another(config) -> None:
+    """An option that would do nothing without another is refused, saying which."""
+    if config.getoption("--hil-record-long", False) and not config.getoption("--hil-report", None):
+        raise pytest.UsageError(
+            "--hil-record-long: expected with --hil-report PATH (without a report, the rigs of tests marked "
+            "long record as every other rig does: --hil-keep)"
+        )
 
 
 def pytest_collection_modifyitems(items):
@@ -137,6 +154,7 @@ def _every_core_has_a_worker() -> bool:
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_makereport(item, call):
     report = yield
+    failure.lead_with_message(item, call, report)  # (the harness's message first, not its source)
     if report.failed and report.when in ("setup", "call"):
         item.stash[_failed] = True
     if report.failed and item.stash.get(_rigs, None):
@@ -147,12 +165,28 @@ def pytest_runtest_makereport(item, call):
 
 
 def _properties(node, key: str, rig, rows: list[dict]) -> None:
-    """A rig's seed, artefacts and budgets as the test's properties (JUnit XML carries them)."""
-    node.user_properties += [(f"{key}.seed", rig.seed), (f"{key}.artefacts", str(rig.artefacts))]
+    """A rig's seed, artefacts and budgets as the test's properties (JUnit XML carries them;
+    the artefacts folder relative to the JUnit file's, :func:`junit_path`)."""
+    node.user_properties += [(f"{key}.seed", rig.seed), (f"{key}.artefacts", junit_path(node.config, rig.artefacts))]
     for row in rows:
         text = f"count={row['count']} max={row['max']} misses={row['misses']} limit={row['limit']}"
         node.user_properties.append((f"{key}.budget.{row['budget']}", text))
         node.user_properties.append((f"{key}.budget.{row['budget']}.verdict", f"{row['verdict']}: {row['why']}"))
+
+
+def junit_path(config, path) -> str:
+    """``path`` as a JUnit file's property gives it: relative to the folder of the JUnit
+    file (``--junitxml``), so that it resolves from that file wherever the file and the
+    folders beside it are copied (a CI artefact holding both: docs/ci.md); absolute
+    without a JUnit file, or on another drive."""
+    xml = config.getoption("xmlpath", None)
+    if not path or not xml:
+        return str(path or "")
+    folder = (config.invocation_params.dir / Path(xml).expanduser()).resolve().parent
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), folder)).as_posix()
+    except ValueError:
+        return str(path)
 
 
 def _evidence(item) -> str:
@@ -178,6 +212,11 @@ def _unrecorded_long(node) -> bool:
         and node.get_closest_marker("long") is not None
         and not config.getoption("--hil-record-long", False)
     )
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    """No test collected beside a rig file or a firmware: how to write the first one."""
+    first_test.summary(terminalreporter, exitstatus, config)
 
 
 def pytest_report_header(config):

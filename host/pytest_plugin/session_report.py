@@ -1,5 +1,6 @@
 """The session's HIL summary, made where the test reports arrive: the scenario result lines
-and budget table (``--hil-table``) and the HTML report (``--hil-report``).
+and budget table (``--hil-table``; ``--hil-table-full``, alone or not: every budget of every
+rig) and the HTML report (``--hil-report``).
 
 Each test's teardown report carries its rigs (``report.hil_rigs``: label, trace folder,
 budget rows, MicroPython version, plots already made), an attribute that pytest-xdist
@@ -48,7 +49,8 @@ class SessionReport:
             collector.add_phase(report.nodeid, name, report)
 
     def pytest_terminal_summary(self, terminalreporter):
-        if not self.config.getoption("--hil-table"):
+        full = self.config.getoption("--hil-table-full")  # (alone, it asks for the table too)
+        if not self.config.getoption("--hil-table") and not full:
             return
         results = [
             (report.nodeid.split("::", 1)[-1], report.outcome, value)
@@ -64,7 +66,7 @@ class SessionReport:
                 terminalreporter.write_line(f"{outcome:<7} {name}: {text}")
         if self.rows:
             terminalreporter.section("timing budgets (us of virtual time unless marked wall)")
-            if self.config.getoption("--hil-table-full"):
+            if full:
                 terminalreporter.write_line(verdicts.headline(self.rows)[1])
                 terminalreporter.write_line(format_table(self.rows))
             else:

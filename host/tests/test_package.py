@@ -67,7 +67,10 @@ class Scratch:
 
     def pip_install(self, wheel: Path) -> None:
         pip = [sys.executable, "-m", "pip", "--python", str(self.venv / "bin" / "python")]
-        subprocess.run([*pip, "install", "-q", "--no-deps", "--no-index", str(wheel)], check=True, timeout=120)
+        # (--ignore-installed: the project's environment, seen through the .pth line, has this
+        # checkout's editable install, which pip would take for the wheel's and skip it)
+        install = [*pip, "install", "-q", "--no-deps", "--no-index", "--ignore-installed", str(wheel)]
+        subprocess.run(install, check=True, timeout=120)
 
     def env(self, **extra) -> dict:
         """The user's shell: the venv first on PATH, nothing of this checkout, the cache here."""
@@ -115,6 +118,8 @@ def test_the_wheel_carries_what_the_harness_needs_and_not_the_tests(scratch):
         "host/shim/cmod/_hilfast/micropython.mk",
         "host/core/aptsources.py",  # (its deb-src line)
         "sim_plant/catalogue/__init__.py",
+        "host/_data/docs/ci.md",  # (mpy-fil docs)
+        "host/_data/docs/rig-api.md",
     ):
         assert needed in names, f"expected {needed} in {scratch.wheel.name}"
     tests = sorted(n for n in names if "/tests/" in n)
@@ -147,6 +152,13 @@ def test_every_cli_command_works_from_the_installed_package(scratch, micropython
     check = scratch.sh("mpy-fil check rig.toml", cwd=scratch.robot)
     assert check.returncode == 0 and check.stdout.startswith("rig.toml: ok"), check.stdout + check.stderr
 
+    docs = scratch.sh("mpy-fil docs && mpy-fil docs ci && mpy-fil docs readme && mpy-fil docs shim --path")
+    assert docs.returncode == 0, docs.stderr
+    assert "  rig-api          The Rig API" in docs.stdout, docs.stdout[:3000]
+    assert (REPO / "docs" / "ci.md").read_text().rstrip() in docs.stdout, "the page, whole"
+    assert "# mpy-fil: MicroPython robot firmware in the loop" in docs.stdout, "the README, from the metadata"
+    assert docs.stdout.rstrip().endswith("/host/_data/docs/shim.md") and str(scratch.venv) in docs.stdout
+
     setup = scratch.sh("mpy-fil setup", MICROPYTHON=micropython)
     assert setup.returncode == 0 and "micropython: MicroPython v1.25.0+ds-1 on" in setup.stdout, setup.stderr
     site = scratch.sh("python -c 'import sysconfig; print(sysconfig.get_paths()[\"purelib\"])'").stdout.strip()
@@ -163,26 +175,91 @@ def test_no_interpreter_says_the_one_command_to_run(scratch, tmp_path):
     assert "Traceback" not in tests.stdout and "passed" not in tests.stdout, tests.stdout[-2000:]
 
 
+def ci_workflow() -> str:
+    return re.search(r"```yaml\n(.*?)```", CI_DOC.read_text(), re.S).group(1)
+
+
 def ci_commands() -> list[str]:
     """The ``run:`` lines of docs/ci.md's workflow, in order."""
-    block = re.search(r"```yaml\n(.*?)```", CI_DOC.read_text(), re.S).group(1)
-    return [m.group(1).strip() for m in re.finditer(r"^\s*- run: (.+)$", block, re.M)]
+    return [m.group(1).strip() for m in re.finditer(r"^\s*- run: (.+)$", ci_workflow(), re.M)]
 
 
-def test_the_ci_recipe_runs_as_printed_on_a_copy_of_pico_bot(scratch, micropython):
+def ci_step(uses: str) -> dict[str, list[str]]:
+    """The ``with:`` of the workflow's step that uses ``uses``: each key's lines (a ``|``
+    block's lines, or the one value)."""
+    step = re.search(rf"uses: {re.escape(uses)}\n\s+with:\n((?:\s{{8,}}.*\n)+)", ci_workflow())
+    assert step, f"expected a step using {uses} with a with: block in docs/ci.md"
+    found: dict[str, list[str]] = {}
+    key = None
+    for line in step.group(1).splitlines():
+        m = re.match(r"\s+(\w+): ?(.*)$", line)
+        if m and m.group(2) != "|":
+            key = None
+            found[m.group(1)] = [m.group(2).split("  #")[0].strip()]
+        elif m:
+            key = m.group(1)
+            found[key] = []
+        elif key:
+            found[key].append(line.strip())
+    return found
+
+
+def test_the_ci_recipe_caches_the_interpreters_folder_alone_keyed_on_this_release():
+    """Before: `.cache/mpy-fil/micropython`, 183 MB of source, apt lists and objects, keyed
+    on the interpreter alone (its binary holds the shim's C code of a release)."""
+    cache = ci_step("actions/cache@v4")
+    assert cache["path"] == [f".cache/mpy-fil/micropython/{interpreter.DEBIAN_VERSION}"], cache
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("XDG_CACHE_HOME", "/ws/.cache")
+        folder = interpreter.default_path(interpreter.build_root(checkout=False)).parent
+    assert folder == Path("/ws") / cache["path"][0], "expected the folder mpy-fil setup looks in"
+    assert VERSION in cache["key"][0] and interpreter.DEBIAN_VERSION in cache["key"][0], cache["key"]
+
+
+def test_the_ci_recipe_runs_as_printed_and_uploads_every_rigs_folder_when_the_robot_is_not_at_the_root(
+    scratch, micropython
+):
+    """Before: with the rig file in a folder of the repository, the uploaded paths held the
+    report but no trace folder or plot, and JUnit named folders outside them."""
     commands = ci_commands()
     install = [c for c in commands if c.startswith("pip install")]
     assert install == [f"pip install mpy-fil=={VERSION}"], "expected the recipe to pin this release"
     ours = commands[commands.index(install[0]) + 1 :]
     assert ours[0] == "mpy-fil setup" and ours[1].startswith("pytest"), ours
-    repo = scratch.robot  # the user's repository: pico_bot's folder as it is
+    repo = scratch.root / "repo"  # the user's repository: pico_bot in a folder of its own
+    shutil.copytree(scratch.robot, repo / "firmware" / "pico_bot", ignore=shutil.ignore_patterns("build"))
+    cache = scratch.root / "ci-cache"  # the cache as actions/cache restores it: the cached folder alone
+    cached = cache / ci_step("actions/cache@v4")["path"][0].removeprefix(".cache/")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("XDG_CACHE_HOME", str(cache))
+        looked_at = interpreter.default_path(interpreter.build_root(checkout=False))
+    assert cached / "micropython" == looked_at, "expected the cached folder to be the interpreter's (else setup builds)"
+    cached.mkdir(parents=True)
+    shutil.copy2(micropython, cached / "micropython")
     for command in ours:
-        done = scratch.sh(command, cwd=repo, timeout_s=600, MICROPYTHON=micropython)
+        done = scratch.sh(command, cwd=repo, timeout_s=600, XDG_CACHE_HOME=str(cache))
         assert done.returncode == 0, f"{command}: {done.stdout[-3000:]}{done.stderr[-2000:]}"
+        if command == "mpy-fil setup":
+            assert f"up to date: {cached / 'micropython'}" in done.stdout, done.stdout
     assert re.search(r"\b4 passed\b", done.stdout), done.stdout[-2000:]
-    junit = (repo / "build" / "junit.xml").read_text()
+    assert sorted(p.name for p in cached.iterdir()) == ["micropython"], "nothing else in the cached folder"
+
+    uploaded = [repo / p.rstrip("/") for p in ci_step("actions/upload-artifact@v4")["path"]]
+    junit_file = repo / "build" / "junit.xml"
+    assert junit_file in uploaded and (repo / "build" / "hil") in uploaded, uploaded
+    junit = junit_file.read_text()
     assert 'tests="4"' in junit and 'failures="0"' in junit, junit[:500]
     assert (repo / "build" / "hil" / "report.html").is_file()
+    inside = lambda path: any(path == u or path.is_relative_to(u) for u in uploaded)  # noqa: E731
+    headers = sorted(repo.rglob("header.json"))
+    assert len(headers) >= 4 and all(inside(h) for h in headers), [str(h.relative_to(repo)) for h in headers]
+    plots = sorted(repo.rglob("trajectory.png"))
+    assert plots and all(inside(p) for p in plots), [str(p.relative_to(repo)) for p in plots]
+    folders = re.findall(r'<property name="rig\d+\.artefacts" value="([^"]+)"', junit)
+    assert len(folders) >= 4, junit[:2000]
+    for folder in folders:
+        assert not Path(folder).is_absolute() and inside((junit_file.parent / folder).resolve()), folder
+        assert (junit_file.parent / folder / "header.json").is_file(), folder
 
 
 def test_setup_builds_into_the_per_user_cache_and_a_checkout_into_its_build(monkeypatch, tmp_path):
