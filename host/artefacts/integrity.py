@@ -15,23 +15,14 @@
 import hashlib
 import json
 import os
-import signal
 from contextlib import contextmanager
 from pathlib import Path
 
 from host.core.errors import HarnessError
 from host.core.safefs import fresh_file
+from host.core.stop_signals import Stopped  # noqa: F401  (where the run's callers look for it)
 
 PART = ".part"  # a file being written; never left behind by a run that ends
-
-
-class Stopped(KeyboardInterrupt):
-    """A signal asked the run to stop (raised by the command line's handler)."""
-
-    def __init__(self, signum: int):
-        super().__init__(signum)
-        self.signum = signum
-        self.signal_name = signal.Signals(signum).name
 
 
 def stop_signal_name(error: BaseException) -> str:

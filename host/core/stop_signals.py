@@ -13,9 +13,16 @@ import os
 import signal
 import sys
 
-from host.artefacts.integrity import Stopped
-
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class Stopped(KeyboardInterrupt):
+    """A signal asked the run to stop (raised by the command line's handler)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+        self.signal_name = signal.Signals(signum).name
 
 
 def stop(signum, _frame):

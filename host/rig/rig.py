@@ -183,7 +183,7 @@ class Rig:
         except BaseException:
             self._started = False  # a start that fails leaves no process and no pty, and its error stands
             self.target.close()
-            self._end_board_fs()
+            end_board_fs(self)
             self.linklog.close()
             coverage.end(self, write=False)
             raise
@@ -206,20 +206,10 @@ class Rig:
         """End the firmware and close the link; safe to call twice. Writes the console
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
-        self._end_board_fs()
+        end_board_fs(self)
         if self._started:
             self._started = False
             finish_recording(self, interrupted)
-
-    def _end_board_fs(self) -> None:
-        """Keep what the firmware wrote on its flash (``artefacts/board_fs/``); remove the copy."""
-        board, self.board_fs = self.board_fs, None
-        if board is not None:
-            try:
-                self.board_fs_written = board.keep(self.artefacts / "board_fs") if self.artefacts else board.written()
-                self.board_fs_faults = board.faults
-            finally:
-                board.remove()
 
     def _on_console(self, data: bytes) -> None:
         self.console_log.write(data, self.t_us)
@@ -254,7 +244,7 @@ class Rig:
     def _serve_until(self, t_end_us: int) -> None:
         while True:
             if self.progress is not None:
-                self._report_progress(t_end_us)
+                report_progress(self, t_end_us)
             if self.exit_kind is not None:  # firmware ended: the plant runs on alone
                 self.clock.run_alone(t_end_us)
                 return
@@ -264,13 +254,6 @@ class Rig:
             if self.t_us >= t_end_us:
                 return
             self.clock.serve(t_end_us)
-
-    def _report_progress(self, t_end_us: int) -> None:
-        now = time.monotonic()
-        if (now >= self._progress_wall or self.t_us >= t_end_us) and self._progress_last != (self.t_us, t_end_us):
-            self._progress_wall = now + PROGRESS_EVERY_S
-            self._progress_last = (self.t_us, t_end_us)
-            self.progress(self.t_us, t_end_us)
 
     def expect(self, pattern, timeout_s: float = 10.0):
         """Run until the console matches ``pattern`` (after what earlier expects took)."""
@@ -389,6 +372,26 @@ class Rig:
     def counters(self) -> dict:
         stats = ("link_round_trips", "irq_edges", "rollbacks", "lease_violations")
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
+
+
+def end_board_fs(rig) -> None:
+    """Keep what the firmware wrote on its flash (``artefacts/board_fs/``); remove the copy."""
+    board, rig.board_fs = rig.board_fs, None
+    if board is not None:
+        try:
+            rig.board_fs_written = board.keep(rig.artefacts / "board_fs") if rig.artefacts else board.written()
+            rig.board_fs_faults = board.faults
+        finally:
+            board.remove()
+
+
+def report_progress(rig, t_end_us: int) -> None:
+    """Tell `rig.progress` where the run is, at most every PROGRESS_EVERY_S of wall time."""
+    now = time.monotonic()
+    if (now >= rig._progress_wall or rig.t_us >= t_end_us) and rig._progress_last != (rig.t_us, t_end_us):
+        rig._progress_wall = now + PROGRESS_EVERY_S
+        rig._progress_last = (rig.t_us, t_end_us)
+        rig.progress(rig.t_us, t_end_us)
 
 
 def begin_recording(rig) -> None:

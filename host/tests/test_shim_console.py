@@ -184,10 +184,10 @@ def test_mpy_fil_run_allow_exit_runs_a_firmware_that_ends_by_design(tmp_path, ca
     rig = rig_file(tmp_path, "print('done')\n")
     (tmp_path / "rig.toml").write_text((tmp_path / "rig.toml").read_text().replace("allow_exit = true\n", ""))
     out = ["--duration", "1", "--no-plots", "--out"]
-    assert main(["run", rig, *out, str(tmp_path / "ended")]) == 1
+    assert main(["run", rig, *out, str(tmp_path / "build" / "ended")]) == 1  # (not in the firmware folder: its build/)
     assert "FirmwareExited" in capsys.readouterr().err
-    assert main(["run", rig, "--allow-exit", *out, str(tmp_path / "allowed")]) == 0
-    assert "done" in (tmp_path / "allowed" / "console.log").read_text()
+    assert main(["run", rig, "--allow-exit", *out, str(tmp_path / "build" / "allowed")]) == 0
+    assert "done" in (tmp_path / "build" / "allowed" / "console.log").read_text()
 
 
 @pytest.mark.parametrize("baud", ["5", "-1", "'fast'", "true", "20_000_000"])
