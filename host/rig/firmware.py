@@ -139,4 +139,7 @@ class Firmware:
     def interpreter_args(self) -> list[str]:
         if not self.heap_size:
             return []
-        return ["-X", f"heapsize={self.firmware_heap_bytes() + SHIM_HEAP_BYTES}"]
+        # The shim's share: its start-up runs beside the firmware's heap, set apart first
+        # (host/shim/_hilboot.py), under the coverage tracer too when it is on.
+        shim = SHIM_HEAP_BYTES + (COVERAGE_HEAP_BYTES if self.coverage_fd is not None else 0)
+        return ["-X", f"heapsize={self.firmware_heap_bytes() + shim}"]

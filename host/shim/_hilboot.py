@@ -76,7 +76,13 @@ def _run(name):
     env = __main__.__dict__
     env["__file__"] = path
     sys.argv[:] = [path]
-    exec(compile(source, path, "exec"), env)
+    # The file's code made as a board makes it, in the heap's lowest free blocks (the
+    # shim's finding and reading of it garbage first), and its source not kept (a board
+    # reads it through the lexer): nothing of the shim's in the firmware's heap as it runs.
+    _hil._Link.collect()
+    code = compile(source, path, "exec")
+    source = None
+    exec(code, env)
     return True
 
 
@@ -121,7 +127,10 @@ def _coverage():
     return _hilcov
 
 
-BALLAST_PIECE_BYTES = 256  # (the heap's own, tuple and bytearray objects included)
+# The held pieces' data: 192 bytes (with its tuple and bytearray object, 256 in the heap)
+# for the most, then a byte (three blocks) and a lone tuple (one) for the holes between
+# the shim's objects.
+BALLAST_DATA_BYTES = (192, 1)
 
 
 def _firmware_heap():
@@ -132,16 +141,31 @@ def _firmware_heap():
     return int(getenv("HIL_HEAP_BYTES") or 0) if getenv else 0
 
 
-def _board_heap(want):
+def _firmware_room(want):
+    """The firmware's heap_size (``want``) set apart as the shim starts, in one piece: the
+    shim's own start-up (compiling machine, the board's flash, confinement) then runs in
+    its share (host/rig/heap.py) beside it. py/gc.c collects only when an allocation
+    fails, so what the shim keeps from its start-up lies wherever the allocator stood
+    then, across the whole heap; a firmware heap made afterwards from what is free would
+    be in pieces between the shim's objects, where a board's fresh heap is one piece.
+    (A collect first: the room goes in the lowest hole that holds it, gc_alloc's first fit.)"""
+    if not want:
+        return None
+    import gc
+
+    gc.collect()
+    return [bytearray(want)]
+
+
+def _board_heap(room):
     """The heap as the firmware's board has it. machine (with its buses, and rp2 on an
     RP2040) is imported first: on a board it is C in flash, so its code (compiled here,
     the shim's biggest moment) is no part of the firmware's heap. Then the shim's reserve
-    is taken (_hil.make_room), and what the interpreter has beyond the firmware's
-    heap_size (``want``; the shim's share, host/rig/heap.py, sized for that compile) is
-    held, so that the firmware's gc.mem_free() starts at its board's heap and a
-    MemoryError comes where a board's does. Held in small pieces, lowest first (py/gc.c's
-    gc_alloc takes the first free blocks that fit): the holes the compile left go first,
-    and the firmware gets the heap's top in one piece, as a board's fresh heap."""
+    is taken (_hil.make_room), and all else that is free in the interpreter's heap is
+    held, in small pieces (py/gc.c's gc_alloc takes the first free blocks that fit, so
+    they fill the holes the shim's start-up left), and the firmware's room
+    (_firmware_room) is let go: the firmware's gc.mem_free() starts at its board's heap,
+    in one piece, and a MemoryError comes where a board's does. Returns what is held."""
     import gc
     import machine  # noqa: F401
 
@@ -151,20 +175,33 @@ def _board_heap(want):
         import rp2  # noqa: F401
 
     _hil.keep_reserve()
-    if not want:
+    if room is None:
         return None
     gc.collect()
     held = None
-    data = BALLAST_PIECE_BYTES - 64
-    while True:
-        excess = gc.mem_free() - want
-        if excess < BALLAST_PIECE_BYTES:
-            return held
+    for data in BALLAST_DATA_BYTES:
         try:
-            for _ in range(excess // BALLAST_PIECE_BYTES):
+            while True:
                 held = (held, bytearray(data))
         except MemoryError:
-            return held
+            pass
+    try:
+        while True:
+            held = (held,)  # (a block: the last holes)
+    except MemoryError:
+        pass
+    want = len(room[0])
+    room[0] = None  # (its one reference: the list is the shim's, the bytearray gone at the collect)
+    gc.collect()
+    free = gc.mem_free()
+    if free < want:
+        raise MemoryError(
+            "_hilboot: expected the firmware's heap of %d bytes free once its room was let go, got %d" % (want, free)
+        )
+    while free > want:  # (the room's bytearray object, a piece that failed halfway: a block each)
+        held = (held,)
+        free = gc.mem_free()
+    return held
 
 
 def _finish(coverage, kind, code=0, text=None):
@@ -178,14 +215,14 @@ def main(pil=False):
     coverage = None
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
+        room = None if pil else _firmware_room(_firmware_heap())  # (before _confine: os.getenv)
         _asyncio_in_virtual_time()
         entry = _entry()
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
             coverage = _coverage()
-            want = _firmware_heap()  # (before _confine: then os.getenv is gone)
             _confine()
-            _hil._Link.ballast = _board_heap(want)
-            _fresh_main()
+            _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
+            _hil._Link.ballast = _board_heap(room)
             _run("boot.py")
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)

@@ -50,6 +50,18 @@ def test_the_firmware_finds_its_heap_size_free_as_it_starts(make_rig, heap_kib):
     assert heap_kib * 1024 - 8 * 1024 < r["free"] <= heap_kib * 1024, r
 
 
+@pytest.mark.hil
+@pytest.mark.parametrize("heap_kib", [HEAP_MIN_BYTES // STEP, 64, 1024])
+def test_the_firmware_can_take_nearly_all_its_free_heap_in_one_piece_as_it_starts(make_rig, heap_kib):
+    """A board's heap is one piece at power-on: the shim's objects, kept wherever its
+    start-up left them, are not among the firmware's (the firmware's heap is set apart
+    before that start-up); what is not one piece is main.py's own compile (its parser's
+    garbage below its names' qstrs), as on a board."""
+    rig, r = run(make_rig, "heap_one_piece", f"{heap_kib}K", 0.1)
+    assert heap_kib * 1024 - 8 * 1024 < r["free"] <= heap_kib * 1024, r
+    assert r["piece"] > r["free"] - 4 * 1024, f"expected nearly all of gc.mem_free() in one bytearray: {r}"
+
+
 @pytest.mark.parametrize(
     "size",
     [f'"{(HEAP_MIN_BYTES - STEP) // STEP}K"', str(HEAP_MIN_BYTES - 1)],
