@@ -37,10 +37,10 @@ kind = "brownout"
 at_s = 2.0
 
 [[faultsets]]
-name = "heap-24K"
+name = "heap-16K"
 [[faultsets.faults]]
 kind = "heap"
-size = "24K"  # (the rover needs 32K)
+size = "16K"  # (the rover needs 24K: 20K fails)
 
 [[faultsets]]
 name = "corrupt"
@@ -100,7 +100,7 @@ def test_a_brownout_boots_the_firmware_again_at_its_time_and_the_plant_runs_on(s
 
 def test_a_smaller_heap_is_the_interpreters_and_a_firmware_that_does_not_fit_fails_with_its_traceback(small):
     _c, _o, results, _l = small
-    run = by_key(results)["heap-24K/room/1"]
+    run = by_key(results)["heap-16K/room/1"]
     assert not run["passed"] and run["error"] == "FirmwareError", where(results)
     assert "MemoryError" in run["message"] and "main.py" in run["message"], run["message"]
 
@@ -123,12 +123,12 @@ def test_the_report_gives_wilson_intervals_distributions_worst_runs_csv_and_json
     paths = write_report(out, campaign.to_dict(), results)
     summary = json.loads(paths["json"].read_text())
     groups = {g["faultset"]: g for g in summary["groups"]}
-    assert set(groups) == {"none", "brownout", "heap-24K", "corrupt", "stalls"}
+    assert set(groups) == {"none", "brownout", "heap-16K", "corrupt", "stalls"}
     for g in groups.values():
         assert (g["wilson_lo"], g["wilson_hi"]) == pytest.approx(wilson(g["passed"], g["runs"]))
     assert groups["none"]["passed"] == 2 and groups["corrupt"]["passed"] == 0
     worst = summary["worst"]
-    assert {w["key"] for w in worst[:4]} == {"corrupt/room/1", "corrupt/room/2", "heap-24K/room/1", "heap-24K/room/2"}
+    assert {w["key"] for w in worst[:4]} == {"corrupt/room/1", "corrupt/room/2", "heap-16K/room/1", "heap-16K/room/2"}
     assert all(w["replay"].startswith(".venv/bin/mpy-fil campaign --replay ") for w in worst)
     page = paths["html"].read_text()
     assert "Worst runs" in page and 'src="plots/success_rate.png"' in page and "LinkDamaged" in page
