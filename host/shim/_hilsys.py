@@ -219,6 +219,10 @@ def install(said, counting=False, platform=None, machine=None):
     if platform:
         board = _copy(_sys)
         board.platform = platform
+        # sys.executable is the unix port's alone (py/modsys.c: MICROPY_PY_SYS_EXECUTABLE);
+        # a board's sys has none, and here it would name a host path
+        if hasattr(board, "executable"):
+            del board.executable
         if not isinstance(_hil_link(), _StdioLinkType()):  # (on a board the console is the link)
             board.stdin = _BoardStdin()
         board.implementation = _Implementation(
