@@ -132,8 +132,16 @@ HOSTISH = ("system", "getenv", "VfsPosix", "putenv", "unsetenv")
 HOST_MODULES = ("ffi", "socket", "usocket", "termios", "_thread")
 seen = {}
 found = []
+seen[id(seen)] = seen[id(found)] = -1  # (the walk's own)
 def host_handle(value):
     kind = type(value).__name__
+    if kind != "module" and kind != "type":
+        try:
+            fd = value.fileno()
+        except Exception:
+            fd = None
+        if isinstance(fd, int) and fd > 2:  # (the console's 0, 1, 2: a board's too)
+            return "a host file (%s, fd %d)" % (kind, fd)
     if kind == "VfsPosix" or (hasattr(vfs, "VfsPosix") and value is vfs.VfsPosix):
         return "a VfsPosix"
     if kind == "module" and getattr(value, "__name__", "") in HOST_MODULES:
@@ -149,17 +157,20 @@ def host_handle(value):
     return None
 def walk(value, where, depth):
     key = id(value)
-    if key in seen or len(seen) > 40000:
-        return
-    seen[key] = 1
+    if seen.get(key, 99) <= depth or len(seen) > 40000:
+        return  # (met again nearer a root: walked again, deeper)
+    seen[key] = depth
     bad = host_handle(value)
     if bad:
-        found.append(where + ": " + bad)
+        found.append(where + ": " + bad if len(found) < 30 else "")
         return
     if depth > 7 or isinstance(value, (int, float, str, bytes, bool)) or value is None:
         return
     if isinstance(value, dict):
         for k in list(value):
+            if type(value[k]).__name__ == "bound_method":  # (kept: its object out of sight, a file's write the file)
+                found.append(where + "[" + repr(k)[:30] + "]: a bound method" if len(found) < 30 else "")
+            walk(k, where + " key " + repr(k)[:30], depth + 1)
             walk(value[k], where + "[" + repr(k)[:30] + "]", depth + 1)
         return
     if isinstance(value, (list, tuple)):
@@ -180,7 +191,14 @@ def walk(value, where, depth):
         walk(item, where + "." + name, depth + 1)
 roots = {"sys.modules": sys.modules, "builtins": builtins, "mounts": vfs.mount(), "machine": machine,
          "time": time, "select": select, "sys": sys}
-for name in roots:
+for name in {private}:
+    try:
+        roots[name] = __import__(name)
+    except ImportError as e:
+        print("NOIMPORT", name, e)
+    else:
+        print("IMPORTED", name)
+for name in sorted(roots):
     walk(roots[name], name, 0)
 for hit in found[:30]:
     print("HOST", hit)
@@ -219,10 +237,43 @@ def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_
     from host.rig.boardfs import PREFIX
 
     board = os.path.join(tempfile.gettempdir(), PREFIX)
-    said, out = run_firmware(tmp_path, WALK.replace("{board}", board).replace("{repo}", str(REPO)))
+    walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", "()")
+    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data")
     console = (out / "console.log").read_text()
     hits = [line for line in console.splitlines() if " HOST " in line]
     assert "WALKED" in console and not hits, "\n".join(hits[:30])
+    assert int(console.split("WALKED ")[1].split()[0]) < 40000, "the walk stopped at its bound"
+    assert (tmp_path / "coverage.data").exists()  # (the coverage file was open while it walked)
+
+
+SHIM_PRIVATE = sorted(
+    name[:-3]
+    for name in os.listdir(os.path.join(os.path.dirname(__file__), "..", "host", "shim"))
+    if name.startswith("_") and name.endswith(".py") and name != "__init__.py"
+) + ["_hilfast"]
+
+
+def test_the_shims_private_modules_imported_by_firmware_reach_neither_the_link_nor_the_coverage_file(
+    tmp_path, monkeypatch
+):
+    """A firmware that imports the shim's own modules (_hil, _hilcov, _hilboot, ...: on the
+    path as /_hil) and walks them, sandbox off, finds no host file: not the link's pty (a
+    board has no such object), not the coverage file."""
+    monkeypatch.setenv("MPY_FIL_SANDBOX", "off")
+    import tempfile
+
+    from host.core.paths import REPO
+    from host.rig.boardfs import PREFIX
+
+    board = os.path.join(tempfile.gettempdir(), PREFIX)
+    walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", repr(SHIM_PRIVATE))
+    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data")
+    console = (out / "console.log").read_text()
+    imported = [line.split()[-1] for line in console.splitlines() if " IMPORTED " in line]
+    hits = [line for line in console.splitlines() if " HOST " in line]
+    assert "_hil" in imported and "_hilcov" in imported, console[-2000:]
+    assert "WALKED" in console and not hits, "\n".join(hits[:30])
+    assert int(console.split("WALKED ")[1].split()[0]) < 40000, "the walk stopped at its bound"
 
 
 def test_mpy_fil_run_writes_at_the_users_repository_root_never_in_the_firmware_folder(tmp_path):

@@ -149,50 +149,26 @@ class _Link:
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
 
     def __init__(self, path):
-        self.f = open(path, "r+b")
-        self.poller = _rselect.poll()
-        self.poller.register(self.f, _rselect.POLLIN)
-        self.dec = F.Decoder()
-        self.seq = 0
-        self.out = []
-        self.got = memoryview(bytearray(512))  # (read into: no 512 bytes in one piece per read)
+        f = open(path, "r+b")
+        poller = _rselect.poll()
+        poller.register(f.fileno(), _rselect.POLLIN)  # (its answers carry the fd, never the file)
+        readinto = f.readinto
+        got = memoryview(bytearray(512))  # (read into: no 512 bytes in one piece per read)
 
-    def _read(self):
-        n = self.f.readinto(self.got)
-        if not n:
-            return b""
-        try:
-            return self.got[:n]  # (the decoder copies it before the next read)
-        except MemoryError:  # (read already: it must not be lost)
-            spend_reserve()
-            return self.got[:n]
-
-    def close(self):
-        self.f.close()
-
-    # The frames' own allocations are made before anything is sent or taken: where one
-    # fails (a frame longer than the room make_room saw), the reserve goes and it is made again.
-    def queue(self, type_, payload):
-        try:
-            frame = F.encode(type_, self.seq, payload)
-        except MemoryError:
-            spend_reserve()
-            frame = F.encode(type_, self.seq, payload)
-        self.out.append(frame)
-        self.seq = (self.seq + 1) & 0xFF
-
-    def flush(self):
-        if self.out:
+        def read():
+            n = readinto(got)
+            if not n:
+                return b""
             try:
-                data = b"".join(self.out)
-            except MemoryError:
+                return got[:n]  # (the decoder copies it before the next read)
+            except MemoryError:  # (read already: it must not be lost)
                 spend_reserve()
-                data = b"".join(self.out)
-            self.out = []
-            view = memoryview(data)
-            while view:
-                n = self.f.write(view)
-                view = view[n:]
+                return got[:n]
+
+        def close():
+            f.close()
+
+        _framed(self, f.write, read, poller.poll, close)
 
     def exchange(self, wait_payload, t_now, state_fmt):
         """Send WAIT and return the payload of the STATE that answers it."""
@@ -205,16 +181,66 @@ class _Link:
             if type_ == F.STATE and struct.unpack_from(state_fmt, p, 0)[0] == t_now:
                 return p  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
 
-    def recv(self):
-        while True:
+
+def _framed(link, write, read, poll, close):
+    """Give ``link`` its queue(type_, payload), flush(), recv() and close() over the host's
+    stream: its ``write``, ``read`` (bytes), ``poll`` and ``close``. The stream (the pty's
+    file, its methods), the frames queued and the bytes read are held only in these
+    closures (MicroPython has no __closure__, a bound method no __self__), never in an
+    attribute: what the firmware can reach of the link sends only frames the shim encodes
+    and takes only frames it decodes, never bytes of its own, and no attribute is the
+    host's file or its fd (docs/security.md, "The link and the coverage file")."""
+    link.queue, link.flush = _framed_out(write)
+    link.recv = _framed_in(read, poll)
+    link.close = close
+
+
+def _framed_out(write):
+    out = []
+    seq = 0
+
+    # The frames' own allocations are made before anything is sent or taken: where one
+    # fails (a frame longer than the room make_room saw), the reserve goes and it is made again.
+    def queue(type_, payload):
+        nonlocal seq
+        try:
+            frame = F.encode(type_, seq, payload)
+        except MemoryError:
+            spend_reserve()
+            frame = F.encode(type_, seq, payload)
+        out.append(frame)
+        seq = (seq + 1) & 0xFF
+
+    def flush():
+        nonlocal out
+        if out:
             try:
-                frame = self.dec.next()
+                data = b"".join(out)
             except MemoryError:
                 spend_reserve()
-                frame = self.dec.next()
-            if frame is not None or self.dec.damaged:
-                if self.dec.damaged:
-                    c = self.dec.counters()
+                data = b"".join(out)
+            out = []
+            view = memoryview(data)
+            while view:
+                n = write(view)
+                view = view[n:]
+
+    return queue, flush
+
+
+def _framed_in(read, poll):
+    dec = F.Decoder()
+
+    def recv():
+        while True:
+            try:
+                frame = dec.next()
+            except MemoryError:
+                spend_reserve()
+                frame = dec.next()
+            if frame is not None or dec.damaged:
+                if dec.damaged:
+                    c = dec.counters()
                     raise LinkDamaged(
                         "a frame from the host was damaged or lost on the plant link (bad_crc=%d, bad_length=%d, "
                         "truncated=%d, seq_gaps=%d; good frames %d, duplicates dropped %d): the run cannot be "
@@ -222,21 +248,23 @@ class _Link:
                         % (c["bad_crc"], c["bad_length"], c["truncated"], c["seq_gaps"], c["frames"], c["duplicates"])
                     )
                 return frame
-            events = self.poller.poll(1000)
+            events = poll(1000)
             if not events:
-                if self.dec.pending():
-                    self.dec.expire()  # a partial frame that stopped arriving
+                if dec.pending():
+                    dec.expire()  # a partial frame that stopped arriving
                 continue
             if events[0][1] & (_rselect.POLLHUP | _rselect.POLLERR):
                 raise HostGone("plant link closed")
-            data = self._read()
+            data = read()
             if not data:
                 raise HostGone("plant link closed")
             try:
-                self.dec.feed(data)  # (the decoder's buffer is replaced only once it is made)
+                dec.feed(data)  # (the decoder's buffer is replaced only once it is made)
             except MemoryError:
                 spend_reserve()
-                self.dec.feed(data)
+                dec.feed(data)
+
+    return recv
 
 
 class _StdioLink(_Link):
@@ -247,30 +275,27 @@ class _StdioLink(_Link):
     def __init__(self):
         import micropython
 
-        self.f = sys.stdout.buffer if hasattr(sys.stdout, "buffer") else sys.stdout
-        self.inp = sys.stdin.buffer if hasattr(sys.stdin, "buffer") else sys.stdin
-        self.poller = _rselect.poll()
-        self.poller.register(sys.stdin, _rselect.POLLIN)
-        self.dec = F.Decoder()
-        self.seq = 0
-        self.out = []
+        inp = sys.stdin.buffer if hasattr(sys.stdin, "buffer") else sys.stdin
+        poller = _rselect.poll()
+        poller.register(sys.stdin, _rselect.POLLIN)
+        ready = poller.poll
+
+        def read():
+            data = b""
+            while len(data) < 512:
+                c = inp.read(1)
+                if not c:
+                    break
+                data += c
+                if not ready(0):
+                    break
+            return data
+
+        def close():
+            micropython.kbd_intr(3)
+
+        _framed(self, (sys.stdout.buffer if hasattr(sys.stdout, "buffer") else sys.stdout).write, read, ready, close)
         micropython.kbd_intr(-1)
-
-    def _read(self):
-        data = b""
-        while len(data) < 512:
-            c = self.inp.read(1)
-            if not c:
-                break
-            data += c
-            if not self.poller.poll(0):
-                break
-        return data
-
-    def close(self):
-        import micropython
-
-        micropython.kbd_intr(3)
 
 
 def register(obj):
@@ -474,7 +499,7 @@ def _released_run_until(t_target, watch):
 # (keep_reserve). The reserve is in pieces, so that what the shim keeps between waits (the
 # decoder's bytes, its lists) cannot stop it coming back. Measured: a wait with its
 # exchanges, timer callbacks and IRQs allocates at most 2.2K, most of it garbage before
-# the rest is needed; the link reads into a buffer of its own (_Link._read).
+# the rest is needed; the link reads into a buffer of its own (its read, in _Link.__init__).
 ROOM_BYTES = 1024  # free heap, in one piece, an exchange's work needs at once
 # held back from the firmware, in the shim's share of the heap (host/rig/heap.py): the
 # first piece holds the longest frame (_hilframe.MAX_PAYLOAD), the link's own allocations

@@ -13,29 +13,43 @@ import os
 import sys
 
 _OFFSET = 1 << 20  # an arc packed into one small int: (from + _OFFSET) << 21 | to
-_out = None
-_skip = ()
-_files = {}  # co_filename -> set of packed arcs, or None for a file not traced
+
+
+def _arcs_of(filename):
+    """The arcs recorded of ``filename`` (a set), None for a file not traced (start sets it)."""
+
+
+def save():
+    """Write what was recorded (once: tracing stops); nothing before start()."""
 
 
 def start(fd, skip):
     """Trace from here on; ``fd``: the host's file; ``skip``: filename prefixes not traced."""
-    global _out, _skip
+    global _arcs_of, save
     if not hasattr(sys, "settrace"):
         raise OSError("coverage needs the interpreter built with MICROPY_PY_SYS_SETTRACE")
-    _out = open(int(fd), "a")
-    _skip = tuple(skip)
+    files = {}  # co_filename -> set of packed arcs, or None for a file not traced
+    _arcs_of = _arcs_in(files, tuple(skip))
+    save = _saver(open(int(fd), "a"), files)
     sys.settrace(_call)
 
 
-def _arcs_of(filename):
-    arcs = _files.get(filename, 0)
-    if arcs == 0:
-        arcs = None
-        if not filename.startswith(_skip) and _on_flash(filename):
-            arcs = set()
-        _files[filename] = arcs
-    return arcs
+# The host's file, the filenames seen (the shim's files by their host path, loaded before
+# the board's flash was mounted) and the prefixes skipped (the shim's folder on the host)
+# are held only in the closures below (MicroPython has no __closure__), never in a global:
+# the firmware, which can reach this module, gets no handle to write the harness's
+# coverage data and no host path (docs/security.md, "The link and the coverage file").
+def _arcs_in(files, skip):
+    def arcs_of(filename):
+        arcs = files.get(filename, 0)
+        if arcs == 0:
+            arcs = None
+            if not filename.startswith(skip) and _on_flash(filename):
+                arcs = set()
+            files[filename] = arcs
+        return arcs
+
+    return arcs_of
 
 
 def _on_flash(filename):
@@ -87,17 +101,21 @@ def _local(arcs, last, resumed, first):
     return trace
 
 
-def save():
-    """Write what was recorded (once: tracing stops)."""
-    global _out
-    if _out is None:
-        return
-    sys.settrace(None)
-    out, _out = _out, None
-    for filename, arcs in _files.items():
-        if arcs:
-            out.write("F %s\nA" % filename)
-            for packed in arcs:
-                out.write(" %d,%d" % ((packed >> 21) - _OFFSET, (packed & ((1 << 21) - 1)) - _OFFSET))
-            out.write("\n")
-    out.close()
+def _saver(out, files):
+    held = [out]
+
+    def save():
+        """Write what was recorded (once: tracing stops)."""
+        if not held:
+            return
+        sys.settrace(None)
+        out = held.pop()
+        for filename, arcs in files.items():
+            if arcs:
+                out.write("F %s\nA" % filename)
+                for packed in arcs:
+                    out.write(" %d,%d" % ((packed >> 21) - _OFFSET, (packed & ((1 << 21) - 1)) - _OFFSET))
+                out.write("\n")
+        out.close()
+
+    return save
