@@ -117,6 +117,11 @@ def test_a_rig_with_no_test_beside_it_runs_its_budgets_as_a_test_and_says_how_to
     assert 'def test_mybot_keeps_its_budgets(make_rig):\n        rig = make_rig("rig.toml", seed=1)' in done.stdout
     assert "1 passed" in done.stdout and "pin_test" not in done.stdout, done.stdout[-2000:]
     assert "test_rig_budgets" in done.stdout  # (the budget table names the generated test)
+    # the test it shows, written beside the rig file as printed, passes
+    shown = done.stdout.split("A test of your own", 1)[1].split("\n", 1)[1].split("\n\n", 1)[0]
+    (bot / "test_mybot.py").write_text("\n".join(line.removeprefix("    ") for line in shown.splitlines()) + "\n")
+    again = make_hil("--rig", str(bot))
+    assert again.returncode == 0 and "1 passed" in again.stdout, (again.stdout + again.stderr)[-3000:]
 
 
 @pytest.mark.hil
