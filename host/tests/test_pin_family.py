@@ -2,13 +2,18 @@
 constants, Pin.ALT and alt=, Pin.board/Pin.cpu and string names, machine.freq(), and
 rp2.bootsel_button() pressed by the rig file."""
 
+from pathlib import Path
+
 import pytest
 
+from host.cli import main
 from host.rig.app import App
+from host.rig.wiring import Wiring
 from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil
 
+SCENARIOS = Path(__file__).parent / "wokwi_scenarios"
 RP2040 = ("rp2", "Raspberry Pi Pico with RP2040")
 RP2350 = ("rp2", "Raspberry Pi Pico2 with RP2350")
 ESP32 = ("esp32", "Generic ESP32 module with ESP32")
@@ -137,3 +142,18 @@ def test_a_menu_waiting_for_bootsel_goes_on_when_the_rig_files_button_presses_it
 def test_an_unwired_bootsel_is_never_pressed(make_rig):
     rig, r = run(make_rig, "bootsel_menu", RP2040, bootsel_app(wiring={}), duration_s=1.0)
     assert r["idle"] == 0 and "started_ms" not in r, rig.console
+
+
+def test_a_rigs_gp_name_is_wired_to_the_pin_the_shim_names_by_number():
+    """Pin("GP14") is Pin(14) on an rp2 (the shim sends 14): a rig's "GP14" or "GPIO14" is that pin."""
+    wiring = Wiring({"A": "a.out", "B": "b.out"}, {"A": "GP14", "B": "GPIO15"}, "pins")
+    assert wiring.signal_of("14") == "a.out" and wiring.signal_of("15") == "b.out"
+
+
+def test_check_takes_the_bootsel_line_and_pin_led_as_the_pins_the_rig_wires(capsys):
+    """The scenario's rig wires BOOTSEL (read by rp2.bootsel_button(), which check cannot
+    see) and LED = 25, which the code makes as Pin("LED"): no warning for either."""
+    assert main(["check", str(SCENARIOS / "bootsel_menu" / "rig.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "pins the code uses: 1 compared with the wiring" in out
+    assert "never touches" not in out and "wires no pin" not in out, out
