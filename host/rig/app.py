@@ -72,7 +72,8 @@ class App:
     def board_files(self, board: str) -> tuple[Path | None, dict]:
         """(the folder with the board's board.py, or None; its pins) for ``board``."""
         if board == self.default_board and self.pins is not None:
-            return self.board_dir, self.pins
+            platform = (self.identity or pin_maps.identity(board) or (None,))[0]
+            return self.board_dir, pin_maps.with_builtin_lines(self.pins, platform)
         return pin_maps.board_dir(board), pin_maps.read_pin_map(board)
 
     def firmware_folders(self, board_folder: Path | None) -> list[Path]:

@@ -9,10 +9,27 @@ from host.core.paths import BOARDS_DIR
 
 # What a board's firmware sees as sys.platform and sys.implementation._machine, by the
 # family its name starts with; a board of no known family keeps the unix port's own.
+# (The first family whose name begins the board's: rpi_pico2 before rpi_pico.)
 IDENTITIES = {
     "esp32": ("esp32", "Generic ESP32 module with ESP32"),
+    "rpi_pico2": ("rp2", "Raspberry Pi Pico2 with RP2350"),
     "rpi_pico": ("rp2", "Raspberry Pi Pico with RP2040"),
 }
+
+
+# Lines of a family's board that are no GPIO, wired by name in a rig file's [wiring] with no
+# [board.pins] entry: rp2's BOOTSEL button (on QSPI_SS; rp2.bootsel_button() reads it,
+# ports/rp2/modrp2.c). The shim names its handle so.
+BUILTIN_LINES = {"rp2": {"BOOTSEL": "BOOTSEL"}}
+
+
+def with_builtin_lines(pins: dict, platform: str | None) -> dict:
+    """A board's pins and its family's built-in lines (a pin of the board's own name wins)."""
+    return {**BUILTIN_LINES.get(platform or "", {}), **pins}
+
+
+def is_builtin_line(key: str) -> bool:
+    return any(key in lines for lines in BUILTIN_LINES.values())
 
 
 def identity(board: str | None) -> tuple[str, str] | None:
@@ -36,8 +53,9 @@ def board_dir(board: str) -> Path:
 
 
 def read_pin_map(board: str) -> dict[str, object]:
-    """Constant name -> value (pin number or name) from a named board's file."""
-    return read_board_file(board_dir(board) / "board.py")
+    """Constant name -> value (pin number or name) from a named board's file, with its
+    family's built-in lines (BUILTIN_LINES)."""
+    return with_builtin_lines(read_board_file(board_dir(board) / "board.py"), (identity(board) or (None,))[0])
 
 
 def read_board_file(path: Path) -> dict[str, object]:
@@ -63,4 +81,16 @@ def read_board_file(path: Path) -> dict[str, object]:
 def pin_key(name: str, value: object) -> str:
     """How the shim names a resource: the pin id as text, or ``uart<id>`` for UARTs
     (board constants whose name ends in ``_UART``)."""
-    return f"uart{value}" if name.endswith("_UART") else str(value)
+    return f"uart{value}" if name.endswith("_UART") else canonical_key(str(value))
+
+
+def canonical_key(key: str, platform: str | None = None) -> str:
+    """An rp2 GPIO's name as the shim sends it: ``"GP14"`` and ``"GPIO14"`` are pin 14
+    (ports/rp2/machine_pin.c, machine_pin_find: Pin("GP14") is Pin(14)); on an rp2,
+    ``"LED"`` is the Pico's GP25 (boards/RPI_PICO/pins.csv)."""
+    if platform == "rp2" and key == "LED":
+        return "25"
+    for prefix in ("GPIO", "GP"):
+        if key.startswith(prefix) and key[len(prefix) :].isdigit():
+            return str(int(key[len(prefix) :]))
+    return key

@@ -18,7 +18,14 @@ from host.core.paths import BOARDS_DIR
 from host.rig import rigrules
 from host.rig.app import App
 from host.rig.boardfs import confinement
-from host.rig.boards import IDENTITIES, identity, known_boards, read_board_file, read_pin_map
+from host.rig.boards import (
+    IDENTITIES,
+    identity,
+    known_boards,
+    read_board_file,
+    read_pin_map,
+    with_builtin_lines,
+)
 from host.rig.budgets import BusLatencyBudget, BusSampleBudget, ComputeBudget, LatencyBudget, PeriodBudget, PulseBudget
 from host.rig.firmware import heap_bytes
 from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
@@ -152,6 +159,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
     libs = tuple(_folder(where, folder, "[firmware] lib", item) for item in firmware.get("lib", default_lib))
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
     platform = (_family(where, data.get("board", {})) or identity(board_name) or (None,))[0]
+    pins = with_builtin_lines(pins, platform)  # (rp2's BOOTSEL, wired by name)
     if isinstance(data["plant"], dict) and "body" in data["plant"]:  # a body and parts (sim_plant.catalogue)
         kind, options, build = None, {}, _parts_builder(where, data["plant"])
         plant = build()

@@ -17,43 +17,150 @@ _reset_cause = PWRON_RESET
 _UNSET = object()
 
 
+def _platform():
+    import sys
+
+    return getattr(sys.modules.get("sys", sys), "platform", "")
+
+
+def _mcu():
+    import sys
+
+    return getattr(getattr(sys.modules.get("sys", sys), "implementation", None), "_machine", "")
+
+
+_RP2 = _platform() == "rp2"  # (machine is imported once the host has named the board's family)
+_RP2350 = _RP2 and "RP2350" in _mcu()
+
+
+class _Names:
+    """Pin.board and Pin.cpu: the port's names for its pins, each the pin itself."""
+
+    def __init__(self, kind, names):
+        self._kind = kind
+        self._names = names
+
+    def __getattr__(self, name):
+        gpio = self._names.get(name)
+        if gpio is None:  # (as the port's type object board or cpu says it)
+            raise AttributeError("type object '%s' has no attribute '%s'" % (self._kind, name))
+        return Pin(gpio)
+
+
+if _RP2:
+    # ports/rp2/boards/RPI_PICO/pins.csv (RPI_PICO2's is the same): GP0..GP22, GP25..GP28, LED;
+    # the cpu names are GPIO0..GPIO29 (NUM_BANK0_GPIOS: 30 on an RP2040 and an RP2350A)
+    _BOARD_NAMES = {"GP%d" % n: n for n in tuple(range(23)) + (25, 26, 27, 28)}
+    _BOARD_NAMES["LED"] = 25
+    _CPU_NAMES = {"GPIO%d" % n: n for n in range(30)}
+else:
+    _BOARD_NAMES = {}  # ports/esp32: a generic ESP32 has no pins.csv, its Pin.board is empty
+    _CPU_NAMES = None  # (and it has no Pin.cpu)
+
+
+_ALT_SIO = 5  # GPIO_FUNC_SIO, the rp2 port's default alt=
+_ALT = 3  # MACHINE_PIN_MODE_ALT (ports/rp2/machine_pin.h)
+
+
+def _rp2_afs(gpio):
+    """The functions a GPIO has, as GPIO_FUNC_* values (ports/rp2/boards/rp2_af.csv: SPI,
+    UART, I2C, PWM, SIO, PIO0, PIO1 and USB on every GPIO, GPCK on GP20..GP25)."""
+    gpck, usb = (9, 10) if _RP2350 else (8, 9)
+    afs = (1, 2, 3, 4, 5, 6, 7, usb)
+    return afs + (gpck,) if isinstance(gpio, int) and 20 <= gpio <= 25 else afs
+
+
+def _pin_id(id):
+    """A pin's id as the port finds it (machine_pin_find): a number, a Pin, or on a port
+    with named pins (rp2) a board name, then a cpu name; an unknown name is a ValueError."""
+    if isinstance(id, str) and _RP2:  # ports/rp2/machine_pin.c, machine_pin_find
+        gpio = _BOARD_NAMES.get(id, _CPU_NAMES.get(id))
+        if gpio is None:
+            raise ValueError('unknown named pin "%s"' % id)
+        return gpio
+    if isinstance(id, str) and _platform() == "esp32":  # ports/esp32/machine_pin.c: Pin.board is empty
+        raise ValueError("invalid pin")
+    return id
+
+
 class Pin:
-    IN = 1
-    OUT = 3
-    OPEN_DRAIN = 7
-    PULL_UP = 2
-    PULL_DOWN = 1
-    IRQ_RISING = _F.IRQ_RISING  # (the wire's trigger codes are the ESP32 port's values)
-    IRQ_FALLING = _F.IRQ_FALLING
+    if _RP2:  # ports/rp2/machine_pin.h (MACHINE_PIN_MODE_*), machine_pin.c (GPIO_PULL_*, GPIO_IRQ_EDGE_*)
+        IN = 0
+        OUT = 1
+        OPEN_DRAIN = 2
+        ALT = 3
+        PULL_UP = 1
+        PULL_DOWN = 2
+        IRQ_RISING = 8
+        IRQ_FALLING = 4
+        # the alternate functions (pico-sdk's GPIO_FUNC_*; ports/rp2/boards/rp2_af.csv's columns)
+        ALT_SPI = 1
+        ALT_UART = 2
+        ALT_I2C = 3
+        ALT_PWM = 4
+        ALT_SIO = 5
+        ALT_PIO0 = 6
+        ALT_PIO1 = 7
+        if _RP2350:  # (pico-sdk's RP2350 numbering; 1.25 has no ALT_PIO2)
+            ALT_GPCK = 9
+            ALT_USB = 10
+        else:
+            ALT_GPCK = 8
+            ALT_USB = 9
+        board = _Names("board", _BOARD_NAMES)
+        cpu = _Names("cpu", _CPU_NAMES)
+    else:  # ports/esp32/machine_pin.c: GPIO_MODE_*, GPIO_PULL_*, GPIO_INTR_*; no ALT, no alt=
+        IN = 1
+        OUT = 3
+        OPEN_DRAIN = 7
+        PULL_UP = 2
+        PULL_DOWN = 1
+        IRQ_RISING = _F.IRQ_RISING  # (the wire's trigger codes are the ESP32 port's values)
+        IRQ_FALLING = _F.IRQ_FALLING
+        board = _Names("board", _BOARD_NAMES)
     _MODES = {IN: _F.PIN_IN, OUT: _F.PIN_OUT, OPEN_DRAIN: _F.PIN_OPEN_DRAIN}  # as CFG_PIN says them
     _PULLS = {None: _F.PULL_NONE, PULL_UP: _F.PULL_UP, PULL_DOWN: _F.PULL_DOWN}
     _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
 
     def __new__(cls, id, *args, **kw):
-        pin = Pin._made.get(id)
-        if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
-            pin = Pin._made[id] = object.__new__(cls)
-            pin._id = id
-            pin._mode = Pin.IN
-            pin._pull = None
-            pin._level = 0
-            pin._out = 0
-            pin._handler = None
-            pin._trigger = 0
-            pin._flags = 0
-            pin._counters = None  # Counter and Encoder units counting this pin's edges
-            pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
-            pin._handle = _hil.register(pin)
-        return pin
+        return _make(_pin_id(id), cls)
 
-    def __init__(self, id, mode=-1, pull=-1, *, value=None, **_kw):
-        self.init(mode, pull, value=value)
+    def __init__(self, id, *args, **kw):
+        if _RP2 and not args and not kw:
+            return  # (mp_pin_make_new: Pin(n) alone configures nothing)
+        self.init(*args, **kw)
 
-    def init(self, mode=-1, pull=-1, *, value=None, **_kw):
-        if mode != -1:
-            if mode not in self._MODES:
+    if _RP2:
+
+        def init(self, mode=-1, pull=None, *, value=None, alt=_ALT_SIO):
+            # ports/rp2/machine_pin.c, machine_pin_obj_init_helper: a mode other than IN,
+            # OUT and OPEN_DRAIN hands the pin to the function `alt` (which the pin must
+            # have); the pulls are set every time (None: none)
+            if mode is None:
+                mode = -1
+            if mode != -1 and mode not in self._MODES:
+                if not (isinstance(alt, int) and alt in _rp2_afs(self._id)):
+                    raise ValueError("invalid pin af: %d" % (alt,))
+            if mode == self.OPEN_DRAIN and value is None:
+                value = 1  # (mp_hal_pin_open_drain_with_value(id, value == -1 ? 1 : value): released)
+            self._init(mode, pull, value, alt)
+
+    else:
+
+        def init(self, mode=-1, pull=-1, *, value=None, drive=None, hold=None):
+            # ports/esp32/machine_pin.c: init(mode, pull, *, value, drive, hold); no alt
+            if mode != -1 and mode not in self._MODES:
                 raise ValueError("invalid pin mode %r" % (mode,))
-            self._mode = mode
+            self._init(mode, pull, value, _ALT_SIO)
+
+    def _init(self, mode, pull, value, alt):
+        if mode != -1:
+            if mode in self._MODES:
+                self._mode, self._alt = mode, _ALT_SIO
+            elif alt != _ALT_SIO:
+                self._mode, self._alt = _ALT, alt
+            elif self._mode not in (Pin.IN, Pin.OUT):  # (ALT with alt=ALT_SIO: SIO's again, its direction kept)
+                self._mode, self._alt = Pin.IN, _ALT_SIO
         if pull != -1:
             if pull not in self._PULLS:
                 raise ValueError("invalid pull %r" % (pull,))
@@ -61,17 +168,20 @@ class Pin:
         if value is not None:
             self._out = 1 if value else 0
         self._cfg = True
-        is_input = self._mode == self.IN
+        drives = self._mode == Pin.OUT or self._mode == Pin.OPEN_DRAIN
+        # A pin in ALT mode is the peripheral's: SIO drives it no more (an input to the
+        # loop, its pad still read by value()); what value(x) writes waits in SIO's output
+        # latch until the pin is OUT again (docs/shim.md, "Pins").
         _hil.configure(
             self._handle,
             _F.CFG_PIN,
             self._id,
-            self._MODES[self._mode],
+            self._MODES[self._mode] if drives else _F.PIN_IN,
             self._PULLS[self._pull],
-            -1 if is_input else self._out,
-            sync=is_input,
+            self._out if drives else -1,
+            sync=not drives,
         )
-        if not is_input:
+        if drives:
             _hil.send_out(self._handle, _F.OUT_LEVEL, self._out)
 
     def _hil_apply(self, kind, value, extra):
@@ -90,7 +200,7 @@ class Pin:
 
     def value(self, x=None):
         if x is None:
-            if self._mode == 3:  # Pin.OUT
+            if self._mode == _OUT:
                 return self._out
             if not self._cfg:
                 self.init()
@@ -100,7 +210,7 @@ class Pin:
         x = 1 if x else 0
         if x != self._out:
             self._out = x
-            if self._mode != self.IN:
+            if self._mode == _OUT or self._mode == Pin.OPEN_DRAIN:  # (ALT: the latch only)
                 _hil.send_out(self._handle, _F.OUT_LEVEL, x)
 
     __call__ = value
@@ -137,15 +247,62 @@ class Pin:
         if not self._cfg:
             self.init()
         self._handler = handler
-        self._trigger = trigger if handler is not None else 0
+        self._trigger = _wire_edges(trigger) if handler is not None else 0
         _hil.configure(self._handle, _F.CFG_IRQ, self._id, self._trigger)
         return _PinIRQ(self)
 
     def __repr__(self):
+        if _RP2 and isinstance(self._id, int):  # ports/rp2/machine_pin.c, machine_pin_print (its mode and alt)
+            if self._mode == _ALT:
+                mode = "ALT"
+            else:
+                mode = {Pin.IN: "IN", Pin.OUT: "OUT", Pin.OPEN_DRAIN: "OPEN_DRAIN"}[self._mode]
+            pull = {None: "", Pin.PULL_UP: ", pull=PULL_UP", Pin.PULL_DOWN: ", pull=PULL_DOWN"}[self._pull]
+            alt = ", alt=%d" % self._alt if self._mode == _ALT else ""
+            return "Pin(GPIO%d, mode=%s%s%s)" % (self._id, mode, pull, alt)
         return "Pin(%r)" % (self._id,)
 
 
+def _make(id, cls=Pin):
+    pin = Pin._made.get(id)
+    if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
+        pin = Pin._made[id] = object.__new__(cls)
+        pin._id = id
+        pin._mode = Pin.IN
+        pin._pull = None
+        pin._alt = _ALT_SIO
+        pin._level = 0
+        pin._out = 0
+        pin._handler = None
+        pin._trigger = 0
+        pin._flags = 0
+        pin._counters = None  # Counter and Encoder units counting this pin's edges
+        pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
+        pin._handle = _hil.register(pin)
+    return pin
+
+
+def _board_line(name):
+    """A line of the board that is no GPIO (rp2's BOOTSEL, on QSPI_SS), read as an input
+    on its pull-up: the rig file wires it by that name (docs/rig-file.md)."""
+    pin = _make(name)
+    if not pin._cfg:
+        pin._pull = Pin.PULL_UP
+        pin._init(Pin.IN, -1, None, _ALT_SIO)
+    return pin
+
+
 _hil._Link.pin = Pin  # (its changes are applied in C when the shim has _hilfast)
+_OUT = Pin.OUT
+
+
+def _wire_edges(trigger):
+    """The port's IRQ_RISING/IRQ_FALLING bits as the wire's (the ESP32 port's values)."""
+    return (_RISING if trigger & Pin.IRQ_RISING else 0) | (_FALLING if trigger & Pin.IRQ_FALLING else 0)
+
+
+def _port_edges(edges):
+    return (Pin.IRQ_RISING if edges & _RISING else 0) | (Pin.IRQ_FALLING if edges & _FALLING else 0)
 
 
 class _PinIRQ:
@@ -153,10 +310,10 @@ class _PinIRQ:
         self._pin = pin
 
     def trigger(self):
-        return self._pin._trigger
+        return _port_edges(self._pin._trigger)
 
     def flags(self):
-        return self._pin._flags
+        return _port_edges(self._pin._flags)
 
 
 class PinBase:
@@ -183,12 +340,6 @@ class Signal:
 
     def off(self):
         self.value(0)
-
-
-def _platform():
-    import sys
-
-    return getattr(sys.modules.get("sys", sys), "platform", "")
 
 
 class ADC:
@@ -616,8 +767,56 @@ def unique_id():
     return _UNIQUE_ID
 
 
-def freq(hz=None):
-    return 240_000_000
+if _RP2:
+    _freq_hz = 150_000_000 if _RP2350 else 125_000_000  # pico-sdk's SYS_CLK_HZ for the chip (MicroPython 1.25)
+else:
+    _freq_hz = (
+        160_000_000  # a generic ESP32: ESP-IDF's CONFIG_ESP_DEFAULT_CPU_FREQ_MHZ (boards/sdkconfig.base keeps it)
+    )
+
+
+def _rp2_clock_ok(khz):
+    """pico-sdk's check_sys_clock_khz: a 12 MHz crystal, REFDIV 1, FBDIV 16..320 with the VCO
+    at 750..1600 MHz, POSTDIV1 1..7, POSTDIV2 1..POSTDIV1, and the frequency exact."""
+    for fbdiv in range(320, 15, -1):
+        vco_khz = fbdiv * 12_000
+        if vco_khz < 750_000 or vco_khz > 1_600_000:
+            continue
+        for pd1 in range(7, 0, -1):
+            for pd2 in range(pd1, 0, -1):
+                if vco_khz % (pd1 * pd2) == 0 and vco_khz // (pd1 * pd2) == khz:
+                    return True
+    return False
+
+
+def freq(*args):
+    """The CPU's clock: what the port reports and accepts (extmod/modmachine.c, machine_freq;
+    ports/rp2/modmachine.c and ports/esp32/modmachine.c, mp_machine_set_freq). The loop's time
+    is virtual: a new clock changes what freq() says, not how long code takes."""
+    global _freq_hz
+    if len(args) > (2 if _RP2 else 1):
+        raise TypeError("function expected at most %d arguments, got %d" % (2 if _RP2 else 1, len(args)))
+    if not args:
+        return _freq_hz
+    hz = args[0]
+    if not isinstance(hz, int):
+        raise TypeError("can't convert %s to int" % type(hz).__name__)
+    if _RP2:
+        if not (hz >= 0 and _rp2_clock_ok(hz // 1000)):
+            raise ValueError("cannot change frequency")  # set_sys_clock_khz(freq / 1000, false) failed
+        _freq_hz = hz // 1000 * 1000  # (set before the peripheral clock is looked at, as the C does)
+        if len(args) > 1:
+            peri = args[1]
+            if not isinstance(peri, int):
+                raise TypeError("can't convert %s to int" % type(peri).__name__)
+            if peri != 48_000_000 and peri != hz:
+                raise ValueError("peripheral freq must be 48_000_000 or the same as the MCU freq")
+        return None
+    mhz = int(hz / 1_000_000)  # (mp_int_t / 1000000: C's division, toward zero)
+    if mhz not in (20, 40, 80, 160, 240):
+        raise ValueError("frequency must be 20MHz, 40MHz, 80Mhz, 160MHz or 240MHz")
+    _freq_hz = mhz * 1_000_000
+    return None
 
 
 def reset():

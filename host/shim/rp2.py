@@ -424,8 +424,15 @@ class Flash:
 
 
 def bootsel_button():
-    _hil.observe()
-    return 0
+    """1 while the BOOTSEL button is held. ports/rp2/modrp2.c, bootsel_button: QSPI_SS let
+    float for MICROPY_HW_BOOTSEL_DELAY_US (8 us, interrupts off), the button pulls it low.
+    The rig file wires it as the board's pin BOOTSEL (docs/rig-file.md); unwired, it is
+    never pressed."""
+    import machine
+
+    line = machine._board_line("BOOTSEL")
+    _hil.bus_time(_hil.now() + 8)
+    return 0 if line.value() else 1
 
 
 def country(code=None):
