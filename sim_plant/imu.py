@@ -79,6 +79,11 @@ class Imu(RegisterDevice):
             out.append(Change(t_us, self.int_signal, 1))
         self.rearm(t_us)
 
+    def _written(self, t_us: int, reg: int, value: int) -> None:
+        super()._written(t_us, reg, value)
+        if self.SELF_CLEARING:
+            self.rearm(t_us)  # (a software reset: the rate and the line as the reset left them)
+
     def rearm(self, t_us: int) -> None:
         """Plan the data-ready line's next edge (after a configuration write, a read)."""
         period = self.period_us()
