@@ -144,6 +144,7 @@ class Ina219Chip(RegisterDevice):
 
 
 class Ina219(PartType):
+    CHIP = Ina219Chip  # (its registers: docs/parts.md)
     kind = "ina219"
     doc = "An INA219-class current and bus-voltage monitor on I2C, on the battery's supply with the motors' load."
     OPTIONS = (

@@ -144,6 +144,7 @@ class Lis3mdlChip(RegisterDevice):
 
 
 class Lis3mdl(PartType):
+    CHIP = Lis3mdlChip  # (its registers: docs/parts.md)
     kind = "lis3mdl"
     doc = "An LIS3MDL-class 3-axis magnetometer (WHO_AM_I 0x3D) on I2C: the body's heading, a hard-iron offset."
     OPTIONS = (

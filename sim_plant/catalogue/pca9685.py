@@ -130,6 +130,7 @@ def duty_for(kind: str, part, share: float, period_us: float) -> int:
 
 
 class Pca9685(PartType):
+    CHIP = Pca9685Chip  # (its registers: docs/parts.md)
     kind = "pca9685"
     doc = "A PCA9685-class 16-channel 12-bit PWM expander on I2C whose channels drive servos and motor bridge inputs."
     OPTIONS = (

@@ -131,6 +131,7 @@ class Vl53l0xChip(RegisterDevice):
 
 
 class Vl53l0x(PartType):
+    CHIP = Vl53l0xChip  # (its registers: docs/parts.md)
     kind = "vl53l0x"
     doc = "A VL53L0X-class time-of-flight ranger on I2C (0xC0 reads 0xEE): a ray from its mount each measurement."
     OPTIONS = (
