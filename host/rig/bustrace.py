@@ -174,8 +174,11 @@ class BusTrace:
         poll = self.polls.seen(tx.t_us, tx.bus, tx.address, tx.register, answer)
         if poll is not None:
             finder = getattr(plant, "bus_device", None)
-            device = finder(tx.bus, tx.address) if finder is not None else None
-            self.say(tx.t_us, poll_text(tx.t_us, tx.bus, tx.address, tx.register, answer, *poll, device))
+            device = finder(tx.bus, tx.address) if finder is not None and tx.op not in _PRIMITIVES else None
+            text = poll_text(tx.t_us, tx.bus, tx.address, tx.register, answer, *poll, device)
+            if tx.op in _PRIMITIVES:
+                text += "; read through SoftI2C primitives: what was written before it is in trace.jsonl"
+            self.say(tx.t_us, text)
 
     def transfer(self, t_us, info, op, address, n_read, wrote, status, count, got) -> Transaction:
         tx = transaction(t_us, info.key, info.freq, op, address, n_read, wrote, status, count, got)

@@ -49,7 +49,7 @@ def poll_text(t_us: int, bus: str, address, register, answer: bytes, since_us: i
         f"t={since_us / 1e6:.6f} s to t={t_us / 1e6:.6f} s and got {shown} each time"
     )
     if device is None:
-        return text + " (no chip of the plant answers there)"
+        return text if address is None else text + " (no chip of the plant answers there)"
     modelled = getattr(device, "MODELLED", None)
     if modelled is None:
         return text + f" ({device.label}: a {type(device).__name__}, not a register chip)"
