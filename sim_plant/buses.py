@@ -14,7 +14,10 @@ coherent sample, as a chip's block-data update gives.
 
 What a chip does on its own time is declared, not coded per chip: its ``SELF_CLEARING``
 bits (:class:`SelfClearing`: a BOOT, a SW_RESET, a REBOOT reads back set until the
-datasheet's time has passed in virtual time, then clear) and its ``MODELLED`` registers
+datasheet's time has passed in virtual time, then clear), its ``DATA_READY`` status bits
+(:class:`DataReady`: set at each tick of the output data rate, cleared when the registers
+the datasheet names are read; an overrun bit when a sample was overwritten unread) and
+its ``MODELLED`` registers
 (name -> what of it the model honours). A write to a register not in ``MODELLED`` is
 kept as plain memory, counted in :attr:`RegisterDevice.unmodelled` and named once per
 chip in the run's output (:meth:`RegisterDevice.take_notes`).
@@ -112,6 +115,22 @@ class SelfClearing:
     source: str = ""
 
 
+@dataclass(frozen=True)
+class DataReady:
+    """A status bit (``mask`` of register ``reg``) set at each tick of the output data rate
+    (the chip's method named ``period``: its period in µs, 0 while powered down) after the
+    sample last read, cleared when a register of ``cleared_by`` is read; ``overrun_mask``:
+    the bit that says a sample was overwritten before it was read (after a first read)."""
+
+    reg: int
+    mask: int
+    cleared_by: tuple
+    name: str
+    period: str = "period_us"
+    overrun_mask: int = 0
+    source: str = ""
+
+
 class RegisterDevice(BusDevice):
     """A device with a register file: the first byte written after its address (I2C) or
     after chip select falls (SPI, bit 7 set: a read) is the register pointer; each byte
@@ -126,6 +145,8 @@ class RegisterDevice(BusDevice):
     """register -> what the model honours of it (docs/parts.md lists them); the others are plain memory."""
     SELF_CLEARING: tuple = ()
     """The chip's :class:`SelfClearing` bits."""
+    DATA_READY: tuple = ()
+    """The chip's :class:`DataReady` status bits."""
     SPI_READ = 0x80
     FIXED_STATE = (*BusDevice.FIXED_STATE, "notes", "said")
 
@@ -137,6 +158,7 @@ class RegisterDevice(BusDevice):
         self.spi_read = False
         self.clearing = {}  # (reg, mask) -> the virtual time the chip clears it
         self.unmodelled = {}  # register -> (first write's t_us, writes): plain memory the firmware wrote
+        self.read_ticks = {}  # a DataReady's name -> the output-data-rate tick whose sample was last read
         self.notes = []  # what the run's output is to say, taken by take_notes (never rewound)
         self.said = set()  # what was said already (never rewound: said once)
         self.power_on()
@@ -160,6 +182,27 @@ class RegisterDevice(BusDevice):
                 reg, mask = key
                 self.regs[reg] &= ~mask & 0xFF
                 del self.clearing[key]
+
+    def period_us(self) -> int:
+        """The output data rate's period (0: powered down: no new samples)."""
+        return 0
+
+    def _ready(self, t_us: int, reg: int, value: int) -> int:
+        """``value`` read from ``reg`` with its data-ready and overrun bits as they are at
+        ``t_us``; a register that clears one marks its sample read."""
+        for bit in self.DATA_READY:
+            if bit.reg == reg:
+                period = getattr(self, bit.period)()
+                value &= ~(bit.mask | bit.overrun_mask) & 0xFF
+                if period:
+                    tick, last = t_us // period, self.read_ticks.get(bit.name, -1)
+                    value |= bit.mask if tick != last else 0
+                    value |= bit.overrun_mask if last >= 0 and tick - last > 1 else 0
+        for bit in self.DATA_READY:
+            if reg in bit.cleared_by:
+                period = getattr(self, bit.period)()
+                self.read_ticks[bit.name] = t_us // period if period else -1
+        return value
 
     def _written(self, t_us: int, reg: int, value: int) -> None:
         """After :meth:`store`: a self-clearing bit set starts its time; an unmodelled
@@ -216,6 +259,8 @@ class RegisterDevice(BusDevice):
         if self.clearing:
             self._settle(t_us)
         value = self.load(t_us, self.pointer)
+        if self.DATA_READY:
+            value = self._ready(t_us, self.pointer, value)
         self.pointer = self.next_register(self.pointer)
         return value
 
@@ -377,6 +422,7 @@ __all__ = [
     "BusDevice",
     "BusName",
     "BusSet",
+    "DataReady",
     "Change",
     "RegisterDevice",
     "SelfClearing",

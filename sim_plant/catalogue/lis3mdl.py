@@ -13,18 +13,19 @@ Modelled registers: WHO_AM_I (0x0F, reads 0x3D), CTRL_REG1 (0x20: DO and FAST_OD
 output data rate, reset 10 Hz), CTRL_REG2 (0x21: FS, ±4/8/12/16 gauss at 6842/3421/2281/
 1711 LSB per gauss; SOFT_RST resets the registers, REBOOT reloads the trimming memory and
 leaves them; each reads set until it is done, then clear), CTRL_REG3 (0x22: MD, resets to 0b11
-power-down: no new samples), STATUS_REG (0x27: ZYXDA, a sample not yet read; ZYXOR, a
-sample overwritten before it was read; both clear when the outputs are read),
+power-down: no new samples), STATUS_REG (0x27: XDA, YDA, ZDA, a sample of that axis not yet
+read, ZYXDA of any; XOR, YOR, ZOR, ZYXOR, one overwritten before it was read; each
+clears when its axis' outputs (ZYXDA, ZYXOR: any output) are read),
 OUT_X_L..OUT_Z_H (0x28..0x2D, little-endian, saturated), TEMP_OUT (0x2E, 25 °C: 0). The
 register pointer moves on after each byte whether or not the sub-address has bit 7 set
 (the datasheet asks for it; the published drivers read without it). Not modelled:
 single-conversion mode (taken as continuous), self-test, the interrupt pin and thresholds,
-soft-iron distortion, BDU, the per-axis XDA/XOR bits (set and cleared with ZYXDA/ZYXOR).
+soft-iron distortion, BDU.
 A write to a register not modelled is named once in the run's output."""
 
 import math
 
-from sim_plant.buses import BusName, RegisterDevice, SelfClearing, check_placement
+from sim_plant.buses import BusName, DataReady, RegisterDevice, SelfClearing, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
 from sim_plant.imu import counts, put16
 from sim_plant.option_table import Num, Row
@@ -47,7 +48,7 @@ class Lis3mdlChip(RegisterDevice):
         CTRL_REG3: "CTRL_REG3: MD (power-down: no samples)",
         0x23: "CTRL_REG4 (plain: OMZ, BLE not modelled)",
         0x24: "CTRL_REG5 (plain: BDU not modelled)",
-        STATUS_REG: "STATUS_REG: ZYXDA, ZYXOR at the output data rate, clear when the outputs are read",
+        STATUS_REG: "STATUS_REG: XDA..ZYXDA, XOR..ZYXOR at the output data rate, cleared by reading the outputs",
         **{reg: "OUT_X..OUT_Z, TEMP_OUT" for reg in range(OUT_X_L, OUT_END)},
     }
     SELF_CLEARING = (
@@ -61,6 +62,16 @@ class Lis3mdlChip(RegisterDevice):
     )
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "field", "hard_iron_ut", "noise_ut", "mount_rad")
 
+    DATA_READY = (
+        # LIS3MDL datasheet 7.8 STATUS_REG (every bit below): per axis, new data (bits 0..2) and overrun
+        # (bits 4..6); ZYXDA (3) and ZYXOR (7) for any axis.
+        *(
+            DataReady(STATUS_REG, 1 << i, (OUT_X_L + 2 * i, OUT_X_L + 2 * i + 1), axis + "DA", overrun_mask=0x10 << i)
+            for i, axis in enumerate("XYZ")
+        ),
+        DataReady(STATUS_REG, 0x08, tuple(range(OUT_X_L, TEMP_OUT_L)), "ZYXDA", overrun_mask=0x80, source="7.8"),
+    )
+
     def __init__(self, name, bus, address, *, mount_rad, field, hard_iron_ut, noise_ut, rng):
         super().__init__(name, bus, address)
         self.mount_rad = mount_rad
@@ -70,7 +81,6 @@ class Lis3mdlChip(RegisterDevice):
         self.rng = rng
         self.history = [(0, 0.0, 0.0)]  # (t_us, theta_rad then, w_rad_s from then on)
         self.sample_no = -1
-        self.read_no = -1
         self.sample = (0.0, 0.0, 0.0)
 
     def start(self, t_us, plant) -> None:
@@ -111,20 +121,10 @@ class Lis3mdlChip(RegisterDevice):
 
     def load(self, t_us, reg):
         reg &= 0x7F
-        if reg == STATUS_REG:
-            period = self.period_us()
-            if not period:
-                return 0x00
-            tick = t_us // period
-            ready = 0x08 if tick != self.read_no else 0x00
-            overrun = 0x80 if tick - self.read_no > 1 and self.read_no >= 0 else 0x00  # (one sample lost unread)
-            return ready | overrun
         if OUT_X_L <= reg < TEMP_OUT_L:
             per_ut = UT_PER_GAUSS / LSB_PER_GAUSS[self.regs[CTRL_REG2] >> 5 & 3]
             for i, value in enumerate(self.current(t_us)):
                 put16(self.regs, OUT_X_L + 2 * i, counts(value, per_ut), False)
-            period = self.period_us()
-            self.read_no = t_us // period if period else -1
         return self.regs[reg]
 
     def write(self, t_us, byte):

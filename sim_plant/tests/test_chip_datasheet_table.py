@@ -129,17 +129,37 @@ def test_data_ready_sets_at_each_output_data_rate_tick_and_clears_when_read(name
         assert read(p, name, status)[0] & bit, "set at the tick"
 
 
-def test_the_compass_overrun_bit_sets_when_a_sample_is_overwritten_unread_and_clears_with_the_read():
-    p = plant("Lis3mdlChip")
-    write(p, "Lis3mdlChip", 0x22, 0x00)
+def test_the_compass_overrun_bits_set_when_a_sample_is_overwritten_unread_and_clear_with_each_axis_read():
+    name = "Lis3mdlChip"
+    p = plant(name)
+    write(p, name, 0x22, 0x00)
     p.advance_to(150_000)
-    read(p, "Lis3mdlChip", 0x28, 6)
+    read(p, name, 0x28, 6)
     p.advance_to(250_000)
-    assert read(p, "Lis3mdlChip", 0x27) == b"\x08", "one new sample: ready, no overrun"
+    assert read(p, name, 0x27) == b"\x0f", "one new sample: ZYXDA, ZDA, YDA, XDA; no overrun"
     p.advance_to(350_000)
-    assert read(p, "Lis3mdlChip", 0x27) == b"\x88", "a second one over it: ZYXOR"
-    read(p, "Lis3mdlChip", 0x28, 6)
-    assert read(p, "Lis3mdlChip", 0x27) == b"\x00"
+    assert read(p, name, 0x27) == b"\xff", "a second one over it: ZYXOR, ZOR, YOR, XOR too"
+    read(p, name, 0x28, 2)  # the x axis alone
+    assert read(p, name, 0x27) == b"\x66", "x read: XDA, XOR, ZYXDA, ZYXOR clear; y and z still new and overrun"
+    read(p, name, 0x2A, 4)
+    assert read(p, name, 0x27) == b"\x00"
+
+
+def test_the_imu_data_ready_bits_follow_each_sensors_own_rate_and_its_own_outputs():
+    name = "Lsm6dsoxChip"
+    p = plant(name)
+    write(p, name, 0x10, 0x10)  # CTRL1_XL: 12.5 Hz
+    write(p, name, 0x11, 0x40)  # CTRL2_G: 104 Hz
+    p.advance_to(100_000)
+    assert read(p, name, 0x1E) == b"\x03"
+    read(p, name, 0x22, 6)  # the gyro's outputs: GDA clears, XLDA stays
+    assert read(p, name, 0x1E) == b"\x01"
+    read(p, name, 0x28, 6)
+    assert read(p, name, 0x1E) == b"\x00"
+    p.advance_to(round(1e6 / 104) * 11)
+    assert read(p, name, 0x1E) == b"\x02", "the gyro's next tick; the accelerometer's is at 160 ms"
+    p.advance_to(160_000)
+    assert read(p, name, 0x1E) == b"\x03"
 
 
 def test_the_ranger_says_ready_after_its_timing_budget_and_clears_when_told():

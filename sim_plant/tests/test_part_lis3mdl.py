@@ -44,7 +44,7 @@ def test_the_field_turns_with_the_heading_plus_the_hard_iron_offset(theta_deg):
     p = plant(math.radians(theta_deg), hard_iron_ut=[5.0, -3.0, 1.0])
     write(p, 0x22, 0x00)  # continuous
     p.advance_to(200_000)
-    assert read(p, 0x27, 1) == b"\x08"
+    assert read(p, 0x27, 1) == b"\x0f", "ZYXDA and each axis' XDA, YDA, ZDA"
     x, y, z = field_ut(p)
     assert read(p, 0x27, 1) == b"\x00", "read: no new sample until the next tick (10 Hz)"
     angle = math.radians(90 - theta_deg)
