@@ -200,3 +200,20 @@ def test_a_write_to_an_unmodelled_register_is_counted_and_named_once_per_chip():
     assert p.bus_device("i2c0", 0x6A).unmodelled == {0x17: (0, 2), 0x58: (0, 1)}
     write(p, name, 0x10, 0x40)
     assert p.bus_notes("i2c0") == []
+
+
+AUTO_INCREMENT = [  # chip, a register pair both plain to write, whether the pointer moves on at reset
+    ("Lsm6dsoxChip", 0x10, True),  # CTRL3_C's IF_INC resets to 1
+    ("Mpu6050Chip", 0x19, True),  # the MPU-6xxx always moves on
+    ("Lis3mdlChip", 0x23, True),  # moves on (the drivers do not set the sub-address' bit 7)
+    ("Vl53l0xChip", 0x40, True),
+    ("Pca9685Chip", 0x06, False),  # MODE1's AI resets to 0
+]
+
+
+@pytest.mark.parametrize("name, reg, moves_on", AUTO_INCREMENT)
+def test_a_write_of_two_bytes_lands_as_the_chips_auto_increment_rule_says(name, reg, moves_on):
+    p = plant(name)
+    write(p, name, reg, 0x11, 0x22)
+    got = read(p, name, reg)[0], p.bus_device("i2c0", CHIPS[name][1]).regs[reg + 1]
+    assert got == ((0x11, 0x22) if moves_on else (0x22, 0x00)), name
