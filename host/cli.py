@@ -434,6 +434,8 @@ def cmd_run(args) -> int:
     finally:
         _progress_done(show)
     _show_console(rig.console, out)
+    for t_us, text in rig.bus_trace.notes:  # (a poll that never ends, a chip's note: also in console.log)
+        print(printable(f"note at virtual t={t_us / 1e6:.6f} s: {text}"))
     if rig.console_log.dropped_bytes:
         log = rig.console_log
         dropped = f"{log.dropped_bytes} bytes in {log.dropped_lines} lines dropped"

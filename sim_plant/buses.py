@@ -11,6 +11,16 @@ transfer the shim sends byte by byte against them, as the wire would.
 
 A transfer happens at one instant (its start, the plant's time): a multi-byte read is one
 coherent sample, as a chip's block-data update gives.
+
+What a chip does on its own time is declared, not coded per chip: its ``SELF_CLEARING``
+bits (:class:`SelfClearing`: a BOOT, a SW_RESET, a REBOOT reads back set until the
+datasheet's time has passed in virtual time, then clear), its ``DATA_READY`` status bits
+(:class:`DataReady`: set at each tick of the output data rate, cleared when the registers
+the datasheet names are read; an overrun bit when a sample was overwritten unread) and
+its ``MODELLED`` registers
+(name -> what of it the model honours). A write to a register not in ``MODELLED`` is
+kept as plain memory, counted in :attr:`RegisterDevice.unmodelled` and named once per
+chip in the run's output (:meth:`RegisterDevice.take_notes`).
 """
 
 import re
@@ -89,16 +99,56 @@ class BusDevice(Part):
         """Set on the plant's inputs what the last transfer changed (after it)."""
 
 
+@dataclass(frozen=True)
+class SelfClearing:
+    """A bit the chip clears itself ``clear_us`` after the firmware writes it set.
+    ``resets``: the write first puts every register back to its reset value (a software
+    reset); otherwise the other registers keep what they hold (a reboot of the trimming
+    memory, which "has no impact on the control registers"). ``source``: where the
+    datasheet says so."""
+
+    reg: int
+    mask: int
+    clear_us: int
+    name: str
+    resets: bool = False
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class DataReady:
+    """A status bit (``mask`` of register ``reg``) set at each tick of the output data rate
+    (the chip's method named ``period``: its period in µs, 0 while powered down) after the
+    sample last read, cleared when a register of ``cleared_by`` is read; ``overrun_mask``:
+    the bit that says a sample was overwritten before it was read (after a first read)."""
+
+    reg: int
+    mask: int
+    cleared_by: tuple
+    name: str
+    period: str = "period_us"
+    overrun_mask: int = 0
+    source: str = ""
+
+
 class RegisterDevice(BusDevice):
     """A device with a register file: the first byte written after its address (I2C) or
     after chip select falls (SPI, bit 7 set: a read) is the register pointer; each byte
     read or written after it moves the pointer on (auto-increment). Subclasses set
-    ``RESET`` (register -> value at power-on and after a software reset) and override
-    :meth:`load` (a register the chip computes, read at ``t_us``) and :meth:`store` (a
-    write the chip acts on)."""
+    ``RESET`` (register -> value at power-on and after a software reset), ``MODELLED``
+    (register -> what of it the model honours), ``SELF_CLEARING`` and override :meth:`load`
+    (a register the chip computes, read at ``t_us``) and :meth:`store` (a write the chip
+    acts on)."""
 
     RESET: dict = {}
+    MODELLED: dict = {}
+    """register -> what the model honours of it (docs/parts.md lists them); the others are plain memory."""
+    SELF_CLEARING: tuple = ()
+    """The chip's :class:`SelfClearing` bits."""
+    DATA_READY: tuple = ()
+    """The chip's :class:`DataReady` status bits."""
     SPI_READ = 0x80
+    FIXED_STATE = (*BusDevice.FIXED_STATE, "notes", "said")
 
     def __init__(self, name: str, bus: str, address: int | None):
         super().__init__(name, bus, address)
@@ -106,7 +156,75 @@ class RegisterDevice(BusDevice):
         self.pointer = 0
         self.pointed = False  # the pointer was set in this transfer
         self.spi_read = False
+        self.clearing = {}  # (reg, mask) -> the virtual time the chip clears it
+        self.unmodelled = {}  # register -> (first write's t_us, writes): plain memory the firmware wrote
+        self.read_ticks = {}  # a DataReady's name -> the output-data-rate tick whose sample was last read
+        self.notes = []  # what the run's output is to say, taken by take_notes (never rewound)
+        self.said = set()  # what was said already (never rewound: said once)
         self.power_on()
+
+    def where(self) -> str:
+        at = f"0x{self.address:02x}" if self.address is not None else "(chip select)"
+        return f"{self.label} ({type(self).__name__}) on {self.bus} at {at}"
+
+    def modelled_text(self) -> str:
+        """The registers the model honours, as the run's notes name them."""
+        return "; ".join(f"0x{reg:02x} {what}" for reg, what in sorted(self.MODELLED.items())) or "none"
+
+    def take_notes(self) -> list:
+        notes, self.notes[:] = list(self.notes), []
+        return notes
+
+    def _settle(self, t_us: int) -> None:
+        """The self-clearing bits whose time has come read clear from now on."""
+        for key, t_clear in list(self.clearing.items()):
+            if t_us >= t_clear:
+                reg, mask = key
+                self.regs[reg] &= ~mask & 0xFF
+                del self.clearing[key]
+
+    def period_us(self) -> int:
+        """The output data rate's period (0: powered down: no new samples)."""
+        return 0
+
+    def _ready(self, t_us: int, reg: int, value: int) -> int:
+        """``value`` read from ``reg`` with its data-ready and overrun bits as they are at
+        ``t_us``; a register that clears one marks its sample read."""
+        for bit in self.DATA_READY:
+            if bit.reg == reg:
+                period = getattr(self, bit.period)()
+                value &= ~(bit.mask | bit.overrun_mask) & 0xFF
+                if period:
+                    tick, last = t_us // period, self.read_ticks.get(bit.name, -1)
+                    value |= bit.mask if tick != last else 0
+                    value |= bit.overrun_mask if last >= 0 and tick - last > 1 else 0
+        for bit in self.DATA_READY:
+            if reg in bit.cleared_by:
+                period = getattr(self, bit.period)()
+                self.read_ticks[bit.name] = t_us // period if period else -1
+        return value
+
+    def _written(self, t_us: int, reg: int, value: int) -> None:
+        """After :meth:`store`: a self-clearing bit set starts its time; an unmodelled
+        register written is counted (and named once)."""
+        for bit in self.SELF_CLEARING:
+            if bit.reg == reg and value & bit.mask:
+                if bit.resets:
+                    self.power_on()
+                self.clearing[(reg, bit.mask)] = t_us + bit.clear_us
+        for (bit_reg, mask), _t in self.clearing.items():
+            if bit_reg == reg:  # (still running: it reads set whatever else was written)
+                self.regs[reg] |= mask
+        if self.MODELLED and reg not in self.MODELLED:
+            first, count = self.unmodelled.get(reg, (t_us, 0))
+            self.unmodelled[reg] = (first, count + 1)
+            if "unmodelled" not in self.said:
+                self.said.add("unmodelled")
+                self.notes.append(
+                    f"{self.where()}: the firmware wrote 0x{value & 0xFF:02x} to register 0x{reg:02x}, which the "
+                    f"model keeps as plain memory (it honours: {self.modelled_text()}); every unmodelled "
+                    "register written is listed in the trace header (unmodelled_writes)"
+                )
 
     def power_on(self) -> None:
         self.regs = [0] * 256
@@ -129,12 +247,20 @@ class RegisterDevice(BusDevice):
         if not self.pointed:
             self.pointer, self.pointed = byte, True
         else:
-            self.store(t_us, self.pointer, byte)
-            self.pointer = self.next_register(self.pointer)
+            reg = self.pointer
+            if self.clearing:
+                self._settle(t_us)
+            self.store(t_us, reg, byte)
+            self._written(t_us, reg, byte)
+            self.pointer = self.next_register(reg)
         return True
 
     def read(self, t_us):
+        if self.clearing:
+            self._settle(t_us)
         value = self.load(t_us, self.pointer)
+        if self.DATA_READY:
+            value = self._ready(t_us, self.pointer, value)
         self.pointer = self.next_register(self.pointer)
         return value
 
@@ -296,8 +422,10 @@ __all__ = [
     "BusDevice",
     "BusName",
     "BusSet",
+    "DataReady",
     "Change",
     "RegisterDevice",
+    "SelfClearing",
     "address_problem",
     "check_placement",
     "tick_after",

@@ -8,7 +8,8 @@ at an output-data-rate tick, from the plant's truth.
   (its speed's change over :data:`ACCEL_WINDOW_US`), across it the centripetal v·w, and
   +g on z (the chip flat, face up); plus noise;
 - the sample is taken at the last tick of the output data rate at or before the read (a
-  read between two ticks gets the same sample, and "data ready" says whether it is new);
+  read between two ticks gets the same sample, and the chip's ``DATA_READY`` bits say
+  whether it is new, :class:`sim_plant.buses.DataReady`);
   a data-ready pin (``<name>.int``) rises at each tick while enabled and falls when the
   data are read.
 
@@ -43,7 +44,6 @@ class Imu(RegisterDevice):
         self.history = [(0, 0.0, 0.0)]  # (t_us, v_m_s, w_rad_s) from then on
         self.sample_no = -1  # the tick of the sample held
         self.sample = (0, 0, 0, 0, 0, 0)  # gyro x, y, z (deg/s), accel x, y, z (m/s²)
-        self.read_no = -1  # the tick whose data were last read
         self.int_level = 0
         self.int_fall = False
         self.rng = rng  # (the plant's generator: shared, its state saved by snapshots)
@@ -79,6 +79,11 @@ class Imu(RegisterDevice):
             out.append(Change(t_us, self.int_signal, 1))
         self.rearm(t_us)
 
+    def _written(self, t_us: int, reg: int, value: int) -> None:
+        super()._written(t_us, reg, value)
+        if self.SELF_CLEARING:
+            self.rearm(t_us)  # (a software reset: the rate and the line as the reset left them)
+
     def rearm(self, t_us: int) -> None:
         """Plan the data-ready line's next edge (after a configuration write, a read)."""
         period = self.period_us()
@@ -111,15 +116,9 @@ class Imu(RegisterDevice):
                 self.sample = self._measure(tick * period)
         return self.sample
 
-    def fresh(self, t_us: int) -> bool:
-        """A sample newer than the last one read is ready."""
-        period = self.period_us()
-        return bool(period) and t_us // period != self.read_no
-
     def taken(self, t_us: int) -> None:
-        """The data registers were read: data-ready clears (the line falls at once)."""
-        period = self.period_us()
-        self.read_no = t_us // period if period else -1
+        """The data registers were read: the data-ready line falls at once (the status
+        bits: the chip's ``DATA_READY``)."""
         if self.int_level:
             self.int_fall = True
             self.next_us = t_us

@@ -104,6 +104,13 @@ class ConsoleLog:
         self._put(out)
         self._line_start = data.endswith(b"\n")
 
+    def note(self, t_us: int, text: str) -> None:
+        """A note of the harness's (a poll that never ends) on a line of its own at ``t_us``,
+        after the text printed before it."""
+        self.stamp(t_us)
+        if self._file is not None and not self.dropped_bytes:
+            self._put(self._note(t_us, text))
+
     def _drop(self, data: bytes) -> None:
         if self._file is not None or self.error is not None:  # (no file asked for: nothing is dropped)
             self.dropped_bytes += len(data)

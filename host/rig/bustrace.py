@@ -12,6 +12,11 @@ constructor's ``timeout``, which the host is not told: its duration is None.
 events, :mod:`host.rig.budgets`), to the link log (``trace.jsonl``) and to the recorder,
 where it is a string signal ``bus:<bus>`` (role ``bus``): a line of ``signals.csv`` and a
 decoded string variable in the VCD (``buses.<bus>``), as :func:`describe` writes it.
+
+What the run's output is to say about the buses, once each, it says here (:meth:`BusTrace.say`:
+a ``[mpy-fil: ...]`` line in ``console.log``, :attr:`BusTrace.notes` for the trace header and
+the command line): a poll that never ends (:mod:`host.rig.pollwatch`), and a chip's note (a
+write to a register its model does not honour, ``sim_plant.buses``).
 """
 
 from dataclasses import dataclass
@@ -19,6 +24,7 @@ from dataclasses import dataclass
 from host.artefacts.recorder import ROLE_BUS
 from host.link import frames as F
 from host.rig.peripherals import BusPeripheral
+from host.rig.pollwatch import PollWatch, poll_text
 
 SCAN_ADDRESSES = 0x78 - 0x08
 BYTES_SHOWN = 8  # bytes of a transfer spelled out in its decoded text
@@ -130,11 +136,20 @@ def describe(tx: Transaction) -> str:
 class BusTrace:
     """Each transaction to the budgets listening to its bus and to the recorder."""
 
-    def __init__(self, hooks: dict, recorder, linklog):
+    def __init__(self, hooks: dict, recorder, linklog, console=None):
         self.hooks = hooks  # bus name -> [call(tx)]
         self.recorder = recorder
         self.linklog = linklog  # () -> the rig's link log (it changes when a trace begins)
+        self.console = console  # () -> the rig's console log (its notes go there)
         self.last_failed: Transaction | None = None  # (a board's OSError names no address: errors do)
+        self.polls = PollWatch()
+        self.notes: list[tuple[int, str]] = []  # (virtual t_us, text): said once each
+
+    def say(self, t_us: int, text: str) -> None:
+        """A note in the run's output: ``console.log``, the trace header, the command line."""
+        self.notes.append((t_us, text))
+        if self.console is not None:
+            self.console().note(t_us, text)
 
     def answer(self, plant, info, h, t_us, op, address, n_read, data) -> tuple:
         """A BUS frame's transfer answered from the plant's devices (status, count, bytes
@@ -146,8 +161,24 @@ class BusTrace:
             more = tx.record()
             if status != F.BUS_OK:
                 self.last_failed = tx
+            elif tx.reads:
+                self._watch(plant, tx)
+            if data and hasattr(plant, "bus_notes"):  # (a write: a chip may have a note)
+                for text in plant.bus_notes(tx.bus):
+                    self.say(t_us, text)
         self.linklog().bus(t_us, h, op, address, data, (status, count, got), more)
         return status, count, got
+
+    def _watch(self, plant, tx: Transaction) -> None:
+        answer = tx.read[1:] if tx.op == F.BUS_SPI_XFER else tx.read
+        poll = self.polls.seen(tx.t_us, tx.bus, tx.address, tx.register, answer)
+        if poll is not None:
+            finder = getattr(plant, "bus_device", None)
+            device = finder(tx.bus, tx.address) if finder is not None and tx.op not in _PRIMITIVES else None
+            text = poll_text(tx.t_us, tx.bus, tx.address, tx.register, answer, *poll, device)
+            if tx.op in _PRIMITIVES:
+                text += "; read through SoftI2C primitives: what was written before it is in trace.jsonl"
+            self.say(tx.t_us, text)
 
     def transfer(self, t_us, info, op, address, n_read, wrote, status, count, got) -> Transaction:
         tx = transaction(t_us, info.key, info.freq, op, address, n_read, wrote, status, count, got)

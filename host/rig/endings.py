@@ -29,6 +29,9 @@ def where(rig) -> str:
     """The console's last lines, the seed and the artefacts folder, for error messages."""
     tail = printable("\n".join(rig.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:]))
     console = f"\nconsole (last {CONSOLE_TAIL_LINES} lines):\n{tail}" if tail else "\nconsole: (empty)"
+    trace = getattr(rig, "bus_trace", None)
+    for t_us, text in trace.notes if trace is not None else ():
+        console += printable(f"\nnote at virtual t={t_us / 1e6:.6f} s: {text}")
     return console + f"\nseed: {rig.seed}" + (f"\nartefacts: {rig.artefacts}" if rig.artefacts else "")
 
 

@@ -116,7 +116,7 @@ class Rig:
         hooks = BudgetHooks(self.budgets.values())
         self._compute_hooks = hooks.compute
         self._seen_hooks = hooks.seen
-        self.bus_trace = BusTrace(hooks.bus, self.recorder, lambda: self.linklog)
+        self.bus_trace = BusTrace(hooks.bus, self.recorder, lambda: self.linklog, lambda: self.console_log)
         self.stats = RunStats()
         self.speculation = Speculation(self.plant)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
@@ -419,7 +419,25 @@ def run_header(rig) -> dict:
         "t_end_us": rig.t_us,
         **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
         **({"board_fs_faults": rig.board_fs_faults} if rig.board_fs_faults else {}),
+        **bus_notes(rig),
     }
+
+
+def bus_notes(rig) -> dict:
+    """For the header: the buses' notes (a poll that never ends, a chip's) and, per chip,
+    the registers written that its model keeps as plain memory (register: [first t_us, writes])."""
+    out = {}
+    if rig.bus_trace.notes:
+        out["notes"] = [{"t_us": t, "text": text} for t, text in rig.bus_trace.notes]
+    devices = getattr(getattr(rig.plant, "bus_set", None), "devices", ())
+    unmodelled = {
+        d.label: {f"0x{r:02x}": list(v) for r, v in sorted(d.unmodelled.items())}
+        for d in devices
+        if getattr(d, "unmodelled", None)
+    }
+    if unmodelled:
+        out["unmodelled_writes"] = unmodelled
+    return out
 
 
 def finish_recording(rig, interrupted: BaseException | None) -> None:

@@ -149,6 +149,22 @@ class PartsPlant(RobotPlant):
         self._reschedule()
         return result
 
+    def bus_notes(self, bus: str) -> list:
+        """What the devices on ``bus`` have to say in the run's output (each once): a
+        write to a register a chip's model does not honour."""
+        notes = []
+        for device in self.bus_set.on(bus):
+            if getattr(device, "notes", None):
+                notes += device.take_notes()
+        return notes
+
+    def bus_device(self, bus: str, address: int | None):
+        """The device on ``bus`` at ``address`` (on SPI, None: the one selected), or None."""
+        devices = self.bus_set.on(bus)
+        if address is None:
+            return next((d for d in devices if d.selected), None)
+        return next((d for d in devices if d.address == address), None)
+
     def bitstream(self, name: str, timing_ns: tuple, data: bytes) -> None:
         """``machine.bitstream`` on the pin wired to input ``name`` from now: the part that
         takes it (a ``ws2812_strip``'s ``.din``) decodes it; another part's input ignores it."""

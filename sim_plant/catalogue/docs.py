@@ -68,7 +68,38 @@ def _part(cls) -> list[str]:
         lines += [f"View `{v.plot}`: {v.doc} ({what}).", ""]
     if cls.needs_body:
         lines += ["Needs a body that moves (not on a `bench`).", ""]
-    return lines
+    return lines + _registers(getattr(cls, "CHIP", None))
+
+
+def _registers(chip) -> list[str]:
+    """A register chip's modelled registers (runs of one meaning as a range) and its
+    self-clearing bits (sim_plant/buses.py)."""
+    modelled = getattr(chip, "MODELLED", None)
+    if not modelled:
+        return []
+    lines = [
+        "Registers modelled (any other is plain memory: a write to one is named once in the run's output):",
+        "",
+        "| register | what the model honours |",
+        "|---|---|",
+    ]
+    runs = []
+    for reg, what in sorted(modelled.items()):
+        if runs and runs[-1][2] == what and runs[-1][1] == reg - 1:
+            runs[-1][1] = reg
+        else:
+            runs.append([reg, reg, what])
+    for first, last, what in runs:
+        where = f"0x{first:02x}" if first == last else f"0x{first:02x}..0x{last:02x}"
+        lines.append(f"| {where} | {what} |")
+    lines.append("")
+    for bit in chip.SELF_CLEARING:
+        then = "resets every register" if bit.resets else "keeps the registers"
+        lines.append(
+            f"- Self-clearing: {bit.name} (0x{bit.reg:02x}, bit mask 0x{bit.mask:02x}) {then} and reads set for "
+            f"{bit.clear_us} us of virtual time ({bit.source})."
+        )
+    return [*lines, ""] if chip.SELF_CLEARING else lines
 
 
 def render() -> str:

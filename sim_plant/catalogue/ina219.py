@@ -37,6 +37,14 @@ def adc_us(setting: int) -> int:
 
 class Ina219Chip(RegisterDevice):
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "battery", "shunt_ohm", "bus_v", "idle_a", "motor_a")
+    MODELLED = {
+        CONFIG: "CONFIGURATION: RST (clears at once: the datasheet's reset is immediate), BRNG, PGA",
+        SHUNT: "SHUNT_VOLTAGE",
+        BUS: "BUS_VOLTAGE: CNVR (set at each conversion, cleared by reading POWER), OVF",
+        POWER: "POWER",
+        CURRENT: "CURRENT",
+        CALIBRATION: "CALIBRATION",
+    }
 
     def __init__(self, name, bus, address, battery: str, shunt_ohm, bus_v, idle_a, motor_a):
         self.words = {CONFIG: RESET_CONFIG, CALIBRATION: 0}
@@ -136,6 +144,7 @@ class Ina219Chip(RegisterDevice):
 
 
 class Ina219(PartType):
+    CHIP = Ina219Chip  # (its registers: docs/parts.md)
     kind = "ina219"
     doc = "An INA219-class current and bus-voltage monitor on I2C, on the battery's supply with the motors' load."
     OPTIONS = (

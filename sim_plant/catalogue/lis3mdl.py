@@ -11,17 +11,21 @@ reading is the compass heading (clockwise from north).
 
 Modelled registers: WHO_AM_I (0x0F, reads 0x3D), CTRL_REG1 (0x20: DO and FAST_ODR set the
 output data rate, reset 10 Hz), CTRL_REG2 (0x21: FS, ±4/8/12/16 gauss at 6842/3421/2281/
-1711 LSB per gauss; SOFT_RST resets the registers), CTRL_REG3 (0x22: MD, resets to 0b11
-power-down: no new samples), STATUS_REG (0x27: ZYXDA, a sample not yet read),
+1711 LSB per gauss; SOFT_RST resets the registers, REBOOT reloads the trimming memory and
+leaves them; each reads set until it is done, then clear), CTRL_REG3 (0x22: MD, resets to 0b11
+power-down: no new samples), STATUS_REG (0x27: XDA, YDA, ZDA, a sample of that axis not yet
+read, ZYXDA of any; XOR, YOR, ZOR, ZYXOR, one overwritten before it was read; each
+clears when its axis' outputs (ZYXDA, ZYXOR: any output) are read),
 OUT_X_L..OUT_Z_H (0x28..0x2D, little-endian, saturated), TEMP_OUT (0x2E, 25 °C: 0). The
 register pointer moves on after each byte whether or not the sub-address has bit 7 set
 (the datasheet asks for it; the published drivers read without it). Not modelled:
 single-conversion mode (taken as continuous), self-test, the interrupt pin and thresholds,
-soft-iron distortion, BDU."""
+soft-iron distortion, BDU.
+A write to a register not modelled is named once in the run's output."""
 
 import math
 
-from sim_plant.buses import BusName, RegisterDevice, check_placement
+from sim_plant.buses import BusName, DataReady, RegisterDevice, SelfClearing, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
 from sim_plant.imu import counts, put16
 from sim_plant.option_table import Num, Row
@@ -37,7 +41,36 @@ HISTORY = 16
 
 class Lis3mdlChip(RegisterDevice):
     RESET = {WHO_AM_I: 0x3D, CTRL_REG1: 0x10, CTRL_REG3: 0x03}
+    MODELLED = {
+        WHO_AM_I: "WHO_AM_I: 0x3D",
+        CTRL_REG1: "CTRL_REG1: DO, FAST_ODR, OM (the output data rate)",
+        CTRL_REG2: "CTRL_REG2: FS, REBOOT (5 ms), SOFT_RST (50 us)",
+        CTRL_REG3: "CTRL_REG3: MD (power-down: no samples)",
+        0x23: "CTRL_REG4 (plain: OMZ, BLE not modelled)",
+        0x24: "CTRL_REG5 (plain: BDU not modelled)",
+        STATUS_REG: "STATUS_REG: XDA..ZYXDA, XOR..ZYXOR at the output data rate, cleared by reading the outputs",
+        **{reg: "OUT_X..OUT_Z, TEMP_OUT" for reg in range(OUT_X_L, OUT_END)},
+    }
+    SELF_CLEARING = (
+        # LIS3MDL datasheet (DocID024204), 7.2 CTRL_REG2: REBOOT reboots the memory content
+        # (the trimming: the registers keep their values), SOFT_RST resets the configuration
+        # and user registers; the chip clears each bit when done. The datasheet gives no
+        # duration: ST's own answers for the family give 5 ms (a LIS2DH12 BOOT) to 10 ms (a
+        # LIS2MDL reset), so REBOOT takes 5 ms here and SOFT_RST the LSM6DS family's 50 us.
+        SelfClearing(CTRL_REG2, 0x08, 5_000, "REBOOT", source="LIS3MDL datasheet 7.2"),
+        SelfClearing(CTRL_REG2, 0x04, 50, "SOFT_RST", resets=True, source="LIS3MDL datasheet 7.2"),
+    )
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "field", "hard_iron_ut", "noise_ut", "mount_rad")
+
+    DATA_READY = (
+        # LIS3MDL datasheet 7.8 STATUS_REG (every bit below): per axis, new data (bits 0..2) and overrun
+        # (bits 4..6); ZYXDA (3) and ZYXOR (7) for any axis.
+        *(
+            DataReady(STATUS_REG, 1 << i, (OUT_X_L + 2 * i, OUT_X_L + 2 * i + 1), axis + "DA", overrun_mask=0x10 << i)
+            for i, axis in enumerate("XYZ")
+        ),
+        DataReady(STATUS_REG, 0x08, tuple(range(OUT_X_L, TEMP_OUT_L)), "ZYXDA", overrun_mask=0x80, source="7.8"),
+    )
 
     def __init__(self, name, bus, address, *, mount_rad, field, hard_iron_ut, noise_ut, rng):
         super().__init__(name, bus, address)
@@ -48,7 +81,6 @@ class Lis3mdlChip(RegisterDevice):
         self.rng = rng
         self.history = [(0, 0.0, 0.0)]  # (t_us, theta_rad then, w_rad_s from then on)
         self.sample_no = -1
-        self.read_no = -1
         self.sample = (0.0, 0.0, 0.0)
 
     def start(self, t_us, plant) -> None:
@@ -89,15 +121,10 @@ class Lis3mdlChip(RegisterDevice):
 
     def load(self, t_us, reg):
         reg &= 0x7F
-        if reg == STATUS_REG:
-            period = self.period_us()
-            return 0x08 if period and t_us // period != self.read_no else 0x00
         if OUT_X_L <= reg < TEMP_OUT_L:
             per_ut = UT_PER_GAUSS / LSB_PER_GAUSS[self.regs[CTRL_REG2] >> 5 & 3]
             for i, value in enumerate(self.current(t_us)):
                 put16(self.regs, OUT_X_L + 2 * i, counts(value, per_ut), False)
-            period = self.period_us()
-            self.read_no = t_us // period if period else -1
         return self.regs[reg]
 
     def write(self, t_us, byte):
@@ -108,10 +135,7 @@ class Lis3mdlChip(RegisterDevice):
     def store(self, t_us, reg, value):
         if reg == WHO_AM_I or reg == STATUS_REG or OUT_X_L <= reg < OUT_END:
             return  # read-only
-        if reg == CTRL_REG2 and value & 0x04:
-            self.power_on()
-        else:
-            self.regs[reg] = value & 0xFF
+        self.regs[reg] = value & 0xFF
 
     def truth(self, t_us, plant) -> dict:
         horizontal, _vertical, north = self.field
@@ -120,6 +144,7 @@ class Lis3mdlChip(RegisterDevice):
 
 
 class Lis3mdl(PartType):
+    CHIP = Lis3mdlChip  # (its registers: docs/parts.md)
     kind = "lis3mdl"
     doc = "An LIS3MDL-class 3-axis magnetometer (WHO_AM_I 0x3D) on I2C: the body's heading, a hard-iron offset."
     OPTIONS = (

@@ -4,11 +4,15 @@ body's motion (:mod:`sim_plant.imu`).
 
 Modelled registers: WHO_AM_I (0x0F, reads 0x6C), INT1_CTRL (0x0D: INT1_DRDY_XL/G drive
 ``<name>.int``), CTRL1_XL (0x10: ODR_XL, FS_XL), CTRL2_G (0x11: ODR_G, FS_G, FS_125),
-CTRL3_C (0x12: SW_RESET clears at once and resets the registers, IF_INC), STATUS_REG
-(0x1E: XLDA, GDA), OUT_TEMP (0x20, 25 °C), OUTX_L_G..OUTZ_H_G (0x22), OUTX_L_A..OUTZ_H_A
-(0x28), little-endian. Every other register is plain memory. One output data rate: the
+CTRL3_C (0x12: SW_RESET resets the registers and reads set for 50 µs, BOOT reads set for
+10 ms and leaves the registers as they are, IF_INC), STATUS_REG
+(0x1E: XLDA at the accelerometer's rate, cleared by reading its outputs; GDA at the gyro's,
+cleared by reading its outputs; TDA not modelled), OUT_TEMP (0x20, 25 °C), OUTX_L_G..OUTZ_H_G (0x22), OUTX_L_A..OUTZ_H_A
+(0x28), little-endian. Every other register is plain memory (a write to one is named once
+in the run's output). One output data rate: the
 gyro's (the accelerometer's while the gyro is powered down)."""
 
+from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
 
 WHO_AM_I = 0x0F
@@ -23,10 +27,40 @@ ACCEL_MG = {0: 0.061, 1: 0.488, 2: 0.122, 3: 0.244}  # per count, by FS_XL (2, 1
 
 class Lsm6dsoxChip(Imu):
     RESET = {WHO_AM_I: 0x6C, CTRL3_C: 0x04}
+    MODELLED = {
+        INT1_CTRL: "INT1_CTRL: INT1_DRDY_XL, INT1_DRDY_G (the int line)",
+        WHO_AM_I: "WHO_AM_I: 0x6C",
+        CTRL1_XL: "CTRL1_XL: ODR_XL, FS_XL",
+        CTRL2_G: "CTRL2_G: ODR_G, FS_G, FS_125",
+        CTRL3_C: "CTRL3_C: BOOT (10 ms), SW_RESET (50 us), IF_INC",
+        STATUS_REG: "STATUS_REG: XLDA, GDA at each sensor's output data rate, cleared by reading its outputs",
+        **{reg: "OUT_TEMP, OUTX..OUTZ_G, OUTX..OUTZ_A" for reg in range(OUT_TEMP_L, OUT_END)},
+    }
+    SELF_CLEARING = (
+        # LSM6DSOX datasheet, 9.14 CTRL3_C: BOOT "automatically cleared" after the reboot of the
+        # trimming memory; AN5272 (LSM6DSOX), "Reboot and software reset": the boot takes 10 ms
+        # and leaves the control registers as they are; SW_RESET resets them and takes 50 us.
+        SelfClearing(CTRL3_C, 0x80, 10_000, "BOOT", source="LSM6DSOX datasheet 9.14; AN5272 5.7"),
+        SelfClearing(CTRL3_C, 0x01, 50, "SW_RESET", resets=True, source="LSM6DSOX datasheet 9.14; AN5272 5.7"),
+    )
+
+    DATA_READY = (
+        # LSM6DSOX datasheet 9.26 STATUS_REG: XLDA / GDA, new data available, cleared when the
+        # sensor's output registers are read (AN5272, "Reading output data").
+        DataReady(STATUS_REG, 0x01, tuple(range(OUTX_L_A, OUT_END)), "XLDA", "accel_period_us", source="9.26"),
+        DataReady(STATUS_REG, 0x02, tuple(range(OUTX_L_G, OUTX_L_A)), "GDA", "gyro_period_us", source="9.26"),
+    )
 
     def period_us(self) -> int:
-        code = self.regs[CTRL2_G] >> 4 or self.regs[CTRL1_XL] >> 4
-        hz = ODR_HZ.get(code)
+        """The samples' rate: the gyro's (the accelerometer's while the gyro is powered down)."""
+        return self.gyro_period_us() or self.accel_period_us()
+
+    def gyro_period_us(self) -> int:
+        hz = ODR_HZ.get(self.regs[CTRL2_G] >> 4)
+        return round(1e6 / hz) if hz else 0
+
+    def accel_period_us(self) -> int:
+        hz = ODR_HZ.get(self.regs[CTRL1_XL] >> 4)
         return round(1e6 / hz) if hz else 0
 
     def drdy_enabled(self) -> bool:
@@ -36,8 +70,6 @@ class Lsm6dsoxChip(Imu):
         return (reg + 1) & 0xFF if self.regs[CTRL3_C] & 0x04 else reg
 
     def load(self, t_us, reg):
-        if reg == STATUS_REG:
-            return 0x03 if self.fresh(t_us) else 0x00
         if OUT_TEMP_L <= reg < OUT_END:
             self._fill(t_us)
             if reg >= OUTX_L_G:
@@ -58,10 +90,7 @@ class Lsm6dsoxChip(Imu):
     def store(self, t_us, reg, value):
         if reg == WHO_AM_I or OUT_TEMP_L <= reg < OUT_END or reg == STATUS_REG:
             return  # read-only
-        if reg == CTRL3_C and value & 0x01:
-            self.power_on()
-        else:
-            self.regs[reg] = value & 0xFF
+        self.regs[reg] = value & 0xFF
         self.rearm(t_us)
 
 

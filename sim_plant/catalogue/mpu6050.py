@@ -7,11 +7,14 @@ chip select ``<name>.cs``), fed by the body's motion (:mod:`sim_plant.imu`).
 Modelled registers: SMPLRT_DIV (0x19) and CONFIG's DLPF_CFG (0x1A: 8 kHz with the filter
 off, else 1 kHz, divided by 1 + SMPLRT_DIV), GYRO_CONFIG (0x1B: FS_SEL), ACCEL_CONFIG
 (0x1C: AFS_SEL), INT_ENABLE (0x38: DATA_RDY_EN drives ``<name>.int``), INT_STATUS (0x3A:
-DATA_RDY_INT, cleared by reading it), ACCEL_XOUT_H..GYRO_ZOUT_L (0x3B..0x48, big-endian,
+DATA_RDY_INT at the sample rate, cleared by reading INT_STATUS, as INT_PIN_CFG's reset
+INT_RD_CLEAR = 0 has it; INT_RD_CLEAR = 1 is not modelled), ACCEL_XOUT_H..GYRO_ZOUT_L (0x3B..0x48, big-endian,
 temperature 25 °C by the formula of the member WHO_AM_I says), PWR_MGMT_1 (0x6B: resets
-to SLEEP, 0x40; DEVICE_RESET resets the registers; asleep, no samples), WHO_AM_I (0x75).
-Every other register is plain memory."""
+to SLEEP, 0x40; DEVICE_RESET resets the registers and reads set for 100 ms; asleep, no
+samples), WHO_AM_I (0x75). Every other register is plain memory (a write to one is named
+once in the run's output)."""
 
+from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.catalogue.base import Opt
 from sim_plant.controls import Control
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
@@ -34,6 +37,30 @@ GYRO_CONTROLS = ("rotationX", "rotationY", "rotationZ")  # in deg/s
 
 class Mpu6050Chip(Imu):
     RESET = {PWR_MGMT_1: 0x40, WHO_AM_I: 0x68}
+    MODELLED = {
+        SMPLRT_DIV: "SMPLRT_DIV (the sample rate)",
+        CONFIG: "CONFIG: DLPF_CFG (the base rate)",
+        GYRO_CONFIG: "GYRO_CONFIG: FS_SEL",
+        ACCEL_CONFIG: "ACCEL_CONFIG: AFS_SEL",
+        INT_ENABLE: "INT_ENABLE: DATA_RDY_EN (the int line)",
+        INT_STATUS: "INT_STATUS: DATA_RDY_INT at the sample rate, cleared by reading INT_STATUS",
+        **{reg: "ACCEL_XOUT..GYRO_ZOUT, TEMP_OUT" for reg in range(ACCEL_XOUT_H, OUT_END)},
+        PWR_MGMT_1: "PWR_MGMT_1: DEVICE_RESET (100 ms), SLEEP",
+        WHO_AM_I: "WHO_AM_I: as the who_am_i option",
+    }
+    SELF_CLEARING = (
+        # MPU-6000/MPU-6050 Register Map (RM-MPU-6000A) 4.28 PWR_MGMT_1: DEVICE_RESET resets
+        # every register to its default and "automatically clears to 0 once the reset is
+        # done"; its reset sequence waits 100 ms for it.
+        SelfClearing(PWR_MGMT_1, 0x80, 100_000, "DEVICE_RESET", resets=True, source="RM-MPU-6000A 4.28"),
+    )
+
+    DATA_READY = (
+        # RM-MPU-6000A 4.17 INT_STATUS: DATA_RDY_INT is set when a write to the sensor
+        # registers completes (each sample) and, with INT_PIN_CFG's INT_RD_CLEAR at its reset
+        # 0 (4.15), cleared only by reading INT_STATUS.
+        DataReady(INT_STATUS, 0x01, (INT_STATUS,), "DATA_RDY_INT", source="RM-MPU-6000A 4.15, 4.17"),
+    )
 
     def power_on(self) -> None:
         super().power_on()
@@ -50,9 +77,8 @@ class Mpu6050Chip(Imu):
 
     def load(self, t_us, reg):
         if reg == INT_STATUS:
-            value = 0x01 if self.fresh(t_us) else 0x00
-            self.taken(t_us)
-            return value
+            self.taken(t_us)  # (the data-ready line falls)
+            return 0x00  # (DATA_RDY_INT: DATA_READY)
         if ACCEL_XOUT_H <= reg < OUT_END:
             self._fill(t_us)
             self.taken(t_us)
@@ -87,10 +113,7 @@ class Mpu6050Chip(Imu):
     def store(self, t_us, reg, value):
         if reg == WHO_AM_I or ACCEL_XOUT_H <= reg < OUT_END or reg == INT_STATUS:
             return  # read-only
-        if reg == PWR_MGMT_1 and value & 0x80:
-            self.power_on()
-        else:
-            self.regs[reg] = value & 0xFF
+        self.regs[reg] = value & 0xFF
         self.rearm(t_us)
 
 

@@ -36,6 +36,13 @@ class Pca9685Chip(RegisterDevice):
     period_us) changes the plant passes on at the end of a transfer."""
 
     RESET = {MODE1: 0x11, MODE2: 0x04, PRE_SCALE: 0x1E}
+    MODELLED = {
+        MODE1: "MODE1: SLEEP, AI (RESTART reads 0)",
+        MODE2: "MODE2 (plain: OUTDRV, INVRT, OCH not modelled)",
+        **{reg: "LEDn_ON/OFF" for reg in range(LED0, LED0 + 4 * CHANNELS)},
+        **{reg: "ALL_LED_ON/OFF (to every channel)" for reg in range(ALL_LED, PRE_SCALE)},
+        PRE_SCALE: "PRE_SCALE (written while SLEEP, at least 3)",
+    }
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "targets", "osc_hz")
 
     def __init__(self, name, bus, address, targets: tuple, osc_hz: float):
@@ -123,6 +130,7 @@ def duty_for(kind: str, part, share: float, period_us: float) -> int:
 
 
 class Pca9685(PartType):
+    CHIP = Pca9685Chip  # (its registers: docs/parts.md)
     kind = "pca9685"
     doc = "A PCA9685-class 16-channel 12-bit PWM expander on I2C whose channels drive servos and motor bridge inputs."
     OPTIONS = (

@@ -39,6 +39,18 @@ VALID, NO_TARGET = 11, 4  # RESULT_RANGE_STATUS bits 6:3
 class Vl53l0xChip(RegisterDevice):
     RESET = {0xC0: 0xEE, 0xC1: 0xAA, 0xC2: 0x10, 0x8A: 0x29, SPAD_INFO: 0x85, GPIO_HV_MUX: 0x11}
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "model", "budget_us", "noise_fraction")
+    MODELLED = {
+        SYSRANGE_START: "SYSRANGE_START: bit 0 one measurement (reads 0 once started), bit 1 back-to-back",
+        GPIO_CONFIG: "SYSTEM_INTERRUPT_CONFIG_GPIO: 4, GPIO1 says a range is ready",
+        INTERRUPT_CLEAR: "SYSTEM_INTERRUPT_CLEAR: bit 0 clears the ready flag",
+        INTERRUPT_STATUS: "RESULT_INTERRUPT_STATUS: 0x04 when a range is ready",
+        RANGE_STATUS: "RESULT_RANGE_STATUS and the range (0x1E..0x1F)",
+        **{reg: "identification (0xEE, 0xAA, 0x10)" for reg in (0xC0, 0xC1, 0xC2)},
+        0x8A: "I2C_SLAVE_DEVICE_ADDRESS (plain)",
+        HANDSHAKE: "the start-up handshake (reads non-zero)",
+        SPAD_INFO: "the SPAD count and type",
+        GPIO_HV_MUX: "GPIO_HV_MUX_ACTIVE_HIGH: bit 4, GPIO1's polarity",
+    }
 
     def __init__(self, name, bus, address, model: BeamRangeModel, budget_us: int, noise_fraction: float):
         super().__init__(name, bus, address)
@@ -119,6 +131,7 @@ class Vl53l0xChip(RegisterDevice):
 
 
 class Vl53l0x(PartType):
+    CHIP = Vl53l0xChip  # (its registers: docs/parts.md)
     kind = "vl53l0x"
     doc = "A VL53L0X-class time-of-flight ranger on I2C (0xC0 reads 0xEE): a ray from its mount each measurement."
     OPTIONS = (

@@ -53,7 +53,9 @@ def test_registers_auto_increment_unless_if_inc_is_cleared():
     assert read(p, 0x6A, 0x10, 2) == b"\x40\x48"
     write(p, 0x6A, 0x12, 0x00)  # CTRL3_C: IF_INC off
     assert read(p, 0x6A, 0x10, 2) == b"\x40\x40"
-    write(p, 0x6A, 0x12, 0x01)  # SW_RESET: the registers at their reset values, the bit clear
+    write(p, 0x6A, 0x12, 0x01)  # SW_RESET: the registers at their reset values, the bit set for 50 us
+    assert read(p, 0x6A, 0x10, 3) == b"\x00\x00\x05"
+    p.advance_to(50)
     assert read(p, 0x6A, 0x10, 3) == b"\x00\x00\x04"
 
 

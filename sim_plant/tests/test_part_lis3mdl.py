@@ -44,7 +44,7 @@ def test_the_field_turns_with_the_heading_plus_the_hard_iron_offset(theta_deg):
     p = plant(math.radians(theta_deg), hard_iron_ut=[5.0, -3.0, 1.0])
     write(p, 0x22, 0x00)  # continuous
     p.advance_to(200_000)
-    assert read(p, 0x27, 1) == b"\x08"
+    assert read(p, 0x27, 1) == b"\x0f", "ZYXDA and each axis' XDA, YDA, ZDA"
     x, y, z = field_ut(p)
     assert read(p, 0x27, 1) == b"\x00", "read: no new sample until the next tick (10 Hz)"
     angle = math.radians(90 - theta_deg)
@@ -61,7 +61,9 @@ def test_the_full_scale_sets_the_sensitivity_and_saturates_and_soft_reset_restor
     assert field_ut(p)[0] == pytest.approx(32767 / 6842 * 100), "500 uT saturates at +-4 gauss"
     write(p, 0x21, 0x60)  # +-16 gauss
     assert field_ut(p, 1711)[0] == pytest.approx(500, abs=0.1)
-    write(p, 0x21, 0x04)  # SOFT_RST
+    write(p, 0x21, 0x04)  # SOFT_RST: set until the reset is done (50 us)
+    assert read(p, 0x21, 1) == b"\x04"
+    p.advance_to(200_050)
     assert read(p, 0x20, 3) == b"\x10\x00\x03", "CTRL_REG1..3 at their reset values: power-down again"
 
 

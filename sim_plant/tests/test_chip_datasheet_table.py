@@ -1,0 +1,219 @@
+"""Every register chip of the catalogue against its datasheet, as a table: the reset values
+and identity registers it answers at power-on, its self-clearing bits (set by a write, read
+back set until the datasheet's time has passed in virtual time, then clear; a software
+reset puts the registers back, a reboot keeps them), its data-ready and overrun bits (set at
+the configured output data rate, cleared as documented, never while powered down), and
+its list of modelled registers (a write elsewhere is named once)."""
+
+import importlib
+import pkgutil
+
+import pytest
+
+import sim_plant.catalogue as catalogue
+from sim_plant import buses as B
+from sim_plant.catalogue.assembly import assemble
+
+MOTORS = [
+    {"kind": "dc_motor", "name": "motor_l", "bridge": "tb6612", "drives": "left"},
+    {"kind": "dc_motor", "name": "motor_r", "bridge": "tb6612", "drives": "right"},
+]
+CHIPS = {  # class name -> (its part, its address)
+    "Lsm6dsoxChip": ({"kind": "lsm6dsox"}, 0x6A),
+    "Mpu6050Chip": ({"kind": "mpu6050"}, 0x68),
+    "Lis3mdlChip": ({"kind": "lis3mdl", "noise_ut": 0.0}, 0x1C),
+    "Vl53l0xChip": ({"kind": "vl53l0x"}, 0x29),
+    "Pca9685Chip": ({"kind": "pca9685", "drives": []}, 0x40),
+    "Ina219Chip": ({"kind": "ina219"}, 0x40),
+}
+SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registers)}, from the datasheets
+    "Lsm6dsoxChip": {(0x12, 0x80, 10_000, False), (0x12, 0x01, 50, True)},  # CTRL3_C BOOT, SW_RESET
+    "Mpu6050Chip": {(0x6B, 0x80, 100_000, True)},  # PWR_MGMT_1 DEVICE_RESET
+    "Lis3mdlChip": {(0x21, 0x08, 5_000, False), (0x21, 0x04, 50, True)},  # CTRL_REG2 REBOOT, SOFT_RST
+    "Vl53l0xChip": set(),  # (SYSRANGE_START's bit 0 reads 0 once the measurement starts: at once)
+    "Pca9685Chip": set(),  # (MODE1's RESTART reads 0: the restart is a write's, at once)
+    "Ina219Chip": set(),  # (CONFIGURATION's RST: the reset is immediate, its own word path)
+}
+KEPT = {"Lsm6dsoxChip": (0x10, 0x40), "Mpu6050Chip": (0x19, 0x09), "Lis3mdlChip": (0x20, 0x7C)}
+"""A configuration register and a value for it: a software reset undoes it, a reboot keeps it."""
+
+
+def plant(name):
+    part, _address = CHIPS[name]
+    part = {"name": "chip", "bus": "i2c0", **part}
+    return assemble({"body": "differential", "start_pose": [1.5, 1.0, 0.0], "parts": [*MOTORS, part]})
+
+
+def read(p, name, reg, n=1):
+    status, _acks, got = p.bus_transfer("i2c0", B.XFER, CHIPS[name][1], n, bytes((reg,)))
+    assert status == B.OK
+    return got
+
+
+def write(p, name, reg, *values):
+    assert p.bus_transfer("i2c0", B.XFER, CHIPS[name][1], 0, bytes((reg, *values)))[0] == B.OK
+
+
+def register_chips() -> dict:
+    """Every register chip class the catalogue's modules define, by name."""
+    found = {}
+    for info in pkgutil.iter_modules(catalogue.__path__):
+        module = importlib.import_module(f"sim_plant.catalogue.{info.name}")
+        for obj in vars(module).values():
+            if isinstance(obj, type) and issubclass(obj, B.RegisterDevice) and obj.__module__ == module.__name__:
+                found[obj.__name__] = obj
+    return found
+
+
+def test_the_table_covers_every_register_chip_and_each_lists_its_modelled_registers():
+    chips = register_chips()
+    assert set(chips) == set(CHIPS) == set(SELF_CLEARING), "a new chip needs its rows here"
+    for name, cls in chips.items():
+        assert cls.MODELLED, f"{name} lists no modelled registers"
+        declared = {(b.reg, b.mask, b.clear_us, b.resets) for b in cls.SELF_CLEARING}
+        assert declared == SELF_CLEARING[name], name
+        assert all(b.source for b in cls.SELF_CLEARING), f"{name}: a self-clearing bit cites no datasheet"
+
+
+@pytest.mark.parametrize("name", sorted(CHIPS))
+def test_each_chip_answers_its_reset_values_at_power_on(name):
+    p = plant(name)
+    chip = p.bus_device("i2c0", CHIPS[name][1])
+    for reg, value in chip.RESET.items():
+        assert read(p, name, reg) == bytes((value,)), f"{name} register 0x{reg:02x}"
+
+
+ROWS = [(name, *row) for name, rows in sorted(SELF_CLEARING.items()) for row in sorted(rows)]
+
+
+@pytest.mark.parametrize("name, reg, bit, clear_us, resets", ROWS)
+def test_a_self_clearing_bit_reads_set_until_the_datasheet_time_then_clear(name, reg, bit, clear_us, resets):
+    p = plant(name)
+    kept_reg, kept = KEPT[name]
+    p.advance_to(1_000)
+    write(p, name, kept_reg, kept)
+    write(p, name, reg, read(p, name, reg)[0] | bit)
+    assert read(p, name, reg)[0] & bit, "set at once"
+    p.advance_to(1_000 + clear_us - 1)
+    assert read(p, name, reg)[0] & bit, "still set a microsecond before its time"
+    p.advance_to(1_000 + clear_us)
+    assert not read(p, name, reg)[0] & bit, "clear at its time"
+    reset_value = p.bus_device("i2c0", CHIPS[name][1]).RESET.get(kept_reg, 0)
+    assert read(p, name, kept_reg)[0] == (reset_value if resets else kept)
+
+
+DATA_READY = [  # chip, the writes that start it, status register, bit, (register, bytes) a read clears, period_us
+    ("Lsm6dsoxChip", ((0x11, 0x40),), 0x1E, 0x02, (0x22, 6), round(1e6 / 104)),  # CTRL2_G 104 Hz; GDA
+    ("Mpu6050Chip", ((0x6B, 0x00), (0x1A, 0x01), (0x19, 9)), 0x3A, 0x01, (0x3A, 1), 10_000),  # 1 kHz / 10
+    ("Lis3mdlChip", ((0x22, 0x00),), 0x27, 0x08, (0x28, 6), 100_000),  # continuous at 10 Hz; ZYXDA
+]
+
+
+@pytest.mark.parametrize("name, setup, status, bit, clear, period_us", DATA_READY)
+def test_data_ready_sets_at_each_output_data_rate_tick_and_clears_when_read(name, setup, status, bit, clear, period_us):
+    p = plant(name)
+    for _ in range(10):  # powered down (the reset state): never ready
+        p.advance_to(p.t_us + 100_000)
+        assert not read(p, name, status)[0] & bit, f"{name} data ready while powered down"
+    for reg, value in setup:
+        write(p, name, reg, value)
+    t_us = B.tick_after(p.t_us, period_us) + period_us // 3
+    for _ in range(3):
+        p.advance_to(t_us)
+        read(p, name, *clear)
+        assert not read(p, name, status)[0] & bit, "cleared by the read"
+        p.advance_to(B.tick_after(t_us, period_us) - 1)
+        assert not read(p, name, status)[0] & bit, "not before the next tick"
+        t_us = B.tick_after(t_us, period_us)
+        p.advance_to(t_us)
+        assert read(p, name, status)[0] & bit, "set at the tick"
+
+
+def test_the_compass_overrun_bits_set_when_a_sample_is_overwritten_unread_and_clear_with_each_axis_read():
+    name = "Lis3mdlChip"
+    p = plant(name)
+    write(p, name, 0x22, 0x00)
+    p.advance_to(150_000)
+    read(p, name, 0x28, 6)
+    p.advance_to(250_000)
+    assert read(p, name, 0x27) == b"\x0f", "one new sample: ZYXDA, ZDA, YDA, XDA; no overrun"
+    p.advance_to(350_000)
+    assert read(p, name, 0x27) == b"\xff", "a second one over it: ZYXOR, ZOR, YOR, XOR too"
+    read(p, name, 0x28, 2)  # the x axis alone
+    assert read(p, name, 0x27) == b"\x66", "x read: XDA, XOR, ZYXDA, ZYXOR clear; y and z still new and overrun"
+    read(p, name, 0x2A, 4)
+    assert read(p, name, 0x27) == b"\x00"
+
+
+def test_the_imu_data_ready_bits_follow_each_sensors_own_rate_and_its_own_outputs():
+    name = "Lsm6dsoxChip"
+    p = plant(name)
+    write(p, name, 0x10, 0x10)  # CTRL1_XL: 12.5 Hz
+    write(p, name, 0x11, 0x40)  # CTRL2_G: 104 Hz
+    p.advance_to(100_000)
+    assert read(p, name, 0x1E) == b"\x03"
+    read(p, name, 0x22, 6)  # the gyro's outputs: GDA clears, XLDA stays
+    assert read(p, name, 0x1E) == b"\x01"
+    read(p, name, 0x28, 6)
+    assert read(p, name, 0x1E) == b"\x00"
+    p.advance_to(round(1e6 / 104) * 11)
+    assert read(p, name, 0x1E) == b"\x02", "the gyro's next tick; the accelerometer's is at 160 ms"
+    p.advance_to(160_000)
+    assert read(p, name, 0x1E) == b"\x03"
+
+
+def test_the_ranger_says_ready_after_its_timing_budget_and_clears_when_told():
+    name = "Vl53l0xChip"
+    p = plant(name)
+    write(p, name, 0x00, 0x01)  # SYSRANGE_START: one measurement
+    assert read(p, name, 0x00) == b"\x00", "bit 0 reads 0 once started"
+    p.advance_to(33_000 - 1)
+    assert not read(p, name, 0x13)[0] & 0x07
+    p.advance_to(33_000)
+    assert read(p, name, 0x13)[0] & 0x07
+    write(p, name, 0x0B, 0x01)  # SYSTEM_INTERRUPT_CLEAR
+    assert not read(p, name, 0x13)[0] & 0x07
+
+
+def test_the_monitor_reset_bit_resets_at_once_and_conversion_ready_clears_with_the_power_read():
+    name = "Ina219Chip"
+    p = plant(name)
+    write(p, name, 0x00, 0x01, 0x9F)
+    assert read(p, name, 0x00, 2) == b"\x01\x9f"
+    write(p, name, 0x00, 0x80, 0x00)  # RST
+    assert read(p, name, 0x00, 2) == b"\x39\x9f", "the power-on configuration, RST clear"
+    p.advance_to(2_000)  # a 12-bit shunt and bus conversion: 1064 us
+    assert read(p, name, 0x02, 2)[1] & 0x02, "CNVR"
+    read(p, name, 0x03, 2)
+    assert not read(p, name, 0x02, 2)[1] & 0x02, "reading POWER clears CNVR"
+
+
+def test_a_write_to_an_unmodelled_register_is_counted_and_named_once_per_chip():
+    name = "Lsm6dsoxChip"
+    p = plant(name)
+    write(p, name, 0x17, 0x09)  # CTRL8_XL (micropython-lib's driver writes it)
+    write(p, name, 0x17, 0x09)
+    write(p, name, 0x58, 0x80)  # TAP_CFG2
+    notes = p.bus_notes("i2c0")
+    assert len(notes) == 1 and "register 0x17" in notes[0] and "plain memory" in notes[0], notes
+    assert "CTRL3_C: BOOT" in notes[0], "the note lists what the model honours"
+    assert p.bus_device("i2c0", 0x6A).unmodelled == {0x17: (0, 2), 0x58: (0, 1)}
+    write(p, name, 0x10, 0x40)
+    assert p.bus_notes("i2c0") == []
+
+
+AUTO_INCREMENT = [  # chip, a register pair both plain to write, whether the pointer moves on at reset
+    ("Lsm6dsoxChip", 0x10, True),  # CTRL3_C's IF_INC resets to 1
+    ("Mpu6050Chip", 0x19, True),  # the MPU-6xxx always moves on
+    ("Lis3mdlChip", 0x23, True),  # moves on (the drivers do not set the sub-address' bit 7)
+    ("Vl53l0xChip", 0x40, True),
+    ("Pca9685Chip", 0x06, False),  # MODE1's AI resets to 0
+]
+
+
+@pytest.mark.parametrize("name, reg, moves_on", AUTO_INCREMENT)
+def test_a_write_of_two_bytes_lands_as_the_chips_auto_increment_rule_says(name, reg, moves_on):
+    p = plant(name)
+    write(p, name, reg, 0x11, 0x22)
+    got = read(p, name, reg)[0], p.bus_device("i2c0", CHIPS[name][1]).regs[reg + 1]
+    assert got == ((0x11, 0x22) if moves_on else (0x22, 0x00)), name
