@@ -13,7 +13,7 @@ import struct
 import pytest
 
 from host.tests.conftest import FIRMWARE, bench_app
-from host.tests.test_buses import bench
+from host.tests.test_buses import bench, run
 
 pytestmark = pytest.mark.hil
 
@@ -184,3 +184,15 @@ def test_pio_put_and_get_take_buffers_by_their_typecode_as_rp2_pio_c(make_rig):
     assert r.get("done"), rig.console[-2000:]
     for name, expected in PIO_TABLE.items():
         assert r[name] == expected, f"StateMachine.{name}: expected {expected} (ports/rp2/rp2_pio.c), got {r[name]}"
+
+
+def test_an_imu_read_into_an_array_h_as_micropython_libs_lsm6dsox_driver_reads_it(make_rig):
+    """micropython-lib's lsm6dsox driver reads each vector into a memoryview of one
+    array('h', 3) (readfrom_mem_into); a board fills its 6 bytes, little-endian: +1 g on z
+    flat, as the same registers read as bytes say."""
+    rig, r = run(make_rig, "imu_array_reads", duration_s=0.5)
+    assert r["accel"] == tuple(r["accel_bytes"]), rig.console
+    ax, ay, az = r["accel"]
+    assert abs(ax) < 0.01 and abs(ay) < 0.01 and abs(az - 1.0) < 0.01, r["accel"]
+    assert r["accel_array"] == r["accel_readfrom_into"] == [round(v * 8192) for v in r["accel"]]
+    assert all(abs(a - b) < 0.01 for a, b in zip(r["spi_accel"], r["accel"])), r["spi_accel"]
