@@ -8,7 +8,9 @@ TypeError("object with buffer protocol required"). An array is read and filled b
 in the machine's order (little-endian)."""
 
 import ast
+import shutil
 import struct
+from pathlib import Path
 
 import pytest
 
@@ -196,3 +198,39 @@ def test_an_imu_read_into_an_array_h_as_micropython_libs_lsm6dsox_driver_reads_i
     assert abs(ax) < 0.01 and abs(ay) < 0.01 and abs(az - 1.0) < 0.01, r["accel"]
     assert r["accel_array"] == r["accel_readfrom_into"] == [round(v * 8192) for v in r["accel"]]
     assert all(abs(a - b) < 0.01 for a, b in zip(r["spi_accel"], r["accel"])), r["spi_accel"]
+
+
+DHT_READS = """\
+import time
+from array import array
+from machine import Pin
+from rp2 import dht_readinto
+
+for kind, buf in (("bytearray", bytearray(5)), ("array_B", array("B", [0] * 5)),
+                  ("memoryview_array_h", memoryview(array("h", [0, 0, 0]))), ("array_h2", array("h", [0, 0])),
+                  ("bytes", bytes(5)), ("list", [0] * 5)):
+    try:
+        dht_readinto(Pin(28), buf)
+        print("R", kind, repr(("ok", bytes(buf)[:5])))
+    except Exception as e:
+        print("R", kind, repr((type(e).__name__, str(e))))
+    time.sleep_ms(1000)
+print("R done", True)
+while True:
+    time.sleep_ms(100)
+"""
+
+
+def test_dht_readinto_fills_any_writable_buffer_of_5_bytes_as_dht_c(make_rig, tmp_path):
+    """drivers/dht/dht.c, dht_readinto: MP_BUFFER_WRITE, at least 5 bytes ("buffer too small")."""
+    folder = tmp_path / "dht_kinds"
+    shutil.copytree(Path(__file__).parent / "wokwi_projects" / "pico_dht11", folder)
+    (folder / "main.py").write_text(DHT_READS)
+    rig = make_rig(str(folder))
+    rig.run_for(9.0)
+    r = outcomes(rig.console)
+    assert r.get("done"), rig.console[-2000:]
+    reading = bytes((62, 0, 31, 0, 93))
+    assert r["bytearray"] == r["array_B"] == r["memoryview_array_h"] == ("ok", reading)
+    assert r["array_h2"] == ("ValueError", "buffer too small")  # (4 bytes)
+    assert r["bytes"] == r["list"] == NO_BUFFER
