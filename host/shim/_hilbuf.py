@@ -14,22 +14,24 @@ import struct
 from uctypes import addressof, bytearray_at
 
 _BYTEARRAY = 1  # BYTEARRAY_TYPECODE (py/binary.h)
-_RW = 0x80  # MP_OBJ_ARRAY_TYPECODE_FLAG_RW (py/objarray.h): the memoryview may be written
 # mp_obj_array_t (py/objarray.h) is its type pointer, then the typecode in the low byte of
-# the next word: read there from a memoryview the firmware's object is seen through.
+# the next word, MP_OBJ_ARRAY_TYPECODE_FLAG_RW (0x80) set when it may be written.
 _TYPECODE_AT = struct.calcsize("P")
 _NO_BUFFER = "object with buffer protocol required"  # (py/obj.c, mp_get_buffer_raise)
+_checked = []
 
 
 def typecode(view):
-    """A memoryview's typecode as its C sees it: 'B' for bytes and str, 1 for a bytearray,
-    the array's letter for an array, with _RW set when the memory may be written."""
-    return bytearray_at(id(view) + _TYPECODE_AT, 1)[0]
+    """A memoryview's typecode as its C sees it: 0x42 ('B') for bytes and str, 1 for a
+    bytearray, the array's letter for an array (StateMachine.put and get go by it)."""
+    if not _checked:  # (read where py/objarray.h puts it: checked once on known objects)
+        from array import array
 
-
-def itemsize(code):
-    code &= 0x7F
-    return 1 if code == _BYTEARRAY else struct.calcsize(chr(code))
+        for obj, code in ((b"", 0x42), (bytearray(), _BYTEARRAY), (array("h"), 0x68), (array("I"), 0x49)):
+            if bytearray_at(id(memoryview(obj)) + _TYPECODE_AT, 1)[0] & 0x7F != code:
+                raise RuntimeError("this interpreter's memoryview is not laid out as py/objarray.h's (1.25)")
+        _checked.append(True)
+    return bytearray_at(id(view) + _TYPECODE_AT, 1)[0] & 0x7F
 
 
 def rbuf(obj):
@@ -46,10 +48,12 @@ def wbuf(obj):
     if type(obj) is bytearray:
         return obj
     view = memoryview(obj)
-    code = typecode(view)
-    if not code & _RW:
-        raise TypeError(_NO_BUFFER)
-    return bytearray_at(addressof(view), len(view) * itemsize(code))
+    try:
+        view[0:0] = view[0:0]  # (a view of bytes or str refuses it: py/objarray.c, array_subscr)
+    except TypeError:
+        raise TypeError(_NO_BUFFER) from None
+    n = len(view)
+    return bytearray_at(addressof(view), n and n * len(bytes(view[:1])))
 
 
 def fill(view, data):

@@ -30,7 +30,7 @@ def _put_words(value):
         view = memoryview(value)
     except TypeError:
         raise TypeError("can't convert %s to int" % type(value).__name__) from None  # (mp_obj_get_int_truncated)
-    code = typecode(view) & 0x7F
+    code = typecode(view)
     size = 1 if code in (1, 0x42) else 2 if code == 0x48 else 4 if code == 0x49 else 0  # 1, 'B', 'H', 'I'
     data = rbuf(value)
     if not data:
@@ -46,7 +46,7 @@ def _get_items(buf):
     from _hilbuf import typecode, wbuf
 
     view = wbuf(buf)  # (TypeError for bytes, str, anything not a writable buffer)
-    code = typecode(memoryview(buf)) & 0x7F
+    code = typecode(memoryview(buf))
     if code != 1:
         code |= 0x20
     return view, 1 if code in (1, 0x62) else 2 if code == 0x68 else 4 if code == 0x69 else 0
