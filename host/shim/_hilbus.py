@@ -7,11 +7,14 @@
 # clocks a byte (8 bits and the acknowledge) plus a clock for each start and stop; SPI 8 a
 # byte. Errors are the OSError the board family raises (ports/esp32/machine_i2c.c,
 # ports/rp2/machine_i2c.c, extmod/machine_i2c.c): a board's message is the errno alone.
+# Buffers are taken as the C's mp_get_buffer_raise takes them (_hilbuf: bytes, bytearray,
+# str to write, array of any typecode and memoryview, by their bytes).
 import machine
 import struct
 
 import _hil
 import _hilframe as F
+from _hilbuf import fill, rbuf, wbuf
 
 ENODEV = 19
 EIO = 5
@@ -125,16 +128,19 @@ class SoftI2C(_Bus):
     def readfrom(self, addr, nbytes, stop=True):
         return self._xfer(addr, b"", nbytes, stop)[1]
 
-    def readfrom_into(self, addr, buf, stop=True):
-        got = self._xfer(addr, b"", len(buf), stop)[1]
-        buf[: len(got)] = got
+    def readfrom_into(self, addr, buf, stop=True):  # (extmod/machine_i2c.c, machine_i2c_readfrom_into)
+        view = wbuf(buf)
+        fill(view, self._xfer(addr, b"", len(view), stop)[1])
 
-    def writeto(self, addr, buf, stop=True):
+    def writeto(self, addr, buf, stop=True):  # (machine_i2c_writeto)
+        buf = rbuf(buf)
         acks = self._xfer(addr, buf, 0, stop)[0]
         return len(buf) if self._hard else acks
 
-    def writevto(self, addr, vector, stop=True):
-        data = b"".join(bytes(b) for b in vector)
+    def writevto(self, addr, vector, stop=True):  # (machine_i2c_writevto: mp_obj_get_array)
+        if not isinstance(vector, (tuple, list)):
+            raise TypeError("object '%s' isn't a tuple or list" % type(vector).__name__)
+        data = b"".join([rbuf(b) for b in vector])
         acks = self._xfer(addr, data, 0, stop)[0]
         return len(data) if self._hard else acks
 
@@ -146,11 +152,12 @@ class SoftI2C(_Bus):
     def readfrom_mem(self, addr, memaddr, nbytes, *, addrsize=8):
         return self._xfer(addr, self._memaddr(memaddr, addrsize), nbytes)[1]
 
-    def readfrom_mem_into(self, addr, memaddr, buf, *, addrsize=8):
-        got = self._xfer(addr, self._memaddr(memaddr, addrsize), len(buf))[1]
-        buf[: len(got)] = got
+    def readfrom_mem_into(self, addr, memaddr, buf, *, addrsize=8):  # (machine_i2c_readfrom_mem_into)
+        view = wbuf(buf)
+        fill(view, self._xfer(addr, self._memaddr(memaddr, addrsize), len(view))[1])
 
-    def writeto_mem(self, addr, memaddr, buf, *, addrsize=8):
+    def writeto_mem(self, addr, memaddr, buf, *, addrsize=8):  # (machine_i2c_writeto_mem)
+        buf = rbuf(buf)
         self._xfer(addr, self._memaddr(memaddr, addrsize) + bytes(buf), 0)
 
     # -- primitives (SoftI2C's; a hardware I2C has none) -------------------------------
@@ -171,12 +178,12 @@ class SoftI2C(_Bus):
     def stop(self):
         self._primitive(F.BUS_STOP)
 
-    def write(self, buf):
-        return self._primitive(F.BUS_WRITE, bytes(buf))[0]
+    def write(self, buf):  # (machine_i2c_write)
+        return self._primitive(F.BUS_WRITE, bytes(rbuf(buf)))[0]
 
-    def readinto(self, buf, nack=True):
-        got = self._primitive(F.BUS_READ if nack else F.BUS_READ_ACK, b"", len(buf))[1]
-        buf[: len(got)] = got
+    def readinto(self, buf, nack=True):  # (machine_i2c_readinto)
+        view = wbuf(buf)
+        fill(view, self._primitive(F.BUS_READ if nack else F.BUS_READ_ACK, b"", len(view))[1])
 
 
 class I2C(SoftI2C):
@@ -242,16 +249,19 @@ class SoftSPI(_Bus):
     def read(self, nbytes, write=0x00):
         return self._xfer(bytes((write,)) * nbytes)
 
-    def readinto(self, buf, write=0x00):
-        buf[:] = self._xfer(bytes((write,)) * len(buf))
+    def readinto(self, buf, write=0x00):  # (extmod/machine_spi.c, mp_machine_spi_readinto)
+        view = wbuf(buf)
+        fill(view, self._xfer(bytes((write & 0xFF,)) * len(view)))
 
-    def write(self, buf):
-        self._xfer(buf)
+    def write(self, buf):  # (mp_machine_spi_write)
+        self._xfer(rbuf(buf))
 
-    def write_readinto(self, write_buf, read_buf):
-        if len(write_buf) != len(read_buf):
+    def write_readinto(self, write_buf, read_buf):  # (mp_machine_spi_write_readinto)
+        data = rbuf(write_buf)
+        view = wbuf(read_buf)
+        if len(data) != len(view):
             raise ValueError("buffers must be the same length")
-        read_buf[:] = self._xfer(write_buf)
+        fill(view, self._xfer(data))
 
 
 class SPI(SoftSPI):
@@ -301,12 +311,12 @@ def bitstream(pin, encoding, timing, data):
     the stream's time (a board sends it with interrupts off), the pin low after it."""
     if not isinstance(pin, machine.Pin):
         pin = machine.Pin(pin, machine.Pin.OUT)
+    data = bytes(rbuf(data))  # (mp_get_buffer_raise, MP_BUFFER_READ: before the encoding)
     if encoding != 0:
         raise ValueError("encoding")
     if len(timing) != 4:
         raise ValueError("tuple/list has wrong length")
     ns = [int(t) for t in timing]
-    data = bytes(data)
     ones = _ones(data)
     total_ns = ones * (ns[2] + ns[3]) + (8 * len(data) - ones) * (ns[0] + ns[1])
     payload = struct.pack("<4I", *[t & 0xFFFFFFFF for t in ns]) + data

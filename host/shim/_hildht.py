@@ -9,6 +9,7 @@ import time
 
 import _hil
 import _hilframe as F
+from _hilbuf import wbuf
 from _hilbus import ETIMEDOUT, _Bus, _key
 
 ADDRESS = 0x40  # (the one device on a line answers here: sim_plant/catalogue/dht.py)
@@ -29,7 +30,8 @@ def _reply_us(data):
 
 
 def dht_readinto(pin, buf):
-    if len(buf) < 5:
+    view = buf if type(buf) is bytearray else wbuf(buf)  # (drivers/dht/dht.c: MP_BUFFER_WRITE, in bytes)
+    if len(view) < 5:
         raise ValueError("buffer too small")
     pin.init(pin.OPEN_DRAIN)
     pin.value(1)
@@ -43,5 +45,4 @@ def dht_readinto(pin, buf):
         _hil.bus_time(t + RELEASE_US + 100)
         raise OSError(ETIMEDOUT)
     _hil.bus_time(t + RELEASE_US + _reply_us(got))
-    for i in range(5):
-        buf[i] = got[i]
+    view[:5] = got[:5]

@@ -614,11 +614,13 @@ class UART:
             _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._lines))
         return data
 
-    def readinto(self, buf, nbytes=-1):
-        data = self.read(len(buf) if nbytes < 0 else nbytes)
+    def readinto(self, buf, nbytes=-1):  # (py/stream.c, stream_readinto: at most the buffer's bytes)
+        view = buf if type(buf) is bytearray else _buffers().wbuf(buf)
+        size = len(view)
+        data = self.read(size if nbytes < 0 or nbytes > size else nbytes)
         if not data:
             return None
-        buf[: len(data)] = data
+        view[: len(data)] = data
         return len(data)
 
     def readline(self):
@@ -629,8 +631,9 @@ class UART:
             return self.read() if self._rx else None
         return self.read(i + 1)
 
-    def write(self, buf):
-        data = buf.encode() if isinstance(buf, str) else bytes(buf)
+    def write(self, buf):  # (py/stream.c, stream_write_method: any buffer, a str's bytes)
+        kind = type(buf)
+        data = buf if kind is bytes else bytes(buf if kind is bytearray else _buffers().rbuf(buf))
         _hil.pay_console()
         now = _hil.now()
         self._tx_end = max(now, self._tx_end) + self._line_us(len(data))
@@ -831,6 +834,13 @@ def reset_cause():
     return _reset_cause
 
 
+def _buffers():
+    """_hilbuf, imported at the first buffer that is not bytes or a bytearray."""
+    import _hilbuf
+
+    return _hilbuf
+
+
 class _Mem:
     """machine.mem8/16/32: a sparse memory of its own. What was written reads back, the
     rest reads 0; no peripheral registers lie behind it (docs/shim.md)."""
@@ -892,7 +902,7 @@ class RTC:
     def memory(self, data=None):
         if data is None:
             return getattr(RTC, "_memory", b"")
-        RTC._memory = bytes(data)
+        RTC._memory = bytes(_buffers().rbuf(data))  # (ports/esp32/machine_rtc.c: a buffer)
 
 
 def _attach(pin, unit):

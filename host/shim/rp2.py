@@ -22,6 +22,36 @@ _ENOMEM = 12
 _RETRY_US = 1000  # a FIFO the pins as they are never serve: look again this much later
 
 
+def _put_words(value):
+    """The words StateMachine.put takes from a buffer (rp2_state_machine_put)."""
+    from _hilbuf import rbuf, typecode
+
+    try:
+        view = memoryview(value)
+    except TypeError:
+        raise TypeError("can't convert %s to int" % type(value).__name__) from None  # (mp_obj_get_int_truncated)
+    code = typecode(view)
+    size = 1 if code in (1, 0x42) else 2 if code == 0x48 else 4 if code == 0x49 else 0  # 1, 'B', 'H', 'I'
+    data = rbuf(value)
+    if not data:
+        return []
+    if not size:
+        raise ValueError("unsupported buffer type")
+    return list(struct.unpack("<%d%s" % (len(data) // size, "BHxI"[size - 1]), data))
+
+
+def _get_items(buf):
+    """A writable view of StateMachine.get's buffer and its item's size, 0 for a typecode the
+    port refuses (rp2_state_machine_get: lower-cased, 'b', 'h' or 'i')."""
+    from _hilbuf import typecode, wbuf
+
+    view = wbuf(buf)  # (TypeError for bytes, str, anything not a writable buffer)
+    code = typecode(memoryview(buf))
+    if code != 1:
+        code |= 0x20
+    return view, 1 if code in (1, 0x62) else 2 if code == 0x68 else 4 if code == 0x69 else 0
+
+
 class _Memory:
     """A PIO's 32 instruction slots; a program goes at the highest offset it fits (the
     SDK's pio_add_program, as the port calls it), its jumps moved by its offset."""
@@ -267,10 +297,13 @@ class StateMachine:
         self._call(F.BUS_PIO_EXEC, 0, 0, struct.pack("<H", instr))
 
     def put(self, value, shift=0):
+        # ports/rp2/rp2_pio.c, rp2_state_machine_put: an int, or a buffer read item by item
+        # as its typecode says (bytes, str, bytearray, 'B', 'H', 'I'; any other typecode
+        # raises ValueError at its first item); anything else must convert to an int.
         if isinstance(value, int):
             words = [value]
         else:
-            words = list(value)
+            words = _put_words(value)
         words = [(w << shift) & 0xFFFFFFFF for w in words]
         while words:
             count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack("<%dI" % len(words), *words))
@@ -279,7 +312,15 @@ class StateMachine:
                 self._wait(got)
 
     def get(self, buf=None, shift=0):
-        n = 1 if buf is None else len(buf)
+        # ports/rp2/rp2_pio.c, rp2_state_machine_get: a writable buffer is filled item by item
+        # as its typecode says, without regard to sign (bytearray, 'b', 'h', 'i'); another
+        # typecode raises ValueError once the first word is taken; it returns the buffer.
+        n = 1
+        if buf is not None:
+            view, size = _get_items(buf)
+            if not view:
+                return buf
+            n = len(view) // size if size else 1
         out = []
         while len(out) < n:
             if self._rx and self._at == _hil.now():
@@ -294,9 +335,11 @@ class StateMachine:
                 self._wait(got)
         if buf is None:
             return out[0] >> shift
-        for i in range(n):
-            buf[i] = out[i] >> shift
-        return None
+        if not size:
+            raise ValueError("unsupported buffer type")
+        mask = (1 << (8 * size)) - 1
+        struct.pack_into("<%d%s" % (n, "BHxI"[size - 1]), view, 0, *[(w >> shift) & mask for w in out])
+        return buf
 
     def _wait(self, reply):
         """The FIFO is not ready: the board's CPU blocks; so does virtual time, until the
