@@ -343,7 +343,8 @@ class Rig:
 
     def _console_until(self, t_us: int) -> None:
         """The firmware ends (or raised) at ``t_us``: what it printed since its last wait was
-        printed by then (the console's pipe is read before the link: FdTransport.read_some)."""
+        printed by then (the console's pipe is read with the link's bytes, before they are
+        handled: FdTransport.read_some)."""
         if self.console_log.pending:
             self.console_log.stamp(t_us)
 
