@@ -4,6 +4,8 @@ firmware brings wins over the loop's where the board's sys.path and built-ins le
 
 import pytest
 
+from host.tests.conftest import FIRMWARE, bench_app, results
+
 pytestmark = pytest.mark.hil
 
 
@@ -18,12 +20,28 @@ def test_four_packages_with_a_util_each_import_their_own_at_import_and_call_time
     assert r["main"] == "can't perform relative import", rig.console
 
 
-def test_a_firmware_file_takes_a_name_from_the_loop_where_the_boards_path_gives_it(run_case):
-    """On an ESP32: neopixel.py beside main.py comes before the frozen neopixel; lib/dht.py
-    after it ('', '.frozen', '/lib'); esp is a built-in, before any file; rp2 the board has
-    not; select is an extensible built-in, after every file."""
-    rig, r = run_case("shadow_modules", 0.1)
-    want = {"neopixel": "firmware", "dht": "board", "esp": "board", "rp2": "firmware", "select": "firmware"}
+BOARDS = {
+    "esp32_bench": {"esp": "board", "rp2": "firmware"},  # esp: a built-in; rp2: none on an ESP32
+    "rpi_pico_bench": {"esp": "firmware", "rp2": "board"},  # rp2: imported by the port's _boot.py
+}
+
+
+@pytest.mark.parametrize("board", BOARDS)
+def test_a_firmware_file_takes_a_name_from_the_loop_where_the_boards_path_gives_it(board):
+    """neopixel.py beside main.py comes before the frozen neopixel; lib/dht.py after it
+    ('', '.frozen', '/lib'); select is an extensible built-in, after every file; esp and rp2
+    as the board has them."""
+    from host.pytest_plugin import rig_from_keywords
+
+    app = bench_app("shadow", {"body": "bench"}, board=board)
+    rig = rig_from_keywords(app, main_dir=FIRMWARE / "shadow_modules", allow_exit=True)
+    rig.start()
+    try:
+        rig.run_for(0.1)
+    finally:
+        rig.stop()
+    r = results(rig.console)
+    want = {"neopixel": "firmware", "dht": "board", "select": "firmware", **BOARDS[board]}
     assert r["origins"] == want, rig.console
     assert r["dht"] is True, rig.console
 
