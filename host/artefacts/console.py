@@ -7,9 +7,10 @@ kernel's log does (``[   12.345678] text``). What the firmware prints reaches th
 before its next message; the text is stamped with the time of the next wait (the
 firmware's code runs in zero virtual time between a wake-up and its next wait, and after
 a print() the shim's next wait always goes to the host, even where it could have moved
-its clock on alone). Text the interpreter writes itself (a traceback) carries the time of
-the next wait or of the end. The tail in memory is the console as printed, without
-stamps. The stamps depend on virtual time only: the same run gives the same file.
+its clock on alone). What it prints after its last wait, before it ends, and a traceback
+carry the instant of the end (the rig stamps them at its EXIT or FAULT). The tail in
+memory is the console as printed, without stamps. The stamps depend on virtual time only:
+the same run gives the same file.
 
 The file is flushed at each stamp, so a run killed outright (SIGKILL) leaves what was
 stamped, to its last whole line. It is capped at ``max_bytes`` (the rig file's ``[trace]

@@ -138,8 +138,11 @@ def scan_folder(folder: Path, libs=(), board_file: Path | None = None, entry: st
     ``"rp2"`` reads ``ADC(0)`` as GP26."""
     scan = Scan()
     modules: dict[str, tuple[str, ast.Module]] = {}  # module name -> (shown path, tree)
+    inside = [Path(lib).resolve() for lib in libs if Path(lib).resolve() != Path(folder).resolve()]
     for root in (folder, *libs):
         for path in firmware_sources(root, scan.notes):
+            if root == folder and any(path.resolve().is_relative_to(lib) for lib in inside):
+                continue  # (read from its library folder, under the name a board imports it by)
             tree = _parse(path, scan.notes)
             rel = path.relative_to(root)
             name = ".".join(rel.with_suffix("").parts).removesuffix(".__init__")
@@ -198,19 +201,37 @@ def _reachable(modules: dict, entry: str) -> list[str]:
             continue
         seen.append(name)
         for node in ast.walk(modules[name][1]):
-            for ref in _imported(node):
+            for ref in _imported(node, name, modules):
                 parts = ref.split(".")
                 start += [".".join(parts[:i]) for i in range(1, len(parts) + 1) if ".".join(parts[:i]) in modules]
     return seen
 
 
-def _imported(node) -> list[str]:
+def _imported(node, importer: str, modules: dict) -> list[str]:
     if isinstance(node, ast.Import):
         return [a.name for a in node.names]
     if isinstance(node, ast.ImportFrom):
-        base = node.module or ""
+        base = _from_base(node, importer, modules)
+        if base is None:
+            return []
         return [base, *(f"{base}.{a.name}".strip(".") for a in node.names)]
     return []
+
+
+def _from_base(node: ast.ImportFrom, importer: str, modules: dict) -> str | None:
+    """The module a ``from ... import`` reads, by its absolute name: a relative one
+    (``from . import sh1106``, ``from ..util import x``) in its importer's package, as
+    MicroPython makes it (py/builtinimport.c evaluate_relative_import: the importer's name
+    less ``level`` parts, one fewer from a package's ``__init__``); None past the top."""
+    if not node.level:
+        return node.module or ""
+    parts = importer.split(".")
+    shown = modules.get(importer, ("",))[0]
+    drop = node.level - (1 if shown.endswith("__init__.py") else 0)
+    if drop >= len(parts):
+        return None
+    base = ".".join(parts[: len(parts) - drop])
+    return f"{base}.{node.module}" if node.module else base
 
 
 # -- constants -------------------------------------------------------------------------------
@@ -227,26 +248,28 @@ class _Envs:
         if name not in self.done:
             self.done[name] = {}  # (an import cycle sees what is known so far)
             if name in self.modules:
-                self.done[name] = self._build(self.modules[name][1].body, {})
+                self.done[name] = self._build(self.modules[name][1].body, {}, name)
         return self.done[name]
 
-    def _build(self, body: list, env: dict) -> dict:
+    def _build(self, body: list, env: dict, name: str) -> dict:
         for node in body:
             if isinstance(node, ast.Import):
                 for alias in node.names:  # import a.b binds a; import a.b as c binds c to a.b
                     ref = alias.name if alias.asname else alias.name.split(".")[0]
                     env[alias.asname or ref] = _Module(ref)
             elif isinstance(node, ast.ImportFrom):
-                self._import_from(node, env)
+                self._import_from(node, env, name)
             elif isinstance(node, ast.Assign | ast.AnnAssign) and node.value is not None:
                 for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
                     self.bind(target, node.value, env)
             elif isinstance(node, ast.Try):
-                self._build(node.body, env)
+                self._build(node.body, env, name)
         return env
 
-    def _import_from(self, node: ast.ImportFrom, env: dict) -> None:
-        base = node.module or ""
+    def _import_from(self, node: ast.ImportFrom, env: dict, importer: str) -> None:
+        base = _from_base(node, importer, self.modules)
+        if base is None:
+            return
         for alias in node.names:
             if alias.name == "*":
                 env.update(self.of(base))

@@ -323,11 +323,13 @@ class Rig:
 
     def _on_fault(self, p: bytes) -> None:
         t, text = F.unpack_fault(p)
+        self._console_until(t)
         self.linklog.fault(t)
         endings.fault(self, t, text.decode(errors="replace"))
 
     def _on_exit(self, p: bytes) -> None:
         t, kind, code = F.unpack_exit(p)
+        self._console_until(t)
         self.linklog.exit(t, kind, code)
         self.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
         if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
@@ -338,6 +340,13 @@ class Rig:
         else:
             self.exit_kind, self.exit_code = kind, code
             endings.exited(self, t, kind, code)
+
+    def _console_until(self, t_us: int) -> None:
+        """The firmware ends (or raised) at ``t_us``: what it printed since its last wait was
+        printed by then (the console's pipe is read with the link's bytes, before they are
+        handled: FdTransport.read_some)."""
+        if self.console_log.pending:
+            self.console_log.stamp(t_us)
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""

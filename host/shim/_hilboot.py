@@ -112,6 +112,13 @@ def _confine():
     _hilconfine.confine(env, __file__.rsplit("/", 1)[0])
 
 
+def _give_way():
+    """The firmware's own module of a board built-in's name takes it (_hilconfine.give_way)."""
+    import _hilconfine
+
+    _hilconfine.give_way()
+
+
 def _coverage():
     """Firmware coverage when the host asks (HIL_COVERAGE_FD: _hilcov, docs/coverage.md)."""
     import os
@@ -223,6 +230,7 @@ def main(pil=False):
             _confine()
             _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
             _hil._Link.ballast = _board_heap(room)
+            _give_way()
             _run("boot.py")
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)

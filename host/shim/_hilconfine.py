@@ -1,11 +1,15 @@
 # Confine the firmware to its board (docs/shim.md, "Only a board's modules"; docs/security.md).
 # Called by _hilboot once the shim has started (it keeps what it took from the host: the
 # link's pty, the real select and time) and before boot.py runs:
-# - the board's flash at / (_hilfs), the firmware's path as a board's: the shim, /, /lib;
+# - the board's flash at / (_hilfs), the firmware's path as a board's: /, .frozen, /lib, then
+#   the shim's folder; a name the loop provides gives its module or the firmware's as the
+#   board's sys.path and built-ins give it (BOARD_MODULES); a relative import is made in its
+#   importer's package;
 # - the unix port's host reach taken away: os.system, os.getenv/putenv/unsetenv, os.errno,
 #   os.VfsPosix and vfs.VfsPosix go; ffi, socket, _thread and termios import as on a port
 #   without them (ImportError), unless the rig file allows one by name ([board] allow_modules).
 import builtins
+import micropython
 import sys
 
 HOST_MODULES = ("ffi", "socket", "usocket", "_thread", "termios")
@@ -24,77 +28,143 @@ def _without(module, names):
     return copy
 
 
-_importing = [None] * 64  # the absolute imports under way, innermost last (no allocation)
-_depth = [0]
+# What each module the loop provides is on a board, as py/builtinimport.c's
+# process_import_at_level finds a top-level name: a non-extensible built-in before any
+# file; then a file or frozen module along sys.path, which a board starts as
+# ['', '.frozen', '/lib'] (py/runtime.c mp_init, ports/rp2/main.c, ports/esp32/main.c);
+# an extensible built-in (MP_REGISTER_EXTENSIBLE_MODULE) only when no file has the name.
+BUILT_IN = 0  # C (or, rp2, imported by the port's _boot.py before the flash is mounted): never a file's
+EXTENSIBLE = 1  # C, registered extensible (extmod/modmachine.c, modtime.c, modselect.c): a file wins
+FROZEN = 2  # frozen Python (the ports' manifests require them): a file in / wins, one in /lib does not
+BOARD_MODULES = {
+    "machine": EXTENSIBLE,
+    "time": EXTENSIBLE,
+    "select": EXTENSIBLE,
+    "neopixel": FROZEN,  # ports/esp32/boards/manifest.py, ports/rp2/boards/manifest.py
+    "dht": FROZEN,
+    "onewire": FROZEN,
+    "ds18x20": FROZEN,
+}
+# a family's own (ports/rp2/modules/_boot.py imports rp2; ports/esp32/modesp.c registers esp)
+FAMILY_MODULES = {"rp2": ("rp2", BUILT_IN), "esp": ("esp", BUILT_IN)}
+_U_NAMES = {"machine": "umachine", "time": "utime", "select": "uselect"}  # a board's u-prefix: the built-in itself
 
 
-def _relative(real, name, fromlist, level):
-    # A relative import reached here in the shim's globals, not the importing module's
-    # (MicroPython passes __import__ no globals): made absolute in the package of the module
-    # being imported (the innermost import under way), as MicroPython does with the
-    # importer's __name__; at run time (no import under way), in each loaded package in
-    # turn, the firmware's before the frozen ones (asyncio), the first that has what it
-    # names wins. A relative import never reaches a host module.
-    depth = _depth[0]
-    if 0 < depth <= len(_importing):
-        importer = _importing[depth - 1]
-        module = sys.modules.get(importer)
-        package = importer if getattr(module, "__path__", None) is not None else importer.rpartition(".")[0]
-        if level > 1:
-            package = package.rsplit(".", level - 1)[0]
-        if package:
-            return real(package + "." + name if name else package, None, None, fromlist, 0)
-    error = ImportError("can't perform relative import")
-    packages = [p for p, m in list(sys.modules.items()) if getattr(m, "__path__", None) is not None]
-    packages.sort(key=lambda p: str(getattr(sys.modules[p], "__path__", "")).startswith(".frozen"))
-    for package in packages:
-        base = package.rsplit(".", level - 1)[0] if level > 1 else package
-        target = base + "." + name if name else base
-        try:
-            module = real(target, None, None, fromlist, 0)
-        except ImportError as e:
-            error = e
-            continue
-        names = fromlist if isinstance(fromlist, (tuple, list)) else ()  # (asyncio passes True)
-        if all(_has(real, module, target, item) for item in names):
-            return module
-    raise error
+def _absolute_name(name, level, importer):
+    # py/builtinimport.c evaluate_relative_import: the importer's __name__ less `level`
+    # components (one fewer from a package, whose globals have __path__), then the name.
+    # (__main__ has no package: on a board, without MICROPY_MODULE_OVERRIDE_MAIN_IMPORT,
+    # "can't perform relative import".)
+    current = importer.get("__name__") or ""
+    if "__path__" in importer:
+        level -= 1
+    end = len(current)
+    while level and end > 0:
+        end -= 1
+        if current[end] == ".":
+            level -= 1
+    if end == 0:
+        raise ImportError("can't perform relative import")
+    return current[:end] + "." + name if name else current[:end]
 
 
-def _has(real, module, target, item):
-    if item == "*" or hasattr(module, item):
-        return True
-    try:
-        real(target + "." + item, None, None, None, 0)
-    except ImportError:
-        return False
-    return True
-
-
-def _board_import(real, blocked):
+def _board_import(real, blocked, shim_first, shim_entry):
     dotted = tuple(name + "." for name in blocked)
 
-    def board_import(name, globals=None, locals=None, fromlist=(), level=0):
+    def absolute(name, globals=None, locals=None, fromlist=(), level=0):
         # (allocates nothing on the way to an allowed module: imports run under heap_lock too)
-        if level:
-            return _relative(real, name, fromlist, level)
         if name in blocked:
             raise ImportError("no module named '%s'" % name)
         for prefix in dotted:
             if name.startswith(prefix):
                 raise ImportError("no module named '%s'" % name)
-        if name in sys.modules:
-            return real(name, globals, locals, fromlist, level)
-        depth = _depth[0]  # (a first import: its relative imports are made in its package)
-        if depth < len(_importing):
-            _importing[depth] = name
-        _depth[0] = depth + 1
-        try:
-            return real(name, globals, locals, fromlist, level)
-        finally:
-            _depth[0] = depth
+        if name in shim_first and name not in sys.modules:
+            # the board's module wins over the firmware's file of its name (BOARD_MODULES)
+            sys.path.insert(0, shim_entry)
+            try:
+                return real(name, globals, locals, fromlist, level)
+            finally:
+                sys.path.pop(0)
+        return real(name, globals, locals, fromlist, level)
+
+    def relative(name, fromlist, level, importer):
+        return absolute(_absolute_name(name, level, importer), None, None, fromlist, 0)
+
+    @micropython.native
+    def board_import(name, globals=None, locals=None, fromlist=(), level=0, _abs=absolute, _rel=relative, _g=globals):
+        # A relative import is made in the package of the module that makes it, as on a
+        # board: MicroPython passes __import__ no globals (py/runtime.c mp_import_name), and
+        # a Python function runs in its own module's; native code that reads no global
+        # keeps its caller's (py/emitnative.c swaps globals only for a scope that uses
+        # them), so globals() here is the importer's, whether at import or at call time.
+        if level:
+            return _rel(name, fromlist, level, _g())
+        return _abs(name, globals, locals, fromlist, level)
 
     return board_import
+
+
+def _module_file(entry, name):
+    """A file or package of ``name`` in the path entry ``entry``."""
+    import os
+
+    base = entry + "/" + name if entry else name
+    for path in (base + ".py", base + ".mpy", base):
+        try:
+            os.stat(path)
+            return path
+        except OSError:
+            pass
+    return None
+
+
+def _board_path(shim_dir):
+    """sys.path as a board's, ['', '.frozen', '/lib'], with the shim's folder last (only its
+    own modules are found there: which module a name gives is BOARD_MODULES' choice).
+    Returns (the firmware's root entry, its library entries, the shim's entry)."""
+    path = list(sys.path)
+    shim = [p for p in path if p.rstrip("/") in ("/_hil", shim_dir.rstrip("/"))]
+    rest = [p for p in path if p not in shim and p != ".frozen"]
+    root, libs = (rest[0], rest[1:]) if rest else ("", [])
+    sys.path[:] = [root, ".frozen"] + libs + shim
+    return root, libs, (shim[0] if shim else shim_dir)
+
+
+def _shadowing(root, libs):
+    """(the loop's modules the board's own module keeps against a firmware file of their
+    name; those a firmware file takes from the loop), per BOARD_MODULES."""
+    board = sys.modules.get("sys", sys)
+    platform = getattr(board, "platform", "")
+    table = dict(BOARD_MODULES)
+    for prefix, (name, kind) in FAMILY_MODULES.items():
+        if platform.startswith(prefix):
+            table[name] = kind  # (elsewhere the board has none: the firmware's file, or ImportError)
+    shim_first, firmware_first = [], []
+    for name, kind in table.items():
+        in_root = _module_file(root, name) is not None
+        in_lib = any(_module_file(lib, name) is not None for lib in libs)
+        if kind == BUILT_IN and (in_root or in_lib) or kind == FROZEN and in_lib and not in_root:
+            shim_first.append(name)
+        elif kind == EXTENSIBLE and (in_root or in_lib):
+            firmware_first.append(name)
+    return tuple(shim_first), tuple(firmware_first)
+
+
+_shim_first = []  # names the shim's folder gives, whatever the firmware's path holds
+_firmware_first = []  # names the firmware's file takes from the shim's module (give_way)
+
+
+def give_way():
+    """The firmware's own machine.py, time.py or select.py takes the name from the shim's
+    module, as a file takes it from an extensible built-in on a board (called once the
+    shim has imported all it keeps, before boot.py). umachine, utime and uselect stay the
+    shim's: on a board the u-prefix names the built-in itself (py/objmodule.c
+    mp_module_get_builtin)."""
+    for name in _firmware_first:
+        _shim_first.remove(name)
+        mine = sys.modules.pop(name, None)
+        if mine is not None:
+            sys.modules[_U_NAMES[name]] = mine
 
 
 def confine(env, shim_dir):
@@ -108,6 +178,9 @@ def confine(env, shim_dir):
 
         _hilfs.mount(root, int(env.get("HIL_FLASH_BYTES") or 2 * 1024 * 1024), shim_dir)
         sys.path[:] = ["/_hil", "", "/lib", ".frozen"]
+    fw_root, fw_libs, shim_entry = _board_path(shim_dir)
+    shim_first, _firmware_first[:] = _shadowing(fw_root, fw_libs)
+    _shim_first[:] = shim_first + tuple(_firmware_first)  # (the shim's own until give_way)
     import vfs
 
     board_os = sys.modules["os"]  # (the shim's board os: _hilsys)
@@ -124,7 +197,7 @@ def confine(env, shim_dir):
     sys.modules["io"] = board_io
     builtins.open = board_open
     _scrub(allowed, blocked, shim_dir, sys.modules["vfs"], real_io, board_io)
-    builtins.__import__ = _board_import(builtins.__import__, blocked)
+    builtins.__import__ = _board_import(builtins.__import__, blocked, _shim_first, shim_entry)
 
 
 def _board_open(real):

@@ -455,3 +455,45 @@ def test_the_pins_after_a_pio_groups_first_pin_are_a_note_not_a_warning(base):
     assert [n for n in result.notes if "ENC_B = 7" in n and "in_base=6" in n], result
     assert not [w for w in result.warnings if "ENC_B" in w or "ENC_A" in w], result.warnings
     assert [w for w in result.warnings if "LED = 5" in w] and [w for w in result.warnings if "FAR = 40" in w], result
+
+
+KIT = {  # a kit's library as kit vendors lay one out: a package in lib/, relative imports
+    "lib/kit/__init__.py": "",
+    "lib/kit/robot.py": "from .led import LED\nfrom .motors import Motors\nfrom .display import Display\n",
+    "lib/kit/led.py": (
+        "from machine import Pin\n\nclass LED:\n    def __init__(self):\n        self.pin = Pin(25, Pin.OUT)\n"
+    ),
+    "lib/kit/motors.py": (
+        "from machine import Pin, PWM\nfrom ._lib.pins import LEFT_PWM, RIGHT_PWM\n\n"
+        "class Motors:\n    def __init__(self):\n        self.left = PWM(Pin(LEFT_PWM))\n"
+        "        self.right = PWM(Pin(RIGHT_PWM))\n"
+    ),
+    "lib/kit/_lib/__init__.py": "",
+    "lib/kit/_lib/pins.py": "LEFT_PWM = const(15)\nRIGHT_PWM = const(14)\n",
+    "lib/kit/_lib/screen.py": (
+        "from machine import Pin\n\nclass Screen:\n    def __init__(self, dc):\n        self.dc = Pin(dc)\n"
+    ),
+    "lib/kit/display.py": (
+        "from machine import Pin\nfrom ._lib import screen\n\nclass Display:\n    def __init__(self):\n"
+        "        self.screen = screen.Screen(0)\n        self.res = Pin(1)\n"
+    ),
+    "sensors/__init__.py": "from .bump import BUMP\n",
+    "sensors/bump.py": "from machine import Pin\nBUMP = Pin(16, Pin.IN)\n",
+    "main.py": "from kit import robot\nimport sensors\nled, motors, d = robot.LED(), robot.Motors(), robot.Display()\n",
+}
+
+
+def test_check_counts_the_pins_used_in_lib_packages_and_package_folders_through_relative_imports(tmp_path, capsys):
+    for name, text in KIT.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text)
+    scanned = scan_folder(tmp_path, [tmp_path / "lib"], entry="main.py", family="rp2")
+    assert {u.key for u in scanned.uses} == {"25", "15", "14", "0", "1", "16"}, scanned
+    wires = {"LED": 25, "ML": 15, "MR": 14, "DC": 0, "RES": 1, "BUMP": 16}
+    pins_toml = "".join(f"{k} = {v}\n" for k, v in wires.items())
+    parts = "".join(f'[[plant.parts]]\nkind = "probe"\nname = "{k.lower()}"\n' for k in wires)
+    wiring = "".join(f'{k} = "{k.lower()}.in"\n' for k in wires)
+    rig = f'[board]\nfamily = "rpi_pico"\n[board.pins]\n{pins_toml}[plant]\nbody = "bench"\n{parts}[wiring]\n{wiring}'
+    (tmp_path / "rig.toml").write_text(rig)
+    assert cli.main(["check", "--strict", str(tmp_path / "rig.toml")]) == 0, capsys.readouterr().err
+    assert "never touches" not in capsys.readouterr().err

@@ -1,0 +1,3 @@
+from ..util import VALUE
+
+LEAF = VALUE + "/leaf"

@@ -1,0 +1,1 @@
+VALUE = "p1.sub"

@@ -1,0 +1,1 @@
+ORIGIN = "firmware"  # esp is a built-in on an ESP32: a file never shadows it

@@ -1,0 +1,1 @@
+ORIGIN = "firmware"  # under lib/: the frozen module comes first on a board
