@@ -3,7 +3,12 @@
 
 A :class:`BusDevice` is an engine part on a named bus (``i2c0``, ``spi1``, a SoftI2C's
 ``i2c:<scl>,<sda>``) at a 7-bit address, or, on SPI, selected by its chip-select input
-(``<name>.cs``, low: selected). :class:`RegisterDevice` adds a register file (a list of
+(``<name>.cs``, low: selected; or tied low by the rig, ``cs = "low"``: selected for
+good). Chip select is active low and a selection lasts from its fall to its rise, however
+many transfers it spans: the bytes clocked while it is low reach the chip, as one stream
+(a display takes commands and data on; a register chip takes the register address as the
+first byte after the fall only, so a register chip whose CS never rises reads or writes on
+from the first address, as the silicon does). :class:`RegisterDevice` adds a register file (a list of
 256 ints, so that a plant snapshot copies it), an identity register, a register pointer
 that auto-increments, and hooks for the registers a chip computes (its samples) or acts
 on (a reset bit). :class:`BusSet` holds a plant's devices by bus and plays each
@@ -26,7 +31,9 @@ chip in the run's output (:meth:`RegisterDevice.take_notes`).
 import re
 from dataclasses import dataclass
 
+from sim_plant.catalogue.base import Opt, Sig
 from sim_plant.engine import Part
+from sim_plant.option_table import OneOf
 from sim_plant.plant import NEVER_US, Change
 
 # ops and statuses, as the link codec names them (host/shim/_hilframe.py: BUS_*)
@@ -39,7 +46,9 @@ FIRST_ADDRESS, LAST_ADDRESS = 0x08, 0x77
 class BusDevice(Part):
     """A chip on a bus. I2C: :meth:`begin` (its address matched) then :meth:`write` /
     :meth:`read` a byte at a time, :meth:`end` at the stop. SPI: :meth:`select`,
-    :meth:`exchange` a byte at a time, :meth:`deselect` when chip select rises."""
+    :meth:`exchange` a byte at a time, :meth:`transferred` at the end of each transfer
+    (chip select may stay low: the selection goes on), :meth:`deselect` when chip select
+    rises; :meth:`tie_cs_low`: no chip select input, selected for good."""
 
     FIXED_STATE = ("inputs", "outputs", "bus", "address", "label")
     holds_bus = False  # a device that holds SDA low: every transfer on its bus times out
@@ -64,6 +73,15 @@ class BusDevice(Part):
         self.selected = selected
         return False
 
+    def tie_cs_low(self, t_us: int = 0) -> None:
+        """Chip select tied to ground (a rig's ``cs = "low"``): no input, selected from power-on."""
+        if self.cs_signal is None:
+            return
+        self.inputs = {k: v for k, v in self.inputs.items() if k != self.cs_signal}
+        self.cs_signal = None
+        self.selected = True
+        self.select(t_us)
+
     def initial_outputs(self) -> dict:
         return {}
 
@@ -86,6 +104,9 @@ class BusDevice(Part):
 
     def exchange(self, t_us: int, byte: int) -> int:
         return 0xFF
+
+    def transferred(self, t_us: int) -> None:
+        """The end of an SPI transfer while selected (chip select may stay low)."""
 
     def deselect(self, t_us: int) -> None:
         pass
@@ -301,6 +322,8 @@ class BusSet:
                 for d in chosen:  # (two selected at once: their outputs fight; the lower wins)
                     value &= d.exchange(t_us, byte)
                 out.append(value)
+            for d in chosen:
+                d.transferred(t_us)
             return OK, len(data), bytes(out)
         if op == SCAN:
             found = sorted({d.address for d in devices if d.address is not None})
@@ -407,9 +430,32 @@ def check_placement(options: dict, i2c_only: str | None = None) -> None:
         raise ValueError(f"bus: expected an I2C bus ({i2c_only} has no SPI), got {bus}")
     if i2c_only is None and spi != bus.startswith("spi"):
         raise ValueError(f"spi: expected {str(not spi).lower()} on bus {bus}, got {str(spi).lower()}")
+    if not spi and options.get("cs", "pin") != "pin":
+        raise ValueError(f'cs: expected "pin" on I2C bus {bus} (a chip select is SPI only), got {options["cs"]!r}')
     problem = address_problem(bus, None if spi else options["address"])
     if problem:
         raise ValueError(f"address: {problem}")
+
+
+CS_OPTION = Opt(
+    "cs",
+    OneOf(("pin", "low")),
+    "pin",
+    'SPI only: "pin": its chip select is the cs input, wired to a pin the firmware drives; '
+    '"low": tied to ground (selected for good, no cs input)',
+)
+CS_SIGNAL = Sig(
+    "cs", "in", "level", "the chip select (SPI only: low selects it)", when=(("spi", (True,)), ("cs", ("pin",)))
+)
+"""A part on either bus: its ``cs`` option and its chip-select input (present on SPI
+unless the rig ties it low)."""
+
+
+def chip_select(device: BusDevice, options: dict) -> BusDevice:
+    """``device`` with its chip select as the part's ``cs`` option says (tied low: no input)."""
+    if options.get("spi") and options.get("cs") == "low":
+        device.tie_cs_low()
+    return device
 
 
 def tick_after(t_us: int, period_us: int) -> int:
@@ -422,11 +468,14 @@ __all__ = [
     "BusDevice",
     "BusName",
     "BusSet",
+    "CS_OPTION",
+    "CS_SIGNAL",
     "DataReady",
     "Change",
     "RegisterDevice",
     "SelfClearing",
     "address_problem",
     "check_placement",
+    "chip_select",
     "tick_after",
 ]

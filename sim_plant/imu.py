@@ -19,7 +19,17 @@ recent history (``on_motion_change``) so that a tick is evaluated at its own tim
 
 import math
 
-from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, check_placement, tick_after
+from sim_plant.buses import (
+    CS_OPTION,
+    CS_SIGNAL,
+    NEVER_US,
+    BusName,
+    Change,
+    RegisterDevice,
+    check_placement,
+    chip_select,
+    tick_after,
+)
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Flag, Num, Row
 
@@ -156,7 +166,7 @@ class ImuPart(PartType):
     CHIP = Imu
     SIGNALS = (
         Sig("int", "out", "level", "the data-ready interrupt line (rises at each new sample while enabled)"),
-        Sig("cs", "in", "level", "the chip select (SPI only: low selects it)", when=(("spi", (True,)),)),
+        CS_SIGNAL,
     )
     TRUTH = ("{name}_rate_dps", "{name}_sample_dps")
     VIEWS = (
@@ -175,6 +185,7 @@ class ImuPart(PartType):
             Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
             Opt("address", Num("", 0, 127, whole=True), default_address, "its 7-bit I2C address"),
             Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address)"),
+            CS_OPTION,
             Opt("holds_bus", Flag(), False, "true: it holds SDA low (a stuck bus: every transfer times out)"),
             Opt(
                 "gyro_bias_dps",
@@ -191,7 +202,7 @@ class ImuPart(PartType):
 
     def signals(self) -> dict[str, tuple[str, str]]:
         signals = {f"{self.name}.int": ("out", "level")}
-        if self.options["spi"]:
+        if CS_SIGNAL.present(self.options):
             signals[f"{self.name}.cs"] = ("in", "level")
         return signals
 
@@ -208,7 +219,7 @@ class ImuPart(PartType):
             rng=build.rng,
         )
         device.holds_bus = o["holds_bus"]
-        return device
+        return chip_select(device, o)
 
     def add(self, build: Build) -> None:
         build.parts.append(self.engine(build))

@@ -40,7 +40,22 @@ def check_pins(app, plant=None) -> PinCheck:
     result = compare(scan, pins, app.wiring, platform)
     if plant is not None and hasattr(plant, "bus_names"):
         result.warnings += compare_buses(scan, plant.bus_names())
+    if plant is not None and hasattr(plant, "chip_selects"):
+        result.warnings += unwired_chip_selects(plant.chip_selects(), app.wiring)
     return result
+
+
+def unwired_chip_selects(selects: dict, wiring: dict[str, str]) -> list[str]:
+    """A part on SPI whose chip select (``selects``: part -> (bus, its cs input)) no pin is
+    wired to: it is never selected, so nothing the firmware sends on its bus reaches it."""
+    wired = set(wiring.values())
+    return [
+        f"check: the rig wires no pin to {cs}, the chip select of {name} on {bus}: it is never selected "
+        f"(nothing sent on {bus} reaches it); wire the pin the firmware drives as its CS ([wiring] <PIN> = "
+        f'"{cs}"), or tie it low with cs = "low" in its [[plant.parts]] table'
+        for name, (bus, cs) in sorted(selects.items())
+        if cs not in wired
+    ]
 
 
 def compare_buses(scan: Scan, devices: dict[str, list[str]]) -> list[str]:

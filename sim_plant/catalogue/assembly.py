@@ -173,6 +173,16 @@ class PartsPlant(RobotPlant):
             part.bitstream(self._t_us, timing_ns, data)
             self._reschedule()
 
+    def chip_selects(self) -> dict:
+        """A part on SPI with a chip-select input (not tied low) -> (its bus, that input):
+        ``check`` warns of one the wiring leaves out (it is never selected)."""
+        selects = {}
+        for part in self.catalogue_parts:
+            cs = f"{part.name}.cs"
+            if part.on_bus and part.options.get("spi") and cs in part.signals():
+                selects[part.name] = (part.options["bus"], cs)
+        return selects
+
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""
         names: dict = {}

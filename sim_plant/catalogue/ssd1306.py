@@ -4,7 +4,8 @@
 
 I2C: after the address, a control byte (bit 7 Co, bit 6 D/C#): with Co = 0 every byte
 after it is a command (D/C# = 0) or display data (1); with Co = 1 one byte follows, then
-another control byte. SPI: each byte is a command while ``dc`` is low, data while high;
+another control byte. SPI: while ``cs`` is low (or tied low: ``cs = "low"``), over any
+number of transfers, each byte is a command while ``dc`` is low, data while high;
 ``res`` low resets the controller (its registers: the display off, page addressing), as
 the pin does. A read (I2C) gives the status byte: bit 6 set while the display is off.
 
@@ -21,14 +22,14 @@ multiplex ratio), mirrored unless the segments are remapped (0xA1) and upside do
 the COM scan is remapped (0xC8) (a module's usual set-up, which the published driver
 sends, shows the RAM upright), inverted, all lit, or dark while the display is off. Each
 distinct picture is kept with its time (the last ``max_frames``; after that the last one
-is replaced) at the end of the transfer that made it: the trace folder has the last as
-``<name>.png`` and all as ``<name>.gif`` (``host/artefacts/pictures.py``).
+is replaced) at the end of the transfer that made it (chip select held low or not): the
+trace folder has the last as ``<name>.png`` and all as ``<name>.gif`` (``host/artefacts/pictures.py``).
 
 Not modelled: the COM pins configuration's effect (a 32-row panel with 0x12 would show
 every other row), the display offset, contrast as a brightness, the charge pump (the
 display lights without it), scrolling, the 64-column panels' shift."""
 
-from sim_plant.buses import BusDevice, BusName, check_placement
+from sim_plant.buses import CS_OPTION, CS_SIGNAL, BusDevice, BusName, check_placement, chip_select
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig
 from sim_plant.option_table import Flag, Num, OneOf
 
@@ -98,6 +99,9 @@ class Ssd1306Chip(BusDevice):
     def exchange(self, t_us, byte):
         self._byte(byte, self.dc)
         return 0xFF  # (write-only: nothing drives MISO)
+
+    def transferred(self, t_us):
+        self._frame(t_us)  # (the glass shows the RAM as it is, chip select low or not)
 
     def deselect(self, t_us):
         self._frame(t_us)
@@ -216,11 +220,12 @@ class Ssd1306(PartType):
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
         Opt("address", Num("", 0, 127, whole=True), 0x3C, "its 7-bit I2C address (0x3C; 0x3D with SA0 high)"),
         Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address), with dc and res"),
+        CS_OPTION,
         Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"),
         Opt("max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"),
     )
     SIGNALS = (
-        Sig("cs", "in", "level", "the chip select (SPI only: low selects it)", when=(("spi", (True,)),)),
+        CS_SIGNAL,
         Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),
         Sig("res", "in", "level", "the reset pin (SPI only: low resets the controller)", when=(("spi", (True,)),)),
     )
@@ -234,4 +239,5 @@ class Ssd1306(PartType):
     def add(self, build: Build) -> None:
         o = self.options
         address = None if o["spi"] else o["address"]
-        build.parts.append(Ssd1306Chip(self.name, o["bus"], address, o["height"], o["max_frames"]))
+        chip = Ssd1306Chip(self.name, o["bus"], address, o["height"], o["max_frames"])
+        build.parts.append(chip_select(chip, o))
