@@ -483,6 +483,12 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
         _check_type(where, field, signal, str)
         if pin not in pins:
             raise where.error(field, f"board {board} has no pin named {pin} {unknown(pin, pins, what='pins')}")
+        if signal in getattr(plant, "tied_chip_selects", set)():
+            raise where.error(
+                field,
+                f'expected a plant signal, got {signal!r}, a chip select the rig ties low (cs = "low" in '
+                f"[[plant.parts]] {signal.rpartition('.')[0]}): wire a pin to it or tie it low, not both",
+            )
         if not signal.startswith(PROBE_PREFIX) and signal not in signals:
             close = unknown(signal, signals, what="signals").rpartition(")")[2]
             raise where.error(

@@ -6,6 +6,7 @@ neither wired nor tied."""
 import pytest
 
 from host.core.drivers import driver_folder
+from host.core.errors import ConfigError
 from host.rig.pincheck import check_pins
 from host.rig.rigfile import load_rig
 from host.tests.conftest import FIRMWARE, bench_app, results
@@ -133,3 +134,10 @@ def test_check_is_quiet_of_a_cs_wired_or_tied_low_in_the_rig_file(tmp_path):
     app = rig_file(tmp_path, tie='cs = "low"')
     assert cs_warnings(app) == []
     assert "small.cs" not in app.make_plant().inputs, "tied low: no cs input to wire"
+
+
+def test_a_rig_that_wires_a_pin_to_a_cs_it_ties_low_is_refused_naming_both(tmp_path):
+    with pytest.raises(
+        ConfigError, match=r'\[wiring\] CS_HOLD: .*small.cs.* ties low \(cs = "low" in \[\[plant.parts\]\] small\)'
+    ):
+        rig_file(tmp_path, tie='cs = "low"', cs='CS_HOLD = "small.cs"')

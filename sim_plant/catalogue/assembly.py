@@ -183,6 +183,14 @@ class PartsPlant(RobotPlant):
                 selects[part.name] = (part.options["bus"], cs)
         return selects
 
+    def tied_chip_selects(self) -> set:
+        """The chip-select inputs the rig ties low (``cs = "low"``): no pin can be wired to them."""
+        return {
+            f"{p.name}.cs"
+            for p in self.catalogue_parts
+            if p.on_bus and p.options.get("spi") and p.options.get("cs") == "low"
+        }
+
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""
         names: dict = {}
