@@ -166,14 +166,17 @@ def _pins_apply(changed):
             _applying = False
 
 
-def gpio_in():
+def gpio_in(only=None):
+    """The pads' levels (the pins made, and those whose control mem32 wrote), after INOVER."""
     m = _machine()
     word = 0
-    for gpio in range(N_GPIO):
+    for gpio in range(N_GPIO) if only is None else (only,):
         pin = m.Pin._made.get(gpio)
         if pin is None:
-            continue
-        level = pin.value() if pin._cfg or pin._mode == m.Pin.OUT else 0
+            if only is None and IO_BANK0 + 8 * gpio + 4 not in _regs:
+                continue
+            pin = m.Pin(gpio)
+        level = pin.value()
         inover = _regs.get(IO_BANK0 + 8 * gpio + 4, FUNC_NULL) >> 16 & 3
         level = (level, 1 - level, 0, 1)[inover]
         word |= (level & 1) << gpio
@@ -189,7 +192,7 @@ def _read32(addr):
         if addr & 4:
             return _regs.get(addr, FUNC_NULL)
         gpio = (addr - IO_BANK0) // 8  # GPIOn_STATUS: INFROMPAD (bit 17), OEFROMPERI ...
-        return (gpio_in() >> gpio & 1) << 17
+        return (gpio_in(gpio) >> gpio & 1) << 17
     if addr == SIO + 0x04:
         return gpio_in()
     if addr in (SIO + 0x10, SIO + 0x14, SIO + 0x18, SIO + 0x1C):

@@ -4,7 +4,9 @@ and SIO's GPIO registers drive and read the pins, and any other address is named
 
 import pytest
 
-from host.tests.conftest import FIRMWARE, bench_app, results
+from host.rig.apps import App
+from host.tests.conftest import FIRMWARE, INPUTS, OUTPUTS, bench_app, results
+from sim_plant.scripted import ScriptedPlant
 
 pytestmark = pytest.mark.hil
 
@@ -51,3 +53,36 @@ def test_motors_driven_through_pwm_registers_move_as_with_pwm_duty(make_rig):
     assert r["freq_regs"] == [64515, 31, 1000, 32768]
     notes = [line for line in rig.console.splitlines() if "0x40058000" in line]
     assert len(notes) == 1 and "[mpy-fil: note: read of 0x40058000" in notes[0], rig.console
+
+
+def gpio_app():
+    # GP16 -> the plant's out1 (a level it takes), GP17 <- its button (pressed 40..90 ms)
+    script = [(40_000, "button", 0), (90_000, "button", 1)]
+    return App(
+        name="mem32_gpio",
+        default_board="pins",
+        identity=RP2040,
+        make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial={"button": 1}),
+        wiring={"OUT1": "out1", "BTN": "button"},
+        pins={"OUT1": 16, "BTN": 17},
+        console_baud=0,
+    )
+
+
+def test_sio_registers_drive_pins_and_an_override_reads_a_button_on_an_led_pin(make_rig):
+    rig = make_rig(gpio_app(), main_dir=FIRMWARE / "mem32_gpio", allow_exit=True)
+    rig.run_for(0.5)
+    rig.stop()
+    r = results(rig.console)
+    assert r["set"] == [1, 1, 1], rig.console
+    # OE set with OUT low, then OUT_SET, XOR, GPIO_OUT, CLR and Pin.value(1) (each 10 ms apart)
+    want = [(0, 0), (0, 1), (10_000, 0), (20_000, 1), (30_000, 0), (30_000, 1)]
+    assert [(t, v) for t, name, v in rig.plant.log if name == "out1"] == want, rig.plant.log
+    assert r["pin_value"] == 1
+    assert r["button"] == [0, 0, 1, 1], rig.console  # (read at 55, 80, 105, 130 ms; pressed 40..90 ms)
+    assert r["gpio_in"] == 1  # (GP17's pad in GPIO_IN too, once its control was written)
+    assert r["inverted"] == [0, hex(5 | 2 << 12 | 1 << 16)]
+    assert r["funcsel"] == [5, 0x1F]  # (GP2 never chosen: FUNCSEL's reset value, NULL)
+    assert r["unknown"] == [0, 0, 0]
+    for addr in ("0xd0000100", "0x40054000"):
+        assert sum(f"note: read of {addr}" in line for line in rig.console.splitlines()) == 1, rig.console
