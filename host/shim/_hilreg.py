@@ -282,9 +282,13 @@ class Mem:
         word, op = _atomic(addr & ~3)
         old = _read32(word)
         if old is not None:
-            if self._size < 4:  # (the APB bus copies a narrow write across the word: 2.1.4)
+            if self._size < 4:
                 value &= (1 << self._bits) - 1
-                value = value * (0x01010101 if self._size == 1 else 0x00010001)
+                if word < SIO:  # (the APB bus copies a narrow write across the word: 2.1.4)
+                    value = value * (0x01010101 if self._size == 1 else 0x00010001)
+                else:  # (SIO: the bytes written, the rest kept)
+                    shift = 8 * (addr & 3)
+                    value = (old & ~(((1 << self._bits) - 1) << shift)) | (value << shift)
             value &= 0xFFFFFFFF
             value = (value, old ^ value, old | value, old & ~value)[op]
             if _write32(word, value):

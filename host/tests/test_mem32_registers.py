@@ -47,6 +47,7 @@ def test_motors_driven_through_pwm_registers_move_as_with_pwm_duty(make_rig):
     assert r["regs"] == [5999, 16, hex(3000 << 16 | 4500), 4500, 3000]
     assert r["pwm"] == [32768, 49151, 20833, 20833] == twin["pwm"]
     assert r["unknown"] == [0, 0] and r["unknown_back"] == 0x1234
+    assert r["stopped"] == [0, 0, 32768] and r["running"] == [1, 5999]  # (duty_u16(): from CC, running or not)
     assert r["from_pwm"] == [hex(3000), 5999]  # (duty_u16(32768) on TOP 5999: CC A = 3000)
     # freq(1000): TOP 124999 does not fit 16 bits, so div16 = ceil(16 * 125 MHz / (65534 * 1000))
     # = 31 and TOP = round(16 * 125 MHz / (31 * 1000)) - 1 (machine_pwm.c, mp_machine_pwm_freq_set)
