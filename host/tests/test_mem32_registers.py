@@ -56,6 +56,15 @@ def test_motors_driven_through_pwm_registers_move_as_with_pwm_duty(make_rig):
     assert len(notes) == 1 and "[mpy-fil: note: read of 0x40058000" in notes[0], rig.console
 
 
+def test_a_slice_set_up_through_registers_alone_drives_its_pins_once_funcsel_gives_them_to_pwm(make_rig):
+    rig, half, _ = drive(make_rig, "mem32_bare_motors")
+    _, twin_half, _ = drive(make_rig, "pwm_motors")
+    assert half["distance_m"] > 0.1, (half, rig.console)
+    assert half["x_m"] == pytest.approx(twin_half["x_m"], abs=1e-9), (half, twin_half)
+    assert half["theta_rad"] == pytest.approx(twin_half["theta_rad"], abs=1e-9)
+    assert "[mpy-fil: note" not in rig.console, rig.console
+
+
 def gpio_app():
     # GP16 -> the plant's out1 (a level it takes), GP17 <- its button (pressed 40..90 ms)
     script = [(40_000, "button", 0), (90_000, "button", 1)]
@@ -83,6 +92,7 @@ def test_sio_registers_drive_pins_and_an_override_reads_a_button_on_an_led_pin(m
     assert r["button"] == [0, 0, 1, 1], rig.console  # (read at 55, 80, 105, 130 ms; pressed 40..90 ms)
     assert r["gpio_in"] == 1  # (GP17's pad in GPIO_IN too, once its control was written)
     assert r["inverted"] == [0, hex(5 | 2 << 12 | 1 << 16)]
+    assert r["unwired"] == [1, 1]
     assert r["funcsel"] == [5, 0x1F]  # (GP2 never chosen: FUNCSEL's reset value, NULL)
     assert r["unknown"] == [0, 0, 0]
     for addr in ("0xd0000100", "0x40054000"):

@@ -42,5 +42,9 @@ print("R gpio_in", mem32[GPIO_IN] >> 17 & 1)
 mem32[ctrl(17)] = FUNC_SIO | OEOVER_DISABLE
 mem32[ctrl(17)] = FUNC_SIO | OEOVER_DISABLE | INOVER_INVERT
 print("R inverted", [mem32[GPIO_IN] >> 17 & 1, hex(mem32[ctrl(17)])])
+mem32[ctrl(3)] = FUNC_SIO  # (GP3 is wired to nothing: driven all the same)
+mem32[OE_SET] = 1 << 3
+mem32[OUT_SET] = 1 << 3
+print("R unwired", [mem32[GPIO_IN] >> 3 & 1, mem32[ctrl(3) - 4] >> 17 & 1])
 print("R funcsel", [mem32[ctrl(16)] & 0x1F, mem32[ctrl(2)] & 0x1F])
 print("R unknown", [mem32[SIO + 0x100], mem32[SIO + 0x100], mem32[0x40054000]])
