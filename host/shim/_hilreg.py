@@ -1,7 +1,8 @@
 # The RP2040's registers behind machine.mem32/mem16/mem8 (docs/shim.md, "Registers"): the
 # PWM block, IO_BANK0's GPIO control registers and SIO's GPIO registers, as the RP2040
-# datasheet lays them out (chapter 2.3.1 SIO, 2.19.6 IO_BANK0, 4.5.3 PWM; pico-sdk's
-# hardware/regs/pwm.h, io_bank0.h, sio.h). What they do reaches the plant as the
+# datasheet lays them out (2.3.1.7 SIO's registers, 2.19.6.1 IO_BANK0's, 4.5.4 PWM's;
+# the same offsets and fields as the SVD's pico-sdk hardware/regs/pwm.h, io_bank0.h and
+# sio.h, and ports/rp2/machine_pwm.c's use of pwm_hw). What they do reaches the plant as the
 # machine.PWM and machine.Pin the port would drive: a duty written to a slice's CC moves
 # a motor as PWM.duty_u16 does. Any other address is memory of its own, named once on the
 # console as a note of the harness's.
