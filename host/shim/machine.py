@@ -31,6 +31,9 @@ def _mcu():
 
 _RP2 = _platform() == "rp2"  # (machine is imported once the host has named the board's family)
 _RP2350 = _RP2 and "RP2350" in _mcu()
+_REG = None
+if _RP2 and not _RP2350:
+    import _hilreg as _REG  # the RP2040's registers behind mem32 (PWM, IO_BANK0, SIO)
 
 
 class _Names:
@@ -183,6 +186,16 @@ class Pin:
         )
         if drives:
             _hil.send_out(self._handle, _F.OUT_LEVEL, self._out)
+        if _REG is not None and isinstance(self._id, int) and 0 <= self._id < _REG.N_GPIO:
+            _REG.pin_state(self._id, self._mode == _ALT, self._alt, self._mode == Pin.OUT, self._out)
+
+    def _from_registers(self, oe, out):
+        """SIO's OE and OUT (or a GPIO's overrides) as mem32 set them: drive or let go."""
+        mode = Pin.OUT if oe else Pin.IN
+        if self._mode != mode or not self._cfg or (oe and out != self._out):
+            self._init(mode, -1, out, _ALT_SIO)
+        else:
+            self._out = out
 
     def _hil_apply(self, kind, value, extra):
         old = self._level
@@ -210,6 +223,8 @@ class Pin:
         x = 1 if x else 0
         if x != self._out:
             self._out = x
+            if _REG is not None and isinstance(self._id, int):
+                _REG.pin_out(self._id, x)
             if self._mode == _OUT or self._mode == Pin.OPEN_DRAIN:  # (ALT: the latch only)
                 _hil.send_out(self._handle, _F.OUT_LEVEL, x)
 
@@ -405,9 +420,28 @@ class PWM:
             pwm._invert = False
         return pwm
 
+    @classmethod
+    def _from_registers(cls, gpio):
+        """A pin given to the PWM function by mem32 (IO_BANK0's FUNCSEL): its PWM, no
+        register written (they say its duty and freq)."""
+        pwm = cls.__new__(cls, gpio)
+        _hil.configure(pwm._handle, _F.CFG_PWM, pwm._pin._id, param=pwm._freq)
+        return pwm
+
+    def _drive(self, freq, duty, invert):
+        """The slice's registers, written through mem32, as the plant sees them."""
+        if freq != self._freq:
+            self._freq = freq
+            _hil.send_out(self._handle, _F.OUT_FREQ, freq)
+        if duty != self._duty or invert != self._invert:
+            self._duty, self._invert = duty, invert
+            _hil.send_out(self._handle, _F.OUT_DUTY, 65535 - duty if invert else duty)
+
     def __init__(self, dest, freq=None, duty=None, *, duty_u16=None, duty_ns=None, invert=False, **_kw):
         _hil.configure(self._handle, _F.CFG_PWM, self._pin._id, param=self._freq)
         self._invert = bool(invert)  # the line is high for the rest of each period
+        if self._reg():
+            _REG.set_funcsel(self._pin._id, _REG.FUNC_PWM)  # (machine_pwm.c: gpio_set_function)
         self.freq(self._freq if freq is None else freq)
         self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
@@ -430,20 +464,32 @@ class PWM:
             raise ValueError("duty %r out of range 0..1023" % (value,))
         self.duty_u16(value * 65535 // 1023)
 
+    def _reg(self):
+        return _REG is not None and isinstance(self._pin._id, int) and 0 <= self._pin._id < _REG.N_GPIO
+
     def freq(self, value=None):
         if value is None:
+            if self._reg():  # ports/rp2/machine_pwm.c, mp_machine_pwm_freq_get: from DIV and TOP
+                return _REG.pwm_freq(_REG._slice_of(self._pin._id))
             return self._freq
         if not 0 < value <= 40_000_000:
             raise ValueError("freq %r out of range" % (value,))
+        if self._reg():  # (mp_machine_pwm_freq_set: DIV and TOP, then the duty again)
+            _REG.pwm_set_freq(self._pin._id, int(value))
+            _REG.pwm_set_duty_u16(self._pin._id, self._duty, self._invert)
         self._freq = int(value)
         _hil.send_out(self._handle, _F.OUT_FREQ, self._freq)
 
     def duty_u16(self, value=None):
         if value is None:
+            if self._reg():  # ports/rp2/machine_pwm.c, mp_machine_pwm_duty_get_u16: from CC and TOP
+                return _REG.pwm_duty_u16(self._pin._id)
             return self._duty
         value = int(value)
         if not 0 <= value <= 65535:
             raise ValueError("duty_u16 %r out of range 0..65535" % (value,))
+        if self._reg():
+            _REG.pwm_set_duty_u16(self._pin._id, value, self._invert)
         if value != self._duty:
             self._duty = value
             _hil.send_out(self._handle, _F.OUT_DUTY, 65535 - value if self._invert else value)
@@ -456,6 +502,8 @@ class PWM:
 
     def deinit(self):
         self._duty = 0
+        if self._reg():  # (machine_pwm.c, mp_machine_pwm_deinit: pwm_set_enabled(slice, false))
+            _REG.pwm_stop(self._pin._id)
         _hil.send_out(self._handle, _F.OUT_DEINIT, 0)
 
 
@@ -872,9 +920,12 @@ class _Mem:
         return "<%d-bit memory>" % self._bits
 
 
-mem8 = _Mem(8)
-mem16 = _Mem(16)
-mem32 = _Mem(32)
+if _REG is not None:  # an RP2040: its PWM, IO_BANK0 and SIO registers (host/shim/_hilreg.py)
+    mem8, mem16, mem32 = _REG.Mem(8), _REG.Mem(16), _REG.Mem(32)
+else:
+    mem8 = _Mem(8)
+    mem16 = _Mem(16)
+    mem32 = _Mem(32)
 
 
 class RTC:
