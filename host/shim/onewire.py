@@ -66,7 +66,7 @@ class OneWire:
             rom, last_fork = self._search(rom, last_fork)
             if rom is None:
                 return found
-            found.append(bytes(rom))
+            found.append(rom)  # (a bytearray, a new one each search, as micropython-lib's)
             if last_fork == 0:
                 return found
 

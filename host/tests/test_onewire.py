@@ -16,7 +16,7 @@ name = "ds18b20_bench"
 entry = "main.py"
 allow_exit = true
 [board]
-name = "esp32_devkitc"
+name = "{board}"
 [plant]
 body = "bench"
 {parts}
@@ -26,7 +26,7 @@ PART = """
 [[plant.parts]]
 kind = "ds18b20"
 name = "probe"
-bus = "onewire:4"
+bus = "onewire:{pin}"
 temperature_c = {t}
 serial = 0x0123456789AB
 """
@@ -34,9 +34,10 @@ serial = 0x0123456789AB
 # As the public DS18B20 examples are written (docs.micropython.org, esp32 quickref).
 EXAMPLE = """
 import time, machine, onewire, ds18x20
-ds = ds18x20.DS18X20(onewire.OneWire(machine.Pin(4)))
+ds = ds18x20.DS18X20(onewire.OneWire(machine.Pin(PIN)))
 roms = ds.scan()
 print("R roms", [bytes(r) for r in roms])
+print("R kinds", [type(r).__name__ for r in roms])
 for rom in roms:
     ds.convert_temp()
     time.sleep_ms(750)
@@ -79,9 +80,9 @@ except onewire.OneWireError as e:
 """
 
 
-def _run(make_rig, tmp_path, firmware: str, parts: str, seconds: float = 5.0):
-    (tmp_path / "main.py").write_text(firmware)
-    (tmp_path / "rig.toml").write_text(RIG.format(parts=parts))
+def _run(make_rig, tmp_path, firmware: str, parts: str, seconds: float = 5.0, board="esp32_devkitc", pin=4):
+    (tmp_path / "main.py").write_text(firmware.replace("PIN", str(pin)))
+    (tmp_path / "rig.toml").write_text(RIG.format(parts=parts.replace("{pin}", str(pin)), board=board))
     rig = make_rig(str(tmp_path))
     rig.run_for(seconds)
     return results(rig.console), rig.console
@@ -96,14 +97,15 @@ def test_the_rom_and_scratchpad_carry_the_datasheets_crc():
     assert raw_temperature(22.5625, 9) == 0x0168  # (9 bits: half degrees, the rest 0)
 
 
-def test_a_public_ds18b20_example_reads_the_parts_temperature(make_rig, tmp_path):
-    r, console = _run(make_rig, tmp_path, EXAMPLE, PART.format(t=23.4375))
-    assert r.get("roms") == [rom_of(0x0123456789AB)], console[-2000:]
+@pytest.mark.parametrize("board, pin", [("esp32_devkitc", 4), ("rpi_pico", 22)])
+def test_a_public_ds18b20_example_reads_the_parts_temperature(make_rig, tmp_path, board, pin):
+    r, console = _run(make_rig, tmp_path, EXAMPLE, PART.replace("{t}", "23.4375"), board=board, pin=pin)
+    assert r.get("roms") == [rom_of(0x0123456789AB)] and r["kinds"] == ["bytearray"], console[-2000:]
     assert r["temp"] == 23.4375, console[-2000:]
 
 
 def test_conversion_time_follows_the_resolution_and_the_scratchpad_crc_is_checked(make_rig, tmp_path):
-    r, console = _run(make_rig, tmp_path, TIMING, PART.format(t=-10.1875))
+    r, console = _run(make_rig, tmp_path, TIMING, PART.replace("{t}", "-10.1875"))
     assert r.get("crc_rom") == 0, console[-2000:]
     assert r["slots"] == (960, 560, 70)  # modonewire.c: 480 + 70 + 410; 8 x (6 + 9 + 55); 6 + 54 + 10
     # (the bits below the resolution read 0: two's complement, so a negative value rounds down)
@@ -131,8 +133,9 @@ def test_check_takes_a_onewire_pin_as_the_parts_line_not_an_unwired_pin(tmp_path
     from host.rig.pincheck import check_pins
     from host.rig.rigfile import load_rig
 
-    (tmp_path / "main.py").write_text(EXAMPLE)
-    (tmp_path / "rig.toml").write_text(RIG.format(parts=PART.format(t=20)))
+    (tmp_path / "main.py").write_text(EXAMPLE.replace("PIN", "4"))
+    part = PART.replace("{t}", "20").replace("{pin}", "4")
+    (tmp_path / "rig.toml").write_text(RIG.format(parts=part, board="esp32_devkitc"))
     app = load_rig(tmp_path / "rig.toml")
     assert check_pins(app, app.make_plant()).warnings == []
 
@@ -168,3 +171,17 @@ def test_a_scenarios_temperature_control_is_what_the_next_conversion_reads():
 
     assert convert_and_read(0) == 20.0
     assert convert_and_read(2_000_000) == 31.25
+
+
+def test_a_traced_onewire_slot_lasts_modonewires_time_and_reads_as_text():
+    from host.link import frames as F
+    from host.rig.bustrace import describe, transaction
+
+    reset = transaction(0, "onewire:4", 1, F.BUS_XFER, 0x40, 1, b"\x00", F.BUS_OK, 1, b"\x01")
+    assert (reset.duration_us, describe(reset)) == (960, "reset: presence (960 us)")
+    write = transaction(0, "onewire:4", 1, F.BUS_XFER, 0x40, 0, b"\x02\xcc", F.BUS_OK, 2, b"")
+    assert describe(write) == "write byte cc (560 us)"
+    read = transaction(0, "onewire:4", 1, F.BUS_XFER, 0x40, 1, b"\x03", F.BUS_OK, 1, b"\x01")
+    assert describe(read) == "read bit 01 (70 us)"
+    empty = transaction(0, "onewire:4", 1, F.BUS_XFER, 0x40, 1, b"\x00", F.BUS_NACK_ADDRESS, 0, b"")
+    assert describe(empty) == "reset (no device) (960 us)"
