@@ -389,7 +389,9 @@ class BusSet:
 
 BUS_NAME = re.compile(
     r"(i2c|spi)[0-9]|i2c:[A-Za-z0-9_]+,[A-Za-z0-9_]+|spi:[A-Za-z0-9_]+,[A-Za-z0-9_]*,[A-Za-z0-9_]*|dht:[A-Za-z0-9_]+"
-)  # (dht:<pin>: a DHT sensor's data line, read a frame at a time: sim_plant/catalogue/dht.py)
+    r"|onewire:[A-Za-z0-9_]+"
+)  # (dht:<pin>: a DHT sensor's data line, read a frame at a time: sim_plant/catalogue/dht.py;
+# onewire:<pin>: a 1-Wire line, a slot or byte at a time: sim_plant/catalogue/ds18b20.py)
 
 
 @dataclass(frozen=True)
@@ -397,7 +399,7 @@ class BusName:
     """A bus as the shim names it: ``i2c0``, ``spi1`` (the board's controllers), or a
     SoftI2C's ``i2c:<scl>,<sda>`` / a SoftSPI's ``spi:<sck>,<mosi>,<miso>`` (its pins)."""
 
-    what = "a bus name (i2c0, i2c1, spi1, i2c:<scl>,<sda>, spi:<sck>,<mosi>,<miso>)"
+    what = "a bus name (i2c0, i2c1, spi1, i2c:<scl>,<sda>, spi:<sck>,<mosi>,<miso>, dht:<pin>, onewire:<pin>)"
 
     def problem(self, value):
         if isinstance(value, str) and BUS_NAME.fullmatch(value):

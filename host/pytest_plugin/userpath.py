@@ -37,7 +37,7 @@ from host.rig.tomlfile import read_toml
 
 MICROPYTHON_ONLY = frozenset(
     "machine micropython rp2 esp esp32 network bluetooth ubluetooth pyb neopixel utime uasyncio "
-    "uos usys ustruct umachine framebuf onewire dht espnow".split()
+    "uos usys ustruct umachine framebuf onewire ds18x20 dht espnow".split()
 )
 """Modules a board has and CPython has not: a file importing one is firmware."""
 RIG_SECONDS = 30.0

@@ -10,7 +10,7 @@ from host.rig import boards as pin_maps
 from host.rig.budgets import Budget
 from sim_plant.plant import Plant
 
-BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow", "onewire", "ds18x20")
+BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow")
 """Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
 
 

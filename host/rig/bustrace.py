@@ -28,6 +28,15 @@ from host.rig.pollwatch import PollWatch, poll_text
 
 SCAN_ADDRESSES = 0x78 - 0x08
 BYTES_SHOWN = 8  # bytes of a transfer spelled out in its decoded text
+# a 1-Wire line's operations (the first byte: host/shim/_onewire.py) -> (text, time on the line in us:
+# extmod/modonewire.c's reset 480 + 70 + 410, a bit's slot 70, a byte 8 slots)
+ONEWIRE_OPS = {
+    0: ("reset", 960),
+    1: ("write bit", 70),
+    2: ("write byte", 560),
+    3: ("read bit", 70),
+    4: ("read byte", 560),
+}
 OUTCOMES = {F.BUS_OK: "", F.BUS_NACK_ADDRESS: " NACK", F.BUS_NACK_DATA: " NACK data", F.BUS_STUCK: " TIMEOUT"}
 
 
@@ -91,6 +100,8 @@ def transaction(t_us, bus, clock_hz, op, address, n_read, wrote, status, count, 
     else:
         address = None
     duration = duration_us(op, clock_hz, status, count, len(wrote), n_read)
+    if bus.startswith("onewire:") and wrote:
+        duration = ONEWIRE_OPS.get(wrote[0], ("", None))[1]
     return Transaction(t_us, bus, op, address, register, bytes(wrote), bytes(got), status, duration)
 
 
@@ -112,6 +123,8 @@ def describe(tx: Transaction) -> str:
     """The decoded text: ``0x6a reg 0x22 read 0c 00 ... (98 us)``, ``0x3c write 00 ae``,
     ``scan: 0x29 0x6a``, ``spi reg 0x0f read 6c``, ``0x68 NACK``."""
     took = "timeout" if tx.duration_us is None else f"{tx.duration_us} us"
+    if tx.bus.startswith("onewire:") and tx.wrote and tx.wrote[0] in ONEWIRE_OPS:
+        return f"{_onewire_text(tx)} ({took})"
     if tx.op == F.BUS_SCAN:
         return f"scan: {' '.join(f'0x{a:02x}' for a in tx.read) or 'none'}{OUTCOMES.get(tx.status, '')} ({took})"
     if tx.op in _PRIMITIVES:
@@ -131,6 +144,17 @@ def describe(tx: Transaction) -> str:
     elif tx.read:
         text += ["read", _hex(tx.read)]
     return " ".join(text) + f"{OUTCOMES.get(tx.status, '')} ({took})"
+
+
+def _onewire_text(tx: Transaction) -> str:
+    """``reset: presence``, ``write byte cc``, ``read byte 28``; ``... (no device)`` on an empty line."""
+    what = ONEWIRE_OPS[tx.wrote[0]][0]
+    if tx.status != F.BUS_OK:
+        return f"{what} (no device)"
+    if what == "reset":
+        return "reset: presence"
+    value = tx.read[:1] if what.startswith("read") else tx.wrote[1:2]
+    return f"{what} {_hex(value)}"
 
 
 class BusTrace:

@@ -30,6 +30,8 @@ BUS_PINS = {"tx", "rx", "scl", "sda", "sck", "mosi", "miso", "cs"}
 BUS_NAMES = {"I2C": ("id",), "SPI": ("id",), "SoftI2C": ("scl", "sda"), "SoftSPI": ("sck", "mosi", "miso")}
 # (their arguments that name the bus, as the shim names it: i2c0, spi1, i2c:<scl>,<sda>)
 DHT_MAKERS = ("DHT11", "DHT22")  # dht.DHT22(Pin(4)): its pin is the sensor's line, dht:4 (host/shim/_hildht.py)
+# a maker whose first argument is a line the shim reads a slot or frame at a time -> the line's prefix
+LINE_MAKERS = {**dict.fromkeys(DHT_MAKERS, "dht"), "OneWire": "onewire"}  # (OneWire(Pin(4)): onewire:4, _onewire.py)
 PIO_MAKERS = {"StateMachine", "init", "state_machine"}  # rp2's: a state machine and its pin groups
 PIO_BASES = {"in_base", "out_base", "set_base", "sideset_base"}  # the first pin of a group (its size: the program's)
 NOTES_MAX = 5  # files that could not be read, named one by one
@@ -527,7 +529,7 @@ class _Visitor:
         for kw in call.keywords if name in PIO_MAKERS else ():
             if kw.arg in PIO_BASES:
                 self._pio_base(kw.value, name, kw.arg, call)
-        if name in DHT_MAKERS and call.args and self.learning is None:
+        if name in LINE_MAKERS and call.args and self.learning is None:
             self._dht(call, name)
 
     def _pio_base(self, arg, name: str, param: str, call: ast.Call) -> None:
@@ -538,7 +540,8 @@ class _Visitor:
         self._pin(arg, "pio", f"{name}({param}={{}})", call, param)
 
     def _dht(self, call: ast.Call, name: str) -> None:
-        """A DHT sensor's pin: a line (dht:<pin>) the shim reads a frame at a time."""
+        """A DHT sensor's or a 1-Wire bus's pin: a line (dht:<pin>, onewire:<pin>) the shim
+        reads a frame or a slot at a time."""
         arg = call.args[0]
         self._bus_pin(arg, name, "pin", call)
         if isinstance(arg, ast.Call) and self._maker_name(arg) in ("Pin", "Signal") and arg.args:
@@ -546,7 +549,7 @@ class _Visitor:
         value = self.envs.value(arg, self.env)
         where = f"{self.shown}:{call.lineno}"
         if isinstance(value, int | str) and type(value) is not bool:
-            self.scan.buses.setdefault(f"dht:{value}", f"{where}: {name}(...)")
+            self.scan.buses.setdefault(f"{LINE_MAKERS[name]}:{value}", f"{where}: {name}(...)")
         else:
             self.scan.buses_unknown.append(f"{where}: {ast.unparse(call)[:80]}")
 

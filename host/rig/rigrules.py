@@ -4,7 +4,7 @@ what a board could not be wired as, and what a run could not mean.
 - **One line, one use.** A pin is wired once; a plant input is driven by one pin (or by
   one device: a PWM expander's channel); a probe watches one pin; a pin a bus runs on
   (a SoftI2C's ``i2c:<scl>,<sda>``, a SoftSPI's ``spi:<sck>,<mosi>,<miso>``, a DHT's
-  ``dht:<pin>``) is no other bus's and no wired pin, and appears once in its bus.
+  ``dht:<pin>``, ``onewire:<pin>``) is no other bus's and no wired pin, and appears once in its bus.
 - **Only what the board has.** A pin number in a bus's name is one of the family's GPIOs;
   a board's bus controller (``i2c<n>``, ``spi<n>``) is one the family has (as the shim's
   ``machine.I2C``/``SPI`` take them: ``host/shim/_hilbus.py``, after MicroPython's

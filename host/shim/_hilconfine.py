@@ -44,6 +44,7 @@ BOARD_MODULES = {
     "dht": FROZEN,
     "onewire": FROZEN,
     "ds18x20": FROZEN,
+    "_onewire": BUILT_IN,  # extmod/modonewire.c (MICROPY_PY_ONEWIRE on the ESP32 and RP2 ports)
 }
 # a family's own (ports/rp2/modules/_boot.py imports rp2; ports/esp32/modesp.c registers esp)
 FAMILY_MODULES = {"rp2": ("rp2", BUILT_IN), "esp": ("esp", BUILT_IN)}
