@@ -160,6 +160,8 @@ def walk(value, where, depth):
     if seen.get(key, 99) <= depth or len(seen) > 40000:
         return  # (met again nearer a root: walked again, deeper)
     seen[key] = depth
+    if len(seen) % 500 == 0:
+        time.sleep_ms(1)  # (the host hears from the walk: its watchdog waits 5 s of wall time for a message)
     bad = host_handle(value)
     if bad:
         found.append(where + ": " + bad if len(found) < 30 else "")
