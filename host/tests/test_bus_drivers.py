@@ -81,6 +81,23 @@ def test_published_lis3mdl_driver_compass_follows_the_heading_after_a_hard_iron_
     assert r["z_ut"] == pytest.approx(-44 + 3, abs=2)
 
 
+def test_published_lsm6dsox_driver_at_0x6b_turns_an_lsm6dso_part_90_degrees_within_3(make_rig):
+    """micropython-lsm6dsox 0.1.0, unchanged, given address=0x6B, against the lsm6dso part
+    (the kits' wiring, SA0 high: nothing answers at 0x6A): the robot spins left until the
+    integrated gyro says 90 degrees; the true turn agrees within 3; gravity reads 9.8 m/s2."""
+    imu = {"kind": "lsm6dso", "name": "imu", "bus": "i2c1", "gyro_bias_dps": [0.0, 0.0, 0.3]}
+    plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.0], "parts": [*MOTORS, imu]}
+    rig, r, _ = run_driver(
+        make_rig, "lsm6dso_spin", plant, "micropython-lsm6dsox", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS
+    )
+    truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
+    assert "heading_deg" in r, rig.console
+    assert rig.plant.bus_device("i2c1", 0x6B) is not None and rig.plant.bus_device("i2c1", 0x6A) is None
+    assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
+    assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
+    assert r["accel_z"] == pytest.approx(9.8, abs=0.2)
+
+
 def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(make_rig):
     """micropython-mpu6886 0.1.0, unchanged, as its README sets it up (I2C(scl=Pin(22),
     sda=Pin(21)): bus i2c0), against the mpu6050 part answering WHO_AM_I 0x19: the robot
