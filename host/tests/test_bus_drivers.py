@@ -98,6 +98,33 @@ def test_published_lsm6dsox_driver_at_0x6b_turns_an_lsm6dso_part_90_degrees_with
     assert r["accel_z"] == pytest.approx(9.8, abs=0.2)
 
 
+def test_published_qmc5883l_driver_compass_reads_the_heading_within_a_degree_twice_in_a_turn(make_rig):
+    """micropython-qmc5883l 0.1.2, unchanged, as its docstring sets it up (200 Hz, 2 gauss):
+    the robot turns, stops and reads its heading, twice: each within 1 degree of the body's
+    true compass heading then. The driver waits for the status register's bit 2 (DOR, a
+    sample skipped) rather than DRDY: ten readings take two samples' time each, 100 ms."""
+    compass = {"kind": "qmc5883l", "name": "compass", "bus": "i2c1"}
+    plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.3], "parts": [*MOTORS, compass]}
+    seen = []
+    rig, r, _ = run_driver(
+        make_rig,
+        "qmc5883l_compass",
+        plant,
+        "micropython-qmc5883l",
+        6.0,
+        lambda rig: seen.append(rig.plant.truth()["compass_heading_deg"]),
+        wiring=SPIN_WIRING,
+        pins=SPIN_PINS,
+    )
+    assert r.get("done") == "second", rig.console
+    first, second = seen[1], seen[3]  # (stopped at 2 s and 4 s, read by 2.1 s and 4.1 s)
+    assert angle_off(first, second) > 20, (first, second)
+    assert angle_off(r["first_deg"], first) < 1, (r["first_deg"], first)
+    assert angle_off(r["second_deg"], second) < 1, (r["second_deg"], second)
+    assert r["first_ms"] == pytest.approx(100, abs=15)
+    assert r["z_gauss"] == pytest.approx(-0.44, abs=0.02)
+
+
 def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(make_rig):
     """micropython-mpu6886 0.1.0, unchanged, as its README sets it up (I2C(scl=Pin(22),
     sda=Pin(21)): bus i2c0), against the mpu6050 part answering WHO_AM_I 0x19: the robot

@@ -25,6 +25,7 @@ CHIPS = {  # class name -> (its part, its address)
     "Vl53l0xChip": ({"kind": "vl53l0x"}, 0x29),
     "Pca9685Chip": ({"kind": "pca9685", "drives": []}, 0x40),
     "Ina219Chip": ({"kind": "ina219"}, 0x40),
+    "Qmc5883lChip": ({"kind": "qmc5883l", "noise_ut": 0.0}, 0x0D),
 }
 SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registers)}, from the datasheets
     "Lsm6dsoxChip": {(0x12, 0x80, 10_000, False), (0x12, 0x01, 50, True)},  # CTRL3_C BOOT, SW_RESET
@@ -33,8 +34,14 @@ SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registe
     "Vl53l0xChip": set(),  # (SYSRANGE_START's bit 0 reads 0 once the measurement starts: at once)
     "Pca9685Chip": set(),  # (MODE1's RESTART reads 0: the restart is a write's, at once)
     "Ina219Chip": set(),  # (CONFIGURATION's RST: the reset is immediate, its own word path)
+    "Qmc5883lChip": {(0x0A, 0x80, 350, True)},  # control 2 SOFT_RST (the power-on time)
 }
-KEPT = {"Lsm6dsoxChip": (0x10, 0x40), "Mpu6050Chip": (0x19, 0x09), "Lis3mdlChip": (0x20, 0x7C)}
+KEPT = {
+    "Lsm6dsoxChip": (0x10, 0x40),
+    "Mpu6050Chip": (0x19, 0x09),
+    "Lis3mdlChip": (0x20, 0x7C),
+    "Qmc5883lChip": (0x09, 0x1D),
+}
 """A configuration register and a value for it: a software reset undoes it, a reboot keeps it."""
 
 
@@ -106,6 +113,7 @@ DATA_READY = [  # chip, the writes that start it, status register, bit, (registe
     ("Lsm6dsoxChip", ((0x11, 0x40),), 0x1E, 0x02, (0x22, 6), round(1e6 / 104)),  # CTRL2_G 104 Hz; GDA
     ("Mpu6050Chip", ((0x6B, 0x00), (0x1A, 0x01), (0x19, 9)), 0x3A, 0x01, (0x3A, 1), 10_000),  # 1 kHz / 10
     ("Lis3mdlChip", ((0x22, 0x00),), 0x27, 0x08, (0x28, 6), 100_000),  # continuous at 10 Hz; ZYXDA
+    ("Qmc5883lChip", ((0x09, 0x01),), 0x06, 0x01, (0x00, 6), 100_000),  # continuous at 10 Hz; DRDY
 ]
 
 
@@ -143,6 +151,26 @@ def test_the_compass_overrun_bits_set_when_a_sample_is_overwritten_unread_and_cl
     assert read(p, name, 0x27) == b"\x66", "x read: XDA, XOR, ZYXDA, ZYXOR clear; y and z still new and overrun"
     read(p, name, 0x2A, 4)
     assert read(p, name, 0x27) == b"\x00"
+
+
+def test_the_qmc5883l_says_a_sample_skipped_from_continuous_modes_start_and_clears_it_with_a_data_read():
+    name = "Qmc5883lChip"
+    p = plant(name)
+    p.advance_to(50_000)
+    write(p, name, 0x09, 0x01)  # continuous at 10 Hz, in the tick of 0 to 100 ms
+    p.advance_to(150_000)
+    assert read(p, name, 0x06) == b"\x01", "the first sample: DRDY"
+    p.advance_to(250_000)
+    assert read(p, name, 0x06) == b"\x05", "a second one, the first unread: DOR too"
+    read(p, name, 0x00, 1)
+    assert read(p, name, 0x06) == b"\x00", "a data register read clears both"
+    p.advance_to(350_000)
+    assert read(p, name, 0x06) == b"\x01"
+    write(p, name, 0x0A, 0x40)  # ROL_PNT: 0x06 rolls over to 0x00
+    assert read(p, name, 0x05, 3)[2:] == read(p, name, 0x00, 1)
+    write(p, name, 0x09, 0x00)  # standby
+    p.advance_to(650_000)
+    assert read(p, name, 0x06) == b"\x00", "no samples in standby"
 
 
 def test_the_imu_data_ready_bits_follow_each_sensors_own_rate_and_its_own_outputs():
@@ -208,6 +236,7 @@ AUTO_INCREMENT = [  # chip, a register pair both plain to write, whether the poi
     ("Lis3mdlChip", 0x23, True),  # moves on (the drivers do not set the sub-address' bit 7)
     ("Vl53l0xChip", 0x40, True),
     ("Pca9685Chip", 0x06, False),  # MODE1's AI resets to 0
+    ("Qmc5883lChip", 0x0B, True),  # (ROL_PNT only wraps 0x06 to 0x00)
 ]
 
 
