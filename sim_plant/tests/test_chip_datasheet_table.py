@@ -26,6 +26,7 @@ CHIPS = {  # class name -> (its part, its address)
     "Pca9685Chip": ({"kind": "pca9685", "drives": []}, 0x40),
     "Ina219Chip": ({"kind": "ina219"}, 0x40),
     "Qmc5883lChip": ({"kind": "qmc5883l", "noise_ut": 0.0}, 0x0D),
+    "Hmc5883lChip": ({"kind": "hmc5883l", "noise_ut": 0.0}, 0x1E),
 }
 SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registers)}, from the datasheets
     "Lsm6dsoxChip": {(0x12, 0x80, 10_000, False), (0x12, 0x01, 50, True)},  # CTRL3_C BOOT, SW_RESET
@@ -35,6 +36,7 @@ SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registe
     "Pca9685Chip": set(),  # (MODE1's RESTART reads 0: the restart is a write's, at once)
     "Ina219Chip": set(),  # (CONFIGURATION's RST: the reset is immediate, its own word path)
     "Qmc5883lChip": {(0x0A, 0x80, 350, True)},  # control 2 SOFT_RST (the power-on time)
+    "Hmc5883lChip": set(),  # (no reset bit)
 }
 KEPT = {
     "Lsm6dsoxChip": (0x10, 0x40),
@@ -173,6 +175,35 @@ def test_the_qmc5883l_says_a_sample_skipped_from_continuous_modes_start_and_clea
     assert read(p, name, 0x06) == b"\x00", "no samples in standby"
 
 
+def test_the_hmc5883l_measures_continuously_or_once_and_its_rdy_clears_only_as_new_data_is_written():
+    name = "Hmc5883lChip"
+    p = plant(name)
+    assert read(p, name, 0x0A, 3) == b"H43"
+    assert read(p, name, 0x09) == b"\x00", "single mode at power-on waits: no data"
+    write(p, name, 0x02, 0x00)  # continuous at 15 Hz: a sample every 66667 us
+    p.advance_to(66_667 + 249)
+    assert read(p, name, 0x09) == b"\x00", "clear for 250 us as the data is written"
+    p.advance_to(66_667 + 250)
+    assert read(p, name, 0x09) == b"\x01"
+    read(p, name, 0x03, 6)
+    assert read(p, name, 0x09) == b"\x01", "reading the data leaves RDY set"
+    data = read(p, name, 0x03, 8)
+    assert data[6:] == data[:2], "the pointer goes from 0x08 back to 0x03"
+    assert int.from_bytes(read(p, name, 0x07, 2), "big", signed=True) == 218, "y: 20 uT at 1090 LSB/gauss"
+    write(p, name, 0x01, 0xE0)  # gain 230 LSB/gauss
+    assert int.from_bytes(read(p, name, 0x07, 2), "big", signed=True) == 46
+    write(p, name, 0x02, 0x01)  # a single measurement
+    p.advance_to(p.t_us + 6_000 - 1)
+    assert read(p, name, 0x02) == b"\x01", "still measuring"
+    p.advance_to(p.t_us + 1)
+    assert read(p, name, 0x02) == b"\x03", "done: idle"
+    chip = p.bus_device("i2c0", 0x1E)
+    chip.field = (2000.0, 44.0, chip.field[2])  # 20 gauss: beyond the 8.1 gauss range
+    write(p, name, 0x02, 0x01)
+    p.advance_to(p.t_us + 6_000)
+    assert -4096 in (int.from_bytes(read(p, name, reg, 2), "big", signed=True) for reg in (0x03, 0x07))
+
+
 def test_the_imu_data_ready_bits_follow_each_sensors_own_rate_and_its_own_outputs():
     name = "Lsm6dsoxChip"
     p = plant(name)
@@ -237,6 +268,7 @@ AUTO_INCREMENT = [  # chip, a register pair both plain to write, whether the poi
     ("Vl53l0xChip", 0x40, True),
     ("Pca9685Chip", 0x06, False),  # MODE1's AI resets to 0
     ("Qmc5883lChip", 0x0B, True),  # (ROL_PNT only wraps 0x06 to 0x00)
+    ("Hmc5883lChip", 0x00, True),  # (wraps 0x08 to 0x03, 0x0C to 0x00)
 ]
 
 
