@@ -44,7 +44,7 @@ def pinned() -> dict[str, str]:
     return out
 
 
-AS_FILES = {"micropython-ssd1306"}  # sdists without setup.py: pip cannot prepare them
+AS_FILES = {"micropython-ssd1306", "micropython-bme280"}  # sdists without setup.py: pip cannot prepare them
 
 
 def _as_file(line: str) -> tuple[str, str, str] | None:

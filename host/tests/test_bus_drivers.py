@@ -1,8 +1,9 @@
 """Published MicroPython drivers for the bus parts (host/core/drivers.txt, fetched pinned
 by make setup into build/drivers/), each run unchanged through a firmware written as its
 README or examples show, asserting the physics: a servo on a PCA9685 reaches its angle,
-the LIS3MDL compass follows the heading, the MPU-6886's integrated gyro reads a turn; and
-the vl53l0x part read as its drivers read it (no MicroPython VL53L0X driver is on PyPI)."""
+the LIS3MDL compass follows the heading, the MPU-6886's integrated gyro reads a turn, the
+LSM6DSO at 0x6B, the QMC5883L compass, the BME280/BMP280 barometer; and the vl53l0x and
+hmc5883l parts read as their drivers read them (no MicroPython driver of either is on PyPI)."""
 
 import math
 
@@ -145,6 +146,27 @@ def test_hmc5883l_compass_read_as_its_public_drivers_read_it_gives_the_heading_w
     assert angle_off(r["first_deg"], first) < 1, (r["first_deg"], first)
     assert angle_off(r["second_deg"], second) < 1, (r["second_deg"], second)
     assert r["z_gauss"] == pytest.approx(-0.44, abs=0.01)
+
+
+@pytest.mark.parametrize("chip, address", [("bme280", 0x76), ("bmp280", 0x77)])
+def test_published_bme280_driver_reads_a_set_temperature_and_pressure_through_the_calibration(make_rig, chip, address):
+    """micropython-bme280 2.1.3, unchanged (forced mode, its own wait, a burst read of 0xF7..):
+    its raw readings, compensated by the datasheet's formulas with the trimming registers,
+    are the part's temperature (0.01 degrees) and pressure (0.2 Pa). The driver's own
+    temperature is 1.51 degrees low: it shifts dig_T2 before multiplying (``* (dig_T2 >> 11)``
+    where the datasheet has ``* dig_T2) >> 11``), and its pressure, from that t_fine, 231 Pa."""
+    from sim_plant.catalogue.bmp280 import pressure_q24_8, t_fine, temperature_centi
+
+    baro = {"kind": "bmp280", "name": "baro", "bus": "i2c0", "address": address, "chip": chip}
+    plant = {"body": "bench", "parts": [{**baro, "temperature_c": 21.37, "pressure_pa": 99_876.5}]}
+    rig, r, _ = run_driver(make_rig, "bme280_weather", plant, "micropython-bme280", 1.0)
+    assert "raw" in r, rig.console
+    assert r["chip_id"] == {"bme280": 0x60, "bmp280": 0x58}[chip]
+    adc_t, adc_p, _hum = r["raw"]
+    assert temperature_centi(adc_t) == 2137
+    assert pressure_q24_8(adc_p, t_fine(adc_t)) / 256 == pytest.approx(99_876.5, abs=0.2)
+    assert r["temperature_c"] == pytest.approx(19.86, abs=0.005), "the driver's dig_T2 >> 11"
+    assert r["pressure_pa"] == pytest.approx(99_645.6, abs=0.1)
 
 
 def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(make_rig):

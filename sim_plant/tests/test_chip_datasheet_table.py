@@ -27,6 +27,7 @@ CHIPS = {  # class name -> (its part, its address)
     "Ina219Chip": ({"kind": "ina219"}, 0x40),
     "Qmc5883lChip": ({"kind": "qmc5883l", "noise_ut": 0.0}, 0x0D),
     "Hmc5883lChip": ({"kind": "hmc5883l", "noise_ut": 0.0}, 0x1E),
+    "Bmp280Chip": ({"kind": "bmp280"}, 0x76),
 }
 SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registers)}, from the datasheets
     "Lsm6dsoxChip": {(0x12, 0x80, 10_000, False), (0x12, 0x01, 50, True)},  # CTRL3_C BOOT, SW_RESET
@@ -37,6 +38,7 @@ SELF_CLEARING = {  # class name -> {(register, bit, clear_us, resets the registe
     "Ina219Chip": set(),  # (CONFIGURATION's RST: the reset is immediate, its own word path)
     "Qmc5883lChip": {(0x0A, 0x80, 350, True)},  # control 2 SOFT_RST (the power-on time)
     "Hmc5883lChip": set(),  # (no reset bit)
+    "Bmp280Chip": set(),  # (reset 0xE0: 0xB6 resets at once, reads 0)
 }
 KEPT = {
     "Lsm6dsoxChip": (0x10, 0x40),
@@ -204,6 +206,45 @@ def test_the_hmc5883l_measures_continuously_or_once_and_its_rdy_clears_only_as_n
     assert -4096 in (int.from_bytes(read(p, name, reg, 2), "big", signed=True) for reg in (0x03, 0x07))
 
 
+def test_the_barometers_compensation_turns_the_datasheets_example_into_its_results():
+    from sim_plant.catalogue.bmp280 import pressure_q24_8, t_fine, temperature_centi
+
+    assert t_fine(519888) == 128422 and temperature_centi(519888) == 2508  # BMP280 datasheet 3.12
+    assert pressure_q24_8(415148, 128422) / 256 == pytest.approx(100653.27, abs=0.05)
+
+
+def test_the_barometer_converts_once_when_forced_for_the_datasheets_time_and_resets_on_0xb6():
+    name = "Bmp280Chip"
+    p = plant(name)
+    assert read(p, name, 0xD0) == b"\x58"
+    assert read(p, name, 0x88, 6) == bytes.fromhex("706b436718fc"), "dig_T1..T3: 27504, 26435, -1000"
+    assert read(p, name, 0xF7, 6) == bytes.fromhex("800000800000"), "no conversion yet"
+    p.advance_to(1_000)
+    write(p, name, 0xF4, 0b001_001_01)  # x1, x1, forced: 1.25 + 2.3 + 2.3 + 0.575 ms
+    p.advance_to(1_000 + 6_425 - 1)
+    assert read(p, name, 0xF3) == b"\x08", "measuring"
+    assert read(p, name, 0xF4) == b"\x25"
+    p.advance_to(1_000 + 6_425)
+    assert read(p, name, 0xF3) == b"\x00"
+    assert read(p, name, 0xF4) == b"\x24", "back to sleep"
+    data = read(p, name, 0xF7, 6)
+    adc_p, adc_t = int.from_bytes(data[:3], "big") >> 4, int.from_bytes(data[3:], "big") >> 4
+    assert (adc_t, adc_p) != (0x80000, 0x80000)
+    from sim_plant.catalogue.bmp280 import pressure_q24_8, t_fine, temperature_centi
+
+    assert temperature_centi(adc_t) == 2500
+    assert pressure_q24_8(adc_p, t_fine(adc_t)) / 256 == pytest.approx(101_325, abs=0.2)
+    write(p, name, 0xE0, 0xB6)
+    assert read(p, name, 0xF4) == b"\x00" and read(p, name, 0xF7, 3) == b"\x80\x00\x00"
+    assert read(p, name, 0xE0) == b"\x00"
+    t0 = p.t_us
+    write(p, name, 0xF4, 0b001_001_11)  # normal: converting 6425 us, then t_sb (0.5 ms), again
+    p.advance_to(t0 + 6_425)
+    assert read(p, name, 0xF3) == b"\x00" and read(p, name, 0xF4) == b"\x27", "standing by, still normal"
+    p.advance_to(t0 + 6_925)
+    assert read(p, name, 0xF3) == b"\x08", "the next conversion"
+
+
 def test_the_imu_data_ready_bits_follow_each_sensors_own_rate_and_its_own_outputs():
     name = "Lsm6dsoxChip"
     p = plant(name)
@@ -269,6 +310,7 @@ AUTO_INCREMENT = [  # chip, a register pair both plain to write, whether the poi
     ("Pca9685Chip", 0x06, False),  # MODE1's AI resets to 0
     ("Qmc5883lChip", 0x0B, True),  # (ROL_PNT only wraps 0x06 to 0x00)
     ("Hmc5883lChip", 0x00, True),  # (wraps 0x08 to 0x03, 0x0C to 0x00)
+    ("Bmp280Chip", 0xF4, True),
 ]
 
 
