@@ -1,6 +1,6 @@
 """The pictures a plant's displays showed, as files of the trace folder
 (``docs/traces.md``): for each part that keeps its frames (``display_frames()``: an
-``ssd1306``), ``<name>.png``, the last picture, and ``<name>.gif``, every distinct picture
+``ssd1306``, an ``sh1106``), ``<name>.png``, the last picture, and ``<name>.gif``, every distinct picture
 in turn, each held for the virtual time it was shown (at least 20 ms, a GIF's least).
 
 Pixels are drawn ``SCALE`` times larger, lit ones in the panel's colour on black."""

@@ -205,8 +205,8 @@ def draw_points(panel: Panel, part, view, trace, recorded: Recorded) -> None:
 def draw_strip(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     """Each LED's colour (``0xRRGGBB`` outputs) as a bar of that colour on a row of its own."""
     for name, (direction, _kind) in part.signals().items():
-        if direction != "out":
-            continue
+        if direction != "out" or not name.rpartition(".")[2].startswith("led"):
+            continue  # (an apa102_strip's level<i>: a brightness, not a colour)
         t, v = recorded.get(name)
         t = np.concatenate([[0], t])
         v = np.concatenate([[recorded.initial.get(name, 0)], v])

@@ -98,7 +98,7 @@ BAD_RIGS = [  # (what is changed, into what, the field named, words the message 
     ('source = "i2c0"\naddress = 0x29', 'source = "tof.rang"\naddress = 0x29', "[budgets.ranging] source", ["i2c0"]),
     ('entry = "main.py"', 'entry = "mian.py"', "[firmware] entry", ["did you mean 'main.py'"]),
     ('kind = "ssd1306"', 'kind = "neopixel"', "[[plant.parts]] #5 kind", ["ws2812_strip", "vl53l0x", "did you mean"]),
-    ('kind = "ssd1306"', 'kind = "oled"', "[[plant.parts]] #5 kind", ["did you mean 'ssd1306'"]),
+    ('kind = "ssd1306"', 'kind = "oled"', "[[plant.parts]] #5 kind", ["did you mean 'sh1106' or 'ssd1306'"]),
     ('body = "differential"', 'body = "diferential"', "[plant] body", ["did you mean 'differential'"]),
 ]
 
