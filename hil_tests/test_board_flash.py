@@ -132,7 +132,8 @@ HOSTISH = ("system", "getenv", "VfsPosix", "putenv", "unsetenv")
 HOST_MODULES = ("ffi", "socket", "usocket", "termios", "_thread")
 seen = {}
 found = []
-seen[id(seen)] = seen[id(found)] = -1  # (the walk's own)
+visits = [0]  # (objects walked, re-walks included)
+seen[id(seen)] = seen[id(found)] = seen[id(visits)] = -1  # (the walk's own)
 def host_handle(value):
     kind = type(value).__name__
     if kind != "module" and kind != "type":
@@ -160,7 +161,8 @@ def walk(value, where, depth):
     if seen.get(key, 99) <= depth or len(seen) > 40000:
         return  # (met again nearer a root: walked again, deeper)
     seen[key] = depth
-    if len(seen) % 500 == 0:
+    visits[0] += 1
+    if visits[0] % 500 == 0:
         time.sleep_ms(1)  # (the host hears from the walk: its watchdog waits 5 s of wall time for a message)
     bad = host_handle(value)
     if bad:
