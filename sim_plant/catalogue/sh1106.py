@@ -22,9 +22,9 @@ segment remap (0xA1) shows glass pixel x from RAM column x + 2, no remap from co
 129 - x, mirrored. Not modelled: the display offset, contrast as a brightness, the DC-DC
 converter (the display lights without it), read-modify-write's column that does not move."""
 
-from sim_plant.buses import check_placement, chip_select
-from sim_plant.catalogue.base import Build, PartType
-from sim_plant.catalogue.ssd1306 import MAX_FRAMES, OLED_OPTIONS, OLED_SIGNALS, OLED_TRUTH, WIDTH, Ssd1306Chip
+from sim_plant.buses import chip_select
+from sim_plant.catalogue.base import Build
+from sim_plant.catalogue.ssd1306 import MAX_FRAMES, OLED_OPTIONS, WIDTH, Ssd1306, Ssd1306Chip
 
 RAM_WIDTH = 132
 OFFSET = 2  # the glass's first segment
@@ -62,17 +62,10 @@ class Sh1106Chip(Ssd1306Chip):
         return bytes((self.ram[base + x] >> bit & 1) ^ self.inverse for x in cols)
 
 
-class Sh1106(PartType):
+class Sh1106(Ssd1306):  # (its signals, truth and check: the SSD1306's)
     kind = "sh1106"
     doc = "An SH1106 128x64 monochrome OLED (132-column RAM) on I2C or SPI: its picture is kept in the trace folder."
     OPTIONS = (*OLED_OPTIONS, MAX_FRAMES)
-    SIGNALS = OLED_SIGNALS
-    TRUTH = OLED_TRUTH
-    VIEWS = ()  # (the report shows its last picture: host/report/html.py)
-    on_bus = True
-
-    def check(self) -> None:
-        check_placement(self.options)
 
     def add(self, build: Build) -> None:
         o = self.options

@@ -217,28 +217,28 @@ class Ssd1306Chip(BusDevice):
         }
 
 
-# (the part tables the OLED parts share: the SH1106's too)
+# (the options the OLED parts share: the SH1106's too)
 OLED_OPTIONS = (
     Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
     Opt("address", Num("", 0, 127, whole=True), 0x3C, "its 7-bit I2C address (0x3C; 0x3D with SA0 high)"),
     Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address), with dc and res"),
     CS_OPTION,
 )
-MAX_FRAMES = Opt("max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)")
-OLED_SIGNALS = (
-    CS_SIGNAL,
-    Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),
-    Sig("res", "in", "level", "the reset pin (SPI only: low resets the controller)", when=(("spi", (True,)),)),
+MAX_FRAMES = Opt(
+    "max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"
 )
-OLED_TRUTH = ("{name}_lit_px", "{name}_frames", "{name}_on")
 
 
 class Ssd1306(PartType):
     kind = "ssd1306"
     doc = "An SSD1306-class 128x64 or 128x32 monochrome OLED on I2C or SPI: its picture is kept in the trace folder."
     OPTIONS = (*OLED_OPTIONS, Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"), MAX_FRAMES)
-    SIGNALS = OLED_SIGNALS
-    TRUTH = OLED_TRUTH
+    SIGNALS = (
+        CS_SIGNAL,
+        Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),
+        Sig("res", "in", "level", "the reset pin (SPI only: low resets the controller)", when=(("spi", (True,)),)),
+    )
+    TRUTH = ("{name}_lit_px", "{name}_frames", "{name}_on")
     VIEWS = ()  # (the report shows its last picture: host/report/html.py)
     on_bus = True
 
