@@ -254,49 +254,40 @@ def _atomic(addr):
     return addr, 0
 
 
-class Mem:
-    """machine.mem8/16/32 on an RP2040: the registers above, memory elsewhere."""
+def mems(base):
+    """machine.mem8, mem16 and mem32 on an RP2040: the registers above, memory elsewhere.
+    ``base`` is machine's memory type (its address checks and repr: machine imports this
+    module before it defines it)."""
 
-    def __init__(self, bits):
-        self._bits = bits
-        self._size = bits // 8
+    class Mem(base):
+        def __getitem__(self, addr):
+            addr = self._addr(addr)
+            word, op = _atomic(addr & ~3)
+            value = _read32(word)
+            if value is None:
+                _note(addr, "read of")
+                get = _mem.get
+                return sum(get(addr + i, 0) << (8 * i) for i in range(self._size))
+            return (value >> (8 * (addr & 3))) & ((1 << self._bits) - 1)
 
-    def _addr(self, addr):
-        if not isinstance(addr, int):
-            raise TypeError("memory address must be an integer")
-        if addr % self._size:
-            raise ValueError("memory address must be aligned to %d bytes" % self._size)
-        return addr
+        def __setitem__(self, addr, value):
+            addr = self._addr(addr)
+            word, op = _atomic(addr & ~3)
+            old = _read32(word)
+            if old is not None:
+                if self._size < 4:
+                    value &= (1 << self._bits) - 1
+                    if word < SIO:  # (the APB bus copies a narrow write across the word: 2.1.4)
+                        value = value * (0x01010101 if self._size == 1 else 0x00010001)
+                    else:  # (SIO: the bytes written, the rest kept)
+                        shift = 8 * (addr & 3)
+                        value = (old & ~(((1 << self._bits) - 1) << shift)) | (value << shift)
+                value &= 0xFFFFFFFF
+                value = (value, old ^ value, old | value, old & ~value)[op]
+                if _write32(word, value):
+                    return
+            _note(addr, "write to")
+            for i in range(self._size):
+                _mem[addr + i] = (value >> (8 * i)) & 0xFF
 
-    def __getitem__(self, addr):
-        addr = self._addr(addr)
-        word, op = _atomic(addr & ~3)
-        value = _read32(word)
-        if value is None:
-            _note(addr, "read of")
-            get = _mem.get
-            return sum(get(addr + i, 0) << (8 * i) for i in range(self._size))
-        return (value >> (8 * (addr & 3))) & ((1 << self._bits) - 1)
-
-    def __setitem__(self, addr, value):
-        addr = self._addr(addr)
-        word, op = _atomic(addr & ~3)
-        old = _read32(word)
-        if old is not None:
-            if self._size < 4:
-                value &= (1 << self._bits) - 1
-                if word < SIO:  # (the APB bus copies a narrow write across the word: 2.1.4)
-                    value = value * (0x01010101 if self._size == 1 else 0x00010001)
-                else:  # (SIO: the bytes written, the rest kept)
-                    shift = 8 * (addr & 3)
-                    value = (old & ~(((1 << self._bits) - 1) << shift)) | (value << shift)
-            value &= 0xFFFFFFFF
-            value = (value, old ^ value, old | value, old & ~value)[op]
-            if _write32(word, value):
-                return
-        _note(addr, "write to")
-        for i in range(self._size):
-            _mem[addr + i] = (value >> (8 * i)) & 0xFF
-
-    def __repr__(self):
-        return "<%d-bit memory>" % self._bits
+    return Mem(8), Mem(16), Mem(32)

@@ -891,7 +891,8 @@ def _buffers():
 
 class _Mem:
     """machine.mem8/16/32: a sparse memory of its own. What was written reads back, the
-    rest reads 0; no peripheral registers lie behind it (docs/shim.md)."""
+    rest reads 0; no peripheral registers lie behind it (docs/shim.md). On an RP2040,
+    _hilreg.mems puts the registers over it."""
 
     _bytes = {}
 
@@ -921,7 +922,7 @@ class _Mem:
 
 
 if _REG is not None:  # an RP2040: its PWM, IO_BANK0 and SIO registers (host/shim/_hilreg.py)
-    mem8, mem16, mem32 = _REG.Mem(8), _REG.Mem(16), _REG.Mem(32)
+    mem8, mem16, mem32 = _REG.mems(_Mem)
 else:
     mem8 = _Mem(8)
     mem16 = _Mem(16)

@@ -14,12 +14,8 @@ LOCK not modelled: reading part of the data does not hold it), identification 0x
 0x0C to 0x00. Not modelled: self-test (MS), averaging (MA), the DRDY pin, high-speed I2C.
 A write to another register is named once in the run's output."""
 
-import math
-
-from sim_plant.buses import RegisterDevice, check_placement
-from sim_plant.catalogue.base import Opt
+from sim_plant.buses import RegisterDevice
 from sim_plant.catalogue.lis3mdl import Lis3mdl, Lis3mdlChip
-from sim_plant.option_table import Num
 
 CRA, CRB, MODE, DATA, STATUS, IDENT = 0x00, 0x01, 0x02, 0x03, 0x09, 0x0A
 DATA_END = 0x09
@@ -105,26 +101,4 @@ class Hmc5883l(Lis3mdl):
     CHIP = Hmc5883lChip  # (its registers: docs/parts.md)
     kind = "hmc5883l"
     doc = "An HMC5883L 3-axis magnetometer (identity 'H43') on I2C at 0x1E: the body's heading, a hard-iron offset."
-    OPTIONS = tuple(
-        Opt("address", Num("", 0, 127, whole=True), 0x1E, "its 7-bit I2C address (0x1E)") if o.name == "address" else o
-        for o in Lis3mdl.OPTIONS
-    )
-
-    def check(self) -> None:
-        check_placement(self.options, "the hmc5883l part")
-
-    def add(self, build) -> None:
-        o = self.options
-        field = (float(o["horizontal_ut"]), float(o["vertical_ut"]), math.radians(o["north_deg"]))
-        build.parts.append(
-            Hmc5883lChip(
-                self.name,
-                o["bus"],
-                o["address"],
-                mount_rad=self.mount_rad(),
-                field=field,
-                hard_iron_ut=o["hard_iron_ut"],
-                noise_ut=o["noise_ut"],
-                rng=build.rng,
-            )
-        )
+    OPTIONS = Lis3mdl.options_at(0x1E, "its 7-bit I2C address (0x1E)")  # (check and add: the LIS3MDL's, with this chip)

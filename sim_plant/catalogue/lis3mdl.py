@@ -166,14 +166,20 @@ class Lis3mdl(PartType):
     on_bus = True
     needs_body = True
 
+    @classmethod
+    def options_at(cls, address: int, doc: str) -> tuple:
+        """These options with another default address (a compass built on this one)."""
+        at = Opt("address", Num("", 0, 127, whole=True), address, doc)
+        return tuple(at if o.name == "address" else o for o in cls.OPTIONS)
+
     def check(self) -> None:
-        check_placement(self.options, "the lis3mdl part")
+        check_placement(self.options, f"the {self.kind} part")
 
     def add(self, build: Build) -> None:
         o = self.options
         field = (float(o["horizontal_ut"]), float(o["vertical_ut"]), math.radians(o["north_deg"]))
         build.parts.append(
-            Lis3mdlChip(
+            self.CHIP(
                 self.name,
                 o["bus"],
                 o["address"],

@@ -15,13 +15,9 @@ rolls over from 0x06 to 0x00; INT_ENB kept, no interrupt pin), SET/RESET period 
 modelled: the OSR's noise, the interrupt pin. A write to another register is named once
 in the run's output."""
 
-import math
-
-from sim_plant.buses import DataReady, RegisterDevice, SelfClearing, check_placement
-from sim_plant.catalogue.base import Opt
+from sim_plant.buses import DataReady, RegisterDevice, SelfClearing
 from sim_plant.catalogue.lis3mdl import Lis3mdl, Lis3mdlChip
 from sim_plant.imu import counts, put16
-from sim_plant.option_table import Num
 
 DATA, STATUS, TOUT, CONTROL1, CONTROL2, SET_RESET, CHIP_ID = 0x00, 0x06, 0x07, 0x09, 0x0A, 0x0B, 0x0D
 DRDY, OVL, DOR = 0x01, 0x02, 0x04
@@ -105,26 +101,4 @@ class Qmc5883l(Lis3mdl):
     CHIP = Qmc5883lChip  # (its registers: docs/parts.md)
     kind = "qmc5883l"
     doc = "A QMC5883L 3-axis magnetometer (chip id 0xFF) on I2C at 0x0D: the body's heading, a hard-iron offset."
-    OPTIONS = tuple(
-        Opt("address", Num("", 0, 127, whole=True), 0x0D, "its 7-bit I2C address (0x0D)") if o.name == "address" else o
-        for o in Lis3mdl.OPTIONS
-    )
-
-    def check(self) -> None:
-        check_placement(self.options, "the qmc5883l part")
-
-    def add(self, build) -> None:
-        o = self.options
-        field = (float(o["horizontal_ut"]), float(o["vertical_ut"]), math.radians(o["north_deg"]))
-        build.parts.append(
-            Qmc5883lChip(
-                self.name,
-                o["bus"],
-                o["address"],
-                mount_rad=self.mount_rad(),
-                field=field,
-                hard_iron_ut=o["hard_iron_ut"],
-                noise_ut=o["noise_ut"],
-                rng=build.rng,
-            )
-        )
+    OPTIONS = Lis3mdl.options_at(0x0D, "its 7-bit I2C address (0x0D)")  # (check and add: the LIS3MDL's, with this chip)

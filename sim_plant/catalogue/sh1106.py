@@ -22,10 +22,9 @@ segment remap (0xA1) shows glass pixel x from RAM column x + 2, no remap from co
 129 - x, mirrored. Not modelled: the display offset, contrast as a brightness, the DC-DC
 converter (the display lights without it), read-modify-write's column that does not move."""
 
-from sim_plant.buses import CS_OPTION, CS_SIGNAL, BusName, check_placement, chip_select
-from sim_plant.catalogue.base import Build, Opt, PartType, Sig
-from sim_plant.catalogue.ssd1306 import WIDTH, Ssd1306Chip
-from sim_plant.option_table import Flag, Num
+from sim_plant.buses import chip_select
+from sim_plant.catalogue.base import Build
+from sim_plant.catalogue.ssd1306 import MAX_FRAMES, OLED_OPTIONS, WIDTH, Ssd1306, Ssd1306Chip
 
 RAM_WIDTH = 132
 OFFSET = 2  # the glass's first segment
@@ -33,18 +32,11 @@ ARGS = {0x81: 1, 0xA8: 1, 0xD3: 1, 0xD5: 1, 0xD9: 1, 0xDA: 1, 0xDB: 1, 0xAD: 1}
 
 
 class Sh1106Chip(Ssd1306Chip):
+    ARGS = ARGS
+
     def __init__(self, name, bus, address, max_frames: int):
         super().__init__(name, bus, address, 64, max_frames)
         self.ram = [0] * (RAM_WIDTH * 8)  # page-major: ram[page * 132 + column]
-
-    def _byte(self, byte: int, data: int) -> None:
-        if data:
-            self._data(byte)
-            return
-        self.command.append(byte)
-        if len(self.command) > ARGS.get(self.command[0], 0):
-            self._command(self.command)
-            self.command = []
 
     def _command(self, c: list) -> None:
         op = c[0]
@@ -63,45 +55,17 @@ class Sh1106Chip(Ssd1306Chip):
         self.changed = True
         self.col = min(RAM_WIDTH - 1, self.col + 1)
 
-    def picture(self) -> bytes:
-        """What the glass shows: 64 rows of 128 pixels, a byte each (1: lit)."""
-        rows = []
-        for y in range(self.height):
-            com = self.height - 1 - y if not self.com_remap else y
-            if not self.on or com > self.mux:
-                rows.append(bytes(WIDTH))
-                continue
-            if self.entire:
-                rows.append(b"\x01" * WIDTH)
-                continue
-            line = (com + self.start_line) % 64
-            base, bit = (line >> 3) * RAM_WIDTH, line & 7
-            cols = range(OFFSET, OFFSET + WIDTH) if self.seg_remap else range(RAM_WIDTH - 1 - OFFSET, OFFSET - 1, -1)
-            rows.append(bytes((self.ram[base + x] >> bit & 1) ^ self.inverse for x in cols))
-        return b"".join(rows)
+    def _glass_row(self, line: int) -> bytes:
+        """RAM line ``line`` on the glass: columns 2 to 129, or 129 down to 2 without segment remap."""
+        base, bit = (line >> 3) * RAM_WIDTH, line & 7
+        cols = range(OFFSET, OFFSET + WIDTH) if self.seg_remap else range(RAM_WIDTH - 1 - OFFSET, OFFSET - 1, -1)
+        return bytes((self.ram[base + x] >> bit & 1) ^ self.inverse for x in cols)
 
 
-class Sh1106(PartType):
+class Sh1106(Ssd1306):  # (its signals, truth and check: the SSD1306's)
     kind = "sh1106"
     doc = "An SH1106 128x64 monochrome OLED (132-column RAM) on I2C or SPI: its picture is kept in the trace folder."
-    OPTIONS = (
-        Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
-        Opt("address", Num("", 0, 127, whole=True), 0x3C, "its 7-bit I2C address (0x3C; 0x3D with SA0 high)"),
-        Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address), with dc and res"),
-        CS_OPTION,
-        Opt("max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"),
-    )
-    SIGNALS = (
-        CS_SIGNAL,
-        Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),
-        Sig("res", "in", "level", "the reset pin (SPI only: low resets the controller)", when=(("spi", (True,)),)),
-    )
-    TRUTH = ("{name}_lit_px", "{name}_frames", "{name}_on")
-    VIEWS = ()  # (the report shows its last picture: host/report/html.py)
-    on_bus = True
-
-    def check(self) -> None:
-        check_placement(self.options)
+    OPTIONS = (*OLED_OPTIONS, MAX_FRAMES)
 
     def add(self, build: Build) -> None:
         o = self.options

@@ -40,6 +40,7 @@ HORIZONTAL, VERTICAL, PAGE = 0, 1, 2
 
 
 class Ssd1306Chip(BusDevice):
+    ARGS = ARGS  # command -> its argument bytes
     FIXED_STATE = (*BusDevice.FIXED_STATE, "height", "max_frames", "dc_signal", "res_signal")
 
     def __init__(self, name, bus, address, height: int, max_frames: int):
@@ -113,7 +114,7 @@ class Ssd1306Chip(BusDevice):
             self._data(byte)
             return
         self.command.append(byte)
-        if len(self.command) > ARGS.get(self.command[0], 0):
+        if len(self.command) > self.ARGS.get(self.command[0], 0):
             self._command(self.command)
             self.command = []
 
@@ -182,11 +183,14 @@ class Ssd1306Chip(BusDevice):
             if self.entire:
                 rows.append(b"\x01" * WIDTH)
                 continue
-            line = (com + self.start_line) % 64
-            base, bit = (line >> 3) * WIDTH, line & 7
-            row = bytes((self.ram[base + x] >> bit & 1) ^ self.inverse for x in range(WIDTH))
-            rows.append(row if self.seg_remap else row[::-1])
+            rows.append(self._glass_row((com + self.start_line) % 64))
         return b"".join(rows)
+
+    def _glass_row(self, line: int) -> bytes:
+        """RAM line ``line`` as the glass shows it: 128 pixels left to right."""
+        base, bit = (line >> 3) * WIDTH, line & 7
+        row = bytes((self.ram[base + x] >> bit & 1) ^ self.inverse for x in range(WIDTH))
+        return row if self.seg_remap else row[::-1]
 
     def _frame(self, t_us: int) -> None:
         if not self.changed:
@@ -213,17 +217,22 @@ class Ssd1306Chip(BusDevice):
         }
 
 
+# (the options the OLED parts share: the SH1106's too)
+OLED_OPTIONS = (
+    Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
+    Opt("address", Num("", 0, 127, whole=True), 0x3C, "its 7-bit I2C address (0x3C; 0x3D with SA0 high)"),
+    Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address), with dc and res"),
+    CS_OPTION,
+)
+MAX_FRAMES = Opt(
+    "max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"
+)
+
+
 class Ssd1306(PartType):
     kind = "ssd1306"
     doc = "An SSD1306-class 128x64 or 128x32 monochrome OLED on I2C or SPI: its picture is kept in the trace folder."
-    OPTIONS = (
-        Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
-        Opt("address", Num("", 0, 127, whole=True), 0x3C, "its 7-bit I2C address (0x3C; 0x3D with SA0 high)"),
-        Opt("spi", Flag(), False, "true: on an SPI bus, selected by its cs input (no address), with dc and res"),
-        CS_OPTION,
-        Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"),
-        Opt("max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"),
-    )
+    OPTIONS = (*OLED_OPTIONS, Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"), MAX_FRAMES)
     SIGNALS = (
         CS_SIGNAL,
         Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),

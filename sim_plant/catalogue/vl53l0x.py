@@ -36,7 +36,60 @@ OUT_OF_RANGE_MM = 8190
 VALID, NO_TARGET = 11, 4  # RESULT_RANGE_STATUS bits 6:3
 
 
-class Vl53l0xChip(RegisterDevice):
+class TofRanging:
+    """What the ST time-of-flight rangers' chips share (the VL53L1X's too): GPIO1's output, a
+    ray cast at each measurement's end with its noise, and the truth they report."""
+
+    def initial_outputs(self) -> dict:
+        return {self.gpio_signal: self.gpio_level}
+
+    def _plan(self, t_us: int) -> None:
+        """The next event: GPIO1's change now, else the measurement's end."""
+        self.next_us = t_us if self.gpio_line() != self.gpio_level else self.measure_us
+
+    def fire(self, t_us, plant, out) -> None:
+        if t_us >= self.measure_us:
+            self._measure(t_us, plant)
+        level = self.gpio_line()
+        if level != self.gpio_level:
+            self.gpio_level = level
+            out.append(Change(t_us, self.gpio_signal, level))
+        self._plan(t_us)
+
+    def _range(self, t_us, plant):
+        """The ray's reading in metres with its noise, or None (no target); keeps the truth."""
+        self.true_m, reading = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
+        if reading is not None and self.noise_fraction:
+            reading = max(self.model.min_m, reading + plant.rng.normal(0.0, self.noise_fraction * self.true_m))
+        self.reading_m = float("nan") if reading is None else reading
+        return reading
+
+    def truth(self, t_us, plant) -> dict:
+        return {
+            f"{self.label}_range_m": self.true_m,
+            f"{self.label}_reading_m": self.reading_m,
+            f"{self.label}_measurements": self.measurements,
+        }
+
+
+def check_ranges(options: dict, what: str) -> None:
+    """A ranger part's placement and range limits, checked."""
+    check_placement(options, what)
+    if options["min_range_m"] >= options["max_range_m"]:
+        raise ValueError(
+            f"min_range_m: expected less than max_range_m ({options['max_range_m']}), got {options['min_range_m']}"
+        )
+
+
+def beam_model(part: PartType) -> BeamRangeModel:
+    """The ray a ranger part casts from its mount, with its options' limits and noise."""
+    o = part.options
+    return BeamRangeModel(
+        part.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_range_m"], max_m=o["max_range_m"], no_echo="none"
+    )
+
+
+class Vl53l0xChip(TofRanging, RegisterDevice):
     RESET = {0xC0: 0xEE, 0xC1: 0xAA, 0xC2: 0x10, 0x8A: 0x29, SPAD_INFO: 0x85, GPIO_HV_MUX: 0x11}
     FIXED_STATE = (*RegisterDevice.FIXED_STATE, "model", "budget_us", "noise_fraction")
     MODELLED = {
@@ -66,17 +119,10 @@ class Vl53l0xChip(RegisterDevice):
         self.reading_m = float("nan")
         self.measurements = 0
 
-    def initial_outputs(self) -> dict:
-        return {self.gpio_signal: self.gpio_level}
-
     def gpio_line(self) -> int:
         """GPIO1's level: asserted (its polarity) while a sample is ready and configured to say so."""
         active = bool(self.regs[INTERRUPT_STATUS] & 0x07) and self.regs[GPIO_CONFIG] & 0x07 == 0x04
         return int(active == bool(self.regs[GPIO_HV_MUX] & 0x10))
-
-    def _plan(self, t_us: int) -> None:
-        """The next event: GPIO1's change now, else the measurement's end."""
-        self.next_us = t_us if self.gpio_line() != self.gpio_level else self.measure_us
 
     def load(self, t_us, reg):
         if reg == HANDSHAKE:
@@ -101,33 +147,14 @@ class Vl53l0xChip(RegisterDevice):
             self.regs[reg] = value & 0xFF
         self._plan(t_us)
 
-    def fire(self, t_us, plant, out) -> None:
-        if t_us >= self.measure_us:
-            self._measure(t_us, plant)
-        level = self.gpio_line()
-        if level != self.gpio_level:
-            self.gpio_level = level
-            out.append(Change(t_us, self.gpio_signal, level))
-        self._plan(t_us)
-
     def _measure(self, t_us, plant) -> None:
-        self.true_m, reading = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
-        if reading is not None and self.noise_fraction:
-            reading = max(self.model.min_m, reading + plant.rng.normal(0.0, self.noise_fraction * self.true_m))
-        self.reading_m = float("nan") if reading is None else reading
+        reading = self._range(t_us, plant)
         mm = OUT_OF_RANGE_MM if reading is None else round(reading * 1000)
         self.regs[RANGE_STATUS] = (VALID if reading is not None else NO_TARGET) << 3 | 0x01
         self.regs[RANGE_MM], self.regs[RANGE_MM + 1] = mm >> 8 & 0xFF, mm & 0xFF
         self.regs[INTERRUPT_STATUS] = 0x04
         self.measurements += 1
         self.measure_us = t_us + self.budget_us if self.regs[SYSRANGE_START] & 0x02 else NEVER_US
-
-    def truth(self, t_us, plant) -> dict:
-        return {
-            f"{self.label}_range_m": self.true_m,
-            f"{self.label}_reading_m": self.reading_m,
-            f"{self.label}_measurements": self.measurements,
-        }
 
 
 class Vl53l0x(PartType):
@@ -162,16 +189,9 @@ class Vl53l0x(PartType):
     needs_body = True
 
     def check(self) -> None:
-        check_placement(self.options, "the VL53L0X")
-        o = self.options
-        if o["min_range_m"] >= o["max_range_m"]:
-            raise ValueError(
-                f"min_range_m: expected less than max_range_m ({o['max_range_m']}), got {o['min_range_m']}"
-            )
+        check_ranges(self.options, "the VL53L0X")
 
     def add(self, build: Build) -> None:
         o = self.options
-        model = BeamRangeModel(
-            self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_range_m"], max_m=o["max_range_m"], no_echo="none"
-        )
+        model = beam_model(self)
         build.parts.append(Vl53l0xChip(self.name, o["bus"], o["address"], model, o["budget_us"], o["noise_fraction"]))

@@ -26,8 +26,9 @@ range. Not modelled: the short and medium distance modes' other limits, the
 inter-measurement period (measurements follow one another), the region of interest, the
 thresholds, the signal rate and ambient light, a target's reflectance."""
 
-from sim_plant.buses import NEVER_US, BusDevice, BusName, Change, check_placement
+from sim_plant.buses import NEVER_US, BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.catalogue.vl53l0x import TofRanging, beam_model, check_ranges
 from sim_plant.option_table import Num
 from sim_plant.sonars import BeamRangeModel
 
@@ -40,7 +41,7 @@ RESET = {SOFT_RESET: 0x01, 0x0001: 0x29, GPIO_HV_MUX: 0x01, MODEL_ID: 0xEA, MODE
 READ_ONLY = frozenset((TIO_HV_STATUS, SYSTEM_STATUS, MODEL_ID, MODEL_ID + 1, *range(RANGE_STATUS, 0x00B0)))
 
 
-class Vl53l1xChip(BusDevice):
+class Vl53l1xChip(TofRanging, BusDevice):
     FIXED_STATE = (*BusDevice.FIXED_STATE, "model", "budget_us", "noise_fraction", "gpio_signal")
 
     def __init__(self, name, bus, address, model: BeamRangeModel, budget_us: int, noise_fraction: float):
@@ -64,15 +65,9 @@ class Vl53l1xChip(BusDevice):
         self.measure_us = NEVER_US
         self.next_us = NEVER_US
 
-    def initial_outputs(self) -> dict:
-        return {self.gpio_signal: self.gpio_level}
-
     def gpio_line(self) -> int:
         """The interrupt line (GPIO1, 0x0031 bit 0): asserted while a range is ready, high unless 0x0030 bit 4."""
         return int(self.ready != bool(self.regs[GPIO_HV_MUX] & 0x10))
-
-    def _plan(self, t_us: int) -> None:
-        self.next_us = t_us if self.gpio_line() != self.gpio_level else self.measure_us
 
     # -- I2C: two address bytes, then data ------------------------------------------
 
@@ -126,20 +121,8 @@ class Vl53l1xChip(BusDevice):
 
     # -- measuring --------------------------------------------------------------------
 
-    def fire(self, t_us, plant, out) -> None:
-        if t_us >= self.measure_us:
-            self._measure(t_us, plant)
-        level = self.gpio_line()
-        if level != self.gpio_level:
-            self.gpio_level = level
-            out.append(Change(t_us, self.gpio_signal, level))
-        self._plan(t_us)
-
     def _measure(self, t_us, plant) -> None:
-        self.true_m, reading = self.model.measure(t_us, plant.pose_at(t_us), plant.world, plant.rng)
-        if reading is not None and self.noise_fraction:
-            reading = max(self.model.min_m, reading + plant.rng.normal(0.0, self.noise_fraction * self.true_m))
-        self.reading_m = float("nan") if reading is None else reading
+        reading = self._range(t_us, plant)
         mm = 0 if reading is None else round(reading * 1000)
         self.regs[RANGE_STATUS] = VALID if reading is not None else SIGNAL_FAIL
         self.regs[STREAM_COUNT] = (self.regs.get(STREAM_COUNT, 0) + 1) & 0xFF
@@ -147,13 +130,6 @@ class Vl53l1xChip(BusDevice):
         self.ready = True
         self.measurements += 1
         self.measure_us = t_us + self.budget_us if self.regs[MODE_START] & 0x40 else NEVER_US
-
-    def truth(self, t_us, plant) -> dict:
-        return {
-            f"{self.label}_range_m": self.true_m,
-            f"{self.label}_reading_m": self.reading_m,
-            f"{self.label}_measurements": self.measurements,
-        }
 
 
 class Vl53l1x(PartType):
@@ -182,16 +158,9 @@ class Vl53l1x(PartType):
     needs_body = True
 
     def check(self) -> None:
-        check_placement(self.options, "the VL53L1X")
-        o = self.options
-        if o["min_range_m"] >= o["max_range_m"]:
-            raise ValueError(
-                f"min_range_m: expected less than max_range_m ({o['max_range_m']}), got {o['min_range_m']}"
-            )
+        check_ranges(self.options, "the VL53L0X")
 
     def add(self, build: Build) -> None:
         o = self.options
-        model = BeamRangeModel(
-            self.mount_rad(), noise_sd_m=o["noise_sd_m"], min_m=o["min_range_m"], max_m=o["max_range_m"], no_echo="none"
-        )
+        model = beam_model(self)
         build.parts.append(Vl53l1xChip(self.name, o["bus"], o["address"], model, o["budget_us"], o["noise_fraction"]))
