@@ -126,6 +126,9 @@ def test_tests_build_and_trace_folders_beside_the_firmware_are_not_on_its_flash(
     assert "config.json" in files and "main.py" in files and "assets/manifest.json" in files
 
 
+WALK_WATCHDOG_S = 60.0
+"""The walk computes for seconds between its sleeps under the line tracer on a loaded machine
+(the rig's usual 5 s watchdog stopped it under a load of 6 on 2 cores)."""
 WALK = """
 import sys, builtins, vfs, machine, time, select
 HOSTISH = ("system", "getenv", "VfsPosix", "putenv", "unsetenv")
@@ -246,7 +249,7 @@ def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_
 
     board = os.path.join(tempfile.gettempdir(), PREFIX)
     walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", "()")
-    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data")
+    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data", watchdog_s=WALK_WATCHDOG_S)
     console = (out / "console.log").read_text()
     hits = [line for line in console.splitlines() if " HOST " in line]
     assert "WALKED" in console and not hits, "\n".join(hits[:30])
@@ -276,7 +279,7 @@ def test_the_shims_private_modules_imported_by_firmware_reach_neither_the_link_n
 
     board = os.path.join(tempfile.gettempdir(), PREFIX)
     walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", repr(SHIM_PRIVATE))
-    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data")
+    said, out = run_firmware(tmp_path, walk, coverage=tmp_path / "coverage.data", watchdog_s=WALK_WATCHDOG_S)
     console = (out / "console.log").read_text()
     imported = [line.split()[-1] for line in console.splitlines() if " IMPORTED " in line]
     hits = [line for line in console.splitlines() if " HOST " in line]

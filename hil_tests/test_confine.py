@@ -118,9 +118,10 @@ def attempt(what, f):
 ENOENT = ("REFUSED", "OSError [Errno 2] ENOENT")
 
 
-def run_firmware(tmp_path, body, rig_lines="", coverage=None):
+def run_firmware(tmp_path, body, rig_lines="", coverage=None, watchdog_s=5.0):
     """Run ``body`` as a firmware's main.py (after PROBE) on the rover's rig (its coverage
-    measured into ``coverage``, a path, when given); its console lines by what they tried,
+    measured into ``coverage``, a path, when given; ``watchdog_s``: the wall-clock wait for a
+    firmware that computes long between two waits); its console lines by what they tried,
     and the run's folder."""
     fw = tmp_path / "fw"
     fw.mkdir(exist_ok=True)
@@ -134,9 +135,8 @@ def run_firmware(tmp_path, body, rig_lines="", coverage=None):
     from host.rig import Recording, Rig, RigSpec
 
     out = tmp_path / "run"
-    with Rig(
-        RigSpec(str(tmp_path / "rig.toml"), seed=1), Recording(record=True, artefacts=out, coverage=coverage)
-    ) as rig:
+    spec = RigSpec(str(tmp_path / "rig.toml"), seed=1, watchdog_s=watchdog_s)
+    with Rig(spec, Recording(record=True, artefacts=out, coverage=coverage)) as rig:
         rig.run_for(0.5)
     said = {}
     for line in rig.console.splitlines():

@@ -35,11 +35,20 @@ def _children(pid: int) -> set[int]:
     return found
 
 
+def _as_from_a_terminal() -> None:
+    """The child dies with the test, and gets the stop signals as a command typed at a
+    terminal does (a test session started in the background ignores SIGINT, and mpy-fil
+    keeps a signal ignored that it was started ignoring, as nohup asks)."""
+    die_with_parent()
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, signal.SIG_DFL)
+
+
 class LiveRun:
     """`mpy-fil run` in a subprocess; on close it and the interpreter it started are ended
     by their ids, whatever state the test left them in."""
 
-    def __init__(self, out: Path, *args: str, preexec=die_with_parent):
+    def __init__(self, out: Path, *args: str, preexec=_as_from_a_terminal):
         command = [sys.executable, "-m", "host.cli", "run", *args, "--out", str(out), "--no-plots"]
         self.out = out
         self.proc = subprocess.Popen(
@@ -140,7 +149,7 @@ def test_after_sigkill_the_console_and_link_log_read_to_their_last_whole_line_an
 
 def _size_limited(limit_bytes: int):
     def preexec():
-        die_with_parent()
+        _as_from_a_terminal()
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # (a write past the limit fails with EFBIG)
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
 
