@@ -1,0 +1,102 @@
+"""The qtr part (RC-decay reflectance sensors): a channel driven high reads 1, let go it
+reads 1 for its discharge time, set by the floor under it and the emitter, then 0."""
+
+import pytest
+
+from sim_plant.catalogue.assembly import assemble
+from sim_plant.catalogue.base import PartsError
+from sim_plant.catalogue.qtr import RELEASED
+
+TAPE = [[1.0, 0.2], [1.0, 1.8]]  # a line across the floor at x = 1 m, 19 mm wide
+MOTORS = [
+    {"kind": "dc_motor", "name": f"motor_{s}", "drives": side, "time_constant_ms": 0}
+    for s, side in (("l", "left"), ("r", "right"))
+]
+
+
+def plant_with(**options):
+    # channel 0 on the tape (x = 1.0 m), channel 1 on the floor beside it (x = 1.03 m)
+    qtr = {"kind": "qtr", "name": "line", "offsets_m": [[0.0, 0.0], [0.03, 0.0]], **options}
+    plant = assemble({"body": "differential", "start_pose": [1.0, 1.0, 0.0], "tape": TAPE, "parts": [*MOTORS, qtr]})
+    if options.get("emitter", "high") == "high":
+        plant.set_input("line.emitter", 1)  # (the emitters lit)
+    return plant
+
+
+def read_us(plant, channel: int, t_us: int, charge_us: int = 10, window_us: int = 20_000) -> tuple[int, list]:
+    """Drive the channel high ``charge_us`` at ``t_us``, let it go; (µs until it reads 0
+    within ``window_us``, its changes). The plant is then at the window's end."""
+    line = f"line.{channel}"
+    plant.advance_to(t_us)
+    plant.set_input(line, 1)
+    changes = [(c.t_us - t_us, c.value) for c in plant.advance_to(t_us) if c.name == line]
+    plant.advance_to(t_us + charge_us)
+    plant.set_input(line, RELEASED)
+    released = t_us + charge_us
+    fall = [c for c in plant.advance_to(released + window_us) if c.name == line]
+    changes += [(c.t_us - t_us, c.value) for c in fall]
+    return (fall[0].t_us - released if fall else None), changes
+
+
+def test_a_channel_reads_high_while_driven_and_for_its_discharge_time_after_release():
+    plant = plant_with()
+    assert plant.output("line.0") == 0, "uncharged, it reads low"
+    black, changes = read_us(plant, 0, 1_000)
+    assert changes == [(0, 1), (10 + 800, 0)], "high at the drive; low 800 us after the release"
+    white, _ = read_us(plant, 1, 200_000)
+    assert (black, white) == (800, 150)
+    assert plant.truth()["line_on_tape"] == [True, False]
+    assert plant.truth()["line_discharge_us"] == [800, 150]
+
+
+def test_the_emitter_off_reads_as_no_light_and_the_emitter_line_follows_its_option():
+    plant = plant_with(unlit_us=4_000)
+    plant.set_input("line.emitter", 0)
+    assert read_us(plant, 1, 1_000)[0] == 4_000, "emitters off: ambient light only"
+    plant.set_input("line.emitter", 1)
+    assert read_us(plant, 1, 200_000)[0] == 150
+    low = plant_with(emitter="low")
+    low.set_input("line.emitter", 1)
+    assert read_us(low, 0, 1_000)[0] == 5_000, "active low: driven high is off"
+    always = plant_with(emitter="none")
+    assert "line.emitter" not in always.inputs
+    assert read_us(always, 0, 1_000)[0] == 800
+
+
+def test_a_short_charge_discharges_in_proportion_and_a_drive_low_empties_it():
+    plant = plant_with()
+    assert read_us(plant, 0, 1_000, charge_us=5)[0] == 400, "half the charge: half the time"
+    assert read_us(plant, 0, 100_000, charge_us=50)[0] == 800, "a longer drive charges it no more"
+    plant.advance_to(200_000)
+    plant.set_input("line.0", 1)
+    changes = plant.advance_to(200_020)
+    plant.set_input("line.0", 0)
+    changes = [(c.t_us, c.value) for c in changes + plant.advance_to(200_020) if c.name == "line.0"]
+    assert changes == [(200_000, 1), (200_020, 0)]
+    plant.set_input("line.0", RELEASED)
+    assert [c for c in plant.advance_to(300_000) if c.name == "line.0"] == [], "nothing held: stays low"
+
+
+def test_the_reading_follows_the_floor_as_the_robot_drives_across_the_tape():
+    qtr = {"kind": "qtr", "name": "line", "emitter": "none", "mount": {"x_m": 0.05}}
+    plant = assemble({"body": "differential", "start_pose": [0.8, 1.0, 0.0], "tape": TAPE, "parts": [*MOTORS, qtr]})
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.in2", 0)
+        plant.set_input(f"motor_{side}.pwm", 65535)
+    readings = []
+    for k in range(200):
+        t = 5_000 * k + 1_000
+        us, _ = read_us(plant, 0, t, window_us=2_000)
+        x = plant.truth()["x_m"] + 0.05
+        readings.append((round(x, 4), us, plant.truth()["line_on_tape"][0]))
+    assert {us for _, us, _ in readings} == {150, 800}, "the robot crossed the tape"
+    for x, us, on in readings:  # (the channel moves a few mm during a 1 ms read: allow the edge)
+        if abs(abs(x - 1.0) - 0.0095) > 0.003:
+            assert on == (abs(x - 1.0) < 0.0095), (x, on)
+            assert us == (800 if on else 150), (x, us)
+
+
+def test_times_out_of_order_are_refused_by_name():
+    with pytest.raises(PartsError, match=r"\(line\).*white_us < black_us <= unlit_us"):
+        plant_with(white_us=900)
