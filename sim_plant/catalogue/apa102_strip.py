@@ -91,6 +91,17 @@ class Apa102Strip(BusDevice):
 
 class Apa102StripPart(PartType):
     kind = "apa102_strip"
+    MODELLED_FEATURES = (
+        "the start frame, 32-bit LED frames (brightness, blue, green, red) split over any transfers, frames "
+        "past the last LED",
+        "framing faults counted",
+        "each LED's colour and brightness as outputs",
+    )
+    NOT_MODELLED = (
+        "the half clock of delay per LED (a frame shows once it is in)",
+        "the brightness as a PWM of its own",
+        "the SK9822's latch at the start frame",
+    )
     doc = "A strip of APA102 (DotStar) RGB LEDs on an SPI bus: colours and brightness as outputs, framing checked."
     OPTIONS = (
         Opt("bus", BusName(), "spi0", "the SPI bus whose clock and data lines it is on, as the firmware creates it"),

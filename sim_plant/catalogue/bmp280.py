@@ -165,6 +165,19 @@ class Bmp280Chip(RegisterDevice):
 class Bmp280(PartType):
     CHIP = Bmp280Chip  # (its registers: docs/parts.md)
     kind = "bmp280"
+    MODELLED_FEATURES = (
+        "the datasheet's example trimming, raw readings that compensate to the set temperature and pressure",
+        "sleep, forced and normal modes; a conversion's time from the oversampling; status' measuring bit; "
+        "reset by 0xB6",
+        "the chip id of the BMP280 (0x58) or BME280 (0x60)",
+    )
+    NOT_MODELLED = (
+        "the BME280's humidity (ctrl_hum kept, the output reads 0x8000, skipped)",
+        "the IIR filter (kept: a set value does not move)",
+        "status' im_update (the trimming is there at once)",
+        "SPI",
+        "noise and drift",
+    )
     doc = "A BMP280 (id 0x58) or BME280 (id 0x60) barometer on I2C: a set temperature and pressure, compensated."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

@@ -71,6 +71,15 @@ class DhtChip(BusDevice):
 
 class Dht(PartType):
     kind = "dht"
+    MODELLED_FEATURES = (
+        "the 40-bit reply of a DHT22 or DHT11 to the board's dht_readinto, its checksum, the sensor's ranges",
+        "the reply's time on the wire",
+    )
+    NOT_MODELLED = (
+        "the 2 s (DHT22) or 1 s (DHT11) between conversions",
+        "noise and accuracy",
+        "the reply's edges on the pin (no probe sees them)",
+    )
     doc = "A DHT22 or DHT11 temperature and humidity sensor on one data pin (MicroPython's dht module)."
     OPTIONS = (
         Opt("bus", BusName(), "dht:4", "its data line as the shim names it: dht:<the GPIO's number>"),

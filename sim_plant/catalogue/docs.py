@@ -68,7 +68,38 @@ def _part(cls) -> list[str]:
         lines += [f"View `{v.plot}`: {v.doc} ({what}).", ""]
     if cls.needs_body:
         lines += ["Needs a body that moves (not on a `bench`).", ""]
-    return lines + _registers(getattr(cls, "CHIP", None))
+    return lines + _model(cls) + _registers(getattr(cls, "CHIP", None))
+
+
+def _model(cls) -> list[str]:
+    """A chip's table of what its model does and does not (its module's ``MODELLED_FEATURES``
+    and ``NOT_MODELLED``; a register chip's registers and status bits from its ``CHIP``)."""
+    chip = getattr(cls, "CHIP", None)
+    does = list(cls.MODELLED_FEATURES)
+    for bit in getattr(chip, "DATA_READY", ()):
+        cleared = ", ".join(_spans(bit.cleared_by))
+        overrun = f" (overrun: mask 0x{bit.overrun_mask:02x})" if bit.overrun_mask else ""
+        does.append(
+            f"{bit.name} (0x{bit.reg:02x}, mask 0x{bit.mask:02x}) set at the output data rate, cleared by reading "
+            f"{cleared}{overrun}"
+        )
+    if getattr(chip, "MODELLED", None):
+        does.append("the registers in the table below")
+    if not does and not cls.NOT_MODELLED:
+        return []
+    cell = lambda items: "; ".join(items).replace("|", "\\|") or "nothing"  # noqa: E731
+    return ["| the model | |", "|---|---|", f"| does | {cell(does)} |", f"| does not | {cell(cls.NOT_MODELLED)} |", ""]
+
+
+def _spans(registers) -> list:
+    """Registers as runs: 0x28..0x2d for a run of them."""
+    runs = []
+    for reg in sorted(registers):
+        if runs and runs[-1][1] == reg - 1:
+            runs[-1][1] = reg
+        else:
+            runs.append([reg, reg])
+    return [f"0x{a:02x}" if a == b else f"0x{a:02x}..0x{b:02x}" for a, b in runs]
 
 
 def _registers(chip) -> list[str]:

@@ -231,6 +231,17 @@ class Ds18b20Chip(BusDevice):
 
 class Ds18b20(PartType):
     kind = "ds18b20"
+    MODELLED_FEATURES = (
+        "the 64-bit ROM and its CRC; READ, MATCH, SKIP, SEARCH and ALARM SEARCH ROM",
+        "CONVERT T with its time per resolution, the scratchpad and its CRC, COPY and RECALL, READ POWER "
+        "SUPPLY; 85 °C at power-on",
+    )
+    NOT_MODELLED = (
+        "several sensors on one line (one part per line)",
+        "parasite power",
+        "accuracy",
+        "the EEPROM's write time",
+    )
     doc = "A DS18B20 temperature sensor on a 1-Wire pin (MicroPython's onewire and ds18x20 modules)."
     OPTIONS = (
         Opt("bus", BusName(), "onewire:4", "its data line as the shim names it: onewire:<the GPIO's number>"),

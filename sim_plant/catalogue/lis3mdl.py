@@ -146,6 +146,19 @@ class Lis3mdlChip(RegisterDevice):
 class Lis3mdl(PartType):
     CHIP = Lis3mdlChip  # (its registers: docs/parts.md)
     kind = "lis3mdl"
+    MODELLED_FEATURES = (
+        "the field: the Earth's horizontal and vertical components as the body turns, a hard-iron offset, "
+        "noise, saturation",
+        "the output data rate and full scale as CTRL_REG1/2 set them; power-down stops the samples",
+    )
+    NOT_MODELLED = (
+        "single-conversion mode (taken as continuous)",
+        "self-test",
+        "the interrupt pin and thresholds",
+        "soft-iron distortion",
+        "block data update (BDU)",
+        "the temperature sensor (reads 0: 25 °C)",
+    )
     doc = "An LIS3MDL-class 3-axis magnetometer (WHO_AM_I 0x3D) on I2C: the body's heading, a hard-iron offset."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

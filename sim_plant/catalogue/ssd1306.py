@@ -231,6 +231,20 @@ MAX_FRAMES = Opt(
 
 class Ssd1306(PartType):
     kind = "ssd1306"
+    MODELLED_FEATURES = (
+        "I2C framing (control bytes) and 4-wire SPI (cs, dc, res)",
+        "horizontal, vertical and page addressing; the column and page ranges",
+        "display on/off, entire display on, inverse, start line, segment remap, COM scan direction, multiplex ratio",
+        "the picture as the glass shows it, kept frame by frame (PNG and GIF in the trace folder)",
+    )
+    NOT_MODELLED = (
+        "the COM pins configuration's effect",
+        "the display offset",
+        "contrast as a brightness",
+        "the charge pump (the display lights without it)",
+        "scrolling",
+        "the 64-column panels' shift",
+    )
     doc = "An SSD1306-class 128x64 or 128x32 monochrome OLED on I2C or SPI: its picture is kept in the trace folder."
     OPTIONS = (*OLED_OPTIONS, Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"), MAX_FRAMES)
     SIGNALS = (

@@ -134,6 +134,21 @@ class Vl53l1xChip(TofRanging, BusDevice):
 
 class Vl53l1x(PartType):
     kind = "vl53l1x"
+    MODELLED_FEATURES = (
+        "16-bit register addresses; boot time, SOFT_RESET, the model and module type",
+        "a ray from the mount each measurement (back to back, or one), the range status, the stream count, "
+        "the interrupt and its clear and polarity",
+        "the GPIO1 interrupt pin",
+    )
+    NOT_MODELLED = (
+        "the short and medium distance modes' own limits (the long mode's)",
+        "the inter-measurement period (measurements follow one another)",
+        "the region of interest",
+        "the thresholds",
+        "the signal rate and ambient light",
+        "a target's reflectance",
+        "the default configuration's timing and distance-mode registers (stored, not decoded)",
+    )
     doc = (
         "A VL53L1X time-of-flight ranger on I2C, 16-bit registers (0x010F reads 0xEA): a ray from its mount each range."
     )

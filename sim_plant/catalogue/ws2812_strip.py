@@ -110,6 +110,16 @@ class Ws2812Strip(Part):
 
 class Ws2812StripPart(PartType):
     kind = "ws2812_strip"
+    MODELLED_FEATURES = (
+        "bits decoded as the chip does (a long high is a 1), GRB order, the latch after reset_us low",
+        "the stream's timing checked against the datasheet within tolerance_ns",
+    )
+    NOT_MODELLED = (
+        "RGBW (SK6812) strips",
+        "the 400 kHz WS2811",
+        "brightness per current",
+        "a low inside a stream long enough to latch",
+    )
     doc = "A strip of WS2812 RGB LEDs on one pin (machine.bitstream, neopixel): colours as outputs, timing checked."
     OPTIONS = (
         Opt("count", Num("LEDs", 1, 256, whole=True), 8, "how many LEDs"),
