@@ -93,7 +93,7 @@ def shim_poll_text(poll: tuple, wiring, plant) -> str:
         shown = f"0x{value:0{bits // 4}x}"
         text = f"a poll that never ends? the firmware read machine.mem{bits}[0x{target:08x}] {span} {shown} each time; "
         text += word
-    return text + ("; the firmware's stack: " + " < ".join(reversed(stack)) if stack else "")
+    return text + ("; the firmware's stack, outermost first: " + " > ".join(stack) if stack else "")
 
 
 def _pin_driver(info, plant, value) -> str:
