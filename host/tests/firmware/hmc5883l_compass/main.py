@@ -8,7 +8,7 @@ import struct
 import time
 from machine import I2C, Pin
 
-from tb6612_turn import drive
+from tb6612_turn import turn_then_stop
 
 ADDRESS = 0x1E
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
@@ -39,10 +39,7 @@ def heading():
 
 
 for name in ("first", "second"):
-    drive(30_000)
-    time.sleep_ms(1000)
-    drive(0)
-    time.sleep_ms(1000)
+    turn_then_stop()
     deg, z_gauss = heading()
     print("R", name + "_deg", deg)
     print("R z_gauss", z_gauss)

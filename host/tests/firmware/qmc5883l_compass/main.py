@@ -8,7 +8,7 @@ from machine import I2C, Pin
 
 from micropython_qmc5883l import qmc5883l
 
-from tb6612_turn import drive
+from tb6612_turn import turn_then_stop
 
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
 qmc = qmc5883l.QMC5883L(i2c)
@@ -24,10 +24,7 @@ def heading():
 
 
 for name in ("first", "second"):
-    drive(30_000)
-    time.sleep_ms(1000)
-    drive(0)
-    time.sleep_ms(1000)
+    turn_then_stop()
     t0 = time.ticks_ms()
     deg, z_gauss = heading()
     print("R", name + "_deg", deg)
