@@ -15,9 +15,7 @@ Each LED's colour is an output, ``<name>.led<i>``, ``0xRRGGBB`` as sent, and its
 brightness ``<name>.level<i>`` (0-31), from the end of the transfer that completed its frame
 (one change per transfer that changes it), drawn by the report as the ``ws2812_strip``'s are.
 
-Not modelled: the half clock of delay per LED (a frame shows once it is in, without the end
-frame's extra clocks), the brightness as a PWM of its own, the SK9822's latch at the start
-frame."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusDevice, BusName, Change
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
@@ -98,7 +96,7 @@ class Apa102StripPart(PartType):
         "each LED's colour and brightness as outputs",
     )
     NOT_MODELLED = (
-        "the half clock of delay per LED (a frame shows once it is in)",
+        "the half clock of delay per LED (a frame shows once it is in, without the end frame's extra clocks)",
         "the brightness as a PWM of its own",
         "the SK9822's latch at the start frame",
     )

@@ -11,9 +11,7 @@ DHT22: humidity and temperature in tenths (0.1 % RH, 0.1 °C), a negative temper
 bit 15 set. DHT11: whole numbers in the first byte of each pair (the second 0). Each is
 clamped to the sensor's range (DHT11: 0..50 °C, 20..90 %). The values are the options'
 (``temperature_c``, ``humidity_pct``), or what a scenario's set-control ``temperature`` /
-``humidity`` set last, as Wokwi's sliders do. Not modelled: the 2 s (DHT22) or 1 s
-(DHT11) between conversions (a faster read here gets a fresh value, a real one the
-previous), noise and accuracy, the single wire's edges (no probe sees the reply)."""
+``humidity`` set last, as Wokwi's sliders do. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType
@@ -76,7 +74,8 @@ class Dht(PartType):
         "the reply's time on the wire",
     )
     NOT_MODELLED = (
-        "the 2 s (DHT22) or 1 s (DHT11) between conversions",
+        "the 2 s (DHT22) or 1 s (DHT11) between conversions (a faster read gets a fresh value here, the "
+        "previous one on a board)",
         "noise and accuracy",
         "the reply's edges on the pin (no probe sees them)",
     )

@@ -13,8 +13,7 @@ the last their CRC), WRITE SCRATCHPAD (0x4E: TH, TL, configuration), COPY SCRATC
 temperature register reads 85 °C. The temperature converted is the option
 ``temperature_c``, or what a scenario's set-control ``temperature`` set last, taken at the
 conversion's start and rounded to the resolution. One part per line (several on one line,
-a real bus's wired-AND, are not modelled); not modelled: parasite power, accuracy, the
-EEPROM's write time."""
+a real bus's wired-AND, are not modelled); not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType

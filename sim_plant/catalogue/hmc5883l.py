@@ -11,7 +11,7 @@ MSB first, -2048..2047, -4096 in an axis that overflows the range), status 0x09 
 once a measurement has written the data, clear for 250 us as each new one is written;
 LOCK not modelled: reading part of the data does not hold it), identification 0x0A..0x0C
 ('H', '4', '3'). The pointer moves on after each byte, from 0x08 back to 0x03 and from
-0x0C to 0x00. Not modelled: self-test (MS), averaging (MA), the DRDY pin, high-speed I2C.
+0x0C to 0x00. Not modelled: ``NOT_MODELLED`` (docs/parts.md).
 A write to another register is named once in the run's output."""
 
 from sim_plant.buses import RegisterDevice

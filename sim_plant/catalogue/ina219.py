@@ -15,9 +15,7 @@ power out of range), power (0x03: current × bus / 5000, reading it clears CNVR)
 reads 0). A conversion takes the shunt's and the bus's ADC times (532 µs each at 12 bits;
 averaged: up to 68.10 ms); its values are the plant's at the read.
 
-Not modelled: the triggered modes (1 to 6 convert continuously), the averaging's
-smoothing, the ADC's offset and gain errors, the bus voltage's own range limit (BRNG
-only sets the OVF bit beyond 16 V)."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View

@@ -18,9 +18,7 @@ read, ZYXDA of any; XOR, YOR, ZOR, ZYXOR, one overwritten before it was read; ea
 clears when its axis' outputs (ZYXDA, ZYXOR: any output) are read),
 OUT_X_L..OUT_Z_H (0x28..0x2D, little-endian, saturated), TEMP_OUT (0x2E, 25 °C: 0). The
 register pointer moves on after each byte whether or not the sub-address has bit 7 set
-(the datasheet asks for it; the published drivers read without it). Not modelled:
-single-conversion mode (taken as continuous), self-test, the interrupt pin and thresholds,
-soft-iron distortion, BDU.
+(the datasheet asks for it; the published drivers read without it). Not modelled: ``NOT_MODELLED`` (docs/parts.md).
 A write to a register not modelled is named once in the run's output."""
 
 import math

@@ -15,9 +15,7 @@ drives its input as a board PWM would: a ``duty`` input gets the pulse width it 
 else the duty fraction), a ``level`` input 1 while the duty is at least a half. The truth
 has ``<name>_ch<n>_pulse_us`` for each channel that drives an input.
 
-Not modelled: the output delay (ON counts other than 0 only shift the pulse), the
-inverted and open-drain outputs of MODE2, OE, EXTCLK, the sub-addresses and all-call
-address, the software reset general call."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType

@@ -19,8 +19,7 @@ pump voltage (0x30-0x33), read-modify-write (0xE0/0xEE), NOP (0xE3).
 
 The picture, its frames and the trace folder's PNG and GIF are as the ``ssd1306`` part's:
 segment remap (0xA1) shows glass pixel x from RAM column x + 2, no remap from column
-129 - x, mirrored. Not modelled: the display offset, contrast as a brightness, the DC-DC
-converter (the display lights without it), read-modify-write's column that does not move."""
+129 - x, mirrored. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import chip_select
 from sim_plant.catalogue.base import Build

@@ -20,9 +20,7 @@ memory.
 
 Range limits: ``min_range_m`` to ``max_range_m`` (the datasheet's default mode: up to 1.2 m indoors on
 a white target); beyond, no target (8190). Noise: ``noise_sd_m`` plus ``noise_fraction`` of
-the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: the
-timed (inter-measurement) mode, the GPIO1 thresholds, the signal rate and ambient light,
-cross-talk, a target's reflectance."""
+the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View

@@ -22,9 +22,7 @@ there, its timing and distance-mode registers stored, not decoded).
 
 Range limits: ``min_range_m`` to ``max_range_m`` (the datasheet's long distance mode: up to
 4 m in the dark); beyond, no target. Noise: ``noise_sd_m`` plus ``noise_fraction`` of the
-range. Not modelled: the short and medium distance modes' other limits, the
-inter-measurement period (measurements follow one another), the region of interest, the
-thresholds, the signal rate and ambient light, a target's reflectance."""
+range. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View

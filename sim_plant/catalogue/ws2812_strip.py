@@ -16,8 +16,7 @@ tolerance is counted in the truth (``<name>_timing_faults``) and its first probl
 (the part's ``timing_problem``); its bits are decoded as a chip would
 (a 400 kHz tuple on this strip reads every bit as a 1: white).
 
-Not modelled: RGBW (SK6812) strips, the 400 kHz WS2811, brightness per current, a low
-inside a stream long enough to latch."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.engine import Part
