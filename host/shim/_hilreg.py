@@ -202,7 +202,7 @@ def gpio_in(only=None):
     if only is None:  # (the pins there are, not all 30 looked up: a busy wait reads this often)
         while _unmade:
             m.Pin(_unmade.pop())  # (a pin whose control mem32 wrote: made, its pad read from now on)
-        gpios = made
+        gpios = tuple(made)  # (a copy: a pin's first init may sync, and a handler make a pin)
     else:
         gpios = (only,)
     for gpio in gpios:
