@@ -33,7 +33,10 @@ noise_sd_m = 0.003                     # its options follow inline
 A part's signals are `<name>.<signal>`; `{{name}}` in a truth key is the part's name. An
 option outside its bounds is refused at `mpy-fil check`, naming the part's table
 (`[[plant.parts]] #2 (sonar_rear) noise_sd_m: expected ...`, counted from 1). Adding a
-part is adding one module to `sim_plant/catalogue/` and its test.
+part is adding one module to `sim_plant/catalogue/` and its test. Each chip's section
+says what its model does and does not (the module's `MODELLED_FEATURES` and
+`NOT_MODELLED`; a register chip's registers, data-ready and self-clearing bits from its
+declarations); what each board family's shim models is in `docs/shim.md`.
 
 Bodies: {bodies}. Parts: {parts}.
 """
