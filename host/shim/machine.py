@@ -330,7 +330,11 @@ def _polled(obj, addr=None, run=None, register=False):
     path, which names a poll that never ends (host/shim/_hilpoll.py)."""
     depth = _hil.heap_release()  # (a poll under micropython.heap_lock() is named too)
     try:
-        import _hilpoll
+        try:
+            import _hilpoll
+        except MemoryError:  # (a firmware that left no room: the reserve is the shim's for this)
+            _hil.spend_reserve()
+            import _hilpoll
 
         _hilpoll.look(obj, addr, run, register)
     finally:
