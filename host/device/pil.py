@@ -30,6 +30,7 @@ SHIM_FILES = (
     "_hilframe.py",
     "_hilboot.py",
     "_hilsys.py",
+    "_hilpoll.py",  # (imported at a poll's first look only: machine.Pin.value, machine.mem*)
     "_umachine.py",
     "machine.py",
     "time.py",

@@ -37,6 +37,7 @@ from host.rig.inputs import Inputs
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
 from host.rig.pio import PioHost
+from host.rig.pollwatch import shim_poll_text
 from host.rig.session import Session
 from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target, plant_options
 from host.rig.speculation import Speculation
@@ -146,7 +147,7 @@ class Rig:
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
         self._progress_last = None
-        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT", "BUS")  # each to its _on_<name>
+        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT", "BUS", "POLL")  # each to its _on_<name>
         self._handlers = {getattr(F, m): getattr(self, "_on_" + m.lower()) for m in messages}
 
     # -- life cycle -------------------------------------------------------------------
@@ -320,6 +321,12 @@ class Rig:
         self.clock.catch_up(t)
         status, count, got = self.bus_trace.answer(self.plant, self.wiring.handles[h], h, t, op, address, n_read, data)
         self.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, self.clock.lease_us(), got))
+
+    def _on_poll(self, p: bytes) -> None:
+        """The shim names a poll that never ends: a pin, a memory address (host/rig/pollwatch.py)."""
+        poll = F.unpack_poll(p)
+        if self.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
+            self.bus_trace.say(poll[0], shim_poll_text(poll, self.wiring, self.plant))
 
     def _on_fault(self, p: bytes) -> None:
         t, text = F.unpack_fault(p)

@@ -16,7 +16,7 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 2
+PROTO_VERSION = 3
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -272,6 +272,7 @@ UART_TX = 0x06
 FAULT = 0x07
 EXIT = 0x08
 BUS = 0x09  # a bus transfer (I2C, SPI): the shim waits for its BUS_REPLY
+POLL = 0x0A  # a poll that never ends: one pin or memory address read with one answer (POLL_*)
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
@@ -288,6 +289,7 @@ NAMES = {
     FAULT: "FAULT",
     EXIT: "EXIT",
     BUS: "BUS",
+    POLL: "POLL",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -310,6 +312,8 @@ STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
 CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
 BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
+POLL_FMT = "<QQIBBII"  # t_us, since_us, reads, kind, bits, target, value; then UTF-8 lines: the
+# shim's word on what would change it, then the firmware's stack (innermost last) when known
 
 HELLO_LEN = struct.calcsize(HELLO_FMT)
 CFG_LEN = struct.calcsize(CFG_FMT)
@@ -321,6 +325,7 @@ STATE_LEN = struct.calcsize(STATE_FMT)
 CHANGE_LEN = struct.calcsize(CHANGE_FMT)
 BUS_LEN = struct.calcsize(BUS_FMT)
 BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
+POLL_LEN = struct.calcsize(POLL_FMT)
 
 
 def pack_hello(info):
@@ -431,6 +436,15 @@ def pack_bus_reply(t_us, status, count, horizon_us, data):
 def unpack_bus_reply(p):
     """(t_us, status, count, horizon_us, bytes read)"""
     return struct.unpack_from(BUS_REPLY_FMT, p, 0) + (bytes(p[BUS_REPLY_LEN:]),)
+
+
+def pack_poll(t_us, since_us, reads, kind, bits, target, value, text):
+    return struct.pack(POLL_FMT, t_us, since_us, reads, kind, bits, target, value) + text
+
+
+def unpack_poll(p):
+    """(t_us, since_us, reads, kind, bits, target, value, text bytes)"""
+    return struct.unpack_from(POLL_FMT, p, 0) + (bytes(p[POLL_LEN:]),)
 
 
 def pack_state(base_us, t_end_us, horizon_us, changes):
@@ -547,6 +561,16 @@ OUT_DEINIT = 3
 CH_LEVEL = 0
 CH_SAMPLE = 1  # extra: the sample number
 CH_BYTES = 2  # value: the byte count; the bytes follow the entry
+
+# POLL kinds (its target): a pin read through Pin.value() (the pin's handle), machine.mem8/16/32
+# at an address no register of the board's model lies behind (the address), or at one of its
+# registers (the address). A poll is named once POLL_READS reads in a row with one answer span
+# POLL_SPAN_US of virtual time (docs/reliability.md, "A poll that never ends").
+POLL_PIN = 0
+POLL_MEM = 1
+POLL_REG = 2
+POLL_READS = 10_000
+POLL_SPAN_US = 1_000_000
 
 EXIT_RETURN = 0
 EXIT_RESET = 1

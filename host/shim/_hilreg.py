@@ -25,6 +25,7 @@ _CSR, _DIV, _CTR, _CC, _TOP = 0, 4, 8, 12, 16
 _regs = {}  # word address -> 32-bit value: the PWM slices' registers and the GPIOs' CTRL
 _mem = {}  # any other byte address -> its byte (memory of its own)
 _noted = set()
+_unmade = set()  # GPIOs whose control mem32 wrote before any Pin of theirs was made
 _sio = {"out": 0, "oe": 0}
 
 
@@ -32,15 +33,38 @@ def _machine():
     return sys.modules["machine"]
 
 
+UNMODELLED = (
+    "no register of the simulated RP2040 there (PWM, IO_BANK0 GPIO control and SIO GPIO are); "
+    "it is plain memory: what was written reads back, the rest 0"
+)
+
+
 def _note(addr, what):
     if addr in _noted:
         return
     _noted.add(addr)
-    sys.stdout.write(
-        "[mpy-fil: note: %s 0x%08x: no register of the simulated RP2040 there (PWM, IO_BANK0 "
-        "GPIO control and SIO GPIO are); it is plain memory: what was written reads back, the rest 0]\n" % (what, addr)
-    )
+    sys.stdout.write("[mpy-fil: note: %s 0x%08x: %s]\n" % (what, addr, UNMODELLED))
     _hil.said()
+
+
+def register_text(addr):
+    """What a register read gives and what changes it (a poll of it named: _hilpoll)."""
+    word = addr & ~3 & ~0x3000 if 0x40000000 <= addr < 0x40070000 else addr & ~3
+    if PWM_BASE <= word < PWM_BASE + 0xA0:
+        sl, off = divmod(word - PWM_BASE, 0x14)
+        name = ("CSR", "DIV", "CTR", "CC", "TOP")[off // 4]
+        more = " (the counter is not run: CTR reads what was written)" if off == _CTR else ""
+        return "the simulated RP2040's PWM slice %d %s: only a write changes it%s" % (sl, name, more)
+    if word == PWM_EN:
+        return "the simulated RP2040's PWM EN: only a write (or PWM()) changes it"
+    if IO_BANK0 <= word < IO_BANK0 + 8 * N_GPIO:
+        gpio = (word - IO_BANK0) // 8
+        if word & 4:
+            return "the simulated RP2040's GPIO%d_CTRL: only a write (or Pin.init) changes it" % gpio
+        return "the simulated RP2040's GPIO%d_STATUS: its INFROMPAD is the pad's level, which the plant drives" % gpio
+    if word == SIO + 0x04:
+        return "the simulated RP2040's SIO GPIO_IN: the pads' levels, which the plant drives through the rig's wiring"
+    return "the simulated RP2040's SIO GPIO_OUT/GPIO_OE: only a write (or Pin) changes it"
 
 
 _applying = False  # (the pins following SIO's registers: their Pin.init leaves OE and OUT be)
@@ -168,16 +192,28 @@ def _pins_apply(changed):
 
 
 def gpio_in(only=None):
-    """The pads' levels (the pins made, and those whose control mem32 wrote), after INOVER."""
+    """The pads' levels (the pins made, and those whose control mem32 wrote), after INOVER:
+    the register read's (its read of the clock made: machine's mem reads observe), not
+    Pin.value()'s each (whose polls are counted as the firmware's own)."""
     m = _machine()
+    made = m.Pin._made
+    out = m.Pin.OUT
     word = 0
-    for gpio in range(N_GPIO) if only is None else (only,):
-        pin = m.Pin._made.get(gpio)
+    if only is None:  # (the pins there are, not all 30 looked up: a busy wait reads this often)
+        while _unmade:
+            m.Pin(_unmade.pop())  # (a pin whose control mem32 wrote: made, its pad read from now on)
+        gpios = tuple(made)  # (a copy: a pin's first init may sync, and a handler make a pin)
+    else:
+        gpios = (only,)
+    for gpio in gpios:
+        if only is None and not (isinstance(gpio, int) and 0 <= gpio < N_GPIO):
+            continue
+        pin = made.get(gpio)
         if pin is None:
-            if only is None and IO_BANK0 + 8 * gpio + 4 not in _regs:
-                continue
             pin = m.Pin(gpio)
-        level = pin.value()
+        if not pin._cfg:
+            pin.init()
+        level = pin._out if pin._mode == out else pin._level  # (as Pin.value() reads it)
         inover = _regs.get(IO_BANK0 + 8 * gpio + 4, FUNC_NULL) >> 16 & 3
         level = (level, 1 - level, 0, 1)[inover]
         word |= (level & 1) << gpio
@@ -223,6 +259,8 @@ def _write32(addr, value):
         if not addr & 4:
             return True  # GPIOn_STATUS: read-only
         gpio = (addr - IO_BANK0) // 8
+        if gpio not in _machine().Pin._made:
+            _unmade.add(gpio)
         old = _regs.get(addr, FUNC_NULL)
         _regs[addr] = value & 0x3033F31F
         if (old ^ value) & 0x1F:
@@ -262,13 +300,17 @@ def mems(base):
     class Mem(base):
         def __getitem__(self, addr):
             addr = self._addr(addr)
+            _hil.observe()  # (a register read: a busy wait on one moves time)
             word, op = _atomic(addr & ~3)
             value = _read32(word)
             if value is None:
                 _note(addr, "read of")
                 get = _mem.get
-                return sum(get(addr + i, 0) << (8 * i) for i in range(self._size))
-            return (value >> (8 * (addr & 3))) & ((1 << self._bits) - 1)
+                value = get(addr, 0)
+                for i in range(1, self._size):
+                    value |= get(addr + i, 0) << (8 * i)
+                return self._seen(addr, value, False)
+            return self._seen(addr, (value >> (8 * (addr & 3))) & ((1 << self._bits) - 1), True)
 
         def __setitem__(self, addr, value):
             addr = self._addr(addr)

@@ -217,9 +217,20 @@ class Pin:
                 return self._out
             if not self._cfg:
                 self.init()
-            if not _hil._dispatching:  # (a handler's reads move no time: no call for them)
-                _hil.observe()
-            return self._level
+            if _hil._dispatching:  # (a handler's reads move no time: no call for them)
+                return self._level
+            _hil.observe()
+            level = self._level
+            if level == self._pv:  # the same answer again: a count down to a look (_hilpoll)
+                self._pn -= 1
+                if not self._pn:
+                    _polled(self)
+            else:
+                self._pv = level  # (one by one: a tuple of four would allocate, under heap_lock too)
+                self._pn = _POLL_READS - 1
+                self._pr = 0
+                self._pt = _hil._now
+            return level
         x = 1 if x else 0
         if x != self._out:
             self._out = x
@@ -293,6 +304,8 @@ def _make(id, cls=Pin):
         pin._flags = 0
         pin._counters = None  # Counter and Encoder units counting this pin's edges
         pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
+        pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
+        pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
         pin._handle = _hil.register(pin)
     return pin
 
@@ -309,6 +322,23 @@ def _board_line(name):
 
 _hil._Link.pin = Pin  # (its changes are applied in C when the shim has _hilfast)
 _OUT = Pin.OUT
+_POLL_READS = _F.POLL_READS
+
+
+def _polled(obj, addr=None, run=None, register=False):
+    """A pin (or memory address) gave one answer to POLL_READS reads in a row: the rare
+    path, which names a poll that never ends (host/shim/_hilpoll.py)."""
+    depth = _hil.heap_release()  # (a poll under micropython.heap_lock() is named too)
+    try:
+        try:
+            import _hilpoll
+        except MemoryError:  # (a firmware that left no room: the reserve is the shim's for this)
+            _hil.spend_reserve()
+            import _hilpoll
+
+        _hilpoll.look(obj, addr, run, register)
+    finally:
+        _hil.heap_restore(depth)
 
 
 def _wire_edges(trigger):
@@ -909,8 +939,29 @@ class _Mem:
 
     def __getitem__(self, addr):
         addr = self._addr(addr)
+        _hil.observe()  # (a read of the board's memory: a busy wait on it moves time)
         get = _Mem._bytes.get
-        return sum(get(addr + i, 0) << (8 * i) for i in range(self._size))
+        value = get(addr, 0)
+        for i in range(1, self._size):
+            value |= get(addr + i, 0) << (8 * i)
+        return self._seen(addr, value, False)
+
+    _runs = {}  # address -> [answer, reads left to the next look, reads before it, since t_us]
+
+    def _seen(self, addr, value, register):
+        """A read's answer (register: a register of the board's model lies there), counted
+        as Pin.value counts its own: the same answer POLL_READS times names the poll."""
+        runs = _Mem._runs
+        run = runs.get(addr)
+        if run is not None and run[0] == value:
+            run[1] -= 1
+            if not run[1]:
+                _polled(self, addr, run, register)
+        else:
+            if len(runs) >= 8:  # (a poll reads one or two addresses: the rest is a copy's)
+                runs.clear()
+            runs[addr] = [value, _POLL_READS - 1, 0, _hil._now]
+        return value
 
     def __setitem__(self, addr, value):
         addr = self._addr(addr)

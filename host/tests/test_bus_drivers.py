@@ -11,15 +11,16 @@ import pytest
 
 from host.core.drivers import driver_folder
 from host.tests.conftest import FIRMWARE, bench_app, results
-from host.tests.test_buses import SPIN_PINS, SPIN_WIRING
+from host.tests.test_buses import SPIN_PINS, SPIN_WIRING, TURN
 
 pytestmark = pytest.mark.hil
 
 
 def run_driver(make_rig, case: str, plant: dict, driver: str, duration_s: float, probe=None, **app):
-    """Run firmware ``case`` with ``driver``'s folder on its path; ``probe(rig)`` (if
+    """Run firmware ``case`` with ``driver``'s folder on its path (and the bench robot's
+    TB6612, which the spin and compass firmwares import); ``probe(rig)`` (if
     given) is called at each second of virtual time; returns (rig, results, probes)."""
-    the_app = bench_app(case, plant, lib_dirs=(driver_folder(driver),), **app)
+    the_app = bench_app(case, plant, lib_dirs=(driver_folder(driver), TURN), **app)
     rig = make_rig(the_app, main_dir=FIRMWARE / case, allow_exit=True)
     probes = []
     for _ in range(int(duration_s)):
@@ -88,9 +89,7 @@ def test_published_lsm6dsox_driver_at_0x6b_turns_an_lsm6dso_part_90_degrees_with
     integrated gyro says 90 degrees; the true turn agrees within 3; gravity reads 9.8 m/s2."""
     imu = {"kind": "lsm6dso", "name": "imu", "bus": "i2c1", "gyro_bias_dps": [0.0, 0.0, 0.3]}
     plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.0], "parts": [*MOTORS, imu]}
-    rig, r, _ = run_driver(
-        make_rig, "lsm6dso_spin", plant, "micropython-lsm6dsox", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS
-    )
+    rig, r, _ = run_driver(make_rig, "imu_spin", plant, "micropython-lsm6dsox", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS)
     truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
     assert "heading_deg" in r, rig.console
     assert rig.plant.bus_device("i2c1", 0x6B) is not None and rig.plant.bus_device("i2c1", 0x6A) is None
@@ -132,7 +131,7 @@ def test_hmc5883l_compass_read_as_its_public_drivers_read_it_gives_the_heading_w
     stops and reads its heading, twice: each within 1 degree of the body's true heading."""
     compass = {"kind": "hmc5883l", "name": "compass", "bus": "i2c1"}
     plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.3], "parts": [*MOTORS, compass]}
-    the_app = bench_app("hmc5883l_compass", plant, wiring=SPIN_WIRING, pins=SPIN_PINS)
+    the_app = bench_app("hmc5883l_compass", plant, wiring=SPIN_WIRING, pins=SPIN_PINS, lib_dirs=(TURN,))
     rig = make_rig(the_app, main_dir=FIRMWARE / "hmc5883l_compass", allow_exit=True)
     seen = []
     for _ in range(7):
@@ -170,14 +169,13 @@ def test_published_bme280_driver_reads_a_set_temperature_and_pressure_through_th
 
 
 def test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees(make_rig):
-    """micropython-mpu6886 0.1.0, unchanged, as its README sets it up (I2C(scl=Pin(22),
-    sda=Pin(21)): bus i2c0), against the mpu6050 part answering WHO_AM_I 0x19: the robot
-    spins left until the integrated gyro says 90 degrees; the true turn agrees within 3."""
-    imu = {"kind": "mpu6050", "name": "imu", "bus": "i2c0", "who_am_i": 0x19, "gyro_bias_dps": [0.0, 0.0, 0.3]}
+    """micropython-mpu6886 0.1.0, unchanged, as its README sets it up (on I2C(1): its README's
+    pins 21 and 22 drive the motors here), against the mpu6050 part answering WHO_AM_I 0x19:
+    the robot spins left until the integrated gyro says 90 degrees; the true turn agrees
+    within 3 (the firmware the LSM6DS-class tests run, which takes the IMU that answers)."""
+    imu = {"kind": "mpu6050", "name": "imu", "bus": "i2c1", "who_am_i": 0x19, "gyro_bias_dps": [0.0, 0.0, 0.3]}
     plant = {"body": "differential", "start_pose": [1.5, 1.0, 0.0], "parts": [*MOTORS, imu]}
-    rig, r, _ = run_driver(
-        make_rig, "mpu6886_spin", plant, "micropython-mpu6886", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS
-    )
+    rig, r, _ = run_driver(make_rig, "imu_spin", plant, "micropython-mpu6886", 6.0, wiring=SPIN_WIRING, pins=SPIN_PINS)
     truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
     assert "heading_deg" in r, rig.console
     assert r["whoami"] == 0x19

@@ -91,6 +91,7 @@ SPIN = {
         {"kind": "lsm6dsox", "name": "imu", "bus": "i2c1", "gyro_bias_dps": [0.0, 0.0, 0.3]},
     ],
 }
+TURN = FIRMWARE / "tb6612_turn"  # the spin and compass firmwares' TB6612 (drive: a left turn in place)
 SPIN_PINS = {"PWMA": 16, "AIN1": 17, "AIN2": 18, "PWMB": 21, "BIN1": 22, "BIN2": 23}
 SPIN_WIRING = {
     "PWMA": "motor_l.pwm",
@@ -108,8 +109,9 @@ def test_published_lsm6dsox_driver_integrates_a_turn_in_place_within_3_degrees(m
     says 90 degrees; the body's true turn agrees within 3 degrees."""
     from host.core.drivers import driver_folder
 
-    app = bench_app("spin", SPIN, wiring=SPIN_WIRING, pins=SPIN_PINS, lib_dirs=(driver_folder("micropython-lsm6dsox"),))
-    rig = make_rig(app, main_dir=FIRMWARE / "lsm6dsox_spin", allow_exit=True)
+    lib_dirs = (driver_folder("micropython-lsm6dsox"), TURN)
+    app = bench_app("spin", SPIN, wiring=SPIN_WIRING, pins=SPIN_PINS, lib_dirs=lib_dirs)
+    rig = make_rig(app, main_dir=FIRMWARE / "imu_spin", allow_exit=True)
     rig.run_for(6.0)
     truth_deg = math.degrees(rig.plant.truth()["theta_rad"])
     rig.stop()
@@ -117,6 +119,7 @@ def test_published_lsm6dsox_driver_integrates_a_turn_in_place_within_3_degrees(m
     assert "heading_deg" in r, rig.console
     assert truth_deg > 80, f"the body turned {truth_deg:.1f} degrees; console:\n{rig.console}"
     assert abs(r["heading_deg"] - truth_deg) < 3, (r["heading_deg"], truth_deg)
+    assert r["gyro_range"] == "RANGE_250_DPS", r  # (CTRL2_G at its reset value: the driver reads it back)
 
 
 def test_an_uncaught_bus_error_ends_the_run_naming_the_address_nobody_answered(make_rig, tmp_path):

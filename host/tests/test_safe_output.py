@@ -98,6 +98,11 @@ def _run_default_build_link(w):
     return ["run", proj / "rig.toml", "--duration", "1", "--no-plots"]
 
 
+def _campaign(out):
+    """A campaign of the rover's, one seed of 1 s on one worker, into ``out``."""
+    return ["campaign", "rover", "--seeds", "1", "--seconds", "1", "--workers", "1", "--out", out]
+
+
 CASES = {
     # command: [(case, argv of the world, the message's words), ...]
     "run": [
@@ -167,36 +172,10 @@ CASES = {
         ),
     ],
     "campaign": [
-        (
-            "its runs/ a link",
-            lambda w: [
-                "campaign",
-                "rover",
-                "--seeds",
-                "1",
-                "--seconds",
-                "1",
-                "--workers",
-                "1",
-                "--out",
-                w.link(w.tmp / "c" / "runs", w.victim).parent,
-            ],  # fmt: skip
-            "runs is a link to",
-        ),
+        ("its runs/ a link", lambda w: _campaign(w.link(w.tmp / "c" / "runs", w.victim).parent), "runs is a link to"),
         (
             "its results.jsonl a link",
-            lambda w: [
-                "campaign",
-                "rover",
-                "--seeds",
-                "1",
-                "--seconds",
-                "1",
-                "--workers",
-                "1",
-                "--out",
-                w.link(w.tmp / "c" / "results.jsonl", w.victim / "keep.txt").parent,
-            ],  # fmt: skip
+            lambda w: _campaign(w.link(w.tmp / "c" / "results.jsonl", w.victim / "keep.txt").parent),
             "results.jsonl is a link to",
         ),
         (

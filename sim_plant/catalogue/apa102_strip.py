@@ -15,9 +15,7 @@ Each LED's colour is an output, ``<name>.led<i>``, ``0xRRGGBB`` as sent, and its
 brightness ``<name>.level<i>`` (0-31), from the end of the transfer that completed its frame
 (one change per transfer that changes it), drawn by the report as the ``ws2812_strip``'s are.
 
-Not modelled: the half clock of delay per LED (a frame shows once it is in, without the end
-frame's extra clocks), the brightness as a PWM of its own, the SK9822's latch at the start
-frame."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusDevice, BusName, Change
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
@@ -91,6 +89,17 @@ class Apa102Strip(BusDevice):
 
 class Apa102StripPart(PartType):
     kind = "apa102_strip"
+    MODELLED_FEATURES = (
+        "the start frame, 32-bit LED frames (brightness, blue, green, red) split over any transfers, frames "
+        "past the last LED",
+        "framing faults counted",
+        "each LED's colour and brightness as outputs",
+    )
+    NOT_MODELLED = (
+        "the half clock of delay per LED (a frame shows once it is in, without the end frame's extra clocks)",
+        "the brightness as a PWM of its own",
+        "the SK9822's latch at the start frame",
+    )
     doc = "A strip of APA102 (DotStar) RGB LEDs on an SPI bus: colours and brightness as outputs, framing checked."
     OPTIONS = (
         Opt("bus", BusName(), "spi0", "the SPI bus whose clock and data lines it is on, as the firmware creates it"),

@@ -131,12 +131,18 @@ class PartType(Declared):
     ``needs_body``: it senses or acts on a body that moves (not on a bench);
     ``zero_delay``: an input of it may change an output at the same instant (a wire);
     ``reads_empty``: its outputs are bytes as events (a UART configured on one reads nothing);
-    ``on_bus``: a chip on a bus (options ``bus``, ``address``, ``spi``: ``sim_plant.buses``)."""
+    ``on_bus``: a chip on a bus (options ``bus``, ``address``, ``spi``: ``sim_plant.buses``).
+    A chip (a part with a ``bus`` option, or a strip of LEDs) declares what its model does,
+    ``MODELLED_FEATURES``, and what of the datasheet's chip it does not, ``NOT_MODELLED``, a
+    line each: ``docs/parts.md`` shows them (a register chip's registers from its ``CHIP``'s
+    ``MODELLED``), and ``sim_plant/tests/test_parts_modelled.py`` holds every chip to it."""
 
     SIGNALS: tuple = ()
     TRUTH: tuple = ()
     VIEWS: tuple = ()
     CONTROLS: tuple = ()  # sim_plant.controls.Control: what a scenario's set-control sets
+    MODELLED_FEATURES: tuple = ()  # a chip's: what its model does (docs/parts.md)
+    NOT_MODELLED: tuple = ()  # a chip's: what of the datasheet's chip its model does not do
     needs_body = False
     zero_delay = False
     reads_empty = False

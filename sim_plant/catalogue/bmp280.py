@@ -230,6 +230,20 @@ class Bmp280Chip(RegisterDevice):
 class Bmp280(PartType):
     CHIP = Bmp280Chip  # (its registers: docs/parts.md)
     kind = "bmp280"
+    MODELLED_FEATURES = (
+        "the datasheet's example trimming, raw readings that compensate to the set temperature and pressure",
+        "the BME280's humidity: ctrl_hum taking effect at the next ctrl_meas write, its trimming (typical "
+        "values: the datasheet gives none) and a raw reading that compensates to the set humidity",
+        "sleep, forced and normal modes; a conversion's time from the oversampling; status' measuring bit; "
+        "reset by 0xB6",
+        "the chip id of the BMP280 (0x58) or BME280 (0x60)",
+    )
+    NOT_MODELLED = (
+        "the IIR filter (kept: a set value does not move)",
+        "status' im_update (the trimming is there at once)",
+        "SPI",
+        "noise and drift",
+    )
     doc = (
         "A BMP280 (id 0x58) or BME280 (id 0x60) barometer on I2C: a set temperature and pressure"
         " (and humidity on a BME280), compensated."

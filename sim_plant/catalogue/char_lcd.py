@@ -158,6 +158,17 @@ class CharLcdChip(BusDevice):
 
 class CharLcd(PartType):
     kind = "char_lcd"
+    MODELLED_FEATURES = (
+        "the PCF8574 backpack's pins, the HD44780's 8- and 4-bit modes",
+        "clear, home, entry mode, display control, shift, function set, CGRAM and DDRAM addresses",
+        "the text on the glass, kept each time it changes",
+    )
+    NOT_MODELLED = (
+        "reads (the busy flag)",
+        "the instruction times (a driver that does not wait is not caught)",
+        "the 5 x 10 font",
+        "the contrast",
+    )
     doc = "An HD44780 character LCD (16x2, 20x4) on a PCF8574 I2C backpack: the text it shows."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

@@ -11,9 +11,7 @@ DHT22: humidity and temperature in tenths (0.1 % RH, 0.1 °C), a negative temper
 bit 15 set. DHT11: whole numbers in the first byte of each pair (the second 0). Each is
 clamped to the sensor's range (DHT11: 0..50 °C, 20..90 %). The values are the options'
 (``temperature_c``, ``humidity_pct``), or what a scenario's set-control ``temperature`` /
-``humidity`` set last, as Wokwi's sliders do. Not modelled: the 2 s (DHT22) or 1 s
-(DHT11) between conversions (a faster read here gets a fresh value, a real one the
-previous), noise and accuracy, the single wire's edges (no probe sees the reply)."""
+``humidity`` set last, as Wokwi's sliders do. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType
@@ -71,6 +69,16 @@ class DhtChip(BusDevice):
 
 class Dht(PartType):
     kind = "dht"
+    MODELLED_FEATURES = (
+        "the 40-bit reply of a DHT22 or DHT11 to the board's dht_readinto, its checksum, the sensor's ranges",
+        "the reply's time on the wire",
+    )
+    NOT_MODELLED = (
+        "the 2 s (DHT22) or 1 s (DHT11) between conversions (a faster read gets a fresh value here, the "
+        "previous one on a board)",
+        "noise and accuracy",
+        "the reply's edges on the pin (no probe sees them)",
+    )
     doc = "A DHT22 or DHT11 temperature and humidity sensor on one data pin (MicroPython's dht module)."
     OPTIONS = (
         Opt("bus", BusName(), "dht:4", "its data line as the shim names it: dht:<the GPIO's number>"),

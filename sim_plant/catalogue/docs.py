@@ -33,7 +33,10 @@ noise_sd_m = 0.003                     # its options follow inline
 A part's signals are `<name>.<signal>`; `{{name}}` in a truth key is the part's name. An
 option outside its bounds is refused at `mpy-fil check`, naming the part's table
 (`[[plant.parts]] #2 (sonar_rear) noise_sd_m: expected ...`, counted from 1). Adding a
-part is adding one module to `sim_plant/catalogue/` and its test.
+part is adding one module to `sim_plant/catalogue/` and its test. Each chip's section
+says what its model does and does not (the module's `MODELLED_FEATURES` and
+`NOT_MODELLED`; a register chip's registers, data-ready and self-clearing bits from its
+declarations); what each board family's shim models is in `docs/shim.md`.
 
 Bodies: {bodies}. Parts: {parts}.
 """
@@ -68,7 +71,38 @@ def _part(cls) -> list[str]:
         lines += [f"View `{v.plot}`: {v.doc} ({what}).", ""]
     if cls.needs_body:
         lines += ["Needs a body that moves (not on a `bench`).", ""]
-    return lines + _registers(getattr(cls, "CHIP", None))
+    return lines + _model(cls) + _registers(getattr(cls, "CHIP", None))
+
+
+def _model(cls) -> list[str]:
+    """A chip's table of what its model does and does not (its module's ``MODELLED_FEATURES``
+    and ``NOT_MODELLED``; a register chip's registers and status bits from its ``CHIP``)."""
+    chip = getattr(cls, "CHIP", None)
+    does = list(cls.MODELLED_FEATURES)
+    for bit in getattr(chip, "DATA_READY", ()):
+        cleared = ", ".join(_spans(bit.cleared_by))
+        overrun = f" (overrun: mask 0x{bit.overrun_mask:02x})" if bit.overrun_mask else ""
+        does.append(
+            f"{bit.name} (0x{bit.reg:02x}, mask 0x{bit.mask:02x}) set at the output data rate, cleared by reading "
+            f"{cleared}{overrun}"
+        )
+    if getattr(chip, "MODELLED", None):
+        does.append("the registers in the table below")
+    if not does and not cls.NOT_MODELLED:
+        return []
+    cell = lambda items: "; ".join(items).replace("|", "\\|") or "nothing"  # noqa: E731
+    return ["| the model | |", "|---|---|", f"| does | {cell(does)} |", f"| does not | {cell(cls.NOT_MODELLED)} |", ""]
+
+
+def _spans(registers) -> list:
+    """Registers as runs: 0x28..0x2d for a run of them."""
+    runs = []
+    for reg in sorted(registers):
+        if runs and runs[-1][1] == reg - 1:
+            runs[-1][1] = reg
+        else:
+            runs.append([reg, reg])
+    return [f"0x{a:02x}" if a == b else f"0x{a:02x}..0x{b:02x}" for a, b in runs]
 
 
 def _registers(chip) -> list[str]:

@@ -13,8 +13,7 @@ the last their CRC), WRITE SCRATCHPAD (0x4E: TH, TL, configuration), COPY SCRATC
 temperature register reads 85 °C. The temperature converted is the option
 ``temperature_c``, or what a scenario's set-control ``temperature`` set last, taken at the
 conversion's start and rounded to the resolution. One part per line (several on one line,
-a real bus's wired-AND, are not modelled); not modelled: parasite power, accuracy, the
-EEPROM's write time."""
+a real bus's wired-AND, are not modelled); not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType
@@ -231,6 +230,17 @@ class Ds18b20Chip(BusDevice):
 
 class Ds18b20(PartType):
     kind = "ds18b20"
+    MODELLED_FEATURES = (
+        "the 64-bit ROM and its CRC; READ, MATCH, SKIP, SEARCH and ALARM SEARCH ROM",
+        "CONVERT T with its time per resolution, the scratchpad and its CRC, COPY and RECALL, READ POWER "
+        "SUPPLY; 85 °C at power-on",
+    )
+    NOT_MODELLED = (
+        "several sensors on one line (one part per line)",
+        "parasite power",
+        "accuracy",
+        "the EEPROM's write time",
+    )
     doc = "A DS18B20 temperature sensor on a 1-Wire pin (MicroPython's onewire and ds18x20 modules)."
     OPTIONS = (
         Opt("bus", BusName(), "onewire:4", "its data line as the shim names it: onewire:<the GPIO's number>"),

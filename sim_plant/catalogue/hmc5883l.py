@@ -11,7 +11,7 @@ MSB first, -2048..2047, -4096 in an axis that overflows the range), status 0x09 
 once a measurement has written the data, clear for 250 us as each new one is written;
 LOCK not modelled: reading part of the data does not hold it), identification 0x0A..0x0C
 ('H', '4', '3'). The pointer moves on after each byte, from 0x08 back to 0x03 and from
-0x0C to 0x00. Not modelled: self-test (MS), averaging (MA), the DRDY pin, high-speed I2C.
+0x0C to 0x00. Not modelled: ``NOT_MODELLED`` (docs/parts.md).
 A write to another register is named once in the run's output."""
 
 from sim_plant.buses import RegisterDevice
@@ -100,5 +100,16 @@ class Hmc5883lChip(Lis3mdlChip):
 class Hmc5883l(Lis3mdl):
     CHIP = Hmc5883lChip  # (its registers: docs/parts.md)
     kind = "hmc5883l"
+    MODELLED_FEATURES = (
+        "the field as the lis3mdl part computes it (hard iron, noise), the eight gains, overflow",
+        "continuous, single (ready 6 ms after the write, then idle) and idle modes at 0.75 to 75 Hz; RDY",
+    )
+    NOT_MODELLED = (
+        "self-test (MS)",
+        "averaging (MA: kept)",
+        "the DRDY pin",
+        "high-speed I2C",
+        "the status register's LOCK",
+    )
     doc = "An HMC5883L 3-axis magnetometer (identity 'H43') on I2C at 0x1E: the body's heading, a hard-iron offset."
     OPTIONS = Lis3mdl.options_at(0x1E, "its 7-bit I2C address (0x1E)")  # (check and add: the LIS3MDL's, with this chip)

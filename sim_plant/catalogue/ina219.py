@@ -15,9 +15,7 @@ power out of range), power (0x03: current × bus / 5000, reading it clears CNVR)
 reads 0). A conversion takes the shunt's and the bus's ADC times (532 µs each at 12 bits;
 averaged: up to 68.10 ms); its values are the plant's at the read.
 
-Not modelled: the triggered modes (1 to 6 convert continuously), the averaging's
-smoothing, the ADC's offset and gain errors, the bus voltage's own range limit (BRNG
-only sets the OVF bit beyond 16 V)."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
@@ -146,6 +144,17 @@ class Ina219Chip(RegisterDevice):
 class Ina219(PartType):
     CHIP = Ina219Chip  # (its registers: docs/parts.md)
     kind = "ina219"
+    MODELLED_FEATURES = (
+        "bus voltage from the battery part (or a set value), current from the motors' speeds and an idle draw",
+        "shunt, bus, power and current registers with the calibration, PGA and BRNG; conversion times; CNVR "
+        "and OVF; reset",
+    )
+    NOT_MODELLED = (
+        "the triggered modes (1 to 6 convert continuously)",
+        "averaging's smoothing",
+        "the ADC's offset and gain errors",
+        "the bus voltage's range limit (BRNG only sets OVF beyond 16 V)",
+    )
     doc = "An INA219-class current and bus-voltage monitor on I2C, on the battery's supply with the motors' load."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

@@ -18,9 +18,7 @@ read, ZYXDA of any; XOR, YOR, ZOR, ZYXOR, one overwritten before it was read; ea
 clears when its axis' outputs (ZYXDA, ZYXOR: any output) are read),
 OUT_X_L..OUT_Z_H (0x28..0x2D, little-endian, saturated), TEMP_OUT (0x2E, 25 °C: 0). The
 register pointer moves on after each byte whether or not the sub-address has bit 7 set
-(the datasheet asks for it; the published drivers read without it). Not modelled:
-single-conversion mode (taken as continuous), self-test, the interrupt pin and thresholds,
-soft-iron distortion, BDU.
+(the datasheet asks for it; the published drivers read without it). Not modelled: ``NOT_MODELLED`` (docs/parts.md).
 A write to a register not modelled is named once in the run's output."""
 
 import math
@@ -146,6 +144,19 @@ class Lis3mdlChip(RegisterDevice):
 class Lis3mdl(PartType):
     CHIP = Lis3mdlChip  # (its registers: docs/parts.md)
     kind = "lis3mdl"
+    MODELLED_FEATURES = (
+        "the field: the Earth's horizontal and vertical components as the body turns, a hard-iron offset, "
+        "noise, saturation",
+        "the output data rate and full scale as CTRL_REG1/2 set them; power-down stops the samples",
+    )
+    NOT_MODELLED = (
+        "single-conversion mode (taken as continuous)",
+        "self-test",
+        "the interrupt pin and thresholds",
+        "soft-iron distortion",
+        "block data update (BDU)",
+        "the temperature sensor (reads 0: 25 °C)",
+    )
     doc = "An LIS3MDL-class 3-axis magnetometer (WHO_AM_I 0x3D) on I2C: the body's heading, a hard-iron offset."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

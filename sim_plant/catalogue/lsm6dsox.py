@@ -96,6 +96,26 @@ class Lsm6dsoxChip(Imu):
 
 class Lsm6dsox(ImuPart):
     kind = "lsm6dsox"
+    MODELLED_FEATURES = (
+        "gyro: the body's turn rate about z, with the bias and noise set, saturated at the full scale",
+        "accelerometer: the forward and centripetal acceleration on x and y, +g on z (flat, face up), with noise",
+        "a sample a tick of the output data rate (a read between two ticks gets the same sample)",
+        "the data-ready line (int) as the interrupt enable register routes it",
+        "I2C at 0x6A/0x6B or SPI, the register pointer moving on as IF_INC says",
+    )
+    NOT_MODELLED = (
+        "the FIFO (its registers are plain memory)",
+        "the embedded functions (pedometer, tilt, tap, free-fall, 6D, the machine-learning core, the finite "
+        "state machine)",
+        "INT2 and the routing of anything but data-ready",
+        "the sensor hub and OIS interfaces",
+        "self-test",
+        "the temperature sensor (OUT_TEMP reads 25 °C; TDA never sets)",
+        "the accelerometer's and gyro's own output data rates apart (one rate: the gyro's, the "
+        "accelerometer's while it is off)",
+        "the low-power modes' noise",
+        "the filters' (LPF, HPF) effect on the samples",
+    )
     doc = "An LSM6DSOX-class 6-axis IMU (WHO_AM_I 0x6C) on I2C or SPI: gyro and accelerometer from the body's motion."
     CHIP = Lsm6dsoxChip
     OPTIONS = ImuPart.bus_options(0x6A)

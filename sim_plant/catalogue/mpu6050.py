@@ -119,6 +119,24 @@ class Mpu6050Chip(Imu):
 
 class Mpu6050(ImuPart):
     kind = "mpu6050"
+    MODELLED_FEATURES = (
+        "gyro: the body's turn rate about z, with the bias and noise set, saturated at the full scale",
+        "accelerometer: the forward and centripetal acceleration on x and y, +g on z (flat, face up), with noise",
+        "a sample a tick of the output data rate (a read between two ticks gets the same sample)",
+        "the data-ready line (int) as the interrupt enable register routes it",
+        "I2C at 0x68/0x69 or SPI; WHO_AM_I of the member chosen (MPU-6050, 6500, 6886, 9250) and its "
+        "temperature formula",
+    )
+    NOT_MODELLED = (
+        "the FIFO",
+        "the DMP (digital motion processor)",
+        "the auxiliary I2C master (the MPU-9250's magnetometer)",
+        "INT_PIN_CFG's INT_RD_CLEAR = 1 (any read clears), latch and level options",
+        "the DLPF's filtering of the samples (only its rate)",
+        "self-test",
+        "the temperature sensor (a set 25 °C)",
+        "cycle and low-power modes",
+    )
     doc = "An MPU-6050-class 6-axis IMU (MPU-6xxx registers, WHO_AM_I as chosen) on I2C or SPI, from the body's motion."
     CHIP = Mpu6050Chip
     OPTIONS = (

@@ -15,9 +15,7 @@ drives its input as a board PWM would: a ``duty`` input gets the pulse width it 
 else the duty fraction), a ``level`` input 1 while the duty is at least a half. The truth
 has ``<name>_ch<n>_pulse_us`` for each channel that drives an input.
 
-Not modelled: the output delay (ON counts other than 0 only shift the pulse), the
-inverted and open-drain outputs of MODE2, OE, EXTCLK, the sub-addresses and all-call
-address, the software reset general call."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusName, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType
@@ -132,6 +130,18 @@ def duty_for(kind: str, part, share: float, period_us: float) -> int:
 class Pca9685(PartType):
     CHIP = Pca9685Chip  # (its registers: docs/parts.md)
     kind = "pca9685"
+    MODELLED_FEATURES = (
+        "16 channels of 12-bit on/off counts, full on and full off, at osc_hz / (4096 (PRE_SCALE + 1))",
+        "MODE1's SLEEP, AI and RESTART; ALL_LED; each channel driving another part's input as a board's PWM would",
+    )
+    NOT_MODELLED = (
+        "the output delay (ON counts other than 0 only shift the pulse)",
+        "MODE2's inverted and open-drain outputs",
+        "OE",
+        "EXTCLK",
+        "the sub-addresses and the all-call address",
+        "the software reset general call",
+    )
     doc = "A PCA9685-class 16-channel 12-bit PWM expander on I2C whose channels drive servos and motor bridge inputs."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

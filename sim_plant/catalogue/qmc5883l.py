@@ -100,5 +100,14 @@ class Qmc5883lChip(Lis3mdlChip):
 class Qmc5883l(Lis3mdl):
     CHIP = Qmc5883lChip  # (its registers: docs/parts.md)
     kind = "qmc5883l"
+    MODELLED_FEATURES = (
+        "the field as the lis3mdl part computes it (hard iron, noise), 12000 or 3000 LSB per gauss",
+        "standby and continuous modes at 10, 50, 100 or 200 Hz; DRDY, DOR, OVL; SOFT_RST; ROL_PNT",
+    )
+    NOT_MODELLED = (
+        "the oversampling ratio's effect on noise (OSR is kept)",
+        "the interrupt pin (INT_ENB is kept)",
+        "the temperature sensor (TOUT reads 0)",
+    )
     doc = "A QMC5883L 3-axis magnetometer (chip id 0xFF) on I2C at 0x0D: the body's heading, a hard-iron offset."
     OPTIONS = Lis3mdl.options_at(0x0D, "its 7-bit I2C address (0x0D)")  # (check and add: the LIS3MDL's, with this chip)

@@ -19,8 +19,7 @@ pump voltage (0x30-0x33), read-modify-write (0xE0/0xEE), NOP (0xE3).
 
 The picture, its frames and the trace folder's PNG and GIF are as the ``ssd1306`` part's:
 segment remap (0xA1) shows glass pixel x from RAM column x + 2, no remap from column
-129 - x, mirrored. Not modelled: the display offset, contrast as a brightness, the DC-DC
-converter (the display lights without it), read-modify-write's column that does not move."""
+129 - x, mirrored. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import chip_select
 from sim_plant.catalogue.base import Build
@@ -64,6 +63,18 @@ class Sh1106Chip(Ssd1306Chip):
 
 class Sh1106(Ssd1306):  # (its signals, truth and check: the SSD1306's)
     kind = "sh1106"
+    MODELLED_FEATURES = (
+        "I2C framing (control bytes) and 4-wire SPI (cs, dc, res), as the ssd1306 part's",
+        "a 132-column RAM, the glass on columns 2 to 129; page addressing only",
+        "display on/off, entire display on, inverse, start line, segment remap, COM scan direction, multiplex ratio",
+        "the picture as the glass shows it, kept frame by frame",
+    )
+    NOT_MODELLED = (
+        "the display offset",
+        "contrast as a brightness",
+        "the DC-DC converter (the display lights without it)",
+        "read-modify-write's column that does not move",
+    )
     doc = "An SH1106 128x64 monochrome OLED (132-column RAM) on I2C or SPI: its picture is kept in the trace folder."
     OPTIONS = (*OLED_OPTIONS, MAX_FRAMES)
 

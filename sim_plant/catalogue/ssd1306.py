@@ -25,9 +25,7 @@ distinct picture is kept with its time (the last ``max_frames``; after that the 
 is replaced) at the end of the transfer that made it (chip select held low or not): the
 trace folder has the last as ``<name>.png`` and all as ``<name>.gif`` (``host/artefacts/pictures.py``).
 
-Not modelled: the COM pins configuration's effect (a 32-row panel with 0x12 would show
-every other row), the display offset, contrast as a brightness, the charge pump (the
-display lights without it), scrolling, the 64-column panels' shift."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import CS_OPTION, CS_SIGNAL, BusDevice, BusName, check_placement, chip_select
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig
@@ -231,6 +229,20 @@ MAX_FRAMES = Opt(
 
 class Ssd1306(PartType):
     kind = "ssd1306"
+    MODELLED_FEATURES = (
+        "I2C framing (control bytes) and 4-wire SPI (cs, dc, res)",
+        "horizontal, vertical and page addressing; the column and page ranges",
+        "display on/off, entire display on, inverse, start line, segment remap, COM scan direction, multiplex ratio",
+        "the picture as the glass shows it, kept frame by frame (PNG and GIF in the trace folder)",
+    )
+    NOT_MODELLED = (
+        "the COM pins configuration's effect (a 32-row panel with 0x12 would show every other row)",
+        "the display offset",
+        "contrast as a brightness",
+        "the charge pump (the display lights without it)",
+        "scrolling",
+        "the 64-column panels' shift",
+    )
     doc = "An SSD1306-class 128x64 or 128x32 monochrome OLED on I2C or SPI: its picture is kept in the trace folder."
     OPTIONS = (*OLED_OPTIONS, Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"), MAX_FRAMES)
     SIGNALS = (

@@ -20,9 +20,7 @@ memory.
 
 Range limits: ``min_range_m`` to ``max_range_m`` (the datasheet's default mode: up to 1.2 m indoors on
 a white target); beyond, no target (8190). Noise: ``noise_sd_m`` plus ``noise_fraction`` of
-the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: the
-timed (inter-measurement) mode, the GPIO1 thresholds, the signal rate and ambient light,
-cross-talk, a target's reflectance."""
+the range (the datasheet's ranging accuracy: about 3 % at 1.2 m). Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusName, Change, RegisterDevice, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
@@ -160,6 +158,20 @@ class Vl53l0xChip(TofRanging, RegisterDevice):
 class Vl53l0x(PartType):
     CHIP = Vl53l0xChip  # (its registers: docs/parts.md)
     kind = "vl53l0x"
+    MODELLED_FEATURES = (
+        "a ray from the mount to the walls each measurement, within its range limits, with noise",
+        "the registers the published drivers use: identification, single and back-to-back ranging, the ready "
+        "flag and its clear, the start-up handshakes",
+        "the GPIO1 interrupt pin and its polarity",
+    )
+    NOT_MODELLED = (
+        "the timed (inter-measurement) mode",
+        "the timing budget written through registers (a budget is the part's option)",
+        "the GPIO1 thresholds",
+        "the signal rate and ambient light",
+        "cross-talk",
+        "a target's reflectance",
+    )
     doc = "A VL53L0X-class time-of-flight ranger on I2C (0xC0 reads 0xEE): a ray from its mount each measurement."
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),

@@ -22,9 +22,7 @@ there, its timing and distance-mode registers stored, not decoded).
 
 Range limits: ``min_range_m`` to ``max_range_m`` (the datasheet's long distance mode: up to
 4 m in the dark); beyond, no target. Noise: ``noise_sd_m`` plus ``noise_fraction`` of the
-range. Not modelled: the short and medium distance modes' other limits, the
-inter-measurement period (measurements follow one another), the region of interest, the
-thresholds, the signal rate and ambient light, a target's reflectance."""
+range. Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import NEVER_US, BusDevice, BusName
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
@@ -134,6 +132,21 @@ class Vl53l1xChip(TofRanging, BusDevice):
 
 class Vl53l1x(PartType):
     kind = "vl53l1x"
+    MODELLED_FEATURES = (
+        "16-bit register addresses; boot time, SOFT_RESET, the model and module type",
+        "a ray from the mount each measurement (back to back, or one), the range status, the stream count, "
+        "the interrupt and its clear and polarity",
+        "the GPIO1 interrupt pin",
+    )
+    NOT_MODELLED = (
+        "the short and medium distance modes' own limits (the long mode's)",
+        "the inter-measurement period (measurements follow one another)",
+        "the region of interest",
+        "the thresholds",
+        "the signal rate and ambient light",
+        "a target's reflectance",
+        "the default configuration's timing and distance-mode registers (stored, not decoded)",
+    )
     doc = (
         "A VL53L1X time-of-flight ranger on I2C, 16-bit registers (0x010F reads 0xEA): a ray from its mount each range."
     )

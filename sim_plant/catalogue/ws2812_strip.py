@@ -16,8 +16,7 @@ tolerance is counted in the truth (``<name>_timing_faults``) and its first probl
 (the part's ``timing_problem``); its bits are decoded as a chip would
 (a 400 kHz tuple on this strip reads every bit as a 1: white).
 
-Not modelled: RGBW (SK6812) strips, the 400 kHz WS2811, brightness per current, a low
-inside a stream long enough to latch."""
+Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.engine import Part
@@ -110,6 +109,16 @@ class Ws2812Strip(Part):
 
 class Ws2812StripPart(PartType):
     kind = "ws2812_strip"
+    MODELLED_FEATURES = (
+        "bits decoded as the chip does (a long high is a 1), GRB order, the latch after reset_us low",
+        "the stream's timing checked against the datasheet within tolerance_ns",
+    )
+    NOT_MODELLED = (
+        "RGBW (SK6812) strips",
+        "the 400 kHz WS2811",
+        "brightness per current",
+        "a low inside a stream long enough to latch",
+    )
     doc = "A strip of WS2812 RGB LEDs on one pin (machine.bitstream, neopixel): colours as outputs, timing checked."
     OPTIONS = (
         Opt("count", Num("LEDs", 1, 256, whole=True), 8, "how many LEDs"),

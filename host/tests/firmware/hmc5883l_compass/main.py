@@ -1,12 +1,14 @@
 # An HMC5883L compass read as the public MicroPython drivers read it (none is published on
 # PyPI): the identification registers checked ('H43'), 8-sample averaging at 15 Hz, gain
 # 1090 LSB/gauss, continuous mode; the six data registers read from 0x03 in one transfer,
-# X, Z, Y, big-endian. The robot turns in place on a TB6612 for a second, stops, and prints
-# its heading (atan2 of y and x, ten samples averaged), twice.
+# X, Z, Y, big-endian. The robot turns in place on a TB6612 (tb6612_turn.py) for a second,
+# stops, and prints its heading (atan2 of y and x, ten samples averaged), twice.
 import math
 import struct
 import time
-from machine import I2C, PWM, Pin
+from machine import I2C, Pin
+
+from tb6612_turn import turn_then_stop
 
 ADDRESS = 0x1E
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
@@ -17,18 +19,6 @@ i2c.writeto_mem(ADDRESS, 0x00, b"\x70")  # configuration A: 8 samples averaged, 
 i2c.writeto_mem(ADDRESS, 0x01, b"\x20")  # configuration B: gain 1090 LSB/gauss
 i2c.writeto_mem(ADDRESS, 0x02, b"\x00")  # mode: continuous
 time.sleep_ms(100)
-
-ain1, ain2, bin1, bin2 = Pin(17, Pin.OUT), Pin(18, Pin.OUT), Pin(22, Pin.OUT), Pin(23, Pin.OUT)
-pwm_a, pwm_b = PWM(Pin(16), freq=20_000, duty_u16=0), PWM(Pin(21), freq=20_000, duty_u16=0)
-
-
-def drive(duty_u16):
-    ain1.value(0)  # left wheel backwards, right forwards: a left turn in place
-    ain2.value(1)
-    bin1.value(1)
-    bin2.value(0)
-    pwm_a.duty_u16(duty_u16)
-    pwm_b.duty_u16(duty_u16)
 
 
 def read_gauss():
@@ -49,10 +39,7 @@ def heading():
 
 
 for name in ("first", "second"):
-    drive(30_000)
-    time.sleep_ms(1000)
-    drive(0)
-    time.sleep_ms(1000)
+    turn_then_stop()
     deg, z_gauss = heading()
     print("R", name + "_deg", deg)
     print("R z_gauss", z_gauss)

@@ -1,28 +1,18 @@
 # The LIS3MDL driver published on PyPI (micropython-lis3mdl, unchanged, from build/drivers/)
-# set up as its quickstart shows. The robot spins in place on a TB6612 for a turn and a
-# half, keeping each axis' least and greatest reading (the hard-iron calibration: the
-# offset is their middle), stops, and prints its compass heading with and without it.
+# set up as its quickstart shows. The robot spins in place on a TB6612 (tb6612_turn.py)
+# for a turn and a half, keeping each axis' least and greatest reading (the hard-iron
+# calibration: the offset is their middle), stops, and prints its compass heading with and
+# without it.
 import math
 import time
-from machine import I2C, PWM, Pin
+from machine import I2C, Pin
 
 from micropython_lis3mdl import lis3mdl
 
+from tb6612_turn import drive
+
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
 lis = lis3mdl.LIS3MDL(i2c)
-
-ain1, ain2, bin1, bin2 = Pin(17, Pin.OUT), Pin(18, Pin.OUT), Pin(22, Pin.OUT), Pin(23, Pin.OUT)
-pwm_a, pwm_b = PWM(Pin(16), freq=20_000, duty_u16=0), PWM(Pin(21), freq=20_000, duty_u16=0)
-
-
-def drive(duty_u16):
-    ain1.value(0)  # left wheel backwards, right forwards: a left turn in place
-    ain2.value(1)
-    bin1.value(1)
-    bin2.value(0)
-    pwm_a.duty_u16(duty_u16)
-    pwm_b.duty_u16(duty_u16)
-
 
 low = [1e9, 1e9]
 high = [-1e9, -1e9]

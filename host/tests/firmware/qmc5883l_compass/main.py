@@ -1,26 +1,17 @@
 # The QMC5883L driver published on PyPI (micropython-qmc5883l, unchanged, from build/drivers/)
-# set up as its docstring shows. The robot turns in place on a TB6612 for a second, stops,
-# and prints its compass heading (atan2 of y and x, ten readings averaged), twice.
+# set up as its docstring shows. The robot turns in place on a TB6612 (tb6612_turn.py) for a
+# second, stops, and prints its compass heading (atan2 of y and x, ten readings averaged),
+# twice.
 import math
 import time
-from machine import I2C, PWM, Pin
+from machine import I2C, Pin
 
 from micropython_qmc5883l import qmc5883l
 
+from tb6612_turn import turn_then_stop
+
 i2c = I2C(1, sda=Pin(2), scl=Pin(3))
 qmc = qmc5883l.QMC5883L(i2c)
-
-ain1, ain2, bin1, bin2 = Pin(17, Pin.OUT), Pin(18, Pin.OUT), Pin(22, Pin.OUT), Pin(23, Pin.OUT)
-pwm_a, pwm_b = PWM(Pin(16), freq=20_000, duty_u16=0), PWM(Pin(21), freq=20_000, duty_u16=0)
-
-
-def drive(duty_u16):
-    ain1.value(0)  # left wheel backwards, right forwards: a left turn in place
-    ain2.value(1)
-    bin1.value(1)
-    bin2.value(0)
-    pwm_a.duty_u16(duty_u16)
-    pwm_b.duty_u16(duty_u16)
 
 
 def heading():
@@ -33,10 +24,7 @@ def heading():
 
 
 for name in ("first", "second"):
-    drive(30_000)
-    time.sleep_ms(1000)
-    drive(0)
-    time.sleep_ms(1000)
+    turn_then_stop()
     t0 = time.ticks_ms()
     deg, z_gauss = heading()
     print("R", name + "_deg", deg)
