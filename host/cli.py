@@ -27,7 +27,6 @@ import host.core.stop_signals  # (first: a stop signal during the imports below,
 import argparse
 import ast
 import contextlib
-import inspect
 import math
 import os
 import signal
@@ -48,7 +47,7 @@ from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds, names, option_table
+from sim_plant import names
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -169,7 +168,7 @@ def build_parser() -> argparse.ArgumentParser:
     wok.add_argument("--force", action="store_true", help="overwrite its rig.toml")
     wok.set_defaults(command=cmd_import_wokwi, sub=wok)
 
-    lst = sub.add_parser("list", help="our apps, boards and plant kinds with their options and signals")
+    lst = sub.add_parser("list", help="our apps, boards, and the catalogue's bodies and parts: options and signals")
     lst.set_defaults(command=cmd_list, sub=lst)
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
@@ -333,9 +332,6 @@ def _param(text: str) -> tuple[str, object]:
             pass
     if not _finite(parsed):
         raise argparse.ArgumentTypeError(f"{name.strip()}: expected finite numbers, got {value!r}")
-    problem = option_table.check(name.strip(), parsed)  # the bounds a rig file's options have
-    if problem:
-        raise argparse.ArgumentTypeError(f"{name.strip()}: {problem}")
     return name.strip(), parsed
 
 
@@ -393,13 +389,11 @@ def cmd_run(args) -> int:
     if world not in app.worlds:
         known = names.unknown(world, app.worlds, what="known")
         sub.error(f"argument --world: unknown world {world!r} for app {app.name} {known}")
-    accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
-    unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
-    if unknown:
-        sub.error(
-            f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
-            f"(has: {', '.join(sorted(accepted))})"
-        )
+    if args.param:  # checked against the rig's own declarations (the body's and parts' options)
+        try:
+            app.make_plant(**dict(args.param))
+        except (TypeError, ValueError, ArithmeticError) as e:
+            sub.error(f"argument --param: {app.name}'s plant rejects it: {e}")
     root = output_root(app.rig_file)
     out = _writable(
         sub,
@@ -532,8 +526,8 @@ def cmd_check(args) -> int:
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
     print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
-    kind = app.plant_kind or getattr(plant, "summary", type(plant).__name__)
-    print(f"  plant: {kind} {app.plant_options or ''}".rstrip())
+    kind = getattr(plant, "summary", type(plant).__name__)
+    print(f"  plant: {kind}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
     wired = set(app.wiring.values()) | set(getattr(plant, "driven_inputs", set)())  # (a PWM expander's)
@@ -603,12 +597,6 @@ def cmd_list(args) -> int:
         print(f"  {name:<18} {app.rig_file.relative_to(FIRMWARE.parent)}  {app.doc}")
     boards = pin_maps.known_boards()
     print(f"boards (firmware/boards/<name>/board.py): {', '.join(boards)}")
-    print("plant kinds ([plant] kind), their options (default) and signals:")
-    for kind in kinds.KINDS:
-        plant = kinds.make(kind)
-        options = ", ".join(f"{k}={v!r}" for k, v in kinds.options(kind).items())
-        print(f"  {kind}\n    options: {options}")
-        print(f"    inputs: {', '.join(plant.inputs)}\n    outputs: {', '.join(plant.outputs)}")
     from sim_plant.catalogue.docs import listing
 
     print("\n".join(listing()))
@@ -755,17 +743,6 @@ def cmd_setup(args) -> int:
     print(f"micropython: {interpreter.version(path)} ({path})")
     print("next: pytest beside your rig file (docs/ci.md)")
     return 0
-
-
-def _plant_options(make_plant) -> set | None:
-    """Keyword options the plant factory takes, or None when it takes any."""
-    try:
-        params = inspect.signature(make_plant).parameters.values()
-    except (TypeError, ValueError):
-        return None
-    if any(p.kind == p.VAR_KEYWORD for p in params):
-        return None
-    return {p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
 
 
 def _progress(label: str) -> MissionProgress | None:

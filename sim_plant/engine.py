@@ -9,7 +9,7 @@ A plant is made of:
 
 * a **drive** (a :class:`Part` with a ``body``): turns the actuator inputs into wheel
   or track speeds and integrates the pose;
-* **encoders** (:mod:`sim_plant.encoders`): edges from the wheel speeds;
+* **encoders** (:mod:`sim_plant.physics.encoder`): edges from the wheel speeds;
 * other **parts** with a timeline of their own: sensors, the contact monitor, the
   coverage recorder.
 

@@ -24,7 +24,7 @@ kind              what the firmware sees
                   ``1 - slip`` of its turn, its encoder counts all of it
 ``stuck_wheel``   in the window the ``wheel`` is jammed: it does not turn
 ``tether_snag``   at each spin on the spot, with chance ``rate``, the tether catches and
-                  pulls the body back (:mod:`sim_plant.tether`)
+                  pulls the body back (:mod:`sim_plant.physics.tether`)
 ``link_corrupt``  the link's frames are damaged with chance ``rate`` per frame,
                   ``direction`` to_firmware, from_firmware or both (:mod:`host.link.faults`)
 ``link_stall``    the link stops for ``stall_ms`` before a frame with chance ``rate``
@@ -43,10 +43,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from sim_plant.catalogue.tether import TetherSnag
 from sim_plant.engine import Part
 from sim_plant.names import nearest
 from sim_plant.plant import NEVER_US, Change, Plant
-from sim_plant.tether import TetherSnag
 
 FOREVER_S = 1e9
 _REQUIRED = object()
@@ -477,7 +477,7 @@ class WheelFault(Part):
 
 
 class ScheduledSnag(TetherSnag):
-    """The tether snag of :mod:`sim_plant.tether` as a scheduled fault: chance ``rate`` per
+    """The tether snag of :mod:`sim_plant.physics.tether` as a scheduled fault: chance ``rate`` per
     spin, drawn from the fault's own stream, only inside the fault's window."""
 
     def __init__(self, fault: Fault, rng):

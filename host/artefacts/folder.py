@@ -282,7 +282,7 @@ def describe_world(plant) -> dict | None:
 
 
 def coverage_grid(plant):
-    """The plant's own floor coverage grid (a sim_plant.coverage.CoverageGrid), if any."""
+    """The plant's own floor coverage grid (a sim_plant.physics.coverage.CoverageGrid), if any."""
     for part in [plant, *getattr(plant, "parts", ())]:
         for value in (getattr(part, "grid", None), getattr(part, "coverage", None)):
             if hasattr(value, "half_width_m") and hasattr(value, "cell_m"):

@@ -181,7 +181,7 @@ def build(app, spec, firmware, plant, plant_options: dict, *, variant="standard"
 def of_rig(rig, plant=None) -> dict:
     """The manifest of a rig (before or after it starts); ``plant``: the one to describe
     instead of the rig's (a replay describes the recorded plant, not its script)."""
-    options = {**rig.app.plant_options, **rig.plant_options}
+    options = dict(rig.plant_options)
     variant = "settrace" if getattr(rig, "coverage_file", None) is not None else "standard"
     flashed = rig.board_fs.flashed if getattr(rig, "board_fs", None) is not None else None
     found = build(rig.app, rig.spec, rig.firmware, plant or rig.plant, options, variant=variant, flashed=flashed)
@@ -282,7 +282,7 @@ def of_campaign(rig: str, campaign: dict) -> dict:
     app = spec.resolve()
     board_folder, _pins = app.board_files(spec.board or app.default_board)
     plant, options = build_plant(spec, app)
-    found = build(app, spec, Firmware.from_app(app, board_folder), plant, {**app.plant_options, **options})
+    found = build(app, spec, Firmware.from_app(app, board_folder), plant, dict(options))
     found["run"] = {**found["run"], "seed": None, "campaign": _plain(campaign)}
     return found
 

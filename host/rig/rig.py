@@ -418,7 +418,7 @@ def run_header(rig) -> dict:
         "app": rig.app.name,
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
-        "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "plant_options": dict(rig.plant_options),
         "report": rig.app.extra.get("report"),
         "spec": rig.spec.header(rig.app),
         "seed": rig.seed,

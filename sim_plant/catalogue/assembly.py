@@ -11,10 +11,10 @@ from sim_plant.buses import BusDevice, BusSet
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
-from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
 from sim_plant.names import nearest, unknown
 from sim_plant.option_table import Name
+from sim_plant.physics.coverage import CoverageRecorder
 
 PART_KEYS = ("kind", "name", "mount")
 POSE_KEYS = ("x_m", "y_m", "theta_rad")
