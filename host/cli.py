@@ -163,6 +163,15 @@ def build_parser() -> argparse.ArgumentParser:
     init.add_argument("folder", metavar="DIR", type=_folder, help="the firmware folder (its main.py)")
     init.set_defaults(command=cmd_init, sub=init)
 
+    mig = sub.add_parser("migrate", help="write a 0.1 rig file ([plant] kind) as a body and parts")
+    mig.add_argument("rig", metavar="RIG", type=Path, help="the 0.1 rig file")
+    where = mig.add_mutually_exclusive_group()
+    where.add_argument(
+        "-o", "--out", type=Path, help="the file to write, in RIG's folder (default: <RIG>.migrated.toml)"
+    )
+    where.add_argument("--in-place", action="store_true", help="replace RIG itself")
+    mig.set_defaults(command=cmd_migrate, sub=mig)
+
     wok = sub.add_parser("import-wokwi", help="write the rig.toml of a Wokwi project folder (its diagram.json)")
     wok.add_argument("folder", metavar="DIR", type=_folder, help="the Wokwi project (diagram.json, main.py)")
     wok.add_argument("--force", action="store_true", help="overwrite its rig.toml")
@@ -580,6 +589,53 @@ def cmd_init(args) -> int:
     for note in notes:
         print(f"{args.sub.prog}: {note}", file=sys.stderr)
     print(f"wrote {path}: name the pins, pick the plant's parts, wire them; then mpy-fil check {path}")
+    return 0
+
+
+def cmd_migrate(args) -> int:
+    """A 0.1 rig file in today's form, checked as a rig file before it is written: beside
+    it (never over it but with --in-place, never through a link: host/core/safefs.py)."""
+    import tomllib
+
+    from host.rig import migrate
+    from host.rig.rigfile import MAX_RIG_BYTES, rig_from_data
+
+    sub, path = args.sub, args.rig
+    out = path if args.in_place else (args.out or migrate.migrated_path(path))
+    try:
+        safefs.refuse_link(path, "argument RIG:")
+        if not safefs.regular_file(path):
+            sub.error(f"argument RIG: no rig file at {str(path)[:200]!r}")
+        if path.stat().st_size > MAX_RIG_BYTES:
+            sub.error(f"argument RIG: {path} is over {MAX_RIG_BYTES} bytes: not a rig file")
+        text = path.read_text(encoding="utf-8")
+        if out.resolve().parent != path.resolve().parent:
+            sub.error(
+                f"argument --out: expected a file in {path.resolve().parent} (the rig's paths are relative to it)"
+            )
+        if not args.in_place and out.resolve() == path.resolve():
+            sub.error(f"argument --out: {out} is RIG itself: give --in-place to replace it")
+        safefs.refuse_link(out, "argument --out:")
+        new, moved = migrate.migrate_text(text)
+        rig_from_data(out, tomllib.loads(new))  # (what is written loads, or nothing is written)
+        if args.in_place:
+            safefs.write_text(out, new, refuse_links=True)
+        else:
+            safefs.write_new(out, new)
+    except FileExistsError:
+        sub.error(f"argument --out: {out} exists: give another --out, or --in-place to replace RIG")
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        sub.error(f"argument RIG: cannot read {str(path)[:200]!r} or write {str(out)[:200]!r} ({e})")
+    print(f"wrote {out} from {path} (0.1's kind = {moved.kind!r}): {moved.summary()}")
+    for old, now in moved.renames.items():
+        print(f"  signal {old} is {now} now ([wiring] and budgets)")
+    for name, change in moved.budgets.items():
+        for key, value in change.items():
+            said = "left to its source's part" if value is None else repr(value)
+            print(f"  [budgets.{migrate.toml_key(name)}] {key}: {said}")
+    if "console_baud = 0" in new and "console_baud" not in text:
+        print('  [board] console_baud = 0: 0.1 printed for free (docs/shim.md, "Printing takes time")')
+    print(f"then: mpy-fil check {out}")
     return 0
 
 

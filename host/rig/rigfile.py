@@ -14,7 +14,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
-from host.rig import rigrules
+from host.rig import migrate, rigrules
 from host.rig.app import App
 from host.rig.boardfs import confinement
 from host.rig.boards import (
@@ -158,6 +158,8 @@ def rig_from_data(path, data: dict, base=None) -> App:
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
     platform = (_family(where, data.get("board", {})) or identity(board_name) or (None,))[0]
     pins = with_builtin_lines(pins, platform)  # (rp2's BOOTSEL, wired by name)
+    if migrate.is_01(data):  # (0.1's [plant] kind: the one message names today's form)
+        raise where.error("[plant] kind", migrate.message(data, path))
     build = _parts_builder(where, data["plant"])  # a body and parts (sim_plant.catalogue)
     plant = build()
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
