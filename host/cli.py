@@ -522,8 +522,7 @@ def cmd_check(args) -> int:
 
     app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
-    bus_set = getattr(plant, "bus_set", None)
-    on_buses = sorted({d.bus for d in bus_set.devices}) if bus_set is not None else []
+    on_buses = sorted({d.bus for d in plant.bus_devices()})
     if app.wiring:
         print(f"{app.rig_file or app.name}: ok")
     elif on_buses:  # (chips on buses or lines need no wiring: the rig puts them there by name)
@@ -535,11 +534,10 @@ def cmd_check(args) -> int:
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
     print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
-    kind = getattr(plant, "summary", type(plant).__name__)
-    print(f"  plant: {kind}")
+    print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
-    wired = set(app.wiring.values()) | set(getattr(plant, "driven_inputs", set)())  # (a PWM expander's)
+    wired = set(app.wiring.values()) | plant.driven_inputs()  # (a PWM expander's)
     loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
     print(
         f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")

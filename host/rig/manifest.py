@@ -30,7 +30,7 @@ import subprocess
 from pathlib import Path
 
 from host.artefacts import integrity
-from host.artefacts.folder import MANIFEST, described_parts
+from host.artefacts.folder import MANIFEST
 from host.core import interpreter, paths, provenance
 from host.core.errors import SetupError
 from host.rig import sandbox
@@ -105,8 +105,8 @@ def shim_part() -> dict:
 
 def plant_part(plant, options: dict) -> dict:
     """The plant's class and options, and its body and parts as the trace header has them."""
-    part = {"class": type(getattr(plant, "inner", plant)).__name__, "options": _plain(options)}
-    part.update(_plain(described_parts(plant) or {}))
+    part = {"class": type(plant.unwrapped).__name__, "options": _plain(options)}
+    part.update(_plain(plant.describe() or {}))
     return part
 
 

@@ -438,7 +438,7 @@ def bus_notes(rig) -> dict:
     out = {}
     if rig.bus_trace.notes:
         out["notes"] = [{"t_us": t, "text": text} for t, text in rig.bus_trace.notes]
-    devices = getattr(getattr(rig.plant, "bus_set", None), "devices", ())
+    devices = rig.plant.bus_devices()
     unmodelled = {
         d.label: {f"0x{r:02x}": list(v) for r, v in sorted(d.unmodelled.items())}
         for d in devices

@@ -34,6 +34,7 @@ from sim_plant import option_table
 from sim_plant.catalogue.assembly import PartsError, assemble
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.names import unknown
+from sim_plant.plant import check_contract
 
 TABLES = {
     "name": str,
@@ -161,7 +162,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
     if migrate.is_01(data):  # (0.1's [plant] kind: the one message names today's form)
         raise where.error("[plant] kind", migrate.message(data, path))
     build = _parts_builder(where, data["plant"])  # a body and parts (sim_plant.catalogue)
-    plant = build()
+    plant = check_contract(build())
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
     rigrules.check_wiring(where, wiring, pins, plant, platform)
     rigrules.check_buses(where, plant, wiring, pins, platform)
@@ -421,7 +422,7 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
         _check_type(where, field, signal, str)
         if pin not in pins:
             raise where.error(field, f"board {board} has no pin named {pin} {unknown(pin, pins, what='pins')}")
-        if signal in getattr(plant, "tied_chip_selects", set)():
+        if signal in plant.tied_chip_selects():
             raise where.error(
                 field,
                 f'expected a plant signal, got {signal!r}, a chip select the rig ties low (cs = "low" in '
@@ -513,8 +514,7 @@ def _bus_source(where: _Where, field: str, plant, spec: dict) -> None:
     """A bus budget's source is a bus one of the plant's devices is on; its ``address``
     one of a device on that bus (an SPI bus's devices have none: chip selects); its
     ``register`` one of 256: else the budget could never match a transfer."""
-    bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
-    devices = getattr(bus_set, "devices", ())
+    devices = plant.bus_devices()
     buses = sorted({d.bus for d in devices})
     if spec["source"] not in buses:
         known = unknown(spec["source"], buses, what="buses")

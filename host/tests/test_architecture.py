@@ -105,3 +105,20 @@ def test_only_the_catalogue_imports_the_physics_of_its_parts():
                 if any(n == "sim_plant.physics" or n.startswith("sim_plant.physics.") for n in names):
                     strangers.append(f"{rel}:{node.lineno}")
     assert not strangers, f"imports of sim_plant.physics outside the catalogue: {strangers}"
+
+
+def test_the_host_asks_no_plant_what_it_has():
+    """The host calls the plant's interface (sim_plant/plant.py: defaults and declared
+    capabilities): no ``getattr``/``hasattr`` of a plant, no hand-unwrapping of the fault
+    wrapper (``inner``: its ``unwrapped`` says)."""
+    probes = []
+    for module, path in host_modules():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            call = isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            if call and node.func.id in ("getattr", "hasattr"):
+                subject = ast.unparse(node.args[0]) if node.args else ""
+                if "plant" in subject.lower():
+                    probes.append(f"{path.relative_to(REPO)}:{node.lineno}: {ast.unparse(node)}")
+            elif isinstance(node, ast.Constant) and node.value == "inner" and not module.startswith("host.link"):
+                probes.append(f"{path.relative_to(REPO)}:{node.lineno}: the string 'inner'")
+    assert not probes, "the plant probed instead of asked:\n" + "\n".join(probes)
