@@ -106,3 +106,42 @@ def test_an_option_with_no_place_today_is_named_not_dropped(change, says):
     said = str(e.value)
     name = says.rpartition("\n")[2].partition(" =")[0] if "\n" in says else "kind"
     assert name in said and "\n" not in said, said
+
+
+MINIMAL = """name = "bot"
+[board]
+name = "esp32_devkitc"
+[plant]
+kind = "{kind}"
+{options}
+[wiring]
+[worlds.here]
+{world}
+"""
+
+
+@pytest.mark.parametrize(
+    ("kind", "options", "world", "parts"),
+    [
+        ("rover_room", "", "room_w_m = 6.0", 7),
+        ("pool_cleaner", '[plant.options]\nsonar = "adc"\nsonar_period_us = 250000', "pool_width_m = 6.0", 6),
+        ("vacuum_robot", "", 'world = "empty"', 7),
+        ("duct_robot", "[plant.options]\nlink = true\nslots_per_rev = 16", 'world = "bench"', 9),
+        ("lab_robot", "", 'world = "canyon"\nmissed_edge_p = 0.01', 8),
+        (
+            "two_wheel",
+            '[plant.options]\nencoder = "single"\nbumper = false\nranger = "none"\nbuttons = ["a", "b"]',
+            "v_max_m_s = 0.3",
+            6,
+        ),
+        ("wires", "[plant.options]\nn = 3", "", 3),
+    ],
+)
+def test_every_0_1_kind_migrates_to_a_rig_that_loads(tmp_path, kind, options, world, parts):
+    (tmp_path / "main.py").write_text("")
+    text, moved = migrate_text(MINIMAL.format(kind=kind, options=options, world=world))
+    (tmp_path / "rig.toml").write_text(text)
+    app = load_rig(tmp_path / "rig.toml")
+    plant = app.make_plant(**app.worlds["here"])
+    assert len(moved.plant["parts"]) == parts and len(plant.catalogue_parts) == parts, moved.summary()
+    assert set(app.worlds["here"]) >= {k.partition(" =")[0] for k in world.splitlines() if k} - {"missed_edge_p"}
