@@ -9,7 +9,7 @@ import math
 import pytest
 
 from sim_plant.duct_link import RecordReader
-from sim_plant.tether import P_SNAG, TetherSnag
+from sim_plant.physics.tether import P_SNAG, TetherSnag
 
 pytestmark = pytest.mark.hil
 
@@ -200,7 +200,7 @@ def test_single_right_branch_without_snags(make_rig, record_property, seed):
 def test_single_right_branch_with_tether_snags(make_rig, record_property):
     """§5.7: 18 of 20 runs succeeded, both failures from the tether catching. The snag
     chance, 0.29 a spin (two spins a run), is the seed's 0.1 failures a run over the share
-    of snags that cost a run (sim_plant/tether.py); the count of successes over twenty
+    of snags that cost a run (sim_plant/physics/tether.py); the count of successes over twenty
     seeds is binomial (20, 0.9): 16 to 20 holds 96 % of the time. Every failure must have
     had a snag. make hil only (make test checks a snag's failure in test_what_a_snag_costs)."""
     outcomes = []
@@ -232,7 +232,7 @@ COST_SEEDS = range(1, 11)
 @LONG
 @pytest.mark.parametrize("spin", [0, pytest.param(1, marks=HIL_ONLY)], ids=["into-the-branch", "out-of-it"])
 def test_what_a_snag_costs(make_rig, record_property, request, spin):
-    """The snag rate rests on the share of snags that cost a run (sim_plant/tether.py:
+    """The snag rate rests on the share of snags that cost a run (sim_plant/physics/tether.py:
     4 of 10 at the spin into the branch, none of 10 at the spin out, 0.2 overall). Here
     the tether catches for certain at one spin: every run has exactly that one snag, and
     make hil counts the failures again over seeds 1-10 (make test: seed 1, which a snag

@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from sim_plant.coverage import CoverageRecorder
+from sim_plant.physics.coverage import CoverageRecorder
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M
 
 pytestmark = pytest.mark.hil

@@ -25,7 +25,7 @@ from host.pytest_plugin import artefacts_for
 from host.rig.budgets import Budget
 from sim_plant.catalogue.assembly import rig_plant_table
 from sim_plant.furniture import DEFAULT_ROUTE
-from sim_plant.hcsr04 import Servo
+from sim_plant.physics.hcsr04 import Servo
 
 pytestmark = pytest.mark.hil
 

@@ -27,7 +27,6 @@ import host.core.stop_signals  # (first: a stop signal during the imports below,
 import argparse
 import ast
 import contextlib
-import inspect
 import math
 import os
 import signal
@@ -48,7 +47,7 @@ from host.report.table import format_table
 from host.rig import arguments
 from host.rig import boards as pin_maps
 from host.rig.apps import apps, get_app
-from sim_plant import kinds, names, option_table
+from sim_plant import names
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
 EXIT_FAILED = 1
@@ -164,12 +163,21 @@ def build_parser() -> argparse.ArgumentParser:
     init.add_argument("folder", metavar="DIR", type=_folder, help="the firmware folder (its main.py)")
     init.set_defaults(command=cmd_init, sub=init)
 
+    mig = sub.add_parser("migrate", help="write a 0.1 rig file ([plant] kind) as a body and parts")
+    mig.add_argument("rig", metavar="RIG", type=Path, help="the 0.1 rig file")
+    where = mig.add_mutually_exclusive_group()
+    where.add_argument(
+        "-o", "--out", type=Path, help="the file to write, in RIG's folder (default: <RIG>.migrated.toml)"
+    )
+    where.add_argument("--in-place", action="store_true", help="replace RIG itself")
+    mig.set_defaults(command=cmd_migrate, sub=mig)
+
     wok = sub.add_parser("import-wokwi", help="write the rig.toml of a Wokwi project folder (its diagram.json)")
     wok.add_argument("folder", metavar="DIR", type=_folder, help="the Wokwi project (diagram.json, main.py)")
     wok.add_argument("--force", action="store_true", help="overwrite its rig.toml")
     wok.set_defaults(command=cmd_import_wokwi, sub=wok)
 
-    lst = sub.add_parser("list", help="our apps, boards and plant kinds with their options and signals")
+    lst = sub.add_parser("list", help="our apps, boards, and the catalogue's bodies and parts: options and signals")
     lst.set_defaults(command=cmd_list, sub=lst)
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
@@ -333,9 +341,6 @@ def _param(text: str) -> tuple[str, object]:
             pass
     if not _finite(parsed):
         raise argparse.ArgumentTypeError(f"{name.strip()}: expected finite numbers, got {value!r}")
-    problem = option_table.check(name.strip(), parsed)  # the bounds a rig file's options have
-    if problem:
-        raise argparse.ArgumentTypeError(f"{name.strip()}: {problem}")
     return name.strip(), parsed
 
 
@@ -393,13 +398,11 @@ def cmd_run(args) -> int:
     if world not in app.worlds:
         known = names.unknown(world, app.worlds, what="known")
         sub.error(f"argument --world: unknown world {world!r} for app {app.name} {known}")
-    accepted = set(kinds.options(app.plant_kind)) if app.plant_kind else _plant_options(app.make_plant)
-    unknown = sorted(set(dict(args.param)) - accepted) if accepted is not None else []
-    if unknown:
-        sub.error(
-            f"argument --param: {app.name}'s plant has no option {', '.join(unknown)} "
-            f"(has: {', '.join(sorted(accepted))})"
-        )
+    if args.param:  # checked against the rig's own declarations (the body's and parts' options)
+        try:
+            app.make_plant(**dict(args.param))
+        except (TypeError, ValueError, ArithmeticError) as e:
+            sub.error(f"argument --param: {app.name}'s plant rejects it: {e}")
     root = output_root(app.rig_file)
     out = _writable(
         sub,
@@ -519,8 +522,7 @@ def cmd_check(args) -> int:
 
     app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
-    bus_set = getattr(plant, "bus_set", None)
-    on_buses = sorted({d.bus for d in bus_set.devices}) if bus_set is not None else []
+    on_buses = sorted({d.bus for d in plant.bus_devices()})
     if app.wiring:
         print(f"{app.rig_file or app.name}: ok")
     elif on_buses:  # (chips on buses or lines need no wiring: the rig puts them there by name)
@@ -532,11 +534,10 @@ def cmd_check(args) -> int:
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
     print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
-    kind = app.plant_kind or getattr(plant, "summary", type(plant).__name__)
-    print(f"  plant: {kind} {app.plant_options or ''}".rstrip())
+    print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
-    wired = set(app.wiring.values()) | set(getattr(plant, "driven_inputs", set)())  # (a PWM expander's)
+    wired = set(app.wiring.values()) | plant.driven_inputs()  # (a PWM expander's)
     loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
     print(
         f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")
@@ -589,6 +590,53 @@ def cmd_init(args) -> int:
     return 0
 
 
+def cmd_migrate(args) -> int:
+    """A 0.1 rig file in today's form, checked as a rig file before it is written: beside
+    it (never over it but with --in-place, never through a link: host/core/safefs.py)."""
+    import tomllib
+
+    from host.rig import migrate
+    from host.rig.rigfile import MAX_RIG_BYTES, rig_from_data
+
+    sub, path = args.sub, args.rig
+    out = path if args.in_place else (args.out or migrate.migrated_path(path))
+    try:
+        safefs.refuse_link(path, "argument RIG:")
+        if not safefs.regular_file(path):
+            sub.error(f"argument RIG: no rig file at {str(path)[:200]!r}")
+        if path.stat().st_size > MAX_RIG_BYTES:
+            sub.error(f"argument RIG: {path} is over {MAX_RIG_BYTES} bytes: not a rig file")
+        text = path.read_text(encoding="utf-8")
+        if out.resolve().parent != path.resolve().parent:
+            sub.error(
+                f"argument --out: expected a file in {path.resolve().parent} (the rig's paths are relative to it)"
+            )
+        if not args.in_place and out.resolve() == path.resolve():
+            sub.error(f"argument --out: {out} is RIG itself: give --in-place to replace it")
+        safefs.refuse_link(out, "argument --out:")
+        new, moved = migrate.migrate_text(text)
+        rig_from_data(out, tomllib.loads(new))  # (what is written loads, or nothing is written)
+        if args.in_place:
+            safefs.write_text(out, new, refuse_links=True)
+        else:
+            safefs.write_new(out, new)
+    except FileExistsError:
+        sub.error(f"argument --out: {out} exists: give another --out, or --in-place to replace RIG")
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        sub.error(f"argument RIG: cannot read {str(path)[:200]!r} or write {str(out)[:200]!r} ({e})")
+    print(f"wrote {out} from {path} (0.1's kind = {moved.kind!r}): {moved.summary()}")
+    for old, now in moved.renames.items():
+        print(f"  signal {old} is {now} now ([wiring] and budgets)")
+    for name, change in moved.budgets.items():
+        for key, value in change.items():
+            said = "left to its source's part" if value is None else repr(value)
+            print(f"  [budgets.{migrate.toml_key(name)}] {key}: {said}")
+    if "console_baud = 0" in new and "console_baud" not in text:
+        print('  [board] console_baud = 0: 0.1 printed for free (docs/shim.md, "Printing takes time")')
+    print(f"then: mpy-fil check {out}")
+    return 0
+
+
 def cmd_import_wokwi(args) -> int:
     from host.wokwi.project import import_wokwi
 
@@ -603,12 +651,6 @@ def cmd_list(args) -> int:
         print(f"  {name:<18} {app.rig_file.relative_to(FIRMWARE.parent)}  {app.doc}")
     boards = pin_maps.known_boards()
     print(f"boards (firmware/boards/<name>/board.py): {', '.join(boards)}")
-    print("plant kinds ([plant] kind), their options (default) and signals:")
-    for kind in kinds.KINDS:
-        plant = kinds.make(kind)
-        options = ", ".join(f"{k}={v!r}" for k, v in kinds.options(kind).items())
-        print(f"  {kind}\n    options: {options}")
-        print(f"    inputs: {', '.join(plant.inputs)}\n    outputs: {', '.join(plant.outputs)}")
     from sim_plant.catalogue.docs import listing
 
     print("\n".join(listing()))
@@ -755,17 +797,6 @@ def cmd_setup(args) -> int:
     print(f"micropython: {interpreter.version(path)} ({path})")
     print("next: pytest beside your rig file (docs/ci.md)")
     return 0
-
-
-def _plant_options(make_plant) -> set | None:
-    """Keyword options the plant factory takes, or None when it takes any."""
-    try:
-        params = inspect.signature(make_plant).parameters.values()
-    except (TypeError, ValueError):
-        return None
-    if any(p.kind == p.VAR_KEYWORD for p in params):
-        return None
-    return {p.name for p in params if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
 
 
 def _progress(label: str) -> MissionProgress | None:

@@ -27,7 +27,7 @@ class Body:
     """Pose of the reference point (x, y, heading) between events.
 
     Motion since ``t0_us``: an arc of speed ``v`` (m/s) and turn rate ``w`` (rad/s), or
-    (pool cleaner) a track-stop segment, see :mod:`sim_plant.tracks`.
+    (pool cleaner) a track-stop segment, see :mod:`sim_plant.physics.tracked`.
     ``constraints`` are ``(nx, ny, c, ox, oy)``: the body point at offset ``(ox, oy)``
     (body frame) must stay on the side ``n . q >= c`` of a wall it touches.
     """

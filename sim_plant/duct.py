@@ -6,7 +6,7 @@ A two-wheeled differential-drive robot, 200 mm wide and 280 mm long, with its dr
 wheels at the front and a jockey wheel at the rear (§3.2-3.3), LMD18200 H-bridges (DIR
 + PWM, §3.3.3), slotted-disk encoders on the motor shafts read by external interrupts
 (single channel, no direction, §3.3.3), and three amplitude sonars, front, left and right,
-read by an 8-bit ADC (:mod:`sim_plant.amplitude_sonar`). The real robot had no bump
+read by an 8-bit ADC (:mod:`sim_plant.physics.amplitude_sonar`). The real robot had no bump
 sensors; a ``bumper`` part adds the front bumper the thesis recommends as future work.
 
 Signals (the rig file's part names):

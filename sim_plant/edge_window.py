@@ -2,7 +2,7 @@
 
 Between two events of the other parts (the drive's speed steps) every encoder turns at a
 constant rate, so its edge times are a closed form of the edge count: the same float
-arithmetic as :meth:`sim_plant.encoders._EdgeCounter.emit` (IEEE division and ceiling,
+arithmetic as :meth:`sim_plant.physics.encoder._EdgeCounter.emit` (IEEE division and ceiling,
 element by element), for all the window's edges in one go. The window's edges are merged
 in time order, at one instant in the order of the encoders, as the plant's event loop
 emits them one by one; a batch limit cuts after the instant that reached it, as there.
@@ -14,7 +14,6 @@ the two ways give the same changes.
 
 import numpy as np
 
-from sim_plant.encoders import _EdgeCounter
 from sim_plant.plant import Change
 
 _new_tuple = tuple.__new__
@@ -25,8 +24,9 @@ MIN_EDGES = 1024
 
 
 def plain(encoders) -> bool:
-    """Whether every encoder emits as :class:`_EdgeCounter` does (a window may compute them)."""
-    return all(type(enc).emit is _EdgeCounter.emit for enc in encoders)
+    """Whether every encoder emits as :class:`sim_plant.physics.encoder._EdgeCounter` does
+    (its class's ``emit`` is its ``plain_emit``): a window may compute them."""
+    return all(type(enc).emit is getattr(type(enc), "plain_emit", None) for enc in encoders)
 
 
 def _times(enc, t_stop: int):

@@ -9,7 +9,7 @@ A plant is made of:
 
 * a **drive** (a :class:`Part` with a ``body``): turns the actuator inputs into wheel
   or track speeds and integrates the pose;
-* **encoders** (:mod:`sim_plant.encoders`): edges from the wheel speeds;
+* **encoders** (:mod:`sim_plant.physics.encoder`): edges from the wheel speeds;
 * other **parts** with a timeline of their own: sensors, the contact monitor, the
   coverage recorder.
 
@@ -25,7 +25,7 @@ import numpy as np
 
 from sim_plant import edge_window
 from sim_plant.motors import DcMotor
-from sim_plant.plant import NEVER_US, Change, Plant
+from sim_plant.plant import NEVER_US, POSE, Change, Plant
 
 SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan"))
 """Plant attributes a snapshot leaves alone: the generator (its state is saved instead),
@@ -135,6 +135,7 @@ class RobotPlant(Plant):
     """
 
     FIXED_STATE = ("encoders", "parts", "inputs", "outputs", "_input_route", "_encoder_outputs")
+    capabilities = frozenset((POSE,))
 
     def __init__(self):
         self.reset(0)

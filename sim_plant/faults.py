@@ -24,7 +24,7 @@ kind              what the firmware sees
                   ``1 - slip`` of its turn, its encoder counts all of it
 ``stuck_wheel``   in the window the ``wheel`` is jammed: it does not turn
 ``tether_snag``   at each spin on the spot, with chance ``rate``, the tether catches and
-                  pulls the body back (:mod:`sim_plant.tether`)
+                  pulls the body back (:mod:`sim_plant.physics.tether`)
 ``link_corrupt``  the link's frames are damaged with chance ``rate`` per frame,
                   ``direction`` to_firmware, from_firmware or both (:mod:`host.link.faults`)
 ``link_stall``    the link stops for ``stall_ms`` before a frame with chance ``rate``
@@ -43,10 +43,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from sim_plant.catalogue.tether import TetherSnag
 from sim_plant.engine import Part
 from sim_plant.names import nearest
 from sim_plant.plant import NEVER_US, Change, Plant
-from sim_plant.tether import TetherSnag
 
 FOREVER_S = 1e9
 _REQUIRED = object()
@@ -231,7 +231,12 @@ _SET, _RESTORE, _INVERT = 0, 1, 2  # queued level events: a value, the true leve
 class FaultyPlant(Plant):
     """A plant with a fault schedule: the inner plant's output changes pass through the
     signal faults (held, replaced, dropped, or followed by glitches queued for later) and
-    the part faults ride inside the inner plant. Anything else is the inner plant's."""
+    the part faults ride inside the inner plant. The rest of the plant contract is the
+    inner plant's (its capabilities too); ``unwrapped`` is the inner plant, and
+    ``fault_schedule`` the whole schedule (for the trace header). Other attributes read
+    through to the inner plant (tests look at its ground truth so)."""
+
+    WRAPS = True
 
     def __init__(self, inner: Plant, schedule):
         self.__dict__["inner"] = inner  # (before anything: __getattr__ reads it)
@@ -253,6 +258,14 @@ class FaultyPlant(Plant):
 
     def __getattr__(self, name):
         return getattr(self.__dict__["inner"], name)
+
+    @property
+    def unwrapped(self) -> Plant:
+        return self.inner.unwrapped
+
+    @property
+    def fault_schedule(self) -> tuple:
+        return self.schedule
 
     def reset(self, seed: int) -> None:
         self.inner.reset(seed)
@@ -424,6 +437,26 @@ class FaultyPlant(Plant):
             self.rngs[i].bit_generator.state = state
 
 
+def _forwarded(name: str):
+    def forward(self, *args):
+        return getattr(self.inner, name)(*args)
+
+    forward.__name__ = name
+    forward.__doc__ = f"The inner plant's ``{name}``."
+    return forward
+
+
+for _name in ("capabilities", "world", "start_pose", "catalogue_parts", "summary"):
+    setattr(
+        FaultyPlant, _name, property(lambda self, n=_name: getattr(self.inner, n), doc=f"The inner plant's {_name}.")
+    )
+for _name in (
+    "describe", "driven_inputs", "bus_devices", "bus_names", "chip_selects", "tied_chip_selects", "bus_notes",
+    "bus_device", "coverage_grid", "footprint", "displays", "bus_transfer", "bitstream", "pose_at", "set_control",
+):  # fmt: skip
+    setattr(FaultyPlant, _name, _forwarded(_name))
+
+
 def _stuck(f, value, rng):
     return f.value
 
@@ -477,7 +510,7 @@ class WheelFault(Part):
 
 
 class ScheduledSnag(TetherSnag):
-    """The tether snag of :mod:`sim_plant.tether` as a scheduled fault: chance ``rate`` per
+    """The tether snag of :mod:`sim_plant.physics.tether` as a scheduled fault: chance ``rate`` per
     spin, drawn from the fault's own stream, only inside the fault's window."""
 
     def __init__(self, fault: Fault, rng):

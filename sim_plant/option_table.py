@@ -1,11 +1,11 @@
-"""Every plant option's type, unit and bounds, as data: the one table a rig file's
-``[plant.options]`` and ``[worlds.*]`` and ``mpy-fil run --param`` are checked against
-(``docs/rig-file.md``). An option means the same in every kind that has it, so the table
-is keyed by the option's name; a part that declares its own options later takes its rows.
+"""The kinds of bounds an option can have, as data: a catalogue part or body declares each
+of its options with one of these specs (``sim_plant/catalogue/base.py``, ``Opt``), and a
+rig file's ``[plant]`` and ``[[plant.parts]]`` tables, every ``[worlds.*]`` and ``mpy-fil
+run --param`` are checked against those declarations (``docs/rig-file.md``, "Bounds").
 
-``check(name, value)`` returns None for a value in bounds, else the complaint (``expected
-a length in metres from 0.1 to 100, got inf``); an option not in the table is left to
-the plant (and to ``test_every_option_of_every_kind_has_bounds``, which fails).
+``spec.problem(value)`` returns None for a value in bounds, else the complaint
+(``expected a number of metres from 0.1 to 100, got inf``). The named specs below
+(``POSE``, ``BOX``, ``TIME``) are shared by parts whose options mean the same.
 """
 
 import math
@@ -148,94 +148,12 @@ def length(lo, hi, **kw):
     return Num("metres", lo, hi, **kw)
 
 
-def period(lo_us, hi_us):
-    return Num("microseconds", lo_us, hi_us, whole=True)
-
-
-def count(lo, hi):
-    return Num("", lo, hi, whole=True)
-
-
 MAX_T_S = 10 * 24 * 3600  # the longest run (host.rig.arguments.MAX_RUN_S)
-ROOM = length(0.1, 100)  # a room, pool or duct side
 PLACE = length(-1000, 1000)  # a coordinate
-SIZE = length(0, 100, above=True)  # a box's side
 HEADING = Num("radians", -10, 10)
 TIME = Num("seconds", 0, MAX_T_S)
 POSE = Row((PLACE, PLACE, HEADING), "[x_m, y_m, heading_rad]")
 POINT = Row((PLACE, PLACE), "[x_m, y_m]")
-BOX = Row((PLACE, PLACE, SIZE, SIZE), "[cx_m, cy_m, w_m, h_m]")
+BOX = Row((PLACE, PLACE, length(0, 100, above=True), length(0, 100, above=True)), "[cx_m, cy_m, w_m, h_m]")
 GAIN = Num("gain", 0, 10)
-NOISE = length(0, 10)
-BOUNCE = period(0, 1_000_000)
-SAMPLE = period(100, 1_000_000_000)  # a sensor's sample period: 100 us to 1000 s
 FRACTION = Num("fraction", 0, 1)
-
-OPTIONS = {
-    # the world and the body
-    "world": Name(),
-    "room_w_m": ROOM,
-    "room_h_m": ROOM,
-    "start_pose": Row((PLACE, PLACE, HEADING), "[x_m, y_m, heading_rad]"),
-    "obstacles": Rows(BOX, 1000),
-    "placements": Rows(Row((TIME, PLACE, PLACE, SIZE, SIZE), "[t_s, cx_m, cy_m, w_m, h_m]"), 1000),
-    "route": Rows(POINT, 1000, least=1),
-    "body_radius_m": length(0.01, 5),
-    "wheel_radius_m": length(0.001, 1),
-    "track_m": length(0.01, 10),
-    "coverage_cell_m": length(0.02, 10),
-    # motors and drive
-    "v_max_m_s": Num("metres per second", 0, 20, above=True),
-    "motor_rpm": Num("revolutions per minute", 0, 100_000, above=True, none=True),
-    "deadband_duty": Num("duty", 0, 0.99),
-    "motor_gains": Row((GAIN, GAIN), "[left_gain, right_gain]"),
-    "motor_time_constant_ms": Num("milliseconds", 0, 10_000),
-    "gear_ratio": Num("motor turns per wheel turn", 0.01, 10_000),
-    "bridge": Name(),
-    "standby": Flag(),
-    "spin_slip": FRACTION,
-    "wheel_slip_sd": FRACTION,
-    "slip_period_us": SAMPLE,
-    # encoders
-    "encoder": Name(),
-    "lines_per_rev": count(1, 10_000),
-    "encoder_polarity": Row((OneOf((-1, 1)), OneOf((-1, 1))), "[left, right] of -1 or 1"),
-    "polarity": Row((OneOf((-1, 1)), OneOf((-1, 1))), "[left, right] of -1 or 1"),
-    "missed_edge_p": Num("probability", 0, 0.5),
-    # rangers and sonars
-    "ranger": Name(),
-    "ranger_period_us": SAMPLE,
-    "hcsr04_trigger_min_us": period(1, 1_000),
-    "sonar_period_us": SAMPLE,
-    "sonar_phase_us": period(0, 1_000_000_000),
-    "sonar_ranging_us": period(1, 1_000_000),
-    "sonar_rx": Flag(),
-    "adc_bits": count(1, 24),
-    "adc_vref_v": Num("volts", 0.1, 50),
-    # contacts, buttons, floor, links
-    "bumper": Flag(),
-    "bumper_bounce_us": BOUNCE,
-    "buttons": Rows(Name(), 32),
-    "presses": Rows(Row((Name(), TIME, TIME), "[name, t_press_s, t_release_s]"), 1000),
-    "button_bounce_us": BOUNCE,
-    "program_jumper": Flag(),
-    "line_sensors": Rows(Row((length(-10, 10), length(-10, 10)), "[dx_m, dy_m]"), 64),
-    "tape": Rows(POINT),
-    "tape_width_m": length(0.001, 1),
-    "tape_u16": count(0, 65_535),
-    "floor_u16": count(0, 65_535),
-    "floor_period_us": SAMPLE,
-}
-
-
-def check(name: str, value):
-    """None when ``value`` is within ``name``'s bounds (or the table has no ``name``),
-    else what was expected and what came."""
-    spec = OPTIONS.get(name)
-    return None if spec is None else spec.problem(value)
-
-
-def describe(name: str) -> str:
-    """One line of the bounds, for docs and ``mpy-fil list``."""
-    spec = OPTIONS[name]
-    return spec.text() if isinstance(spec, Num) else type(spec).__name__

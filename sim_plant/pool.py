@@ -3,9 +3,9 @@
 ``bumper`` and ``echo_sounder`` parts, docs/parts.md) and the tests that check them.
 
 A tracked machine, 0.90 x 0.48 m (L x W, seed 001), track separation W = 0.4 m, both
-tracks at +-0.3 m/s, steered by stopping one track (:mod:`sim_plant.tracks`), reversed
+tracks at +-0.3 m/s, steered by stopping one track (:mod:`sim_plant.physics.tracked`), reversed
 by its own bumper logic at the end walls. Two side-looking echo sounders measure the
-distance to the long walls (:mod:`sim_plant.echosounder`); bumpers at both ends.
+distance to the long walls (:mod:`sim_plant.physics.echo_sounder`); bumpers at both ends.
 
 Signals (the rig file's part names):
 

@@ -7,7 +7,7 @@ kept apart, and another sensor is another object, not an ``if``):
   (or ``None``: no echo), with its noise, limits and failure modes;
 * an **output** part turns that into the electrical signal a board sees, at the sensor's
   update times: ADC counts here (:class:`AnalogRangeSonar`), NMEA bytes on a UART in
-  :mod:`sim_plant.echosounder`.
+  :mod:`sim_plant.physics.echo_sounder`.
 
 :class:`BeamRangeModel` is the plain model (range along the axis, Gaussian noise,
 clamped to the sensor's span). The analog law defaults to a MaxBotix LV-EZ: Vcc/512

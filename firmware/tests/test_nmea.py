@@ -43,7 +43,7 @@ def test_checksums_from_the_seed_notes_are_accepted(sentence):
 
 def test_every_sentence_the_plants_sounder_sends_parses_back():
     """The plant's $SDDPT generator and the firmware's parser agree (one byte at a time)."""
-    from sim_plant.echosounder import dpt_sentence
+    from sim_plant.physics.echo_sounder import dpt_sentence
 
     lines = NmeaLines()
     depths = [None, 0.1, 2.9, 7.5, 13.7, 19.9, 20.0, 150.0]

@@ -233,10 +233,10 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "rig_file": run.get("rig_file"),
         "board": run["board"],
         "world": describe_world(plant),
-        "plant": type(getattr(plant, "inner", plant)).__name__,
-        "faults": [{"kind": f.kind, **f.fields} for f in getattr(plant, "schedule", ())],
+        "plant": type(plant.unwrapped).__name__,
+        "faults": [{"kind": f.kind, **f.fields} for f in plant.fault_schedule],
         "plant_options": run["plant_options"],
-        "parts": described_parts(plant),
+        "parts": plant.describe(),
         "report": run.get("report"),
         **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)
         "seed": run["seed"],
@@ -246,7 +246,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "t_end_us": run["t_end_us"],
         "truth_period_us": recorder.truth_period_us,
         "footprint_half_width_m": footprint_half_width_m(plant),
-        "coverage_cell_m": float(getattr(coverage_grid(plant), "cell_m", DEFAULT_COVERAGE_CELL_M)),
+        "coverage_cell_m": coverage_cell_m(plant),
         "signals": recorder.signals,
         "initial": recorder.initial,
         "contacts": [list(c) for c in _truth_contacts(plant)],
@@ -259,18 +259,11 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
     }
 
 
-def described_parts(plant) -> dict | None:
-    """A plant built from a body and parts, as data (``PartsPlant.describe``): what the
-    report draws each part's views from. None for a plant of another kind."""
-    describe = getattr(getattr(plant, "inner", plant), "describe", None)
-    return describe() if callable(describe) else None
-
-
 def describe_world(plant) -> dict | None:
     """The plant's walls (its ``world``, a sim_plant.world.World), as ``{"name",
     "segments": [[ax, ay, bx, by], ...]}``; the name says the world's size."""
-    world = getattr(plant, "world", None)
-    if world is None or not hasattr(world, "segments"):
+    world = plant.world
+    if world is None:
         return None
     segments = [[float(v) for v in s] for s in world.segments()]
     name = str(getattr(world, "name", "world"))
@@ -281,22 +274,17 @@ def describe_world(plant) -> dict | None:
     return {"name": name, "segments": segments}
 
 
-def coverage_grid(plant):
-    """The plant's own floor coverage grid (a sim_plant.coverage.CoverageGrid), if any."""
-    for part in [plant, *getattr(plant, "parts", ())]:
-        for value in (getattr(part, "grid", None), getattr(part, "coverage", None)):
-            if hasattr(value, "half_width_m") and hasattr(value, "cell_m"):
-                return value
-    return None
-
-
 def footprint_half_width_m(plant) -> float:
-    """Half the width of the floor the robot sweeps (its coverage grid's, or its body's)."""
-    grid = coverage_grid(plant)
-    for value in (getattr(grid, "half_width_m", None), getattr(plant, "body_radius_m", None)):
-        if isinstance(value, (int, float)):
-            return float(value)
-    return DEFAULT_FOOTPRINT_HALF_WIDTH_M
+    """Half the width of the floor the robot sweeps (its coverage grid's), else a default."""
+    grid = plant.coverage_grid()
+    width = None if grid is None else grid.half_width_m
+    return float(width) if isinstance(width, (int, float)) else DEFAULT_FOOTPRINT_HALF_WIDTH_M
+
+
+def coverage_cell_m(plant) -> float:
+    """The plant's coverage grid's cell, else a default."""
+    grid = plant.coverage_grid()
+    return DEFAULT_COVERAGE_CELL_M if grid is None else float(grid.cell_m)
 
 
 def _truth_contacts(plant) -> list:

@@ -15,15 +15,8 @@ LAST_HOLD_MS = 1000
 
 
 def displays(plant) -> list:
-    """(name, width, height, [(t_us, picture)]) of each part with a display."""
-    inner = getattr(plant, "inner", plant)
-    found = []
-    for part in getattr(inner, "parts", ()):
-        frames = getattr(part, "display_frames", None)
-        if callable(frames):
-            width, height, shown = frames()
-            found.append((part.label, width, height, shown))
-    return found
+    """(name, width, height, [(t_us, picture)]) of each part with a display (the plant's ``displays()``)."""
+    return plant.displays()
 
 
 def image(width: int, height: int, picture: bytes) -> Image.Image:

@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 
-from host.artefacts.folder import coverage_grid
 from host.campaign.judges import JUDGES
 from host.campaign.scenario import task_key
 from host.core import provenance, safefs
@@ -99,14 +98,14 @@ def save_coverage(rig, artefacts: str | None) -> Path | None:
     and ``free`` cells, the grid's ``extent`` in metres, the ``start`` and ``end`` poses):
     what the report's map of a worst run draws. None for a plant without a grid."""
     plant = rig.plant
-    grid = coverage_grid(plant) or coverage_grid(getattr(plant, "inner", plant))
+    grid = plant.coverage_grid()
     if grid is None or not artefacts:
         return None
     grid.flush()
     path = safefs.make_folder(Path(artefacts)) / COVERAGE_FILE
     extent = (grid.x0_m, grid.x0_m + grid.nx * grid.cell_m, grid.y0_m, grid.y0_m + grid.ny * grid.cell_m)
     truth = rig.truth()
-    start = getattr(plant, "start_pose", None) or getattr(getattr(plant, "inner", None), "start_pose", (0, 0, 0))
+    start = plant.start_pose or (0, 0, 0)
     with safefs.open_write(path, "wb") as f:  # (a link at the name: refused)
         np.savez_compressed(
             f,

@@ -17,7 +17,7 @@ from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
 from host.report import beliefs, odometry, part_views
 from host.report.panels import US_PER_S, Line, Panel
-from sim_plant.coverage import CoverageGrid
+from sim_plant.catalogue.coverage import CoverageGrid  # (the part's grid, redrawn from a trace)
 from sim_plant.world import World
 
 COVERAGE_CELL_M = 0.05

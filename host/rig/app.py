@@ -38,8 +38,6 @@ class App:
     board_dir: Path | None = None  # the folder of a board file of one's own
     pins: dict | None = None  # the default board's pins, when not read from firmware/boards
     rig_file: Path | None = None
-    plant_kind: str | None = None
-    plant_options: dict = field(default_factory=dict)
     heap_size: str | None = None  # the interpreter's heap (``-X heapsize``), as a board's
     ticks_wrap_s: float | None = None  # ticks_ms/ticks_us wrap this long into the run (10 s)
     identity: tuple[str, str] | None = None  # (sys.platform, machine): default by board name

@@ -187,7 +187,7 @@ class BusTrace:
                 self.last_failed = tx
             elif tx.reads:
                 self._watch(plant, tx)
-            if data and hasattr(plant, "bus_notes"):  # (a write: a chip may have a note)
+            if data:  # (a write: a chip may have a note)
                 for text in plant.bus_notes(tx.bus):
                     self.say(t_us, text)
         self.linklog().bus(t_us, h, op, address, data, (status, count, got), more)
@@ -197,8 +197,7 @@ class BusTrace:
         answer = tx.read[1:] if tx.op == F.BUS_SPI_XFER else tx.read
         poll = self.polls.seen(tx.t_us, tx.bus, tx.address, tx.register, answer)
         if poll is not None:
-            finder = getattr(plant, "bus_device", None)
-            device = finder(tx.bus, tx.address) if finder is not None and tx.op not in _PRIMITIVES else None
+            device = plant.bus_device(tx.bus, tx.address) if tx.op not in _PRIMITIVES else None
             text = poll_text(tx.t_us, tx.bus, tx.address, tx.register, answer, *poll, device)
             if tx.op in _PRIMITIVES:
                 text += "; read through SoftI2C primitives: what was written before it is in trace.jsonl"

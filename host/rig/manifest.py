@@ -30,7 +30,7 @@ import subprocess
 from pathlib import Path
 
 from host.artefacts import integrity
-from host.artefacts.folder import MANIFEST, described_parts
+from host.artefacts.folder import MANIFEST
 from host.core import interpreter, paths, provenance
 from host.core.errors import SetupError
 from host.rig import sandbox
@@ -105,8 +105,8 @@ def shim_part() -> dict:
 
 def plant_part(plant, options: dict) -> dict:
     """The plant's class and options, and its body and parts as the trace header has them."""
-    part = {"class": type(getattr(plant, "inner", plant)).__name__, "options": _plain(options)}
-    part.update(_plain(described_parts(plant) or {}))
+    part = {"class": type(plant.unwrapped).__name__, "options": _plain(options)}
+    part.update(_plain(plant.describe() or {}))
     return part
 
 
@@ -181,7 +181,7 @@ def build(app, spec, firmware, plant, plant_options: dict, *, variant="standard"
 def of_rig(rig, plant=None) -> dict:
     """The manifest of a rig (before or after it starts); ``plant``: the one to describe
     instead of the rig's (a replay describes the recorded plant, not its script)."""
-    options = {**rig.app.plant_options, **rig.plant_options}
+    options = dict(rig.plant_options)
     variant = "settrace" if getattr(rig, "coverage_file", None) is not None else "standard"
     flashed = rig.board_fs.flashed if getattr(rig, "board_fs", None) is not None else None
     found = build(rig.app, rig.spec, rig.firmware, plant or rig.plant, options, variant=variant, flashed=flashed)
@@ -282,7 +282,7 @@ def of_campaign(rig: str, campaign: dict) -> dict:
     app = spec.resolve()
     board_folder, _pins = app.board_files(spec.board or app.default_board)
     plant, options = build_plant(spec, app)
-    found = build(app, spec, Firmware.from_app(app, board_folder), plant, {**app.plant_options, **options})
+    found = build(app, spec, Firmware.from_app(app, board_folder), plant, dict(options))
     found["run"] = {**found["run"], "seed": None, "campaign": _plain(campaign)}
     return found
 

@@ -24,6 +24,7 @@ import struct
 
 from host.core.errors import LinkError
 from host.link import frames as F
+from sim_plant.plant import BITSTREAM, BUSES
 
 FIRED = 1
 """What :meth:`Peripheral.deliver` returns when the change fires an IRQ handler."""
@@ -136,7 +137,7 @@ class PinPeripheral(Peripheral):
         if op != F.BUS_BITSTREAM or len(data) < 16:
             raise LinkError(f"BUS op {op} on {self._what(info)}, which only sends a bitstream (link protocol error)")
         timing_ns = struct.unpack_from("<4I", data, 0)
-        if info.signal is not None and hasattr(plant, "bitstream"):
+        if info.signal is not None and BITSTREAM in plant.capabilities:
             plant.bitstream(info.signal, timing_ns, data[16:])
         return F.BUS_OK, len(data) - 16, b""
 
@@ -272,7 +273,7 @@ class BusPeripheral(Peripheral):
     def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
         """(status, count, bytes read) from the devices on the handle's bus; a plant with
         no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF)."""
-        if hasattr(plant, "bus_transfer"):
+        if BUSES in plant.capabilities:
             return plant.bus_transfer(info.key, op, address, n_read, data)
         if op == F.BUS_SPI_XFER:
             return F.BUS_OK, len(data), b"\xff" * len(data)

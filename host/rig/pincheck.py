@@ -38,9 +38,8 @@ def check_pins(app, plant=None) -> PinCheck:
     pins = app.board_files(app.default_board)[1]
     platform = (app.identity or identity(app.default_board) or ("",))[0]
     result = compare(scan, pins, app.wiring, platform)
-    if plant is not None and hasattr(plant, "bus_names"):
+    if plant is not None:
         result.warnings += compare_buses(scan, plant.bus_names())
-    if plant is not None and hasattr(plant, "chip_selects"):
         result.warnings += unwired_chip_selects(plant.chip_selects(), app.wiring)
     return result
 

@@ -22,6 +22,7 @@ given again (each pin keeps the instant up to which the plant has it).
 import copy
 
 from host.link import frames as F
+from sim_plant.plant import BITSTREAM
 
 HORIZON_US = 200_000  # the longest burst looked at (a WS2812 strip of ~6000 LEDs)
 
@@ -72,7 +73,7 @@ class PioOutputs:
 
     def after(self, block, t_us: int) -> None:
         """After a frame at ``t_us``: what each active state machine will drive, to the plant."""
-        inputs = getattr(self.plant, "inputs", {})
+        inputs = self.plant.inputs
         for local, run in block.running.items():
             if not run.active:
                 self._stopped(block, run.sm)
@@ -112,7 +113,7 @@ class PioOutputs:
                 plant.send_bytes(signal, data, round(freq_hz / 8))
             return
         stream = bitstream_of(levels)
-        if stream is not None and hasattr(plant, "bitstream"):
+        if stream is not None and BITSTREAM in plant.capabilities:
             plant.bitstream(signal, *stream)
         plant.set_input(signal, levels[-1][1])
 

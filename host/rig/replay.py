@@ -45,12 +45,15 @@ from host.link import frames as F
 from host.rig import manifest
 from host.rig.rig import Rig
 from host.rig.spec import PlantOptionsError, Recording, RigSpec, build_plant
+from sim_plant.plant import BUSES
 from sim_plant.scripted import ScriptedPlant
 
 
 class ReplayPlant(ScriptedPlant):
     """A ScriptedPlant that keeps the recorded order of same-time changes and can be
     snapshotted cheaply (the rig rolls speculative batches back)."""
+
+    capabilities = frozenset((BUSES,))  # (the recorded bus reads, answered in order)
 
     def __init__(self, script, *, outputs, inputs, initial):
         super().__init__((), outputs=outputs, inputs=inputs, initial=initial)

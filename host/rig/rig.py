@@ -425,7 +425,7 @@ def run_header(rig) -> dict:
         "app": rig.app.name,
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
-        "plant_options": {**rig.app.plant_options, **rig.plant_options},
+        "plant_options": dict(rig.plant_options),
         "report": rig.app.extra.get("report"),
         "spec": rig.spec.header(rig.app),
         "seed": rig.seed,
@@ -445,7 +445,7 @@ def bus_notes(rig) -> dict:
     out = {}
     if rig.bus_trace.notes:
         out["notes"] = [{"t_us": t, "text": text} for t, text in rig.bus_trace.notes]
-    devices = getattr(getattr(rig.plant, "bus_set", None), "devices", ())
+    devices = rig.plant.bus_devices()
     unmodelled = {
         d.label: {f"0x{r:02x}": list(v) for r, v in sorted(d.unmodelled.items())}
         for d in devices

@@ -1,8 +1,7 @@
 """Rig files: a firmware folder's test rig as data (TOML, ``docs/rig-file.md``).
 
 A rig file names the firmware (folder, entry file, library folders), the board (a board
-file or a pins table), the plant (a kind from :mod:`sim_plant.kinds` with options, or a
-body and parts from :mod:`sim_plant.catalogue`), the
+file or a pins table), the plant (a body and parts from :mod:`sim_plant.catalogue`), the
 wiring (board pin -> plant signal), the timing budgets, the named worlds and interpreter
 settings. It is checked whole before anything starts: every mistake raises a
 :class:`~host.core.errors.ConfigError` that names the file and the field. Our own apps
@@ -15,7 +14,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
-from host.rig import rigrules
+from host.rig import migrate, rigrules
 from host.rig.app import App
 from host.rig.boardfs import confinement
 from host.rig.boards import (
@@ -31,10 +30,11 @@ from host.rig.firmware import heap_bytes
 from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
-from sim_plant import kinds, option_table
+from sim_plant import option_table
 from sim_plant.catalogue.assembly import PartsError, assemble
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.names import unknown
+from sim_plant.plant import check_contract
 
 TABLES = {
     "name": str,
@@ -59,10 +59,9 @@ POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool, "allow_exit": bool}
 BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str, "console_baud": int}
 BOARD_KEYS |= {"flash_size": (str, int), "allow_modules": dict, "sandbox": str}  # (host/rig/boardfs.py)
-PLANT_KEYS = {"kind": str, "options": dict}
 INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
-    "period": (PeriodBudget, {"source": str, "period_us": (int, str), "tolerance_us": int, "marker": str}),
+    "period": (PeriodBudget, {"source": str, "period_us": int, "tolerance_us": int, "marker": str}),
     "latency": (LatencyBudget, {"source": str, "limit_us": int}),
     "pulse": (PulseBudget, {"sources": list, "limit_us": int}),
     "compute": (ComputeBudget, {"limit_us": int}),
@@ -160,25 +159,18 @@ def rig_from_data(path, data: dict, base=None) -> App:
     board_name, board_dir, pins, boards = _board(where, base, data.get("board", {}))
     platform = (_family(where, data.get("board", {})) or identity(board_name) or (None,))[0]
     pins = with_builtin_lines(pins, platform)  # (rp2's BOOTSEL, wired by name)
-    if isinstance(data["plant"], dict) and "body" in data["plant"]:  # a body and parts (sim_plant.catalogue)
-        kind, options, build = None, {}, _parts_builder(where, data["plant"])
-        plant = build()
-    else:
-        kind, options = _plant(where, data["plant"])
-        _check_options(where, "[plant.options]", kind, options)
-        plant = _make_plant(where, kind, options, "[plant.options]")
-
-        def build(**opts):
-            return kinds.make(kind, **opts)
-
+    if migrate.is_01(data):  # (0.1's [plant] kind: the one message names today's form)
+        raise where.error("[plant] kind", migrate.message(data, path))
+    build = _parts_builder(where, data["plant"])  # a body and parts (sim_plant.catalogue)
+    plant = check_contract(build())
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
     rigrules.check_wiring(where, wiring, pins, plant, platform)
     rigrules.check_buses(where, plant, wiring, pins, platform)
     also = data["board"].get("also", ()) if isinstance(data.get("board"), dict) else ()
     rigrules.check_boards(where, tuple(also), wiring, known_boards(), read_pin_map)
     rigrules.check_start(where, "[plant] start_pose", plant)
-    budget_specs = _budgets(where, data.get("budgets", {}), plant, kind, wiring)
-    worlds = _worlds(where, data.get("worlds", {"default": {}}), kind, options, build, (wiring, pins, platform))
+    budget_specs = _budgets(where, data.get("budgets", {}), plant, wiring)
+    worlds = _worlds(where, data.get("worlds", {"default": {}}), build, (wiring, pins, platform))
     interpreter = where.table(data.get("interpreter", {}), "[interpreter]", INTERPRETER_KEYS)
     name = _name(where, "name", data.get("name") or folder.name)
     faults = _faults(where, data.get("faults", []), plant)
@@ -186,7 +178,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
     heap = [f.size for f in faults if f.kind == "heap"]  # a smaller heap is a fault too
 
     def make_plant(**extra):  # (as a plant class does: TypeError, ValueError for bad options)
-        return with_faults(build(**{**options, **extra}), faults)
+        return with_faults(build(**extra), faults)
 
     return App(
         name=name,
@@ -204,8 +196,6 @@ def rig_from_data(path, data: dict, base=None) -> App:
         board_dir=board_dir,
         pins=pins,
         rig_file=path,
-        plant_kind=kind,
-        plant_options=dict(options),
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
         identity=_family(where, data.get("board", {})),
@@ -410,50 +400,6 @@ def _pin(where: _Where, field: str, value, highest: int) -> None:
         raise where.error(field, f"expected a pin name of letters, digits, '_', '.', '+' or '-', got {value!r}")
 
 
-def _plant(where: _Where, plant: dict):
-    where.table(plant, "[plant]", PLANT_KEYS, required=("kind",))
-    kind = plant["kind"]
-    if kind not in kinds.KINDS:
-        hint = _did_you_mean(kind, kinds.KINDS)
-        raise where.error("[plant] kind", f"unknown plant kind {kind!r} (kinds: {', '.join(kinds.KINDS)}){hint}")
-    return kind, dict(plant.get("options", {}))
-
-
-def _check_options(where: _Where, field: str, kind: str, options: dict) -> None:
-    """Option names, and their types against the defaults' (a number where the default is
-    one, a list of numbers where it is a pose or a pair)."""
-    known = kinds.options(kind)
-    for name, value in options.items():
-        if name not in known:
-            hint = _did_you_mean(name, known)
-            raise where.error(
-                f"{field} {name}", f"the {kind} plant has no such option (options: {', '.join(known)}){hint}"
-            )
-        _check_like(where, f"{field} {name}", value, known[name])
-        problem = option_table.check(name, value)
-        if problem:
-            raise where.error(f"{field} {name}", problem)
-
-
-def _check_like(where: _Where, field: str, value, default) -> None:
-    number = (int, float)
-    if isinstance(default, bool) or isinstance(value, bool):
-        if isinstance(default, bool) and not isinstance(value, bool):
-            raise where.error(field, f"expected true/false, got {value!r}")
-        return
-    if isinstance(default, number) and not isinstance(value, number):
-        raise where.error(field, f"expected a number, got {value!r}")
-    if isinstance(default, str) and not isinstance(value, str):
-        raise where.error(field, f"expected text, got {value!r}")
-    if isinstance(default, tuple) and default and all(isinstance(v, number) for v in default):
-        if not (isinstance(value, list) and len(value) == len(default) and all(_is_number(v) for v in value)):
-            raise where.error(field, f"expected a list of {len(default)} numbers, got {value!r}")
-
-
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
 def _parts_builder(where: _Where, table: dict):
     """``[plant] body = ...`` with ``[[plant.parts]]``: a function building the plant
     with a world's or ``--param``'s body options over the table's (ValueError naming the
@@ -469,13 +415,6 @@ def _parts_builder(where: _Where, table: dict):
     return build
 
 
-def _make_plant(where: _Where, kind: str, options: dict, field: str):
-    try:
-        return kinds.make(kind, **options)
-    except (TypeError, ValueError, ArithmeticError) as e:
-        raise where.error(field, f"the {kind} plant refuses it: {e}") from None
-
-
 def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[str, str]:
     signals = {**plant.inputs, **plant.outputs}
     for pin, signal in wiring.items():
@@ -483,7 +422,7 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
         _check_type(where, field, signal, str)
         if pin not in pins:
             raise where.error(field, f"board {board} has no pin named {pin} {unknown(pin, pins, what='pins')}")
-        if signal in getattr(plant, "tied_chip_selects", set)():
+        if signal in plant.tied_chip_selects():
             raise where.error(
                 field,
                 f'expected a plant signal, got {signal!r}, a chip select the rig ties low (cs = "low" in '
@@ -504,7 +443,7 @@ def _wiring(where: _Where, wiring: dict, pins: dict, board: str, plant) -> dict[
     return dict(wiring)
 
 
-def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> list:
+def _budgets(where: _Where, budgets: dict, plant, wiring: dict) -> list:
     """One builder per budget: ``build(plant) -> Budget``; each is tried once here, on
     the rig file's own plant, so that its mistakes show before a run."""
     builders = []
@@ -545,29 +484,15 @@ def _budgets(where: _Where, budgets: dict, plant, kind: str, wiring: dict) -> li
         marker = spec.get("marker")
         if marker is not None and not (len(marker) == 1 and 0 < ord(marker) < 128):
             raise where.error(f"{field} marker", f"expected one character of one byte (ASCII, not NUL), got {marker!r}")
-        build = _budget_builder(where, field, name, cls, spec, kind)
+        build = _budget_builder(where, field, name, cls, spec)
         build(plant)
         builders.append(build)
     return builders
 
 
-def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict, kind: str):
-    def value(plant, key):
-        v = spec[key]
-        if isinstance(v, str):  # "plant.<option>": the plant's own figure
-            option = v.removeprefix("plant.")
-            known = kinds.options(kind) if kind else {}
-            if not v.startswith("plant.") or option not in known:
-                us_options = ", ".join(f"plant.{k}" for k in known if k.endswith("_us"))
-                raise where.error(f"{field} {key}", f"expected microseconds or one of {us_options}; got {v!r}")
-            got = getattr(plant, option, None)
-            if not _is_number(got):
-                raise where.error(f"{field} {key}", f"the {kind} plant keeps no figure for {option}")
-            return int(got)
-        return v
-
+def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
     def build(plant):
-        args = {k: value(plant, k) if k.endswith("_us") else spec[k] for k in spec if k not in ("kind", "description")}
+        args = {k: spec[k] for k in spec if k not in ("kind", "description")}
         if cls is PeriodBudget and "period_us" not in args:
             args["period_us"] = _sample_period(where, field, plant, spec["source"])
         if "marker" in args:
@@ -589,8 +514,7 @@ def _bus_source(where: _Where, field: str, plant, spec: dict) -> None:
     """A bus budget's source is a bus one of the plant's devices is on; its ``address``
     one of a device on that bus (an SPI bus's devices have none: chip selects); its
     ``register`` one of 256: else the budget could never match a transfer."""
-    bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
-    devices = getattr(bus_set, "devices", ())
+    devices = plant.bus_devices()
     buses = sorted({d.bus for d in devices})
     if spec["source"] not in buses:
         known = unknown(spec["source"], buses, what="buses")
@@ -621,7 +545,7 @@ def _sample_period(where: _Where, field: str, plant, source: str) -> int:
     return period
 
 
-def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build, board) -> dict[str, dict]:
+def _worlds(where: _Where, worlds: dict, build, board) -> dict[str, dict]:
     """Each world's options, checked by building its plant (and that plant against the
     rules of ``host/rig/rigrules.py``: its buses, its start pose; ``board``: (wiring,
     pins, platform))."""
@@ -631,14 +555,10 @@ def _worlds(where: _Where, worlds: dict, kind: str | None, options: dict, build,
         _name(where, field, name)
         if not isinstance(world, dict):
             raise where.error(field, f"expected a table of plant options, got {world!r}")
-        if kind is None:  # a body's options over the [plant] table's
-            try:
-                plant = build(**world)
-            except ValueError as e:
-                raise where.error(field, str(e)) from None
-        else:
-            _check_options(where, field, kind, world)
-            plant = _make_plant(where, kind, {**options, **world}, field)
+        try:  # a body's options (and <part>.<option>) over the [plant] table's
+            plant = build(**world)
+        except ValueError as e:
+            raise where.error(field, str(e)) from None
         if world:
             rigrules.check_buses(_Within(where, field), plant, wiring, pins, platform)
             rigrules.check_start(where, f"{field} start_pose", plant)

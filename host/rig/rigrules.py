@@ -22,7 +22,6 @@ import re
 
 from host.rig.boards import pin_key
 from host.rig.wiring import PROBE_PREFIX
-from sim_plant.contacts import ContactMonitor
 from sim_plant.names import unknown
 from sim_plant.option_table import SAFE_NAME
 
@@ -63,7 +62,7 @@ def check_wiring(where, wiring: dict, pins: dict, plant, platform: str | None = 
                 f"pin {name} = {pins[name]!r}: expected a GPIO from 0 to {highest} ({_family(platform)}'s)",
             )
     inputs = set(plant.inputs)
-    driven = set(getattr(plant, "driven_inputs", set)())
+    driven = plant.driven_inputs()
     by_signal: dict = {}
     for pin, signal in wiring.items():
         field = f"[wiring] {pin}"
@@ -169,28 +168,21 @@ def _family(platform: str | None) -> str:
 
 def _bus_fields(plant):
     """(the field that names it, bus) for each part on a bus (each device, for a plant of a kind)."""
-    parts = getattr(plant, "catalogue_parts", None)
-    if parts is not None:
+    parts = plant.catalogue_parts
+    if parts:
         return [(f"{p.label} bus", p.options["bus"]) for p in parts if p.on_bus and p.options.get("bus")]
-    bus_set = getattr(getattr(plant, "inner", plant), "bus_set", None)
-    return [(f"[plant] ({d.label}) bus", d.bus) for d in getattr(bus_set, "devices", ())]
+    return [(f"[plant] ({d.label}) bus", d.bus) for d in plant.bus_devices()]
 
 
 def check_start(where, field: str, plant) -> None:
     """The body starts in free floor: each of its circles' centres inside the room and
     outside every obstacle of the world, and no circle into a wall by more than
     ``OVERLAP_M`` (a plant with no world or no body: nothing to check)."""
-    inner = getattr(plant, "inner", plant)
-    world = getattr(inner, "world", None)
-    body = getattr(inner, "body", None)
-    if world is None or not getattr(world, "walls", None) or not getattr(body, "moves", True):
-        return
-    start = getattr(inner, "start_pose", None)  # (as given: the plant pushes a body out of a wall at reset)
-    if start is None:
+    world, circles = plant.world, plant.footprint()
+    start = plant.start_pose  # (as given: the plant pushes a body out of a wall at reset)
+    if world is None or not world.walls or not circles or start is None:
         return
     x, y, theta = (float(v) for v in start)
-    monitor = next((p for p in getattr(inner, "parts", ()) if isinstance(p, ContactMonitor)), None)
-    circles = monitor.circles if monitor is not None else ((0.0, 0.0, 0.0),)
     c, s = math.cos(theta), math.sin(theta)
     for ox, oy, r in circles:
         px, py = x + ox * c - oy * s, y + ox * s + oy * c

@@ -30,7 +30,7 @@ from host.rig.pacing import PACINGS
 from host.rig.target import FaultyLinkTarget, Target, UnixPortTarget
 from sim_plant.faults import parse_faults, with_faults
 from sim_plant.names import unknown
-from sim_plant.plant import Plant
+from sim_plant.plant import POSE, Plant, check_contract
 
 PLACEMENT_KEYS = ("x_m", "y_m", "theta_deg")
 LINK_FAULTS = ("link_corrupt", "link_stall")
@@ -165,7 +165,7 @@ def build_plant(spec: RigSpec, app: App) -> tuple[Plant, dict]:
     if spec.placement:
         start = start_pose(_made(app, options))
         options["start_pose"] = placed(start, spec.placement_ranges, spec.seed)
-    plant = _made(app, options)
+    plant = check_contract(_made(app, options))
     if spec.faults:
         plant = with_faults(plant, parse_faults(spec.fault_entries))
     return plant, options
@@ -206,7 +206,7 @@ def _made(app: App, options: dict) -> Plant:
 
 def start_pose(plant: Plant):
     """Where the plant's robot starts: its pose at time 0 (its body's, for a body and parts)."""
-    if getattr(plant, "pose_at", None) is None:
+    if POSE not in plant.capabilities:
         raise ConfigError(f"placement: the {type(plant).__name__} plant has no start pose to place")
     return plant.pose_at(0)
 

@@ -220,7 +220,7 @@ def _signal(rig, part: str, pin: str) -> str | None:
 
 def one_line_pins(plant, part: str) -> tuple:
     """The Wokwi pin names of ``part`` that mean its one line (ONE_LINE_PINS, by its kind)."""
-    kind = next((p.kind for p in getattr(plant, "catalogue_parts", ()) if p.name == part), None)
+    kind = next((p.kind for p in plant.catalogue_parts if p.name == part), None)
     return ONE_LINE_PINS.get(kind, ())
 
 

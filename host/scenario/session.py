@@ -58,7 +58,7 @@ def check_steps(scenario, rig) -> None:
     ids = known_ids(rig.app, rig.plant)
     probes = {v[len(PROBE_PREFIX) :] for v in rig.app.wiring.values() if v.startswith(PROBE_PREFIX)}
     probes -= {name.split(".", 1)[0] for name in {**rig.plant.inputs, **rig.plant.outputs}}
-    parts = {p.name: p for p in getattr(rig.plant, "catalogue_parts", ())}
+    parts = {p.name: p for p in rig.plant.catalogue_parts}
     for step in scenario.steps:
         where = f"{scenario.path}:{step.line}: {step.kind}"
         part = step.args.get("part")

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from host.artefacts.folder import TraceData, described_parts
+from host.artefacts.folder import TraceData
 from host.report import part_views
 from host.tests.conftest import FIRMWARE, bench_app, results
 from sim_plant import buses as B
@@ -64,7 +64,7 @@ def test_nothing_shows_before_a_start_frame_and_three_zero_bytes_inside_a_frame_
 
 def test_the_report_draws_each_leds_colour_and_not_its_brightness():
     plant = assemble(STRIP)
-    header = {"app": "strip", "parts": described_parts(plant), "initial": {}, "t_end_us": 1_000_000}
+    header = {"app": "strip", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
     events = [(10, "leds.led0", 0xFF0000), (10, "leds.level0", 31), (500_000, "leds.led1", 0x00FF00)]
     truth = {"t_us": np.asarray([0, 500_000])}
     panels = part_views.part_panels(TraceData(Path("."), header, events, truth, []))

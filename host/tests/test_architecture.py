@@ -85,3 +85,40 @@ def test_no_class_in_host_or_sim_plant_is_over_about_300_lines():
                 if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > MAX_CLASS_LINES:
                     big.append(f"{path.relative_to(REPO)}: {node.name} has {node.end_lineno - node.lineno + 1} lines")
     assert not big, big
+
+
+def test_only_the_catalogue_imports_the_physics_of_its_parts():
+    """``sim_plant/physics/<kind>.py`` is the physics of one catalogue part: the catalogue
+    (and the physics itself) imports it, tests may measure it alone; nothing else does."""
+    strangers = []
+    for folder in ("host", "sim_plant"):
+        for path in sorted((REPO / folder).rglob("*.py")):
+            rel = path.relative_to(REPO).as_posix()
+            if rel.startswith(("sim_plant/catalogue/", "sim_plant/physics/", "sim_plant/tests/", "host/tests/")):
+                continue
+            for node in ast.walk(ast.parse(path.read_text(), str(path))):
+                names = []
+                if isinstance(node, ast.Import):
+                    names = [a.name for a in node.names]
+                elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                    names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+                if any(n == "sim_plant.physics" or n.startswith("sim_plant.physics.") for n in names):
+                    strangers.append(f"{rel}:{node.lineno}")
+    assert not strangers, f"imports of sim_plant.physics outside the catalogue: {strangers}"
+
+
+def test_the_host_asks_no_plant_what_it_has():
+    """The host calls the plant's interface (sim_plant/plant.py: defaults and declared
+    capabilities): no ``getattr``/``hasattr`` of a plant, no hand-unwrapping of the fault
+    wrapper (``inner``: its ``unwrapped`` says)."""
+    probes = []
+    for module, path in host_modules():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            call = isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            if call and node.func.id in ("getattr", "hasattr"):
+                subject = ast.unparse(node.args[0]) if node.args else ""
+                if "plant" in subject.lower():
+                    probes.append(f"{path.relative_to(REPO)}:{node.lineno}: {ast.unparse(node)}")
+            elif isinstance(node, ast.Constant) and node.value == "inner" and not module.startswith("host.link"):
+                probes.append(f"{path.relative_to(REPO)}:{node.lineno}: the string 'inner'")
+    assert not probes, "the plant probed instead of asked:\n" + "\n".join(probes)

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sim_plant import edge_window
-from sim_plant.encoders import MissingEdgeEncoder, QuadratureEncoder, SlottedDiskEncoder
+from sim_plant.physics.encoder import MissingEdgeEncoder, QuadratureEncoder, SlottedDiskEncoder
 
 
 def _one_by_one(encoders, t_stop, out, limit):

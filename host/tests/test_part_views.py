@@ -8,9 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from host.artefacts.folder import TraceData, described_parts
+from host.artefacts.folder import TraceData
 from host.report import part_views, views
 from sim_plant.catalogue.assembly import assemble
+from sim_plant.scripted import ScriptedPlant
 
 CAR = {
     "body": "ackermann",
@@ -27,7 +28,7 @@ CAR = {
 
 def car_trace(events, truth=None) -> TraceData:
     plant = assemble(CAR)
-    header = {"app": "anything", "parts": described_parts(plant), "initial": {}, "t_end_us": 1_000_000}
+    header = {"app": "anything", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
     header["signals"] = {n: {"role": "x", "kind": k} for n, (_d, k) in plant.signals().items()}
     columns = {k: np.asarray(v, dtype=np.int64 if k == "t_us" else float) for k, v in (truth or {}).items()}
     return TraceData(Path("."), header, sorted(events, key=lambda e: e[0]), columns, [])
@@ -38,12 +39,13 @@ def lines_of(panels) -> dict:
 
 
 def test_the_header_keeps_the_body_and_each_part_with_its_options():
-    described = described_parts(assemble(CAR))
+    described = assemble(CAR).describe()
     assert described["body"] == "ackermann" and described["body_options"]["wheelbase_m"] == 0.16
     sonar = described["parts"][2]
     assert sonar["kind"] == "hcsr04" and sonar["mount"] == {"x_m": 0.2, "y_m": 0.0, "heading_deg": 0.0}
     assert sonar["options"]["max_range_m"] == 4.0
-    assert described_parts(object()) is None, "a plant of another kind: no parts"
+    scripted = ScriptedPlant(outputs={"x": "level"}, inputs={})
+    assert scripted.describe() is None, "a plant of another kind: no parts"
 
 
 def test_each_part_draws_its_view_through_its_own_law_with_the_truth_beside_it():
@@ -116,7 +118,7 @@ def test_a_led_strip_draws_each_leds_colours_as_bars_on_a_row_of_its_own():
     from host.report import plots
 
     plant = assemble({"body": "bench", "parts": [{"kind": "ws2812_strip", "name": "leds", "count": 2}]})
-    header = {"app": "strip", "parts": described_parts(plant), "initial": {}, "t_end_us": 1_000_000}
+    header = {"app": "strip", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
     events = [(400, "leds.led0", 0xFF0000), (400, "leds.led1", 0x00FF00), (500_000, "leds.led0", 0x101010)]
     truth = {"t_us": np.asarray([0, 500_000]), "leds_timing_faults": np.asarray([0.0, 1.0])}
     panels = part_views.part_panels(TraceData(Path("."), header, events, truth, []))

@@ -43,7 +43,7 @@ def signed(x):
     return x - (1 << 32) if x & 0x80000000 else x
 
 
-QUAD = [(0, 0), (1, 0), (1, 1), (0, 1)]  # (A, B) forwards, as sim_plant.encoders' QUAD_A/QUAD_B
+QUAD = [(0, 0), (1, 0), (1, 1), (0, 1)]  # (A, B) forwards, as sim_plant.physics.encoder' QUAD_A/QUAD_B
 
 
 @settings(max_examples=30, deadline=None)

@@ -234,6 +234,7 @@ def test_mpy_fil_list_shows_apps_boards_bodies_and_parts_with_their_signals():
     assert done.returncode == 0, done.stderr
     for text in ("rover ", "rpi_pico", "differential", "trigger_min_us=2", "signals: <name>.trig, <name>.echo"):
         assert text in done.stdout, text
+    assert "plant kinds" not in done.stdout, "one plant generation: no heading of kinds"
 
 
 HEAP_AND_TICKS = """

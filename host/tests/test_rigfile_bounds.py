@@ -27,7 +27,7 @@ from host.core.paths import FIRMWARE, REPO
 from host.rig.pinscan import firmware_sources
 from host.rig.rigfile import load_rig
 from host.rig.starter import starter
-from sim_plant import catalogue, kinds, option_table
+from sim_plant import catalogue
 
 SETTINGS = settings(
     max_examples=150,
@@ -192,10 +192,6 @@ def test_a_rig_file_with_any_value_replaced_is_refused_by_name_or_runs(folders, 
     if data.draw(st.booleans()):  # a value replaced
         where = data.draw(st.sampled_from([p for p in leaves(parsed) if p]))
         mutant = replaced(parsed, where, value)
-    elif "kind" in parsed["plant"]:  # an option of the kind's added
-        name = data.draw(st.sampled_from(sorted(kinds.options(parsed["plant"]["kind"]))))
-        plant = {**parsed["plant"], "options": {**parsed["plant"].get("options", {}), name: value}}
-        mutant = {**parsed, "plant": plant}
     else:  # an option of the body's set
         body = catalogue.bodies()[parsed["plant"]["body"]]
         name = data.draw(st.sampled_from([o.name for o in body.OPTIONS]))
@@ -240,24 +236,41 @@ def _pico_bot():
     return load_rig(REPO / "examples" / "pico_bot" / "rig.toml")
 
 
+@functools.cache
+def _declared() -> dict:
+    """The pico_bot rig's own declarations, as ``--param`` names them: its body's options
+    and ``<part name>.<option>`` of each of its parts -> the option's spec."""
+    table = tomllib.loads((REPO / "examples" / "pico_bot" / "rig.toml").read_text())["plant"]
+    declared = {o.name: o.spec for o in catalogue.bodies()[table["body"]].OPTIONS}
+    for part in table.get("parts", []):
+        declared |= {f"{part['name']}.{o.name}": o.spec for o in catalogue.parts()[part["kind"]].OPTIONS}
+    return declared
+
+
 @SETTINGS
-@given(name=st.sampled_from(sorted(option_table.OPTIONS)), value=param_values)
-def test_a_param_is_refused_at_argument_time_or_builds_the_plant_as_the_rig_file_would(tmp_path, name, value):
-    """``--param NAME=VALUE``: an argument error naming the option, or a value the rig
-    file takes too; a plant with it builds (or refuses it as a plant does: cmd_run names
-    it) and runs."""
+@given(name=st.sampled_from(sorted(_declared())), value=param_values)
+def test_a_param_is_checked_against_the_rigs_own_declaration_and_then_runs(tmp_path, name, value):
+    """``--param NAME=VALUE``: refused (at argument time when not finite, else when the
+    plant is built, naming the option) exactly when the rig's declaration of the option
+    refuses the value; a value it takes builds a plant that runs (or is refused by the
+    part's own cross-checks, naming it)."""
     text = f"{name}={value!r}"
     try:
         _, parsed = cli._param(text)
     except argparse.ArgumentTypeError as e:
-        assert str(e).startswith(f"{name}: ") and "\n" not in str(e)
-        assert option_table.check(name, value) is not None or not _finite(value)
+        assert str(e).startswith(f"{name}: ") and "\n" not in str(e) and not _finite(value), e
         return
-    assert option_table.check(name, parsed) is None
+    spec = _declared()[name]
+    problem = None if parsed is None else spec.problem(parsed)
     try:
         plant = _pico_bot().make_plant(**{name: parsed})
-    except (TypeError, ValueError, ArithmeticError, ConfigError):
-        return  # (not the body's option, or the plant's own checks: cmd_run says "argument --param: ... rejects")
+    except (TypeError, ValueError, ArithmeticError, ConfigError) as e:
+        option = name.rpartition(".")[2]
+        assert f" {option}" in str(e) and "\n" not in str(e), f"{text}: the refusal names no option: {e}"
+        if problem is not None:
+            assert problem in str(e), f"{text}: expected the declaration's {problem!r}, got {e}"
+        return
+    assert problem is None, f"{text}: the declaration refuses it ({problem}) but the plant was built"
     plant.reset(1)
     plant.advance_to(200_000)
 
@@ -415,24 +428,26 @@ def test_the_smallest_heap_a_rig_file_takes_still_starts_the_firmware(make_rig, 
 @pytest.mark.parametrize(
     ("param", "says"),
     [
-        ("room_w_m=inf", "room_w_m: expected finite numbers"),
-        ("room_w_m=1e308", "room_w_m: expected a number of metres from 0.1 to 100"),
-        ("room_w_m=True", "room_w_m: expected a number of metres"),
-        ("wheel_radius_m=-1", "wheel_radius_m: expected a number of metres from 0.001 to 1, got -1"),
-        ("lines_per_rev=1e9", "lines_per_rev: expected a whole number from 1 to 10000"),
-        ("obstacles=[[1, 1, -1, 1]]", "obstacles: [0]: [cx_m, cy_m, w_m, h_m], item 2"),
-        ("world='../x'", "world: expected a name"),
+        ("room_w_m=inf", "argument --param: room_w_m: expected finite numbers"),
+        ("room_w_m=1e308", "[plant] room_w_m: expected a number of metres from 0.1 to 100"),
+        ("room_w_m=True", "[plant] room_w_m: expected a number of metres"),
+        ("wheel_radius_m=-1", "[plant] wheel_radius_m: expected a number of metres from 0.001 to 1, got -1"),
+        ("enc_l.lines_per_rev=1e9", "(enc_l) lines_per_rev: expected a whole number from 1 to 10000"),
+        ("obstacles=[[1, 1, -1, 1]]", "[plant] obstacles: [0]: [cx_m, cy_m, w_m, h_m], item 2"),
+        ("world='../x'", "[plant] world: expected one of room"),
+        ("slip_period_us=500", "[plant] slip_period_us: expected a whole number of microseconds from 1000"),
+        ("lines_per_rev=20", "[plant] lines_per_rev: the differential has no such option"),
     ],
 )
-def test_mpy_fil_run_refuses_a_param_out_of_bounds_as_the_rig_file_does(param, says):
-    with pytest.raises(argparse.ArgumentTypeError, match=re_escape(says)):
-        cli._param(param)
-
-
-def re_escape(text: str) -> str:
-    import re
-
-    return re.escape(text)
+def test_mpy_fil_run_refuses_a_param_as_the_rigs_own_declaration_does(param, says, capsys):
+    """The rover's rig declares its options (its body's and each part's): ``--param`` is
+    checked against them before anything runs (exit 2, one line, the option named)."""
+    with pytest.raises(SystemExit) as stop:
+        cli.main(["run", "--param", param])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2, err
+    last = err.splitlines()[-1]
+    assert last.startswith("mpy-fil run: error: argument --param: ") and says in last, last
 
 
 def test_the_cli_refuses_bad_input_in_one_line_without_a_traceback(pico):
@@ -453,15 +468,16 @@ def test_the_cli_refuses_bad_input_in_one_line_without_a_traceback(pico):
     )
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert done.stderr.splitlines()[-1].endswith(
-        "argument --param: wheel_radius_m: expected a number of metres from 0.001 to 1, got -1"
+        "argument --param: rover's plant rejects it: [plant] wheel_radius_m: expected a number of metres "
+        "from 0.001 to 1, got -1"
     )
 
 
-def test_every_option_of_every_kind_has_bounds_and_its_default_is_within_them():
-    for kind in kinds.KINDS:
-        for name, default in kinds.options(kind).items():
-            assert name in option_table.OPTIONS, f"{kind}.{name}: no row in sim_plant/option_table.py"
-            assert default is None or option_table.check(name, default) is None, (kind, name, default)
+def test_every_option_of_every_part_and_body_has_bounds_and_its_default_is_within_them():
+    for kind, cls in {**catalogue.parts(), **catalogue.bodies()}.items():
+        for opt in cls.OPTIONS:
+            assert hasattr(opt.spec, "problem"), f"{kind}.{opt.name}: no bounds ({opt.spec!r})"
+            assert opt.default is None or opt.spec.problem(opt.default) is None, (kind, opt.name, opt.default)
 
 
 # -- init ----------------------------------------------------------------------------------

@@ -1,12 +1,12 @@
 """Part ``amplitude_sonar``: an ultrasonic pair whose received amplitude, peak-held and
 read by an ADC, falls with the range to the wall it looks at squarely (seed 002's duct
-sonars, :mod:`sim_plant.amplitude_sonar`). A robot's amplitude sonars share one ADC and
+sonars, :mod:`sim_plant.physics.amplitude_sonar`). A robot's amplitude sonars share one ADC and
 one update: the first such part makes the array, each further one adds its channel, and
 the shared options (all but ``gain``) must then be the same on every one of them."""
 
-from sim_plant.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import GAIN, Num, length
+from sim_plant.physics.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
 from sim_plant.sonars import Adc
 
 SHARED = (

@@ -11,10 +11,11 @@ from sim_plant.buses import BusDevice, BusSet
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
-from sim_plant.coverage import CoverageRecorder
 from sim_plant.engine import RobotPlant
 from sim_plant.names import nearest, unknown
 from sim_plant.option_table import Name
+from sim_plant.physics.coverage import CoverageRecorder
+from sim_plant.plant import BITSTREAM, BUSES, CONTROLS, POSE, PWM, UART
 
 PART_KEYS = ("kind", "name", "mount")
 POSE_KEYS = ("x_m", "y_m", "theta_rad")
@@ -24,6 +25,8 @@ MAX_PARTS = 64
 class PartsPlant(RobotPlant):
     """A :class:`~sim_plant.engine.RobotPlant` whose drive, encoders and parts come from
     a body and catalogue parts; rebuilt afresh at each reset."""
+
+    capabilities = frozenset((POSE, PWM, UART, BUSES, BITSTREAM, CONTROLS))
 
     def __init__(self, body, parts: list):
         self.body = body
@@ -69,6 +72,24 @@ class PartsPlant(RobotPlant):
                         f"{labels.get(device.label, device.label)} drives: expected inputs of the plant's parts "
                         f"({', '.join(sorted(inputs))}), got {name!r}"
                     )
+
+    def bus_devices(self) -> tuple:
+        return tuple(self.bus_set.devices)
+
+    def coverage_grid(self):
+        """The grid of its ``coverage`` part (or its tracked body's recorder), once started."""
+        return next((p.grid for p in self.parts if isinstance(p, CoverageRecorder) and p.grid is not None), None)
+
+    def footprint(self) -> tuple:
+        """Its contact monitor's circles (a point without one); none for a body that does not move."""
+        if not self.body.moves:
+            return ()
+        monitor = next((p for p in self.parts if isinstance(p, ContactMonitor)), None)
+        return tuple(monitor.circles) if monitor is not None else ((0.0, 0.0, 0.0),)
+
+    def displays(self) -> list:
+        """Each engine part that keeps its frames (``display_frames()``: an ``ssd1306``)."""
+        return [(p.label, *p.display_frames()) for p in self.parts if callable(getattr(p, "display_frames", None))]
 
     def driven_inputs(self) -> set:
         """The inputs a bus device drives (a PWM expander's channels): no pin needs wiring to them."""

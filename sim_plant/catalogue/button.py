@@ -1,11 +1,11 @@
 """Part ``button``: a push-button pressed at scheduled times, active low (to ground, on a
 pull-up) or active high (to 3V3, on a pull-down), with contact chatter when asked
-(:class:`sim_plant.buttons.Buttons`)."""
+(:class:`sim_plant.physics.button.Buttons`)."""
 
-from sim_plant.buttons import Buttons
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.controls import Control
 from sim_plant.option_table import TIME, Flag, Num, OneOf, Row, Rows
+from sim_plant.physics.button import Buttons
 
 
 class _Button(Buttons):

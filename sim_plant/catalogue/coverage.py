@@ -1,10 +1,10 @@
 """Part ``coverage``: the floor a cleaning footprint has swept, as ground truth only (no
 board signal): the fraction of the world's free cells its path has covered
-(:mod:`sim_plant.coverage`), for robots judged on how much floor they cover."""
+(:mod:`sim_plant.physics.coverage`), for robots judged on how much floor they cover."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, View
-from sim_plant.coverage import CoverageGrid, CoverageRecorder
 from sim_plant.option_table import Num, length
+from sim_plant.physics.coverage import CoverageGrid, CoverageRecorder
 
 
 class _Recorder(CoverageRecorder):

@@ -1,13 +1,13 @@
 """Part ``echo_sounder``: a depth sounder's transducer looking sideways at a wall (the
-NAVMAN 100 of seeds 000/001, :class:`sim_plant.echosounder.NavmanSideSounder`), either
+NAVMAN 100 of seeds 000/001, :class:`sim_plant.physics.echo_sounder.NavmanSideSounder`), either
 talking NMEA 0183 ``$SDDPT`` on a UART (with two transducers, one at the mount and one
 mirrored across the body's centre line, chosen by a select line), or as an analog
 output on an ADC (volts per metre; 0 V for no reading). Fault windows make readings
 wrong, missing, or (NMEA) no sentence at all."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.echosounder import NavmanSideSounder, NmeaDepthSounder
 from sim_plant.option_table import TIME, Num, OneOf, Row, Rows, length
+from sim_plant.physics.echo_sounder import NavmanSideSounder, NmeaDepthSounder
 from sim_plant.pool import ADC_V_PER_M
 from sim_plant.sonars import Adc, AnalogRangeSonar
 

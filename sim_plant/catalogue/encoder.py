@@ -1,11 +1,11 @@
 """Part ``encoder``: a wheel encoder, quadrature (A/B) or a single-channel slotted disk,
-on the wheel or on the motor shaft behind a gearbox (:mod:`sim_plant.encoders`)."""
+on the wheel or on the motor shaft behind a gearbox (:mod:`sim_plant.physics.encoder`)."""
 
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.encoders import MISS_GAPS, MissingEdgeEncoder, QuadratureEncoder, SlottedDiskEncoder
 from sim_plant.option_table import Num, OneOf
+from sim_plant.physics.encoder import MISS_GAPS, MissingEdgeEncoder, QuadratureEncoder, SlottedDiskEncoder
 
 
 class Encoder(PartType):

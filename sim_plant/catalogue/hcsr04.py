@@ -1,13 +1,13 @@
 """Part ``hcsr04``: an HC-SR04 ultrasonic ranger mounted anywhere on the body (a front
 and a rear one are two tables), as its TRIG and ECHO pins, fixed or on a ``servo``
-part's horn (``on_servo``: it then looks along the horn) (:mod:`sim_plant.hcsr04`)."""
+part's horn (``on_servo``: it then looks along the horn) (:mod:`sim_plant.physics.hcsr04`)."""
 
 import numpy as np
 
-from sim_plant import hcsr04
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.controls import Control
 from sim_plant.option_table import Name, Num
+from sim_plant.physics import hcsr04
 
 
 class _Named(hcsr04.HcSr04):

@@ -1,10 +1,10 @@
 """Part ``jumper``: a jumper from a board input to ground (a program or option jumper):
 the pin reads 0 when it is fitted, 1 (its pull-up) when it is not
-(:class:`sim_plant.buttons.Jumper`)."""
+(:class:`sim_plant.physics.button.Jumper`)."""
 
-from sim_plant.buttons import Jumper as JumperLine
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Flag
+from sim_plant.physics.button import Jumper as JumperLine
 
 
 class Jumper(PartType):

@@ -5,7 +5,7 @@ pulse stops it, the ends turn it at ``rpm`` either way). The firmware's ``duty_u
 ``duty_ns``) at ``freq_hz`` gives the pulse; no pulses leave it where it is.
 
 A part mounted on it (an ``hcsr04`` with ``on_servo``) looks along the servo's horn: 90
-degrees is the mount's own heading (:class:`sim_plant.hcsr04.Servo`, whose motion this
+degrees is the mount's own heading (:class:`sim_plant.physics.hcsr04.Servo`, whose motion this
 part wraps). A servo with ``steers = true`` turns the front wheels of an ``ackermann``
 body (the body's drive takes it and follows its travel in steps); any other servo just
 turns (a sonar's pan, a gripper)."""
@@ -16,8 +16,8 @@ import numpy as np
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.engine import Part
-from sim_plant.hcsr04 import Servo as PositionalMotion
 from sim_plant.option_table import Flag, Num, OneOf
+from sim_plant.physics.hcsr04 import Servo as PositionalMotion
 from sim_plant.plant import NEVER_US
 
 DUTY_FULL = 65535

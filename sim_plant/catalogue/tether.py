@@ -1,10 +1,10 @@
 """Part ``tether``: the cable a robot trails, catching on a wall at a spin on the spot
 with chance ``snag_p`` and pulling the robot off its pose (seed 002 §5.7,
-:mod:`sim_plant.tether`: 18 of 20 runs succeeded, both failures from the tether)."""
+:mod:`sim_plant.physics.tether`: 18 of 20 runs succeeded, both failures from the tether)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, View
 from sim_plant.option_table import FRACTION, Num, Rows
-from sim_plant.tether import P_SNAG, TetherSnag
+from sim_plant.physics.tether import P_SNAG, TetherSnag
 
 
 class Tether(PartType):

@@ -1,5 +1,5 @@
 """Part ``track``: one track of a ``tracked`` body and the line that stops it (seed 000:
-a parallel-port bit per track, 1 stops it; :class:`sim_plant.tracks.TrackDrive`)."""
+a parallel-port bit per track, 1 stops it; :class:`sim_plant.physics.tracked.TrackDrive`)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.option_table import OneOf

@@ -1,5 +1,5 @@
 """Body ``tracked``: a machine on two tracks that run at one speed, forwards or
-backwards, steered by stopping one track (:mod:`sim_plant.tracks`: the measured stop law
+backwards, steered by stopping one track (:mod:`sim_plant.physics.tracked`: the measured stop law
 of seed 000 or the ideal pivot), in a pool (:func:`sim_plant.world.pool`). Its outline is
 three circles of radius ``body_width_m / 2`` in a row (a capsule ``body_length_m`` long).
 The ``track`` parts that stop ``left`` and ``right`` steer it; a ``bumper`` part mounted
@@ -11,10 +11,10 @@ import math
 
 from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
 from sim_plant.contacts import ContactMonitor
-from sim_plant.coverage import CoverageGrid, CoverageRecorder
 from sim_plant.option_table import HEADING, POSE, Flag, Num, OneOf, length
+from sim_plant.physics.coverage import CoverageGrid, CoverageRecorder
+from sim_plant.physics.tracked import IdealPivotLaw, MeasuredStopLaw, TrackDrive
 from sim_plant.pool import BODY_LENGTH_M, BODY_WIDTH_M
-from sim_plant.tracks import IdealPivotLaw, MeasuredStopLaw, TrackDrive
 from sim_plant.world import POOL_LENGTH_M, POOL_WIDTH_M, pool
 
 SIDES = ("left", "right")

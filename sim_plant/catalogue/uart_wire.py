@@ -1,9 +1,9 @@
-"""Part ``uart_wire``: a UART's TX wired to its RX on a bench (:mod:`sim_plant.wires` is
+"""Part ``uart_wire``: a UART's TX wired to its RX on a bench (:mod:`sim_plant.physics.wire` is
 its engine). A UART wired to ``<name>.line`` receives what it sends, each byte at the time
 its stop bit ends at the sender's baud rate (10 bits a byte), one after another."""
 
 from sim_plant.catalogue.base import Build, PartType, Sig
-from sim_plant.wires import WirePart
+from sim_plant.physics.wire import WirePart
 
 
 class UartWire(PartType):

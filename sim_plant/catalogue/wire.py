@@ -1,11 +1,11 @@
 """Part ``wire``: a wire on a bench from a board output to a board input, as upstream's
-hardware tests wire a board (:mod:`sim_plant.wires` is its engine). A level written to
+hardware tests wire a board (:mod:`sim_plant.physics.wire` is its engine). A level written to
 ``<name>.in`` is on ``<name>.out`` at the same instant (the plant is then zero-delay: the
 shim syncs a read that follows a write); a PWM on the input drives the output with its
 waveform, edges rounded to the microsecond."""
 
 from sim_plant.catalogue.base import Build, PartType, Sig, View
-from sim_plant.wires import WirePart
+from sim_plant.physics.wire import WirePart
 
 
 class Wire(PartType):

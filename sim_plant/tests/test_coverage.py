@@ -4,7 +4,7 @@ the same cells, whatever the segments."""
 
 import numpy as np
 
-from sim_plant.coverage import FEW_SEGMENTS, CoverageGrid
+from sim_plant.physics.coverage import FEW_SEGMENTS, CoverageGrid
 from sim_plant.world import pool
 
 

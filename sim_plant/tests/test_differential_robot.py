@@ -5,7 +5,7 @@ tape, boxes placed at a time, the TB6612's standby, our worlds, a motor's rpm)."
 import pytest
 
 from sim_plant.catalogue.assembly import PartsError, assemble
-from sim_plant.hcsr04 import US_PER_CM
+from sim_plant.physics.hcsr04 import US_PER_CM
 
 MOTORS = [
     {"kind": "dc_motor", "name": "motor_l", "drives": "left", "time_constant_ms": 0},

@@ -6,9 +6,9 @@ import pytest
 
 from sim_plant.contacts import MIN_STEP_US, RECHECK_US, Bumper, ContactMonitor, _release_s
 from sim_plant.drivetrain import DiffDriveTrain
-from sim_plant.encoders import QuadratureEncoder
 from sim_plant.engine import RobotPlant
 from sim_plant.motors import DcMotor, DirPinsPwmBridge, DirPwmBridge, TwoPwmBridge
+from sim_plant.physics.encoder import QuadratureEncoder
 from sim_plant.world import box, rectangle, room
 
 FULL = 65535

@@ -5,10 +5,10 @@ import math
 
 import pytest
 
-from sim_plant.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
 from sim_plant.duct import BODY_CIRCLES
+from sim_plant.physics.amplitude_sonar import AmplitudeChannel, AmplitudeSonarArray
+from sim_plant.physics.tether import TetherSnag
 from sim_plant.tests.rigs import duct_robot
-from sim_plant.tether import TetherSnag
 from sim_plant.world import World, one_right_branch_duct
 
 DEG = math.pi / 180

@@ -1,14 +1,14 @@
 """Seed 002's duct robot, the parts added for the loop: the master that drains the record
-stream (sim_plant.duct_link) and the tether snag at spins (sim_plant.tether)."""
+stream (sim_plant.duct_link) and the tether snag at spins (sim_plant.physics.tether)."""
 
 import math
 
 import pytest
 
 from sim_plant.duct_link import RecordReader
+from sim_plant.physics.tether import TetherSnag
 from sim_plant.plant import NEVER_US
 from sim_plant.tests.rigs import duct_robot
-from sim_plant.tether import TetherSnag
 
 
 def reader_plant(**options):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sim_plant.echosounder import DROPOUT_TABLE_7_1, NavmanSideSounder, dpt_sentence, nmea_checksum
+from sim_plant.physics.echo_sounder import DROPOUT_TABLE_7_1, NavmanSideSounder, dpt_sentence, nmea_checksum
 from sim_plant.pool import ADC_V_PER_M
 from sim_plant.tests.rigs import pool_cleaner
 from sim_plant.world import pool

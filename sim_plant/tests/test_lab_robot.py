@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from sim_plant.catalogue.assembly import assemble_file
-from sim_plant.encoders import QuadratureEncoder, SlottedDiskEncoder
+from sim_plant.physics.encoder import QuadratureEncoder, SlottedDiskEncoder
 from sim_plant.world import CANYON_END_M, canyon_centre_m
 
 APP = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "lab_robot"

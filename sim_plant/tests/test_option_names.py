@@ -1,11 +1,11 @@
 """One name per concept across every catalogue part and body, with its unit in the name
 (issue 26, point 3): a table of concept -> the one accepted name and the synonyms it
-replaced; every declared option, signal and truth key, and every row of
-``sim_plant/option_table.py``, is scanned for those synonyms and for a unit its name lacks."""
+replaced; every declared option, signal and truth key is scanned for those synonyms and
+for a unit its name lacks."""
 
 import pytest
 
-from sim_plant import catalogue, kinds, option_table
+from sim_plant import catalogue
 from sim_plant.option_table import Num
 
 ONE_NAME = {
@@ -62,11 +62,6 @@ def declared_names():
                 yield f"{kind} truth", key.replace("{name}_", "").replace("{name}.", "")
 
 
-def legacy_kind_options() -> set:
-    """The constructor options of the plant kinds still in sim_plant/kinds.py (not parts)."""
-    return {name for kind in kinds.KINDS for name in kinds.options(kind)}
-
-
 def synonym_problems(names) -> list[str]:
     problems = []
     for where, name in names:
@@ -78,13 +73,6 @@ def synonym_problems(names) -> list[str]:
 
 def test_no_catalogue_option_signal_or_truth_key_names_a_concept_by_a_synonym():
     problems = synonym_problems(declared_names())
-    assert not problems, "\n".join(problems)
-
-
-def test_the_option_table_holds_one_name_per_concept():
-    legacy = legacy_kind_options()
-    rows = [("option_table", name) for name in option_table.OPTIONS if name not in legacy]
-    problems = synonym_problems(rows)
     assert not problems, "\n".join(problems)
 
 

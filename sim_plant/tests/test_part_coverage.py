@@ -33,7 +33,7 @@ def test_the_grid_follows_the_world_and_the_width_option():
             "parts": [*MOTORS, {"kind": "coverage", "name": "floor", "coverage_cell_m": 0.05, "half_width_m": 0.2}],
         }
     )
-    from sim_plant.coverage import CoverageRecorder
+    from sim_plant.physics.coverage import CoverageRecorder
 
     grid = plant.part(CoverageRecorder).grid
     assert grid.cell_m == 0.05 and grid.half_width_m == 0.2 and grid.x0_m == 0.0

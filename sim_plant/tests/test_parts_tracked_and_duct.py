@@ -4,9 +4,9 @@ array, and a part's option set from outside as ``"<part>.<option>"``."""
 
 import pytest
 
-from sim_plant.amplitude_sonar import AmplitudeSonarArray
 from sim_plant.catalogue.assembly import assemble
 from sim_plant.catalogue.base import PartsError
+from sim_plant.physics.amplitude_sonar import AmplitudeSonarArray
 from sim_plant.tests.rigs import duct_robot, pool_cleaner
 
 TRACKS = [{"kind": "track", "name": "track_l", "side": "left"}, {"kind": "track", "name": "track_r", "side": "right"}]

@@ -219,7 +219,7 @@ def test_a_sonar_sample_every_0_15_m_and_about_50_per_8_m_lane():
 def test_carrying_the_machine_moves_it_without_sweeping_the_floor_between():
     """The operator sets the machine down elsewhere (seed 000 §6.3); the coverage grid
     gets no swath along the way and the machine drives on from the new place."""
-    from sim_plant.coverage import CoverageRecorder
+    from sim_plant.physics.coverage import CoverageRecorder
 
     plant = pool_cleaner(start_pose=(5.0, 1.0, 0.0))
     plant.reset(3)

@@ -119,8 +119,8 @@ def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
 
     import numpy as np
 
-    import sim_plant.coverage as coverage
-    from sim_plant.coverage import CoverageRecorder
+    import sim_plant.physics.coverage as coverage
+    from sim_plant.physics.coverage import CoverageRecorder
 
     def swept(bend_rad):
         old = coverage.BEND_RAD
@@ -158,7 +158,7 @@ def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
 def test_coverage_reaches_the_point_where_the_robot_turned_back(reverse_at_us):
     """Straight ahead, then straight back in open floor: the turning point is sampled
     (the heading does not change there), as a path sampled every millisecond shows."""
-    from sim_plant.coverage import CoverageRecorder
+    from sim_plant.physics.coverage import CoverageRecorder
 
     def swept(dense):
         plant = rover_plant(start_pose=[1.0, 2.0, 0.0])

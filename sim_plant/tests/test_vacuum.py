@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from sim_plant.catalogue.assembly import assemble_file
-from sim_plant.hcsr04 import START_DELAY_US, TIMEOUT_US, HcSr04, echo_width_us
+from sim_plant.physics.hcsr04 import START_DELAY_US, TIMEOUT_US, HcSr04, echo_width_us
 from sim_plant.world import World, box, polygon_segments, room
 
 RIG = Path(__file__).resolve().parents[2] / "firmware" / "apps" / "vacuum" / "rig.toml"

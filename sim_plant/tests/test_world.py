@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sim_plant.coverage import CoverageGrid
+from sim_plant.physics.coverage import CoverageGrid
 from sim_plant.world import (
     CANYON_END_M,
     box,

@@ -18,7 +18,7 @@ a byte), one after another on the line.
 from typing import NamedTuple
 
 from sim_plant.engine import Part
-from sim_plant.plant import NEVER_US, Change, Plant
+from sim_plant.plant import NEVER_US, PWM, UART, Change, Plant
 
 BITS_PER_BYTE = 10  # start, 8 data, stop
 
@@ -50,6 +50,7 @@ class _Waveform(NamedTuple):
 
 class Wires(Plant):
     zero_delay = True
+    capabilities = frozenset((PWM, UART))
 
     def __init__(self, wires: tuple, uarts: tuple):
         self.names = tuple(wires)

@@ -119,6 +119,10 @@ class _EdgeCounter:
     def truth(self) -> dict:
         return {f"{self.names[0].split('.')[0]}_edges": self.n}
 
+    plain_emit = emit
+    """The closed-form emit: an encoder whose class's ``emit`` is still this one lets
+    :mod:`sim_plant.edge_window` compute a window of its edges at once."""
+
 
 class QuadratureEncoder(_EdgeCounter):
     """Two channels 90 degrees apart: ``lines_per_rev`` lines on the disk give 4 edges
