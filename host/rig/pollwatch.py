@@ -103,9 +103,9 @@ def _pin_driver(info, plant, value) -> str:
         return "it is wired to nothing in the rig, so nothing drives it: it reads its pull (1 on PULL_UP, else 0)"
     if info.probe:
         return f"it is wired to {signal}, which only the harness watches: nothing drives it"
-    if signal not in getattr(plant, "outputs", {}):
+    if signal not in plant.outputs:
         return f"it is wired to {signal}, an input of the plant: nothing drives it"
-    part = next((p for p in getattr(plant, "catalogue_parts", ()) if signal in p.signals()), None)
+    part = next((p for p in plant.catalogue_parts if signal in p.signals()), None)
     if part is None:
         return f"the plant drives it ({signal}), and kept it at {value}"
     text = f"{part.kind} {part.name} drives it ({signal}), and kept it at {value}"

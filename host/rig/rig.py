@@ -72,6 +72,15 @@ def open_link_log(rig: "Rig") -> LinkLog:
     return log
 
 
+def firmware_and_pins(spec: RigSpec, app, board: str) -> tuple[Firmware, dict]:
+    """What runs on the board (the spec's flashed folder, else the app's files for the
+    board) and the board's pin map."""
+    board_folder, pins = app.board_files(board)
+    if spec.firmware_dir is not None:
+        return Firmware.flashed(spec.firmware_dir, spec.require_main), pins
+    return Firmware.from_app(app, board_folder, spec.main_dir), pins
+
+
 class Rig:
     """Firmware in the loop. Use as a context manager, or call start() and stop()."""
 
@@ -97,16 +106,9 @@ class Rig:
         self.seed = spec.seed
         self.allow_exit = spec.allow_exit or self.app.allow_exit
         self.watchdog_s = spec.watchdog_s
-        board_folder, pins = self.app.board_files(self.board)
-        if spec.firmware_dir is not None:
-            self.firmware = Firmware.flashed(spec.firmware_dir, spec.require_main)
-        else:
-            self.firmware = Firmware.from_app(self.app, board_folder, spec.main_dir)
-        if plant is None:
-            plant, self.plant_options = build_plant(spec, self.app)
-        else:
-            self.plant_options = plant_options(spec, self.app)
-        self.plant = plant
+        self.firmware, pins = firmware_and_pins(spec, self.app, self.board)
+        options = plant_options(spec, self.app) if plant is not None else None  # (a given plant: as built)
+        self.plant, self.plant_options = (plant, options) if plant is not None else build_plant(spec, self.app)
         self.plant.reset(self.seed)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
