@@ -56,8 +56,11 @@ def test_a_timer_callback_never_runs_inside_time_pulse_us_and_the_control_loop_i
 
 
 def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
-    """On an RP2040 (ports/rp2/machine_pin.c: hard=True runs the handler in the interrupt)."""
+    """On an RP2040 (ports/rp2/machine_pin.c: hard=True runs the handler in the interrupt):
+    edges at 10 and 12 ms during a read that ends at 30 ms, then at 38 and 39 ms while a
+    Timer callback (due at 35 ms) sleeps 10 ms."""
     script = [(5_000, "echo", 1), (10_000, "a", 1), (12_000, "b", 1), (30_000, "echo", 0)]
+    script += [(36_000, "a", 0), (36_000, "b", 0), (38_000, "a", 1), (39_000, "b", 1)]
     app = App(
         name="sched-hard",
         default_board="rpi_pico_bench",
@@ -71,8 +74,8 @@ def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
     rig.stop()
     r = results(rig.console)
     assert r.get("width") == 25_000, rig.console
-    assert r["hard"] == [(10_000, True)], f"the hard handler: {r['hard']} {_where(rig)}"
-    assert r["soft"] == [(30_000, False)], f"the soft handler: {r['soft']} {_where(rig)}"
+    assert r["hard"] == [(10_000, True), (38_000, True)], f"the hard handler: {r['hard']} {_where(rig)}"
+    assert r["soft"] == [(30_000, False), (45_000, False)], f"the soft handler: {r['soft']} {_where(rig)}"
 
 
 @pytest.mark.parametrize(
