@@ -125,9 +125,10 @@ def test_a_callback_longer_than_its_period_starves_the_main_loop_with_a_bounded_
 
 
 def test_a_callback_that_never_lets_the_main_loop_run_ends_with_the_run_not_memory_error(run_case):
-    """A 10 kHz Timer whose callback sleeps 20 ms: the board's queue stays full (each tick
-    past it is lost), the main loop never runs again, and the run reaches its end time
-    (the queue used to grow without bound until the shim died with a MemoryError)."""
+    """A 10 kHz Timer whose callback sleeps 20 ms: the queue stays full (each tick past it
+    is lost, as on a board), the main loop never runs again (the shim drains the queue in
+    the wait: docs/shim.md), and the run reaches its end time (the queue used to grow
+    without bound until the shim died with a MemoryError, blamed on the callback)."""
     rig, _ = run_case("sched_starved", 2.0, allow_exit=False)
     lines = rig.console.splitlines()
     assert "MemoryError" not in rig.console and "Traceback" not in rig.console, rig.console[-2000:]

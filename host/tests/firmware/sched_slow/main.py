@@ -1,7 +1,8 @@
 # A Timer callback longer than its period (10 ms; it takes 15): the ticks that come due
 # while it runs queue up to the scheduler's depth (the rest are lost, as on a board) and
 # the main loop, which toggles the loop probe every 5 ms, gets no turn until the callback
-# stops its timer and the queue has drained.
+# stops its timer and the queue has drained (the shim runs the queue to its end in a wait:
+# docs/shim.md, "Where callbacks run").
 import time
 from machine import Pin, Timer
 

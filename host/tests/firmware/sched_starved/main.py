@@ -1,5 +1,6 @@
-# A 10 kHz Timer whose callback sleeps 20 ms: the main loop never runs again, as on a
-# board, and the run goes on to its end (the queue stays bounded).
+# A 10 kHz Timer whose callback sleeps 20 ms: the queue stays full (later ticks are lost),
+# the main loop never gets its turn again in the shim (on a board it crawls: one callback
+# a pending check, docs/shim.md) and the run goes on to its end.
 import time
 from machine import Timer
 
