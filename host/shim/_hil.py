@@ -147,7 +147,7 @@ class _Link:
     depth = 8
     # From this instant on the firmware is inside a call that is C on a board (a busy loop,
     # a blocking driver call: time_pulse_us, a bus transfer), where the port runs no
-    # scheduled callback: soft ones wait in the queue for its return (c_call). FOREVER_US: none.
+    # scheduled callback: soft ones wait in the queue for its return (c_begin). FOREVER_US: none.
     defer_from = F.FOREVER_US
     hard = False  # a hard IRQ's handler is running (they do not nest)
     # _hilfast.apply_state when the interpreter has it (the harness's build) and HIL_PURE
@@ -405,7 +405,11 @@ def bus_time(t_end):
     running scheduled callbacks: docs/shim.md, "Where callbacks run"), so soft callbacks
     due meanwhile run when it returns."""
     if t_end > _now:
-        c_call(_now, _released_run_until, t_end, None)
+        prev = c_begin(_now)
+        try:
+            _released_run_until(t_end, None)
+        finally:
+            c_end(prev)
 
 
 # -- clock ------------------------------------------------------------------------
@@ -429,7 +433,7 @@ def observe():
     global _spin, _now
     if _dispatching:  # a handler runs at its edge's instant: its reads move no time
         return
-    if _pending:  # left by a C call (c_call): back in the firmware, they run first
+    if _pending:  # left by a C call (c_begin): back in the firmware, they run first
         dispatch()
     if _lockstep:
         t = _now
@@ -460,7 +464,7 @@ def run_until(t_target, watch=None):
     """
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
-    if _pending:  # left by a C call (c_call): they ran before this wait began
+    if _pending:  # left by a C call (c_begin): they run before this wait begins
         dispatch()
     return _released_run_until(t_target, watch)
 
@@ -849,21 +853,27 @@ def _run_hard():
             _dispatching = was
 
 
-def c_call(since, fn, *args):
-    """fn(*args) as a C function of the port that waits without running scheduled
-    callbacks (time_pulse_us's busy loop, a bus transfer, the end of sleep_us): soft
-    callbacks that come from virtual time ``since`` on stay queued (timers still come due
-    and queue at their times, as a board's hardware timer does), and run when it returns,
+def c_begin(since):
+    """The firmware enters what is a C function of the port that waits without running
+    scheduled callbacks (time_pulse_us's busy loop, a bus transfer, the end of sleep_us):
+    soft callbacks that come from virtual time ``since`` on stay queued (timers still come
+    due and queue at their times, as a board's hardware timer does) until c_end; they run
     at the firmware's next call into the shim (a clock or pin read, a wait: observe,
     run_until), which on a board is its next branch (py/vm.c, pending_exception_check)
-    or sooner. Hard IRQs' handlers run at their edges meanwhile."""
+    or sooner. Hard IRQs' handlers run at their edges meanwhile. Those left by a C call
+    before run first (a board runs them at a branch before this call, at this instant).
+    Returns what c_end takes (no allocation: this works under micropython.heap_lock())."""
+    if _pending:
+        dispatch()
     prev = _Link.defer_from
     if since < prev:
         _Link.defer_from = since
-    try:
-        return fn(*args)
-    finally:
-        _Link.defer_from = prev
+    return prev
+
+
+def c_end(prev):
+    """The C function has returned (c_begin's result; in a finally)."""
+    _Link.defer_from = prev
 
 
 def disable_irq():

@@ -32,6 +32,7 @@ def _mcu():
 
 _RP2 = _platform() == "rp2"  # (machine is imported once the host has named the board's family)
 _RP2350 = _RP2 and "RP2350" in _mcu()
+_ESP32 = _platform() == "esp32"  # (no family named: neither)
 _REG = None
 if _RP2 and not _RP2350:
     import _hilreg as _REG  # the RP2040's registers behind mem32 (PWM, IO_BANK0, SIO)
@@ -601,10 +602,14 @@ class UART:
             return
         _hil.blocking()
         deadline = _hil.now() + self._timeout * 1000
-        if _RP2:  # ports/rp2/machine_uart.c, mp_machine_uart_read: mp_event_handle_nowait while it waits
+        if not _ESP32:  # ports/rp2/machine_uart.c, mp_machine_uart_read: mp_event_handle_nowait while it waits
             self._wait_rx(enough, deadline)
         else:  # ports/esp32/machine_uart.c, mp_machine_uart_read: ESP-IDF's uart_read_bytes blocks
-            _hil.c_call(_hil.now(), self._wait_rx, enough, deadline)
+            prev = _hil.c_begin(_hil.now())
+            try:
+                self._wait_rx(enough, deadline)
+            finally:
+                _hil.c_end(prev)
 
     def _wait_rx(self, enough, deadline):
         while not enough() and _hil.now() < deadline:
@@ -709,10 +714,14 @@ class UART:
         """Wait until the last byte written has left."""
         if self._tx_end > _hil.now():
             _hil.blocking()
-            if _RP2:  # ports/rp2/machine_uart.c, mp_machine_uart_ioctl (MP_STREAM_FLUSH): mp_event_handle_nowait
+            if not _ESP32:  # ports/rp2/machine_uart.c, mp_machine_uart_ioctl (MP_STREAM_FLUSH): mp_event_handle_nowait
                 _hil.run_until(self._tx_end)
             else:  # ports/esp32/machine_uart.c, mp_machine_uart_ioctl: ESP-IDF's uart_wait_tx_done blocks
-                _hil.c_call(_hil.now(), _hil.run_until, self._tx_end)
+                prev = _hil.c_begin(_hil.now())
+                try:
+                    _hil.run_until(self._tx_end)
+                finally:
+                    _hil.c_end(prev)
 
     def txdone(self):
         _hil.observe()
@@ -733,11 +742,15 @@ class _UartIRQ:
 def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
     """Length of a pulse in us; -2 if it never started, -1 if it never ended. A busy loop
     in C on a board (extmod/machine_pulse.c, machine_time_pulse_us): soft callbacks due
-    meanwhile run when it returns (_hil.c_call), hard IRQs' handlers at their edges."""
+    meanwhile run when it returns (_hil.c_begin), hard IRQs' handlers at their edges."""
     if not isinstance(pin, Pin):  # a PinBase: read it in a loop, as the C function does
         return _pulse_by_reads(pin, pulse_level, timeout_us)
     _hil.blocking()
-    return _hil.c_call(_hil.now(), _pulse, pin, pulse_level, timeout_us)
+    prev = _hil.c_begin(_hil.now())
+    try:
+        return _pulse(pin, pulse_level, timeout_us)
+    finally:
+        _hil.c_end(prev)
 
 
 def _pulse(pin, pulse_level, timeout_us):

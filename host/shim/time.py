@@ -49,13 +49,16 @@ def ticks_diff(ticks1, ticks2):
     return ((ticks1 - ticks2 + _HALF) & _MASK) - _HALF
 
 
-def _rp2():
+def _platform():
     import sys
 
-    return getattr(sys.modules.get("sys", sys), "platform", "") == "rp2"
+    return getattr(sys.modules.get("sys", sys), "platform", "")
 
 
-_RP2 = _rp2()  # (imported once the host has named the board's family)
+# (imported once the host has named the board's family; with none named, sleeps run
+# callbacks all along, as before the ports' rules below were followed)
+_RP2 = _platform() == "rp2"
+_ESP32 = _platform() == "esp32"
 
 
 def sleep_us(us):
@@ -72,20 +75,36 @@ def sleep_us(us):
     _hil.blocking()
     t = _hil.now()
     if _RP2:
-        busy_from = t + (us // 1000) * 1000 if us > 1000 else t
+        _wait(t + (us // 1000) * 1000 if us > 1000 else t, t + us)
+    elif _ESP32:
+        _wait(t + us - 155 if us > 155 else t, t + us)
     else:
-        busy_from = t + us - 155 if us > 155 else t
-    _hil.c_call(busy_from, _hil.run_until, t + us)
+        _hil.run_until(t + us)
+
+
+def _wait(busy_from, t_end):
+    """Wait to t_end, in a C busy loop from busy_from on (_hil.c_begin). (No allocation:
+    sleeps work under micropython.heap_lock().)"""
+    prev = _hil.c_begin(busy_from)
+    try:
+        _hil.run_until(t_end)
+    finally:
+        _hil.c_end(prev)
 
 
 def _sleep_us(us):
-    """mp_hal_delay_ms (ports/rp2/mphalport.c: mp_event_wait_ms; ports/esp32/mphalport.c:
-    mp_handle_pending each tick): scheduled callbacks run at their times."""
+    """mp_hal_delay_ms: scheduled callbacks run at their times (ports/rp2/mphalport.c:
+    mp_event_wait_ms), on an ESP32 but in the last 155 us (ports/esp32/mphalport.c:
+    mp_handle_pending each tick, the rest through mp_hal_delay_us)."""
     if us <= 0:
         _hil.observe()
         return
     _hil.blocking()
-    _hil.run_until(_hil.now() + us)
+    t = _hil.now()
+    if _ESP32:
+        _wait(t + us - 155 if us > 155 else t, t + us)
+    else:
+        _hil.run_until(t + us)
 
 
 def sleep_ms(ms):

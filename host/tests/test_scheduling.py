@@ -42,11 +42,11 @@ def test_a_timer_callback_never_runs_inside_time_pulse_us_and_the_control_loop_i
     rig, r = run_case("sched_sonar", 0.4, script, budgets=[budget])
     assert r["inside"] == 0, f"{r['inside']} Timer callbacks ran inside time_pulse_us {_where(rig)}"
     assert r["reads"] == [(25_000, end) for _start, end in echoes], r["reads"]
-    # a read begins when the sleep of 30 ms after the one before ends (at 0, 60, 130, 200 ms,
-    # where that sleep runs the tick due at that instant) and lasts to its echo's end
-    reads = [(0 if k == 0 else echoes[k - 1][1] + 30_000, end) for k, (_start, end) in enumerate(echoes)]
+    # a read begins when the sleep of 25 ms after the one before ends (at 0, 55, 125, 195 ms)
+    # and lasts to its echo's end
+    reads = [(0 if k == 0 else echoes[k - 1][1] + 25_000, end) for k, (_start, end) in enumerate(echoes)]
     expected = []  # each tick at its time, or at the end of the read it came due in
-    for k in range(1, 28):
+    for k in range(1, (echoes[-1][1] + 25_000) // 10_000 + 1):  # (to the last sleep's end, 265 ms)
         due = 10_000 * k
         late = [end for begin, end in reads if begin < due <= end]
         expected.append(late[0] if late else due)
@@ -79,13 +79,16 @@ def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
 
 
 @pytest.mark.parametrize(
-    "board, ran",
+    "board, ran, ran_ms",
     [
-        ("rpi_pico", [1500, 2500, 2500]),  # ports/rp2/mphalport.c: events for 2 ms, then a tight loop
-        ("esp32_devkitc", [1500, 2200, 2500]),  # ports/esp32/mphalport.c: events but in the last 155 us
+        # ports/rp2/mphalport.c: mp_hal_delay_us handles events for 2 ms, then a tight loop;
+        # mp_hal_delay_ms handles them all along
+        ("rpi_pico", [1500, 2500, 2500], [1500, 2900]),
+        # ports/esp32/mphalport.c: both handle events but in their last 155 us
+        ("esp32_devkitc", [1500, 2200, 2500], [1500, 3000]),
     ],
 )
-def test_sleep_us_runs_callbacks_only_where_the_ports_delay_handles_events(make_rig, board, ran):
+def test_sleep_us_runs_callbacks_only_where_the_ports_delay_handles_events(make_rig, board, ran, ran_ms):
     app = App(
         name="sched-sleep-us",
         default_board=board,
@@ -97,8 +100,9 @@ def test_sleep_us_runs_callbacks_only_where_the_ports_delay_handles_events(make_
     rig.run_for(0.01)
     rig.stop()
     r = results(rig.console)
-    assert r.get("returned") == 2500, rig.console
-    assert r["ran"] == ran, f"{board}: timers ran at {r['ran']}, expected {ran} {_where(rig)}"
+    assert r.get("returned") == 2500 and r.get("returned_ms") == 3000, rig.console
+    assert r["ran"] == ran, f"{board}: timers in sleep_us ran at {r['ran']}, expected {ran} {_where(rig)}"
+    assert r["ran_ms"] == ran_ms, f"{board}: timers in sleep_ms ran at {r['ran_ms']}, expected {ran_ms} {_where(rig)}"
 
 
 def test_micropython_schedule_raises_queue_full_past_the_ports_depth(run_case):

@@ -1,6 +1,7 @@
-# Timers due inside a sleep_us(2500): the port runs scheduled callbacks only in the part of
-# mp_hal_delay_us that handles events (rp2: its whole milliseconds; esp32: all but the
-# last 155 us); the others run when it returns.
+# Timers due inside a sleep_us(2500), then a sleep_ms(3): the port runs scheduled callbacks
+# only in the part of mp_hal_delay_us that handles events (rp2: its whole milliseconds;
+# esp32: all but the last 155 us), and in mp_hal_delay_ms (rp2: all of it; esp32: all but
+# the last 155 us, its mp_hal_delay_us); the others run when it returns.
 import time
 from machine import Timer
 
@@ -16,6 +17,15 @@ for due_us in (1500, 2200, 2400):
     Timer(-1, mode=Timer.ONE_SHOT, period=due_us, tick_hz=1_000_000, callback=note)
 time.sleep_us(2500)
 returned = time.ticks_diff(time.ticks_us(), t0)
+in_us = ran[:]
+t0 = time.ticks_us()
+del ran[:]
+for due_us in (1500, 2900):
+    Timer(-1, mode=Timer.ONE_SHOT, period=due_us, tick_hz=1_000_000, callback=note)
+time.sleep_ms(3)
+returned_ms = time.ticks_diff(time.ticks_us(), t0)
 time.sleep_ms(1)
-print("R ran", ran)
+print("R ran", in_us)
 print("R returned", returned)
+print("R ran_ms", ran)
+print("R returned_ms", returned_ms)

@@ -27,7 +27,7 @@ for _ in range(4):
     width = time_pulse_us(echo, 1, 40_000)
     inside = False
     reads.append((width, time.ticks_diff(time.ticks_us(), t0)))
-    time.sleep_ms(30)
+    time.sleep_ms(25)
 print("R inside", seen_inside)
 print("R ticks", ticks)
 print("R reads", reads)
