@@ -141,6 +141,15 @@ class _Link:
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
     callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
+    # The scheduler's queue holds at most this many soft callbacks (MICROPY_SCHEDULER_DEPTH:
+    # 8 in ports/rp2/mpconfigport.h and ports/esp32/mpconfigport.h; py/mpconfig.h's default
+    # of 4 is the unix port's, not a board's).
+    depth = 8
+    # From this instant on the firmware is inside a call that is C on a board (a busy loop,
+    # a blocking driver call: time_pulse_us, a bus transfer), where the port runs no
+    # scheduled callback: soft ones wait in the queue for its return (c_begin). FOREVER_US: none.
+    defer_from = F.FOREVER_US
+    hard = False  # a hard IRQ's handler is running (they do not nest)
     # _hilfast.apply_state when the interpreter has it (the harness's build) and HIL_PURE
     # is not set, else None (the pure-Python loop of _sync: a user's own interpreter)
     fast = None
@@ -391,9 +400,16 @@ def transfer(handle, op, address, n_read, data):
 
 
 def bus_time(t_end):
-    """The firmware blocks on the bus until t_end (a transfer's end, virtual time)."""
+    """The firmware blocks on the bus until t_end (a transfer's end, virtual time): a C
+    call on a board (the ports' I2C, SPI, bitstream, 1-Wire and DHT drivers wait without
+    running scheduled callbacks: docs/shim.md, "Where callbacks run"), so soft callbacks
+    due meanwhile run when it returns."""
     if t_end > _now:
-        _released_run_until(t_end, None)
+        prev = c_begin(_now)
+        try:
+            _released_run_until(t_end, None)
+        finally:
+            c_end(prev)
 
 
 # -- clock ------------------------------------------------------------------------
@@ -417,6 +433,8 @@ def observe():
     global _spin, _now
     if _dispatching:  # a handler runs at its edge's instant: its reads move no time
         return
+    if _pending:  # left by a C call (c_begin): back in the firmware, they run first
+        dispatch()
     if _lockstep:
         t = _now
         _spin += 1
@@ -446,6 +464,8 @@ def run_until(t_target, watch=None):
     """
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
+    if _pending:  # left by a C call (c_begin): they run before this wait begins
+        dispatch()
     return _released_run_until(t_target, watch)
 
 
@@ -611,7 +631,9 @@ def _sync(t_until, watch):
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
     fast = _Link.fast
-    if fast is None:
+    if fast is None or _dispatching or _irq_off or _Link.defer_from != FOREVER_US:
+        # (inside a callback, with IRQs off or in a C call: only the pure path keeps soft
+        # callbacks waiting and the queue bounded; _hilfast runs them all, as dispatch does outside)
         return _apply_state(p, base, t_end, horizon, n, watch)
     # the same as _apply_state, in C (host/shim/cmod/_hilfast)
     cur = [F.STATE_LEN, 0, False]
@@ -737,14 +759,62 @@ def _handlers_wrote(t):
 # -- callbacks: IRQ handlers and Timer callbacks ------------------------------------
 
 
+# As MicroPython's scheduler (py/scheduler.c): a soft callback (a Timer's, a Pin IRQ's
+# without hard=True, micropython.schedule's) waits in a queue of Link.depth entries until
+# the firmware is back at a bytecode boundary or in a wait that handles events; a hard
+# IRQ's handler (Pin.irq(hard=True), on the port shared/runtime/mpirq.c, mp_irq_handler)
+# runs at its edge, even inside a C call or another callback. The queue's entries are
+# (callback, argument); an argument whose _hard is true is a hard IRQ's, never counted.
+
+
+def _is_hard(arg):
+    return getattr(arg, "_hard", False)
+
+
+def room():
+    """mp_sched_full's negation: the queue holds fewer than Link.depth soft callbacks."""
+    pending = _pending
+    if len(pending) < _Link.depth:
+        return True
+    n = 0
+    for _cb, arg in pending:
+        if not _is_hard(arg):
+            n += 1
+    return n < _Link.depth
+
+
 def schedule(callback, arg):
-    _pending.append((callback, arg))
+    """py/scheduler.c, mp_sched_schedule: queue a soft callback; False, and nothing
+    queued, when the queue is full. A port's Timer and IRQ handlers ignore that result
+    (ports/rp2/machine_timer.c alarm_callback, ports/esp32/machine_timer.c
+    machine_timer_isr, shared/runtime/mpirq.c mp_irq_handler): the call is lost."""
+    if len(_pending) < _Link.depth or _is_hard(arg) or room():
+        _pending.append((callback, arg))
+        return True
+    return False
+
+
+def mp_schedule(function, arg):
+    """micropython.schedule (py/modmicropython.c, mp_micropython_schedule): RuntimeError
+    when the queue is full. Called from the main program, the callback runs at once (the
+    bytecode boundary after the call); from a callback or a hard IRQ's handler, once the
+    running callbacks are done (the scheduler is locked meanwhile, as on the port)."""
+    if not schedule(function, arg):
+        raise RuntimeError("schedule queue full")
+    if not _dispatching:
+        dispatch()
 
 
 def dispatch():
-    """Run pending callbacks in order, never re-entrantly, unless IRQs are off."""
+    """Run pending callbacks in order, never re-entrantly, unless IRQs are off. Inside a
+    callback or a C call (from Link.defer_from on) only hard IRQs' handlers run: the soft
+    ones wait for the callback or the call to return."""
     global _dispatching
-    if _dispatching or _irq_off:
+    if _irq_off:
+        return
+    if _dispatching or _now >= _Link.defer_from:
+        if not _Link.hard:
+            _run_hard()
         return
     _dispatching = True
     pending, link = _pending, _Link
@@ -758,6 +828,52 @@ def dispatch():
                 raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
     finally:
         _dispatching = False
+
+
+def _run_hard():
+    """The hard IRQs' handlers in the queue, in order (the soft callbacks stay)."""
+    global _dispatching
+    pending = _pending
+    was = _dispatching
+    i = 0
+    while i < len(pending):
+        callback, arg = pending[i]
+        if not _is_hard(arg):
+            i += 1
+            continue
+        del pending[i]
+        _Link.callbacks += 1
+        _Link.hard = _dispatching = True  # (its reads move no time, as any handler's)
+        try:
+            callback(arg)
+        except Exception as e:
+            raise CallbackFailed(callback, e)  # noqa: B904
+        finally:
+            _Link.hard = False
+            _dispatching = was
+
+
+def c_begin(since):
+    """The firmware enters what is a C function of the port that waits without running
+    scheduled callbacks (time_pulse_us's busy loop, a bus transfer, the end of sleep_us):
+    soft callbacks that come from virtual time ``since`` on stay queued (timers still come
+    due and queue at their times, as a board's hardware timer does) until c_end; they run
+    at the firmware's next call into the shim (a clock or pin read, a wait: observe,
+    run_until), which on a board is its next branch (py/vm.c, pending_exception_check)
+    or sooner. Hard IRQs' handlers run at their edges meanwhile. Those left by a C call
+    before run first (a board runs them at a branch before this call, at this instant).
+    Returns what c_end takes (no allocation: this works under micropython.heap_lock())."""
+    if _pending:
+        dispatch()
+    prev = _Link.defer_from
+    if since < prev:
+        _Link.defer_from = since
+    return prev
+
+
+def c_end(prev):
+    """The C function has returned (c_begin's result; in a finally)."""
+    _Link.defer_from = prev
 
 
 def disable_irq():

@@ -232,6 +232,11 @@ def install(said, counting=False, platform=None, machine=None):
     _sys.modules["usys"] = _sys.modules.get("sys", _sys)
     mp = _copy(_micropython)
     mp.alloc_emergency_exception_buf = _alloc_emergency_exception_buf
+    import _hil
+
+    # the board's scheduler (its queue's depth, callbacks only where the port runs them):
+    # the unix port's own would run them inside the shim's calls, four at most
+    mp.schedule = _hil.mp_schedule
     _sys.modules["micropython"] = mp
     board_os = _copy(_os)
     uname = _Uname(

@@ -5,6 +5,7 @@ import _hil
 import _hilframe as _F
 
 _pending = _hil._pending  # callbacks due (the one list, never rebound)
+_DEPTH = _hil._Link.depth  # the scheduler's queue (_hil.schedule)
 _RISING, _FALLING = _F.IRQ_RISING, _F.IRQ_FALLING
 
 _UNIQUE_ID = b"\x24\x0a\xc4\x00\xf1\x1e"
@@ -31,6 +32,7 @@ def _mcu():
 
 _RP2 = _platform() == "rp2"  # (machine is imported once the host has named the board's family)
 _RP2350 = _RP2 and "RP2350" in _mcu()
+_ESP32 = _platform() == "esp32"  # (no family named: neither)
 _REG = None
 if _RP2 and not _RP2350:
     import _hilreg as _REG  # the RP2040's registers behind mem32 (PWM, IO_BANK0, SIO)
@@ -209,7 +211,8 @@ class Pin:
             edge = _RISING if value else _FALLING
             if self._trigger & edge:
                 self._flags = edge
-                _pending.append((self._handler, self))  # (_hil.schedule, on the hot path)
+                if self._hard or len(_pending) < _DEPTH or _hil.room():  # (_hil.schedule, on the hot path)
+                    _pending.append((self._handler, self))
 
     def value(self, x=None):
         if x is None:
@@ -273,6 +276,9 @@ class Pin:
         if not self._cfg:
             self.init()
         self._handler = handler
+        # hard=True: ports/rp2/machine_pin.c (machine_pin_irq, mp_hal_pin_interrupt) runs the
+        # handler in the interrupt (shared/runtime/mpirq.c, mp_irq_handler); without it, scheduled
+        self._hard = bool(hard) and handler is not None
         self._trigger = _wire_edges(trigger) if handler is not None else 0
         _hil.configure(self._handle, _F.CFG_IRQ, self._id, self._trigger)
         return _PinIRQ(self)
@@ -300,6 +306,7 @@ def _make(id, cls=Pin):
         pin._level = 0
         pin._out = 0
         pin._handler = None
+        pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
         pin._trigger = 0
         pin._flags = 0
         pin._counters = None  # Counter and Encoder units counting this pin's edges
@@ -625,6 +632,16 @@ class UART:
             return
         _hil.blocking()
         deadline = _hil.now() + self._timeout * 1000
+        if not _ESP32:  # ports/rp2/machine_uart.c, mp_machine_uart_read: mp_event_handle_nowait while it waits
+            self._wait_rx(enough, deadline)
+        else:  # ports/esp32/machine_uart.c, mp_machine_uart_read: ESP-IDF's uart_read_bytes blocks
+            prev = _hil.c_begin(_hil.now())
+            try:
+                self._wait_rx(enough, deadline)
+            finally:
+                _hil.c_end(prev)
+
+    def _wait_rx(self, enough, deadline):
         while not enough() and _hil.now() < deadline:
             _hil.run_until(deadline, [self._handle])
 
@@ -727,7 +744,14 @@ class UART:
         """Wait until the last byte written has left."""
         if self._tx_end > _hil.now():
             _hil.blocking()
-            _hil.run_until(self._tx_end)
+            if not _ESP32:  # ports/rp2/machine_uart.c, mp_machine_uart_ioctl (MP_STREAM_FLUSH): mp_event_handle_nowait
+                _hil.run_until(self._tx_end)
+            else:  # ports/esp32/machine_uart.c, mp_machine_uart_ioctl: ESP-IDF's uart_wait_tx_done blocks
+                prev = _hil.c_begin(_hil.now())
+                try:
+                    _hil.run_until(self._tx_end)
+                finally:
+                    _hil.c_end(prev)
 
     def txdone(self):
         _hil.observe()
@@ -746,10 +770,20 @@ class _UartIRQ:
 
 
 def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
-    """Length of a pulse in us; -2 if it never started, -1 if it never ended."""
+    """Length of a pulse in us; -2 if it never started, -1 if it never ended. A busy loop
+    in C on a board (extmod/machine_pulse.c, machine_time_pulse_us): soft callbacks due
+    meanwhile run when it returns (_hil.c_begin), hard IRQs' handlers at their edges."""
     if not isinstance(pin, Pin):  # a PinBase: read it in a loop, as the C function does
         return _pulse_by_reads(pin, pulse_level, timeout_us)
     _hil.blocking()
+    prev = _hil.c_begin(_hil.now())
+    try:
+        return _pulse(pin, pulse_level, timeout_us)
+    finally:
+        _hil.c_end(prev)
+
+
+def _pulse(pin, pulse_level, timeout_us):
     watch = [pin._handle]
     if pin.value() != pulse_level:
         deadline = _hil.now() + timeout_us
@@ -830,6 +864,7 @@ class WDT:
             wdt._timer = Timer(-1)
             wdt._timer._callback = wdt._expired
             wdt._timer._period_us = 0
+            wdt._timer._hard = True  # (the hardware resets the board: never queued behind callbacks)
         return WDT._one
 
     def __init__(self, id=0, timeout=5000):

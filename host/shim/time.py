@@ -49,24 +49,72 @@ def ticks_diff(ticks1, ticks2):
     return ((ticks1 - ticks2 + _HALF) & _MASK) - _HALF
 
 
+def _platform():
+    import sys
+
+    return getattr(sys.modules.get("sys", sys), "platform", "")
+
+
+# (imported once the host has named the board's family; with none named, sleeps run
+# callbacks all along, as before the ports' rules below were followed)
+_RP2 = _platform() == "rp2"
+_ESP32 = _platform() == "esp32"
+
+
 def sleep_us(us):
+    """extmod/modtime.c, time_sleep_us: the port's mp_hal_delay_us, a busy loop that runs
+    scheduled callbacks only for part of the wait. ports/rp2/mphalport.c: past 1000 us its
+    whole milliseconds go to mp_hal_delay_ms (which handles events), the rest is a tight
+    loop; ports/esp32/mphalport.c: mp_handle_pending while more than its 150 us (and 5 us
+    call overhead) are left. Soft callbacks due in the rest run when it returns."""
     if not isinstance(us, int):
         raise TypeError("can't convert %s to int" % type(us).__name__)
     if us <= 0:  # returns at once, as on a board, where even that takes a little time
         _hil.observe()
         return
     _hil.blocking()
-    _hil.run_until(_hil.now() + us)
+    t = _hil.now()
+    if _RP2:
+        _wait(t + (us // 1000) * 1000 if us > 1000 else t, t + us)
+    elif _ESP32:
+        _wait(t + us - 155 if us > 155 else t, t + us)
+    else:
+        _hil.run_until(t + us)
+
+
+def _wait(busy_from, t_end):
+    """Wait to t_end, in a C busy loop from busy_from on (_hil.c_begin). (No allocation:
+    sleeps work under micropython.heap_lock().)"""
+    prev = _hil.c_begin(busy_from)
+    try:
+        _hil.run_until(t_end)
+    finally:
+        _hil.c_end(prev)
+
+
+def _sleep_us(us):
+    """mp_hal_delay_ms: scheduled callbacks run at their times (ports/rp2/mphalport.c:
+    mp_event_wait_ms), on an ESP32 but in the last 155 us (ports/esp32/mphalport.c:
+    mp_handle_pending each tick, the rest through mp_hal_delay_us)."""
+    if us <= 0:
+        _hil.observe()
+        return
+    _hil.blocking()
+    t = _hil.now()
+    if _ESP32:
+        _wait(t + us - 155 if us > 155 else t, t + us)
+    else:
+        _hil.run_until(t + us)
 
 
 def sleep_ms(ms):
     if not isinstance(ms, int):
         raise TypeError("can't convert %s to int" % type(ms).__name__)
-    sleep_us(ms * 1000)
+    _sleep_us(ms * 1000)
 
 
 def sleep(seconds):
-    sleep_us(int(seconds * 1_000_000))
+    _sleep_us(int(seconds * 1_000_000))
 
 
 _rtc_offset_us = 0  # machine.RTC().datetime(...) moves the wall clock

@@ -1,0 +1,142 @@
+"""Scheduling as the port does it (docs/shim.md, "Where callbacks run"): soft callbacks
+(Timer, Pin.irq without hard=True, micropython.schedule) run at the firmware's bytecode
+boundaries and in the waits that handle events, never inside what is a C call on a board
+(time_pulse_us, the busy end of sleep_us, bus transfers); hard IRQs' handlers run at their
+edges even there; the scheduler's queue holds MICROPY_SCHEDULER_DEPTH (8 on rp2 and esp32)
+callbacks, as py/scheduler.c's. Each case runs on both of the shim's paths for a STATE's
+changes (_hilfast's C loop and the pure-Python one)."""
+
+import pytest
+
+from host.rig.app import App
+from host.rig.budgets import PeriodBudget
+from host.tests.conftest import FIRMWARE, results
+from sim_plant.scripted import ScriptedPlant
+
+pytestmark = pytest.mark.hil
+
+DEPTH = 8  # MICROPY_SCHEDULER_DEPTH in ports/rp2/mpconfigport.h and ports/esp32/mpconfigport.h
+
+
+@pytest.fixture(params=["c", "pure"], autouse=True)
+def path(request, monkeypatch):
+    if request.param == "pure":
+        monkeypatch.setenv("HIL_PURE", "1")
+    else:
+        monkeypatch.delenv("HIL_PURE", raising=False)
+    return request.param
+
+
+def _where(rig) -> str:
+    return f"(console and trace: {rig.artefacts})"
+
+
+def test_a_timer_callback_never_runs_inside_time_pulse_us_and_the_control_loop_is_late(run_case):
+    """A 10 ms control loop on a Timer and a main program reading a ranger with
+    time_pulse_us (an echo from 5 to 30 ms, then every 70 ms): the ticks due during a read
+    run when it has returned (at the echo's end), none of them sees the read's flag set,
+    and the loop probe's period budget sees the lateness."""
+    echoes = [(5_000 + k * 70_000, 30_000 + k * 70_000) for k in range(4)]
+    script = [e for start, end in echoes for e in ((start, "echo", 1), (end, "echo", 0))]
+    budget = PeriodBudget("control.period", "probe:control", period_us=10_000, tolerance_us=500)
+    rig, r = run_case("sched_sonar", 0.4, script, budgets=[budget])
+    assert r["inside"] == 0, f"{r['inside']} Timer callbacks ran inside time_pulse_us {_where(rig)}"
+    assert r["reads"] == [(25_000, end) for _start, end in echoes], r["reads"]
+    # a read begins when the sleep of 25 ms after the one before ends (at 0, 55, 125, 195 ms)
+    # and lasts to its echo's end
+    reads = [(0 if k == 0 else echoes[k - 1][1] + 25_000, end) for k, (_start, end) in enumerate(echoes)]
+    expected = []  # each tick at its time, or at the end of the read it came due in
+    for k in range(1, (echoes[-1][1] + 25_000) // 10_000 + 1):  # (to the last sleep's end, 265 ms)
+        due = 10_000 * k
+        late = [end for begin, end in reads if begin < due <= end]
+        expected.append(late[0] if late else due)
+    assert r["ticks"] == expected, f"ticks ran at {r['ticks']}, expected {expected} {_where(rig)}"
+    stats = budget.stats()
+    assert budget.misses > 0 and stats["max"] >= 20_000, f"the period budget did not see the late loop: {stats}"
+
+
+def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
+    """On an RP2040 (ports/rp2/machine_pin.c: hard=True runs the handler in the interrupt):
+    edges at 10 and 12 ms during a read that ends at 30 ms, then at 38 and 39 ms while a
+    Timer callback (due at 35 ms) sleeps 10 ms."""
+    script = [(5_000, "echo", 1), (10_000, "a", 1), (12_000, "b", 1), (30_000, "echo", 0)]
+    script += [(36_000, "a", 0), (36_000, "b", 0), (38_000, "a", 1), (39_000, "b", 1)]
+    app = App(
+        name="sched-hard",
+        default_board="rpi_pico_bench",
+        pins={"ECHO": 5, "A": 6, "B": 7},
+        wiring={"ECHO": "echo", "A": "a", "B": "b"},
+        make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
+        console_baud=0,
+    )
+    rig = make_rig(app, main_dir=FIRMWARE / "sched_hard", allow_exit=True)
+    rig.run_for(0.05)
+    rig.stop()
+    r = results(rig.console)
+    assert r.get("width") == 25_000, rig.console
+    assert r["hard"] == [(10_000, True), (38_000, True)], f"the hard handler: {r['hard']} {_where(rig)}"
+    assert r["soft"] == [(30_000, False), (45_000, False)], f"the soft handler: {r['soft']} {_where(rig)}"
+
+
+@pytest.mark.parametrize(
+    "board, ran, ran_ms",
+    [
+        # ports/rp2/mphalport.c: mp_hal_delay_us handles events for 2 ms, then a tight loop;
+        # mp_hal_delay_ms handles them all along
+        ("rpi_pico", [1500, 2500, 2500], [1500, 2900]),
+        # ports/esp32/mphalport.c: both handle events but in their last 155 us
+        ("esp32_devkitc", [1500, 2200, 2500], [1500, 3000]),
+    ],
+)
+def test_sleep_us_runs_callbacks_only_where_the_ports_delay_handles_events(make_rig, board, ran, ran_ms):
+    app = App(
+        name="sched-sleep-us",
+        default_board=board,
+        wiring={},
+        make_plant=lambda: ScriptedPlant((), outputs={}, inputs={}),
+        console_baud=0,
+    )
+    rig = make_rig(app, main_dir=FIRMWARE / "sched_sleep_us", allow_exit=True)
+    rig.run_for(0.01)
+    rig.stop()
+    r = results(rig.console)
+    assert r.get("returned") == 2500 and r.get("returned_ms") == 3000, rig.console
+    assert r["ran"] == ran, f"{board}: timers in sleep_us ran at {r['ran']}, expected {ran} {_where(rig)}"
+    assert r["ran_ms"] == ran_ms, f"{board}: timers in sleep_ms ran at {r['ran_ms']}, expected {ran_ms} {_where(rig)}"
+
+
+def test_micropython_schedule_raises_queue_full_past_the_ports_depth(run_case):
+    rig, r = run_case("sched_queue", 0.05)
+    full = "schedule queue full"
+    assert r.get("queued") == list(range(DEPTH)), rig.console
+    assert r["refused"] == [(i, "RuntimeError", full) for i in range(DEPTH, 12)], rig.console
+    assert r["ran"] == list(range(DEPTH)), f"what was queued must run, in order {_where(rig)}"
+
+
+def test_a_callback_longer_than_its_period_starves_the_main_loop_with_a_bounded_queue(run_case):
+    """10 ms ticks, 15 ms callbacks that stop their timer at the 20th run: the ticks that
+    came due meanwhile were queued up to the depth (the rest lost, as on a board), so
+    DEPTH - 1 more runs follow (the running one is out of the queue); the main loop gets
+    its next turn after them and the loop probe's period budget shows the gap."""
+    budget = PeriodBudget("main.period", "probe:control", period_us=5_000, tolerance_us=500)
+    rig, r = run_case("sched_slow", 0.8, budgets=[budget])
+    assert r.get("stopped_at") == [20], rig.console
+    runs = [10 + 15 * k for k in range(20 + DEPTH - 1)]
+    assert r["runs"] == runs, f"runs at {r['runs']} ms, expected {runs} {_where(rig)}"
+    resumed = runs[-1] + 15
+    assert r["steps"][:3] == [0, 5, resumed], f"main loop steps {r['steps'][:3]} {_where(rig)}"
+    assert budget.stats()["max"] == (resumed - 5) * 1000, budget.stats()
+
+
+def test_a_callback_that_never_lets_the_main_loop_run_ends_with_the_run_not_memory_error(run_case):
+    """A 10 kHz Timer whose callback sleeps 20 ms: the queue stays full (each tick past it
+    is lost, as on a board), the main loop never runs again (the shim drains the queue in
+    the wait: docs/shim.md), and the run reaches its end time (the queue used to grow
+    without bound until the shim died with a MemoryError, blamed on the callback)."""
+    rig, _ = run_case("sched_starved", 2.0, allow_exit=False)
+    lines = rig.console.splitlines()
+    assert "MemoryError" not in rig.console and "Traceback" not in rig.console, rig.console[-2000:]
+    mains = [line for line in lines if line.startswith("M ")]
+    assert mains == ["M 0"], f"the main loop ran again: {mains[:5]} {_where(rig)}"
+    calls = [line.split()[1:] for line in lines if line.startswith("C ")]
+    assert calls[-1] == ["100", "1980"], f"callbacks (count, ms): {calls[-3:]} {_where(rig)}"
