@@ -26,6 +26,8 @@ from pathlib import Path
 import tomllib
 
 from host.core.errors import ConfigError
+from host.core.tomltext import key as toml_key
+from host.core.tomltext import value as toml_value
 
 RANGER_V_PER_M = 0.25375246062992124  # the 0.1 rover's and lab robot's sonar law (their rig files since)
 
@@ -719,24 +721,6 @@ def _header_path(line: str) -> tuple | None:
         path.append(key)
         data = data[key]
     return tuple(path)
-
-
-def toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        return "{ " + ", ".join(f"{toml_key(k)} = {toml_value(v)}" for k, v in value.items()) + " }"
-    raise MigrationError(f"cannot write {value!r} in TOML")
-
-
-def toml_key(key: str) -> str:
-    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else toml_value(key)
 
 
 def plant_text(m: Migrated) -> str:

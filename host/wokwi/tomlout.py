@@ -1,22 +1,7 @@
 """A rig as TOML text, commented: what ``mpy-fil import-wokwi`` writes (the rig file
 loader reads it back to the same rig)."""
 
-import json
-
-
-def value(v) -> str:
-    """One TOML value: text, true/false, a number, a list, an inline table."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(value(i) for i in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {value(i)}" for k, i in v.items()) + " }"
-    raise TypeError(f"no TOML for {v!r}")
+from host.core.tomltext import key, value
 
 
 def _comment(lines: list) -> list[str]:
@@ -32,22 +17,22 @@ def rig_toml(data: dict, notes: dict) -> str:
         f"description = {value(data['description'])}",
         "",
         "[firmware]",
-        *(f"{k} = {value(v)}" for k, v in data["firmware"].items()),
+        *(f"{key(k)} = {value(v)}" for k, v in data["firmware"].items()),
         "",
         *_comment(notes.get("board", [])),
         "[board]",
         f"family = {value(data['board']['family'])}",
         "",
         "[board.pins]  # the board's pins the diagram wires, by the board's names",
-        *(f"{k} = {value(v)}" for k, v in data["board"]["pins"].items()),
+        *(f"{key(k)} = {value(v)}" for k, v in data["board"]["pins"].items()),
         "",
         "[plant]",
     ]
     plant = data["plant"]
-    out += [f"{k} = {value(v)}" for k, v in plant.items() if k != "parts"]
+    out += [f"{key(k)} = {value(v)}" for k, v in plant.items() if k != "parts"]
     for entry in plant["parts"]:
         out += ["", *_comment(notes.get(entry["name"], [])), "[[plant.parts]]"]
-        out += [f"{k} = {value(v)}" for k, v in entry.items()]
+        out += [f"{key(k)} = {value(v)}" for k, v in entry.items()]
     out += ["", "[wiring]  # board pin = plant signal (or probe:<name>)"]
-    out += [f"{k} = {value(v)}" for k, v in data["wiring"].items()]
+    out += [f"{key(k)} = {value(v)}" for k, v in data["wiring"].items()]
     return "\n".join(out) + "\n"
