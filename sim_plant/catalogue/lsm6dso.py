@@ -6,11 +6,11 @@ The LSM6DSO datasheet (DocID031470) gives the same identity as the LSM6DSOX's (W
 bits and reset behaviour (9.14 CTRL3_C, 9.26 STATUS_REG): the chip is that part's
 (:mod:`sim_plant.catalogue.lsm6dsox`, its registers in docs/parts.md), at this address."""
 
-from sim_plant.catalogue.lsm6dsox import Lsm6dsox
+from sim_plant.catalogue.lsm6dsox import WHO_AM_I_OPTION, Lsm6dsox
 from sim_plant.imu import ImuPart
 
 
 class Lsm6dso(Lsm6dsox):
     kind = "lsm6dso"
     doc = "An LSM6DSO 6-axis IMU (WHO_AM_I 0x6C, the lsm6dsox part's registers) at 0x6B, SA0 high as kits wire it."
-    OPTIONS = ImuPart.bus_options(0x6B)
+    OPTIONS = (*ImuPart.bus_options(0x6B), WHO_AM_I_OPTION)

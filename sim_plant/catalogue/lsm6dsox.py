@@ -2,7 +2,10 @@
 (address 0x6A, 0x6B with SA0 high) or SPI (chip select ``<name>.cs``), fed by the
 body's motion (:mod:`sim_plant.imu`).
 
-Modelled registers: WHO_AM_I (0x0F, reads 0x6C), INT1_CTRL (0x0D: INT1_DRDY_XL/G drive
+``who_am_i`` picks the family member a driver checks for: 0x6C (LSM6DSOX, LSM6DSO), 0x6A
+(LSM6DSL), 0x69 (LSM6DS3, LSM6DS33); the registers below are the LSM6DSOX's for each.
+
+Modelled registers: WHO_AM_I (0x0F, as ``who_am_i``), INT1_CTRL (0x0D: INT1_DRDY_XL/G drive
 ``<name>.int``), CTRL1_XL (0x10: ODR_XL, FS_XL), CTRL2_G (0x11: ODR_G, FS_G, FS_125),
 CTRL3_C (0x12: SW_RESET resets the registers and reads set for 50 µs, BOOT reads set for
 10 ms and leaves the registers as they are, IF_INC), STATUS_REG
@@ -13,7 +16,9 @@ in the run's output). One output data rate: the
 gyro's (the accelerometer's while the gyro is powered down)."""
 
 from sim_plant.buses import DataReady, SelfClearing
+from sim_plant.catalogue.base import Opt
 from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
+from sim_plant.option_table import OneOf
 
 WHO_AM_I = 0x0F
 INT1_CTRL = 0x0D
@@ -29,7 +34,7 @@ class Lsm6dsoxChip(Imu):
     RESET = {WHO_AM_I: 0x6C, CTRL3_C: 0x04}
     MODELLED = {
         INT1_CTRL: "INT1_CTRL: INT1_DRDY_XL, INT1_DRDY_G (the int line)",
-        WHO_AM_I: "WHO_AM_I: 0x6C",
+        WHO_AM_I: "WHO_AM_I: as the who_am_i option (0x6C)",
         CTRL1_XL: "CTRL1_XL: ODR_XL, FS_XL",
         CTRL2_G: "CTRL2_G: ODR_G, FS_G, FS_125",
         CTRL3_C: "CTRL3_C: BOOT (10 ms), SW_RESET (50 us), IF_INC",
@@ -50,6 +55,10 @@ class Lsm6dsoxChip(Imu):
         DataReady(STATUS_REG, 0x01, tuple(range(OUTX_L_A, OUT_END)), "XLDA", "accel_period_us", source="9.26"),
         DataReady(STATUS_REG, 0x02, tuple(range(OUTX_L_G, OUTX_L_A)), "GDA", "gyro_period_us", source="9.26"),
     )
+
+    def power_on(self) -> None:
+        super().power_on()
+        self.regs[WHO_AM_I] = getattr(self, "who_am_i", 0x6C)
 
     def period_us(self) -> int:
         """The samples' rate: the gyro's (the accelerometer's while the gyro is powered down)."""
@@ -94,6 +103,15 @@ class Lsm6dsoxChip(Imu):
         self.rearm(t_us)
 
 
+WHO_AM_I_OPTION = Opt(
+    "who_am_i",
+    OneOf((0x6C, 0x6A, 0x69)),
+    0x6C,
+    "what WHO_AM_I reads (the family member a driver expects: 0x6C LSM6DSOX/LSM6DSO, 0x6A LSM6DSL, "
+    "0x69 LSM6DS3/LSM6DS33)",
+)
+
+
 class Lsm6dsox(ImuPart):
     kind = "lsm6dsox"
     MODELLED_FEATURES = (
@@ -114,8 +132,15 @@ class Lsm6dsox(ImuPart):
         "the accelerometer's and gyro's own output data rates apart (one rate: the gyro's, the "
         "accelerometer's while it is off)",
         "the low-power modes' noise",
+        "the LSM6DSL's and LSM6DS3's own differences from the LSM6DSOX (who_am_i 0x6A, 0x69: their identity only)",
         "the filters' (LPF, HPF) effect on the samples",
     )
     doc = "An LSM6DSOX-class 6-axis IMU (WHO_AM_I 0x6C) on I2C or SPI: gyro and accelerometer from the body's motion."
     CHIP = Lsm6dsoxChip
-    OPTIONS = ImuPart.bus_options(0x6A)
+    OPTIONS = (*ImuPart.bus_options(0x6A), WHO_AM_I_OPTION)
+
+    def engine(self, build):
+        device = super().engine(build)
+        device.who_am_i = self.options["who_am_i"]
+        device.power_on()
+        return device

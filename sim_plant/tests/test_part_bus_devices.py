@@ -39,6 +39,15 @@ def test_each_chip_answers_its_identity_register_as_the_chip_does():
     assert p.bus_transfer("i2c0", B.SCAN, 0, 0, b"")[2] == bytes((0x68, 0x69, 0x6A))
 
 
+@pytest.mark.parametrize(("kind", "address"), [("lsm6dsox", 0x6A), ("lsm6dso", 0x6B)])
+@pytest.mark.parametrize("member", [0x6C, 0x6A, 0x69])
+def test_an_lsm6ds_part_answers_the_family_member_a_driver_expects_also_after_a_software_reset(kind, address, member):
+    p = plant(imu(kind, who_am_i=member))
+    assert read(p, address, 0x0F, 1) == bytes((member,))
+    write(p, address, 0x12, 0x01)  # CTRL3_C SW_RESET: every register back to its reset value
+    assert read(p, address, 0x0F, 1) == bytes((member,)), "WHO_AM_I after SW_RESET"
+
+
 def test_a_missing_address_is_not_acknowledged_and_a_held_bus_is_stuck():
     p = plant(imu())
     assert p.bus_transfer("i2c0", B.XFER, 0x50, 1, b"\x00")[0] == B.NACK_ADDRESS
