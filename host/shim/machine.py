@@ -137,10 +137,12 @@ class Pin:
 
     if _RP2:
 
-        def init(self, mode=-1, pull=None, *, value=None, alt=_ALT_SIO):
+        def init(self, mode=-1, pull=None, *, value=None, alt=_ALT_SIO, **extra):
             # ports/rp2/machine_pin.c, machine_pin_obj_init_helper: a mode other than IN,
             # OUT and OPEN_DRAIN hands the pin to the function `alt` (which the pin must
             # have); the pulls are set every time (None: none)
+            if extra:
+                raise TypeError("extra keyword arguments given")  # (py/argcheck.c, mp_arg_parse_all)
             if mode is None:
                 mode = -1
             if mode != -1 and mode not in self._MODES:
@@ -152,8 +154,10 @@ class Pin:
 
     else:
 
-        def init(self, mode=-1, pull=-1, *, value=None, drive=None, hold=None):
+        def init(self, mode=-1, pull=-1, *, value=None, drive=None, hold=None, **extra):
             # ports/esp32/machine_pin.c: init(mode, pull, *, value, drive, hold); no alt
+            if extra:
+                raise TypeError("extra keyword arguments given")  # (py/argcheck.c, mp_arg_parse_all)
             if mode != -1 and mode not in self._MODES:
                 raise ValueError("invalid pin mode %r" % (mode,))
             self._init(mode, pull, value, _ALT_SIO)
@@ -269,9 +273,10 @@ class Pin:
             return self._pull
         self.init(pull=pull)
 
-    def irq(self, handler=_UNSET, trigger=IRQ_FALLING | IRQ_RISING, *, hard=False, **_kw):
-        if handler is _UNSET and not _kw and trigger == self.IRQ_FALLING | self.IRQ_RISING:
+    def irq(self, handler=_UNSET, trigger=IRQ_FALLING | IRQ_RISING, *more, **kw):
+        if handler is _UNSET and not more and not kw and trigger == self.IRQ_FALLING | self.IRQ_RISING:
             return _PinIRQ(self)  # pin.irq(): the IRQ object as it is (its flags: the last edge)
+        hard = _pin_irq_hard(more, kw)
         handler = None if handler is _UNSET else handler
         if not self._cfg:
             self.init()
@@ -355,6 +360,27 @@ def _wire_edges(trigger):
 
 def _port_edges(edges):
     return (Pin.IRQ_RISING if edges & _RISING else 0) | (Pin.IRQ_FALLING if edges & _FALLING else 0)
+
+
+# What each port's Pin.irq takes after handler and trigger (its machine_pin_irq, parsed by
+# py/argcheck.c mp_arg_parse_all: a keyword it does not name, or a positional too many, is a
+# TypeError): ports/rp2/machine_pin.c, hard; ports/esp32/machine_pin.c, wake (an ESP32's pin
+# handler is always scheduled: machine_pin_isr_handler, mp_sched_schedule). No family: both.
+_PIN_IRQ_MORE = ("wake",) if _ESP32 else ("hard",) if _RP2 else ("hard", "wake")
+
+
+def _pin_irq_hard(more, kw):
+    """Pin.irq's arguments past handler and trigger, checked as the port's are; its hard."""
+    if len(more) > 1:
+        raise TypeError("extra positional arguments given")
+    if more:
+        if _PIN_IRQ_MORE[0] in kw:  # (given by position, its keyword is left over)
+            raise TypeError("extra keyword arguments given")
+        kw[_PIN_IRQ_MORE[0]] = more[0]
+    for name in kw:
+        if name not in _PIN_IRQ_MORE:
+            raise TypeError("extra keyword arguments given")
+    return bool(kw.get("hard", False))
 
 
 class _PinIRQ:

@@ -36,6 +36,9 @@ RP2_NAMES = {  # ports/rp2/machine_pin.c, machine_pin_find; boards/RPI_PICO/pins
     "board_gp23": "AttributeError: type object 'board' has no attribute 'GP23'",  # (the SMPS pin: not in pins.csv)
     "alt_kw": "Pin(GPIO6, mode=OUT)",  # (alt= with a mode of SIO's: no function chosen; machine_pin_print)
     "bad_af": "ValueError: invalid pin af: 8",  # (GPCK is GP20..GP25's alone, boards/rp2_af.csv)
+    "irq_hard": "'ok'",  # machine_pin_irq: handler, trigger, hard
+    "irq_hard_pos": "'ok'",
+    "irq_wake": "TypeError: extra keyword arguments given",  # (py/argcheck.c, mp_arg_parse_all)
 }
 ESP32_NAMES = {  # ports/esp32/machine_pin.c: a generic board's Pin.board is empty; init has no alt=
     "led": "ValueError: invalid pin",
@@ -43,8 +46,12 @@ ESP32_NAMES = {  # ports/esp32/machine_pin.c: a generic board's Pin.board is emp
     "gpio29": "AttributeError: type object 'Pin' has no attribute 'cpu'",
     "unknown": "ValueError: invalid pin",
     "board_gp23": "AttributeError: type object 'board' has no attribute 'GP23'",
-    "alt_kw": "TypeError: unexpected keyword argument 'alt'",
+    "alt_kw": "TypeError: extra keyword arguments given",  # (machine_pin_obj_init_helper: mp_arg_parse_all)
     "bad_af": "AttributeError: type object 'Pin' has no attribute 'ALT'",
+    # machine_pin_irq: handler, trigger, wake (no hard: a pin's handler is always scheduled)
+    "irq_hard": "TypeError: extra keyword arguments given",
+    "irq_hard_pos": "'ok'",  # (the third positional is wake: None, no wake)
+    "irq_wake": "'ok'",
 }
 CANNOT = "ValueError: cannot change frequency"  # ports/rp2/modmachine.c: set_sys_clock_khz failed
 ESP32_ONLY = "ValueError: frequency must be 20MHz, 40MHz, 80Mhz, 160MHz or 240MHz"  # ports/esp32/modmachine.c

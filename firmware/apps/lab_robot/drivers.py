@@ -28,8 +28,9 @@ class Drv8833Motor:
 
 class QuadratureEncoder:
     """Both channels on interrupts, both edges: each handler reads A and B and steps the
-    Table 1 decoder (quadrature.py). The handler allocates nothing, so it may run as a
-    hard IRQ."""
+    Table 1 decoder (quadrature.py). On the ESP32 a pin's handler is always scheduled (its
+    Pin.irq has no hard argument): it runs at the next bytecode boundary, not inside a
+    blocking call such as the sonar's time_pulse_us."""
 
     def __init__(self, pin_a, pin_b):
         self._a = Pin(pin_a, Pin.IN)
@@ -37,8 +38,8 @@ class QuadratureEncoder:
         self.decoder = Quadrature(self._a.value(), self._b.value())
         self._taken = 0
         edges = Pin.IRQ_RISING | Pin.IRQ_FALLING
-        self._a.irq(handler=self._edge, trigger=edges, hard=True)
-        self._b.irq(handler=self._edge, trigger=edges, hard=True)
+        self._a.irq(handler=self._edge, trigger=edges)
+        self._b.irq(handler=self._edge, trigger=edges)
 
     def _edge(self, _pin):
         self.decoder.edge(self._a.value(), self._b.value())
