@@ -423,8 +423,10 @@ class PWM:
     @classmethod
     def _from_registers(cls, gpio):
         """A pin given to the PWM function by mem32 (IO_BANK0's FUNCSEL): its PWM, no
-        register written (they say its duty and freq)."""
-        pwm = cls.__new__(cls, gpio)
+        register written (they say its duty and freq). Its Pin is made as Pin(n) makes it
+        on the rp2 port (machine_pin.c, mp_pin_make_new: no mode, nothing configured): a Pin
+        made OUT would put FUNCSEL back to SIO (gpio_set_function), which the firmware set."""
+        pwm = cls.__new__(cls, Pin(gpio))
         _hil.configure(pwm._handle, _F.CFG_PWM, pwm._pin._id, param=pwm._freq)
         return pwm
 
