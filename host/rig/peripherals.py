@@ -30,6 +30,10 @@ FIRED = 1
 WOKE = 2
 """... when it wakes a watched wait (``time_pulse_us``, a timed UART read)."""
 
+RELEASED = -1
+"""A shared line's plant input while the firmware lets it go (its pin an input again, or
+open drain and high): the part drives it (``Wiring.shared``, docs/wiring.md)."""
+
 _LEVEL, _SAMPLE, _BYTES = F.CH_LEVEL, F.CH_SAMPLE, F.CH_BYTES  # (module globals: the hot path's)
 _RISING, _FALLING = F.IRQ_RISING, F.IRQ_FALLING
 
@@ -39,6 +43,7 @@ class Peripheral:
 
     kind = 0  # its CFG kind
     name = "unconfigured"  # as the link log names it
+    lets_go = False  # it may drive a line the plant drives too, in turn (Wiring.shared), and let it go
 
     def configure(self, wiring, h: int, mode: int, pull: int, key: str, param: int):
         """A CFG of this kind: the handle's new configuration (None: it makes none)."""
@@ -93,6 +98,7 @@ class PinPeripheral(Peripheral):
 
     kind = F.CFG_PIN
     name = "pin"
+    lets_go = True  # (made an input, or open drain and high: the line the plant's again)
 
     def is_input(self, mode):
         return mode == F.PIN_IN
@@ -127,6 +133,8 @@ class PinPeripheral(Peripheral):
                 for call in hooks:
                     call(t_us, signal, value, changed)
         if signal in plant_inputs:
+            if value and info.mode == F.PIN_OPEN_DRAIN and signal in outputs.wiring.shared:
+                value = RELEASED  # (open drain, high: the pad is let go, the part drives the line)
             outputs.plant.set_input(signal, value)
 
     def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:

@@ -107,7 +107,8 @@ class Rig:
             self.plant_options = plant_options(spec, self.app)
         self.plant = plant
         self.plant.reset(self.seed)
-        self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
+        shared = self.plant.outputs.keys() & self.plant.inputs.keys()  # (lines both drive in turn)
+        self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs, shared=shared)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
         self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
@@ -294,12 +295,18 @@ class Rig:
         self.linklog.wait(t_now, t_until, watch)
 
     def _on_cfg(self, p: bytes) -> None:
-        h, kind, mode, pull, param, name = F.unpack_cfg(p)
+        """A CFG at its instant ``t``: the plant brought to it first (as for an OUT), so that
+        a pin made an input on a line the plant drives too lets it go then, to the µs."""
+        t, h, kind, mode, pull, param, name = F.unpack_cfg(p)
+        if t != self.plant.t_us:
+            self.clock.catch_up(t)
         key = name.decode()
-        self.linklog.cfg(self.t_us, h, peripherals.name_of(kind), key, mode, pull, param, self.wiring.signal_of(key))
+        self.linklog.cfg(t, h, peripherals.name_of(kind), key, mode, pull, param, self.wiring.signal_of(key))
         info = self.wiring.configure(h, kind, mode, pull, key, param)
+        if self.wiring.lets_go(info):
+            self.plant.set_input(info.signal, peripherals.RELEASED)
         if info is not None and info.is_input:
-            self.inputs.sync(self.t_us, h, info, self.plant)
+            self.inputs.sync(t, h, info, self.plant)
 
     def _on_seen(self, p: bytes) -> None:
         t, h, sample_no = F.unpack_seen(p)

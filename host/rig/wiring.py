@@ -29,6 +29,7 @@ class Handle:
     board_name: str | None
     signal: str | None  # plant signal or "probe:<name>"
     is_input: bool = False
+    mode: int = 0  # as its CFG said: a pin's F.PIN_IN, F.PIN_OUT, F.PIN_OPEN_DRAIN
     pull: int = 0  # F.PULL_NONE, F.PULL_UP, F.PULL_DOWN
     irq: int = 0  # trigger mask: F.IRQ_RISING | F.IRQ_FALLING; a UART's F.IRQ_RX
     samples: int = 0  # ADC samples / UART lines routed to it
@@ -44,15 +45,26 @@ class Handle:
 class Wiring:
     """Pin names -> signals (fixed for a rig), handles -> pins (per interpreter run)."""
 
-    def __init__(self, wiring: dict[str, str], pins: dict[str, object], board: str, sensors: dict | None = None):
+    def __init__(
+        self,
+        wiring: dict[str, str],
+        pins: dict[str, object],
+        board: str,
+        sensors: dict | None = None,
+        shared: frozenset | set = frozenset(),
+    ):
         """``sensors``: the plant's outputs and their kinds (what it drives), to refuse a
-        firmware that drives them too, or reads a level with its ADC."""
+        firmware that drives them too, or reads a level with its ADC. ``shared``: those of
+        them that are plant inputs too, lines both drive in turn (a part's ``io`` signal, an
+        RC-decay sensor's node): a pin may drive one, and lets it go when it is made an
+        input (:meth:`lets_go`, docs/wiring.md)."""
         unknown = sorted(set(wiring) - set(pins))
         if unknown:
             raise ConfigError(f"wiring: board {board} has no pin named {', '.join(unknown)}")
         self.wiring = dict(wiring)
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
         self.sensors = dict(sensors or {})
+        self.shared = frozenset(shared)
         self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
         self.buses: set[str] = set()  # the buses the firmware created (i2c0, spi1, ...)
         self.clear()
@@ -81,12 +93,14 @@ class Wiring:
         board_name = self.pin_names.get(key)
         signal = self.wiring.get(board_name) if board_name else None
         sensor = self.sensors.get(signal)
+        if signal in self.shared and peripheral.lets_go:
+            sensor = None  # (a line both drive in turn: the pin drives it, and lets it go)
         if sensor is not None:  # what no board survives: two outputs on one line, an ADC on a logic level
             refused = peripheral.refuse(mode, f"pin {board_name} ({key})", board_name, signal, sensor)
             if refused:
                 raise ConfigError(refused)
         kind = peripheral.kind
-        info = Handle(kind, key, board_name, signal, peripheral.is_input(mode), pull, freq=param, peripheral=peripheral)
+        info = Handle(kind, key, board_name, signal, peripheral.is_input(mode), mode, pull, freq=param, peripheral=peripheral)
         old = self.handles[h]
         if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
             info.irq, info.samples = old.irq, old.samples  # its IRQ and its samples go on
@@ -97,3 +111,7 @@ class Wiring:
             self.by_signal.setdefault(signal, []).append(h)
         self.fan_out = max(map(len, self.by_signal.values()), default=1)
         return info
+
+    def lets_go(self, info: Handle | None) -> bool:
+        """A CFG made ``info`` an input on a shared line: the firmware lets the line go."""
+        return info is not None and info.is_input and info.signal in self.shared and info.peripheral.lets_go
