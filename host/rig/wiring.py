@@ -100,7 +100,8 @@ class Wiring:
             if refused:
                 raise ConfigError(refused)
         kind = peripheral.kind
-        info = Handle(kind, key, board_name, signal, peripheral.is_input(mode), mode, pull, freq=param, peripheral=peripheral)
+        is_input = peripheral.is_input(mode)
+        info = Handle(kind, key, board_name, signal, is_input, mode, pull, freq=param, peripheral=peripheral)
         old = self.handles[h]
         if old.kind == kind and old.key == key:  # the same pin again (init(), or made anew)
             info.irq, info.samples = old.irq, old.samples  # its IRQ and its samples go on
