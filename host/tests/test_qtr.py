@@ -2,7 +2,7 @@
 (host/tests/firmware/qtr_reads): each line driven high 10 us, made an input, and timed
 until it reads 0, by a loop of value() reads and by machine.time_pulse_us; the times
 follow the floor under each channel (the tape: black_us, the floor: white_us) and the
-emitters (off: no light, the read times out).
+emitters (off: no light, the read times out); let go by an open drain's high too.
 
 The line is one signal both ways (the part's ``io`` signal): the firmware's pin drives it
 and lets it go when made an input, and the plant learns the instant from the CFG's own
@@ -40,4 +40,5 @@ def test_discharge_times_follow_the_floor_and_the_emitters_by_value_loops_and_ti
     assert r["loop"] == [800, 150], f"a loop of value() reads from the release to the fall: {r['loop']}"
     assert r["unlit_pulse"] == [2000, 2000] and r["unlit_raw"] == -1, "no light: the pulse outlasts the timeout"
     assert r["unlit_loop"] == [2000, 2000]
+    assert r["drain_pulse"] == 800, "an open drain's high lets the line go as Pin.IN does (channel 0, the tape)"
     assert "[mpy-fil:" not in rig.console, rig.console
