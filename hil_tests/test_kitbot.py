@@ -2,8 +2,9 @@
 MicroPython library is (a package under lib/ with relative imports; motors on PWM slice 7
 through its registers by mem32, encoders counted by PIO, an IMU reset that polls BOOT and
 REBOOT, a bus clear with writeto(0, ""), array('h') reads, an SH1106 on SPI behind a
-Pin.ALT re-mux of its clock, APA102 LEDs, rp2.bootsel_button, QTR line sensors), held to
-what the plant says happened."""
+Pin.ALT re-mux of its clock, APA102 LEDs sharing SPI0's MOSI with it on a clock pin of
+their own as on a Pololu 3pi+ 2040, rp2.bootsel_button, QTR line sensors), held to what the
+plant says happened."""
 
 import dataclasses
 import subprocess
@@ -89,8 +90,12 @@ def test_kitbot_drives_counts_reads_its_imu_and_shows_what_the_plant_says_happen
     assert vlsb_rows(list(bytes.fromhex(r["picture"])), 128, 64) == want, "the firmware's own buffer"
     assert parts["oled"].picture() == want, "the glass"
     assert truth["oled_on"] == 1 and truth["oled_lit_px"] == sum(want)
-    # the LEDs: red once done (green while driving, blue turning), full brightness, no framing fault
-    assert leds == [0xFF0000, 0, 0] and truth["leds_faults"] == 0 and truth["leds_frames"] >= 4
+    # the LEDs: red once done (green while driving, blue turning), full brightness, no framing
+    # fault: on SPI0 with the display, they heard their own frames only (their clock pin, GP6,
+    # the SPI's only while they are written; the display's on GP2), and the display only its own
+    leds_seen = (leds, truth["leds_faults"], truth["leds_frames"])
+    assert leds == [0xFF0000, 0, 0] and truth["leds_faults"] == 0, f"LEDs, faults, frames: {leds_seen}; {where}"
+    assert truth["leds_frames"] == 3 * 3, f"three shows of three LED frames, none of the display's: {leds_seen}"
     # the line sensors' pins wired to nothing: each reads its pull (low) at once, and
     # time_pulse_us never sees the line rise (its timeout: the driver's 1000)
     assert all(row[1:] == [0, 0, 0] for row in r["line"]) and r["one"] == [1000] * 3

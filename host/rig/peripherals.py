@@ -101,7 +101,7 @@ class PinPeripheral(Peripheral):
     lets_go = True  # (made an input, or open drain and high: the line the plant's again)
 
     def is_input(self, mode):
-        return mode == F.PIN_IN
+        return mode == F.PIN_IN or mode == F.PIN_ALT  # (ALT: a peripheral's; its pad still read)
 
     def refuse(self, mode, pin, board_name, signal, sensor):
         return _drives(pin, signal, board_name) if mode == F.PIN_OUT else None
@@ -277,10 +277,14 @@ class BusPeripheral(Peripheral):
         wiring.buses.add(key)
         return super().configure(wiring, h, mode, pull, key, param)
 
-    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
+    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
         """(status, count, bytes read) from the devices on the handle's bus; a plant with
-        no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF)."""
+        no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF).
+        ``unclocked``: the SPI clock inputs whose pins are not the SPI's now (their chips
+        see nothing: ``Wiring.unclocked``)."""
         if hasattr(plant, "bus_transfer"):
+            if unclocked and op == F.BUS_SPI_XFER:
+                return plant.bus_transfer(info.key, op, address, n_read, data, unclocked=unclocked)
             return plant.bus_transfer(info.key, op, address, n_read, data)
         if op == F.BUS_SPI_XFER:
             return F.BUS_OK, len(data), b"\xff" * len(data)

@@ -109,6 +109,7 @@ class Rig:
         self.plant.reset(self.seed)
         shared = self.plant.outputs.keys() & self.plant.inputs.keys()  # (lines both drive in turn)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs, shared=shared)
+        self.wiring.spi_clocks = spi_clocks(self.plant)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
         self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
@@ -325,7 +326,9 @@ class Rig:
         """A bus transfer: answered at once from the devices as the plant is at its instant."""
         t, h, op, address, n_read, data = F.unpack_bus(p)
         self.clock.catch_up(t)
-        status, count, got = self.bus_trace.answer(self.plant, self.wiring.handles[h], h, t, op, address, n_read, data)
+        info = self.wiring.handles[h]
+        unclocked = self.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
+        status, count, got = self.bus_trace.answer(self.plant, info, h, t, op, address, n_read, data, unclocked)
         self.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, self.clock.lease_us(), got))
 
     def _on_fault(self, p: bytes) -> None:
@@ -388,6 +391,12 @@ class Rig:
     def counters(self) -> dict:
         stats = ("link_round_trips", "irq_edges", "rollbacks", "lease_violations")
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
+
+
+def spi_clocks(plant) -> dict[str, str]:
+    """The plant's SPI chips' clock inputs (``<name>.sck``) and their buses."""
+    devices = getattr(getattr(plant, "bus_set", None), "devices", ())
+    return {d.sck_signal: d.bus for d in devices if getattr(d, "sck_signal", None)}
 
 
 def end_board_fs(rig) -> None:

@@ -13,9 +13,12 @@ its kind's handler (``host/rig/peripherals.py``).
 from dataclasses import dataclass
 
 from host.core.errors import ConfigError
+from host.link import frames as F
 from host.rig.boards import pin_key
 from host.rig.peripherals import UNCONFIGURED, Peripheral, handler
 
+RP2_FUNC_SPI = 1
+"""GPIO_FUNC_SPI: an rp2 pin's function (FUNCSEL) when it is an SPI controller's."""
 PROBE_PREFIX = "probe:"
 """Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 
@@ -65,6 +68,8 @@ class Wiring:
         self.pin_names = {pin_key(n, v): n for n, v in pins.items() if n in self.wiring}
         self.sensors = dict(sensors or {})
         self.shared = frozenset(shared)
+        self.wired = frozenset(self.wiring.values())  # the signals a board pin is wired to
+        self.spi_clocks: dict[str, str] = {}  # the SPI chips' clock inputs -> their buses (Rig sets it)
         self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
         self.buses: set[str] = set()  # the buses the firmware created (i2c0, spi1, ...)
         self.clear()
@@ -116,3 +121,24 @@ class Wiring:
     def lets_go(self, info: Handle | None) -> bool:
         """A CFG made ``info`` an input on a shared line: the firmware lets the line go."""
         return info is not None and info.is_input and info.signal in self.shared and info.peripheral.lets_go
+
+    def unclocked(self, bus: str) -> frozenset:
+        """The clock inputs of the chips on SPI ``bus`` that a transfer does not reach now:
+        each wired to a board pin that is not in the SPI function (rp2: its FUNCSEL, as
+        Pin.ALT, alt=, SPI(..., sck=) or mem32 set it; the CFG's PIN_ALT and function), or
+        is the SPI function of the other controller (GPIO n is SPI(n >> 3 & 1)'s: the
+        RP2040 datasheet's 2.19.2 function table). A chip whose clock input is not wired
+        sees every transfer on its bus (one clock line)."""
+        out = set()
+        for signal, on in self.spi_clocks.items():
+            if on != bus or signal not in self.wired:
+                continue
+            if not any(self._clocks(h, bus) for h in self.by_signal.get(signal, ())):
+                out.add(signal)
+        return frozenset(out)
+
+    def _clocks(self, h: int, bus: str) -> bool:
+        info = self.handles[h]
+        if info.kind != F.CFG_PIN or info.mode != F.PIN_ALT or info.freq != RP2_FUNC_SPI:
+            return False
+        return not (bus[:3] == "spi" and info.key.isdigit() and f"spi{int(info.key) >> 3 & 1}" != bus)

@@ -528,6 +528,7 @@ BUS_STUCK = 3  # a device holds the bus: the transfer times out
 PIN_IN = 0
 PIN_OUT = 1
 PIN_OPEN_DRAIN = 2
+PIN_ALT = 3  # rp2: the pin handed to a peripheral function (param: its GPIO_FUNC_*); SIO drives it no more
 PULL_NONE = 0
 PULL_UP = 1
 PULL_DOWN = 2
