@@ -6,10 +6,11 @@ A :class:`BusDevice` is an engine part on a named bus (``i2c0``, ``spi1``, a Sof
 (``<name>.cs``, low: selected; or tied low by the rig, ``cs = "low"``: selected for
 good) and, its clock input (``<name>.sck``) wired to a pin, clocked only while that pin is
 the SPI's (parts that share MOSI with a clock pin each: docs/wiring.md). Chip select is
-active low and a selection lasts from its fall to its rise, however many transfers it spans: the bytes clocked while it is low reach the chip, as one stream
-(a display takes commands and data on; a register chip takes the register address as the
-first byte after the fall only, so a register chip whose CS never rises reads or writes on
-from the first address, as the silicon does). :class:`RegisterDevice` adds a register file (a list of
+active low and a selection lasts from its fall to its rise, however many transfers it
+spans: the bytes clocked while it is low reach the chip, as one stream (a display takes
+commands and data on; a register chip takes the register address as the first byte after
+the fall only, so a register chip whose CS never rises reads or writes on from the first
+address, as the silicon does). :class:`RegisterDevice` adds a register file (a list of
 256 ints, so that a plant snapshot copies it), an identity register, a register pointer
 that auto-increments, and hooks for the registers a chip computes (its samples) or acts
 on (a reset bit). :class:`BusSet` holds a plant's devices by bus and plays each
