@@ -109,8 +109,8 @@ class Rig:
         self.plant.reset(self.seed)
         shared = self.plant.outputs.keys() & self.plant.inputs.keys()  # (lines both drive in turn)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs, shared=shared)
-        self.wiring.spi_clocks = spi_clocks(self.plant)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
+        self.wiring.spi_clocks = spi_clocks(self.plant) if (self.identity or ("",))[0] == "rp2" else {}
         self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
@@ -394,7 +394,8 @@ class Rig:
 
 
 def spi_clocks(plant) -> dict[str, str]:
-    """The plant's SPI chips' clock inputs (``<name>.sck``) and their buses."""
+    """The plant's SPI chips' clock inputs (``<name>.sck``) and their buses: consulted on an
+    rp2, whose pins' functions the shim reports (elsewhere every chip hears its bus)."""
     devices = getattr(getattr(plant, "bus_set", None), "devices", ())
     return {d.sck_signal: d.bus for d in devices if getattr(d, "sck_signal", None)}
 

@@ -128,7 +128,10 @@ class Wiring:
         Pin.ALT, alt=, SPI(..., sck=) or mem32 set it; the CFG's PIN_ALT and function), or
         is the SPI function of the other controller (GPIO n is SPI(n >> 3 & 1)'s: the
         RP2040 datasheet's 2.19.2 function table). A chip whose clock input is not wired
-        sees every transfer on its bus (one clock line)."""
+        sees every transfer on its bus (one clock line), as does every chip on a SoftSPI
+        (``spi:<sck>,<mosi>,<miso>``: its clock is a GPIO, bit-banged)."""
+        if not bus.startswith("spi") or ":" in bus:
+            return frozenset()
         out = set()
         for signal, on in self.spi_clocks.items():
             if on != bus or signal not in self.wired:
@@ -141,4 +144,4 @@ class Wiring:
         info = self.handles[h]
         if info.kind != F.CFG_PIN or info.mode != F.PIN_ALT or info.freq != RP2_FUNC_SPI:
             return False
-        return not (bus[:3] == "spi" and info.key.isdigit() and f"spi{int(info.key) >> 3 & 1}" != bus)
+        return not (info.key.isdigit() and f"spi{int(info.key) >> 3 & 1}" != bus)
