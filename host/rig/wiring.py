@@ -32,7 +32,7 @@ class Handle:
     board_name: str | None
     signal: str | None  # plant signal or "probe:<name>"
     is_input: bool = False
-    mode: int = 0  # as its CFG said: a pin's F.PIN_IN, F.PIN_OUT, F.PIN_OPEN_DRAIN
+    mode: int = 0  # as its CFG said: a pin's F.PIN_IN, F.PIN_OUT, F.PIN_OPEN_DRAIN, F.PIN_ALT
     pull: int = 0  # F.PULL_NONE, F.PULL_UP, F.PULL_DOWN
     irq: int = 0  # trigger mask: F.IRQ_RISING | F.IRQ_FALLING; a UART's F.IRQ_RX
     samples: int = 0  # ADC samples / UART lines routed to it
