@@ -4,11 +4,13 @@
 A :class:`BusDevice` is an engine part on a named bus (``i2c0``, ``spi1``, a SoftI2C's
 ``i2c:<scl>,<sda>``) at a 7-bit address, or, on SPI, selected by its chip-select input
 (``<name>.cs``, low: selected; or tied low by the rig, ``cs = "low"``: selected for
-good). Chip select is active low and a selection lasts from its fall to its rise, however
-many transfers it spans: the bytes clocked while it is low reach the chip, as one stream
-(a display takes commands and data on; a register chip takes the register address as the
-first byte after the fall only, so a register chip whose CS never rises reads or writes on
-from the first address, as the silicon does). :class:`RegisterDevice` adds a register file (a list of
+good) and, its clock input (``<name>.sck``) wired to a pin, clocked only while that pin is
+the SPI's (parts that share MOSI with a clock pin each: docs/wiring.md). Chip select is
+active low and a selection lasts from its fall to its rise, however many transfers it
+spans: the bytes clocked while it is low reach the chip, as one stream (a display takes
+commands and data on; a register chip takes the register address as the first byte after
+the fall only, so a register chip whose CS never rises reads or writes on from the first
+address, as the silicon does). :class:`RegisterDevice` adds a register file (a list of
 256 ints, so that a plant snapshot copies it), an identity register, a register pointer
 that auto-increments, and hooks for the registers a chip computes (its samples) or acts
 on (a reset bit). :class:`BusSet` holds a plant's devices by bus and plays each
@@ -58,11 +60,14 @@ class BusDevice(Part):
         self.bus = bus
         self.address = address
         self.cs_signal = f"{name}.cs" if address is None else None
-        self.inputs = {self.cs_signal: "level"} if self.cs_signal else {}
+        self.sck_signal = f"{name}.sck" if address is None else None  # (SPI: its clock's pin, SCK_SIGNAL)
+        self.inputs = {self.cs_signal: "level", self.sck_signal: "level"} if self.cs_signal else {}
         self.outputs = {}
         self.selected = False
 
     def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        if name == self.sck_signal:
+            return False  # (a level on the clock's pin as a GPIO: no SPI byte; bit-banged SPI is not modelled)
         if name != self.cs_signal:
             raise KeyError(name)
         selected = not value
@@ -309,13 +314,15 @@ class BusSet:
     def on(self, bus: str) -> list:
         return [d for d in self.devices if d.bus == bus]
 
-    def transfer(self, t_us: int, bus: str, op: int, address: int, n_read: int, data: bytes):
-        """One BUS frame's transfer: (status, count, bytes read)."""
+    def transfer(self, t_us: int, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()):
+        """One BUS frame's transfer: (status, count, bytes read). SPI: to the chips selected
+        (chip select low, or tied low) whose clock input is not in ``unclocked`` (the host's:
+        wired to a pin that is not the SPI's at this instant, ``Wiring.unclocked``)."""
         devices = self.on(bus)
         if any(d.holds_bus for d in devices):
             return STUCK, 0, b""
         if op == SPI_XFER:
-            chosen = [d for d in devices if d.selected]
+            chosen = [d for d in devices if d.selected and d.sck_signal not in unclocked]
             out = bytearray()
             for byte in data:
                 value = 0xFF
@@ -451,6 +458,15 @@ CS_SIGNAL = Sig(
 )
 """A part on either bus: its ``cs`` option and its chip-select input (present on SPI
 unless the rig ties it low)."""
+SCK_SIGNAL = Sig(
+    "sck",
+    "in",
+    "level",
+    "the pin of its SPI clock (SPI only): wired, a transfer reaches the chip only while that pin is the SPI's"
+    " (rp2: FUNCSEL SPI, by SPI(..., sck=), Pin.ALT alt=1 or mem32), as when parts share MOSI on one"
+    " controller with a clock pin each; not wired, every transfer on its bus does",
+    when=(("spi", (True,)),),
+)
 
 
 def chip_select(device: BusDevice, options: dict) -> BusDevice:
@@ -472,6 +488,7 @@ __all__ = [
     "BusSet",
     "CS_OPTION",
     "CS_SIGNAL",
+    "SCK_SIGNAL",
     "DataReady",
     "Change",
     "RegisterDevice",

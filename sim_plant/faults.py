@@ -438,8 +438,8 @@ class FaultyPlant(Plant):
 
 
 def _forwarded(name: str):
-    def forward(self, *args):
-        return getattr(self.inner, name)(*args)
+    def forward(self, *args, **kwargs):
+        return getattr(self.inner, name)(*args, **kwargs)
 
     forward.__name__ = name
     forward.__doc__ = f"The inner plant's ``{name}``."

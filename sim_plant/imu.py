@@ -23,6 +23,7 @@ from sim_plant.buses import (
     CS_OPTION,
     CS_SIGNAL,
     NEVER_US,
+    SCK_SIGNAL,
     BusName,
     Change,
     RegisterDevice,
@@ -204,6 +205,8 @@ class ImuPart(PartType):
         signals = {f"{self.name}.int": ("out", "level")}
         if CS_SIGNAL.present(self.options):
             signals[f"{self.name}.cs"] = ("in", "level")
+        if SCK_SIGNAL.present(self.options):
+            signals[f"{self.name}.sck"] = ("in", "level")
         return signals
 
     def engine(self, build: Build):

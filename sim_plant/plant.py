@@ -248,8 +248,9 @@ class Plant:
         """``uart``: bytes a UART sends on input ``name`` at ``baud``, from now."""
         raise self._lacks(UART)
 
-    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple:
-        """``buses``: one BUS frame's transfer, (status, count, bytes read)."""
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
+        """``buses``: one BUS frame's transfer, (status, count, bytes read); ``unclocked``:
+        the SPI clock inputs whose pins are not the SPI's at this instant."""
         raise self._lacks(BUSES)
 
     def bitstream(self, name: str, timing_ns: tuple, data: bytes) -> None:

@@ -1,6 +1,6 @@
 """Bus transactions as the trace keeps them (``docs/traces.md``, ``docs/budgets.md``).
 
-Each I2C or SPI transfer the firmware makes (one BUS frame, ``Rig._on_bus``) becomes a
+Each I2C or SPI transfer the firmware makes (one BUS frame, ``host.rig.messages.on_bus``) becomes a
 :class:`Transaction`: the bus, the address, the register (the first byte written: the
 register pointer of a register chip; on SPI without its read bit), the bytes written
 and read, the outcome, and its virtual duration at the bus clock, computed as the shim
@@ -175,10 +175,12 @@ class BusTrace:
         if self.console is not None:
             self.console().note(t_us, text)
 
-    def answer(self, plant, info, h, t_us, op, address, n_read, data) -> tuple:
+    def answer(self, plant, info, h, t_us, op, address, n_read, data, unclocked=frozenset()) -> tuple:
         """A BUS frame's transfer answered from the plant's devices (status, count, bytes
-        read), traced: a bus's transaction here, every transfer in the link log."""
-        status, count, got = info.peripheral.transfer(plant, info, op, address, n_read, data)
+        read), traced: a bus's transaction here, every transfer in the link log.
+        ``unclocked``: SPI chips' clock inputs not on the SPI now (``Wiring.unclocked``)."""
+        kw = {"unclocked": unclocked} if unclocked else {}  # (an SPI bus's only: BusPeripheral.transfer)
+        status, count, got = info.peripheral.transfer(plant, info, op, address, n_read, data, **kw)
         more = None
         if isinstance(info.peripheral, BusPeripheral):  # (not a pin's bitstream)
             tx = self.transfer(t_us, info, op, address, n_read, data, status, count, got)

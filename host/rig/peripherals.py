@@ -16,7 +16,7 @@ A handler owns what its kind means to the host:
 handler, and :class:`~host.rig.inputs.Inputs` and :class:`~host.rig.outputs.Outputs`
 call it. Every code is the codec's name (``F.PIN_OUT``, ``F.IRQ_RISING``, ``F.SIG_PWM``).
 A bus (I2C, SPI) is a handle too (:class:`BusPeripheral`): its transfers are BUS frames
-the rig answers from the plant's devices (``Rig._on_bus``, ``PartsPlant.bus_transfer``).
+the rig answers from the plant's devices (``host.rig.messages.on_bus``, ``PartsPlant.bus_transfer``).
 ``machine.Timer`` has no host side: it runs in the shim's virtual time.
 """
 
@@ -31,6 +31,10 @@ FIRED = 1
 WOKE = 2
 """... when it wakes a watched wait (``time_pulse_us``, a timed UART read)."""
 
+RELEASED = -1
+"""A shared line's plant input while the firmware lets it go (its pin an input again, or
+open drain and high): the part drives it (``Wiring.shared``, docs/wiring.md)."""
+
 _LEVEL, _SAMPLE, _BYTES = F.CH_LEVEL, F.CH_SAMPLE, F.CH_BYTES  # (module globals: the hot path's)
 _RISING, _FALLING = F.IRQ_RISING, F.IRQ_FALLING
 
@@ -40,6 +44,7 @@ class Peripheral:
 
     kind = 0  # its CFG kind
     name = "unconfigured"  # as the link log names it
+    lets_go = False  # it may drive a line the plant drives too, in turn (Wiring.shared), and let it go
 
     def configure(self, wiring, h: int, mode: int, pull: int, key: str, param: int):
         """A CFG of this kind: the handle's new configuration (None: it makes none)."""
@@ -94,9 +99,10 @@ class PinPeripheral(Peripheral):
 
     kind = F.CFG_PIN
     name = "pin"
+    lets_go = True  # (made an input, or open drain and high: the line the plant's again)
 
     def is_input(self, mode):
-        return mode == F.PIN_IN
+        return mode == F.PIN_IN or mode == F.PIN_ALT  # (ALT: a peripheral's; its pad still read)
 
     def refuse(self, mode, pin, board_name, signal, sensor):
         return _drives(pin, signal, board_name) if mode == F.PIN_OUT else None
@@ -128,6 +134,8 @@ class PinPeripheral(Peripheral):
                 for call in hooks:
                     call(t_us, signal, value, changed)
         if signal in plant_inputs:
+            if value and info.mode == F.PIN_OPEN_DRAIN and signal in outputs.wiring.shared:
+                value = RELEASED  # (open drain, high: the pad is let go, the part drives the line)
             outputs.plant.set_input(signal, value)
 
     def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
@@ -270,10 +278,14 @@ class BusPeripheral(Peripheral):
         wiring.buses.add(key)
         return super().configure(wiring, h, mode, pull, key, param)
 
-    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
+    def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
         """(status, count, bytes read) from the devices on the handle's bus; a plant with
-        no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF)."""
+        no bus devices: nobody answers (an I2C address unacknowledged, SPI reads 0xFF).
+        ``unclocked``: the SPI clock inputs whose pins are not the SPI's now (their chips
+        see nothing: ``Wiring.unclocked``)."""
         if BUSES in plant.capabilities:
+            if unclocked and op == F.BUS_SPI_XFER:
+                return plant.bus_transfer(info.key, op, address, n_read, data, unclocked=unclocked)
             return plant.bus_transfer(info.key, op, address, n_read, data)
         if op == F.BUS_SPI_XFER:
             return F.BUS_OK, len(data), b"\xff" * len(data)

@@ -10,6 +10,10 @@ from dataclasses import dataclass, field
 from host.rig.boards import canonical_key, identity, is_builtin_line, pin_key
 from host.rig.pinscan import PinUse, Scan, scan_folder
 
+CLOCK_INPUT = ".sck"
+"""An SPI chip's clock input (``<name>.sck``): the pin of its clock, an SPI's ``sck=`` line,
+is wired to it rightly (chips sharing one controller's MOSI, a clock pin each: docs/wiring.md)."""
+
 
 @dataclass
 class PinCheck:
@@ -81,6 +85,8 @@ def compare(scan: Scan, pins: dict, wiring: dict[str, str], platform: str | None
     untouched = {key: name for key, name in wired.items() if key not in used and not is_builtin_line(key)}
     for key, uses in used.items():
         lines = [use for use in uses if use.kind == "bus"]
+        if lines and key in wired and wiring[wired[key]].endswith(CLOCK_INPUT):  # (an SPI chip's clock pin)
+            lines = [use for use in lines if not use.call.startswith(("SPI(sck=", "SoftSPI(sck="))]
         if lines and key in wired:  # a bus line is no plant signal: both cannot be right
             name = wired[key]
             result.warnings.append(

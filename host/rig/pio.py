@@ -3,7 +3,7 @@ here, beside the plant (:mod:`sim_plant.pio`), not in the firmware.
 
 A state machine is a handle of kind ``CFG_PIO``; what the firmware does with it is a BUS
 frame (``BUS_PIO_*``: init, active, put, get, FIFO levels, exec, restart), answered at the
-frame's instant like a bus transfer (``Rig._on_bus``: the plant is at that instant). The
+frame's instant like a bus transfer (``host.rig.messages.on_bus``: the plant is at that instant). The
 pins the PIO reads are the plant's outputs wired to the board's pins: their changes reach
 :class:`PioHost` as committed change hooks (never one a rewind takes back), in time order,
 and each block is run to the frame's instant over them. The firmware sees none of those

@@ -64,7 +64,7 @@ class ReplayPlant(ScriptedPlant):
         self.transfers: dict[str, list] = {}  # bus -> its recorded transfers, in order
         self.answered: dict[str, int] = {}  # bus -> how many of them were answered
 
-    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple:
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
         """The recorded reply to the bus's next transfer (status, count, bytes read); a
         transfer the recording does not have (another op or address, or one more) is
         answered as by no device: the replay has diverged, and says so by its outputs."""

@@ -26,18 +26,17 @@ from host.artefacts.recorder import Recorder
 from host.core import paths, safefs
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
-from host.link import frames as F
-from host.rig import arguments, boards, endings, manifest, peripherals, waits
+from host.rig import arguments, boards, endings, manifest, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks
 from host.rig.bustrace import BusTrace
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
 from host.rig.inputs import Inputs
+from host.rig.messages import HANDLERS
 from host.rig.outputs import Outputs
 from host.rig.pacing import PACINGS
 from host.rig.pio import PioHost
-from host.rig.pollwatch import shim_poll_text
 from host.rig.session import Session
 from host.rig.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target, plant_options
 from host.rig.speculation import Speculation
@@ -45,7 +44,6 @@ from host.rig.target import Target
 from host.rig.wiring import Wiring
 
 PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
-_NO_WATCH = frozenset()
 
 
 @dataclass
@@ -110,8 +108,10 @@ class Rig:
         options = plant_options(spec, self.app) if plant is not None else None  # (a given plant: as built)
         self.plant, self.plant_options = (plant, options) if plant is not None else build_plant(spec, self.app)
         self.plant.reset(self.seed)
-        self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs)
+        shared = self.plant.outputs.keys() & self.plant.inputs.keys()  # (lines both drive in turn)
+        self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs, shared=shared)
         self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
+        self.wiring.spi_clocks = spi_clocks(self.plant) if (self.identity or ("",))[0] == "rp2" else {}
         self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
@@ -149,8 +149,6 @@ class Rig:
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self._progress_wall = 0.0
         self._progress_last = None
-        messages = ("OUT", "WAIT", "CFG", "SEEN", "UART_TX", "FAULT", "EXIT", "BUS", "POLL")  # each to its _on_<name>
-        self._handlers = {getattr(F, m): getattr(self, "_on_" + m.lower()) for m in messages}
 
     # -- life cycle -------------------------------------------------------------------
 
@@ -274,88 +272,11 @@ class Rig:
     # -- messages from the firmware ------------------------------------------------------
 
     def dispatch(self, type_: int, payload: bytes) -> None:
-        handler = self._handlers.get(type_)
+        """A message from the shim, to its handler (:mod:`host.rig.messages`)."""
+        handler = HANDLERS.get(type_)
         if handler is None:
             raise LinkError(f"unexpected message type 0x{type_:02x} from the shim")
-        handler(payload)
-
-    def _on_out(self, p: bytes) -> None:
-        t, h, attr, value = F.unpack_out(p)
-        if t != self.plant.t_us:
-            self.clock.catch_up(t)
-        self.linklog.out(t, h, attr, value)
-        self.outputs.out(t, h, attr, value)
-
-    def _on_wait(self, p: bytes) -> None:
-        t_now, t_until, compute_us, watch = F.unpack_wait(p)
-        watch = frozenset(watch) if watch else _NO_WATCH
-        self.clock.block(t_now, t_until, watch)
-        if self.console_log.pending:
-            self.console_log.stamp(t_now)
-        for call in self._compute_hooks:
-            call(compute_us)
-        self.linklog.wait(t_now, t_until, watch)
-
-    def _on_cfg(self, p: bytes) -> None:
-        h, kind, mode, pull, param, name = F.unpack_cfg(p)
-        key = name.decode()
-        self.linklog.cfg(self.t_us, h, peripherals.name_of(kind), key, mode, pull, param, self.wiring.signal_of(key))
-        info = self.wiring.configure(h, kind, mode, pull, key, param)
-        if info is not None and info.is_input:
-            self.inputs.sync(self.t_us, h, info, self.plant)
-
-    def _on_seen(self, p: bytes) -> None:
-        t, h, sample_no = F.unpack_seen(p)
-        self.speculation.commit(t)
-        for call in self._seen_hooks.get(self.wiring.handles[h].signal, ()):
-            call(t, sample_no)
-        self.linklog.seen(t, h, sample_no)
-
-    def _on_uart_tx(self, p: bytes) -> None:
-        t, h, data = F.unpack_uart_tx(p)
-        self.clock.catch_up(t)
-        self.outputs.uart_tx(t, h, data)
-        self.linklog.uart_tx(t, h, data)
-
-    def _on_bus(self, p: bytes) -> None:
-        """A bus transfer: answered at once from the devices as the plant is at its instant."""
-        t, h, op, address, n_read, data = F.unpack_bus(p)
-        self.clock.catch_up(t)
-        status, count, got = self.bus_trace.answer(self.plant, self.wiring.handles[h], h, t, op, address, n_read, data)
-        self.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, self.clock.lease_us(), got))
-
-    def _on_poll(self, p: bytes) -> None:
-        """The shim names a poll that never ends: a pin, a memory address (host/rig/pollwatch.py)."""
-        poll = F.unpack_poll(p)
-        if self.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
-            self.bus_trace.say(poll[0], shim_poll_text(poll, self.wiring, self.plant))
-
-    def _on_fault(self, p: bytes) -> None:
-        t, text = F.unpack_fault(p)
-        self._console_until(t)
-        self.linklog.fault(t)
-        endings.fault(self, t, text.decode(errors="replace"))
-
-    def _on_exit(self, p: bytes) -> None:
-        t, kind, code = F.unpack_exit(p)
-        self._console_until(t)
-        self.linklog.exit(t, kind, code)
-        self.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
-        if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
-            if code != endings.DEEPSLEEP_WAKE:  # (a deep sleep's wake resets by design)
-                endings.reset(self, t)
-            self.restart()
-            self.resets += 1
-        else:
-            self.exit_kind, self.exit_code = kind, code
-            endings.exited(self, t, kind, code)
-
-    def _console_until(self, t_us: int) -> None:
-        """The firmware ends (or raised) at ``t_us``: what it printed since its last wait was
-        printed by then (the console's pipe is read with the link's bytes, before they are
-        handled: FdTransport.read_some)."""
-        if self.console_log.pending:
-            self.console_log.stamp(t_us)
+        handler(self, payload)
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
@@ -390,6 +311,12 @@ class Rig:
     def counters(self) -> dict:
         stats = ("link_round_trips", "irq_edges", "rollbacks", "lease_violations")
         return {**self.session.counters(), **{k.removeprefix("link_"): getattr(self.stats, k) for k in stats}}
+
+
+def spi_clocks(plant) -> dict[str, str]:
+    """The plant's SPI chips' clock inputs (``<name>.sck``) and their buses: consulted on an
+    rp2, whose pins' functions the shim reports (elsewhere every chip hears its bus)."""
+    return {d.sck_signal: d.bus for d in plant.bus_devices() if getattr(d, "sck_signal", None)}
 
 
 def end_board_fs(rig) -> None:

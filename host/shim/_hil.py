@@ -354,12 +354,14 @@ def send_out(handle, attr, value):
 
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
+    """A CFG at the firmware's instant (as an OUT carries its time): the host brings the
+    plant to it first, so what the CFG changes there (a line let go) starts then."""
     global _horizon
     if _Link.held or _Link.ahead:  # the host is ahead of this instant: back to it before the CFG
         _drop_held()
         _horizon = _now
         _sync(now(), None)
-    _link.queue(F.CFG, F.pack_cfg(handle, kind, mode_, pull, param, str(name).encode()))
+    _link.queue(F.CFG, F.pack_cfg(now(), handle, kind, mode_, pull, param, str(name).encode()))
     if sync:  # inputs: learn the current level before the firmware reads it
         _sync(now(), None)
 

@@ -280,6 +280,12 @@ class SPI(SoftSPI):
             raise ValueError("SPI(%s) doesn't exist" % (self._id,))
         self._pins = tuple(_key(p) if p is not None else "-1" for p in (sck, mosi, miso))
         self._setup(baudrate, polarity, phase, bits, firstbit, "spi%d" % self._id)
+        if _rp2():  # ports/rp2/machine_spi.c, machine_spi_make_new: gpio_set_function(sck/mosi/miso, GPIO_FUNC_SPI)
+            for p in (sck, mosi, miso):  # (the pins given; the board's default pins, which the port
+                if p is not None:  # also muxes when one is not given, are not modelled)
+                    pin = p if isinstance(p, machine.Pin) else machine.Pin(p)
+                    if isinstance(pin._id, int):
+                        pin._give(machine.Pin.ALT_SPI)
 
     def __repr__(self):  # (as each port prints its SPI: drivers and tests parse the baudrate)
         settings = (self._baud, self._polarity, self._phase, self._bits)

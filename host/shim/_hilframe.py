@@ -16,7 +16,7 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 3
+PROTO_VERSION = 3  # 3: POLL, and CFG carries its instant (docs/protocol.md)
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -300,7 +300,7 @@ HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
 WELCOME_FMT = "<HBQB"  # proto, mode, t_start_us, flags, then UTF-8 "<platform>;<machine>"
 WELCOME_LEN = struct.calcsize(WELCOME_FMT)
 WELCOME_ZERO_DELAY = 0x01  # flag: a wire may carry an output to an input at the same instant
-CFG_FMT = "<HBBBi"  # handle, kind, mode, pull, param, then UTF-8 pin name
+CFG_FMT = "<QHBBBi"  # t_us, handle, kind, mode, pull, param, then UTF-8 pin name
 OUT_FMT = "<QHBi"  # t_us, handle, attr, value
 WAIT_FMT = "<QQI"  # t_now_us, t_until_us, compute_us, then WATCH_FMT per watched handle
 WATCH_FMT = "<H"
@@ -346,12 +346,12 @@ def unpack_welcome(p):
     return struct.unpack_from(WELCOME_FMT, p, 0) + (bytes(p[WELCOME_LEN:]),)
 
 
-def pack_cfg(handle, kind, mode, pull, param, name):
-    return struct.pack(CFG_FMT, handle, kind, mode, pull, param) + name
+def pack_cfg(t_us, handle, kind, mode, pull, param, name):
+    return struct.pack(CFG_FMT, t_us, handle, kind, mode, pull, param) + name
 
 
 def unpack_cfg(p):
-    """(handle, kind, mode, pull, param, name bytes)"""
+    """(t_us, handle, kind, mode, pull, param, name bytes)"""
     return struct.unpack_from(CFG_FMT, p, 0) + (bytes(p[CFG_LEN:]),)
 
 
@@ -542,6 +542,7 @@ BUS_STUCK = 3  # a device holds the bus: the transfer times out
 PIN_IN = 0
 PIN_OUT = 1
 PIN_OPEN_DRAIN = 2
+PIN_ALT = 3  # rp2: the pin handed to a peripheral function (param: its GPIO_FUNC_*); SIO drives it no more
 PULL_NONE = 0
 PULL_UP = 1
 PULL_DOWN = 2

@@ -265,10 +265,13 @@ def _write32(addr, value):
         _regs[addr] = value & 0x3033F31F
         if (old ^ value) & 0x1F:
             m = _machine()
-            if value & 0x1F == FUNC_SIO:
+            func = value & 0x1F
+            if func == FUNC_SIO:
                 m.Pin(gpio)._alt = FUNC_SIO
-            elif value & 0x1F == FUNC_PWM:
+            elif func == FUNC_PWM:
                 _pwm_apply(_slice_of(gpio))
+            elif func != FUNC_NULL:  # (SPI, UART, I2C, PIO ...: the pin is that block's, as Pin.ALT says it)
+                m.Pin(gpio)._give(func)
         _pins_apply(1 << gpio)
         return True
     sio = {0x10: ("out", None), 0x14: ("out", "set"), 0x18: ("out", "clr"), 0x1C: ("out", "xor")}

@@ -179,21 +179,30 @@ class Pin:
         self._cfg = True
         drives = self._mode == Pin.OUT or self._mode == Pin.OPEN_DRAIN
         # A pin in ALT mode is the peripheral's: SIO drives it no more (an input to the
-        # loop, its pad still read by value()); what value(x) writes waits in SIO's output
-        # latch until the pin is OUT again (docs/shim.md, "Pins").
-        _hil.configure(
-            self._handle,
-            _F.CFG_PIN,
-            self._id,
-            self._MODES[self._mode] if drives else _F.PIN_IN,
-            self._PULLS[self._pull],
-            self._out if drives else -1,
-            sync=not drives,
-        )
+        # loop, its pad still read by value(); PIN_ALT tells the host its function, which
+        # decides whether an SPI transfer clocks the chip on it); what value(x) writes waits
+        # in SIO's output latch until the pin is OUT again (docs/shim.md, "Pins").
+        if drives:
+            mode_, param = self._MODES[self._mode], self._out
+        elif _RP2 and self._mode == _ALT:
+            mode_, param = _F.PIN_ALT, self._alt
+        else:
+            mode_, param = _F.PIN_IN, -1
+        _hil.configure(self._handle, _F.CFG_PIN, self._id, mode_, self._PULLS[self._pull], param, sync=not drives)
         if drives:
             _hil.send_out(self._handle, _F.OUT_LEVEL, self._out)
         if _REG is not None and isinstance(self._id, int) and 0 <= self._id < _REG.N_GPIO:
             _REG.pin_state(self._id, self._mode == _ALT, self._alt, self._mode == Pin.OUT, self._out)
+
+    def _give(self, func):
+        """The pin handed to the function ``func`` (GPIO_FUNC_*) by what the port does for
+        the firmware (SPI(..., sck=) muxing its pins, machine_spi.c's gpio_set_function; a
+        FUNCSEL written through mem32): the loop told as Pin.init(mode=ALT, alt=func) tells
+        it, SIO's OE and OUT left as they are (gpio_set_function changes FUNCSEL alone)."""
+        self._mode, self._alt, self._cfg = _ALT, func, True
+        _hil.configure(self._handle, _F.CFG_PIN, self._id, _F.PIN_ALT, self._PULLS[self._pull], func, sync=True)
+        if _REG is not None and 0 <= self._id < _REG.N_GPIO:
+            _REG.set_funcsel(self._id, func)
 
     def _from_registers(self, oe, out):
         """SIO's OE and OUT (or a GPIO's overrides) as mem32 set them: drive or let go."""
@@ -486,8 +495,10 @@ class PWM:
     @classmethod
     def _from_registers(cls, gpio):
         """A pin given to the PWM function by mem32 (IO_BANK0's FUNCSEL): its PWM, no
-        register written (they say its duty and freq)."""
-        pwm = cls.__new__(cls, gpio)
+        register written (they say its duty and freq). Its Pin is made as Pin(n) makes it
+        on the rp2 port (machine_pin.c, mp_pin_make_new: no mode, nothing configured): a Pin
+        made OUT would put FUNCSEL back to SIO (gpio_set_function), which the firmware set."""
+        pwm = cls.__new__(cls, Pin(gpio))
         _hil.configure(pwm._handle, _F.CFG_PWM, pwm._pin._id, param=pwm._freq)
         return pwm
 

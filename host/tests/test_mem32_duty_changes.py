@@ -2,11 +2,11 @@
 to the PWM function by FUNCSEL, then each CC write a new duty, as on an RP2040 (datasheet
 4.5.2.6: CC is double-buffered and takes effect at the counter's wrap, each period).
 
-Expected to fail until the shim keeps a pin's function at PWM when it makes the PWM
-object behind a register write: today ``PWM._from_registers`` makes the pin through
-``Pin(gpio, Pin.OUT)``, whose init puts FUNCSEL back to SIO (``_hilreg.pin_state``), so the
-first duty reaches the plant and every later CC write is skipped (``_pwm_apply`` drives
-only pins whose FUNCSEL is PWM)."""
+The PWM object the shim makes behind the first register write that drives a pin
+(``PWM._from_registers``) must leave FUNCSEL as the firmware set it: were its pin made
+``Pin(gpio, Pin.OUT)``, its init would put FUNCSEL back to SIO (``_hilreg.pin_state``), the
+first duty would reach the plant and every later CC write would be skipped
+(``_pwm_apply`` drives only pins whose FUNCSEL is PWM)."""
 
 import pytest
 
@@ -16,7 +16,6 @@ from host.tests.test_mem32_registers import PINS, ROBOT, RP2040, WIRING
 pytestmark = pytest.mark.hil
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="a CC write after FUNCSEL is lost (docstring)")
 def test_each_cc_write_after_funcsel_changes_the_duty_the_plant_sees(make_rig):
     app = bench_app("mem32_cc_later", ROBOT, board="pins", identity=RP2040, wiring=WIRING, pins=PINS)
     rig = make_rig(app, main_dir=FIRMWARE / "mem32_cc_later", allow_exit=True)

@@ -439,6 +439,20 @@ def test_a_buss_lines_are_no_plant_signals_and_clash_with_a_wired_one(make):
     assert "ENC = 4 to the plant's enc.a" in clash.warnings[0], clash.warnings
 
 
+def test_an_spi_clock_line_wired_to_a_chips_clock_input_is_no_clash():
+    """An SPI's sck= pin wired to a chip's ``<name>.sck`` (the pin of its clock, as parts that
+    share MOSI have: docs/wiring.md) is right; its other lines there, and sck= on a signal of
+    another kind, still clash."""
+    from host.rig.pincheck import compare
+
+    code = scan({"main": "from machine import Pin, SPI\nbus = SPI(0, sck=Pin(6), mosi=Pin(3), miso=Pin(0))\n"})
+    right = compare(code, {"LED_SCK": 6}, {"LED_SCK": "leds.sck"})
+    assert right.warnings == [], f"expected no warning for the clock pin wired to leds.sck: {right.warnings}"
+    wrong = compare(code, {"LED_SCK": 6, "DC": 0, "ENC": 3}, {"LED_SCK": "enc.a", "DC": "oled.sck", "ENC": "x.sck"})
+    assert len(wrong.warnings) == 3, wrong.warnings
+    assert all("a bus line, on pin" in w for w in wrong.warnings), wrong.warnings
+
+
 @pytest.mark.parametrize("base", ["Pin(6)", "6", "Pin(6, Pin.IN, Pin.PULL_UP)"])
 def test_the_pins_after_a_pio_groups_first_pin_are_a_note_not_a_warning(base):
     """A PIO program reads or drives as many pins from ``in_base`` (``out_base``, ``set_base``,

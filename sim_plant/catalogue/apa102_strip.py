@@ -1,5 +1,6 @@
 """Part ``apa102_strip``: a strip of ``count`` APA102 ("DotStar") RGB LEDs on an SPI bus's
-clock and data lines (no chip select: every transfer on the bus reaches it).
+clock and data lines (no chip select: every transfer on the bus reaches it, unless its
+``sck`` input is wired to the pin of its clock: then only while that pin is the SPI's).
 
 The stream, as the datasheet frames it: a start frame of 32 zero bits, then a 32-bit frame
 per LED, its first byte 0b111 and a 5-bit global brightness, then blue, green, red; then an
@@ -108,6 +109,14 @@ class Apa102StripPart(PartType):
     SIGNALS = (
         Sig("led<i>", "out", "u16", "LED i's colour, 0xRRGGBB, as its last frame sent it (led0, led1, ...)"),
         Sig("level<i>", "out", "u16", "LED i's global brightness, 0-31, from the same frame"),
+        Sig(
+            "sck",
+            "in",
+            "level",
+            "the pin of its clock: wired, a transfer reaches the strip only while that pin is the SPI's (rp2:"
+            " FUNCSEL SPI, by SPI(..., sck=), Pin.ALT alt=1 or mem32), as a kit's LEDs share MOSI with its"
+            " display; not wired, every transfer on its bus does",
+        ),
     )
     TRUTH = ("{name}_lit", "{name}_faults", "{name}_frames")
     VIEWS = (
@@ -123,7 +132,8 @@ class Apa102StripPart(PartType):
 
     def signals(self) -> dict[str, tuple[str, str]]:
         n = self.options["count"]
-        return {f"{self.name}.{s}{i}": ("out", "u16") for s in ("led", "level") for i in range(n)}
+        leds = {f"{self.name}.{s}{i}": ("out", "u16") for s in ("led", "level") for i in range(n)}
+        return {**leds, f"{self.name}.sck": ("in", "level")}
 
     def add(self, build: Build) -> None:
         build.parts.append(Apa102Strip(self.name, self.options["bus"], self.options["count"]))

@@ -156,15 +156,16 @@ class PartsPlant(RobotPlant):
         self._wire_part(name).send_bytes(name, data, baud, self._t_us)
         self._reschedule()
 
-    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple:
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
         """A bus transfer (a BUS frame, ``sim_plant.buses``) at the plant's time, against the
         devices on ``bus``: (status, count, bytes read). It may change what the devices do
-        next (a data-ready line that falls, a rate written)."""
+        next (a data-ready line that falls, a rate written). ``unclocked``: SPI clock inputs
+        whose chips the transfer does not reach (``BusSet.transfer``)."""
         if self._motion_pending:
             self._settle()
         for device in self.bus_set.on(bus):
             device.take_in(self)
-        result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data)
+        result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data, unclocked)
         for device in self.bus_set.on(bus):
             device.pass_on(self)
         self._reschedule()
@@ -294,16 +295,17 @@ def assemble(table: dict) -> PartsPlant:
 
 
 def _check_addresses(parts: list) -> None:
-    """Two devices at one address on one bus: refused, naming both."""
+    """Two devices at one address on one bus: refused, naming both. (A chip on SPI has none:
+    its chip select, or its clock input wired to a pin of its own, picks it out.)"""
     taken = {}
     for part in parts:
         bus = part.options["bus"] if part.on_bus else None
-        if not bus or part.options.get("spi"):
+        if not bus or part.options.get("spi") or bus.startswith("spi"):
             continue
         where = (bus, part.options.get("address"))
         if where in taken:
             other = taken[where]
-            at = f"0x{where[1]:02x}" if where[1] is not None else "the line"
+            at = f"0x{where[1]:02x}"
             raise PartsError(
                 f"{part.label} address: {at} on bus {bus} is {other.label}'s too "
                 f"(two devices at one address: give one its other address)"

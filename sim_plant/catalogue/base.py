@@ -40,9 +40,12 @@ class Opt:
 
 @dataclass(frozen=True)
 class Sig:
-    """A signal ``<name>.<suffix>``: ``direction`` ``in`` (the firmware drives it) or
-    ``out`` (the firmware reads it), ``kind`` (level, u16, duty, pwm, bytes); present
-    only when the options match ``when`` (option -> the values it is present for)."""
+    """A signal ``<name>.<suffix>``: ``direction`` ``in`` (the firmware drives it),
+    ``out`` (the firmware reads it) or ``io`` (both, in turn: a line the firmware drives
+    and lets go, which the part drives while it is let go; an input and an output of the
+    plant, the input ``-1`` while let go: docs/wiring.md), ``kind`` (level, u16, duty, pwm,
+    bytes); present only when the options match ``when`` (option -> the values it is
+    present for)."""
 
     suffix: str
     direction: str

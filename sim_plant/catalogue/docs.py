@@ -30,7 +30,8 @@ mount = {{ x_m = -0.08, y_m = 0.0, heading_deg = 180 }}   # where it senses, on 
 noise_sd_m = 0.003                     # its options follow inline
 ```
 
-A part's signals are `<name>.<signal>`; `{{name}}` in a truth key is the part's name. An
+A part's signals are `<name>.<signal>`, `in` (the firmware drives it), `out` (it reads it) or
+`io` (both, in turn: docs/wiring.md); `{{name}}` in a truth key is the part's name. An
 option outside its bounds is refused at `mpy-fil check`, naming the part's table
 (`[[plant.parts]] #2 (sonar_rear) noise_sd_m: expected ...`, counted from 1). Adding a
 part is adding one module to `sim_plant/catalogue/` and its test. Each chip's section

@@ -136,9 +136,9 @@ class Qtr(PartType):
     doc = (
         "RC-decay reflectance sensors (QTR-xRC class, a kit's line or bump sensors): each channel's pin is driven"
         " high, let go, and reads 1 for a discharge time set by the floor under it (white_us, black_us over the"
-        " tape) and the emitter (unlit_us while off). Not yet in the loop: the rig refuses a pin the firmware"
-        " drives on a line the plant drives, and does not tell the plant when a pin is let go"
-        " (host/tests/test_qtr.py)."
+        " tape) and the emitter (unlit_us while off). A channel's line is an io signal: the firmware's pin drives"
+        " it, and lets it go when made an input again (Pin.IN, or open drain and high), at that instant"
+        " (docs/wiring.md)."
     )
     OPTIONS = (
         Opt(
@@ -166,7 +166,7 @@ class Qtr(PartType):
     SIGNALS = (
         Sig(
             "<i>",
-            "out",
+            "io",
             "level",
             "channel i's line, both ways: the board drives it high to charge, lets it go, and reads it fall",
         ),
@@ -193,7 +193,7 @@ class Qtr(PartType):
             )
 
     def signals(self) -> dict[str, tuple[str, str]]:
-        lines = {f"{self.name}.{i}": ("out", "level") for i in range(len(self.options["offsets_m"]))}
+        lines = {f"{self.name}.{i}": ("io", "level") for i in range(len(self.options["offsets_m"]))}
         if self.options["emitter"] != "none":
             lines[f"{self.name}.emitter"] = ("in", "level")
         return lines

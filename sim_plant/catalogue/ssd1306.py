@@ -27,7 +27,7 @@ trace folder has the last as ``<name>.png`` and all as ``<name>.gif`` (``host/ar
 
 Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
-from sim_plant.buses import CS_OPTION, CS_SIGNAL, BusDevice, BusName, check_placement, chip_select
+from sim_plant.buses import CS_OPTION, CS_SIGNAL, SCK_SIGNAL, BusDevice, BusName, check_placement, chip_select
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig
 from sim_plant.option_table import Flag, Num, OneOf
 
@@ -247,6 +247,7 @@ class Ssd1306(PartType):
     OPTIONS = (*OLED_OPTIONS, Opt("height", OneOf((64, 32)), 64, "the panel's rows (128 columns)"), MAX_FRAMES)
     SIGNALS = (
         CS_SIGNAL,
+        SCK_SIGNAL,
         Sig("dc", "in", "level", "data (high) or command (low) (SPI only)", when=(("spi", (True,)),)),
         Sig("res", "in", "level", "the reset pin (SPI only: low resets the controller)", when=(("spi", (True,)),)),
     )

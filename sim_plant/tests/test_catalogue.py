@@ -46,8 +46,9 @@ def test_a_parts_defaults_are_within_its_bounds_and_its_signals_and_truth_are_th
     plant = plant_with(kind)
     part = next(p for p in plant.catalogue_parts if p.name == "p")
     for name, (direction, signal_kind) in part.signals().items():
-        table = plant.inputs if direction == "in" else plant.outputs
-        assert table.get(name) == signal_kind, (name, table)
+        tables = {"in": [plant.inputs], "out": [plant.outputs], "io": [plant.inputs, plant.outputs]}[direction]
+        for table in tables:
+            assert table.get(name) == signal_kind, (name, direction, table)
     truth = plant.truth()
     for key in cls.TRUTH:
         assert key.format(name="p") in truth, (key, sorted(truth))

@@ -1,6 +1,7 @@
 # RC-decay reflectance sensors (QTR-xRC class) read as kit libraries read them: drive each
 # line high 10 us, make it an input, and time how long it reads 1, by a loop of value()
-# reads and by machine.time_pulse_us; with the IR emitters on, then off.
+# reads and by machine.time_pulse_us; with the IR emitters on, then off; let go as an open
+# drain set high.
 import time
 from machine import Pin, time_pulse_us
 
@@ -39,3 +40,10 @@ p.init(Pin.OUT, value=1)
 time.sleep_us(10)
 p.init(Pin.IN)
 print("R unlit_raw", time_pulse_us(p, 1, TIMEOUT_US))
+# let go by an open drain's high (the pad no longer driven), read by time_pulse_us
+emitter.value(1)
+p = lines[0]
+p.init(Pin.OUT, value=1)
+time.sleep_us(10)
+p.init(Pin.OPEN_DRAIN, value=1)
+print("R drain_pulse", time_pulse_us(p, 1, TIMEOUT_US))

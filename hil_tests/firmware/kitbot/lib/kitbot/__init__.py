@@ -6,7 +6,8 @@
 #   GP10, GP11: right and left motor direction; GP14, GP15: their PWM (slice 7, A and B)
 #   GP8/GP9, GP12/GP13: right and left encoder A/B (counted by PIO0 state machines 1, 0)
 #   SPI0 GP2 (SCK), GP3 (MOSI), GP0 (D/C), GP1 (RES): an SH1106 display, CS tied low
-#   SPI1 GP26 (SCK), GP27 (MOSI): a chain of APA102 RGB LEDs
+#   SPI0 GP6 (SCK), GP3 (MOSI): a chain of APA102 RGB LEDs (the SPI's clock on GP2 or GP6 by
+#   which of them is in the SPI function, Pin.ALT, the other a GPIO output)
 #   GP16, GP17, GP18: three QTR-RC line sensor channels; GP19: their IR emitters
 #   GP20: button A (to ground); BOOTSEL: the board's boot button
 from .buttons import ButtonA, bootsel_pressed

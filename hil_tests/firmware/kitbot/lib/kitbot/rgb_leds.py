@@ -1,11 +1,18 @@
-# The RGB LEDs: a chain of APA102s on SPI1. A frame is a start frame (32 zero bits), one
-# 32-bit frame per LED (0b111 and a 5-bit brightness, then blue, green, red) and an end frame.
+# The RGB LEDs: a chain of APA102s on SPI0, sharing MOSI (GP3) with the display and clocked
+# on a pin of their own (GP6): the SPI's clock is on GP6 only while a frame goes out (Pin.ALT,
+# alt=1: GPIO_FUNC_SPI), a low GPIO output between frames, so the display's transfers never
+# clock the LEDs, nor theirs the display. A frame is a start frame (32 zero bits), one 32-bit
+# frame per LED (0b111 and a 5-bit brightness, then blue, green, red) and an end frame.
 from machine import SPI, Pin
 
 
 class RGBLEDs:
     def __init__(self, count=3):
-        self.spi = SPI(1, baudrate=8_000_000, polarity=0, phase=0, sck=Pin(26), mosi=Pin(27))
+        self.sck = Pin(6)
+        # SPI0 again, at the LEDs' clock rate; its MISO is given GP0 (the display's D/C),
+        # which is made a GPIO output again at once
+        self.spi = SPI(id=0, baudrate=8_000_000, polarity=0, phase=0, sck=self.sck, mosi=Pin(3), miso=Pin(0))
+        Pin(0).init(Pin.OUT, value=0)
         self.count = count
         self.data = bytearray(4 + 4 * count + 4)
         for i in range(count):
@@ -21,4 +28,7 @@ class RGBLEDs:
         self.data[at + 3] = rgb[0]
 
     def show(self):
+        self.sck.init(mode=Pin.ALT, alt=1)
         self.spi.write(self.data)
+        self.sck.value(0)
+        self.sck.init(mode=Pin.OUT)

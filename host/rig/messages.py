@@ -1,0 +1,119 @@
+"""The messages the shim sends, each to its function: ``on_<name>(rig, payload)`` for the
+frame types in :data:`HANDLERS` (``docs/protocol.md``), called by :meth:`Rig.dispatch
+<host.rig.rig.Rig.dispatch>` with the payload's bytes."""
+
+from host.link import frames as F
+from host.rig import endings, peripherals
+from host.rig.pollwatch import shim_poll_text
+
+_NO_WATCH = frozenset()
+
+
+def on_out(rig, p: bytes) -> None:
+    t, h, attr, value = F.unpack_out(p)
+    if t != rig.plant.t_us:
+        rig.clock.catch_up(t)
+    rig.linklog.out(t, h, attr, value)
+    rig.outputs.out(t, h, attr, value)
+
+
+def on_wait(rig, p: bytes) -> None:
+    t_now, t_until, compute_us, watch = F.unpack_wait(p)
+    watch = frozenset(watch) if watch else _NO_WATCH
+    rig.clock.block(t_now, t_until, watch)
+    if rig.console_log.pending:
+        rig.console_log.stamp(t_now)
+    for call in rig._compute_hooks:
+        call(compute_us)
+    rig.linklog.wait(t_now, t_until, watch)
+
+
+def on_cfg(rig, p: bytes) -> None:
+    """A CFG at its instant ``t``: the plant brought to it first (as for an OUT), so that
+    a pin made an input on a line the plant drives too lets it go then, to the µs."""
+    t, h, kind, mode, pull, param, name = F.unpack_cfg(p)
+    if t != rig.plant.t_us:
+        rig.clock.catch_up(t)
+    key = name.decode()
+    rig.linklog.cfg(t, h, peripherals.name_of(kind), key, mode, pull, param, rig.wiring.signal_of(key))
+    info = rig.wiring.configure(h, kind, mode, pull, key, param)
+    if rig.wiring.lets_go(info):
+        rig.plant.set_input(info.signal, peripherals.RELEASED)
+    if info is not None and info.is_input:
+        rig.inputs.sync(t, h, info, rig.plant)
+
+
+def on_seen(rig, p: bytes) -> None:
+    t, h, sample_no = F.unpack_seen(p)
+    rig.speculation.commit(t)
+    for call in rig._seen_hooks.get(rig.wiring.handles[h].signal, ()):
+        call(t, sample_no)
+    rig.linklog.seen(t, h, sample_no)
+
+
+def on_uart_tx(rig, p: bytes) -> None:
+    t, h, data = F.unpack_uart_tx(p)
+    rig.clock.catch_up(t)
+    rig.outputs.uart_tx(t, h, data)
+    rig.linklog.uart_tx(t, h, data)
+
+
+def on_bus(rig, p: bytes) -> None:
+    """A bus transfer: answered at once from the devices as the plant is at its instant."""
+    t, h, op, address, n_read, data = F.unpack_bus(p)
+    rig.clock.catch_up(t)
+    info = rig.wiring.handles[h]
+    unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
+    status, count, got = rig.bus_trace.answer(rig.plant, info, h, t, op, address, n_read, data, unclocked)
+    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, rig.clock.lease_us(), got))
+
+
+def on_poll(rig, p: bytes) -> None:
+    """The shim names a poll that never ends: a pin, a memory address (host/rig/pollwatch.py)."""
+    poll = F.unpack_poll(p)
+    if rig.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
+        rig.bus_trace.say(poll[0], shim_poll_text(poll, rig.wiring, rig.plant))
+
+
+def on_fault(rig, p: bytes) -> None:
+    t, text = F.unpack_fault(p)
+    console_until(rig, t)
+    rig.linklog.fault(t)
+    endings.fault(rig, t, text.decode(errors="replace"))
+
+
+def on_exit(rig, p: bytes) -> None:
+    t, kind, code = F.unpack_exit(p)
+    console_until(rig, t)
+    rig.linklog.exit(t, kind, code)
+    rig.clock.catch_up(t)  # (the firmware may have run ahead alone, within its horizon)
+    if kind == F.EXIT_RESET:  # machine.reset(): the board restarts, the plant carries on
+        if code != endings.DEEPSLEEP_WAKE:  # (a deep sleep's wake resets by design)
+            endings.reset(rig, t)
+        rig.restart()
+        rig.resets += 1
+    else:
+        rig.exit_kind, rig.exit_code = kind, code
+        endings.exited(rig, t, kind, code)
+
+
+def console_until(rig, t_us: int) -> None:
+    """The firmware ends (or raised) at ``t_us``: what it printed since its last wait was
+    printed by then (the console's pipe is read with the link's bytes, before they are
+    handled: FdTransport.read_some)."""
+    if rig.console_log.pending:
+        rig.console_log.stamp(t_us)
+
+
+HANDLERS = {
+    F.OUT: on_out,
+    F.WAIT: on_wait,
+    F.CFG: on_cfg,
+    F.SEEN: on_seen,
+    F.UART_TX: on_uart_tx,
+    F.FAULT: on_fault,
+    F.EXIT: on_exit,
+    F.BUS: on_bus,
+    F.POLL: on_poll,
+}
+"""Frame type -> its handler."""
