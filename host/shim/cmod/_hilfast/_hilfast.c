@@ -13,12 +13,27 @@
 //   else through its own _hil_apply. It stops at the first change past t_end (held by the
 //   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
 //   returns handlers_wrote's stop code (0: every change up to t_end applied).
+//
+// With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
+// board's own time (docs/mcu-time.md):
+// exempt(module): the module's functions are not counted (the shim: a board has it in C).
+// cost(weights): set the cost model, a bytes of 262 little-endian uint32 in picoseconds:
+//   one per opcode byte, then a call into C, an allocation, an allocated byte, a collection,
+//   a byte in use at a collection, a byte of heap at a collection.
+// owed_us(): the whole µs of MCU time the firmware's work since the last call costs (the
+//   rest carried to the next); counts(): the raw counters (a dict, for calibration);
+// stack(all=False): the running bytecode functions, outermost first, as
+//   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
 #include <string.h>
 
+#include "py/bc.h"
+#include "py/hilcount.h"
 #include "py/obj.h"
+#include "py/objfun.h"
 #include "py/objlist.h"
 #include "py/objtuple.h"
 #include "py/runtime.h"
+#include "py/smallint.h"
 
 #define CHANGE_LEN 15  // "<IHBiI": dt_us, handle, kind, value, extra
 #define CH_BYTES 2     // _hilframe.CH_BYTES: value is a byte count, the bytes follow
@@ -199,9 +214,131 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state);
 
+// -- MCU time: the counters of py/hilcount.h ------------------------------------------
+
+#define N_EXTRA 6  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes
+static uint32_t cost_ps[256 + N_EXTRA];
+static mp_hil_counts_t charged;  // the counters as far as owed_us has charged them
+static uint64_t carry_ps;  // charged work worth less than a µs, carried
+
+static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
+    return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
+}
+
+static uint64_t extra(const mp_hil_counts_t *c, int i) {
+    const uint64_t v[N_EXTRA] = {c->ccalls, c->allocs, c->alloc_bytes, c->collects, c->gc_used_bytes, c->gc_total_bytes};
+    return v[i];
+}
+
+static mp_obj_t exempt(mp_obj_t module) {
+    const void *context = mp_obj_module_get_globals(module);  // (what py/vm.c looks up)
+    size_t i = ((uintptr_t)context >> 4) & (MP_HIL_EXEMPT_MAX - 1);
+    for (size_t n = 0; n < MP_HIL_EXEMPT_MAX - 1; n++) {  // (one slot kept empty: lookups end)
+        if (mp_hil_exempt[i] == context) {
+            return mp_const_none;
+        }
+        if (mp_hil_exempt[i] == NULL) {
+            mp_hil_exempt[i] = context;
+            return mp_const_none;
+        }
+        i = (i + 1) & (MP_HIL_EXEMPT_MAX - 1);
+    }
+    mp_raise_msg(&mp_type_RuntimeError, MP_ERROR_TEXT("too many exempt modules"));
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(exempt_obj, exempt);
+
+static mp_obj_t cost(mp_obj_t weights) {
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(weights, &buf, MP_BUFFER_READ);
+    if (buf.len != sizeof(cost_ps)) {
+        mp_raise_ValueError(MP_ERROR_TEXT("cost table: wrong length"));
+    }
+    const uint8_t *b = buf.buf;
+    for (size_t i = 0; i < MP_ARRAY_SIZE(cost_ps); i++) {
+        cost_ps[i] = get_u32(b + 4 * i);
+    }
+    charged = mp_hil_counts;  // what ran before is not charged
+    carry_ps = 0;
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(cost_obj, cost);
+
+static mp_obj_t owed_us(void) {
+    uint64_t ps = carry_ps;
+    for (int i = 0; i < 256; i++) {
+        ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
+    }
+    for (int i = 0; i < N_EXTRA; i++) {
+        ps += (extra(&mp_hil_counts, i) - extra(&charged, i)) * cost_ps[256 + i];
+    }
+    charged = mp_hil_counts;
+    carry_ps = ps % 1000000;
+    return new_uint(ps / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
+
+static mp_obj_t counts(void) {
+    static mp_hil_counts_t now;
+    now = mp_hil_counts;  // (before this function's own allocations)
+    mp_obj_t ops = mp_obj_new_list(256, NULL);
+    for (int i = 0; i < 256; i++) {
+        mp_obj_list_store(ops, MP_OBJ_NEW_SMALL_INT(i), new_uint(now.ops[i]));
+    }
+    mp_obj_t d = mp_obj_new_dict(N_EXTRA + 1);
+    static const qstr names[N_EXTRA] = {MP_QSTR_ccalls, MP_QSTR_allocs, MP_QSTR_alloc_bytes, MP_QSTR_collects, MP_QSTR_gc_used_bytes, MP_QSTR_gc_total_bytes};
+    mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(MP_QSTR_ops), ops);
+    for (int i = 0; i < N_EXTRA; i++) {
+        mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(names[i]), new_uint(extra(&now, i)));
+    }
+    return d;
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(counts_obj, counts);
+
+// One running function as (file, function, line): its prelude decoded as py/vm.c's exception
+// handler does for a traceback (MP_BC_PRELUDE_SIG_DECODE, mp_bytecode_get_source_line).
+static mp_obj_t frame(const mp_code_state_t *cs) {
+    const byte *ip = cs->fun_bc->bytecode;
+    MP_BC_PRELUDE_SIG_DECODE(ip);
+    MP_BC_PRELUDE_SIZE_DECODE(ip);
+    const byte *line_info_top = ip + n_info;
+    const byte *bytecode_start = ip + n_info + n_cell;
+    qstr block_name = mp_decode_uint_value(ip);
+    for (size_t i = 0; i < 1 + n_pos_args + n_kwonly_args; ++i) {
+        ip = mp_decode_uint_skip(ip);
+    }
+    #if MICROPY_EMIT_BYTECODE_USES_QSTR_TABLE
+    block_name = cs->fun_bc->context->constants.qstr_table[block_name];
+    qstr source_file = cs->fun_bc->context->constants.qstr_table[0];
+    #else
+    qstr source_file = cs->fun_bc->context->constants.source_file;
+    #endif
+    size_t offset = cs->ip > bytecode_start ? (size_t)(cs->ip - bytecode_start) : 0;
+    size_t line = mp_bytecode_get_source_line(ip, line_info_top, offset);
+    mp_obj_t item[3] = {MP_OBJ_NEW_QSTR(source_file), MP_OBJ_NEW_QSTR(block_name), MP_OBJ_NEW_SMALL_INT(line)};
+    return mp_obj_new_tuple(3, item);
+}
+
+static mp_obj_t stack(size_t n_args, const mp_obj_t *args) {
+    bool all = n_args > 0 && mp_obj_is_true(args[0]);
+    size_t depth = mp_hil_depth < MP_HIL_STACK_MAX ? mp_hil_depth : MP_HIL_STACK_MAX;
+    mp_obj_t out = mp_obj_new_list(0, NULL);
+    for (size_t i = 0; i < depth; i++) {
+        if (all || mp_hil_stack_counted[i]) {
+            mp_obj_list_append(out, frame(mp_hil_stack[i]));
+        }
+    }
+    return out;
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(stack_obj, 0, 1, stack);
+
 static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
+    {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
+    {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
+    {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
+    {MP_ROM_QSTR(MP_QSTR_stack), MP_ROM_PTR(&stack_obj)},
 };
 static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);
 
