@@ -16,10 +16,12 @@
 //
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
 // board's own time (docs/mcu-time.md):
-// exempt(module): the module's functions are not counted (the shim: a board has it in C).
-// cost(weights): set the cost model, a bytes of 262 little-endian uint32 in picoseconds:
+// exempt(folder): the functions of modules whose source file starts with folder (the
+//   shim's: a board has it in C) are not counted, nor what they allocate or call.
+// cost(weights, base): set the cost model (base: the bytes in use at a collection that are
+//   not the firmware's, the harness's share of the heap), a bytes of 264 little-endian uint32 in picoseconds:
 //   one per opcode byte, then a call into C, an allocation, an allocated byte, a collection,
-//   a byte in use at a collection, a byte of heap at a collection.
+//   a byte in use at a collection, a byte of heap at a collection, a wide int result, a bit of a big-int result.
 // owed_us(): the whole µs of MCU time the firmware's work since the last call costs (the
 //   rest carried to the next); counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
@@ -216,7 +218,7 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state)
 
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
-#define N_EXTRA 6  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes
+#define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
 static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as owed_us has charged them
 static uint64_t carry_ps;  // charged work worth less than a µs, carried
@@ -226,28 +228,26 @@ static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes
 }
 
 static uint64_t extra(const mp_hil_counts_t *c, int i) {
-    const uint64_t v[N_EXTRA] = {c->ccalls, c->allocs, c->alloc_bytes, c->collects, c->gc_used_bytes, c->gc_total_bytes};
+    const uint64_t v[N_EXTRA] = {c->ccalls, c->allocs, c->alloc_bytes, c->collects, c->gc_used_bytes, c->gc_total_bytes, c->wide, c->big_bits};
     return v[i];
 }
 
-static mp_obj_t exempt(mp_obj_t module) {
-    const void *context = mp_obj_module_get_globals(module);  // (what py/vm.c looks up)
-    size_t i = ((uintptr_t)context >> 4) & (MP_HIL_EXEMPT_MAX - 1);
-    for (size_t n = 0; n < MP_HIL_EXEMPT_MAX - 1; n++) {  // (one slot kept empty: lookups end)
-        if (mp_hil_exempt[i] == context) {
-            return mp_const_none;
-        }
-        if (mp_hil_exempt[i] == NULL) {
-            mp_hil_exempt[i] = context;
-            return mp_const_none;
-        }
-        i = (i + 1) & (MP_HIL_EXEMPT_MAX - 1);
+static mp_obj_t exempt(mp_obj_t prefix) {
+    size_t len;
+    const char *text = mp_obj_str_get_data(prefix, &len);
+    if (len == 0 || len >= MP_HIL_PREFIX_MAX) {
+        mp_raise_ValueError(MP_ERROR_TEXT("exempt: a folder of 1 to 511 bytes"));
     }
-    mp_raise_msg(&mp_type_RuntimeError, MP_ERROR_TEXT("too many exempt modules"));
+    memcpy(mp_hil_exempt_prefix, text, len);
+    mp_hil_exempt_prefix_len = len;
+    return mp_const_none;
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(exempt_obj, exempt);
 
-static mp_obj_t cost(mp_obj_t weights) {
+static uint64_t used_base;  // bytes in use at a collection that are not the firmware's
+
+static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
+    used_base = mp_obj_get_int(base);
     mp_buffer_info_t buf;
     mp_get_buffer_raise(weights, &buf, MP_BUFFER_READ);
     if (buf.len != sizeof(cost_ps)) {
@@ -261,7 +261,7 @@ static mp_obj_t cost(mp_obj_t weights) {
     carry_ps = 0;
     return mp_const_none;
 }
-static MP_DEFINE_CONST_FUN_OBJ_1(cost_obj, cost);
+static MP_DEFINE_CONST_FUN_OBJ_2(cost_obj, cost);
 
 static mp_obj_t owed_us(void) {
     uint64_t ps = carry_ps;
@@ -269,7 +269,12 @@ static mp_obj_t owed_us(void) {
         ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
     }
     for (int i = 0; i < N_EXTRA; i++) {
-        ps += (extra(&mp_hil_counts, i) - extra(&charged, i)) * cost_ps[256 + i];
+        uint64_t n = extra(&mp_hil_counts, i) - extra(&charged, i);
+        if (i == 4) {  // the bytes in use at the collections, less what is the harness's at each
+            uint64_t others = (mp_hil_counts.collects - charged.collects) * used_base;
+            n = n > others ? n - others : 0;
+        }
+        ps += n * cost_ps[256 + i];
     }
     charged = mp_hil_counts;
     carry_ps = ps % 1000000;
@@ -285,7 +290,7 @@ static mp_obj_t counts(void) {
         mp_obj_list_store(ops, MP_OBJ_NEW_SMALL_INT(i), new_uint(now.ops[i]));
     }
     mp_obj_t d = mp_obj_new_dict(N_EXTRA + 1);
-    static const qstr names[N_EXTRA] = {MP_QSTR_ccalls, MP_QSTR_allocs, MP_QSTR_alloc_bytes, MP_QSTR_collects, MP_QSTR_gc_used_bytes, MP_QSTR_gc_total_bytes};
+    static const qstr names[N_EXTRA] = {MP_QSTR_ccalls, MP_QSTR_allocs, MP_QSTR_alloc_bytes, MP_QSTR_collects, MP_QSTR_gc_used_bytes, MP_QSTR_gc_total_bytes, MP_QSTR_wide, MP_QSTR_big_bits};
     mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(MP_QSTR_ops), ops);
     for (int i = 0; i < N_EXTRA; i++) {
         mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(names[i]), new_uint(extra(&now, i)));
