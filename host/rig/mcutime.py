@@ -121,7 +121,10 @@ CALIBRATION_HEAP = "400K"  # the interpreter's heap for the kernels (64-bit obje
 
 SOURCES = {
     "shaoziyang": "github.com/shaoziyang/micropython_benchmarks README.md (commit 48360b7, MicroPython v1.23.0, 2024)",
-    "scruss": "scruss.com/blog/tag/benchmark, 'Parallel MicroPython Benchmarking' results (MicroPython 1.24.1/1.25.0 preview, 2025)",
+    "scruss": (
+        "scruss.com/blog/tag/benchmark, 'Parallel MicroPython Benchmarking' results"
+        " (MicroPython 1.24.1/1.25.0 preview, 2025)"
+    ),
 }
 # Published board times in ms of the kernels (host/mcubench/kernels.py, written after the
 # source's descriptions): 100,000 loop iterations, Mandelbrot at 100 and 500 iterations,
