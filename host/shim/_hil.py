@@ -58,6 +58,11 @@ class _Console:
     fifo_bytes = 128  # the TX FIFO (the ESP32's UART has 128 bytes, the RP2040's 32)
     idle_ns = 0  # when the transmitter has sent all it holds (virtual time, ns)
     debt_ns = 0  # how long print() has blocked that the clock has not yet moved for
+    # MCU time (docs/mcu-time.md): with [board] cpu, _hilfast.owed_us (the main program's
+    # compute since the last charge, µs: added to the debt above, paid the same way) and
+    # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
+    cpu = busy = None
+    ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
 
 
 def console_setup(baud, fifo_bytes):
@@ -77,6 +82,47 @@ def _printed(n_bytes):
         _Console.debt_ns += free_ns - t_ns
 
 
+def cpu_start(getenv):
+    """Compute costs the board's CPU time from here on, when the host names a CPU
+    (HIL_CPU, its cost table in HIL_CPU_COST; host/rig/mcutime.py): the firmware's work is
+    counted by this interpreter (_hilfast, host/core/micropython/hilcount.patch), the
+    shim's own is not. Without the counter (a user's own interpreter, HIL_PURE) compute
+    stays free, which it says once."""
+    name = getenv("HIL_CPU") if getenv else None
+    if not name:
+        return
+    fast = None
+    if not getenv("HIL_PURE"):
+        try:
+            import _hilfast as fast
+        except ImportError:
+            pass
+    if fast is None or not hasattr(fast, "owed_us"):
+        sys.stderr.write("mpy-fil: [board] cpu = %s: this interpreter cannot count, compute is free here\n" % name)
+        return
+    import binascii
+    import gc
+
+    # the shim's folder as its modules were compiled (this function's own file: before the
+    # sandbox, _hilconfine) and as they are now (imported later)
+    fast.exempt(fast.stack(True)[-1][0].rsplit("/", 1)[0] + "/")
+    fast.exempt(__file__.rsplit("/", 1)[0] + "/")
+    gc.collect()
+    fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
+    _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
+    _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
+
+
+def _charge_cpu():
+    """The main program's compute since the last charge, owed as print()'s blocking is;
+    True when the clock owes a µs or more."""
+    owed = _Console.cpu()
+    if owed:
+        _Console.debt_ns += owed * 1000
+        _Console.ran_us += owed
+    return _Console.debt_ns >= 1000
+
+
 def _console_owed_us():
     """The whole microseconds print() has blocked for, now taken off the debt."""
     owed = _Console.debt_ns // 1000
@@ -87,6 +133,8 @@ def _console_owed_us():
 def pay_console():
     """Move the clock on by what print() owes (before an output, which a board makes after
     the print returned)."""
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:
         _released_run_until(_now + _console_owed_us(), None)
 
@@ -147,6 +195,7 @@ class _Link:
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
+    irq_begin = irq_end = None  # _hilfast's, with MCU time (cpu_start): dispatch tells it of callbacks
 
     def __init__(self, path):
         f = open(path, "r+b")
@@ -323,6 +372,8 @@ def said(n_bytes=0):
     host stamps the text with the virtual time it was printed at (docs/traces.md). With
     the console's baud rate set, n_bytes (0: not counted) cost their time on the UART."""
     global _horizon
+    if _Console.cpu is not None:
+        _charge_cpu()  # (the text leaves once what ran before it is done)
     if n_bytes and _Console.ns_per_byte:
         _printed(n_bytes)
     if _horizon > _now:
@@ -339,6 +390,8 @@ def _drop_held():
 
 
 def send_out(handle, attr, value):
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board writes once the print before has returned
         pay_console()
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
@@ -363,6 +416,8 @@ def transfer(handle, op, address, n_read, data):
     cleared). Returns (status, count, bytes read, the instant): the caller passes the time
     the transfer took on the bus (which depends on its outcome) to bus_time()."""
     global _horizon, _wrote
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board starts the transfer once the print before has returned
         pay_console()
     depth = heap_release()
@@ -424,9 +479,10 @@ def observe():
             t += SPIN_STEP_US
     else:
         t = now()
-    if t >= _horizon or t >= _timer_due:
+    if t >= _horizon or t >= _timer_due or (_Console.cpu is not None and _charge_cpu()):
         # (a read: not the blocking calls' thread check, on this hot path; the heap lock
-        # released, since the firmware may read the clock under it and this may sync)
+        # released, since the firmware may read the clock under it and this may sync;
+        # with MCU time, also to pay for the compute before the read)
         _released_run_until(t, None)
     else:
         _now = t
@@ -466,6 +522,8 @@ def run_until_woken(watch=None):
 
 
 def _released_run_until(t_target, watch):
+    if _Console.cpu is not None:
+        _charge_cpu()  # (the wait begins once the compute before it is done)
     if _Console.debt_ns >= 1000:
         # print() blocked this long before the firmware read the clock or began this wait:
         # the wait ends that much later (one exchange with the host, stamped at the print).
@@ -475,13 +533,14 @@ def _released_run_until(t_target, watch):
         if t_target < FOREVER_US:
             t_target += owed
     depth = heap_release()
+    run = _run_until if _Console.cpu is None else _run_until_idle
     if not depth:
-        hit = _run_until(t_target, watch)
+        hit = run(t_target, watch)
         if _Link.spent:
             keep_reserve()
         return hit
     try:
-        return _run_until(t_target, watch)
+        return run(t_target, watch)
     finally:
         if _Link.spent:
             keep_reserve()
@@ -590,10 +649,24 @@ def _run_until(t_target, watch):
             return False
 
 
+def _run_until_idle(t_target, watch):
+    """_run_until, then on until the callbacks run on the way are done (MCU time: the
+    main program goes on once their compute is, _Console.busy)."""
+    hit = _run_until(t_target, watch)
+    busy = _Console.busy()
+    while busy > _now:
+        _run_until(busy, None)
+        busy = _Console.busy()
+    return hit
+
+
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
     make_room()
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
+    if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
+        compute_us = _Console.ran_us
+        _Console.ran_us = 0
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT
@@ -748,6 +821,8 @@ def dispatch():
         return
     _dispatching = True
     pending, link = _pending, _Link
+    if link.irq_begin is not None:
+        link.irq_begin()  # (MCU time: the callbacks' compute keeps the CPU busy from _now)
     try:
         while pending:
             callback, arg = pending.pop(0)
@@ -758,6 +833,8 @@ def dispatch():
                 raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
     finally:
         _dispatching = False
+        if link.irq_end is not None:
+            link.irq_end(_now)
 
 
 def disable_irq():

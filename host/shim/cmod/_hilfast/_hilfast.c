@@ -17,13 +17,16 @@
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
 // board's own time (docs/mcu-time.md):
 // exempt(folder): the functions of modules whose source file starts with folder (the
-//   shim's: a board has it in C) are not counted, nor what they allocate or call.
+//   shim's: a board has it in C) are not counted, nor what they allocate or call (up to
+//   four folders: the shim's, as it was compiled before and after the sandbox).
 // cost(weights, base): set the cost model (base: the bytes in use at a collection that are
 //   not the firmware's, the harness's share of the heap), a bytes of 264 little-endian uint32 in picoseconds:
 //   one per opcode byte, then a call into C, an allocation, an allocated byte, a collection,
 //   a byte in use at a collection, a byte of heap at a collection, a wide int result, a bit of a big-int result.
-// owed_us(): the whole µs of MCU time the firmware's work since the last call costs (the
-//   rest carried to the next); counts(): the raw counters (a dict, for calibration);
+// owed_us(): the whole µs of MCU time the main program's work since the last call costs
+//   (the rest carried to the next); irq_begin(), irq_end(now): a batch of callbacks runs
+//   (their work keeps the CPU busy from now); busy_us(): until when callbacks keep it busy;
+// counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
 #include <string.h>
@@ -79,6 +82,10 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
     mp_call_method_n_kw(3, 0, dest);
 }
 
+// MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
+static void irq_begin(void);
+static void irq_end(mp_obj_t now_us);
+
 static bool pending_any(mp_obj_t pending) {
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     return list->len > 0;
@@ -95,6 +102,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         return;
     }
     mp_obj_dict_store(g, dispatching, mp_const_true);
+    irq_begin();
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     while (list->len > 0) {
         mp_obj_t item = list->items[0];  // pending.pop(0)
@@ -111,6 +119,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
             nlr_pop();
         } else {
             mp_obj_dict_store(g, dispatching, mp_const_false);
+            irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
             mp_obj_t exc = MP_OBJ_FROM_PTR(nlr.ret_val);
             if (mp_obj_is_subclass_fast(MP_OBJ_FROM_PTR(mp_obj_get_type(exc)), MP_OBJ_FROM_PTR(&mp_type_Exception))) {
                 nlr_raise(mp_call_function_2(failed, callback, exc));  // (a reset, a host stop go through)
@@ -119,6 +128,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         }
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
+    irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
 }
 
 static mp_obj_t global(mp_obj_t g, qstr name) {
@@ -220,8 +230,10 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state)
 
 #define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
 static uint32_t cost_ps[256 + N_EXTRA];
-static mp_hil_counts_t charged;  // the counters as far as owed_us has charged them
-static uint64_t carry_ps;  // charged work worth less than a µs, carried
+static mp_hil_counts_t charged;  // the counters as far as they are charged
+static bool cost_on;  // cost() was called: the counters are charged
+static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
+static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 
 static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
     return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
@@ -238,9 +250,17 @@ static mp_obj_t exempt(mp_obj_t prefix) {
     if (len == 0 || len >= MP_HIL_PREFIX_MAX) {
         mp_raise_ValueError(MP_ERROR_TEXT("exempt: a folder of 1 to 511 bytes"));
     }
-    memcpy(mp_hil_exempt_prefix, text, len);
-    mp_hil_exempt_prefix_len = len;
-    return mp_const_none;
+    for (size_t p = 0; p < MP_HIL_PREFIXES; p++) {
+        if (mp_hil_exempt_prefix_len[p] == len && memcmp(mp_hil_exempt_prefix[p], text, len) == 0) {
+            return mp_const_none;
+        }
+        if (mp_hil_exempt_prefix_len[p] == 0) {
+            memcpy(mp_hil_exempt_prefix[p], text, len);
+            mp_hil_exempt_prefix_len[p] = len;
+            return mp_const_none;
+        }
+    }
+    mp_raise_ValueError(MP_ERROR_TEXT("exempt: no room for another folder"));
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(exempt_obj, exempt);
 
@@ -258,13 +278,15 @@ static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
         cost_ps[i] = get_u32(b + 4 * i);
     }
     charged = mp_hil_counts;  // what ran before is not charged
-    carry_ps = 0;
+    main_ps = busy_ps = 0;
+    cost_on = true;
     return mp_const_none;
 }
 static MP_DEFINE_CONST_FUN_OBJ_2(cost_obj, cost);
 
-static mp_obj_t owed_us(void) {
-    uint64_t ps = carry_ps;
+// The cost of what was counted since the last take, in ps.
+static uint64_t take_ps(void) {
+    uint64_t ps = 0;
     for (int i = 0; i < 256; i++) {
         ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
     }
@@ -277,10 +299,54 @@ static mp_obj_t owed_us(void) {
         ps += n * cost_ps[256 + i];
     }
     charged = mp_hil_counts;
-    carry_ps = ps % 1000000;
-    return new_uint(ps / 1000000);
+    return ps;
+}
+
+// The main program's compute since the last call, in whole µs (the rest carried).
+static mp_obj_t owed_us(void) {
+    if (cost_on) {
+        main_ps += take_ps();
+    }
+    uint64_t us = main_ps / 1000000;
+    main_ps -= us * 1000000;
+    return new_uint(us);
 }
 static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
+
+// Callbacks run (IRQ handlers, Timer callbacks): what the main program computed before
+// them is its own; theirs keeps the CPU busy from their instant (or from when the ones
+// before are done) for as long as it costs: the main program goes on after that
+// (busy_us, which the shim waits out after a wait).
+static void irq_begin(void) {
+    if (cost_on) {
+        main_ps += take_ps();
+    }
+}
+
+static void irq_end(mp_obj_t now_us) {
+    if (cost_on) {
+        uint64_t ps = take_ps();
+        uint64_t start = (uint64_t)mp_obj_get_int(now_us) * 1000000;
+        busy_ps = (busy_ps > start ? busy_ps : start) + ps;
+    }
+}
+
+static mp_obj_t irq_begin_py(void) {
+    irq_begin();
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(irq_begin_obj, irq_begin_py);
+
+static mp_obj_t irq_end_py(mp_obj_t now_us) {
+    irq_end(now_us);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(irq_end_obj, irq_end_py);
+
+static mp_obj_t busy_us(void) {  // (rounded up: the main program goes on once they are done)
+    return new_uint((busy_ps + 999999) / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(busy_us_obj, busy_us);
 
 static mp_obj_t counts(void) {
     static mp_hil_counts_t now;
@@ -343,6 +409,9 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
     {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_end), MP_ROM_PTR(&irq_end_obj)},
+    {MP_ROM_QSTR(MP_QSTR_busy_us), MP_ROM_PTR(&busy_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_stack), MP_ROM_PTR(&stack_obj)},
 };
 static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);

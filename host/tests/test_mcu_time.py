@@ -1,0 +1,99 @@
+"""MCU time (docs/mcu-time.md): with ``[board] cpu`` the firmware's compute, counted by the
+harness's interpreter (host/core/micropython/hilcount.patch), costs the board CPU's time
+in virtual time, the same on any host and any load."""
+
+import json
+import os
+import subprocess
+import textwrap
+
+import pytest
+
+from host.rig import mcutime
+from host.tests.conftest import results
+
+# A control loop: ~5 ms of float math per period on an RP2040 (per the model), then the LED
+# toggles and the loop sleeps 20 ms. ITERATIONS is sized from the model (below).
+LOOP = """
+import time
+from machine import Pin
+
+led = Pin(2, Pin.OUT)
+
+
+def control(n):
+    x = 0.5
+    acc = 0.0
+    for i in range(n):
+        x = x * 1.0001 + 0.25
+        acc += x / (i + 1)
+    return acc
+
+
+t_prev = time.ticks_us()
+for loop in range(ROUNDS):
+    t0 = time.ticks_us()
+    control(ITERATIONS)
+    t1 = time.ticks_us()
+    led.toggle()
+    if loop == ROUNDS - 1:
+        print("R compute_us", time.ticks_diff(t1, t0))
+    time.sleep_ms(20)
+"""
+ROUNDS = 10
+
+
+def rig_file(folder, cpu, limit_us, iterations):
+    folder.mkdir(exist_ok=True)
+    main = LOOP.replace("ROUNDS", str(ROUNDS)).replace("ITERATIONS", str(iterations))
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    (folder / "rig.toml").write_text(
+        f'name = "mcu"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "{cpu}"\n'
+        "[board.pins]\nLED = 2\n"
+        '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+        f'[budgets.control]\nkind = "compute"\nlimit_us = {limit_us}\n'
+    )
+    return str(folder / "rig.toml")
+
+
+def iterations_for(interpreter, cpu: str, target_us: float) -> int:
+    """The loop count whose compute costs target_us on cpu (the model, from a counted run)."""
+    probe = LOOP.split("t_prev")[0].replace("from machine import Pin", "").replace("led = Pin(2, Pin.OUT)", "")
+    probe += "import _hilfast, json\nc0 = _hilfast.counts()\ncontrol(1000)\nc1 = _hilfast.counts()\n"
+    probe += "d = {k: (c1[k] - c0[k]) if k != 'ops' else [b - a for a, b in zip(c0[k], c1[k])] for k in c1}\n"
+    probe += "print(json.dumps(d))\n"
+    out = subprocess.run([str(interpreter), "-c", probe], capture_output=True, text=True, timeout=30, check=True)
+    per_1000 = mcutime.CPUS[cpu].charge_us(json.loads(out.stdout))
+    return round(1000 * target_us / per_1000)
+
+
+@pytest.fixture(scope="module")
+def iterations():
+    from host.core import interpreter
+
+    return iterations_for(interpreter.find(), "rp2040@125MHz", 5000)
+
+
+@pytest.mark.parametrize(("cpu", "limit_us", "holds"), [
+    ("rp2040@125MHz", 4000, False),
+    ("rp2040@125MHz", 6000, True),
+    ("free", 4000, True),
+    ("free", 6000, True),
+])  # fmt: skip
+def test_five_ms_of_math_on_an_rp2040_misses_4ms_and_holds_6ms_free_takes_none(make_rig, tmp_path, iterations, cpu, limit_us, holds):
+    rig = make_rig(rig_file(tmp_path / "app", cpu, limit_us, iterations))
+    rig.run_for(1)
+    rig.stop()
+    compute_us = results(rig.console)["compute_us"]
+    budget = rig.budgets["control"]
+    if cpu == "free":  # compute takes no virtual time; the budget measures wall time (informational)
+        assert compute_us == 0, f"compute took virtual time with cpu free: {compute_us} us (console: {rig.console!r})"
+        assert budget.wall_clock and budget.limit_text().endswith("wall")
+        return
+    assert 4500 <= compute_us <= 5500, f"expected ~5000 us of MCU time a loop, the clock moved {compute_us} us"
+    assert not budget.wall_clock and budget.limit_text().endswith("on rp2040@125MHz")
+    if holds:
+        budget.check()
+    else:
+        with pytest.raises(AssertionError, match="budget control"):
+            budget.check()
