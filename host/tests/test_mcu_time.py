@@ -3,7 +3,6 @@ harness's interpreter (host/core/micropython/hilcount.patch), costs the board CP
 in virtual time, the same on any host and any load."""
 
 import json
-import os
 import subprocess
 import textwrap
 
@@ -80,7 +79,9 @@ def iterations():
     ("free", 4000, True),
     ("free", 6000, True),
 ])  # fmt: skip
-def test_five_ms_of_math_on_an_rp2040_misses_4ms_and_holds_6ms_free_takes_none(make_rig, tmp_path, iterations, cpu, limit_us, holds):
+def test_5ms_of_math_on_an_rp2040_misses_4ms_holds_6ms_and_free_takes_none(
+    make_rig, tmp_path, iterations, cpu, limit_us, holds
+):
     rig = make_rig(rig_file(tmp_path / "app", cpu, limit_us, iterations))
     rig.run_for(1)
     rig.stop()
@@ -97,3 +98,36 @@ def test_five_ms_of_math_on_an_rp2040_misses_4ms_and_holds_6ms_free_takes_none(m
     else:
         with pytest.raises(AssertionError, match="budget control"):
             budget.check()
+
+
+def test_the_same_seed_gives_a_byte_identical_trace_on_a_loaded_machine(make_rig, tmp_path, iterations):
+    """MCU time is counted, never measured: a busy process beside the second run changes
+    nothing in the trace; with cpu free the same firmware's trace differs (no compute time)."""
+    traces = []
+    runs = (("rp2040", "rp2040@125MHz", False), ("rp2040", "rp2040@125MHz", True), ("free", "free", False))
+    for folder, cpu, loaded in runs:
+        busy = None
+        if loaded:  # (a spinning process on this machine's cores while the rig runs)
+            busy = subprocess.Popen(["python3", "-c", "while True: pass"])
+        try:
+            rig = make_rig(rig_file(tmp_path / folder, cpu, 6000, iterations), seed=3, trace=True)
+            rig.run_for(0.5)
+            rig.stop()
+        finally:
+            if busy is not None:
+                busy.kill()
+                busy.wait()
+        traces.append((rig.artefacts / "trace.jsonl").read_bytes().split(b"\n", 1)[1])  # (after the header)
+    assert len(traces[0]) > 1000, f"expected a trace, got {len(traces[0])} bytes"
+    assert traces[0] == traces[1], "the loaded run's trace differs from the quiet one's (MCU time not deterministic)"
+    assert traces[0] != traces[2], "the trace with cpu free is the same as with an RP2040's time: compute not charged"
+
+
+def test_an_interpreter_that_cannot_count_says_compute_is_free(make_rig, tmp_path, iterations, monkeypatch):
+    monkeypatch.setenv("HIL_PURE", "1")  # (the shim's pure-Python path, as on a user's own interpreter)
+    rig = make_rig(rig_file(tmp_path / "app", "rp2040@125MHz", 6000, iterations))
+    rig.run_for(0.5)
+    rig.stop()
+    said = [ln for ln in rig.console.splitlines() if "compute is free" in ln]
+    assert len(said) == 1, f"expected one line saying compute is free, got {said} (console: {rig.console!r})"
+    assert results(rig.console)["compute_us"] == 0
