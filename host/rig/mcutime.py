@@ -6,14 +6,13 @@ the firmware's next clock read, wait or output (host/shim/_hil.py, ``_Cpu``).
 A cost per kind of counted work, in CPU cycles: each bytecode by its class (:data:`CLASS`
 of each opcode byte, py/bc0.h), a call into a C function, a heap allocation and its bytes,
 a collection with the heap in use and the heap's size. The figures are fitted to published
-board times (:data:`PUBLISHED`, docs/mcu-time.md): ``python -m host.rig.mcutime`` runs the
+board times (:data:`PUBLISHED`, docs/mcu-time.md): ``python -m host.mcubench`` runs the
 kernels on the counting interpreter and prints the published time beside the charged one.
 """
 
 import json
 import struct
 import subprocess
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -215,20 +214,20 @@ def fitted(counts: dict[str, dict]) -> dict[str, Cpu]:
     ):
         x = fit(counts, PUBLISHED[key], mhz, HEAPS[family])
         name = "esp32@240MHz" if family == "esp32" else key
-        cpus[name] = Cpu(name, 240 if family == "esp32" else mhz, *(round(v, 1) for v in x), HEAPS[family])
+        cpus[name] = Cpu(name, 240 if family == "esp32" else mhz, *(round(float(v), 1) for v in x), HEAPS[family])
     rp = cpus["rp2040@125MHz"]
     k = RP2350_VS_RP2040 * 150 / 125
     cpus["rp2350@150MHz"] = Cpu(
         "rp2350@150MHz",
         150,
-        *(round(v * k, 1) for v in (rp.unit, rp.alloc, rp.wide, rp.ccall, rp.power, rp.big_bit)),
+        *(round(float(v * k), 1) for v in (rp.unit, rp.alloc, rp.wide, rp.ccall, rp.power, rp.big_bit)),
         HEAPS["rp2350"],
     )
     return cpus
 
 
 # The models, as :func:`fitted` makes them from the kernels' counts (``python -m
-# host.rig.mcutime`` fits them again and prints the table of docs/mcu-time.md).
+# host.mcubench`` fits them again and prints the table of docs/mcu-time.md).
 CPUS = {
     "rp2040@125MHz": Cpu("rp2040@125MHz", 125, 43.4, 637.3, 2530.7, 3057.8, 10883.3, 5.3, HEAPS["rp2040"]),
     "esp32@240MHz": Cpu("esp32@240MHz", 240, 42.4, 463.9, 2118.3, 1556.9, 823.7, 5.3, HEAPS["esp32"]),
@@ -276,7 +275,3 @@ def main(argv: list[str]) -> int:
     for key, kernel, pub, charged, diff in table(counts):
         print(f"| {key} | {kernel} | {pub} | {charged} | {diff:+.1f} % |")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
