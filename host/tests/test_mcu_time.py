@@ -131,3 +131,73 @@ def test_an_interpreter_that_cannot_count_says_compute_is_free(make_rig, tmp_pat
     said = [ln for ln in rig.console.splitlines() if "compute is free" in ln]
     assert len(said) == 1, f"expected one line saying compute is free, got {said} (console: {rig.console!r})"
     assert results(rig.console)["compute_us"] == 0
+
+
+CALLBACKS = """
+import time
+from machine import Timer
+
+
+def control(n):
+    x = 0.5
+    acc = 0.0
+    for i in range(n):
+        x = x * 1.0001 + 0.25
+        acc += x / (i + 1)
+    return acc
+
+
+def tick(t):
+    control(ITERATIONS)
+
+
+tim = Timer(0)
+for sleep_ms in (20, 25):
+    tim.init(period=10, callback=tick)
+    t0 = time.ticks_us()
+    time.sleep_ms(sleep_ms)
+    t1 = time.ticks_us()
+    tim.deinit()
+    print("R slept_%d" % sleep_ms, time.ticks_diff(t1, t0))
+    time.sleep_ms(50)
+"""
+
+
+def test_a_callbacks_compute_delays_the_main_program_only_when_it_overlaps(make_rig, tmp_path):
+    """Timer callbacks of ~3 ms on an RP2040 at 10 and 20 ms: a 20 ms sleep ends once the
+    second is done (~23 ms), a 25 ms sleep when it was due (both done by then)."""
+    from host.core import interpreter
+
+    cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 3000)
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "main.py").write_text(textwrap.dedent(CALLBACKS.replace("ITERATIONS", str(cb_iterations))))
+    (folder / "rig.toml").write_text(
+        'name = "mcu_irq"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "rp2040@125MHz"\n'
+        '[board.pins]\nLED = 2\n[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"))
+    rig.run_for(0.5)
+    rig.stop()
+    got = results(rig.console)
+    assert 22_500 <= got["slept_20"] <= 23_500, f"expected the 20 ms sleep ~3 ms late, got {got} ({rig.console!r})"
+    assert 25_000 <= got["slept_25"] <= 25_100, f"expected the 25 ms sleep to end on time, got {got} ({rig.console!r})"
+
+
+def test_the_stack_names_the_running_functions(tmp_path):
+    """_hilfast.stack(): the firmware's call stack as (file, function, line), outermost first."""
+    from host.core import interpreter
+
+    script = tmp_path / "stack.py"
+    script.write_text(
+        "import _hilfast\n"
+        "def inner():\n"
+        "    return _hilfast.stack()\n"
+        "def outer():\n"
+        "    x = 1\n"
+        "    return inner()\n"
+        "print(outer())\n"
+    )
+    out = subprocess.run([str(interpreter.find()), str(script)], capture_output=True, text=True, timeout=30)
+    want = f"[('{script}', '<module>', 7), ('{script}', 'outer', 6), ('{script}', 'inner', 3)]"
+    assert out.stdout.strip() == want, f"expected {want}, got {out.stdout!r} {out.stderr!r}"
