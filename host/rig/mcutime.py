@@ -49,9 +49,25 @@ CLASSES = ("simple", "lookup", "subscr", "op", "call", "iter", "build", "other")
 EXTRAS = ("ccall", "alloc", "alloc_byte", "collect", "gc_used_byte", "gc_total_byte")
 COUNT_KEYS = ("ccalls", "allocs", "alloc_bytes", "collects", "gc_used_bytes", "gc_total_bytes")
 CPU_FAMILIES = ("rp2040@125MHz", "esp32@240MHz", "esp32s3@240MHz", "rp2350@150MHz")
-DEFAULT_CPU = {"rp2": FREE, "esp32": FREE}
-"""The cpu a board family gets when its rig file names none (docs/mcu-time.md, "Default"):
-free for now, so that the apps' pinned traces stay as they are."""
+FAMILY_CPU = {
+    "ESP32S3": "esp32s3@240MHz",  # (before ESP32: the first whose name the chip's starts with)
+    "ESP32": "esp32@240MHz",
+    "RP2350": "rp2350@150MHz",
+    "RP2040": "rp2040@125MHz",
+}
+"""Each family's CPU, by the chip its board names (sys.implementation._machine's "with <chip>")."""
+DEFAULT_ON = False
+"""Whether a rig file without ``cpu`` gets its family's CPU (docs/mcu-time.md, "Default"):
+not yet, so that the apps' pinned traces stay as they are; until then it gets "free"."""
+
+
+def default_cpu(identity: tuple[str, str] | None) -> str:
+    """The cpu of a board whose rig file names none: its family's when :data:`DEFAULT_ON`."""
+    if not DEFAULT_ON or not identity:
+        return FREE
+    chip = identity[1].rsplit(" with ", 1)[-1].upper()
+    return next((cpu for name, cpu in FAMILY_CPU.items() if chip.startswith(name)), FREE)
+
 
 # Relative cost of each class of bytecode, in units of a simple one (a load, a store, a
 # jump): shared by every CPU, which differ in a unit's cycles (fitted).

@@ -224,7 +224,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
         },
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
         console_baud=_console_baud(where, data.get("board", {})),
-        cpu=_cpu(where, data.get("board", {}), platform),
+        cpu=_cpu(where, data.get("board", {}), _family(where, data.get("board", {})) or identity(board_name)),
         allow_exit=firmware.get("allow_exit", False),
     )
 
@@ -321,10 +321,10 @@ def _console_baud(where: _Where, board) -> int:
     return value
 
 
-def _cpu(where: _Where, board, platform: str | None) -> str:
+def _cpu(where: _Where, board, identity: tuple[str, str] | None) -> str:
     """[board] cpu: the CPU whose time the firmware's compute costs ("rp2040@125MHz", ...,
     "free": none), by default the family's (host/rig/mcutime.py, docs/mcu-time.md)."""
-    default = mcutime.DEFAULT_CPU.get(platform or "", mcutime.FREE)
+    default = mcutime.default_cpu(identity)
     value = board.get("cpu", default) if isinstance(board, dict) else default
     problem = mcutime.check_cpu(value)
     if problem:

@@ -201,3 +201,27 @@ def test_the_stack_names_the_running_functions(tmp_path):
     out = subprocess.run([str(interpreter.find()), str(script)], capture_output=True, text=True, timeout=30)
     want = f"[('{script}', '<module>', 7), ('{script}', 'outer', 6), ('{script}', 'inner', 3)]"
     assert out.stdout.strip() == want, f"expected {want}, got {out.stdout!r} {out.stderr!r}"
+
+
+def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
+    from host.core.errors import ConfigError
+    from host.rig.rigfile import load_rig
+
+    def cpu_of(board_lines):
+        folder = tmp_path / "rig"
+        folder.mkdir(exist_ok=True)
+        (folder / "main.py").write_text("pass\n")
+        (folder / "rig.toml").write_text(
+            f'name = "cpu"\n[board]\n{board_lines}\n[board.pins]\nLED = 2\n'
+            '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+        )
+        return load_rig(folder / "rig.toml").cpu
+
+    assert cpu_of('cpu = "esp32s3@240MHz"') == "esp32s3@240MHz"
+    assert cpu_of('family = "rpi_pico"') == "free"  # (no default CPU yet: mcutime.DEFAULT_ON)
+    monkeypatch.setattr(mcutime, "DEFAULT_ON", True)
+    assert cpu_of('family = "rpi_pico"') == "rp2040@125MHz"
+    assert cpu_of('family = "rpi_pico2"') == "rp2350@150MHz"
+    assert cpu_of('family = "esp32"\ncpu = "free"') == "free"
+    with pytest.raises(ConfigError, match=r"\[board\] cpu.*expected one of rp2040@125MHz.*got 'rp2040'"):
+        cpu_of('cpu = "rp2040"')
