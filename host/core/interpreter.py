@@ -19,8 +19,8 @@ Before make, the patches in ``host/core/micropython/*.patch`` are applied to the
 source (:func:`patch_tree`): ``hilcount.patch`` makes the VM count what the firmware executes
 (bytecodes by opcode, calls into C, allocations, collections) and keep a stack of the running
 bytecode functions, for MCU time (docs/mcu-time.md). The patches, the make options and the
-frozen manifest make a build's identity (:func:`identity`), written beside each binary: a
-binary of another identity is rebuilt.
+frozen manifest make a build's identity (:func:`identity`), written beside each binary of a
+checkout's build: a binary of another identity is rebuilt (:func:`current`).
 
 A second variant, ``settrace`` (:func:`build_variant`): the same build with line tracing
 (``sys.settrace``) for firmware coverage (docs/coverage.md), built only when coverage is
@@ -102,10 +102,21 @@ def _identity_file(target: Path) -> Path:
     return target.with_name(target.name + ".identity")
 
 
+def _in_checkout(target: Path) -> bool:
+    return paths.CHECKOUT and Path(target).is_relative_to(build_root(checkout=True))
+
+
 def current(target: Path, variant: str) -> bool:
-    """The binary at ``target`` is there and of this build's identity."""
+    """The binary at ``target`` is there and, in a checkout's build/ (where the patches and
+    the C modules change under it), of this build's identity. (The per-user cache of an
+    installed release holds that release's build: docs/ci.md caches its binary alone,
+    keyed on the release.)"""
+    if not target.is_file():
+        return False
+    if not _in_checkout(target):
+        return True
     marker = _identity_file(target)
-    return target.is_file() and marker.is_file() and marker.read_text().strip() == identity(variant)
+    return marker.is_file() and marker.read_text().strip() == identity(variant)
 
 
 def patch_tree(tree: Path) -> None:
@@ -402,7 +413,8 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
     tmp = safefs.fresh_file(target.with_suffix(".tmp"))  # (a link left there: removed, not written through)
     shutil.copy2(objects / "micropython", tmp)
     tmp.replace(target)
-    safefs.write_text(_identity_file(target), identity(variant) + "\n")
+    if _in_checkout(target):
+        safefs.write_text(_identity_file(target), identity(variant) + "\n")
     _log(f"built {target}: {version(target)}")
 
 
@@ -416,7 +428,8 @@ def build(root: Path | None = None) -> Path:
     ensure_tools()
     safefs.make_folder(target.parent, base=root)
     _compile(fetch_source(root), root / "build.log", "standard", target)
-    os.utime(_identity_file(target))
+    if _in_checkout(target):
+        os.utime(_identity_file(target))
     os.utime(target)  # newer than its inputs, so make does not rebuild it
     return target
 
