@@ -107,6 +107,7 @@ def cpu_start(getenv):
     # sandbox, _hilconfine) and as they are now (imported later)
     fast.exempt(fast.stack(True)[-1][0].rsplit("/", 1)[0] + "/")
     fast.exempt(__file__.rsplit("/", 1)[0] + "/")
+    fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
     gc.collect()
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
     _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
