@@ -100,6 +100,9 @@ def cpu_start(getenv):
     if fast is None or not hasattr(fast, "owed_us"):
         sys.stderr.write("mpy-fil: [board] cpu = %s: this interpreter cannot count, compute is free here\n" % name)
         return
+    if not _lockstep:  # (the clock is the wall's: compute takes the host's real time)
+        sys.stderr.write("mpy-fil: [board] cpu = %s: not in real time, where compute takes the host's time\n" % name)
+        return
     import binascii
     import gc
 
