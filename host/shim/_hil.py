@@ -115,6 +115,7 @@ def cpu_start(getenv):
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
     _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
+    _reads_charge()
 
 
 def _charge_cpu():
@@ -483,13 +484,29 @@ def observe():
             t += SPIN_STEP_US
     else:
         t = now()
-    if t >= _horizon or t >= _timer_due or (_Console.cpu is not None and _charge_cpu()):
+    if t >= _horizon or t >= _timer_due:
         # (a read: not the blocking calls' thread check, on this hot path; the heap lock
-        # released, since the firmware may read the clock under it and this may sync;
-        # with MCU time, also to pay for the compute before the read)
+        # released, since the firmware may read the clock under it and this may sync)
         _released_run_until(t, None)
     else:
         _now = t
+
+
+_observe_free = observe
+
+
+def _observe_mcu():
+    """observe() with MCU time (cpu_start puts it in observe's place, so that the clock
+    reads of a run without it check nothing more): the compute before the read is paid
+    first, as a wait that ends that much later."""
+    if not _dispatching and _charge_cpu():
+        _released_run_until(_now, None)
+    _observe_free()
+
+
+def _reads_charge():
+    global observe
+    observe = _observe_mcu
 
 
 def blocking():

@@ -83,6 +83,7 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
 }
 
 // MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
+static bool cost_on;  // cost() was called: the counters are charged
 static void irq_begin(void);
 static void irq_end(mp_obj_t now_us);
 
@@ -119,7 +120,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
             nlr_pop();
         } else {
             mp_obj_dict_store(g, dispatching, mp_const_false);
-            irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+            if (cost_on) {
+                irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+            }
             mp_obj_t exc = MP_OBJ_FROM_PTR(nlr.ret_val);
             if (mp_obj_is_subclass_fast(MP_OBJ_FROM_PTR(mp_obj_get_type(exc)), MP_OBJ_FROM_PTR(&mp_type_Exception))) {
                 nlr_raise(mp_call_function_2(failed, callback, exc));  // (a reset, a host stop go through)
@@ -128,7 +131,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         }
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
-    irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+    if (cost_on) {
+        irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+    }
 }
 
 static mp_obj_t global(mp_obj_t g, qstr name) {
@@ -231,7 +236,6 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state)
 #define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
 static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as they are charged
-static bool cost_on;  // cost() was called: the counters are charged
 static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
 static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 
