@@ -24,6 +24,7 @@ import _hilframe as F  # noqa: E402
 
 SPIN_LIMIT = 50  # clock/input reads without a blocking call before time starts to move
 SPIN_STEP_US = 10  # virtual time each further read costs while spinning
+BEHIND_US = 100_000  # MCU time: callbacks this far ahead of the clock: the board falls behind
 TICKS_PERIOD = 1 << 30  # a 32-bit MCU's small-int tick period
 TICKS_MASK = TICKS_PERIOD - 1
 TICKS_START_US = TICKS_PERIOD - 10_000_000  # ticks_us wraps 10 s into the run
@@ -63,6 +64,7 @@ class _Console:
     # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
     cpu = busy = None
     ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
+    behind = False  # the callbacks' compute has outrun the clock by BEHIND_US (said once)
 
 
 def console_setup(baud, fifo_bytes):
@@ -676,6 +678,12 @@ def _run_until_idle(t_target, watch):
     hit = _run_until(t_target, watch)
     busy = _Console.busy()
     while busy > _now:
+        if busy > _now + BEHIND_US and not _Console.behind:
+            _Console.behind = True  # (said once: the handlers go on taking all the CPU)
+            sys.stderr.write(
+                "mpy-fil: at t=%d us the callbacks' compute keeps the CPU busy until t=%d us:"
+                " the board would fall behind (the main program waits)\n" % (_now, busy)
+            )
         _run_until(busy, None)
         busy = _Console.busy()
     return hit

@@ -225,3 +225,26 @@ def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
     assert cpu_of('family = "esp32"\ncpu = "free"') == "free"
     with pytest.raises(ConfigError, match=r"\[board\] cpu.*expected one of rp2040@125MHz.*got 'rp2040'"):
         cpu_of('cpu = "rp2040"')
+
+
+def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_rig, tmp_path):
+    """A Timer every 2 ms whose callback costs ~3 ms on an RP2040: the main program's
+    10 ms sleep never ends (as on the board), and the run says so once."""
+    from host.core import interpreter
+
+    cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 3000)
+    main = CALLBACKS.split("tim = Timer(0)")[0].replace("ITERATIONS", str(cb_iterations))
+    main += "tim = Timer(0)\ntim.init(period=2, callback=tick)\ntime.sleep_ms(10)\nprint('R woke', 1)\n"
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    (folder / "rig.toml").write_text(
+        'name = "mcu_behind"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "rp2040@125MHz"\n'
+        '[board.pins]\nLED = 2\n[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"))
+    rig.run_for(0.4)
+    rig.stop()
+    said = [ln for ln in rig.console.splitlines() if "fall behind" in ln]
+    assert len(said) == 1, f"expected one line saying the board falls behind, got {said} ({rig.console!r})"
+    assert "woke" not in results(rig.console), f"the main program went on past its sleep: {rig.console!r}"
