@@ -7,15 +7,9 @@ import sys
 import _hilfast
 
 
-def arith(p):
-    # the loop body `C = p[1] <op> p[2]` over range(p[0]), p a list (an add here; the
-    # others differ in their operator: made from the same source by kernel())
-    for _ in range(p[0]):
-        C = p[1] + p[2]  # noqa: F841
-
-
 def _kernel(op):
-    # one function per operator, compiled from the same text (the add's, with op put in)
+    # the loop body `C = p[1] <op> p[2]` over range(p[0]), p a list: one function per
+    # operator, compiled from the same text
     src = "def k(p):\n    for _ in range(p[0]):\n        C = p[1] %s p[2]\n" % op
     g = {}
     exec(src, g)
