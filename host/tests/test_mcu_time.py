@@ -248,3 +248,20 @@ def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_r
     said = [ln for ln in rig.console.splitlines() if "fall behind" in ln]
     assert len(said) == 1, f"expected one line saying the board falls behind, got {said} ({rig.console!r})"
     assert "woke" not in results(rig.console), f"the main program went on past its sleep: {rig.console!r}"
+
+
+@pytest.mark.parametrize(("edges_per_s", "behind"), [(40_000, True), (1_000, False)])
+def test_encoder_handlers_at_40000_edges_a_second_outrun_an_rp2040(tmp_path, monkeypatch, edges_per_s, behind):
+    """The encoder bot's pin IRQ handlers (run by _hilfast.apply_state in C) on an RP2040:
+    40,000 edges a second need more than its CPU, 1,000 do not."""
+    from host.bench import ENCODER_BOT, encoder_firmware
+    from host.rig import Recording, Rig, RigSpec
+
+    monkeypatch.setenv("MPYFIL_CPU", "rp2040@125MHz")
+    main_dir = encoder_firmware(tmp_path / "fw", edges_per_s, 300)
+    spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=1, main_dir=main_dir, allow_exit=True)
+    with Rig(spec, Recording(artefacts=tmp_path / "run")) as rig:
+        rig.run_for(0.4)
+        console = rig.console
+    said = [ln for ln in console.splitlines() if "fall behind" in ln]
+    assert bool(said) == behind, f"at {edges_per_s} edges/s expected falling behind: {behind}, the run said {said}"
