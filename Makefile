@@ -63,7 +63,7 @@ build/drivers/.fetched: host/core/drivers.txt host/core/drivers.py $(VENV)/.inst
 	$(PY) -m host.core.drivers
 	@touch $@
 
-$(MP_BUILD): host/core/interpreter.py host/core/micropython/manifest.py host/core/aptsources.py $(wildcard host/shim/cmod/*/*)
+$(MP_BUILD): host/core/interpreter.py $(wildcard host/core/micropython/*) host/core/aptsources.py $(wildcard host/shim/cmod/*/*)
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
 

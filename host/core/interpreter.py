@@ -15,6 +15,13 @@ every project and virtual environment of that user, never inside ``site-packages
 ``mpy-fil setup`` (:func:`setup`) takes ``$MICROPYTHON``, else one already built, else a
 ``micropython`` on ``PATH`` of the pinned version, else builds it.
 
+Before make, the patches in ``host/core/micropython/*.patch`` are applied to the unpacked
+source (:func:`patch_tree`): ``hilcount.patch`` makes the VM count what the firmware executes
+(bytecodes by opcode, calls into C, allocations, collections) and keep a stack of the running
+bytecode functions, for MCU time (docs/mcu-time.md). The patches, the make options and the
+frozen manifest make a build's identity (:func:`identity`), written beside each binary of a
+checkout's build: a binary of another identity is rebuilt (:func:`current`).
+
 A second variant, ``settrace`` (:func:`build_variant`): the same build with line tracing
 (``sys.settrace``) for firmware coverage (docs/coverage.md), built only when coverage is
 asked for, into its own objects (``build-settrace``) and binary (``micropython-settrace``
@@ -23,6 +30,7 @@ command and binary are untouched by it.
 """
 
 import fcntl
+import hashlib
 import os
 import shutil
 import subprocess
@@ -41,7 +49,7 @@ SETUP_HINT = "run `make setup`" if paths.CHECKOUT else "run `mpy-fil setup`"
 """What to do when there is no interpreter: the one command, as it runs where the harness is
 (in a clone, ``mpy-fil`` is in ``.venv/bin`` and ``make setup`` builds into its build/)."""
 HERE = Path(__file__).resolve().parent / "micropython"
-APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "python3")
+APT_PACKAGES = ("gcc", "make", "pkg-config", "dpkg-dev", "xz-utils", "patch", "python3")
 # The standard variant, less what needs libraries Debian strips from the source (+ds):
 # TLS (mbedTLS/axTLS) and btree (Berkeley DB); and less ffi, which no board has (a firmware
 # could call the host's libc through it: docs/security.md).
@@ -64,6 +72,82 @@ VARIANT_OPTIONS = {
 """What each variant adds to :data:`MAKE_OPTIONS` (its make command: :func:`make_options`)."""
 PROJECT_ROOT = HERE.parent.parent.parent
 """What a relative folder in :data:`MAKE_OPTIONS` is relative to."""
+
+
+PATCHES = tuple(sorted(HERE.glob("*.patch")))
+"""Applied in order to the unpacked source before make (``patch -p1``)."""
+APPLIED = ".mpy-fil-applied.patch"
+"""In the source tree: the patches' text as last applied (:func:`patch_tree`)."""
+
+
+def patches_text() -> str:
+    return "".join(p.read_text() for p in PATCHES)
+
+
+def identity(variant: str = "standard") -> str:
+    """What a build is made of: a hash of its make options, the patches, the frozen manifest
+    and the user C modules' files. Written beside the binary (``<binary>.identity``)."""
+    h = hashlib.sha256()
+    h.update(DEBIAN_VERSION.encode() + b"\0" + "\0".join(make_options(variant)).encode() + b"\0")
+    h.update(patches_text().encode())
+    h.update((HERE / "manifest.py").read_bytes())
+    cmod = PROJECT_ROOT / "host" / "shim" / "cmod"
+    for f in sorted(cmod.rglob("*")):
+        if f.is_file():
+            h.update(str(f.relative_to(cmod)).encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _identity_file(target: Path) -> Path:
+    return target.with_name(target.name + ".identity")
+
+
+def _in_checkout(target: Path) -> bool:
+    return paths.CHECKOUT and Path(target).is_relative_to(build_root(checkout=True))
+
+
+def current(target: Path, variant: str) -> bool:
+    """The binary at ``target`` is there and, in a checkout's build/ (where the patches and
+    the C modules change under it), of this build's identity. (The per-user cache of an
+    installed release holds that release's build: docs/ci.md caches its binary alone,
+    keyed on the release.)"""
+    if not target.is_file():
+        return False
+    if not _in_checkout(target):
+        return True
+    marker = _identity_file(target)
+    return marker.is_file() and marker.read_text().strip() == identity(variant)
+
+
+def patch_tree(tree: Path) -> None:
+    """Apply :data:`PATCHES` to the source tree, once: a tree patched with other text is
+    first unpatched (``patch -R`` with the text recorded in :data:`APPLIED`)."""
+    want = patches_text()
+    applied = tree / APPLIED
+    have = applied.read_text() if applied.is_file() else ""
+    if have == want:
+        return
+    if have:
+        _log("unpatching the source (the patches changed)")
+        _patch(tree, have, "-R")
+        applied.unlink()
+    if want:
+        _log("patching the source: " + ", ".join(p.name for p in PATCHES))
+        _patch(tree, want, "--dry-run")
+        _patch(tree, want)
+        safefs.write_text(applied, want)
+
+
+def _patch(tree: Path, text: str, *flags: str) -> None:
+    out = subprocess.run(
+        ["patch", "-p1", "--batch", "--no-backup-if-mismatch", *flags],
+        input=text,
+        text=True,
+        cwd=tree,
+        capture_output=True,
+    )
+    if out.returncode != 0:
+        raise SetupError(f"patch {' '.join(flags)} failed in {tree}:\n{out.stdout}{out.stderr}")
 
 
 def _absolute(option: str) -> str:
@@ -177,6 +261,7 @@ def _missing_tools() -> list[str]:
         ("pkg-config", "pkg-config"),
         ("dpkg-source", "dpkg-dev"),
         ("xz", "xz-utils"),
+        ("patch", "patch"),
         ("apt-get", "apt"),
     ):
         if shutil.which(tool) is None:
@@ -306,7 +391,7 @@ def build_variant(variant: str, root: Path | None = None) -> Path:
     target = variant_path(variant, root)
     with safefs.open_write(root / f".{variant}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
-        if target.is_file():
+        if current(target, variant):
             return target
         ensure_tools()
         _compile(fetch_source(root), root / f"build-{variant}.log", variant, target)
@@ -318,6 +403,7 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
     objects = tree / "ports" / "unix" / f"build-{variant}"
     _log(f"building the unix port ({variant} variant, asyncio frozen in); log: {log}")
     shutil.rmtree(objects, ignore_errors=True)
+    patch_tree(tree)
     unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *map(_absolute, make_options(variant))]
     with safefs.open_write(log, "w") as out:
         for cmd in (["make", jobs, "-C", str(tree / "mpy-cross")], [*unix, f"FROZEN_MANIFEST={HERE / 'manifest.py'}"]):
@@ -327,6 +413,8 @@ def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
     tmp = safefs.fresh_file(target.with_suffix(".tmp"))  # (a link left there: removed, not written through)
     shutil.copy2(objects / "micropython", tmp)
     tmp.replace(target)
+    if _in_checkout(target):
+        safefs.write_text(_identity_file(target), identity(variant) + "\n")
     _log(f"built {target}: {version(target)}")
 
 
@@ -334,12 +422,14 @@ def build(root: Path | None = None) -> Path:
     """Build the interpreter into ``root`` (default :func:`build_root`) unless it is there."""
     root = made_root(root or build_root())
     target = default_path(root)
-    if target.is_file():
+    if current(target, "standard"):
         _log(f"up to date: {target}")
         return target
     ensure_tools()
     safefs.make_folder(target.parent, base=root)
     _compile(fetch_source(root), root / "build.log", "standard", target)
+    if _in_checkout(target):
+        os.utime(_identity_file(target))
     os.utime(target)  # newer than its inputs, so make does not rebuild it
     return target
 
@@ -356,7 +446,7 @@ def setup(log=_log) -> Path:
             raise SetupError(f"MICROPYTHON={override}: {problem}")
         log(f"using MICROPYTHON={path} (keep it set where the tests run)")
         return path
-    if _executable(default_path()):
+    if _executable(default_path()) and current(default_path(), "standard"):
         log(f"up to date: {default_path()}")
         return default_path()
     found = shutil.which("micropython")

@@ -43,6 +43,7 @@ class App:
     identity: tuple[str, str] | None = None  # (sys.platform, machine): default by board name
     console_max_bytes: int | None = None  # the console file's cap (default: 64 MiB)
     console_baud: int = 115_200  # the REPL UART's baud rate: print() takes its time (0: free)
+    cpu: str = "free"  # the board's CPU whose time compute costs ([board] cpu, docs/mcu-time.md)
     allow_exit: bool = False  # the firmware may end by design ([run] allow_exit)
 
     @property

@@ -258,9 +258,15 @@ class PulseBudget(Budget):
 
 class ComputeBudget(Budget):
     """Real (wall-clock) microseconds the firmware ran between two waits. Informational
-    in lockstep runs: it is measured, never charged to virtual time."""
+    in lockstep runs: it is measured, never charged to virtual time. With MCU time
+    (``[board] cpu``, docs/mcu-time.md, ``mcu`` set by the rig) the board CPU's
+    microseconds the main program computed between two waits, charged to virtual time."""
 
-    wall_clock = True
+    mcu = None  # the board CPU whose time the firmware reports (None: wall time)
+
+    @property
+    def wall_clock(self) -> bool:
+        return self.mcu is None
 
     def hooks(self) -> list[tuple]:
         return [(COMPUTE, None, self.event)]
@@ -269,7 +275,7 @@ class ComputeBudget(Budget):
         self._record(compute_us, compute_us > self.limit_us)
 
     def limit_text(self) -> str:
-        return f"<= {self.limit_us} us wall"
+        return f"<= {self.limit_us} us " + ("wall" if self.mcu is None else f"on {self.mcu}")
 
 
 class BusLatencyBudget(Budget):

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import SHIM_DIR
+from host.rig import mcutime
 from host.rig.boardfs import DEFAULT_FLASH_BYTES, flash_files, regular_file
 from host.rig.heap import SHIM_HEAP_BYTES  # the shim's share: the interpreter gets heap_size plus this
 
@@ -46,6 +47,7 @@ class Firmware:
     sandbox: str = "auto"  # the interpreter in namespaces of its own ([board] sandbox, host/rig/sandbox.py)
     board_root: Path | None = None  # this run's copy, the board's / (host/rig/boardfs.py)
     coverage_fd: int | None = None  # the tracer writes here (host/coverage, docs/coverage.md)
+    cpu: str = "free"  # compute costs this CPU's time ([board] cpu, host/rig/mcutime.py)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -66,6 +68,7 @@ class Firmware:
             confine.get("flash_bytes", DEFAULT_FLASH_BYTES),
             confine.get("allow", ()),
             confine.get("sandbox", "auto"),
+            cpu=getattr(app, "cpu", "free"),
         )
 
     @classmethod
@@ -128,6 +131,8 @@ class Firmware:
             **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
             **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
             **({"HIL_HEAP_BYTES": str(self.firmware_heap_bytes())} if self.heap_size else {}),
+            # compute's cost on the board's CPU (MPYFIL_CPU overrides the rig file's, docs/mcu-time.md)
+            **mcutime.shim_env(os.environ.get("MPYFIL_CPU") or self.cpu),
             # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
             **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }

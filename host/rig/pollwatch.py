@@ -16,7 +16,7 @@ by the rig's wiring, or that nothing does; whether a register of the board's mod
 at the address). Each (kind, target) is named once a run (:meth:`PollWatch.first`).
 
 The firmware's stack is the shim's, not the host's: a POLL message carries it when the
-interpreter can give it (``_hilpoll.firmware_stack``, None in MicroPython's standard build);
+interpreter can give it (``_hilpoll.firmware_stack``: the harness's build, none on a user's own);
 a bus poll's note gives the virtual time and the register (the console's tail and
 ``trace.jsonl`` show what came before).
 """

@@ -14,6 +14,7 @@ stops answering is stopped and reported, and :meth:`Rig.stop` always ends the
 process and closes the link.
 """
 
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +29,7 @@ from host.core.errors import LinkError
 from host.coverage import collector as coverage
 from host.rig import arguments, boards, endings, manifest, waits
 from host.rig.boardfs import BoardFs
-from host.rig.budgets import BudgetHooks
+from host.rig.budgets import BudgetHooks, ComputeBudget
 from host.rig.bustrace import BusTrace
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
@@ -116,6 +117,10 @@ class Rig:
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
         self.budgets = {b.name: b for b in budgets}
+        cpu = os.environ.get("MPYFIL_CPU") or getattr(self.app, "cpu", "free")  # (as host/rig/firmware.py)
+        for b in self.budgets.values():
+            if isinstance(b, ComputeBudget) and cpu != "free":
+                b.mcu = cpu  # the firmware's compute in the board CPU's time (docs/mcu-time.md)
         hooks = BudgetHooks(self.budgets.values())
         self._compute_hooks = hooks.compute
         self._seen_hooks = hooks.seen

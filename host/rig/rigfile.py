@@ -14,7 +14,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.paths import BOARDS_DIR
-from host.rig import migrate, rigrules
+from host.rig import mcutime, migrate, rigrules
 from host.rig.app import App
 from host.rig.boardfs import confinement
 from host.rig.boards import (
@@ -57,7 +57,15 @@ JUDGE_KEYS = {"console": str, "no_contact": bool, "home_within_m": (int, float),
 POSE_LINE_KEYS = {"tag": str, "columns": list, "m_per_unit": (int, float), "rad_per_unit": (int, float)}
 POSE_LINE_KEYS |= {"probe": str, "what": str}
 FIRMWARE_KEYS = {"dir": str, "entry": str, "lib": list, "harness_lib": bool, "allow_exit": bool}
-BOARD_KEYS = {"name": str, "file": str, "pins": dict, "also": list, "family": str, "console_baud": int}
+BOARD_KEYS = {
+    "name": str,
+    "file": str,
+    "pins": dict,
+    "also": list,
+    "family": str,
+    "console_baud": int,
+    "cpu": str,
+}
 BOARD_KEYS |= {"flash_size": (str, int), "allow_modules": dict, "sandbox": str}  # (host/rig/boardfs.py)
 INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
 BUDGET_KINDS = {
@@ -206,6 +214,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
         },
         console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
         console_baud=_console_baud(where, data.get("board", {})),
+        cpu=_cpu(where, data.get("board", {}), _family(where, data.get("board", {})) or identity(board_name)),
         allow_exit=firmware.get("allow_exit", False),
     )
 
@@ -299,6 +308,17 @@ def _console_baud(where: _Where, board) -> int:
     value = board.get("console_baud", 115_200) if isinstance(board, dict) else 115_200
     if isinstance(value, bool) or not (value == 0 or 300 <= value <= 12_000_000):
         raise where.error("[board] console_baud", f"expected 0 (off) or 300 to 12000000 baud, got {value!r}")
+    return value
+
+
+def _cpu(where: _Where, board, identity: tuple[str, str] | None) -> str:
+    """[board] cpu: the CPU whose time the firmware's compute costs ("rp2040@125MHz", ...,
+    "free": none), by default the family's (host/rig/mcutime.py, docs/mcu-time.md)."""
+    default = mcutime.default_cpu(identity)
+    value = board.get("cpu", default) if isinstance(board, dict) else default
+    problem = mcutime.check_cpu(value)
+    if problem:
+        raise where.error("[board] cpu", problem)
     return value
 
 

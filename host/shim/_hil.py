@@ -24,6 +24,7 @@ import _hilframe as F  # noqa: E402
 
 SPIN_LIMIT = 50  # clock/input reads without a blocking call before time starts to move
 SPIN_STEP_US = 10  # virtual time each further read costs while spinning
+BEHIND_US = 100_000  # MCU time: callbacks this far ahead of the clock: the board falls behind
 TICKS_PERIOD = 1 << 30  # a 32-bit MCU's small-int tick period
 TICKS_MASK = TICKS_PERIOD - 1
 TICKS_START_US = TICKS_PERIOD - 10_000_000  # ticks_us wraps 10 s into the run
@@ -58,6 +59,12 @@ class _Console:
     fifo_bytes = 128  # the TX FIFO (the ESP32's UART has 128 bytes, the RP2040's 32)
     idle_ns = 0  # when the transmitter has sent all it holds (virtual time, ns)
     debt_ns = 0  # how long print() has blocked that the clock has not yet moved for
+    # MCU time (docs/mcu-time.md): with [board] cpu, _hilfast.owed_us (the main program's
+    # compute since the last charge, µs: added to the debt above, paid the same way) and
+    # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
+    cpu = busy = None
+    ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
+    behind = False  # the callbacks' compute has outrun the clock by BEHIND_US (said once)
 
 
 def console_setup(baud, fifo_bytes):
@@ -77,6 +84,52 @@ def _printed(n_bytes):
         _Console.debt_ns += free_ns - t_ns
 
 
+def cpu_start(getenv):
+    """Compute costs the board's CPU time from here on, when the host names a CPU
+    (HIL_CPU, its cost table in HIL_CPU_COST; host/rig/mcutime.py): the firmware's work is
+    counted by this interpreter (_hilfast, host/core/micropython/hilcount.patch), the
+    shim's own is not. Without the counter (a user's own interpreter, HIL_PURE) compute
+    stays free, which it says once."""
+    name = getenv("HIL_CPU") if getenv else None
+    if not name:
+        return
+    fast = None
+    if not getenv("HIL_PURE"):
+        try:
+            import _hilfast as fast
+        except ImportError:
+            pass
+    if fast is None or not hasattr(fast, "owed_us"):
+        sys.stderr.write("mpy-fil: [board] cpu = %s: this interpreter cannot count, compute is free here\n" % name)
+        return
+    if not _lockstep:  # (the clock is the wall's: compute takes the host's real time)
+        sys.stderr.write("mpy-fil: [board] cpu = %s: not in real time, where compute takes the host's time\n" % name)
+        return
+    import binascii
+    import gc
+
+    # the shim's folder as its modules were compiled (this function's own file: before the
+    # sandbox, _hilconfine) and as they are now (imported later)
+    fast.exempt(fast.stack(True)[-1][0].rsplit("/", 1)[0] + "/")
+    fast.exempt(__file__.rsplit("/", 1)[0] + "/")
+    fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
+    gc.collect()
+    fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
+    _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
+    _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
+    _reads_charge()
+
+
+def _charge_cpu():
+    """The main program's compute since the last charge, owed as print()'s blocking is;
+    True when the clock owes a µs or more."""
+    owed = _Console.cpu()
+    if owed:
+        _Console.debt_ns += owed * 1000
+        _Console.ran_us += owed
+    return _Console.debt_ns >= 1000
+
+
 def _console_owed_us():
     """The whole microseconds print() has blocked for, now taken off the debt."""
     owed = _Console.debt_ns // 1000
@@ -87,6 +140,8 @@ def _console_owed_us():
 def pay_console():
     """Move the clock on by what print() owes (before an output, which a board makes after
     the print returned)."""
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:
         _released_run_until(_now + _console_owed_us(), None)
 
@@ -156,6 +211,7 @@ class _Link:
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
+    irq_begin = irq_end = None  # _hilfast's, with MCU time (cpu_start): dispatch tells it of callbacks
 
     def __init__(self, path):
         f = open(path, "r+b")
@@ -332,6 +388,8 @@ def said(n_bytes=0):
     host stamps the text with the virtual time it was printed at (docs/traces.md). With
     the console's baud rate set, n_bytes (0: not counted) cost their time on the UART."""
     global _horizon
+    if _Console.cpu is not None:
+        _charge_cpu()  # (the text leaves once what ran before it is done)
     if n_bytes and _Console.ns_per_byte:
         _printed(n_bytes)
     if _horizon > _now:
@@ -348,6 +406,8 @@ def _drop_held():
 
 
 def send_out(handle, attr, value):
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board writes once the print before has returned
         pay_console()
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
@@ -374,6 +434,8 @@ def transfer(handle, op, address, n_read, data):
     cleared). Returns (status, count, bytes read, the instant): the caller passes the time
     the transfer took on the bus (which depends on its outcome) to bus_time()."""
     global _horizon, _wrote
+    if _Console.cpu is not None:
+        _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board starts the transfer once the print before has returned
         pay_console()
     depth = heap_release()
@@ -452,6 +514,23 @@ def observe():
         _now = t
 
 
+_observe_free = observe
+
+
+def _observe_mcu():
+    """observe() with MCU time (cpu_start puts it in observe's place, so that the clock
+    reads of a run without it check nothing more): the compute before the read is paid
+    first, as a wait that ends that much later."""
+    if not _dispatching and _charge_cpu():
+        _released_run_until(_now, None)
+    _observe_free()
+
+
+def _reads_charge():
+    global observe
+    observe = _observe_mcu
+
+
 def blocking():
     """A blocking call (sleep, idle, poll): the firmware is not spinning."""
     global _spin
@@ -488,6 +567,8 @@ def run_until_woken(watch=None):
 
 
 def _released_run_until(t_target, watch):
+    if _Console.cpu is not None:
+        _charge_cpu()  # (the wait begins once the compute before it is done)
     if _Console.debt_ns >= 1000:
         # print() blocked this long before the firmware read the clock or began this wait:
         # the wait ends that much later (one exchange with the host, stamped at the print).
@@ -497,13 +578,14 @@ def _released_run_until(t_target, watch):
         if t_target < FOREVER_US:
             t_target += owed
     depth = heap_release()
+    run = _run_until if _Console.cpu is None else _run_until_idle
     if not depth:
-        hit = _run_until(t_target, watch)
+        hit = run(t_target, watch)
         if _Link.spent:
             keep_reserve()
         return hit
     try:
-        return _run_until(t_target, watch)
+        return run(t_target, watch)
     finally:
         if _Link.spent:
             keep_reserve()
@@ -612,10 +694,30 @@ def _run_until(t_target, watch):
             return False
 
 
+def _run_until_idle(t_target, watch):
+    """_run_until, then on until the callbacks run on the way are done (MCU time: the
+    main program goes on once their compute is, _Console.busy)."""
+    hit = _run_until(t_target, watch)
+    busy = _Console.busy()
+    while busy > _now:
+        if busy > _now + BEHIND_US and not _Console.behind:
+            _Console.behind = True  # (said once: the handlers go on taking all the CPU)
+            sys.stderr.write(
+                "mpy-fil: at t=%d us the callbacks' compute keeps the CPU busy until t=%d us:"
+                " the board would fall behind (the main program waits)\n" % (_now, busy)
+            )
+        _run_until(busy, None)
+        busy = _Console.busy()
+    return hit
+
+
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
     make_room()
     compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
+    if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
+        compute_us = _Console.ran_us
+        _Console.ran_us = 0
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT
@@ -820,6 +922,8 @@ def dispatch():
         return
     _dispatching = True
     pending, link = _pending, _Link
+    if link.irq_begin is not None:
+        link.irq_begin()  # (MCU time: the callbacks' compute keeps the CPU busy from _now)
     try:
         while pending:
             callback, arg = pending.pop(0)
@@ -830,6 +934,8 @@ def dispatch():
                 raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
     finally:
         _dispatching = False
+        if link.irq_end is not None:
+            link.irq_end(_now)
 
 
 def _run_hard():

@@ -93,6 +93,12 @@ def _heap_unlocked():
         _micropython.heap_unlock()
 
 
+def _getenv():
+    import os
+
+    return getattr(os, "getenv", None)  # boards have no environment
+
+
 def _entry():
     """The file a board runs after boot.py: main.py, or the rig file's entry."""
     import os
@@ -223,6 +229,7 @@ def main(pil=False):
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
         room = None if pil else _firmware_room(_firmware_heap())  # (before _confine: os.getenv)
+        getenv = _getenv()  # (the same)
         _asyncio_in_virtual_time()
         entry = _entry()
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
@@ -231,6 +238,7 @@ def main(pil=False):
             _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
             _hil._Link.ballast = _board_heap(room)
             _give_way()
+            _hil.cpu_start(getenv)  # (MCU time: the firmware's compute costs from here)
             _run("boot.py")
         if not _run(entry):
             raise OSError("no %s on the firmware path" % entry)

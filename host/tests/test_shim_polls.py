@@ -59,6 +59,8 @@ def test_a_pin_nothing_drives_a_register_and_plain_memory_polled_for_ever_are_ea
         assert r[name][2] > 1_100_000, (name, r)
     text, answer = named(notes, "pin 6 with Pin.value()", r["idle"], rig)
     assert answer == "1" and "wired to nothing in the rig, so nothing drives it" in text, text
+    # the firmware's stack, from the harness's build (_hilfast.stack): its own frames, not the shim's
+    assert 'main.py", line' in text and "in spin" in text and "_hil" not in text.split("stack")[-1], text
     text, answer = named(notes, "machine.mem32[0xd0000004]", r["gpio_in"], rig)
     assert int(answer, 16) == 1 << 2 | 1 << 6, text  # (the released button's and GPIO6's pull-ups)
     assert "the simulated RP2040's SIO GPIO_IN: the pads' levels, which the plant drives" in text, text

@@ -13,12 +13,32 @@
 //   else through its own _hil_apply. It stops at the first change past t_end (held by the
 //   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
 //   returns handlers_wrote's stop code (0: every change up to t_end applied).
+//
+// With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
+// board's own time (docs/mcu-time.md):
+// exempt(folder): the functions of modules whose source file starts with folder (the
+//   shim's: a board has it in C) are not counted, nor what they allocate or call (up to
+//   four folders: the shim's, as it was compiled before and after the sandbox).
+// cost(weights, base): set the cost model (base: the bytes in use at a collection that are
+//   not the firmware's, the harness's share of the heap), a bytes of 264 little-endian uint32 in picoseconds:
+//   one per opcode byte, then a call into C, an allocation, an allocated byte, a collection,
+//   a byte in use at a collection, a byte of heap at a collection, a wide int result, a bit of a big-int result.
+// owed_us(): the whole µs of MCU time the main program's work since the last call costs
+//   (the rest carried to the next); irq_begin(), irq_end(now): a batch of callbacks runs
+//   (their work keeps the CPU busy from now); busy_us(): until when callbacks keep it busy;
+// counts(): the raw counters (a dict, for calibration);
+// stack(all=False): the running bytecode functions, outermost first, as
+//   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
 #include <string.h>
 
+#include "py/bc.h"
+#include "py/hilcount.h"
 #include "py/obj.h"
+#include "py/objfun.h"
 #include "py/objlist.h"
 #include "py/objtuple.h"
 #include "py/runtime.h"
+#include "py/smallint.h"
 
 #define CHANGE_LEN 15  // "<IHBiI": dt_us, handle, kind, value, extra
 #define CH_BYTES 2     // _hilframe.CH_BYTES: value is a byte count, the bytes follow
@@ -62,6 +82,11 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
     mp_call_method_n_kw(3, 0, dest);
 }
 
+// MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
+static bool cost_on;  // cost() was called: the counters are charged
+static void irq_begin(void);
+static void irq_end(mp_obj_t now_us);
+
 static bool pending_any(mp_obj_t pending) {
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     return list->len > 0;
@@ -78,6 +103,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         return;
     }
     mp_obj_dict_store(g, dispatching, mp_const_true);
+    irq_begin();
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     while (list->len > 0) {
         mp_obj_t item = list->items[0];  // pending.pop(0)
@@ -94,6 +120,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
             nlr_pop();
         } else {
             mp_obj_dict_store(g, dispatching, mp_const_false);
+            if (cost_on) {
+                irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+            }
             mp_obj_t exc = MP_OBJ_FROM_PTR(nlr.ret_val);
             if (mp_obj_is_subclass_fast(MP_OBJ_FROM_PTR(mp_obj_get_type(exc)), MP_OBJ_FROM_PTR(&mp_type_Exception))) {
                 nlr_raise(mp_call_function_2(failed, callback, exc));  // (a reset, a host stop go through)
@@ -102,6 +131,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         }
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
+    if (cost_on) {
+        irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+    }
 }
 
 static mp_obj_t global(mp_obj_t g, qstr name) {
@@ -199,9 +231,192 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state);
 
+// -- MCU time: the counters of py/hilcount.h ------------------------------------------
+
+#define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
+static uint32_t cost_ps[256 + N_EXTRA];
+static mp_hil_counts_t charged;  // the counters as far as they are charged
+static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
+static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
+
+static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
+    return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
+}
+
+static uint64_t extra(const mp_hil_counts_t *c, int i) {
+    const uint64_t v[N_EXTRA] = {c->ccalls, c->allocs, c->alloc_bytes, c->collects, c->gc_used_bytes, c->gc_total_bytes, c->wide, c->big_bits};
+    return v[i];
+}
+
+static mp_obj_t exempt(mp_obj_t prefix) {
+    size_t len;
+    const char *text = mp_obj_str_get_data(prefix, &len);
+    if (len == 0 || len >= MP_HIL_PREFIX_MAX) {
+        mp_raise_ValueError(MP_ERROR_TEXT("exempt: a folder of 1 to 511 bytes"));
+    }
+    for (size_t p = 0; p < MP_HIL_PREFIXES; p++) {
+        if (mp_hil_exempt_prefix_len[p] == len && memcmp(mp_hil_exempt_prefix[p], text, len) == 0) {
+            return mp_const_none;
+        }
+        if (mp_hil_exempt_prefix_len[p] == 0) {
+            memcpy(mp_hil_exempt_prefix[p], text, len);
+            mp_hil_exempt_prefix_len[p] = len;
+            return mp_const_none;
+        }
+    }
+    mp_raise_ValueError(MP_ERROR_TEXT("exempt: no room for another folder"));
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(exempt_obj, exempt);
+
+static uint64_t used_base;  // bytes in use at a collection that are not the firmware's
+
+static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
+    used_base = mp_obj_get_int(base);
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(weights, &buf, MP_BUFFER_READ);
+    if (buf.len != sizeof(cost_ps)) {
+        mp_raise_ValueError(MP_ERROR_TEXT("cost table: wrong length"));
+    }
+    const uint8_t *b = buf.buf;
+    for (size_t i = 0; i < MP_ARRAY_SIZE(cost_ps); i++) {
+        cost_ps[i] = get_u32(b + 4 * i);
+    }
+    charged = mp_hil_counts;  // what ran before is not charged
+    main_ps = busy_ps = 0;
+    cost_on = true;
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_2(cost_obj, cost);
+
+// The cost of what was counted since the last take, in ps.
+static uint64_t take_ps(void) {
+    uint64_t ps = 0;
+    for (int i = 0; i < 256; i++) {
+        ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
+    }
+    for (int i = 0; i < N_EXTRA; i++) {
+        uint64_t n = extra(&mp_hil_counts, i) - extra(&charged, i);
+        if (i == 4) {  // the bytes in use at the collections, less what is the harness's at each
+            uint64_t others = (mp_hil_counts.collects - charged.collects) * used_base;
+            n = n > others ? n - others : 0;
+        }
+        ps += n * cost_ps[256 + i];
+    }
+    charged = mp_hil_counts;
+    return ps;
+}
+
+// The main program's compute since the last call, in whole µs (the rest carried).
+static mp_obj_t owed_us(void) {
+    if (cost_on) {
+        main_ps += take_ps();
+    }
+    uint64_t us = main_ps / 1000000;
+    main_ps -= us * 1000000;
+    return new_uint(us);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
+
+// Callbacks run (IRQ handlers, Timer callbacks): what the main program computed before
+// them is its own; theirs keeps the CPU busy from their instant (or from when the ones
+// before are done) for as long as it costs: the main program goes on after that
+// (busy_us, which the shim waits out after a wait).
+static void irq_begin(void) {
+    if (cost_on) {
+        main_ps += take_ps();
+    }
+}
+
+static void irq_end(mp_obj_t now_us) {
+    if (cost_on) {
+        uint64_t ps = take_ps();
+        uint64_t start = (uint64_t)mp_obj_get_int(now_us) * 1000000;
+        busy_ps = (busy_ps > start ? busy_ps : start) + ps;
+    }
+}
+
+static mp_obj_t irq_begin_py(void) {
+    irq_begin();
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(irq_begin_obj, irq_begin_py);
+
+static mp_obj_t irq_end_py(mp_obj_t now_us) {
+    irq_end(now_us);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(irq_end_obj, irq_end_py);
+
+static mp_obj_t busy_us(void) {  // (rounded up: the main program goes on once they are done)
+    return new_uint((busy_ps + 999999) / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(busy_us_obj, busy_us);
+
+static mp_obj_t counts(void) {
+    static mp_hil_counts_t now;
+    now = mp_hil_counts;  // (before this function's own allocations)
+    mp_obj_t ops = mp_obj_new_list(256, NULL);
+    for (int i = 0; i < 256; i++) {
+        mp_obj_list_store(ops, MP_OBJ_NEW_SMALL_INT(i), new_uint(now.ops[i]));
+    }
+    mp_obj_t d = mp_obj_new_dict(N_EXTRA + 1);
+    static const qstr names[N_EXTRA] = {MP_QSTR_ccalls, MP_QSTR_allocs, MP_QSTR_alloc_bytes, MP_QSTR_collects, MP_QSTR_gc_used_bytes, MP_QSTR_gc_total_bytes, MP_QSTR_wide, MP_QSTR_big_bits};
+    mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(MP_QSTR_ops), ops);
+    for (int i = 0; i < N_EXTRA; i++) {
+        mp_obj_dict_store(d, MP_OBJ_NEW_QSTR(names[i]), new_uint(extra(&now, i)));
+    }
+    return d;
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(counts_obj, counts);
+
+// One running function as (file, function, line): its prelude decoded as py/vm.c's exception
+// handler does for a traceback (MP_BC_PRELUDE_SIG_DECODE, mp_bytecode_get_source_line).
+static mp_obj_t frame(const mp_code_state_t *cs) {
+    const byte *ip = cs->fun_bc->bytecode;
+    MP_BC_PRELUDE_SIG_DECODE(ip);
+    MP_BC_PRELUDE_SIZE_DECODE(ip);
+    const byte *line_info_top = ip + n_info;
+    const byte *bytecode_start = ip + n_info + n_cell;
+    qstr block_name = mp_decode_uint_value(ip);
+    for (size_t i = 0; i < 1 + n_pos_args + n_kwonly_args; ++i) {
+        ip = mp_decode_uint_skip(ip);
+    }
+    #if MICROPY_EMIT_BYTECODE_USES_QSTR_TABLE
+    block_name = cs->fun_bc->context->constants.qstr_table[block_name];
+    qstr source_file = cs->fun_bc->context->constants.qstr_table[0];
+    #else
+    qstr source_file = cs->fun_bc->context->constants.source_file;
+    #endif
+    size_t offset = cs->ip > bytecode_start ? (size_t)(cs->ip - bytecode_start) : 0;
+    size_t line = mp_bytecode_get_source_line(ip, line_info_top, offset);
+    mp_obj_t item[3] = {MP_OBJ_NEW_QSTR(source_file), MP_OBJ_NEW_QSTR(block_name), MP_OBJ_NEW_SMALL_INT(line)};
+    return mp_obj_new_tuple(3, item);
+}
+
+static mp_obj_t stack(size_t n_args, const mp_obj_t *args) {
+    bool all = n_args > 0 && mp_obj_is_true(args[0]);
+    size_t depth = mp_hil_depth < MP_HIL_STACK_MAX ? mp_hil_depth : MP_HIL_STACK_MAX;
+    mp_obj_t out = mp_obj_new_list(0, NULL);
+    for (size_t i = 0; i < depth; i++) {
+        if (all || mp_hil_stack_counted[i]) {
+            mp_obj_list_append(out, frame(mp_hil_stack[i]));
+        }
+    }
+    return out;
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(stack_obj, 0, 1, stack);
+
 static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
+    {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
+    {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
+    {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_end), MP_ROM_PTR(&irq_end_obj)},
+    {MP_ROM_QSTR(MP_QSTR_busy_us), MP_ROM_PTR(&busy_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_stack), MP_ROM_PTR(&stack_obj)},
 };
 static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);
 

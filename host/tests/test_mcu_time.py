@@ -1,0 +1,267 @@
+"""MCU time (docs/mcu-time.md): with ``[board] cpu`` the firmware's compute, counted by the
+harness's interpreter (host/core/micropython/hilcount.patch), costs the board CPU's time
+in virtual time, the same on any host and any load."""
+
+import json
+import subprocess
+import textwrap
+
+import pytest
+
+from host.rig import mcutime
+from host.tests.conftest import results
+
+# A control loop: ~5 ms of float math per period on an RP2040 (per the model), then the LED
+# toggles and the loop sleeps 20 ms. ITERATIONS is sized from the model (below).
+LOOP = """
+import time
+from machine import Pin
+
+led = Pin(2, Pin.OUT)
+
+
+def control(n):
+    x = 0.5
+    acc = 0.0
+    for i in range(n):
+        x = x * 1.0001 + 0.25
+        acc += x / (i + 1)
+    return acc
+
+
+t_prev = time.ticks_us()
+for loop in range(ROUNDS):
+    t0 = time.ticks_us()
+    control(ITERATIONS)
+    t1 = time.ticks_us()
+    led.toggle()
+    if loop == ROUNDS - 1:
+        print("R compute_us", time.ticks_diff(t1, t0))
+    time.sleep_ms(20)
+"""
+ROUNDS = 10
+
+
+def rig_file(folder, cpu, limit_us, iterations):
+    folder.mkdir(exist_ok=True)
+    main = LOOP.replace("ROUNDS", str(ROUNDS)).replace("ITERATIONS", str(iterations))
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    (folder / "rig.toml").write_text(
+        f'name = "mcu"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "{cpu}"\n'
+        "[board.pins]\nLED = 2\n"
+        '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+        f'[budgets.control]\nkind = "compute"\nlimit_us = {limit_us}\n'
+    )
+    return str(folder / "rig.toml")
+
+
+def iterations_for(interpreter, cpu: str, target_us: float) -> int:
+    """The loop count whose compute costs target_us on cpu (the model, from a counted run)."""
+    probe = LOOP.split("t_prev")[0].replace("from machine import Pin", "").replace("led = Pin(2, Pin.OUT)", "")
+    probe += "import _hilfast, json\nc0 = _hilfast.counts()\ncontrol(1000)\nc1 = _hilfast.counts()\n"
+    probe += "d = {k: (c1[k] - c0[k]) if k != 'ops' else [b - a for a, b in zip(c0[k], c1[k])] for k in c1}\n"
+    probe += "print(json.dumps(d))\n"
+    out = subprocess.run([str(interpreter), "-c", probe], capture_output=True, text=True, timeout=30, check=True)
+    per_1000 = mcutime.CPUS[cpu].charge_us(json.loads(out.stdout))
+    return round(1000 * target_us / per_1000)
+
+
+@pytest.fixture(scope="module")
+def iterations():
+    from host.core import interpreter
+
+    return iterations_for(interpreter.find(), "rp2040@125MHz", 5000)
+
+
+@pytest.mark.parametrize(("cpu", "limit_us", "holds"), [
+    ("rp2040@125MHz", 4000, False),
+    ("rp2040@125MHz", 6000, True),
+    ("free", 4000, True),
+    ("free", 6000, True),
+])  # fmt: skip
+def test_5ms_of_math_on_an_rp2040_misses_4ms_holds_6ms_and_free_takes_none(
+    make_rig, tmp_path, iterations, cpu, limit_us, holds
+):
+    rig = make_rig(rig_file(tmp_path / "app", cpu, limit_us, iterations))
+    rig.run_for(1)
+    rig.stop()
+    compute_us = results(rig.console)["compute_us"]
+    budget = rig.budgets["control"]
+    if cpu == "free":  # compute takes no virtual time; the budget measures wall time (informational)
+        assert compute_us == 0, f"compute took virtual time with cpu free: {compute_us} us (console: {rig.console!r})"
+        assert budget.wall_clock and budget.limit_text().endswith("wall")
+        return
+    assert 4500 <= compute_us <= 5500, f"expected ~5000 us of MCU time a loop, the clock moved {compute_us} us"
+    assert not budget.wall_clock and budget.limit_text().endswith("on rp2040@125MHz")
+    if holds:
+        budget.check()
+    else:
+        with pytest.raises(AssertionError, match="budget control"):
+            budget.check()
+
+
+def test_the_same_seed_gives_a_byte_identical_trace_on_a_loaded_machine(make_rig, tmp_path, iterations):
+    """MCU time is counted, never measured: a busy process beside the second run changes
+    nothing in the trace; with cpu free the same firmware's trace differs (no compute time)."""
+    traces = []
+    runs = (("rp2040", "rp2040@125MHz", False), ("rp2040", "rp2040@125MHz", True), ("free", "free", False))
+    for folder, cpu, loaded in runs:
+        busy = None
+        if loaded:  # (a spinning process on this machine's cores while the rig runs)
+            busy = subprocess.Popen(["python3", "-c", "while True: pass"])
+        try:
+            rig = make_rig(rig_file(tmp_path / folder, cpu, 6000, iterations), seed=3, trace=True)
+            rig.run_for(0.5)
+            rig.stop()
+        finally:
+            if busy is not None:
+                busy.kill()
+                busy.wait()
+        traces.append((rig.artefacts / "trace.jsonl").read_bytes().split(b"\n", 1)[1])  # (after the header)
+    assert len(traces[0]) > 1000, f"expected a trace, got {len(traces[0])} bytes"
+    assert traces[0] == traces[1], "the loaded run's trace differs from the quiet one's (MCU time not deterministic)"
+    assert traces[0] != traces[2], "the trace with cpu free is the same as with an RP2040's time: compute not charged"
+
+
+def test_an_interpreter_that_cannot_count_says_compute_is_free(make_rig, tmp_path, iterations, monkeypatch):
+    monkeypatch.setenv("HIL_PURE", "1")  # (the shim's pure-Python path, as on a user's own interpreter)
+    rig = make_rig(rig_file(tmp_path / "app", "rp2040@125MHz", 6000, iterations))
+    rig.run_for(0.5)
+    rig.stop()
+    said = [ln for ln in rig.console.splitlines() if "compute is free" in ln]
+    assert len(said) == 1, f"expected one line saying compute is free, got {said} (console: {rig.console!r})"
+    assert results(rig.console)["compute_us"] == 0
+
+
+CALLBACKS = """
+import time
+from machine import Timer
+
+
+def control(n):
+    x = 0.5
+    acc = 0.0
+    for i in range(n):
+        x = x * 1.0001 + 0.25
+        acc += x / (i + 1)
+    return acc
+
+
+def tick(t):
+    control(ITERATIONS)
+
+
+tim = Timer(0)
+for sleep_ms in (20, 25):
+    tim.init(period=10, callback=tick)
+    t0 = time.ticks_us()
+    time.sleep_ms(sleep_ms)
+    t1 = time.ticks_us()
+    tim.deinit()
+    print("R slept_%d" % sleep_ms, time.ticks_diff(t1, t0))
+    time.sleep_ms(50)
+"""
+
+
+def test_a_callbacks_compute_delays_the_main_program_only_when_it_overlaps(make_rig, tmp_path):
+    """Timer callbacks of ~3 ms on an RP2040 at 10 and 20 ms: a 20 ms sleep ends once the
+    second is done (~23 ms), a 25 ms sleep when it was due (both done by then)."""
+    from host.core import interpreter
+
+    cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 3000)
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "main.py").write_text(textwrap.dedent(CALLBACKS.replace("ITERATIONS", str(cb_iterations))))
+    (folder / "rig.toml").write_text(
+        'name = "mcu_irq"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "rp2040@125MHz"\n'
+        '[board.pins]\nLED = 2\n[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"))
+    rig.run_for(0.5)
+    rig.stop()
+    got = results(rig.console)
+    assert 22_500 <= got["slept_20"] <= 23_500, f"expected the 20 ms sleep ~3 ms late, got {got} ({rig.console!r})"
+    assert 25_000 <= got["slept_25"] <= 25_100, f"expected the 25 ms sleep to end on time, got {got} ({rig.console!r})"
+
+
+def test_the_stack_names_the_running_functions(tmp_path):
+    """_hilfast.stack(): the firmware's call stack as (file, function, line), outermost first."""
+    from host.core import interpreter
+
+    script = tmp_path / "stack.py"
+    script.write_text(
+        "import _hilfast\n"
+        "def inner():\n"
+        "    return _hilfast.stack()\n"
+        "def outer():\n"
+        "    x = 1\n"
+        "    return inner()\n"
+        "print(outer())\n"
+    )
+    out = subprocess.run([str(interpreter.find()), str(script)], capture_output=True, text=True, timeout=30)
+    want = f"[('{script}', '<module>', 7), ('{script}', 'outer', 6), ('{script}', 'inner', 3)]"
+    assert out.stdout.strip() == want, f"expected {want}, got {out.stdout!r} {out.stderr!r}"
+
+
+def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
+    from host.core.errors import ConfigError
+    from host.rig.rigfile import load_rig
+
+    def cpu_of(board_lines):
+        folder = tmp_path / "rig"
+        folder.mkdir(exist_ok=True)
+        (folder / "main.py").write_text("pass\n")
+        (folder / "rig.toml").write_text(
+            f'name = "cpu"\n[board]\n{board_lines}\n[board.pins]\nLED = 2\n'
+            '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+        )
+        return load_rig(folder / "rig.toml").cpu
+
+    assert cpu_of('cpu = "esp32s3@240MHz"') == "esp32s3@240MHz"
+    assert cpu_of('family = "rpi_pico"') == "free"  # (no default CPU yet: mcutime.DEFAULT_ON)
+    monkeypatch.setattr(mcutime, "DEFAULT_ON", True)
+    assert cpu_of('family = "rpi_pico"') == "rp2040@125MHz"
+    assert cpu_of('family = "rpi_pico2"') == "rp2350@150MHz"
+    assert cpu_of('family = "esp32"\ncpu = "free"') == "free"
+    with pytest.raises(ConfigError, match=r"\[board\] cpu.*expected one of rp2040@125MHz.*got 'rp2040'"):
+        cpu_of('cpu = "rp2040"')
+
+
+def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_rig, tmp_path):
+    """A Timer every 2 ms whose callback costs ~3 ms on an RP2040: the main program's
+    10 ms sleep never ends (as on the board), and the run says so once."""
+    from host.core import interpreter
+
+    cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 3000)
+    main = CALLBACKS.split("tim = Timer(0)")[0].replace("ITERATIONS", str(cb_iterations))
+    main += "tim = Timer(0)\ntim.init(period=2, callback=tick)\ntime.sleep_ms(10)\nprint('R woke', 1)\n"
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    (folder / "rig.toml").write_text(
+        'name = "mcu_behind"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "rp2040@125MHz"\n'
+        '[board.pins]\nLED = 2\n[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"))
+    rig.run_for(0.4)
+    rig.stop()
+    said = [ln for ln in rig.console.splitlines() if "fall behind" in ln]
+    assert len(said) == 1, f"expected one line saying the board falls behind, got {said} ({rig.console!r})"
+    assert "woke" not in results(rig.console), f"the main program went on past its sleep: {rig.console!r}"
+
+
+@pytest.mark.parametrize(("edges_per_s", "behind"), [(40_000, True), (1_000, False)])
+def test_encoder_handlers_at_40000_edges_a_second_outrun_an_rp2040(tmp_path, monkeypatch, edges_per_s, behind):
+    """The encoder bot's pin IRQ handlers (run by _hilfast.apply_state in C) on an RP2040:
+    40,000 edges a second need more than its CPU, 1,000 do not."""
+    from host.bench import ENCODER_BOT, encoder_firmware
+    from host.rig import Recording, Rig, RigSpec
+
+    monkeypatch.setenv("MPYFIL_CPU", "rp2040@125MHz")
+    main_dir = encoder_firmware(tmp_path / "fw", edges_per_s, 300)
+    spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=1, main_dir=main_dir, allow_exit=True)
+    with Rig(spec, Recording(artefacts=tmp_path / "run")) as rig:
+        rig.run_for(0.4)
+        console = rig.console
+    said = [ln for ln in console.splitlines() if "fall behind" in ln]
+    assert bool(said) == behind, f"at {edges_per_s} edges/s expected falling behind: {behind}, the run said {said}"
