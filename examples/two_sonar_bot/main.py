@@ -41,13 +41,18 @@ class Motor:
 
 
 class Encoder:
-    """Quadrature encoder counted on both edges of channel A (B gives the direction)."""
+    """Quadrature encoder counted on both edges of channel A (B gives the direction).
+
+    A hard IRQ: its handler runs at the edge, even while the main program waits in
+    time_pulse_us for an echo (up to 30 ms). A scheduled one would run after the read
+    returns, and read A and B as they are then, not at its edge: the count drifts, and
+    edges past the scheduler's queue (8 on an RP2040) are lost."""
 
     def __init__(self, pin_a, pin_b):
         self.a = Pin(pin_a, Pin.IN)
         self.b = Pin(pin_b, Pin.IN)
         self.count = 0
-        self.a.irq(trigger=Pin.IRQ_RISING | Pin.IRQ_FALLING, handler=self._edge)
+        self.a.irq(trigger=Pin.IRQ_RISING | Pin.IRQ_FALLING, handler=self._edge, hard=True)
 
     def _edge(self, pin):
         if self.a.value() == self.b.value():

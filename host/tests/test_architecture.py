@@ -25,6 +25,7 @@ LAYERS = {
     "host.bench": 6,
     "host.soak": 6,
     "host.conformance": 6,
+    "host.mcubench": 6,
 }
 MICROPYTHON_SIDE = ("host/shim", "host/device/vrepl", "host/core/micropython", "host/tests")
 MAX_CLASS_LINES = 310

@@ -124,6 +124,7 @@ OTHER_TOOLS = {
     "python -m build": {"--no-isolation"},
     "pip": {"--no-deps", "--no-index"},
     "ruff": {"--check"},
+    "valgrind": {"--tool"},
     "dask scheduler / worker": {
         "--host",
         "--port",
