@@ -56,6 +56,13 @@ if _RP2:
     _BOARD_NAMES = {"GP%d" % n: n for n in tuple(range(23)) + (25, 26, 27, 28)}
     _BOARD_NAMES["LED"] = 25
     _CPU_NAMES = {"GPIO%d" % n: n for n in range(30)}
+    if not _mcu().startswith("Raspberry Pi Pico"):  # a kit's board: its own pins.csv (_hilboards.py)
+        import _hilboards
+
+        _named = _hilboards.board(_mcu())
+        if _named:
+            _BOARD_NAMES = _named[1]
+            _CPU_NAMES = {"GPIO%d" % n: n for n in range(_named[0])}
 else:
     _BOARD_NAMES = {}  # ports/esp32: a generic ESP32 has no pins.csv, its Pin.board is empty
     _CPU_NAMES = None  # (and it has no Pin.cpu)
