@@ -57,11 +57,11 @@ def write(name: str, folder: Path) -> list[Path]:
     """The kit's rig file and test in ``folder`` (a real folder): none written when one of
     them is there already, and never through a link (host/core/safefs.py)."""
     chosen = kit(name)
-    targets = {folder / dest: src for dest, src in chosen.files().items()}
-    for path in targets:
+    texts = {folder / dest: src.read_text() for dest, src in chosen.files().items()}  # (all read first)
+    for path in texts:
         safefs.refuse_link(path, "argument DIR:")
         if path.exists():
             raise FileExistsError(path)
-    for path, src in targets.items():
-        safefs.write_new(path, src.read_text())
-    return list(targets)
+    for path, text in texts.items():
+        safefs.write_new(path, text)
+    return list(texts)

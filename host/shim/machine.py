@@ -82,7 +82,11 @@ def _rp2_afs(gpio):
 
 def _pin_id(id):
     """A pin's id as the port finds it (machine_pin_find): a number, a Pin, or on a port
-    with named pins (rp2) a board name, then a cpu name; an unknown name is a ValueError."""
+    with named pins (rp2) a board name, then a cpu name; an unknown name is a ValueError.
+    A Pin is its own pin (ports/rp2/machine_pin.c machine_pin_find, ports/esp32/
+    machine_pin.c machine_pin_get_id: Pin(Pin.board.X, Pin.OUT) is pin X)."""
+    if isinstance(id, Pin):
+        return id._id
     if isinstance(id, str) and _RP2:  # ports/rp2/machine_pin.c, machine_pin_find
         gpio = _BOARD_NAMES.get(id, _CPU_NAMES.get(id))
         if gpio is None:

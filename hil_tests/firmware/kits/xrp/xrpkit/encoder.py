@@ -7,7 +7,8 @@ _STEP = (0, 1, -1, 0, -1, 0, 0, 1, 1, 0, 0, -1, 0, -1, 1, 0)
 
 
 class Encoder:
-    """One motor's encoder on pins A and B; counts per wheel turn: RESOLUTION."""
+    """One motor's encoder on pins A and B; counts per wheel turn: RESOLUTION. ``index``
+    is the vendor library's PIO state machine; these edges are counted by interrupts."""
 
     RESOLUTION = 12 * 48.75  # 12 counts per motor turn through a 48.75:1 gearbox
 
