@@ -61,8 +61,25 @@ def test_init_kit_refuses_to_overwrite_and_names_the_kits(capsys, tmp_path):
             assert f"  {what}: {where}" in listing
 
 
+@pytest.mark.parametrize("kit", sorted(kits.kits()))
+def test_init_kit_writes_a_test_that_passes(capsys, make_rig, tmp_path, kit):
+    """The test ``init --kit`` writes, run as pytest would run it (its own firmware, the
+    kit's rig beside it)."""
+    folder = tmp_path / kit
+    folder.mkdir()
+    code, _, err = cli(capsys, "init", "--kit", kit, folder)
+    assert code == 0, err
+    spec = importlib.util.spec_from_file_location(f"written_{kit}", folder / f"test_{kit}.py")
+    written = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(written)
+    tests = [getattr(written, n) for n in dir(written) if n.startswith("test_")]
+    assert len(tests) == 1, dir(written)
+    (tmp_path / "own").mkdir()
+    tests[0](make_rig, tmp_path / "own")
+
+
 @pytest.mark.parametrize("kit", ["xrp_beta", "xrp"])
-def test_init_kit_rig_checks_clean_and_its_test_passes(capsys, make_rig, tmp_path, kit):
+def test_init_kit_rig_checks_clean_with_the_kits_firmware(capsys, tmp_path, kit):
     folder = kit_folder(capsys, tmp_path, kit, "xrp")
     code, _, err = cli(capsys, "check", folder / "rig.toml", "--strict")
     warnings = [line for line in err.splitlines() if line.startswith("check:")]
@@ -73,14 +90,6 @@ def test_init_kit_rig_checks_clean_and_its_test_passes(capsys, make_rig, tmp_pat
         ], err
     else:
         assert code == 0 and not warnings, err
-    # the test init wrote, as pytest would run it (its own firmware, the rig beside it)
-    spec = importlib.util.spec_from_file_location(f"written_{kit}", folder / f"test_{kit}.py")
-    written = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(written)
-    tests = [getattr(written, n) for n in dir(written) if n.startswith("test_")]
-    assert len(tests) == 1, dir(written)
-    (tmp_path / "own").mkdir()
-    tests[0](make_rig, tmp_path / "own")
 
 
 def said(rig, pattern: str) -> list[float]:

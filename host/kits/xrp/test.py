@@ -62,8 +62,10 @@ def test_xrp_rig_drives_counts_and_ranges(make_rig, tmp_path):
     (tmp_path / "rig.toml").write_text(RIG.read_text())
     rig = make_rig(str(tmp_path / "rig.toml"), allow_exit=True)
     start = rig.truth()
-    rig.run_for(1.5)
-    truth, console = rig.truth(), rig.console
+    rig.expect(r"edges \d+ \d+\n")  # (the plant at the instant the firmware says its counts)
+    truth = rig.truth()
+    rig.expect(r"range_after \S+\n")
+    console = rig.console
     where = f"console:\n{console}\nartefacts: {rig.artefacts}"
     got = said(console)
     assert "range_after" in got, f"the firmware did not finish; {where}"
