@@ -128,3 +128,28 @@ def test_xrp_drives_turns_and_stops_at_the_wall_as_the_plant_says(capsys, make_r
     rig.expect("done")
     if kit == "xrp":  # the RP2350 controller's RGB LED: red once done
         assert rig.plant.output("rgb.led0") == 0x200000, where()
+
+
+def test_3pi_drives_25_cm_by_its_encoders_and_turns_90_by_its_gyro(capsys, make_rig, tmp_path):
+    """Pololu-style firmware (PWM slice 7 through mem32, PIO encoders, the LSM6DSO at 0x6B:
+    the kitbot package as its library, in /lib) on the 3pi+ 2040 kit's rig, started by
+    button B (BOOTSEL)."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_2040")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    rig_file = folder / "rig.toml"
+    rig_file.write_text(
+        rig_file.read_text().replace('name = "button_b"\n', 'name = "button_b"\npresses = [[0.2, 0.3]]\n')
+    )
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    start = rig.truth()
+    (straight_mm,) = said(rig, "straight_mm")
+    assert rig.t_us >= 300_000, f"started before button B was released (0.3 s); {where()}"
+    after = rig.truth()
+    moved_mm = math.hypot(after["x_m"] - start["x_m"], after["y_m"] - start["y_m"]) * 1000
+    assert abs(straight_mm - moved_mm) < 5, f"encoders said {straight_mm} mm, the body moved {moved_mm}; {where()}"
+    assert abs(moved_mm - 250) < 5 and abs(after["theta_rad"]) < math.radians(1), (after, where())
+    (turned_deg,) = said(rig, "turned_deg")
+    truly_deg = math.degrees(rig.truth()["theta_rad"] - after["theta_rad"])
+    assert abs(truly_deg - 90) < 3 and abs(turned_deg - truly_deg) < 3, f"{turned_deg} vs {truly_deg}; {where()}"
+    rig.expect("done")
