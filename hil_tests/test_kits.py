@@ -6,6 +6,7 @@ truth in virtual time."""
 
 import importlib.util
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -153,3 +154,34 @@ def test_3pi_drives_25_cm_by_its_encoders_and_turns_90_by_its_gyro(capsys, make_
     truly_deg = math.degrees(rig.truth()["theta_rad"] - after["theta_rad"])
     assert abs(truly_deg - 90) < 3 and abs(turned_deg - truly_deg) < 3, f"{turned_deg} vs {truly_deg}; {where()}"
     rig.expect("done")
+
+
+@pytest.mark.parametrize(
+    ("kit", "want"),
+    [
+        ("xrp_beta", "SparkFun XRP Controller (Beta) with RP2040 6 6 20 False 30 unknown named pin"),
+        ("xrp", "SparkFun XRP Controller with RP2350 34 34 0 True 48 unknown named pin"),
+    ],
+)
+def test_a_kit_boards_pins_by_its_own_names(capsys, make_rig, tmp_path, kit, want):
+    """ports/rp2/boards/<BOARD>/pins.csv as the board's firmware has them: Pin("NAME") and
+    the alternate names, Pin.board, Pin.cpu up to the chip's GPIO count, a Pin of a Pin."""
+    folder = kit_folder(capsys, tmp_path, kit, "xrp")
+    (folder / "main.py").write_text(
+        """import sys
+from machine import Pin
+
+led = getattr(Pin.board, "BOARD_NEOPIXEL", None)
+try:
+    Pin("NO_SUCH_PIN")
+except ValueError as e:
+    unknown = str(e)
+cpus = sum(1 for n in range(64) if hasattr(Pin.cpu, "GPIO%d" % n))
+print("names", sys.implementation._machine, Pin("MOTOR_L_IN_1"), Pin("ML_IN_1"), Pin(Pin.board.RANGE_TRIGGER),
+      led is not None and Pin(led, Pin.OUT) is led, cpus, unknown[:17])
+"""
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    line = rig.expect(r"names (.*)\n").group(1)
+    got = re.sub(r"Pin\(GPIO(\d+)[^)]*\)", r"\1", line)
+    assert got == want, f"console:\n{rig.console}"
