@@ -24,6 +24,7 @@ setup(
         "host.core": ["micropython/manifest.py", "micropython/*.patch", "*.sh"],
         "host.device": ["vrepl/*.py"],
         "host.conformance": ["*.toml", "bench/*.py"],
+        "host.kits": ["*/*.toml", "*/*.py"],  # (each kit: kit.toml, rig.toml, test.py)
         "host.shim": ["*.py", "cmod/*/*.c", "cmod/*/*.mk"],  # (cmod: the C hot path, built in)
     },
 )

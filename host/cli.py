@@ -161,6 +161,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     init = sub.add_parser("init", help="write a commented starting rig file for a firmware folder")
     init.add_argument("folder", metavar="DIR", type=_folder, help="the firmware folder (its main.py)")
+    init.add_argument("--kit", metavar="NAME", help="a robot kit's rig file and a test for it (mpy-fil kits)")
     init.set_defaults(command=cmd_init, sub=init)
 
     mig = sub.add_parser("migrate", help="write a 0.1 rig file ([plant] kind) as a body and parts")
@@ -171,6 +172,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     where.add_argument("--in-place", action="store_true", help="replace RIG itself")
     mig.set_defaults(command=cmd_migrate, sub=mig)
+
+    kits_ = sub.add_parser("kits", help="the robot kits init --kit knows, with their sources")
+    kits_.set_defaults(command=cmd_kits, sub=kits_)
 
     wok = sub.add_parser("import-wokwi", help="write the rig.toml of a Wokwi project folder (its diagram.json)")
     wok.add_argument("folder", metavar="DIR", type=_folder, help="the Wokwi project (diagram.json, main.py)")
@@ -563,9 +567,48 @@ def _check_pins(app, args, plant=None) -> int:
     return EXIT_FAILED if pins.warnings and args.strict else 0
 
 
+def cmd_kits(args) -> int:
+    from host.kits import kits
+
+    for name, kit in kits().items():
+        print(f"{name:<14} {kit.title}\n  board: {kit.board}; library: {kit.library}")
+        for what, where in kit.sources:
+            print(f"  {what}: {where}")
+    print("mpy-fil init --kit NAME DIR writes DIR/rig.toml and DIR/test_NAME.py (docs/kits.md)")
+    return 0
+
+
+def _init_kit(args) -> int:
+    from host.kits import kit, write
+
+    folder = args.folder
+    try:
+        chosen = kit(args.kit)
+    except ConfigError as e:
+        args.sub.error(f"argument --kit: {e}")
+    try:
+        if not folder.is_dir():
+            args.sub.error(f"argument DIR: no folder {str(folder)[:200]!r}")
+    except (OSError, ValueError) as e:
+        args.sub.error(f"argument DIR: cannot read {str(folder)[:200]!r} ({getattr(e, 'strerror', None) or e})")
+    _writable(args.sub, "DIR", folder, base=folder)
+    try:
+        written = write(chosen.name, folder)
+    except FileExistsError as e:
+        args.sub.error(f"argument DIR: {e.args[0] if e.args else e} exists; nothing written")
+    except OSError as e:
+        args.sub.error(f"argument DIR: cannot write in {folder} ({e.strerror or e})")
+    for path in written:
+        print(f"wrote {path}")
+    print(f"{chosen.title}: put the firmware in {folder} (docs/kits.md), then mpy-fil check {written[0]}")
+    return 0
+
+
 def cmd_init(args) -> int:
     from host.rig.starter import starter
 
+    if args.kit:
+        return _init_kit(args)
     folder = args.folder
     try:
         if not folder.is_dir():

@@ -120,8 +120,8 @@ def _unpack(download: Path, name: str, version: str) -> None:
     folder = FOLDER / f"{name}-{version}"
     if (folder / ".unpacked").exists():
         return
-    stem = name.replace("-", "_")
-    archives = [p for p in download.iterdir() if p.name.replace("-", "_").startswith(f"{stem}_{version}")]
+    stem = name.replace("-", "_").lower()  # (a wheel keeps the project's own case: KitronikPico...)
+    archives = [p for p in download.iterdir() if p.name.replace("-", "_").lower().startswith(f"{stem}_{version}")]
     if not archives:
         raise HarnessError(f"expected {name} {version} in {download}, got {sorted(p.name for p in download.iterdir())}")
     folder.mkdir(parents=True, exist_ok=True)

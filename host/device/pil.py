@@ -30,6 +30,7 @@ SHIM_FILES = (
     "_hilframe.py",
     "_hilboot.py",
     "_hilsys.py",
+    "_hilboards.py",  # (a kit board's pin names: machine imports it for a board that is no Pico)
     "_hilpoll.py",  # (imported at a poll's first look only: machine.Pin.value, machine.mem*)
     "_umachine.py",
     "machine.py",

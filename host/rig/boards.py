@@ -14,6 +14,11 @@ IDENTITIES = {
     "esp32": ("esp32", "Generic ESP32 module with ESP32"),
     "rpi_pico2": ("rp2", "Raspberry Pi Pico2 with RP2350"),
     "rpi_pico": ("rp2", "Raspberry Pi Pico with RP2040"),
+    # kits' boards: MICROPY_HW_BOARD_NAME of ports/rp2/boards/<BOARD>/mpconfigboard.h, " with ",
+    # the chip (their pin names: host/shim/_hilboards.py)
+    "sparkfun_xrp_controller_beta": ("rp2", "SparkFun XRP Controller (Beta) with RP2040"),
+    "sparkfun_xrp_controller": ("rp2", "SparkFun XRP Controller with RP2350"),
+    "pololu_3pi_2040_robot": ("rp2", "Pololu 3pi+ 2040 Robot with RP2040"),
 }
 
 
@@ -84,10 +89,26 @@ def pin_key(name: str, value: object) -> str:
     return f"uart{value}" if name.endswith("_UART") else canonical_key(str(value))
 
 
-def canonical_key(key: str, platform: str | None = None) -> str:
+def board_names(machine: str | None) -> dict[str, int]:
+    """A kit board's pin names (its pins.csv) by its ``sys.implementation._machine``, as the
+    shim has them (host/shim/_hilboards.py, read here as data); {} for any other board."""
+    if not machine or machine.startswith("Raspberry Pi Pico"):
+        return {}
+    from host.core.paths import SHIM_DIR
+
+    space: dict = {}
+    exec(compile((SHIM_DIR / "_hilboards.py").read_text(), "_hilboards.py", "exec"), space)  # (our own table)
+    found = space["board"](machine)
+    return dict(found[1]) if found else {}
+
+
+def canonical_key(key: str, platform: str | None = None, names: dict | None = None) -> str:
     """An rp2 GPIO's name as the shim sends it: ``"GP14"`` and ``"GPIO14"`` are pin 14
     (ports/rp2/machine_pin.c, machine_pin_find: Pin("GP14") is Pin(14)); on an rp2,
-    ``"LED"`` is the Pico's GP25 (boards/RPI_PICO/pins.csv)."""
+    ``"LED"`` is the Pico's GP25 (boards/RPI_PICO/pins.csv); ``names``: a kit board's own
+    (:func:`board_names`), ``"MOTOR_L_IN_1"`` on an XRP."""
+    if names and key in names:
+        return str(names[key])
     if platform == "rp2" and key == "LED":
         return "25"
     for prefix in ("GPIO", "GP"):

@@ -7,7 +7,7 @@ file; pins are compared as the shim names them (``"18"``, ``"GP14"``, ``"uart2"`
 
 from dataclasses import dataclass, field
 
-from host.rig.boards import canonical_key, identity, is_builtin_line, pin_key
+from host.rig.boards import board_names, canonical_key, identity, is_builtin_line, pin_key
 from host.rig.pinscan import PinUse, Scan, scan_folder
 
 CLOCK_INPUT = ".sck"
@@ -40,8 +40,8 @@ def check_pins(app, plant=None) -> PinCheck:
     ``plant``, its buses against the devices the plant puts on them)."""
     scan = scan_app(app)
     pins = app.board_files(app.default_board)[1]
-    platform = (app.identity or identity(app.default_board) or ("",))[0]
-    result = compare(scan, pins, app.wiring, platform)
+    platform, machine = (app.identity or identity(app.default_board) or ("", ""))[:2]
+    result = compare(scan, pins, app.wiring, platform, board_names(machine))
     if plant is not None:
         result.warnings += compare_buses(scan, plant.bus_names())
         result.warnings += unwired_chip_selects(plant.chip_selects(), app.wiring)
@@ -74,13 +74,15 @@ def compare_buses(scan: Scan, devices: dict[str, list[str]]) -> list[str]:
     ]
 
 
-def compare(scan: Scan, pins: dict, wiring: dict[str, str], platform: str | None = None) -> PinCheck:
+def compare(
+    scan: Scan, pins: dict, wiring: dict[str, str], platform: str | None = None, names: dict | None = None
+) -> PinCheck:
     """``scan``'s pins against a board's ``pins`` (name -> number or name) and the rig's
-    ``wiring`` (pin name -> signal)."""
+    ``wiring`` (pin name -> signal); ``names``: the board's own pin names (a kit's board)."""
     result = PinCheck(checked=len(scan.uses), unchecked=list(scan.unchecked), notes=list(scan.notes))
     used: dict = {}
     for key, uses in scan.by_key().items():  # (Pin("GP14") is Pin(14), as the shim sends it)
-        used.setdefault(canonical_key(key, platform), []).extend(uses)
+        used.setdefault(canonical_key(key, platform, names), []).extend(uses)
     wired = {pin_key(name, pins[name]): name for name in wiring if name in pins}
     untouched = {key: name for key, name in wired.items() if key not in used and not is_builtin_line(key)}
     for key, uses in used.items():

@@ -58,6 +58,13 @@ if _RP2:
     _BOARD_NAMES = {"GP%d" % n: n for n in tuple(range(23)) + (25, 26, 27, 28)}
     _BOARD_NAMES["LED"] = 25
     _CPU_NAMES = {"GPIO%d" % n: n for n in range(30)}
+    if not _mcu().startswith("Raspberry Pi Pico"):  # a kit's board: its own pins.csv (_hilboards.py)
+        import _hilboards
+
+        _named = _hilboards.board(_mcu())
+        if _named:
+            _BOARD_NAMES = _named[1]
+            _CPU_NAMES = {"GPIO%d" % n: n for n in range(_named[0])}
 else:
     _BOARD_NAMES = {}  # ports/esp32: a generic ESP32 has no pins.csv, its Pin.board is empty
     _CPU_NAMES = None  # (and it has no Pin.cpu)
@@ -77,7 +84,11 @@ def _rp2_afs(gpio):
 
 def _pin_id(id):
     """A pin's id as the port finds it (machine_pin_find): a number, a Pin, or on a port
-    with named pins (rp2) a board name, then a cpu name; an unknown name is a ValueError."""
+    with named pins (rp2) a board name, then a cpu name; an unknown name is a ValueError.
+    A Pin is its own pin (ports/rp2/machine_pin.c machine_pin_find, ports/esp32/
+    machine_pin.c machine_pin_get_id: Pin(Pin.board.X, Pin.OUT) is pin X)."""
+    if isinstance(id, Pin):
+        return id._id
     if isinstance(id, str) and _RP2:  # ports/rp2/machine_pin.c, machine_pin_find
         gpio = _BOARD_NAMES.get(id, _CPU_NAMES.get(id))
         if gpio is None:

@@ -267,12 +267,12 @@ class StateMachine:
         if self._handle is None:
             raise OSError("StateMachine(%d) has no program: init() it first" % self._id)
         now = _hil.now()
-        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
-            if other is not self and other._at != now:
-                other._call(F.BUS_PIO_LEVELS, 0, 2)
         popped, self._popped = self._popped, 0
-        if self in _POPPED:
+        if self in _POPPED:  # (first: another machine's exchange below must not come back to this one)
             _POPPED.remove(self)
+        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
+            if other in _POPPED and other._at != now:
+                other._call(F.BUS_PIO_LEVELS, 0, 2)
         status, count, got, t = _hil.transfer(self._handle, op, address | popped << 8, n_read, data)
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange

@@ -1,0 +1,31 @@
+# The drive motors. The RP2040 beta controller's driver takes a direction pin and a speed
+# PWM; the RP2350 controller's, a PWM per direction. Effort runs from -1 to 1.
+from machine import PWM, Pin
+
+_FULL = 65535
+
+
+class DirSpeedMotor:
+    def __init__(self, dir_pin, speed_pin, flip=False):
+        self.dir = Pin(dir_pin, Pin.OUT, value=0)
+        self.speed = PWM(Pin(speed_pin, Pin.OUT), freq=50, duty_u16=0)
+        self.flip = flip
+
+    def set_effort(self, effort):
+        effort = max(-1.0, min(1.0, effort))
+        self.dir.value(1 if (effort < 0) != self.flip else 0)
+        self.speed.duty_u16(int(abs(effort) * _FULL))
+
+
+class TwoPwmMotor:
+    def __init__(self, in1_pin, in2_pin, flip=False):
+        self.fwd = PWM(Pin(in1_pin, Pin.OUT), freq=50, duty_u16=0)
+        self.back = PWM(Pin(in2_pin, Pin.OUT), freq=50, duty_u16=0)
+        self.flip = flip
+
+    def set_effort(self, effort):
+        effort = max(-1.0, min(1.0, effort))
+        if self.flip:
+            effort = -effort
+        self.fwd.duty_u16(int(effort * _FULL) if effort > 0 else 0)
+        self.back.duty_u16(int(-effort * _FULL) if effort < 0 else 0)

@@ -1,0 +1,187 @@
+"""Robot kits (host/kits, docs/kits.md): ``mpy-fil init --kit`` writes a rig that
+``mpy-fil check`` accepts with the kit's firmware and a test that passes; firmware in the
+vendor library's style (hil_tests/firmware/kits/) drives 25 cm by the encoders, turns 90
+degrees by the gyro and stops at a wall by the rangefinder, held to the plant's ground
+truth in virtual time."""
+
+import importlib.util
+import math
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from host import kits
+from host.cli import main
+
+pytestmark = pytest.mark.hil
+FIRMWARE = Path(__file__).parent / "firmware" / "kits"
+WALL_Y_M = 2.0  # the room's north wall (room_h_m)
+RANGER_X_M = 0.10  # the rangefinder's place ahead of the body's centre (the kits' rig.toml)
+
+
+def cli(capsys, *args) -> tuple[int, str, str]:
+    """mpy-fil in this process: (exit code, stdout, stderr)."""
+    try:
+        code = main([str(a) for a in args])
+    except SystemExit as e:  # (argparse's error: exit 2)
+        code = e.code
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def kit_folder(capsys, tmp_path: Path, kit: str, firmware: str) -> Path:
+    """``init --kit`` into a fresh folder, then the kit's firmware of ours beside it."""
+    folder = tmp_path / kit
+    folder.mkdir()
+    code, out, err = cli(capsys, "init", "--kit", kit, folder)
+    assert code == 0, f"init --kit {kit}: {err}"
+    assert sorted(p.name for p in folder.iterdir()) == ["rig.toml", f"test_{kit}.py"], out
+    shutil.copytree(FIRMWARE / firmware, folder, dirs_exist_ok=True)
+    return folder
+
+
+def test_init_kit_refuses_to_overwrite_and_names_the_kits(capsys, tmp_path):
+    folder = tmp_path / "k"
+    folder.mkdir()
+    (folder / "rig.toml").write_text("# mine\n")
+    code, _, err = cli(capsys, "init", "--kit", "xrp_beta", folder)
+    assert code == 2 and "rig.toml exists; nothing written" in err, err
+    assert (folder / "rig.toml").read_text() == "# mine\n" and not (folder / "test_xrp_beta.py").exists()
+    (folder / "rig.toml").unlink()
+    (folder / "rig.toml").symlink_to(tmp_path / "elsewhere.toml")  # (dangling: writing through it would make it)
+    code, _, err = cli(capsys, "init", "--kit", "xrp_beta", folder)
+    assert code == 2 and "is a link" in err and not (tmp_path / "elsewhere.toml").exists(), err
+    code, _, err = cli(capsys, "init", "--kit", "no_such_kit", folder)
+    assert code == 2 and "no kit 'no_such_kit'" in err, err
+    code, listing, _ = cli(capsys, "kits")
+    for name, kit in kits.kits().items():
+        assert f"{name:<14} {kit.title}" in listing and kit.sources, listing
+        for what, where in kit.sources:
+            assert f"  {what}: {where}" in listing
+
+
+@pytest.mark.parametrize("kit", sorted(kits.kits()))
+def test_init_kit_writes_a_test_that_passes(capsys, make_rig, tmp_path, kit):
+    """The test ``init --kit`` writes, run as pytest would run it (its own firmware, the
+    kit's rig beside it)."""
+    folder = tmp_path / kit
+    folder.mkdir()
+    code, _, err = cli(capsys, "init", "--kit", kit, folder)
+    assert code == 0, err
+    spec = importlib.util.spec_from_file_location(f"written_{kit}", folder / f"test_{kit}.py")
+    written = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(written)
+    tests = [getattr(written, n) for n in dir(written) if n.startswith("test_")]
+    assert len(tests) == 1, dir(written)
+    (tmp_path / "own").mkdir()
+    tests[0](make_rig, tmp_path / "own")
+
+
+@pytest.mark.parametrize("kit", ["xrp_beta", "xrp"])
+def test_init_kit_rig_checks_clean_with_the_kits_firmware(capsys, tmp_path, kit):
+    folder = kit_folder(capsys, tmp_path, kit, "xrp")
+    code, _, err = cli(capsys, "check", folder / "rig.toml", "--strict")
+    warnings = [line for line in err.splitlines() if line.startswith("check:")]
+    if kit == "xrp":  # (the RGB LED's pin is Pin.board's, looked up at run time: only a run tells)
+        assert warnings == [
+            "check: the rig wires BOARD_NEOPIXEL = 37 (rgb.din), but the code never touches pin 37 "
+            "(some pins are computed at run time: check -v lists them)"
+        ], err
+    else:
+        assert code == 0 and not warnings, err
+
+
+def said(rig, pattern: str) -> list[float]:
+    found = rig.expect(pattern + r" (\S+)(?: (\S+))?")
+    return [float(v) for v in found.groups() if v is not None]
+
+
+@pytest.mark.parametrize("kit", ["xrp_beta", "xrp"])
+def test_xrp_drives_turns_and_stops_at_the_wall_as_the_plant_says(capsys, make_rig, tmp_path, kit):
+    folder = kit_folder(capsys, tmp_path, kit, "xrp")
+    rig_file = folder / "rig.toml"
+    text = rig_file.read_text().replace("start_pose = [0.5, 1.0, 0.0]", "start_pose = [1.0, 1.2, 0.0]")
+    text = text.replace('name = "user_button"\n', 'name = "user_button"\npresses = [[0.2, 0.3]]\n')
+    rig_file.write_text(text)
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    (floor_l, floor_r) = said(rig, "floor")
+    assert rig.t_us >= 300_000, f"started before the button was released (0.3 s); {where()}"
+    assert floor_l == floor_r == pytest.approx(6000 / 65535, rel=1e-3), "the floor's reflectance (floor_u16 6000)"
+    start = rig.truth()
+    (straight_cm,) = said(rig, "straight_cm")
+    after = rig.truth()
+    moved_cm = math.hypot(after["x_m"] - start["x_m"], after["y_m"] - start["y_m"]) * 100
+    assert abs(straight_cm - moved_cm) < 0.5, f"encoders said {straight_cm} cm, the body moved {moved_cm}; {where()}"
+    assert abs(moved_cm - 25) < 0.5 and abs(after["theta_rad"]) < math.radians(1), (after, where())
+    (turned_deg,) = said(rig, "turned_deg")
+    turned = rig.truth()
+    truly_deg = math.degrees(turned["theta_rad"] - after["theta_rad"])
+    assert abs(truly_deg - 90) < 3 and abs(turned_deg - truly_deg) < 3, f"{turned_deg} vs {truly_deg}; {where()}"
+    (wall_cm,) = said(rig, "wall_cm")
+    end = rig.truth()
+    ranger_y = end["y_m"] + RANGER_X_M * math.sin(end["theta_rad"])
+    to_wall_cm = (WALL_Y_M - ranger_y) / math.sin(end["theta_rad"]) * 100
+    assert abs(wall_cm - to_wall_cm) < 1.0, f"the rangefinder said {wall_cm} cm, the wall is {to_wall_cm}; {where()}"
+    assert 8 < to_wall_cm <= 15 and end["touching"] == 0, (end, where())
+    rig.expect("done")
+    if kit == "xrp":  # the RP2350 controller's RGB LED: red once done
+        assert rig.plant.output("rgb.led0") == 0x200000, where()
+
+
+def test_3pi_drives_25_cm_by_its_encoders_and_turns_90_by_its_gyro(capsys, make_rig, tmp_path):
+    """Pololu-style firmware (PWM slice 7 through mem32, PIO encoders, the LSM6DSO at 0x6B:
+    the kitbot package as its library, in /lib) on the 3pi+ 2040 kit's rig, started by
+    button B (BOOTSEL)."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_2040")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    rig_file = folder / "rig.toml"
+    rig_file.write_text(
+        rig_file.read_text().replace('name = "button_b"\n', 'name = "button_b"\npresses = [[0.2, 0.3]]\n')
+    )
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    start = rig.truth()
+    (straight_mm,) = said(rig, "straight_mm")
+    assert rig.t_us >= 300_000, f"started before button B was released (0.3 s); {where()}"
+    after = rig.truth()
+    moved_mm = math.hypot(after["x_m"] - start["x_m"], after["y_m"] - start["y_m"]) * 1000
+    assert abs(straight_mm - moved_mm) < 5, f"encoders said {straight_mm} mm, the body moved {moved_mm}; {where()}"
+    assert abs(moved_mm - 250) < 5 and abs(after["theta_rad"]) < math.radians(1), (after, where())
+    (turned_deg,) = said(rig, "turned_deg")
+    truly_deg = math.degrees(rig.truth()["theta_rad"] - after["theta_rad"])
+    assert abs(truly_deg - 90) < 3 and abs(turned_deg - truly_deg) < 3, f"{turned_deg} vs {truly_deg}; {where()}"
+    rig.expect("done")
+
+
+@pytest.mark.parametrize(
+    ("kit", "want"),
+    [
+        ("xrp_beta", "SparkFun XRP Controller (Beta) with RP2040 6 6 20 False 30 unknown named pin"),
+        ("xrp", "SparkFun XRP Controller with RP2350 34 34 0 True 48 unknown named pin"),
+    ],
+)
+def test_a_kit_boards_pins_by_its_own_names(capsys, make_rig, tmp_path, kit, want):
+    """ports/rp2/boards/<BOARD>/pins.csv as the board's firmware has them: Pin("NAME") and
+    the alternate names, Pin.board, Pin.cpu up to the chip's GPIO count, a Pin of a Pin."""
+    folder = kit_folder(capsys, tmp_path, kit, "xrp")
+    (folder / "main.py").write_text(
+        """import sys
+from machine import Pin
+
+led = getattr(Pin.board, "BOARD_NEOPIXEL", None)
+try:
+    Pin("NO_SUCH_PIN")
+except ValueError as e:
+    unknown = str(e)
+cpus = sum(1 for n in range(64) if hasattr(Pin.cpu, "GPIO%d" % n))
+print("names", sys.implementation._machine, Pin("MOTOR_L_IN_1"), Pin("ML_IN_1"), Pin(Pin.board.RANGE_TRIGGER),
+      led is not None and Pin(led, Pin.OUT) is led, cpus, unknown[:17])
+"""
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    line = rig.expect(r"names (.*)\n").group(1)
+    got = re.sub(r"Pin\(GPIO(\d+)[^)]*\)", r"\1", line)
+    assert got == want, f"console:\n{rig.console}"
