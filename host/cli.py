@@ -180,6 +180,11 @@ def build_parser() -> argparse.ArgumentParser:
     lst = sub.add_parser("list", help="our apps, boards, and the catalogue's bodies and parts: options and signals")
     lst.set_defaults(command=cmd_list, sub=lst)
 
+    prt = sub.add_parser("parts", help="the catalogue's pages (ours, installed packages', a rig file's own entries)")
+    prt.add_argument("kinds", nargs="*", metavar="KIND", help="only these entries (all when none)")
+    prt.add_argument("--rig", metavar="RIG", help="a rig file: its [plant] catalogue's entries too")
+    prt.set_defaults(command=cmd_parts, sub=prt)
+
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
     rep.add_argument("--out", type=_folder, help="the replay's own trace folder (default: TRACE/replay)")
@@ -654,6 +659,25 @@ def cmd_list(args) -> int:
     from sim_plant.catalogue.docs import listing
 
     print("\n".join(listing()))
+    return 0
+
+
+def cmd_parts(args) -> int:
+    """docs/parts.md's sections of every entry the catalogue has here: ours, an installed
+    package's (entry points ``mpy_fil.catalogue``) and, with ``--rig``, the rig file's own."""
+    from sim_plant import catalogue
+    from sim_plant.catalogue.docs import render
+
+    if args.rig:
+        get_app(args.rig)  # (reads its [plant] catalogue; a ConfigError names the field)
+    tables = {name: getattr(catalogue, name)() for name in catalogue.TABLES}
+    if args.kinds:
+        tables = {name: {k: c for k, c in table.items() if k in args.kinds} for name, table in tables.items()}
+        missing = sorted(set(args.kinds) - {k for table in tables.values() for k in table})
+        if missing:
+            print(f"mpy-fil parts: no entry {', '.join(missing)} (mpy-fil parts lists them all)", file=sys.stderr)
+            return 2
+    print(render(tables, head=not args.kinds), end="")
     return 0
 
 

@@ -30,7 +30,7 @@ from host.rig.firmware import heap_bytes
 from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
-from sim_plant import option_table
+from sim_plant import catalogue, option_table
 from sim_plant.catalogue.assembly import PartsError, assemble
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.names import unknown
@@ -78,8 +78,6 @@ MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
 MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
-REPORT_VIEWS = ("pool_lane",)
-"""The views a rig file may name in ``[report] views`` (``host/report/views.py`` VIEWS draws them)."""
 
 
 class _Where:
@@ -222,10 +220,11 @@ def _report(where: _Where, table: dict, wiring: dict) -> dict:
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
     where.table(table, "[report]", REPORT_KEYS)
+    views = catalogue.views()  # (ours and the rig's own: [plant] catalogue is read first)
     for i, name in enumerate(table.get("views", [])):
-        if not isinstance(name, str) or name not in REPORT_VIEWS:
+        if not isinstance(name, str) or name not in views:
             shown = repr(name) if len(repr(name)) < 70 else repr(name)[:66] + "..."
-            known = unknown(name, REPORT_VIEWS, what="views")
+            known = unknown(name, views, what="views")
             raise where.error(f"[report] views[{i}]", f"expected a view's name, got {shown} {known}")
     judge = where.table(table.get("judge", {}), "[report.judge]", JUDGE_KEYS)
     for key, hi in (("home_within_m", 1000.0), ("min_coverage", 1.0)):
@@ -406,7 +405,7 @@ def _parts_builder(where: _Where, table: dict):
     field); the table itself is checked here (a ConfigError naming the file)."""
 
     def build(**opts):
-        return assemble({**table, **opts})
+        return assemble({**table, **opts}, base=where.path.parent)
 
     try:
         build()

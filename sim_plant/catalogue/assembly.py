@@ -274,10 +274,13 @@ class PartsPlant(RobotPlant):
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
 
 
-def assemble(table: dict) -> PartsPlant:
+def assemble(table: dict, base=None) -> PartsPlant:
     """The plant a ``[plant]`` table with a ``body`` describes; :class:`PartsError` (a
     ValueError) naming the field of the first mistake. A key ``<part name>.<option>``
-    (a world's, a test's or ``--param``'s) sets that option of the part of that name."""
+    (a world's, a test's or ``--param``'s) sets that option of the part of that name.
+    ``catalogue``: a user's sources of parts, bodies and worlds (folders relative to
+    ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`)."""
+    _add_sources(table, base)
     table, entries = _with_part_options(table)
     body = _body(table)
     parts, names = [], {}
@@ -291,6 +294,14 @@ def assemble(table: dict) -> PartsPlant:
         parts.append(part)
     _check_addresses(parts)
     return PartsPlant(body, parts)
+
+
+def _add_sources(table, base) -> None:
+    sources = table.get("catalogue", []) if isinstance(table, dict) else []
+    if not isinstance(sources, list):
+        raise PartsError(f"[plant] catalogue: expected a list of folders or module names, got {sources!r}"[:200])
+    for source in sources:
+        catalogue.add(source, base)
 
 
 def _check_addresses(parts: list) -> None:
@@ -337,13 +348,13 @@ def _body(table: dict):
         raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
     bodies = catalogue.bodies()
     kind = table.get("body")
-    if not isinstance(kind, str) or kind not in bodies:
+    cls = catalogue.resolve("bodies", kind) if isinstance(kind, str) else None
+    if cls is None:
         described = {k: c.doc for k, c in bodies.items()}
         raise PartsError(
             f"[plant] body: expected one of {', '.join(bodies)}, got {_short(kind)}{_hint(kind, described)}"
         )
-    cls = bodies[kind]
-    return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
+    return cls(cls.checked(table, "[plant]", skip=("body", "parts", "catalogue")))
 
 
 def _part(i: int, entry):
@@ -352,7 +363,8 @@ def _part(i: int, entry):
         raise PartsError(f"{label}: expected a table, got {entry!r}"[:200])
     known = catalogue.parts()
     kind = entry.get("kind")
-    if not isinstance(kind, str) or kind not in known:
+    cls = catalogue.resolve("parts", kind) if isinstance(kind, str) else None
+    if cls is None:
         described = {k: c.doc for k, c in known.items()}
         raise PartsError(
             f"{label} kind: expected one of {', '.join(known)}, got {_short(kind)}{_hint(kind, described)}"
@@ -371,7 +383,6 @@ def _part(i: int, entry):
         problem = spec.problem(value) if spec else f"expected one of {', '.join(MOUNT_KEYS)}"
         if problem:
             raise PartsError(f"{label} mount {key}: {problem}")
-    cls = known[kind]
     options = cls.checked(entry, label, skip=PART_KEYS)
     try:
         part = cls(name, mount, options)

@@ -218,6 +218,49 @@ class BodyType(Declared):
         return False
 
 
+class WorldType(Declared):
+    """A world a body moves in (the body's ``world = "<kind>"``, its options in the body's
+    ``world_options`` table): :meth:`build` gives the :class:`~sim_plant.world.World` and the
+    start pose (x_m, y_m, heading_rad) the body takes unless the rig file sets its own.
+    ``draws``: :meth:`build` takes the plant's freshly seeded generator (drawn per seed)."""
+
+    draws = False
+
+    def __init__(self, options: dict):
+        self.options = options
+
+    def build(self, rng=None):
+        raise NotImplementedError
+
+
+class ReportView(Declared):
+    """A view a rig file names in ``[report] views``: :meth:`panels` gives the report's
+    panels of a trace folder (``trace``: its signals, truth and console), drawn with the
+    ``kit`` the report passes (``Panel``, ``Line``, ``US_PER_S``, ``rows``, ``console_text``,
+    ``firmware_t0_us``: ``host/report/viewkit.py``), so a view imports nothing of the host."""
+
+    def __init__(self, options: dict | None = None):
+        self.options = options or {}
+
+    def panels(self, trace, kit) -> list:
+        raise NotImplementedError
+
+
+class Judge(Declared):
+    """How a campaign's run passes (``[campaign] judge = "<kind>"``): :meth:`judge` reads the
+    finished rig (``rig.console``, ``rig.truth()``, ``rig.plant``, ``rig.t_us``) and gives
+    (passed, figures, message); ``FIGURES``: the figures a campaign is ranked by when it names
+    none (the first its runs have)."""
+
+    FIGURES: tuple = ("t_end_s",)
+
+    def __init__(self, options: dict | None = None):
+        self.options = options or {}
+
+    def judge(self, rig, reached: bool, task: dict):
+        raise NotImplementedError
+
+
 def spec_text(spec) -> str:
     """One line for an option's bounds (docs, ``mpy-fil list``)."""
     if isinstance(spec, Num):
@@ -235,4 +278,16 @@ def spec_text(spec) -> str:
     return getattr(spec, "what", type(spec).__name__)
 
 
-__all__ = ["Build", "BodyType", "Opt", "PartType", "PartsError", "Sig", "View", "spec_text"]
+__all__ = [
+    "Build",
+    "BodyType",
+    "Judge",
+    "Opt",
+    "PartType",
+    "PartsError",
+    "ReportView",
+    "Sig",
+    "View",
+    "WorldType",
+    "spec_text",
+]

@@ -9,7 +9,7 @@ from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain, SlipDriveTrain, WheelSlip
 from sim_plant.duct import DUCT_START, bench_duct, straight_duct
 from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
-from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, OneOf, Row, Rows, length
+from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, Row, Rows, length
 from sim_plant.world import box, room
 
 ROOM = length(0.1, 100)
@@ -25,16 +25,47 @@ WORLDS = {  # a named world instead of the room: (the world, where the robot sta
 CIRCLE = Row((PLACE, PLACE, length(0.001, 5)), "[x_m, y_m, r_m]")
 
 
+class WorldKind:
+    """The ``world`` option: the room, the furnished room, one of :data:`WORLDS`, or a world
+    of the catalogue (a user's too, or ``"module:Class"``: :class:`~sim_plant.catalogue.base.WorldType`)."""
+
+    what = "room, furnished, " + ", ".join(WORLDS) + ", or a catalogue world's kind (docs/own-parts.md)"
+
+    @property
+    def values(self) -> tuple:
+        from sim_plant import catalogue
+
+        return ("room", "furnished", *WORLDS, *catalogue.worlds())
+
+    def problem(self, value):
+        from sim_plant import catalogue
+
+        if isinstance(value, str) and (value in self.values or (":" in value and catalogue.resolve("worlds", value))):
+            return None
+        return f"expected one of {', '.join(self.values)} or a world's 'module:Class', got {value!r}"[:300]
+
+
+class WorldOptions:
+    """The ``world_options`` table: a catalogue world's options (it checks them itself)."""
+
+    what = "a table of the world's options"
+
+    def problem(self, value):
+        return None if isinstance(value, dict) else f"expected a table of the world's options, got {value!r}"[:200]
+
+
 class Differential(BodyType):
     kind = "differential"
     doc = "A disc body with two driven wheels on its centre axis (differential drive)."
     OPTIONS = (
         Opt(
             "world",
-            OneOf(("room", "furnished", *WORLDS)),
+            WorldKind(),
             "room",
-            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds",
+            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds"
+            " or a catalogue world (a user's own too)",
         ),
+        Opt("world_options", WorldOptions(), {}, "a catalogue world's options (its kind's OPTIONS)"),
         Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
         Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
@@ -97,8 +128,12 @@ class Differential(BodyType):
         else:
             if o["obstacles"]:
                 raise PartsError(f"[plant] obstacles: only in the room world, not in {o['world']}")
-            make, start = WORLDS[o["world"]]
-            world, pose = make(), o["start_pose"] or start
+            if o["world"] in WORLDS:
+                make, start = WORLDS[o["world"]]
+                world, pose = make(), o["start_pose"] or start
+            else:
+                world, start = catalogue_world(o["world"], o["world_options"], rng)
+                pose = o["start_pose"] or start
         return world, tuple(float(v) for v in pose)
 
     def drive(self, build: Build, pose):
@@ -137,3 +172,12 @@ class Differential(BodyType):
                 part.changed = False
                 return True
         return False
+
+
+def catalogue_world(kind: str, options: dict, rng):
+    """A catalogue world's (World, start pose), its options checked as a part's are."""
+    from sim_plant import catalogue
+
+    cls = catalogue.resolve("worlds", kind)
+    world = cls(cls.checked(options, "[plant] world_options"))
+    return world.build(rng) if cls.draws else world.build()
