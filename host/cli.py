@@ -20,7 +20,7 @@ outputs differ from the recording exits with 1. This is the only layer that prin
 or exits.
 """
 
-import host.core.stop_signals  # (first: a stop signal during the imports below, a second's, is named)
+from host.core import stop_signals  # (first: a stop signal during the imports below, a second's, is named)
 
 # isort: split
 
@@ -252,7 +252,8 @@ def _testing_parsers(sub) -> None:
     shr.add_argument("--resolution", type=_duration_s, metavar="SECONDS", help="windows and duration to this")
     shr.add_argument("--app", metavar="RIG", help="run this rig file or app (a trace folder's run)")
     shr.add_argument("--trust-folder", action="store_true", help="run the rig file a trace folder's header names")
-    shr.set_defaults(command=lambda args: _say_command("host.shrink.command", "shrink_command", args), sub=shr)
+    shrink = f"{__package__}.shrink.command"  # (host, or mpy_fil.host installed: setup.py)
+    shr.set_defaults(command=lambda args: _say_command(shrink, "shrink_command", args), sub=shr)
 
     diff = sub.add_parser("diff", help="compare two trace folders: trajectories, outputs, budgets")
     diff.add_argument("a", metavar="A", type=_trace_folder, help="trace folder (the reference)")
@@ -263,7 +264,7 @@ def _testing_parsers(sub) -> None:
     diff.add_argument("--fail-on-output", action="store_true", help="differ when any output diverges")
     diff.add_argument("--max-p99-change-us", type=float, help="largest change of a budget's p99 allowed")
     diff.add_argument("--max-misses-change", type=int, help="largest rise of a budget's misses allowed")
-    diff.set_defaults(command=lambda args: _say_command("host.diff.command", "diff_command", args), sub=diff)
+    diff.set_defaults(command=lambda args: _say_command(f"{__package__}.diff.command", "diff_command", args), sub=diff)
 
 
 def _say_command(module: str, name: str, args) -> int:
@@ -514,7 +515,7 @@ def _stop_on_signals():
     if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
         yield
         return
-    previous = host.core.stop_signals.install()  # (a signal ignored from the start, as by nohup, stays ignored)
+    previous = stop_signals.install()  # (a signal ignored from the start, as by nohup, stays ignored)
     try:
         yield
     finally:

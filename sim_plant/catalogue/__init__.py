@@ -129,7 +129,8 @@ def _load_folder(folder: Path) -> tuple:
 
 def add(source: str, base: Path | None = None) -> tuple:
     """Add a user's source of entries: a folder (``parts/``, relative to ``base``, the rig
-    file's folder) or an importable module or package name; its modules, imported once."""
+    file's folder) or an importable module or package name; (the source as an absolute
+    folder or the module's name, its modules), imported once."""
     if not isinstance(source, str) or not source:
         raise PartsError(f"[plant] catalogue: expected a folder or a module name, got {source!r}"[:200])
     folder = (Path(base or ".") / source).resolve()
@@ -139,14 +140,14 @@ def add(source: str, base: Path | None = None) -> tuple:
         key = str(folder)
         if key not in _added:
             _added[key] = _load_folder(folder)
-        return _added[key]
+        return key, _added[key]
     if source not in _added:
         try:
             module = importlib.import_module(source)
         except ImportError as e:
             raise PartsError(f"[plant] catalogue: cannot import {source!r} ({e}); a folder ends in '/'") from None
         _added[source] = tuple(_modules_of(module))
-    return _added[source]
+    return source, _added[source]
 
 
 def resolve(table: str, kind) -> type | None:

@@ -28,8 +28,9 @@ class PartsPlant(RobotPlant):
 
     capabilities = frozenset((POSE, PWM, UART, BUSES, BITSTREAM, CONTROLS))
 
-    def __init__(self, body, parts: list):
+    def __init__(self, body, parts: list, sources: tuple = ()):
         self.body = body
+        self.sources = tuple(sources)  # a user's catalogue sources (folders' absolute paths, modules)
         self.catalogue_parts = list(parts)
         self.zero_delay = any(p.zero_delay for p in self.catalogue_parts)
         self._reads_empty = frozenset(n for p in self.catalogue_parts if p.reads_empty for n in p.signals())
@@ -260,14 +261,23 @@ class PartsPlant(RobotPlant):
         """The body and the parts as data (a trace header keeps it; the report draws each
         part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
         "name", "mount", "options"}]}``."""
-        return {
+        known = catalogue.parts()
+        described = {
             "body": self.body.kind,
             "body_options": dict(self.body.options),
             "parts": [
-                {"kind": p.kind, "name": p.name, "mount": dict(zip(MOUNT_KEYS, p.mount)), "options": dict(p.options)}
+                {
+                    "kind": p.kind if known.get(p.kind) is type(p) else f"{type(p).__module__}:{type(p).__qualname__}",
+                    "name": p.name,
+                    "mount": dict(zip(MOUNT_KEYS, p.mount)),
+                    "options": dict(p.options),
+                }
                 for p in self.catalogue_parts
             ],
         }
+        if self.sources:  # (a report drawn later, in another process, finds a user's parts again)
+            described["catalogue"] = list(self.sources)
+        return described
 
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""
@@ -280,7 +290,7 @@ def assemble(table: dict, base=None) -> PartsPlant:
     (a world's, a test's or ``--param``'s) sets that option of the part of that name.
     ``catalogue``: a user's sources of parts, bodies and worlds (folders relative to
     ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`)."""
-    _add_sources(table, base)
+    sources = _add_sources(table, base)
     table, entries = _with_part_options(table)
     body = _body(table)
     parts, names = [], {}
@@ -293,15 +303,14 @@ def assemble(table: dict, base=None) -> PartsPlant:
         names[part.name] = i
         parts.append(part)
     _check_addresses(parts)
-    return PartsPlant(body, parts)
+    return PartsPlant(body, parts, sources)
 
 
 def _add_sources(table, base) -> None:
     sources = table.get("catalogue", []) if isinstance(table, dict) else []
     if not isinstance(sources, list):
         raise PartsError(f"[plant] catalogue: expected a list of folders or module names, got {sources!r}"[:200])
-    for source in sources:
-        catalogue.add(source, base)
+    return tuple(catalogue.add(source, base)[0] for source in sources)
 
 
 def _check_addresses(parts: list) -> None:
