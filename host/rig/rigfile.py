@@ -31,7 +31,7 @@ from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
 from sim_plant import catalogue, option_table
-from sim_plant.catalogue.assembly import PartsError, assemble
+from sim_plant.catalogue.assembly import PartsError, assemble, with_world
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.names import unknown
 from sim_plant.plant import check_contract
@@ -42,6 +42,7 @@ TABLES = {
     "firmware": dict,
     "board": dict,
     "plant": dict,
+    "world": dict,
     "wiring": dict,
     "budgets": dict,
     "worlds": dict,
@@ -159,7 +160,11 @@ def rig_from_data(path, data: dict, base=None) -> App:
     pins = with_builtin_lines(pins, platform)  # (rp2's BOOTSEL, wired by name)
     if migrate.is_01(data):  # (0.1's [plant] kind: the one message names today's form)
         raise where.error("[plant] kind", migrate.message(data, path))
-    build = _parts_builder(where, data["plant"])  # a body and parts (sim_plant.catalogue)
+    try:  # ([world]: the body's world and its options)
+        plant_table = with_world(data["plant"], data.get("world"))
+    except PartsError as e:
+        raise ConfigError(f"{where.path}: {e}") from None
+    build = _parts_builder(where, plant_table)  # a body and parts (sim_plant.catalogue)
     plant = check_contract(build())
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
     rigrules.check_wiring(where, wiring, pins, plant, platform)

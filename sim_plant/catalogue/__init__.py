@@ -64,11 +64,12 @@ def _ours() -> dict:
     for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
         if info.name in NOT_ENTRIES:
             continue
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        found = _declared(module)
-        if len(found) != 1:
-            raise TypeError(f"{module.__name__}: expected one catalogue class with a kind, got {found}")
-        _put(tables, found[0], module.__name__)
+        package = importlib.import_module(f"{__name__}.{info.name}")
+        for module in _modules_of(package)[1:] if info.ispkg else [package]:  # (places/: a module a world)
+            found = _declared(module)
+            if len(found) != 1:
+                raise TypeError(f"{module.__name__}: expected one catalogue class with a kind, got {found}")
+            _put(tables, found[0], module.__name__)
     return tables
 
 

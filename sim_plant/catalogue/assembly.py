@@ -306,6 +306,36 @@ def assemble(table: dict, base=None) -> PartsPlant:
     return PartsPlant(body, parts, sources)
 
 
+OWN_WORLDS = ("room", "furnished")
+"""The differential body's own worlds: their options are the body's (room_w_m, obstacles, route)."""
+
+
+def with_world(plant: dict, world) -> dict:
+    """A rig file's ``[world]`` table (``kind`` and the world's options) as the body's
+    ``world`` and ``world_options`` (the room's and the furnished room's options are the
+    body's own): the world apart from the body, any body in any world."""
+    if world is None:
+        return plant
+    if not isinstance(world, dict):
+        raise PartsError(f"[world]: expected a table, got {world!r}"[:200])
+    given = sorted(k for k in ("world", "world_options") if k in plant)
+    if given:
+        raise PartsError(f"[world]: the world is given in [plant] too ({', '.join(given)}): give it once, here")
+    kind = world.get("kind")
+    if not isinstance(kind, str):
+        raise PartsError(f"[world] kind: expected a world's kind (docs/parts.md, 'World'), got {kind!r}"[:200])
+    options = {k: v for k, v in world.items() if k != "kind"}
+    for key in ("world", "world_options", "body", "parts", "catalogue"):
+        if key in options:
+            raise PartsError(f"[world] {key}: not a world's option (the world's kind is [world] kind)")
+    if kind not in OWN_WORLDS:
+        return {**plant, "world": kind, "world_options": options}
+    twice = sorted(set(options) & set(plant))
+    if twice:
+        raise PartsError(f"[world] {twice[0]}: given in [plant] too: give it once")
+    return {**plant, "world": kind, **options}
+
+
 def _add_sources(table, base) -> None:
     sources = table.get("catalogue", []) if isinstance(table, dict) else []
     if not isinstance(sources, list):

@@ -261,6 +261,51 @@ class Judge(Declared):
         raise NotImplementedError
 
 
+class WorldKind:
+    """The ``world`` option: the body's own worlds (the differential's room and furnished
+    room) or a world of the catalogue (ours, a user's, or ``"module:Class"``:
+    :class:`~sim_plant.catalogue.base.WorldType`)."""
+
+    def __init__(self, own: tuple = ("room", "furnished")):
+        self.own = own  # the body's own worlds, made from its options
+
+    @property
+    def what(self) -> str:
+        kind = "a catalogue world's kind (below; docs/own-parts.md)"
+        return f"{', '.join(self.own)}, or {kind}" if self.own else kind
+
+    @property
+    def values(self) -> tuple:
+        from sim_plant import catalogue
+
+        return (*self.own, *catalogue.worlds())
+
+    def problem(self, value):
+        from sim_plant import catalogue
+
+        if isinstance(value, str) and (value in self.values or (":" in value and catalogue.resolve("worlds", value))):
+            return None
+        return f"expected one of {', '.join(self.values)} or a world's 'module:Class', got {value!r}"[:300]
+
+
+class WorldOptions:
+    """The ``world_options`` table: a catalogue world's options (it checks them itself)."""
+
+    what = "a table of the world's options"
+
+    def problem(self, value):
+        return None if isinstance(value, dict) else f"expected a table of the world's options, got {value!r}"[:200]
+
+
+def catalogue_world(kind: str, options: dict, rng):
+    """A catalogue world's (World, start pose), its options checked as a part's are."""
+    from sim_plant import catalogue
+
+    cls = catalogue.resolve("worlds", kind)
+    world = cls(cls.checked(options, "[plant] world_options"))
+    return world.build(rng) if cls.draws else world.build()
+
+
 def spec_text(spec) -> str:
     """One line for an option's bounds (docs, ``mpy-fil list``)."""
     if isinstance(spec, Num):
@@ -288,6 +333,9 @@ __all__ = [
     "ReportView",
     "Sig",
     "View",
+    "WorldKind",
+    "WorldOptions",
     "WorldType",
+    "catalogue_world",
     "spec_text",
 ]

@@ -3,55 +3,14 @@ robots), in a room with box obstacles, a room furnished along a route from the p
 seed (:mod:`sim_plant.furniture`), or one of our worlds. The ``dc_motor`` parts that
 drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 
-from sim_plant import world as worlds
-from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
+from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError, WorldKind, WorldOptions, catalogue_world
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain, SlipDriveTrain, WheelSlip
-from sim_plant.duct import DUCT_START, bench_duct, straight_duct
 from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
-from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, Row, Rows, length
+from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, ROOM_SIDE, Num, Row, Rows, length
 from sim_plant.world import box, room
 
-ROOM = length(0.1, 100)
-WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
-    "canyon": (lambda: worlds.canyon(), (0.3, 0.0, 0.0)),
-    "duct": (lambda: worlds.one_right_branch_duct(), DUCT_START),
-    "multi_branch_duct": (lambda: worlds.multi_branch_duct(), DUCT_START),
-    "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),
-    "pool": (lambda: worlds.pool(), (1.0, 1.0, 0.0)),
-    "straight_duct": (straight_duct, DUCT_START),
-    "bench_duct": (bench_duct, DUCT_START),
-}
 CIRCLE = Row((PLACE, PLACE, length(0.001, 5)), "[x_m, y_m, r_m]")
-
-
-class WorldKind:
-    """The ``world`` option: the room, the furnished room, one of :data:`WORLDS`, or a world
-    of the catalogue (a user's too, or ``"module:Class"``: :class:`~sim_plant.catalogue.base.WorldType`)."""
-
-    what = "room, furnished, " + ", ".join(WORLDS) + ", or a catalogue world's kind (docs/own-parts.md)"
-
-    @property
-    def values(self) -> tuple:
-        from sim_plant import catalogue
-
-        return ("room", "furnished", *WORLDS, *catalogue.worlds())
-
-    def problem(self, value):
-        from sim_plant import catalogue
-
-        if isinstance(value, str) and (value in self.values or (":" in value and catalogue.resolve("worlds", value))):
-            return None
-        return f"expected one of {', '.join(self.values)} or a world's 'module:Class', got {value!r}"[:300]
-
-
-class WorldOptions:
-    """The ``world_options`` table: a catalogue world's options (it checks them itself)."""
-
-    what = "a table of the world's options"
-
-    def problem(self, value):
-        return None if isinstance(value, dict) else f"expected a table of the world's options, got {value!r}"[:200]
 
 
 class Differential(BodyType):
@@ -66,8 +25,8 @@ class Differential(BodyType):
             " or a catalogue world (a user's own too)",
         ),
         Opt("world_options", WorldOptions(), {}, "a catalogue world's options (its kind's OPTIONS)"),
-        Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
-        Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
+        Opt("room_w_m", ROOM_SIDE, 3.0, "the room's width (x)"),
+        Opt("room_h_m", ROOM_SIDE, 2.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
         Opt(
             "route",
@@ -128,12 +87,8 @@ class Differential(BodyType):
         else:
             if o["obstacles"]:
                 raise PartsError(f"[plant] obstacles: only in the room world, not in {o['world']}")
-            if o["world"] in WORLDS:
-                make, start = WORLDS[o["world"]]
-                world, pose = make(), o["start_pose"] or start
-            else:
-                world, start = catalogue_world(o["world"], o["world_options"], rng)
-                pose = o["start_pose"] or start
+            world, start = catalogue_world(o["world"], o["world_options"], rng)
+            pose = o["start_pose"] or start
         return world, tuple(float(v) for v in pose)
 
     def drive(self, build: Build, pose):
@@ -172,12 +127,3 @@ class Differential(BodyType):
                 part.changed = False
                 return True
         return False
-
-
-def catalogue_world(kind: str, options: dict, rng):
-    """A catalogue world's (World, start pose), its options checked as a part's are."""
-    from sim_plant import catalogue
-
-    cls = catalogue.resolve("worlds", kind)
-    world = cls(cls.checked(options, "[plant] world_options"))
-    return world.build(rng) if cls.draws else world.build()

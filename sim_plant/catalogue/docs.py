@@ -43,7 +43,8 @@ Parts, bodies, worlds, report views and campaign judges of your own live in your
 repository and get all of this too (bounds, `check`, `mpy-fil parts`, plots, traces): see
 [Write your own part](own-parts.md).
 
-Bodies: {bodies}. Parts: {parts}. Report views: {views}. Judges: {judges}.
+Bodies: {bodies}. Parts: {parts}. Worlds (a body's `world`, or a rig file's `[world]` table):
+{worlds}. Report views: {views}. Judges: {judges}.
 """
 
 
