@@ -140,15 +140,25 @@ def add(source: str, base: Path | None = None) -> tuple:
             raise PartsError(f"[plant] catalogue: no folder {folder}")
         key = str(folder)
         if key not in _added:
-            _added[key] = _load_folder(folder)
+            _take(key, _load_folder(folder))
         return key, _added[key]
     if source not in _added:
         try:
             module = importlib.import_module(source)
         except ImportError as e:
             raise PartsError(f"[plant] catalogue: cannot import {source!r} ({e}); a folder ends in '/'") from None
-        _added[source] = tuple(_modules_of(module))
+        _take(source, tuple(_modules_of(module)))
     return source, _added[source]
+
+
+def _take(source: str, modules: tuple) -> None:
+    """Add a source's modules; a kind already taken (ours or another source's) is refused."""
+    _added[source] = modules
+    try:
+        _entries()
+    except TypeError as e:
+        del _added[source]
+        raise PartsError(f"[plant] catalogue: {e}") from None
 
 
 def resolve(table: str, kind) -> type | None:

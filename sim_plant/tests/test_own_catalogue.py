@@ -138,3 +138,12 @@ def test_a_module_class_kind_and_an_entry_point_add_entries(own, tmp_path, monke
 def test_a_wrong_source_is_refused_by_name(own, table, message):
     with pytest.raises(PartsError, match=message):
         assemble({"body": "bench", **table}, base=own.parent)
+
+
+def test_a_kind_of_ours_taken_again_is_refused_naming_both(own):
+    (own / "lamp.py").write_text(textwrap.dedent(LAMP).replace('kind = "lamp"', 'kind = "dc_motor"'))
+    with pytest.raises(
+        PartsError, match=r"\[plant\] catalogue: .*kind 'dc_motor' is sim_plant.catalogue.dc_motor's too"
+    ):
+        assemble({"catalogue": ["parts/"], "body": "bench"}, base=own.parent)
+    assert catalogue.parts()["dc_motor"].__module__ == "sim_plant.catalogue.dc_motor", "ours, still"
