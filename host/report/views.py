@@ -87,9 +87,9 @@ def bumps_s(trace: TraceData) -> np.ndarray:
 def signal_panels(trace: TraceData) -> list[Panel]:
     declared = (trace.header.get("report") or {}).get("views", [])
     panels = odometry.odometry_panels(trace)
-    known = catalogue.views()
     for name in declared:
-        view = known.get(name)
+        view = catalogue.resolve("views", name)
+        known = catalogue.views() if view is None else {}
         panels += (
             view({}).panels(trace, viewkit)
             if view

@@ -225,9 +225,9 @@ def _report(where: _Where, table: dict, wiring: dict) -> dict:
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
     where.table(table, "[report]", REPORT_KEYS)
-    views = catalogue.views()  # (ours and the rig's own: [plant] catalogue is read first)
-    for i, name in enumerate(table.get("views", [])):
-        if not isinstance(name, str) or name not in views:
+    for i, name in enumerate(table.get("views", [])):  # (ours and the rig's own: [plant] catalogue is read first)
+        if not isinstance(name, str) or catalogue.resolve("views", name) is None:
+            views = catalogue.views()
             shown = repr(name) if len(repr(name)) < 70 else repr(name)[:66] + "..."
             known = unknown(name, views, what="views")
             raise where.error(f"[report] views[{i}]", f"expected a view's name, got {shown} {known}")

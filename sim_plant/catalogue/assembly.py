@@ -261,13 +261,14 @@ class PartsPlant(RobotPlant):
         """The body and the parts as data (a trace header keeps it; the report draws each
         part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
         "name", "mount", "options"}]}``."""
-        known = catalogue.parts()
         described = {
             "body": self.body.kind,
             "body_options": dict(self.body.options),
             "parts": [
                 {
-                    "kind": p.kind if known.get(p.kind) is type(p) else f"{type(p).__module__}:{type(p).__qualname__}",
+                    "kind": p.kind
+                    if catalogue.resolve("parts", p.kind) is type(p)
+                    else f"{type(p).__module__}:{type(p).__qualname__}",
                     "name": p.name,
                     "mount": dict(zip(MOUNT_KEYS, p.mount)),
                     "options": dict(p.options),
@@ -385,10 +386,10 @@ def _with_part_options(table: dict) -> tuple[dict, list]:
 def _body(table: dict):
     if not isinstance(table, dict):
         raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
-    bodies = catalogue.bodies()
     kind = table.get("body")
     cls = catalogue.resolve("bodies", kind) if isinstance(kind, str) else None
     if cls is None:
+        bodies = catalogue.bodies()
         described = {k: c.doc for k, c in bodies.items()}
         raise PartsError(
             f"[plant] body: expected one of {', '.join(bodies)}, got {_short(kind)}{_hint(kind, described)}"
@@ -400,10 +401,10 @@ def _part(i: int, entry):
     label = f"[[plant.parts]] #{i}"
     if not isinstance(entry, dict):
         raise PartsError(f"{label}: expected a table, got {entry!r}"[:200])
-    known = catalogue.parts()
     kind = entry.get("kind")
     cls = catalogue.resolve("parts", kind) if isinstance(kind, str) else None
     if cls is None:
+        known = catalogue.parts()
         described = {k: c.doc for k, c in known.items()}
         raise PartsError(
             f"{label} kind: expected one of {', '.join(known)}, got {_short(kind)}{_hint(kind, described)}"

@@ -283,7 +283,7 @@ class WorldKind:
     def problem(self, value):
         from sim_plant import catalogue
 
-        if isinstance(value, str) and (value in self.values or (":" in value and catalogue.resolve("worlds", value))):
+        if isinstance(value, str) and (value in self.own or catalogue.resolve("worlds", value)):
             return None
         return f"expected one of {', '.join(self.values)} or a world's 'module:Class', got {value!r}"[:300]
 
