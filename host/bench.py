@@ -163,7 +163,7 @@ def bench_pool(limit_s: float = 75 * 60, artefacts: Path | None = None) -> dict:
 def bench_pool_recorded() -> dict:
     """The recorded mission in a child process, so that its peak memory is its own."""
     with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
-        cmd = [sys.executable, "-m", "host.bench", "--recorded-pool-child", tmp]
+        cmd = [sys.executable, "-m", f"{__package__}.bench", "--recorded-pool-child", tmp]
         out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True, **children.popen_options()).stdout
         result = json.loads(out.strip().splitlines()[-1])
         result["disk_mb"] = sum(p.stat().st_size for p in Path(tmp).rglob("*") if p.is_file()) / 1e6

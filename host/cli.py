@@ -20,7 +20,7 @@ outputs differ from the recording exits with 1. This is the only layer that prin
 or exits.
 """
 
-import host.core.stop_signals  # (first: a stop signal during the imports below, a second's, is named)
+from host.core import stop_signals  # (first: a stop signal during the imports below, a second's, is named)
 
 # isort: split
 
@@ -184,6 +184,11 @@ def build_parser() -> argparse.ArgumentParser:
     lst = sub.add_parser("list", help="our apps, boards, and the catalogue's bodies and parts: options and signals")
     lst.set_defaults(command=cmd_list, sub=lst)
 
+    prt = sub.add_parser("parts", help="the catalogue's pages (ours, installed packages', a rig file's own entries)")
+    prt.add_argument("kinds", nargs="*", metavar="KIND", help="only these entries (all when none)")
+    prt.add_argument("--rig", metavar="RIG", help="a rig file: its [plant] catalogue's entries too")
+    prt.set_defaults(command=cmd_parts, sub=prt)
+
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
     rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
     rep.add_argument("--out", type=_folder, help="the replay's own trace folder (default: TRACE/replay)")
@@ -251,7 +256,8 @@ def _testing_parsers(sub) -> None:
     shr.add_argument("--resolution", type=_duration_s, metavar="SECONDS", help="windows and duration to this")
     shr.add_argument("--app", metavar="RIG", help="run this rig file or app (a trace folder's run)")
     shr.add_argument("--trust-folder", action="store_true", help="run the rig file a trace folder's header names")
-    shr.set_defaults(command=lambda args: _say_command("host.shrink.command", "shrink_command", args), sub=shr)
+    shrink = f"{__package__}.shrink.command"  # (host, or mpy_fil.host installed: setup.py)
+    shr.set_defaults(command=lambda args: _say_command(shrink, "shrink_command", args), sub=shr)
 
     diff = sub.add_parser("diff", help="compare two trace folders: trajectories, outputs, budgets")
     diff.add_argument("a", metavar="A", type=_trace_folder, help="trace folder (the reference)")
@@ -262,7 +268,7 @@ def _testing_parsers(sub) -> None:
     diff.add_argument("--fail-on-output", action="store_true", help="differ when any output diverges")
     diff.add_argument("--max-p99-change-us", type=float, help="largest change of a budget's p99 allowed")
     diff.add_argument("--max-misses-change", type=int, help="largest rise of a budget's misses allowed")
-    diff.set_defaults(command=lambda args: _say_command("host.diff.command", "diff_command", args), sub=diff)
+    diff.set_defaults(command=lambda args: _say_command(f"{__package__}.diff.command", "diff_command", args), sub=diff)
 
 
 def _say_command(module: str, name: str, args) -> int:
@@ -513,7 +519,7 @@ def _stop_on_signals():
     if threading.current_thread() is not threading.main_thread():  # (only the main thread takes signals)
         yield
         return
-    previous = host.core.stop_signals.install()  # (a signal ignored from the start, as by nohup, stays ignored)
+    previous = stop_signals.install()  # (a signal ignored from the start, as by nohup, stays ignored)
     try:
         yield
     finally:
@@ -697,6 +703,25 @@ def cmd_list(args) -> int:
     from sim_plant.catalogue.docs import listing
 
     print("\n".join(listing()))
+    return 0
+
+
+def cmd_parts(args) -> int:
+    """docs/parts.md's sections of every entry the catalogue has here: ours, an installed
+    package's (entry points ``mpy_fil.catalogue``) and, with ``--rig``, the rig file's own."""
+    from sim_plant import catalogue
+    from sim_plant.catalogue.docs import render
+
+    if args.rig:
+        get_app(args.rig)  # (reads its [plant] catalogue; a ConfigError names the field)
+    tables = {name: getattr(catalogue, name)() for name in catalogue.TABLES}
+    if args.kinds:
+        tables = {name: {k: c for k, c in table.items() if k in args.kinds} for name, table in tables.items()}
+        missing = sorted(set(args.kinds) - {k for table in tables.values() for k in table})
+        if missing:
+            print(f"mpy-fil parts: no entry {', '.join(missing)} (mpy-fil parts lists them all)", file=sys.stderr)
+            return 2
+    print(render(tables, head=not args.kinds), end="")
     return 0
 
 

@@ -148,6 +148,10 @@ def length(lo, hi, **kw):
     return Num("metres", lo, hi, **kw)
 
 
+ROOM_SIDE = length(0.1, 100)
+"""A room's width or height (the differential's and the desk's room)."""
+
+
 MAX_T_S = 10 * 24 * 3600  # the longest run (host.rig.arguments.MAX_RUN_S)
 PLACE = length(-1000, 1000)  # a coordinate
 HEADING = Num("radians", -10, 10)

@@ -1,10 +1,13 @@
 """How a campaign's run is judged: each judge reads the finished rig (console, ground
 truth, budgets) and gives (passed, figures, message). The figures are numbers, the
 scenario's own (coverage, mission time, distance from home); the message says why a run
-failed. ``docs/campaigns.md`` lists them."""
+failed. ``docs/campaigns.md`` lists them. The generic judges are here; a robot's own
+(the duct robot's ``duct_branch``, the pool cleaner's ``pool_mission``, a user's) are
+catalogue entries (:class:`sim_plant.catalogue.base.Judge`), found as parts are."""
 
 import math
-import re
+
+from sim_plant import catalogue
 
 
 def generic(rig, reached: bool, task: dict):
@@ -12,45 +15,6 @@ def generic(rig, reached: bool, task: dict):
     figures = {"t_end_s": rig.t_us / 1e6}
     if task.get("until") and not reached:
         return False, figures, f"expected {task['until']!r} on the console within {task['seconds']:g} s"
-    return True, figures, ""
-
-
-def duct_branch(rig, reached: bool, task: dict):
-    """Seed 002's single right branch run (§5.7): one branch and two ends explored, the
-    list empty, and the robot really within 150 mm of its start (hil_tests/test_duct.py)."""
-    truth = rig.truth()
-    start = rig.plant.start_pose
-    off = math.hypot(truth["x_m"] - start[0], truth["y_m"] - start[1])
-    explored = "explored: 1 branches found, 2 ends, 0 left" in rig.console
-    figures = {"home_off_m": off, "t_end_s": rig.t_us / 1e6, "snags": truth.get("fault_snags", truth.get("snags", 0))}
-    if not reached:
-        return False, figures, f"expected the exploration to end within {task['seconds']:g} s"
-    if not explored:
-        line = next((ln for ln in rig.console.splitlines() if "explored:" in ln), "")
-        return False, figures, f"expected one branch and two ends explored, got {line.strip()!r}"
-    if off > 0.15:
-        return False, figures, f"expected home within 150 mm, got {off * 1000:.0f} mm off"
-    return True, figures, ""
-
-
-def pool_mission(rig, reached: bool, task: dict):
-    """The pool cleaner's mission (seeds 000/001, hil_tests/test_pool_cleaner.py): ``done:``
-    within the run and at least 95 % of the floor covered. Touching a side wall is a figure,
-    not a failure: the first and last lanes run along the walls."""
-    truth = rig.truth()
-    done = re.search(r"done: pool cleaned in (\d+):(\d+):(\d+)", rig.console)
-    mission_s = int(done.group(1)) * 3600 + int(done.group(2)) * 60 + int(done.group(3)) if done else math.nan
-    walls = sum(1 for c in truth.get("contacts", ()) if getattr(c, "part", None) == "body")
-    figures = {
-        "coverage": truth["coverage_fraction"],
-        "mission_min": mission_s / 60,
-        "reversals": truth.get("reversals", 0),
-        "wall_contacts": walls,
-    }
-    if not done:
-        return False, figures, f"expected 'done:' within {task['seconds'] / 60:g} simulated min"
-    if truth["coverage_fraction"] < 0.95:
-        return False, figures, f"expected >= 95 % of the floor covered, got {truth['coverage_fraction']:.1%}"
     return True, figures, ""
 
 
@@ -93,10 +57,19 @@ def declared(rig, reached: bool, task: dict):
     return not problems, figures, "; ".join(problems)
 
 
-JUDGES = {
-    "generic": generic,
-    "declared": declared,
-    "duct_branch": duct_branch,
-    "pool_mission": pool_mission,
-    "no_contact": no_contact,
-}
+JUDGES = {"generic": generic, "declared": declared, "no_contact": no_contact}
+"""The generic judges (any robot)."""
+
+
+def judges() -> dict:
+    """Every judge by name: the generic ones, then the catalogue's (ours and a user's)."""
+    found = dict(JUDGES)
+    for kind, cls in catalogue.judges().items():
+        found.setdefault(kind, cls({}).judge)
+    return found
+
+
+def figures_of(name: str) -> tuple | None:
+    """A catalogue judge's own figures (what its campaign is ranked by), or None."""
+    cls = catalogue.judges().get(name)
+    return tuple(cls.FIGURES) if cls else None

@@ -5,6 +5,8 @@ campaign is judged by, which ranks its worst runs (``docs/campaigns.md``)."""
 import math
 from dataclasses import dataclass
 
+from host.campaign.judges import figures_of
+
 
 @dataclass(frozen=True)
 class Metric:
@@ -48,14 +50,12 @@ METRICS = {
     )
 }
 JUDGED_BY = {
-    "pool_mission": ("coverage",),
-    "duct_branch": ("home_off_m",),
     "no_contact": ("contacts",),
     "generic": ("t_end_s",),
     "declared": ("coverage", "home_off_m", "contacts", "t_end_s"),  # the first its rig file's judge gives
 }
-"""The figure each judge's campaign is ranked by when the campaign names none (the first
-of these its runs have)."""
+"""The figure each generic judge's campaign is ranked by when the campaign names none (the
+first of these its runs have); a catalogue judge declares its own (``FIGURES``)."""
 
 
 def metric(name: str) -> Metric:
@@ -75,7 +75,8 @@ def judged_by(campaign: dict, results: list[dict] | None = None) -> tuple[str, b
     higher is better, so its worst runs are the lowest)."""
     name = campaign.get("worst_by")
     if not name:
-        names = JUDGED_BY.get(campaign.get("judge") or "generic", ("t_end_s",))
+        judge = campaign.get("judge") or "generic"
+        names = JUDGED_BY.get(judge) or figures_of(judge) or ("t_end_s",)
         present = {f for r in results or () for f in r["figures"]}
         name = next((n for n in names if n in present), names[0])
     low = campaign.get("worst_low")

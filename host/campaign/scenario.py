@@ -9,7 +9,7 @@ A campaign is a rig (an app's name or a rig file) or a scenario file: TOML with 
     seconds = 90              # simulated seconds at most per run
     until = "explored:"       # the run ends early once the console shows this
     step_s = 2.0              # how often it looks
-    judge = "duct_branch"     # how a run is judged (host/campaign/judges.py)
+    judge = "duct_branch"     # how a run is judged (host/campaign/judges.py, or the catalogue's)
     worlds = ["one-right-branch"]
     seeds = 20
     timeout_s = 300           # wall seconds a run may take before it counts as hung
@@ -180,7 +180,7 @@ def _checked(path: Path, where: str, faults) -> list:
 
 
 def _check(campaign: Campaign) -> None:
-    from host.campaign.judges import JUDGES
+    from host.campaign.judges import judges
 
     app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
     campaign.judge = campaign.judge or ("declared" if (app.extra.get("report") or {}).get("judge") else "generic")
@@ -200,8 +200,9 @@ def _check(campaign: Campaign) -> None:
     for name in campaign.budgets:
         if name not in known:
             raise ConfigError(f"campaign budgets: {app.name} has no budget {name!r} (budgets: {', '.join(known)})")
-    if campaign.judge not in JUDGES:
-        raise ConfigError(f"campaign judge: expected one of {', '.join(JUDGES)}, got {campaign.judge!r}")
+    known = judges()  # (the generic ones, ours and the rig's own: its [plant] catalogue is read)
+    if campaign.judge not in known:
+        raise ConfigError(f"campaign judge: expected one of {', '.join(known)}, got {campaign.judge!r}")
     if not 1 <= campaign.seeds <= MAX_SEEDS:
         raise ConfigError(f"campaign seeds: expected 1 to {MAX_SEEDS}, got {campaign.seeds}")
     arguments.seed(campaign.first_seed)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from host.campaign.judges import JUDGES
+from host.campaign.judges import judges
 from host.campaign.scenario import task_key
 from host.core import provenance, safefs
 from host.core.errors import ConfigError, HarnessError
@@ -68,7 +68,7 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
         rig, cuts = _make_rig(task, artefacts, record, started)
         rig.start()
         reached = _drive(rig, task, cuts)
-        passed, figures, message = JUDGES[task["judge"]](rig, reached, task)
+        passed, figures, message = judges()[task["judge"]](rig, reached, task)
         result["figures"] = {k: float(v) for k, v in figures.items()}
         result["budgets"] = {b.name: _budget(b) for b in rig.budgets.values()}
         save_coverage(rig, artefacts)

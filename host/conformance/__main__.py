@@ -108,7 +108,7 @@ def fork_server():
     folder = tempfile.mkdtemp(prefix="mpy-fil-conformance-")
     path = os.path.join(folder, "server")
     env = {**os.environ, "PYTHONPATH": str(REPO), "OPENBLAS_NUM_THREADS": "1"}  # (no BLAS threads to fork)
-    cmd = [sys.executable, "-m", "host.conformance.forkserver", path]
+    cmd = [sys.executable, "-m", f"{__package__}.forkserver", path]
     server = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True, **children.popen_options())
     try:
         if server.stdout.readline().strip() != "ready":

@@ -62,7 +62,8 @@ def _the_program() -> bool:
     if getattr(main, "__name__", None) == "__mp_main__":
         return False
     spec = getattr(main, "__spec__", None)
-    return os.path.basename(sys.argv[0] or "") == "mpy-fil" or getattr(spec, "name", None) == "host.cli"
+    cli = __package__.rpartition(".")[0] + ".cli"  # host.cli, or mpy_fil.host.cli installed (setup.py)
+    return os.path.basename(sys.argv[0] or "") == "mpy-fil" or getattr(spec, "name", None) == cli
 
 
 if _the_program():

@@ -336,7 +336,7 @@ def start_background(
     portfile = home / "port"
     portfile.unlink(missing_ok=True)
     log = open(home / "vboard.log", "w")
-    cmd = [sys.executable, "-m", "host.device.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
+    cmd = [sys.executable, "-m", f"{__package__}.vboard", "serve", "--board", board, "--app", app, "--home", str(home)]
     if not wired:
         cmd.append("--bare")
     if detached:

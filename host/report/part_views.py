@@ -15,6 +15,7 @@ import numpy as np
 
 from host.report.panels import US_PER_S, Line, Panel
 from sim_plant import catalogue
+from sim_plant.catalogue.base import PartsError
 
 PLOTS = {
     "range": ("Rangers: the range the firmware read against the true range", "range (m)"),
@@ -55,11 +56,11 @@ def part_panels(trace) -> list[Panel] | None:
     described = trace.header.get("parts")
     if not described:
         return None
-    recorded, known = Recorded(trace), catalogue.parts()
+    recorded = Recorded(trace)
     panels: dict[str, Panel] = {}
     parts = []
     for entry in described.get("parts", []):
-        cls = known.get(entry["kind"])
+        cls = _part_class(entry["kind"], described.get("catalogue", ()))
         if cls is None:
             continue  # a part this checkout's catalogue no longer has: nothing to draw it with
         part = cls(entry["name"], entry.get("mount", {}), entry["options"])
@@ -70,6 +71,17 @@ def part_panels(trace) -> list[Panel] | None:
     ordered = [panels[k] for k in PLOTS if k in panels] + [p for k, p in panels.items() if k not in PLOTS]
     speed = speed_panel(trace, recorded, parts, described.get("body_options", {}))
     return ordered + ([speed] if speed.lines else [])
+
+
+def _part_class(kind: str, sources) -> type | None:
+    """The class of a part a trace header names: ours, or a user's (its rig file's catalogue
+    sources, as the header keeps them: absolute folders, module names); None when gone."""
+    try:
+        for source in sources:
+            catalogue.add(source)
+        return catalogue.resolve("parts", kind)
+    except PartsError:  # (a user's folder moved since the run: its parts are not drawn)
+        return None
 
 
 def _signals(part, view) -> list[tuple[str, str, str]]:

@@ -115,7 +115,7 @@ def plot_one(folder: Path) -> tuple[list[Path], str]:
 
 
 def _plot_all(folders: list[Path], workers: int | None) -> list[tuple[list[Path], str]]:
-    import host.report.plots  # noqa: F401  (once here, not in every worker)
+    from host.report import plots  # noqa: F401  (once here, not in every worker)
 
     workers = workers or min(len(folders), os.cpu_count() or 1)
     if workers <= 1 or len(folders) <= 1:

@@ -3,7 +3,8 @@
 - :func:`coverage` rasterises the ground-truth path into the world's coverage grid.
 - :func:`signal_panels` picks the signals over time: a robot built from parts gets each
   part's declared views (:mod:`host.report.part_views`); a rig file adds views of its
-  firmware's beliefs by name (``[report] views``, ``VIEWS`` below) and its odometry
+  firmware's beliefs by name (``[report] views``: the catalogue's report views, ours and a
+  user's, drawn with :mod:`host.report.viewkit`) and its odometry
   (``[report.pose_line]``); a plant of another kind without views gets the generic view
   (raw sensors, truth, actuators).
 """
@@ -15,8 +16,9 @@ import numpy as np
 
 from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
-from host.report import beliefs, odometry, part_views
+from host.report import odometry, part_views, viewkit
 from host.report.panels import US_PER_S, Line, Panel
+from sim_plant import catalogue
 from sim_plant.catalogue.coverage import CoverageGrid  # (the part's grid, redrawn from a trace)
 from sim_plant.world import World
 
@@ -86,8 +88,13 @@ def signal_panels(trace: TraceData) -> list[Panel]:
     declared = (trace.header.get("report") or {}).get("views", [])
     panels = odometry.odometry_panels(trace)
     for name in declared:
-        view = VIEWS.get(name)
-        panels += view(trace) if view else [Panel(f"[report] views: no view {name!r}", "", notes=[", ".join(VIEWS)])]
+        view = catalogue.resolve("views", name)
+        known = catalogue.views() if view is None else {}
+        panels += (
+            view({}).panels(trace, viewkit)
+            if view
+            else [Panel(f"[report] views: no view {name!r}", "", notes=[", ".join(known)])]
+        )
     parts = part_views.part_panels(trace)
     if parts is not None:
         panels += parts
@@ -133,8 +140,3 @@ def signed_duty(trace: TraceData, motor: str) -> tuple[np.ndarray, np.ndarray]:
         t_out.append(t / US_PER_S)
         v_out.append((level["in1"] - level["in2"]) * level["pwm"] / 65535)
     return np.asarray(t_out), np.asarray(v_out)
-
-
-VIEWS = {"pool_lane": beliefs.pool_cleaner_view}
-"""Views a rig file names in ``[report] views``: what its firmware believes, rebuilt from
-its signals and telemetry lines by the firmware's own laws."""

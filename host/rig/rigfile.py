@@ -30,8 +30,8 @@ from host.rig.firmware import heap_bytes
 from host.rig.heap import HEAP_MAX_BYTES, HEAP_MIN_BYTES
 from host.rig.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.wiring import PROBE_PREFIX
-from sim_plant import option_table
-from sim_plant.catalogue.assembly import PartsError, assemble
+from sim_plant import catalogue, option_table
+from sim_plant.catalogue.assembly import PartsError, assemble, with_world
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.names import unknown
 from sim_plant.plant import check_contract
@@ -42,6 +42,7 @@ TABLES = {
     "firmware": dict,
     "board": dict,
     "plant": dict,
+    "world": dict,
     "wiring": dict,
     "budgets": dict,
     "worlds": dict,
@@ -86,8 +87,6 @@ MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
 MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
-REPORT_VIEWS = ("pool_lane",)
-"""The views a rig file may name in ``[report] views`` (``host/report/views.py`` VIEWS draws them)."""
 
 
 class _Where:
@@ -169,7 +168,11 @@ def rig_from_data(path, data: dict, base=None) -> App:
     pins = with_builtin_lines(pins, platform)  # (rp2's BOOTSEL, wired by name)
     if migrate.is_01(data):  # (0.1's [plant] kind: the one message names today's form)
         raise where.error("[plant] kind", migrate.message(data, path))
-    build = _parts_builder(where, data["plant"])  # a body and parts (sim_plant.catalogue)
+    try:  # ([world]: the body's world and its options)
+        plant_table = with_world(data["plant"], data.get("world"))
+    except PartsError as e:
+        raise ConfigError(f"{where.path}: {e}") from None
+    build = _parts_builder(where, plant_table)  # a body and parts (sim_plant.catalogue)
     plant = check_contract(build())
     wiring = _wiring(where, data["wiring"], pins, board_name, plant)
     rigrules.check_wiring(where, wiring, pins, plant, platform)
@@ -231,10 +234,11 @@ def _report(where: _Where, table: dict, wiring: dict) -> dict:
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
     where.table(table, "[report]", REPORT_KEYS)
-    for i, name in enumerate(table.get("views", [])):
-        if not isinstance(name, str) or name not in REPORT_VIEWS:
+    for i, name in enumerate(table.get("views", [])):  # (ours and the rig's own: [plant] catalogue is read first)
+        if not isinstance(name, str) or catalogue.resolve("views", name) is None:
+            views = catalogue.views()
             shown = repr(name) if len(repr(name)) < 70 else repr(name)[:66] + "..."
-            known = unknown(name, REPORT_VIEWS, what="views")
+            known = unknown(name, views, what="views")
             raise where.error(f"[report] views[{i}]", f"expected a view's name, got {shown} {known}")
     judge = where.table(table.get("judge", {}), "[report.judge]", JUDGE_KEYS)
     for key, hi in (("home_within_m", 1000.0), ("min_coverage", 1.0)):
@@ -426,7 +430,7 @@ def _parts_builder(where: _Where, table: dict):
     field); the table itself is checked here (a ConfigError naming the file)."""
 
     def build(**opts):
-        return assemble({**table, **opts})
+        return assemble({**table, **opts}, base=where.path.parent)
 
     try:
         build()

@@ -26,7 +26,7 @@ when the failure needs its whole duration and there is no fault to shrink.
 import time
 from dataclasses import dataclass, field
 
-from host.campaign.judges import JUDGES
+from host.campaign.judges import judges
 from host.core.errors import ConfigError
 from host.shrink.ddmin import ddmin
 from host.shrink.runs import Runs
@@ -124,9 +124,10 @@ class Shrinker:
     # -- the phases ----------------------------------------------------------------
     def shrink(self) -> Shrunk:
         started = time.monotonic()
-        if self.task["judge"] not in JUDGES:
+        known = judges()
+        if self.task["judge"] not in known:
             raise ConfigError(
-                f"judge {self.task['judge']!r}: a shrink knows only the judges {', '.join(sorted(JUDGES))} "
+                f"judge {self.task['judge']!r}: a shrink knows only the judges {', '.join(sorted(known))} "
                 "(what each failure means, so that a candidate fails the same way)"
             )
         first = self.runs.run([self.build()])[0]

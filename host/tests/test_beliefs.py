@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 from host.artefacts.folder import TraceData
-from host.report import beliefs, telemetry
+from host.report import telemetry, viewkit
+from sim_plant import catalogue
+from sim_plant.catalogue import pool_lane as beliefs
 
 POOL = {"name": "pool 25 x 8 m", "segments": [[0, 0, 25, 0], [25, 0, 25, 8], [25, 8, 0, 8], [0, 8, 0, 0]]}
 HALF_W_M = 0.24
@@ -57,7 +59,10 @@ def test_pool_cleaner_panels_put_the_kalman_estimate_beside_the_true_lane_and_ex
         "sonar_l_range_m": [7.45] * 4,
         "sonar_r_range_m": [0.1, 0.2, 0.3, 0.3],
     }
-    panels = {p.title.split(":")[0]: p for p in beliefs.pool_cleaner_view(pool_trace(tmp_path, console, events, truth))}
+    panels = {
+        p.title.split(":")[0]: p
+        for p in beliefs.pool_cleaner_view(viewkit, pool_trace(tmp_path, console, events, truth))
+    }
     assert list(panels) == [
         "Side sonar",
         "ADC sonar inputs in metres",
@@ -86,7 +91,8 @@ def test_pool_cleaner_panels_put_the_kalman_estimate_beside_the_true_lane_and_ex
 
 def test_a_pool_cleaner_that_printed_no_lane_lines_says_so_in_its_sonar_panel(tmp_path):
     truth = {"t_us": [0, 1_000_000], "y_m": [1.0, 1.0], "sonar_l_range_m": [7.0, 7.0]}
-    panels = beliefs.pool_cleaner_view(pool_trace(tmp_path, "pool cleaner on esp32\n", [], truth, app="pool_cleaner"))
+    view = catalogue.views()["pool_lane"]()  # (as a rig file's [report] views finds it)
+    panels = view.panels(pool_trace(tmp_path, "pool cleaner on esp32\n", [], truth, app="pool_cleaner"), viewkit)
     assert any("no 'lane' lines in console.log" in note for note in panels[0].notes), panels[0].notes
 
 

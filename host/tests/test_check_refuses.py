@@ -140,13 +140,6 @@ def test_the_rigs_of_the_repository_keep_the_rules():
         load_rig(path)
 
 
-def test_the_views_a_rig_may_name_are_the_reports():
-    from host.report.views import VIEWS
-    from host.rig.rigfile import REPORT_VIEWS
-
-    assert set(REPORT_VIEWS) == set(VIEWS)
-
-
 # -- nesting bombs ---------------------------------------------------------------------------
 
 

@@ -106,22 +106,26 @@ def micropython() -> str:
 def test_the_wheel_carries_what_the_harness_needs_and_not_the_tests(scratch):
     names = set(zipfile.ZipFile(scratch.wheel).namelist())
     for needed in (
-        "host/_data/firmware/apps/rover/main.py",
-        "host/_data/firmware/apps/rover/rig.toml",
-        "host/_data/firmware/apps/vacuum/mission.json",
-        "host/_data/firmware/boards/rpi_pico/board.py",
-        "host/_data/firmware/lib/hcsr04.py",  # (harness_lib)
-        "host/_data/examples/pico_bot/rig.toml",
-        "host/shim/machine.py",
-        "host/core/micropython/manifest.py",  # (the interpreter's build)
-        "host/shim/cmod/_hilfast/_hilfast.c",  # (its user C module)
-        "host/shim/cmod/_hilfast/micropython.mk",
-        "host/core/aptsources.py",  # (its deb-src line)
-        "sim_plant/catalogue/__init__.py",
-        "host/_data/docs/ci.md",  # (mpy-fil docs)
-        "host/_data/docs/rig-api.md",
+        "mpy_fil/host/_data/firmware/apps/rover/main.py",
+        "mpy_fil/host/_data/firmware/apps/rover/rig.toml",
+        "mpy_fil/host/_data/firmware/apps/vacuum/mission.json",
+        "mpy_fil/host/_data/firmware/boards/rpi_pico/board.py",
+        "mpy_fil/host/_data/firmware/lib/hcsr04.py",  # (harness_lib)
+        "mpy_fil/host/_data/examples/pico_bot/rig.toml",
+        "mpy_fil/host/shim/machine.py",
+        "mpy_fil/host/core/micropython/manifest.py",  # (the interpreter's build)
+        "mpy_fil/host/shim/cmod/_hilfast/_hilfast.c",  # (its user C module)
+        "mpy_fil/host/shim/cmod/_hilfast/micropython.mk",
+        "mpy_fil/host/core/aptsources.py",  # (its deb-src line)
+        "mpy_fil/sim_plant/catalogue/__init__.py",
+        "mpy_fil/host/_data/docs/ci.md",  # (mpy-fil docs)
+        "mpy_fil/host/_data/docs/rig-api.md",
     ):
         assert needed in names, f"expected {needed} in {scratch.wheel.name}"
+    loose = sorted(n for n in names if not n.startswith(("mpy_fil/", "mpy_fil-")))
+    assert not loose, f"expected every module under mpy_fil/ (host/, sim_plant/ are a user's), got {loose[:5]}"
+    cli = zipfile.ZipFile(scratch.wheel).read("mpy_fil/host/cli.py").decode()
+    assert "from mpy_fil.host.core import stop_signals" in cli and "\nfrom host." not in cli, "imports under mpy_fil"
     tests = sorted(n for n in names if "/tests/" in n)
     assert not tests, f"expected no tests in the wheel, found {tests[:5]}"
     with tarfile.open(scratch.sdist) as sdist:
@@ -132,8 +136,10 @@ def test_the_wheel_carries_what_the_harness_needs_and_not_the_tests(scratch):
 def test_every_cli_command_works_from_the_installed_package(scratch, micropython):
     done = scratch.sh("mpy-fil --version")
     assert done.stdout.strip() == f"mpy-fil {VERSION}", done.stdout + done.stderr
-    where = scratch.sh("python -c 'import host; print(host.__file__)'").stdout
+    where = scratch.sh("python -c 'import mpy_fil.host; print(mpy_fil.host.__file__)'").stdout
     assert where.startswith(str(scratch.venv)), f"expected the installed package, imported {where}"
+    generic = scratch.sh("python -c 'import host'")
+    assert "No module named 'host'" in generic.stderr, "expected no top-level host package installed"
 
     listed = scratch.sh("mpy-fil list")
     assert listed.returncode == 0 and "  rover " in listed.stdout and "rpi_pico" in listed.stdout, listed.stderr
@@ -297,3 +303,84 @@ def test_no_interpreter_in_a_clone_says_make_setup(monkeypatch, tmp_path):
         interpreter.find()
     assert str(raised.value).endswith(": run `make setup`"), raised.value
     assert str(tmp_path / "build" / "micropython" / "1.25.0+ds-1" / "micropython") in str(raised.value)
+
+
+# -- a user's repository with parts of its own (docs/own-parts.md) ---------------------------
+
+OWN_PARTS_DOC = REPO / "docs" / "own-parts.md"
+
+
+def own_parts_files() -> dict[str, str]:
+    """docs/own-parts.md's files: each code block whose info string names a file."""
+    blocks = re.findall(r"^```\w+ ([\w./-]+)\n(.*?)^```", OWN_PARTS_DOC.read_text(), re.S | re.M)
+    return dict(blocks)
+
+
+def own_parts_commands() -> list[str]:
+    """The page's ``sh`` block: the commands its reader runs, in order."""
+    block = re.search(r"^```sh\n(.*?)^```", OWN_PARTS_DOC.read_text(), re.S | re.M)
+    assert block, f"expected a ```sh block of commands in {OWN_PARTS_DOC}"
+    return [line for line in block.group(1).splitlines() if line.strip()]
+
+
+@pytest.fixture(scope="module")
+def yard(scratch) -> Path:
+    """The user's repository docs/own-parts.md writes, outside ours, file by file, with
+    packages ``host`` and ``sim_plant`` of its own."""
+    repo = scratch.root / "yardbot"
+    files = own_parts_files()
+    listed = re.search(r"^```text\n(.*?)^```", OWN_PARTS_DOC.read_text(), re.S | re.M).group(1).split()
+    assert sorted(files) == sorted(listed), f"expected the page's blocks to be the files it lists: {sorted(files)}"
+    for name, text in files.items():
+        (repo / name).parent.mkdir(parents=True, exist_ok=True)
+        (repo / name).write_text(text)
+    (repo / "pyproject.toml").write_text('[project]\nname = "yardbot"\nversion = "0"\n')  # (its root: build/ there)
+    for package in ("host", "sim_plant"):  # folders of common names of its own (before: the wheel's shadowed them)
+        (repo / package).mkdir()
+        (repo / package / "__init__.py").write_text(f'OWNER = "yardbot"  # the user\'s own {package}\n')
+    (repo / "conftest.py").write_text(
+        "import host\nimport sim_plant\n\nassert host.OWNER == sim_plant.OWNER == 'yardbot', 'the user\\'s own'\n"
+    )
+    return repo
+
+
+def test_a_repository_with_its_own_chip_world_host_and_sim_plant_runs_as_docs_own_parts_md_says(
+    scratch, yard, micropython
+):
+    """The page's repository, with ``host/`` and ``sim_plant/`` packages of its own beside
+    (its conftest.py imports them): before, the wheel installed top-level ``host`` and
+    ``sim_plant``, which a repository's folders of those names shadowed (its pytest could
+    not load our plugin)."""
+    said = {}
+    for command in own_parts_commands():
+        done = scratch.sh(command, cwd=yard, MICROPYTHON=micropython)
+        assert done.returncode == 0, f"{command} in {yard}: {done.stdout[-3000:]}{done.stderr[-2000:]}"
+        said[command.split()[1]] = done.stdout
+    assert said["check"].startswith("rig.toml: ok") and "beacon beacon" in said["check"], said["check"]
+    page = said["parts"]
+    assert "## Part `beacon`" in page and "## World `yard`" in page, page[:2000]
+    assert "| `address` | `42` | a whole number from 8 to 119 |" in page, "its options with their bounds"
+    assert re.search(r"\b1 passed\b", said["-m"]), said["-m"][-2000:]
+
+    out_of_bounds = (yard / "rig.toml").read_text().replace('bus = "i2c0"', 'bus = "i2c0"\naddress = 200')
+    (yard / "bad.toml").write_text(out_of_bounds)
+    refused = scratch.sh("mpy-fil check bad.toml", cwd=yard)
+    assert refused.returncode != 0, refused.stdout
+    assert "[[plant.parts]] #3 (beacon) address: expected a whole number from 8 to 119, got 200" in refused.stderr
+
+    both = scratch.sh("python -c 'import host, mpy_fil.host; print(host.OWNER, mpy_fil.host.__file__)'", cwd=yard)
+    assert both.stdout.startswith(f"yardbot {scratch.venv}"), both.stdout + both.stderr
+
+    run = scratch.sh("mpy-fil run rig.toml --seconds 3", cwd=yard, MICROPYTHON=micropython)
+    assert run.returncode == 0, run.stderr[-2000:]
+    trace = yard / "build" / "runs" / "yardbot-default-seed0"
+    assert "beacon_distance_m" in (trace / "truth.csv").read_text().splitlines()[0], "its truth in the trace"
+    panels = scratch.sh(
+        "python -c 'import sys; from mpy_fil.host.artefacts.folder import load_trace;"
+        " from mpy_fil.host.report.views import signal_panels;"
+        ' [print(p.title.split(":")[0], [l.label for l in p.lines]) for p in signal_panels(load_trace(sys.argv[1]))]\''
+        f" {trace}",
+        cwd=yard,
+    )
+    assert "Rangers ['beacon_distance_m (truth)']" in panels.stdout, panels.stdout + panels.stderr
+    assert (trace / "plots" / "signals.png").is_file()

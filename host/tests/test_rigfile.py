@@ -146,7 +146,7 @@ def test_our_firmware_library_is_not_on_a_users_path_unless_asked(make_rig, tmp_
         (('entry = "main.py"', "harness_lib = 1"), "[firmware] harness_lib", "expected true/false, got 1"),
         (("room_w_m = 4.0", "room_w_m = 0.2"), "[plant] start_pose", "puts the robot outside the room"),
         (("room_w_m = 4.0", "room_w_m = -1.0"), "[plant] room_w_m", "from 0.1 to 100, got -1.0"),
-        (("room_w_m = 4.0", "room_w = 4.0"), "[plant] room_w", "no such option (options: world, room_w_m"),
+        (("room_w_m = 4.0", "room_w = 4.0"), "[plant] room_w", "options: world, world_options, room_w_m"),
         (
             ("room_w_m = 4.0", 'room_w_m = "4"'),
             "[plant] room_w_m",

@@ -84,7 +84,8 @@ def test_mpy_fil_check_names_the_body_and_parts_and_a_bad_option_exits_2_in_one_
 def test_mpy_fil_list_lists_the_catalogue():
     done = mpy_fil("list")
     assert done.returncode == 0, done.stderr
-    assert "parts ([plant] body / [[plant.parts]] kind" in done.stdout
+    assert "bodies ([plant] body; docs/parts.md)" in done.stdout and "parts ([[plant.parts]] kind" in done.stdout
+    assert "judges ([campaign] judge" in done.stdout and "  duct_branch " in done.stdout, "the catalogue's judges"
     assert "ir_distance" in done.stdout and "time_constant_ms=40.0" in done.stdout
 
 

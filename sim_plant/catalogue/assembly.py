@@ -28,8 +28,9 @@ class PartsPlant(RobotPlant):
 
     capabilities = frozenset((POSE, PWM, UART, BUSES, BITSTREAM, CONTROLS))
 
-    def __init__(self, body, parts: list):
+    def __init__(self, body, parts: list, sources: tuple = ()):
         self.body = body
+        self.sources = tuple(sources)  # a user's catalogue sources (folders' absolute paths, modules)
         self.catalogue_parts = list(parts)
         self.zero_delay = any(p.zero_delay for p in self.catalogue_parts)
         self._reads_empty = frozenset(n for p in self.catalogue_parts if p.reads_empty for n in p.signals())
@@ -261,24 +262,37 @@ class PartsPlant(RobotPlant):
         """The body and the parts as data (a trace header keeps it; the report draws each
         part's declared views from it): ``{"body", "body_options", "parts": [{"kind",
         "name", "mount", "options"}]}``."""
-        return {
+        described = {
             "body": self.body.kind,
             "body_options": dict(self.body.options),
             "parts": [
-                {"kind": p.kind, "name": p.name, "mount": dict(zip(MOUNT_KEYS, p.mount)), "options": dict(p.options)}
+                {
+                    "kind": p.kind
+                    if catalogue.resolve("parts", p.kind) is type(p)
+                    else f"{type(p).__module__}:{type(p).__qualname__}",
+                    "name": p.name,
+                    "mount": dict(zip(MOUNT_KEYS, p.mount)),
+                    "options": dict(p.options),
+                }
                 for p in self.catalogue_parts
             ],
         }
+        if self.sources:  # (a report drawn later, in another process, finds a user's parts again)
+            described["catalogue"] = list(self.sources)
+        return described
 
     def signals(self) -> dict[str, tuple[str, str]]:
         """Every part's signals: full name -> (direction, kind)."""
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
 
 
-def assemble(table: dict) -> PartsPlant:
+def assemble(table: dict, base=None) -> PartsPlant:
     """The plant a ``[plant]`` table with a ``body`` describes; :class:`PartsError` (a
     ValueError) naming the field of the first mistake. A key ``<part name>.<option>``
-    (a world's, a test's or ``--param``'s) sets that option of the part of that name."""
+    (a world's, a test's or ``--param``'s) sets that option of the part of that name.
+    ``catalogue``: a user's sources of parts, bodies and worlds (folders relative to
+    ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`)."""
+    sources = _add_sources(table, base)
     table, entries = _with_part_options(table)
     body = _body(table)
     parts, names = [], {}
@@ -291,7 +305,44 @@ def assemble(table: dict) -> PartsPlant:
         names[part.name] = i
         parts.append(part)
     _check_addresses(parts)
-    return PartsPlant(body, parts)
+    return PartsPlant(body, parts, sources)
+
+
+OWN_WORLDS = ("room", "furnished")
+"""The differential body's own worlds: their options are the body's (room_w_m, obstacles, route)."""
+
+
+def with_world(plant: dict, world) -> dict:
+    """A rig file's ``[world]`` table (``kind`` and the world's options) as the body's
+    ``world`` and ``world_options`` (the room's and the furnished room's options are the
+    body's own): the world apart from the body, any body in any world."""
+    if world is None:
+        return plant
+    if not isinstance(world, dict):
+        raise PartsError(f"[world]: expected a table, got {world!r}"[:200])
+    given = sorted(k for k in ("world", "world_options") if k in plant)
+    if given:
+        raise PartsError(f"[world]: the world is given in [plant] too ({', '.join(given)}): give it once, here")
+    kind = world.get("kind")
+    if not isinstance(kind, str):
+        raise PartsError(f"[world] kind: expected a world's kind (docs/parts.md, 'World'), got {kind!r}"[:200])
+    options = {k: v for k, v in world.items() if k != "kind"}
+    for key in ("world", "world_options", "body", "parts", "catalogue"):
+        if key in options:
+            raise PartsError(f"[world] {key}: not a world's option (the world's kind is [world] kind)")
+    if kind not in OWN_WORLDS:
+        return {**plant, "world": kind, "world_options": options}
+    twice = sorted(set(options) & set(plant))
+    if twice:
+        raise PartsError(f"[world] {twice[0]}: given in [plant] too: give it once")
+    return {**plant, "world": kind, **options}
+
+
+def _add_sources(table, base) -> None:
+    sources = table.get("catalogue", []) if isinstance(table, dict) else []
+    if not isinstance(sources, list):
+        raise PartsError(f"[plant] catalogue: expected a list of folders or module names, got {sources!r}"[:200])
+    return tuple(catalogue.add(source, base)[0] for source in sources)
 
 
 def _check_addresses(parts: list) -> None:
@@ -337,24 +388,25 @@ def _with_part_options(table: dict) -> tuple[dict, list]:
 def _body(table: dict):
     if not isinstance(table, dict):
         raise PartsError(f"[plant]: expected a table, got {table!r}"[:200])
-    bodies = catalogue.bodies()
     kind = table.get("body")
-    if not isinstance(kind, str) or kind not in bodies:
+    cls = catalogue.resolve("bodies", kind) if isinstance(kind, str) else None
+    if cls is None:
+        bodies = catalogue.bodies()
         described = {k: c.doc for k, c in bodies.items()}
         raise PartsError(
             f"[plant] body: expected one of {', '.join(bodies)}, got {_short(kind)}{_hint(kind, described)}"
         )
-    cls = bodies[kind]
-    return cls(cls.checked(table, "[plant]", skip=("body", "parts")))
+    return cls(cls.checked(table, "[plant]", skip=("body", "parts", "catalogue")))
 
 
 def _part(i: int, entry):
     label = f"[[plant.parts]] #{i}"
     if not isinstance(entry, dict):
         raise PartsError(f"{label}: expected a table, got {entry!r}"[:200])
-    known = catalogue.parts()
     kind = entry.get("kind")
-    if not isinstance(kind, str) or kind not in known:
+    cls = catalogue.resolve("parts", kind) if isinstance(kind, str) else None
+    if cls is None:
+        known = catalogue.parts()
         described = {k: c.doc for k, c in known.items()}
         raise PartsError(
             f"{label} kind: expected one of {', '.join(known)}, got {_short(kind)}{_hint(kind, described)}"
@@ -373,7 +425,6 @@ def _part(i: int, entry):
         problem = spec.problem(value) if spec else f"expected one of {', '.join(MOUNT_KEYS)}"
         if problem:
             raise PartsError(f"{label} mount {key}: {problem}")
-    cls = known[kind]
     options = cls.checked(entry, label, skip=PART_KEYS)
     try:
         part = cls(name, mount, options)

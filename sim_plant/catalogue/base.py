@@ -221,6 +221,94 @@ class BodyType(Declared):
         return False
 
 
+class WorldType(Declared):
+    """A world a body moves in (the body's ``world = "<kind>"``, its options in the body's
+    ``world_options`` table): :meth:`build` gives the :class:`~sim_plant.world.World` and the
+    start pose (x_m, y_m, heading_rad) the body takes unless the rig file sets its own.
+    ``draws``: :meth:`build` takes the plant's freshly seeded generator (drawn per seed)."""
+
+    draws = False
+
+    def __init__(self, options: dict):
+        self.options = options
+
+    def build(self, rng=None):
+        raise NotImplementedError
+
+
+class ReportView(Declared):
+    """A view a rig file names in ``[report] views``: :meth:`panels` gives the report's
+    panels of a trace folder (``trace``: its signals, truth and console), drawn with the
+    ``kit`` the report passes (``Panel``, ``Line``, ``US_PER_S``, ``rows``, ``console_text``,
+    ``firmware_t0_us``: ``host/report/viewkit.py``), so a view imports nothing of the host."""
+
+    def __init__(self, options: dict | None = None):
+        self.options = options or {}
+
+    def panels(self, trace, kit) -> list:
+        raise NotImplementedError
+
+
+class Judge(Declared):
+    """How a campaign's run passes (``[campaign] judge = "<kind>"``): :meth:`judge` reads the
+    finished rig (``rig.console``, ``rig.truth()``, ``rig.plant``, ``rig.t_us``) and gives
+    (passed, figures, message); ``FIGURES``: the figures a campaign is ranked by when it names
+    none (the first its runs have)."""
+
+    FIGURES: tuple = ("t_end_s",)
+
+    def __init__(self, options: dict | None = None):
+        self.options = options or {}
+
+    def judge(self, rig, reached: bool, task: dict):
+        raise NotImplementedError
+
+
+class WorldKind:
+    """The ``world`` option: the body's own worlds (the differential's room and furnished
+    room) or a world of the catalogue (ours, a user's, or ``"module:Class"``:
+    :class:`~sim_plant.catalogue.base.WorldType`)."""
+
+    def __init__(self, own: tuple = ("room", "furnished")):
+        self.own = own  # the body's own worlds, made from its options
+
+    @property
+    def what(self) -> str:
+        kind = "a catalogue world's kind (below; docs/own-parts.md)"
+        return f"{', '.join(self.own)}, or {kind}" if self.own else kind
+
+    @property
+    def values(self) -> tuple:
+        from sim_plant import catalogue
+
+        return (*self.own, *catalogue.worlds())
+
+    def problem(self, value):
+        from sim_plant import catalogue
+
+        if isinstance(value, str) and (value in self.own or catalogue.resolve("worlds", value)):
+            return None
+        return f"expected one of {', '.join(self.values)} or a world's 'module:Class', got {value!r}"[:300]
+
+
+class WorldOptions:
+    """The ``world_options`` table: a catalogue world's options (it checks them itself)."""
+
+    what = "a table of the world's options"
+
+    def problem(self, value):
+        return None if isinstance(value, dict) else f"expected a table of the world's options, got {value!r}"[:200]
+
+
+def catalogue_world(kind: str, options: dict, rng):
+    """A catalogue world's (World, start pose), its options checked as a part's are."""
+    from sim_plant import catalogue
+
+    cls = catalogue.resolve("worlds", kind)
+    world = cls(cls.checked(options, "[plant] world_options"))
+    return world.build(rng) if cls.draws else world.build()
+
+
 def spec_text(spec) -> str:
     """One line for an option's bounds (docs, ``mpy-fil list``)."""
     if isinstance(spec, Num):
@@ -238,4 +326,19 @@ def spec_text(spec) -> str:
     return getattr(spec, "what", type(spec).__name__)
 
 
-__all__ = ["Build", "BodyType", "Opt", "PartType", "PartsError", "Sig", "View", "spec_text"]
+__all__ = [
+    "Build",
+    "BodyType",
+    "Judge",
+    "Opt",
+    "PartType",
+    "PartsError",
+    "ReportView",
+    "Sig",
+    "View",
+    "WorldKind",
+    "WorldOptions",
+    "WorldType",
+    "catalogue_world",
+    "spec_text",
+]

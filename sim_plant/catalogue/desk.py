@@ -7,10 +7,8 @@ box at the distance the diagram gives."""
 from sim_plant.catalogue.base import BodyType, Build, Opt
 from sim_plant.catalogue.bench import _Desk
 from sim_plant.drivetrain import Body
-from sim_plant.option_table import BOX, POSE, Num, Rows
+from sim_plant.option_table import BOX, POSE, ROOM_SIDE, Rows
 from sim_plant.world import box, room
-
-ROOM = Num("metres", 0.5, 100)
 
 
 class _Still(_Desk):
@@ -24,8 +22,8 @@ class Desk(BodyType):
     kind = "desk"
     doc = "A still breadboard in a room (walls and boxes): rangers and IMUs sense it; nothing drives it."
     OPTIONS = (
-        Opt("room_w_m", ROOM, 10.0, "the room's width (x)"),
-        Opt("room_h_m", ROOM, 10.0, "the room's height (y)"),
+        Opt("room_w_m", ROOM_SIDE, 10.0, "the room's width (x)"),
+        Opt("room_h_m", ROOM_SIDE, 10.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
         Opt("start_pose", POSE, None, "where the desk stands, [x_m, y_m, heading_rad]; the room's middle by default"),
     )

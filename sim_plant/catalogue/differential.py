@@ -3,25 +3,13 @@ robots), in a room with box obstacles, a room furnished along a route from the p
 seed (:mod:`sim_plant.furniture`), or one of our worlds. The ``dc_motor`` parts that
 drive ``left`` and ``right`` move it; ``bumper`` parts are arcs of its edge."""
 
-from sim_plant import world as worlds
-from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
+from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError, WorldKind, WorldOptions, catalogue_world
 from sim_plant.contacts import ContactMonitor
 from sim_plant.drivetrain import DiffDriveTrain, SlipDriveTrain, WheelSlip
-from sim_plant.duct import DUCT_START, bench_duct, straight_duct
 from sim_plant.furniture import DEFAULT_ROUTE, furnished_room
-from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, Num, OneOf, Row, Rows, length
+from sim_plant.option_table import BOX, FRACTION, PLACE, POINT, POSE, ROOM_SIDE, Num, Row, Rows, length
 from sim_plant.world import box, room
 
-ROOM = length(0.1, 100)
-WORLDS = {  # a named world instead of the room: (the world, where the robot starts)
-    "canyon": (lambda: worlds.canyon(), (0.3, 0.0, 0.0)),
-    "duct": (lambda: worlds.one_right_branch_duct(), DUCT_START),
-    "multi_branch_duct": (lambda: worlds.multi_branch_duct(), DUCT_START),
-    "vacuum_room": (lambda: worlds.vacuum_room(), (0.5, 0.5, 0.0)),
-    "pool": (lambda: worlds.pool(), (1.0, 1.0, 0.0)),
-    "straight_duct": (straight_duct, DUCT_START),
-    "bench_duct": (bench_duct, DUCT_START),
-}
 CIRCLE = Row((PLACE, PLACE, length(0.001, 5)), "[x_m, y_m, r_m]")
 
 
@@ -31,12 +19,14 @@ class Differential(BodyType):
     OPTIONS = (
         Opt(
             "world",
-            OneOf(("room", "furnished", *WORLDS)),
+            WorldKind(),
             "room",
-            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds",
+            "the room below; furnished: that room with furniture across route, drawn per seed; or one of our worlds"
+            " or a catalogue world (a user's own too)",
         ),
-        Opt("room_w_m", ROOM, 3.0, "the room's width (x)"),
-        Opt("room_h_m", ROOM, 2.0, "the room's height (y)"),
+        Opt("world_options", WorldOptions(), {}, "a catalogue world's options (its kind's OPTIONS)"),
+        Opt("room_w_m", ROOM_SIDE, 3.0, "the room's width (x)"),
+        Opt("room_h_m", ROOM_SIDE, 2.0, "the room's height (y)"),
         Opt("obstacles", Rows(BOX, 1000), [], "boxes in the room, [cx_m, cy_m, w_m, h_m] each"),
         Opt(
             "route",
@@ -97,8 +87,8 @@ class Differential(BodyType):
         else:
             if o["obstacles"]:
                 raise PartsError(f"[plant] obstacles: only in the room world, not in {o['world']}")
-            make, start = WORLDS[o["world"]]
-            world, pose = make(), o["start_pose"] or start
+            world, start = catalogue_world(o["world"], o["world_options"], rng)
+            pose = o["start_pose"] or start
         return world, tuple(float(v) for v in pose)
 
     def drive(self, build: Build, pose):

@@ -1,5 +1,6 @@
-"""``docs/parts.md`` and ``mpy-fil list``'s catalogue, written from the parts' and
-bodies' own declarations. ``python -m sim_plant.catalogue.docs`` writes the page;
+"""``docs/parts.md``, ``mpy-fil parts`` and ``mpy-fil list``'s catalogue, written from the
+entries' own declarations (a user's too: ``mpy-fil parts`` shows theirs as ours).
+``python -m sim_plant.catalogue.docs`` writes the page from ours;
 ``sim_plant/tests/test_catalogue.py`` fails when the committed page differs."""
 
 import sys
@@ -39,7 +40,12 @@ says what its model does and does not (the module's `MODELLED_FEATURES` and
 `NOT_MODELLED`; a register chip's registers, data-ready and self-clearing bits from its
 declarations); what each board family's shim models is in `docs/shim.md`.
 
-Bodies: {bodies}. Parts: {parts}.
+Parts, bodies, worlds, report views and campaign judges of your own live in your own
+repository and get all of this too (bounds, `check`, `mpy-fil parts`, plots, traces): see
+[Write your own part](own-parts.md).
+
+Bodies: {bodies}. Parts: {parts}. Worlds (a body's `world`, or a rig file's `[world]` table):
+{worlds}. Report views: {views}. Judges: {judges}.
 """
 
 
@@ -137,22 +143,38 @@ def _registers(chip) -> list[str]:
     return [*lines, ""] if chip.SELF_CLEARING else lines
 
 
-def render() -> str:
-    """The whole page."""
-    bodies, parts = catalogue.bodies(), catalogue.parts()
-    lines = [HEAD.format(bodies=", ".join(f"`{k}`" for k in bodies), parts=", ".join(f"`{k}`" for k in parts))]
-    for cls in bodies.values():
+def render(tables: dict | None = None, head: bool = True) -> str:
+    """The whole page (ours: :func:`sim_plant.catalogue.ours`), or the page of ``tables``
+    (table name -> kind -> class)."""
+    tables = tables or {name: catalogue.ours(name) for name in catalogue.TABLES}
+    named = {name: ", ".join(f"`{k}`" for k in tables.get(name, {})) or "none" for name in catalogue.TABLES}
+    lines = [HEAD.format(**named)] if head else []
+    for cls in tables.get("bodies", {}).values():
         lines += [f"## Body `{cls.kind}`", "", cls.doc, "", *_options(cls)]
-    for cls in parts.values():
+    for cls in tables.get("parts", {}).values():
         lines += _part(cls)
+    for title, name in (("World", "worlds"), ("Report view", "views"), ("Judge", "judges")):
+        for cls in tables.get(name, {}).values():
+            lines += [f"## {title} `{cls.kind}`", "", cls.doc, ""]
+            lines += _options(cls) if cls.OPTIONS or name == "worlds" else []
+            if name == "judges":
+                lines += [f"Its figures: {', '.join(f'`{f}`' for f in cls.FIGURES)}.", ""]
     return "\n".join(lines).rstrip() + "\n"
 
 
 def listing() -> list[str]:
     """Lines for ``mpy-fil list``: every body and part with its options and defaults."""
     lines = []
-    for title, table in (("bodies", catalogue.bodies()), ("parts", catalogue.parts())):
-        lines.append(f"{title} ([plant] body / [[plant.parts]] kind; docs/parts.md):")
+    for title, table, where in (
+        ("bodies", catalogue.bodies(), "[plant] body"),
+        ("parts", catalogue.parts(), "[[plant.parts]] kind"),
+        ("worlds", catalogue.worlds(), "[plant] world"),
+        ("report views", catalogue.views(), "[report] views"),
+        ("judges", catalogue.judges(), "[campaign] judge"),
+    ):
+        if not table:
+            continue
+        lines.append(f"{title} ({where}; docs/parts.md):")
         for kind, cls in table.items():
             options = ", ".join(f"{o.name}={o.default!r}" for o in cls.OPTIONS) or "none"
             lines.append(f"  {kind:<14} {cls.doc}\n    options: {options}")

@@ -1,6 +1,7 @@
 """Body ``tracked``: a machine on two tracks that run at one speed, forwards or
 backwards, steered by stopping one track (:mod:`sim_plant.physics.tracked`: the measured stop law
-of seed 000 or the ideal pivot), in a pool (:func:`sim_plant.world.pool`). Its outline is
+of seed 000 or the ideal pivot), in a pool (:func:`sim_plant.world.pool`) or any catalogue
+world (``world``, ``world_options``). Its outline is
 three circles of radius ``body_width_m / 2`` in a row (a capsule ``body_length_m`` long).
 The ``track`` parts that stop ``left`` and ``right`` steer it; a ``bumper`` part mounted
 at 0 deg covers the front circle, at 180 deg the rear one. With ``reverse_at_bumpers``
@@ -9,7 +10,7 @@ B400's); ``coverage_cell_m`` sets the grid the swept floor is counted on."""
 
 import math
 
-from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError
+from sim_plant.catalogue.base import BodyType, Build, Opt, PartsError, WorldKind, WorldOptions, catalogue_world
 from sim_plant.contacts import ContactMonitor
 from sim_plant.option_table import HEADING, POSE, Flag, Num, OneOf, length
 from sim_plant.physics.coverage import CoverageGrid, CoverageRecorder
@@ -28,7 +29,13 @@ class Tracked(BodyType):
     kind = "tracked"
     doc = "A tracked machine steered by stopping one track (the WEDA B400's law), in a pool."
     OPTIONS = (
-        Opt("world", OneOf(("pool",)), "pool", "a rectangular pool, walls all round"),
+        Opt(
+            "world",
+            WorldKind(own=()),
+            "pool",
+            "a rectangular pool, walls all round (its size below); or any catalogue world (world_options)",
+        ),
+        Opt("world_options", WorldOptions(), {}, "a catalogue world's options (not the pool's: pool_length_m below)"),
         Opt("pool_length_m", length(0.1, 1000), POOL_LENGTH_M, "the pool's length (x)"),
         Opt("pool_width_m", length(0.1, 1000), POOL_WIDTH_M, "the pool's width (y)"),
         Opt(
@@ -50,10 +57,15 @@ class Tracked(BodyType):
     def _radius_m(self) -> float:
         return self.options["body_width_m"] / 2
 
-    def world_and_pose(self):
+    draws_world = True  # (a catalogue world may draw per seed; the pool draws nothing)
+
+    def world_and_pose(self, rng=None):
         o = self.options
         if o["body_length_m"] < o["body_width_m"]:
             raise PartsError(f"[plant] body_length_m: expected at least body_width_m ({o['body_width_m']})")
+        if o["world"] != "pool":
+            world, start = catalogue_world(o["world"], o["world_options"], rng)
+            return world, tuple(float(v) for v in (o["start_pose"] or start))
         world = pool(o["pool_length_m"], o["pool_width_m"])
         pose = o["start_pose"]
         if pose is None:
