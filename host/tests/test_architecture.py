@@ -14,6 +14,7 @@ LAYERS = {
     "host.rig": 3,
     "host.wokwi": 3,  # a Wokwi project as a rig (host.rig.apps reads one by its path)
     "host.coverage": 3,  # firmware coverage: beside the rig it measures
+    "host.kits": 3,  # robot kits' rig files and tests (mpy-fil init --kit)
     "host.report": 4,
     "host.device": 5,
     "host.campaign": 5,
@@ -28,6 +29,7 @@ LAYERS = {
     "host.mcubench": 6,
 }
 MICROPYTHON_SIDE = ("host/shim", "host/device/vrepl", "host/core/micropython", "host/tests")
+KIT_TESTS = "host/kits/"
 MAX_CLASS_LINES = 310
 
 
@@ -41,8 +43,8 @@ def layer_of(module: str) -> int | None:
 def host_modules():
     for path in sorted((REPO / "host").rglob("*.py")):
         rel = path.relative_to(REPO).as_posix()
-        if rel.startswith(MICROPYTHON_SIDE):
-            continue
+        if rel.startswith(MICROPYTHON_SIDE) or rel.startswith(KIT_TESTS) and path.name == "test.py":
+            continue  # (a kit's test.py is a user's test, written into their repository)
         module = rel[: -len(".py")].replace("/", ".").removesuffix(".__init__")
         yield module, path
 
