@@ -55,10 +55,20 @@ class NamespacedBuild(build_py):
 
 
 class NamespacedWheel(bdist_wheel):
-    """bdist_wheel with the entry points (the ``mpy-fil`` script, the pytest plugin) under ``mpy_fil``."""
+    """bdist_wheel with the entry points (the ``mpy-fil`` script, the pytest plugin) under
+    ``mpy_fil``. Only when it builds a wheel (run): an editable install's metadata comes
+    from egg2dist too (setuptools' dist_info), and the checkout keeps its own names."""
+
+    building = False
+
+    def run(self):
+        self.building = True
+        super().run()
 
     def egg2dist(self, egginfo_path, distinfo_path):
         super().egg2dist(egginfo_path, distinfo_path)
+        if not self.building:
+            return
         entry_points = Path(distinfo_path) / "entry_points.txt"
         if entry_points.is_file():
             entry_points.write_text(ENTRY.sub(rf"\1{NAMESPACE}.\2", entry_points.read_text()))
