@@ -42,7 +42,8 @@ def plot_trace(folder, out_dir=None) -> list[Path]:
     trace = load_trace(folder)
     out = safefs.make_folder(Path(out_dir) if out_dir else Path(folder) / PLOTS)  # (plots/ a link: refused)
     written = []
-    for name, draw in (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure)):
+    drawers = (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure))
+    for name, draw in (*drawers, ("cpu", cpu_figure)):
         fig = draw(trace)
         if fig is not None:
             path = out / f"{name}.png"
@@ -247,6 +248,35 @@ def timing_figure(trace: TraceData) -> Figure | None:
     for ax in axes[len(budgets) :]:
         ax.set_visible(False)
     fig.suptitle(f"Timing budgets: {_title(trace)}", fontsize="medium")
+    return fig
+
+
+def cpu_figure(trace: TraceData) -> Figure | None:
+    """With MCU time (docs/mcu-time.md): the firmware's CPU load, the busy share of each
+    window of virtual time (the header's ``mcu_time``), and its longest compute stretches."""
+    mcu = trace.header.get("mcu_time")
+    if not isinstance(mcu, dict) or not mcu.get("busy_share"):
+        return None
+    shares = np.array(mcu["busy_share"], dtype=float) * 100
+    window_s = mcu["window_us"] / 1e6
+    t = np.arange(len(shares)) * window_s
+    fig = Figure(figsize=(8, 2.8))
+    fig.subplots_adjust(left=0.1, right=0.98, bottom=0.18, top=0.82)
+    ax = fig.subplots()
+    ax.step(t, shares, where="post", color="#1565c0", linewidth=1)
+    ax.fill_between(t, shares, step="post", color="#1565c0", alpha=0.25)
+    for s in mcu.get("longest") or ():
+        ax.axvline(s["t_us"] / 1e6, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
+    ax.set_ylim(0, 105)
+    ax.set_xlim(0, max(t[-1] + window_s, window_s))
+    ax.set_xlabel("virtual time (s)")
+    ax.set_ylabel(f"busy % of {mcu['window_us'] // 1000} ms")
+    mean = float(shares.mean())
+    fig.suptitle(
+        f"CPU load on {mcu['cpu']} (main program; mean {mean:.1f} %, peak {shares.max():.0f} %;"
+        " red: the longest stretches)\n" + _title(trace),
+        fontsize="small",
+    )
     return fig
 
 

@@ -129,6 +129,61 @@ class Cpu:
 EXTRAS = (*EXTRAS, "wide", "big_bit")
 COUNT_KEYS = (*COUNT_KEYS, "wide", "big_bits")
 
+# -- the firmware's CPU load, for the report ------------------------------------------
+
+WINDOW_US = 100_000
+"""The CPU load's window: the busy share of each 100 ms of virtual time."""
+LONGEST = 5
+"""The longest compute stretches kept, each with the code that ran it."""
+
+
+class CpuLoad:
+    """The firmware's CPU load over a run with MCU time (the report's view, docs/mcu-time.md):
+    each WAIT's compute (the main program's, charged since the wait before; it ran up to the
+    wait's instant) spread over the windows it spans, and the longest stretches between two
+    waits with the code that ran them (the shim's CPU messages, sent when a stretch is the
+    longest so far: outermost frame first, the largest piece's)."""
+
+    def __init__(self, cpu: str):
+        self.cpu = cpu
+        self.busy: dict[int, int] = {}  # window index -> µs of compute in it
+        self.longest: list[dict] = []
+
+    def wait(self, t_now: int, compute_us: int) -> None:
+        t = t_now - compute_us
+        if t < 0:
+            t = 0
+        busy = self.busy
+        while t < t_now:
+            w = t // WINDOW_US
+            end = min(t_now, (w + 1) * WINDOW_US)
+            busy[w] = busy.get(w, 0) + end - t
+            t = end
+
+    def stretch(self, t_us: int, compute_us: int, piece_us: int, code: str) -> None:
+        self.longest.append({"t_us": t_us, "compute_us": compute_us, "piece_us": piece_us, "code": code})
+        self.longest.sort(key=lambda s: -s["compute_us"])
+        del self.longest[LONGEST:]
+
+    def shares(self, t_end_us: int) -> list[float]:
+        """The busy share of each window up to ``t_end_us`` (the last one's, of its part run)."""
+        out = []
+        for w in range((t_end_us + WINDOW_US - 1) // WINDOW_US):
+            span = min(WINDOW_US, t_end_us - w * WINDOW_US)
+            out.append(round(min(1.0, self.busy.get(w, 0) / span), 4) if span > 0 else 0.0)
+        return out
+
+    def record(self, t_end_us: int) -> dict:
+        """For the trace's header (``mcu_time``): the CPU, the window, each window's busy
+        share and the longest stretches."""
+        return {"cpu": self.cpu, "window_us": WINDOW_US, "busy_share": self.shares(t_end_us), "longest": self.longest}
+
+
+def csv_rows(record: dict) -> list[tuple]:
+    """``cpu_load.csv``'s rows: (t_us at the window's start, busy share)."""
+    return [(i * record["window_us"], share) for i, share in enumerate(record["busy_share"])]
+
+
 # -- calibration ----------------------------------------------------------------------
 
 KERNELS = Path(__file__).resolve().parent.parent / "mcubench" / "kernels.py"

@@ -64,6 +64,10 @@ class _Console:
     # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
     cpu = busy = None
     ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
+    stack = None  # _hilfast.stack (the firmware's running functions), with MCU time
+    longest_us = 0  # the longest compute between two waits so far (sent with its code: CPU)
+    top_us = 0  # this stretch's largest charge since it outgrew longest_us, and the code
+    top_stack = None  # that ran when it was charged (sampled then: a record's pieces only)
     behind = False  # the callbacks' compute has outrun the clock by BEHIND_US (said once)
 
 
@@ -115,7 +119,7 @@ def cpu_start(getenv):
     fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
     gc.collect()
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
-    _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
+    _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
     _reads_charge()
 
@@ -126,8 +130,26 @@ def _charge_cpu():
     owed = _Console.cpu()
     if owed:
         _Console.debt_ns += owed * 1000
-        _Console.ran_us += owed
+        ran = _Console.ran_us + owed
+        _Console.ran_us = ran
+        if owed > _Console.top_us and owed * 4 > _Console.longest_us:  # (the code of a would-be record's
+            _Console.top_us = owed  # largest piece, sampled as it is charged: bounded, one call per larger piece)
+            _Console.top_stack = _Console.stack()
     return _Console.debt_ns >= 1000
+
+
+def _cpu_stretch(compute_us):
+    """The longest compute between two waits so far ends here: a CPU message with the code
+    that ran its largest piece (the firmware's frames, outermost first), for the report."""
+    _Console.longest_us = compute_us
+    frames = _Console.top_stack or _Console.stack()
+    shim = __file__.rsplit("/", 1)[0]  # (the boot's frames: counted, begun before the shim's folder was exempt)
+    text = "\n".join(
+        '  File "%s", line %d, in %s' % (f, line, fn)
+        for f, fn, line in frames
+        if f != "<stdin>" and not f.startswith(shim) and not f.endswith("/_hilboot.py")
+    )
+    send(F.CPU, struct.pack(F.CPU_FMT, _now, compute_us, _Console.top_us) + text.encode())
 
 
 def _console_owed_us():
@@ -718,6 +740,9 @@ def _sync(t_until, watch):
     if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
         compute_us = _Console.ran_us
         _Console.ran_us = 0
+        if compute_us > _Console.longest_us:
+            _cpu_stretch(compute_us)
+        _Console.top_us, _Console.top_stack = 0, None
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT

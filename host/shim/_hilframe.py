@@ -273,6 +273,7 @@ FAULT = 0x07
 EXIT = 0x08
 BUS = 0x09  # a bus transfer (I2C, SPI): the shim waits for its BUS_REPLY
 POLL = 0x0A  # a poll that never ends: one pin or memory address read with one answer (POLL_*)
+CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
@@ -290,6 +291,7 @@ NAMES = {
     EXIT: "EXIT",
     BUS: "BUS",
     POLL: "POLL",
+    CPU: "CPU",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -326,6 +328,8 @@ CHANGE_LEN = struct.calcsize(CHANGE_FMT)
 BUS_LEN = struct.calcsize(BUS_FMT)
 BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
 POLL_LEN = struct.calcsize(POLL_FMT)
+CPU_FMT = "<QII"  # t_us (the wait it ends at), compute_us, its largest charge's µs; then UTF-8 stack lines
+CPU_LEN = struct.calcsize(CPU_FMT)
 
 
 def pack_hello(info):

@@ -265,3 +265,38 @@ def test_encoder_handlers_at_40000_edges_a_second_outrun_an_rp2040(tmp_path, mon
         console = rig.console
     said = [ln for ln in console.splitlines() if "fall behind" in ln]
     assert bool(said) == behind, f"at {edges_per_s} edges/s expected falling behind: {behind}, the run said {said}"
+
+
+def test_the_report_shows_the_cpu_load_and_the_function_of_the_longest_stretch(make_rig, tmp_path, iterations):
+    """The trace folder holds the firmware's busy share of each 100 ms (cpu_load.csv, the
+    header's mcu_time) and its longest compute stretch with the code that ran it: a step
+    that computes ~5 ms and then writes its output (as a control step does) is named."""
+    folder = tmp_path / "app"
+    rig_file(folder, "rp2040@125MHz", 6000, iterations)
+    main = LOOP.replace("ROUNDS", str(ROUNDS)).replace("ITERATIONS", str(iterations))
+    main = main.replace("    return acc\n", "    led.toggle()\n    return acc\n")  # (the write inside the step)
+    main = main.replace("    led.toggle()\n    if", "    if")
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    rig = make_rig(str(folder / "rig.toml"), trace=True)
+    rig.run_for(0.5)
+    rig.stop()
+    header = json.loads((rig.artefacts / "header.json").read_text())
+    mcu = header["mcu_time"]
+    where = f"(trace folder {rig.artefacts})"
+    # ~5 ms of compute each ~25 ms period (ten of them, then the firmware ends): about a
+    # fifth of each 100 ms busy, then none
+    shares = mcu["busy_share"]
+    assert len(shares) == 5, f"expected 5 windows of 100 ms in 0.5 s, got {shares} {where}"
+    assert all(0.15 <= s <= 0.25 for s in shares[:2]), f"expected ~20 % busy a window, got {shares} {where}"
+    assert shares[3:] == [0.0, 0.0], f"expected no compute once the firmware ended, got {shares} {where}"
+    rows = (rig.artefacts / "cpu_load.csv").read_text().splitlines()
+    assert rows[0] == "t_us,busy_share" and rows[2].startswith("100000,"), f"cpu_load.csv: {rows[:3]} {where}"
+    longest = mcu["longest"][0]
+    assert 4500 <= longest["compute_us"] <= 5600, f"expected the longest stretch ~5 ms, got {longest} {where}"
+    assert "in control" in longest["code"] and "main.py" in longest["code"], (
+        f"expected the longest stretch to name the function control of main.py, got {longest['code']!r} {where}"
+    )
+    assert "_hil" not in longest["code"], f"the shim's own frames in the stretch's code: {longest['code']!r}"
+    from host.report.plots import plot_trace
+
+    assert any(p.name == "cpu.png" for p in plot_trace(rig.artefacts, tmp_path / "plots")), "no CPU load plot"
