@@ -188,7 +188,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
 
         with open(path, "w", newline="", encoding="utf-8") as f:
             out = csv.writer(f, lineterminator="\n")
-            out.writerow(["t_us", "busy_share"])
+            out.writerow(["t_us", "busy_share", "callbacks_share"])
             out.writerows(csv_rows(run["mcu_time"]))
 
     return (

@@ -25,6 +25,9 @@ def unpack_cpu(p) -> tuple:
     return _struct.unpack_from(codec.CPU_FMT, p, 0) + (bytes(p[codec.CPU_LEN :]).decode("utf-8", "replace"),)
 
 
+unpack_cpu_irq = _struct.Struct(codec.CPU_IRQ_FMT).unpack_from  # (t_from_us, t_us, the callbacks' compute_us)
+
+
 # plant signal kinds: what a plant signal carries (``plant.inputs`` / ``plant.outputs``)
 SIG_LEVEL = "level"  # 0/1
 SIG_U16 = "u16"  # an ADC's reading, 0..65535

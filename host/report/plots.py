@@ -263,18 +263,23 @@ def cpu_figure(trace: TraceData) -> Figure | None:
     fig = Figure(figsize=(8, 2.8))
     fig.subplots_adjust(left=0.1, right=0.98, bottom=0.18, top=0.82)
     ax = fig.subplots()
-    ax.step(t, shares, where="post", color="#1565c0", linewidth=1)
-    ax.fill_between(t, shares, step="post", color="#1565c0", alpha=0.25)
+    irq = np.array(mcu.get("callbacks_share") or [0.0] * len(shares), dtype=float) * 100
+    ax.fill_between(t, shares, step="post", color="#1565c0", alpha=0.3, label="main program")
+    ax.fill_between(t, shares, shares + irq, step="post", color="#ef6c00", alpha=0.35, label="callbacks (IRQs, Timers)")
+    ax.step(t, shares + irq, where="post", color="#263238", linewidth=1)
+    ax.axhline(100, color=MISS_COLOUR, linewidth=0.8, linestyle="--")
+    ax.legend(loc="upper right", fontsize="x-small")
     for s in mcu.get("longest") or ():
         ax.axvline(s["t_us"] / 1e6, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
-    ax.set_ylim(0, 105)
+    ax.set_ylim(0, max(105, float((shares + irq).max()) * 1.05))
     ax.set_xlim(0, max(t[-1] + window_s, window_s))
     ax.set_xlabel("virtual time (s)")
     ax.set_ylabel(f"busy % of {mcu['window_us'] // 1000} ms")
-    mean = float(shares.mean())
+    total = shares + irq
+    over = " (over 100 %: the board would fall behind)" if total.max() > 100 else ""
     fig.suptitle(
-        f"CPU load on {mcu['cpu']} (main program; mean {mean:.1f} %, peak {shares.max():.0f} %;"
-        " red: the longest stretches)\n" + _title(trace),
+        f"CPU load on {mcu['cpu']}: mean {total.mean():.1f} %, peak {total.max():.0f} %{over};"
+        " red lines: the longest compute stretches\n" + _title(trace),
         fontsize="small",
     )
     return fig

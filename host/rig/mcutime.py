@@ -131,7 +131,7 @@ COUNT_KEYS = (*COUNT_KEYS, "wide", "big_bits")
 
 # -- the firmware's CPU load, for the report ------------------------------------------
 
-WINDOW_US = 100_000
+WINDOW_US = 100_000  # (the shim's CPU_IRQ comes at most once a window: host/shim/_hilframe.py)
 """The CPU load's window: the busy share of each 100 ms of virtual time."""
 LONGEST = 5
 """The longest compute stretches kept, each with the code that ran it."""
@@ -146,7 +146,8 @@ class CpuLoad:
 
     def __init__(self, cpu: str):
         self.cpu = cpu
-        self.busy: dict[int, int] = {}  # window index -> µs of compute in it
+        self.busy: dict[int, int] = {}  # window index -> µs of the main program's compute in it
+        self.irq: dict[int, float] = {}  # window index -> µs of the callbacks' compute in it
         self.longest: list[dict] = []
 
     def wait(self, t_now: int, compute_us: int) -> None:
@@ -160,28 +161,54 @@ class CpuLoad:
             busy[w] = busy.get(w, 0) + end - t
             t = end
 
+    def callbacks(self, t_from: int, t_us: int, compute_us: int) -> None:
+        """The callbacks' compute between two instants (a CPU_IRQ message), spread evenly over
+        them (the shim tells it once a window, not at each handler)."""
+        span = t_us - t_from
+        if span <= 0:
+            w = t_us // WINDOW_US
+            self.irq[w] = self.irq.get(w, 0) + compute_us
+            return
+        t = t_from
+        while t < t_us:
+            w = t // WINDOW_US
+            end = min(t_us, (w + 1) * WINDOW_US)
+            self.irq[w] = self.irq.get(w, 0) + compute_us * (end - t) / span
+            t = end
+
     def stretch(self, t_us: int, compute_us: int, piece_us: int, code: str) -> None:
         self.longest.append({"t_us": t_us, "compute_us": compute_us, "piece_us": piece_us, "code": code})
         self.longest.sort(key=lambda s: -s["compute_us"])
         del self.longest[LONGEST:]
 
-    def shares(self, t_end_us: int) -> list[float]:
-        """The busy share of each window up to ``t_end_us`` (the last one's, of its part run)."""
+    def shares(self, t_end_us: int, busy: dict | None = None) -> list[float]:
+        """The busy share of each window up to ``t_end_us`` (the last one's, of its part
+        run): the main program's, or with ``busy`` the callbacks' (which may pass 1: the
+        board would fall behind)."""
+        busy = self.busy if busy is None else busy
         out = []
         for w in range((t_end_us + WINDOW_US - 1) // WINDOW_US):
             span = min(WINDOW_US, t_end_us - w * WINDOW_US)
-            out.append(round(min(1.0, self.busy.get(w, 0) / span), 4) if span > 0 else 0.0)
+            out.append(round(busy.get(w, 0) / span, 4) if span > 0 else 0.0)
         return out
 
     def record(self, t_end_us: int) -> dict:
         """For the trace's header (``mcu_time``): the CPU, the window, each window's busy
-        share and the longest stretches."""
-        return {"cpu": self.cpu, "window_us": WINDOW_US, "busy_share": self.shares(t_end_us), "longest": self.longest}
+        share (the main program's, the callbacks') and the longest stretches."""
+        return {
+            "cpu": self.cpu,
+            "window_us": WINDOW_US,
+            "busy_share": self.shares(t_end_us),
+            "callbacks_share": self.shares(t_end_us, self.irq),
+            "longest": self.longest,
+        }
 
 
 def csv_rows(record: dict) -> list[tuple]:
-    """``cpu_load.csv``'s rows: (t_us at the window's start, busy share)."""
-    return [(i * record["window_us"], share) for i, share in enumerate(record["busy_share"])]
+    """``cpu_load.csv``'s rows: (t_us at the window's start, the main program's busy share,
+    the callbacks')."""
+    irq = record.get("callbacks_share") or [0.0] * len(record["busy_share"])
+    return [(i * record["window_us"], share, irq[i]) for i, share in enumerate(record["busy_share"])]
 
 
 # -- calibration ----------------------------------------------------------------------

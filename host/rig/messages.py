@@ -83,6 +83,12 @@ def on_cpu(rig, p: bytes) -> None:
         rig.cpu_load.stretch(*F.unpack_cpu(p))
 
 
+def on_cpu_irq(rig, p: bytes) -> None:
+    """MCU time: the callbacks' compute over a span (host/rig/mcutime.py)."""
+    if rig.cpu_load is not None:
+        rig.cpu_load.callbacks(*F.unpack_cpu_irq(p))
+
+
 def on_fault(rig, p: bytes) -> None:
     t, text = F.unpack_fault(p)
     console_until(rig, t)
@@ -124,5 +130,6 @@ HANDLERS = {
     F.BUS: on_bus,
     F.POLL: on_poll,
     F.CPU: on_cpu,
+    F.CPU_IRQ: on_cpu_irq,
 }
 """Frame type -> its handler."""

@@ -238,6 +238,7 @@ static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as they are charged
 static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
 static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
+static uint64_t irq_total_ps;  // all the callbacks' compute so far (irq_us: what preempts the main program)
 
 static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
     return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
@@ -282,7 +283,7 @@ static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
         cost_ps[i] = get_u32(b + 4 * i);
     }
     charged = mp_hil_counts;  // what ran before is not charged
-    main_ps = busy_ps = 0;
+    main_ps = busy_ps = irq_total_ps = 0;
     cost_on = true;
     return mp_const_none;
 }
@@ -320,7 +321,8 @@ static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
 // Callbacks run (IRQ handlers, Timer callbacks): what the main program computed before
 // them is its own; theirs keeps the CPU busy from their instant (or from when the ones
 // before are done) for as long as it costs: the main program goes on after that
-// (busy_us, which the shim waits out after a wait).
+// (busy_us, which the shim waits out after a wait); irq_us(): all the callbacks' compute so
+// far, whole µs (the shim lengthens the main program's compute by what fired during it).
 static void irq_begin(void) {
     if (cost_on) {
         main_ps += take_ps();
@@ -332,6 +334,7 @@ static void irq_end(mp_obj_t now_us) {
         uint64_t ps = take_ps();
         uint64_t start = (uint64_t)mp_obj_get_int(now_us) * 1000000;
         busy_ps = (busy_ps > start ? busy_ps : start) + ps;
+        irq_total_ps += ps;
     }
 }
 
@@ -352,6 +355,10 @@ static mp_obj_t busy_us(void) {  // (rounded up: the main program goes on once t
 }
 static MP_DEFINE_CONST_FUN_OBJ_0(busy_us_obj, busy_us);
 
+static mp_obj_t irq_us(void) {  // (whole µs, rounded down: a difference of two is what ran between)
+    return new_uint(irq_total_ps / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(irq_us_obj, irq_us);
 static mp_obj_t counts(void) {
     static mp_hil_counts_t now;
     now = mp_hil_counts;  // (before this function's own allocations)
@@ -416,6 +423,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
     {MP_ROM_QSTR(MP_QSTR_irq_end), MP_ROM_PTR(&irq_end_obj)},
     {MP_ROM_QSTR(MP_QSTR_busy_us), MP_ROM_PTR(&busy_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_us), MP_ROM_PTR(&irq_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_stack), MP_ROM_PTR(&stack_obj)},
 };
 static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);
