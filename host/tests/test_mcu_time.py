@@ -294,7 +294,8 @@ def test_the_report_shows_the_cpu_load_and_the_function_of_the_longest_stretch(m
     assert all(0.15 <= s <= 0.25 for s in shares[:2]), f"expected ~20 % busy a window, got {shares} {where}"
     assert shares[3:] == [0.0, 0.0], f"expected no compute once the firmware ended, got {shares} {where}"
     rows = (rig.artefacts / "cpu_load.csv").read_text().splitlines()
-    assert rows[0] == "t_us,busy_share,callbacks_share" and rows[2].startswith("100000,"), f"cpu_load.csv: {rows[:3]} {where}"
+    head_ok = rows[0] == "t_us,busy_share,callbacks_share" and rows[2].startswith("100000,")
+    assert head_ok, f"cpu_load.csv: {rows[:3]} {where}"
     longest = mcu["longest"][0]
     assert 4500 <= longest["compute_us"] <= 5600, f"expected the longest stretch ~5 ms, got {longest} {where}"
     assert "in control" in longest["code"] and "main.py" in longest["code"], (
