@@ -61,12 +61,18 @@ DEFAULT_ON = False
 not yet, so that the apps' pinned traces stay as they are; until then it gets "free"."""
 
 
-def default_cpu(identity: tuple[str, str] | None) -> str:
-    """The cpu of a board whose rig file names none: its family's when :data:`DEFAULT_ON`."""
-    if not DEFAULT_ON or not identity:
+def family_cpu(identity: tuple[str, str] | None) -> str:
+    """The CPU of a board's family (:data:`FAMILY_CPU`, by the chip its identity names), or
+    "free" when none is known."""
+    if not identity:
         return FREE
     chip = identity[1].rsplit(" with ", 1)[-1].upper()
     return next((cpu for name, cpu in FAMILY_CPU.items() if chip.startswith(name)), FREE)
+
+
+def default_cpu(identity: tuple[str, str] | None) -> str:
+    """The cpu of a board whose rig file names none: its family's when :data:`DEFAULT_ON`."""
+    return family_cpu(identity) if DEFAULT_ON else FREE
 
 
 # Relative cost of each class of bytecode, in units of a simple one (a load, a store, a
