@@ -267,10 +267,11 @@ def cpu_figure(trace: TraceData) -> Figure | None:
     ax.fill_between(t, shares, step="post", color="#1565c0", alpha=0.3, label="main program")
     ax.fill_between(t, shares, shares + irq, step="post", color="#ef6c00", alpha=0.35, label="callbacks (IRQs, Timers)")
     ax.step(t, shares + irq, where="post", color="#263238", linewidth=1)
-    ax.axhline(100, color=MISS_COLOUR, linewidth=0.8, linestyle="--")
-    ax.legend(loc="upper right", fontsize="x-small")
-    for s in mcu.get("longest") or ():
-        ax.axvline(s["t_us"] / 1e6, color=MISS_COLOUR, linewidth=0.8, alpha=0.6)
+    ax.axhline(100, color="#263238", linewidth=0.8, linestyle="--")
+    for i, s in enumerate(mcu.get("longest") or ()):
+        label = "the longest compute stretches" if i == 0 else None
+        ax.axvline(s["t_us"] / 1e6, color=MISS_COLOUR, linewidth=0.8, alpha=0.6, label=label)
+    ax.legend(loc="upper right", fontsize="x-small", framealpha=0.8)
     ax.set_ylim(0, max(105, float((shares + irq).max()) * 1.05))
     ax.set_xlim(0, max(t[-1] + window_s, window_s))
     ax.set_xlabel("virtual time (s)")
@@ -278,8 +279,7 @@ def cpu_figure(trace: TraceData) -> Figure | None:
     total = shares + irq
     over = " (over 100 %: the board would fall behind)" if total.max() > 100 else ""
     fig.suptitle(
-        f"CPU load on {mcu['cpu']}: mean {total.mean():.1f} %, peak {total.max():.0f} %{over};"
-        " red lines: the longest compute stretches\n" + _title(trace),
+        f"CPU load on {mcu['cpu']}: mean {total.mean():.1f} %, peak {total.max():.0f} %{over}\n" + _title(trace),
         fontsize="small",
     )
     return fig
@@ -346,7 +346,6 @@ def _budget_histogram(ax, budget: dict) -> None:
         fontsize="small",
         color=colour,
     )
-    ax.legend(loc="upper right", fontsize="x-small")
 
 
 VERDICT_COLOURS = {
