@@ -57,6 +57,7 @@ VCD = "trace.vcd"
 GTKW = "trace.gtkw"
 LINK = "trace.jsonl"
 CONSOLE = "console.log"
+CPU_LOAD = "cpu_load.csv"  # with MCU time: the firmware's busy share of each 100 ms (docs/mcu-time.md)
 NOT_ENDED = "the run did not end (killed, or its machine stopped); console.log and trace.jsonl hold what streamed"
 DEFAULT_FOOTPRINT_HALF_WIDTH_M = 0.15
 DEFAULT_COVERAGE_CELL_M = 0.05
@@ -182,12 +183,21 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
             )
         )
 
+    def cpu_load(path):
+        from host.rig.mcutime import csv_rows
+
+        with open(path, "w", newline="", encoding="utf-8") as f:
+            out = csv.writer(f, lineterminator="\n")
+            out.writerow(["t_us", "busy_share", "callbacks_share"])
+            out.writerows(csv_rows(run["mcu_time"]))
+
     return (
         (SIGNALS, signals),
         (TRUTH, lambda path: _write_truth(path, truth, recorder.truth_columns())),
         (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
         (VCD, vcd),
         (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
+        *(((CPU_LOAD, cpu_load),) if run.get("mcu_time") else ()),
     )
 
 
@@ -256,6 +266,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "incomplete": run.get("incomplete") or {},
         "console": run.get("console"),
         **({"board_fs": run["board_fs"]} if run.get("board_fs") else {}),  # what the firmware wrote on its flash
+        **({"mcu_time": run["mcu_time"]} if run.get("mcu_time") else {}),  # the CPU load (docs/mcu-time.md)
     }
 
 

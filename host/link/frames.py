@@ -18,6 +18,16 @@ from host.shim._hilframe import *  # noqa: F403  (the codec's names are this mod
 
 unpack_out = _struct.Struct(codec.OUT_FMT).unpack_from  # (t_us, handle, attr, value), as codec.unpack_out
 
+
+def unpack_cpu(p) -> tuple:
+    """A CPU message (MCU time, docs/mcu-time.md): (t_us, compute_us, piece_us, the code's
+    text). (Host-side only: the shim packs it inline, _hil._cpu_stretch.)"""
+    return _struct.unpack_from(codec.CPU_FMT, p, 0) + (bytes(p[codec.CPU_LEN :]).decode("utf-8", "replace"),)
+
+
+unpack_cpu_irq = _struct.Struct(codec.CPU_IRQ_FMT).unpack_from  # (t_from_us, t_us, the callbacks' compute_us)
+
+
 # plant signal kinds: what a plant signal carries (``plant.inputs`` / ``plant.outputs``)
 SIG_LEVEL = "level"  # 0/1
 SIG_U16 = "u16"  # an ADC's reading, 0..65535

@@ -20,7 +20,12 @@ from host.core import provenance, safefs
 from host.rig import verdicts
 
 BUDGET_COLUMNS = ("budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
-PLOT_TITLES = {"trajectory": "trajectory", "timing": "timing budgets", "signals": "signals over time"}
+PLOT_TITLES = {
+    "trajectory": "trajectory",
+    "timing": "timing budgets",
+    "signals": "signals over time",
+    "cpu": "the firmware's CPU load (MCU time)",
+}
 """Plots in the order the report shows them: the first two side by side, then the rest
 full width."""
 NO_APP = "tests without a rig"
@@ -216,6 +221,7 @@ def _scenario(i: int, s: Scenario, base: Path) -> str:
             out.append(_budget_table(rig.budgets))
         if rig.plots:
             out.append(_plots(rig, base))
+        out += _longest_compute(rig)
         out.append("</details>")
     out.append("</section>")
     return "\n".join(out)
@@ -234,6 +240,27 @@ def _plots(rig: RigResult, base: Path) -> str:
     if movie.is_file():
         out.append(f'<p class="movie"><a href="{_e(_rel(movie, base))}">the run as a moving picture (GIF)</a></p>')
     return "\n".join(out)
+
+
+def _longest_compute(rig: RigResult) -> list[str]:
+    """With MCU time: the longest compute stretches between two waits, each with the code
+    that ran its largest piece (docs/mcu-time.md), so that a missed budget names its function."""
+    mcu = (rig.header or {}).get("mcu_time")
+    if not isinstance(mcu, dict) or not mcu.get("longest"):
+        return []
+    out = [
+        '<table class="longest-compute"><caption>the longest compute between two waits on '
+        f"{_e(mcu.get('cpu', ''))}, with the code that ran its largest piece (innermost last)</caption>",
+        "<tr><th>ends at (s)</th><th>compute (µs)</th><th>largest piece (µs)</th><th>code</th></tr>",
+    ]
+    for s in mcu["longest"]:
+        code = s.get("code") or "(no frame of the firmware's)"
+        out.append(
+            f"<tr><td>{s['t_us'] / 1e6:.6f}</td><td>{s['compute_us']:,}</td><td>{s['piece_us']:,}</td>"
+            f"<td><pre>{_e(code)}</pre></td></tr>"
+        )
+    out.append("</table>")
+    return out
 
 
 def _displays(rig: RigResult, base: Path) -> list[str]:
@@ -361,7 +388,8 @@ pre.message {{ background: #fff3f3; border: 1px solid #f5c6c6; padding: 0.6rem; 
               font-size: 0.8rem; white-space: pre-wrap; }}
 details {{ margin: 0.6rem 0; }} summary {{ cursor: pointer; font-weight: 600; }}
 .plots {{ display: grid; grid-template-columns: repeat(auto-fit, minmax(min(420px, 100%), 1fr)); gap: 0.8rem; }}
-figure {{ margin: 0; min-width: 0; }} figure.signals {{ grid-column: 1 / -1; }}
+figure {{ margin: 0; min-width: 0; }} figure.signals, figure.cpu {{ grid-column: 1 / -1; }}
+table.longest-compute pre {{ margin: 0; font-size: 0.8rem; white-space: pre-wrap; }}
 figure img {{ width: 100%; height: auto; border: 1px solid #eceff1; background: #fff; }}
 figure.display img {{ width: min(100%, 512px); image-rendering: pixelated; }}  /* (a 128 x 64 screen at 4x) */
 @media (min-width: 1800px) {{ figure.signals {{ grid-column: auto; }} }}

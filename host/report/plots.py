@@ -42,7 +42,8 @@ def plot_trace(folder, out_dir=None) -> list[Path]:
     trace = load_trace(folder)
     out = safefs.make_folder(Path(out_dir) if out_dir else Path(folder) / PLOTS)  # (plots/ a link: refused)
     written = []
-    for name, draw in (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure)):
+    drawers = (("trajectory", trajectory_figure), ("signals", signals_figure), ("timing", timing_figure))
+    for name, draw in (*drawers, ("cpu", cpu_figure)):
         fig = draw(trace)
         if fig is not None:
             path = out / f"{name}.png"
@@ -250,6 +251,40 @@ def timing_figure(trace: TraceData) -> Figure | None:
     return fig
 
 
+def cpu_figure(trace: TraceData) -> Figure | None:
+    """With MCU time (docs/mcu-time.md): the firmware's CPU load, the busy share of each
+    window of virtual time (the header's ``mcu_time``), and its longest compute stretches."""
+    mcu = trace.header.get("mcu_time")
+    if not isinstance(mcu, dict) or not mcu.get("busy_share"):
+        return None
+    shares = np.array(mcu["busy_share"], dtype=float) * 100
+    window_s = mcu["window_us"] / 1e6
+    t = np.arange(len(shares)) * window_s
+    fig = Figure(figsize=(8, 2.8))
+    fig.subplots_adjust(left=0.1, right=0.98, bottom=0.18, top=0.82)
+    ax = fig.subplots()
+    irq = np.array(mcu.get("callbacks_share") or [0.0] * len(shares), dtype=float) * 100
+    ax.fill_between(t, shares, step="post", color="#1565c0", alpha=0.3, label="main program")
+    ax.fill_between(t, shares, shares + irq, step="post", color="#ef6c00", alpha=0.35, label="callbacks (IRQs, Timers)")
+    ax.step(t, shares + irq, where="post", color="#263238", linewidth=1)
+    ax.axhline(100, color="#263238", linewidth=0.8, linestyle="--")
+    for i, s in enumerate(mcu.get("longest") or ()):
+        label = "the longest compute stretches" if i == 0 else None
+        ax.axvline(s["t_us"] / 1e6, color=MISS_COLOUR, linewidth=0.8, alpha=0.6, label=label)
+    ax.legend(loc="upper right", fontsize="x-small", framealpha=0.8)
+    ax.set_ylim(0, max(105, float((shares + irq).max()) * 1.05))
+    ax.set_xlim(0, max(t[-1] + window_s, window_s))
+    ax.set_xlabel("virtual time (s)")
+    ax.set_ylabel(f"busy % of {mcu['window_us'] // 1000} ms")
+    total = shares + irq
+    over = " (over 100 %: the board would fall behind)" if total.max() > 100 else ""
+    fig.suptitle(
+        f"CPU load on {mcu['cpu']}: mean {total.mean():.1f} %, peak {total.max():.0f} %{over}\n" + _title(trace),
+        fontsize="small",
+    )
+    return fig
+
+
 def _has_values(budget) -> bool:
     try:
         return bool(len(budget_values(budget)[0]))
@@ -311,7 +346,6 @@ def _budget_histogram(ax, budget: dict) -> None:
         fontsize="small",
         color=colour,
     )
-    ax.legend(loc="upper right", fontsize="x-small")
 
 
 VERDICT_COLOURS = {

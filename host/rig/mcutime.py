@@ -58,15 +58,23 @@ FAMILY_CPU = {
 """Each family's CPU, by the chip its board names (sys.implementation._machine's "with <chip>")."""
 DEFAULT_ON = False
 """Whether a rig file without ``cpu`` gets its family's CPU (docs/mcu-time.md, "Default"):
-not yet, so that the apps' pinned traces stay as they are; until then it gets "free"."""
+not yet (16 app tests pin figures of a free CPU); until then it gets "free". The one switch:
+hil_tests/test_app_digests.py holds the default runs to DIGESTS_MCU when it is on, and
+MPYFIL_CPU=free to today's DIGESTS."""
+
+
+def family_cpu(identity: tuple[str, str] | None) -> str:
+    """The CPU of a board's family (:data:`FAMILY_CPU`, by the chip its identity names), or
+    "free" when none is known."""
+    if not identity:
+        return FREE
+    chip = identity[1].rsplit(" with ", 1)[-1].upper()
+    return next((cpu for name, cpu in FAMILY_CPU.items() if chip.startswith(name)), FREE)
 
 
 def default_cpu(identity: tuple[str, str] | None) -> str:
     """The cpu of a board whose rig file names none: its family's when :data:`DEFAULT_ON`."""
-    if not DEFAULT_ON or not identity:
-        return FREE
-    chip = identity[1].rsplit(" with ", 1)[-1].upper()
-    return next((cpu for name, cpu in FAMILY_CPU.items() if chip.startswith(name)), FREE)
+    return family_cpu(identity) if DEFAULT_ON else FREE
 
 
 # Relative cost of each class of bytecode, in units of a simple one (a load, a store, a
@@ -128,6 +136,88 @@ class Cpu:
 
 EXTRAS = (*EXTRAS, "wide", "big_bit")
 COUNT_KEYS = (*COUNT_KEYS, "wide", "big_bits")
+
+# -- the firmware's CPU load, for the report ------------------------------------------
+
+WINDOW_US = 100_000  # (the shim's CPU_IRQ comes at most once a window: host/shim/_hilframe.py)
+"""The CPU load's window: the busy share of each 100 ms of virtual time."""
+LONGEST = 5
+"""The longest compute stretches kept, each with the code that ran it."""
+
+
+class CpuLoad:
+    """The firmware's CPU load over a run with MCU time (the report's view, docs/mcu-time.md):
+    each WAIT's compute (the main program's, charged since the wait before; it ran up to the
+    wait's instant) spread over the windows it spans, and the longest stretches between two
+    waits with the code that ran them (the shim's CPU messages, sent when a stretch is the
+    longest so far: outermost frame first, the largest piece's)."""
+
+    def __init__(self, cpu: str):
+        self.cpu = cpu
+        self.busy: dict[int, int] = {}  # window index -> µs of the main program's compute in it
+        self.irq: dict[int, float] = {}  # window index -> µs of the callbacks' compute in it
+        self.longest: list[dict] = []
+
+    def wait(self, t_now: int, compute_us: int) -> None:
+        t = t_now - compute_us
+        if t < 0:
+            t = 0
+        busy = self.busy
+        while t < t_now:
+            w = t // WINDOW_US
+            end = min(t_now, (w + 1) * WINDOW_US)
+            busy[w] = busy.get(w, 0) + end - t
+            t = end
+
+    def callbacks(self, t_from: int, t_us: int, compute_us: int) -> None:
+        """The callbacks' compute between two instants (a CPU_IRQ message), spread evenly over
+        them (the shim tells it once a window, not at each handler)."""
+        span = t_us - t_from
+        if span <= 0:
+            w = t_us // WINDOW_US
+            self.irq[w] = self.irq.get(w, 0) + compute_us
+            return
+        t = t_from
+        while t < t_us:
+            w = t // WINDOW_US
+            end = min(t_us, (w + 1) * WINDOW_US)
+            self.irq[w] = self.irq.get(w, 0) + compute_us * (end - t) / span
+            t = end
+
+    def stretch(self, t_us: int, compute_us: int, piece_us: int, code: str) -> None:
+        self.longest.append({"t_us": t_us, "compute_us": compute_us, "piece_us": piece_us, "code": code})
+        self.longest.sort(key=lambda s: -s["compute_us"])
+        del self.longest[LONGEST:]
+
+    def shares(self, t_end_us: int, busy: dict | None = None) -> list[float]:
+        """The busy share of each window up to ``t_end_us`` (the last one's, of its part
+        run): the main program's, or with ``busy`` the callbacks' (which may pass 1: the
+        board would fall behind)."""
+        busy = self.busy if busy is None else busy
+        out = []
+        for w in range((t_end_us + WINDOW_US - 1) // WINDOW_US):
+            span = min(WINDOW_US, t_end_us - w * WINDOW_US)
+            out.append(round(busy.get(w, 0) / span, 4) if span > 0 else 0.0)
+        return out
+
+    def record(self, t_end_us: int) -> dict:
+        """For the trace's header (``mcu_time``): the CPU, the window, each window's busy
+        share (the main program's, the callbacks') and the longest stretches."""
+        return {
+            "cpu": self.cpu,
+            "window_us": WINDOW_US,
+            "busy_share": self.shares(t_end_us),
+            "callbacks_share": self.shares(t_end_us, self.irq),
+            "longest": self.longest,
+        }
+
+
+def csv_rows(record: dict) -> list[tuple]:
+    """``cpu_load.csv``'s rows: (t_us at the window's start, the main program's busy share,
+    the callbacks')."""
+    irq = record.get("callbacks_share") or [0.0] * len(record["busy_share"])
+    return [(i * record["window_us"], share, irq[i]) for i, share in enumerate(record["busy_share"])]
+
 
 # -- calibration ----------------------------------------------------------------------
 

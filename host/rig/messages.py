@@ -25,6 +25,8 @@ def on_wait(rig, p: bytes) -> None:
         rig.console_log.stamp(t_now)
     for call in rig._compute_hooks:
         call(compute_us)
+    if rig.cpu_load is not None:  # (MCU time: the firmware's CPU load, docs/mcu-time.md)
+        rig.cpu_load.wait(t_now, compute_us)
     rig.linklog.wait(t_now, t_until, watch)
 
 
@@ -75,6 +77,18 @@ def on_poll(rig, p: bytes) -> None:
         rig.bus_trace.say(poll[0], shim_poll_text(poll, rig.wiring, rig.plant))
 
 
+def on_cpu(rig, p: bytes) -> None:
+    """MCU time: the longest compute stretch so far, with the code that ran it (host/rig/mcutime.py)."""
+    if rig.cpu_load is not None:
+        rig.cpu_load.stretch(*F.unpack_cpu(p))
+
+
+def on_cpu_irq(rig, p: bytes) -> None:
+    """MCU time: the callbacks' compute over a span (host/rig/mcutime.py)."""
+    if rig.cpu_load is not None:
+        rig.cpu_load.callbacks(*F.unpack_cpu_irq(p))
+
+
 def on_fault(rig, p: bytes) -> None:
     t, text = F.unpack_fault(p)
     console_until(rig, t)
@@ -115,5 +129,7 @@ HANDLERS = {
     F.EXIT: on_exit,
     F.BUS: on_bus,
     F.POLL: on_poll,
+    F.CPU: on_cpu,
+    F.CPU_IRQ: on_cpu_irq,
 }
 """Frame type -> its handler."""

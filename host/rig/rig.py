@@ -27,7 +27,7 @@ from host.artefacts.recorder import Recorder
 from host.core import paths, safefs
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
-from host.rig import arguments, boards, endings, manifest, waits
+from host.rig import arguments, boards, endings, manifest, mcutime, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks, ComputeBudget
 from host.rig.bustrace import BusTrace
@@ -121,6 +121,7 @@ class Rig:
         for b in self.budgets.values():
             if isinstance(b, ComputeBudget) and cpu != "free":
                 b.mcu = cpu  # the firmware's compute in the board CPU's time (docs/mcu-time.md)
+        self.cpu_load = mcutime.CpuLoad(cpu) if cpu != mcutime.FREE else None
         hooks = BudgetHooks(self.budgets.values())
         self._compute_hooks = hooks.compute
         self._seen_hooks = hooks.seen
@@ -370,6 +371,7 @@ def run_header(rig) -> dict:
         **({"board_fs": rig.board_fs_written} if rig.board_fs_written else {}),
         **({"board_fs_faults": rig.board_fs_faults} if rig.board_fs_faults else {}),
         **bus_notes(rig),
+        **({"mcu_time": rig.cpu_load.record(rig.t_us)} if getattr(rig, "cpu_load", None) else {}),
     }
 
 

@@ -62,8 +62,14 @@ class _Console:
     # MCU time (docs/mcu-time.md): with [board] cpu, _hilfast.owed_us (the main program's
     # compute since the last charge, µs: added to the debt above, paid the same way) and
     # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
-    cpu = busy = None
+    cpu = busy = irq = None  # (irq: _hilfast.irq_us, all the callbacks' compute so far)
     ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
+    stack = None  # _hilfast.stack (the firmware's running functions), with MCU time
+    longest_us = 0  # the longest compute between two waits so far (sent with its code: CPU)
+    top_us = 0  # this stretch's largest charge since it outgrew longest_us, and the code
+    top_stack = None  # that ran when it was charged (sampled then: a record's pieces only)
+    irq_told = 0  # the callbacks' compute told the host (CPU_IRQ, once per CPU_WINDOW_US), and
+    irq_from = 0  # since when
     behind = False  # the callbacks' compute has outrun the clock by BEHIND_US (said once)
 
 
@@ -115,7 +121,8 @@ def cpu_start(getenv):
     fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
     gc.collect()
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
-    _Console.cpu, _Console.busy = fast.owed_us, fast.busy_us
+    _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
+    _Console.irq = getattr(fast, "irq_us", None)  # (a build before it: callbacks do not preempt)
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
     _reads_charge()
 
@@ -123,11 +130,40 @@ def cpu_start(getenv):
 def _charge_cpu():
     """The main program's compute since the last charge, owed as print()'s blocking is;
     True when the clock owes a µs or more."""
+    if _dispatching:  # (a callback's compute is its own: _hilfast.irq_end charges it as the CPU's)
+        return _Console.debt_ns >= 1000
     owed = _Console.cpu()
     if owed:
         _Console.debt_ns += owed * 1000
-        _Console.ran_us += owed
+        ran = _Console.ran_us + owed
+        _Console.ran_us = ran
+        if owed > _Console.top_us and owed * 4 > _Console.longest_us:  # (the code of a would-be record's
+            _Console.top_us = owed  # largest piece, sampled as it is charged: bounded, one call per larger piece)
+            _Console.top_stack = _Console.stack()
     return _Console.debt_ns >= 1000
+
+
+def _irq_load():
+    """The callbacks' compute since the last time told, to the host (a window's CPU load)."""
+    total = _Console.irq()
+    if total != _Console.irq_told:
+        send(F.CPU_IRQ, struct.pack(F.CPU_IRQ_FMT, _Console.irq_from, _now, total - _Console.irq_told))
+        _Console.irq_told = total
+    _Console.irq_from = _now
+
+
+def _cpu_stretch(compute_us):
+    """The longest compute between two waits so far ends here: a CPU message with the code
+    that ran its largest piece (the firmware's frames, outermost first), for the report."""
+    _Console.longest_us = compute_us
+    frames = _Console.top_stack or _Console.stack()
+    shim = __file__.rsplit("/", 1)[0]  # (the boot's frames: counted, begun before the shim's folder was exempt)
+    text = "\n".join(
+        '  File "%s", line %d, in %s' % (f, line, fn)
+        for f, fn, line in frames
+        if f != "<stdin>" and not f.startswith(shim) and not f.endswith("/_hilboot.py")
+    )
+    send(F.CPU, struct.pack(F.CPU_FMT, _now, compute_us, _Console.top_us) + text.encode())
 
 
 def _console_owed_us():
@@ -573,10 +609,16 @@ def _released_run_until(t_target, watch):
         # print() blocked this long before the firmware read the clock or began this wait:
         # the wait ends that much later (one exchange with the host, stamped at the print).
         owed = _console_owed_us()
-        if watch:  # an input that changes meanwhile is seen once the print has returned
-            _released_run_until(_now + owed, None)
-        if t_target < FOREVER_US:
-            t_target += owed
+        if _Console.irq is not None and not _dispatching:  # MCU time: the callbacks preempt it
+            t0 = _now
+            _preempted_until(_now + owed)
+            if t_target < FOREVER_US:
+                t_target += _now - t0
+        else:
+            if watch:  # an input that changes meanwhile is seen once the print has returned
+                _released_run_until(_now + owed, None)
+            if t_target < FOREVER_US:
+                t_target += owed
     depth = heap_release()
     run = _run_until if _Console.cpu is None else _run_until_idle
     if not depth:
@@ -694,17 +736,33 @@ def _run_until(t_target, watch):
             return False
 
 
+def _preempted_until(t_end):
+    """MCU time: the main program computes (or print() blocks) until t_end; a callback that
+    fires meanwhile (a hard IRQ's handler, a Timer's) preempts it for its own compute, so
+    that it ends that much later, and so on for those that fire in that extra time."""
+    irq = _Console.irq()
+    while True:
+        _released_run_until(t_end, None)
+        more = _Console.irq() - irq
+        if more <= 0:
+            return
+        irq += more
+        t_end += more
+
+
 def _run_until_idle(t_target, watch):
     """_run_until, then on until the callbacks run on the way are done (MCU time: the
     main program goes on once their compute is, _Console.busy)."""
     hit = _run_until(t_target, watch)
     busy = _Console.busy()
     while busy > _now:
-        if busy > _now + BEHIND_US and not _Console.behind:
+        if busy > min(_now, t_target) + BEHIND_US and not _Console.behind:  # (ahead of the clock, or of
+            # the wait's end: the main program held that long)
             _Console.behind = True  # (said once: the handlers go on taking all the CPU)
             sys.stderr.write(
-                "mpy-fil: at t=%d us the callbacks' compute keeps the CPU busy until t=%d us:"
-                " the board would fall behind (the main program waits)\n" % (_now, busy)
+                "mpy-fil: at t=%d us the callbacks' compute keeps the CPU busy until t=%d us"
+                " (the main program's wait was to end at t=%d us): the board would fall behind\n"
+                % (_now, busy, t_target)
             )
         _run_until(busy, None)
         busy = _Console.busy()
@@ -718,6 +776,11 @@ def _sync(t_until, watch):
     if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
         compute_us = _Console.ran_us
         _Console.ran_us = 0
+        if compute_us > _Console.longest_us:
+            _cpu_stretch(compute_us)
+        _Console.top_us, _Console.top_stack = 0, None
+        if _Console.irq is not None and _now // F.CPU_WINDOW_US != _Console.irq_from // F.CPU_WINDOW_US:
+            _irq_load()
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT

@@ -273,6 +273,8 @@ FAULT = 0x07
 EXIT = 0x08
 BUS = 0x09  # a bus transfer (I2C, SPI): the shim waits for its BUS_REPLY
 POLL = 0x0A  # a poll that never ends: one pin or memory address read with one answer (POLL_*)
+CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
+CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
@@ -290,6 +292,8 @@ NAMES = {
     EXIT: "EXIT",
     BUS: "BUS",
     POLL: "POLL",
+    CPU: "CPU",
+    CPU_IRQ: "CPU_IRQ",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -326,6 +330,10 @@ CHANGE_LEN = struct.calcsize(CHANGE_FMT)
 BUS_LEN = struct.calcsize(BUS_FMT)
 BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
 POLL_LEN = struct.calcsize(POLL_FMT)
+CPU_FMT = "<QII"  # t_us (the wait it ends at), compute_us, its largest charge's µs; then UTF-8 stack lines
+CPU_LEN = struct.calcsize(CPU_FMT)
+CPU_IRQ_FMT = "<QQI"  # t_from_us, t_us, the callbacks' compute_us between them
+CPU_WINDOW_US = 100_000  # the CPU load's window (host/rig/mcutime.py)
 
 
 def pack_hello(info):

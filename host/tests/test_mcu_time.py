@@ -261,7 +261,91 @@ def test_encoder_handlers_at_40000_edges_a_second_outrun_an_rp2040(tmp_path, mon
     main_dir = encoder_firmware(tmp_path / "fw", edges_per_s, 300)
     spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=1, main_dir=main_dir, allow_exit=True)
     with Rig(spec, Recording(artefacts=tmp_path / "run")) as rig:
-        rig.run_for(0.4)
+        rig.run_for(0.6)  # (the main program's first wait ends at 0.5 s: held past it, said then)
         console = rig.console
+        shares = rig.cpu_load.record(rig.t_us)["callbacks_share"]
     said = [ln for ln in console.splitlines() if "fall behind" in ln]
     assert bool(said) == behind, f"at {edges_per_s} edges/s expected falling behind: {behind}, the run said {said}"
+    # the CPU load view (the report's): the handlers' share of each 100 ms, past 100 % when behind
+    assert (max(shares) > 1.0) == behind, f"at {edges_per_s} edges/s the callbacks' share of the CPU: {shares}"
+    assert max(shares) > 0.02, f"expected the encoder handlers' compute in the CPU load, got {shares}"
+
+
+def test_the_report_shows_the_cpu_load_and_the_function_of_the_longest_stretch(make_rig, tmp_path, iterations):
+    """The trace folder holds the firmware's busy share of each 100 ms (cpu_load.csv, the
+    header's mcu_time) and its longest compute stretch with the code that ran it: a step
+    that computes ~5 ms and then writes its output (as a control step does) is named."""
+    folder = tmp_path / "app"
+    rig_file(folder, "rp2040@125MHz", 6000, iterations)
+    main = LOOP.replace("ROUNDS", str(ROUNDS)).replace("ITERATIONS", str(iterations))
+    main = main.replace("    return acc\n", "    led.toggle()\n    return acc\n")  # (the write inside the step)
+    main = main.replace("    led.toggle()\n    if", "    if")
+    (folder / "main.py").write_text(textwrap.dedent(main))
+    rig = make_rig(str(folder / "rig.toml"), trace=True)
+    rig.run_for(0.5)
+    rig.stop()
+    header = json.loads((rig.artefacts / "header.json").read_text())
+    mcu = header["mcu_time"]
+    where = f"(trace folder {rig.artefacts})"
+    # ~5 ms of compute each ~25 ms period (ten of them, then the firmware ends): about a
+    # fifth of each 100 ms busy, then none
+    shares = mcu["busy_share"]
+    assert len(shares) == 5, f"expected 5 windows of 100 ms in 0.5 s, got {shares} {where}"
+    assert all(0.15 <= s <= 0.25 for s in shares[:2]), f"expected ~20 % busy a window, got {shares} {where}"
+    assert shares[3:] == [0.0, 0.0], f"expected no compute once the firmware ended, got {shares} {where}"
+    rows = (rig.artefacts / "cpu_load.csv").read_text().splitlines()
+    head_ok = rows[0] == "t_us,busy_share,callbacks_share" and rows[2].startswith("100000,")
+    assert head_ok, f"cpu_load.csv: {rows[:3]} {where}"
+    longest = mcu["longest"][0]
+    assert 4500 <= longest["compute_us"] <= 5600, f"expected the longest stretch ~5 ms, got {longest} {where}"
+    assert "in control" in longest["code"] and "main.py" in longest["code"], (
+        f"expected the longest stretch to name the function control of main.py, got {longest['code']!r} {where}"
+    )
+    assert "_hil" not in longest["code"], f"the shim's own frames in the stretch's code: {longest['code']!r}"
+    from host.report.plots import plot_trace
+
+    assert any(p.name == "cpu.png" for p in plot_trace(rig.artefacts, tmp_path / "plots")), "no CPU load plot"
+
+
+PREEMPT = """
+import time
+from machine import Timer
+
+CONTROL
+
+
+def tick(t):
+    control(CB_ITERATIONS)
+
+
+tim = Timer(0)
+tim.init(period=2, callback=tick)
+t0 = time.ticks_us()
+control(ITERATIONS)
+t1 = time.ticks_us()
+tim.deinit()
+print("R computed", time.ticks_diff(t1, t0))
+"""
+
+
+def test_callbacks_that_fire_during_the_main_programs_compute_preempt_it(make_rig, tmp_path, iterations):
+    """5 ms of the main program's compute on an RP2040 with a Timer callback of ~0.5 ms
+    every 2 ms: the callbacks preempt it (at 2 and 4 ms, and at 6 ms when it is still not
+    done), so its 5 ms end 6 to 6.5 ms later, not 5 ms (as when the callbacks ran beside it)."""
+    from host.core import interpreter
+
+    cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 500)
+    control = "def control" + LOOP.split("def control")[1].split("t_prev")[0]
+    main = PREEMPT.replace("CONTROL", control).replace("CB_ITERATIONS", str(cb_iterations))
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "main.py").write_text(main.replace("ITERATIONS", str(iterations)))
+    (folder / "rig.toml").write_text(
+        'name = "mcu_preempt"\n[firmware]\nallow_exit = true\n[board]\nconsole_baud = 0\ncpu = "rp2040@125MHz"\n'
+        '[board.pins]\nLED = 2\n[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
+    )
+    rig = make_rig(str(folder / "rig.toml"))
+    rig.run_for(0.1)
+    rig.stop()
+    got = results(rig.console)["computed"]
+    assert 5_900 <= got <= 6_700, f"expected 6,000 to 6,500 us (5 ms, preempted), got {got} ({rig.console!r})"

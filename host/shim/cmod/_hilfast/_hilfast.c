@@ -29,6 +29,7 @@
 // counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
+#include <stddef.h>
 #include <string.h>
 
 #include "py/bc.h"
@@ -84,6 +85,10 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
 
 // MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
 static bool cost_on;  // cost() was called: the counters are charged
+// Nothing was counted since the last take: set after a batch of callbacks within one
+// apply_state, whose own work between two batches (pins in C, the shim's _hil_apply) is
+// the shim's, never counted; the next batch's irq_begin then has nothing to take.
+static bool apply_clean;
 static void irq_begin(void);
 static void irq_end(mp_obj_t now_us);
 
@@ -103,7 +108,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         return;
     }
     mp_obj_dict_store(g, dispatching, mp_const_true);
-    irq_begin();
+    if (!apply_clean) {
+        irq_begin();
+    }
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     while (list->len > 0) {
         mp_obj_t item = list->items[0];  // pending.pop(0)
@@ -133,6 +140,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     mp_obj_dict_store(g, dispatching, mp_const_false);
     if (cost_on) {
         irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+        apply_clean = true;
     }
 }
 
@@ -173,6 +181,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_obj_t handles = args[5], pin_type = args[6], pending = args[7], watch = args[8];
     mp_obj_t ctx = args[9], globals = args[10];
     bool watching = mp_obj_is_true(watch);
+    apply_clean = false;  // (the firmware ran before this call: its compute is taken first)
     const uint8_t *p = buf.buf;
     size_t off = MP_OBJ_SMALL_INT_VALUE(cur->items[0]);
     mp_int_t i = MP_OBJ_SMALL_INT_VALUE(cur->items[1]);
@@ -238,6 +247,7 @@ static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as they are charged
 static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
 static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
+static uint64_t irq_total_ps;  // all the callbacks' compute so far (irq_us: what preempts the main program)
 
 static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
     return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
@@ -282,17 +292,25 @@ static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
         cost_ps[i] = get_u32(b + 4 * i);
     }
     charged = mp_hil_counts;  // what ran before is not charged
-    main_ps = busy_ps = 0;
+    main_ps = busy_ps = irq_total_ps = 0;
     cost_on = true;
     return mp_const_none;
 }
 static MP_DEFINE_CONST_FUN_OBJ_2(cost_obj, cost);
 
-// The cost of what was counted since the last take, in ps.
+// The cost of what was counted since the last take, in ps. (Taken at each batch of callbacks,
+// twice: the opcodes in blocks of eight, a block that did not change skipped by one memcmp,
+// since a handler runs a few dozen kinds of bytecode of the 256.)
 static uint64_t take_ps(void) {
     uint64_t ps = 0;
-    for (int i = 0; i < 256; i++) {
-        ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
+    for (int b = 0; b < 256; b += 8) {
+        if (memcmp(&mp_hil_counts.ops[b], &charged.ops[b], 8 * sizeof(uint64_t)) == 0) {
+            continue;
+        }
+        for (int i = b; i < b + 8; i++) {
+            ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
+            charged.ops[i] = mp_hil_counts.ops[i];
+        }
     }
     for (int i = 0; i < N_EXTRA; i++) {
         uint64_t n = extra(&mp_hil_counts, i) - extra(&charged, i);
@@ -302,7 +320,7 @@ static uint64_t take_ps(void) {
         }
         ps += n * cost_ps[256 + i];
     }
-    charged = mp_hil_counts;
+    memcpy(&charged.ccalls, &mp_hil_counts.ccalls, sizeof(mp_hil_counts_t) - offsetof(mp_hil_counts_t, ccalls));
     return ps;
 }
 
@@ -320,7 +338,8 @@ static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
 // Callbacks run (IRQ handlers, Timer callbacks): what the main program computed before
 // them is its own; theirs keeps the CPU busy from their instant (or from when the ones
 // before are done) for as long as it costs: the main program goes on after that
-// (busy_us, which the shim waits out after a wait).
+// (busy_us, which the shim waits out after a wait); irq_us(): all the callbacks' compute so
+// far, whole µs (the shim lengthens the main program's compute by what fired during it).
 static void irq_begin(void) {
     if (cost_on) {
         main_ps += take_ps();
@@ -332,6 +351,7 @@ static void irq_end(mp_obj_t now_us) {
         uint64_t ps = take_ps();
         uint64_t start = (uint64_t)mp_obj_get_int(now_us) * 1000000;
         busy_ps = (busy_ps > start ? busy_ps : start) + ps;
+        irq_total_ps += ps;
     }
 }
 
@@ -352,6 +372,10 @@ static mp_obj_t busy_us(void) {  // (rounded up: the main program goes on once t
 }
 static MP_DEFINE_CONST_FUN_OBJ_0(busy_us_obj, busy_us);
 
+static mp_obj_t irq_us(void) {  // (whole µs, rounded down: a difference of two is what ran between)
+    return new_uint(irq_total_ps / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(irq_us_obj, irq_us);
 static mp_obj_t counts(void) {
     static mp_hil_counts_t now;
     now = mp_hil_counts;  // (before this function's own allocations)
@@ -416,6 +440,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
     {MP_ROM_QSTR(MP_QSTR_irq_end), MP_ROM_PTR(&irq_end_obj)},
     {MP_ROM_QSTR(MP_QSTR_busy_us), MP_ROM_PTR(&busy_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_irq_us), MP_ROM_PTR(&irq_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_stack), MP_ROM_PTR(&stack_obj)},
 };
 static MP_DEFINE_CONST_DICT(hilfast_globals, hilfast_globals_table);
