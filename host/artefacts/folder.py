@@ -184,12 +184,10 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
         )
 
     def cpu_load(path):
-        from host.rig.mcutime import csv_rows
-
         with open(path, "w", newline="", encoding="utf-8") as f:
             out = csv.writer(f, lineterminator="\n")
             out.writerow(["t_us", "busy_share", "callbacks_share"])
-            out.writerows(csv_rows(run["mcu_time"]))
+            out.writerows(cpu_load_rows(run["mcu_time"]))
 
     return (
         (SIGNALS, signals),
@@ -447,3 +445,10 @@ def _read_truth(folder: Path) -> dict:
         raise ValueError("a t_us outside 0 .. ten simulated days")
     out["t_us"] = t.astype(np.int64)
     return out
+
+
+def cpu_load_rows(record: dict) -> list[tuple]:
+    """``cpu_load.csv``'s rows from the header's ``mcu_time`` (host/rig/mcutime.py): (t_us at
+    the window's start, the main program's busy share, the callbacks')."""
+    irq = record.get("callbacks_share") or [0.0] * len(record["busy_share"])
+    return [(i * record["window_us"], share, irq[i]) for i, share in enumerate(record["busy_share"])]

@@ -212,13 +212,6 @@ class CpuLoad:
         }
 
 
-def csv_rows(record: dict) -> list[tuple]:
-    """``cpu_load.csv``'s rows: (t_us at the window's start, the main program's busy share,
-    the callbacks')."""
-    irq = record.get("callbacks_share") or [0.0] * len(record["busy_share"])
-    return [(i * record["window_us"], share, irq[i]) for i, share in enumerate(record["busy_share"])]
-
-
 # -- calibration ----------------------------------------------------------------------
 
 KERNELS = Path(__file__).resolve().parent.parent / "mcubench" / "kernels.py"
