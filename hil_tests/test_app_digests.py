@@ -106,34 +106,18 @@ def digest_before(trace: bytes, app: str) -> str:
     return hashlib.sha256("".join(lines).encode()).hexdigest()
 
 
-DIGESTS_MCU = {  # the same runs with MCU time on (docs/mcu-time.md): each app's board family's
-    # CPU (mcutime.family_cpu: esp32@240MHz for the ESP32 apps), as
-    # MPYFIL_CPU gives it. Recorded 2026-11-28, for when mcutime.DEFAULT_ON turns it on for
-    # every rig file without a cpu; then DIGESTS are what cpu = "free" must give. pico_bot's
-    # board ("pins") names no chip: no family CPU, so its traces are today's.
-    ("rover", "room", 11): "2bfa9b051ed3e2198ae1bde6ce23f28bd9d1dea33b3817e6710a0e6da3b7fd3d",
-    ("rover", "long-room", 11): "78066e20d006ee02518c1e8c08cfb6ca3e31029c733f24e6dc31727eefe21a15",
-    ("rover", "small-room", 11): "b07063bec914797e34d109c2d2149bd8a7122747c23c09da13c4f6227c3dddfd",
-    ("vacuum", "vacuum-room", 11): "f97d4e0ba3e55b0295e26c2a7b975ad9573cf9e327b545412f7e892b53407aae",
-    ("vacuum", "open-floor", 11): "51c6d2d1b9b164448f619087e94a7476dd76448042a2f6b0e394b332a86244cc",
-    ("lab_robot", "arena", 11): "44ee308832e86f19e801f9771662ff34332425883f0538ec43ebb05b45b2bc2b",
-    ("lab_robot", "arena-noisy", 11): "247b09932cfaea9f0d19b16c939508b6720003203fff28974c65cfbcadf4d002",
-    ("lab_robot_canyon", "canyon", 11): "375f159b3d99f7cb4fc5a3265783773ff5bd2913249061a5bacff128465510eb",
-    ("lab_robot_canyon", "canyon-noisy", 11): "4c9c6154f3fa9161b62f8de02738d961905ac60ad970297bd2753f5430d802ce",
-    ("pico_bot", "box-ahead", 11): "d57eac9d1f15c3e95747c76de9adb7a9898c24284a6dcbad966ce7a3329469ff",
-    ("pico_bot", "open-room", 11): "7544836e57479bb11aa7193beb0251fa38541799460dddbea0ee1a86d54588f5",
-    ("pool_cleaner", "default", 1): "45322bbced6d16bc78d8bb103eab5652124e6e3b4b514de6deeee552663cfefb",
-    ("pool_cleaner_adc", "default", 1): "fc5b8adcb31fc606788dfe38de2590e78d2fce35a71406d5c052b8c8a9128199",
-    ("duct", "one-right-branch", 1): "333695aaa4cd50433d897b49c94cf0f8af0da226296cc38360e0ca0c9a383040",
-    ("duct", "multi-branch", 2): "b625fc28e54646425720dfc428f462d2a2079f69aaec24ab32fde275d4bb8727",
-    ("duct", "straight", 3): "8f6ae0548e41807a7c139409280115fce97c094bbd02041199f6cc1ae1af23b6",
-    ("duct", "bench", 1): "11c16fe3fbd2921f6414cd39ffda7089569b0d15472ab116842298d93d613a3f",
-}
+MCU_TWICE = [("rover", "room", 11), ("duct", "bench", 1)]
+"""Runs with MCU time on (each app's board family's CPU) held to themselves, run twice. Not
+pinned: a trace with MCU time on depends on the checkout's folder today (the collector's
+pause is charged by the heap in use, which holds the shim's source paths: docs/mcu-time.md,
+"Known limits"), so a digest recorded in one clone differs in another."""
 
 
 def _expected(key) -> tuple[dict, str]:
-    """The table the default run of ``key`` is held to, and its name."""
-    return (DIGESTS_MCU, "DIGESTS_MCU") if mcutime.DEFAULT_ON else (DIGESTS, "DIGESTS")
+    """The table the default run of ``key`` is held to, and its name (MCU time on by default
+    needs its own pinned table first: MCU_TWICE)."""
+    assert not mcutime.DEFAULT_ON, "MCU time on by default: pin its digests (see MCU_TWICE)"
+    return DIGESTS, "DIGESTS"
 
 
 def app_cpu(app: str) -> str:
@@ -163,13 +147,15 @@ def test_cpu_free_gives_todays_digests(make_rig, monkeypatch, key):
     _check_digest(make_rig, key, DIGESTS[key])
 
 
-@pytest.mark.parametrize("key", list(DIGESTS_MCU), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
-def test_link_trace_with_mcu_time_is_unchanged(make_rig, monkeypatch, key):
+@pytest.mark.parametrize("key", MCU_TWICE, ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
+def test_a_run_with_mcu_time_gives_one_trace_twice(make_rig, monkeypatch, key):
     monkeypatch.setenv("MPYFIL_CPU", app_cpu(key[0]))
-    _check_digest(make_rig, key, DIGESTS_MCU[key])
+    first = _check_digest(make_rig, key, None)
+    assert _check_digest(make_rig, key, first) == first
 
 
-def _check_digest(make_rig, key, expected: str) -> None:
+def _check_digest(make_rig, key, expected: str | None) -> str:
+    """The run's link-trace digest, held to ``expected`` unless None."""
     app, world, seed = key
     name = APP_PATHS.get(app, app)
     seconds = SECONDS.get(app, RUN_S)
@@ -183,7 +169,8 @@ def _check_digest(make_rig, key, expected: str) -> None:
     assert b'"folder":"/' not in trace.split(b"\n", 1)[0], "the header's firmware folder is the repository's"
     got = digest_before(trace, app)
     cpu = os.environ.get("MPYFIL_CPU") or "the default"
-    assert got == expected, (
+    assert expected is None or got == expected, (
         f"{app} in {world}, seed {seed}, cpu {cpu}: expected the link trace's digest {expected}, got {got}"
         f" ({rig.artefacts})"
     )
+    return got

@@ -58,9 +58,8 @@ FAMILY_CPU = {
 """Each family's CPU, by the chip its board names (sys.implementation._machine's "with <chip>")."""
 DEFAULT_ON = False
 """Whether a rig file without ``cpu`` gets its family's CPU (docs/mcu-time.md, "Default"):
-not yet (16 app tests pin figures of a free CPU); until then it gets "free". The one switch:
-hil_tests/test_app_digests.py holds the default runs to DIGESTS_MCU when it is on, and
-MPYFIL_CPU=free to today's DIGESTS."""
+not yet (16 app tests pin figures of a free CPU, and a trace with MCU time on depends on
+the checkout's folder: docs/mcu-time.md, "Default"); until then it gets "free"."""
 
 
 def family_cpu(identity: tuple[str, str] | None) -> str:
