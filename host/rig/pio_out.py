@@ -7,8 +7,10 @@ are, no more FIFO accesses) until the state machine is quiet (stalled, or loopin
 driving anything) or repeats what it drives (a waveform), and gives the plant what the
 pins it drives will carry, in the terms the plant's parts take:
 
-- a pin that repeats a period (PWM, servo pulses): a PWM at that frequency and duty
-  (``set_pwm``: a wire's waveform, a servo's pulse), to 1 Hz and 1/65535;
+- a pin that repeats a period (PWM, servo pulses): a PWM at that frequency and duty, to
+  1 Hz and 1/65535, as a ``machine.PWM`` gives it: the waveform to an input of kind
+  ``pwm`` (``set_pwm``: a wire), the duty_u16 to one of kind ``duty`` (a servo's pulse, a
+  motor's speed);
 - a burst of pulses ending quiet, on a ``ws2812_strip``'s ``.din``: its bits as a
   bitstream with the pulses' measured timing (``bitstream``);
 - a burst on a UART wire: the bytes its frames carry at ``freq / 8`` baud (8 PIO cycles
@@ -86,9 +88,10 @@ class PioOutputs:
             for gpio, signal in wired.items():
                 mine = [(t, level) for t, g, level in events if g == gpio and t > self.given_us.get(gpio, -1.0)]
                 pwm = pwm_of(mine) if periodic else None
-                if pwm is not None and inputs.get(signal) == F.SIG_PWM:
+                kind = inputs.get(signal)
+                if pwm is not None and kind in (F.SIG_PWM, F.SIG_DUTY):
                     if self.pwm.get(gpio) != pwm:  # (a PWM given again would restart its period)
-                        self.plant.set_pwm(signal, *pwm)
+                        self._give_pwm(signal, kind, *pwm)
                         self.pwm[gpio] = pwm
                 elif mine:
                     self.pwm.pop(gpio, None)
@@ -99,7 +102,17 @@ class PioOutputs:
         """A stopped state machine's pins hold their level: a PWM given for one stops there."""
         for gpio in driven_pins(sm) & set(self.pwm):
             freq_hz, _duty = self.pwm.pop(gpio)
-            self.plant.set_pwm(self.signal_of(gpio), freq_hz, 65535 if block.levels.get(gpio) else 0)
+            signal = self.signal_of(gpio)
+            self._give_pwm(signal, self.plant.inputs.get(signal), freq_hz, 65535 if block.levels.get(gpio) else 0)
+
+    def _give_pwm(self, signal: str, kind, freq_hz: int, duty_u16: int) -> None:
+        """A waveform as a machine.PWM on that pin gives it (``host/rig/peripherals.py``,
+        ``PwmPeripheral.out``): the waveform to a ``pwm`` input, its duty_u16 to a ``duty``
+        one (a servo's pulse, a motor's speed)."""
+        if kind == F.SIG_PWM:
+            self.plant.set_pwm(signal, freq_hz, duty_u16)
+        else:
+            self.plant.set_input(signal, duty_u16)
 
     def clear(self) -> None:
         self.given_us.clear()
