@@ -39,7 +39,8 @@ def driven_pins(sm) -> set[int]:
 def look_ahead(block, local: int, t_us: int):
     """(events, periodic) of state machine ``local`` from ``t_us`` on a copy of ``block``:
     its drives until it is quiet or repeats a waveform (``periodic``: True), at most
-    :data:`HORIZON_US` ahead."""
+    :data:`HORIZON_US` ahead (then periodic when the pins' last periods are alike:
+    :func:`steady`)."""
     twin = copy.deepcopy(block)
     twin.events.clear()
     run = twin.running[local]
@@ -54,7 +55,29 @@ def look_ahead(block, local: int, t_us: int):
         if run.orbit and run.orbit_version == twin.version:
             return twin.events, False
         step_us *= 2
-    return twin.events, False
+    return twin.events, steady(twin.events, driven_pins(run.sm))
+
+
+def steady(events: list, pins: set[int]) -> bool:
+    """Still driving at the horizon, a period too long for the emulator to see it come back
+    (more loop passes than it remembers: :data:`sim_plant.pio.block.SEEN_MAX`): a waveform
+    all the same, when every pin it drives that moves has its last three periods and pulses
+    alike (to 1 ns)."""
+    moving = False
+    for gpio in pins:
+        levels = [(t, level) for t, g, level in events if g == gpio]
+        if not levels:
+            continue
+        rises = [t for t, level in levels if level == 1][-4:]
+        falls = [t for t, level in levels if level == 0 and t > rises[0]] if len(rises) == 4 else []
+        if len(falls) < 3:
+            return False
+        periods = [b - a for a, b in zip(rises, rises[1:])]
+        highs = [f - r for r, f in zip(rises, falls)]
+        if max(periods) - min(periods) > 1e-3 or max(highs) - min(highs) > 1e-3:
+            return False
+        moving = True
+    return moving
 
 
 class PioOutputs:

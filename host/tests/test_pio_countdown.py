@@ -169,3 +169,40 @@ def test_a_kitronik_servo_period_costs_a_few_dozen_steps(monkeypatch):
     highs = [f - r for r, f in zip(rises, falls)]
     assert len(rises) >= 9 and all(abs(h - 1500) < 2 for h in highs), (rises, highs)
     assert fast_steps * 100 < slow_steps, f"jumped over: {fast_steps} steps; stepped: {slow_steps}"
+
+
+def servo_side_each():
+    """A servo program whose every instruction side-sets the pin (no counting loop to jump
+    over: each pass drives it): 20,000 passes a period, more than the emulator remembers."""
+    pull(noblock).side(0)
+    mov(x, osr).side(0)
+    mov(y, x).side(1)
+    label("high")
+    jmp(y_dec, "high").side(1)
+    mov(y, isr).side(0)
+    label("low")
+    jmp(y_dec, "low").side(0)
+
+
+PROGRAMS["servo_side_each"] = (servo_side_each, {"sideset_init": OUT_LOW})
+
+
+@pytest.mark.parametrize("name", ["kitronik_servo", "servo_side_each"])
+def test_a_servo_waveform_is_a_pwm_to_the_plant_however_long_its_period(name):
+    """host/rig/pio_out.py: a 20 ms servo period is given as a PWM (50 Hz, a 1.5 ms pulse's
+    duty), whether the emulator sees it repeat (counting loops jumped over) or only measures
+    it (a loop driving each pass: its period too long to be seen coming back)."""
+    from host.rig.pio_out import look_ahead, pwm_of
+
+    if name not in PROGRAMS:
+        pytest.skip("the pinned Kitronik library is not fetched (python -m host.core.drivers)")
+    freq, pulse = (2_000_000, 1500) if name == "kitronik_servo" else (1_000_000, 1500 - 2)
+    low = 20_000 if name == "kitronik_servo" else 20_000 - 6 - pulse
+    block = build(name, freq, 0, low)
+    block.sm(0).tx.append(pulse)
+    block.advance(5)
+    events, periodic = look_ahead(block, 0, 5)
+    pwm = pwm_of([(t, level) for t, g, level in events if g == 10])
+    assert periodic and pwm is not None, f"{name}: not seen as a waveform; its drives: {events[:8]}"
+    freq_hz, duty = pwm
+    assert freq_hz == 50 and abs(duty / 65535 * 20_000 - 1500) < 2, f"{name}: expected 50 Hz, 1500 µs; got {pwm}"
