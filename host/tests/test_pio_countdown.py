@@ -48,10 +48,24 @@ def count_up():
     jmp(x_dec, "up")
 
 
+def servo_side_each():
+    """A servo program whose every instruction side-sets the pin (each pass drives it, to
+    the level it has): 20,000 passes a period, more than the emulator remembers."""
+    pull(noblock).side(0)
+    mov(x, osr).side(0)
+    mov(y, x).side(1)
+    label("high")
+    jmp(y_dec, "high").side(1)
+    mov(y, isr).side(0)
+    label("low")
+    jmp(y_dec, "low").side(0)
+
+
 PROGRAMS = {
     **{name: (body, opts) for name, (body, opts, _text) in pio_corpus.CORPUS.items()},
     "count_pair": (count_pair, {"sideset_init": OUT_LOW}),
     "count_up": (count_up, {}),
+    "servo_side_each": (servo_side_each, {"sideset_init": OUT_LOW}),
 }
 FREQS = [125_000_000, 2_000_000, 1_000_000]
 
@@ -171,27 +185,14 @@ def test_a_kitronik_servo_period_costs_a_few_dozen_steps(monkeypatch):
     assert fast_steps * 100 < slow_steps, f"jumped over: {fast_steps} steps; stepped: {slow_steps}"
 
 
-def servo_side_each():
-    """A servo program whose every instruction side-sets the pin (no counting loop to jump
-    over: each pass drives it): 20,000 passes a period, more than the emulator remembers."""
-    pull(noblock).side(0)
-    mov(x, osr).side(0)
-    mov(y, x).side(1)
-    label("high")
-    jmp(y_dec, "high").side(1)
-    mov(y, isr).side(0)
-    label("low")
-    jmp(y_dec, "low").side(0)
-
-
-PROGRAMS["servo_side_each"] = (servo_side_each, {"sideset_init": OUT_LOW})
-
-
-@pytest.mark.parametrize("name", ["kitronik_servo", "servo_side_each"])
-def test_a_servo_waveform_is_a_pwm_to_the_plant_however_long_its_period(name):
+@pytest.mark.parametrize(
+    "name, counting", [("kitronik_servo", True), ("servo_side_each", True), ("servo_side_each", False)]
+)
+def test_a_servo_waveform_is_a_pwm_to_the_plant_however_long_its_period(name, counting, monkeypatch):
     """host/rig/pio_out.py: a 20 ms servo period is given as a PWM (50 Hz, a 1.5 ms pulse's
-    duty), whether the emulator sees it repeat (counting loops jumped over) or only measures
-    it (a loop driving each pass: its period too long to be seen coming back)."""
+    duty), whether the emulator sees it repeat (its counting loops jumped over) or only
+    measures it (stepped: the period too long to be seen coming back)."""
+    monkeypatch.setattr(block_module, "COUNTDOWN", counting)
     from host.rig.pio_out import look_ahead, pwm_of
 
     if name not in PROGRAMS:

@@ -240,8 +240,9 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
                 seen[key] = (c, len(log))
                 if counting:
                     head = heads.get(sm.pc)
-                    heads[sm.pc] = (key, len(log))
-                    if head is not None and head[1] == len(log) and c < c_end:
+                    mark = _quiet_mark(block)
+                    heads[sm.pc] = (key, mark)
+                    if head is not None and head[1] == mark and c < c_end:
                         name = _counter(head[0], key)
                         if name is not None:
                             c = _count_down(block, run, name, c, c_end, log)
@@ -275,6 +276,13 @@ def _counter(old: tuple, new: tuple) -> str | None:
     return None
 
 
+def _quiet_mark(block: PioBlock) -> tuple:
+    """What a pass that changes nothing outside the state machine keeps as it is: the pins'
+    changes and the IRQs raised so far, the pin directions (a side-set of the level a pin
+    already has, on each pass, changes none of them)."""
+    return len(block.events), len(block.irqs), tuple(block.dirs.items())
+
+
 def _count_down(block: PioBlock, run: Running, name: str, c: int, c_end: int, log: list) -> int:
     """``run``'s state machine at cycle ``c`` at a loop head, its counter ``name`` one less
     each pass and nothing else changing: run one pass with the counter as a symbol
@@ -282,10 +290,12 @@ def _count_down(block: PioBlock, run: Running, name: str, c: int, c_end: int, lo
     that would do the same (no drive, no IRQ, every guard as in this pass: the counter
     meets none of the values it is compared with) as long as they end before ``c_end``.
     The cycle it got to (the pass run, plus the passes jumped over); the state exactly what
-    single steps would leave at that cycle."""
+    single steps would leave at that cycle. (A pass's drives that change nothing, a side-set
+    of the level the pin has, are in the log once: replaying a period without the others
+    leaves the same levels.)"""
     sm = run.sm
     v = getattr(sm, name)
-    head_pc, n_log = sm.pc, len(log)
+    head_pc, mark = sm.pc, _quiet_mark(block)
     start = sm.key()
     rec = trace.Recorder()
     setattr(sm, name, trace.Sym(v, name, False, 0, rec))
@@ -299,14 +309,14 @@ def _count_down(block: PioBlock, run: Running, name: str, c: int, c_end: int, lo
             if sm.pc <= pc and sm.pc == head_pc:
                 closed = True
                 break
-            if c1 >= c_end or len(log) != n_log or rec.tainted:
+            if c1 >= c_end or rec.tainted or _quiet_mark(block) != mark:
                 break
         counter = getattr(sm, name)
         others = (sm.isr, sm.osr, sm.y if name == "x" else sm.x)
         fit = (
             closed
             and c1 < c_end
-            and len(log) == n_log
+            and _quiet_mark(block) == mark
             and not rec.tainted
             and isinstance(counter, trace.Sym)
             and counter.form() == (name, False, trace.MASK)
