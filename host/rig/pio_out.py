@@ -7,8 +7,10 @@ are, no more FIFO accesses) until the state machine is quiet (stalled, or loopin
 driving anything) or repeats what it drives (a waveform), and gives the plant what the
 pins it drives will carry, in the terms the plant's parts take:
 
-- a pin that repeats a period (PWM, servo pulses): a PWM at that frequency and duty
-  (``set_pwm``: a wire's waveform, a servo's pulse), to 1 Hz and 1/65535;
+- a pin that repeats a period (PWM, servo pulses): a PWM at that frequency and duty, to
+  1 Hz and 1/65535, as a ``machine.PWM`` gives it: the waveform to an input of kind
+  ``pwm`` (``set_pwm``: a wire), the duty_u16 to one of kind ``duty`` (a servo's pulse, a
+  motor's speed);
 - a burst of pulses ending quiet, on a ``ws2812_strip``'s ``.din``: its bits as a
   bitstream with the pulses' measured timing (``bitstream``);
 - a burst on a UART wire: the bytes its frames carry at ``freq / 8`` baud (8 PIO cycles
@@ -37,7 +39,8 @@ def driven_pins(sm) -> set[int]:
 def look_ahead(block, local: int, t_us: int):
     """(events, periodic) of state machine ``local`` from ``t_us`` on a copy of ``block``:
     its drives until it is quiet or repeats a waveform (``periodic``: True), at most
-    :data:`HORIZON_US` ahead."""
+    :data:`HORIZON_US` ahead (then periodic when the pins' last periods are alike:
+    :func:`steady`)."""
     twin = copy.deepcopy(block)
     twin.events.clear()
     run = twin.running[local]
@@ -52,7 +55,29 @@ def look_ahead(block, local: int, t_us: int):
         if run.orbit and run.orbit_version == twin.version:
             return twin.events, False
         step_us *= 2
-    return twin.events, False
+    return twin.events, steady(twin.events, driven_pins(run.sm))
+
+
+def steady(events: list, pins: set[int]) -> bool:
+    """Still driving at the horizon, a period too long for the emulator to see it come back
+    (more loop passes than it remembers: :data:`sim_plant.pio.block.SEEN_MAX`): a waveform
+    all the same, when every pin it drives that moves has its last three periods and pulses
+    alike (to 1 ns)."""
+    moving = False
+    for gpio in pins:
+        levels = [(t, level) for t, g, level in events if g == gpio]
+        if not levels:
+            continue
+        rises = [t for t, level in levels if level == 1][-4:]
+        falls = [t for t, level in levels if level == 0 and t > rises[0]] if len(rises) == 4 else []
+        if len(falls) < 3:
+            return False
+        periods = [b - a for a, b in zip(rises, rises[1:])]
+        highs = [f - r for r, f in zip(rises, falls)]
+        if max(periods) - min(periods) > 1e-3 or max(highs) - min(highs) > 1e-3:
+            return False
+        moving = True
+    return moving
 
 
 class PioOutputs:
@@ -86,9 +111,10 @@ class PioOutputs:
             for gpio, signal in wired.items():
                 mine = [(t, level) for t, g, level in events if g == gpio and t > self.given_us.get(gpio, -1.0)]
                 pwm = pwm_of(mine) if periodic else None
-                if pwm is not None and inputs.get(signal) == F.SIG_PWM:
+                kind = inputs.get(signal)
+                if pwm is not None and kind in (F.SIG_PWM, F.SIG_DUTY):
                     if self.pwm.get(gpio) != pwm:  # (a PWM given again would restart its period)
-                        self.plant.set_pwm(signal, *pwm)
+                        self._give_pwm(signal, kind, *pwm)
                         self.pwm[gpio] = pwm
                 elif mine:
                     self.pwm.pop(gpio, None)
@@ -99,7 +125,17 @@ class PioOutputs:
         """A stopped state machine's pins hold their level: a PWM given for one stops there."""
         for gpio in driven_pins(sm) & set(self.pwm):
             freq_hz, _duty = self.pwm.pop(gpio)
-            self.plant.set_pwm(self.signal_of(gpio), freq_hz, 65535 if block.levels.get(gpio) else 0)
+            signal = self.signal_of(gpio)
+            self._give_pwm(signal, self.plant.inputs.get(signal), freq_hz, 65535 if block.levels.get(gpio) else 0)
+
+    def _give_pwm(self, signal: str, kind, freq_hz: int, duty_u16: int) -> None:
+        """A waveform as a machine.PWM on that pin gives it (``host/rig/peripherals.py``,
+        ``PwmPeripheral.out``): the waveform to a ``pwm`` input, its duty_u16 to a ``duty``
+        one (a servo's pulse, a motor's speed)."""
+        if kind == F.SIG_PWM:
+            self.plant.set_pwm(signal, freq_hz, duty_u16)
+        else:
+            self.plant.set_input(signal, duty_u16)
 
     def clear(self) -> None:
         self.given_us.clear()

@@ -18,6 +18,8 @@ from sim_plant.pio import trace, walk
 from sim_plant.pio.machine import PioConfig, StateMachine
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
+COUNTDOWN = True  # jump over a counting loop's passes that do the same (False: step each, for tests)
+PASS_MAX = 64  # the longest pass of a counting loop looked at (instructions)
 
 
 class Running:
@@ -215,6 +217,8 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
     ``stop_at_repeat``, else 0; whether it drove a pin or raised an IRQ on the way)."""
     sm = run.sm
     seen: dict = {}
+    heads: dict = {}  # pc -> (key, log length): the last pass of a loop through it
+    counting = COUNTDOWN and trace.plain(sm)
     block._log = log = []
     block._run = run
     step = sm.step
@@ -232,7 +236,17 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
                 if len(seen) >= SEEN_MAX:
                     seen.clear()
                     log.clear()
+                    heads.clear()
                 seen[key] = (c, len(log))
+                if counting:
+                    head = heads.get(sm.pc)
+                    mark = _quiet_mark(block)
+                    heads[sm.pc] = (key, mark)
+                    if head is not None and head[1] == mark and c < c_end:
+                        name = _counter(head[0], key)
+                        if name is not None:
+                            c = _count_down(block, run, name, c, c_end, log)
+                            heads.clear()
                 continue
             period = c - first[0]
             if stop_at_repeat:
@@ -248,6 +262,89 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
         block._log = None
         block._run = None
     return c, 0, False
+
+
+def _counter(old: tuple, new: tuple) -> str | None:
+    """ "x" or "y" when two passes through a loop head differ in that register only, one
+    less each pass (a ``jmp x--`` count, a PWM's ``jmp y--``), else None."""
+    if old[0] != new[0] or old[3:] != new[3:]:
+        return None
+    if old[1] == new[1] and (old[2] - new[2]) & trace.MASK == 1:
+        return "y"
+    if old[2] == new[2] and (old[1] - new[1]) & trace.MASK == 1:
+        return "x"
+    return None
+
+
+def _quiet_mark(block: PioBlock) -> tuple:
+    """What a pass that changes nothing outside the state machine keeps as it is: the pins'
+    changes and the IRQs raised so far, the pin directions (a side-set of the level a pin
+    already has, on each pass, changes none of them)."""
+    return len(block.events), len(block.irqs), tuple(block.dirs.items())
+
+
+def _count_down(block: PioBlock, run: Running, name: str, c: int, c_end: int, log: list) -> int:
+    """``run``'s state machine at cycle ``c`` at a loop head, its counter ``name`` one less
+    each pass and nothing else changing: run one pass with the counter as a symbol
+    (:class:`trace.Sym`: each comparison of it kept as a guard), then jump over the passes
+    that would do the same (no drive, no IRQ, every guard as in this pass: the counter
+    meets none of the values it is compared with) as long as they end before ``c_end``.
+    The cycle it got to (the pass run, plus the passes jumped over); the state exactly what
+    single steps would leave at that cycle. (A pass's drives that change nothing, a side-set
+    of the level the pin has, are in the log once: replaying a period without the others
+    leaves the same levels.)"""
+    sm = run.sm
+    v = getattr(sm, name)
+    head_pc, mark = sm.pc, _quiet_mark(block)
+    start = sm.key()
+    rec = trace.Recorder()
+    setattr(sm, name, trace.Sym(v, name, False, 0, rec))
+    c1, closed = c, False
+    try:
+        for _ in range(PASS_MAX):
+            pc = sm.pc
+            block._cycle = c1
+            c1 += sm.step()
+            block.steps += 1
+            if sm.pc <= pc and sm.pc == head_pc:
+                closed = True
+                break
+            if c1 >= c_end or rec.tainted or _quiet_mark(block) != mark:
+                break
+        counter = getattr(sm, name)
+        others = (sm.isr, sm.osr, sm.y if name == "x" else sm.x)
+        fit = (
+            closed
+            and c1 < c_end
+            and _quiet_mark(block) == mark
+            and not rec.tainted
+            and isinstance(counter, trace.Sym)
+            and counter.form() == (name, False, trace.MASK)
+            and all(type(r) is int for r in others)
+            and all(type(w) is int for w in sm.rx)
+        )
+    finally:
+        _concrete(sm)
+    if not fit:
+        return c1
+    end = sm.key()
+    i = 1 if name == "x" else 2
+    if end[:i] + end[i + 1 :] != start[:i] + start[i + 1 :]:
+        return c1
+    passes = 1 << 32  # the first pass (0: the one run) whose guards come out otherwise
+    for kind, form, other, result in rec.guards:
+        base, neg, off = form
+        if kind != "==" or base != name or result or type(other) is not int:
+            return c1
+        # the counter at pass j is v - j: (±(v - j) + off) == other first holds at j
+        j = ((other + v - off) if neg else (v + off - other)) & trace.MASK
+        passes = min(passes, j or 1 << 32)
+    period = c1 - c
+    m = min(passes - 1, (c_end - c1) // period)
+    if m <= 0:
+        return c1
+    setattr(sm, name, (getattr(sm, name) - m) & trace.MASK)
+    return c1 + m * period
 
 
 def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
