@@ -105,6 +105,7 @@ LONG_MARK_HELP = (
 
 def pytest_configure(config):
     _options_that_need_another(config)
+    mpy_versions.versions(config)  # --mpy-version: an unknown version is a usage error, before collection
     config.stash[_flashed] = _flashed_firmware()
     stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
