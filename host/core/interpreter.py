@@ -643,13 +643,19 @@ def build(root: Path | None = None, version: str | None = None, source: str | No
     if current(target, "standard", rel.version):
         _log(f"up to date: {target}")
         return target
-    ensure_tools()
-    safefs.make_folder(target.parent, base=root)
-    log = root / ("build.log" if rel.version == DEFAULT_VERSION else f"build-{rel.build}.log")
-    _compile(fetch_source(root, rel.version, source), log, "standard", target, rel.version)
-    if _in_checkout(target):
-        os.utime(_identity_file(target))
-    os.utime(target)  # newer than its inputs, so make does not rebuild it
+    lock_name = ".standard.lock" if rel.version == DEFAULT_VERSION else f".standard-{rel.build}.lock"
+    with safefs.open_write(root / lock_name, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # (two setups of one version: one compiles, in one tree)
+        if current(target, "standard", rel.version):
+            _log(f"up to date: {target}")
+            return target
+        ensure_tools()
+        safefs.make_folder(target.parent, base=root)
+        log = root / ("build.log" if rel.version == DEFAULT_VERSION else f"build-{rel.build}.log")
+        _compile(fetch_source(root, rel.version, source), log, "standard", target, rel.version)
+        if _in_checkout(target):
+            os.utime(_identity_file(target))
+        os.utime(target)  # newer than its inputs, so make does not rebuild it
     return target
 
 
