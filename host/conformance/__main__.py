@@ -26,6 +26,7 @@ from pathlib import Path
 import tomllib
 
 from host.core import children, interpreter
+from host.core.errors import SetupError
 from host.core.paths import BUILD, REPO
 
 HERE = Path(__file__).resolve().parent
@@ -194,7 +195,11 @@ def main(argv: list[str]) -> int:
         os.environ[interpreter.VERSION_ENV] = version
         if version != interpreter.DEFAULT_VERSION:
             OUT = OUT / version
-    print(f"[conformance] MicroPython {interpreter.release().version}: {interpreter.find()}")
+    try:
+        print(f"[conformance] MicroPython {interpreter.release().version}: {interpreter.find()}")
+    except SetupError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
     tests = tests_dir()
     files, needs_unittest = select(tests)
     plain = run_tests(tests, files, interpreter.find(), "plain")

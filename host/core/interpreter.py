@@ -314,10 +314,10 @@ def _override(name: str, version: str | None) -> Path | None:
     override = os.environ.get(name)
     if not override:
         return None
+    if selected(version) and (not _executable(Path(override)) or version_problem(Path(override), version)):
+        return None  # (not that version's: the build of the version asked for is looked for)
     if not _executable(Path(override)):
         raise SetupError(f"{name}={override} is not an executable file")
-    if selected(version) and version_problem(Path(override), version) is not None:
-        return None
     return Path(override)
 
 
