@@ -175,3 +175,35 @@ def test_pytest_runs_every_rig_test_once_per_version_asked_for(pytester):
     ], out.outlines
     bad = pytester.runpytest("--collect-only", "-q", "--mpy-version", "1.9")
     assert bad.ret == pytest.ExitCode.USAGE_ERROR and "expected one of 1.25" in bad.stderr.str(), bad.stderr.lines
+
+
+def _built(version: str) -> bool:
+    try:
+        return interpreter.version_problem(interpreter.find(version), version) is None
+    except SetupError:
+        return False
+
+
+@pytest.mark.skipif(not _built("1.28"), reason="no MicroPython 1.28 built here (mpy-fil setup --micropython 1.28)")
+def test_each_version_runs_its_own_interpreter_and_junit_and_the_manifest_name_it(pytester, tmp_path):
+    pytester.makepyfile(
+        test_two="""
+        import json
+
+        def test_rover(make_rig):
+            rig = make_rig("rover", seed=1, record=True)
+            rig.run_for(0.2)
+            rig.stop()
+            manifest = json.loads((rig.artefacts / "manifest.json").read_text())
+            print("MANIFEST", manifest["interpreter"]["micropython"], manifest["interpreter"]["version"])
+        """
+    )
+    junit = tmp_path / "junit.xml"
+    out = pytester.runpytest("-s", "--mpy-version", "1.25,1.28", f"--junitxml={junit}", "--hil-out", str(tmp_path))
+    assert out.ret == 0, out.outlines
+    said = sorted(line[line.index("MANIFEST") :] for line in out.outlines if "MANIFEST" in line)
+    assert len(said) == 2 and said[0].startswith("MANIFEST 1.25 MicroPython v1.25."), said
+    assert said[1].startswith("MANIFEST 1.28 MicroPython v1.28."), said
+    text = junit.read_text()
+    assert 'name="micropython" value="1.25: MicroPython v1.25.' in text, text
+    assert 'name="micropython" value="1.28: MicroPython v1.28.' in text, text
