@@ -12,7 +12,8 @@
 #   make soak [HOURS=24]   the rover for 24 simulated hours: host and firmware memory at
 #                the start and the end, and the growth (not part of make test)
 #   make conformance   MicroPython's own tests on the plain port and in the loop (the
-#                table: build/conformance/table.md; docs/shim.md)
+#                table: build/conformance/table.md; docs/shim.md); MPY=1.28: on that MicroPython
+#                (built first: mpy-fil setup --micropython 1.28; docs/versions.md)
 #   make dist    the wheel and sdist in build/dist/ (pip install in a user's repository: docs/ci.md)
 #   make lint    ruff check and ruff format --check on everything (host, shim, firmware,
 #                plant, tests); `make format` applies the formatter
@@ -63,9 +64,12 @@ build/drivers/.fetched: host/core/drivers.txt host/core/drivers.py $(VENV)/.inst
 	$(PY) -m host.core.drivers
 	@touch $@
 
-$(MP_BUILD): host/core/interpreter.py $(wildcard host/core/micropython/*) host/core/aptsources.py $(wildcard host/shim/cmod/*/*)
+$(MP_BUILD): host/core/interpreter.py $(wildcard host/core/micropython/*.patch) host/core/micropython/manifest.py host/core/aptsources.py $(wildcard host/shim/cmod/*/*)
 	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
+
+# (the default version's; another's is built on demand: mpy-fil setup --micropython VERSION,
+# host/core/micropython/<version>/ holds its patches: docs/versions.md)
 
 # the same build with line tracing, for firmware coverage (docs/coverage.md; about 35 s)
 $(MP_SETTRACE): $(MP_BUILD)
@@ -120,7 +124,7 @@ soak: setup
 	$(PY) -m host.soak --hours $(HOURS)
 
 conformance: setup
-	$(PY) -m host.conformance --table build/conformance/table.md
+	$(PY) -m host.conformance $(if $(MPY),--micropython $(MPY) --table build/conformance/table-$(MPY).md,--table build/conformance/table.md)
 
 lint: $(VENV)/.installed
 	$(VENV)/bin/ruff check .

@@ -89,7 +89,7 @@ setup(
         "host._data.firmware": [f"{d}/**/{p}" for d in ("apps", "boards", "lib") for p in SOURCES],
         "host._data.examples": [f"**/{p}" for p in SOURCES],
         "host._data.docs": ["*.md"],  # (mpy-fil docs; every docs/NAME.md a message names)
-        "host.core": ["micropython/manifest.py", "micropython/*.patch", "*.sh"],
+        "host.core": ["micropython/manifest.py", "micropython/*.patch", "micropython/*/*.patch", "*.sh"],
         "host.device": ["vrepl/*.py"],
         "host.conformance": ["*.toml", "bench/*.py"],
         "host.kits": ["*/*.toml", "*/*.py"],  # (each kit: kit.toml, rig.toml, test.py)

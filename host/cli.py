@@ -213,6 +213,16 @@ def build_parser() -> argparse.ArgumentParser:
     _testing_parsers(sub)
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
+    setup.add_argument(
+        "--micropython",
+        metavar="VERSION",
+        help="the MicroPython version to get (default 1.25; several live side by side: docs/versions.md)",
+    )
+    setup.add_argument(
+        "--source",
+        metavar="DIR",
+        help="MicroPython's own source (a clone) for a version Debian does not carry ($MICROPYTHON_SOURCE)",
+    )
     setup.set_defaults(command=cmd_setup, sub=setup)
     _docs_parser(sub)  # mpy-fil docs [TOPIC]: the pages the package carries (host/core/docs.py)
     return parser
@@ -861,7 +871,9 @@ def cmd_campaign(args) -> int:
 def cmd_setup(args) -> int:
     from host.core import interpreter
 
-    path = interpreter.setup(log=lambda msg: print(f"setup: {msg}", flush=True))
+    say = lambda msg: print(f"setup: {msg}", flush=True)  # noqa: E731
+    version = getattr(args, "micropython", None)
+    path = interpreter.setup(log=say, version=version, source=getattr(args, "source", None))
     print(f"micropython: {interpreter.version(path)} ({path})")
     print("next: pytest beside your rig file (docs/ci.md)")
     return 0

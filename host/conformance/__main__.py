@@ -5,6 +5,11 @@ with upstream's ``run-tests.py``; prints the table and checks it against ``known
 the plain port fails in the loop and ``known.toml`` does not list it, or when
 ``known.toml`` lists a test that passes after all (the list is kept true). ``make test``
 runs it whole (``host/tests/test_conformance.py``).
+
+``--micropython VERSION`` runs another version's interpreter and that version's own tests
+(its source tree's ``tests/``: docs/versions.md), with its results under
+``build/conformance/<version>/``; a row of ``known.toml`` with ``versions = [...]`` holds for
+those versions only (a row without it, for every version).
 """
 
 import argparse
@@ -21,6 +26,7 @@ from pathlib import Path
 import tomllib
 
 from host.core import children, interpreter
+from host.core.errors import SetupError
 from host.core.paths import BUILD, REPO
 
 HERE = Path(__file__).resolve().parent
@@ -50,7 +56,8 @@ def tests_dir() -> Path:
 
 def select(tests: Path) -> tuple[list[str], list[str]]:
     """(the files to run, those left out because they need unittest: Debian's source
-    (+ds) strips micropython-lib, where it lives, and run-tests.py stops on them)."""
+    (+ds) strips micropython-lib, where it lives, a tag's archive has it as an empty
+    submodule, and run-tests.py stops on them)."""
     files = {p.relative_to(tests).as_posix() for pattern in TESTS for p in tests.glob(pattern)}
     needs = {f for f in files if "import unittest" in (tests / f).read_text()}
     return sorted(set(files) - needs), sorted(needs)
@@ -123,9 +130,16 @@ def fork_server():
         shutil.rmtree(folder, ignore_errors=True)
 
 
-def known() -> dict[str, str]:
+def known(version: str | None = None) -> dict[str, str]:
+    """The listed tests' reasons that hold for ``version`` (the selected one by default): a
+    row's ``versions``, when it has them, name the versions it holds for."""
     data = tomllib.loads((HERE / "known.toml").read_text())
-    return {name: entry["reason"] for name, entry in data.get("test", {}).items()}
+    version = interpreter.release(version).version
+    return {
+        name: entry["reason"]
+        for name, entry in data.get("test", {}).items()
+        if version in entry.get("versions", interpreter.RELEASES)
+    }
 
 
 def bench_table(files, bench, reasons) -> str:
@@ -173,7 +187,19 @@ def verdict(files, plain, shim, reasons, bench) -> list[str]:
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="python -m host.conformance", description=__doc__.splitlines()[0])
     ap.add_argument("--table", type=Path, help="also write the table (Markdown) to this file")
+    ap.add_argument("--micropython", metavar="VERSION", help="this MicroPython version (docs/versions.md)")
     args = ap.parse_args(argv)
+    global OUT
+    if args.micropython:  # (the runs in the loop, run-tests.py's children, take it from the environment)
+        version = interpreter.release(args.micropython).version
+        os.environ[interpreter.VERSION_ENV] = version
+        if version != interpreter.DEFAULT_VERSION:
+            OUT = OUT / version
+    try:
+        print(f"[conformance] MicroPython {interpreter.release().version}: {interpreter.find()}")
+    except SetupError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
     tests = tests_dir()
     files, needs_unittest = select(tests)
     plain = run_tests(tests, files, interpreter.find(), "plain")
@@ -187,7 +213,8 @@ def main(argv: list[str]) -> int:
     reasons = known()
     text = table(files, plain, shim, reasons)
     if needs_unittest:
-        text += f"Not run (they need unittest, which Debian's source leaves out): {', '.join(needs_unittest)}.\n"
+        left = ", ".join(needs_unittest)
+        text += f"Not run (they need unittest, in micropython-lib, which the source leaves out): {left}.\n"
     if bench:
         text += "\n" + bench_table(bench_files, bench, reasons)
     print(text)

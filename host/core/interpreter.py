@@ -22,6 +22,16 @@ bytecode functions, for MCU time (docs/mcu-time.md). The patches, the make optio
 frozen manifest make a build's identity (:func:`identity`), written beside each binary of a
 checkout's build: a binary of another identity is rebuilt (:func:`current`).
 
+Versions (:data:`RELEASES`, docs/versions.md): 1.25 (the default, Debian 13 "trixie"'s
+source package), 1.26 (Debian's next release's source package, suite "forky"), 1.27 and 1.28
+(MicroPython's own source at the release's tag, from a clone or a release tree the user names:
+``$MICROPYTHON_SOURCE``, :func:`upstream_source`; no package registry carries them as source).
+Which one runs: the ``version`` argument, else ``$MPY_FIL_MICROPYTHON`` (``[interpreter]
+version`` of a rig file, ``pytest --mpy-version``), else :data:`DEFAULT_VERSION`. Each is built
+into its own folder (``<root>/<build>/``, :func:`default_path`) with its own patches
+(``host/core/micropython/<version>/*.patch``; 1.25's are ``host/core/micropython/*.patch``)
+and its own identity; ``make setup`` builds the default one only.
+
 A second variant, ``settrace`` (:func:`build_variant`): the same build with line tracing
 (``sys.settrace``) for firmware coverage (docs/coverage.md), built only when coverage is
 asked for, into its own objects (``build-settrace``) and binary (``micropython-settrace``
@@ -30,11 +40,13 @@ command and binary are untouched by it.
 """
 
 import fcntl
+import functools
 import hashlib
 import os
 import shutil
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 from host.core import aptsources, paths, safefs
@@ -44,6 +56,54 @@ DEBIAN_VERSION = "1.25.0+ds-1"
 """Pinned source package version (Debian 13 "trixie" carries 1.25.0)."""
 DEBIAN_SUITE = "trixie"
 DEBIAN_KEYRING = "/usr/share/keyrings/debian-archive-keyring.gpg"
+
+
+@dataclass(frozen=True)
+class Release:
+    """A MicroPython version the harness builds: from Debian's source package ``debian`` (in
+    ``suite``), or from MicroPython's own source at ``tag`` (:func:`upstream_source`)."""
+
+    version: str  # what a rig file, `mpy-fil setup --micropython` and `pytest --mpy-version` say
+    build: str  # the folder its binaries go to, below the build root
+    debian: str | None = None
+    suite: str | None = None
+    tag: str | None = None
+
+
+RELEASES = {
+    r.version: r
+    for r in (
+        Release("1.25", DEBIAN_VERSION, debian=DEBIAN_VERSION, suite=DEBIAN_SUITE),
+        Release("1.26", "1.26.1+ds-1", debian="1.26.1+ds-1", suite="forky"),
+        Release("1.27", "1.27.0", tag="v1.27.0"),
+        Release("1.28", "1.28.0", tag="v1.28.0"),
+    )
+}
+"""The versions the harness builds (docs/versions.md: where each comes from, how one is added)."""
+DEFAULT_VERSION = "1.25"
+VERSION_ENV = "MPY_FIL_MICROPYTHON"
+"""The version selected for this process and the runs it starts (set by ``[interpreter]
+version`` and ``pytest --mpy-version``)."""
+SOURCE_ENV = "MICROPYTHON_SOURCE"
+"""MicroPython's source for a version Debian does not carry: a git repository (a clone, or a
+bare one) holding the release's tag, or the release's unpacked tree."""
+
+
+def release(version: str | None = None) -> Release:
+    """The release of ``version`` ("1.28" or "1.28.0"), else of ``$MPY_FIL_MICROPYTHON``,
+    else the default; a :class:`SetupError` naming the known ones for another."""
+    asked = (version or os.environ.get(VERSION_ENV) or DEFAULT_VERSION).strip()
+    key = ".".join(asked.lstrip("v").split("+")[0].split(".")[:2])
+    if key not in RELEASES:
+        raise SetupError(f"no MicroPython {asked} in the harness: expected one of {', '.join(RELEASES)}")
+    return RELEASES[key]
+
+
+def selected(version: str | None = None) -> bool:
+    """A version was asked for (argument or ``$MPY_FIL_MICROPYTHON``), not the default by
+    default: then ``$MICROPYTHON`` is used only when it is of that version."""
+    return bool(version or os.environ.get(VERSION_ENV))
+
 
 SETUP_HINT = "run `make setup`" if paths.CHECKOUT else "run `mpy-fil setup`"
 """What to do when there is no interpreter: the one command, as it runs where the harness is
@@ -74,22 +134,31 @@ PROJECT_ROOT = HERE.parent.parent.parent
 """What a relative folder in :data:`MAKE_OPTIONS` is relative to."""
 
 
-PATCHES = tuple(sorted(HERE.glob("*.patch")))
-"""Applied in order to the unpacked source before make (``patch -p1``)."""
+def patches(version: str | None = None) -> tuple[Path, ...]:
+    """A version's patches: ``host/core/micropython/<version>/*.patch``, the default version's
+    in ``host/core/micropython/`` itself."""
+    folder = HERE / release(version).version
+    return tuple(sorted((folder if folder.is_dir() else HERE).glob("*.patch")))
+
+
+PATCHES = patches(DEFAULT_VERSION)
+"""The default version's, applied in order to the unpacked source before make (``patch -p1``)."""
 APPLIED = ".mpy-fil-applied.patch"
 """In the source tree: the patches' text as last applied (:func:`patch_tree`)."""
 
 
-def patches_text() -> str:
-    return "".join(p.read_text() for p in PATCHES)
+def patches_text(version: str | None = None) -> str:
+    return "".join(p.read_text() for p in patches(version))
 
 
-def identity(variant: str = "standard") -> str:
-    """What a build is made of: a hash of its make options, the patches, the frozen manifest
-    and the user C modules' files. Written beside the binary (``<binary>.identity``)."""
+def identity(variant: str = "standard", version: str | None = None) -> str:
+    """What a build is made of: a hash of its source's version, make options, the patches,
+    the frozen manifest and the user C modules' files. Written beside the binary
+    (``<binary>.identity``)."""
+    rel = release(version)
     h = hashlib.sha256()
-    h.update(DEBIAN_VERSION.encode() + b"\0" + "\0".join(make_options(variant)).encode() + b"\0")
-    h.update(patches_text().encode())
+    h.update(rel.build.encode() + b"\0" + "\0".join(make_options(variant, rel.version)).encode() + b"\0")
+    h.update(patches_text(rel.version).encode())
     h.update((HERE / "manifest.py").read_bytes())
     cmod = PROJECT_ROOT / "host" / "shim" / "cmod"
     for f in sorted(cmod.rglob("*")):
@@ -106,7 +175,7 @@ def _in_checkout(target: Path) -> bool:
     return paths.CHECKOUT and Path(target).is_relative_to(build_root(checkout=True))
 
 
-def current(target: Path, variant: str) -> bool:
+def current(target: Path, variant: str, version: str | None = None) -> bool:
     """The binary at ``target`` is there and, in a checkout's build/ (where the patches and
     the C modules change under it), of this build's identity. (The per-user cache of an
     installed release holds that release's build: docs/ci.md caches its binary alone,
@@ -116,13 +185,13 @@ def current(target: Path, variant: str) -> bool:
     if not _in_checkout(target):
         return True
     marker = _identity_file(target)
-    return marker.is_file() and marker.read_text().strip() == identity(variant)
+    return marker.is_file() and marker.read_text().strip() == identity(variant, version)
 
 
-def patch_tree(tree: Path) -> None:
-    """Apply :data:`PATCHES` to the source tree, once: a tree patched with other text is
-    first unpatched (``patch -R`` with the text recorded in :data:`APPLIED`)."""
-    want = patches_text()
+def patch_tree(tree: Path, version: str | None = None) -> None:
+    """Apply the version's patches (:func:`patches`) to the source tree, once: a tree patched
+    with other text is first unpatched (``patch -R`` with the text recorded in :data:`APPLIED`)."""
+    want = patches_text(version)
     applied = tree / APPLIED
     have = applied.read_text() if applied.is_file() else ""
     if have == want:
@@ -132,7 +201,7 @@ def patch_tree(tree: Path) -> None:
         _patch(tree, have, "-R")
         applied.unlink()
     if want:
-        _log("patching the source: " + ", ".join(p.name for p in PATCHES))
+        _log("patching the source: " + ", ".join(paths.portable(p) for p in patches(version)))
         _patch(tree, want, "--dry-run")
         _patch(tree, want)
         safefs.write_text(applied, want)
@@ -174,43 +243,52 @@ def made_root(root: Path) -> Path:
     return safefs.make_folder(root)
 
 
-def default_path(root: Path | None = None) -> Path:
-    """The built binary: ``<root>/<Debian version>/micropython``."""
-    return (root or build_root()) / DEBIAN_VERSION / "micropython"
+def default_path(root: Path | None = None, version: str | None = None) -> Path:
+    """The built binary: ``<root>/<build>/micropython`` (``1.25.0+ds-1``, ``1.28.0``: the
+    version's :attr:`Release.build`)."""
+    return (root or build_root()) / release(version).build / "micropython"
 
 
-def variant_path(variant: str, root: Path | None = None) -> Path:
+def variant_path(variant: str, root: Path | None = None, version: str | None = None) -> Path:
     """A variant's binary: the standard one at :func:`default_path`, another beside it
     (``micropython-<variant>``)."""
     if variant not in VARIANT_OPTIONS:
         raise SetupError(f"no interpreter variant {variant!r}: expected one of {', '.join(VARIANT_OPTIONS)}")
-    target = default_path(root)
+    target = default_path(root, version)
     return target if variant == "standard" else target.with_name(f"micropython-{variant}")
 
 
-def make_options(variant: str = "standard") -> tuple[str, ...]:
+UPSTREAM_OPTIONS = ("MPY_LIB_DIR=$(TOP)/lib",)
+"""Added for a build from MicroPython's own source: py/mkrules.mk refuses to freeze a manifest
+without ``$(MPY_LIB_DIR)/README.md`` (the micropython-lib submodule, which a tag's archive
+leaves empty); the frozen manifest takes nothing from it, so lib/ (whose README.md is there)
+stands in. Debian's package drops that check (its patch 0007)."""
+
+
+def make_options(variant: str = "standard", version: str | None = None) -> tuple[str, ...]:
     """The unix port's make options of a variant (without the frozen manifest)."""
-    return (*MAKE_OPTIONS, *VARIANT_OPTIONS[variant])
+    upstream = UPSTREAM_OPTIONS if release(version).tag else ()
+    return (*MAKE_OPTIONS, *upstream, *VARIANT_OPTIONS[variant])
 
 
 def _executable(path: Path) -> bool:
     return path.is_file() and os.access(path, os.X_OK)
 
 
-def on_path() -> Path | None:
-    """A ``micropython`` on ``PATH`` of the pinned version (major.minor), or None."""
+def on_path(version: str | None = None) -> Path | None:
+    """A ``micropython`` on ``PATH`` of the selected version (major.minor), or None."""
     found = shutil.which("micropython")
     if found is None:
         return None
-    return Path(found) if version_problem(Path(found)) is None else None
+    return Path(found) if version_problem(Path(found), version) is None else None
 
 
-def version_problem(path: Path) -> str | None:
-    """Why the interpreter at ``path`` will not do (not the pinned MicroPython version),
+def version_problem(path: Path, version: str | None = None) -> str | None:
+    """Why the interpreter at ``path`` will not do (not the selected MicroPython version),
     or None when it will."""
-    want = DEBIAN_VERSION.split("+")[0].rsplit(".", 1)[0]  # "1.25"
+    want = release(version).version  # "1.25"
     try:
-        line = version(path)
+        line = _version_of(str(path), _mtime(path))
     except (OSError, subprocess.SubprocessError) as e:
         return f"{path} does not run as MicroPython ({e})"
     if not line.startswith(f"MicroPython v{want}."):
@@ -218,22 +296,55 @@ def version_problem(path: Path) -> str | None:
     return None
 
 
-def find() -> Path:
-    """The interpreter to run: ``$MICROPYTHON`` if set, else the one built by setup, else
-    one on ``PATH`` of the pinned version. A :class:`SetupError` that says the one
-    command to run when there is none."""
-    override = os.environ.get("MICROPYTHON")
+def _mtime(path: Path) -> int:
+    try:
+        return Path(path).stat().st_mtime_ns
+    except OSError:
+        return 0
+
+
+@functools.cache
+def _version_of(path: str, mtime_ns: int) -> str:
+    return version(Path(path))
+
+
+def _override(name: str, version: str | None) -> Path | None:
+    """``$MICROPYTHON`` (or a variant's): used when no version was asked for, or when it is
+    of the version asked for (``pytest --mpy-version 1.25,1.28`` with it set to a 1.25)."""
+    override = os.environ.get(name)
+    if not override:
+        return None
+    if selected(version) and (not _executable(Path(override)) or version_problem(Path(override), version)):
+        return None  # (not that version's: the build of the version asked for is looked for)
+    if not _executable(Path(override)):
+        raise SetupError(f"{name}={override} is not an executable file")
+    return Path(override)
+
+
+def setup_hint(version: str | None = None) -> str:
+    rel = release(version)
+    if rel.version == DEFAULT_VERSION and not selected(version):
+        return SETUP_HINT
+    return f"run `mpy-fil setup --micropython {rel.version}`"
+
+
+def find(version: str | None = None) -> Path:
+    """The interpreter to run: ``$MICROPYTHON`` if set (and of the version asked for, when
+    one is), else the one built by setup, else one on ``PATH`` of the selected version. A
+    :class:`SetupError` that says the one command to run when there is none."""
+    override = _override("MICROPYTHON", version)
     if override:
-        if not _executable(Path(override)):
-            raise SetupError(f"MICROPYTHON={override} is not an executable file")
-        return Path(override)
-    for path in dict.fromkeys((default_path(), default_path(build_root(checkout=False)))):
+        return override
+    for path in dict.fromkeys((default_path(None, version), default_path(build_root(checkout=False), version))):
         if _executable(path):
             return path
-    found = on_path()
+    found = on_path(version)
     if found is not None:
         return found
-    raise SetupError(f"no MicroPython interpreter (looked at $MICROPYTHON, {default_path()}, PATH): {SETUP_HINT}")
+    raise SetupError(
+        f"no MicroPython {release(version).version} interpreter (looked at $MICROPYTHON, "
+        f"{default_path(None, version)}, PATH): {setup_hint(version)}"
+    )
 
 
 def version(path: Path | None = None) -> str:
@@ -294,8 +405,13 @@ def ensure_tools() -> None:
         raise SetupError("still missing after apt-get install: " + " ".join(still))
 
 
-def _apt(root: Path, *args: str) -> list[str]:
-    apt = root / "apt"
+def _apt_dir(root: Path, suite: str = DEBIAN_SUITE) -> Path:
+    """The project-local apt folder of a suite (the pinned one's: ``apt``, as it always was)."""
+    return root / ("apt" if suite == DEBIAN_SUITE else f"apt-{suite}")
+
+
+def _apt(root: Path, *args: str, suite: str = DEBIAN_SUITE) -> list[str]:
+    apt = _apt_dir(root, suite)
     opts = {
         "Dir::Etc::SourceList": apt / "sources.list",
         "Dir::Etc::SourceParts": apt / "sources.list.d",
@@ -311,169 +427,306 @@ def _apt(root: Path, *args: str) -> list[str]:
     return ["apt-get", "-q", *flags, *args]
 
 
-def _tree(root: Path) -> Path:
-    return root / "src" / f"micropython-{DEBIAN_VERSION.rsplit('-', 1)[0]}"
+def _src_root(root: Path, version: str | None = None) -> Path:
+    rel = release(version)
+    return root / ("src" if rel.version == DEFAULT_VERSION else f"src-{rel.build}")
 
 
-def source_tree() -> Path:
+def _tree(root: Path, version: str | None = None) -> Path:
+    rel = release(version)
+    name = rel.debian.rsplit("-", 1)[0] if rel.debian else rel.build
+    return _src_root(root, version) / f"micropython-{name}"
+
+
+def source_tree(version: str | None = None) -> Path:
     """MicroPython's source as the build fetched it (its tests/ too); fetched if missing."""
-    return fetch_source(build_root())
+    return fetch_source(build_root(), version)
 
 
-def sources_line(files=None) -> str:
-    """The one ``deb-src`` line the build fetches from: the pinned suite's ``main`` on the
+def sources_line(files=None, suite: str = DEBIAN_SUITE) -> str:
+    """The one ``deb-src`` line the build fetches from: the suite's ``main`` on the
     machine's own Debian mirror."""
     mirror = aptsources.debian_mirror(files)
-    return f"deb-src [signed-by={DEBIAN_KEYRING}] {mirror} {DEBIAN_SUITE} main"
+    return f"deb-src [signed-by={DEBIAN_KEYRING}] {mirror} {suite} main"
 
 
-def fetch_source(root: Path) -> Path:
-    src_root = root / "src"
-    tree = _tree(root)
+def upstream_source(source: str | None = None) -> Path:
+    """Where MicroPython's own source is (``source``, else ``$MICROPYTHON_SOURCE``): a git
+    repository or a release's unpacked tree; a :class:`SetupError` saying how to get one."""
+    given = source or os.environ.get(SOURCE_ENV)
+    if not given:
+        raise SetupError(
+            "this MicroPython version is built from MicroPython's own source (micropython/micropython "
+            "on GitHub; no package registry carries it as source): clone it and set "
+            f"{SOURCE_ENV}=<the clone> (or pass --source <the clone>) (docs/versions.md)"
+        )
+    path = Path(given).expanduser().resolve()
+    if not path.is_dir():
+        raise SetupError(f"{SOURCE_ENV}={given}: not a folder")
+    return path
+
+
+def _is_git(path: Path) -> bool:
+    return (path / ".git").exists() or ((path / "HEAD").is_file() and (path / "objects").is_dir())
+
+
+def _tree_version(tree: Path) -> str:
+    """``1.28.0`` from a tree's py/mpconfig.h (its MICROPY_VERSION_MAJOR/MINOR/MICRO)."""
+    import re
+
+    text = (tree / "py" / "mpconfig.h").read_text(errors="replace")
+    parts = [re.search(rf"#define MICROPY_VERSION_{k} \((\d+)\)", text) for k in ("MAJOR", "MINOR", "MICRO")]
+    return ".".join(m.group(1) for m in parts) if all(parts) else "unknown"
+
+
+def _unpack_upstream(rel: Release, tree: Path, source: str | None) -> None:
+    """The release's tag from a git repository (``git archive``; no work tree needed, a bare
+    mirror will do), or a copy of a release tree of that version."""
+    src = upstream_source(source)
+    tmp = tree.with_name(tree.name + ".tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    safefs.make_folder(tmp)
+    if _is_git(src):
+        git = ["git", "-C", str(src)]
+        tag = f"{rel.tag}^{{commit}}"
+        commit = subprocess.run([*git, "rev-parse", "--verify", tag], capture_output=True, text=True)
+        if commit.returncode != 0:
+            raise SetupError(f"{src} has no tag {rel.tag} (fetch the tags: git -C {src} fetch --tags)")
+        _log(f"git archive {rel.tag} ({commit.stdout.strip()[:10]}) from {src}")
+        archive = subprocess.Popen([*git, "archive", rel.tag], stdout=subprocess.PIPE)
+        untar = subprocess.run(["tar", "-x", "-C", str(tmp)], stdin=archive.stdout)
+        archive.stdout.close()
+        if archive.wait() != 0 or untar.returncode != 0:
+            raise SetupError(f"git archive {rel.tag} from {src} failed")
+        safefs.write_text(tmp / ".mpy-fil-commit", commit.stdout.strip() + "\n")
+    else:
+        have = _tree_version(src) if (src / "py" / "mpconfig.h").is_file() else "not a MicroPython tree"
+        if have != rel.tag.lstrip("v"):
+            want = rel.tag.lstrip("v")
+            raise SetupError(f"{src}: MicroPython {have}, not {want} (a clone will do: docs/versions.md)")
+        _log(f"copying the release tree {src}")
+        shutil.rmtree(tmp)
+        shutil.copytree(src, tmp, symlinks=True, ignore=shutil.ignore_patterns("build-*", ".git"))
+    tmp.replace(tree)
+
+
+def build_env(tree: Path, version: str | None = None) -> dict:
+    """The environment make runs in. For MicroPython's own source, the version its header
+    gets (py/makeversionhdr.py, make_version_header: ``$MICROPY_GIT_TAG`` first; else it runs
+    ``git describe`` wherever the tree is, which names the repository around build/)."""
+    rel = release(version)
+    if not rel.tag:
+        return dict(os.environ)
+    marker = tree / ".mpy-fil-commit"
+    commit = marker.read_text().strip()[:10] if marker.is_file() else "release tree"
+    return {**os.environ, "MICROPY_GIT_TAG": rel.tag, "MICROPY_GIT_HASH": commit}
+
+
+def fetch_source(root: Path, version: str | None = None, source: str | None = None) -> Path:
+    rel = release(version)
+    src_root = _src_root(root, rel.version)
+    tree = _tree(root, rel.version)
     if (tree / "ports" / "unix" / "Makefile").is_file():
         return tree
-    apt = root / "apt"
+    if rel.tag:
+        safefs.make_folder(src_root, base=root)
+        _unpack_upstream(rel, tree, source)
+        return tree
+    apt = _apt_dir(root, rel.suite)
     for sub in ("sources.list.d", "preferences.d", "state", "lists/partial", "cache/archives/partial"):
         safefs.make_folder(apt / sub, base=root)  # (a link on the way: refused)
     if not (apt / "status").is_file():
         safefs.fresh_file(apt / "status")
-    line = sources_line()
+    line = sources_line(suite=rel.suite)
     safefs.write_text(
         apt / "sources.list",
-        "# Written by the interpreter build: the pinned source package's suite, on the Debian\n"
+        "# Written by the interpreter build: the source package's suite, on the Debian\n"
         "# mirror this machine's apt uses (or $DEBIAN_MIRROR). Only for `apt-get source`.\n" + line + "\n",
     )
     _log(f"apt-get update (project-local sources: {line})")
-    subprocess.run(_apt(root, "update"), check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(_apt(root, "update", suite=rel.suite), check=True, stdout=subprocess.DEVNULL)
     if src_root.is_symlink():
         safefs.refuse_link(src_root)
     if src_root.exists():
         shutil.rmtree(src_root)
     safefs.make_folder(src_root)
-    _log(f"apt-get source micropython={DEBIAN_VERSION}")
+    _log(f"apt-get source micropython={rel.debian}")
     subprocess.run(
-        _apt(root, "source", f"micropython={DEBIAN_VERSION}"), check=True, cwd=src_root, stdout=subprocess.DEVNULL
+        _apt(root, "source", f"micropython={rel.debian}", suite=rel.suite),
+        check=True,
+        cwd=src_root,
+        stdout=subprocess.DEVNULL,
     )
     if not tree.is_dir():
         raise SetupError(f"apt-get source did not unpack {tree}")
     return tree
 
 
-def find_variant(variant: str) -> Path:
+def find_variant(variant: str, version: str | None = None) -> Path:
     """A variant's interpreter: the standard one is :func:`find`; ``settrace`` is
-    ``$MICROPYTHON_SETTRACE`` if set, else the one built (:func:`build_variant`), else a
-    :class:`SetupError` naming the command that builds it."""
+    ``$MICROPYTHON_SETTRACE`` if set (and of the version asked for, when one is), else the
+    one built (:func:`build_variant`), else a :class:`SetupError` naming the command that
+    builds it."""
     if variant == "standard":
-        return find()
-    override = os.environ.get(f"MICROPYTHON_{variant.upper()}")
+        return find(version)
+    override = _override(f"MICROPYTHON_{variant.upper()}", version)
     if override:
-        if not _executable(Path(override)):
-            raise SetupError(f"MICROPYTHON_{variant.upper()}={override} is not an executable file")
-        return Path(override)
-    for path in dict.fromkeys((variant_path(variant), variant_path(variant, build_root(checkout=False)))):
+        return override
+    paths_ = (variant_path(variant, None, version), variant_path(variant, build_root(checkout=False), version))
+    for path in dict.fromkeys(paths_):
         if _executable(path):
             return path
+    asked = f" --micropython {release(version).version}" if selected(version) else ""
     raise SetupError(
-        f"no {variant} interpreter (looked at $MICROPYTHON_{variant.upper()}, {variant_path(variant)}): "
-        f"run `python3 -m host.core.interpreter build {variant}` (or ask for coverage: make hil COVERAGE=1)"
+        f"no {variant} interpreter (looked at $MICROPYTHON_{variant.upper()}, {paths_[0]}): "
+        f"run `python3 -m host.core.interpreter build {variant}{asked}` (or ask for coverage: make hil COVERAGE=1)"
     )
 
 
-def build_variant(variant: str, root: Path | None = None) -> Path:
+def build_variant(
+    variant: str, root: Path | None = None, version: str | None = None, source: str | None = None
+) -> Path:
     """Build a variant other than the standard one into ``root`` unless it is there (or
     ``$MICROPYTHON_<VARIANT>`` names it), one build at a time (a lock beside it)."""
     if variant == "standard":
-        return build(root)
-    override = os.environ.get(f"MICROPYTHON_{variant.upper()}")
-    if override and root is None:
-        return find_variant(variant)
+        return build(root, version, source)
+    if root is None and _override(f"MICROPYTHON_{variant.upper()}", version):
+        return find_variant(variant, version)
+    rel = release(version)
     root = made_root(root or build_root())
-    target = variant_path(variant, root)
-    with safefs.open_write(root / f".{variant}.lock", "w") as lock:
+    target = variant_path(variant, root, rel.version)
+    lock_name = f".{variant}.lock" if rel.version == DEFAULT_VERSION else f".{variant}-{rel.build}.lock"
+    with safefs.open_write(root / lock_name, "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
-        if current(target, variant):
+        if current(target, variant, rel.version):
             return target
         ensure_tools()
-        _compile(fetch_source(root), root / f"build-{variant}.log", variant, target)
+        safefs.make_folder(target.parent, base=root)
+        tree = fetch_source(root, rel.version, source)
+        _compile(tree, root / f"build-{variant}-{rel.build}.log", variant, target, rel.version)
     return target
 
 
-def _compile(tree: Path, log: Path, variant: str, target: Path) -> None:
+def _compile(tree: Path, log: Path, variant: str, target: Path, version: str | None = None) -> None:
     jobs = f"-j{os.cpu_count() or 2}"
     objects = tree / "ports" / "unix" / f"build-{variant}"
-    _log(f"building the unix port ({variant} variant, asyncio frozen in); log: {log}")
+    what = f"MicroPython {release(version).build}, {variant} variant, asyncio frozen in"
+    _log(f"building the unix port ({what}); log: {log}")
     shutil.rmtree(objects, ignore_errors=True)
-    patch_tree(tree)
-    unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *map(_absolute, make_options(variant))]
+    patch_tree(tree, version)
+    unix = ["make", jobs, "-C", str(tree / "ports" / "unix"), *map(_absolute, make_options(variant, version))]
+    env = build_env(tree, version)
     with safefs.open_write(log, "w") as out:
         for cmd in (["make", jobs, "-C", str(tree / "mpy-cross")], [*unix, f"FROZEN_MANIFEST={HERE / 'manifest.py'}"]):
-            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
+            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT, env=env).returncode != 0:
                 tail = log.read_text().splitlines()[-20:]
                 raise SetupError(f"build failed: {' '.join(cmd)}\n" + "\n".join(tail) + f"\n(full log: {log})")
     tmp = safefs.fresh_file(target.with_suffix(".tmp"))  # (a link left there: removed, not written through)
     shutil.copy2(objects / "micropython", tmp)
     tmp.replace(target)
     if _in_checkout(target):
-        safefs.write_text(_identity_file(target), identity(variant) + "\n")
-    _log(f"built {target}: {version(target)}")
+        safefs.write_text(_identity_file(target), identity(variant, version) + "\n")
+    _log(f"built {target}: {version_line(target)}")
 
 
-def build(root: Path | None = None) -> Path:
-    """Build the interpreter into ``root`` (default :func:`build_root`) unless it is there."""
+def version_line(path: Path) -> str:
+    """:func:`version`, asked once per binary (path and modification time)."""
+    return _version_of(str(path), _mtime(path))
+
+
+def build(root: Path | None = None, version: str | None = None, source: str | None = None) -> Path:
+    """Build the interpreter of ``version`` into ``root`` (default :func:`build_root`) unless
+    it is there."""
+    rel = release(version)
     root = made_root(root or build_root())
-    target = default_path(root)
-    if current(target, "standard"):
+    target = default_path(root, rel.version)
+    if current(target, "standard", rel.version):
         _log(f"up to date: {target}")
         return target
-    ensure_tools()
-    safefs.make_folder(target.parent, base=root)
-    _compile(fetch_source(root), root / "build.log", "standard", target)
-    if _in_checkout(target):
-        os.utime(_identity_file(target))
-    os.utime(target)  # newer than its inputs, so make does not rebuild it
+    lock_name = ".standard.lock" if rel.version == DEFAULT_VERSION else f".standard-{rel.build}.lock"
+    with safefs.open_write(root / lock_name, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # (two setups of one version: one compiles, in one tree)
+        if current(target, "standard", rel.version):
+            _log(f"up to date: {target}")
+            return target
+        ensure_tools()
+        safefs.make_folder(target.parent, base=root)
+        log = root / ("build.log" if rel.version == DEFAULT_VERSION else f"build-{rel.build}.log")
+        _compile(fetch_source(root, rel.version, source), log, "standard", target, rel.version)
+        if _in_checkout(target):
+            os.utime(_identity_file(target))
+        os.utime(target)  # newer than its inputs, so make does not rebuild it
     return target
 
 
-def setup(log=_log) -> Path:
-    """``mpy-fil setup``: the interpreter the harness will run, got once. ``$MICROPYTHON``
-    when set (checked), else one built before, else a ``micropython`` on ``PATH`` of the
-    pinned version, else built from Debian's source into :func:`build_root`."""
+def setup(log=_log, version: str | None = None, source: str | None = None) -> Path:
+    """``mpy-fil setup [--micropython VERSION]``: the interpreter the harness will run, got
+    once. ``$MICROPYTHON`` when set (checked: of the version asked for), else one built
+    before, else a ``micropython`` on ``PATH`` of that version, else built (from Debian's
+    source, or MicroPython's own for a version Debian does not carry) into :func:`build_root`."""
+    rel = release(version)
     override = os.environ.get("MICROPYTHON")
     if override:
-        path = find()
-        problem = version_problem(path)
-        if problem:
+        problem = version_problem(Path(override), rel.version) if _executable(Path(override)) else "not executable"
+        if problem is None:
+            log(f"using MICROPYTHON={override} (keep it set where the tests run)")
+            return Path(override)
+        if not selected(version):
             raise SetupError(f"MICROPYTHON={override}: {problem}")
-        log(f"using MICROPYTHON={path} (keep it set where the tests run)")
-        return path
-    if _executable(default_path()) and current(default_path(), "standard"):
-        log(f"up to date: {default_path()}")
-        return default_path()
+        log(f"not using MICROPYTHON={override} for MicroPython {rel.version}: {problem}")
+    target = default_path(None, rel.version)
+    if _executable(target) and current(target, "standard", rel.version):
+        log(f"up to date: {target}")
+        return target
     found = shutil.which("micropython")
     if found:
-        problem = version_problem(Path(found))
+        problem = version_problem(Path(found), rel.version)
         if problem is None:
             log(f"using {found} from PATH")
             return Path(found)
         log(f"not using the micropython on PATH: {problem}")
-    return build()
+    return build(None, rel.version, source)
+
+
+USAGE = (
+    "usage: python3 -m host.core.interpreter [build [VARIANT]|path|version|versions] "
+    "[--micropython VERSION] [--source DIR]"
+)
 
 
 def main(argv: list[str]) -> int:
-    cmd = argv[0] if argv else "path"
+    args, version, source = [], None, None
+    it = iter(argv)
+    for a in it:
+        if a in ("--micropython", "--source"):
+            value = next(it, None)
+            if value is None:
+                print(USAGE, file=sys.stderr)
+                return 2
+            version, source = (value, source) if a == "--micropython" else (version, value)
+        else:
+            args.append(a)
+    cmd = args[0] if args else "path"
     try:
         if cmd == "build":
-            if len(argv) > 1:
-                print(build_variant(argv[1]))
+            if len(args) > 1:
+                print(build_variant(args[1], None, version, source))
             else:
-                build()
+                build(None, version, source)
         elif cmd == "path":
-            print(find())
+            print(find(version))
         elif cmd == "version":
-            path = find()
-            print(f"{version(path)} ({path})")
+            path = find(version)
+            print(f"{version_line(path)} ({path})")
+        elif cmd == "versions":
+            for rel in RELEASES.values():
+                where = f"Debian {rel.debian} ({rel.suite})" if rel.debian else f"MicroPython's source, tag {rel.tag}"
+                built = default_path(None, rel.version)
+                state = "built" if _executable(built) else "not built"
+                mark = " (default)" if rel.version == DEFAULT_VERSION else ""
+                print(f"{rel.version}{mark}: {where}; {state}: {built}")
         else:
-            print("usage: python3 -m host.core.interpreter [build [VARIANT]|path|version]", file=sys.stderr)
+            print(USAGE, file=sys.stderr)
             return 2
     except SetupError as e:
         print(f"error: {e}", file=sys.stderr)

@@ -32,7 +32,7 @@ from host.core import interpreter
 from host.core.errors import SetupError
 from host.core.paths import REPO
 from host.link.transport import busy_poll_wanted, cores
-from host.pytest_plugin import budget_marks, failure, first_test, hil_coverage, stopping, userpath
+from host.pytest_plugin import budget_marks, failure, first_test, hil_coverage, mpy_versions, stopping, userpath
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
@@ -90,6 +90,11 @@ def pytest_addoption(parser):
         help=f"a rig file named as a test runs this long (virtual seconds; default {userpath.RIG_SECONDS:g})",
     )
     hil_coverage.addoption(group)
+    mpy_versions.addoption(group)  # --mpy-version A,B: every rig test once per MicroPython version
+
+
+def pytest_generate_tests(metafunc):
+    mpy_versions.generate(metafunc)
 
 
 LONG_MARK_HELP = (
@@ -100,6 +105,7 @@ LONG_MARK_HELP = (
 
 def pytest_configure(config):
     _options_that_need_another(config)
+    mpy_versions.versions(config)  # --mpy-version: an unknown version is a usage error, before collection
     config.stash[_flashed] = _flashed_firmware()
     stopping.install(config, is_worker(config))  # SIGTERM, SIGHUP: stopped as by Ctrl-C, nothing left running
     if not is_worker(config):  # under pytest-xdist, the controller reports what workers ran
@@ -220,6 +226,9 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
 
 
 def pytest_report_header(config):
+    matrix = mpy_versions.header(config)
+    if matrix:
+        return matrix
     try:
         path = interpreter.find()
         return f"micropython: {interpreter.version(path)} ({path})"
@@ -242,6 +251,9 @@ def make_rig(request):
 
     flashed = request.config.stash.get(_flashed, None)
     marked = budget_marks.marked_limits(request.node)
+    version = mpy_versions.selected_for(request.node)  # --mpy-version: this test's MicroPython
+    selected = mpy_versions.Selected(version).__enter__()
+    request.addfinalizer(lambda: selected.__exit__(None, None, None))  # (after the rigs stopped, even on errors)
 
     def factory(app="rover", budget_limits: dict | None = None, mission_s: float | None = None, **kwargs) -> Rig:
         app = userpath.resolve_rig(app, getattr(request.node, "path", None))
@@ -280,6 +292,9 @@ def make_rig(request):
         plot = (recording and is_worker(request.config)) or kept
         plots = plot_one(rig.artefacts) if plot and rig.recorder else ([], "")
         records.append(rig_record(f"rig{i}", rig, rows, plots))
+    if rigs:  # (the version the rigs ran: this test's, else the rig file's, else the default)
+        firmware = getattr(rigs[0], "firmware", None)
+        mpy_versions.record(request.node, firmware.micropython() if hasattr(firmware, "micropython") else version)
 
 
 def rig_from_keywords(app, plant_options: dict | None = None, **kwargs) -> Rig:
@@ -356,6 +371,12 @@ class FlashSummary:
         terminalreporter.write_sep("-", f"ran from flash: {len(self.ran)} tests ({where})")
         for nodeid, outcome in sorted(self.ran):
             terminalreporter.write_line(f"{outcome.upper():7} {nodeid}")
+
+
+@pytest.fixture
+def hil_mpy_version(request) -> str | None:
+    """The MicroPython version a ``--mpy-version`` test runs (None without the option)."""
+    return getattr(request, "param", None)
 
 
 @pytest.fixture

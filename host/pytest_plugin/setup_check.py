@@ -7,12 +7,16 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
+from host.pytest_plugin import mpy_versions
 
 
 def pytest_collection_finish(session):
     if session.config.option.collectonly or not any(
         "make_rig" in getattr(i, "fixturenames", ()) for i in session.items
     ):
+        return
+    if mpy_versions.versions(session.config):
+        mpy_versions.check(session)  # --mpy-version A,B: each of them
         return
     try:
         interpreter.find()

@@ -52,8 +52,9 @@ class ReportCollector:
         if rig.get("plot_error"):
             result.budgets.append(_plot_failure(rig["plot_error"]))
         self.scenario(nodeid, name).rigs.append(result)
-        if rig.get("micropython") and not self.micropython:
-            self.micropython = rig["micropython"].split(";")[0]
+        version = rig.get("micropython", "").split(";")[0]
+        if version and version not in self.micropython.split(", "):  # (pytest --mpy-version: each one)
+            self.micropython = f"{self.micropython}, {version}" if self.micropython else version
 
     def add_phase(self, nodeid: str, name: str, report) -> None:
         """One of setup/call/teardown finished: fold its outcome into the scenario's."""

@@ -40,6 +40,7 @@ class App:
     rig_file: Path | None = None
     heap_size: str | None = None  # the interpreter's heap (``-X heapsize``), as a board's
     ticks_wrap_s: float | None = None  # ticks_ms/ticks_us wrap this long into the run (10 s)
+    mpy_version: str | None = None  # [interpreter] version: the MicroPython the board runs (docs/versions.md)
     identity: tuple[str, str] | None = None  # (sys.platform, machine): default by board name
     console_max_bytes: int | None = None  # the console file's cap (default: 64 MiB)
     console_baud: int = 115_200  # the REPL UART's baud rate: print() takes its time (0: free)

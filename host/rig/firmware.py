@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from host.core.errors import ConfigError
+from host.core.interpreter import VERSION_ENV
 from host.core.paths import SHIM_DIR
 from host.rig import mcutime
 from host.rig.boardfs import DEFAULT_FLASH_BYTES, flash_files, regular_file
@@ -48,6 +49,7 @@ class Firmware:
     board_root: Path | None = None  # this run's copy, the board's / (host/rig/boardfs.py)
     coverage_fd: int | None = None  # the tracer writes here (host/coverage, docs/coverage.md)
     cpu: str = "free"  # compute costs this CPU's time ([board] cpu, host/rig/mcutime.py)
+    mpy_version: str | None = None  # [interpreter] version (docs/versions.md)
 
     @classmethod
     def from_app(cls, app, board_folder: Path | None, main_dir: Path | None = None) -> "Firmware":
@@ -69,6 +71,7 @@ class Firmware:
             confine.get("allow", ()),
             confine.get("sandbox", "auto"),
             cpu=getattr(app, "cpu", "free"),
+            mpy_version=getattr(app, "mpy_version", None),
         )
 
     @classmethod
@@ -136,6 +139,11 @@ class Firmware:
             # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
             **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }
+
+    def micropython(self) -> str | None:
+        """The MicroPython version this run asks for: ``$MPY_FIL_MICROPYTHON`` (``pytest
+        --mpy-version``) over the rig file's ``[interpreter] version``; None: the default."""
+        return os.environ.get(VERSION_ENV) or self.mpy_version
 
     def firmware_heap_bytes(self) -> int:
         """The heap the firmware finds free as it starts (the shim takes the rest: _hilboot)."""

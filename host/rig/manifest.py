@@ -72,19 +72,22 @@ def firmware_part(firmware, flashed: dict | None = None) -> dict:
     return {"entry": firmware.entry, "sha256": identity["sha256"], "files": files}
 
 
-def interpreter_part(variant: str) -> dict:
-    """The interpreter a run uses: path, version, variant, make options, binary's SHA-256."""
+def interpreter_part(variant: str, version: str | None = None) -> dict:
+    """The interpreter a run uses: the version asked for, path, its version line, variant,
+    make options, binary's SHA-256."""
+    asked = interpreter.release(version).version
     try:
-        path = interpreter.find_variant(variant)
+        path = interpreter.find_variant(variant, version)
     except SetupError as e:
-        return {"variant": variant, "error": str(e)}
+        return {"micropython": asked, "variant": variant, "error": str(e)}
     stat = path.stat()
-    ours = path.resolve() in {interpreter.variant_path(variant, root).resolve() for root in _roots()}
+    ours = path.resolve() in {interpreter.variant_path(variant, root, version).resolve() for root in _roots()}
     return {
+        "micropython": asked,
         "path": str(path),
         "version": _binary_version(str(path), stat.st_mtime_ns),
         "variant": variant,
-        "make_options": list(interpreter.make_options(variant)) if ours else None,
+        "make_options": list(interpreter.make_options(variant, version)) if ours else None,
         "sha256": _binary_sha256(str(path), stat.st_mtime_ns, stat.st_size),
     }
 
@@ -169,7 +172,7 @@ def build(app, spec, firmware, plant, plant_options: dict, *, variant="standard"
             "placement": _plain(header["placement"]),
         },
         "firmware": firmware_part(firmware, flashed),
-        "interpreter": interpreter_part(variant),
+        "interpreter": interpreter_part(variant, firmware.micropython() if hasattr(firmware, "micropython") else None),
         "shim": shim_part(),
         "plant": plant_part(plant, plant_options),
         "harness": harness_part(),

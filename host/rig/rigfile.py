@@ -12,7 +12,7 @@ import difflib
 import re
 from pathlib import Path
 
-from host.core.errors import ConfigError
+from host.core.errors import ConfigError, SetupError
 from host.core.paths import BOARDS_DIR
 from host.rig import mcutime, migrate, rigrules
 from host.rig.app import App
@@ -68,7 +68,7 @@ BOARD_KEYS = {
     "cpu": str,
 }
 BOARD_KEYS |= {"flash_size": (str, int), "allow_modules": dict, "sandbox": str}  # (host/rig/boardfs.py)
-INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float)}
+INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float), "version": str}
 BUDGET_KINDS = {
     "period": (PeriodBudget, {"source": str, "period_us": int, "tolerance_us": int, "marker": str}),
     "latency": (LatencyBudget, {"source": str, "limit_us": int}),
@@ -209,6 +209,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
         rig_file=path,
         heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
         ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
+        mpy_version=_mpy_version(where, interpreter.get("version")),
         identity=_family(where, data.get("board", {})),
         extra={
             "faults": faults,
@@ -372,6 +373,19 @@ def _wrap_s(where: _Where, seconds) -> float | None:
     if seconds is not None and not 0 <= seconds <= 1000:
         raise where.error("[interpreter] ticks_wrap_s", f"expected 0 to 1000 s (the ticks' period), got {seconds}")
     return None if seconds is None else float(seconds)
+
+
+def _mpy_version(where: _Where, version: str | None) -> str | None:
+    """``[interpreter] version``: the MicroPython the board runs, one the harness builds
+    (host/core/interpreter.py RELEASES, docs/versions.md)."""
+    if version is None:
+        return None
+    from host.core import interpreter
+
+    try:
+        return interpreter.release(version).version
+    except SetupError as e:
+        raise where.error("[interpreter] version", str(e)) from None
 
 
 def _folder(where: _Where, base: Path, field: str, item) -> Path:

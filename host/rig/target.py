@@ -143,7 +143,8 @@ class UnixPortTarget(Target):
             self.pty = PtyPair()
         self._on_console = on_console
         tracing = firmware.coverage_fd is not None  # (docs/coverage.md: the settrace variant)
-        program = str(interpreter.find_variant("settrace") if tracing else interpreter.find())
+        version = firmware.micropython() if hasattr(firmware, "micropython") else None
+        program = str(interpreter.find_variant("settrace" if tracing else "standard", version))
         argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
         setting = sandbox.setting(firmware.sandbox)
         argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, setting, firmware.main_dir)

@@ -31,12 +31,12 @@ def test_the_patch_comes_off_and_goes_on_again_when_it_changes(tree, monkeypatch
     interpreter.patch_tree(tree)  # the same text: nothing to do
     assert (tree / "py/vm.c").read_text() == before
     assert "mp_hil_cur->ops[*ip]++" in before, "expected the patched VM to count at each dispatch"
-    monkeypatch.setattr(interpreter, "patches_text", lambda: "")
+    monkeypatch.setattr(interpreter, "patches_text", lambda version=None: "")
     interpreter.patch_tree(tree)  # no patches now: the tree as Debian's source has it
     assert "mp_hil" not in (tree / "py/vm.c").read_text()
     assert not (tree / "py/hilcount.h").exists() or not (tree / "py/hilcount.h").read_text().strip()
     assert not (tree / interpreter.APPLIED).exists()
-    monkeypatch.setattr(interpreter, "patches_text", lambda: text)
+    monkeypatch.setattr(interpreter, "patches_text", lambda version=None: text)
     interpreter.patch_tree(tree)
     assert (tree / "py/vm.c").read_text() == before
     assert (tree / interpreter.APPLIED).read_text() == text
@@ -46,5 +46,5 @@ def test_the_patch_is_part_of_the_builds_identity(monkeypatch):
     standard = interpreter.identity("standard")
     assert standard != interpreter.identity("settrace")
     text = interpreter.patches_text()
-    monkeypatch.setattr(interpreter, "patches_text", lambda: text + "\n")
+    monkeypatch.setattr(interpreter, "patches_text", lambda version=None: text + "\n")
     assert interpreter.identity("standard") != standard, "a changed patch must change the build's identity"

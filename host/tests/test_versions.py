@@ -1,0 +1,209 @@
+"""MicroPython versions side by side (docs/versions.md): each version has its own folder, patch
+and identity; a rig file's ``[interpreter] version`` and ``pytest --mpy-version`` select one;
+``$MICROPYTHON`` stands for a version asked for only when it is of that version; a version
+built from MicroPython's own source says where to get it when none is named."""
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from host.core import interpreter
+from host.core.errors import SetupError
+from host.core.paths import REPO
+from host.rig.firmware import Firmware
+from host.rig.rigfile import load_rig
+from host.tests.test_rigfile_bounds import GOOD, refused
+
+pytest_plugins = ("pytester",)  # (pytest --mpy-version, run in this process on a test file of its own)
+
+
+def test_a_version_is_named_by_major_and_minor_and_an_unknown_one_names_the_known():
+    assert interpreter.release("1.28.0").version == "1.28"
+    assert interpreter.release("v1.26.1").build == "1.26.1+ds-1"
+    assert interpreter.release(None).version == interpreter.DEFAULT_VERSION == "1.25"
+    with pytest.raises(SetupError) as e:
+        interpreter.release("1.9")
+    assert "expected one of 1.25, 1.26, 1.27, 1.28" in str(e.value), e.value
+
+
+def test_each_version_has_its_folder_patch_and_identity(monkeypatch):
+    monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+    root = Path("/nowhere")
+    assert interpreter.default_path(root) == root / "1.25.0+ds-1" / "micropython", "the default's folder moved"
+    assert interpreter.default_path(root, "1.28") == root / "1.28.0" / "micropython"
+    assert interpreter.variant_path("settrace", root, "1.26") == root / "1.26.1+ds-1" / "micropython-settrace"
+    assert interpreter.patches("1.25") == interpreter.PATCHES
+    assert interpreter.patches("1.28") == (interpreter.HERE / "1.28" / "hilcount.patch",)
+    identities = {v: interpreter.identity("standard", v) for v in interpreter.RELEASES}
+    assert len(set(identities.values())) == len(identities), f"expected an identity per version: {identities}"
+    assert "MPY_LIB_DIR=$(TOP)/lib" in interpreter.make_options("standard", "1.28")
+    assert "MPY_LIB_DIR=$(TOP)/lib" not in interpreter.make_options("standard", "1.26"), "Debian's needs none"
+
+
+def test_every_versions_patch_counts_the_same_things():
+    """Only where a counter goes may differ between versions, never what it counts: each
+    patch's added lines that name a counter are those of the default's (the multiply's
+    wide-result count aside, which 1.27 and later need no hunk for)."""
+
+    def counters(path: Path) -> set[str]:
+        added = [line[1:].strip() for line in path.read_text().splitlines() if line.startswith("+")]
+        return {line for line in added if "mp_hil_cur->" in line or "mp_hil_counts." in line}
+
+    default = counters(interpreter.PATCHES[0])
+    for version in ("1.26", "1.27", "1.28"):
+        (patch,) = interpreter.patches(version)
+        missing = {c for c in default - counters(patch) if "wide++" not in c}
+        assert not missing, f"{patch}: the default's counters missing: {sorted(missing)}"
+        assert counters(patch) <= default | {"mp_hil_cur->wide++;  // mpy-fil: as below (a board's small int)"}
+
+
+def test_the_selected_version_comes_from_the_environment_over_the_rig_file(monkeypatch, tmp_path):
+    firmware = Firmware(tmp_path, [tmp_path], mpy_version="1.26")
+    monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+    assert firmware.micropython() == "1.26"
+    monkeypatch.setenv(interpreter.VERSION_ENV, "1.28")
+    assert firmware.micropython() == "1.28", "pytest --mpy-version runs its version over the rig file's"
+
+
+@pytest.fixture
+def pico(tmp_path):
+    folder = tmp_path / "pico_bot"
+    folder.mkdir()
+    shutil.copy(REPO / "examples" / "pico_bot" / "main.py", folder)
+    return folder
+
+
+def test_a_rig_file_names_its_boards_micropython(pico):
+    path = pico / "rig.toml"
+    path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "1.28.0"'))
+    assert load_rig(path).mpy_version == "1.28"
+    refused(
+        pico,
+        GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "2.0"'),
+        "[interpreter] version",
+        "expected one of 1.25, 1.26, 1.27, 1.28",
+    )
+
+
+def _fake_micropython(tmp_path: Path, line: str) -> Path:
+    path = tmp_path / f"mp-{line.split()[1]}"
+    path.write_text(f"#!/bin/sh\necho '{line}'\n")
+    path.chmod(0o755)
+    return path
+
+
+def test_micropython_stands_for_a_version_asked_for_only_when_it_is_that_version(tmp_path, monkeypatch):
+    old = _fake_micropython(tmp_path, "MicroPython v1.25.0+ds-1 on 2025-05-04")
+    monkeypatch.setenv("MICROPYTHON", str(old))
+    monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+    monkeypatch.setattr(interpreter, "build_root", lambda checkout=None: tmp_path / "builds")
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    assert interpreter.find() == old, "no version asked for: $MICROPYTHON, as always"
+    assert interpreter.find("1.25") == old
+    with pytest.raises(SetupError) as e:
+        interpreter.find("1.28")
+    assert "no MicroPython 1.28 interpreter" in str(e.value) and "--micropython 1.28" in str(e.value), e.value
+    monkeypatch.setenv(interpreter.VERSION_ENV, "1.28")
+    with pytest.raises(SetupError):
+        interpreter.find()
+
+
+def test_a_version_from_micropythons_source_says_where_to_get_it(tmp_path, monkeypatch):
+    monkeypatch.delenv(interpreter.SOURCE_ENV, raising=False)
+    with pytest.raises(SetupError) as e:
+        interpreter.fetch_source(tmp_path, "1.28")
+    assert interpreter.SOURCE_ENV in str(e.value) and "clone" in str(e.value), e.value
+    tree = tmp_path / "tree"
+    (tree / "py").mkdir(parents=True)
+    (tree / "py" / "mpconfig.h").write_text(
+        "#define MICROPY_VERSION_MAJOR (1)\n#define MICROPY_VERSION_MINOR (27)\n#define MICROPY_VERSION_MICRO (0)\n"
+    )
+    with pytest.raises(SetupError) as e:
+        interpreter.fetch_source(tmp_path / "root", "1.28", source=str(tree))
+    assert "MicroPython 1.27.0, not 1.28.0" in str(e.value), e.value
+
+
+def test_a_tag_is_taken_from_a_git_repository_without_a_work_tree(tmp_path):
+    repo = tmp_path / "repo"
+    subprocess.run(["git", "init", "-q", str(repo)], check=True)
+    (repo / "py").mkdir()
+    (repo / "py" / "marker.c").write_text("/* v1.27.0 */\n")
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run([*git, "add", "-A"], check=True)
+    subprocess.run([*git, "commit", "-qm", "v1.27.0"], check=True)
+    subprocess.run([*git, "tag", "v1.27.0"], check=True)
+    bare = tmp_path / "bare.git"
+    subprocess.run(["git", "clone", "-q", "--bare", str(repo), str(bare)], check=True)
+    root = tmp_path / "root"
+    root.mkdir()
+    with pytest.raises(SetupError) as e:  # (no ports/unix/Makefile: the archive is unpacked, then checked)
+        tree = interpreter.fetch_source(root, "1.27", source=str(bare))
+        assert (tree / "py" / "marker.c").read_text() == "/* v1.27.0 */\n"
+        raise SetupError("unpacked")
+    assert str(e.value) == "unpacked", e.value
+    commit = (interpreter._tree(root, "1.27") / ".mpy-fil-commit").read_text().strip()
+    env = interpreter.build_env(interpreter._tree(root, "1.27"), "1.27")
+    assert env["MICROPY_GIT_TAG"] == "v1.27.0" and commit.startswith(env["MICROPY_GIT_HASH"]), env
+    with pytest.raises(SetupError) as e:
+        interpreter.fetch_source(tmp_path / "root2", "1.28", source=str(bare))
+    assert "has no tag v1.28.0" in str(e.value), e.value
+
+
+def test_pytest_runs_every_rig_test_once_per_version_asked_for(pytester):
+    pytester.makepyfile(
+        test_ids="""
+        import pytest
+
+        @pytest.mark.parametrize("seed", [1, 2])
+        def test_with_a_rig(make_rig, seed):
+            pass
+
+        def test_without_a_rig():
+            pass
+        """
+    )
+    out = pytester.runpytest("--collect-only", "-q", "--mpy-version", "1.25,1.28.0,1.25")
+    ids = sorted(line for line in out.outlines if "::" in line)
+    assert ids == [
+        "test_ids.py::test_with_a_rig[mpy1.25-1]",
+        "test_ids.py::test_with_a_rig[mpy1.25-2]",
+        "test_ids.py::test_with_a_rig[mpy1.28-1]",
+        "test_ids.py::test_with_a_rig[mpy1.28-2]",
+        "test_ids.py::test_without_a_rig",
+    ], out.outlines
+    bad = pytester.runpytest("--collect-only", "-q", "--mpy-version", "1.9")
+    assert bad.ret == pytest.ExitCode.USAGE_ERROR and "expected one of 1.25" in bad.stderr.str(), bad.stderr.lines
+
+
+def _built(version: str) -> bool:
+    try:
+        return interpreter.version_problem(interpreter.find(version), version) is None
+    except SetupError:
+        return False
+
+
+@pytest.mark.skipif(not _built("1.28"), reason="no MicroPython 1.28 built here (mpy-fil setup --micropython 1.28)")
+def test_each_version_runs_its_own_interpreter_and_junit_and_the_manifest_name_it(pytester, tmp_path):
+    pytester.makepyfile(
+        test_two="""
+        import json
+
+        def test_rover(make_rig):
+            rig = make_rig("rover", seed=1, record=True)
+            rig.run_for(0.2)
+            rig.stop()
+            manifest = json.loads((rig.artefacts / "manifest.json").read_text())
+            print("MANIFEST", manifest["interpreter"]["micropython"], manifest["interpreter"]["version"])
+        """
+    )
+    junit = tmp_path / "junit.xml"
+    out = pytester.runpytest("-s", "--mpy-version", "1.25,1.28", f"--junitxml={junit}", "--hil-out", str(tmp_path))
+    assert out.ret == 0, out.outlines
+    said = sorted(line[line.index("MANIFEST") :] for line in out.outlines if "MANIFEST" in line)
+    assert len(said) == 2 and said[0].startswith("MANIFEST 1.25 MicroPython v1.25."), said
+    assert said[1].startswith("MANIFEST 1.28 MicroPython v1.28."), said
+    text = junit.read_text()
+    assert 'name="micropython" value="1.25: MicroPython v1.25.' in text, text
+    assert 'name="micropython" value="1.28: MicroPython v1.28.' in text, text
