@@ -281,7 +281,7 @@ def test_the_report_shows_the_cpu_load_and_the_function_of_the_longest_stretch(m
     main = main.replace("    return acc\n", "    led.toggle()\n    return acc\n")  # (the write inside the step)
     main = main.replace("    led.toggle()\n    if", "    if")
     (folder / "main.py").write_text(textwrap.dedent(main))
-    rig = make_rig(str(folder / "rig.toml"), trace=True)
+    rig = make_rig(str(folder / "rig.toml"), trace=True, record=True)  # (its trace folder under make test too)
     rig.run_for(0.5)
     rig.stop()
     header = json.loads((rig.artefacts / "header.json").read_text())
