@@ -62,6 +62,7 @@ def on_bus(rig, p: bytes) -> None:
     """A bus transfer: answered at once from the devices as the plant is at its instant."""
     t, h, op, address, n_read, data = F.unpack_bus(p)
     rig.clock.catch_up(t)
+    rig.stats.bus_round_trips += 1
     info = rig.wiring.handles[h]
     unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
     status, count, got = rig.bus_trace.answer(rig.plant, info, h, t, op, address, n_read, data, unclocked)

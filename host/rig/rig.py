@@ -49,6 +49,7 @@ PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
 @dataclass
 class RunStats:
     link_round_trips: int = 0
+    bus_round_trips: int = 0  # BUS frames answered (a bus transfer's own exchange)
     irq_edges: int = 0
     rollbacks: int = 0
     lease_violations: int = 0
