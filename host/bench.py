@@ -49,7 +49,7 @@ from host.core import children, interpreter
 from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
-from host.rig import Recording, Rig, RigSpec
+from host.rig import Recording, Rig, RigSpec, sandbox
 from host.rig.pacing import Lockstep
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
@@ -303,30 +303,35 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
         def count(_tx) -> None:
             transfers[0] += 1
 
-        children_cpu = _children_cpu_s()
         with Rig(spec, Recording(**recording)) as rig:
             rig.bus_trace.hooks.setdefault("i2c0", []).append(count)
-            cpu0, t0 = time.process_time(), time.perf_counter()
-            rig.run_for(run_ms / 1000 + 0.1)
+            fw_cpu0, cpu0, t0 = firmware_cpu_s(rig), time.process_time(), time.perf_counter()
+            rig.run_for(run_ms / 1000 - 0.05)  # (the interpreter's CPU read while it runs)
+            fw_cpu = firmware_cpu_s(rig) - fw_cpu0
+            rig.run_for(0.15)
             wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
             lines = [line for line in rig.console.splitlines() if line.startswith("imu_bot ")]
             result = {
                 "sim_s": rig.t_us / 1e6,
                 "wall_s": wall,
                 "host_cpu_s": cpu,
+                "firmware_cpu_s": fw_cpu,
                 "transfers": transfers[0],
                 "state_exchanges": rig.stats.link_round_trips,
                 "bus_exchanges": rig.stats.bus_round_trips,
                 "printed": lines[-1] if lines else None,
             }
-        result["firmware_cpu_s"] = _children_cpu_s() - children_cpu  # (the interpreter, waited for at close)
         result["exchanges"] = result["state_exchanges"] + result["bus_exchanges"]
         return result
 
 
-def _children_cpu_s() -> float:
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
+def firmware_cpu_s(rig) -> float:
+    """The interpreter's CPU time so far (user and system, from /proc; NaN where there is none)."""
+    try:
+        fields = Path(f"/proc/{sandbox.interpreter_pid(rig.target.proc)}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, AttributeError, IndexError):
+        return math.nan
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 BARE_IMU = """
