@@ -24,9 +24,10 @@ The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, th
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
 chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. ``MPY_FIL_BUS_EXCHANGE=1`` in the host's
-environment sends no image: every transfer is an exchange (the path the images must match
-byte for byte: ``host/tests/test_bus_image.py``).
+go exactly as with an exchange, one round trip fewer. Images are sent only with
+``MPY_FIL_BUS_IMAGES=1`` in the host's environment (today they cost more CPU than the
+exchanges they save: docs/bench.md); without it every transfer is an exchange, the path the
+images must match byte for byte (``host/tests/test_bus_image.py``).
 """
 
 import copy
@@ -37,14 +38,16 @@ from host.core.errors import LinkError
 from host.link import frames as F
 from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice, tick_after
 
-ENV = "MPY_FIL_BUS_EXCHANGE"
+ENV = "MPY_FIL_BUS_IMAGES"
 MAX_READS = 6  # read shapes imaged a bus handle: the ones read last (the firmware's polls)
 _POINTER = ("pointer", "pointed")
 _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    return os.environ.get(ENV, "").strip() not in ("1", "yes", "true")
+    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): they save an exchange a pure
+    read but cost more host and shim CPU than the exchange does today (docs/bench.md)."""
+    return os.environ.get(ENV, "").strip() in ("1", "yes", "true")
 
 
 def steady_until(device, t_us: int) -> int:

@@ -1,5 +1,5 @@
 """Bus reads the shim answers from the host's image (``host/rig/busimage.py``) read exactly
-what they read when every transfer is its own exchange (``MPY_FIL_BUS_EXCHANGE=1``): each
+what they read when every transfer is its own exchange (without ``MPY_FIL_BUS_IMAGES=1``): each
 bus test below is run both ways and every rig it makes must give the same bus readings
 (every BUS record of ``trace.jsonl``: instant, bytes written, bytes read, outcome, register,
 duration), the same console (notes included) and the same ground truth at its end, and the
@@ -49,8 +49,8 @@ def run_both(tmp_path, monkeypatch, call) -> list[tuple]:
     """``call(make_rig, tmp)`` with every transfer an exchange, then with images: per rig
     made, (bus records, console, truth, reads answered in the shim) each way."""
     out = {}
-    for way, exchange in (("exchange", "1"), ("image", "0")):
-        monkeypatch.setenv(ENV, exchange)
+    for way, images in (("exchange", "0"), ("image", "1")):
+        monkeypatch.setenv(ENV, images)
         rigs = []
 
         def make_rig(app="rover", _rigs=rigs, _folder=tmp_path / way, **kwargs):
@@ -84,7 +84,7 @@ def same(pairs, where: str, tmp_path) -> int:
                     f"{where} rig{i}: expected the same {name} with images as with an exchange a transfer; "
                     f"{where_first}artefacts in {tmp_path}"
                 )
-        assert exchange[3] == 0, f"{where} rig{i}: expected no read answered in the shim with {ENV}=1"
+        assert exchange[3] == 0, f"{where} rig{i}: expected no read answered in the shim with {ENV}=0"
         local += image[3]
     return local
 
@@ -106,8 +106,8 @@ def test_a_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, modu
 
 def test_the_bus_heavy_bench_robot_reads_the_same_bytes_with_images(tmp_path, monkeypatch):
     runs = {}
-    for way, exchange in (("exchange", "1"), ("image", "0")):
-        monkeypatch.setenv(ENV, exchange)
+    for way, images in (("exchange", "0"), ("image", "1")):
+        monkeypatch.setenv(ENV, images)
         runs[way] = run_imu_bot(1000, record=True, trace=True, artefacts=tmp_path / way)
         text = (tmp_path / way / "trace.jsonl").read_text()
         runs[way]["bus"] = [line for line in text.splitlines() if '"msg":"BUS"' in line]
