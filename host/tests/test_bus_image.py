@@ -4,7 +4,8 @@ bus test below is run both ways and every rig it makes must give the same bus re
 (every BUS record of ``trace.jsonl``: instant, bytes written, bytes read, outcome, register,
 duration), the same console (notes included) and the same ground truth at its end, and the
 image path must have answered some reads itself where the firmware polls (so the
-comparison compares something). The bench's bus-heavy robot is compared the same way."""
+comparison compares something). The slow ones, and the bench's bus-heavy robot, are
+compared the same way by hil_tests/test_bus_image_slow.py."""
 
 import importlib
 import json
@@ -22,22 +23,32 @@ BUS_TESTS = {  # module: (test, polls answered in the shim expected): the bus te
         ("test_spi_api_with_a_chip_select_pin_and_8_clocks_a_byte", False),
         ("test_published_lsm6dsox_driver_integrates_a_turn_in_place_within_3_degrees", True),
     ),
-    "test_chip_polls": (
-        ("test_reset_bits_clear_after_the_datasheet_time_and_a_poll_that_never_ends_is_named_once", True),
-    ),
     "test_bus_drivers": (
         ("test_published_lis3mdl_driver_compass_follows_the_heading_after_a_hard_iron_calibration", False),
         ("test_published_qmc5883l_driver_compass_reads_the_heading_within_a_degree_twice_in_a_turn", True),
         ("test_hmc5883l_compass_read_as_its_public_drivers_read_it_gives_the_heading_within_a_degree", False),
         ("test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees", False),
-        ("test_vl53l0x_ranges_the_wall_along_its_ray_once_per_budget_and_the_robot_stops_at_it", True),
     ),
-    "test_vl53l1x": (("test_a_vl53l1x_driver_ranges_the_wall_once_per_budget_and_the_robot_stops_at_it", False),),
     "test_bme280_humidity": (("test_a_bmp280_has_no_humidity", False),),
     "test_oled": (("test_published_ssd1306_driver_shows_the_text_framebuf_draws_on_i2c_and_spi", False),),
     "test_spi_clock_pins": (("test_a_transfer_reaches_the_chips_whose_clock_pin_is_the_spis_at_that_instant", False),),
 }
-CASES = [(module, name, polls) for module, tests in BUS_TESTS.items() for name, polls in tests]
+SLOW_BUS_TESTS = {  # the same, minutes of polling between them: hil_tests/test_bus_image_slow.py (make hil)
+    "test_chip_polls": (
+        ("test_reset_bits_clear_after_the_datasheet_time_and_a_poll_that_never_ends_is_named_once", True),
+    ),
+    "test_bus_drivers": (
+        ("test_vl53l0x_ranges_the_wall_along_its_ray_once_per_budget_and_the_robot_stops_at_it", True),
+    ),
+    "test_vl53l1x": (("test_a_vl53l1x_driver_ranges_the_wall_once_per_budget_and_the_robot_stops_at_it", False),),
+}
+
+
+def cases(tests: dict) -> list:
+    return [(module, name, polls) for module, tests_ in tests.items() for name, polls in tests_]
+
+
+CASES = cases(BUS_TESTS)
 
 
 def bus_records(rig) -> list[str]:
@@ -91,6 +102,11 @@ def same(pairs, where: str, tmp_path) -> int:
 
 @pytest.mark.parametrize(("module", "name", "polls"), CASES, ids=[c[1][5:45] for c in CASES])
 def test_a_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls):
+    compare(tmp_path, monkeypatch, module, name, polls)
+
+
+def compare(tmp_path, monkeypatch, module: str, name: str, polls: bool) -> None:
+    """The bus test ``module::name`` both ways, the same bus readings, console and truth."""
     test = getattr(importlib.import_module(f"host.tests.{module}"), name)
 
     def call(make_rig, tmp):
@@ -104,7 +120,8 @@ def test_a_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, modu
         assert local > 0, f"{module}::{name}: expected some polls answered in the shim, got none"
 
 
-def test_the_bus_heavy_bench_robot_reads_the_same_bytes_with_images(tmp_path, monkeypatch):
+def bench_robot_both_ways(tmp_path, monkeypatch) -> None:
+    """The bench's bus-heavy robot both ways: the same bus readings and summary, fewer exchanges."""
     runs = {}
     for way, images in (("exchange", "0"), ("image", "1")):
         monkeypatch.setenv(ENV, images)
