@@ -126,6 +126,7 @@ class Rig:
         self.stats = RunStats()
         self.speculation = Speculation(self.plant)
         self.bus_images = BusImages(self.plant, self.wiring, self.bus_trace)
+        self.bus_images.on = self.bus_images.on and self.mode == "lockstep"  # (real time: every transfer asks)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
         self.outputs = Outputs(self.plant, self.wiring, hooks, self.recorder)
         self.wiring.pio = PioHost(self.plant, self.wiring, hooks.change)  # rp2.StateMachine's PIO
