@@ -19,7 +19,13 @@
   every edge of two quadrature encoders (28 counts a motor turn, 98.5:1 gearboxes) in
   ``Pin.irq`` handlers, a velocity PID in a ``Timer`` callback, at 10,000 and 40,000 edges
   a second: real-time factor, wall us per edge, and the same handler's bare cost in a
-  MicroPython loop (the limit), measured in the same run, with the ratio.
+  MicroPython loop (the limit), measured in the same run, with the ratio;
+- bus-heavy robot (``host/bench/imu_bot``): a Pico robot holding its heading on an LSM6DSOX
+  read from a 208 Hz ``Timer`` (STATUS_REG polled for data-ready, then 12 bytes of gyro and
+  accelerometer with ``readfrom_mem_into``) and steering away from walls seen by a VL53L0X
+  polled for its result: real-time factor, bus transfers and link exchanges a simulated
+  second, and its floor (its exchanges at the raw round trip plus the same driver code's bare
+  cost in a MicroPython loop against a stub bus).
 These are measurements, not pass/fail tests; the target figures are printed beside them,
 each with the FLOOR measured in the same run: the best real-time factor the lockstep
 protocol allows on this machine, from terms measured in the run (:func:`floor_rtf`;
@@ -43,11 +49,13 @@ from host.core import children, interpreter
 from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
-from host.rig import Recording, Rig, RigSpec
+from host.rig import Recording, Rig, RigSpec, busimage, sandbox
 from host.rig.pacing import Lockstep
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
 ENCODER_BOT = Path(__file__).parent / "bench" / "encoder_bot"
+IMU_BOT = Path(__file__).parent / "bench" / "imu_bot"
+IMU_TARGET = 50.0  # issue 45: x real time on a quiet machine (and >= 50 % of the floor)
 ENCODER_RATES = (10_000, 40_000)  # edges a second, both wheels together
 STEP_US = 50_000  # the rover's control quantum
 ROVER_TARGET = POOL_TARGET = 400.0  # issue 30's real-time factors
@@ -280,6 +288,133 @@ def report_encoders(enc: dict, raw_us: float) -> None:
     print(f"  bare handler in a MicroPython loop (the limit): {bare_us:.2f} us an edge")
 
 
+def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
+    """The bus-heavy robot driven for ``run_ms``: its wall and CPU time (the host's and, once
+    it has ended, the interpreter's), its bus transfers and link exchanges, what it printed."""
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
+        main_dir = Path(tmp) / "fw"
+        main_dir.mkdir()
+        for name in ("main.py", "lsm6dsox.py", "vl53l0x.py"):
+            (main_dir / name).write_bytes((IMU_BOT / name).read_bytes())
+        (main_dir / "config.py").write_text(f"RUN_MS = {run_ms}\n")
+        spec = RigSpec(str(IMU_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True)
+        transfers = [0]
+
+        def count(_tx) -> None:
+            transfers[0] += 1
+
+        with Rig(spec, Recording(**recording)) as rig:
+            rig.bus_trace.hooks.setdefault("i2c0", []).append(count)
+            fw_cpu0, cpu0, t0 = firmware_cpu_s(rig), time.process_time(), time.perf_counter()
+            rig.run_for(run_ms / 1000 - 0.05)  # (the interpreter's CPU read while it runs)
+            fw_cpu = firmware_cpu_s(rig) - fw_cpu0
+            rig.run_for(0.15)
+            wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+            lines = [line for line in rig.console.splitlines() if line.startswith("imu_bot ")]
+            result = {
+                "sim_s": rig.t_us / 1e6,
+                "wall_s": wall,
+                "host_cpu_s": cpu,
+                "firmware_cpu_s": fw_cpu,
+                "transfers": transfers[0],
+                "state_exchanges": rig.stats.link_round_trips,
+                "bus_exchanges": rig.stats.bus_round_trips,
+                "printed": lines[-1] if lines else None,
+            }
+        result["exchanges"] = result["state_exchanges"] + result["bus_exchanges"]
+        return result
+
+
+def firmware_cpu_s(rig) -> float:
+    """The interpreter's CPU time so far (user and system, from /proc; NaN where there is none)."""
+    try:
+        fields = Path(f"/proc/{sandbox.interpreter_pid(rig.target.proc)}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, AttributeError, IndexError):
+        return math.nan
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+BARE_IMU = """
+import sys, time
+class I2C:
+    def __init__(self): self.mem = {(0x6A, 0x0F): 0x6C, (0x29, 0xC0): 0xEE, (0x6A, 0x1E): 0x03, (0x29, 0x13): 0x07}
+    def readfrom_mem(self, addr, reg, n): return bytes((self.mem.get((addr, reg), 0),)) * n
+    def readfrom_mem_into(self, addr, reg, buf):
+        v = self.mem.get((addr, reg), 0x10)
+        for i in range(len(buf)): buf[i] = v
+    def writeto_mem(self, addr, reg, buf): pass
+sys.path.insert(0, %r)
+from lsm6dsox import LSM6DSOX
+from vl53l0x import VL53L0X
+i2c = I2C()
+imu, tof = LSM6DSOX(i2c), VL53L0X(i2c)
+heading = 0.0
+def tick():
+    global heading
+    if imu.data_ready():
+        gx, gy, gz, ax, ay, az = imu.read_raw()
+        heading += gz * imu.gyro_scale / 208
+def poll():
+    if tof.ready():
+        return tof.read_mm()
+def best(call, n):
+    t = []
+    for _ in range(5):
+        t0 = time.ticks_us()
+        for i in range(n): call()
+        t.append(time.ticks_diff(time.ticks_us(), t0))
+    return min(t) / n
+print(best(tick, %d), best(poll, %d))
+"""
+
+
+def bare_imu_us(n: int = 20_000) -> tuple[float, float]:
+    """The bus-heavy robot's driver code in a bare MicroPython loop against a stub bus that
+    answers at once (no shim, no link): wall us of a Timer tick (a data-ready poll and a
+    12-byte read) and of a ranger's poll (its status, the range, the clear); the best of 5."""
+    script = BARE_IMU % (str(IMU_BOT), n, n)
+    out = subprocess.run(
+        [str(interpreter.find()), "-c", script],
+        check=True,
+        stdout=subprocess.PIPE,
+        text=True,
+        **children.popen_options(),
+    ).stdout
+    tick_us, poll_us = (float(v) for v in out.split()[:2])
+    return tick_us, poll_us
+
+
+def bench_imu(run_ms: int = 10_000) -> dict:
+    return {"run": run_imu_bot(run_ms), "bare": bare_imu_us()}
+
+
+def imu_floor(run: dict, raw_us: float, bare: tuple[float, float]) -> tuple[float, str]:
+    """The bus-heavy robot's floor: its exchanges a simulated second at the raw round trip,
+    plus its driver code's bare cost (a Timer tick at 208 Hz, a ranger poll at 200 Hz)."""
+    per_s = run["exchanges"] / run["sim_s"]
+    compute_per_s = 208 * bare[0] + 200 * bare[1]
+    floor = floor_rtf(per_s, raw_us, compute_per_s)
+    return floor, (
+        f"{floor_text(floor, IMU_TARGET)} = 1 s / ({per_s:.0f} exchanges x raw {raw_us:.0f} us + driver code "
+        f"{compute_per_s / 1000:.2f} ms) a simulated s; reached {run['sim_s'] / run['wall_s'] / floor:.0%}"
+    )
+
+
+def report_imu(imu: dict, raw_us: float) -> None:
+    run, bare = imu["run"], imu["bare"]
+    sim_s = run["sim_s"]
+    print(
+        f"  {sim_s / run['wall_s']:.1f}x real time (target >= {IMU_TARGET:g}x) ({sim_s:.1f} simulated s in "
+        f"{run['wall_s']:.2f} wall s; CPU host {run['host_cpu_s']:.2f} s, firmware {run['firmware_cpu_s']:.2f} s); "
+        f"{run['transfers'] / sim_s:.0f} bus transfers and {run['exchanges'] / sim_s:.0f} link exchanges per "
+        f"simulated s ({run['bus_exchanges'] / sim_s:.0f} of them a transfer's own; bus images "
+        f"{'on' if busimage.wanted() else 'off'}: {busimage.ENV})"
+    )
+    print(f"    {imu_floor(run, raw_us, bare)[1]}")
+    print(f"  bare driver code (the limit): {bare[0]:.1f} us a Timer tick, {bare[1]:.1f} us a ranger poll")
+    print(f"  firmware's summary: {run['printed']}")
+
+
 def ratio(value_us: float, raw_us: float) -> str:
     return f"{value_us / raw_us:.2f}x raw"
 
@@ -358,10 +493,19 @@ def main(argv=None) -> int:
     parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
     parser.add_argument("--no-encoders", action="store_true", help="skip the encoder-heavy robot")
     parser.add_argument("--only-encoders", action="store_true", help="the encoder-heavy robot only")
+    parser.add_argument("--no-imu", action="store_true", help="skip the bus-heavy robot")
+    parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
         return _recorded_pool_child(args.recorded_pool_child)
+    if args.only_imu:
+        print("bus-heavy robot (host/bench/imu_bot): 10 simulated s")
+        imu = bench_imu()
+        raw = bench_raw()
+        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
+        report_imu(imu, statistics.median(raw))
+        return 0
     if args.only_encoders:
         print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
         encoders = bench_encoders()
@@ -377,6 +521,7 @@ def main(argv=None) -> int:
     ping = bench_ping(2.0)
     duct = bench_duct()
     encoders = None if args.no_encoders else bench_encoders()
+    imu = None if args.no_imu else bench_imu()
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -401,6 +546,9 @@ def main(argv=None) -> int:
     if encoders is not None:
         print("encoder-heavy robot (host/bench/encoder_bot: Pin.irq on A and B of two wheels, a Timer PID):")
         report_encoders(encoders, raw_us)
+    if imu is not None:
+        print("bus-heavy robot (host/bench/imu_bot: an LSM6DSOX from a 208 Hz Timer, a VL53L0X polled, on I2C):")
+        report_imu(imu, raw_us)
     if plain is not None:
         print("pool cleaner, full mission, unrecorded:")
         report_pool(plain, raw_us)

@@ -446,7 +446,7 @@ def _forwarded(name: str):
     return forward
 
 
-for _name in ("capabilities", "world", "start_pose", "catalogue_parts", "summary"):
+for _name in ("capabilities", "world", "start_pose", "catalogue_parts", "summary", "rng"):
     setattr(
         FaultyPlant, _name, property(lambda self, n=_name: getattr(self.inner, n), doc=f"The inner plant's {_name}.")
     )

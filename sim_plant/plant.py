@@ -124,6 +124,9 @@ class Plant:
     """Its start pose as given (x_m, y_m, heading_rad), or None: its world's own."""
     catalogue_parts: tuple = ()
     """The catalogue parts it is built from (``sim_plant.catalogue``), if any."""
+    rng = None
+    """Its random generator (a numpy Generator), if it draws: a trial of a read on a copy of
+    a chip restores it (host/rig/busimage.py)."""
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

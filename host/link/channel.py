@@ -19,15 +19,23 @@ class Channel:
         self.decoder = frames.Decoder()
         self.seq = 0
         self.sent = 0
+        self.held = b""  # frames to go out with the next one sent (hold)
         self.last_data_wall: float | None = None  # time.monotonic() of the last bytes read
         self.closed_read = False  # one more read after the console closed, for the last frames
 
     def send(self, type_: int, payload: bytes) -> bytes:
         data = frames.encode(type_, self.seq, payload)
         self.seq = (self.seq + 1) & 0xFF
-        self.transport.write(data)
+        held, self.held = self.held, b""
+        self.transport.write(held + data if held else data)
         self.sent += 1
         return data
+
+    def hold(self, type_: int, payload: bytes) -> None:
+        """A frame that goes out with the next one sent, in the same write (a BUS_IMAGE)."""
+        self.held += frames.encode(type_, self.seq, payload)
+        self.seq = (self.seq + 1) & 0xFF
+        self.sent += 1
 
     def recv(self, timeout_s: float):
         """The next good frame (type, seq, payload); LinkTimeout if none by the deadline;

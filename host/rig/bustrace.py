@@ -180,7 +180,13 @@ class BusTrace:
         read), traced: a bus's transaction here, every transfer in the link log.
         ``unclocked``: SPI chips' clock inputs not on the SPI now (``Wiring.unclocked``)."""
         kw = {"unclocked": unclocked} if unclocked else {}  # (an SPI bus's only: BusPeripheral.transfer)
-        status, count, got = info.peripheral.transfer(plant, info, op, address, n_read, data, **kw)
+        reply = info.peripheral.transfer(plant, info, op, address, n_read, data, **kw)
+        return self.replay(plant, info, h, t_us, op, address, n_read, data, reply)
+
+    def replay(self, plant, info, h, t_us, op, address, n_read, data, reply: tuple) -> tuple:
+        """A transfer's ``reply`` (status, count, bytes read), traced as :meth:`answer` traces
+        it: also one the shim answered itself (``host.rig.busimage``)."""
+        status, count, got = reply
         more = None
         if isinstance(info.peripheral, BusPeripheral):  # (not a pin's bitstream)
             tx = self.transfer(t_us, info, op, address, n_read, data, status, count, got)

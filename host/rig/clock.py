@@ -41,6 +41,7 @@ class Clock:
         self.look_backoff = 1
         self._woke_us = F.FOREVER_US  # the last STATE's wake time, while the firmware runs
         self.end_us = 0  # the end of the run being served (a bus transfer's lease stops there)
+        self.images = None  # host.rig.busimage.BusImages: bus reads the shim may answer itself
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
@@ -63,8 +64,12 @@ class Clock:
         if stopped or self.plant.t_us >= wait.t_until:
             self.wait = None
             t_wake = self.plant.t_us
+            images = self.images
+            image = images.image(t_wake, self.lease_us()) if images is not None and images.on and images.reads else None
             if not stopped and wait.t_until > wait.t_now:  # (a wait of no length is a sync: none)
                 self._look_ahead(t_end_us)
+            if image is not None:  # (taken at the wake, before the lookahead ran the plant on)
+                self.session.hold(F.BUS_IMAGE, image)
             self._send_state(wait.t_now, t_end_us, t_wake)
         elif not self.speculation.open:
             self.commit(self.plant.t_us)  # nothing in this batch can be rewound

@@ -64,10 +64,24 @@ def on_bus(rig, p: bytes) -> None:
     """A bus transfer: answered at once from the devices as the plant is at its instant."""
     t, h, op, address, n_read, data = F.unpack_bus(p)
     rig.clock.catch_up(t)
+    rig.stats.bus_round_trips += 1
     info = rig.wiring.handles[h]
     unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
     status, count, got = rig.bus_trace.answer(rig.plant, info, h, t, op, address, n_read, data, unclocked)
-    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, rig.clock.lease_us(), got))
+    images = rig.bus_images
+    lease = rig.clock.lease_us()
+    if images.on:
+        images.seen(h, op, address, n_read, data, status)
+        image = images.image(t, lease)
+        if image is not None:
+            rig.session.hold(F.BUS_IMAGE, image)
+    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, lease, got))
+
+
+def on_bus_done(rig, p: bytes) -> None:
+    """A bus read the shim answered from the last BUS_IMAGE: traced as if it were a BUS."""
+    t, entry = F.unpack_bus_done(p)
+    rig.bus_images.done(rig, t, entry)
 
 
 def on_poll(rig, p: bytes) -> None:
@@ -128,6 +142,7 @@ HANDLERS = {
     F.FAULT: on_fault,
     F.EXIT: on_exit,
     F.BUS: on_bus,
+    F.BUS_DONE: on_bus_done,
     F.POLL: on_poll,
     F.CPU: on_cpu,
     F.CPU_IRQ: on_cpu_irq,

@@ -30,6 +30,7 @@ from host.coverage import collector as coverage
 from host.rig import arguments, boards, endings, manifest, mcutime, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks, ComputeBudget
+from host.rig.busimage import BusImages
 from host.rig.bustrace import BusTrace
 from host.rig.clock import Clock
 from host.rig.firmware import Firmware
@@ -50,6 +51,8 @@ PROGRESS_EVERY_S = 0.25  # wall time between two progress reports
 @dataclass
 class RunStats:
     link_round_trips: int = 0
+    bus_round_trips: int = 0  # BUS frames answered (a bus transfer's own exchange)
+    bus_local: int = 0  # bus reads the shim answered from an image (BUS_DONE: host.rig.busimage)
     irq_edges: int = 0
     rollbacks: int = 0
     lease_violations: int = 0
@@ -128,6 +131,8 @@ class Rig:
         self.bus_trace = BusTrace(hooks.bus, self.recorder, lambda: self.linklog, lambda: self.console_log)
         self.stats = RunStats()
         self.speculation = Speculation(self.plant)
+        self.bus_images = BusImages(self.plant, self.wiring, self.bus_trace)
+        self.bus_images.on = self.bus_images.on and self.mode == "lockstep"  # (real time: every transfer asks)
         self.inputs = Inputs(self.wiring, hooks, self.speculation, self.recorder, self.stats)
         self.outputs = Outputs(self.plant, self.wiring, hooks, self.recorder)
         self.wiring.pio = PioHost(self.plant, self.wiring, hooks.change)  # rp2.StateMachine's PIO
@@ -153,6 +158,7 @@ class Rig:
         self.session = Session(self._on_silence, round_trips, damaged)
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
+        self.clock.images = self.bus_images
         self._progress_wall = 0.0
         self._progress_last = None
 
@@ -287,6 +293,7 @@ class Rig:
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
         self.wiring.pio.reset()
+        self.bus_images.forget()
         self._open(self.target.restart)
 
     # -- link ------------------------------------------------------------------------

@@ -49,6 +49,10 @@ class Session:
         if self.round_trip_us is not None:
             self._t_sent = time.perf_counter()
 
+    def hold(self, type_: int, payload: bytes) -> None:
+        """A frame sent with the next one, in one write."""
+        self.chan.hold(type_, payload)
+
     def recv(self, timeout_s: float, what: str):
         """The next message as (type, payload); silence is the target's to report."""
         try:

@@ -16,7 +16,7 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 3  # 3: POLL, and CFG carries its instant (docs/protocol.md)
+PROTO_VERSION = 4  # 3: POLL, and CFG carries its instant; 4: BUS_IMAGE, BUS_DONE (docs/protocol.md)
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -275,11 +275,13 @@ BUS = 0x09  # a bus transfer (I2C, SPI): the shim waits for its BUS_REPLY
 POLL = 0x0A  # a poll that never ends: one pin or memory address read with one answer (POLL_*)
 CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
+BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
 BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
 BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's instant
+BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
 
 NAMES = {
     HELLO: "HELLO",
@@ -294,10 +296,12 @@ NAMES = {
     POLL: "POLL",
     CPU: "CPU",
     CPU_IRQ: "CPU_IRQ",
+    BUS_DONE: "BUS_DONE",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
     BUS_REPLY: "BUS_REPLY",
+    BUS_IMAGE: "BUS_IMAGE",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
@@ -315,6 +319,9 @@ EXIT_FMT = "<QBi"  # t_us, kind, code
 STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
 CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
 BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
+BUS_IMAGE_FMT = "<QH"  # t_us (the plant's), entries, then each: BUS_IMAGE_ENTRY_FMT, the bytes written, read
+BUS_IMAGE_ENTRY_FMT = "<HHQQBB"  # handle, address, until_us (exclusive), horizon_us, bytes written, bytes read
+BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 POLL_FMT = "<QQIBBII"  # t_us, since_us, reads, kind, bits, target, value; then UTF-8 lines: the
 # shim's word on what would change it, then the firmware's stack (innermost last) when known
@@ -439,6 +446,34 @@ def unpack_bus(p):
 
 def pack_bus_reply(t_us, status, count, horizon_us, data):
     return struct.pack(BUS_REPLY_FMT, t_us, status, count, horizon_us) + data
+
+
+def pack_bus_image_entry(handle, address, until_us, horizon_us, wrote, got):
+    return struct.pack(BUS_IMAGE_ENTRY_FMT, handle, address, until_us, horizon_us, len(wrote), len(got)) + wrote + got
+
+
+def unpack_bus_image(p):
+    """(t_us, {(handle, address, bytes written, count read): (entry, until_us, bytes read, horizon_us)})."""
+    t_us, n = struct.unpack_from(BUS_IMAGE_FMT, p, 0)
+    off = struct.calcsize(BUS_IMAGE_FMT)
+    entry_len = struct.calcsize(BUS_IMAGE_ENTRY_FMT)
+    image = {}
+    for i in range(n):
+        handle, address, until_us, horizon_us, n_wrote, n_read = struct.unpack_from(BUS_IMAGE_ENTRY_FMT, p, off)
+        off += entry_len
+        wrote = bytes(p[off : off + n_wrote])
+        got = bytes(p[off + n_wrote : off + n_wrote + n_read])
+        off += n_wrote + n_read
+        image[(handle, address, wrote, n_read)] = (i, until_us, got, horizon_us)
+    return t_us, image
+
+
+def pack_bus_done(t_us, entry):
+    return struct.pack(BUS_DONE_FMT, t_us, entry)
+
+
+def unpack_bus_done(p):
+    return struct.unpack_from(BUS_DONE_FMT, p, 0)
 
 
 def unpack_bus_reply(p):

@@ -8,6 +8,7 @@ from host.bench import (
     encoder_floor_line,
     floor_rtf,
     floor_text,
+    imu_floor,
     lockstep_floor_line,
     ratio_floor_text,
 )
@@ -54,3 +55,12 @@ def test_the_encoder_line_names_the_edges_and_the_bare_handler():
     assert "10,000 edges x bare 0.31 us" in line
     assert line.endswith("reached 7%")
     assert encoder_floor_line(run, 40_000, 40.0, 0.312).startswith("floor: 143x real time = ")
+
+
+def test_the_bus_heavy_floor_counts_every_exchange_and_the_driver_code_at_its_rates():
+    # 750 exchanges x 20 us = 15,000 us; 208 ticks x 10 us + 200 polls x 2 us = 2,480 us
+    run = {"sim_s": 10.0, "wall_s": 4.0, "exchanges": 7_500}
+    floor, line = imu_floor(run, 20.0, (10.0, 2.0))
+    assert math.isclose(floor, 1e6 / 17_480), f"expected 1 s / 17,480 us, got {floor}x"
+    assert "750 exchanges x raw 20 us + driver code 2.48 ms" in line, line
+    assert line.endswith(f"reached {2.5 / floor:.0%}"), line

@@ -56,7 +56,8 @@ def test_corrupted_frame_is_counted_and_never_delivered():
 
 
 TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i"}
-SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT"}  # what follows the fixed part
+# what follows the fixed part
+SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT", "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT"}
 
 
 def documented_layouts() -> dict[str, str]:
@@ -79,7 +80,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 14, sorted(layouts)  # twelve messages with a payload, plus WAIT's and STATE's tails
+    assert len(layouts) == 17, sorted(layouts)  # 14 messages with a payload, and WAIT's, STATE's, BUS_IMAGE's tails
     for name, fmt in layouts.items():
         assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
 

@@ -1,0 +1,19 @@
+"""The bus tests that poll for long, and the bench's bus-heavy robot, read the same bytes
+with the host's bus images as with an exchange a transfer (host/tests/test_bus_image.py
+says how they are compared; these take a minute or more, so they run in make hil)."""
+
+import pytest
+
+from host.tests.test_bus_image import SLOW_BUS_TESTS, bench_robot_both_ways, cases, compare
+
+pytestmark = [pytest.mark.hil, pytest.mark.long]
+SLOW = cases(SLOW_BUS_TESTS)
+
+
+@pytest.mark.parametrize(("module", "name", "polls"), SLOW, ids=[c[1][5:45] for c in SLOW])
+def test_a_slow_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls):
+    compare(tmp_path, monkeypatch, module, name, polls)
+
+
+def test_the_bus_heavy_bench_robot_reads_the_same_bytes_with_images(tmp_path, monkeypatch):
+    bench_robot_both_ways(tmp_path, monkeypatch)
