@@ -122,7 +122,8 @@ def test_mpy_fil_help_says_how_to_read_a_page_it_names():
 
 OTHER_TOOLS = {
     "python -m build": {"--no-isolation"},
-    "pip": {"--no-deps", "--no-index"},
+    "pip": {"--no-deps", "--no-index", "--no-binary"},
+    "git clone": {"--depth", "--branch"},
     "ruff": {"--check"},
     "valgrind": {"--tool"},
     "dask scheduler / worker": {
