@@ -168,6 +168,8 @@ class BusTrace:
         self.last_failed: Transaction | None = None  # (a board's OSError names no address: errors do)
         self.polls = PollWatch()
         self.notes: list[tuple[int, str]] = []  # (virtual t_us, text): said once each
+        self.asking = False  # a BUS frame's transfer: the shim can be asked for its stack
+        self.held_poll: tuple[int, str] | None = None  # a poll's note, until the shim's stack comes
 
     def say(self, t_us: int, text: str) -> None:
         """A note in the run's output: ``console.log``, the trace header, the command line."""
@@ -209,7 +211,24 @@ class BusTrace:
             text = poll_text(tx.t_us, tx.bus, tx.address, tx.register, answer, *poll, device)
             if tx.op in _PRIMITIVES:
                 text += "; read through SoftI2C primitives: what was written before it is in trace.jsonl"
-            self.say(tx.t_us, text)
+            if self.asking:  # (the reply asks the shim for the firmware's stack: said with it)
+                self.held_poll = (tx.t_us, text)
+            else:
+                self.say(tx.t_us, text)
+
+    def poll_stack(self, words: bytes) -> None:
+        """The shim's stack for the poll held (a POLL of kind POLL_STACK): the note said with it."""
+        stack = [line for line in words.decode(errors="replace").split("\n")[1:] if line]
+        if self.held_poll is not None:
+            t_us, text = self.held_poll
+            self.held_poll = None
+            self.say(t_us, text + ("; the firmware's stack, outermost first: " + " > ".join(stack) if stack else ""))
+
+    def flush_poll(self) -> None:
+        """A poll's note whose stack never came (the run ended first): said without it."""
+        if self.held_poll is not None:
+            self.say(*self.held_poll)
+            self.held_poll = None
 
     def transfer(self, t_us, info, op, address, n_read, wrote, status, count, got) -> Transaction:
         tx = transaction(t_us, info.key, info.freq, op, address, n_read, wrote, status, count, got)

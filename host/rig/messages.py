@@ -67,7 +67,12 @@ def on_bus(rig, p: bytes) -> None:
     rig.stats.bus_round_trips += 1
     info = rig.wiring.handles[h]
     unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
-    status, count, got = rig.bus_trace.answer(rig.plant, info, h, t, op, address, n_read, data, unclocked)
+    trace = rig.bus_trace
+    trace.asking = True  # (a poll named here waits for the firmware's stack: BUS_ASK_STACK)
+    try:
+        status, count, got = trace.answer(rig.plant, info, h, t, op, address, n_read, data, unclocked)
+    finally:
+        trace.asking = False
     images = rig.bus_images
     lease = rig.clock.lease_us()
     if images.on:
@@ -75,7 +80,8 @@ def on_bus(rig, p: bytes) -> None:
         image = images.image(t, lease)
         if image is not None:
             rig.session.hold(F.BUS_IMAGE, image)
-    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status, count, lease, got))
+    ask = F.BUS_ASK_STACK if trace.held_poll is not None else 0
+    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status | ask, count, lease, got))
 
 
 def on_bus_done(rig, p: bytes) -> None:
@@ -87,7 +93,9 @@ def on_bus_done(rig, p: bytes) -> None:
 def on_poll(rig, p: bytes) -> None:
     """The shim names a poll that never ends: a pin, a memory address (host/rig/pollwatch.py)."""
     poll = F.unpack_poll(p)
-    if rig.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
+    if poll[3] == F.POLL_STACK:  # the firmware's stack for the bus poll the host named
+        rig.bus_trace.poll_stack(poll[7])
+    elif rig.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
         rig.bus_trace.say(poll[0], shim_poll_text(poll, rig.wiring, rig.plant))
 
 

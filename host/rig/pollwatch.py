@@ -17,8 +17,9 @@ at the address). Each (kind, target) is named once a run (:meth:`PollWatch.first
 
 The firmware's stack is the shim's, not the host's: a POLL message carries it when the
 interpreter can give it (``_hilpoll.firmware_stack``: the harness's build, none on a user's own);
-a bus poll's note gives the virtual time and the register (the console's tail and
-``trace.jsonl`` show what came before).
+a bus poll, seen here as the host answers the read, asks for it in the reply
+(``BUS_ASK_STACK``; the shim answers with a POLL of kind ``POLL_STACK``) and its note is
+said with it (``BusTrace.poll_stack``).
 """
 
 from host.link import frames as F

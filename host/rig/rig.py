@@ -220,6 +220,7 @@ class Rig:
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
         end_board_fs(self)
+        self.bus_trace.flush_poll()
         if self._started:
             self._started = False
             finish_recording(self, interrupted)

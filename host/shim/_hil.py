@@ -519,6 +519,11 @@ def transfer(handle, op, address, n_read, data):
             if type_ == F.BUS_IMAGE:
                 _Link.image = F.unpack_bus_image(p)[1]
         _t, status, count, horizon, got = F.unpack_bus_reply(p)
+        if status & F.BUS_ASK_STACK:  # a poll of this read named: the firmware's stack with it
+            status &= ~F.BUS_ASK_STACK
+            import _hilpoll
+
+            _hilpoll.send_stack(t)
         _Link.ahead = False  # the host's plant is at this instant
         _horizon = horizon
         _wrote = True

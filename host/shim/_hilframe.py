@@ -577,6 +577,8 @@ BUS_PIO_RESTART = 22
 BUS_PIO_IRQ = 23  # address: the block's flags 0..3 with a handler; reply: count raises, <I t_us> each, then their flags
 # BUS_REPLY statuses: the shim turns each into its board's OSError (ENODEV, EIO, ETIMEDOUT)
 BUS_OK = 0
+BUS_ASK_STACK = 0x80  # in a BUS_REPLY's status: the host names a poll of this read and asks the
+# shim for the firmware's stack (a POLL of kind POLL_STACK, at once); the rest is the status
 BUS_NACK_ADDRESS = 1  # nobody acknowledged the address byte
 BUS_NACK_DATA = 2  # a written byte was not acknowledged (count: the acks before it)
 BUS_STUCK = 3  # a device holds the bus: the transfer times out
@@ -613,6 +615,7 @@ CH_BYTES = 2  # value: the byte count; the bytes follow the entry
 POLL_PIN = 0
 POLL_MEM = 1
 POLL_REG = 2
+POLL_STACK = 3  # not a poll: the firmware's stack for a bus poll the host named (BUS_ASK_STACK)
 POLL_READS = 10_000
 POLL_SPAN_US = 1_000_000
 

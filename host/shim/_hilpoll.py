@@ -74,6 +74,14 @@ def _board():
     return getattr(impl, "_machine", "") or "board"
 
 
+def send_stack(t):
+    """The firmware's stack for the poll of a bus register the host names (a BUS_REPLY
+    with BUS_ASK_STACK): a POLL of kind POLL_STACK, its text's lines after the first."""
+    stack = firmware_stack()
+    text = "\n" + "\n".join(stack) if stack else ""
+    _hil.send(F.POLL, F.pack_poll(t, t, 0, F.POLL_STACK, 0, 0, 0, text.encode()))
+
+
 def _name(kind, bits, target, value, since_us, reads, word):
     _named.add((kind, target))
     stack = firmware_stack()

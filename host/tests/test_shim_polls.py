@@ -67,6 +67,8 @@ def test_a_pin_nothing_drives_a_register_and_plain_memory_polled_for_ever_are_ea
     text, answer = named(notes, "machine.mem32[0x20001000]", r["sram"], rig)
     assert answer == "0x00000000" and "no register of the simulated RP2040 there" in text, text
     assert "i2c0 0x1c register 0x27" in " ".join(notes) and "compass (Lis3mdlChip)" in " ".join(notes), notes
+    bus = [n for n in notes if "i2c0 0x1c register 0x27" in n]
+    assert len(bus) == 1 and 'main.py", line' in bus[0] and "in spin" in bus[0], bus  # (the shim's stack, asked)
     assert len(notes) == 4, notes
     assert [n["text"] for n in run_header(rig)["notes"]] == [text for _t, text in rig.bus_trace.notes]
     console_log = (rig.artefacts / "console.log").read_text()
