@@ -242,15 +242,19 @@ print(best / (4 * %d), enc.count)
 def bare_handler_us(quads: int = 50_000) -> float:
     """The encoder's handlers called in a bare MicroPython loop (no shim, no link): wall us an
     edge, the loop's own cost taken off; the best of 5."""
-    script = BARE_HANDLER % (str(ENCODER_BOT), quads, quads, quads)
-    out = subprocess.run(
+    out = _bare(BARE_HANDLER % (str(ENCODER_BOT), quads, quads, quads))
+    return float(out.split()[0])
+
+
+def _bare(script: str) -> str:
+    """What ``script`` prints, run by the harness's MicroPython alone (no shim, no link)."""
+    return subprocess.run(
         [str(interpreter.find()), "-c", script],
         check=True,
         stdout=subprocess.PIPE,
         text=True,
         **children.popen_options(),
     ).stdout
-    return float(out.split()[0])
 
 
 def bench_encoders(run_ms: int = 10_000) -> dict:
@@ -372,14 +376,7 @@ def bare_imu_us(n: int = 20_000) -> tuple[float, float]:
     """The bus-heavy robot's driver code in a bare MicroPython loop against a stub bus that
     answers at once (no shim, no link): wall us of a Timer tick (a data-ready poll and a
     12-byte read) and of a ranger's poll (its status, the range, the clear); the best of 5."""
-    script = BARE_IMU % (str(IMU_BOT), n, n)
-    out = subprocess.run(
-        [str(interpreter.find()), "-c", script],
-        check=True,
-        stdout=subprocess.PIPE,
-        text=True,
-        **children.popen_options(),
-    ).stdout
+    out = _bare(BARE_IMU % (str(IMU_BOT), n, n))
     tick_us, poll_us = (float(v) for v in out.split()[:2])
     return tick_us, poll_us
 
