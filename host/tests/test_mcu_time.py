@@ -13,13 +13,7 @@ from host.tests.conftest import results
 
 # A control loop: ~5 ms of float math per period on an RP2040 (per the model), then the LED
 # toggles and the loop sleeps 20 ms. ITERATIONS is sized from the model (below).
-LOOP = """
-import time
-from machine import Pin
-
-led = Pin(2, Pin.OUT)
-
-
+CONTROL = """
 def control(n):
     x = 0.5
     acc = 0.0
@@ -27,7 +21,18 @@ def control(n):
         x = x * 1.0001 + 0.25
         acc += x / (i + 1)
     return acc
+"""
+"""The step both firmwares below compute (~5 ms of float math, sized by ITERATIONS)."""
+LOOP = (
+    """
+import time
+from machine import Pin
 
+led = Pin(2, Pin.OUT)
+
+"""
+    + CONTROL
+    + """
 
 t_prev = time.ticks_us()
 for loop in range(ROUNDS):
@@ -39,6 +44,7 @@ for loop in range(ROUNDS):
         print("R compute_us", time.ticks_diff(t1, t0))
     time.sleep_ms(20)
 """
+)
 ROUNDS = 10
 
 
@@ -133,19 +139,14 @@ def test_an_interpreter_that_cannot_count_says_compute_is_free(make_rig, tmp_pat
     assert results(rig.console)["compute_us"] == 0
 
 
-CALLBACKS = """
+CALLBACKS = (
+    """
 import time
 from machine import Timer
 
-
-def control(n):
-    x = 0.5
-    acc = 0.0
-    for i in range(n):
-        x = x * 1.0001 + 0.25
-        acc += x / (i + 1)
-    return acc
-
+"""
+    + CONTROL
+    + """
 
 def tick(t):
     control(ITERATIONS)
@@ -161,6 +162,7 @@ for sleep_ms in (20, 25):
     print("R slept_%d" % sleep_ms, time.ticks_diff(t1, t0))
     time.sleep_ms(50)
 """
+)
 
 
 def test_a_callbacks_compute_delays_the_main_program_only_when_it_overlaps(make_rig, tmp_path):
@@ -335,7 +337,7 @@ def test_callbacks_that_fire_during_the_main_programs_compute_preempt_it(make_ri
     from host.core import interpreter
 
     cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 500)
-    control = "def control" + LOOP.split("def control")[1].split("t_prev")[0]
+    control = CONTROL.lstrip("\n") + "\n\n"
     main = PREEMPT.replace("CONTROL", control).replace("CB_ITERATIONS", str(cb_iterations))
     folder = tmp_path / "app"
     folder.mkdir()
