@@ -80,6 +80,21 @@ class Name:
 
 
 @dataclass(frozen=True)
+class FileName:
+    """A file's path, relative to the rig file's folder (``course.png``, ``floors/lap.png``):
+    text of at most 200 characters, no control characters. The plant resolves it when the
+    rig file is read (:func:`sim_plant.catalogue.assembly.assemble`) and says whether the
+    file is there and readable when it builds what uses it."""
+
+    what: str = "a file's path, relative to the rig file"
+
+    def problem(self, value):
+        if isinstance(value, str) and 0 < len(value) <= MAX_TEXT and value.isprintable():
+            return None
+        return f"expected {self.what} (text, at most {MAX_TEXT} characters), got {_short(value)}"
+
+
+@dataclass(frozen=True)
 class Row:
     """A fixed-length list: one spec per place (``[cx, cy, w, h]``)."""
 

@@ -50,8 +50,12 @@ class World:
 
     ``walls`` holds one tuple per segment: ``(ax, ay, ux, uy, length, bx, by, nx, ny, c)``
     with ``u = b - a``, ``n`` the unit normal (left of a->b) and ``c = n . a``.
-    ``vertices`` are the segment end points (corners), deduplicated.
+    ``vertices`` are the segment end points (corners), deduplicated. ``floor``: what the
+    floor looks like where it is drawn (a :class:`sim_plant.floor.PictureFloor`, the
+    ``line_course`` world's), what line sensors see under the body's tape; None: plain.
     """
+
+    floor = None
 
     def __init__(self, segments, *, name: str = "world"):
         walls = []

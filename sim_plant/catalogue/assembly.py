@@ -4,6 +4,9 @@ the field of the first mistake (``[[plant.parts]] #2 (sonar_rear) period_us: exp
 ...``; parts are counted from 1 in the file's order), and builds a :class:`PartsPlant`.
 """
 
+import os
+from pathlib import Path
+
 import tomllib
 
 from sim_plant import catalogue
@@ -13,7 +16,7 @@ from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.engine import RobotPlant
 from sim_plant.names import nearest, unknown
-from sim_plant.option_table import Name
+from sim_plant.option_table import FileName, Name
 from sim_plant.physics.coverage import CoverageRecorder
 from sim_plant.plant import BITSTREAM, BUSES, CONTROLS, POSE, PWM, UART
 
@@ -294,6 +297,7 @@ def assemble(table: dict, base=None) -> PartsPlant:
     ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`)."""
     sources = _add_sources(table, base)
     table, entries = _with_part_options(table)
+    table = _with_world_files(table, base)
     body = _body(table)
     parts, names = [], {}
     for i, entry in enumerate(entries, start=1):
@@ -343,6 +347,22 @@ def _add_sources(table, base) -> None:
     if not isinstance(sources, list):
         raise PartsError(f"[plant] catalogue: expected a list of folders or module names, got {sources!r}"[:200])
     return tuple(catalogue.add(source, base)[0] for source in sources)
+
+
+def _with_world_files(table: dict, base) -> dict:
+    """A catalogue world's file options (a :class:`~sim_plant.option_table.FileName`: the
+    line course's ``picture``) as absolute paths, relative to ``base`` (the rig file's
+    folder; the current folder without one)."""
+    kind, options = table.get("world"), table.get("world_options")
+    cls = catalogue.resolve("worlds", kind) if isinstance(kind, str) and isinstance(options, dict) else None
+    if cls is None:
+        return table
+    files = {o.name for o in cls.OPTIONS if isinstance(o.spec, FileName)}
+    given = {k: v for k, v in options.items() if k in files and not FileName().problem(v)}
+    if not given:
+        return table
+    resolved = {k: os.path.abspath(Path(base or ".") / v) for k, v in given.items()}
+    return {**table, "world_options": {**options, **resolved}}
 
 
 def _check_addresses(parts: list) -> None:

@@ -1,12 +1,14 @@
 """Part ``line_sensor``: reflectance sensors looking at the floor (TCRT5000, QTR), one or
 an array at offsets from the mount, analog (an ADC reading, high over the dark tape) or
-digital (a comparator's output, 1 over the tape). The tape is the body's ``tape``
-(:class:`sim_plant.floor.FloorSensors`)."""
+digital (a comparator's output, 1 over the tape). The floor is the body's ``tape`` and
+the world's picture (``line_course``): an analog reading goes from ``floor_u16`` over
+white to ``tape_u16`` over black in proportion to the darkness under the sensor, a
+digital one is 1 where the floor is more than half dark (:class:`sim_plant.floor.FloorSensors`)."""
 
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.floor import FloorSensors
+from sim_plant.floor import DARK, FloorSensors
 from sim_plant.option_table import Num, OneOf, Row, Rows, length
 
 OFFSET = Row((length(-10, 10), length(-10, 10)), "[dx_m, dy_m]")
@@ -22,12 +24,16 @@ class _Named(FloorSensors):
         self.label = name
 
     def truth(self, t_us: int, plant) -> dict:
-        return {f"{self.label}_on_tape": [v == self.levels[1] for v in self.values]}
+        return {f"{self.label}_on_tape": [d >= DARK for d in self.darks]}
 
 
 class LineSensor(PartType):
     kind = "line_sensor"
-    doc = "Floor reflectance sensors (one or an array), analog or digital, seeing the body's tape."
+    doc = (
+        "Floor reflectance sensors (one or an array), analog or digital, seeing the body's tape and the world's"
+        " picture of the floor (line_course): analog, from floor_u16 (white) to tape_u16 (black) in proportion"
+        " to the darkness; digital, 1 where it is more than half dark."
+    )
     OPTIONS = (
         Opt("output", OneOf(("analog", "digital")), "analog", "an ADC reading or a comparator's level"),
         Opt(
@@ -36,8 +42,8 @@ class LineSensor(PartType):
             [[0.0, 0.0]],
             "each sensor's place from the mount, along and across its heading",
         ),
-        Opt("tape_u16", Num("", 0, 65_535, whole=True), 58_000, "the analog reading over the tape"),
-        Opt("floor_u16", Num("", 0, 65_535, whole=True), 6_000, "the analog reading over the floor"),
+        Opt("tape_u16", Num("", 0, 65_535, whole=True), 58_000, "the analog reading over the tape (black)"),
+        Opt("floor_u16", Num("", 0, 65_535, whole=True), 6_000, "the analog reading over the floor (white)"),
         Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 1_000, "the floor is looked at every"),
     )
     SIGNALS = (

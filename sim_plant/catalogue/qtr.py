@@ -15,7 +15,8 @@ board makes the pin an input again) and reads it (an output: the node's level).
 - Driven low, it reads 0 and holds no charge.
 - Let go after a charge, it reads 1 for the discharge time, then 0: ``white_us`` over the
   floor, ``black_us`` over the body's ``tape`` (the floor's dark line, as ``line_sensor``
-  sees it), ``unlit_us`` while the emitter is off (ambient light only: longer than any
+  sees it) or a world's picture's black (``line_course``), in proportion between over its
+  greys and edges, ``unlit_us`` while the emitter is off (ambient light only: longer than any
   driver's timeout, which the driver then reads). The floor under the channel and the
   emitter are taken at the instant it is let go; a change during the discharge does not
   change its length.
@@ -25,14 +26,15 @@ board makes the pin an input again) and reads it (an output: the node's level).
 
 Not modelled: the exponential shape of the decay (a read of the level is 1 or 0, the
 threshold crossing is the instant the time says), ambient light other than ``unlit_us``,
-partial tape under a channel (a channel is on the tape or not, as ``line_sensor``),
+the spot a channel sees (the floor's darkness at one point: on the tape or not, as
+``line_sensor``; a picture's darkness between its pixels),
 channel-to-channel spread and noise, a bump channel's flap (a bump sensor is a ``qtr``
 part whose floor is what its options say: its own ``white_us``/``black_us``)."""
 
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.floor import FloorSensors
+from sim_plant.floor import DARK, FloorSensors
 from sim_plant.option_table import Num, OneOf, Row, Rows, length
 from sim_plant.plant import NEVER_US, Change
 
@@ -71,6 +73,7 @@ class RcLines(FloorSensors):
         self.next_us = NEVER_US
 
     def start(self, t_us: int, plant) -> None:
+        self.look_at_world(plant)
         self.next_us = NEVER_US
 
     def initial_outputs(self) -> dict:
@@ -88,8 +91,9 @@ class RcLines(FloorSensors):
             self.high_since[i] = None
             self.charge[i] = held
             if self.levels_now[i] and held > 0:
-                self.on_tape[i] = bool(self._read(plant.pose_at(t_us))[i])
-                full = self.unlit_us if not self.lit else self.black_us if self.on_tape[i] else self.white_us
+                dark = self.dark(plant.pose_at(t_us))[i]
+                self.on_tape[i] = dark >= DARK
+                full = self.unlit_us if not self.lit else self.discharge_us(dark)
                 self.last_us[i] = round(full * held)
                 self.falls_at[i] = t_us + self.last_us[i]
             else:
@@ -106,6 +110,12 @@ class RcLines(FloorSensors):
             self.due.append((i, 0))
         self._plan(t_us)
         return False
+
+    def discharge_us(self, dark: float) -> int:
+        """The full discharge time, lit, over a floor this dark (0 white .. 1 black)."""
+        if dark <= 0.0 or dark >= 1.0:
+            return self.black_us if dark >= 1.0 else self.white_us
+        return round(self.white_us + dark * (self.black_us - self.white_us))
 
     def _plan(self, t_us: int) -> None:
         self.next_us = t_us if self.due else min(self.falls_at)
@@ -126,7 +136,7 @@ class RcLines(FloorSensors):
 
     def truth(self, t_us: int, plant) -> dict:
         return {
-            f"{self.label}_on_tape": [bool(v) for v in self._read(plant.pose_at(t_us))],
+            f"{self.label}_on_tape": [d >= DARK for d in self.dark(plant.pose_at(t_us))],
             f"{self.label}_discharge_us": list(self.last_us),
         }
 
