@@ -270,7 +270,8 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
 
 def describe_world(plant) -> dict | None:
     """The plant's walls (its ``world``, a sim_plant.world.World), as ``{"name",
-    "segments": [[ax, ay, bx, by], ...]}``; the name says the world's size."""
+    "segments": [[ax, ay, bx, by], ...]}``; the name says the world's size. A floor drawn
+    as a picture adds ``"floor"`` (:func:`host.artefacts.pictures.describe_floor`)."""
     world = plant.world
     if world is None:
         return None
@@ -280,7 +281,8 @@ def describe_world(plant) -> dict | None:
         xs = [v for s in segments for v in (s[0], s[2])]
         ys = [v for s in segments for v in (s[1], s[3])]
         name += f" {max(xs) - min(xs):g} x {max(ys) - min(ys):g} m"
-    return {"name": name, "segments": segments}
+    floor = pictures.describe_floor(plant)
+    return {"name": name, "segments": segments, **({"floor": floor} if floor else {})}
 
 
 def footprint_half_width_m(plant) -> float:

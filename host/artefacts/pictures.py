@@ -2,8 +2,11 @@
 (``docs/traces.md``): for each part that keeps its frames (``display_frames()``: an
 ``ssd1306``, an ``sh1106``), ``<name>.png``, the last picture, and ``<name>.gif``, every distinct picture
 in turn, each held for the virtual time it was shown (at least 20 ms, a GIF's least).
+Pixels are drawn ``SCALE`` times larger, lit ones in the panel's colour on black.
 
-Pixels are drawn ``SCALE`` times larger, lit ones in the panel's colour on black."""
+And the floor the robot drove on, when its world has one drawn (``line_course``):
+``floor.png``, its picture's grey levels as the line sensors saw them, which the
+trajectory plot lays under the path (the header's ``world`` says where: ``floor``)."""
 
 from PIL import Image
 
@@ -26,15 +29,39 @@ def image(width: int, height: int, picture: bytes) -> Image.Image:
     return rgb.resize((width * SCALE, height * SCALE), Image.NEAREST)
 
 
+FLOOR = "floor.png"
+
+
+def floor_of(plant):
+    """The plant's world's floor picture (a ``sim_plant.floor.PictureFloor``), or None."""
+    world = plant.world
+    return world.floor if world is not None else None
+
+
+def describe_floor(plant) -> dict | None:
+    """Where the floor's picture lies, for the header's ``world``: ``{"picture": "floor.png",
+    "extent_m": [x0, x1, y0, y1]}``; None without one."""
+    floor = floor_of(plant)
+    if floor is None:
+        return None
+    w_m, h_m = floor.size_m
+    return {"picture": FLOOR, "extent_m": [0.0, w_m, 0.0, h_m]}
+
+
 def writers(plant) -> list:
-    """(file name, write(path)) for each display's two files."""
-    out = []
+    """(file name, write(path)) for each display's two files, and the floor's picture."""
+    floor = floor_of(plant)
+    out = [(FLOOR, lambda path: _floor_png(path, floor))] if floor is not None else []
     for name, width, height, frames in displays(plant):
         blank = bytes(width * height)
         shown = frames or [(0, blank)]
         out.append((f"{name}.png", lambda path, w=width, h=height, s=shown: _png(path, w, h, s)))
         out.append((f"{name}.gif", lambda path, w=width, h=height, s=shown: _gif(path, w, h, s)))
     return out
+
+
+def _floor_png(path, floor) -> None:
+    Image.frombytes("L", (floor.width, floor.height), floor.gray).save(path, format="PNG")
 
 
 def _png(path, width, height, frames) -> None:

@@ -7,11 +7,11 @@ its whole width, ``width_m``. What the line sensors (``line_sensor``, ``qtr``) s
 each sensor is the picture's darkness there (1 - its grey level / 255: a colour is taken
 at its luminance, a transparent pixel as white), between the four nearest pixel centres
 (``sample = "bilinear"``: an edge is a ramp a pixel wide) or the nearest pixel's
-(``"nearest"``: a step). The picture is read once per file (and again when it changes).
+(``"nearest"``: a step). The picture is read once per file (again when its content changes).
 Walls stand along the picture's edges: the floor ends there."""
 
 import functools
-import os
+import io
 from pathlib import Path
 
 from PIL import Image, UnidentifiedImageError
@@ -70,19 +70,19 @@ class LineCourse(WorldType):
 
 def read_picture(path: Path) -> tuple[bytes, int, int]:
     """The picture at ``path`` as grey levels (a byte a pixel, rows from the top), its
-    width and height; a PartsError names the file and why it cannot be read."""
+    width and height; a PartsError names the file and why it cannot be read. The file is
+    read each time, decoded once per content."""
     try:
-        stat = os.stat(path)
+        data = path.read_bytes()
     except OSError as e:
         raise PartsError(f"[world] picture: cannot read {path} ({e.strerror or e})") from None
-    return _read(str(path), stat.st_mtime_ns, stat.st_size)
+    return _decoded(data, str(path))
 
 
-@functools.lru_cache(maxsize=8)
-def _read(path: str, _mtime_ns: int, _size: int) -> tuple[bytes, int, int]:
-    """(The file's time and size in the key: a changed picture is read again.)"""
+@functools.lru_cache(maxsize=4)
+def _decoded(data: bytes, path: str) -> tuple[bytes, int, int]:
     try:
-        with Image.open(path) as picture:
+        with Image.open(io.BytesIO(data)) as picture:
             width, height = picture.size
             if width * height > MAX_PIXELS:
                 raise PartsError(
@@ -95,7 +95,7 @@ def _read(path: str, _mtime_ns: int, _size: int) -> tuple[bytes, int, int]:
             f"[world] picture: cannot read {path} (not a picture Pillow reads: expected a PNG, JPEG, BMP or GIF)"
         ) from None
     except (OSError, ValueError, Image.DecompressionBombError) as e:
-        raise PartsError(f"[world] picture: cannot read {path} ({getattr(e, 'strerror', None) or e})") from None
+        raise PartsError(f"[world] picture: cannot read {path} ({e})") from None
     return gray.tobytes(), width, height
 
 
