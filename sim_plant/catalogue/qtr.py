@@ -146,9 +146,9 @@ class Qtr(PartType):
     doc = (
         "RC-decay reflectance sensors (QTR-xRC class, a kit's line or bump sensors): each channel's pin is driven"
         " high, let go, and reads 1 for a discharge time set by the floor under it (white_us, black_us over the"
-        " tape) and the emitter (unlit_us while off). A channel's line is an io signal: the firmware's pin drives"
-        " it, and lets it go when made an input again (Pin.IN, or open drain and high), at that instant"
-        " (docs/wiring.md)."
+        " tape or a line_course picture's black, in proportion over its greys) and the emitter (unlit_us while"
+        " off). A channel's line is an io signal: the firmware's pin drives it, and lets it go when made an input"
+        " again (Pin.IN, or open drain and high), at that instant (docs/wiring.md)."
     )
     OPTIONS = (
         Opt(

@@ -29,7 +29,9 @@ class LineCourse(WorldType):
     kind = "line_course"
     doc = (
         "A line follower's course: the floor drawn as a picture (a PNG), its scale mm_per_px or width_m, (0, 0) at"
-        " its bottom-left corner; line sensors see its darkness, walls stand along its edges."
+        " its bottom-left corner, x along its bottom edge, y up it; line sensors (line_sensor, qtr) see its"
+        " darkness (1 - grey/255; transparent is white), bilinear between pixel centres or the nearest pixel's;"
+        " walls stand along its edges (docs/rig-file.md, 'A floor drawn as a picture')."
     )
     OPTIONS = (
         Opt("picture", FileName("a picture's path, relative to the rig file"), None, "the floor's picture (a PNG)"),
