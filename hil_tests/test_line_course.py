@@ -1,10 +1,12 @@
-"""A kit follows a line course drawn as a picture (the ``line_course`` world, docs/parts.md):
+"""A kit follows a line course drawn as a picture (the ``line_course`` world, docs/rig-file.md):
 the test draws a rounded-rectangle loop of black tape on white as a PNG, puts it under the
 SparkFun XRP kit's rig (``mpy-fil init --kit xrp``), and the XRP's line follower
 (hil_tests/firmware/kits/xrp_line: the two reflectance channels, PD on their difference,
 in XRPLib's style) drives a lap in virtual time. The plant's pose is the judge: the lap's
 length, the return to the start, and the sensor bar never further from the line's centre
-than the margin."""
+than the margin. The kitbot (QTR RC channels, Pololu's style) takes the course's first
+corner the same way (a lap of it costs about its own time in wall time: its reads are
+many round trips)."""
 
 import math
 import shutil
@@ -27,7 +29,6 @@ CORNER_M = 0.2  # its corners' radius
 TAPE_M = 0.019  # 3/4 inch electrical tape
 LAP_M = 4 * (HALF_M[0] - CORNER_M) + 4 * (HALF_M[1] - CORNER_M) + 2 * math.pi * CORNER_M  # 3.057 m
 START = (0.5, CENTRE_M[1] - HALF_M[1], 0.0)  # on the bottom straight, heading along it (anticlockwise)
-SENSOR_X_M = 0.08  # the reflectance board ahead of the wheels' axle (the kit's rig.toml)
 MARGIN_M = 0.012  # the sensor bar's centre stays this close to the line's centre (the tape is 9.5 mm each side)
 
 
@@ -49,6 +50,68 @@ def draw_course(path: Path) -> None:
     Image.fromarray(np.round(255 * (1 - dark)).astype(np.uint8), "L").save(path)
 
 
+class SensorPath:
+    """The sensor bar's centre (``ahead_m`` before the wheels' axle) on the plant's true pose,
+    sampled each time it is called (``run_until``'s look every 10 ms): its length, its
+    distance from the course's line."""
+
+    def __init__(self, rig, ahead_m: float):
+        self.rig, self.ahead_m = rig, ahead_m
+        self.t0_us = rig.t_us
+        self.points = []  # (t_us, x_m, y_m, heading_rad)
+        self.length_m = 0.0
+
+    def sample(self) -> tuple:
+        truth = self.rig.truth()
+        th = truth["theta_rad"]
+        point = (
+            self.rig.t_us,
+            truth["x_m"] + self.ahead_m * math.cos(th),
+            truth["y_m"] + self.ahead_m * math.sin(th),
+            th,
+        )
+        if self.points:
+            self.length_m += math.dist(self.points[-1][1:3], point[1:3])
+        self.points.append(point)
+        return point
+
+    def worst_off_line(self) -> tuple[float, tuple]:
+        """(The greatest distance from the line's centre, where and when it was.)"""
+        errors = off_line_m(np.array([p[1] for p in self.points]), np.array([p[2] for p in self.points]))
+        worst = int(np.argmax(errors))
+        return float(errors[worst]), self.points[worst]
+
+    def check_on_line(self, where: str) -> float:
+        off_m, (t_us, x, y, _) = self.worst_off_line()
+        assert off_m <= MARGIN_M, (
+            f"expected the sensor bar within {MARGIN_M * 1000:.0f} mm of the line's centre, got {off_m * 1000:.1f} mm "
+            f"at ({x:.3f}, {y:.3f}) m, {(t_us - self.t0_us) / 1e6:.2f} s in; {where}"
+        )
+        return off_m
+
+
+def on_the_course(rig_file: Path, changes: dict) -> Path:
+    """The rig file with the course as its world: ``changes`` (text -> its replacement, each
+    there) made, the room and the start pose taken out."""
+    text = rig_file.read_text()
+    room = {"room_w_m = 3.0\n": "", "room_h_m = 2.0\n": "", "start_pose = [0.5, 1.0, 0.0]\n": ""}
+    for old, new in {**room, **changes}.items():
+        assert old in text, f"{rig_file} changed: no {old!r}"
+        text = text.replace(old, new)
+    draw_course(rig_file.parent / "course.png")
+    rig_file.write_text(
+        text
+        + f"""
+[world]
+kind = "line_course"
+picture = "course.png"
+mm_per_px = {MM_PER_PX}
+start_pose = {list(START)}
+"""
+    )
+    return rig_file
+
+
 def xrp_on_the_course(capsys, tmp_path: Path) -> Path:
     """``init --kit xrp``, our XRP line follower beside it, the course under it; the rig file."""
     folder = tmp_path / "xrp"
@@ -57,22 +120,8 @@ def xrp_on_the_course(capsys, tmp_path: Path) -> Path:
     assert code == 0, capsys.readouterr().err
     shutil.copytree(FIRMWARE / "xrp" / "xrpkit", folder / "xrpkit")
     shutil.copy(FIRMWARE / "xrp_line" / "main.py", folder / "main.py")
-    draw_course(folder / "course.png")
-    rig_file = folder / "rig.toml"
-    text = rig_file.read_text()
-    for line in ("room_w_m = 3.0\n", "room_h_m = 2.0\n", "start_pose = [0.5, 1.0, 0.0]\n"):
-        assert line in text, f"the xrp kit's rig.toml changed: no {line!r}"
-        text = text.replace(line, "")
-    text = text.replace('name = "user_button"\n', 'name = "user_button"\npresses = [[0.1, 0.2]]\n')
-    text += f"""
-[world]
-kind = "line_course"
-picture = "course.png"
-mm_per_px = {MM_PER_PX}
-start_pose = {list(START)}
-"""
-    rig_file.write_text(text)
-    return rig_file
+    pressed = {'name = "user_button"\n': 'name = "user_button"\npresses = [[0.1, 0.2]]\n'}
+    return on_the_course(folder / "rig.toml", pressed)
 
 
 def test_xrp_follows_a_drawn_line_course_for_a_lap_within_its_margin(capsys, make_rig, tmp_path):
@@ -80,34 +129,46 @@ def test_xrp_follows_a_drawn_line_course_for_a_lap_within_its_margin(capsys, mak
     where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     (left, right) = (float(v) for v in rig.expect(r"start (\S+) (\S+)").groups())
     assert min(left, right) > 0.5, f"both channels over the tape at the start: {left}, {right}; {where()}"
-    t0_us = rig.t_us
-    path = []  # (t_us, the sensor bar's centre x, y, heading)
+    path = SensorPath(rig, ahead_m=0.08)  # the reflectance board (the kit's rig.toml)
+    start_x = START[0] + path.ahead_m
 
     def lapped():
-        truth = rig.truth()
-        th = truth["theta_rad"]
-        x, y = truth["x_m"] + SENSOR_X_M * math.cos(th), truth["y_m"] + SENSOR_X_M * math.sin(th)
-        path.append((rig.t_us, x, y, th))
-        travelled = sum(math.dist(a[1:3], b[1:3]) for a, b in zip(path[-2:], path[-1:]))
-        lapped.m += travelled
-        back = lapped.m > 0.9 * LAP_M and x >= START[0] + SENSOR_X_M and y < CENTRE_M[1]
-        return back
+        _, x, y, _ = path.sample()
+        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]  # back across the start
 
-    lapped.m = 0.0
     rig.run_until(lapped, timeout_s=40)
-    lap_s = (rig.t_us - t0_us) / 1e6
-    t_us, x, y, th = path[-1]
-    errors = off_line_m(np.array([p[1] for p in path]), np.array([p[2] for p in path]))
-    worst = int(np.argmax(errors))
-    print(f"lap {lap_s:.2f} s, {lapped.m:.3f} m of {LAP_M:.3f}, max off the line {errors[worst] * 1000:.1f} mm")
+    lap_s = (rig.t_us - path.t0_us) / 1e6
+    _, x, y, th = path.points[-1]
+    off_m = path.worst_off_line()[0]
+    print(f"lap {lap_s:.2f} s, {path.length_m:.3f} m of {LAP_M:.3f}, at most {off_m * 1000:.1f} mm off the line")
     assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
-    assert lapped.m == pytest.approx(LAP_M, rel=0.03), f"the sensor bar went {lapped.m:.3f} m; {where()}"
-    assert errors[worst] <= MARGIN_M, (
-        f"expected the sensor bar within {MARGIN_M * 1000:.0f} mm of the line's centre all lap, got "
-        f"{errors[worst] * 1000:.1f} mm at ({path[worst][1]:.3f}, {path[worst][2]:.3f}) m, "
-        f"{(path[worst][0] - t0_us) / 1e6:.2f} s in; {where()}"
-    )
+    assert path.length_m == pytest.approx(LAP_M, rel=0.03), f"the sensor bar went {path.length_m:.3f} m; {where()}"
+    path.check_on_line(where())
     assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(10), (
-        f"back at the start line ({START[0] + SENSOR_X_M:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
+        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
         f"heading {math.degrees(th):.1f} deg; {where()}"
     )
+
+
+def test_kitbot_takes_the_courses_first_corner_by_its_qtr_channels(make_rig, tmp_path):
+    """The QTR RC channels in the loop over the picture: driven high, let go, timed (the
+    discharge by the picture's darkness under each), through the first quarter circle."""
+    folder = tmp_path / "kitbot"
+    shutil.copytree(FIRMWARE.parent / "kitbot", folder)
+    shutil.copy(FIRMWARE.parent / "kitbot_line" / "main.py", folder / "main.py")
+    tape = "tape = [[0.62, 0.5], [0.62, 1.5]]     # a dark line across its path\n"
+    rig = make_rig(str(on_the_course(folder / "rig.toml", {tape: ""})))
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    assert rig.expect(r"calibrated (\S+) (\S+)").groups() == ("120", "700"), f"white_us, black_us; {where()}"
+    path = SensorPath(rig, ahead_m=0.04)  # the QTR array (kitbot's rig.toml)
+    corner_end_y = CENTRE_M[1] - HALF_M[1] + CORNER_M  # where the right straight begins
+
+    def cornered():
+        _, _, y, th = path.sample()
+        return y > corner_end_y + 0.05 and th > math.radians(80)
+
+    rig.run_until(cornered, timeout_s=10)
+    off_m = path.check_on_line(where())
+    print(f"corner {(rig.t_us - path.t0_us) / 1e6:.2f} s, at most {off_m * 1000:.1f} mm off the line")
+    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
+    assert rig.truth()["line_on_tape"][1], f"the middle channel over the line; {where()}"
