@@ -1,6 +1,7 @@
 """The run as a moving picture: the robot's true path drawn as it happened, over the
-world's walls, written as an animated GIF through Pillow as matplotlib's PillowWriter
-writes one (``plots/trajectory.gif`` beside the still plots)."""
+world's walls (and the floor's picture, a line course's), written as an animated GIF
+through Pillow as matplotlib's PillowWriter writes one (``plots/trajectory.gif`` beside
+the still plots)."""
 
 from pathlib import Path
 
@@ -11,6 +12,7 @@ from PIL import Image
 
 from host.artefacts import integrity
 from host.artefacts.folder import TraceData
+from host.report import views
 
 FRAMES = 30  # at most: a mission of any length fits in a few seconds of GIF
 FPS = 8
@@ -32,6 +34,11 @@ def write_movie(trace: TraceData, path: Path, frames: int = FRAMES) -> Path | No
     ax = fig.add_subplot()
     world = trace.header.get("world")
     points = [np.column_stack([x, y])]
+    floor = views.floor_picture(trace)
+    if floor is not None:  # (a line course's picture under the path)
+        ax.imshow(
+            floor.gray, cmap="gray", vmin=0, vmax=255, extent=floor.extent, origin="upper", interpolation="nearest"
+        )
     if world:
         seg = np.asarray(world["segments"], dtype=float)
         for ax_, ay_, bx_, by_ in seg:

@@ -18,7 +18,6 @@ from matplotlib.collections import LineCollection
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, NullLocator
-from PIL import Image
 
 from host.artefacts import integrity
 from host.artefacts.folder import TraceData, load_trace
@@ -86,7 +85,7 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     fig = Figure(figsize=(8, height_in))  # fixed margins: a constrained layout costs half the drawing
     ax = fig.add_axes((0.09, 0.75 / height_in, 0.76, 1 - 1.45 / height_in))
     colorbar_axes = fig.add_axes((0.88, 0.75 / height_in + 0.1, 0.025, 1 - 1.45 / height_in - 0.2))
-    cov = None if _draw_floor(ax, trace) else views.coverage(trace)  # (a drawn floor: the picture, not the cover)
+    cov = None if draw_floor(ax, trace) else views.coverage(trace)  # (a drawn floor: the picture, not the cover)
     if cov is not None:
         image = np.zeros(cov.free.shape, dtype=int)
         image[cov.free] = 1
@@ -139,18 +138,14 @@ def trajectory_figure(trace: TraceData) -> Figure | None:
     return fig
 
 
-def _draw_floor(ax, trace: TraceData) -> bool:
-    """The floor's picture under the path, where the world has one drawn (``floor.png``):
-    True if drawn."""
-    floor = (trace.header.get("world") or {}).get("floor")
-    path = trace.folder / str(floor.get("picture", "")) if isinstance(floor, dict) else None
-    if path is None or not path.is_file() or path.name not in (trace.header.get("files") or {}):
-        return False  # (only a picture the folder's seal vouches for)
-    with Image.open(path) as picture:
-        gray = np.asarray(picture.convert("L"))
-    x0, x1, y0, y1 = (float(v) for v in floor["extent_m"])
-    ax.imshow(gray, cmap="gray", vmin=0, vmax=255, extent=(x0, x1, y0, y1), origin="upper", interpolation="nearest")
-    return True
+def draw_floor(ax, trace: TraceData) -> bool:
+    """The floor's picture under the path, where the world has one drawn: True if drawn."""
+    floor = views.floor_picture(trace)
+    if floor is not None:
+        ax.imshow(
+            floor.gray, cmap="gray", vmin=0, vmax=255, extent=floor.extent, origin="upper", interpolation="nearest"
+        )
+    return floor is not None
 
 
 # -- signals -----------------------------------------------------------------------------

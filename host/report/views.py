@@ -1,6 +1,7 @@
 """What the plots show, computed from a trace folder: plain numbers, no drawing.
 
 - :func:`coverage` rasterises the ground-truth path into the world's coverage grid.
+- :func:`floor_picture` reads the floor's picture back, where the world has one drawn.
 - :func:`signal_panels` picks the signals over time: a robot built from parts gets each
   part's declared views (:mod:`host.report.part_views`); a rig file adds views of its
   firmware's beliefs by name (``[report] views``: the catalogue's report views, ours and a
@@ -13,6 +14,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from PIL import Image
 
 from host.artefacts.folder import TraceData
 from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
@@ -23,7 +25,7 @@ from sim_plant.catalogue.coverage import CoverageGrid  # (the part's grid, redra
 from sim_plant.world import World
 
 COVERAGE_CELL_M = 0.05
-__all__ = ["Line", "Panel", "US_PER_S", "coverage", "signal_panels", "belief_path"]
+__all__ = ["Line", "Panel", "US_PER_S", "coverage", "floor_picture", "signal_panels", "belief_path"]
 belief_path = odometry.belief_path  # the firmware's own idea of its path, for the trajectory
 
 
@@ -40,6 +42,27 @@ def world_of(trace: TraceData) -> World | None:
     if not world or not world.get("segments"):
         return None
     return World(world["segments"], name=world.get("name", "world"))
+
+
+@dataclass
+class FloorPicture:
+    gray: np.ndarray  # uint8 [rows from the top, columns]: 0 black, 255 white
+    extent: tuple[float, float, float, float]  # x0, x1, y0, y1 in metres
+
+
+def floor_picture(trace: TraceData) -> FloorPicture | None:
+    """The floor's picture (``floor.png``: a ``line_course`` world's) and where it lies;
+    None without one, or without one the folder's seal vouches for."""
+    floor = (trace.header.get("world") or {}).get("floor")
+    if not isinstance(floor, dict):
+        return None
+    path = trace.folder / str(floor.get("picture", ""))
+    if path.name not in (trace.header.get("files") or {}) or not path.is_file():
+        return None
+    with Image.open(path) as picture:
+        gray = np.asarray(picture.convert("L"))
+    x0, x1, y0, y1 = (float(v) for v in floor["extent_m"])
+    return FloorPicture(gray, (x0, x1, y0, y1))
 
 
 def coverage(trace: TraceData, cell_m: float | None = None) -> Coverage | None:

@@ -12,6 +12,7 @@ from PIL import Image
 from host.artefacts.folder import load_trace
 from host.cli import main
 from host.core.errors import ConfigError
+from host.report.movie import write_movie
 from host.report.plots import trajectory_figure
 from host.rig.rigfile import load_rig
 
@@ -106,4 +107,10 @@ def test_the_trace_folder_keeps_the_floor_and_the_trajectory_is_drawn_over_it(tm
     with Image.open(rig.artefacts / "floor.png") as floor:
         assert floor.size == (200, 200) and floor.getpixel((50, 100)) == 255 and floor.getpixel((150, 100)) == 0
     (image,) = trajectory_figure(trace).axes[0].images
-    assert list(image.get_extent()) == [0.0, 1.0, 0.0, 1.0] and image.get_array()[100, 150] == 0
+    shown = image.get_array()
+    assert list(image.get_extent()) == [0.0, 1.0, 0.0, 1.0] and shown.shape == (200, 200), "the floor under the path"
+    assert shown[100, 50] == 255 and shown[100, 150] == 0, "white left, black right"
+    movie = write_movie(trace, tmp_path / "trajectory.gif", frames=2)
+    with Image.open(movie) as gif:
+        dark = sum(n for n, value in gif.convert("L").getcolors() if value < 60) / (gif.width * gif.height)
+    assert dark > 0.1, f"the floor's black half under the moving picture too: {dark:.0%} of it dark"
