@@ -9,7 +9,8 @@ that made the result, each piece by hash or version.
   under coverage), the make options of our build (None for a ``$MICROPYTHON`` of one's own)
   and the binary's SHA-256;
 - ``shim``: the SHA-256 of each file of ``host/shim`` and of them all;
-- ``plant``: its class, options and, for a robot built of parts, the body and each part;
+- ``plant``: its class, options and, for a robot built of parts, the body and each part
+  (and a floor drawn as a picture, by the hash of its grey levels);
 - ``run``: app, rig file, board, seed, mode, world, faults (the rig file's and the run's);
 - ``harness``: its version and commit (a checkout's; ``unknown`` when installed);
 - ``project``: the user's repository the rig file is in (its root and commit), apart from
@@ -110,6 +111,10 @@ def plant_part(plant, options: dict) -> dict:
     """The plant's class and options, and its body and parts as the trace header has them."""
     part = {"class": type(plant.unwrapped).__name__, "options": _plain(options)}
     part.update(_plain(plant.describe() or {}))
+    floor = plant.world.floor if plant.world is not None else None
+    if floor is not None:  # (a line course's picture: what its line sensors saw, by hash)
+        size = [floor.width, floor.height]
+        part["floor"] = {"sha256": hashlib.sha256(floor.gray).hexdigest(), "size_px": size, "m_per_px": floor.m_per_px}
     return part
 
 

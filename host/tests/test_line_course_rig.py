@@ -1,9 +1,11 @@
 """A rig file's ``[world]`` drawn as a picture (``kind = "line_course"``, docs/rig-file.md):
 the picture's path is relative to the rig file, not to where the command runs; a missing
 or unreadable picture is refused when the rig file is read (so by ``mpy-fil check``),
-naming the rig file and the picture; the trace folder keeps the floor's picture and the
-trajectory plot draws the path over it."""
+naming the rig file and the picture; the trace folder keeps the floor's picture (and the
+manifest its hash) and the trajectory plots draw the path over it."""
 
+import hashlib
+import json
 import os
 
 import pytest
@@ -106,6 +108,9 @@ def test_the_trace_folder_keeps_the_floor_and_the_trajectory_is_drawn_over_it(tm
     assert trace.header["world"]["floor"] == {"picture": "floor.png", "extent_m": [0.0, 1.0, 0.0, 1.0]}
     with Image.open(rig.artefacts / "floor.png") as floor:
         assert floor.size == (200, 200) and floor.getpixel((50, 100)) == 255 and floor.getpixel((150, 100)) == 0
+        grey = hashlib.sha256(floor.tobytes()).hexdigest()
+    manifest = json.loads((rig.artefacts / "manifest.json").read_text())
+    assert manifest["plant"]["floor"] == {"sha256": grey, "size_px": [200, 200], "m_per_px": 0.005}, manifest["plant"]
     (image,) = trajectory_figure(trace).axes[0].images
     shown = image.get_array()
     assert list(image.get_extent()) == [0.0, 1.0, 0.0, 1.0] and shown.shape == (200, 200), "the floor under the path"
