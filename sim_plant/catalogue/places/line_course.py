@@ -7,8 +7,8 @@ its whole width, ``width_m``. What the line sensors (``line_sensor``, ``qtr``) s
 each sensor is the picture's darkness there (1 - its grey level / 255: a colour is taken
 at its luminance, a transparent pixel as white), between the four nearest pixel centres
 (``sample = "bilinear"``: an edge is a ramp a pixel wide) or the nearest pixel's
-(``"nearest"``: a step). The picture is read once per file (again when its content changes).
-Walls stand along the picture's edges: the floor ends there."""
+(``"nearest"``: a step). The file is read each time the plant is built, and decoded once
+per content. Walls stand along the picture's edges: the floor ends there."""
 
 import functools
 import io
@@ -35,7 +35,9 @@ class LineCourse(WorldType):
     )
     OPTIONS = (
         Opt("picture", FileName("a picture's path, relative to the rig file"), None, "the floor's picture (a PNG)"),
-        Opt("mm_per_px", Num("millimetres", 0.01, 1000, none=True), None, "its scale (or width_m)"),
+        Opt(
+            "mm_per_px", Num("millimetres", 0.01, 1000, none=True), None, "millimetres a pixel: its scale (or width_m)"
+        ),
         Opt("width_m", length(0.01, 100, none=True), None, "its whole width (or mm_per_px): the scale from it"),
         Opt(
             "start_pose",
