@@ -592,7 +592,27 @@ class PWM:
         _hil.send_out(self._handle, _F.OUT_DEINIT, 0)
 
 
+def _mpy():
+    import sys
+
+    return tuple(sys.implementation.version[:2])  # (the interpreter's own: each version is built, docs/versions.md)
+
+
+_MPY = _mpy()  # the MicroPython release the board runs, as (major, minor)
+# Timer(hard=) as each port's machine_timer_init_helper takes it (an unknown keyword is
+# py/argcheck.c's TypeError "extra keyword arguments given"): ports/rp2/machine_timer.c from
+# 1.26 (ARG_hard, alarm_callback runs a hard callback in the alarm's IRQ); ports/esp32/
+# machine_timer.c from 1.27, where hard=True is a ValueError (machine_timer_isr_handler only
+# schedules). No family: as rp2.
+_TIMER_HARD = (1, 27) if _ESP32 else (1, 26)
+
+
 class Timer:
+    """A virtual timer in virtual time. A callback is scheduled at its due time (soft, as
+    py/scheduler.c queues it); with hard=True (rp2 1.26+) it runs at its due time even
+    inside a C call or another callback, as a Pin IRQ's with hard=True does (_hil._is_hard:
+    the Timer is the callback's argument, its _hard says so)."""
+
     ONE_SHOT = 0
     PERIODIC = 1
 
@@ -606,15 +626,25 @@ class Timer:
             timer._callback = None
             timer._period_us = 0
             timer._due = _F.FOREVER_US
+            timer._hard = False  # its callback runs at its due time, even inside a C call (_hil.dispatch)
             if id != -1:
                 Timer._made[id] = timer
         return timer
 
-    def __init__(self, id=-1, **kw):
-        if kw:
-            self.init(**kw)
+    def __init__(self, id=-1, *args, **kw):
+        if args or kw:
+            self.init(*args, **kw)
 
-    def init(self, *, mode=PERIODIC, freq=-1, period=-1, tick_hz=1000, callback=None):
+    def init(self, *args, mode=PERIODIC, freq=-1, period=-1, tick_hz=1000, callback=None, **kw):
+        if _ESP32:  # (ports/esp32/machine_timer.c, machine_timer_init_helper: disabled before its arguments are read)
+            self.deinit()
+        if args:  # (all keyword-only: py/argcheck.c, mp_arg_parse_all)
+            raise TypeError("extra positional arguments given")
+        hard = kw.pop("hard", False) if _MPY >= _TIMER_HARD else False
+        if kw:
+            raise TypeError("extra keyword arguments given")
+        if hard and _ESP32:
+            raise ValueError("hard Timers are not implemented")
         if freq > 0:
             period_us = 1_000_000 // freq
         elif period > 0:
@@ -622,6 +652,7 @@ class Timer:
         else:
             raise ValueError("Timer needs a period or a freq")
         self._callback = callback
+        self._hard = bool(hard) and callback is not None
         self._period_us = period_us if mode == self.PERIODIC else 0
         self._due = _hil.now() + period_us
         if callback is None:
@@ -745,6 +776,8 @@ class UART:
         _hil.observe()
         want = 1 if nbytes is None or nbytes < 0 else nbytes
         self._wait_for(lambda: len(self._rx) >= want)
+        if want > 1 and _MPY < (1, 27):
+            self._read_on(want)
         if not self._rx:
             return None
         if nbytes is None or nbytes < 0:
@@ -756,6 +789,19 @@ class UART:
             self._lines += 1
             _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._lines))
         return data
+
+    def _read_on(self, want):
+        """Before 1.27 machine.UART's read and readinto were py/stream.c's mp_stream_read and
+        mp_stream_readinto, whose loop (mp_stream_rw) calls the port's read again after a
+        short read: another timeout's wait for the rest, until a call gets nothing or the
+        buffer is full. From 1.27 (extmod/machine_uart.c: mp_stream_read1_obj,
+        mp_stream_readinto1_obj; MP_STREAM_RW_ONCE) a read returns at its first timeout."""
+        got = len(self._rx)
+        while 0 < got < want:
+            self._wait_for(lambda: len(self._rx) >= want)
+            if len(self._rx) == got:
+                return
+            got = len(self._rx)
 
     def readinto(self, buf, nbytes=-1):  # (py/stream.c, stream_readinto: at most the buffer's bytes)
         view = buf if type(buf) is bytearray else _buffers().wbuf(buf)
