@@ -8,6 +8,8 @@ Each case names its version; it is skipped, saying which command builds it, when
 version is not built here. Under ``pytest --mpy-version`` a case runs only in the run of its
 own version (the other runs skip it, saying so)."""
 
+from dataclasses import replace
+
 import pytest
 
 from host.core import interpreter
@@ -41,8 +43,9 @@ def on_version(make_rig, hil_mpy_version, monkeypatch):
         problem = _built(version)
         if problem:
             pytest.skip(f"MicroPython {version} is not built here ({problem}): mpy-fil setup --micropython {version}")
-        monkeypatch.setenv(interpreter.VERSION_ENV, version)  # (after make_rig's own: undone first)
-        rig = make_rig(app, main_dir=FIRMWARE / case, allow_exit=True)
+        if not hil_mpy_version:  # (the version is the app's, as a rig file's [interpreter] version)
+            monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+        rig = make_rig(replace(app, mpy_version=version), main_dir=FIRMWARE / case, allow_exit=True)
         rig.run_for(duration_s)
         rig.stop()
         r = results(rig.console)
