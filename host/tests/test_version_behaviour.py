@@ -158,3 +158,14 @@ def test_no_version_has_i2c_deinit_on_rp2_or_esp32(on_version, version, board):
         expected = ["AttributeError", f"'{name}' object has no attribute 'deinit'"]
         assert r.get(name) == expected, f"{board} {version}: {name}.deinit gave {r.get(name)} ({rig.artefacts})"
     assert r.get("SPI") == r.get("SoftSPI") == "deinit", (board, version, r)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_asm_pio_puts_the_modules_globals_back_after_an_error_from_1_28(on_version, version):
+    """ports/rp2/modules/rp2.py, asm_pio (1.28: "Don't corrupt globals on asm_pio()
+    exception"): a program body that raises (a NameError: it names a module global, which
+    it cannot see) leaves the module's globals as the PIO names alone before 1.28, put back
+    from 1.28 (host/shim/_pioasm.py, _restores)."""
+    rig, r = on_version(version, _plain(), "ver_asm_pio_globals", 0.05)
+    expected = ["NameError", "mine"] if _v(version) >= (1, 28) else ["NameError", "globals lost"]
+    assert r.get("after") == expected, f"{version}: got {r.get('after')}, expected {expected} ({rig.artefacts})"
