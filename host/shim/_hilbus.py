@@ -63,9 +63,6 @@ class _Bus:
     def _clocks(self, n_clocks, clock_hz):
         return (n_clocks * 1_000_000 + clock_hz - 1) // clock_hz
 
-    def deinit(self):
-        pass
-
 
 class SoftI2C(_Bus):
     """Bit-banged I2C on any two pins: an address not acknowledged raises ENODEV; a data
@@ -262,6 +259,9 @@ class SoftSPI(_Bus):
         if len(data) != len(view):
             raise ValueError("buffers must be the same length")
         fill(view, self._xfer(data))
+
+    def deinit(self):  # (extmod/machine_spi.c, machine_spi_deinit; I2C and SoftI2C have none on rp2 and esp32)
+        pass
 
 
 class SPI(SoftSPI):

@@ -214,6 +214,15 @@ class Program:
         return names
 
 
+def _restores():
+    """ports/rp2/modules/rp2.py, asm_pio: from 1.28 its try/finally puts the body's module
+    globals back when assembling raises; before, they were left as the PIO names alone."""
+    import sys
+
+    impl = sys.implementation  # (under CPython, as the host's tests load this file: put back)
+    return impl.name != "micropython" or tuple(impl.version[:2]) >= (1, 28)
+
+
 def asm_pio(**settings):
     """The decorator: the body, run with the PIO names as its globals (as on the port, it
     sees no other global while it runs), becomes the program list."""
@@ -224,14 +233,17 @@ def asm_pio(**settings):
         saved = scope.copy()
         scope.clear()
         scope.update(program.names())
+        done = False
         try:
             program.begin(False)
             body()
             program.begin(True)
             body()
+            done = True
         finally:
-            scope.clear()
-            scope.update(saved)
+            if done or _restores():
+                scope.clear()
+                scope.update(saved)
         return program.prog
 
     return assemble

@@ -592,7 +592,27 @@ class PWM:
         _hil.send_out(self._handle, _F.OUT_DEINIT, 0)
 
 
+def _mpy():
+    import sys
+
+    return tuple(sys.implementation.version[:2])  # (the interpreter's own: each version is built, docs/versions.md)
+
+
+_MPY = _mpy()  # the MicroPython release the board runs, as (major, minor)
+# Timer(hard=) as each port's machine_timer_init_helper takes it (an unknown keyword is
+# py/argcheck.c's TypeError "extra keyword arguments given"): ports/rp2/machine_timer.c from
+# 1.26 (ARG_hard, alarm_callback runs a hard callback in the alarm's IRQ); ports/esp32/
+# machine_timer.c from 1.27, where hard=True is a ValueError (machine_timer_isr_handler only
+# schedules). No family: as rp2.
+_TIMER_HARD = (1, 27) if _ESP32 else (1, 26)
+
+
 class Timer:
+    """A virtual timer in virtual time. A callback is scheduled at its due time (soft, as
+    py/scheduler.c queues it); with hard=True (rp2 1.26+) it runs at its due time even
+    inside a C call or another callback, as a Pin IRQ's with hard=True does (_hil._is_hard:
+    the Timer is the callback's argument, its _hard says so)."""
+
     ONE_SHOT = 0
     PERIODIC = 1
 
@@ -606,15 +626,25 @@ class Timer:
             timer._callback = None
             timer._period_us = 0
             timer._due = _F.FOREVER_US
+            timer._hard = False  # its callback runs at its due time, even inside a C call (_hil.dispatch)
             if id != -1:
                 Timer._made[id] = timer
         return timer
 
-    def __init__(self, id=-1, **kw):
-        if kw:
-            self.init(**kw)
+    def __init__(self, id=-1, *args, **kw):
+        if args or kw:
+            self.init(*args, **kw)
 
-    def init(self, *, mode=PERIODIC, freq=-1, period=-1, tick_hz=1000, callback=None):
+    def init(self, *args, mode=PERIODIC, freq=-1, period=-1, tick_hz=1000, callback=None, **kw):
+        if _ESP32:  # (ports/esp32/machine_timer.c, machine_timer_init_helper: disabled before its arguments are read)
+            self.deinit()
+        if args:  # (all keyword-only: py/argcheck.c, mp_arg_parse_all)
+            raise TypeError("extra positional arguments given")
+        hard = kw.pop("hard", False) if _MPY >= _TIMER_HARD else False
+        if kw:
+            raise TypeError("extra keyword arguments given")
+        if hard and _ESP32:
+            raise ValueError("hard Timers are not implemented")
         if freq > 0:
             period_us = 1_000_000 // freq
         elif period > 0:
@@ -622,6 +652,7 @@ class Timer:
         else:
             raise ValueError("Timer needs a period or a freq")
         self._callback = callback
+        self._hard = bool(hard) and callback is not None
         self._period_us = period_us if mode == self.PERIODIC else 0
         self._due = _hil.now() + period_us
         if callback is None:
@@ -660,17 +691,21 @@ class UART:
             uart._baud = 9600
             uart._char_bits = 10
             uart._timeout = 0
+            uart._timeout_char = 0
         return uart
 
     def __init__(self, id, baudrate=None, *args, **kw):
         self.init(baudrate, *args, **kw)
 
-    def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, **kw):
-        """baudrate, bits, parity, stop; timeout: ms a read waits for its data (0: none)."""
+    def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, timeout_char=None, **kw):
+        """baudrate, bits, parity, stop; timeout: ms a read waits for its first byte (0: none);
+        timeout_char: ms it waits for each next one (read and readinto: _port_read)."""
         if baudrate is not None:
             self._baud = int(baudrate)
         if timeout is not None:
             self._timeout = int(timeout)
+        if timeout_char is not None:
+            self._timeout_char = int(timeout_char)
         self._char_bits = 1 + bits + (0 if parity is None else 1) + stop
         _hil.configure(self._handle, _F.CFG_UART, "uart%s" % (self._id,), param=self._baud)
 
@@ -692,6 +727,49 @@ class UART:
     def _wait_rx(self, enough, deadline):
         while not enough() and _hil.now() < deadline:
             _hil.run_until(deadline, [self._handle])
+
+    def _until(self, enough, deadline):
+        """Wait until enough() or the deadline (_wait_for's way: an ESP32's read is a C call)."""
+        if enough() or _hil.now() >= deadline:
+            return
+        _hil.blocking()
+        if not _ESP32:
+            self._wait_rx(enough, deadline)
+            return
+        prev = _hil.c_begin(_hil.now())
+        try:
+            self._wait_rx(enough, deadline)
+        finally:
+            _hil.c_end(prev)
+
+    def _port_read(self, want, taken):
+        """One call of the port's read (mp_machine_uart_read) for the bytes past ``taken`` up to
+        ``want``, returning when the port's does; False when it got none (MP_EAGAIN).
+        ports/rp2/machine_uart.c: the first byte within timeout, each next within timeout_char
+        of the one before (at least 13 bits' time, rounded up to the ms: machine_uart_init_helper).
+        ports/esp32/machine_uart.c: ESP-IDF's uart_read_bytes, before 1.27 for all of them within
+        timeout; from 1.27 for the first within timeout, then for the rest within timeout_char
+        (0 by default: what has come; with it 0 the port sets the RX FIFO's threshold to one
+        byte, so each byte is there as it comes, as here). Times to the us (the rp2 compares ms
+        ticks, elapsed > timeout: up to 1 ms more; the ESP32 waits in FreeRTOS ticks)."""
+        rx = self  # (the closures read rx._rx: it is rebound as bytes arrive)
+        now = _hil.now()
+        if _ESP32 and _MPY < (1, 27):
+            self._until(lambda: len(rx._rx) >= want, now + self._timeout * 1000)
+            return len(self._rx) > taken
+        self._until(lambda: len(rx._rx) > taken, now + self._timeout * 1000)
+        if len(self._rx) <= taken:
+            return False
+        if _ESP32:
+            self._until(lambda: len(rx._rx) >= want, _hil.now() + self._timeout_char * 1000)
+            return True
+        gap_us = max(self._timeout_char, 13000 // self._baud + 1) * 1000
+        while len(self._rx) < want:
+            n = len(self._rx)
+            self._until(lambda n=n: len(rx._rx) > n, _hil.now() + gap_us)
+            if len(self._rx) == n:
+                break
+        return True
 
     def deinit(self):
         self.irq(None)
@@ -743,8 +821,10 @@ class UART:
 
     def read(self, nbytes=-1):
         _hil.observe()
-        want = 1 if nbytes is None or nbytes < 0 else nbytes
-        self._wait_for(lambda: len(self._rx) >= want)
+        if nbytes is None or nbytes < 0:
+            self._wait_for(lambda: len(self._rx) >= 1)
+        elif self._timeout > 0:  # (with none, what has come: the shim's, not the ports' timeout_char)
+            self._read_calls(nbytes)
         if not self._rx:
             return None
         if nbytes is None or nbytes < 0:
@@ -756,6 +836,16 @@ class UART:
             self._lines += 1
             _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._lines))
         return data
+
+    def _read_calls(self, want):
+        """read(n) and readinto: the port's read called as py/stream.c calls it. Before 1.27
+        they were mp_stream_read and mp_stream_readinto, whose loop (mp_stream_rw) calls the
+        port again after a short read, until one gets nothing (its first byte's timeout
+        again) or the buffer is full. From 1.27 (extmod/machine_uart.c: mp_stream_read1_obj,
+        mp_stream_readinto1_obj, MP_STREAM_RW_ONCE) a read returns after the first call."""
+        taken = 0
+        while taken < want and self._port_read(want, taken) and _MPY < (1, 27):
+            taken = len(self._rx)
 
     def readinto(self, buf, nbytes=-1):  # (py/stream.c, stream_readinto: at most the buffer's bytes)
         view = buf if type(buf) is bytearray else _buffers().wbuf(buf)
