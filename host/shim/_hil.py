@@ -252,6 +252,7 @@ class _Link:
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
     irq_begin = irq_end = None  # _hilfast's, with MCU time (cpu_start): dispatch tells it of callbacks
     until = -1  # the running wait's end (_run_until): the callbacks due on its way run until then
+    lost = False  # a soft callback's call was lost (_lost: said once)
     # _hilfast.arm (the harness's build, not HIL_PURE): the callbacks left queued run at the
     # firmware's next branches, one a branch (_leftovers); None: at its next call into the shim
     arm = None
@@ -780,10 +781,13 @@ def _preempted_until(t_end):
     fires meanwhile (a hard IRQ's handler, a Timer's) preempts it for its own compute, so
     that it ends that much later, and so on for those that fire in that extra time."""
     irq = _Console.irq()
+    wait_end = _Link.until
     while True:
+        _Link.until = t_end  # (the firmware runs meanwhile: its branches run the callbacks due)
         _released_run_until(t_end, None)
         more = _Console.irq() - irq
         if more <= 0:
+            _Link.until = wait_end
             return
         irq += more
         t_end += more
@@ -997,7 +1001,20 @@ def schedule(callback, arg):
     if len(_pending) < _Link.depth or _is_hard(arg) or room():
         _pending.append((callback, arg))
         return True
+    _lost(callback)
     return False
+
+
+def _lost(callback):
+    """A soft callback not queued: the queue was full. Said once a run: on a board too the
+    callbacks come faster than the firmware runs them, and their calls are lost."""
+    if not _Link.lost:
+        _Link.lost = True
+        sys.stderr.write(
+            "mpy-fil: at t=%d us a call of %s was lost: the scheduler's queue held %d callbacks"
+            " (they come faster than they run: the board would fall behind; docs/shim.md)\n"
+            % (_now, getattr(callback, "__name__", "a callback"), _Link.depth)
+        )
 
 
 def mp_schedule(function, arg):
@@ -1033,14 +1050,15 @@ def dispatch(until, one=False):
     _dispatching = True
     pending, link = _pending, _Link
     wait_end = link.until
-    if link.irq_begin is not None:
-        link.irq_begin()  # (MCU time: the callbacks' compute keeps the CPU busy from _now)
+    busy = _Console.busy  # (MCU time: the callbacks' compute keeps the CPU busy until then)
+    if busy is not None:
+        link.irq_begin()  # (what the main program computed before them is its own)
     i = 0
     try:
         while i < len(pending):
             callback, arg = pending[i]
-            if _now > until and not _is_hard(arg):  # (past the wait's end, or not in one)
-                if not one:  # (the wait is over, or this check's one has run)
+            if (_now > until or (busy is not None and busy() > until)) and not _is_hard(arg):
+                if not one:  # (past the wait's end, or not in one; or this check's one has run)
                     i += 1
                     continue
                 one = False
@@ -1050,6 +1068,9 @@ def dispatch(until, one=False):
                 callback(arg)
             except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)
                 raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
+            if busy is not None:  # (each one's compute from its instant or the end of the one before)
+                link.irq_end(_now)
+                link.irq_begin()
     finally:
         _dispatching = False
         link.until = wait_end  # (a callback's own wait set it)

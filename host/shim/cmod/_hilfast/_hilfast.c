@@ -52,6 +52,25 @@ static uint32_t get_u32(const uint8_t *b) {
     return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
 }
 
+static bool is_hard(mp_obj_t arg);
+static size_t queue_depth = 8;  // _Link.depth (MICROPY_SCHEDULER_DEPTH), read by apply_state
+static mp_obj_t shim_globals;  // _hil's (apply_state's ctx[0]: it holds them), for _lost
+
+// mp_sched_full's negation (_hil.room): the queue holds fewer than its depth soft callbacks.
+static bool room(mp_obj_t pending) {
+    mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
+    if (list->len < queue_depth) {
+        return true;
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < list->len; i++) {
+        mp_obj_t *cb;
+        mp_obj_get_array_fixed_n(list->items[i], 2, &cb);
+        n += !is_hard(cb[1]);
+    }
+    return n < queue_depth;
+}
+
 // Pin._hil_apply, for a Pin with no counters; false when it must go through Python.
 static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
     if (mp_load_attr(pin, MP_QSTR__counters) != mp_const_none) {
@@ -66,8 +85,12 @@ static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
         mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
         if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
             mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
-            mp_obj_t item[2] = {handler, pin};
-            mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
+            if (((mp_obj_list_t *)MP_OBJ_TO_PTR(pending))->len < queue_depth || is_hard(pin) || room(pending)) {
+                mp_obj_t item[2] = {handler, pin};
+                mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
+            } else {  // (a full queue: the call is lost, as _hil.schedule says)
+                mp_call_function_1(mp_obj_dict_get(shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__lost)), handler);
+            }
         }
     }
     return true;
@@ -87,6 +110,7 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
 
 // MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
 static bool cost_on;  // cost() was called: the counters are charged
+static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 // Nothing was counted since the last take: set after a batch of callbacks within one
 // apply_state, whose own work between two batches (pins in C, the shim's _hil_apply) is
 // the shim's, never counted; the next batch's irq_begin then has nothing to take.
@@ -142,8 +166,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         mp_obj_t *cb;
         mp_obj_get_array_fixed_n(item, 2, &cb);
         mp_obj_t callback = cb[0], arg = cb[1];
-        if (wait_end != MP_OBJ_NULL && mp_obj_get_int(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now))) > until
-            && !is_hard(arg)) {
+        if (wait_end != MP_OBJ_NULL && !is_hard(arg)
+            && (mp_obj_get_int(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now))) > until
+                || (cost_on && (mp_int_t)((busy_ps + 999999) / 1000000) > until))) {
             i++;  // (the wait is over: the rest wait for the firmware's branches)
             continue;
         }
@@ -155,6 +180,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         if (nlr_push(&nlr) == 0) {
             mp_call_function_1(callback, arg);
             nlr_pop();
+            if (cost_on) {  // (each one's compute from its instant or the end of the one before)
+                irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+            }
         } else {
             mp_obj_dict_store(g, dispatching, mp_const_false);
             if (cost_on) {
@@ -213,6 +241,8 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_int_t n = mp_obj_get_int(args[4]);
     mp_obj_t handles = args[5], pin_type = args[6], pending = args[7], watch = args[8];
     mp_obj_t ctx = args[9], globals = args[10];
+    queue_depth = mp_obj_get_int(mp_load_attr(((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[1], MP_QSTR_depth));
+    shim_globals = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[0];
     bool watching = mp_obj_is_true(watch);
     apply_clean = false;  // (the firmware ran before this call: its compute is taken first)
     const uint8_t *p = buf.buf;
@@ -279,7 +309,6 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state)
 static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as they are charged
 static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
-static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 static uint64_t irq_total_ps;  // all the callbacks' compute so far (irq_us: what preempts the main program)
 
 static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
