@@ -255,9 +255,9 @@ def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_r
     rig.run_for(0.4)
     rig.stop()
     said = [ln for ln in rig.console.splitlines() if "fall behind" in ln]
-    assert len(said) == 1 and "was lost" in said[0], f"expected one line saying calls are lost, got {said} ({rig.console!r})"
+    assert len(said) == 1 and "was lost" in said[0], f"expected one line on lost calls, got {said} ({rig.console!r})"
     woke = results(rig.console).get("woke")
-    assert woke is not None and 10_000 <= woke <= 20_000, f"expected the main program on at 10 to 20 ms, got {woke} ({rig.console!r})"
+    assert woke is not None and 10_000 <= woke <= 20_000, f"expected it on at 10 to 20 ms, got {woke} ({rig.console!r})"
 
 
 @pytest.mark.parametrize(("edges_per_s", "behind"), [(40_000, True), (1_000, False)])
