@@ -117,11 +117,7 @@ def cpu_start(getenv):
     import binascii
     import gc
 
-    # the shim's folder as its modules were compiled (this function's own file: before the
-    # sandbox, _hilconfine) and as they are now (imported later)
-    fast.exempt(fast.stack(True)[-1][0].rsplit("/", 1)[0] + "/")
-    fast.exempt(__file__.rsplit("/", 1)[0] + "/")
-    fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
+    _exempt(fast)
     gc.collect()
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
     _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
@@ -255,6 +251,11 @@ class _Link:
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
     irq_begin = irq_end = None  # _hilfast's, with MCU time (cpu_start): dispatch tells it of callbacks
+    until = -1  # the running wait's end (_run_until): the callbacks due on its way run until then
+    lost = False  # a soft callback's call was lost (_lost: said once)
+    # _hilfast.arm (the harness's build, not HIL_PURE): the callbacks left queued run at the
+    # firmware's next branches, one a branch (_leftovers); None: at its next call into the shim
+    arm = None
 
     def __init__(self, path):
         f = open(path, "r+b")
@@ -568,8 +569,8 @@ def observe():
     global _spin, _now
     if _dispatching:  # a handler runs at its edge's instant: its reads move no time
         return
-    if _pending:  # left by a C call (c_begin): back in the firmware, they run first
-        dispatch()
+    if _pending:  # left by a C call (c_begin) or a wait: at the firmware's branches
+        _leftovers()
     if _lockstep:
         t = _now
         _spin += 1
@@ -579,7 +580,10 @@ def observe():
         t = now()
     if t >= _horizon or t >= _timer_due:
         # (a read: not the blocking calls' thread check, on this hot path; the heap lock
-        # released, since the firmware may read the clock under it and this may sync)
+        # released, since the firmware may read the clock under it and this may sync). A
+        # read is C on a board: the soft callbacks due on the way run at the branches
+        # after it (on an interpreter that cannot see them, here: _leftovers).
+        _Link.until = -1 if _Link.arm is not None else t
         _released_run_until(t, None)
     else:
         _now = t
@@ -616,8 +620,9 @@ def run_until(t_target, watch=None):
     """
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
-    if _pending:  # left by a C call (c_begin): they run before this wait begins
-        dispatch()
+    _Link.until = t_target  # (the wait handles events: the callbacks due on its way run)
+    if _pending:  # left by a C call (c_begin), a read or a callback: the wait's first checks
+        dispatch(t_target)
     return _released_run_until(t_target, watch)
 
 
@@ -762,7 +767,7 @@ def _run_until(t_target, watch):
         if _timer_due <= _now:
             _fire_timers()
         if _pending:
-            dispatch()
+            dispatch(_Link.until)
             if _link.woke is not None and _link.woke():
                 return True
         if hit:
@@ -776,10 +781,13 @@ def _preempted_until(t_end):
     fires meanwhile (a hard IRQ's handler, a Timer's) preempts it for its own compute, so
     that it ends that much later, and so on for those that fire in that extra time."""
     irq = _Console.irq()
+    wait_end = _Link.until
     while True:
+        _Link.until = t_end  # (the firmware runs meanwhile: its branches run the callbacks due)
         _released_run_until(t_end, None)
         more = _Console.irq() - irq
         if more <= 0:
+            _Link.until = wait_end
             return
         irq += more
         t_end += more
@@ -946,7 +954,7 @@ def _handlers_wrote(t):
     global _wrote, _now, _horizon
     _wrote = False
     syncs = _Link.syncs
-    dispatch()
+    dispatch(_Link.until)
     if _Link.syncs != syncs:
         return 3
     woke = _link.woke is not None and _link.woke()
@@ -993,24 +1001,45 @@ def schedule(callback, arg):
     if len(_pending) < _Link.depth or _is_hard(arg) or room():
         _pending.append((callback, arg))
         return True
+    _lost(callback)
     return False
+
+
+def _lost(callback):
+    """A soft callback not queued: the queue was full. Said once a run: on a board too the
+    callbacks come faster than the firmware runs them, and their calls are lost."""
+    if not _Link.lost:
+        _Link.lost = True
+        sys.stderr.write(
+            "mpy-fil: at t=%d us a call of %s was lost: the scheduler's queue held %d callbacks"
+            " (they come faster than they run: the board would fall behind; docs/shim.md)\n"
+            % (_now, getattr(callback, "__name__", "a callback"), _Link.depth)
+        )
 
 
 def mp_schedule(function, arg):
     """micropython.schedule (py/modmicropython.c, mp_micropython_schedule): RuntimeError
-    when the queue is full. Called from the main program, the callback runs at once (the
-    bytecode boundary after the call); from a callback or a hard IRQ's handler, once the
+    when the queue is full. Called from the main program, the callback runs at the next
+    branch (_leftovers); from a callback or a hard IRQ's handler, once the
     running callbacks are done (the scheduler is locked meanwhile, as on the port)."""
     if not schedule(function, arg):
         raise RuntimeError("schedule queue full")
     if not _dispatching:
-        dispatch()
+        _leftovers()
 
 
-def dispatch():
-    """Run pending callbacks in order, never re-entrantly, unless IRQs are off. Inside a
-    callback or a C call (from Link.defer_from on) only hard IRQs' handlers run: the soft
-    ones wait for the callback or the call to return."""
+def dispatch(until, one=False):
+    """Run the pending callbacks in order, never re-entrantly, unless IRQs are off: every
+    hard IRQ's handler, and the soft callbacks as the port's scheduler runs them, one a
+    pending check (py/scheduler.c, mp_sched_run_pending: "Run at most one pending Python
+    callback", in 1.25 to 1.28). A check outside a wait (a clock or pin read: the main
+    program's next branch on a board, py/vm.c) runs one. A wait handles events again as
+    long as its time is not up (`until`, its end: the ports' mp_hal_delay_ms loops on
+    mp_event_wait_ms), so there the next one runs, and so on, until the queue is empty or
+    a callback has taken the clock past the wait's end: the rest run one at each later
+    check, and a main program whose callbacks outlast their period crawls, as on a board.
+    Inside a callback or a C call (from Link.defer_from on) only hard IRQs' handlers run:
+    the soft ones wait for the callback or the call to return."""
     global _dispatching
     if _irq_off:
         return
@@ -1020,20 +1049,57 @@ def dispatch():
         return
     _dispatching = True
     pending, link = _pending, _Link
-    if link.irq_begin is not None:
-        link.irq_begin()  # (MCU time: the callbacks' compute keeps the CPU busy from _now)
+    wait_end = link.until
+    busy = _Console.busy  # (MCU time: the callbacks' compute keeps the CPU busy until then)
+    if busy is not None:
+        link.irq_begin()  # (what the main program computed before them is its own)
+    i = 0
     try:
-        while pending:
-            callback, arg = pending.pop(0)
+        while i < len(pending):
+            callback, arg = pending[i]
+            if (_now > until or (busy is not None and busy() > until)) and not _is_hard(arg):
+                if not one:  # (past the wait's end, or not in one; or this check's one has run)
+                    i += 1
+                    continue
+                one = False
+            del pending[i]
             link.callbacks += 1
             try:
                 callback(arg)
             except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)
                 raise CallbackFailed(callback, e)  # noqa: B904  (MicroPython warns on "from")
+            if busy is not None:  # (each one's compute from its instant or the end of the one before)
+                link.irq_end(_now)
+                link.irq_begin()
     finally:
         _dispatching = False
+        link.until = wait_end  # (a callback's own wait set it)
         if link.irq_end is not None:
             link.irq_end(_now)
+    if pending and link.arm is not None:
+        link.arm(_at_branch)
+
+
+def _leftovers():
+    """The callbacks left queued (by a C call, a wait whose time was up, a check that ran
+    one), at a point where a board does not run them: with the harness's build, at the
+    firmware's next bytecode branches, one a branch, as the port's VM does (_hilfast.arm,
+    py/vm.c pending_exception_check); on another interpreter, which cannot see branches,
+    all of them now, at the firmware's call into the shim (docs/shim.md)."""
+    arm = _Link.arm
+    if arm is None:
+        dispatch(FOREVER_US)
+    else:
+        arm(_at_branch)
+
+
+def _at_branch():
+    """A branch of the firmware's (_hilfast.arm): one queued soft callback runs, unless
+    the branch is inside a callback or what is a C call on a board (then the next one)."""
+    if _dispatching or _now >= _Link.defer_from:
+        _Link.arm(_at_branch)
+    elif _pending:
+        dispatch(-1, True)
 
 
 def _run_hard():
@@ -1064,13 +1130,11 @@ def c_begin(since):
     scheduled callbacks (time_pulse_us's busy loop, a bus transfer, the end of sleep_us):
     soft callbacks that come from virtual time ``since`` on stay queued (timers still come
     due and queue at their times, as a board's hardware timer does) until c_end; they run
-    at the firmware's next call into the shim (a clock or pin read, a wait: observe,
-    run_until), which on a board is its next branch (py/vm.c, pending_exception_check)
-    or sooner. Hard IRQs' handlers run at their edges meanwhile. Those left by a C call
-    before run first (a board runs them at a branch before this call, at this instant).
-    Returns what c_end takes (no allocation: this works under micropython.heap_lock())."""
+    at the firmware's next branches, one a branch, as on a board (py/vm.c,
+    pending_exception_check; _leftovers), or in its next wait. Hard IRQs' handlers run at
+    their edges meanwhile. Returns what c_end takes (no allocation: this works under micropython.heap_lock())."""
     if _pending:
-        dispatch()
+        _leftovers()
     prev = _Link.defer_from
     if since < prev:
         _Link.defer_from = since
@@ -1080,6 +1144,8 @@ def c_begin(since):
 def c_end(prev):
     """The C function has returned (c_begin's result; in a finally)."""
     _Link.defer_from = prev
+    if _pending and _Link.arm is not None:
+        _Link.arm(_at_branch)
 
 
 def disable_irq():
@@ -1093,7 +1159,7 @@ def enable_irq(state=0):
     global _irq_off
     _irq_off = state
     if not state and _pending:
-        dispatch()
+        _leftovers()
 
 
 def add_timer(timer):
@@ -1200,7 +1266,21 @@ def _fast_path(getenv):
         return None
     _Link.g = globals() if _lockstep else None
     _Link.ctx = (globals(), _Link, CallbackFailed)
+    if hasattr(_hilfast, "arm"):  # (a build before it: the queue runs at the next call in)
+        _exempt(_hilfast)
+        _Link.arm = _hilfast.arm
     return _hilfast.apply_state
+
+
+def _exempt(fast):
+    """The shim's modules are the harness's, not the firmware's (a board has them in C):
+    their branches are no pending checks (_hilfast.arm) and their work no MCU time."""
+    # the shim's folder as its modules were compiled (this function's own file: before the
+    # sandbox, _hilconfine) and as they are now (imported later)
+    fast.exempt(fast.stack(True)[-1][0].rsplit("/", 1)[0] + "/")
+    fast.exempt(__file__.rsplit("/", 1)[0] + "/")
+    fast.exempt("/_hil/")  # (the folder the sandbox shows them in: _hilconfine)
+    fast.exempt("asyncio/task.py")  # (the task queue a board has in C, _asyncio: frozen here, _hilboot)
 
 
 def finish(kind, code=0, text=None):

@@ -237,6 +237,8 @@ class Pin:
                 self._flags = edge
                 if self._hard or len(_pending) < _DEPTH or _hil.room():  # (_hil.schedule, on the hot path)
                     _pending.append((self._handler, self))
+                else:
+                    _hil._lost(self._handler)
 
     def value(self, x=None):
         if x is None:

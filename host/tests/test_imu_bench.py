@@ -10,7 +10,10 @@ import json
 
 from host.bench import run_imu_bot
 
-PINNED_BUS = "ba388080693d891346bde5bd1ebfb6649a5305a18beb8db47310754f761ff9f3"
+# (re-pinned when soft callbacks left queued by a C call began to run at the firmware's next
+# bytecode branch, as on a board, instead of at its next call into the shim: the Timer's
+# reads that came due in the main loop's bus transfers now come before its next ones)
+PINNED_BUS = "19751d0bdca64212b649444a9b3769b454fd3a35f5433a72215cb7f52a839c26"
 
 
 def test_every_tick_polls_and_every_sample_is_read_once(tmp_path):

@@ -230,13 +230,20 @@ def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
 
 
 def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_rig, tmp_path):
-    """A Timer every 2 ms whose callback costs ~3 ms on an RP2040: the main program's
-    10 ms sleep never ends (as on the board), and the run says so once."""
+    """A Timer every 2 ms whose callback costs ~3 ms on an RP2040: its ticks come faster
+    than they run, so the scheduler's queue fills and later calls are lost (the run says
+    so once); the main program's 10 ms sleep runs one callback a pass, as the port's
+    mp_hal_delay_ms does, and ends when the one running at its end is done (the third, at
+    about 11 ms), then the main program goes on between callbacks, as on the board. (Its
+    clock read after the sleep reads later here, 18.5 ms: the few µs it computes before
+    the read are charged as one piece, which the queued callbacks preempt, where a board
+    runs one at each of its branches, none in those µs: docs/mcu-time.md.)"""
     from host.core import interpreter
 
     cb_iterations = iterations_for(interpreter.find(), "rp2040@125MHz", 3000)
     main = CALLBACKS.split("tim = Timer(0)")[0].replace("ITERATIONS", str(cb_iterations))
-    main += "tim = Timer(0)\ntim.init(period=2, callback=tick)\ntime.sleep_ms(10)\nprint('R woke', 1)\n"
+    main += "tim = Timer(0)\ntim.init(period=2, callback=tick)\nt0 = time.ticks_us()\ntime.sleep_ms(10)\n"
+    main += "print('R woke', time.ticks_diff(time.ticks_us(), t0))\ntime.sleep_ms(100)\n"
     folder = tmp_path / "app"
     folder.mkdir()
     (folder / "main.py").write_text(textwrap.dedent(main))
@@ -248,8 +255,9 @@ def test_callbacks_that_need_more_than_the_cpu_say_the_board_falls_behind(make_r
     rig.run_for(0.4)
     rig.stop()
     said = [ln for ln in rig.console.splitlines() if "fall behind" in ln]
-    assert len(said) == 1, f"expected one line saying the board falls behind, got {said} ({rig.console!r})"
-    assert "woke" not in results(rig.console), f"the main program went on past its sleep: {rig.console!r}"
+    assert len(said) == 1 and "was lost" in said[0], f"expected one line on lost calls, got {said} ({rig.console!r})"
+    woke = results(rig.console).get("woke")
+    assert woke is not None and 10_000 <= woke <= 20_000, f"expected it on at 10 to 20 ms, got {woke} ({rig.console!r})"
 
 
 @pytest.mark.parametrize(("edges_per_s", "behind"), [(40_000, True), (1_000, False)])

@@ -16,6 +16,8 @@
 //
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
 // board's own time (docs/mcu-time.md):
+// arm(fn): fn() at the firmware's next bytecode branch (below: the scheduled callbacks left
+//   queued run there, one a branch, as on a board).
 // exempt(folder): the functions of modules whose source file starts with folder (the
 //   shim's: a board has it in C) are not counted, nor what they allocate or call (up to
 //   four folders: the shim's, as it was compiled before and after the sandbox).
@@ -50,6 +52,25 @@ static uint32_t get_u32(const uint8_t *b) {
     return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
 }
 
+static bool is_hard(mp_obj_t arg);
+static size_t queue_depth = 8;  // _Link.depth (MICROPY_SCHEDULER_DEPTH), read by apply_state
+static mp_obj_t shim_globals;  // _hil's (apply_state's ctx[0]: it holds them), for _lost
+
+// mp_sched_full's negation (_hil.room): the queue holds fewer than its depth soft callbacks.
+static bool room(mp_obj_t pending) {
+    mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
+    if (list->len < queue_depth) {
+        return true;
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < list->len; i++) {
+        mp_obj_t *cb;
+        mp_obj_get_array_fixed_n(list->items[i], 2, &cb);
+        n += !is_hard(cb[1]);
+    }
+    return n < queue_depth;
+}
+
 // Pin._hil_apply, for a Pin with no counters; false when it must go through Python.
 static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
     if (mp_load_attr(pin, MP_QSTR__counters) != mp_const_none) {
@@ -64,8 +85,12 @@ static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
         mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
         if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
             mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
-            mp_obj_t item[2] = {handler, pin};
-            mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
+            if (((mp_obj_list_t *)MP_OBJ_TO_PTR(pending))->len < queue_depth || is_hard(pin) || room(pending)) {
+                mp_obj_t item[2] = {handler, pin};
+                mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
+            } else {  // (a full queue: the call is lost, as _hil.schedule says)
+                mp_call_function_1(mp_obj_dict_get(shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__lost)), handler);
+            }
         }
     }
     return true;
@@ -85,6 +110,7 @@ static void apply_one(mp_obj_t obj, mp_obj_t pin_type, int kind, mp_obj_t value,
 
 // MCU time (below): a batch of callbacks begins, ends at the virtual instant now_us.
 static bool cost_on;  // cost() was called: the counters are charged
+static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 // Nothing was counted since the last take: set after a batch of callbacks within one
 // apply_state, whose own work between two batches (pins in C, the shim's _hil_apply) is
 // the shim's, never counted; the next batch's irq_begin then has nothing to take.
@@ -97,7 +123,25 @@ static bool pending_any(mp_obj_t pending) {
     return list->len > 0;
 }
 
-// _hil.dispatch: the pending callbacks in order, never re-entrantly, unless IRQs are off.
+// A queue entry's argument is a hard IRQ's when its _hard is true (_hil._is_hard).
+// (An argument of the firmware's own, micropython.schedule's, may have a __getattr__ that
+// raises: not hard, as getattr(arg, "_hard", False) says.)
+static bool is_hard(mp_obj_t arg) {
+    mp_obj_t dest[2] = {MP_OBJ_NULL, MP_OBJ_NULL};
+    nlr_buf_t nlr;
+    if (nlr_push(&nlr) == 0) {
+        mp_load_method_maybe(arg, MP_QSTR__hard, dest);
+        bool hard = dest[0] != MP_OBJ_NULL && dest[1] == MP_OBJ_NULL && mp_obj_is_true(dest[0]);
+        nlr_pop();
+        return hard;
+    }
+    return false;
+}
+
+// _hil.dispatch(_Link.until), in a wait: the pending callbacks in order, never re-entrantly,
+// unless IRQs are off; every hard IRQ's handler, the soft callbacks while the clock is not
+// past the wait's end (_Link.until), as the port's wait serves its scheduler, one callback a
+// pass (py/scheduler.c, mp_sched_run_pending). Those left: _hil.dispatch arms _at_branch.
 // ctx: (the _hil module's globals, _Link, CallbackFailed).
 static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
@@ -107,24 +151,38 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
         return;
     }
+    mp_obj_t end[2];
+    mp_load_method_maybe(link, MP_QSTR_until, end);
+    mp_obj_t wait_end = end[0];  // (MP_OBJ_NULL from a shim before it: no limit)
+    mp_int_t until = wait_end != MP_OBJ_NULL ? mp_obj_get_int(wait_end) : 0;
     mp_obj_dict_store(g, dispatching, mp_const_true);
     if (!apply_clean) {
         irq_begin();
     }
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
-    while (list->len > 0) {
-        mp_obj_t item = list->items[0];  // pending.pop(0)
-        list->len--;
-        memmove(list->items, list->items + 1, list->len * sizeof(mp_obj_t));
-        list->items[list->len] = MP_OBJ_NULL;
+    size_t i = 0;
+    while (i < list->len) {
+        mp_obj_t item = list->items[i];
         mp_obj_t *cb;
         mp_obj_get_array_fixed_n(item, 2, &cb);
         mp_obj_t callback = cb[0], arg = cb[1];
+        if (wait_end != MP_OBJ_NULL && !is_hard(arg)
+            && (mp_obj_get_int(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now))) > until
+                || (cost_on && (mp_int_t)((busy_ps + 999999) / 1000000) > until))) {
+            i++;  // (the wait is over: the rest wait for the firmware's branches)
+            continue;
+        }
+        list->len--;  // del pending[i]
+        memmove(list->items + i, list->items + i + 1, (list->len - i) * sizeof(mp_obj_t));
+        list->items[list->len] = MP_OBJ_NULL;
         mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
         nlr_buf_t nlr;
         if (nlr_push(&nlr) == 0) {
             mp_call_function_1(callback, arg);
             nlr_pop();
+            if (cost_on) {  // (each one's compute from its instant or the end of the one before)
+                irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
+            }
         } else {
             mp_obj_dict_store(g, dispatching, mp_const_false);
             if (cost_on) {
@@ -138,6 +196,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         }
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
+    if (wait_end != MP_OBJ_NULL) {
+        mp_store_attr(link, MP_QSTR_until, wait_end);  // (a callback's own wait set it)
+    }
     if (cost_on) {
         irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
         apply_clean = true;
@@ -180,6 +241,8 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_int_t n = mp_obj_get_int(args[4]);
     mp_obj_t handles = args[5], pin_type = args[6], pending = args[7], watch = args[8];
     mp_obj_t ctx = args[9], globals = args[10];
+    queue_depth = mp_obj_get_int(mp_load_attr(((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[1], MP_QSTR_depth));
+    shim_globals = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[0];
     bool watching = mp_obj_is_true(watch);
     apply_clean = false;  // (the firmware ran before this call: its compute is taken first)
     const uint8_t *p = buf.buf;
@@ -246,7 +309,6 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state)
 static uint32_t cost_ps[256 + N_EXTRA];
 static mp_hil_counts_t charged;  // the counters as far as they are charged
 static uint64_t main_ps;  // the main program's compute not yet charged (owed_us)
-static uint64_t busy_ps;  // the virtual instant (ps) until which callbacks keep the CPU busy
 static uint64_t irq_total_ps;  // all the callbacks' compute so far (irq_us: what preempts the main program)
 
 static mp_obj_t new_uint(uint64_t v) {  // (mp_obj_new_int_from_ull always makes a big int)
@@ -277,6 +339,41 @@ static mp_obj_t exempt(mp_obj_t prefix) {
     mp_raise_ValueError(MP_ERROR_TEXT("exempt: no room for another folder"));
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(exempt_obj, exempt);
+
+// arm(fn): fn() runs at the firmware's next bytecode branch, where a board runs a scheduled
+// callback (py/vm.c, pending_exception_check: the unix port's VM checks at the same
+// branches). It goes through this interpreter's own scheduler (mp_sched_schedule, once
+// until it has run); a branch in the harness's own code (an exempt module's, as counted
+// above: mp_hil_cur is not the firmware's counters) passes it on to the next branch. What fn
+// raises is raised in the main program at its next branch (mp_sched_exception), not printed
+// and dropped as the scheduler does with a callback's exception.
+static bool armed;
+static mp_obj_t at_branch(mp_obj_t fn);
+static MP_DEFINE_CONST_FUN_OBJ_1(at_branch_obj, at_branch);
+
+static mp_obj_t at_branch(mp_obj_t fn) {
+    if (mp_hil_cur != &mp_hil_counts) {
+        mp_sched_schedule(MP_OBJ_FROM_PTR(&at_branch_obj), fn);
+        return mp_const_none;
+    }
+    armed = false;
+    nlr_buf_t nlr;
+    if (nlr_push(&nlr) == 0) {
+        mp_call_function_0(fn);
+        nlr_pop();
+    } else {
+        mp_sched_exception(MP_OBJ_FROM_PTR(nlr.ret_val));
+    }
+    return mp_const_none;
+}
+
+static mp_obj_t arm(mp_obj_t fn) {
+    if (!armed) {
+        armed = mp_sched_schedule(MP_OBJ_FROM_PTR(&at_branch_obj), fn);
+    }
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(arm_obj, arm);
 
 static uint64_t used_base;  // bytes in use at a collection that are not the firmware's
 
@@ -434,6 +531,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
+    {MP_ROM_QSTR(MP_QSTR_arm), MP_ROM_PTR(&arm_obj)},
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
     {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
