@@ -253,6 +253,7 @@ class _Link:
     irq_begin = irq_end = None  # _hilfast's, with MCU time (cpu_start): dispatch tells it of callbacks
     until = -1  # the running wait's end (_run_until): the callbacks due on its way run until then
     lost = False  # a soft callback's call was lost (_lost: said once)
+    passes = 0  # a wait's passes in a row that found callbacks queued by callbacks (_next_pass)
     # _hilfast.arm (the harness's build, not HIL_PURE): the callbacks left queued run at the
     # firmware's next branches, one a branch (_leftovers); None: at its next call into the shim
     arm = None
@@ -745,8 +746,11 @@ def heap_restore(depth):
 
 def _run_until(t_target, watch):
     global _now
+    t_pass = FOREVER_US  # the wait's next pass, while callbacks queue more callbacks (dispatch)
     while True:
         t_stop = t_target if t_target < _timer_due else _timer_due
+        if t_pass < t_stop:
+            t_stop = t_pass
         t = now()
         if t_stop < _horizon or (t_stop <= t and not (_link.zero and t == _horizon)):
             if t_stop > t:
@@ -770,10 +774,34 @@ def _run_until(t_target, watch):
             dispatch(_Link.until)
             if _link.woke is not None and _link.woke():
                 return True
+            if _pending:
+                t_pass = _next_pass()
+            else:
+                t_pass = FOREVER_US
+                _Link.passes = 0
+        else:
+            t_pass = FOREVER_US
         if hit:
             return True
         if _now >= t_target and (_horizon > _now or not _link.zero):
             return False
+
+
+def _next_pass():
+    """When the wait handles events again for the callbacks still queued (those queued by
+    the ones that ran: dispatch): a board's wait runs them at its next passes, at once;
+    past SPIN_LIMIT passes in a row with callbacks queued by callbacks, each further one
+    costs SPIN_STEP_US, as a spinning read does (a callback that queues itself again until
+    the clock moves: a board's passes take its CPU's time). Never, when they wait for
+    something else (the wait's end, a C call, IRQs off, the callbacks' MCU time past the
+    wait's end)."""
+    until = _Link.until
+    if _now >= until or _now >= _Link.defer_from or _irq_off or _dispatching:
+        return FOREVER_US
+    if _Console.busy is not None and _Console.busy() > until:
+        return FOREVER_US
+    _Link.passes += 1
+    return _now + SPIN_STEP_US if _Link.passes > SPIN_LIMIT else _now
 
 
 def _preempted_until(t_end):
@@ -1022,13 +1050,14 @@ def mp_schedule(function, arg):
     when the queue is full. Called from the main program, the callback runs at the next
     branch (_leftovers); from a callback or a hard IRQ's handler, once the
     running callbacks are done (the scheduler is locked meanwhile, as on the port)."""
-    if not schedule(function, arg):
+    if not (len(_pending) < _Link.depth or room()):  # (the firmware hears of it: not lost unsaid)
         raise RuntimeError("schedule queue full")
+    _pending.append((function, arg))
     if not _dispatching:
         _leftovers()
 
 
-def dispatch(until, one=False):
+def dispatch(until, one=False, drain=False):
     """Run the pending callbacks in order, never re-entrantly, unless IRQs are off: every
     hard IRQ's handler, and the soft callbacks as the port's scheduler runs them, one a
     pending check (py/scheduler.c, mp_sched_run_pending: "Run at most one pending Python
@@ -1054,8 +1083,9 @@ def dispatch(until, one=False):
     if busy is not None:
         link.irq_begin()  # (what the main program computed before them is its own)
     i = 0
+    end = len(pending)  # (those a callback queues run at the next pass: py/scheduler.c, one a check)
     try:
-        while i < len(pending):
+        while i < end or (drain and i < len(pending)):
             callback, arg = pending[i]
             if (_now > until or (busy is not None and busy() > until)) and not _is_hard(arg):
                 if not one:  # (past the wait's end, or not in one; or this check's one has run)
@@ -1063,6 +1093,7 @@ def dispatch(until, one=False):
                     continue
                 one = False
             del pending[i]
+            end -= 1
             link.callbacks += 1
             try:
                 callback(arg)
@@ -1088,7 +1119,7 @@ def _leftovers():
     all of them now, at the firmware's call into the shim (docs/shim.md)."""
     arm = _Link.arm
     if arm is None:
-        dispatch(FOREVER_US)
+        dispatch(FOREVER_US, drain=True)
     else:
         arm(_at_branch)
 

@@ -129,15 +129,16 @@ def test_a_callback_longer_than_its_period_makes_the_main_loop_crawl_with_a_boun
     runs = [10 + 15 * k for k in range(20 + DEPTH - 1)]
     assert r["runs"] == runs, f"runs at {r['runs']} ms, expected {runs} {_where(rig)}"
     resumed = runs[-1] + 15
+    steps = r["steps"]
     if path == "c":  # the tick at 10 ms comes due at the sleep's last instant: the branch after runs it
         crawl = [0, 5] + list(range(25, resumed + 1, 30))
-        gap = 30
-    else:
-        crawl = [0, 5, resumed]
-        gap = resumed - 5
-    steps = r["steps"][: len(crawl) + 1]
-    assert steps == crawl + [resumed + 5], f"main loop steps {steps}, expected {crawl} then every 5 ms {_where(rig)}"
-    assert budget.stats()["max"] == gap * 1000, budget.stats()
+        assert steps[: len(crawl) + 1] == crawl + [resumed + 5], (
+            f"main loop steps {steps}, expected {crawl} {_where(rig)}"
+        )
+        assert budget.stats()["max"] == 30_000, budget.stats()
+    else:  # (its next call into the shim runs the queue to its end: the loop waits for it)
+        assert steps[:3] == [0, 5, resumed], f"main loop steps {steps} {_where(rig)}"
+    assert steps[steps.index(resumed) :] == list(range(resumed, 600, 5)), f"main loop steps {steps} {_where(rig)}"
 
 
 def test_a_callback_that_never_lets_the_main_loop_rest_ends_with_the_run_not_memory_error(run_case, path):
@@ -145,13 +146,16 @@ def test_a_callback_that_never_lets_the_main_loop_rest_ends_with_the_run_not_mem
     is lost, as on a board) and the run reaches its end time (the queue used to grow
     without bound until the shim died with a MemoryError, blamed on the callback). The
     main loop crawls as on a board, a turn every two callbacks (40 ms: one at its loop's
-    branch, one in its sleep); on the pure path it never runs again (the queue is never
-    empty at its calls into the shim)."""
+    branch, one in its sleep); on the pure path never again (its calls into the shim run the
+    queue to its end, which is never empty)."""
     rig, _ = run_case("sched_starved", 2.0, allow_exit=False)
     lines = rig.console.splitlines()
     assert "MemoryError" not in rig.console and "Traceback" not in rig.console, rig.console[-2000:]
     mains = [int(line.split()[1]) for line in lines if line.startswith("M ")]
-    expected = list(range(0, 2000, 40)) if path == "c" else [0]  # (to the run's end, 2 s)
-    assert mains == expected, f"the main loop ran at {mains[:8]}... ms, expected {expected[:8]}... {_where(rig)}"
+    if path == "c":
+        expected = list(range(0, 2000, 40))  # (to the run's end, 2 s)
+        assert mains == expected, f"the main loop ran at {mains[:8]}... ms, expected {expected[:8]}... {_where(rig)}"
+    else:  # (its calls into the shim run the queue to its end, which is never empty)
+        assert mains == [0], f"the main loop ran again: {mains[:8]} {_where(rig)}"
     calls = [line.split()[1:] for line in lines if line.startswith("C ")]
     assert calls[-1] == ["100", "1980"], f"callbacks (count, ms): {calls[-3:]} {_where(rig)}"

@@ -151,9 +151,9 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
         return;
     }
-    mp_obj_t end[2];
-    mp_load_method_maybe(link, MP_QSTR_until, end);
-    mp_obj_t wait_end = end[0];  // (MP_OBJ_NULL from a shim before it: no limit)
+    mp_obj_t until_attr[2];
+    mp_load_method_maybe(link, MP_QSTR_until, until_attr);
+    mp_obj_t wait_end = until_attr[0];  // (MP_OBJ_NULL from a shim before it: no limit)
     mp_int_t until = wait_end != MP_OBJ_NULL ? mp_obj_get_int(wait_end) : 0;
     mp_obj_dict_store(g, dispatching, mp_const_true);
     if (!apply_clean) {
@@ -161,7 +161,8 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     }
     mp_obj_list_t *list = MP_OBJ_TO_PTR(pending);
     size_t i = 0;
-    while (i < list->len) {
+    size_t end = list->len;  // (those a callback queues run at the wait's next pass)
+    while (i < end) {
         mp_obj_t item = list->items[i];
         mp_obj_t *cb;
         mp_obj_get_array_fixed_n(item, 2, &cb);
@@ -173,6 +174,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
             continue;
         }
         list->len--;  // del pending[i]
+        end--;
         memmove(list->items + i, list->items + i + 1, (list->len - i) * sizeof(mp_obj_t));
         list->items[list->len] = MP_OBJ_NULL;
         mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
