@@ -84,6 +84,15 @@ def test_what_the_harness_holds_changes_nothing_in_the_firmwares_counts(tmp_path
         assert got == first, f"the harness holding {pad} bytes more changed the firmware's counts: {got} vs {first}"
 
 
+def test_the_modelled_heap_is_the_boards_at_this_builds_size_or_the_rig_files():
+    """The firmware's collections are scheduled in its board's heap: the family's (HEAPS) at
+    64-bit objects, twice a board's bytes, or the rig file's heap_size when it names one."""
+    env = mcutime.shim_env("rp2040@125MHz")
+    assert env["HIL_CPU_HEAP"] == str(2 * mcutime.HEAPS["rp2040"]), env["HIL_CPU_HEAP"]
+    assert mcutime.shim_env("esp32@240MHz", 96 * 1024)["HIL_CPU_HEAP"] == str(96 * 1024)
+    assert mcutime.shim_env(mcutime.FREE, 96 * 1024) == {}, "a free CPU models no heap"
+
+
 TREE = ("host", "firmware", "sim_plant", "pyproject.toml")
 """What a checkout needs to run a rig (host.core.paths.CHECKOUT: pyproject.toml, firmware/)."""
 RUN = """
