@@ -13,7 +13,7 @@ kernels on the counting interpreter and prints the published time beside the cha
 import json
 import struct
 import subprocess
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 FREE = "free"
@@ -357,10 +357,12 @@ def heap_model(cpu: str, heap_size: int | None = None) -> int:
 
 def shim_env(cpu: str, heap_size: int | None = None) -> dict[str, str]:
     """What the shim is told of the cpu (HIL_CPU: its name; HIL_CPU_COST: the weights, hex;
-    HIL_CPU_HEAP: the modelled heap, :func:`heap_model`)."""
+    HIL_CPU_HEAP: the modelled heap, :func:`heap_model`, whose size a collection's sweep
+    costs: the rig file's heap_size in a board's bytes when it names one)."""
     if cpu == FREE:
         return {}
-    return {"HIL_CPU": cpu, "HIL_CPU_COST": CPUS[cpu].table().hex(), "HIL_CPU_HEAP": str(heap_model(cpu, heap_size))}
+    model = CPUS[cpu] if not heap_size else replace(CPUS[cpu], heap=heap_size // WORD_RATIO)
+    return {"HIL_CPU": cpu, "HIL_CPU_COST": model.table().hex(), "HIL_CPU_HEAP": str(heap_model(cpu, heap_size))}
 
 
 def table(counts: dict[str, dict], cpus: dict[str, Cpu] | None = None) -> list[tuple]:

@@ -89,7 +89,11 @@ def test_the_modelled_heap_is_the_boards_at_this_builds_size_or_the_rig_files():
     64-bit objects, twice a board's bytes, or the rig file's heap_size when it names one."""
     env = mcutime.shim_env("rp2040@125MHz")
     assert env["HIL_CPU_HEAP"] == str(2 * mcutime.HEAPS["rp2040"]), env["HIL_CPU_HEAP"]
-    assert mcutime.shim_env("esp32@240MHz", 96 * 1024)["HIL_CPU_HEAP"] == str(96 * 1024)
+    env = mcutime.shim_env("esp32@240MHz", 96 * 1024)
+    assert env["HIL_CPU_HEAP"] == str(96 * 1024), env["HIL_CPU_HEAP"]
+    board = mcutime.CPUS["esp32@240MHz"]
+    own = mcutime.replace(board, heap=96 * 1024 // mcutime.WORD_RATIO).table().hex()
+    assert env["HIL_CPU_COST"] == own != board.table().hex(), "expected the sweep to cost the rig file's heap"
     assert mcutime.shim_env(mcutime.FREE, 96 * 1024) == {}, "a free CPU models no heap"
 
 
