@@ -3,6 +3,7 @@ firmware is charged for its heap does not depend on what the harness holds in th
 heap (the shim's objects, the host paths of its source) or on where in the heap a block
 lies; so a trace with MCU time on is the same in a checkout at any path."""
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -92,7 +93,7 @@ def test_the_modelled_heap_is_the_boards_at_this_builds_size_or_the_rig_files():
     env = mcutime.shim_env("esp32@240MHz", 96 * 1024)
     assert env["HIL_CPU_HEAP"] == str(96 * 1024), env["HIL_CPU_HEAP"]
     board = mcutime.CPUS["esp32@240MHz"]
-    own = mcutime.replace(board, heap=96 * 1024 // mcutime.WORD_RATIO).table().hex()
+    own = dataclasses.replace(board, heap=96 * 1024 // mcutime.WORD_RATIO).table().hex()
     assert env["HIL_CPU_COST"] == own != board.table().hex(), "expected the sweep to cost the rig file's heap"
     assert mcutime.shim_env(mcutime.FREE, 96 * 1024) == {}, "a free CPU models no heap"
 
