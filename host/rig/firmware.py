@@ -135,7 +135,7 @@ class Firmware:
             **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
             **({"HIL_HEAP_BYTES": str(self.firmware_heap_bytes())} if self.heap_size else {}),
             # compute's cost on the board's CPU (MPYFIL_CPU overrides the rig file's, docs/mcu-time.md)
-            **mcutime.shim_env(os.environ.get("MPYFIL_CPU") or self.cpu),
+            **mcutime.shim_env(os.environ.get("MPYFIL_CPU") or self.cpu, self.rig_heap_bytes()),
             # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
             **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }
@@ -144,6 +144,10 @@ class Firmware:
         """The MicroPython version this run asks for: ``$MPY_FIL_MICROPYTHON`` (``pytest
         --mpy-version``) over the rig file's ``[interpreter] version``; None: the default."""
         return os.environ.get(VERSION_ENV) or self.mpy_version
+
+    def rig_heap_bytes(self) -> int | None:
+        """The rig file's heap_size in bytes (the firmware's heap as on its board), or None."""
+        return heap_bytes(self.heap_size) if self.heap_size else None
 
     def firmware_heap_bytes(self) -> int:
         """The heap the firmware finds free as it starts (the shim takes the rest: _hilboot)."""

@@ -13,7 +13,7 @@ kernels on the counting interpreter and prints the published time beside the cha
 import json
 import struct
 import subprocess
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 FREE = "free"
@@ -342,11 +342,27 @@ def check_cpu(value) -> str | None:
     return f"expected one of {', '.join((*CPUS, FREE))}, got {value!r}"
 
 
-def shim_env(cpu: str) -> dict[str, str]:
-    """What the shim is told of the cpu (HIL_CPU: its name; HIL_CPU_COST: the weights, hex)."""
+WORD_RATIO = 2
+"""This build's objects to a board's: 64-bit words against 32-bit ones (a board's heap holds
+what takes twice its bytes here)."""
+
+
+def heap_model(cpu: str, heap_size: int | None = None) -> int:
+    """The heap the firmware's collections are scheduled by (py/gc.c, ``mp_hil_heap_start``), in
+    this build's bytes: the rig file's ``[interpreter] heap_size`` when it sets one (the
+    firmware's heap as on its board), else the CPU's board's (:data:`HEAPS`) at this build's
+    object size."""
+    return heap_size or WORD_RATIO * CPUS[cpu].heap
+
+
+def shim_env(cpu: str, heap_size: int | None = None) -> dict[str, str]:
+    """What the shim is told of the cpu (HIL_CPU: its name; HIL_CPU_COST: the weights, hex;
+    HIL_CPU_HEAP: the modelled heap, :func:`heap_model`, whose size a collection's sweep
+    costs: the rig file's heap_size in a board's bytes when it names one)."""
     if cpu == FREE:
         return {}
-    return {"HIL_CPU": cpu, "HIL_CPU_COST": CPUS[cpu].table().hex()}
+    model = CPUS[cpu] if not heap_size else replace(CPUS[cpu], heap=heap_size // WORD_RATIO)
+    return {"HIL_CPU": cpu, "HIL_CPU_COST": model.table().hex(), "HIL_CPU_HEAP": str(heap_model(cpu, heap_size))}
 
 
 def table(counts: dict[str, dict], cpus: dict[str, Cpu] | None = None) -> list[tuple]:

@@ -115,11 +115,10 @@ def cpu_start(getenv):
         sys.stderr.write("mpy-fil: [board] cpu = %s: not in real time, where compute takes the host's time\n" % name)
         return
     import binascii
-    import gc
 
     _exempt(fast)
-    gc.collect()
-    fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), gc.mem_alloc())  # (in use and not the firmware's)
+    # (the board's heap the firmware's collections are modelled in: only its own objects count)
+    fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), int(getenv("HIL_CPU_HEAP") or 0))
     _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
     _Console.irq = getattr(fast, "irq_us", None)  # (a build before it: callbacks do not preempt)
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end

@@ -377,10 +377,9 @@ static mp_obj_t arm(mp_obj_t fn) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(arm_obj, arm);
 
-static uint64_t used_base;  // bytes in use at a collection that are not the firmware's
-
-static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
-    used_base = mp_obj_get_int(base);
+// The cost table, and the board's heap (this build's bytes) the firmware's collections are
+// scheduled by and charged in (py/gc.c, mp_hil_heap_start: only the firmware's own blocks).
+static mp_obj_t cost(mp_obj_t weights, mp_obj_t heap) {
     mp_buffer_info_t buf;
     mp_get_buffer_raise(weights, &buf, MP_BUFFER_READ);
     if (buf.len != sizeof(cost_ps)) {
@@ -390,6 +389,7 @@ static mp_obj_t cost(mp_obj_t weights, mp_obj_t base) {
     for (size_t i = 0; i < MP_ARRAY_SIZE(cost_ps); i++) {
         cost_ps[i] = get_u32(b + 4 * i);
     }
+    mp_hil_heap_start(mp_obj_get_int(heap));
     charged = mp_hil_counts;  // what ran before is not charged
     main_ps = busy_ps = irq_total_ps = 0;
     cost_on = true;
@@ -412,12 +412,7 @@ static uint64_t take_ps(void) {
         }
     }
     for (int i = 0; i < N_EXTRA; i++) {
-        uint64_t n = extra(&mp_hil_counts, i) - extra(&charged, i);
-        if (i == 4) {  // the bytes in use at the collections, less what is the harness's at each
-            uint64_t others = (mp_hil_counts.collects - charged.collects) * used_base;
-            n = n > others ? n - others : 0;
-        }
-        ps += n * cost_ps[256 + i];
+        ps += (extra(&mp_hil_counts, i) - extra(&charged, i)) * cost_ps[256 + i];
     }
     memcpy(&charged.ccalls, &mp_hil_counts.ccalls, sizeof(mp_hil_counts_t) - offsetof(mp_hil_counts_t, ccalls));
     return ps;
