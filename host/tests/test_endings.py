@@ -120,6 +120,14 @@ def test_a_callback_that_raises_ends_the_run_naming_the_callback(make_rig):
     assert "virtual t=0.100000" in str(err.value) and "in tick" in err.value.console
 
 
+def test_a_scheduled_job_that_raises_at_a_branch_ends_the_run_naming_it(make_rig):
+    """The job runs at the spin loop's branch (docs/shim.md, "Where callbacks run"), with
+    no call into the shim to run it: its error ends the run there, not a hang."""
+    with pytest.raises(FirmwareError, match=r"the callback job raised ValueError: job 7 failed") as err:
+        rig_for(make_rig, "scheduled_raises").run_for(1)
+    assert "virtual t=0.000000" in str(err.value) and "in job" in err.value.console, err.value.console
+
+
 def test_the_board_family_of_a_rig_files_own_pins_gives_sys_platform(make_rig, tmp_path):
     folder = tmp_path / "bot"
     folder.mkdir()
