@@ -87,3 +87,12 @@ def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -
         text = str(e)
         prefix = f"{path}: "
         raise ConfigError(f"{prefix}{field}: {text.removeprefix(prefix)}") from None
+
+
+def apps_of(path) -> list[App]:
+    """The apps of any rig file: its one board's, or each of its ``[[boards]]``'s."""
+    path = Path(path)
+    data = read_toml(path, "rig file", MAX_RIG_BYTES)
+    if is_multi_board(data):
+        return list(boards_from_data(path, data).apps.values())
+    return [rig_from_data(path, data)]
