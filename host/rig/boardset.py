@@ -30,14 +30,23 @@ MAX_ROUNDS_AT_ONE_INSTANT = 100_000
 each other's edges at the same µs, for ever)."""
 
 
+def label_error(error: HarnessError, board: str) -> None:
+    """``error``'s message names ``board`` first (once)."""
+    if board and error.args and isinstance(error.args[0], str) and not error.args[0].startswith("board "):
+        error.args = (f"board {board}: {error.args[0]}", *error.args[1:])
+
+
+def truth_due(rig: Rig, t_us: int) -> bool:
+    return rig.recorder is not None and rig.recorder.next_truth_us <= t_us
+
+
 @contextlib.contextmanager
-def naming(name: str):
-    """Any harness error raised while serving board ``name`` names it first."""
+def naming(board: str):
+    """Any harness error raised while serving ``board`` names it first."""
     try:
         yield
     except HarnessError as e:
-        if e.args and isinstance(e.args[0], str) and not e.args[0].startswith("board "):
-            e.args = (f"board {name}: {e.args[0]}", *e.args[1:])
+        label_error(e, board)
         raise
 
 
@@ -117,25 +126,37 @@ class BoardSet:
 
     def run_until(self, t_end_us: int) -> None:
         """Serve every board until virtual time reaches ``t_end_us``, all of them blocked."""
+        serving = [""]  # (the board being served, for an error's message)
+        try:
+            self._serve_until(t_end_us, serving)
+        except HarnessError as e:
+            label_error(e, serving[0])
+            raise
+
+    def _serve_until(self, t_end_us: int, serving: list) -> None:
+        rigs, views = self.rigs, self.views
         while True:
-            self._settle()
+            self._settle(serving)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
-            for name, rig in self.rigs.items():
-                with naming(name):
-                    if rig.exit_kind is not None:  # (a board that ended: its inputs go nowhere)
-                        self.views[name].queue.clear()
-                        self.views[name].advance_to(t_us)
-                    elif rig.clock.wait is not None:
-                        rig.clock.serve(t_us)
+            serving[0] = ""
+            self.plant_to(t_us)
+            for board, rig in rigs.items():
+                view = views[board]
+                serving[0] = board
+                if rig.exit_kind is not None:  # (a board that ended: its inputs go nowhere)
+                    view.queue.clear()
+                    view.advance_to(t_us)
+                elif view.queue or rig.clock.wait.t_until <= t_us or t_us >= t_end_us or truth_due(rig, t_us):
+                    rig.clock.serve(t_us)  # (a board with nothing at this instant waits for its next)
 
-    def _settle(self) -> None:
+    def _settle(self, serving: list) -> None:
         """Serve each board that is running, in order, until it blocks (or ends)."""
-        for name, rig in self.rigs.items():
-            with naming(name):
-                while rig.clock.wait is None and rig.exit_kind is None:
-                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+        for board, rig in self.rigs.items():
+            serving[0] = board
+            while rig.clock.wait is None and rig.exit_kind is None:
+                rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
 
     def _next_instant(self, t_end_us: int) -> int | None:
         """The round's instant: the earliest at which anything may change; None when every
@@ -166,7 +187,7 @@ class BoardSet:
             )
         return t_us
 
-    def plant_to(self, t_us: int, view: BoardView) -> None:
+    def plant_to(self, t_us: int, view: BoardView | None = None) -> None:
         """Bring the shared plant to ``t_us`` (a board's view asks), its changes queued for
         every board wired to their signals."""
         plant = self.plant

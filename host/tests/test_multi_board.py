@@ -129,3 +129,36 @@ def test_a_mistake_in_a_board_table_names_the_file_the_board_and_the_field(tmp_p
 def test_a_one_board_loader_given_several_boards_says_what_to_use():
     with pytest.raises(ConfigError, match=r"\[\[boards\]\]: a rig file with several boards: run it as a BoardSet"):
         load_rig(RIG)
+
+
+RESETS_ONCE = """\
+import machine, time
+try:
+    open("booted").close()
+    print("right booted again")
+    while True:
+        time.sleep_ms(10)
+except OSError:
+    open("booted", "w").close()
+    time.sleep_ms(20)
+    print("right resets")
+    machine.reset()
+"""
+
+
+def test_a_board_that_resets_restarts_alone_and_the_others_go_on(tmp_path):
+    rig = _with_firmware(tmp_path, RESETS_ONCE)
+    with BoardSet(load_boards(rig), seed=7, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.1)
+        right, left = boards["right"], boards["left"]
+        assert right.resets == 1 and "right booted again" in right.console, right.console
+        assert left.resets == 0 and left.console.count("left ready") >= 10, left.console
+        assert boards.t_us == 100_000
+
+
+def test_every_board_records_the_one_plants_ground_truth_at_the_same_instants(tmp_path):
+    with BoardSet(load_boards(RIG), seed=8, record=True, artefacts=tmp_path) as boards:
+        boards.run_for(0.2)
+    left, right = ((tmp_path / board / "truth.csv").read_text() for board in ("left", "right"))
+    assert left == right and left.count("\n") >= 4, f"expected the same truth.csv in {tmp_path}/left and right"
+    assert "ready.out" in (tmp_path / "right" / "signals.csv").read_text(), "expected the right board's input recorded"
