@@ -149,6 +149,7 @@ class BoardSet:
                     view.queue.clear()
                     view.advance_to(t_us)
                 elif view.queue or rig.clock.wait.t_until <= t_us or t_us >= t_end_us or truth_due(rig, t_us):
+                    rig.clock.bound_us = self._others_act_us(board, t_us, t_end_us)
                     rig.clock.serve(t_us)  # (a board with nothing at this instant waits for its next)
 
     def _settle(self, serving: list) -> None:
@@ -157,6 +158,24 @@ class BoardSet:
             serving[0] = board
             while rig.clock.wait is None and rig.exit_kind is None:
                 rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+
+    def _others_act_us(self, board: str, t_us: int, t_end_us: int) -> int:
+        """The earliest instant a board other than ``board`` could act, with nothing written
+        meanwhile: the µs after ``t_us`` if one may wake at it (its wait ends, a change waits
+        for it), else the earliest end of their waits (or a truth sample one records); never
+        past the run's end. (The plant's
+        own next change bounds the horizon besides: ``BoardView.next_change_us``.)"""
+        earliest = t_end_us
+        for other, rig in self.rigs.items():
+            if other == board or rig.exit_kind is not None:
+                continue
+            wait = rig.clock.wait
+            if wait is None or wait.t_until <= t_us or self.views[other].queue:
+                return t_us + 1
+            earliest = min(earliest, wait.t_until)
+            if rig.recorder is not None:  # (its truth sample: the shared plant must be there then)
+                earliest = min(earliest, rig.recorder.next_truth_us)
+        return earliest
 
     def _next_instant(self, t_end_us: int) -> int | None:
         """The round's instant: the earliest at which anything may change; None when every

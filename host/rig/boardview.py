@@ -124,16 +124,20 @@ class BoardClock(Clock):
             if plant.t_us >= target_us:
                 return False
 
+    bound_us = 0
+    """The earliest instant another board could act (the set's, before each round's serve):
+    with no write of its own, nothing changes this board's inputs before it."""
+
     def _send_state(self, base_us: int, t_end_us: int, t_us: int) -> None:
-        """The STATE at the set's instant ``t_end_us``, its horizon the µs after it: no
-        input changes more at this instant (another board's write at it comes in the next
-        STATE, as if written just after this board's reads), and the board must ask
-        before its clock moves on."""
-        super()._send_state(base_us, t_end_us + 1, t_us)
+        """The STATE at the set's instant ``t_end_us``; its horizon the plant's next change or
+        the instant another board could act (``bound_us``), at least the µs after this one:
+        another board's write at this same instant comes in the next STATE, as if written
+        just after this board's reads. A write of its own voids the horizon (the shim's)."""
+        super()._send_state(base_us, max(t_end_us + 1, self.bound_us), t_us)
 
     def lease_us(self) -> int:
-        """(After a bus transfer: as a STATE's horizon, the µs after the instant.)"""
-        return min(self.plant.next_change_us(), max(self.end_us + 1, self.plant.t_us))
+        """(After a bus transfer: as a STATE's horizon.)"""
+        return min(self.plant.next_change_us(), max(self.end_us + 1, self.bound_us, self.plant.t_us))
 
 
 def couple(rig) -> None:

@@ -79,8 +79,8 @@ def test_each_board_keeps_its_own_console_and_trace_folder(tmp_path):
         assert header["app"] == f"two_boards.{board}", header
 
 
-def _with_firmware(tmp_path: Path, right_main: str) -> Path:
-    """The two boards' rig in ``tmp_path``, the right board's main.py replaced."""
+def _with_firmware(tmp_path: Path, right_main: str, left_main: str | None = None) -> Path:
+    """The two boards' rig in ``tmp_path``, the right board's main.py replaced (and the left's)."""
     folder = tmp_path / "rig"
     source = RIG.parent
     for item in ("left", "right"):
@@ -88,6 +88,8 @@ def _with_firmware(tmp_path: Path, right_main: str) -> Path:
         (folder / item / "main.py").write_text((source / item / "main.py").read_text())
     (folder / "rig.toml").write_text(RIG.read_text())
     (folder / "right" / "main.py").write_text(right_main)
+    if left_main is not None:
+        (folder / "left" / "main.py").write_text(left_main)
     return folder / "rig.toml"
 
 
@@ -162,3 +164,44 @@ def test_every_board_records_the_one_plants_ground_truth_at_the_same_instants(tm
     left, right = ((tmp_path / board / "truth.csv").read_text() for board in ("left", "right"))
     assert left == right and left.count("\n") >= 4, f"expected the same truth.csv in {tmp_path}/left and right"
     assert "ready.out" in (tmp_path / "right" / "signals.csv").read_text(), "expected the right board's input recorded"
+
+
+SPINS = """\
+import time
+from machine import Pin
+ready = Pin(4, Pin.OUT, value=0)
+for n in range(4):
+    t0 = t = time.ticks_us()
+    while time.ticks_diff(t, t0) < 5000:  # a busy wait: 10 us a read past 50 reads
+        t = time.ticks_us()
+    ready.value(1 - n % 2)  # (at t: a read would take 10 us more)
+    print("left ready", 1 - n % 2, "at", t)
+while True:
+    time.sleep_ms(100)
+"""
+SLEEPS = """\
+import time
+from machine import Pin
+edges = []
+both = Pin.IRQ_RISING | Pin.IRQ_FALLING
+Pin(5, Pin.IN).irq(lambda pin: edges.append((pin.value(), time.ticks_us())), both, hard=True)
+time.sleep_ms(50)
+for level, t in edges:
+    print("right edge", level, "at", t)
+while True:
+    time.sleep_ms(100)
+"""
+
+
+def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
+    rig = _with_firmware(tmp_path, SLEEPS, SPINS)
+    with BoardSet(load_boards(rig), seed=9, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.06)
+        left, right = boards["left"], boards["right"]
+        written = re.findall(r"left ready (\d) at (\d+)", left.console)
+        seen = re.findall(r"right edge (\d) at (\d+)", right.console)
+        exchanges = left.stats.link_round_trips
+    assert len(written) == 4 and seen == written, f"expected 4 edges seen where written:\n{written}\n{seen}"
+    assert int(written[0][1]) - TICKS0 >= 5000, written
+    # (a horizon of the next µs only: a sync every 10 us of each 5 ms spin, about 2,000)
+    assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
