@@ -54,8 +54,7 @@ class BoardSet:
     """Boards of a rig file with ``[[boards]]`` (:func:`host.rig.boardfile.load_boards`)
     on one plant and one clock. Use as a context manager, or call start() and stop()."""
 
-    def __init__(self, boards, seed: int = 0, *, artefacts=None, trace: bool = False, record: bool = False,
-                 watchdog_s: float = 5.0):  # fmt: skip
+    def __init__(self, boards, seed: int = 0, *, artefacts=None, trace=False, record=False, watchdog_s=5.0):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
         folder is made, named as the board."""
