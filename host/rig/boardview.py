@@ -15,7 +15,7 @@ still act at.
 
 from collections import deque
 
-from host.core.errors import LinkError
+from host.core.errors import ConfigError, LinkError
 from host.rig.clock import Clock
 from host.rig.pacing import Lockstep
 from sim_plant.plant import NEVER_US
@@ -147,3 +147,11 @@ def couple(rig) -> None:
     parts = (rig.wiring, rig.inputs, rig.speculation, rig.recorder, rig.stats, rig.session)
     rig.clock = BoardClock(rig.plant, rig.pacing, *parts, rig.linklog)
     rig.clock.images = rig.bus_images
+    rig.run_until = lambda *args, **kwargs: _alone(rig.plant.board_name)  # (run_for, expect: through it)
+
+
+def _alone(board: str):
+    raise ConfigError(
+        f"board {board} is one of a set of boards: run the set (its run_for, run_until), which serves "
+        f"every board on one clock, not one board alone (docs/multi-board.md)"
+    )

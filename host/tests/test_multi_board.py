@@ -205,3 +205,11 @@ def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
     assert int(written[0][1]) - TICKS0 >= 5000, written
     # (a horizon of the next µs only: a sync every 10 us of each 5 ms spin, about 2,000)
     assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
+
+
+def test_a_board_of_a_set_is_not_run_alone(tmp_path):
+    with BoardSet(load_boards(RIG), seed=10) as boards:
+        with pytest.raises(ConfigError, match=r"board left is one of a set of boards: run the set"):
+            boards["left"].run_for(0.01)
+        boards.run_for(0.01)
+        assert boards["left"].t_us == boards["right"].t_us == 10_000
