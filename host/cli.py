@@ -538,13 +538,24 @@ def _stop_on_signals():
 
 
 def cmd_check(args) -> int:
+    from host.rig.boardfile import load_boards, names_boards
+
+    if names_boards(args.rig):  # several boards (docs/multi-board.md): each checked as one board
+        boards = load_boards(args.rig)
+        print(f"{boards.rig_file}: {len(boards.apps)} boards on one plant: {', '.join(boards.apps)}")
+        wired = {signal for app in boards.apps.values() for signal in app.wiring.values()}
+        return max(_check_app(app, args, f"[[boards]] {name}", wired) for name, app in boards.apps.items())
+    return _check_app(get_app(args.rig), args)
+
+
+def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -> int:
+    """One board's rig checked and described (``label``, ``wired_elsewhere``: a board of a set's)."""
     from host.rig.spec import RigSpec, build_plant
 
-    app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
     on_buses = sorted({d.bus for d in plant.bus_devices()})
     if app.wiring:
-        print(f"{app.rig_file or app.name}: ok")
+        print(f"{label or app.rig_file or app.name}: ok")
     elif on_buses:  # (chips on buses or lines need no wiring: the rig puts them there by name)
         print(f"{app.rig_file or app.name}: ok (0 pins wired; its parts are on {', '.join(on_buses)})")
     else:  # (it loads, but the firmware and the plant are not connected)
@@ -557,7 +568,7 @@ def cmd_check(args) -> int:
     print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
-    wired = set(app.wiring.values()) | plant.driven_inputs()  # (a PWM expander's)
+    wired = set(app.wiring.values()) | plant.driven_inputs() | wired_elsewhere  # (a PWM expander's)
     loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
     print(
         f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")

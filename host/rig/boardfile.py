@@ -47,9 +47,23 @@ def is_multi_board(data: dict) -> bool:
     return isinstance(data, dict) and "boards" in data
 
 
+def names_boards(name: str) -> bool:
+    """``name`` is a rig file (or a folder's rig.toml) with ``[[boards]]``: a quick look, the
+    file read and checked whole by :func:`load_boards`."""
+    path = Path(name)
+    path = path / "rig.toml" if path.is_dir() else path
+    if path.suffix != ".toml" or not path.is_file():
+        return False
+    try:
+        return is_multi_board(read_toml(path, "rig file", MAX_RIG_BYTES))
+    except ConfigError:
+        return False  # (the one-board reader says what is wrong with it)
+
+
 def load_boards(path) -> Boards:
-    """Read and check a rig file with ``[[boards]]``; the boards it describes."""
+    """Read and check a rig file with ``[[boards]]`` (or a folder's rig.toml); the boards it describes."""
     path = Path(path)
+    path = path / "rig.toml" if path.is_dir() else path
     return boards_from_data(path, read_toml(path, "rig file", MAX_RIG_BYTES))
 
 

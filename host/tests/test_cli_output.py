@@ -63,3 +63,12 @@ def test_check_of_a_rig_whose_parts_are_all_on_buses_is_ok_and_names_them(tmp_pa
     done = mpy_fil("check", str(tmp_path))
     first = done.stdout.splitlines()[0]
     assert first.endswith("ok (0 pins wired; its parts are on dht:15)"), done.stdout + done.stderr
+
+
+def test_check_of_a_rig_with_several_boards_checks_each_board_over_the_one_plant():
+    done = mpy_fil("check", str(REPO / "examples" / "two_board_rover"))
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0].endswith("two_board_rover/rig.toml: 2 boards on one plant: motor, nav"), done.stdout
+    assert "[[boards]] motor: ok" in lines and "[[boards]] nav: ok" in lines, done.stdout
+    assert "wired to no pin" not in done.stdout, f"expected every signal wired to a board:\n{done.stdout}"
