@@ -14,7 +14,7 @@ TURN = 300
 STOP_CM = 30
 TURN_MS = 700
 LOOP_MS = 100
-RUN_S = 8
+RUN_S = 5
 
 
 def distance_cm(trig, echo):
