@@ -5,14 +5,16 @@ interpreter on its own pty (a :class:`~host.rig.rig.Rig` each, on a
 The set serves in rounds. At the start of a round every board is blocked in a wait. The
 round's instant is the earliest at which anything can change: the plant's next change
 (which holds the bytes and levels in flight on the wires between boards), the earliest
-end of a board's wait, a ground-truth sample, the run's end. Every board's view is brought
-to that instant, in the boards' order; a board whose wait ends there (its time, an IRQ
-edge, a watched input) gets its STATE with that instant as its horizon, so it can move its
-clock no further without asking. Then each woken board is served, in order, until it
-blocks again: what it writes at that instant goes into the plant, and so, through a wire,
-to another board's inputs, at once or after the wire's delay (a UART byte: its 10 bits at
-the sender's baud rate). Since nothing is read from the boards but in that fixed order,
-the same seed gives the same traces byte for byte, however the processes are scheduled.
+end of a board's wait, a ground-truth sample, the run's end. The plant is brought to that
+instant; each board with something there is served in the boards' order, and one whose
+wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
+plant's next change or the earliest instant another board could act, at least the µs
+after the instant, so the board moves its clock no further without asking. Then each
+woken board is served, in order, until it blocks again: what it writes goes into the plant
+at its instant, and so, through a wire, to another board's inputs, at once or after the
+wire's delay (a UART byte: its 10 bits at the sender's baud rate). Since nothing is read
+from the boards but in that fixed order, the same seed gives the same traces byte for
+byte, however the processes are scheduled.
 """
 
 import contextlib
