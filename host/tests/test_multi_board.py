@@ -101,6 +101,7 @@ def test_a_board_that_raises_is_named_in_the_failure(tmp_path):
     message = str(failure.value)
     assert message.startswith("board right: firmware raised at virtual t=0.020000 s"), message
     assert "right gave up" in message and str(tmp_path / "out" / "right") in message, message
+    assert "left ready" in (tmp_path / "out" / "left" / "console.log").read_text(), "expected left's console kept"
 
 
 def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
