@@ -401,6 +401,14 @@ def _trace_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
+    from host.rig.boardfile import names_boards
+
+    if args.rig and names_boards(args.rig):  # several boards (docs/multi-board.md)
+        return _run_boards(args)
+    return _run_one(args)
+
+
+def _run_one(args) -> int:
     from host.link.transport import busy_poll_wanted
     from host.rig import Recording, Rig, RigSpec
     from host.rig.spec import PlantOptionsError
@@ -486,6 +494,48 @@ def cmd_run(args) -> int:
     return 0
 
 
+def _run_boards(args) -> int:
+    """``mpy-fil run`` of a rig file with several boards: each board's trace folder in the
+    run's folder under its name, each board's console and budgets shown."""
+    from host.rig.boardfile import load_boards
+    from host.rig.boardset import BoardSet
+
+    sub = args.sub
+    given = {"--board": args.board, "--world": args.world, "--param": args.param, "--coverage": args.coverage}
+    given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
+    for option in (option for option, value in given.items() if value):
+        sub.error(f"argument {option}: not for a rig file with several boards (docs/multi-board.md)")
+    boards = load_boards(args.rig)
+    root = output_root(boards.rig_file)
+    out = _writable(
+        sub,
+        "--out",
+        args.out or root / "runs" / f"{boards.name}-seed{args.seed}",
+        inputs={f"board {name}'s firmware folder": app.path for name, app in boards.apps.items()},
+        owned={f"board {name}'s firmware folder": root for name in boards.apps},
+        base=None if args.out else root.parent,
+    )
+    with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out) as run:
+        run.run_for(args.duration)
+    for name, rig in run.rigs.items():
+        print(f"board {name}:")
+        _show_console(rig.console, out / name)
+        rows = rig.budget_rows()
+        if rows:
+            print(format_table(rows))
+    truth = run.truth()
+    pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
+    print(f"ground truth at {run.t_us / 1e6:g} s: {pose or 'no pose'}; contacts: {len(truth.get('contacts', []))}")
+    if not args.no_plots:
+        from host.report.plots import plot_trace
+
+        print("plots: drawing them ...", flush=True)
+        for name in run.rigs:
+            plot_trace(out / name)
+    _list_files(out)
+    return 0
+
+
 def _coverage_file(out: Path) -> Path:
     from host.coverage.session import prepare_run
 
@@ -538,13 +588,24 @@ def _stop_on_signals():
 
 
 def cmd_check(args) -> int:
+    from host.rig.boardfile import load_boards, names_boards
+
+    if names_boards(args.rig):  # several boards (docs/multi-board.md): each checked as one board
+        boards = load_boards(args.rig)
+        print(f"{boards.rig_file}: {len(boards.apps)} boards on one plant: {', '.join(boards.apps)}")
+        wired = {signal for app in boards.apps.values() for signal in app.wiring.values()}
+        return max(_check_app(app, args, f"[[boards]] {name}", wired) for name, app in boards.apps.items())
+    return _check_app(get_app(args.rig), args)
+
+
+def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -> int:
+    """One board's rig checked and described (``label``, ``wired_elsewhere``: a board of a set's)."""
     from host.rig.spec import RigSpec, build_plant
 
-    app = get_app(args.rig)
     plant, _ = build_plant(RigSpec(app), app)
     on_buses = sorted({d.bus for d in plant.bus_devices()})
     if app.wiring:
-        print(f"{app.rig_file or app.name}: ok")
+        print(f"{label or app.rig_file or app.name}: ok")
     elif on_buses:  # (chips on buses or lines need no wiring: the rig puts them there by name)
         print(f"{app.rig_file or app.name}: ok (0 pins wired; its parts are on {', '.join(on_buses)})")
     else:  # (it loads, but the firmware and the plant are not connected)
@@ -557,7 +618,7 @@ def cmd_check(args) -> int:
     print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
-    wired = set(app.wiring.values()) | plant.driven_inputs()  # (a PWM expander's)
+    wired = set(app.wiring.values()) | plant.driven_inputs() | wired_elsewhere  # (a PWM expander's)
     loose = [n for n in [*plant.inputs, *plant.outputs] if n not in wired]
     print(
         f"  wiring: {len(app.wiring)} pins" + (f"; plant signals wired to no pin: {', '.join(loose)}" if loose else "")

@@ -297,6 +297,30 @@ def make_rig(request):
         mpy_versions.record(request.node, firmware.micropython() if hasattr(firmware, "micropython") else version)
 
 
+@pytest.fixture
+def make_boards(request):
+    """A rig file with several boards (docs/multi-board.md) as a started
+    :class:`~host.rig.boardset.BoardSet`: ``make_boards("rig.toml", seed=1)`` (a path
+    relative to the test file's folder, then the current directory), each board's folder
+    under the test's artefacts (``build/hil/<test module>/<test>/boards<n>/<board>/``);
+    stopped after the test."""
+    from host.rig.boardfile import load_boards
+    from host.rig.boardset import BoardSet
+
+    sets = []
+
+    def factory(rig_file, seed: int = 0, **kwargs):
+        path = userpath.resolve_rig(str(rig_file), getattr(request.node, "path", None))
+        kwargs.setdefault("artefacts", artefacts_for(request.node, path) / f"boards{len(sets)}")
+        boards = BoardSet(load_boards(path), seed=seed, **kwargs)
+        sets.append(boards)
+        return boards.start()
+
+    yield factory
+    for boards in sets:
+        boards.stop()
+
+
 def rig_from_keywords(app, plant_options: dict | None = None, **kwargs) -> Rig:
     """``make_rig``'s keywords, sorted: the spec's fields (``plant_options`` its options),
     the recording's, and a plant, budgets or target of the test's own."""

@@ -151,6 +151,8 @@ def rig_from_data(path, data: dict, base=None) -> App:
     path = Path(path)
     where = _Where(path)
     _walk(where, data, "", 0)
+    if isinstance(data, dict) and "boards" in data:  # (several boards: host/rig/boardfile.py)
+        raise where.error("[[boards]]", "a rig file with several boards: run it as a BoardSet (docs/multi-board.md)")
     where.table(data, "top level:", TABLES, required=("plant", "wiring"))
     base = Path(base) if base is not None else path.parent
     firmware = where.table(data.get("firmware", {}), "[firmware]", FIRMWARE_KEYS)

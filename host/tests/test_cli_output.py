@@ -63,3 +63,25 @@ def test_check_of_a_rig_whose_parts_are_all_on_buses_is_ok_and_names_them(tmp_pa
     done = mpy_fil("check", str(tmp_path))
     first = done.stdout.splitlines()[0]
     assert first.endswith("ok (0 pins wired; its parts are on dht:15)"), done.stdout + done.stderr
+
+
+def test_check_of_a_rig_with_several_boards_checks_each_board_over_the_one_plant():
+    done = mpy_fil("check", str(REPO / "examples" / "two_board_rover"))
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0].endswith("two_board_rover/rig.toml: 2 boards on one plant: motor, nav"), done.stdout
+    assert "[[boards]] motor: ok" in lines and "[[boards]] nav: ok" in lines, done.stdout
+    assert "wired to no pin" not in done.stdout, f"expected every signal wired to a board:\n{done.stdout}"
+
+
+def test_run_of_a_rig_with_several_boards_writes_a_trace_folder_per_board_and_shows_each_console(tmp_path):
+    out = tmp_path / "run"
+    rig = str(REPO / "examples" / "two_board_rover")
+    done = mpy_fil("run", rig, "--seconds", "1", "--no-plots", "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    assert "board motor:\n" in done.stdout and "board nav:\n" in done.stdout, done.stdout
+    assert f"all in {out}/nav/console.log" in done.stdout and "  | nav: go" in done.stdout, done.stdout
+    for board in ("motor", "nav"):
+        assert (out / board / "trace.jsonl").is_file() and (out / board / "truth.csv").is_file(), sorted(out.rglob("*"))
+    refused = mpy_fil("run", rig, "--world", "x")
+    assert refused.returncode == 2 and "argument --world: not for a rig file with several boards" in refused.stderr

@@ -12,7 +12,9 @@ Duty 0 holds the line low, 65535 high.
 
 A UART wire ``<name>`` (``uarts``) is one signal both ways: a UART wired to it receives
 what it sends, each byte at the time its stop bit ends at the sender's baud rate (10 bits
-a byte), one after another on the line.
+a byte), one after another on the line. A crossed pair of UART lines (``crossed``:
+``<name>.a`` and ``<name>.b``, the catalogue's ``board_uart``) joins two boards: what one
+line's UART sends arrives on the other's, timed the same way at the sender's baud rate.
 """
 
 from typing import NamedTuple
@@ -52,9 +54,11 @@ class Wires(Plant):
     zero_delay = True
     capabilities = frozenset((PWM, UART))
 
-    def __init__(self, wires: tuple, uarts: tuple):
+    def __init__(self, wires: tuple, uarts: tuple, crossed: tuple = ()):
         self.names = tuple(wires)
         self.uarts = tuple(uarts)
+        self.crossed = tuple(crossed)  # (line a, line b): each receives what the other sends
+        self.peer = {a: b for a, b in self.crossed} | {b: a for a, b in self.crossed}
         self.inputs = {f"{w}.in": "pwm" for w in self.names} | dict.fromkeys(self.uarts, "uart")
         self.outputs = {f"{w}.out": "level" for w in self.names} | dict.fromkeys(self.uarts, "bytes")
         self.reset(0)
@@ -113,7 +117,7 @@ class Wires(Plant):
         start = max(self._t_us, self.line_free[name])
         byte_us = BITS_PER_BYTE * 1e6 / max(1, baud)
         for i, b in enumerate(data):
-            self.bytes.append(Change(start + round((i + 1) * byte_us), name, bytes((b,))))
+            self.bytes.append(Change(start + round((i + 1) * byte_us), self.peer.get(name, name), bytes((b,))))
         self.line_free[name] = start + round(len(data) * byte_us)
         self.bytes.sort(key=lambda c: c.t_us)
 
@@ -177,9 +181,12 @@ class WirePart(Part):
         self.wires = Wires((), ())
         self.add()
 
-    def add(self, wires: tuple = (), uarts: tuple = ()) -> None:
-        """More wires and UART lines (while the plant is built, before any input)."""
-        self.wires = Wires(self.wires.names + tuple(wires), self.wires.uarts + tuple(uarts))
+    def add(self, wires: tuple = (), uarts: tuple = (), crossed: tuple = ()) -> None:
+        """More wires and UART lines (while the plant is built, before any input);
+        ``crossed``: pairs of UART lines, each receiving what the other sends."""
+        lines = tuple(line for pair in crossed for line in pair)
+        old = self.wires
+        self.wires = Wires(old.names + tuple(wires), old.uarts + tuple(uarts) + lines, old.crossed + tuple(crossed))
         self.inputs = dict(self.wires.inputs)
         self.outputs = dict(self.wires.outputs)
         self.next_us = NEVER_US

@@ -84,3 +84,13 @@ def test_a_wire_input_that_is_not_there_is_refused_by_name():
 def test_a_wire_needs_no_body_and_two_of_one_name_are_refused():
     with pytest.raises(PartsError, match=r"#2 \(w0\) name"):
         bench(wire("w0"), wire("w0"))
+
+
+def test_a_board_uart_carries_each_side_s_bytes_to_the_other_side_each_direction_on_its_own_line():
+    plant = bench({"kind": "board_uart", "name": "link"}, {"kind": "uart_wire", "name": "u0"})
+    plant.advance_to(1000)
+    plant.send_bytes("link.a", b"ab", 115_200)  # 86.8 us a byte
+    plant.send_bytes("link.b", b"x", 9_600)  # 1041.7 us a byte, at the same time the other way
+    changes = [tuple(c) for c in plant.advance_to(3000)]
+    assert changes == [(1087, "link.b", b"a"), (1174, "link.b", b"b"), (2042, "link.a", b"x")]
+    assert plant.output("link.a") == b"" and plant.zero_delay is True

@@ -1,0 +1,112 @@
+"""Rig files with several boards (``docs/multi-board.md``): one ``[plant]`` and a
+``[[boards]]`` table for each board, with its name, firmware, board (name, file or pins,
+family), wiring, budgets and interpreter settings. Each board is checked as a rig file of
+its own over the one plant (:func:`host.rig.rigfile.rig_from_data`), so every mistake
+names the file, the board and the field as a one-board rig file's would.
+
+The wires between boards are parts of the plant: a ``board_uart`` (one board's UART wired
+to ``<name>.a``, the other's to ``<name>.b``), a ``wire`` (one board's output pin to
+``<name>.in``, the other's input to ``<name>.out``).
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from host.core.errors import ConfigError
+from host.rig.app import App
+from host.rig.rigfile import MAX_RIG_BYTES, _name, _Where, rig_from_data
+from host.rig.tomlfile import read_toml
+
+TOP_KEYS = {"name": str, "description": str, "plant": dict, "world": dict, "boards": list}
+BOARD_KEYS = {
+    "name": str,
+    "description": str,
+    "firmware": dict,
+    "board": (dict, str),
+    "wiring": dict,
+    "budgets": dict,
+    "interpreter": dict,
+    "trace": dict,
+}
+MAX_BOARDS = 8
+
+
+@dataclass(frozen=True)
+class Boards:
+    """A rig with several boards: each board's app by its name (in the file's order), and
+    the one plant's builder."""
+
+    name: str
+    apps: dict[str, App]
+    make_plant: Callable
+    rig_file: Path | None = None
+
+
+def is_multi_board(data: dict) -> bool:
+    return isinstance(data, dict) and "boards" in data
+
+
+def names_boards(name: str) -> bool:
+    """``name`` is a rig file (or a folder's rig.toml) with ``[[boards]]``: a quick look, the
+    file read and checked whole by :func:`load_boards`."""
+    path = Path(name)
+    path = path / "rig.toml" if path.is_dir() else path
+    if path.suffix != ".toml" or not path.is_file():
+        return False
+    try:
+        return is_multi_board(read_toml(path, "rig file", MAX_RIG_BYTES))
+    except ConfigError:
+        return False  # (the one-board reader says what is wrong with it)
+
+
+def load_boards(path) -> Boards:
+    """Read and check a rig file with ``[[boards]]`` (or a folder's rig.toml); the boards it describes."""
+    path = Path(path)
+    path = path / "rig.toml" if path.is_dir() else path
+    return boards_from_data(path, read_toml(path, "rig file", MAX_RIG_BYTES))
+
+
+def boards_from_data(path, data: dict) -> Boards:
+    path = Path(path)
+    where = _Where(path)
+    where.table(data, "top level:", TOP_KEYS, required=("plant", "boards"))
+    entries = data["boards"]
+    if not 1 <= len(entries) <= MAX_BOARDS or not all(isinstance(e, dict) for e in entries):
+        raise where.error("[[boards]]", f"expected 1 to {MAX_BOARDS} tables, got {len(entries)} entries")
+    name = _name(where, "name", data.get("name") or path.parent.name)
+    apps: dict[str, App] = {}
+    for number, entry in enumerate(entries, 1):
+        field = f"[[boards]] #{number}"
+        where.table(entry, field, BOARD_KEYS, required=("name", "wiring"))
+        board = _name(where, f"{field} name", entry["name"])
+        if board in apps:
+            raise where.error(f"{field} name", f"a second board named {board!r}: expected one name per board")
+        apps[board] = _board_app(path, data, entry, f"{name}.{board}", f"[[boards]] {board}")
+    first = next(iter(apps.values()))
+    return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path)
+
+
+def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -> App:
+    """One board as the one-board rig file it amounts to: its tables over the shared plant."""
+    one = {k: v for k, v in entry.items() if k not in ("name",)}
+    one["name"] = app_name
+    one["plant"] = data["plant"]
+    if "world" in data:
+        one["world"] = data["world"]
+    one.setdefault("firmware", {})
+    try:
+        return rig_from_data(path, one)
+    except ConfigError as e:
+        text = str(e)
+        prefix = f"{path}: "
+        raise ConfigError(f"{prefix}{field}: {text.removeprefix(prefix)}") from None
+
+
+def apps_of(path) -> list[App]:
+    """The apps of any rig file: its one board's, or each of its ``[[boards]]``'s."""
+    path = Path(path)
+    data = read_toml(path, "rig file", MAX_RIG_BYTES)
+    if is_multi_board(data):
+        return list(boards_from_data(path, data).apps.values())
+    return [rig_from_data(path, data)]

@@ -1,0 +1,221 @@
+"""Several boards in one lockstep (``docs/multi-board.md``): each board's firmware its own
+interpreter on its own pty (a :class:`~host.rig.rig.Rig` each, on a
+:class:`~host.rig.boardview.BoardView` of the one plant), one virtual clock.
+
+The set serves in rounds. At the start of a round every board is blocked in a wait. The
+round's instant is the earliest at which anything can change: the plant's next change
+(which holds the bytes and levels in flight on the wires between boards), the earliest
+end of a board's wait, a ground-truth sample, the run's end. The plant is brought to that
+instant; each board with something there is served in the boards' order, and one whose
+wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
+plant's next change or the earliest instant another board could act, at least the µs
+after the instant, so the board moves its clock no further without asking. Then each
+woken board is served, in order, until it blocks again: what it writes goes into the plant
+at its instant, and so, through a wire, to another board's inputs, at once or after the
+wire's delay (a UART byte: its 10 bits at the sender's baud rate). Since nothing is read
+from the boards but in that fixed order, the same seed gives the same traces byte for
+byte, however the processes are scheduled.
+"""
+
+import contextlib
+from pathlib import Path
+
+from host.core.errors import HarnessError, LinkError
+from host.rig import arguments
+from host.rig.boardview import BoardView, couple
+from host.rig.rig import Rig
+from host.rig.spec import Recording, RigSpec
+from sim_plant.plant import check_contract
+
+MAX_ROUNDS_AT_ONE_INSTANT = 100_000
+"""Rounds at one instant before the set calls it a loop in zero time (two boards answering
+each other's edges at the same µs, for ever)."""
+
+
+def label_error(error: HarnessError, board: str) -> None:
+    """``error``'s message names ``board`` first (once)."""
+    if board and error.args and isinstance(error.args[0], str) and not error.args[0].startswith("board "):
+        error.args = (f"board {board}: {error.args[0]}", *error.args[1:])
+
+
+def truth_due(rig: Rig, t_us: int) -> bool:
+    return rig.recorder is not None and rig.recorder.next_truth_us <= t_us
+
+
+@contextlib.contextmanager
+def naming(board: str):
+    """Any harness error raised while serving ``board`` names it first."""
+    try:
+        yield
+    except HarnessError as e:
+        label_error(e, board)
+        raise
+
+
+class BoardSet:
+    """Boards of a rig file with ``[[boards]]`` (:func:`host.rig.boardfile.load_boards`)
+    on one plant and one clock. Use as a context manager, or call start() and stop()."""
+
+    def __init__(self, boards, seed: int = 0, *, artefacts=None, trace=False, record=False, watchdog_s=5.0):
+        """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
+        the plant's builder); ``artefacts``: the folder under which each board's trace
+        folder is made, named as the board."""
+        self.spec = boards
+        self.seed = arguments.seed(seed)
+        self.plant = check_contract(boards.make_plant())
+        self.plant.reset(self.seed)
+        self.artefacts = Path(artefacts) if artefacts else None
+        self.rigs: dict[str, Rig] = {}
+        self.views: dict[str, BoardView] = {}
+        for name, app in boards.apps.items():
+            view = BoardView(self, name)
+            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False)
+            folder = self.artefacts / name if self.artefacts else None
+            with naming(name):
+                rig = Rig(spec, Recording(trace=trace, record=record, artefacts=folder), plant=view)
+            couple(rig)
+            view.signals = rig.wiring.wired
+            self.rigs[name], self.views[name] = rig, view
+        self._instant = (-1, 0)  # (the last round's instant, rounds at it)
+
+    # -- life cycle ---------------------------------------------------------------------
+
+    def __enter__(self):
+        self.start()
+        return self
+
+    def __exit__(self, *exc):
+        self.stop(interrupted=exc[1])
+
+    def start(self) -> "BoardSet":
+        try:
+            for name, rig in self.rigs.items():
+                with naming(name):
+                    rig.start()
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def stop(self, interrupted: BaseException | None = None) -> None:
+        """Stop every board (each writes its console and trace); the first error stands."""
+        error = None
+        for name, rig in self.rigs.items():
+            try:
+                with naming(name):
+                    rig.stop(interrupted)
+            except HarnessError as e:
+                error = error or e
+        if error is not None and interrupted is None:
+            raise error
+
+    def __getitem__(self, name: str) -> Rig:
+        return self.rigs[name]
+
+    @property
+    def t_us(self) -> int:
+        return self.plant.t_us
+
+    def truth(self) -> dict:
+        return self.plant.truth()
+
+    # -- running ------------------------------------------------------------------------
+
+    def run_for(self, duration_s: float) -> None:
+        seconds = arguments.seconds("run_for", duration_s, limit_s=arguments.MAX_RUN_S)
+        self.run_until(self.t_us + round(seconds * 1e6))
+
+    def run_until(self, t_end_us: int) -> None:
+        """Serve every board until virtual time reaches ``t_end_us``, all of them blocked."""
+        serving = [""]  # (the board being served, for an error's message)
+        try:
+            self._serve_until(t_end_us, serving)
+        except HarnessError as e:
+            label_error(e, serving[0])
+            raise
+
+    def _serve_until(self, t_end_us: int, serving: list) -> None:
+        rigs, views = self.rigs, self.views
+        while True:
+            self._settle(serving)
+            t_us = self._next_instant(t_end_us)
+            if t_us is None:
+                return
+            serving[0] = ""
+            self.plant_to(t_us)
+            for board, rig in rigs.items():
+                view = views[board]
+                serving[0] = board
+                if rig.exit_kind is not None:  # (a board that ended: its inputs go nowhere)
+                    view.queue.clear()
+                    view.advance_to(t_us)
+                elif view.queue or rig.clock.wait.t_until <= t_us or t_us >= t_end_us or truth_due(rig, t_us):
+                    rig.clock.bound_us = self._others_act_us(board, t_us, t_end_us)
+                    rig.clock.serve(t_us)  # (a board with nothing at this instant waits for its next)
+
+    def _settle(self, serving: list) -> None:
+        """Serve each board that is running, in order, until it blocks (or ends)."""
+        for board, rig in self.rigs.items():
+            serving[0] = board
+            while rig.clock.wait is None and rig.exit_kind is None:
+                rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+
+    def _others_act_us(self, board: str, t_us: int, t_end_us: int) -> int:
+        """The earliest instant a board other than ``board`` could act, with nothing written
+        meanwhile: the µs after ``t_us`` if one may wake at it (its wait ends, a change waits
+        for it), else the earliest end of their waits (or a truth sample one records); never
+        past the run's end. (The plant's
+        own next change bounds the horizon besides: ``BoardView.next_change_us``.)"""
+        earliest = t_end_us
+        for other, rig in self.rigs.items():
+            if other == board or rig.exit_kind is not None:
+                continue
+            wait = rig.clock.wait
+            if wait is None or wait.t_until <= t_us or self.views[other].queue:
+                return t_us + 1
+            earliest = min(earliest, wait.t_until)
+            if rig.recorder is not None:  # (its truth sample: the shared plant must be there then)
+                earliest = min(earliest, rig.recorder.next_truth_us)
+        return earliest
+
+    def _next_instant(self, t_end_us: int) -> int | None:
+        """The round's instant: the earliest at which anything may change; None when every
+        board is at ``t_end_us`` with nothing left at that instant."""
+        plant = self.plant
+        t_us = min(plant.next_change_us(), t_end_us)
+        behind = False
+        for name, rig in self.rigs.items():
+            view = self.views[name]
+            if view.queue:
+                t_us = min(t_us, view.queue[0][0])
+            if rig.exit_kind is None:
+                t_us = min(t_us, rig.clock.wait.t_until)
+                if rig.recorder is not None:
+                    t_us = min(t_us, rig.recorder.next_truth_us)
+            behind = behind or view.t_us < t_end_us
+        t_us = max(t_us, plant.t_us)
+        if t_us >= t_end_us and not behind and not any(v.queue for v in self.views.values()):
+            return None
+        t_us = min(t_us, t_end_us)
+        last, rounds = self._instant
+        self._instant = (t_us, rounds + 1 if t_us == last else 0)
+        if rounds > MAX_ROUNDS_AT_ONE_INSTANT:
+            raise LinkError(
+                f"the boards went {rounds} rounds at virtual t={t_us / 1e6:.6f} s without time moving "
+                f"(boards answering each other at the same instant for ever?); seed: {self.seed}"
+                + (f"; artefacts: {self.artefacts}" if self.artefacts else "")
+            )
+        return t_us
+
+    def plant_to(self, t_us: int, view: BoardView | None = None) -> None:
+        """Bring the shared plant to ``t_us`` (a board's view asks), its changes queued for
+        every board wired to their signals."""
+        plant = self.plant
+        if plant.t_us >= t_us and plant.next_change_us() > t_us:
+            return
+        views = self.views.values()
+        for change in plant.advance_to(t_us):
+            name = change[1]
+            for each in views:
+                if name in each.signals:
+                    each.queue.append(change)

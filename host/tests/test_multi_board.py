@@ -1,0 +1,216 @@
+"""Several boards in one lockstep (docs/multi-board.md): two boards of
+host/tests/firmware/two_boards/ chatter over a UART between them and a GPIO line, each at
+pseudo-random instants of its own; one virtual clock, each board its own interpreter."""
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from host.core.errors import ConfigError, FirmwareError, FirmwareHung
+from host.rig.boardfile import boards_from_data, load_boards
+from host.rig.boardset import BoardSet
+from host.rig.rigfile import load_rig
+
+RIG = Path(__file__).parent / "firmware" / "two_boards" / "rig.toml"
+TICKS0 = 2**30 - 10_000_000  # ticks_us at t=0 (docs/clock.md: 10 s before the wrap)
+BYTE_US = 10 * 1e6 / 115_200  # a byte's 10 bits at the link's baud rate
+
+pytestmark = pytest.mark.hil
+
+
+def _records(folder: Path, board: str) -> list[dict]:
+    return [json.loads(line) for line in (folder / board / "trace.jsonl").read_text().splitlines()]
+
+
+def _run(folder: Path, seed: int = 1, seconds: float = 0.3) -> dict:
+    with BoardSet(load_boards(RIG), seed=seed, trace=True, artefacts=folder) as boards:
+        boards.run_for(seconds)
+        assert boards.t_us == round(seconds * 1e6), f"expected the run to end at {seconds} s, got {boards.t_us} us"
+        return {name: rig.trace_digest for name, rig in boards.rigs.items()} | {
+            f"{name}.console": rig.console for name, rig in boards.rigs.items()
+        }
+
+
+def test_the_same_seed_gives_byte_identical_traces_for_every_board(tmp_path):
+    first = _run(tmp_path / "a")
+    second = _run(tmp_path / "b")
+    for board in ("left", "right"):
+        assert first[board] == second[board], (
+            f"board {board}: expected the same link trace twice, got two digests "
+            f"(traces in {tmp_path / 'a' / board} and {tmp_path / 'b' / board})"
+        )
+        assert first[f"{board}.console"] == second[f"{board}.console"], f"board {board}: consoles differ"
+    assert first["left.console"].count("left got pong") >= 3, f"expected pongs back:\n{first['left.console']}"
+
+
+def test_a_gpio_edge_reaches_the_other_board_at_the_instant_it_was_written(tmp_path):
+    with BoardSet(load_boards(RIG), seed=2, artefacts=tmp_path) as boards:
+        boards.run_for(0.3)
+        written = re.findall(r"left ready (\d) at (\d+)", boards["left"].console)
+        seen = re.findall(r"right edge (\d) at (\d+)", boards["right"].console)
+    assert len(seen) >= 20, f"expected at least 20 edges on the right, got {len(seen)} (artefacts: {tmp_path})"
+    assert written[: len(seen)] == seen, f"expected each edge at its write's instant (artefacts: {tmp_path})"
+
+
+def test_each_uart_byte_arrives_when_its_ten_bits_have_crossed_the_wire(tmp_path):
+    _run(tmp_path, seed=3)
+    sent = [r for r in _records(tmp_path, "left") if r.get("msg") == "UART_TX"]
+    arrived = [c for r in _records(tmp_path, "right") if r.get("msg") == "STATE" for c in r["changes"] if c[2] == 2]
+    assert len(sent) >= 3, f"expected pings sent, got {len(sent)} (artefacts: {tmp_path})"
+    expected = []
+    for record in sent:
+        data = bytes.fromhex(record["data"])
+        expected += [[record["t"] + round((i + 1) * BYTE_US), data[i : i + 1].hex()] for i in range(len(data))]
+    got = [[c[0], c[4]] for c in arrived]
+    assert got[: len(expected)] == expected[: len(got)], (
+        f"expected each byte one byte time (86.8 us) after the one before, from the UART_TX's instant; "
+        f"got {got[:8]} for {expected[:8]} (artefacts: {tmp_path})"
+    )
+
+
+def test_each_board_keeps_its_own_console_and_trace_folder(tmp_path):
+    _run(tmp_path, seed=4, seconds=0.1)
+    for board in ("left", "right"):
+        console = (tmp_path / board / "console.log").read_text()
+        assert f"{board} " in console and ("right" if board == "left" else "left ") not in console, console[:300]
+        header = _records(tmp_path, board)[0]["header"]
+        assert header["app"] == f"two_boards.{board}", header
+
+
+def _with_firmware(tmp_path: Path, right_main: str, left_main: str | None = None) -> Path:
+    """The two boards' rig in ``tmp_path``, the right board's main.py replaced (and the left's)."""
+    folder = tmp_path / "rig"
+    source = RIG.parent
+    for item in ("left", "right"):
+        (folder / item).mkdir(parents=True)
+        (folder / item / "main.py").write_text((source / item / "main.py").read_text())
+    (folder / "rig.toml").write_text(RIG.read_text())
+    (folder / "right" / "main.py").write_text(right_main)
+    if left_main is not None:
+        (folder / "left" / "main.py").write_text(left_main)
+    return folder / "rig.toml"
+
+
+def test_a_board_that_raises_is_named_in_the_failure(tmp_path):
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(20)\nraise ValueError('right gave up')\n")
+    with pytest.raises(FirmwareError) as failure:
+        with BoardSet(load_boards(rig), seed=5, artefacts=tmp_path / "out") as boards:
+            boards.run_for(0.1)
+    message = str(failure.value)
+    assert message.startswith("board right: firmware raised at virtual t=0.020000 s"), message
+    assert "right gave up" in message and str(tmp_path / "out" / "right") in message, message
+    assert "left ready" in (tmp_path / "out" / "left" / "console.log").read_text(), "expected left's console kept"
+
+
+def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(5)\nwhile True:\n    pass\n")
+    with pytest.raises(FirmwareHung) as failure:
+        with BoardSet(load_boards(rig), seed=6, watchdog_s=1.0) as boards:
+            boards.run_for(0.1)
+    assert str(failure.value).startswith("board right: "), str(failure.value)
+
+
+def test_a_mistake_in_a_board_table_names_the_file_the_board_and_the_field(tmp_path):
+    rig = _with_firmware(tmp_path, "")
+    data = {
+        "plant": {"body": "bench", "parts": [{"kind": "board_uart", "name": "link"}]},
+        "boards": [
+            {"name": "left", "firmware": {"dir": "left"}, "board": {"pins": {"LINK_UART": 1}}, "wiring": {}},
+            {"name": "right", "firmware": {"dir": "right"}, "board": {"pins": {"X_UART": 0}}, "wiring": {"Y": "a"}},
+        ],
+    }
+    named = r"rig\.toml: \[\[boards\]\] right: \[wiring\] Y: board pins has no pin named Y"
+    with pytest.raises(ConfigError, match=named):
+        boards_from_data(rig, data)
+    data["boards"][1]["name"] = "left"
+    with pytest.raises(ConfigError, match=r"\[\[boards\]\] #2 name: a second board named 'left'"):
+        boards_from_data(rig, data)
+
+
+def test_a_one_board_loader_given_several_boards_says_what_to_use():
+    with pytest.raises(ConfigError, match=r"\[\[boards\]\]: a rig file with several boards: run it as a BoardSet"):
+        load_rig(RIG)
+
+
+RESETS_ONCE = """\
+import machine, time
+try:
+    open("booted").close()
+    print("right booted again")
+    while True:
+        time.sleep_ms(10)
+except OSError:
+    open("booted", "w").close()
+    time.sleep_ms(20)
+    print("right resets")
+    machine.reset()
+"""
+
+
+def test_a_board_that_resets_restarts_alone_and_the_others_go_on(tmp_path):
+    rig = _with_firmware(tmp_path, RESETS_ONCE)
+    with BoardSet(load_boards(rig), seed=7, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.1)
+        right, left = boards["right"], boards["left"]
+        assert right.resets == 1 and "right booted again" in right.console, right.console
+        assert left.resets == 0 and left.console.count("left ready") >= 10, left.console
+        assert boards.t_us == 100_000
+
+
+def test_every_board_records_the_one_plants_ground_truth_at_the_same_instants(tmp_path):
+    with BoardSet(load_boards(RIG), seed=8, record=True, artefacts=tmp_path) as boards:
+        boards.run_for(0.2)
+    left, right = ((tmp_path / board / "truth.csv").read_text() for board in ("left", "right"))
+    assert left == right and left.count("\n") >= 4, f"expected the same truth.csv in {tmp_path}/left and right"
+    assert "ready.out" in (tmp_path / "right" / "signals.csv").read_text(), "expected the right board's input recorded"
+
+
+SPINS = """\
+import time
+from machine import Pin
+ready = Pin(4, Pin.OUT, value=0)
+for n in range(4):
+    t0 = t = time.ticks_us()
+    while time.ticks_diff(t, t0) < 5000:  # a busy wait: 10 us a read past 50 reads
+        t = time.ticks_us()
+    ready.value(1 - n % 2)  # (at t: a read would take 10 us more)
+    print("left ready", 1 - n % 2, "at", t)
+while True:
+    time.sleep_ms(100)
+"""
+SLEEPS = """\
+import time
+from machine import Pin
+edges = []
+both = Pin.IRQ_RISING | Pin.IRQ_FALLING
+Pin(5, Pin.IN).irq(lambda pin: edges.append((pin.value(), time.ticks_us())), both, hard=True)
+time.sleep_ms(50)
+for level, t in edges:
+    print("right edge", level, "at", t)
+while True:
+    time.sleep_ms(100)
+"""
+
+
+def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
+    rig = _with_firmware(tmp_path, SLEEPS, SPINS)
+    with BoardSet(load_boards(rig), seed=9, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.06)
+        left, right = boards["left"], boards["right"]
+        written = re.findall(r"left ready (\d) at (\d+)", left.console)
+        seen = re.findall(r"right edge (\d) at (\d+)", right.console)
+        exchanges = left.stats.link_round_trips
+    assert len(written) == 4 and seen == written, f"expected 4 edges seen where written:\n{written}\n{seen}"
+    assert int(written[0][1]) - TICKS0 >= 5000, written
+    # (a horizon of the next µs only: a sync every 10 us of each 5 ms spin, about 2,000)
+    assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
+
+
+def test_a_board_of_a_set_is_not_run_alone(tmp_path):
+    with BoardSet(load_boards(RIG), seed=10) as boards:
+        with pytest.raises(ConfigError, match=r"board left is one of a set of boards: run the set"):
+            boards["left"].run_for(0.01)
+        boards.run_for(0.01)
+        assert boards["left"].t_us == boards["right"].t_us == 10_000
