@@ -10,8 +10,8 @@ import ast
 from collections import deque
 
 from host.core.errors import ConfigError
-from host.live import journal, look
 from host.link import frames as F
+from host.live import journal, look
 from host.rig import Rig, arguments, waits
 from host.rig.introspect import FirmwareEvalError
 from host.rig.spec import NO_RECORDING, Recording, RigSpec
@@ -98,7 +98,8 @@ class LiveRig:
         last match took: the match back), or ``pin`` at ``level`` (looked at every ms of
         virtual time: the level back). ``timeout_s`` caps a console or pin wait in
         simulated seconds: ExpectTimeout after it."""
-        given = [name for name, v in (("t_s", t_s), ("t_us", t_us), ("console", console), ("pin", pin)) if v is not None]
+        asked = (("t_s", t_s), ("t_us", t_us), ("console", console), ("pin", pin))
+        given = [name for name, value in asked if value is not None]
         if len(given) != 1:
             raise ConfigError(f"run_until: expected one of t_s, t_us, console, pin; got {given or 'none'}")
         if t_s is not None or t_us is not None:
