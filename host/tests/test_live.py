@@ -1,0 +1,102 @@
+"""A rig driven call by call (docs/live.md): the page's notebook runs as written, the
+journal replays to the same trace, bad calls are refused before anything runs, and the
+firmware looked at in a pause neither moves time nor drives the board."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+from host.core.errors import ConfigError
+from host.live import LiveRig
+from host.rig.introspect import FirmwareEvalError
+from host.rig.waits import ExpectTimeout
+
+REPO = Path(__file__).resolve().parents[2]
+PAGE = REPO / "docs" / "live.md"
+PICO = str(REPO / "examples" / "pico_bot" / "rig.toml")
+
+
+def python_blocks(page: Path) -> list[str]:
+    return re.findall(r"^```python\n(.*?)^```$", page.read_text(), flags=re.S | re.M)
+
+
+def test_the_live_page_runs_as_a_notebook(monkeypatch):
+    monkeypatch.chdir(REPO)
+    blocks = python_blocks(PAGE)
+    assert len(blocks) >= 8, "docs/live.md: expected its walk-through's Python blocks"
+    namespace: dict = {}
+    for i, block in enumerate(blocks):
+        try:
+            exec(compile(block, f"docs/live.md block {i + 1}", "exec"), namespace)
+        except BaseException as e:
+            rig = namespace.get("rig")
+            where = f"\nconsole:\n{rig.console(lines=10)}" if rig is not None and rig.rig is not None else ""
+            raise AssertionError(f"docs/live.md block {i + 1} failed: {type(e).__name__}: {e}\n{block}{where}") from e
+    assert namespace["rig"].rig.exit_kind is None and not namespace["rig"].rig.target.alive(), "the page stops its rig"
+
+
+@pytest.fixture
+def pico():
+    with LiveRig.start(PICO, seed=3) as rig:
+        yield rig
+
+
+def test_a_restored_snapshot_forgets_what_came_after_and_replays_lines_run_in_the_firmware(pico):
+    pico.run_until(console="press start")
+    pico.exec("marker = [1]")
+    snap = pico.snapshot()
+    pico.exec("marker.append(2)")
+    pico.step(300_000)
+    pico.restore(snap)
+    assert pico.eval("marker") == [1], "expected the firmware as it was at the snapshot"
+    assert pico.t_us == snap.t_us and pico.trace_digest == snap.trace_digest
+    pico.exec("marker.append(3)")
+    assert pico.eval("marker") == [1, 3]
+
+
+def test_a_line_that_raises_is_the_firmwares_error_and_the_run_goes_on(pico):
+    pico.run_until(t_s=0.05)
+    with pytest.raises(FirmwareEvalError, match=r"ZeroDivisionError"):
+        pico.eval("1 / 0")
+    with pytest.raises(FirmwareEvalError, match=r"cannot drive the board or wait \(it tried to send OUT\)"):
+        pico.exec("led.value(1 - led.value())")
+    assert pico.t_us == 50_000
+    pico.press("start", ms=100)
+    pico.run_until(console="go", timeout_s=1)
+
+
+def test_bad_calls_are_refused_before_the_rig_runs(pico):
+    with pytest.raises(ConfigError, match="expected one of t_s, t_us, console, pin"):
+        pico.run_until(t_s=1, console="x")
+    with pytest.raises(ConfigError, match="acts from the run's start"):
+        pico.inject({"kind": "link_stall", "rate": 0.1})
+    pico.step(200_000)
+    with pytest.raises(ConfigError, match="before now"):
+        pico.inject({"kind": "stuck", "signal": "start.out", "value": 0, "start_s": 0.1})
+    with pytest.raises(ConfigError, match="no output 'nothing.out'"):
+        pico.inject({"kind": "stuck", "signal": "nothing.out", "value": 0})
+    with pytest.raises(ValueError, match="pressed"):
+        pico.set("start", "held", 1)
+    assert pico.t_us == 200_000 and len(pico.entries) == 1
+
+
+def test_a_pin_wait_that_never_comes_says_so_in_simulated_time(pico):
+    with pytest.raises(ExpectTimeout, match="GP25 at level 1"):
+        pico.run_until(pin="GP25", level=1, timeout_s=0.2)  # (the LED toggles only once started)
+    assert pico.t_us == 200_000
+
+
+def test_a_fault_injected_now_acts_from_now(pico):
+    pico.run_until(t_s=0.3)
+    assert "pico_bot: go" not in pico.console(), "it started before the fault"
+    pico.inject({"kind": "stuck", "signal": "start.out", "value": 0})  # the button reads pressed
+    pico.run_until(console="go", timeout_s=0.1)
+    assert 300_000 <= pico.t_us <= 320_000, f"expected the start within 20 ms of the fault, at {pico.t_us} us"
+
+
+def test_nothing_of_a_live_rig_is_left_behind_once_stopped(pico):
+    pico.run_until(t_s=0.1)
+    proc = pico.rig.target.proc
+    pico.stop()
+    assert proc.poll() is not None, f"expected the firmware's process {proc.pid} ended once the live rig stopped"
