@@ -10,6 +10,7 @@
     mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2 [--shrink]
     mpy-fil shrink build/campaign/duct_snag/runs/tether-snags/one-right-branch/8
     mpy-fil diff build/runs/old build/runs/new --max-pos-m 0.05
+    mpy-fil mcp          (live rigs as Model Context Protocol tools over stdio: docs/live.md)
     mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
     mpy-fil docs ci      (docs/NAME.md, as every message names a page: mpy-fil docs NAME)
     mpy-fil --version
@@ -211,6 +212,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     _scenario_parser(sub, _folder, _seed)
     _testing_parsers(sub)
+    _mcp_parser(sub)
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
     setup.add_argument(
@@ -255,6 +257,30 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
     camp.add_argument("--shrink", action="store_true", help="then shrink each distinct failure (docs/testing-tools.md)")
     camp.set_defaults(command=cmd_campaign, sub=camp)
+
+
+def _mcp_parser(sub) -> None:
+    """``mpy-fil mcp``: live rigs as Model Context Protocol tools over stdio (docs/live.md)."""
+    mcp = sub.add_parser("mcp", help="serve live rigs as Model Context Protocol tools over stdio (docs/live.md)")
+    mcp.add_argument("--max-rigs", type=_count, default=1, help="rigs open at once (default 1)")
+    mcp.add_argument(
+        "--max-run-s", type=_duration_s, default=60.0, help="simulated seconds one call may run (default 60)"
+    )
+    mcp.add_argument(
+        "--max-wall-s",
+        type=_duration_s,
+        default=300.0,
+        help="wall seconds of all one rig's calls (default 300)",
+    )
+    mcp.add_argument("--out", type=_folder, help="trace folders of rigs started to record (default: a temporary one)")
+    mcp.set_defaults(command=cmd_mcp, sub=mcp)
+
+
+def cmd_mcp(args) -> int:
+    from host.live.mcpserver import Limits, serve  # (the mcp SDK: imported for this command only)
+
+    serve(Limits(args.max_rigs, args.max_run_s, args.max_wall_s), args.out)
+    return 0
 
 
 def _testing_parsers(sub) -> None:

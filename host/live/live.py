@@ -7,9 +7,10 @@ schedule, the budgets); this class adds only the journal that makes a snapshot
 (:mod:`host.live.journal`). A plain run never comes here."""
 
 import ast
+import time
 from collections import deque
 
-from host.core.errors import ConfigError
+from host.core.errors import ConfigError, HarnessError
 from host.link import frames as F
 from host.live import journal, look
 from host.rig import Rig, arguments, waits
@@ -18,6 +19,11 @@ from host.rig.spec import NO_RECORDING, Recording, RigSpec
 
 PIN_STEP_S = 0.001  # simulated seconds between two looks at a pin (a board's system tick)
 BUS_LOG_MAX = 10_000  # transactions a live rig keeps (the trace keeps them all)
+WALL_CHUNK_US = 100_000  # with a wall deadline, a run goes in pieces this long, the deadline looked at between
+
+
+class WallLimit(HarnessError):
+    """A live rig's call ran past the wall time it was given (``LiveRig.wall_deadline``)."""
 
 
 class LiveRig:
@@ -30,6 +36,7 @@ class LiveRig:
         self.entries: list[tuple] = []
         self.bus: deque = deque(maxlen=BUS_LOG_MAX)
         self.rig: Rig | None = None
+        self.wall_deadline: float | None = None  # time.monotonic() past which a run stops (mpy-fil mcp's limit)
         self._begin(spec)
 
     @classmethod
@@ -81,6 +88,8 @@ class LiveRig:
         return result
 
     def _to(self, t_us: int) -> None:
+        if self.wall_deadline is not None and time.monotonic() > self.wall_deadline:
+            raise WallLimit(f"stopped at virtual t={self.t_us / 1e6:.6f} s: the wall time given to this rig is spent")
         self._do(("to", int(t_us)))
 
     def run_until(
@@ -106,7 +115,10 @@ class LiveRig:
             end_us = t_us if t_us is not None else round(arguments.seconds("run_until t_s", t_s) * 1e6)
             if end_us > self.t_us + round(arguments.MAX_RUN_S * 1e6):
                 raise ConfigError(f"run_until: at most {arguments.MAX_RUN_S:g} simulated s in one call")
-            self._to(max(end_us, self.t_us))
+            if self.wall_deadline is None:
+                self._to(max(end_us, self.t_us))
+            while self.t_us < end_us:
+                self._to(min(end_us, self.t_us + WALL_CHUNK_US))
             return self.t_us
         if console is not None:
             return waits.expect(self.rig, console, timeout_s, advance=self._to)
