@@ -100,3 +100,50 @@ def test_nothing_of_a_live_rig_is_left_behind_once_stopped(pico):
     proc = pico.rig.target.proc
     pico.stop()
     assert proc.poll() is not None, f"expected the firmware's process {proc.pid} ended once the live rig stopped"
+
+
+SCENARIOS = REPO / "host" / "tests" / "wokwi_scenarios"
+
+
+def test_reading_the_paused_firmware_leaves_the_run_as_it_was():
+    """The same course with and without evals between its stops: the same link trace."""
+
+    def course(look: bool) -> str:
+        with LiveRig.start(PICO, seed=4) as rig:
+            for t_s in (0.02, 0.05, 0.3, 1.2, 1.25, 1.5):
+                rig.run_until(t_s=t_s)
+                if look:
+                    assert rig.eval("enc_l.count + enc_r.count") >= 0 and rig.eval("LOOP_MS") == 50
+                    rig.exec("looked = 1")
+            return rig.trace_digest
+
+    assert course(look=True) == course(look=False)
+
+
+def test_bytes_typed_on_the_console_reach_input_and_replay_from_a_snapshot():
+    with LiveRig.start(str(SCENARIOS / "serial_echo" / "rig.toml")) as rig:
+        rig.run_until(console="ready")
+        snap = rig.snapshot()
+        rig.uart_write("on\n")
+        rig.run_until(console="ok on", timeout_s=0.5)
+        assert rig.pin("GP25") == 1, "expected the LED on after the line 'on'"
+        after = rig.snapshot()
+        rig.restore(snap)
+        assert rig.pin("GP25") == 0 and "ok on" not in rig.console(), "expected the run before the line"
+        rig.uart_write("on\n")
+        rig.run_until(console="ok on", timeout_s=0.5)
+        assert rig.pin("GP25") == 1 and rig.t_us == after.t_us and rig.trace_digest == after.trace_digest
+
+
+def test_the_bus_log_holds_each_transaction_with_its_decoded_text():
+    with LiveRig.start(str(SCENARIOS / "mpu6050" / "rig.toml")) as rig:
+        rig.run_until(console="temp: 25.0 C")
+        log = rig.bus_log()
+        t_set = rig.t_us
+        rig.set("imu1", "accelX", 0.5)
+        rig.run_until(console="accel: 0.50", timeout_s=0.5)
+        later = [tx for tx in rig.bus_log(since_us=t_set) if tx["register"] == 0x3B]
+    assert log[0]["address"] == 0x68 and log[0]["register"] == 0x6B and log[0]["wrote"] == "6b00", log[0]
+    reads = [tx for tx in log if tx["register"] == 0x3B]
+    assert reads and len(reads[0]["read"]) == 28 and "0x68" in reads[0]["text"], reads[:1]
+    assert later and later[0]["t_us"] >= t_set and later[0]["read"].startswith("2000"), later[:1]  # 0.5 g: 8192
