@@ -152,6 +152,16 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--coverage", action="store_true", help="the firmware's line and branch coverage (docs/coverage.md)"
     )
+    run.add_argument(
+        "--interactive",
+        action="store_true",
+        help="Ctrl-C pauses the run into a prompt (look, poke, go on: docs/live.md) instead of stopping it",
+    )
+    run.add_argument(
+        "--break-at",
+        metavar="WHEN",
+        help="pause into the prompt at a virtual instant (2.5s, 300ms) or a console line (a regular expression)",
+    )
     run.set_defaults(command=cmd_run, sub=run)
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
@@ -470,18 +480,25 @@ def cmd_run(args) -> int:
         busy_poll=busy_poll_wanted(),
     )
     coverage = _coverage_file(out) if args.coverage else None
+    live = args.interactive or args.break_at is not None
+    breaks = _break_at(args.break_at)
+    recording = Recording(trace=True, record=True, artefacts=out, progress=None if live else show, coverage=coverage)
     try:
-        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
+        runner = _interactive(spec, recording) if live else Rig(spec, recording)
     except PlantOptionsError as e:
         sub.error(f"argument --param: {e}")
     try:
-        with rig:  # (main stops it at a signal, as at Ctrl-C)
-            rig.run_for(args.duration)
+        with runner:  # (main stops it at a signal, as at Ctrl-C)
+            if live:
+                _serve_interactive(runner, round(args.duration * 1e6), *breaks)
+            else:
+                runner.run_for(args.duration)
     except KeyboardInterrupt:
-        print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
+        print(f"\ntrace folder: {out} (partial: stopped at t={runner.t_us / 1e6:g} s)")
         raise
     finally:
         _progress_done(show)
+    rig = runner.rig if live else runner
     _show_console(rig.console, out)
     for t_us, text in rig.bus_trace.notes:  # (a poll that never ends, a chip's note: also in console.log)
         print(printable(f"note at virtual t={t_us / 1e6:.6f} s: {text}"))
@@ -510,6 +527,46 @@ def cmd_run(args) -> int:
 
         print(run_summary(coverage))
     return 0
+
+
+def _interactive(spec, recording):
+    from host.live import LiveRig
+
+    return LiveRig(spec, recording)
+
+
+def _break_at(text: str | None) -> tuple:
+    """``--break-at``: (an instant in µs, None) for a time with its unit, else (None, a
+    console line's regular expression)."""
+    import re
+
+    from host.scenario.scenario import ScenarioError, parse_time_us
+
+    if text is None:
+        return None, None
+    try:
+        return parse_time_us(text, "--break-at"), None
+    except ScenarioError:
+        pass
+    try:
+        return None, re.compile(text)
+    except re.error as e:
+        raise ConfigError(f"--break-at: neither a time (2.5s, 300ms) nor a regular expression: {e}") from None
+
+
+def _serve_interactive(live, end_us: int, break_us, break_console) -> None:
+    """``--interactive``, ``--break-at``: the run pauses into a prompt (host/live/prompt.py)."""
+    from host.live.prompt import Interactive
+
+    def ask(prompt: str):
+        try:
+            return input(prompt)
+        except EOFError:
+            return None
+
+    say = lambda text: print(printable(text), flush=True)  # noqa: E731
+    say(f"running to t={end_us / 1e6:g} s; Ctrl-C pauses it into a prompt (docs/live.md)")
+    Interactive(live, end_us, say, ask, break_us, break_console).run()
 
 
 def _coverage_file(out: Path) -> Path:

@@ -147,3 +147,48 @@ def test_the_bus_log_holds_each_transaction_with_its_decoded_text():
     reads = [tx for tx in log if tx["register"] == 0x3B]
     assert reads and len(reads[0]["read"]) == 28 and "0x68" in reads[0]["text"], reads[:1]
     assert later and later[0]["t_us"] >= t_set and later[0]["read"].startswith("2000"), later[:1]  # 0.5 g: 8192
+
+
+def test_mpy_fil_run_breaks_at_a_console_line_into_a_prompt_and_goes_on(monkeypatch, capsys, tmp_path):
+    from host.cli import main
+
+    typed = iter(["eval LOOP_MS", "press start 100", "until go", "exec CRUISE", "pins", "nonsense", "c"])
+    monkeypatch.setattr("builtins.input", lambda prompt: next(typed))
+    out = tmp_path / "run"
+    assert main(["run", PICO, "--duration", "1.5", "--break-at", "press start", "--out", str(out), "--no-plots"]) == 0
+    shown = capsys.readouterr().out
+    assert "paused at virtual t=0.010000 s (--break-at 'press start'" in shown, shown
+    assert "\n50\n" in shown and "'go'" in shown and "\n0.6\n" in shown, shown
+    assert 'BUTTON: {"kind": "pin", "key": "13", "signal": "start.out", "mode": "in", "pull": "up", "level": ' in shown
+    assert "no command 'nonsense'" in shown and "ground truth at 1.5 s" in shown, shown
+    assert (out / "trace.jsonl").is_file() and "pico_bot: go" in (out / "console.log").read_text()
+
+
+def test_ctrl_c_pauses_an_interactive_run_instead_of_stopping_it(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "run"
+    command = [sys.executable, "-m", "host.cli", "run", PICO, "--interactive", "--duration", "3600"]
+    proc = subprocess.Popen(
+        [*command, "--out", str(out), "--no-plots"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=REPO,
+    )
+    try:
+        assert proc.stdout.readline().startswith("running to t=3600 s"), "expected the run's first line"
+        time.sleep(0.3)
+        proc.send_signal(signal.SIGINT)
+        shown, _ = proc.communicate("eval LOOP_MS\nq\n", timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 0, shown
+    assert "(Ctrl-C); `help` lists the commands" in shown, shown
+    assert "mpy-fil> 50\n" in shown and "ground truth at" in shown, shown
