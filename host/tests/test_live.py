@@ -192,3 +192,23 @@ def test_ctrl_c_pauses_an_interactive_run_instead_of_stopping_it(tmp_path):
     assert proc.returncode == 0, shown
     assert "(Ctrl-C); `help` lists the commands" in shown, shown
     assert "mpy-fil> 50\n" in shown and "ground truth at" in shown, shown
+
+
+def test_a_battery_set_low_reads_low_at_once_and_drains_on_from_there_across_a_restore():
+    """The battery's ``voltage`` control (sim_plant/catalogue/battery.py), as a live rig sets it."""
+    from sim_plant.catalogue.assembly import assemble
+    from sim_plant.plant import Change
+    from sim_plant.sonars import Adc
+
+    plant = assemble({"body": "bench", "parts": [{"kind": "battery", "name": "bat", "drain_v_per_s": 0.1}]})
+    plant.reset(0)
+    plant.advance_to(1_000_000)
+    before = plant.snapshot()
+    plant.set_control("bat", "voltage", 6.5)
+    low_u16 = Adc(12, 3.3).u16(6.5 / 3)
+    assert plant.advance_to(1_000_001) == [Change(1_000_000, "bat.adc", low_u16)], "expected the ADC at once"
+    plant.advance_to(2_000_000)
+    assert plant.truth()["bat_v"] == pytest.approx(6.4), "expected 6.5 V set at 1 s, drained 0.1 V/s since"
+    plant.restore(before)  # (a speculative batch rewound past the set: the set comes again)
+    plant.advance_to(2_000_000)
+    assert plant.truth()["bat_v"] == pytest.approx(6.4)
