@@ -3,11 +3,13 @@
 # (_hil's _Link.exchange) is answered here before the wait goes on: an expression read in
 # the firmware's globals (the entry file's, as a board's REPL has them) and its loaded
 # modules, or a REPL line run in those globals. Virtual time does not move: the line runs
-# with the link closed to it (an output, a wait, a bus transfer raises), so it can read
-# and set Python state but not drive the board. Imported on the first EVAL only: a run
-# that makes none never loads it.
+# as a handler does at its instant (its clock reads move no time), its compute is not the
+# board's (MCU time), and the link is closed to it (an output, a wait, a bus transfer
+# raises), so it can read and set Python state but not drive the board. Imported on the
+# first EVAL only: a run that makes none never loads it.
 import sys
 
+import _hil
 import _hilframe as F
 
 
@@ -36,6 +38,11 @@ def _error(e):
     return out.getvalue()
 
 
+# The line's code is named as a file of the shim's folder: with MCU time its work is the
+# harness's, not the board's compute (_hilfast.exempt counts by a function's source file).
+_NAME = __file__.rsplit("/", 1)[0] + "/<live>"
+
+
 def _run(mode, source):
     env = _globals()
     if mode == F.EVAL_EXPR:
@@ -45,11 +52,11 @@ def _run(mode, source):
                 scope[name] = sys.modules[name]
         for name in env:
             scope[name] = env[name]
-        return F.EVAL_VALUE, repr(eval(source, scope))
+        return F.EVAL_VALUE, repr(eval(compile(source, _NAME, "eval"), scope))
     try:
-        code = compile(source, "<live>", "eval")
+        code = compile(source, _NAME, "eval")
     except SyntaxError:
-        exec(compile(source, "<live>", "exec"), env)
+        exec(compile(source, _NAME, "exec"), env)
         return F.EVAL_NONE, ""
     value = eval(code, env)
     return (F.EVAL_NONE, "") if value is None else (F.EVAL_VALUE, repr(value))
@@ -60,11 +67,14 @@ def answer(link, p):
     mode, source = F.unpack_eval(p)
     queue = link.queue
     link.queue = _refuse
+    dispatching = _hil._dispatching
+    _hil._dispatching = True  # (its clock reads move no time, as a handler's at its instant)
     try:
         status, text = _run(mode, source.decode())
     except BaseException as e:  # (sys.exit or machine.reset in a line: said, not done)
         status, text = F.EVAL_ERROR, _error(e)
     finally:
+        _hil._dispatching = dispatching
         link.queue = queue
     queue(F.EVAL_REPLY, F.pack_eval_reply(status, text.encode()))
     link.flush()

@@ -105,8 +105,13 @@ def test_nothing_of_a_live_rig_is_left_behind_once_stopped(pico):
 SCENARIOS = REPO / "host" / "tests" / "wokwi_scenarios"
 
 
-def test_reading_the_paused_firmware_leaves_the_run_as_it_was():
-    """The same course with and without evals between its stops: the same link trace."""
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
+def test_reading_the_paused_firmware_leaves_the_run_as_it_was(monkeypatch, cpu):
+    """The same course with and without evals between its stops: the same link trace, with
+    MCU time too (the line's compute and its clock reads are not the board's). (A line that
+    adds to the firmware's heap, a new global, changes what its collections cost later
+    with MCU time, as the same line in its code would: only without MCU time here.)"""
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
 
     def course(look: bool) -> str:
         with LiveRig.start(PICO, seed=4) as rig:
@@ -114,7 +119,10 @@ def test_reading_the_paused_firmware_leaves_the_run_as_it_was():
                 rig.run_until(t_s=t_s)
                 if look:
                     assert rig.eval("enc_l.count + enc_r.count") >= 0 and rig.eval("LOOP_MS") == 50
-                    rig.exec("looked = 1")
+                    assert rig.eval("sum([i * i for i in range(500)])") == 41541750
+                    assert rig.eval("time.ticks_us()") == rig.eval("time.ticks_us()"), "a read moved the clock"
+                    if cpu == "free":
+                        rig.exec("looked = 1")
             return rig.trace_digest
 
     assert course(look=True) == course(look=False)
