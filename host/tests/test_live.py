@@ -220,3 +220,13 @@ def test_a_battery_set_low_reads_low_at_once_and_drains_on_from_there_across_a_r
     plant.restore(before)  # (a speculative batch rewound past the set: the set comes again)
     plant.advance_to(2_000_000)
     assert plant.truth()["bat_v"] == pytest.approx(6.4)
+
+
+def test_a_line_run_in_the_paused_firmware_is_confined_to_the_board_as_the_firmware_is(pico):
+    pico.run_until(t_s=0.02)
+    with pytest.raises(FirmwareEvalError, match="ImportError: no module named 'socket'"):
+        pico.exec("import socket")
+    with pytest.raises(FirmwareEvalError, match="AttributeError"):
+        pico.exec("import os; os.system('true')")
+    with pytest.raises(FirmwareEvalError, match="OSError"):
+        pico.eval("open('/etc/passwd').read()")
