@@ -10,6 +10,7 @@
     mpy-fil campaign campaigns/duct_snag.toml --seeds 20 --workers 2 [--shrink]
     mpy-fil shrink build/campaign/duct_snag/runs/tether-snags/one-right-branch/8
     mpy-fil diff build/runs/old build/runs/new --max-pos-m 0.05
+    mpy-fil mcp          (live rigs as Model Context Protocol tools over stdio: docs/live.md)
     mpy-fil setup        (the MicroPython interpreter, once per user: docs/ci.md)
     mpy-fil docs ci      (docs/NAME.md, as every message names a page: mpy-fil docs NAME)
     mpy-fil --version
@@ -151,6 +152,16 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--coverage", action="store_true", help="the firmware's line and branch coverage (docs/coverage.md)"
     )
+    run.add_argument(
+        "--interactive",
+        action="store_true",
+        help="Ctrl-C pauses the run into a prompt (look, poke, go on: docs/live.md) instead of stopping it",
+    )
+    run.add_argument(
+        "--break-at",
+        metavar="WHEN",
+        help="pause into the prompt at a virtual instant (2.5s, 300ms) or a console line (a regular expression)",
+    )
     run.set_defaults(command=cmd_run, sub=run)
 
     check = sub.add_parser("check", help="check a rig file without running it; list the plant's signals")
@@ -211,6 +222,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     _scenario_parser(sub, _folder, _seed)
     _testing_parsers(sub)
+    _mcp_parser(sub)
 
     setup = sub.add_parser("setup", help="get the MicroPython interpreter: $MICROPYTHON, PATH, or built once per user")
     setup.add_argument(
@@ -255,6 +267,30 @@ def _campaign_parser(sub) -> None:
     camp.add_argument("--replay", metavar="KEY", help="run faultset/world/seed of the campaign in --out again, traced")
     camp.add_argument("--shrink", action="store_true", help="then shrink each distinct failure (docs/testing-tools.md)")
     camp.set_defaults(command=cmd_campaign, sub=camp)
+
+
+def _mcp_parser(sub) -> None:
+    """``mpy-fil mcp``: live rigs as Model Context Protocol tools over stdio (docs/live.md)."""
+    mcp = sub.add_parser("mcp", help="serve live rigs as Model Context Protocol tools over stdio (docs/live.md)")
+    mcp.add_argument("--max-rigs", type=_count, default=1, help="rigs open at once (default 1)")
+    mcp.add_argument(
+        "--max-run-s", type=_duration_s, default=60.0, help="simulated seconds one call may run (default 60)"
+    )
+    mcp.add_argument(
+        "--max-wall-s",
+        type=_duration_s,
+        default=300.0,
+        help="wall seconds of all one rig's calls (default 300)",
+    )
+    mcp.add_argument("--out", type=_folder, help="trace folders of rigs started to record (default: a temporary one)")
+    mcp.set_defaults(command=cmd_mcp, sub=mcp)
+
+
+def cmd_mcp(args) -> int:
+    from host.live.mcpserver import Limits, serve  # (the mcp SDK: imported for this command only)
+
+    serve(Limits(args.max_rigs, args.max_run_s, args.max_wall_s), args.out)
+    return 0
 
 
 def _testing_parsers(sub) -> None:
@@ -452,18 +488,25 @@ def _run_one(args) -> int:
         busy_poll=busy_poll_wanted(),
     )
     coverage = _coverage_file(out) if args.coverage else None
+    live = args.interactive or args.break_at is not None
+    breaks = _break_at(args.break_at)
+    recording = Recording(trace=True, record=True, artefacts=out, progress=None if live else show, coverage=coverage)
     try:
-        rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
+        runner = _interactive(spec, recording) if live else Rig(spec, recording)
     except PlantOptionsError as e:
         sub.error(f"argument --param: {e}")
     try:
-        with rig:  # (main stops it at a signal, as at Ctrl-C)
-            rig.run_for(args.duration)
+        with runner:  # (main stops it at a signal, as at Ctrl-C)
+            if live:
+                _serve_interactive(runner, round(args.duration * 1e6), *breaks)
+            else:
+                runner.run_for(args.duration)
     except KeyboardInterrupt:
-        print(f"\ntrace folder: {out} (partial: stopped at t={rig.t_us / 1e6:g} s)")
+        print(f"\ntrace folder: {out} (partial: stopped at t={runner.t_us / 1e6:g} s)")
         raise
     finally:
         _progress_done(show)
+    rig = runner.rig if live else runner
     _show_console(rig.console, out)
     for t_us, text in rig.bus_trace.notes:  # (a poll that never ends, a chip's note: also in console.log)
         print(printable(f"note at virtual t={t_us / 1e6:.6f} s: {text}"))
@@ -503,6 +546,7 @@ def _run_boards(args) -> int:
     sub = args.sub
     given = {"--board": args.board, "--world": args.world, "--param": args.param, "--coverage": args.coverage}
     given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
+    given |= {"--interactive": args.interactive, "--break-at": args.break_at is not None}
     for option in (option for option, value in given.items() if value):
         sub.error(f"argument {option}: not for a rig file with several boards (docs/multi-board.md)")
     boards = load_boards(args.rig)
@@ -534,6 +578,46 @@ def _run_boards(args) -> int:
             plot_trace(out / name)
     _list_files(out)
     return 0
+
+
+def _interactive(spec, recording):
+    from host.live import LiveRig
+
+    return LiveRig(spec, recording)
+
+
+def _break_at(text: str | None) -> tuple:
+    """``--break-at``: (an instant in µs, None) for a time with its unit, else (None, a
+    console line's regular expression)."""
+    import re
+
+    from host.scenario.scenario import ScenarioError, parse_time_us
+
+    if text is None:
+        return None, None
+    try:
+        return parse_time_us(text, "--break-at"), None
+    except ScenarioError:
+        pass
+    try:
+        return None, re.compile(text)
+    except re.error as e:
+        raise ConfigError(f"--break-at: neither a time (2.5s, 300ms) nor a regular expression: {e}") from None
+
+
+def _serve_interactive(live, end_us: int, break_us, break_console) -> None:
+    """``--interactive``, ``--break-at``: the run pauses into a prompt (host/live/prompt.py)."""
+    from host.live.prompt import Interactive
+
+    def ask(prompt: str):
+        try:
+            return input(prompt)
+        except EOFError:
+            return None
+
+    say = lambda text: print(printable(text), flush=True)  # noqa: E731
+    say(f"running to t={end_us / 1e6:g} s; Ctrl-C pauses it into a prompt (docs/live.md)")
+    Interactive(live, end_us, say, ask, break_us, break_console).run()
 
 
 def _coverage_file(out: Path) -> Path:

@@ -67,6 +67,15 @@ class ControlTimeline(Part):
                 return entry[3]
         return default
 
+    def last_set(self, part: str, control: str, t_us: int) -> tuple | None:
+        """``(t_set_us, value)`` of the last time ``part``'s ``control`` was set at or before
+        ``t_us`` (None: never): for a part whose own state starts again from a set value
+        (a battery drains on from the voltage set)."""
+        for entry in reversed(self.entries):
+            if entry[0] <= t_us and entry[1] == part and entry[2] == control:
+                return entry[0], entry[3]
+        return None
+
     def fire(self, t_us: int, plant, out: list) -> None:
         entries = self.entries
         while self.i < len(entries) and entries[self.i][0] <= t_us:

@@ -137,6 +137,12 @@ class RobotPlant(Plant):
     FIXED_STATE = ("encoders", "parts", "inputs", "outputs", "_input_route", "_encoder_outputs")
     capabilities = frozenset((POSE,))
 
+    def close(self) -> None:
+        for part in self.parts:
+            close = getattr(part, "close", None)  # (a part holding a program outside: an external chip)
+            if close is not None:
+                close()
+
     def __init__(self):
         self.reset(0)
         self.inputs = {}

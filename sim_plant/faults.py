@@ -267,6 +267,9 @@ class FaultyPlant(Plant):
     def fault_schedule(self) -> tuple:
         return self.schedule
 
+    def close(self) -> None:
+        self.inner.close()
+
     def reset(self, seed: int) -> None:
         self.inner.reset(seed)
         self.rngs = {f.index: fault_rng(seed, f) for f in self.faults}

@@ -268,6 +268,10 @@ class Plant:
         """``controls``: part ``name``'s ``control`` is ``value`` from now on."""
         raise self._lacks(CONTROLS)
 
+    def close(self) -> None:
+        """Let go of what the plant holds outside itself (an external chip's program:
+        ``sim_plant/catalogue/external.py``), as the rig stops; it stays readable."""
+
     def snapshot(self):
         """The whole mutable state, to :meth:`restore` later (the host rewinds speculative
         batches with it). This default copies the plant's attributes; a plant that knows

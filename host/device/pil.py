@@ -32,6 +32,7 @@ SHIM_FILES = (
     "_hilsys.py",
     "_hilboards.py",  # (a kit board's pin names: machine imports it for a board that is no Pico)
     "_hilpoll.py",  # (imported at a poll's first look only: machine.Pin.value, machine.mem*)
+    "_hilrepl.py",  # (imported at the host's first EVAL only: docs/live.md)
     "_umachine.py",
     "machine.py",
     "time.py",

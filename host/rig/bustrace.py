@@ -170,6 +170,7 @@ class BusTrace:
         self.notes: list[tuple[int, str]] = []  # (virtual t_us, text): said once each
         self.asking = False  # a BUS frame's transfer: the shim can be asked for its stack
         self.held_poll: tuple[int, str] | None = None  # a poll's note, until the shim's stack comes
+        self.tap = None  # call(tx) for every transaction: a live rig's bus log (host/live)
 
     def say(self, t_us: int, text: str) -> None:
         """A note in the run's output: ``console.log``, the trace header, the command line."""
@@ -236,6 +237,8 @@ class BusTrace:
             call(tx)
         if self.recorder is not None:
             self.recorder.command(t_us, f"bus:{tx.bus}", describe(tx), role=ROLE_BUS, kind="text")
+        if self.tap is not None:
+            self.tap(tx)
         return tx
 
 

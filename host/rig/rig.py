@@ -219,6 +219,7 @@ class Rig:
         """End the firmware and close the link; safe to call twice. Writes the console
         and, when recording, the trace folder (:func:`finish_recording`)."""
         self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
+        self.plant.close()  # (a program outside serving a chip ends: sim_plant/catalogue/external.py)
         end_board_fs(self)
         self.bus_trace.flush_poll()
         if self._started:

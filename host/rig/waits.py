@@ -15,9 +15,11 @@ class ExpectTimeout(HarnessError, AssertionError):
     """What a test waited for did not come within its simulated timeout."""
 
 
-def expect(rig, pattern, timeout_s: float, step_s: float = STEP_S) -> re.Match:
+def expect(rig, pattern, timeout_s: float, step_s: float = STEP_S, advance=None) -> re.Match:
     """Run until the console, past what earlier expects took, matches ``pattern``; the
-    match (the console after its end is what the next expect looks at)."""
+    match (the console after its end is what the next expect looks at). ``advance(t_us)``
+    runs the rig (default ``rig.run_until``: a live rig's journals each stop, host/live)."""
+    advance = advance or rig.run_until
     regex = re.compile(pattern) if isinstance(pattern, (str, bytes)) else pattern
     arguments.seconds("expect timeout_s", timeout_s, limit_s=arguments.MAX_RUN_S)
     deadline = rig.t_us + round(timeout_s * 1e6)
@@ -29,7 +31,7 @@ def expect(rig, pattern, timeout_s: float, step_s: float = STEP_S) -> re.Match:
             return found
         if rig.t_us >= deadline or rig.exit_kind is not None:
             break
-        rig.run_until(min(deadline, rig.t_us + round(step_s * 1e6)))
+        advance(min(deadline, rig.t_us + round(step_s * 1e6)))
     tail = printable("\n".join(text.rstrip().splitlines()[-20:])) or "(nothing)"
     raise ExpectTimeout(
         f"expected the console to match {printable(repr(regex.pattern))} within {timeout_s:g} simulated s "
@@ -38,8 +40,10 @@ def expect(rig, pattern, timeout_s: float, step_s: float = STEP_S) -> re.Match:
     )
 
 
-def until(rig, predicate, timeout_s: float | None, step_s: float = STEP_S):
-    """Run until ``predicate()`` is true (its value back), at most ``timeout_s`` simulated s."""
+def until(rig, predicate, timeout_s: float | None, step_s: float = STEP_S, advance=None):
+    """Run until ``predicate()`` is true (its value back), at most ``timeout_s`` simulated s
+    (``advance`` as for :func:`expect`)."""
+    advance = advance or rig.run_until
     timeout_s = arguments.seconds(
         "run_until timeout_s", 10.0 if timeout_s is None else timeout_s, limit_s=arguments.MAX_RUN_S
     )
@@ -50,7 +54,7 @@ def until(rig, predicate, timeout_s: float | None, step_s: float = STEP_S):
             return value
         if rig.t_us >= deadline:
             break
-        rig.run_until(min(deadline, rig.t_us + round(step_s * 1e6)))
+        advance(min(deadline, rig.t_us + round(step_s * 1e6)))
     name = getattr(predicate, "__name__", repr(predicate))
     raise ExpectTimeout(
         f"expected {name} to become true within {timeout_s:g} simulated s (until virtual t={deadline / 1e6:.6f} s); "

@@ -293,6 +293,10 @@ class _Link:
                 return p  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
             if type_ == F.BUS_IMAGE:
                 _Link.image_next = F.unpack_bus_image(p)[1]
+            elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
+                import _hilrepl
+
+                _hilrepl.answer(self, p)
 
 
 def _framed(link, write, read, poll, close):

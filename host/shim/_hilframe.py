@@ -276,12 +276,14 @@ POLL = 0x0A  # a poll that never ends: one pin or memory address read with one a
 CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
+EVAL_REPLY = 0x0E  # an EVAL's outcome: a value's repr, nothing, or the error's text (EVAL_*)
 # host -> shim
 WELCOME = 0x81
 STATE = 0x82
 BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next wait
 BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's instant
 BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
+EVAL = 0x86  # while the firmware waits for a STATE: an expression or a REPL line to run in it (docs/live.md)
 
 NAMES = {
     HELLO: "HELLO",
@@ -297,11 +299,13 @@ NAMES = {
     CPU: "CPU",
     CPU_IRQ: "CPU_IRQ",
     BUS_DONE: "BUS_DONE",
+    EVAL_REPLY: "EVAL_REPLY",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
     BUS_REPLY: "BUS_REPLY",
     BUS_IMAGE: "BUS_IMAGE",
+    EVAL: "EVAL",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
@@ -323,6 +327,8 @@ BUS_IMAGE_FMT = "<QH"  # t_us (the plant's), entries, then each: BUS_IMAGE_ENTRY
 BUS_IMAGE_ENTRY_FMT = "<HHQQBB"  # handle, address, until_us (exclusive), horizon_us, bytes written, bytes read
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
+EVAL_FMT = "<B"  # EVAL_EXPR or EVAL_LINE, then the UTF-8 source
+EVAL_REPLY_FMT = "<B"  # EVAL_VALUE, EVAL_NONE or EVAL_ERROR, then UTF-8 text (the repr, the error)
 POLL_FMT = "<QQIBBII"  # t_us, since_us, reads, kind, bits, target, value; then UTF-8 lines: the
 # shim's word on what would change it, then the firmware's stack (innermost last) when known
 
@@ -481,6 +487,27 @@ def unpack_bus_reply(p):
     return struct.unpack_from(BUS_REPLY_FMT, p, 0) + (bytes(p[BUS_REPLY_LEN:]),)
 
 
+def pack_eval(mode, source):
+    return struct.pack(EVAL_FMT, mode) + source
+
+
+def unpack_eval(p):
+    """(mode, source bytes)"""
+    return p[0], bytes(p[1:])
+
+
+def pack_eval_reply(status, text):
+    """A text too long for one frame keeps its start (a repr) and says it was cut."""
+    if len(text) > MAX_PAYLOAD - 1:
+        text = text[: MAX_PAYLOAD - 4] + b"..."
+    return struct.pack(EVAL_REPLY_FMT, status) + text
+
+
+def unpack_eval_reply(p):
+    """(status, text bytes)"""
+    return p[0], bytes(p[1:])
+
+
 def pack_poll(t_us, since_us, reads, kind, bits, target, value, text):
     return struct.pack(POLL_FMT, t_us, since_us, reads, kind, bits, target, value) + text
 
@@ -618,6 +645,13 @@ POLL_REG = 2
 POLL_STACK = 3  # not a poll: the firmware's stack for a bus poll the host named (BUS_ASK_STACK)
 POLL_READS = 10_000
 POLL_SPAN_US = 1_000_000
+
+# EVAL's mode and EVAL_REPLY's status
+EVAL_EXPR = 0  # an expression, in the firmware's globals and its loaded modules: its repr back
+EVAL_LINE = 1  # a REPL line in the firmware's globals: an expression's repr back, or nothing
+EVAL_VALUE = 0
+EVAL_NONE = 1
+EVAL_ERROR = 2
 
 EXIT_RETURN = 0
 EXIT_RESET = 1

@@ -21,6 +21,7 @@ LAYERS = {
     "host.scenario": 5,
     "host.shrink": 5,  # over campaign runs
     "host.diff": 5,
+    "host.live": 5,  # a rig driven call by call (docs/live.md): over the scenario runner's pokes
     "host.cli": 6,
     "host.pytest_plugin": 6,
     "host.bench": 6,

@@ -298,6 +298,7 @@ def assemble(table: dict, base=None) -> PartsPlant:
     sources = _add_sources(table, base)
     table, entries = _with_part_options(table)
     table = _with_world_files(table, base)
+    entries = [_with_part_files(entry, base) for entry in entries]
     body = _body(table)
     parts, names = [], {}
     for i, entry in enumerate(entries, start=1):
@@ -363,6 +364,23 @@ def _with_world_files(table: dict, base) -> dict:
         return table
     resolved = {k: os.path.abspath(Path(base or ".") / v) for k, v in given.items()}
     return {**table, "world_options": {**options, **resolved}}
+
+
+def _with_part_files(entry, base):
+    """A part's file options (a :class:`~sim_plant.option_table.FileName`: an external
+    chip's ``command``) as absolute paths, relative to ``base`` (the rig file's folder)."""
+    kind = entry.get("kind") if isinstance(entry, dict) else None
+    try:
+        cls = catalogue.resolve("parts", kind) if isinstance(kind, str) else None
+    except PartsError:
+        return entry  # (_part says what is wrong with it, naming its place)
+    if cls is None:
+        return entry
+    files = {o.name for o in cls.OPTIONS if isinstance(o.spec, FileName)}
+    given = {k: v for k, v in entry.items() if k in files and not FileName().problem(v)}
+    if not given:
+        return entry
+    return {**entry, **{k: os.path.abspath(Path(base or ".") / v) for k, v in given.items()}}
 
 
 def _check_addresses(parts: list) -> None:

@@ -1,8 +1,10 @@
 """Part ``battery``: the battery's voltage through a resistor divider on an ADC pin,
 draining at a fixed rate and with the motors' use (the wheels' mean speed as a share of
-full speed, taken at each sample)."""
+full speed, taken at each sample). Its ``voltage`` control sets the voltage at an instant
+(the ADC reads it from then on), and it drains on from there."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.controls import Control
 from sim_plant.engine import Part
 from sim_plant.option_table import Num
 from sim_plant.plant import Change
@@ -10,10 +12,11 @@ from sim_plant.sonars import Adc
 
 
 class _Cell(Part):
-    FIXED_STATE = ("inputs", "outputs")
+    FIXED_STATE = ("inputs", "outputs", "controls")
 
-    def __init__(self, name: str, o: dict):
+    def __init__(self, name: str, o: dict, controls=None):
         self.signal, self.label = f"{name}.adc", name
+        self.controls = controls  # (the plant's timeline: a voltage set by the control)
         self.outputs = {self.signal: "u16"}
         self.v = float(o["full_v"])
         self.empty_v, self.ratio = float(o["empty_v"]), float(o["divider_ratio"])
@@ -21,6 +24,7 @@ class _Cell(Part):
         self.adc = Adc(o["adc_bits"], o["adc_vref_v"])
         self.period_us = int(o["period_us"])
         self.t_us = 0
+        self.set_us = -1  # the instant of the last voltage set taken in
         self.next_us = self.period_us
 
     def initial_outputs(self) -> dict:
@@ -35,6 +39,9 @@ class _Cell(Part):
         return min(1.0, sum(shares) / len(shares))
 
     def fire(self, t_us: int, plant, out: list) -> None:
+        set_at = self.controls.last_set(self.label, "voltage", t_us) if self.controls is not None else None
+        if set_at is not None and set_at[0] > self.set_us:  # (set since the last sample: it drains on from there)
+            self.t_us, self.v, self.set_us = set_at[0], float(set_at[1]), set_at[0]
         dt_s = (t_us - self.t_us) * 1e-6
         self.v = max(self.empty_v, self.v - (self.rate_v_s + self.motor_v_s * self._load(plant)) * dt_s)
         self.t_us = t_us
@@ -60,6 +67,9 @@ class Battery(PartType):
     )
     SIGNALS = (Sig("adc", "out", "u16", "the divided voltage's ADC reading (read_u16)"),)
     TRUTH = ("{name}_v",)
+    CONTROLS = (
+        Control("voltage", Num("volts", 0, 100), "the battery's voltage from then on (it drains on from there)"),
+    )
     VIEWS = (
         View("voltage", "the voltage the firmware read against the battery's", signals=("adc",), truth=("{name}_v",)),
     )
@@ -70,9 +80,14 @@ class Battery(PartType):
                 f"empty_v: expected at most full_v ({self.options['full_v']}), got {self.options['empty_v']}"
             )
 
+    def control_change(self, control: str, value) -> tuple | None:
+        super().control_change(control, value)
+        o = self.options
+        return f"{self.name}.adc", Adc(o["adc_bits"], o["adc_vref_v"]).u16(float(value) * o["divider_ratio"])
+
     def reading(self, suffix: str, values):
         """The battery's voltage a read_u16 value says, through the divider."""
         return values / 65535 * self.options["adc_vref_v"] / self.options["divider_ratio"]
 
     def add(self, build: Build) -> None:
-        build.parts.append(_Cell(self.name, self.options))
+        build.parts.append(_Cell(self.name, self.options, build.controls))
