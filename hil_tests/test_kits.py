@@ -156,6 +156,31 @@ def test_3pi_drives_25_cm_by_its_encoders_and_turns_90_by_its_gyro(capsys, make_
     rig.expect("done")
 
 
+@pytest.mark.parametrize(("heading_rad", "side"), [(-0.17, "left"), (0.17, "right")])
+def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(capsys, make_rig, tmp_path, heading_rad, side):
+    """The 3pi+ 2040's two bump sensors (QTR RC channels on GP17 and GP16, emitters on GP23)
+    read as Pololu's library reads them (hil_tests/firmware/kits/pololu_3pi_bump, the
+    thresholds calibrated standing): driven at the east wall 10 degrees off square, the
+    flap on the side that meets it is pressed, and the robot stops at the contact."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    shutil.copy(FIRMWARE / "pololu_3pi_line" / "ir_sensors.py", folder)
+    rig_file = folder / "rig.toml"
+    text = rig_file.read_text().replace('name = "button_b"\n', 'name = "button_b"\npresses = [[0.2, 0.3]]\n')
+    rig_file.write_text(text.replace("start_pose = [0.5, 1.0, 0.0]", f"start_pose = [2.6, 1.0, {heading_rad}]"))
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    low, high = rig.expect(r"thresholds \[(\d+), \d+\] \[(\d+), \d+\]").groups()
+    assert (int(low), int(high)) == (420, 480), f"140 % and 160 % of the flaps' 300 us; {where()}"
+    left, right = (int(v) for v in rig.expect(r"bumped (\d) (\d)").groups())
+    truth = rig.truth()
+    assert truth["contacts"], f"expected the body against the wall when a flap was pressed, got {truth}; {where()}"
+    assert truth["bump_on_tape"] == [side == "left", side == "right"], f"the {side} flap pressed: {truth}; {where()}"
+    assert (left, right) == (side == "left", side == "right"), f"the firmware felt the {side} flap; {where()}"
+    gap_m = 3.0 - truth["x_m"] - 0.0485 * math.cos(heading_rad)  # (the east wall, the body's radius)
+    assert abs(gap_m) < 0.01, f"stopped {gap_m * 1000:.1f} mm from the wall; {where()}"
+
+
 @pytest.mark.parametrize(
     ("kit", "want"),
     [

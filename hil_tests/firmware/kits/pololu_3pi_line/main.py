@@ -4,15 +4,15 @@
 # correction on the line's position (0 .. 4000 under the five sensors, 2000 centred) steers
 # the wheels. The RGB LEDs say the phase: yellow calibrating, green following, red lost.
 # The board support is the kitbot package (lib/kitbot: the motors on PWM slice 7 through
-# mem32, the SH1106 and the APA102 LEDs sharing SPI0), the line sensors line_sensors.py.
+# mem32, the SH1106 and the APA102 LEDs sharing SPI0), the line sensors ir_sensors.py.
 import time
 from micropython import const
 
+from ir_sensors import LineSensors
 from kitbot.buttons import bootsel_pressed
 from kitbot.display import Display
 from kitbot.motors import Motors
 from kitbot.rgb_leds import RGBLEDs
-from line_sensors import LineSensors
 
 MAX_SPEED = const(4500)  # of the motors' 6000
 CALIBRATION_SPEED = const(1500)
