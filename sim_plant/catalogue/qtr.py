@@ -34,8 +34,9 @@ A bump sensor (the 3pi+'s two, looking at the inside of its bumper's flaps): wit
 ``flaps_deg``, channel ``i`` looks at a flap over an arc of the body's edge instead of the
 floor, ``[centre_deg, half_arc_deg]`` from the heading (positive to the left), and reads
 ``black_us`` while the flap is pressed (the body touches a wall inside the arc, as a
-``bumper`` part's switch closes: ``sim_plant.contacts``) and ``white_us`` while it is not.
-Not modelled for flaps: how far a flap is pressed (pressed or not), its spring's delay."""
+``bumper`` part's switch closes: ``sim_plant.contacts``) and ``white_us`` while it is not; the ground truth has each
+flap's ``<name>.flap<i>_pressed``. Not modelled for flaps: how far a flap is pressed
+(pressed or not), its spring's delay."""
 
 import math
 
@@ -241,7 +242,7 @@ class Qtr(PartType):
         c, s = math.cos(heading), math.sin(heading)
         offsets = [(mx + dx * c - dy * s, my + dx * s + dy * c) for dx, dy in o["offsets_m"]]
         flaps = [
-            Bumper(f"{self.name}.flap{i}", center_deg=centre, half_arc_deg=half, active_low=False)
+            Bumper(f"{self.name}.flap{i}", center_deg=centre, half_arc_deg=half, active_low=False, wired=False)
             for i, (centre, half) in enumerate(o["flaps_deg"])
         ]
         build.bumpers.extend(flaps)
