@@ -5,15 +5,22 @@ degrees by the gyro and stops at a wall by the rangefinder, held to the plant's 
 truth in virtual time."""
 
 import importlib.util
+import json
 import math
 import re
 import shutil
 from pathlib import Path
 
 import pytest
+from PIL import Image
 
 from host import kits
+from host.artefacts.folder import load_trace
+from host.artefacts.pictures import GAP_PX, SCALE, STRIP_SCALE
 from host.cli import main
+from host.report import part_views
+from host.report.html import RigResult, _displays
+from host.tests.test_oled import vlsb_rows
 
 pytestmark = pytest.mark.hil
 FIRMWARE = Path(__file__).parent / "firmware" / "kits"
@@ -154,6 +161,76 @@ def test_3pi_drives_25_cm_by_its_encoders_and_turns_90_by_its_gyro(capsys, make_
     truly_deg = math.degrees(rig.truth()["theta_rad"] - after["theta_rad"])
     assert abs(truly_deg - 90) < 3 and abs(turned_deg - truly_deg) < 3, f"{turned_deg} vs {truly_deg}; {where()}"
     rig.expect("done")
+
+
+def test_3pi_display_and_led_colours_are_in_the_report_as_the_firmware_drew_them(capsys, make_rig, tmp_path):
+    """The 3pi+ 2040's SH1106 and six APA102 LEDs (sharing SPI0, a clock pin each) driven by
+    firmware in Pololu's style (hil_tests/firmware/kits/pololu_3pi_show: three screens, a
+    colour each): the trace folder's last picture and film strip are the firmware's frame
+    buffers pixel for pixel, the report's HTML shows both, and the report's LED panel has
+    each LED's colours in the order and at the instants the firmware set them."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_show")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    trace = tmp_path / "trace"
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True, artefacts=trace, record=True)
+    rig.expect("done")
+    rig.stop()
+    where = f"console:\n{rig.console}\nartefacts: {trace}"
+    shown = [line.split()[-3:] for line in rig.console.splitlines() if " shown " in f" {line}"]
+    assert [screen for screen, _ms, _hex in shown] == ["0", "1", "2"], where
+    buffers = [vlsb_rows(bytes.fromhex(hexed), 128, 64) for _screen, _ms, hexed in shown]
+    since_ms = [int(ms) - int(shown[0][1]) for _screen, ms, _hex in shown]  # (each screen's show after the first's)
+    last = Image.open(trace / "display.png").convert("L")
+    got = bytes(last.getpixel((x * SCALE, y * SCALE)) > 0 for y in range(64) for x in range(128))
+    assert got == buffers[-1], f"display.png is the last frame buffer; {where}"
+    header = json.loads((trace / "header.json").read_text())
+    strip = header["displays"]["display"]
+    assert len(strip["strip_t_us"]) == 3, f"the three screens held 300 ms each, not the pages between: {strip}"
+    film = Image.open(trace / strip["strip"]).convert("L")
+    tile = 128 * STRIP_SCALE + GAP_PX
+    for i, want in enumerate(buffers):
+        got = bytes(
+            film.getpixel((i * tile + x * STRIP_SCALE, y * STRIP_SCALE)) > 0 for y in range(64) for x in range(128)
+        )
+        assert got == want, f"the film strip's picture {i} is screen {i}'s frame buffer; {where}"
+        after_ms = (strip["strip_t_us"][i] - strip["strip_t_us"][0]) / 1000
+        assert abs(after_ms - since_ms[i]) <= 30, f"{strip}: the firmware showed them {since_ms} ms after the first"
+    html = "".join(_displays(RigResult("rig0", trace, header=header), trace))
+    assert 'src="display.png"' in html and 'src="display.frames.png"' in html, html
+    panels = part_views.part_panels(load_trace(trace))
+    (leds,) = [p for p in panels if p.title.startswith("LED strips")]
+    assert [line.label for line in leds.lines] == [f"rgb_leds.led{i}" for i in range(6)], where
+    for line in leds.lines:
+        assert list(line.values) == [0, 0xFF0000, 0x00FF00, 0x0000FF], f"{line.label}: {list(line.values)}; {where}"
+        after_ms = [(t_s - line.t_s[1]) * 1000 for t_s in line.t_s[1:]]
+        assert all(abs(a - s) <= 30 for a, s in zip(after_ms, since_ms, strict=True)), (
+            f"{line.label} changed {after_ms} ms after its first colour, the firmware set them {since_ms}; {where}"
+        )
+
+
+@pytest.mark.parametrize(("heading_rad", "side"), [(-0.17, "left"), (0.17, "right")])
+def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(capsys, make_rig, tmp_path, heading_rad, side):
+    """The 3pi+ 2040's two bump sensors (QTR RC channels on GP17 and GP16, emitters on GP23)
+    read as Pololu's library reads them (hil_tests/firmware/kits/pololu_3pi_bump, the
+    thresholds calibrated standing): driven at the east wall 10 degrees off square, the
+    flap on the side that meets it is pressed, and the robot stops at the contact."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    shutil.copy(FIRMWARE / "pololu_3pi_line" / "ir_sensors.py", folder)
+    rig_file = folder / "rig.toml"
+    text = rig_file.read_text().replace('name = "button_b"\n', 'name = "button_b"\npresses = [[0.2, 0.3]]\n')
+    rig_file.write_text(text.replace("start_pose = [0.5, 1.0, 0.0]", f"start_pose = [2.6, 1.0, {heading_rad}]"))
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    low, high = rig.expect(r"thresholds \[(\d+), \d+\] \[(\d+), \d+\]").groups()
+    assert (int(low), int(high)) == (420, 480), f"140 % and 160 % of the flaps' 300 us; {where()}"
+    left, right = (int(v) for v in rig.expect(r"bumped (\d) (\d)").groups())
+    truth = rig.truth()
+    assert truth["contacts"], f"expected the body against the wall when a flap was pressed, got {truth}; {where()}"
+    assert truth["bump_on_tape"] == [side == "left", side == "right"], f"the {side} flap pressed: {truth}; {where()}"
+    assert (left, right) == (side == "left", side == "right"), f"the firmware felt the {side} flap; {where()}"
+    gap_m = 3.0 - truth["x_m"] - 0.0485 * math.cos(heading_rad)  # (the east wall, the body's radius)
+    assert abs(gap_m) < 0.01, f"stopped {gap_m * 1000:.1f} mm from the wall; {where()}"
 
 
 @pytest.mark.parametrize(

@@ -4,9 +4,9 @@ SparkFun XRP kit's rig (``mpy-fil init --kit xrp``), and the XRP's line follower
 (hil_tests/firmware/kits/xrp_line: the two reflectance channels, PD on their difference,
 in XRPLib's style) drives a lap in virtual time. The plant's pose is the judge: the lap's
 length, the return to the start, and the sensor bar never further from the line's centre
-than the margin. The kitbot (QTR RC channels, Pololu's style) takes the course's first
-corner the same way (a lap of it costs about its own time in wall time: its reads are
-many round trips)."""
+than the margin. The kitbot (QTR RC channels, Pololu's style) and the Pololu 3pi+ 2040 kit
+(its five QTR RC line sensors) take the course's first corner the same way (a lap of
+either costs about its own time in wall time: their reads are many round trips)."""
 
 import math
 import shutil
@@ -29,6 +29,7 @@ CORNER_M = 0.2  # its corners' radius
 TAPE_M = 0.019  # 3/4 inch electrical tape
 LAP_M = 4 * (HALF_M[0] - CORNER_M) + 4 * (HALF_M[1] - CORNER_M) + 2 * math.pi * CORNER_M  # 3.057 m
 START = (0.5, CENTRE_M[1] - HALF_M[1], 0.0)  # on the bottom straight, heading along it (anticlockwise)
+POLL_PASS_US = 60  # a pass of a polling loop over five pins: the clock and five pin reads, 10 us each while spinning
 MARGIN_M = 0.012  # the sensor bar's centre stays this close to the line's centre (the tape is 9.5 mm each side)
 
 
@@ -172,3 +173,42 @@ def test_kitbot_takes_the_courses_first_corner_by_its_qtr_channels(make_rig, tmp
     print(f"corner {(rig.t_us - path.t0_us) / 1e6:.2f} s, at most {off_m * 1000:.1f} mm off the line")
     assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
     assert rig.truth()["line_on_tape"][1], f"the middle channel over the line; {where()}"
+
+
+def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys, make_rig, tmp_path):
+    """The 3pi+ 2040 kit's rig (``init --kit pololu_3pi_2040``: five QTR RC line sensors on
+    GP18..GP22, their emitters on GP26) on the course, with a line follower in the style of
+    Pololu's (hil_tests/firmware/kits/pololu_3pi_line: the sensors read as the library reads
+    them, emitters on, charged, let go together and timed; calibrated by a sweep over the
+    line; PD on the line's position under the five), through the first quarter circle."""
+    folder = tmp_path / "pololu_3pi_2040"
+    folder.mkdir()
+    assert main(["init", "--kit", "pololu_3pi_2040", str(folder)]) == 0, capsys.readouterr().err
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    shutil.copytree(FIRMWARE / "pololu_3pi_line", folder, dirs_exist_ok=True)
+    pressed = {'name = "button_b"\n': 'name = "button_b"\npresses = [[0.1, 0.2]]\n'}
+    rig = make_rig(str(on_the_course(folder / "rig.toml", pressed)))
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    start = [int(v) for v in rig.expect(r"start \[([^]]*)\]").group(1).split(",")]
+    truth = rig.truth()
+    assert truth["line_on_tape"] == [False, False, True, False, False], f"the middle sensor on the tape; {where()}"
+    for got, true in zip(start, truth["line_discharge_us"]):  # (data[0] the left: line.0, GP22)
+        assert abs(got - true) <= POLL_PASS_US, (
+            f"expected each read within a polling pass ({POLL_PASS_US} us) of its discharge time, read {start}, "
+            f"discharged {truth['line_discharge_us']} us; {where()}"
+        )
+    rig.expect(r"calibrated")
+    path = SensorPath(rig, ahead_m=0.035)  # the line sensors (the kit's rig.toml)
+    corner_end_y = CENTRE_M[1] - HALF_M[1] + CORNER_M
+
+    def cornered():
+        _, _, y, th = path.sample()
+        return y > corner_end_y + 0.05 and th > math.radians(80)
+
+    rig.run_until(cornered, timeout_s=10)
+    off_m = path.check_on_line(where())
+    print(f"corner {(rig.t_us - path.t0_us) / 1e6:.2f} s, at most {off_m * 1000:.1f} mm off the line")
+    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
+    truth = rig.truth()
+    assert truth["line_on_tape"][2], f"the middle sensor over the line; {where()}"
+    assert truth["rgb_leds_lit"] == 6 and truth["rgb_leds_faults"] == 0, f"six LEDs lit green: {truth}; {where()}"

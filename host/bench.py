@@ -46,11 +46,14 @@ import time
 from pathlib import Path
 
 from host.core import children, interpreter
+from host.core.drivers import DriverMissing, driver_folder
+from host.core.paths import REPO
 from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
 from host.rig import Recording, Rig, RigSpec, busimage, sandbox
 from host.rig.pacing import Lockstep
+from host.rig.waits import ExpectTimeout
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
 ENCODER_BOT = Path(__file__).parent / "bench" / "encoder_bot"
@@ -61,6 +64,19 @@ STEP_US = 50_000  # the rover's control quantum
 ROVER_TARGET = POOL_TARGET = 400.0  # issue 30's real-time factors
 ENCODER_TARGET = 100.0  # at 10,000 edges a second
 STATE_WAIT_TARGET = 1.3  # STATE -> WAIT over the raw round trip
+KIT_TARGET = 20.0  # issue 44: each kit's demo, x real time on a quiet machine
+KIT_SIM_S = 15.0  # a kit's demo runs until it ends, or this long
+HIL_FIRMWARE = REPO / "hil_tests" / "firmware"
+KIT_DEMOS = (
+    # (kit, (folder of hil_tests/firmware, where it goes in the firmware folder) ..., the button
+    # pressed from 0.2 to 0.3 s, a pinned driver beside main.py, what it prints last); a kit
+    # without a demo of ours: the firmware of its written test (host/kits/<kit>/test.py)
+    ("xrp_beta", (("kits/xrp", "."),), "user_button", None, "done"),
+    ("xrp", (("kits/xrp", "."),), "user_button", None, "done"),
+    ("pololu_3pi_2040", (("kits/pololu_3pi_2040", "."), ("kitbot/lib", "lib")), "button_b", None, "done"),
+    ("kitronik_buggy", (("kits/kitronik_buggy", "."),), "button", "kitronikpicoautonomousroboticsplatform", "done"),
+    ("cytron_maker_pi_rp2040", (), "button_1", None, "range_after"),
+)
 STATE_BYTES = F.HEADER_LEN + F.CRC_LEN + F.STATE_LEN  # an empty STATE
 REPLY_BYTES = 2 * (F.HEADER_LEN + F.CRC_LEN) + struct.calcsize(F.OUT_FMT) + F.WAIT_LEN  # an OUT and a WAIT
 
@@ -319,7 +335,7 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
                 "sim_s": rig.t_us / 1e6,
                 "wall_s": wall,
                 "host_cpu_s": cpu,
-                "firmware_cpu_s": fw_cpu,
+                "firmware_cpu_s": fw_cpu[0],
                 "transfers": transfers[0],
                 "state_exchanges": rig.stats.link_round_trips,
                 "bus_exchanges": rig.stats.bus_round_trips,
@@ -327,6 +343,83 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
             }
         result["exchanges"] = result["state_exchanges"] + result["bus_exchanges"]
         return result
+
+
+def kit_demo_folder(folder: Path, kit: str, parts, button, driver) -> Path:
+    """The kit's rig file and its demo in ``folder``; the rig file's path."""
+    import ast
+    import shutil
+
+    kit_dir = REPO / "host" / "kits" / kit
+    text = (kit_dir / "rig.toml").read_text()
+    if button:
+        text = text.replace(f'name = "{button}"\n', f'name = "{button}"\npresses = [[0.2, 0.3]]\n')
+    (folder / "rig.toml").write_text(text)
+    for source, where in parts:
+        shutil.copytree(HIL_FIRMWARE / source, folder / where, dirs_exist_ok=True)
+    if driver:
+        for module in driver_folder(driver).glob("*.py"):
+            shutil.copy(module, folder)
+    if not parts:  # (the written test's FIRMWARE, read without importing the test)
+        tree = ast.parse((kit_dir / "test.py").read_text())
+        found = [n.value.value for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "FIRMWARE"]
+        (folder / "main.py").write_text(found[0])
+    return folder / "rig.toml"
+
+
+def run_kit_demo(kit: str, parts, button, driver, last: str, sim_s: float = KIT_SIM_S) -> dict:
+    """A kit's demo on its rig until it ends (or ``sim_s``): wall and CPU time from the
+    interpreter's start on, the link exchanges, how far it got."""
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
+        rig_file = kit_demo_folder(Path(tmp), kit, parts, button, driver)
+        spec = RigSpec(str(rig_file), seed=1, allow_exit=True)
+        with Rig(spec, Recording()) as rig:
+            fw_cpu0, cpu0, t0 = firmware_cpu_s(rig), time.process_time(), time.perf_counter()
+            fw_cpu = [math.nan]
+
+            def ended() -> bool:
+                used = firmware_cpu_s(rig) - fw_cpu0  # (the interpreter's, read while it runs: once it has
+                if used >= 0:  # ended, /proc has it no more, or its sandbox's in its place)
+                    fw_cpu[0] = used if math.isnan(fw_cpu[0]) else max(fw_cpu[0], used)
+                return last in rig.console
+
+            try:
+                rig.run_until(ended, timeout_s=sim_s)
+            except ExpectTimeout:
+                pass  # (not ended within sim_s: its speed so far)
+            wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+            return {
+                "sim_s": rig.t_us / 1e6,
+                "wall_s": wall,
+                "host_cpu_s": cpu,
+                "firmware_cpu_s": fw_cpu[0],
+                "exchanges": rig.stats.link_round_trips + rig.stats.bus_round_trips,
+                "ended": last in rig.console,
+            }
+
+
+def bench_kits() -> list:
+    out = []
+    for kit, *demo in KIT_DEMOS:
+        try:
+            out.append((kit, run_kit_demo(kit, *demo)))
+        except DriverMissing as e:
+            out.append((kit, {"missing": str(e)}))
+    return out
+
+
+def report_kits(kits: list) -> None:
+    for kit, r in kits:
+        if "missing" in r:
+            print(f"  {kit}: not run: {r['missing']}")
+            continue
+        factor, per_s = r["sim_s"] / r["wall_s"], 1000 / r["sim_s"]
+        print(
+            f"  {kit}: {r['sim_s']:.2f} simulated s{'' if r['ended'] else ' (not ended)'} in {r['wall_s']:.2f} s: "
+            f"{factor:.1f}x real time (floor {KIT_TARGET:g}x{'' if factor >= KIT_TARGET else ': below it'}); "
+            f"{r['exchanges'] / r['sim_s']:.0f} link exchanges a simulated s; CPU a simulated s: host "
+            f"{r['host_cpu_s'] * per_s:.0f} ms, interpreter {r['firmware_cpu_s'] * per_s:.0f} ms"
+        )
 
 
 def firmware_cpu_s(rig) -> float:
@@ -492,6 +585,8 @@ def main(argv=None) -> int:
     parser.add_argument("--only-encoders", action="store_true", help="the encoder-heavy robot only")
     parser.add_argument("--no-imu", action="store_true", help="skip the bus-heavy robot")
     parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
+    parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
+    parser.add_argument("--only-kits", action="store_true", help="the robot kits' demos only")
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
@@ -502,6 +597,10 @@ def main(argv=None) -> int:
         raw = bench_raw()
         print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
         report_imu(imu, statistics.median(raw))
+        return 0
+    if args.only_kits:
+        print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s")
+        report_kits(bench_kits())
         return 0
     if args.only_encoders:
         print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
@@ -519,6 +618,7 @@ def main(argv=None) -> int:
     duct = bench_duct()
     encoders = None if args.no_encoders else bench_encoders()
     imu = None if args.no_imu else bench_imu()
+    kits = None if args.no_kits else bench_kits()
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -546,6 +646,9 @@ def main(argv=None) -> int:
     if imu is not None:
         print("bus-heavy robot (host/bench/imu_bot: an LSM6DSOX from a 208 Hz Timer, a VL53L0X polled, on I2C):")
         report_imu(imu, raw_us)
+    if kits is not None:
+        print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s:")
+        report_kits(kits)
     if plain is not None:
         print("pool cleaner, full mission, unrecorded:")
         report_pool(plain, raw_us)

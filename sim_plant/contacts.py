@@ -86,7 +86,8 @@ class Bumper:
     ``circles``: indices of the body circles it covers; ``center_deg``/``half_arc_deg``:
     the arc, from the heading (0 = front, 180 = rear); ``bounce_us``: contact bounce
     window after each press and release (0 = clean); ``bounce_max_pairs``: up to this many
-    extra open/close pairs within it.
+    extra open/close pairs within it; ``wired`` False: no output line of its own (what it
+    says is read by another part: a bump sensor's flap, ``sim_plant.catalogue.qtr``).
     """
 
     def __init__(
@@ -99,8 +100,10 @@ class Bumper:
         active_low: bool = True,
         bounce_us: int = 0,
         bounce_max_pairs: int = 3,
+        wired: bool = True,
     ):
         self.name = name
+        self.wired = wired
         self.circles = tuple(circles)
         self.center_rad = math.radians(center_deg)
         self.half_arc_rad = math.radians(half_arc_deg)
@@ -124,7 +127,8 @@ class Bumper:
         self.pending = []
         if new != self.level:
             self.level = new
-            out.append(Change(t_us, self.name, new))
+            if self.wired:
+                out.append(Change(t_us, self.name, new))
         if self.bounce_us > 0 and self.bounce_max_pairs > 0:
             pairs = int(rng.integers(1, self.bounce_max_pairs + 1))
             draws = rng.choice(self.bounce_us, size=min(2 * pairs, self.bounce_us), replace=False)
@@ -156,7 +160,7 @@ class ContactMonitor(Part):
             raise ValueError("ContactMonitor: the body needs at least one circle")
         self.reach_m = max(math.hypot(ox, oy) + r for ox, oy, r in self.circles)
         self.bumpers = list(bumpers)
-        self.outputs = {b.name: "level" for b in self.bumpers}
+        self.outputs = {b.name: "level" for b in self.bumpers if b.wired}
         self.touching: tuple = ()  # (circle, wall normal) pairs in contact at the last check
         self.contacts: list[Contact] = []
         self.check_us = 0
@@ -167,7 +171,7 @@ class ContactMonitor(Part):
         self._rate_m_s = 0.0  # spent at most at this speed since then
 
     def initial_outputs(self) -> dict:
-        return {b.name: b.level for b in self.bumpers}
+        return {b.name: b.level for b in self.bumpers if b.wired}
 
     def start(self, t_us: int, plant) -> None:
         """First check at reset: the bumper levels it finds are the initial outputs."""
@@ -180,7 +184,8 @@ class ContactMonitor(Part):
                 _, level = b.pending.pop(0)
                 if level != b.level:
                     b.level = level
-                    out.append(Change(t_us, b.name, level))
+                    if b.wired:
+                        out.append(Change(t_us, b.name, level))
         if self.check_us <= t_us:
             self._check(t_us, plant, out)
         self._plan()

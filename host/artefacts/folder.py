@@ -245,6 +245,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "faults": [{"kind": f.kind, **f.fields} for f in plant.fault_schedule],
         "plant_options": run["plant_options"],
         "parts": plant.describe(),
+        **({"displays": shown} if (shown := pictures.describe_displays(plant)) else {}),  # their film strips
         "report": run.get("report"),
         **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)
         "seed": run["seed"],

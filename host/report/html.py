@@ -265,8 +265,10 @@ def _longest_compute(rig: RigResult) -> list[str]:
 
 def _displays(rig: RigResult, base: Path) -> list[str]:
     """Each display part's last picture (``<name>.png`` of the trace folder), linked to
-    all its pictures in turn (``<name>.gif``)."""
+    all its pictures in turn (``<name>.gif``), and its film strip (``<name>.frames.png``,
+    the header's ``displays``: a few of its pictures over the run, with their times)."""
     out = []
+    strips = (rig.header or {}).get("displays") or {}
     for part in ((rig.header or {}).get("parts") or {}).get("parts", []):
         still, moving = rig.folder / f"{part.get('name')}.png", rig.folder / f"{part.get('name')}.gif"
         if part.get("kind") in ("ssd1306", "sh1106") and still.is_file():
@@ -275,6 +277,16 @@ def _displays(rig: RigResult, base: Path) -> list[str]:
             out.append(
                 f'<figure class="display">{img}<figcaption>{_e(alt)} (all of them: the GIF)</figcaption></figure>'
             )
+            strip = strips.get(part["name"]) or {}
+            film = rig.folder / str(strip.get("strip", ""))
+            if strip.get("strip") and film.is_file():
+                times = ", ".join(f"{t / 1e6:.3f}" for t in strip.get("strip_t_us", []))
+                alt = f"{part['name']}: {len(strip.get('strip_t_us', []))} of its {strip.get('frames')} pictures"
+                img = f'<img alt="{_e(alt)}" src="{_e(_rel(film, base))}">'
+                out.append(
+                    f'<figure class="display-frames">{img}<figcaption>{_e(alt)}, shown from {_e(times)} s'
+                    "</figcaption></figure>"
+                )
     return out
 
 
@@ -392,6 +404,7 @@ figure {{ margin: 0; min-width: 0; }} figure.signals, figure.cpu {{ grid-column:
 table.longest-compute pre {{ margin: 0; font-size: 0.8rem; white-space: pre-wrap; }}
 figure img {{ width: 100%; height: auto; border: 1px solid #eceff1; background: #fff; }}
 figure.display img {{ width: min(100%, 512px); image-rendering: pixelated; }}  /* (a 128 x 64 screen at 4x) */
+figure.display-frames img {{ width: 100%; image-rendering: pixelated; }}  /* (a film strip) */
 @media (min-width: 1800px) {{ figure.signals {{ grid-column: auto; }} }}
 figcaption {{ font-size: 0.8rem; color: #546e7a; text-align: center; }}
 @media (max-width: 760px) {{

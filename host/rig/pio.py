@@ -52,6 +52,8 @@ class PioHost:
     def reset(self) -> None:
         """A new interpreter run: the PIO blocks are reset (the pins keep their levels)."""
         self.blocks = (PioBlock(0), PioBlock(1))
+        for block in self.blocks:  # (what their state machines drive reaches the plant through a look-ahead
+            block.record_events = False  # on a copy, host/rig/pio_out.py: the changes here are dropped)
         self.raised = ([], [])
         self.outputs.clear()
         for block in self.blocks:

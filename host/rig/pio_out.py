@@ -43,6 +43,7 @@ def look_ahead(block, local: int, t_us: int):
     :func:`steady`)."""
     twin = copy.deepcopy(block)
     twin.events.clear()
+    twin.record_events = True
     run = twin.running[local]
     run.drive_period = 0
     step_us = 50

@@ -166,3 +166,24 @@ def test_servo_pulses_are_x_plus_2_cycles_high_every_x_plus_y_plus_6():
     assert len(rises) >= 4
     assert all(abs((b - a) - 20_000) < 1e-6 for a, b in zip(rises, rises[1:])), rises
     assert all(abs((f - r) - 1500) < 1e-6 for r, f in zip(rises, falls)), list(zip(rises, falls))
+
+
+def test_a_block_whose_changes_nobody_reads_jumps_its_periods_to_the_same_state_and_levels():
+    """``record_events`` False (the rig's own blocks: what they drive reaches the plant
+    through a look-ahead on a copy, host/rig/pio_out.py): a period of drives jumped over is
+    replayed once, not once a period, and the block ends where the one that keeps every
+    change does: the same levels, registers, FIFOs and cycle, a change per period fewer."""
+    runs = []
+    for record in (True, False):
+        block, sm = machine("pwm", 1_000_000, pinctrl(side_base=9, side_count=2))
+        block.record_events = record
+        preload_isr(block, sm, 100)
+        sm.tx.append(30)
+        steps = block.steps
+        block.advance(2_000_000)  # (about 9,700 periods of 206 us)
+        state = (dict(block.levels), sm.x, sm.y, sm.isr, sm.osr, sm.pc, list(sm.tx), list(sm.rx))
+        runs.append((state, block.running[0].cycle, len(block.events), block.steps - steps))
+    (kept, kept_cycle, kept_changes, kept_steps), (state, cycle, changes, steps) = runs
+    assert (state, cycle) == (kept, kept_cycle), f"expected the same end, got {state} at {cycle} against {kept}"
+    assert kept_changes > 19_000 and changes < 100, f"every period's changes kept, then the last: {runs}"
+    assert steps == kept_steps, f"expected the same instructions stepped, got {steps} against {kept_steps}"

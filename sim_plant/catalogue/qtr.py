@@ -28,17 +28,26 @@ Not modelled: the exponential shape of the decay (a read of the level is 1 or 0,
 threshold crossing is the instant the time says), ambient light other than ``unlit_us``,
 the spot a channel sees (the floor's darkness at one point: on the tape or not, as
 ``line_sensor``; a picture's darkness between its pixels),
-channel-to-channel spread and noise, a bump channel's flap (a bump sensor is a ``qtr``
-part whose floor is what its options say: its own ``white_us``/``black_us``)."""
+channel-to-channel spread and noise.
+
+A bump sensor (the 3pi+'s two, looking at the inside of its bumper's flaps): with
+``flaps_deg``, channel ``i`` looks at a flap over an arc of the body's edge instead of the
+floor, ``[centre_deg, half_arc_deg]`` from the heading (positive to the left), and reads
+``black_us`` while the flap is pressed (the body touches a wall inside the arc, as a
+``bumper`` part's switch closes: ``sim_plant.contacts``) and ``white_us`` while it is not; the ground truth has each
+flap's ``<name>.flap<i>_pressed``. Not modelled for flaps: how far a flap is pressed
+(pressed or not), its spring's delay."""
 
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.contacts import Bumper
 from sim_plant.floor import DARK, FloorSensors
 from sim_plant.option_table import Num, OneOf, Row, Rows, length
 from sim_plant.plant import NEVER_US, Change
 
 OFFSET = Row((length(-10, 10), length(-10, 10)), "[dx_m, dy_m]")
+ARC = Row((Num("degrees", -180, 180), Num("degrees", 0, 180, above=True)), "[centre_deg, half_arc_deg]")
 RELEASED = -1
 """A line's input when the board lets it go (the pin an input again)."""
 TIME_US = Num("microseconds", 1, 10_000_000, whole=True)
@@ -49,7 +58,8 @@ class RcLines(FloorSensors):
 
     FIXED_STATE = (*FloorSensors.FIXED_STATE, "emitter_signal")
 
-    def __init__(self, name: str, offsets, tape, *, width_m, times_us, charge_us, emitter):
+    def __init__(self, name: str, offsets, tape, *, width_m, times_us, charge_us, emitter, flaps=()):
+        self.flaps = list(flaps)  # (a bump sensor's: the contacts' switches its channels look at)
         super().__init__(offsets, tape, width_m=width_m, tape_u16=1, floor_u16=0, period_us=1)
         self.label = name
         self.names = [f"{name}.{i}" for i in range(len(self.offsets))]
@@ -91,7 +101,7 @@ class RcLines(FloorSensors):
             self.high_since[i] = None
             self.charge[i] = held
             if self.levels_now[i] and held > 0:
-                dark = self.dark(plant.pose_at(t_us))[i]
+                dark = self.darkness(plant, t_us)[i]
                 self.on_tape[i] = dark >= DARK
                 full = self.unlit_us if not self.lit else self.discharge_us(dark)
                 self.last_us[i] = round(full * held)
@@ -110,6 +120,12 @@ class RcLines(FloorSensors):
             self.due.append((i, 0))
         self._plan(t_us)
         return False
+
+    def darkness(self, plant, t_us: int) -> list:
+        """What each channel sees: the floor's darkness, or 1 for a pressed flap."""
+        if self.flaps:
+            return [1.0 if flap.pressed else 0.0 for flap in self.flaps]
+        return self.dark(plant.pose_at(t_us))
 
     def discharge_us(self, dark: float) -> int:
         """The full discharge time, lit, over a floor this dark (0 white .. 1 black)."""
@@ -136,7 +152,7 @@ class RcLines(FloorSensors):
 
     def truth(self, t_us: int, plant) -> dict:
         return {
-            f"{self.label}_on_tape": [d >= DARK for d in self.dark(plant.pose_at(t_us))],
+            f"{self.label}_on_tape": [d >= DARK for d in self.darkness(plant, t_us)],
             f"{self.label}_discharge_us": list(self.last_us),
         }
 
@@ -156,6 +172,13 @@ class Qtr(PartType):
             Rows(OFFSET, 31, least=1),
             [[0.0, 0.0]],
             "each channel's place from the mount, along and across its heading (channel 0, 1, ...)",
+        ),
+        Opt(
+            "flaps_deg",
+            Rows(ARC, 31),
+            [],
+            "a bump sensor's: each channel looks at a bumper flap over this arc of the body's edge (0 the front,"
+            " positive to the left) and reads black_us while the body touches a wall inside it; empty: the floor",
         ),
         Opt("white_us", TIME_US, 150, "the discharge time over the floor, emitter on (much light back)"),
         Opt("black_us", TIME_US, 800, "the discharge time over the tape, emitter on (little light back)"),
@@ -196,6 +219,11 @@ class Qtr(PartType):
 
     def check(self) -> None:
         o = self.options
+        if o["flaps_deg"] and len(o["flaps_deg"]) != len(o["offsets_m"]):
+            raise ValueError(
+                f"flaps_deg: expected an arc for each of the {len(o['offsets_m'])} channels (offsets_m), got "
+                f"{len(o['flaps_deg'])}"
+            )
         if not o["white_us"] < o["black_us"] <= o["unlit_us"]:
             raise ValueError(
                 f"white_us < black_us <= unlit_us expected (more light, a faster discharge), got "
@@ -213,6 +241,11 @@ class Qtr(PartType):
         mx, my, heading = self.mount_rad()
         c, s = math.cos(heading), math.sin(heading)
         offsets = [(mx + dx * c - dy * s, my + dx * s + dy * c) for dx, dy in o["offsets_m"]]
+        flaps = [
+            Bumper(f"{self.name}.flap{i}", center_deg=centre, half_arc_deg=half, active_low=False, wired=False)
+            for i, (centre, half) in enumerate(o["flaps_deg"])
+        ]
+        build.bumpers.extend(flaps)
         build.parts.append(
             RcLines(
                 self.name,
@@ -222,5 +255,6 @@ class Qtr(PartType):
                 times_us=(o["white_us"], o["black_us"], o["unlit_us"]),
                 charge_us=o["charge_us"],
                 emitter=o["emitter"],
+                flaps=flaps,
             )
         )

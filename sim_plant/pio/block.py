@@ -65,6 +65,7 @@ class PioBlock:
         self.levels: dict[int, int] = {}  # gpio -> the level a state machine drives
         self.dirs: dict[int, int] = {}  # gpio -> 1 output, 0 input (pindirs)
         self.events: list[tuple] = []  # (t_us float, gpio, level): driven changes, in time order
+        self.record_events = True  # False: nobody reads ``events`` (only the levels driven last)
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
         self.irq_clears = 0  # flags 0..3 the CPU's interrupt handler clears as they are raised
         self.running: dict[int, Running] = {}
@@ -425,9 +426,12 @@ def _skip_periods(block, run, first, c, c_end, log) -> int:
     if periods <= 0:
         return c
     pattern = log[i_first:]
+    passes = range(1, periods + 1) if pattern else ()
+    if not block.record_events and all(call == block.drive for _cycle, call, _args in pattern):
+        passes = passes[-1:]  # (drives alone, no IRQ, and no one reads the changes: the last period's levels)
     block._log = None
     try:
-        for k in range(1, periods + 1) if pattern else ():
+        for k in passes:
             for cycle, call, args in pattern:
                 block._cycle = cycle + k * period
                 call(*args)

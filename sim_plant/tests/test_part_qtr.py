@@ -23,10 +23,10 @@ def plant_with(**options):
     return plant
 
 
-def read_us(plant, channel: int, t_us: int, charge_us: int = 10, window_us: int = 20_000) -> tuple[int, list]:
+def read_us(plant, channel: int, t_us: int, charge_us=10, window_us=20_000, part="line") -> tuple[int, list]:
     """Drive the channel high ``charge_us`` at ``t_us``, let it go; (µs until it reads 0
     within ``window_us``, its changes). The plant is then at the window's end."""
-    line = f"line.{channel}"
+    line = f"{part}.{channel}"
     plant.advance_to(t_us)
     plant.set_input(line, 1)
     changes = [(c.t_us - t_us, c.value) for c in plant.advance_to(t_us) if c.name == line]
@@ -100,3 +100,28 @@ def test_the_reading_follows_the_floor_as_the_robot_drives_across_the_tape():
 def test_times_out_of_order_are_refused_by_name():
     with pytest.raises(PartsError, match=r"\(line\).*white_us < black_us <= unlit_us"):
         plant_with(white_us=900)
+
+
+def test_a_bump_channel_reads_black_while_the_wall_presses_its_flap_and_white_before():
+    """flaps_deg: each channel looks at a bumper flap over an arc of the body's edge, not the
+    floor (the 3pi+'s bump sensors): driven into the east wall 10 degrees to the right of
+    square on, the contact is left of the heading: the left flap's channel reads black_us."""
+    bump = {"kind": "qtr", "name": "bump", "offsets_m": [[0.0, 0.0]] * 2, "flaps_deg": [[35, 35], [-35, 35]]}
+    body = {"body": "differential", "room_w_m": 3.0, "room_h_m": 2.0, "start_pose": [2.8, 1.0, -0.17]}
+    plant = assemble({**body, "tape": TAPE, "parts": [*MOTORS, {**bump, "white_us": 300, "black_us": 700}]})
+    plant.set_input("bump.emitter", 1)
+    assert [read_us(plant, i, 1_000 + 30_000 * i, part="bump")[0] for i in (0, 1)] == [300, 300], "not touching"
+    for side in "lr":
+        plant.set_input(f"motor_{side}.in1", 1)
+        plant.set_input(f"motor_{side}.in2", 0)
+        plant.set_input(f"motor_{side}.pwm", 65535)
+    plant.advance_to(2_000_000)  # (0.4 m/s for 2 s: against the wall 0.15 m away)
+    assert plant.truth()["contacts"], f"expected the body against the east wall: {plant.truth()}"
+    t = 2_000_000
+    assert [read_us(plant, i, t + 30_000 * i, part="bump")[0] for i in (0, 1)] == [700, 300], "the left flap pressed"
+    assert plant.truth()["bump_on_tape"] == [True, False]
+
+
+def test_flaps_need_an_arc_for_each_channel():
+    with pytest.raises(PartsError, match=r"flaps_deg: expected an arc for each of the 2 channels"):
+        plant_with(flaps_deg=[[35, 35]])

@@ -1,0 +1,34 @@
+"""The robot kits' case of ``make bench`` (``python -m host.bench --only-kits``,
+docs/bench.md): each kit's demo folder is its rig with the button pressed and its firmware
+beside it, a demo runs until its last line, and the report puts its real-time factor beside
+issue 44's floor of 20x."""
+
+import pytest
+
+from host import bench
+
+
+@pytest.mark.parametrize(("kit", "parts", "button", "driver", "last"), bench.KIT_DEMOS)
+def test_each_kits_demo_folder_is_its_rig_with_the_button_pressed_and_its_firmware(
+    tmp_path, kit, parts, button, driver, last
+):
+    if driver:
+        try:
+            bench.driver_folder(driver)
+        except bench.DriverMissing as e:
+            pytest.skip(str(e))
+    rig_file = bench.kit_demo_folder(tmp_path, kit, parts, button, driver)
+    text = rig_file.read_text()
+    assert f'name = "{button}"\npresses = [[0.2, 0.3]]\n' in text, f"{kit}: the button not pressed in {rig_file}"
+    main = (tmp_path / "main.py").read_text()
+    assert f'print("{last}"' in main, f"{kit}: expected the demo to print {last!r} last; main.py:\n{main}"
+
+
+def test_a_kits_demo_runs_until_its_last_line_and_is_reported_beside_the_floor(capsys):
+    kit, *demo = next(d for d in bench.KIT_DEMOS if d[0] == "cytron_maker_pi_rp2040")
+    run = bench.run_kit_demo(kit, *demo)
+    assert run["ended"] and 1.0 < run["sim_s"] < 2.0, f"expected range_after at about 1.2 simulated s, got {run}"
+    bench.report_kits([(kit, run), ("other", {"missing": "expected the driver x unpacked"})])
+    out = capsys.readouterr().out
+    assert f"  {kit}: {run['sim_s']:.2f} simulated s in " in out and "(floor 20x" in out, out
+    assert "  other: not run: expected the driver x unpacked" in out, out
