@@ -51,8 +51,11 @@ def names_boards(name: str) -> bool:
     """``name`` is a rig file (or a folder's rig.toml) with ``[[boards]]``: a quick look, the
     file read and checked whole by :func:`load_boards`."""
     path = Path(name)
-    path = path / "rig.toml" if path.is_dir() else path
-    if path.suffix != ".toml" or not path.is_file():
+    try:
+        path = path / "rig.toml" if path.is_dir() else path
+        if path.suffix != ".toml" or not path.is_file():
+            return False
+    except (OSError, ValueError):  # (a name too long, a NUL: the one-board reader says so)
         return False
     try:
         return is_multi_board(read_toml(path, "rig file", MAX_RIG_BYTES))

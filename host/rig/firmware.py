@@ -159,4 +159,8 @@ class Firmware:
         # The shim's share: its start-up runs beside the firmware's heap, set apart first
         # (host/shim/_hilboot.py), under the coverage tracer too when it is on.
         shim = SHIM_HEAP_BYTES + (COVERAGE_HEAP_BYTES if self.coverage_fd is not None else 0)
-        return ["-X", f"heapsize={self.firmware_heap_bytes() + shim}"]
+        pool = self.firmware_heap_bytes() + shim
+        # py/gc.c's gc_init keeps its tables in the heap it is given (2 bits a 16-byte block
+        # for allocation, 1 for finalisers: 3/128 of it), so the pool is that much smaller
+        # than -X heapsize: the share must not shrink as heap_size grows
+        return ["-X", f"heapsize={pool * 128 // 125 + 1}"]
