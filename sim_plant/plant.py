@@ -46,6 +46,23 @@ class Change(NamedTuple):
     value: object
 
 
+class ReleasedAt(int):
+    """An io line's input let go a little after the instant it is given: -1 (released) to
+    anything that takes it as a number, and ``at_us`` to a part that times from it (a PIO
+    state machine's ``pindirs`` change, seen by the host's look-ahead before its cycle comes:
+    ``host/rig/pio_out.py``; ``sim_plant.catalogue.qtr`` starts the discharge there)."""
+
+    at_us: float
+
+    def __new__(cls, at_us: float):
+        value = super().__new__(cls, -1)
+        value.at_us = at_us
+        return value
+
+    def __reduce__(self):
+        return ReleasedAt, (self.at_us,)
+
+
 NEVER_US = 1 << 62
 """A time later than any run: returned by :meth:`Plant.next_change_us` when nothing is due."""
 

@@ -15,7 +15,11 @@ pins it drives will carry, in the terms the plant's parts take:
   bitstream with the pulses' measured timing (``bitstream``);
 - a burst on a UART wire: the bytes its frames carry at ``freq / 8`` baud (8 PIO cycles
   a bit, as the public PIO UART programs do), sent from their start bit (``send_bytes``);
-- else the level the burst ends on, at the frame's instant.
+- else the level the burst ends on, at the frame's instant; on an io line (a part drives
+  it too: ``wiring.shared``) a pin the program makes an input (``set``/``out pindirs``,
+  side-set pindirs) lets the line go at that cycle's instant (``ReleasedAt``: an RC sensor
+  times its discharge from it), after the level it drove before, if any; on a line only the
+  board drives, a pin made an input leaves the part's input as it was (as ``Pin.IN``).
 
 Lookahead costs what the emulator costs over the burst; a burst already given is not
 given again (each pin keeps the instant up to which the plant has it).
@@ -24,7 +28,8 @@ given again (each pin keeps the instant up to which the plant has it).
 import copy
 
 from host.link import frames as F
-from sim_plant.plant import BITSTREAM
+from sim_plant.pio.block import RELEASED
+from sim_plant.plant import BITSTREAM, ReleasedAt
 
 HORIZON_US = 200_000  # the longest burst looked at (a WS2812 strip of ~6000 LEDs)
 
@@ -144,6 +149,15 @@ class PioOutputs:
 
     def _give(self, signal: str, kind, levels: list, freq_hz: float) -> None:
         plant = self.plant
+        if levels[-1][1] == RELEASED and kind == F.SIG_LEVEL and signal in self.wiring.shared:
+            driven = [level for _t, level in levels if level != RELEASED]
+            if driven:  # (a charge, then the line let go at its cycle, after the frame's instant)
+                plant.set_input(signal, driven[-1])
+            plant.set_input(signal, ReleasedAt(levels[-1][0]))
+            return
+        levels = [(t, level) for t, level in levels if level != RELEASED]
+        if not levels:  # (a line only the board drives: a pin made an input leaves it as it was)
+            return
         if kind == F.SIG_UART:
             data = uart_bytes(levels, 1e6 * 8 / freq_hz)
             if data:

@@ -8,7 +8,9 @@ an output and drive it high, allow at least 10 µs for the sensor output to rise
 I/O line an input (high impedance), measure the time for the voltage to decay by waiting
 for the I/O line to go low"). The line ``<name>.<i>`` is one signal both ways: the board
 drives it (an input of the plant: 1 high, 0 low, ``RELEASED`` (-1, or None) when the
-board makes the pin an input again) and reads it (an output: the node's level).
+board makes the pin an input again, a ``sim_plant.plant.ReleasedAt`` when a PIO state
+machine's ``pindirs`` let it go at a later cycle: the discharge starts there) and reads it
+(an output: the node's level).
 
 - Driven high, the node reads 1 at once and charges; a drive shorter than ``charge_us``
   charges it in proportion (its discharge then lasts that fraction of the full one).
@@ -95,17 +97,19 @@ class RcLines(FloorSensors):
             return False
         i = self.names.index(name)
         if value is None or value < 0:  # let go: the capacitor discharges from here
+            at_us = max(t_us, getattr(value, "at_us", t_us))  # (a PIO's pindirs change: at its cycle)
             held = self.charge[i]
             if self.high_since[i] is not None:
-                held = max(held, min(1.0, (t_us - self.high_since[i]) / self.charge_us))
+                held = max(held, min(1.0, (at_us - self.high_since[i]) / self.charge_us))
             self.high_since[i] = None
             self.charge[i] = held
-            if self.levels_now[i] and held > 0:
+            high = dict(self.due).get(i, self.levels_now[i])  # (driven high at this instant: not yet fired)
+            if high and held > 0:
                 dark = self.darkness(plant, t_us)[i]
                 self.on_tape[i] = dark >= DARK
                 full = self.unlit_us if not self.lit else self.discharge_us(dark)
                 self.last_us[i] = round(full * held)
-                self.falls_at[i] = t_us + self.last_us[i]
+                self.falls_at[i] = round(at_us + full * held)
             else:
                 self.falls_at[i] = t_us  # (nothing held: it reads low at once)
         elif value:

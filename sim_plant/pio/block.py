@@ -54,6 +54,11 @@ class Running:
         return self.t0_us + cycle * self.sm.config.div256 * 1_000_000 / (self.sm.config.SYS_HZ * 256)
 
 
+RELEASED = -1
+"""What a pin carries while a state machine has made it an input (``pindirs`` 0): nothing
+driven (the plant's parts take -1 as a line let go, ``sim_plant.catalogue.qtr``)."""
+
+
 class PioBlock:
     """PIO0 or PIO1: up to four state machines sharing memory, IRQ flags and GPIOs."""
 
@@ -64,7 +69,7 @@ class PioBlock:
         self.gpio_in = 0
         self.levels: dict[int, int] = {}  # gpio -> the level a state machine drives
         self.dirs: dict[int, int] = {}  # gpio -> 1 output, 0 input (pindirs)
-        self.events: list[tuple] = []  # (t_us float, gpio, level): driven changes, in time order
+        self.events: list[tuple] = []  # (t_us float, gpio, level or RELEASED): driven changes, in time order
         self.record_events = True  # False: nobody reads ``events`` (only the levels driven last)
         self.irqs: list[tuple] = []  # (t_us float, flag, sm_id): flags 0..3 raised (the CPU's IRQ)
         self.irq_clears = 0  # flags 0..3 the CPU's interrupt handler clears as they are raised
@@ -122,14 +127,23 @@ class PioBlock:
         self.version += 1
 
     def drive(self, gpio: int, level: int, dirs: bool = False) -> None:
+        """A state machine drives ``gpio``'s level, or with ``dirs`` its direction (1 an
+        output, 0 an input). ``events`` has what the pin carries as the plant sees it: the
+        level of an output, :data:`RELEASED` from the cycle it becomes an input (the line let
+        go), its OUT level again from the cycle it becomes an output; a level driven while
+        it is an input is kept, not seen. (A pin no program or ``*_init`` gave a direction is
+        taken as an output.)"""
         if self._log is not None:
             self._log.append((self._cycle, self.drive, (gpio, level, dirs)))
         if dirs:
+            if self.dirs.get(gpio, 1) != level:
+                self.events.append((self.now_us(), gpio, self.levels.get(gpio, 0) if level else RELEASED))
             self.dirs[gpio] = level
             return
         if self.levels.get(gpio) != level:
             self.levels[gpio] = level
-            self.events.append((self.now_us(), gpio, level))
+            if self.dirs.get(gpio, 1):
+                self.events.append((self.now_us(), gpio, level))
 
     def raise_irq(self, flag: int, sm_id: int) -> None:
         if self._log is not None:

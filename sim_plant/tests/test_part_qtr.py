@@ -6,6 +6,7 @@ import pytest
 from sim_plant.catalogue.assembly import assemble
 from sim_plant.catalogue.base import PartsError
 from sim_plant.catalogue.qtr import RELEASED
+from sim_plant.plant import ReleasedAt
 
 TAPE = [[1.0, 0.2], [1.0, 1.8]]  # a line across the floor at x = 1 m, 19 mm wide
 MOTORS = [
@@ -61,6 +62,22 @@ def test_the_emitter_off_reads_as_no_light_and_the_emitter_line_follows_its_opti
     always = plant_with(emitter="none")
     assert "line.emitter" not in always.inputs
     assert read_us(always, 0, 1_000)[0] == 800
+
+
+def test_a_release_given_ahead_of_its_instant_discharges_from_that_instant():
+    """A PIO program's ``pindirs`` change, seen by the host's look-ahead before its cycle:
+    driven high and let go 32.375 us later, both given at the same instant (the charge
+    counted up to the release); the fall comes the discharge time after the release."""
+    plant = plant_with()
+    plant.advance_to(1_000)
+    plant.set_input("line.1", 1)
+    plant.set_input("line.1", ReleasedAt(1_032.375))
+    changes = [(c.t_us, c.value) for c in plant.advance_to(3_000) if c.name == "line.1"]
+    assert changes == [(1_000, 1), (1_182, 0)], f"expected high at 1000 us, low at 1032.375 + 150, got {changes}"
+    plant.set_input("line.0", 1)
+    plant.set_input("line.0", ReleasedAt(3_005))  # (5 us of the 10 a full charge takes: half)
+    changes = [(c.t_us, c.value) for c in plant.advance_to(5_000) if c.name == "line.0"]
+    assert changes == [(3_000, 1), (3_405, 0)], f"expected half of 800 us after 3005 us, got {changes}"
 
 
 def test_a_short_charge_discharges_in_proportion_and_a_drive_low_empties_it():
