@@ -443,7 +443,7 @@ def cmd_run(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
-    coverage = _coverage_file(out) if args.coverage else None
+    coverage = _coverage_file(out, getattr(app, "mpy_version", None)) if args.coverage else None
     try:
         rig = Rig(spec, Recording(trace=True, record=True, artefacts=out, progress=show, coverage=coverage))
     except PlantOptionsError as e:
@@ -486,10 +486,10 @@ def cmd_run(args) -> int:
     return 0
 
 
-def _coverage_file(out: Path) -> Path:
+def _coverage_file(out: Path, version: str | None) -> Path:
     from host.coverage.session import prepare_run
 
-    return prepare_run(out)
+    return prepare_run(out, version)
 
 
 def _show_console(text: str, out: Path) -> None:
@@ -875,6 +875,13 @@ def cmd_setup(args) -> int:
     version = getattr(args, "micropython", None)
     path = interpreter.setup(log=say, version=version, source=getattr(args, "source", None))
     print(f"micropython: {interpreter.version(path)} ({path})")
+    rel = interpreter.release(version)
+    if path == interpreter.default_path(None, rel.version):
+        if path.parent.name == interpreter.build_key(rel.version):  # (the per-user cache)
+            how = f"build key {path.parent.name}: its make options, patches, frozen manifest and C modules"
+            say(f"MicroPython {rel.version} is in {path.parent} ({how}); other versions and builds stay beside it")
+        else:
+            say(f"MicroPython {rel.version} is in {path.parent} (this checkout's build); other versions stay beside it")
     print("next: pytest beside your rig file (docs/ci.md)")
     return 0
 

@@ -30,7 +30,7 @@ def test_a_version_is_named_by_major_and_minor_and_an_unknown_one_names_the_know
 
 def test_each_version_has_its_folder_patch_and_identity(monkeypatch):
     monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
-    root = Path("/nowhere")
+    root = interpreter.build_root(checkout=True)
     assert interpreter.default_path(root) == root / "1.25.0+ds-1" / "micropython", "the default's folder moved"
     assert interpreter.default_path(root, "1.28") == root / "1.28.0" / "micropython"
     assert interpreter.variant_path("settrace", root, "1.26") == root / "1.26.1+ds-1" / "micropython-settrace"
@@ -40,6 +40,74 @@ def test_each_version_has_its_folder_patch_and_identity(monkeypatch):
     assert len(set(identities.values())) == len(identities), f"expected an identity per version: {identities}"
     assert "MPY_LIB_DIR=$(TOP)/lib" in interpreter.make_options("standard", "1.28")
     assert "MPY_LIB_DIR=$(TOP)/lib" not in interpreter.make_options("standard", "1.26"), "Debian's needs none"
+
+
+def _fake_build(monkeypatch, tmp_path) -> list[Path]:
+    """The build with nothing fetched or compiled: each binary a script that says its
+    version and the patches it was built with."""
+    made = []
+
+    def compile_(tree, log, variant, target, version=None):
+        line = f"MicroPython v{interpreter.release(version).build} on {interpreter.patches_text(version)[:12]}"
+        target.write_text(f"#!/bin/sh\necho '{line}'\n")
+        target.chmod(0o755)
+        made.append(target)
+
+    monkeypatch.setattr(interpreter, "ensure_tools", lambda: None)
+    monkeypatch.setattr(interpreter, "fetch_source", lambda root, version=None, source=None: tmp_path / "tree")
+    monkeypatch.setattr(interpreter, "_compile", compile_)
+    return made
+
+
+def test_the_per_user_cache_keeps_each_versions_builds_beside_each_other(monkeypatch, tmp_path, capsys):
+    """Before: one binary per version in the cache (``<version>/micropython``), taken as it
+    was whatever built it: a harness with other patches or C modules (another release, another
+    checkout's install) ran, or rebuilt over, the other's binary."""
+    from host import cli
+
+    monkeypatch.setattr(interpreter.paths, "CHECKOUT", False)  # (installed: the per-user cache)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    for name in ("MICROPYTHON", "MICROPYTHON_SETTRACE", interpreter.VERSION_ENV):
+        monkeypatch.delenv(name, raising=False)
+    made = _fake_build(monkeypatch, tmp_path)
+    cache = tmp_path / "xdg" / "mpy-fil" / "micropython"
+    first = interpreter.build(None, "1.28")
+    key = interpreter.build_key("1.28")
+    assert first == cache / "1.28.0" / key / "micropython", first
+    assert interpreter.variant_path("settrace", None, "1.28") == first.with_name("micropython-settrace")
+
+    ours = interpreter.patches_text
+    monkeypatch.setattr(interpreter, "patches_text", lambda version=None: "other options\n" + ours(version))
+    other_key = interpreter.build_key("1.28")
+    assert other_key != key, "expected another build key for other patches"
+    assert not interpreter._executable(interpreter.default_path(None, "1.28")), "expected no binary of this build yet"
+    with pytest.raises(SetupError):  # (the first build's binary is not this build's)
+        interpreter.find("1.28")
+    second = interpreter.build(None, "1.28")
+    assert second == cache / "1.28.0" / other_key / "micropython" and made == [first, second], made
+    assert "on other option" in interpreter.version(second) and "on other option" not in interpreter.version(first)
+    monkeypatch.setattr(interpreter, "patches_text", ours)
+    assert interpreter.find("1.28") == first and interpreter.build(None, "1.28") == first
+    assert len(made) == 2, f"expected the first build found again, not rebuilt: {made}"
+    assert interpreter.build(None, "1.26") == cache / "1.26.1+ds-1" / interpreter.build_key("1.26") / "micropython"
+    assert sorted(p.name for p in (cache / "1.28.0").iterdir()) == sorted([key, other_key])
+
+    capsys.readouterr()
+    assert cli.main(["setup", "--micropython", "1.28"]) == 0
+    said = capsys.readouterr().out
+    assert "micropython: MicroPython v1.28.0 on" in said and f"({first})" in said, said
+    assert f"MicroPython 1.28 is in {first.parent} (build key {key}:" in said, said
+
+
+def test_a_checkouts_build_is_its_own_and_unkeyed(monkeypatch):
+    monkeypatch.setattr(interpreter.paths, "CHECKOUT", True)
+    build = interpreter.build_root(checkout=True)
+    assert interpreter.default_path(build, "1.28") == build / "1.28.0" / "micropython", "make setup's folder moved"
+    cache = interpreter.build_root(checkout=False)
+    assert interpreter.default_path(cache, "1.28") == cache / "1.28.0" / interpreter.build_key("1.28") / "micropython"
+    keys = {interpreter.build_key(v) for v in interpreter.RELEASES}
+    assert len(keys) == len(interpreter.RELEASES), f"expected a key per version: {keys}"
 
 
 def test_every_versions_patch_counts_the_same_things():
