@@ -189,9 +189,8 @@ def _in_checkout(target: Path) -> bool:
 
 def current(target: Path, variant: str, version: str | None = None) -> bool:
     """The binary at ``target`` is there and, in a checkout's build/ (where the patches and
-    the C modules change under it), of this build's identity. (The per-user cache of an
-    installed release holds that release's build: docs/ci.md caches its binary alone,
-    keyed on the release.)"""
+    the C modules change under it), of this build's identity. (In the per-user cache the
+    folder's name is the build's key, :func:`build_key`: a binary there is this build's.)"""
     if not target.is_file():
         return False
     if not _in_checkout(target):

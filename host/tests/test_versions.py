@@ -3,6 +3,7 @@ and identity; a rig file's ``[interpreter] version`` and ``pytest --mpy-version`
 ``$MICROPYTHON`` stands for a version asked for only when it is of that version; a version
 built from MicroPython's own source says where to get it when none is named."""
 
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -266,8 +267,9 @@ def test_each_version_runs_its_own_interpreter_and_junit_and_the_manifest_name_i
             print("MANIFEST", manifest["interpreter"]["micropython"], manifest["interpreter"]["version"])
         """
     )
-    junit = tmp_path / "junit.xml"
-    out = pytester.runpytest("-s", "--mpy-version", "1.25,1.28", f"--junitxml={junit}", "--hil-out", str(tmp_path))
+    junit, report = tmp_path / "junit.xml", tmp_path / "report.html"
+    where = ("--hil-out", str(tmp_path), "--hil-report", str(report))
+    out = pytester.runpytest("-s", "--mpy-version", "1.25,1.28", f"--junitxml={junit}", *where)
     assert out.ret == 0, out.outlines
     said = sorted(line[line.index("MANIFEST") :] for line in out.outlines if "MANIFEST" in line)
     assert len(said) == 2 and said[0].startswith("MANIFEST 1.25 MicroPython v1.25."), said
@@ -275,3 +277,44 @@ def test_each_version_runs_its_own_interpreter_and_junit_and_the_manifest_name_i
     text = junit.read_text()
     assert 'name="micropython" value="1.25: MicroPython v1.25.' in text, text
     assert 'name="micropython" value="1.28: MicroPython v1.28.' in text, text
+    assert 'name="test_rover[mpy1.25]"' in text and 'name="test_rover[mpy1.28]"' in text, text
+    html = report.read_text()
+    assert "MicroPython <code>1.25.0+ds-1, 1.28.0</code>" in html, f"expected both versions named in {report}"
+    assert "test_rover[mpy1.25]" in html and "test_rover[mpy1.28]" in html, f"expected each version's row in {report}"
+
+
+def test_the_ci_matrix_has_a_row_for_every_version_with_its_build_folder_and_tag():
+    """docs/ci.md's matrix over versions: a row per version the harness builds, each caching
+    the folder setup builds into and cloning the tag a version from MicroPython's source needs."""
+    text = (REPO / "docs" / "ci.md").read_text()
+    workflow = text[text.index("### A matrix over MicroPython versions") :]
+    rows = re.findall(r'- \{micropython: "([^"]+)", build: "([^"]+)"(?:, tag: "([^"]+)")?\}', workflow)
+    assert [r[0] for r in rows] == list(interpreter.RELEASES), f"expected a row per version: {rows}"
+    for version, build, tag in rows:
+        rel = interpreter.release(version)
+        assert (build, tag or None) == (rel.build, rel.tag), f"{version}: expected {rel.build}, {rel.tag}"
+    cache = Path("/ws/.cache/mpy-fil/micropython")
+    assert "path: .cache/mpy-fil/micropython/${{ matrix.build }}" in workflow, "expected the version's folder cached"
+    for version, build, _ in rows:
+        assert interpreter.default_path(cache, version).parent.parent == cache / build, version
+    assert "pytest --mpy-version ${{ matrix.micropython }}" in workflow
+    assert "mpy-fil setup --micropython ${{ matrix.micropython }}" in workflow
+
+
+def test_coverage_builds_the_settrace_variant_of_each_version_it_runs(pytester, monkeypatch, tmp_path):
+    """Before: ``--hil-coverage --mpy-version 1.28`` and ``mpy-fil run --coverage`` of a rig file
+    of 1.28 built the default version's variant, and the 1.28 rigs stopped for want of theirs."""
+    from host.coverage.session import prepare_run
+
+    built = []
+    monkeypatch.setattr(interpreter, "build_variant", lambda variant, version=None: built.append((variant, version)))
+    pytester.makepyfile(test_none="def test_nothing():\n    pass\n")
+    where = ("--hil-coverage-dir", str(tmp_path / "cov"))
+    out = pytester.runpytest("--collect-only", "-q", "--hil-coverage", "--mpy-version", "1.25,1.28", *where)
+    assert out.ret == 0 and built == [("settrace", "1.25"), ("settrace", "1.28")], (built, out.outlines)
+    built.clear()
+    monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+    assert prepare_run(tmp_path / "run", "1.28") == tmp_path / "run" / "coverage" / ".coverage"
+    monkeypatch.setenv(interpreter.VERSION_ENV, "1.26")  # (pytest --mpy-version over the rig file's)
+    prepare_run(tmp_path / "run", "1.28")
+    assert built == [("settrace", "1.28"), ("settrace", "1.26")], built
