@@ -3,6 +3,7 @@ and identity; a rig file's ``[interpreter] version`` and ``pytest --mpy-version`
 ``$MICROPYTHON`` stands for a version asked for only when it is of that version; a version
 built from MicroPython's own source says where to get it when none is named."""
 
+import json
 import re
 import shutil
 import subprocess
@@ -279,7 +280,7 @@ def test_each_version_runs_its_own_interpreter_and_junit_and_the_manifest_name_i
     assert 'name="micropython" value="1.28: MicroPython v1.28.' in text, text
     assert 'name="test_rover[mpy1.25]"' in text and 'name="test_rover[mpy1.28]"' in text, text
     html = report.read_text()
-    assert "MicroPython <code>1.25.0+ds-1, 1.28.0</code>" in html, f"expected both versions named in {report}"
+    assert "MicroPython <code>1.25.0, 1.28.0</code>" in html, f"expected both versions named in {report}"
     assert "test_rover[mpy1.25]" in html and "test_rover[mpy1.28]" in html, f"expected each version's row in {report}"
 
 
@@ -318,3 +319,37 @@ def test_coverage_builds_the_settrace_variant_of_each_version_it_runs(pytester, 
     monkeypatch.setenv(interpreter.VERSION_ENV, "1.26")  # (pytest --mpy-version over the rig file's)
     prepare_run(tmp_path / "run", "1.28")
     assert built == [("settrace", "1.28"), ("settrace", "1.26")], built
+
+
+def _settrace_built(version: str) -> bool:
+    try:
+        path = interpreter.find_variant("settrace", version)
+    except SetupError:
+        return False
+    return interpreter.version_problem(path, version) is None
+
+
+@pytest.mark.hil
+@pytest.mark.skipif(
+    not _settrace_built("1.28"),
+    reason="no settrace variant of MicroPython 1.28 here (python3 -m host.core.interpreter build settrace "
+    "--micropython 1.28)",
+)
+def test_a_rig_file_of_1_28_measures_its_coverage_on_1_28s_settrace_variant(make_rig, tmp_path):
+    from coverage import CoverageData
+
+    from host.tests.test_coverage import HIGH_LINE, IF_LINE, covbot
+
+    rig_file = covbot(tmp_path / "bot", "[[0.5, 0.7]]")
+    rig_file.write_text(rig_file.read_text() + '[interpreter]\nversion = "1.28"\n')
+    data_file = tmp_path / ".coverage.bot"
+    rig = make_rig(str(rig_file), coverage=data_file, record=True)
+    rig.run_for(1.0)
+    rig.stop()
+    ran = json.loads((rig.artefacts / "manifest.json").read_text())["interpreter"]
+    assert ran["micropython"] == "1.28" and ran["variant"] == "settrace", ran
+    assert ran["version"].startswith("MicroPython v1.28.0") and ran["path"].endswith("micropython-settrace"), ran
+    data = CoverageData(basename=str(data_file))
+    data.read()
+    main = str(rig_file.parent / "main.py")
+    assert (IF_LINE, HIGH_LINE) in data.arcs(main), f"expected the pressed branch covered: {data.arcs(main)}"
