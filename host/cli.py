@@ -487,7 +487,7 @@ def _run_one(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
-    coverage = _coverage_file(out) if args.coverage else None
+    coverage = _coverage_file(out, getattr(app, "mpy_version", None)) if args.coverage else None
     live = args.interactive or args.break_at is not None
     breaks = _break_at(args.break_at)
     recording = Recording(trace=True, record=True, artefacts=out, progress=None if live else show, coverage=coverage)
@@ -620,10 +620,10 @@ def _serve_interactive(live, end_us: int, break_us, break_console) -> None:
     Interactive(live, end_us, say, ask, break_us, break_console).run()
 
 
-def _coverage_file(out: Path) -> Path:
+def _coverage_file(out: Path, version: str | None) -> Path:
     from host.coverage.session import prepare_run
 
-    return prepare_run(out)
+    return prepare_run(out, version)
 
 
 def _show_console(text: str, out: Path) -> None:
@@ -1020,6 +1020,13 @@ def cmd_setup(args) -> int:
     version = getattr(args, "micropython", None)
     path = interpreter.setup(log=say, version=version, source=getattr(args, "source", None))
     print(f"micropython: {interpreter.version(path)} ({path})")
+    rel = interpreter.release(version)
+    if path == interpreter.default_path(None, rel.version):
+        if path.parent.name == interpreter.build_key(rel.version):  # (the per-user cache)
+            how = f"build key {path.parent.name}: its make options, patches, frozen manifest and C modules"
+            say(f"MicroPython {rel.version} is in {path.parent} ({how}); other versions and builds stay beside it")
+        else:
+            say(f"MicroPython {rel.version} is in {path.parent} (this checkout's build); other versions stay beside it")
     print("next: pytest beside your rig file (docs/ci.md)")
     return 0
 

@@ -10,8 +10,11 @@ nothing when that binary exists. Standard library only: it runs before the venv.
 
 Where the build goes (:func:`build_root`): in a checkout of the repository, its own
 ``build/micropython`` (``make setup``); installed as a package, the per-user cache
-(``$XDG_CACHE_HOME/mpy-fil/micropython/<version>/``, ``~/.cache`` when unset), shared by
-every project and virtual environment of that user, never inside ``site-packages``.
+(``$XDG_CACHE_HOME/mpy-fil/micropython/<version>/<key>/``, ``~/.cache`` when unset), shared
+by every project and virtual environment of that user, never inside ``site-packages``. In the
+cache a version's binaries are keyed by their build (:func:`build_key`: the make options,
+patches, frozen manifest and C modules), so two releases of the harness, or two checkouts
+whose builds differ, never overwrite each other's binary.
 ``mpy-fil setup`` (:func:`setup`) takes ``$MICROPYTHON``, else one already built, else a
 ``micropython`` on ``PATH`` of the pinned version, else builds it.
 
@@ -167,6 +170,15 @@ def identity(variant: str = "standard", version: str | None = None) -> str:
     return h.hexdigest()[:16]
 
 
+def build_key(version: str | None = None) -> str:
+    """What the per-user cache keys a version's binaries by (``<version>/<key>/``): the
+    identities of all its variants (:func:`identity`: the version's source, make options,
+    patches, frozen manifest and user C modules)."""
+    rel = release(version)
+    whole = "\0".join(identity(v, rel.version) for v in VARIANT_OPTIONS)
+    return hashlib.sha256(whole.encode()).hexdigest()[:16]
+
+
 def _identity_file(target: Path) -> Path:
     return target.with_name(target.name + ".identity")
 
@@ -177,9 +189,8 @@ def _in_checkout(target: Path) -> bool:
 
 def current(target: Path, variant: str, version: str | None = None) -> bool:
     """The binary at ``target`` is there and, in a checkout's build/ (where the patches and
-    the C modules change under it), of this build's identity. (The per-user cache of an
-    installed release holds that release's build: docs/ci.md caches its binary alone,
-    keyed on the release.)"""
+    the C modules change under it), of this build's identity. (In the per-user cache the
+    folder's name is the build's key, :func:`build_key`: a binary there is this build's.)"""
     if not target.is_file():
         return False
     if not _in_checkout(target):
@@ -244,9 +255,15 @@ def made_root(root: Path) -> Path:
 
 
 def default_path(root: Path | None = None, version: str | None = None) -> Path:
-    """The built binary: ``<root>/<build>/micropython`` (``1.25.0+ds-1``, ``1.28.0``: the
-    version's :attr:`Release.build`)."""
-    return (root or build_root()) / release(version).build / "micropython"
+    """The built binary: ``<root>/<build>/micropython`` in a checkout's own build folder
+    (``1.25.0+ds-1``, ``1.28.0``: the version's :attr:`Release.build`; rebuilt there when its
+    identity changes), ``<root>/<build>/<key>/micropython`` in any other (the per-user cache:
+    one folder per :func:`build_key`, each build beside the others)."""
+    root = Path(root or build_root())
+    folder = root / release(version).build
+    if not (paths.CHECKOUT and root == build_root(checkout=True)):
+        folder = folder / build_key(version)
+    return folder / "micropython"
 
 
 def variant_path(variant: str, root: Path | None = None, version: str | None = None) -> Path:
@@ -335,7 +352,7 @@ def find(version: str | None = None) -> Path:
     override = _override("MICROPYTHON", version)
     if override:
         return override
-    for path in dict.fromkeys((default_path(None, version), default_path(build_root(checkout=False), version))):
+    for path in _built("standard", version):
         if _executable(path):
             return path
     found = on_path(version)
@@ -345,6 +362,14 @@ def find(version: str | None = None) -> Path:
         f"no MicroPython {release(version).version} interpreter (looked at $MICROPYTHON, "
         f"{default_path(None, version)}, PATH): {setup_hint(version)}"
     )
+
+
+def _built(variant: str, version: str | None):
+    """Where a variant's binary may be: the build folder's, then the per-user cache's (of
+    this build's key: another build's binary is never taken)."""
+    yield variant_path(variant, None, version)
+    if paths.CHECKOUT:
+        yield variant_path(variant, build_root(checkout=False), version)
 
 
 def version(path: Path | None = None) -> str:
@@ -572,13 +597,12 @@ def find_variant(variant: str, version: str | None = None) -> Path:
     override = _override(f"MICROPYTHON_{variant.upper()}", version)
     if override:
         return override
-    paths_ = (variant_path(variant, None, version), variant_path(variant, build_root(checkout=False), version))
-    for path in dict.fromkeys(paths_):
+    for path in _built(variant, version):
         if _executable(path):
             return path
     asked = f" --micropython {release(version).version}" if selected(version) else ""
     raise SetupError(
-        f"no {variant} interpreter (looked at $MICROPYTHON_{variant.upper()}, {paths_[0]}): "
+        f"no {variant} interpreter (looked at $MICROPYTHON_{variant.upper()}, {variant_path(variant, None, version)}): "
         f"run `python3 -m host.core.interpreter build {variant}{asked}` (or ask for coverage: make hil COVERAGE=1)"
     )
 
@@ -595,8 +619,7 @@ def build_variant(
     rel = release(version)
     root = made_root(root or build_root())
     target = variant_path(variant, root, rel.version)
-    lock_name = f".{variant}.lock" if rel.version == DEFAULT_VERSION else f".{variant}-{rel.build}.lock"
-    with safefs.open_write(root / lock_name, "w") as lock:
+    with safefs.open_write(root / _lock_name(rel), "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
         if current(target, variant, rel.version):
             return target
@@ -605,6 +628,12 @@ def build_variant(
         tree = fetch_source(root, rel.version, source)
         _compile(tree, root / f"build-{variant}-{rel.build}.log", variant, target, rel.version)
     return target
+
+
+def _lock_name(rel: Release) -> str:
+    """One lock per version in a build folder, for every variant and build key: they share
+    the version's source tree, which each build patches as its own."""
+    return f".build-{rel.build}.lock"
 
 
 def _compile(tree: Path, log: Path, variant: str, target: Path, version: str | None = None) -> None:
@@ -643,8 +672,7 @@ def build(root: Path | None = None, version: str | None = None, source: str | No
     if current(target, "standard", rel.version):
         _log(f"up to date: {target}")
         return target
-    lock_name = ".standard.lock" if rel.version == DEFAULT_VERSION else f".standard-{rel.build}.lock"
-    with safefs.open_write(root / lock_name, "w") as lock:
+    with safefs.open_write(root / _lock_name(rel), "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # (two setups of one version: one compiles, in one tree)
         if current(target, "standard", rel.version):
             _log(f"up to date: {target}")

@@ -7,6 +7,7 @@ context) and the merged ``.coverage`` sit in one folder, so ``coverage report`` 
 files); ``html/index.html`` shows the tests that ran each line (its contexts).
 """
 
+import os
 from pathlib import Path
 
 import coverage
@@ -62,12 +63,13 @@ def report(data_file: Path, html_dir: Path | None = None) -> float:
         raise CoverageError(f"cannot report the firmware's coverage of {data_file}: {e}") from e
 
 
-def prepare_run(trace_folder: Path) -> Path:
-    """``mpy-fil run --coverage``: the settrace variant built if missing; the run's data file
-    (``<trace folder>/coverage/.coverage``, an earlier one removed)."""
+def prepare_run(trace_folder: Path, version: str | None = None) -> Path:
+    """``mpy-fil run --coverage``: the settrace variant of the run's MicroPython ``version``
+    (its rig file's ``[interpreter] version``; None: the selected one) built if missing; the
+    run's data file (``<trace folder>/coverage/.coverage``, an earlier one removed)."""
     from host.core import interpreter
 
-    interpreter.build_variant("settrace")
+    interpreter.build_variant("settrace", version=os.environ.get(interpreter.VERSION_ENV) or version)
     data_file = safefs.drop_links(safefs.make_folder(Path(trace_folder) / "coverage")) / MERGED
     data_file.unlink(missing_ok=True)
     return data_file

@@ -47,7 +47,7 @@ RAW_BANNER = b"raw REPL; CTRL-B to exit\r\n"
 
 def asyncio_source() -> Path:
     """asyncio's own package, from the MicroPython source the harness was built from."""
-    src = interpreter.default_path().parent.parent / "src"
+    src = interpreter.build_root() / "src"  # (the default version's source: interpreter._src_root)
     for tree in sorted(src.glob("micropython-*")):
         folder = tree / "extmod" / "asyncio"
         if (folder / "task.py").is_file():

@@ -2,7 +2,8 @@
 its coverage (docs/coverage.md).
 
 Before any test runs (in the controller under pytest-xdist) the variant is built if it is
-not there and the coverage folder's earlier data removed. Each rig writes
+not there (each ``--mpy-version`` version's: coverage per version, docs/versions.md) and the
+coverage folder's earlier data removed. Each rig writes
 ``.coverage.<test>.rig<n>`` there (the test's node id as its coverage context, so the HTML
 shows which tests ran each line); at the end of the
 session they are merged into ``.coverage``, the HTML written to ``html/`` and linked from
@@ -19,6 +20,7 @@ from host.core import interpreter
 from host.core.errors import HarnessError
 from host.core.paths import REPO
 from host.coverage import collector, session
+from host.pytest_plugin import mpy_versions
 from host.pytest_plugin.session_report import is_worker
 
 PLUGIN_NAME = "hil-coverage"
@@ -51,7 +53,8 @@ def configure(config) -> None:
         return
     if not is_worker(config):
         try:
-            interpreter.build_variant("settrace")
+            for version in mpy_versions.versions(config) or [None]:  # (--mpy-version: each one's)
+                interpreter.build_variant("settrace", version=version)
         except HarnessError as e:
             raise pytest.UsageError(f"--hil-coverage: {e}") from None
         session.clear(folder(config))

@@ -60,3 +60,16 @@ def test_an_error_in_the_loop_where_the_plain_port_passes_is_a_failure_too():
 def test_every_known_difference_gives_its_reason():
     for name, reason in known().items():
         assert len(reason) > 40, f"{name}: a reason that says why, on a board too"
+
+
+def test_a_known_row_with_versions_holds_for_those_versions_only():
+    """Each version's run checks against its own rows (docs/versions.md): a row with
+    ``versions`` is that version's; a row without, every version's."""
+    every = {"extmod/select_poll_eintr.py", "extmod_hardware/machine_uart_irq_break.py"}
+    for version in ("1.25", "1.26", "1.27", "1.28"):
+        assert every <= set(known(version)), f"{version}: expected the rows of every version"
+    assert {"extmod/machine_timer.py", "extmod/select_poll_basic.py"}.isdisjoint(known("1.25")), known("1.25")
+    assert "extmod/machine_timer.py" not in known("1.26"), "1.26 has no hard Timers: its own test skips"
+    assert {"extmod/machine_timer.py", "extmod/select_poll_basic.py"} <= set(known("1.28")), known("1.28")
+    spi = "extmod/machine_spi_rate.py"  # (1.28's takes its SPIs from the bench's target_wiring)
+    assert spi in known("1.27") and spi not in known("1.28"), "expected the SPI rate row up to 1.27"

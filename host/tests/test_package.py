@@ -217,8 +217,8 @@ def test_the_ci_recipe_caches_the_interpreters_folder_alone_keyed_on_this_releas
     assert cache["path"] == [f".cache/mpy-fil/micropython/{interpreter.DEBIAN_VERSION}"], cache
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("XDG_CACHE_HOME", "/ws/.cache")
-        folder = interpreter.default_path(interpreter.build_root(checkout=False)).parent
-    assert folder == Path("/ws") / cache["path"][0], "expected the folder mpy-fil setup looks in"
+        folder = interpreter.default_path(interpreter.build_root(checkout=False)).parent.parent
+    assert folder == Path("/ws") / cache["path"][0], "expected the version's folder, where mpy-fil setup looks"
     assert VERSION in cache["key"][0] and interpreter.DEBIAN_VERSION in cache["key"][0], cache["key"]
 
 
@@ -239,16 +239,18 @@ def test_the_ci_recipe_runs_as_printed_and_uploads_every_rigs_folder_when_the_ro
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("XDG_CACHE_HOME", str(cache))
         looked_at = interpreter.default_path(interpreter.build_root(checkout=False))
-    assert cached / "micropython" == looked_at, "expected the cached folder to be the interpreter's (else setup builds)"
-    cached.mkdir(parents=True)
-    shutil.copy2(micropython, cached / "micropython")
+    key = interpreter.build_key()  # (this release's build, beside any other's in the version's folder)
+    assert cached / key / "micropython" == looked_at, "expected the interpreter in the cached folder (else it builds)"
+    looked_at.parent.mkdir(parents=True)
+    shutil.copy2(micropython, looked_at)
     for command in ours:
         done = scratch.sh(command, cwd=repo, timeout_s=600, XDG_CACHE_HOME=str(cache))
         assert done.returncode == 0, f"{command}: {done.stdout[-3000:]}{done.stderr[-2000:]}"
         if command == "mpy-fil setup":
-            assert f"up to date: {cached / 'micropython'}" in done.stdout, done.stdout
+            assert f"up to date: {looked_at}" in done.stdout, done.stdout
     assert re.search(r"\b4 passed\b", done.stdout), done.stdout[-2000:]
-    assert sorted(p.name for p in cached.iterdir()) == ["micropython"], "nothing else in the cached folder"
+    inside_cache = sorted(p.relative_to(cached).as_posix() for p in cached.rglob("*"))
+    assert inside_cache == [key, f"{key}/micropython"], f"expected nothing else in the cached folder: {inside_cache}"
 
     uploaded = [repo / p.rstrip("/") for p in ci_step("actions/upload-artifact@v4")["path"]]
     junit_file = repo / "build" / "junit.xml"
@@ -272,7 +274,8 @@ def test_setup_builds_into_the_per_user_cache_and_a_checkout_into_its_build(monk
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     cache = interpreter.build_root(checkout=False)
     assert cache == tmp_path / "xdg" / "mpy-fil" / "micropython"
-    assert interpreter.default_path(cache) == cache / "1.25.0+ds-1" / "micropython", "versioned"
+    key = interpreter.build_key()
+    assert interpreter.default_path(cache) == cache / "1.25.0+ds-1" / key / "micropython", "versioned, keyed by build"
     assert interpreter.build_root(checkout=True) == REPO / "build" / "micropython"
     monkeypatch.delenv("XDG_CACHE_HOME")
     monkeypatch.setenv("HOME", str(tmp_path / "home"))
