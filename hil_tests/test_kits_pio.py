@@ -54,7 +54,7 @@ def test_3pi_pio_bump_sensors_read_pressed_and_released(capsys, make_rig, tmp_pa
     shutil.copy(FIRMWARE / "pololu_3pi_pio" / "ir_sensors.py", folder)
     rig_file = folder / "rig.toml"
     text = rig_file.read_text().replace('name = "button_b"\n', 'name = "button_b"\npresses = [[0.2, 0.3]]\n')
-    rig_file.write_text(text.replace("start_pose = [0.5, 1.0, 0.0]", "start_pose = [2.6, 1.0, -0.17]"))
+    rig_file.write_text(text.replace("start_pose = [0.5, 1.0, 0.0]", "start_pose = [2.88, 1.0, -0.17]"))
     rig = make_rig(str(rig_file), allow_exit=True)
     where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     low, high = rig.expect(r"thresholds \[(\d+), \d+\] \[(\d+), \d+\]").groups()
