@@ -102,9 +102,8 @@ def test_a_script_serves_a_chip_in_lockstep_and_sees_each_transfers_virtual_inst
 def test_a_program_that_answers_out_of_protocol_stops_the_run_naming_it(tmp_path):
     rig_file = project(tmp_path, "#!/bin/sh\nwhile read line; do echo 'not json'; done\n")
     with LiveRig.start(rig_file) as rig:
-        with pytest.raises(
-            ExternalError, match=r"chip \(i2c0 at 0x42\): expected one JSON object a line from .*chip.py"
-        ):
+        said = r"rig.toml: \[\[plant.parts\]\] #1 \(chip\): expected one JSON object a line from .*chip.py"
+        with pytest.raises(ExternalError, match=said):
             rig.run_until(t_s=0.1)
 
 
