@@ -108,7 +108,9 @@ def test_a_program_that_answers_out_of_protocol_stops_the_run_naming_it(tmp_path
 
 
 def test_a_program_that_does_not_answer_stops_the_run_after_its_timeout(tmp_path):
-    rig_file = project(tmp_path, "#!/bin/sh\nexec sleep 30\n")
+    rig_file = project(tmp_path, "#!/bin/sh\necho $$ > pid\nexec sleep 30\n")
     with LiveRig.start(rig_file) as rig:
         with pytest.raises(ExternalError, match=r"gave no answer to .* within 1 wall s"):
             rig.run_until(t_s=0.1)
+    pid = int((tmp_path / "pid").read_text())
+    assert not Path(f"/proc/{pid}").exists(), f"expected the program (pid {pid}) killed as the rig stopped"

@@ -247,3 +247,161 @@ def test_a_plan_out_of_protocol_stops_the_run_saying_what_was_expected(tmp_path,
             ExternalError, match=rf"^{re.escape(str(rig_file))}: \[\[plant.parts\]\] #1 \(dev\): {said}"
         ):
             rig.run_until(t_s=0.2)
+
+
+CLOCK_RIG = """
+name = "external_clock"
+
+[board]
+family = "esp32"
+
+[board.pins]
+CLK = 4
+LED = 5
+
+[plant]
+body = "bench"
+
+[[plant.parts]]
+kind = "external"
+name = "dev"
+command = "clock.py"
+pins_in = ["led"]
+pins_out = [["clk", 0]]
+
+[wiring]
+CLK = "dev.clk"
+LED = "dev.led"
+"""
+CLOCK_MAIN = """
+import time
+
+from machine import Pin
+
+T0 = time.ticks_us()
+
+
+def now():
+    return time.ticks_diff(time.ticks_us(), T0)
+
+
+edges, outs = [], []
+clk = Pin(4, Pin.IN)
+clk.irq(lambda p: edges.append((now(), p.value())), Pin.IRQ_RISING | Pin.IRQ_FALLING)
+led = Pin(5, Pin.OUT, value=0)
+for i in range(1, 31):
+    outs.append(now())
+    led.value(i % 2)
+    time.sleep_us(3700)
+while True:
+    time.sleep_ms(100)
+"""
+CLOCK = """#!{python}
+# A clock with no end: high 2.5 ms, low 2.5 ms; its plan one period at a time (until_us).
+import json
+import sys
+
+with open("seen.log", "w") as seen:
+    for text in sys.stdin:
+        msg = json.loads(text)
+        seen.write(text)
+        answer = {{}}
+        if msg["op"] in ("reset", "more"):
+            t_us = msg["t_us"]
+            answer = {{"pins": [[t_us + 2500, "clk", 1], [t_us + 5000, "clk", 0]], "until_us": t_us + 5000}}
+        print(json.dumps(answer), flush=True)
+"""
+
+
+def test_an_endless_plan_is_asked_for_more_once_an_instant_and_played_exactly_across_rewinds(tmp_path):
+    (tmp_path / "rig.toml").write_text(CLOCK_RIG)
+    (tmp_path / "main.py").write_text(textwrap.dedent(CLOCK_MAIN))
+    script = tmp_path / "clock.py"
+    script.write_text(CLOCK.format(python=sys.executable))
+    script.chmod(0o755)
+    with LiveRig.start(tmp_path / "rig.toml", artefacts=tmp_path / "trace") as rig:
+        rig.run_until(t_us=150_000)
+        edges, outs = rig.eval("edges"), rig.eval("outs")
+    handles, records = trace_of(tmp_path / "trace")
+    led = [r["t"] for r in records if r.get("msg") == "OUT" and r["handle"] == handles["dev.led"]][1:]
+    offset = led[0] - outs[0]
+    assert [t - o for t, o in zip(led, outs)] == [offset] * 30, (led, outs)
+    assert rig.rig.stats.rollbacks > 0, "expected the LED's writes to rewind the plant's lookahead"
+    # every edge the firmware saw, at its instant: the plan played exactly, whatever the rewinds
+    expected = [(2500 * k, k % 2) for k in range(1, 45)]
+    # the firmware's IRQ saw each edge, in order, never before its instant (a few late: the
+    # shim's, test_an_edge_inside_a_state_fires_its_irq_at_its_instant below)
+    assert [level for _, level in edges] == [level for _, level in expected], edges
+    assert all(t + offset >= t_edge for (t, _), (t_edge, _) in zip(edges, expected)), edges
+    assert changes_of(records, handles["dev.clk"])[: len(expected)] == expected
+    # more asked at each period's end; asked again only after news from an earlier instant (a
+    # LED's edge the lookahead had passed: the plan from there was the program's to give again)
+    seen = [json.loads(line) for line in (tmp_path / "seen.log").read_text().splitlines()]
+    mores = [m["t_us"] for m in seen if m["op"] == "more"]
+    assert sorted(set(mores))[:29] == [5000 * k for k in range(1, 30)], mores
+    last = -1
+    for m in seen[1:]:
+        if m["op"] == "more":
+            assert m["t_us"] > last, f"expected no more asked twice without news between, got {mores}"
+        last = m["t_us"] if m["op"] == "more" else -1
+    assert len(mores) > len(set(mores)), "expected the rewinds to ask some more again after news"
+
+
+BUTTON_RIG = """
+name = "button_edge"
+
+[board]
+family = "esp32"
+
+[board.pins]
+BUTTON = 4
+LED = 5
+
+[plant]
+body = "bench"
+
+[[plant.parts]]
+kind = "button"
+name = "b"
+presses = [[0.061020, 0.5]]
+
+[[plant.parts]]
+kind = "probe"
+name = "led"
+
+[wiring]
+BUTTON = "b.out"
+LED = "led.in"
+"""
+BUTTON_MAIN = """
+import time
+
+from machine import Pin
+
+T0 = time.ticks_us()
+presses = []
+button = Pin(4, Pin.IN, Pin.PULL_UP)
+button.irq(lambda p: presses.append(time.ticks_diff(time.ticks_us(), T0)), Pin.IRQ_FALLING)
+led = Pin(5, Pin.OUT, value=0)
+for i in range(3):
+    time.sleep_ms(20)
+    led.value(1)
+    time.sleep_us(10)
+    led.value(0)
+time.sleep_us(999)
+while True:
+    time.sleep_ms(100)
+"""
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="found with the external part, not of it: the catalogue's own button part's press at 61,020 us, sent "
+    "in the STATE that wakes a sleep at 61,029 us, fires the IRQ at 61,029 (host/shim/_hil.py, left alone here)",
+)
+def test_an_edge_inside_a_state_fires_its_irq_at_its_instant(tmp_path):
+    (tmp_path / "rig.toml").write_text(BUTTON_RIG)
+    (tmp_path / "main.py").write_text(textwrap.dedent(BUTTON_MAIN))
+    with LiveRig.start(tmp_path / "rig.toml") as rig:
+        rig.run_until(t_us=200_000)
+        assert rig.eval("presses") == [61_020], rig.eval("presses")

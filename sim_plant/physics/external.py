@@ -12,9 +12,10 @@ it (``pins``), the bytes the firmware writes, each stamped with the instant its 
 request's. The plant plays the plan at those instants, exactly, and its next change (the
 firmware's horizon, the plant's lookahead) is the plan's next instant. A plan with no end (a
 clock, a sentence every second) gives ``until_us``: at that instant the rig asks ``more``. A
-``more`` is a question, not news: the rig may ask it while it looks ahead of the firmware and
-forget the answer (a rewind, ``docs/clock.md``), so the program's answers must not depend on
-having been asked; a ``more`` asked again is answered from the answer kept.
+``more`` is a question, not news: the rig asks it as it looks ahead of the firmware and may
+forget the answer (a rewind, ``docs/clock.md``), then tell news from an earlier instant and
+ask again; so the program answers ``more`` from what it was told, never from having been
+asked. The same ``more`` with no news between is answered from the answer kept.
 
 State (the plan, the levels, the line) is plain data the plant's snapshot copies; the
 program (``_SERVERS[key]``) stays out of it: it is never asked to take anything back, since
@@ -61,13 +62,14 @@ class Program:
         return self.reset_answer
 
     def ask(self, request: dict) -> dict:
-        """A request of news (never taken back): its answer. The ``more`` kept are forgotten."""
+        """News (never taken back): its answer. The ``more`` answers kept are forgotten (the plan may change)."""
         self.begin()
         self.asked.clear()
         return self._ask(request)
 
     def more(self, t_us: int) -> dict:
-        """The plan past ``t_us`` (a question: asked once, however often the rig passes there)."""
+        """The plan past ``t_us`` (a question: asked once, however often the rig passes there
+        with no news between)."""
         self.begin()
         answer = self.asked.get(t_us)
         if answer is None:
