@@ -6,6 +6,7 @@ naming the part and the rig file; no program outlives its rig."""
 
 import json
 import re
+import subprocess
 import sys
 import textwrap
 from pathlib import Path
@@ -405,3 +406,12 @@ def test_an_edge_inside_a_state_fires_its_irq_at_its_instant(tmp_path):
     with LiveRig.start(tmp_path / "rig.toml") as rig:
         rig.run_until(t_us=200_000)
         assert rig.eval("presses") == [61_020], rig.eval("presses")
+
+
+def test_checking_the_rig_file_never_starts_the_program(tmp_path):
+    rig_file = project(tmp_path)
+    result = subprocess.run([sys.executable, "-m", "host.cli", "check", str(rig_file)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "dev.echo (level), dev.button (level), dev.uart (bytes)" in result.stdout, result.stdout
+    started = sorted(p.name for p in tmp_path.iterdir() if p.name in ("pid", "seen.log"))
+    assert started == [], f"expected mpy-fil check to start no program, found {started} in {tmp_path}"
