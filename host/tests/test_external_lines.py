@@ -5,6 +5,7 @@ run twice gives the same trace; a program that dies or answers out of protocol s
 naming the part and the rig file; no program outlives its rig."""
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -415,3 +416,20 @@ def test_checking_the_rig_file_never_starts_the_program(tmp_path):
     assert "dev.echo (level), dev.button (level), dev.uart (bytes)" in result.stdout, result.stdout
     started = sorted(p.name for p in tmp_path.iterdir() if p.name in ("pid", "seen.log"))
     assert started == [], f"expected mpy-fil check to start no program, found {started} in {tmp_path}"
+
+
+def test_no_program_of_these_tests_outlives_its_rig(tmp_path_factory):
+    """(last in this file) No child of this process still runs a script of these tests."""
+    scripts = ("dev.py", "clock.py", "chip.py")
+    left = []
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            ppid = int((proc / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            cmdline = (proc / "cmdline").read_bytes().decode(errors="replace")
+        except (OSError, ValueError, IndexError):
+            continue
+        if ppid == os.getpid() and any(s in cmdline for s in scripts) and alive(int(proc.name)):
+            left.append(f"{proc.name}: {cmdline}")
+    assert left == [], f"expected no program left after its rig stopped, found {left}"
