@@ -297,7 +297,7 @@ class ExternalLines(Part):
         given: dict = {}
         seen = set()
         for change in changes:
-            if not (isinstance(change, list) and len(change) == 3 and change[2] in (0, 1)):
+            if not (isinstance(change, list) and len(change) == 3 and isinstance(change[1], str) and _bit(change[2])):
                 raise self.program.error(f"expected [t_us, pin, 0 or 1] in pins, got {change!r}", request)
             t, pin, level = change
             if pin not in self.levels_out:
@@ -335,6 +335,10 @@ class ExternalLines(Part):
                 self.sends.append((send[0], self.seq, data))
         head = self.sends[:1] if self.sent else []  # (a send under way stays first)
         self.sends = head + sorted(self.sends[len(head) :])
+
+
+def _bit(value) -> bool:
+    return value in (0, 1) and not isinstance(value, bool)
 
 
 def _whole(value) -> bool:
