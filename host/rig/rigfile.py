@@ -446,7 +446,7 @@ def _parts_builder(where: _Where, table: dict):
     field); the table itself is checked here (a ConfigError naming the file)."""
 
     def build(**opts):
-        return assemble({**table, **opts}, base=where.path.parent)
+        return assemble({**table, **opts}, base=where.path.parent, rig_file=where.path)
 
     try:
         build()

@@ -102,14 +102,15 @@ def test_a_script_serves_a_chip_in_lockstep_and_sees_each_transfers_virtual_inst
 def test_a_program_that_answers_out_of_protocol_stops_the_run_naming_it(tmp_path):
     rig_file = project(tmp_path, "#!/bin/sh\nwhile read line; do echo 'not json'; done\n")
     with LiveRig.start(rig_file) as rig:
-        with pytest.raises(
-            ExternalError, match=r"chip \(i2c0 at 0x42\): expected one JSON object a line from .*chip.py"
-        ):
+        said = r"rig.toml: \[\[plant.parts\]\] #1 \(chip\): expected one JSON object a line from .*chip.py"
+        with pytest.raises(ExternalError, match=said):
             rig.run_until(t_s=0.1)
 
 
 def test_a_program_that_does_not_answer_stops_the_run_after_its_timeout(tmp_path):
-    rig_file = project(tmp_path, "#!/bin/sh\nexec sleep 30\n")
+    rig_file = project(tmp_path, "#!/bin/sh\necho $$ > pid\nexec sleep 30\n")
     with LiveRig.start(rig_file) as rig:
         with pytest.raises(ExternalError, match=r"gave no answer to .* within 1 wall s"):
             rig.run_until(t_s=0.1)
+    pid = int((tmp_path / "pid").read_text())
+    assert not Path(f"/proc/{pid}").exists(), f"expected the program (pid {pid}) killed as the rig stopped"

@@ -289,12 +289,13 @@ class PartsPlant(RobotPlant):
         return {name: sig for part in self.catalogue_parts for name, sig in part.signals().items()}
 
 
-def assemble(table: dict, base=None) -> PartsPlant:
+def assemble(table: dict, base=None, rig_file=None) -> PartsPlant:
     """The plant a ``[plant]`` table with a ``body`` describes; :class:`PartsError` (a
     ValueError) naming the field of the first mistake. A key ``<part name>.<option>``
     (a world's, a test's or ``--param``'s) sets that option of the part of that name.
     ``catalogue``: a user's sources of parts, bodies and worlds (folders relative to
-    ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`)."""
+    ``base``, the rig file's folder, or module names: :func:`sim_plant.catalogue.add`).
+    ``rig_file``: the file the table is from, which a part's messages at run time name."""
     sources = _add_sources(table, base)
     table, entries = _with_part_options(table)
     table = _with_world_files(table, base)
@@ -308,6 +309,8 @@ def assemble(table: dict, base=None) -> PartsPlant:
         if part.needs_body and not body.moves:
             raise PartsError(f"{part.label} kind: a {part.kind} needs a body that moves, not a {body.kind}")
         names[part.name] = i
+        if rig_file is not None:
+            part.rig_file = str(rig_file)
         parts.append(part)
     _check_addresses(parts)
     return PartsPlant(body, parts, sources)

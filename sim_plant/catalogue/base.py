@@ -150,6 +150,7 @@ class PartType(Declared):
     zero_delay = False
     reads_empty = False
     on_bus = False
+    rig_file: str | None = None  # the rig file it was read from (set by assemble): a run's messages name it
 
     def __init__(self, name: str, mount: dict, options: dict):
         self.name = name
