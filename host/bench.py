@@ -335,7 +335,7 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
                 "sim_s": rig.t_us / 1e6,
                 "wall_s": wall,
                 "host_cpu_s": cpu,
-                "firmware_cpu_s": fw_cpu[0],
+                "firmware_cpu_s": fw_cpu,
                 "transfers": transfers[0],
                 "state_exchanges": rig.stats.link_round_trips,
                 "bus_exchanges": rig.stats.bus_round_trips,
