@@ -123,7 +123,7 @@ def test_realtime_mode_keeps_the_wall_clock_across_a_pause_between_run_calls(mak
     # (the pause is measured from where the plant stopped to the first wait served after it,
     # on a loaded machine a few ms either way; the bug took 0.5 s)
     assert wall >= 1.5 - 0.03, f"1.5 virtual s after a pause took only {wall:.3f} s of wall time"
-    assert rig.pacing.paused_us >= 1_000_000, f"expected the 1 s pause recorded, got {rig.pacing.paused_us} us"
+    assert rig.pacing.paused_us >= 1_000_000 - 30_000, f"expected the 1 s pause recorded, got {rig.pacing.paused_us} us"
     period = rig.budgets["control.period"].stats()
     assert period["count"] >= 25 and period["max"] < 1_000_000, f"the firmware's clock counted the pause: {period}"
 
