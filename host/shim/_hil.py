@@ -1024,16 +1024,21 @@ def room():
     return n < _Link.depth
 
 
-def schedule(callback, arg):
+def _queue(callback, arg):
     """py/scheduler.c, mp_sched_schedule: queue a soft callback; False, and nothing
-    queued, when the queue is full. A port's Timer and IRQ handlers ignore that result
-    (ports/rp2/machine_timer.c alarm_callback, ports/esp32/machine_timer.c
-    machine_timer_isr, shared/runtime/mpirq.c mp_irq_handler): the call is lost."""
+    queued, when the queue is full."""
     if len(_pending) < _Link.depth or _is_hard(arg) or room():
         _pending.append((callback, arg))
         return True
-    _lost(callback)
     return False
+
+
+def schedule(callback, arg):
+    """A Timer's or an IRQ's call queued (_queue). A port's Timer and IRQ handlers ignore
+    a full queue (ports/rp2/machine_timer.c alarm_callback, ports/esp32/machine_timer.c
+    machine_timer_isr, shared/runtime/mpirq.c mp_irq_handler): the call is lost (_lost)."""
+    if not _queue(callback, arg):
+        _lost(callback)
 
 
 def _lost(callback):
@@ -1053,9 +1058,8 @@ def mp_schedule(function, arg):
     when the queue is full. Called from the main program, the callback runs at the next
     branch (_leftovers); from a callback or a hard IRQ's handler, once the
     running callbacks are done (the scheduler is locked meanwhile, as on the port)."""
-    if not (len(_pending) < _Link.depth or room()):  # (the firmware hears of it: not lost unsaid)
+    if not _queue(function, arg):  # (the firmware hears of it: no lost call to say)
         raise RuntimeError("schedule queue full")
-    _pending.append((function, arg))
     if not _dispatching:
         _leftovers()
 
@@ -1064,14 +1068,17 @@ def dispatch(until, one=False, drain=False):
     """Run the pending callbacks in order, never re-entrantly, unless IRQs are off: every
     hard IRQ's handler, and the soft callbacks as the port's scheduler runs them, one a
     pending check (py/scheduler.c, mp_sched_run_pending: "Run at most one pending Python
-    callback", in 1.25 to 1.28). A check outside a wait (a clock or pin read: the main
-    program's next branch on a board, py/vm.c) runs one. A wait handles events again as
+    callback", in 1.25 to 1.28). A check outside a wait (`one`: the firmware's next
+    branch, py/vm.c, _at_branch) runs one. A wait handles events again as
     long as its time is not up (`until`, its end: the ports' mp_hal_delay_ms loops on
     mp_event_wait_ms), so there the next one runs, and so on, until the queue is empty or
-    a callback has taken the clock past the wait's end: the rest run one at each later
-    check, and a main program whose callbacks outlast their period crawls, as on a board.
-    Inside a callback or a C call (from Link.defer_from on) only hard IRQs' handlers run:
-    the soft ones wait for the callback or the call to return."""
+    a callback has taken the clock (or, with MCU time, the callbacks' compute) past the
+    wait's end: the rest run one at each later check, and a main program whose callbacks
+    outlast their period crawls, as on a board. A callback queued by a running one waits
+    for the next pass. `drain`: all of them, those queued meanwhile too (_leftovers, on an
+    interpreter that cannot see branches). Inside a callback or a C call (from
+    Link.defer_from on) only hard IRQs' handlers run: the soft ones wait for the callback
+    or the call to return."""
     global _dispatching
     if _irq_off:
         return
@@ -1108,7 +1115,7 @@ def dispatch(until, one=False, drain=False):
     finally:
         _dispatching = False
         link.until = wait_end  # (a callback's own wait set it)
-        if link.irq_end is not None:
+        if busy is not None:
             link.irq_end(_now)
     if pending and link.arm is not None:
         link.arm(_at_branch)

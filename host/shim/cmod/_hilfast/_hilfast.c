@@ -21,8 +21,8 @@
 // exempt(folder): the functions of modules whose source file starts with folder (the
 //   shim's: a board has it in C) are not counted, nor what they allocate or call (up to
 //   four folders: the shim's, as it was compiled before and after the sandbox).
-// cost(weights, base): set the cost model (base: the bytes in use at a collection that are
-//   not the firmware's, the harness's share of the heap), a bytes of 264 little-endian uint32 in picoseconds:
+// cost(weights, heap): set the cost model (heap: the board's heap, in this build's bytes,
+//   the firmware's collections are scheduled by and charged in), a bytes of 264 little-endian uint32 in picoseconds:
 //   one per opcode byte, then a call into C, an allocation, an allocated byte, a collection,
 //   a byte in use at a collection, a byte of heap at a collection, a wide int result, a bit of a big-int result.
 // owed_us(): the whole µs of MCU time the main program's work since the last call costs
@@ -85,7 +85,7 @@ static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
         mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
         if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
             mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
-            if (((mp_obj_list_t *)MP_OBJ_TO_PTR(pending))->len < queue_depth || is_hard(pin) || room(pending)) {
+            if (room(pending) || is_hard(pin)) {
                 mp_obj_t item[2] = {handler, pin};
                 mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
             } else {  // (a full queue: the call is lost, as _hil.schedule says)
