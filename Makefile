@@ -65,16 +65,16 @@ build/drivers/.fetched: host/core/drivers.txt host/core/drivers.py $(VENV)/.inst
 	@touch $@
 
 $(MP_BUILD): host/core/interpreter.py $(wildcard host/core/micropython/*.patch) host/core/micropython/manifest.py host/core/aptsources.py $(wildcard host/shim/cmod/*/*)
-	rm -f $(MP_BUILD)
 	$(PYTHON) -m host.core.interpreter build
+	@touch $(MP_BUILD)
 
 # (the default version's; another's is built on demand: mpy-fil setup --micropython VERSION,
 # host/core/micropython/<version>/ holds its patches: docs/versions.md)
 
 # the same build with line tracing, for firmware coverage (docs/coverage.md; about 35 s)
 $(MP_SETTRACE): $(MP_BUILD)
-	rm -f $(MP_SETTRACE)
 	$(PYTHON) -m host.core.interpreter build settrace
+	@touch $(MP_SETTRACE)
 
 # the wheel and sdist a user's repository installs (docs/ci.md)
 .PHONY: dist

@@ -23,7 +23,8 @@ source (:func:`patch_tree`): ``hilcount.patch`` makes the VM count what the firm
 (bytecodes by opcode, calls into C, allocations, collections) and keep a stack of the running
 bytecode functions, for MCU time (docs/mcu-time.md). The patches, the make options and the
 frozen manifest make a build's identity (:func:`identity`), written beside each binary of a
-checkout's build: a binary of another identity is rebuilt (:func:`current`).
+checkout's build: a binary of another identity is rebuilt (:func:`current`), but never
+under a running test session (:func:`_before_compile`: it names the inputs that changed).
 
 Versions (:data:`RELEASES`, docs/versions.md): 1.25 (the default, Debian 13 "trixie"'s
 source package), 1.26 (Debian's next release's source package, suite "forky"), 1.27 and 1.28
@@ -49,6 +50,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -154,20 +156,49 @@ def patches_text(version: str | None = None) -> str:
     return "".join(p.read_text() for p in patches(version))
 
 
-def identity(variant: str = "standard", version: str | None = None) -> str:
-    """What a build is made of: a hash of its source's version, make options, the patches,
-    the frozen manifest and the user C modules' files. Written beside the binary
-    (``<binary>.identity``)."""
+def _inputs(variant: str, version: str | None) -> list[tuple[str, bytes]]:
+    """What a build is made of, each input named: its source's version and make options, the
+    patches, the frozen manifest and each file of the user C modules."""
     rel = release(version)
-    h = hashlib.sha256()
-    h.update(rel.build.encode() + b"\0" + "\0".join(make_options(variant, rel.version)).encode() + b"\0")
-    h.update(patches_text(rel.version).encode())
-    h.update((HERE / "manifest.py").read_bytes())
+    made = [("options", rel.build.encode() + b"\0" + "\0".join(make_options(variant, rel.version)).encode() + b"\0")]
+    made += [("patches", patches_text(rel.version).encode()), ("manifest.py", (HERE / "manifest.py").read_bytes())]
     cmod = PROJECT_ROOT / "host" / "shim" / "cmod"
     for f in sorted(cmod.rglob("*")):
         if f.is_file():
-            h.update(str(f.relative_to(cmod)).encode() + b"\0" + f.read_bytes())
+            made.append((f"cmod/{f.relative_to(cmod)}", str(f.relative_to(cmod)).encode() + b"\0" + f.read_bytes()))
+    return made
+
+
+def identity(variant: str = "standard", version: str | None = None) -> str:
+    """What a build is made of: a hash of its source's version, make options, the patches,
+    the frozen manifest and the user C modules' files (:func:`_inputs`). Written beside the
+    binary (``<binary>.identity``, its first line; then each input's own hash, so that a
+    binary found out of date can say which input changed: :func:`changed_inputs`)."""
+    h = hashlib.sha256()
+    for _, data in _inputs(variant, version):
+        h.update(data)
     return h.hexdigest()[:16]
+
+
+def _identity_text(variant: str, version: str | None) -> str:
+    lines = [identity(variant, version)]
+    lines += [f"{hashlib.sha256(data).hexdigest()[:16]} {name}" for name, data in _inputs(variant, version)]
+    return "\n".join(lines) + "\n"
+
+
+def changed_inputs(target: Path, variant: str, version: str | None = None) -> list[str]:
+    """The inputs of the build at ``target`` (a checkout's) that differ from the tree's now:
+    named from its identity file, or why they cannot be ("no binary", "no identity file")."""
+    if not Path(target).is_file():
+        return ["no binary"]
+    marker = _identity_file(target)
+    if not marker.is_file():
+        return ["no identity file"]
+    recorded = dict(line.split(" ", 1)[::-1] for line in marker.read_text().splitlines()[1:] if " " in line)
+    now = {name: hashlib.sha256(data).hexdigest()[:16] for name, data in _inputs(variant, version)}
+    if not recorded:
+        return ["inputs not recorded (an identity file of an older harness)"]
+    return sorted(n for n in now.keys() | recorded.keys() if now.get(n) != recorded.get(n))
 
 
 def build_key(version: str | None = None) -> str:
@@ -196,7 +227,29 @@ def current(target: Path, variant: str, version: str | None = None) -> bool:
     if not _in_checkout(target):
         return True
     marker = _identity_file(target)
-    return marker.is_file() and marker.read_text().strip() == identity(variant, version)
+    return marker.is_file() and marker.read_text().partition("\n")[0].strip() == identity(variant, version)
+
+
+BUILD_LOG = "builds.log"
+"""In a build folder: a line for each compile (when, which binary, what changed, who asked)."""
+
+
+def _before_compile(root: Path, target: Path, variant: str, version: str | None) -> None:
+    """Say in the build folder's :data:`BUILD_LOG` who compiles ``target`` and why; refuse
+    to rebuild a checkout's binary that is there while a test session runs (``make test``
+    built it first; rebuilding it would take it from under the session's other workers,
+    which then find no interpreter): the error names the inputs that changed."""
+    why = ", ".join(changed_inputs(target, variant, version)) if _in_checkout(target) else "not built"
+    test = os.environ.get("PYTEST_CURRENT_TEST", "")
+    line = f"{time.strftime('%Y-%m-%dT%H:%M:%S')} pid {os.getpid()} {target.name}: {why}; {' '.join(sys.argv)}"
+    with safefs.open_write(root / BUILD_LOG, "a") as log:
+        log.write(line + (f"; test {test}" if test else "") + "\n")
+    if test and _in_checkout(target) and target.is_file():
+        raise SetupError(
+            f"{target} is out of date ({why} changed since it was built) and a test session is "
+            f"running on it: run `make setup` before the tests (a test does not rebuild it; "
+            f"its build log: {root / BUILD_LOG})"
+        )
 
 
 def patch_tree(tree: Path, version: str | None = None) -> None:
@@ -623,6 +676,7 @@ def build_variant(
         fcntl.flock(lock, fcntl.LOCK_EX)  # (pytest workers, two make targets: one compiles)
         if current(target, variant, rel.version):
             return target
+        _before_compile(root, target, variant, rel.version)
         ensure_tools()
         safefs.make_folder(target.parent, base=root)
         tree = fetch_source(root, rel.version, source)
@@ -654,7 +708,7 @@ def _compile(tree: Path, log: Path, variant: str, target: Path, version: str | N
     shutil.copy2(objects / "micropython", tmp)
     tmp.replace(target)
     if _in_checkout(target):
-        safefs.write_text(_identity_file(target), identity(variant, version) + "\n")
+        safefs.write_text(_identity_file(target), _identity_text(variant, version))
     _log(f"built {target}: {version_line(target)}")
 
 
@@ -677,6 +731,7 @@ def build(root: Path | None = None, version: str | None = None, source: str | No
         if current(target, "standard", rel.version):
             _log(f"up to date: {target}")
             return target
+        _before_compile(root, target, "standard", rel.version)
         ensure_tools()
         safefs.make_folder(target.parent, base=root)
         log = root / ("build.log" if rel.version == DEFAULT_VERSION else f"build-{rel.build}.log")

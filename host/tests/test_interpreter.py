@@ -1,5 +1,7 @@
 """Interpreter discovery: MICROPYTHON overrides the build, with a clear error if wrong."""
 
+from pathlib import Path
+
 import pytest
 
 from host.core import interpreter
@@ -121,3 +123,56 @@ for m in ("ffi", "socket", "_thread"):
     assert said[:3] == ["ffi out", "socket in", "_thread in"], (
         f"{built} (MAKE_OPTIONS {interpreter.MAKE_OPTIONS}): {said}"
     )
+
+
+def _stale_checkout_build(monkeypatch, tmp_path) -> tuple[Path, list]:
+    """A checkout's build folder under tmp_path with a binary whose identity file was written
+    before the patches changed; compiling recorded, never done."""
+    monkeypatch.setattr(interpreter.paths, "CHECKOUT", True)
+    monkeypatch.setattr(interpreter.paths, "BUILD", tmp_path / "build")
+    monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
+    target = interpreter.default_path()
+    target.parent.mkdir(parents=True)
+    target.write_text("#!/bin/sh\necho 'MicroPython v1.25.0'\n")
+    target.chmod(0o755)
+    interpreter._identity_file(target).write_text(interpreter._identity_text("standard", None))
+    ours = interpreter.patches_text
+    monkeypatch.setattr(interpreter, "patches_text", lambda version=None: ours(version) + "\n# changed\n")
+    compiled = []
+    monkeypatch.setattr(interpreter, "_compile", lambda *a, **k: compiled.append(a))
+    monkeypatch.setattr(interpreter, "ensure_tools", lambda: None)
+    monkeypatch.setattr(interpreter, "fetch_source", lambda *a, **k: tmp_path / "tree")
+    return target, compiled
+
+
+def test_a_stale_checkout_build_names_what_changed_and_is_not_rebuilt_under_running_tests(monkeypatch, tmp_path):
+    """A test session (make test) runs on the binary make setup built: a test that found it out
+    of date and rebuilt it took it from under the other workers, which found no interpreter."""
+    target, compiled = _stale_checkout_build(monkeypatch, tmp_path)
+    assert not interpreter.current(target, "standard")
+    assert interpreter.changed_inputs(target, "standard") == ["patches"]
+    with pytest.raises(SetupError, match=r"out of date \(patches changed since it was built\).*make setup") as e:
+        interpreter.build()
+    assert compiled == [], f"expected no compile under a test session, got {compiled}"
+    log = (target.parent.parent / interpreter.BUILD_LOG).read_text()
+    assert "micropython: patches;" in log and "test host/tests/test_interpreter.py::" in log, log
+    assert str(target.parent.parent / interpreter.BUILD_LOG) in str(e.value)
+
+
+def test_outside_a_test_session_a_stale_checkout_build_is_rebuilt_and_logged(monkeypatch, tmp_path):
+    target, compiled = _stale_checkout_build(monkeypatch, tmp_path)
+    monkeypatch.delenv("PYTEST_CURRENT_TEST")
+    assert interpreter.build() == target and len(compiled) == 1, compiled
+    log = (target.parent.parent / interpreter.BUILD_LOG).read_text().splitlines()
+    assert len(log) == 1 and "micropython: patches;" in log[0] and "; test " not in log[0], log
+
+
+def test_the_identity_file_names_each_input_and_a_changed_c_module_file_by_name(monkeypatch, tmp_path):
+    target, _ = _stale_checkout_build(monkeypatch, tmp_path)
+    text = interpreter._identity_file(target).read_text().splitlines()
+    names = [line.split(" ", 1)[1] for line in text[1:]]
+    assert names[:3] == ["options", "patches", "manifest.py"] and "cmod/_hilfast/_hilfast.c" in names, names
+    recorded = dict(reversed(line.split(" ", 1)) for line in text[1:])
+    recorded["cmod/_hilfast/_hilfast.c"] = "0" * 16
+    interpreter._identity_file(target).write_text(text[0] + "\n" + "".join(f"{h} {n}\n" for n, h in recorded.items()))
+    assert interpreter.changed_inputs(target, "standard") == ["cmod/_hilfast/_hilfast.c", "patches"]
