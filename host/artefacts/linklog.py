@@ -136,6 +136,10 @@ class LinkLog:
         record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote.hex()}
         self.write({**record, "status": status, "count": count, "read": got.hex(), **(more or {})})
 
+    def i2ct_done(self, t: int, h: int, status: int, acks: int, got: bytes) -> None:
+        """A controller's transaction on this board's I2CTarget, as it answered."""
+        self.write({"t": t, "msg": "I2CT_DONE", "handle": h, "status": status, "count": acks, "read": got.hex()})
+
     def fault(self, t: int) -> None:
         self.write({"t": t, "msg": "FAULT"})
 

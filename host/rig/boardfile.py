@@ -9,7 +9,7 @@ to ``<name>.a``, the other's to ``<name>.b``), a ``wire`` (one board's output pi
 ``<name>.in``, the other's input to ``<name>.out``).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -41,6 +41,8 @@ class Boards:
     apps: dict[str, App]
     make_plant: Callable
     rig_file: Path | None = None
+    i2c_links: dict = field(default_factory=dict)
+    """(controller board, its bus) -> the target board: the plant's ``board_i2c`` parts."""
 
 
 def is_multi_board(data: dict) -> bool:
@@ -87,7 +89,31 @@ def boards_from_data(path, data: dict) -> Boards:
             raise where.error(f"{field} name", f"a second board named {board!r}: expected one name per board")
         apps[board] = _board_app(path, data, entry, f"{name}.{board}", f"[[boards]] {board}")
     first = next(iter(apps.values()))
-    return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path)
+    links = _i2c_links(where, data["plant"], apps)
+    return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path, i2c_links=links)
+
+
+def _i2c_links(where, plant: dict, apps: dict) -> dict:
+    """The ``board_i2c`` parts (their options checked by the plant's builder): (controller,
+    bus) -> target, each naming boards of the file."""
+    links: dict = {}
+    parts = plant.get("parts", []) if isinstance(plant, dict) else []
+    for number, part in enumerate(parts, 1):
+        if not isinstance(part, dict) or part.get("kind") != "board_i2c":
+            continue
+        label = f"[[plant.parts]] {part.get('name') or f'#{number}'}"
+        for role in ("controller", "target"):
+            if part.get(role) not in apps:
+                raise where.error(
+                    f"{label} {role}", f"expected one of the boards {', '.join(apps)}, got {part.get(role)!r}"
+                )
+        key = (part["controller"], part.get("controller_bus", "i2c0"))
+        if key in links:
+            raise where.error(
+                f"{label} bus", f"a second board_i2c on board {key[0]}'s {key[1]}: expected one target board a bus"
+            )
+        links[key] = part["target"]
+    return links
 
 
 def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -> App:

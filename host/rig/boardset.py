@@ -18,13 +18,17 @@ byte, however the processes are scheduled.
 """
 
 import contextlib
+import struct
 from pathlib import Path
 
 from host.core.errors import HarnessError, LinkError
+from host.link import frames as F
 from host.rig import arguments
 from host.rig.boardview import BoardView, couple
+from host.rig.peripherals import TARGET_PREFIX
 from host.rig.rig import Rig
 from host.rig.spec import Recording, RigSpec
+from sim_plant.buses import FIRST_ADDRESS, LAST_ADDRESS
 from sim_plant.plant import check_contract
 
 MAX_ROUNDS_AT_ONE_INSTANT = 100_000
@@ -77,6 +81,8 @@ class BoardSet:
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
+        self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
+        self._in_target = None  # the target board a controller's transfer is being served by
 
     # -- life cycle ---------------------------------------------------------------------
 
@@ -206,6 +212,62 @@ class BoardSet:
                 + (f"; artefacts: {self.artefacts}" if self.artefacts else "")
             )
         return t_us
+
+    def to_target(self, board: str, bus: str, op: int, address: int, n_read: int, data: bytes) -> tuple | None:
+        """A transfer of ``board``'s on ``bus`` to the board its ``board_i2c`` part names, if
+        that board's firmware is a ``machine.I2CTarget`` at ``address`` (else None: the
+        plant's chips answer it): the target, blocked at or before this instant, gets the
+        transaction at it (a change that ends its wait, as an interrupt), runs its state
+        machine and its handlers there, and is served until it blocks again; then its
+        answer (status, acks, the bytes read) is the controller's. Both boards' horizons
+        are then the µs after: either may act at once on what the other did."""
+        target = self.i2c_links.get((board, bus))
+        if target is None or op not in (F.BUS_XFER, F.BUS_XFER_NOSTOP):
+            return None
+        rig = self.rigs[target]
+        h = rig.wiring.i2c_targets.get(address) if rig.exit_kind is None else None
+        if h is None:
+            return None
+        if self._in_target is not None:
+            raise LinkError(
+                f"board {board} addressed board {target}'s I2C target while board {self._in_target} was "
+                f"answering one at the same instant (boards that are each other's targets at once are not modelled)"
+            )
+        t_us = self.views[board].t_us
+        self._in_target = target
+        try:
+            with naming(target):
+                while rig.clock.wait is None and rig.exit_kind is None:  # (running: to its wait first)
+                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+                if rig.exit_kind is not None:
+                    return None
+                view = self.views[target]
+                if view.t_us > t_us:
+                    raise LinkError(
+                        f"board {target} is at t={view.t_us} us, past board {board}'s transfer at {t_us} us "
+                        f"(the set of boards lost lockstep)"
+                    )
+                xact = struct.pack(F.I2CT_XACT_FMT, op, n_read) + bytes(data)
+                view.queue.append((t_us, TARGET_PREFIX + rig.wiring.handles[h].key, xact))
+                rig._i2ct_done = None
+                rig.clock.bound_us = t_us + 1
+                rig.clock.serve(t_us)
+                while rig.clock.wait is None and rig.exit_kind is None:
+                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "the target's answer"))
+        finally:
+            self._in_target = None
+        self.rigs[board].clock.bound_us = t_us + 1
+        if rig._i2ct_done is None:
+            return None if rig.exit_kind is not None else (F.BUS_NACK_ADDRESS, 0, b"")
+        return rig._i2ct_done
+
+    def target_addresses(self, board: str, bus: str) -> set:
+        """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's)."""
+        target = self.i2c_links.get((board, bus))
+        rig = self.rigs[target] if target is not None else None
+        if rig is None or rig.exit_kind is not None:
+            return set()
+        return {a for a in rig.wiring.i2c_targets if FIRST_ADDRESS <= a <= LAST_ADDRESS}
 
     def plant_to(self, t_us: int, view: BoardView | None = None) -> None:
         """Bring the shared plant to ``t_us`` (a board's view asks), its changes queued for

@@ -16,6 +16,7 @@ still act at.
 from collections import deque
 
 from host.core.errors import ConfigError, LinkError
+from host.link import frames as F
 from host.rig.clock import Clock
 from host.rig.pacing import Lockstep
 from sim_plant.plant import NEVER_US
@@ -94,9 +95,19 @@ class BoardView:
         self._at_plant()
         self._core.send_bytes(name, data, baud)
 
-    def bus_transfer(self, *args, **kwargs):
+    def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes, **kwargs):
+        """A transfer on this board's ``bus``: to another board's I2CTarget if a ``board_i2c``
+        wires them and that board has taken ``address`` (:meth:`BoardSet.to_target`), else to
+        the shared plant's chips."""
         self._at_plant()
-        return self._core.bus_transfer(*args, **kwargs)
+        routed = self._boards.to_target(self.board_name, bus, op, address, n_read, data)
+        if routed is not None:
+            return routed
+        status, count, got = self._core.bus_transfer(bus, op, address, n_read, data, **kwargs)
+        if op == F.BUS_SCAN and status == F.BUS_OK:  # (the target boards' addresses answer a scan too)
+            found = sorted(set(got) | self._boards.target_addresses(self.board_name, bus))
+            return status, len(found), bytes(found)
+        return status, count, got
 
     def output(self, name: str):
         return self._core.output(name)

@@ -90,6 +90,14 @@ def on_bus_done(rig, p: bytes) -> None:
     rig.bus_images.done(rig, t, entry)
 
 
+def on_i2ct_done(rig, p: bytes) -> None:
+    """A controller's transaction on this board's I2CTarget done: what it read, for the set
+    of boards that waits for it (``host.rig.boardset``)."""
+    t, h, status, acks, got = F.unpack_i2ct_done(p)
+    rig.linklog.i2ct_done(t, h, status, acks, got)
+    rig._i2ct_done = (status, acks, got)
+
+
 def on_poll(rig, p: bytes) -> None:
     """The shim names a poll that never ends: a pin, a memory address (host/rig/pollwatch.py)."""
     poll = F.unpack_poll(p)
@@ -151,6 +159,7 @@ HANDLERS = {
     F.EXIT: on_exit,
     F.BUS: on_bus,
     F.BUS_DONE: on_bus_done,
+    F.I2CT_DONE: on_i2ct_done,
     F.POLL: on_poll,
     F.CPU: on_cpu,
     F.CPU_IRQ: on_cpu_irq,

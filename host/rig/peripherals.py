@@ -292,6 +292,37 @@ class BusPeripheral(Peripheral):
         return (F.BUS_OK, 0, b"") if op not in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else (F.BUS_NACK_ADDRESS, 0, b"")
 
 
+TARGET_PREFIX = "i2ctarget:"
+"""The name of the change that carries a controller's transaction to a ``machine.I2CTarget``
+(``host.rig.boardset``: another board's I2C on the wire to this one): this, then its key."""
+
+
+class I2CTargetPeripheral(Peripheral):
+    """``machine.I2CTarget`` (CFG_I2CT): this board as a target at the address in ``param``
+    (-1: deinit). A controller's transaction reaches it as one change at its instant (the
+    op, the read count and the bytes written: ``F.I2CT_XACT_FMT``), which ends its wait (an
+    interrupt on a board); the shim answers with I2CT_DONE."""
+
+    kind = F.CFG_I2CT
+    name = "i2ctarget"
+
+    def configure(self, wiring, h, mode, pull, key, param):
+        info = wiring.attach(self, h, mode, pull, key, param)
+        for address in [a for a, held in wiring.i2c_targets.items() if held == h]:
+            del wiring.i2c_targets[address]
+        if param >= 0:
+            wiring.i2c_targets[param] = h
+        info.signal = TARGET_PREFIX + key
+        if h not in wiring.by_signal.setdefault(info.signal, []):
+            wiring.by_signal[info.signal].append(h)
+        return info
+
+    def deliver(self, inputs, t_us, h, info, value, watch):
+        inputs.pending.append((t_us, h, _BYTES, len(value), value))
+        inputs.pending_bytes += len(value)
+        return FIRED
+
+
 UNCONFIGURED = Peripheral()
 """A handle below one the shim configured, not configured itself."""
 
@@ -311,6 +342,7 @@ for _peripheral in (PinPeripheral(), AdcPeripheral(), PwmPeripheral(), UartPerip
     register(_peripheral)
 register(BusPeripheral(F.CFG_I2C, "i2c"))
 register(BusPeripheral(F.CFG_SPI, "spi"))
+register(I2CTargetPeripheral())
 
 
 def handler(kind: int, h: int) -> Peripheral:

@@ -146,6 +146,7 @@ class Rig:
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
         self.resets = 0
+        self._i2ct_done = None  # (status, acks, bytes read): the last transaction on its I2CTarget (host.rig.boardset)
         self.expect_from = 0  # console bytes before this were taken by an expect
         self.reset_watch = endings.ResetWatch()  # a reboot storm, at any rate
         self.linklog: LinkLog = NO_LOG

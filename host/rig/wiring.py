@@ -72,6 +72,7 @@ class Wiring:
         self.spi_clocks: dict[str, str] = {}  # the SPI chips' clock inputs -> their buses (Rig sets it)
         self.uart = False  # some UART was configured: bytes flow (for the rest of the run)
         self.buses: set[str] = set()  # the buses the firmware created (i2c0, spi1, ...)
+        self.i2c_targets: dict[int, int] = {}  # machine.I2CTarget: its address -> its handle
         self.clear()
 
     def clear(self) -> None:

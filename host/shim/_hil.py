@@ -1166,6 +1166,22 @@ def _run_hard():
             _dispatching = was
 
 
+def run_hard_now(callback, arg):
+    """A hard IRQ's handler run now, inside what the port's interrupt does (an I2CTarget's
+    request: the bytes the controller reads depend on it), as _run_hard runs one."""
+    global _dispatching
+    was = _dispatching
+    _Link.callbacks += 1
+    _Link.hard = _dispatching = True
+    try:
+        callback(arg)
+    except Exception as e:
+        raise CallbackFailed(callback, e)  # noqa: B904
+    finally:
+        _Link.hard = False
+        _dispatching = was
+
+
 def c_begin(since):
     """The firmware enters what is a C function of the port that waits without running
     scheduled callbacks (time_pulse_us's busy loop, a bus transfer, the end of sleep_us):

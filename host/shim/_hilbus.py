@@ -328,3 +328,219 @@ def bitstream(pin, encoding, timing, data):
     payload = struct.pack("<4I", *[t & 0xFFFFFFFF for t in ns]) + data
     _status, _count, _got, t = _hil.transfer(pin._handle, F.BUS_BITSTREAM, 0, 0, payload)
     _hil.bus_time(t + (total_ns + 999) // 1000)
+
+
+# machine.I2CTarget (MicroPython 1.26+: extmod/machine_i2c_target.c, with
+# ports/rp2/machine_i2c_target.c and ports/esp32/machine_i2c_target.c; offered on every
+# version). A controller's transaction (another board's I2C on the wire to this one:
+# docs/multi-board.md) arrives as one change at its instant; the target runs the C's state
+# machine over it, byte by byte, calling the handler as the C calls it (a hard one at once, a
+# soft one scheduled), and tells the host what the controller read (I2CT_DONE).
+_IRQ_ADDR_MATCH_READ = 1
+_IRQ_ADDR_MATCH_WRITE = 2
+_IRQ_READ_REQ = 4
+_IRQ_WRITE_REQ = 8
+_IRQ_END_READ = 16
+_IRQ_END_WRITE = 32
+_IRQ_MEM_ADDR_MATCH = 64  # (the C's internal event: memaddr)
+_IRQ_ALL_HARD = _IRQ_ADDR_MATCH_READ | _IRQ_ADDR_MATCH_WRITE | _IRQ_READ_REQ | _IRQ_WRITE_REQ
+_IDLE, _MATCH_READ, _MATCH_WRITE, _MEM_ADDR_SELECT, _READING, _WRITING, _INACTIVE = range(7)
+_TX_FIFO = 16  # the RP2040's I2C TX FIFO (datasheet 4.3.1: 16 entries); what write() can buffer
+
+
+class _TargetIRQ:
+    """The object I2CTarget.irq() returns (shared/runtime/mpirq.c's: flags(), trigger())."""
+
+    def __init__(self, target):
+        self._target = target
+
+    def flags(self):
+        return self._target._flags
+
+    def trigger(self, new=None):
+        t = self._target
+        if new is not None:
+            t._trigger, t._flags = new, 0
+        return t._trigger
+
+
+class I2CTarget:
+    """machine.I2CTarget: this board as a target at ``addr`` on its I2C ``id``, a memory
+    device (``mem``) or one served by its IRQ handler (readinto, write). The ESP32 family's
+    has no hard IRQ and only the END events (its mpconfigport.h sets no
+    MICROPY_PY_MACHINE_I2C_TARGET_HARD_IRQ)."""
+
+    IRQ_END_READ = _IRQ_END_READ
+    IRQ_END_WRITE = _IRQ_END_WRITE
+    _made = {}  # id -> handle (one peripheral per id)
+
+    def __init__(self, id=None, addr=None, *, addrsize=7, mem=None, mem_addrsize=8, scl=None, sda=None):
+        if addr is None:  # (the ports' make_new: id may be left out where it has a default, addr never)
+            if id is None:
+                raise TypeError("'addr' argument required")
+            id, addr = None, id
+        if id is None:
+            if _rp2():
+                raise TypeError("'id' argument required")  # (no PICO_DEFAULT_I2C on the boards the loop names)
+            id = 0
+        if not 0 <= id <= 1:
+            raise ValueError("I2CTarget(%d) doesn't exist" % id)
+        if mem is not None:
+            if mem_addrsize < 0 or mem_addrsize > 32 or mem_addrsize % 8:
+                raise ValueError("mem_addrsize must be 0, 8, 16, 24 or 32")
+            self._mem_obj = mem  # (held, as the C's root pointer holds it)
+            mem = wbuf(mem)
+        self._id, self._addr, self._mem = id, int(addr), mem
+        self._mem_addrsize = mem_addrsize // 8
+        self._state = _IDLE
+        self._mem_addr = self._mem_addr_last = self._mem_addr_count = 0
+        self._handler, self._trigger, self._hard, self._flags = None, 0, False, 0
+        self._rx = b""  # the byte the controller wrote, for readinto (WRITE_REQ)
+        self._tx = bytearray()  # what write() gave, for the controller's reads (READ_REQ)
+        key = "i2ct%d" % id
+        handle = I2CTarget._made.get(id)
+        if handle is None:
+            handle = I2CTarget._made[id] = _hil.register(self)
+        else:
+            _hil._handles[handle] = self
+        self._handle = handle
+        self._key = key
+        _hil.configure(handle, F.CFG_I2CT, key, param=self._addr)
+
+    @property
+    def memaddr(self):
+        return self._mem_addr_last
+
+    def deinit(self):
+        if self._state != _INACTIVE:
+            self._state = _INACTIVE
+            self._handler = None
+            _hil.configure(self._handle, F.CFG_I2CT, self._key, param=-1)
+
+    def readinto(self, buf):
+        view = wbuf(buf)
+        n = min(len(view), len(self._rx))
+        view[:n] = self._rx[:n]
+        self._rx = self._rx[n:]
+        return n
+
+    def write(self, buf):
+        data = rbuf(buf)
+        n = min(len(data), _TX_FIFO - len(self._tx))
+        self._tx += data[:n]
+        return n
+
+    def irq(self, handler=None, trigger=_IRQ_END_READ | _IRQ_END_WRITE, hard=False):
+        if handler is not None or trigger != _IRQ_END_READ | _IRQ_END_WRITE or hard:
+            if _rp2():
+                if trigger & _IRQ_ALL_HARD and not hard:
+                    raise ValueError("hard IRQ required")
+            elif hard:
+                raise ValueError("hard IRQ unsupported")
+            self._handler, self._hard, self._flags = handler, bool(hard), 0
+            self._trigger = trigger if handler is not None else 0
+        return _TargetIRQ(self)
+
+    # -- the controller's transaction (the C's state machine) ------------------------
+
+    def _event(self, trigger):
+        if trigger & _IRQ_MEM_ADDR_MATCH:
+            self._mem_addr_last = self._mem_addr
+        if self._handler is None or not trigger & self._trigger:
+            return False
+        self._flags = trigger & self._trigger
+        if self._hard:
+            _hil.run_hard_now(self._handler, self)
+        else:
+            _hil.schedule(self._handler, self)
+        return True
+
+    def _reset(self):
+        if self._state == _READING:
+            self._event(_IRQ_END_READ)
+        elif self._state == _MATCH_WRITE or self._state == _WRITING:
+            self._event(_IRQ_END_WRITE)
+        self._state = _IDLE
+
+    def _addr_match(self, read):
+        self._reset()
+        self._event(_IRQ_ADDR_MATCH_READ if read else _IRQ_ADDR_MATCH_WRITE)
+        self._state = _MATCH_READ if read else _MATCH_WRITE
+
+    def _read_request(self):
+        handled = self._event(_IRQ_READ_REQ) if not self._tx else True
+        mem = self._mem
+        if mem is None:
+            self._state = _READING
+            if not self._tx:
+                if handled:
+                    return 0xFF  # (a handler that wrote nothing: the bus reads released, high)
+                return 0  # ("No data source, just write out a zero")
+            b = self._tx[0]
+            self._tx = self._tx[1:]
+            return b
+        if self._state == _MEM_ADDR_SELECT:
+            self._mem_addr %= len(mem)
+            self._event(_IRQ_MEM_ADDR_MATCH)
+        self._state = _READING
+        b = mem[self._mem_addr]
+        self._mem_addr = (self._mem_addr + 1) % len(mem)
+        return b
+
+    def _write_request(self, byte):
+        self._rx += bytes((byte,))
+        handled = self._event(_IRQ_WRITE_REQ)
+        mem = self._mem
+        if mem is None:
+            self._state = _WRITING
+            if not handled:
+                self._rx = b""  # ("No data sink, just read and discard the incoming byte")
+            return
+        self._rx = b""
+        if self._state == _MATCH_WRITE:
+            self._state = _MEM_ADDR_SELECT
+            self._mem_addr = 0
+            self._mem_addr_count = self._mem_addrsize
+        if self._state == _MEM_ADDR_SELECT and self._mem_addr_count > 0:
+            self._mem_addr = self._mem_addr << 8 | byte
+            self._mem_addr_count -= 1
+            if self._mem_addr_count == 0:
+                self._mem_addr %= len(mem)
+                self._event(_IRQ_MEM_ADDR_MATCH)
+        else:
+            if self._state == _MEM_ADDR_SELECT:
+                self._state = _WRITING
+            mem[self._mem_addr] = byte
+            self._mem_addr = (self._mem_addr + 1) % len(mem)
+
+    def _hil_apply(self, kind, value, extra):
+        """A controller's transaction at this instant (CH_BYTES, F.I2CT_XACT_FMT): XFER's
+        phases as the port's I2C interrupt sees them (ports/rp2/machine_i2c_target.c,
+        i2c_target_handler: an address match at the first byte of each direction, a request
+        per byte, the end at the stop); the bytes read go back to the host."""
+        op, n_read = struct.unpack_from(F.I2CT_XACT_FMT, extra, 0)
+        data = extra[struct.calcsize(F.I2CT_XACT_FMT) :]
+        got = bytearray()
+        if self._state == _INACTIVE:
+            _hil.send(F.I2CT_DONE, struct.pack(F.I2CT_DONE_FMT, _hil.now(), self._handle, F.BUS_NACK_ADDRESS, 0))
+            return
+        if data or not n_read:
+            self._addr_match(False)
+            for byte in data:
+                self._write_request(byte)
+        if n_read:
+            self._addr_match(True)
+            for _ in range(n_read):
+                got.append(self._read_request())
+            self._tx = bytearray()  # (what the controller did not read is dropped at its NACK)
+        if op == F.BUS_XFER:
+            self._reset()  # the stop
+        head = struct.pack(F.I2CT_DONE_FMT, _hil.now(), self._handle, F.BUS_OK, len(data))
+        _hil.send(F.I2CT_DONE, head + bytes(got))
+
+
+if _rp2():  # (MICROPY_PY_MACHINE_I2C_TARGET_HARD_IRQ: the rp2's, not the ESP32's)
+    I2CTarget.IRQ_ADDR_MATCH_READ = _IRQ_ADDR_MATCH_READ
+    I2CTarget.IRQ_ADDR_MATCH_WRITE = _IRQ_ADDR_MATCH_WRITE
+    I2CTarget.IRQ_READ_REQ = _IRQ_READ_REQ
+    I2CTarget.IRQ_WRITE_REQ = _IRQ_WRITE_REQ

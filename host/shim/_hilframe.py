@@ -276,6 +276,7 @@ POLL = 0x0A  # a poll that never ends: one pin or memory address read with one a
 CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
+I2CT_DONE = 0x0F  # a controller's transaction on an I2CTarget done: what the controller read (I2CT_DONE_FMT)
 EVAL_REPLY = 0x0E  # an EVAL's outcome: a value's repr, nothing, or the error's text (EVAL_*)
 # host -> shim
 WELCOME = 0x81
@@ -300,6 +301,7 @@ NAMES = {
     CPU_IRQ: "CPU_IRQ",
     BUS_DONE: "BUS_DONE",
     EVAL_REPLY: "EVAL_REPLY",
+    I2CT_DONE: "I2CT_DONE",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -327,6 +329,7 @@ BUS_IMAGE_FMT = "<QH"  # t_us (the plant's), entries, then each: BUS_IMAGE_ENTRY
 BUS_IMAGE_ENTRY_FMT = "<HHQQBB"  # handle, address, until_us (exclusive), horizon_us, bytes written, bytes read
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
+I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
 EVAL_FMT = "<B"  # EVAL_EXPR or EVAL_LINE, then the UTF-8 source
 EVAL_REPLY_FMT = "<B"  # EVAL_VALUE, EVAL_NONE or EVAL_ERROR, then UTF-8 text (the repr, the error)
 POLL_FMT = "<QQIBBII"  # t_us, since_us, reads, kind, bits, target, value; then UTF-8 lines: the
@@ -478,6 +481,12 @@ def pack_bus_done(t_us, entry):
     return struct.pack(BUS_DONE_FMT, t_us, entry)
 
 
+def unpack_i2ct_done(p):
+    """(t_us, handle, status, acks, the bytes the controller read)"""
+    t, h, status, acks = struct.unpack_from(I2CT_DONE_FMT, p, 0)
+    return t, h, status, acks, bytes(p[struct.calcsize(I2CT_DONE_FMT) :])
+
+
 def unpack_bus_done(p):
     return struct.unpack_from(BUS_DONE_FMT, p, 0)
 
@@ -570,6 +579,7 @@ CFG_UART = 4
 CFG_IRQ = 5
 CFG_I2C = 6  # machine.I2C / SoftI2C: name "i2c<id>" or "i2c:<scl>,<sda>"; param the clock (Hz)
 CFG_SPI = 7  # machine.SPI / SoftSPI: name "spi<id>" or "spi:<sck>,<mosi>,<miso>"; param the baud rate
+CFG_I2CT = 8  # machine.I2CTarget: name "i2ct<id>"; param its address (-1: deinit); transactions are CH_BYTES (I2CT_*)
 CFG_PIO = 16  # rp2.StateMachine: name "sm<id>" (0..7; 4..7 are PIO1's); its ops are BUS_PIO_* frames
 
 # BUS ops. I2C: XFER is [start, address+W, the bytes written][(re)start, address+R, read
@@ -634,6 +644,8 @@ OUT_DEINIT = 3
 CH_LEVEL = 0
 CH_SAMPLE = 1  # extra: the sample number
 CH_BYTES = 2  # value: the byte count; the bytes follow the entry
+# an I2CTarget's CH_BYTES: the controller's BUS op (XFER, XFER_NOSTOP), read count, then the bytes written
+I2CT_XACT_FMT = "<BH"
 
 # POLL kinds (its target): a pin read through Pin.value() (the pin's handle), machine.mem8/16/32
 # at an address no register of the board's model lies behind (the address), or at one of its

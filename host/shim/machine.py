@@ -1290,8 +1290,8 @@ class Encoder(_Unit):
             self._count += 1 if (level == 1) == (a_level == 1) else -1
 
 
-_BUSES = ("I2C", "SoftI2C", "SPI", "SoftSPI", "bitstream")  # in _hilbus, imported at their first use only
-_NOT_IN_THE_LOOP = ("I2CTarget", "I2S", "CAN", "SDCard", "TouchPad", "DAC")
+_BUSES = ("I2C", "SoftI2C", "SPI", "SoftSPI", "bitstream", "I2CTarget")  # in _hilbus, imported at their first use only
+_NOT_IN_THE_LOOP = ("I2S", "CAN", "SDCard", "TouchPad", "DAC")
 _NOT_IN_THE_LOOP += ("ADCBlock", "USBDevice", "dht_readinto", "wake_reason")
 
 
@@ -1307,7 +1307,7 @@ def __getattr__(name):
     if name in _NOT_IN_THE_LOOP:
         raise ImportError(
             "machine.%s is not in the loop; it has Pin, Signal, PinBase, ADC, PWM, Timer, UART, I2C, SoftI2C, "
-            "SPI, SoftSPI, Counter, Encoder, RTC, WDT, time_pulse_us, bitstream, mem8/16/32 and the board functions "
-            "(docs/shim.md)" % name
+            "SPI, SoftSPI, I2CTarget, Counter, Encoder, RTC, WDT, time_pulse_us, bitstream, mem8/16/32 and the "
+            "board functions (docs/shim.md)" % name
         )
     raise AttributeError("'module' object has no attribute '%s'" % name)

@@ -57,7 +57,13 @@ def test_corrupted_frame_is_counted_and_never_delivered():
 
 TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i"}
 # what follows the fixed part
-SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT", "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT"}
+# (I2CT_DONE's row draws the transaction it answers too: the target's CH_BYTES change)
+SECOND_PART = {
+    "WAIT": "WATCH_FMT",
+    "STATE": "CHANGE_FMT",
+    "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT",
+    "I2CT_DONE": "I2CT_XACT_FMT",
+}
 
 
 def documented_layouts() -> dict[str, str]:
@@ -80,7 +86,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 19, sorted(layouts)  # 16 messages with a payload, and WAIT's, STATE's, BUS_IMAGE's tails
+    assert len(layouts) == 21, sorted(layouts)  # 17 messages with a payload, and the 4 second parts above
     for name, fmt in layouts.items():
         assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
 
