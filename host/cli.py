@@ -555,16 +555,16 @@ def _run_boards(args) -> int:
         sub,
         "--out",
         args.out or root / "runs" / f"{boards.name}-seed{args.seed}",
-        inputs={f"board {name}'s firmware folder": app.path for name, app in boards.apps.items()},
-        owned={f"board {name}'s firmware folder": root for name in boards.apps},
+        inputs={f"board {name}'s firmware folder": app.path for name, app in boards.firmware().items()},
+        owned={f"board {name}'s firmware folder": root for name in boards.firmware()},
         base=None if args.out else root.parent,
     )
     with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out) as run:
         run.run_for(args.duration)
     for name, rig in run.rigs.items():
-        print(f"board {name}:")
+        print(f"board {name}:" if name in boards.firmware() else f"host program {name}:")
         _show_console(rig.console, out / name)
-        rows = rig.budget_rows()
+        rows = rig.budget_rows() if name in boards.firmware() else None
         if rows:
             print(format_table(rows))
     truth = run.truth()
@@ -574,7 +574,7 @@ def _run_boards(args) -> int:
         from host.report.plots import plot_trace
 
         print("plots: drawing them ...", flush=True)
-        for name in run.rigs:
+        for name in boards.firmware():
             plot_trace(out / name)
     _list_files(out)
     return 0
@@ -677,8 +677,11 @@ def cmd_check(args) -> int:
     if names_boards(args.rig):  # several boards (docs/multi-board.md): each checked as one board
         boards = load_boards(args.rig)
         print(f"{boards.rig_file}: {len(boards.apps)} boards on one plant: {', '.join(boards.apps)}")
-        wired = {signal for app in boards.apps.values() for signal in app.wiring.values()}
-        return max(_check_app(app, args, f"[[boards]] {name}", wired) for name, app in boards.apps.items())
+        firmware = boards.firmware()
+        wired = {signal for app in firmware.values() for signal in app.wiring.values()}
+        for name in boards.apps.keys() - firmware.keys():
+            print(f"[[boards]] {name}: a host program, {boards.apps[name].path} ({boards.apps[name].function})")
+        return max(_check_app(app, args, f"[[boards]] {name}", wired) for name, app in firmware.items())
     return _check_app(get_app(args.rig), args)
 
 

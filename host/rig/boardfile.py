@@ -38,11 +38,27 @@ class Boards:
     the one plant's builder."""
 
     name: str
-    apps: dict[str, App]
+    apps: dict  # board name -> its App, or a ProgramSpec (a host program)
     make_plant: Callable
     rig_file: Path | None = None
     i2c_links: dict = field(default_factory=dict)
     """(controller board, its bus) -> the target board: the plant's ``board_i2c`` parts."""
+
+    def firmware(self) -> dict:
+        """The boards that run firmware (the others are host programs), by name."""
+        return {name: app for name, app in self.apps.items() if isinstance(app, App)}
+
+
+PROGRAM_KEYS = {"name": str, "description": str, "program": str}
+
+
+@dataclass(frozen=True)
+class ProgramSpec:
+    """A ``[[boards]]`` table with ``program``: a host program standing in for a board
+    (``host.rig.hostboard``): its Python file and the function it calls with the board."""
+
+    path: Path
+    function: str = "main"
 
 
 def is_multi_board(data: dict) -> bool:
@@ -80,15 +96,24 @@ def boards_from_data(path, data: dict) -> Boards:
     if not 1 <= len(entries) <= MAX_BOARDS or not all(isinstance(e, dict) for e in entries):
         raise where.error("[[boards]]", f"expected 1 to {MAX_BOARDS} tables, got {len(entries)} entries")
     name = _name(where, "name", data.get("name") or path.parent.name)
-    apps: dict[str, App] = {}
+    apps: dict[str, App | ProgramSpec] = {}
     for number, entry in enumerate(entries, 1):
         field = f"[[boards]] #{number}"
-        where.table(entry, field, BOARD_KEYS, required=("name", "wiring"))
+        program = "program" in entry
+        where.table(
+            entry, field, PROGRAM_KEYS if program else BOARD_KEYS, required=("name",) if program else ("name", "wiring")
+        )
         board = _name(where, f"{field} name", entry["name"])
         if board in apps:
             raise where.error(f"{field} name", f"a second board named {board!r}: expected one name per board")
-        apps[board] = _board_app(path, data, entry, f"{name}.{board}", f"[[boards]] {board}")
-    first = next(iter(apps.values()))
+        if program:
+            apps[board] = _program(where, path, entry["program"], f"[[boards]] {board} program")
+        else:
+            apps[board] = _board_app(path, data, entry, f"{name}.{board}", f"[[boards]] {board}")
+    firmware = [a for a in apps.values() if isinstance(a, App)]
+    if not firmware:
+        raise where.error("[[boards]]", "expected at least one board with firmware (the others may be host programs)")
+    first = firmware[0]
     links = _i2c_links(where, data["plant"], apps)
     return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path, i2c_links=links)
 
@@ -116,6 +141,21 @@ def _i2c_links(where, plant: dict, apps: dict) -> dict:
     return links
 
 
+def _program(where, path: Path, given: str, field: str) -> ProgramSpec:
+    """``program = "master.py"`` or ``"master.py:run"``: a Python file beside the rig file
+    (relative to its folder) and the function it calls (``main`` by default)."""
+    file, _, function = given.partition(":")
+    function = function or "main"
+    if not file.endswith(".py") or not function.isidentifier():
+        raise where.error(
+            field, f"expected a Python file and maybe its function (master.py, master.py:run), got {given!r}"
+        )
+    found = (path.parent / file).resolve()
+    if not found.is_file():
+        raise where.error(field, f"no such file {found}")
+    return ProgramSpec(found, function)
+
+
 def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -> App:
     """One board as the one-board rig file it amounts to: its tables over the shared plant."""
     one = {k: v for k, v in entry.items() if k not in ("name",)}
@@ -137,5 +177,5 @@ def apps_of(path) -> list[App]:
     path = Path(path)
     data = read_toml(path, "rig file", MAX_RIG_BYTES)
     if is_multi_board(data):
-        return list(boards_from_data(path, data).apps.values())
+        return [a for a in boards_from_data(path, data).apps.values() if isinstance(a, App)]
     return [rig_from_data(path, data)]

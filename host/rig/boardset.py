@@ -24,7 +24,9 @@ from pathlib import Path
 from host.core.errors import HarnessError, LinkError
 from host.link import frames as F
 from host.rig import arguments
+from host.rig.boardfile import ProgramSpec
 from host.rig.boardview import BoardView, couple
+from host.rig.hostboard import HostProgram, load_program
 from host.rig.peripherals import TARGET_PREFIX
 from host.rig.rig import Rig
 from host.rig.spec import Recording, RigSpec
@@ -73,6 +75,12 @@ class BoardSet:
         self.views: dict[str, BoardView] = {}
         for name, app in boards.apps.items():
             view = BoardView(self, name)
+            if isinstance(app, ProgramSpec):  # a host program standing in for a board
+                folder = self.artefacts / name if self.artefacts else None
+                with naming(name):
+                    program = HostProgram(name, load_program(app.path, app.function), view, folder, watchdog_s)
+                self.rigs[name], self.views[name] = program, view
+                continue
             spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False)
             folder = self.artefacts / name if self.artefacts else None
             with naming(name):
@@ -225,9 +233,6 @@ class BoardSet:
         if target is None or op not in (F.BUS_XFER, F.BUS_XFER_NOSTOP):
             return None
         rig = self.rigs[target]
-        h = rig.wiring.i2c_targets.get(address) if rig.exit_kind is None else None
-        if h is None:
-            return None
         if self._in_target is not None:
             raise LinkError(
                 f"board {board} addressed board {target}'s I2C target while board {self._in_target} was "
@@ -239,7 +244,8 @@ class BoardSet:
             with naming(target):
                 while rig.clock.wait is None and rig.exit_kind is None:  # (running: to its wait first)
                     rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
-                if rig.exit_kind is not None:
+                h = rig.wiring.i2c_targets.get(address) if rig.exit_kind is None else None
+                if h is None:  # (no target there: the plant's chips answer)
                     return None
                 view = self.views[target]
                 if view.t_us > t_us:
@@ -262,9 +268,14 @@ class BoardSet:
         return rig._i2ct_done
 
     def target_addresses(self, board: str, bus: str) -> set:
-        """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's)."""
+        """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's),
+        that board brought to its wait first."""
         target = self.i2c_links.get((board, bus))
-        rig = self.rigs[target] if target is not None else None
+        rig = self.rigs[target] if target is not None and self._in_target is None else None
+        if rig is not None:
+            with naming(target):
+                while rig.clock.wait is None and rig.exit_kind is None:
+                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
         if rig is None or rig.exit_kind is not None:
             return set()
         return {a for a in rig.wiring.i2c_targets if FIRST_ADDRESS <= a <= LAST_ADDRESS}

@@ -6,11 +6,12 @@ interrupt does (extmod/machine_i2c_target.c's state machine), on one virtual clo
 
 import re
 import shutil
+import threading
 from pathlib import Path
 
 import pytest
 
-from host.core.errors import ConfigError
+from host.core.errors import ConfigError, FirmwareError, FirmwareHung
 from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 
@@ -155,3 +156,110 @@ def test_a_board_i2c_naming_no_board_of_the_file_is_refused_with_its_field(tmp_p
     with pytest.raises(ConfigError) as e:
         boards_from_data(tmp_path / "rig.toml", data)
     assert "[[plant.parts]] bus target: expected one of the boards master, mcu, got 'mcu2'" in str(e.value), e.value
+
+
+# -- a host program as a board ---------------------------------------------------------
+
+HOST_RIG = RIG.parent / "host_master.toml"
+TICKS0 = 2**30 - 10_000_000  # a board's ticks_us at t=0 (docs/clock.md); a host program's is t itself
+
+
+def test_a_host_program_masters_the_target_on_the_same_clock(tmp_path):
+    got = _run(HOST_RIG, tmp_path)
+    host, mcu = got["master.console"], got["mcu.console"]
+    reads = [(int(c), int(t)) for c, t in re.findall(r"host read (\d+) at (\d+)", host)]
+    commands = [(int(v), int(t) - TICKS0) for v, t in re.findall(r"mcu command (\d+) at reg 8 at (\d+)", mcu)]
+    assert "host scan [66]" in host and "host nobody at 0x43 19" in host, host
+    assert len(reads) == 10 and [c for c, _ in reads] == sorted(c for c, _ in reads), reads
+    # each read takes 47 clocks at 400 kHz (118 us); the write after it starts at the read's print
+    assert commands == [(k, reads[k][1]) for k in range(10)], (
+        f"expected each command at its write's instant: {commands} {reads}"
+    )
+    assert reads[1][1] - reads[0][1] == 20_000 + 191, f"expected 20 ms of sleep plus two transfers' bus time: {reads}"
+    assert "(the host program returned at t=0.2" in host, host
+
+
+def test_a_host_programs_run_is_deterministic(tmp_path):
+    first = _run(HOST_RIG, tmp_path / "a", seed=2, seconds=0.12, trace=True)
+    second = _run(HOST_RIG, tmp_path / "b", seed=2, seconds=0.12, trace=True)
+    assert first == second, f"expected the same consoles and digests twice (artefacts: {tmp_path})"
+
+
+def _host_rig(tmp_path: Path, program: str) -> Path:
+    folder = tmp_path / "rig"
+    shutil.copytree(RIG.parent, folder)
+    (folder / "master.py").write_text(program)
+    return folder / "host_master.toml"
+
+
+def test_a_host_program_that_raises_fails_the_run_naming_the_board_and_its_line(tmp_path):
+    rig = _host_rig(tmp_path, "def main(board):\n    board.sleep_ms(3)\n    raise ValueError('master gave up')\n")
+    with pytest.raises(FirmwareError) as e:
+        _run(rig, tmp_path / "out")
+    text = str(e.value)
+    assert text.startswith("board master: the host program raised at virtual t=0.003000 s"), text
+    assert "ValueError: master gave up" in text and 'master.py", line 3' in text, text
+
+
+def test_a_host_program_that_never_waits_is_named_by_the_watchdog_and_leaves_no_thread(tmp_path):
+    rig = _host_rig(tmp_path, "def main(board):\n    while True:\n        pass\n")
+    with pytest.raises(FirmwareHung) as e:
+        with BoardSet(load_boards(rig), seed=1, watchdog_s=0.5) as boards:
+            boards.run_for(0.05)
+    assert str(e.value).startswith("board master: the host program sent nothing for 0.5 s"), e.value
+
+
+def test_stopping_a_set_ends_its_host_programs_thread(tmp_path):
+    with BoardSet(load_boards(HOST_RIG), seed=1) as boards:
+        boards.run_for(0.05)
+    left = [t.name for t in threading.enumerate() if t.name.startswith("host program")]
+    assert left == [], f"expected the host program's thread gone after stop, found {left}"
+
+
+UART_RIG = """\
+name = "uart_host"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+[[boards]]
+name = "node"
+program = "node.py"
+[[boards]]
+name = "echo"
+firmware = { dir = "echo" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+
+ECHO = """\
+from machine import UART
+u = UART(0, 115200, timeout=1000)
+while True:
+    line = u.readline()
+    if line:
+        u.write(line.upper())
+"""
+
+NODE = """\
+def main(board):
+    link = board.uart("link.a", 115200)
+    for word in (b"ping", b"pong"):
+        t0 = board.ticks_us()
+        link.write(word + b"\\n")
+        board.print("node sent", word, "got", link.readline(50), "after", board.ticks_us() - t0)
+    board.print("node none", link.readline(5))
+"""
+
+
+def test_a_host_program_talks_to_a_board_over_a_uart_with_the_bytes_line_time(tmp_path):
+    (tmp_path / "echo").mkdir()
+    (tmp_path / "echo" / "main.py").write_text(ECHO)
+    (tmp_path / "node.py").write_text(NODE)
+    (tmp_path / "rig.toml").write_text(UART_RIG)
+    got = _run(tmp_path / "rig.toml", tmp_path / "out", seconds=0.1)
+    # 5 bytes there (434 us: 10 bits each at 115200 baud), 5 back, each arriving at its stop bit
+    assert "node sent b'ping' got b'PING\\n' after 868" in got["node.console"], got
+    assert "node sent b'pong' got b'PONG\\n' after 868" in got["node.console"], got
+    assert "node none b''" in got["node.console"], got
