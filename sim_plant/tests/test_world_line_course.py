@@ -141,3 +141,40 @@ def test_a_changed_picture_is_read_again(tmp_path):
     assert floor_of(tmp_path).darkness(0.9, 0.1) == 0.0
     picture(tmp_path / "floor.png", paint=[((80, 30, 100, 50), 0)])
     assert floor_of(tmp_path).darkness(0.9, 0.1) == 1.0
+
+
+SVG = """<?xml version="1.0"?>
+<svg xmlns="http://www.w3.org/2000/svg" width="500" height="250" viewBox="0 0 500 250">
+  <rect x="0" y="0" width="250" height="125" fill="black"/>
+  <path d="M 300 200 H 480" stroke="#000" stroke-width="10" fill="none"/>
+</svg>
+"""
+
+
+def test_an_svg_drawing_is_drawn_at_a_millimetre_a_pixel_at_its_scale(tmp_path):
+    """The same floor as the PNG's (a black quarter at the top-left) drawn as an SVG, 500 x
+    250 units at 2 mm a unit (1 x 0.5 m): drawn at 1 mm a pixel, 1000 x 500 pixels; a 10-unit
+    stroke is 20 mm of tape, its edges a pixel's ramp."""
+    (tmp_path / "floor.svg").write_text(SVG)
+    floor = floor_of(tmp_path, picture="floor.svg", mm_per_px=2.0)
+    assert (floor.width, floor.height) == (1000, 500) and floor.size_m == (1.0, 0.5), (floor.width, floor.height)
+    assert floor.darkness(0.1, 0.4) == 1.0 and floor.darkness(0.1, 0.1) == 0.0, "the top-left quarter is black"
+    assert floor.darkness(0.7, 0.1) == 1.0, "on the stroke (y 0.09..0.11 m)"
+    assert floor.darkness(0.7, 0.115) == 0.0 and floor.darkness(0.7, 0.085) == 0.0, "beside it: white"
+    assert 0.3 < floor.darkness(0.7, 0.110) < 0.7, "its edge (at a pixel boundary): half way up the ramp"
+    by_width = floor_of(tmp_path, picture="floor.svg", mm_per_px=None, width_m=2.0)
+    assert (by_width.width, by_width.size_m) == (2000, (2.0, 1.0)), "width_m: the whole width, still 1 mm a pixel"
+
+
+def test_an_svg_that_is_not_a_drawing_or_names_a_file_is_refused_by_name(tmp_path):
+    (tmp_path / "bad.svg").write_text("<svg xmlns='http://www.w3.org/2000/svg' width='10' height='10'><rect")
+    with pytest.raises(PartsError, match=r"\[world\] picture: cannot read /.*/bad\.svg \(not an SVG drawing CairoSVG"):
+        course(tmp_path, world={"picture": "bad.svg"})
+    secret = tmp_path / "secret.png"
+    picture(secret)  # (all black where the drawing would paint it, if it could read it)
+    (tmp_path / "peek.svg").write_text(
+        "<svg xmlns='http://www.w3.org/2000/svg' xmlns:xlink='http://www.w3.org/1999/xlink' width='100' height='50'>"
+        f"<image xlink:href='file://{secret}' width='100' height='50'/></svg>"
+    )
+    floor = floor_of(tmp_path, picture="peek.svg", mm_per_px=10.0)
+    assert floor.darkness(0.1, 0.4) == 0.0, "expected the drawing's file reference not followed (white floor)"
