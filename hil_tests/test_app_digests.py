@@ -107,10 +107,11 @@ def digest_before(trace: bytes, app: str) -> str:
     return hashlib.sha256("".join(lines).encode()).hexdigest()
 
 
-MCU_SECONDS = {"pool_cleaner": 4.0, "pool_cleaner_adc": 4.0, ("duct", "bench", 1): 8.0}  # others: RUN_S
+MCU_SECONDS = {("duct", "bench", 1): 8.0}  # (app, world, seed): its seconds; others: RUN_S
 """How long each run with MCU time on is: a few virtual seconds, so that pinning every app's
-worlds adds little to ``make test`` (docs/mcu-time.md, "Default"): RUN_S, the pool cleaners'
-60 s free runs cut to it, the duct robot's 8 s to it but on its bench (the run pinned first)."""
+worlds adds little to ``make test`` (docs/mcu-time.md, "Default"): RUN_S, the free runs of the
+pool cleaners (60 s) and the duct robot (8 s) cut to it, but the duct robot's bench, 8 s as it
+was pinned first."""
 MCU_CPU = {"pico_bot": "rp2040@125MHz"}
 """The CPU an app's MCU-time digest is pinned on, where its board family has none: pico_bot's
 board (``pins``) names no chip; its firmware is a Pico's (GP numbers, the LED on GP25)."""
@@ -221,7 +222,7 @@ def test_cpu_free_gives_todays_digests(make_rig, monkeypatch, key):
 
 def mcu_seconds(key) -> float:
     """How long the run of ``key`` with MCU time on is (:data:`MCU_SECONDS`)."""
-    return MCU_SECONDS.get(key, MCU_SECONDS.get(key[0], RUN_S))
+    return MCU_SECONDS.get(key, RUN_S)
 
 
 @pytest.mark.parametrize("key", list(DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
