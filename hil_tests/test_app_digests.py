@@ -107,33 +107,75 @@ def digest_before(trace: bytes, app: str) -> str:
     return hashlib.sha256("".join(lines).encode()).hexdigest()
 
 
-MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on (the family's CPU)
-    # Recorded once the collector was modelled on the board's heap and a growth counted the same
-    # moved or not (docs/mcu-time.md, "The collector's pause"): the same in a checkout at any
-    # path (host/tests/test_mcu_heap.py). A change to the counting interpreter's patch, the
-    # cost model or the shim's charging changes them: re-record with the reason. Re-recorded
-    # when the scheduler went the port's way (one callback a pending check, at the firmware's
-    # branches; a wait serves while the callbacks' compute is within it) and the shim's
-    # modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
+MCU_SECONDS = {("duct", "bench", 1): 8.0}  # (app, world, seed): its seconds; others: RUN_S
+"""How long each run with MCU time on is: a few virtual seconds, so that pinning every app's
+worlds adds little to ``make test`` (docs/mcu-time.md, "Default"): RUN_S, the free runs of the
+pool cleaners (60 s) and the duct robot (8 s) cut to it, but the duct robot's bench, 8 s as it
+was pinned first."""
+MCU_CPU = {"pico_bot": "rp2040@125MHz"}
+"""The CPU an app's MCU-time digest is pinned on, where its board family has none: pico_bot's
+board (``pins``) names no chip; its firmware is a Pico's (GP numbers, the LED on GP25)."""
+
+MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on (mcu_cpu: the family's CPU)
+    # The rover's and the duct robot's bench were recorded once the collector was modelled on the
+    # board's heap and a growth counted the same moved or not (docs/mcu-time.md, "The collector's
+    # pause"): the same in a checkout at any path (host/tests/test_mcu_heap.py). A change to the
+    # counting interpreter's patch, the cost model or the shim's charging changes them: re-record
+    # with the reason. Re-recorded when the scheduler went the port's way (one callback a pending
+    # check, at the firmware's branches; a wait serves while the callbacks' compute is within it)
+    # and the shim's modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
+    # Every other app's worlds recorded beside them (MCU_SECONDS long), on the same tree.
     ("rover", "room", 11): "58aafa119e7fb6c08deb08032487dbfe47ff20e68e5c091310a6216901f3e6ac",
+    ("rover", "long-room", 11): "e9b5d804d1b7961a21cc3e00273705717113c5c1439929bdce58f0a9d82304dc",
+    ("rover", "small-room", 11): "667083a6d0a186c9db7a5df2ece36ef1515c0ca7ad2044b3575cfa7a4a00256d",
+    ("vacuum", "vacuum-room", 11): "f4ab9240d4f38deeb2754c44cf8c4e4fafb444489ff28b8103b0924b217cee2c",
+    ("vacuum", "open-floor", 11): "4dc31097234fc25a36fe0fd37ad20e31627cd25b8ec6861466827f65d475b009",
+    ("lab_robot", "arena", 11): "bb5bce4246f0ac6815c20485d5121197aaf37e03c76d4e4937842cfdf884ecfe",
+    ("lab_robot", "arena-noisy", 11): "b0109f2127bdae72bd119217b7400442ac9e3b0a8e451b5bb98c9bd4e9183631",
+    ("lab_robot_canyon", "canyon", 11): "c9530e1ff53e60f6816b7f18f9d01aeca176c978fe8b8f16be8052f966147648",
+    ("lab_robot_canyon", "canyon-noisy", 11): "a2ab0a5c3407aa09f55ec1ae57783958babfa520914c6d9147664014083f1c47",
+    ("pico_bot", "box-ahead", 11): "0d5c24ee98c08c89301c175c761feb1b22b2130538abce736a1ab84252358c2c",
+    ("pico_bot", "open-room", 11): "e860dfa04e1fcf81ba846dcc89363daf976fed67db8859704a13962f7f6a727c",
+    ("pool_cleaner", "default", 1): "ae3da560540fe31e50c374e3c8e9fb28d03056bbedd450ca471469245c018105",
+    ("pool_cleaner_adc", "default", 1): "85d9fb4f19d1e6c84adc0f29feaa077ea8f5bc196aed776c55197ebbc2f09922",
+    ("duct", "one-right-branch", 1): "ec72a9c964354ea7670eb45afa75469ad5a2070eb19ce6cf96c46b814991bb04",
+    ("duct", "multi-branch", 2): "08184bea21bbd41569fdc61d74930ba02dbe38a09061b2c75eac9e5ed61f5d2e",
+    ("duct", "straight", 3): "81dd9626bba0b7f8deb15d6a78a04369f7834d3487513c0dfeae8f74a51180e0",
     ("duct", "bench", 1): "65ea5a85fb5d930fbd54e6998d910de5a5ed970357e32fb4d9105b2502ee8777",
+}
+MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-version 1.26)
+    ("rover", "room", 11): "8faa7844a78ed38453c2e1a06fd69e3a8bcf95942546b175ec995adb1472b48a",
+    ("rover", "long-room", 11): "888e311a99329b9a2c62c7101fdfe3b0333214061b6ec156e8ee1669e901b001",
+    ("rover", "small-room", 11): "30f795ff0a9d1b7d49fdada60d73c3dc7392b5793bbc7cb0027294207351c212",
+    ("vacuum", "vacuum-room", 11): "82e88db7d46130e515ce0986ef360293b26c6d3de06133c085f99dc09e007796",
+    ("vacuum", "open-floor", 11): "86b81c87e28546e3117b14c5a239e0274ee7b9453ed3722a1ed5286119bcf1c3",
+    ("lab_robot", "arena", 11): "9b17a9236238b0ff9b204e51109fff05886fc69037c5021334b85700a92f13e8",
+    ("lab_robot", "arena-noisy", 11): "2ab4949163f653bc5b9080c770440a9886e34d5bdc3fd032362d9e8921783de0",
+    ("lab_robot_canyon", "canyon", 11): "ab5f2058ec1f99eb253e3eda7f56d96c0579500b3a18092621053b17cc8cc324",
+    ("lab_robot_canyon", "canyon-noisy", 11): "ffc03ee2f41b60dc1c2b5a3a9393290cd0562fc2c8cdb4ca0fbeff6033d8d8fa",
+    ("pico_bot", "box-ahead", 11): "0d5c24ee98c08c89301c175c761feb1b22b2130538abce736a1ab84252358c2c",
+    ("pico_bot", "open-room", 11): "e860dfa04e1fcf81ba846dcc89363daf976fed67db8859704a13962f7f6a727c",
+    ("pool_cleaner", "default", 1): "bb5f34773fddc7781680b3012803ffcb99153c79e05a41977555212bacf99eb1",
+    ("pool_cleaner_adc", "default", 1): "f2f3de44d2a3773994c5fa0226c9347950b79c8b791a80b5455ebbfaef25afaf",
+    ("duct", "one-right-branch", 1): "f4cce5daaeb6f4817fa8aa0598a08e1e0122daac50206c6c86ad0bb4a8fdb906",
+    ("duct", "multi-branch", 2): "65e109a01a43b377a20ecc34a99372d6aac70f0959d3f3a20f8fb9f3aa1aad90",
+    ("duct", "straight", 3): "5ebc584d415b27509ea88acb04d6e4956fd6144d611cdb378ff60471ea106cdd",
+    ("duct", "bench", 1): "4afa5991f339e2d82f6d0b1f6d7c1ca663e4cbb5074c1497f64ea0ae6530392c",
 }
 MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (pytest --mpy-version)
     # Their link traces without MCU time are the default's (DIGESTS); with it they differ as the
     # firmware's own work differs (docs/shim.md, "On each MicroPython version"): from 1.26
     # asyncio.run executes more bytecodes (its early-exit fix: the rover's first wait ends at
     # 993 us, not 997), and the firmware's modules' bodies execute 5 bytecodes fewer from 1.26
-    # and allocate more from 1.28 as each version compiles them (the duct robot's).
-    "1.26": {
-        ("rover", "room", 11): "8faa7844a78ed38453c2e1a06fd69e3a8bcf95942546b175ec995adb1472b48a",
-        ("duct", "bench", 1): "4afa5991f339e2d82f6d0b1f6d7c1ca663e4cbb5074c1497f64ea0ae6530392c",
-    },
-    "1.27": {  # (1.26's: its compiler and asyncio count the same)
-        ("rover", "room", 11): "8faa7844a78ed38453c2e1a06fd69e3a8bcf95942546b175ec995adb1472b48a",
-        ("duct", "bench", 1): "4afa5991f339e2d82f6d0b1f6d7c1ca663e4cbb5074c1497f64ea0ae6530392c",
-    },
-    "1.28": {
-        ("rover", "room", 11): "8faa7844a78ed38453c2e1a06fd69e3a8bcf95942546b175ec995adb1472b48a",
+    # and allocate more from 1.28 as each version compiles them (the duct robot's). (pico_bot's
+    # are 1.25's on every version.)
+    "1.26": MCU_DIGESTS_1_26,
+    "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
+    "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
+        **MCU_DIGESTS_1_26,
+        ("duct", "one-right-branch", 1): "0c8f305fcb0e5cb4cd04700d5eabbdbd01e07278933e69cb6b05b38e03dd9446",
+        ("duct", "multi-branch", 2): "4e2c66032b44715d694706583c9cacd1dcc9d44516fe916ca7d08a64da5f024f",
+        ("duct", "straight", 3): "a03168632e1d0d7f6dd7a75e2087d811284e50e7faa5e1114a22d9dddd303bc3",
         ("duct", "bench", 1): "f0cfe94baaf3943ef828ee3b5f958eecd7dd8c94ac1aa3158198edfb63620803",
     },
 }
@@ -141,7 +183,7 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
 
 def _expected(key) -> tuple[dict, str]:
     """The table the default run of ``key`` is held to, and its name (MCU time on by default
-    needs every app's digest in a table of its own first: MCU_DIGESTS holds two)."""
+    would hold the default runs to MCU_DIGESTS, whose runs are MCU_SECONDS long: not yet)."""
     assert not mcutime.DEFAULT_ON, "MCU time on by default: pin every app's digests with it (see MCU_DIGESTS)"
     return DIGESTS, "DIGESTS"
 
@@ -150,6 +192,11 @@ def app_cpu(app: str) -> str:
     """The CPU of the app's board family (MCU time's default when it is on)."""
     spec = get_app(APP_PATHS.get(app, app))
     return mcutime.family_cpu(spec.identity or boards.identity(spec.default_board))
+
+
+def mcu_cpu(app: str) -> str:
+    """The CPU the app's MCU-time digests are pinned on: its family's, else :data:`MCU_CPU`'s."""
+    return MCU_CPU.get(app) or app_cpu(app)
 
 
 @pytest.mark.parametrize("key", list(DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
@@ -173,21 +220,29 @@ def test_cpu_free_gives_todays_digests(make_rig, monkeypatch, key):
     _check_digest(make_rig, key, DIGESTS[key])
 
 
-@pytest.mark.parametrize("key", list(MCU_DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
+def mcu_seconds(key) -> float:
+    """How long the run of ``key`` with MCU time on is (:data:`MCU_SECONDS`)."""
+    return MCU_SECONDS.get(key, RUN_S)
+
+
+@pytest.mark.parametrize("key", list(DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
 def test_a_run_with_mcu_time_gives_its_pinned_digest(make_rig, monkeypatch, key, hil_mpy_version):
-    monkeypatch.setenv("MPYFIL_CPU", app_cpu(key[0]))
+    """Every world of every app (DIGESTS' runs) with MCU time on, on its family's CPU
+    (:func:`mcu_cpu`), for :func:`mcu_seconds`: the digest pinned for this MicroPython version."""
+    monkeypatch.setenv("MPYFIL_CPU", mcu_cpu(key[0]))
     version = interpreter.release(hil_mpy_version).version
     table = MCU_DIGESTS if version == interpreter.DEFAULT_VERSION else MCU_DIGESTS_BY_VERSION.get(version, {})
     if key not in table:
         pytest.fail(f"{key}: no digest with MCU time pinned for MicroPython {version} (MCU_DIGESTS_BY_VERSION)")
-    _check_digest(make_rig, key, table[key])
+    _check_digest(make_rig, key, table[key], mcu_seconds(key))
 
 
-def _check_digest(make_rig, key, expected: str | None) -> str:
-    """The run's link-trace digest, held to ``expected`` unless None."""
+def _check_digest(make_rig, key, expected: str | None, seconds: float | None = None) -> str:
+    """The run's link-trace digest after ``seconds`` (the free run's: SECONDS), held to
+    ``expected`` unless None."""
     app, world, seed = key
     name = APP_PATHS.get(app, app)
-    seconds = SECONDS.get(app, RUN_S)
+    seconds = seconds or SECONDS.get(app, RUN_S)
     rig = make_rig(name, seed=seed, plant_options=dict(get_app(name).worlds[world]), trace=True)
     rig.run_for(seconds)
     assert rig.t_us >= seconds * 1e6 and "Traceback" not in rig.console, rig.console[-800:]

@@ -58,8 +58,8 @@ FAMILY_CPU = {
 """Each family's CPU, by the chip its board names (sys.implementation._machine's "with <chip>")."""
 DEFAULT_ON = False
 """Whether a rig file without ``cpu`` gets its family's CPU (docs/mcu-time.md, "Default"):
-not yet (16 app tests pin figures of a free CPU, and a trace with MCU time on depends on
-the checkout's folder: docs/mcu-time.md, "Default"); until then it gets "free"."""
+not yet (17 app tests fail with it: figures pinned on a free CPU, and findings about the
+apps' firmware, docs/mcu-time.md, "Our apps with MCU time on"); until then it gets "free"."""
 
 
 def family_cpu(identity: tuple[str, str] | None) -> str:
