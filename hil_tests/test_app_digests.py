@@ -22,7 +22,6 @@ from pathlib import Path
 import pytest
 from flashed import as_from_sources
 
-from host.core import interpreter
 from host.core.paths import REPO
 from host.rig import boards, mcutime
 from host.rig.apps import get_app
@@ -223,18 +222,6 @@ def test_cpu_free_gives_todays_digests(make_rig, monkeypatch, key):
 def mcu_seconds(key) -> float:
     """How long the run of ``key`` with MCU time on is (:data:`MCU_SECONDS`)."""
     return MCU_SECONDS.get(key, RUN_S)
-
-
-@pytest.mark.parametrize("key", list(DIGESTS), ids=lambda k: f"{k[0]}-{k[1]}-s{k[2]}")
-def test_a_run_with_mcu_time_gives_its_pinned_digest(make_rig, monkeypatch, key, hil_mpy_version):
-    """Every world of every app (DIGESTS' runs) with MCU time on, on its family's CPU
-    (:func:`mcu_cpu`), for :func:`mcu_seconds`: the digest pinned for this MicroPython version."""
-    monkeypatch.setenv("MPYFIL_CPU", mcu_cpu(key[0]))
-    version = interpreter.release(hil_mpy_version).version
-    table = MCU_DIGESTS if version == interpreter.DEFAULT_VERSION else MCU_DIGESTS_BY_VERSION.get(version, {})
-    if key not in table:
-        pytest.fail(f"{key}: no digest with MCU time pinned for MicroPython {version} (MCU_DIGESTS_BY_VERSION)")
-    _check_digest(make_rig, key, table[key], mcu_seconds(key))
 
 
 def _check_digest(make_rig, key, expected: str | None, seconds: float | None = None) -> str:
