@@ -113,6 +113,16 @@ def on_cpu(rig, p: bytes) -> None:
         rig.cpu_load.stretch(*F.unpack_cpu(p))
 
 
+def on_cpu_runs(rig, p: bytes) -> None:
+    """MCU time: the compute before each wait the shim served itself since the last
+    exchange, each a value for the compute budgets and a piece of the CPU load."""
+    for t_us, compute_us in F.unpack_cpu_runs(p):
+        for call in rig._compute_hooks:
+            call(compute_us)
+        if rig.cpu_load is not None:
+            rig.cpu_load.wait(t_us, compute_us)
+
+
 def on_cpu_irq(rig, p: bytes) -> None:
     """MCU time: the callbacks' compute over a span (host/rig/mcutime.py)."""
     if rig.cpu_load is not None:
@@ -163,5 +173,6 @@ HANDLERS = {
     F.POLL: on_poll,
     F.CPU: on_cpu,
     F.CPU_IRQ: on_cpu_irq,
+    F.CPU_RUNS: on_cpu_runs,
 }
 """Frame type -> its handler."""

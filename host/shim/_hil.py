@@ -66,7 +66,8 @@ class _Console:
     # compute since the last charge, µs: added to the debt above, paid the same way) and
     # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
     cpu = busy = irq = None  # (irq: _hilfast.irq_us, all the callbacks' compute so far)
-    ran_us = 0  # the main program's compute charged since the last exchange (WAIT's compute_us)
+    ran_us = 0  # the main program's compute charged since its last wait began (WAIT's compute_us)
+    runs = []  # (t_us, compute_us) of each wait begun since the last exchange (CPU_RUNS, then WAIT)
     stack = None  # _hilfast.stack (the firmware's running functions), with MCU time
     longest_us = 0  # the longest compute between two waits so far (sent with its code: CPU)
     top_us = 0  # this stretch's largest charge since it outgrew longest_us, and the code
@@ -139,6 +140,32 @@ def _charge_cpu():
             _Console.top_us = owed  # largest piece, sampled as it is charged: bounded, one call per larger piece)
             _Console.top_stack = _Console.stack()
     return _Console.debt_ns >= 1000
+
+
+def _wait_begins():
+    """MCU time: a wait begins, which ends the main program's compute stretch (whether the
+    shim serves the wait itself or asks the host): its compute is one run for the budgets
+    and the CPU load (CPU_RUNS, then the WAIT), and a record stretch is said (CPU)."""
+    _charge_cpu()
+    ran = _Console.ran_us
+    if not ran:
+        return
+    _Console.ran_us = 0
+    if ran > _Console.longest_us:
+        _cpu_stretch(ran)
+    _Console.top_us, _Console.top_stack = 0, None
+    runs = _Console.runs
+    runs.append((_now, ran))
+    if len(runs) > F.CPU_RUNS_MAX:  # (the oldest go now, with the next message sent)
+        _send_runs(runs[: F.CPU_RUNS_MAX])
+        del runs[: F.CPU_RUNS_MAX]
+
+
+def _send_runs(runs):
+    payload = struct.pack(F.CPU_RUNS_FMT, len(runs))
+    for t, ran in runs:
+        payload += struct.pack(F.CPU_RUN_FMT, t, ran)
+    send(F.CPU_RUNS, payload)
 
 
 def _irq_load():
@@ -625,6 +652,8 @@ def run_until(t_target, watch=None):
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     _Link.until = t_target  # (the wait handles events: the callbacks due on its way run)
+    if _Console.cpu is not None and not _dispatching:
+        _wait_begins()
     if _pending:  # left by a C call (c_begin), a read or a callback: the wait's first checks
         dispatch(t_target)
     return _released_run_until(t_target, watch)
@@ -850,6 +879,13 @@ def _sync(t_until, watch):
     if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
         compute_us = _Console.ran_us
         _Console.ran_us = 0
+        runs = _Console.runs
+        if runs:  # the waits begun since the last exchange: the last one's is this WAIT's (if
+            if not compute_us:  # nothing ran since it began), the ones before it a CPU_RUNS
+                compute_us = runs.pop()[1]
+            if runs:
+                _send_runs(runs)
+                runs.clear()
         if compute_us > _Console.longest_us:
             _cpu_stretch(compute_us)
         _Console.top_us, _Console.top_stack = 0, None
@@ -1346,6 +1382,9 @@ def finish(kind, code=0, text=None):
         return
     if _Link.reserve is not None:
         spend_reserve()  # (the firmware may have left no room for the last frames)
+    if _Console.runs:  # (MCU time: the compute before the waits served since the last exchange)
+        _send_runs(_Console.runs)
+        _Console.runs = []
     if text is not None:
         send(F.FAULT, F.pack_fault(now(), text.encode()))
     if isinstance(_link, _StdioLink):

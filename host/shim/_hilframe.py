@@ -276,6 +276,7 @@ POLL = 0x0A  # a poll that never ends: one pin or memory address read with one a
 CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the code that ran it
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
+CPU_RUNS = 0x10  # MCU time: the compute before each wait the shim served itself (t_us, compute_us pairs)
 I2CT_DONE = 0x0F  # a controller's transaction on an I2CTarget done: what the controller read (I2CT_DONE_FMT)
 EVAL_REPLY = 0x0E  # an EVAL's outcome: a value's repr, nothing, or the error's text (EVAL_*)
 # host -> shim
@@ -302,6 +303,7 @@ NAMES = {
     BUS_DONE: "BUS_DONE",
     EVAL_REPLY: "EVAL_REPLY",
     I2CT_DONE: "I2CT_DONE",
+    CPU_RUNS: "CPU_RUNS",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -349,6 +351,9 @@ POLL_LEN = struct.calcsize(POLL_FMT)
 CPU_FMT = "<QII"  # t_us (the wait it ends at), compute_us, its largest charge's µs; then UTF-8 stack lines
 CPU_LEN = struct.calcsize(CPU_FMT)
 CPU_IRQ_FMT = "<QQI"  # t_from_us, t_us, the callbacks' compute_us between them
+CPU_RUNS_FMT = "<H"  # runs, then each CPU_RUN_FMT: the wait's instant (its start), the compute before it
+CPU_RUN_FMT = "<QI"
+CPU_RUNS_MAX = 32  # runs a CPU_RUNS message holds at most (the shim sends one when it has that many)
 CPU_WINDOW_US = 100_000  # the CPU load's window (host/rig/mcutime.py)
 
 
@@ -479,6 +484,13 @@ def unpack_bus_image(p):
 
 def pack_bus_done(t_us, entry):
     return struct.pack(BUS_DONE_FMT, t_us, entry)
+
+
+def unpack_cpu_runs(p):
+    """[(t_us, compute_us), ...]"""
+    (n,) = struct.unpack_from(CPU_RUNS_FMT, p, 0)
+    size, run = struct.calcsize(CPU_RUNS_FMT), struct.calcsize(CPU_RUN_FMT)
+    return [struct.unpack_from(CPU_RUN_FMT, p, size + i * run) for i in range(n)]
 
 
 def unpack_i2ct_done(p):

@@ -63,6 +63,7 @@ SECOND_PART = {
     "STATE": "CHANGE_FMT",
     "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT",
     "I2CT_DONE": "I2CT_XACT_FMT",
+    "CPU_RUNS": "CPU_RUN_FMT",
 }
 
 
@@ -86,7 +87,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 21, sorted(layouts)  # 17 messages with a payload, and the 4 second parts above
+    assert len(layouts) == 23, sorted(layouts)  # 18 messages with a payload, and the 5 second parts above
     for name, fmt in layouts.items():
         assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
 

@@ -359,3 +359,40 @@ def test_callbacks_that_fire_during_the_main_programs_compute_preempt_it(make_ri
     rig.stop()
     got = results(rig.console)["computed"]
     assert 5_900 <= got <= 6_700, f"expected 6,000 to 6,500 us (5 ms, preempted), got {got} ({rig.console!r})"
+
+
+QUIET = (
+    """
+import time
+"""
+    + CONTROL
+    + """
+for loop in range(30):
+    control(ITERATIONS)
+    time.sleep_ms(10)
+"""
+)
+
+
+def test_waits_the_shim_serves_itself_end_each_compute_stretch(make_rig, tmp_path, iterations):
+    """A loop with no output between its sleeps: the shim serves most waits itself (no
+    exchange), yet each is the end of a stretch of compute: the compute budget gets one
+    value a loop (CPU_RUNS), the longest stretch is one loop's, not a sum of several, and
+    the CPU load is spread over the loops' instants."""
+    folder = tmp_path / "app"
+    rig_file(folder, "rp2040@125MHz", 1000, iterations)
+    (folder / "main.py").write_text(textwrap.dedent(QUIET.replace("ITERATIONS", str(round(iterations * 1.1 / 5)))))
+    rig = make_rig(str(folder / "rig.toml"), trace=True, record=True)
+    rig.run_for(0.5)
+    rig.stop()
+    stats = rig.budgets["control"].stats()
+    where = f"(trace folder {rig.artefacts})"
+    assert 29 <= stats["count"] <= 31, f"expected a value a loop (30), got {stats} {where}"
+    assert stats["misses"] == stats["count"] and 1000 < stats["max"] < 1400, (
+        f"each ~1.1 ms (the first with the start-up): {stats} {where}"
+    )
+    mcu = json.loads((rig.artefacts / "header.json").read_text())["mcu_time"]
+    longest = mcu["longest"][0]["compute_us"]
+    assert 1000 < longest < 1400, f"expected the longest stretch one loop's ~1.1 ms, got {longest} us {where}"
+    shares = mcu["busy_share"]
+    assert all(0.07 <= s <= 0.13 for s in shares[:3]), f"expected ~10 % busy each 100 ms, got {shares} {where}"
