@@ -13,28 +13,34 @@
 # master had to poll "more frequently than the data is added"; bit 1: emergency stop). A
 # write to 16.. is acted on when it ends (its IRQ_END_WRITE handler).
 import struct
-from machine import ADC, I2CTarget, Pin, Timer, disable_irq, enable_irq
+from machine import ADC, PWM, I2CTarget, Pin, Timer, disable_irq, enable_irq
 from micropython import const
 from time import sleep_ms
 
 import board
 from duct_link import RecordRing
-from duct_robot import Motor, SlotCounter  # (the one-board robot's: an LMD18200, a slot counter)
 from duct_sonar import GAINS100, SonarFilter
-from duct_speed import WheelLoop
+from duct_speed import DUTY_TOP, WheelLoop
 
 ADDR = const(0x0B)
 BASE_HZ = const(160)
 TICKS_PER_LOOP = const(8)
 MAIN_MS = const(10)
+PWM_HZ = const(20000)
 MAILBOX = const(32)
 TAKE, ESTOP = 1, 2
 
 
 class Robostix:
     def __init__(self):
-        self.motors = (Motor(board.MOTOR_L_DIR, board.MOTOR_L_PWM), Motor(board.MOTOR_R_DIR, board.MOTOR_R_PWM))
-        self.slots = (SlotCounter(board.ENC_L), SlotCounter(board.ENC_R))
+        # each LMD18200's DIR and PWM; each wheel's slot interrupter, its edges counted by an IRQ
+        self.dirs = (Pin(board.MOTOR_L_DIR, Pin.OUT, value=1), Pin(board.MOTOR_R_DIR, Pin.OUT, value=1))
+        self.pwms = tuple(PWM(Pin(p), freq=PWM_HZ, duty_u16=0) for p in (board.MOTOR_L_PWM, board.MOTOR_R_PWM))
+        self.counts = [0, 0]  # slots since the last speed loop
+        self.totals = [0, 0]
+        self.enc = (Pin(board.ENC_L, Pin.IN), Pin(board.ENC_R, Pin.IN))
+        self.enc[0].irq(self._left, Pin.IRQ_RISING)
+        self.enc[1].irq(self._right, Pin.IRQ_RISING)
         self.loops = (WheelLoop(), WheelLoop())
         self.adcs = (ADC(Pin(board.SONAR_F_ADC)), ADC(Pin(board.SONAR_L_ADC)), ADC(Pin(board.SONAR_R_ADC)))
         self.filters = tuple(SonarFilter(g) for g in GAINS100)
@@ -47,6 +53,25 @@ class Robostix:
         self.target.irq(self._written, trigger=I2CTarget.IRQ_END_WRITE)
         self.timer = Timer(0)
 
+    def _left(self, _pin):
+        self.counts[0] += 1
+
+    def _right(self, _pin):
+        self.counts[1] += 1
+
+    def _take(self):
+        """The slots counted since the last speed loop (zeroed), added to the totals."""
+        state = disable_irq()
+        counts, self.counts = self.counts, [0, 0]
+        enable_irq(state)
+        self.totals[0] += counts[0]
+        self.totals[1] += counts[1]
+        return counts
+
+    def _drive(self, side, duty):
+        self.dirs[side].value(1 if duty >= 0 else 0)
+        self.pwms[side].duty_u16(abs(duty) * 65535 // DUTY_TOP)
+
     def _tick(self, _timer):
         self.ticks += 1
         if self.ticks % TICKS_PER_LOOP == 0:
@@ -54,15 +79,15 @@ class Robostix:
 
     def control(self):
         self.probe.toggle()
-        counts = (self.slots[0].take(), self.slots[1].take())
+        counts = self._take()
         duties = [self.loops[0].update(counts[0]), self.loops[1].update(counts[1])]
         sl, sr = self.loops[0].set_ticks, self.loops[1].set_ticks
         if sl and sl == -sr:  # a spin: the backward wheel takes the forward wheel's duty (§5.7)
             fwd = 0 if sl > 0 else 1
             duties[1 - fwd] = -duties[fwd]
             self.loops[1 - fwd].duty = self.loops[fwd].duty
-        self.motors[0].drive(duties[0])
-        self.motors[1].drive(duties[1])
+        self._drive(0, duties[0])
+        self._drive(1, duties[1])
         raw = self.sonar_raw()
         self.ring.push(counts[0] * self.loops[0].sign, counts[1] * self.loops[1].sign, *raw)
 
@@ -91,7 +116,7 @@ class Robostix:
         raw = self.sonar_raw()
         f, left, right = (flt.push(v) for flt, v in zip(self.filters, raw))
         state = disable_irq()
-        totals = (self.slots[0].total + self.slots[0].n, self.slots[1].total + self.slots[1].n)
+        totals = (self.totals[0] + self.counts[0], self.totals[1] + self.counts[1])
         enable_irq(state)
         struct.pack_into("<IIBBB", self.regs, 0, totals[0], totals[1], f, left, right)
 
