@@ -1181,9 +1181,7 @@ def _at_branch():
 
 def _run_hard():
     """The hard IRQs' handlers in the queue, in order (the soft callbacks stay)."""
-    global _dispatching
     pending = _pending
-    was = _dispatching
     i = 0
     while i < len(pending):
         callback, arg = pending[i]
@@ -1191,24 +1189,16 @@ def _run_hard():
             i += 1
             continue
         del pending[i]
-        _Link.callbacks += 1
-        _Link.hard = _dispatching = True  # (its reads move no time, as any handler's)
-        try:
-            callback(arg)
-        except Exception as e:
-            raise CallbackFailed(callback, e)  # noqa: B904
-        finally:
-            _Link.hard = False
-            _dispatching = was
+        run_hard_now(callback, arg)
 
 
 def run_hard_now(callback, arg):
-    """A hard IRQ's handler run now, inside what the port's interrupt does (an I2CTarget's
-    request: the bytes the controller reads depend on it), as _run_hard runs one."""
+    """A hard IRQ's handler run now (_run_hard's, one at a time; an I2CTarget's request,
+    whose answer the controller reads, inside what the port's interrupt does)."""
     global _dispatching
     was = _dispatching
     _Link.callbacks += 1
-    _Link.hard = _dispatching = True
+    _Link.hard = _dispatching = True  # (its reads move no time, as any handler's)
     try:
         callback(arg)
     except Exception as e:
