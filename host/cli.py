@@ -567,6 +567,9 @@ def _run_boards(args) -> int:
         rows = rig.budget_rows() if name in boards.firmware() else None
         if rows:
             print(format_table(rows))
+    if run.budgets:
+        print("budgets across boards:")
+        print(format_table([b.stats() for b in run.budgets.values()]))
     truth = run.truth()
     pose = ", ".join(f"{k} {truth[k]:.3f}" for k in ("x_m", "y_m", "theta_rad") if k in truth)
     print(f"ground truth at {run.t_us / 1e6:g} s: {pose or 'no pose'}; contacts: {len(truth.get('contacts', []))}")

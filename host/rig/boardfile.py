@@ -18,7 +18,8 @@ from host.rig.app import App
 from host.rig.rigfile import MAX_RIG_BYTES, _name, _Where, rig_from_data
 from host.rig.tomlfile import read_toml
 
-TOP_KEYS = {"name": str, "description": str, "plant": dict, "world": dict, "boards": list}
+TOP_KEYS = {"name": str, "description": str, "plant": dict, "world": dict, "boards": list, "budgets": dict}
+REACTION_KEYS = {"kind": str, "stimulus": str, "response": str, "limit_us": int, "description": str}
 BOARD_KEYS = {
     "name": str,
     "description": str,
@@ -43,6 +44,9 @@ class Boards:
     rig_file: Path | None = None
     i2c_links: dict = field(default_factory=dict)
     """(controller board, its bus) -> the target board: the plant's ``board_i2c`` parts."""
+    budgets: dict = field(default_factory=dict)
+    """Budgets across boards (the file's top-level ``[budgets.<name>]``): name -> (stimulus,
+    response, limit_us, description), each end (board, signal)."""
 
     def firmware(self) -> dict:
         """The boards that run firmware (the others are host programs), by name."""
@@ -115,7 +119,44 @@ def boards_from_data(path, data: dict) -> Boards:
         raise where.error("[[boards]]", "expected at least one board with firmware (the others may be host programs)")
     first = firmware[0]
     links = _i2c_links(where, data["plant"], apps)
-    return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path, i2c_links=links)
+    budgets = _reaction_budgets(where, data.get("budgets", {}), apps)
+    return Boards(name=name, apps=apps, make_plant=first.make_plant, rig_file=path, i2c_links=links, budgets=budgets)
+
+
+def _reaction_budgets(where, table: dict, apps: dict) -> dict:
+    """The top-level ``[budgets.<name>]`` of a rig file with several boards: each a
+    ``reaction`` from a signal one board drives to a signal another drives (``board:signal``,
+    the signal one of that board's pins is wired to: a plant input or a probe)."""
+    budgets = {}
+    for name, entry in table.items():
+        field = f"[budgets.{name}]"
+        if not isinstance(entry, dict):
+            raise where.error(field, f"expected a table, got {entry!r}")
+        where.table(entry, field, REACTION_KEYS, required=("kind", "stimulus", "response", "limit_us"))
+        if entry["kind"] != "reaction":
+            raise where.error(
+                f"{field} kind",
+                f"expected 'reaction' (a budget across boards; one board's own budgets go in its [[boards]] "
+                f"table), got {entry['kind']!r}",
+            )
+        ends = []
+        for role in ("stimulus", "response"):
+            board, _, signal = entry[role].partition(":")
+            app = apps.get(board)
+            if not isinstance(app, App):
+                boards = ", ".join(b for b, a in apps.items() if isinstance(a, App))
+                raise where.error(
+                    f"{field} {role}",
+                    f"expected '<board>:<signal>' of a board with firmware ({boards}), got {entry[role]!r}",
+                )
+            if signal not in app.wiring.values():
+                wired = ", ".join(sorted(app.wiring.values()))
+                raise where.error(f"{field} {role}", f"board {board} wires no pin to {signal!r} (its signals: {wired})")
+            ends.append((board, signal))
+        if not 0 < entry["limit_us"] <= 3_600_000_000:
+            raise where.error(f"{field} limit_us", f"expected a time in us from 1 to an hour, got {entry['limit_us']}")
+        budgets[name] = (ends[0], ends[1], entry["limit_us"], entry.get("description", ""))
+    return budgets
 
 
 def _i2c_links(where, plant: dict, apps: dict) -> dict:

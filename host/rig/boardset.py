@@ -26,6 +26,7 @@ from host.link import frames as F
 from host.rig import arguments
 from host.rig.boardfile import ProgramSpec
 from host.rig.boardview import BoardView, couple
+from host.rig.budgets import ReactionBudget
 from host.rig.hostboard import HostProgram, load_program
 from host.rig.peripherals import TARGET_PREFIX
 from host.rig.rig import Rig
@@ -90,6 +91,12 @@ class BoardSet:
             self.rigs[name], self.views[name] = rig, view
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
+        self.budgets: dict[str, ReactionBudget] = {}  # the budgets across boards (the file's [budgets])
+        for name, (stimulus, response, limit_us, description) in boards.budgets.items():
+            budget = ReactionBudget(name, stimulus, response, limit_us=limit_us, description=description)
+            for (board, signal), call in ((stimulus, budget.on_stimulus), (response, budget.on_response)):
+                self.rigs[board].outputs.level_hooks.setdefault(signal, []).append(call)
+            self.budgets[name] = budget
         self._in_target = None  # the target board a controller's transfer is being served by
 
     # -- life cycle ---------------------------------------------------------------------
@@ -147,6 +154,8 @@ class BoardSet:
         except HarnessError as e:
             label_error(e, serving[0])
             raise
+        for budget in self.budgets.values():
+            budget.end(self.t_us)
 
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views

@@ -357,6 +357,42 @@ class BusSampleBudget(PeriodBudget):
         return {**super().record(), "address": self.address, "register": self.register, "ready": self.ready}
 
 
+class ReactionBudget(Budget):
+    """Across boards (a rig file with ``[[boards]]``: docs/multi-board.md): the time from
+    an event on one board (``stimulus``: it drives the pin wired to that signal to a new
+    level) to the next event on another (``response``), at most ``limit_us`` (a command sent
+    on one and acted on by the other). A stimulus while one waits for its response is part
+    of it (the first one times it); one never answered by the run's end counts as a miss
+    once it is older than the limit. The set of boards hooks it to both boards' outputs."""
+
+    def __init__(self, name, stimulus: tuple[str, str], response: tuple[str, str], *, limit_us: int, description=""):
+        super().__init__(name, f"{stimulus[0]}:{stimulus[1]}", limit_us=limit_us, description=description)
+        self.stimulus, self.response = stimulus, response
+        self._pending_us = None
+
+    def on_stimulus(self, t_us: int, _signal: str, _value, changed: bool) -> None:
+        if changed and self._pending_us is None:
+            self._pending_us = t_us
+
+    def on_response(self, t_us: int, _signal: str, _value, changed: bool) -> None:
+        if changed and self._pending_us is not None:
+            latency = t_us - self._pending_us
+            self._pending_us = None
+            self._record(latency, latency > self.limit_us, t_us)
+
+    def end(self, t_us: int) -> None:
+        """The run ends at ``t_us``: a stimulus still unanswered past the limit is a miss."""
+        if self._pending_us is not None and t_us - self._pending_us > self.limit_us:
+            self._record(t_us - self._pending_us, True, t_us)
+            self._pending_us = None
+
+    def limit_text(self) -> str:
+        return f"{self.stimulus[0]}:{self.stimulus[1]} -> {self.response[0]}:{self.response[1]} <= {self.limit_us} us"
+
+    def record(self) -> dict:
+        return {**super().record(), "stimulus": list(self.stimulus), "response": list(self.response)}
+
+
 class BudgetHooks:
     """The budgets' hooks by event and signal, as the rig calls them: ``change[signal]``
     is the list of callables for a change of that signal, and so on."""

@@ -214,3 +214,86 @@ def test_a_board_of_a_set_is_not_run_alone(tmp_path):
             boards["left"].run_for(0.01)
         boards.run_for(0.01)
         assert boards["left"].t_us == boards["right"].t_us == 10_000
+
+
+REACTION_RIG = """\
+name = "reaction"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "wire"
+name = "cmd"
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { CMD = 4 } }
+wiring = { CMD = "cmd.in" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { CMD = 5, ACK = 6 } }
+wiring = { CMD = "cmd.out", ACK = "probe:ack" }
+[budgets.command]
+kind = "reaction"
+stimulus = "left:cmd.in"
+response = "right:probe:ack"
+limit_us = LIMIT
+description = "the right board acts on the left's command within {limit_ms:g} ms"
+"""
+
+COMMANDER = """\
+import time
+from machine import Pin
+cmd = Pin(4, Pin.OUT, value=0)
+for n in range(10):
+    time.sleep_ms(17 + 3 * (n % 4))
+    cmd.toggle()
+while True:
+    time.sleep_ms(100)
+"""
+
+ACTOR = """\
+import time
+from machine import Pin
+ack = Pin(6, Pin.OUT, value=0)
+got = []
+Pin(5, Pin.IN).irq(lambda p: got.append(1), Pin.IRQ_RISING | Pin.IRQ_FALLING)
+while True:
+    if got:
+        got.clear()
+        time.sleep_us(3000)  # (the command's work: 3 ms)
+        ack.toggle()
+    time.sleep_ms(1)
+"""
+
+
+@pytest.mark.parametrize(("limit_us", "holds"), [(5000, True), (2000, False)])
+def test_a_budget_across_boards_times_a_command_on_one_to_the_action_of_the_other(tmp_path, limit_us, holds):
+    for board, main in (("left", COMMANDER), ("right", ACTOR)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(main)
+    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", str(limit_us)))
+    with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1) as boards:
+        boards.run_for(0.3)
+    budget = boards.budgets["command"]
+    stats = budget.stats()
+    # each command seen at its edge, acted on at the main loop's next 1 ms tick plus 3 ms of work
+    assert stats["count"] == 10 and 3000 <= stats["min"] <= stats["max"] <= 4000, stats
+    if holds:
+        budget.check()
+    else:
+        with pytest.raises(
+            AssertionError, match=r"budget command: expected every value left:cmd\.in -> right:probe:ack <= 2000 us"
+        ):
+            budget.check()
+
+
+def test_a_budget_across_boards_names_a_board_or_signal_it_cannot_see(tmp_path):
+    for board, main in (("left", COMMANDER), ("right", ACTOR)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(main)
+    (tmp_path / "rig.toml").write_text(
+        REACTION_RIG.replace("LIMIT", "5000").replace("right:probe:ack", "right:probe:nak")
+    )
+    with pytest.raises(ConfigError, match=r"\[budgets\.command\] response: board right wires no pin to 'probe:nak'"):
+        load_boards(tmp_path / "rig.toml")
