@@ -21,7 +21,7 @@ import contextlib
 import struct
 from pathlib import Path
 
-from host.core.errors import HarnessError, LinkError
+from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
 from host.rig import arguments
 from host.rig.boardfile import ProgramSpec
@@ -275,6 +275,20 @@ class BoardSet:
         if rig._i2ct_done is None:
             return None if rig.exit_kind is not None else (F.BUS_NACK_ADDRESS, 0, b"")
         return rig._i2ct_done
+
+    def power_cycle(self, board: str) -> None:
+        """Board ``board`` loses power at the set's instant and boots again (a brownout:
+        ``Rig.power_cycle``), every board blocked in its wait; the others and the plant
+        carry on. A host program has no power to lose (it is refused)."""
+        rig = self.rigs[board]
+        if not isinstance(rig, Rig):
+            raise ConfigError(f"board {board} is a host program: it has no power to lose")
+        serving = [""]
+        self._settle(serving)
+        with naming(board):
+            rig.power_cycle()
+            while rig.clock.wait is None and rig.exit_kind is None:  # (its boot, to its first wait)
+                rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
 
     def target_addresses(self, board: str, bus: str) -> set:
         """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's),

@@ -27,7 +27,8 @@ from host.artefacts.recorder import Recorder
 from host.core import paths, safefs
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
-from host.rig import arguments, boards, endings, manifest, mcutime, waits
+from host.link import frames as F
+from host.rig import arguments, boards, endings, manifest, mcutime, peripherals, waits
 from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks, ComputeBudget
 from host.rig.busimage import BusImages
@@ -298,6 +299,24 @@ class Rig:
         self.wiring.pio.reset()
         self.bus_images.forget()
         self._open(self.target.restart)
+
+    def power_cycle(self) -> None:
+        """The board loses power at this instant and boots again (a brownout): its firmware
+        is stopped where it is (blocked in a wait), the lines it drove go low (a PWM stops,
+        a shared line is let go) and it starts from its entry file, configuring its pins
+        anew; the plant carries on. (A board among others: ``BoardSet.power_cycle``.)"""
+        if self.clock.wait is None:
+            raise LinkError(f"a power cycle while the firmware runs (serve it to its wait first){self.where()}")
+        plant_inputs = self.outputs.plant_inputs
+        for info in self.wiring.handles:
+            if info.signal in plant_inputs and not info.is_input and info.kind in (F.CFG_PIN, F.CFG_PWM):
+                shared = info.signal in self.wiring.shared
+                self.plant.set_input(info.signal, peripherals.RELEASED if shared else 0)
+        self.console_log.write(f"[power lost and back at t={self.t_us / 1e6:.6f} s]\n".encode(), self.t_us)
+        self.resets += 1
+        self.wiring.pio.reset()
+        self.bus_images.forget()
+        self._open(self.target.power_cycle)
 
     # -- link ------------------------------------------------------------------------
 

@@ -110,6 +110,10 @@ class Target:
     def restart(self, firmware, on_console) -> Channel:
         raise NotImplementedError
 
+    def power_cycle(self, firmware, on_console) -> Channel:
+        """The board loses power where it is and boots again (a brownout)."""
+        raise HarnessError(f"{type(self).__name__}: a power cycle is not modelled on this target")
+
     def alive(self) -> bool:
         """Opened and not closed."""
         raise NotImplementedError
@@ -176,6 +180,15 @@ class UnixPortTarget(Target):
         proc, self.proc = self.proc, None
         proc.wait(timeout=EXIT_WAIT_S)
         self._drain(proc)
+        return self.open(firmware, on_console)
+
+    def power_cycle(self, firmware, on_console) -> Channel:
+        """A brownout: the process is killed where it is (blocked in a wait, nothing said)
+        and a new one starts on the same pty (the plant carries on)."""
+        proc, self.proc = self.proc, None
+        if proc is not None:
+            end_process(proc)
+            self._drain(proc)
         return self.open(firmware, on_console)
 
     def alive(self) -> bool:

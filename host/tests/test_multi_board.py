@@ -297,3 +297,22 @@ def test_a_budget_across_boards_names_a_board_or_signal_it_cannot_see(tmp_path):
     )
     with pytest.raises(ConfigError, match=r"\[budgets\.command\] response: board right wires no pin to 'probe:nak'"):
         load_boards(tmp_path / "rig.toml")
+
+
+def test_a_board_that_browns_out_boots_again_and_the_others_carry_on(tmp_path):
+    """BoardSet.power_cycle: the right board loses power at 0.1 s (killed in its wait) and
+    boots again at that instant; the left board's commands after it are acted on again."""
+    for board, main in (("left", COMMANDER), ("right", 'print("actor up")\n' + ACTOR)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(main)
+    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", "5000"))
+    with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.1)
+        before = boards.budgets["command"].stats()["count"]
+        boards.power_cycle("right")
+        boards.run_for(0.2)
+        console = boards["right"].console
+        after = boards.budgets["command"].stats()["count"]
+        assert boards["right"].resets == 1 and boards["left"].resets == 0
+    assert console.count("actor up") == 2 and "[power lost and back at t=0.100000 s]" in console, console
+    assert 3 <= before < after <= 10, f"expected commands acted on before and after the brownout: {before}, {after}"
