@@ -316,3 +316,71 @@ def test_a_board_that_browns_out_boots_again_and_the_others_carry_on(tmp_path):
         assert boards["right"].resets == 1 and boards["left"].resets == 0
     assert console.count("actor up") == 2 and "[power lost and back at t=0.100000 s]" in console, console
     assert 3 <= before < after <= 10, f"expected commands acted on before and after the brownout: {before}, {after}"
+
+
+UART_FAULT_RIG = """\
+name = "uart_faults"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+FAULTS
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { LINK_UART = 1 } }
+wiring = { LINK_UART = "link.a" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+
+SENDER = """\
+import time
+from machine import UART
+u = UART(1, 115200)
+time.sleep_ms(5)
+u.write(bytes(range(200)))
+while True:
+    time.sleep_ms(100)
+"""
+
+RECEIVER = """\
+import time
+from machine import UART
+u = UART(0, 115200)
+time.sleep_ms(60)
+got = u.read() or b""
+print("right got", len(got), "bytes;", got.hex())
+while True:
+    time.sleep_ms(100)
+"""
+
+
+@pytest.mark.parametrize("faults", ["drop_p = 0.1", "flip_p = 0.1"])
+def test_a_board_uart_loses_or_damages_bytes_as_its_faults_say_the_same_each_run(tmp_path, faults):
+    for board, main in (("left", SENDER), ("right", RECEIVER)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(main)
+    (tmp_path / "rig.toml").write_text(UART_FAULT_RIG.replace("FAULTS", faults))
+    runs = []
+    for _ in range(2):
+        with BoardSet(load_boards(tmp_path / "rig.toml"), seed=4) as boards:
+            boards.run_for(0.1)
+            runs.append((boards["right"].console, boards.truth()))
+    (console, truth), again = runs[0], runs[1]
+    assert again == runs[0], "expected the same faults for the same seed"
+    got = bytes.fromhex(console.split(";")[1].split()[0])
+    sent = bytes(range(200))
+    if faults.startswith("drop"):
+        assert 5 <= truth["link_a_lost"] <= 40 and truth["link_a_damaged"] == 0, truth
+        assert len(got) == 200 - truth["link_a_lost"] and set(got) <= set(sent), console
+        assert got == bytes(b for b in sent if b in set(got)), "expected the bytes that arrived in their order"
+    else:
+        damaged = sum(1 for a, b in zip(sent, got) if a != b)
+        assert len(got) == 200 and 5 <= damaged == truth["link_a_damaged"] <= 40, (damaged, truth)
+        assert all(bin(a ^ b).count("1") == 1 for a, b in zip(sent, got) if a != b), "expected one bit flipped a byte"
+    assert truth["link_b_lost"] == truth["link_b_damaged"] == 0, truth

@@ -54,10 +54,14 @@ class Wires(Plant):
     zero_delay = True
     capabilities = frozenset((PWM, UART))
 
-    def __init__(self, wires: tuple, uarts: tuple, crossed: tuple = ()):
+    def __init__(self, wires: tuple, uarts: tuple, crossed: tuple = (), faults: dict | None = None):
         self.names = tuple(wires)
         self.uarts = tuple(uarts)
         self.crossed = tuple(crossed)  # (line a, line b): each receives what the other sends
+        # a line's faults: (drop_p, flip_p), each byte sent on it lost, or one bit of it
+        # flipped, with that chance (drawn from fault_seed, the byte's line and number)
+        self.faults = dict(faults or {})
+        self.fault_seed = 0
         self.peer = {a: b for a, b in self.crossed} | {b: a for a, b in self.crossed}
         self.inputs = {f"{w}.in": "pwm" for w in self.names} | dict.fromkeys(self.uarts, "uart")
         self.outputs = {f"{w}.out": "level" for w in self.names} | dict.fromkeys(self.uarts, "bytes")
@@ -72,6 +76,9 @@ class Wires(Plant):
         self.edges_of = dict.fromkeys(self.names, 0)
         self.bytes: list[Change] = []  # bytes on a UART line, in time order
         self.line_free = dict.fromkeys(self.uarts, 0)  # when each line's last byte ends
+        self.sent = dict.fromkeys(self.uarts, 0)  # bytes sent on each line (a byte's number)
+        self.lost = dict.fromkeys(self.uarts, 0)
+        self.flipped = dict.fromkeys(self.uarts, 0)
 
     @property
     def t_us(self) -> int:
@@ -116,10 +123,31 @@ class Wires(Plant):
             raise KeyError(f"Wires has no UART line {name!r} (lines: {', '.join(self.uarts)})")
         start = max(self._t_us, self.line_free[name])
         byte_us = BITS_PER_BYTE * 1e6 / max(1, baud)
+        faults = self.faults.get(name)
         for i, b in enumerate(data):
-            self.bytes.append(Change(start + round((i + 1) * byte_us), self.peer.get(name, name), bytes((b,))))
+            if faults is not None:
+                b = self._fault(name, faults, b)
+            if b is not None:
+                self.bytes.append(Change(start + round((i + 1) * byte_us), self.peer.get(name, name), bytes((b,))))
         self.line_free[name] = start + round(len(data) * byte_us)
         self.bytes.sort(key=lambda c: c.t_us)
+
+    def _fault(self, name: str, faults: tuple, b: int) -> int | None:
+        """Byte ``b``, the line's next, lost (None), one bit flipped, or as sent: by a
+        hash of the seed, the line and the byte's number (the same run, the same faults,
+        whatever else draws from the plant's generator)."""
+        k = self.sent[name]
+        self.sent[name] = k + 1
+        h = _mix(self.fault_seed ^ _mix(self.uarts.index(name) + 1) ^ _mix(k + 0x9E3779B97F4A7C15))
+        drop_p, flip_p = faults
+        if (h >> 11) / 2**53 < drop_p:
+            self.lost[name] += 1
+            return None
+        h = _mix(h)
+        if (h >> 11) / 2**53 < flip_p:
+            self.flipped[name] += 1
+            return b ^ (1 << (h & 7))
+        return b
 
     def next_change_us(self) -> int:
         if self.now:
@@ -159,6 +187,14 @@ class Wires(Plant):
         return {"t_us": self._t_us, "levels": dict(self.levels), "edges": self.edges}
 
 
+def _mix(x: int) -> int:
+    """SplitMix64's finaliser: a 64-bit hash of ``x``."""
+    x = (x + 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF
+    x = ((x ^ (x >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
+    x = ((x ^ (x >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
+    return x ^ (x >> 31)
+
+
 class WirePart(Part):
     """Wires as a part of a body-and-parts plant (the catalogue's ``wire`` and
     ``uart_wire`` on a ``bench``): the engine fires it at each change the wires have due,
@@ -181,18 +217,28 @@ class WirePart(Part):
         self.wires = Wires((), ())
         self.add()
 
-    def add(self, wires: tuple = (), uarts: tuple = (), crossed: tuple = ()) -> None:
+    def add(self, wires: tuple = (), uarts: tuple = (), crossed: tuple = (), faults: dict | None = None) -> None:
         """More wires and UART lines (while the plant is built, before any input);
-        ``crossed``: pairs of UART lines, each receiving what the other sends."""
+        ``crossed``: pairs of UART lines, each receiving what the other sends; ``faults``:
+        a line's (drop_p, flip_p)."""
         lines = tuple(line for pair in crossed for line in pair)
         old = self.wires
-        self.wires = Wires(old.names + tuple(wires), old.uarts + tuple(uarts) + lines, old.crossed + tuple(crossed))
+        self.wires = Wires(
+            old.names + tuple(wires),
+            old.uarts + tuple(uarts) + lines,
+            old.crossed + tuple(crossed),
+            {**old.faults, **(faults or {})},
+        )
         self.inputs = dict(self.wires.inputs)
         self.outputs = dict(self.wires.outputs)
         self.next_us = NEVER_US
 
     def initial_outputs(self) -> dict:
         return {name: self.wires.output(name) for name in self.outputs}
+
+    def start(self, t_us: int, plant) -> None:
+        if any(p > 0 for faults in self.wires.faults.values() for p in faults):  # (no draw without faults)
+            self.wires.fault_seed = int(plant.rng.integers(0, 2**63))
 
     def _planned(self) -> None:
         self.next_us = self.wires.next_change_us()
@@ -230,6 +276,10 @@ class WirePart(Part):
 
     def truth(self, t_us: int, plant) -> dict:
         wires = self.wires
-        return {
+        out = {
             f"{w}_{key}": of[w] for w in wires.names for key, of in (("level", wires.levels), ("edges", wires.edges_of))
         }
+        for line in (line for pair in wires.crossed for line in pair):  # (link.a: what its UART sent, lost or damaged)
+            base = line.replace(".", "_")
+            out[f"{base}_lost"], out[f"{base}_damaged"] = wires.lost[line], wires.flipped[line]
+        return out
