@@ -23,7 +23,7 @@ from host.core import provenance, safefs
 from host.core.errors import ConfigError, HarnessError
 from host.rig import Rig
 from host.rig.spec import Recording, RigSpec, fault_schedule
-from host.rig.target import FaultyLinkTarget, end_process
+from host.rig.target import FaultyLinkTarget
 
 MESSAGE_CHARS = 3000
 COVERAGE_FILE = "coverage.npz"
@@ -34,14 +34,11 @@ class RunTimeout(HarnessError):
 
 
 def brownout(rig) -> None:
-    """The board loses power: its process ends where it is, then boots again (a reset
-    the firmware did not ask for); the plant carries on."""
-    proc = getattr(rig.target, "proc", None)
-    if proc is None:
+    """The board loses power where it is, then boots again (a reset the firmware did not
+    ask for; the lines it drove go low meanwhile: ``Rig.power_cycle``); the plant carries on."""
+    if getattr(rig.target, "proc", None) is None:
         raise ConfigError("brownout: needs the unix port target (a process the harness can cut the power of)")
-    end_process(proc)
-    rig.restart()
-    rig.resets += 1
+    rig.power_cycle()
 
 
 def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> dict:
