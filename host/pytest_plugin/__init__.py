@@ -312,6 +312,9 @@ def make_boards(request):
     def factory(rig_file, seed: int = 0, **kwargs):
         path = userpath.resolve_rig(str(rig_file), getattr(request.node, "path", None))
         kwargs.setdefault("artefacts", artefacts_for(request.node, path) / f"boards{len(sets)}")
+        n, nodeid = len(sets), request.node.nodeid
+        if hil_coverage.data_file(request.config, nodeid, n) is not None:  # (--hil-coverage: each board's own file)
+            kwargs.setdefault("coverage", lambda board: hil_coverage.data_file(request.config, f"{nodeid}::{board}", n))
         boards = BoardSet(load_boards(path), seed=seed, **kwargs)
         sets.append(boards)
         return boards.start()

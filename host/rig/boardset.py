@@ -63,10 +63,13 @@ class BoardSet:
     """Boards of a rig file with ``[[boards]]`` (:func:`host.rig.boardfile.load_boards`)
     on one plant and one clock. Use as a context manager, or call start() and stop()."""
 
-    def __init__(self, boards, seed: int = 0, *, artefacts=None, trace=False, record=False, watchdog_s=5.0):
+    def __init__(
+        self, boards, seed: int = 0, *, artefacts=None, trace=False, record=False, watchdog_s=5.0, coverage=None
+    ):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
-        folder is made, named as the board."""
+        folder is made, named as the board; ``coverage``: a board's name -> the coverage.py
+        data file its firmware's coverage goes to (docs/coverage.md), or None."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         self.plant = check_contract(boards.make_plant())
@@ -84,8 +87,9 @@ class BoardSet:
                 continue
             spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False)
             folder = self.artefacts / name if self.artefacts else None
+            measured = coverage(name) if coverage is not None else None
             with naming(name):
-                rig = Rig(spec, Recording(trace=trace, record=record, artefacts=folder), plant=view)
+                rig = Rig(spec, Recording(trace=trace, record=record, artefacts=folder, coverage=measured), plant=view)
             couple(rig)
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view

@@ -384,3 +384,26 @@ def test_a_board_uart_loses_or_damages_bytes_as_its_faults_say_the_same_each_run
         assert len(got) == 200 and 5 <= damaged == truth["link_a_damaged"] <= 40, (damaged, truth)
         assert all(bin(a ^ b).count("1") == 1 for a, b in zip(sent, got) if a != b), "expected one bit flipped a byte"
     assert truth["link_b_lost"] == truth["link_b_damaged"] == 0, truth
+
+
+@pytest.mark.hil
+def test_each_boards_coverage_goes_to_its_own_data_file(tmp_path):
+    """BoardSet(coverage=...): each board's firmware measured on the line-tracing
+    interpreter (docs/coverage.md), into its own coverage.py data file: the commander's loop
+    and the actor's reaction, each in its board's file only."""
+    from coverage import CoverageData
+
+    for board, main in (("left", COMMANDER), ("right", ACTOR)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(main)
+    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", "5000"))
+    files = {b: tmp_path / "cov" / f".coverage.{b}" for b in ("left", "right")}
+    with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1, coverage=files.get) as boards:
+        boards.run_for(0.1)
+    lines = {}
+    for board, path in files.items():
+        data = CoverageData(basename=str(path))
+        data.read()
+        lines[board] = {Path(f).parent.name: set(data.lines(f)) for f in data.measured_files()}
+    assert {5, 6} <= lines["left"]["left"] and "right" not in lines["left"], lines["left"]
+    assert {8, 9, 10} <= lines["right"]["right"] and "left" not in lines["right"], lines["right"]
