@@ -278,23 +278,29 @@ def make_rig(request):
         return rig
 
     yield factory
+    _finish_rigs(request, [(f"rig{i}", rig) for i, rig in enumerate(rigs)], recording, keep_failed)
+    if rigs:  # (the version the rigs ran: this test's, else the rig file's, else the default)
+        firmware = getattr(rigs[0], "firmware", None)
+        mpy_versions.record(request.node, firmware.micropython() if hasattr(firmware, "micropython") else version)
+
+
+def _finish_rigs(request, labelled: list, recording: bool, keep_failed: bool) -> None:
+    """After a test: each of its rigs stopped, its budgets' verdicts stamped and its record
+    kept for the report (plotted on a worker, or when kept because the test failed)."""
     records = request.node.stash.setdefault(_records, [])
     failed = request.node.stash.get(_failed, False)
-    for i, rig in enumerate(rigs):
+    for label, rig in labelled:
         kept = keep_failed and failed and rig.recorder is not None
         if keep_failed and not failed:
             drop_recording(rig)
         rig.stop()
         rows = verdicts.rows_of(rig.budgets.values(), failed)  # (after the test: its check()s are known)
         verdicts.stamp(rig.artefacts if rig.recorder else None, rows)
-        _properties(request.node, f"rig{i}", rig, rows)
+        _properties(request.node, label, rig, rows)
         # a pytest-xdist worker plots its rigs as it goes; one session plots them all at its end
         plot = (recording and is_worker(request.config)) or kept
         plots = plot_one(rig.artefacts) if plot and rig.recorder else ([], "")
-        records.append(rig_record(f"rig{i}", rig, rows, plots))
-    if rigs:  # (the version the rigs ran: this test's, else the rig file's, else the default)
-        firmware = getattr(rigs[0], "firmware", None)
-        mpy_versions.record(request.node, firmware.micropython() if hasattr(firmware, "micropython") else version)
+        records.append(rig_record(label, rig, rows, plots))
 
 
 @pytest.fixture
@@ -308,10 +314,16 @@ def make_boards(request):
     from host.rig.boardset import BoardSet
 
     sets = []
+    report = bool(request.config.getoption("--hil-report", None))
+    recording = report and not _unrecorded_long(request.node)
+    keep_failed = not report and request.config.getoption("--hil-keep", "none") == "failed"
 
     def factory(rig_file, seed: int = 0, **kwargs):
         path = userpath.resolve_rig(str(rig_file), getattr(request.node, "path", None))
         kwargs.setdefault("artefacts", artefacts_for(request.node, path) / f"boards{len(sets)}")
+        if recording or keep_failed:  # (as make_rig's: the report's lanes, a failed test's whole traces)
+            kwargs.setdefault("record", True)
+            kwargs.setdefault("trace", True)
         n, nodeid = len(sets), request.node.nodeid
         if hil_coverage.data_file(request.config, nodeid, n) is not None:  # (--hil-coverage: each board's own file)
             kwargs.setdefault("coverage", lambda board: hil_coverage.data_file(request.config, f"{nodeid}::{board}", n))
@@ -320,8 +332,12 @@ def make_boards(request):
         return boards.start()
 
     yield factory
-    for boards in sets:
-        boards.stop()
+    for n, boards in enumerate(sets):  # (each board a rig of the report, named boards<n>.<board>)
+        labelled = [(f"boards{n}.{name}", rig) for name, rig in boards.rigs.items() if isinstance(rig, Rig)]
+        try:
+            _finish_rigs(request, labelled, recording, keep_failed)
+        finally:
+            boards.stop()
 
 
 def rig_from_keywords(app, plant_options: dict | None = None, **kwargs) -> Rig:
