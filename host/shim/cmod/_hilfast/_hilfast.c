@@ -31,6 +31,7 @@
 // counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -234,6 +235,72 @@ static mp_int_t handlers_wrote(mp_obj_t ctx, mp_obj_t pending, mp_int_t t) {
     return 0;
 }
 
+// -- EDGES: encoder edges as segments (_hilframe.EDGE_SEG_FMT), expanded here --------------
+
+#define EDGES_MAX 64  // segments in one EDGES (host/rig/inputs.py, MAX_SEGMENTS)
+#define EDGES_HEAD 10  // "<QH": base, segments
+#define SEG_LEN 51  // "<HHBBBQqIQdd"
+#define NO_HANDLE 0xFFFF
+
+typedef struct {
+    mp_int_t t;  // the next edge's instant
+    int64_t n;  // the count before it
+    uint32_t left;  // edges still to come
+    uint16_t h[2];  // the channels' handles (NO_HANDLE: wired to no pin)
+    uint8_t mask, bits[2];  // each channel's level by count & mask
+    int step;  // +1, -1
+    int64_t t0;
+    double p0, rate;
+} seg_t;
+
+static uint64_t get_u64(const uint8_t *b) {
+    return (uint64_t)get_u32(b) | (uint64_t)get_u32(b + 4) << 32;
+}
+
+static double get_f64(const uint8_t *b) {
+    uint64_t u = get_u64(b);
+    double d;
+    memcpy(&d, &u, sizeof(d));
+    return d;
+}
+
+// When the counter reaches count m (not its first edge): _EdgeCounter.emit's arithmetic, IEEE
+// double as CPython's (_hilframe.expand_edges, sim_plant/edge_window.py).
+static mp_int_t seg_time(const seg_t *s, int64_t m) {
+    double x = s->step > 0 ? ((double)m - s->p0) / s->rate : (s->p0 - (double)(m + 1)) / -s->rate;
+    return (mp_int_t)(s->t0 + (int64_t)ceil(x));
+}
+
+static size_t parse_edges(mp_obj_t edges, mp_int_t base, seg_t *seg) {
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(edges, &buf, MP_BUFFER_READ);
+    const uint8_t *b = buf.buf;
+    if (buf.len < EDGES_HEAD) {
+        mp_raise_ValueError(MP_ERROR_TEXT("EDGES shorter than its segments"));
+    }
+    size_t n = b[8] | b[9] << 8;
+    if (n > EDGES_MAX || buf.len < EDGES_HEAD + n * SEG_LEN || (mp_int_t)get_u64(b) != base) {
+        mp_raise_ValueError(MP_ERROR_TEXT("EDGES not its STATE's"));
+    }
+    for (size_t k = 0; k < n; k++) {
+        const uint8_t *c = b + EDGES_HEAD + k * SEG_LEN;
+        seg_t *s = &seg[k];
+        s->h[0] = c[0] | c[1] << 8;
+        s->h[1] = c[2] | c[3] << 8;
+        s->mask = c[4];
+        s->bits[0] = c[5];
+        s->bits[1] = c[6];
+        s->t = (mp_int_t)get_u64(c + 7);
+        s->n = (int64_t)get_u64(c + 15);
+        s->left = get_u32(c + 23);
+        s->t0 = (int64_t)get_u64(c + 27);
+        s->p0 = get_f64(c + 35);
+        s->rate = get_f64(c + 43);
+        s->step = s->rate > 0.0 ? 1 : -1;
+    }
+    return n;
+}
+
 static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_buffer_info_t buf;
     mp_get_buffer_raise(args[0], &buf, MP_BUFFER_READ);
@@ -253,12 +320,66 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_int_t group_t = -1;
     bool hit = false;
     mp_int_t stop = 0;
-    for (; i < n; i++) {
-        if (off + CHANGE_LEN > buf.len) {
-            mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+    seg_t seg[EDGES_MAX];
+    size_t n_seg = n_args > 11 && args[11] != mp_const_none ? parse_edges(args[11], base, seg) : 0;
+    for (;;) {
+        // the next edge of the segments (at one instant, the first segment's), up to t_end
+        size_t si = n_seg;
+        mp_int_t ts = 0;
+        for (size_t k = 0; k < n_seg; k++) {
+            if (seg[k].left && (si == n_seg || seg[k].t < ts)) {
+                si = k;
+                ts = seg[k].t;
+            }
+        }
+        mp_int_t tc = 0;
+        if (i < n) {
+            if (off + CHANGE_LEN > buf.len) {
+                mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+            }
+            tc = base + (mp_int_t)get_u32(p + off);
+        }
+        if (si < n_seg && (i >= n || ts <= tc)) {  // (an instant's encoder edges before its other changes)
+            seg_t *s = &seg[si];
+            int64_t m = s->n + s->step;
+            int a = s->bits[0] >> (m & s->mask) & 1;
+            int ch = a != (s->bits[0] >> (s->n & s->mask) & 1) ? 0 : 1;
+            int level = ch ? s->bits[1] >> (m & s->mask) & 1 : a;
+            mp_int_t h = s->h[ch];
+            s->n = m;
+            if (--s->left) {
+                s->t = seg_time(s, m + s->step);
+            }
+            if (ts > t_end) {
+                mp_raise_ValueError(MP_ERROR_TEXT("EDGES past its STATE's end"));
+            }
+            if (h == NO_HANDLE) {
+                continue;  // (a channel wired to no pin: no change, as the host sends none)
+            }
+            if (ts != group_t) {
+                if (group_t >= 0 && pending_any(pending)) {
+                    stop = handlers_wrote(ctx, pending, group_t);
+                    if (stop) {
+                        break;
+                    }
+                }
+                group_t = ts;
+                if (globals != mp_const_none) {
+                    mp_obj_dict_store(globals, MP_OBJ_NEW_QSTR(MP_QSTR__now), mp_obj_new_int(ts));
+                }
+            }
+            mp_obj_t obj = mp_obj_subscr(handles, MP_OBJ_NEW_SMALL_INT(h), MP_OBJ_SENTINEL);
+            apply_one(obj, pin_type, 0, MP_OBJ_NEW_SMALL_INT(level), MP_OBJ_NEW_SMALL_INT(0), pending);
+            if (watching && mp_obj_is_true(mp_binary_op(MP_BINARY_OP_CONTAINS, watch, MP_OBJ_NEW_SMALL_INT(h)))) {
+                hit = true;
+            }
+            continue;
+        }
+        if (i >= n) {
+            break;
         }
         const uint8_t *c = p + off;
-        mp_int_t t = base + (mp_int_t)get_u32(c);
+        mp_int_t t = tc;
         if (t > t_end) {
             break;  // held by the caller (the host's lookahead)
         }
@@ -294,6 +415,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
         if (watching && mp_obj_is_true(mp_binary_op(MP_BINARY_OP_CONTAINS, watch, MP_OBJ_NEW_SMALL_INT(h)))) {
             hit = true;
         }
+        i++;
     }
     if (!stop && group_t >= 0 && pending_any(pending)) {
         stop = handlers_wrote(ctx, pending, group_t);
@@ -303,7 +425,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     cur->items[2] = mp_obj_new_bool(hit);
     return MP_OBJ_NEW_SMALL_INT(stop);
 }
-static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state);
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 12, apply_state);
 
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
@@ -527,6 +649,7 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(stack_obj, 0, 1, stack);
 static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
+    {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
     {MP_ROM_QSTR(MP_QSTR_arm), MP_ROM_PTR(&arm_obj)},
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
