@@ -18,8 +18,10 @@
 - encoder-heavy robot (``host/bench/encoder_bot``): Pico motor-control firmware counting
   every edge of two quadrature encoders (28 counts a motor turn, 98.5:1 gearboxes) in
   ``Pin.irq`` handlers, a velocity PID in a ``Timer`` callback, at 10,000 and 40,000 edges
-  a second: real-time factor, wall us per edge, and the same handler's bare cost in a
-  MicroPython loop (the limit), measured in the same run, with the ratio;
+  a second, its edges as EDGES segments (``--per-edge-encoders``: also a STATE change an
+  edge, as before them): real-time factor, wall us per edge, the host's and the firmware's
+  CPU an edge, and the same handler's bare cost in a MicroPython loop (the limit), measured
+  in the same run, with the ratio;
 - bus-heavy robot (``host/bench/imu_bot``): a Pico robot holding its heading on an LSM6DSOX
   read from a 208 Hz ``Timer`` (STATUS_REG polled for data-ready, then 12 bytes of gyro and
   accelerometer with ``readfrom_mem_into``) and steering away from walls seen by a VL53L0X
@@ -52,6 +54,7 @@ from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
 from host.rig import Recording, Rig, RigSpec, busimage, sandbox
+from host.rig.clock import EDGE_SEGMENTS_ENV
 from host.rig.pacing import Lockstep
 from host.rig.waits import ExpectTimeout
 
@@ -211,9 +214,27 @@ def encoder_firmware(folder: Path, edges_per_s: int, run_ms: int) -> Path:
     return folder
 
 
-def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, **recording) -> dict:
+def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, segments: bool | None = None, **recording) -> dict:
     """The encoder robot driven for ``run_ms`` at ``edges_per_s``, braked, and run to its end:
-    the firmware's counts, the plant's edges, the wall time."""
+    the firmware's counts, the plant's edges, the wall time, the host's and the firmware's
+    CPU. ``segments``: its edges as EDGES segments (True) or a change each (False; None: as
+    the environment's ``MPY_FIL_EDGE_SEGMENTS`` says)."""
+    if segments is None:
+        return _run_encoder_bot(edges_per_s, run_ms, seed, **recording)
+    was = os.environ.get(EDGE_SEGMENTS_ENV)
+    os.environ[EDGE_SEGMENTS_ENV] = "1" if segments else "0"
+    try:
+        return _run_encoder_bot(edges_per_s, run_ms, seed, **recording)
+    finally:
+        if was is None:
+            del os.environ[EDGE_SEGMENTS_ENV]
+        else:
+            os.environ[EDGE_SEGMENTS_ENV] = was
+
+
+def _run_encoder_bot(edges_per_s: int, run_ms: int, seed: int, **recording) -> dict:
+    cpu0 = time.process_time()
+    children0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
         main_dir = encoder_firmware(Path(tmp) / "fw", edges_per_s, run_ms)
         spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True)
@@ -223,13 +244,18 @@ def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, **recording) -
             wall = time.perf_counter() - t0
             truth = rig.truth()
             counts = [line for line in rig.console.splitlines() if line.startswith("counts ")]
-            return {
+            result = {
                 "sim_s": rig.t_us / 1e6,
                 "wall_s": wall,
                 "counts": tuple(int(c) for c in counts[-1].split()[1:]) if counts else None,
                 "edges": (truth["enc_l_edges"], truth["enc_r_edges"]),
                 "round_trips": rig.stats.link_round_trips,
+                "segments": rig.stats.edge_segments,
             }
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)  # (the interpreter, once it has ended)
+    result["host_cpu_s"] = time.process_time() - cpu0
+    result["fw_cpu_s"] = children.ru_utime + children.ru_stime - children0.ru_utime - children0.ru_stime
+    return result
 
 
 BARE_HANDLER = """
@@ -273,9 +299,15 @@ def _bare(script: str) -> str:
     ).stdout
 
 
-def bench_encoders(run_ms: int = 10_000) -> dict:
-    """Both edge rates, then the bare handler."""
-    return {"runs": {rate: run_encoder_bot(rate, run_ms) for rate in ENCODER_RATES}, "bare_us": bare_handler_us()}
+def bench_encoders(run_ms: int = 10_000, per_edge: bool = False) -> dict:
+    """Both edge rates, their edges as segments (and, with ``per_edge``, a change each: the
+    run before it, alternated with it), then the bare handler."""
+    runs = {}
+    for rate in ENCODER_RATES:
+        runs[rate] = run_encoder_bot(rate, run_ms, segments=True)
+        if per_edge:
+            runs[f"{rate:,} per edge"] = run_encoder_bot(rate, run_ms, segments=False)
+    return {"runs": runs, "bare_us": bare_handler_us()}
 
 
 def encoder_floor_line(run: dict, rate: int, raw_us: float, bare_us: float) -> str:
@@ -285,6 +317,8 @@ def encoder_floor_line(run: dict, rate: int, raw_us: float, bare_us: float) -> s
     edges_per_s = sum(run["edges"]) / run["sim_s"]
     floor = floor_rtf(per_s, raw_us, 0.0, edges_per_s, bare_us)
     head = floor_text(floor, ENCODER_TARGET) if rate == ENCODER_RATES[0] else f"floor: {floor:.0f}x real time"
+    if not isinstance(rate, int):  # (the per-edge run: its own floor, with its own exchanges)
+        head = f"floor: {floor:.0f}x real time"
     return (
         f"{head} = 1 s / ({per_s:.0f} exchanges x raw {raw_us:.0f} us + {edges_per_s:,.0f} edges x bare "
         f"{bare_us:.2f} us) a simulated s; reached {run['sim_s'] / run['wall_s'] / floor:.0%}"
@@ -299,11 +333,18 @@ def report_encoders(enc: dict, raw_us: float) -> None:
         same = (
             "counts = plant's edges" if run["counts"] == run["edges"] else f"COUNTS {run['counts']} != {run['edges']}"
         )
+        how = f"{rate:,} edges/s" if isinstance(rate, int) else f"{rate} edges/s"
+        how += f" ({run['segments']:,} segments)" if run.get("segments") else ""
         print(
-            f"  {rate:,} edges/s: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
+            f"  {how}: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
             f"{run['wall_s']:.2f} wall s: {per_edge_us:.2f} us an edge = {per_edge_us / bare_us:.0f}x the bare "
             f"handler; {run['round_trips'] / run['sim_s']:.0f} exchanges per simulated s; {same}"
         )
+        if "host_cpu_s" in run:
+            print(
+                f"    CPU an edge: host {run['host_cpu_s'] * 1e6 / edges:.2f} us, firmware "
+                f"{run['fw_cpu_s'] * 1e6 / edges:.2f} us"
+            )
         print(f"    {encoder_floor_line(run, rate, raw_us, bare_us)}")
     print(f"  bare handler in a MicroPython loop (the limit): {bare_us:.2f} us an edge")
 
@@ -583,6 +624,11 @@ def main(argv=None) -> int:
     parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
     parser.add_argument("--no-encoders", action="store_true", help="skip the encoder-heavy robot")
     parser.add_argument("--only-encoders", action="store_true", help="the encoder-heavy robot only")
+    parser.add_argument(
+        "--per-edge-encoders",
+        action="store_true",
+        help="also the encoder-heavy robot with a STATE change an edge (its edges as segments otherwise)",
+    )
     parser.add_argument("--no-imu", action="store_true", help="skip the bus-heavy robot")
     parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
     parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
@@ -604,7 +650,7 @@ def main(argv=None) -> int:
         return 0
     if args.only_encoders:
         print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
-        encoders = bench_encoders()
+        encoders = bench_encoders(per_edge=args.per_edge_encoders)
         raw = bench_raw()
         print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the runs)")
         report_encoders(encoders, statistics.median(raw))
@@ -616,7 +662,7 @@ def main(argv=None) -> int:
     rover = bench_rover(args.sim_minutes * 60)
     ping = bench_ping(2.0)
     duct = bench_duct()
-    encoders = None if args.no_encoders else bench_encoders()
+    encoders = None if args.no_encoders else bench_encoders(per_edge=args.per_edge_encoders)
     imu = None if args.no_imu else bench_imu()
     kits = None if args.no_kits else bench_kits()
     pool = plain = None

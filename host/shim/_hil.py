@@ -243,6 +243,7 @@ class _Link:
     # is not set, else None (the pure-Python loop of _sync: a user's own interpreter)
     fast = None
     fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
+    pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE: _hil.transfer),
     # and the one that came before the STATE or BUS_REPLY being read.
     image = image_next = {}
@@ -1371,6 +1372,8 @@ def _fast_path(getenv):
         _exempt(_hilfast)
         _Link.arm = _hilfast.arm
     _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
+    if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
+        _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     return _hilfast.apply_state
 
 

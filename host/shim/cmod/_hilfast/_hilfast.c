@@ -4,15 +4,18 @@
 // interpreter runs the pure-Python path, which does exactly the same thing: the tests run
 // both and compare the traces byte for byte (host/tests/test_hilfast.py). One function:
 //
-// apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g)
+// apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g[, edges])
 //   applies a STATE's changes from offset cur[0] (change cur[1] of n) as _hil._sync's loop
-//   does: at each new instant first the handlers due at the one before (_handlers_wrote and
+//   does (with edges, the EDGES that came with it: its encoder segments' edges, expanded
+//   here, merged in time order, an instant's edges first, as _hil._apply_merged does): at each new instant first the handlers due at the one before (_handlers_wrote and
 //   dispatch, here in C; ctx: (_hil's globals, _Link, CallbackFailed)), then _now = t (in
 //   the module globals g, None in real time), then each change:
 //   a machine.Pin (exactly pin_type, no counters) in C as Pin._hil_apply does, anything
 //   else through its own _hil_apply. It stops at the first change past t_end (held by the
 //   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
 //   returns handlers_wrote's stop code (0: every change up to t_end applied).
+//
+// pin_setup(value_py, out_mode, g), pin_value: machine.Pin.value in C (below).
 //
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
 // board's own time (docs/mcu-time.md):
@@ -139,6 +142,20 @@ static bool is_hard(mp_obj_t arg) {
     return false;
 }
 
+// _Link.callbacks += 1: in the class's own dict when it holds a small int there (what the
+// store does for a class of Python's without accessors, less its checks for them).
+static void count_callback(mp_obj_t link) {
+    const mp_obj_type_t *type = MP_OBJ_TO_PTR(link);
+    if (mp_obj_is_type(link, &mp_type_type) && MP_OBJ_TYPE_HAS_SLOT(type, locals_dict)) {
+        mp_map_elem_t *e = mp_map_lookup(&MP_OBJ_TYPE_GET_SLOT(type, locals_dict)->map, MP_OBJ_NEW_QSTR(MP_QSTR_callbacks), MP_MAP_LOOKUP);
+        if (e != NULL && mp_obj_is_small_int(e->value) && MP_OBJ_SMALL_INT_VALUE(e->value) < MP_SMALL_INT_MAX) {
+            e->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(e->value) + 1);
+            return;
+        }
+    }
+    mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
+}
+
 // _hil.dispatch(_Link.until), in a wait: the pending callbacks in order, never re-entrantly,
 // unless IRQs are off; every hard IRQ's handler, the soft callbacks while the clock is not
 // past the wait's end (_Link.until), as the port's wait serves its scheduler, one callback a
@@ -178,7 +195,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         end--;
         memmove(list->items + i, list->items + i + 1, (list->len - i) * sizeof(mp_obj_t));
         list->items[list->len] = MP_OBJ_NULL;
-        mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
+        count_callback(link);
         nlr_buf_t nlr;
         if (nlr_push(&nlr) == 0) {
             mp_call_function_1(callback, arg);
@@ -427,6 +444,47 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 12, apply_state);
 
+// -- machine.Pin.value() ---------------------------------------------------------------
+
+// pin_setup(value_py, out_mode, g): machine.Pin.value becomes pin_value, which answers in C
+// what machine.py's Pin.value (value_py, kept by the class as _value_py) answers without a
+// look at the clock: an output's latch, and an input's level inside a handler (_hil's
+// _dispatching, in its globals g); every other call goes to value_py, as the Python method.
+static mp_obj_t pin_value_py = MP_OBJ_NULL;  // (held by machine.Pin._value_py: alive while the class is)
+static mp_obj_t pin_out_mode;
+static mp_obj_t pin_shim_globals;  // (held by the _hil module)
+
+static mp_obj_t pin_setup(mp_obj_t value_py, mp_obj_t out_mode, mp_obj_t g) {
+    pin_value_py = value_py;
+    pin_out_mode = out_mode;
+    pin_shim_globals = g;
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_3(pin_setup_obj, pin_setup);
+
+// (A type of its own, not a built-in function: those act as staticmethods in a class of
+// Python's, py/runtime.c mp_convert_member_lookup; this one binds self, as a def does.)
+static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const mp_obj_t *args) {
+    (void)fun;
+    if (n_kw == 0 && n_args >= 1 && (n_args == 1 || args[1] == mp_const_none)) {
+        mp_obj_t self = args[0];
+        if (mp_obj_equal(mp_load_attr(self, MP_QSTR__mode), pin_out_mode)) {
+            return mp_load_attr(self, MP_QSTR__out);
+        }
+        if (mp_obj_is_true(mp_load_attr(self, MP_QSTR__cfg))
+            && mp_obj_is_true(mp_obj_dict_get(pin_shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))) {
+            return mp_load_attr(self, MP_QSTR__level);  // (a handler's reads move no time)
+        }
+    }
+    // (the call into the shim's Python is this call's own: counted once, as the Python method's was)
+    if (mp_hil_cur == &mp_hil_counts) {
+        mp_hil_counts.ccalls--;
+    }
+    return mp_call_function_n_kw(pin_value_py, n_args, n_kw, args);
+}
+static MP_DEFINE_CONST_OBJ_TYPE(pin_value_type, MP_QSTR_function, MP_TYPE_FLAG_BINDS_SELF, call, pin_value_call);
+static const mp_obj_base_t pin_value_obj = {&pin_value_type};
+
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
 #define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
@@ -650,6 +708,8 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
     {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
+    {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
+    {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
     {MP_ROM_QSTR(MP_QSTR_arm), MP_ROM_PTR(&arm_obj)},
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
