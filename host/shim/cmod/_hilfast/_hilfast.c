@@ -142,16 +142,28 @@ static bool is_hard(mp_obj_t arg) {
     return false;
 }
 
-// _Link.callbacks += 1: in the class's own dict when it holds a small int there (what the
-// store does for a class of Python's without accessors, less its checks for them).
-static void count_callback(mp_obj_t link) {
+// An attribute of _Link held in the class's own dict, or NULL (then the generic load and
+// store): a store there is what storing the attribute does for a class of Python's without
+// accessors, less its checks for them (py/objtype.c, type_attr).
+static mp_map_elem_t *class_slot(mp_obj_t link, qstr name) {
     const mp_obj_type_t *type = MP_OBJ_TO_PTR(link);
-    if (mp_obj_is_type(link, &mp_type_type) && MP_OBJ_TYPE_HAS_SLOT(type, locals_dict)) {
-        mp_map_elem_t *e = mp_map_lookup(&MP_OBJ_TYPE_GET_SLOT(type, locals_dict)->map, MP_OBJ_NEW_QSTR(MP_QSTR_callbacks), MP_MAP_LOOKUP);
-        if (e != NULL && mp_obj_is_small_int(e->value) && MP_OBJ_SMALL_INT_VALUE(e->value) < MP_SMALL_INT_MAX) {
-            e->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(e->value) + 1);
-            return;
-        }
+    if (!mp_obj_is_type(link, &mp_type_type) || !MP_OBJ_TYPE_HAS_SLOT(type, locals_dict)) {
+        return NULL;
+    }
+    return mp_map_lookup(&MP_OBJ_TYPE_GET_SLOT(type, locals_dict)->map, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+}
+
+static mp_obj_t class_get(mp_obj_t link, qstr name) {
+    mp_map_elem_t *e = class_slot(link, name);
+    return e != NULL ? e->value : mp_load_attr(link, name);
+}
+
+// _Link.callbacks += 1
+static void count_callback(mp_obj_t link) {
+    mp_map_elem_t *e = class_slot(link, MP_QSTR_callbacks);
+    if (e != NULL && mp_obj_is_small_int(e->value) && MP_OBJ_SMALL_INT_VALUE(e->value) < MP_SMALL_INT_MAX) {
+        e->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(e->value) + 1);
+        return;
     }
     mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
 }
@@ -169,9 +181,12 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
         return;
     }
-    mp_obj_t until_attr[2];
-    mp_load_method_maybe(link, MP_QSTR_until, until_attr);
-    mp_obj_t wait_end = until_attr[0];  // (MP_OBJ_NULL from a shim before it: no limit)
+    mp_map_elem_t *until_slot = class_slot(link, MP_QSTR_until);
+    mp_obj_t until_attr[2] = {MP_OBJ_NULL, MP_OBJ_NULL};
+    if (until_slot == NULL) {
+        mp_load_method_maybe(link, MP_QSTR_until, until_attr);
+    }
+    mp_obj_t wait_end = until_slot != NULL ? until_slot->value : until_attr[0];  // (MP_OBJ_NULL from a shim before it: no limit)
     mp_int_t until = wait_end != MP_OBJ_NULL ? mp_obj_get_int(wait_end) : 0;
     mp_obj_dict_store(g, dispatching, mp_const_true);
     if (!apply_clean) {
@@ -217,7 +232,12 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
     if (wait_end != MP_OBJ_NULL) {
-        mp_store_attr(link, MP_QSTR_until, wait_end);  // (a callback's own wait set it)
+        mp_map_elem_t *e = class_slot(link, MP_QSTR_until);  // (a callback's own wait set it)
+        if (e != NULL) {
+            e->value = wait_end;
+        } else {
+            mp_store_attr(link, MP_QSTR_until, wait_end);
+        }
     }
     if (cost_on) {
         irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
@@ -235,9 +255,9 @@ static mp_int_t handlers_wrote(mp_obj_t ctx, mp_obj_t pending, mp_int_t t) {
     mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
     mp_obj_t g = c[0], link = c[1];
     mp_obj_dict_store(g, MP_OBJ_NEW_QSTR(MP_QSTR__wrote), mp_const_false);
-    mp_obj_t syncs = mp_load_attr(link, MP_QSTR_syncs);
+    mp_obj_t syncs = class_get(link, MP_QSTR_syncs);
     dispatch(ctx, pending);
-    if (!mp_obj_equal(mp_load_attr(link, MP_QSTR_syncs), syncs)) {
+    if (!mp_obj_equal(class_get(link, MP_QSTR_syncs), syncs)) {
         return 3;
     }
     mp_obj_t woke_fn = mp_load_attr(global(g, MP_QSTR__link), MP_QSTR_woke);
