@@ -44,6 +44,7 @@
 #include "py/objfun.h"
 #include "py/objlist.h"
 #include "py/objtuple.h"
+#include "py/objtype.h"
 #include "py/runtime.h"
 #include "py/smallint.h"
 
@@ -59,6 +60,31 @@ static uint32_t get_u32(const uint8_t *b) {
 static bool is_hard(mp_obj_t arg);
 static size_t queue_depth = 8;  // _Link.depth (MICROPY_SCHEDULER_DEPTH), read by apply_state
 static mp_obj_t shim_globals;  // _hil's (apply_state's ctx[0]: it holds them), for _lost
+
+// An attribute an instance of a class of Python's holds itself (in its members: where the
+// attribute's load looks first, py/objtype.c mp_obj_instance_load_attr), else the generic load.
+static mp_obj_t inst_get(mp_obj_t obj, qstr name) {
+    if (mp_obj_is_obj(obj) && mp_obj_is_instance_type(mp_obj_get_type(obj))) {
+        mp_obj_instance_t *o = MP_OBJ_TO_PTR(obj);
+        mp_map_elem_t *e = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+        if (e != NULL) {
+            return e->value;
+        }
+    }
+    return mp_load_attr(obj, name);
+}
+
+// A machine.Pin's own attribute set (the class has no property or __setattr__ of that name:
+// the store's checks for them find nothing), else the generic store.
+static void pin_set(mp_obj_t pin, qstr name, mp_obj_t value) {
+    mp_obj_instance_t *o = MP_OBJ_TO_PTR(pin);
+    mp_map_elem_t *e = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+    if (e != NULL) {
+        e->value = value;
+    } else {
+        mp_store_attr(pin, name, value);
+    }
+}
 
 // mp_sched_full's negation (_hil.room): the queue holds fewer than its depth soft callbacks.
 static bool room(mp_obj_t pending) {
@@ -77,18 +103,18 @@ static bool room(mp_obj_t pending) {
 
 // Pin._hil_apply, for a Pin with no counters; false when it must go through Python.
 static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
-    if (mp_load_attr(pin, MP_QSTR__counters) != mp_const_none) {
+    if (inst_get(pin, MP_QSTR__counters) != mp_const_none) {
         return false;
     }
-    if (mp_obj_equal(mp_load_attr(pin, MP_QSTR__level), value)) {
+    if (mp_obj_equal(inst_get(pin, MP_QSTR__level), value)) {
         return true;
     }
-    mp_store_attr(pin, MP_QSTR__level, value);
-    mp_obj_t handler = mp_load_attr(pin, MP_QSTR__handler);
+    pin_set(pin, MP_QSTR__level, value);
+    mp_obj_t handler = inst_get(pin, MP_QSTR__handler);
     if (handler != mp_const_none) {
         mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
-        if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
-            mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
+        if (mp_obj_get_int(inst_get(pin, MP_QSTR__trigger)) & edge) {
+            pin_set(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
             if (room(pending) || is_hard(pin)) {
                 mp_obj_t item[2] = {handler, pin};
                 mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
@@ -131,6 +157,12 @@ static bool pending_any(mp_obj_t pending) {
 // (An argument of the firmware's own, micropython.schedule's, may have a __getattr__ that
 // raises: not hard, as getattr(arg, "_hard", False) says.)
 static bool is_hard(mp_obj_t arg) {
+    if (mp_obj_is_obj(arg) && mp_obj_is_instance_type(mp_obj_get_type(arg))) {  // (a pin's own _hard)
+        mp_map_elem_t *e = mp_map_lookup(&((mp_obj_instance_t *)MP_OBJ_TO_PTR(arg))->members, MP_OBJ_NEW_QSTR(MP_QSTR__hard), MP_MAP_LOOKUP);
+        if (e != NULL) {
+            return mp_obj_is_true(e->value);
+        }
+    }
     mp_obj_t dest[2] = {MP_OBJ_NULL, MP_OBJ_NULL};
     nlr_buf_t nlr;
     if (nlr_push(&nlr) == 0) {
@@ -488,12 +520,12 @@ static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const m
     (void)fun;
     if (n_kw == 0 && n_args >= 1 && (n_args == 1 || args[1] == mp_const_none)) {
         mp_obj_t self = args[0];
-        if (mp_obj_equal(mp_load_attr(self, MP_QSTR__mode), pin_out_mode)) {
-            return mp_load_attr(self, MP_QSTR__out);
+        if (mp_obj_equal(inst_get(self, MP_QSTR__mode), pin_out_mode)) {
+            return inst_get(self, MP_QSTR__out);
         }
-        if (mp_obj_is_true(mp_load_attr(self, MP_QSTR__cfg))
+        if (mp_obj_is_true(inst_get(self, MP_QSTR__cfg))
             && mp_obj_is_true(mp_obj_dict_get(pin_shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))) {
-            return mp_load_attr(self, MP_QSTR__level);  // (a handler's reads move no time)
+            return inst_get(self, MP_QSTR__level);  // (a handler's reads move no time)
         }
     }
     // (the call into the shim's Python is this call's own: counted once, as the Python method's was)
