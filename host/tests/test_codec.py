@@ -55,9 +55,9 @@ def test_corrupted_frame_is_counted_and_never_delivered():
         assert dec.frames == 0 and dec.bad_crc + dec.bad_length + dec.truncated >= 1
 
 
-TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i"}
+TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i", "i64": "q", "f64": "d"}
 # what follows the fixed part
-SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT", "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT"}
+SECOND_PART = {"WAIT": "WATCH_FMT", "STATE": "CHANGE_FMT", "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT", "EDGES": "EDGE_SEG_FMT"}
 
 
 def documented_layouts() -> dict[str, str]:
@@ -69,7 +69,7 @@ def documented_layouts() -> dict[str, str]:
     table = (HERE.parent.parent / "docs" / "protocol.md").read_text()
     for row in re.findall(r"^\| 0x[0-9a-f]{2} \| (\w+) \|[^|]*\|(.*)\|$", table, flags=re.M):
         name, payload = row
-        parts = [re.findall(r"\b([ui]\d+)\b", seg) for seg in re.findall(r"`([^`]*)`", payload)]
+        parts = [re.findall(r"\b([uif]\d+)\b", seg) for seg in re.findall(r"`([^`]*)`", payload)]
         formats = ["<" + "".join(TYPE_CODES[t] for t in p) for p in parts if p]
         if formats:
             layouts[f"{name}_FMT"] = formats[0]
@@ -80,7 +80,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 19, sorted(layouts)  # 16 messages with a payload, and WAIT's, STATE's, BUS_IMAGE's tails
+    assert len(layouts) == 21, sorted(layouts)  # 17 messages with a payload, 4 tails (WAIT, STATE, BUS_IMAGE, EDGES)
     for name, fmt in layouts.items():
         assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
 
