@@ -33,6 +33,7 @@ class Inputs:
         self.sent: list[tuple] = []  # the last STATE's changes (a rewind may void some)
         self.segments: list[tuple] = []  # encoder edges as EDGES segments for the next STATE
         self.seg_margin = 0  # the plant's encoders: a window's segments at most (edge_routes)
+        self._levels: dict = {}  # (counter class, channels) -> (mask, a's levels, b's levels): edge_routes
 
     def full(self) -> bool:
         return (
@@ -58,9 +59,16 @@ class Inputs:
             names = enc.names
             if len(names) > 2:
                 return None
-            mask = enc.edges_per_line - 1
-            levels = [enc._levels(k) for k in range(mask + 1)]
-            route = [F.NO_HANDLE, F.NO_HANDLE, mask, 0, 0, 0, 0]
+            levels = self._levels.get((type(enc), len(names)))
+            if levels is None:  # (a counter's levels by count & mask: its class's, fixed)
+                mask = enc.edges_per_line - 1
+                by_count = [enc._levels(k) for k in range(mask + 1)]
+                levels = self._levels[type(enc), len(names)] = (
+                    mask,
+                    *(sum(lv[c] << k for k, lv in enumerate(by_count)) if c < len(names) else 0 for c in (0, 1)),
+                )
+            mask, bits_a, bits_b = levels
+            route = [F.NO_HANDLE, F.NO_HANDLE, mask, bits_a, bits_b, 0, 0]
             for c, name in enumerate(names):
                 if hooks and hooks.get(name):
                     return None
@@ -74,7 +82,6 @@ class Inputs:
                         return None
                     route[c] = h
                     route[5 + c] = info.irq
-                route[3 + c] = sum(lv[c] << k for k, lv in enumerate(levels))
             routes.append(route)
         return routes
 
