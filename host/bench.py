@@ -328,7 +328,7 @@ def bench_encoders(run_ms: int = 10_000, per_edge: bool = False) -> dict:
     for rate in ENCODER_RATES:
         runs[rate] = run_encoder_bot(rate, run_ms, segments=True)
         if per_edge:
-            runs[f"{rate:,} per edge"] = run_encoder_bot(rate, run_ms, segments=False)
+            runs[f"{rate:,} edges/s, a change an edge"] = run_encoder_bot(rate, run_ms, segments=False)
     return {"runs": runs, "bare_us": bare_handler_us()}
 
 
@@ -355,7 +355,7 @@ def report_encoders(enc: dict, raw_us: float) -> None:
         same = (
             "counts = plant's edges" if run["counts"] == run["edges"] else f"COUNTS {run['counts']} != {run['edges']}"
         )
-        how = f"{rate:,} edges/s" if isinstance(rate, int) else f"{rate} edges/s"
+        how = f"{rate:,} edges/s" if isinstance(rate, int) else rate
         how += f" ({run['segments']:,} segments)" if run.get("segments") else ""
         print(
             f"  {how}: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
