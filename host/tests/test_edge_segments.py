@@ -4,7 +4,9 @@ by the codec (``_hilframe.expand_edges``, the shim's pure path) give exactly the
 event loop emits one by one, and leave the counters as it does; a run with segments gives
 the firmware every edge in order at its instant (the encoder bot's counts are the plant's
 edges at 10,000 and 40,000 edges a second, its outputs and console the same as with one
-change an edge), on the shim's C path and its pure-Python path alike."""
+change an edge), and so do the pico robot (quadrature encoders beside its other parts) and
+the duct robot (slot encoders, a timer, UART bytes), on the shim's C path and its pure-Python
+path alike."""
 
 import copy
 import json
@@ -191,3 +193,39 @@ def test_the_pure_path_expands_segments_as_the_c_path_does(monkeypatch):
     assert fast["segments"] > 0
     assert fast["console"] == pure["console"]
     assert fast["trace"] == pure["trace"], "the C path's link trace with segments differs from the pure path's"
+
+
+APPS = {  # (app or rig file, world, seed, simulated s): encoders beside other parts
+    "pico_bot": (str(Path(__file__).parents[2] / "examples" / "pico_bot" / "rig.toml"), "box-ahead", 11, 3.0),
+    "duct": ("duct", "bench", 1, 3.0),  # slot encoders (one channel), a 160 Hz timer, a record stream on a UART
+}
+
+
+@pytest.mark.hil
+@pytest.mark.parametrize("key", list(APPS))
+def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
+    """With segments the firmware takes the same inputs at the same instants as with a
+    change an edge (its outputs and console the same), and the pure path does as C does."""
+    from host.rig.apps import get_app
+
+    name, world, seed, seconds = APPS[key]
+    got = {}
+    for segments, pure in ((False, False), (True, False), (True, True)):
+        monkeypatch.setenv(EDGE_SEGMENTS_ENV, "1" if segments else "0")
+        if pure:
+            monkeypatch.setenv("HIL_PURE", "1")
+        else:
+            monkeypatch.delenv("HIL_PURE", raising=False)
+        options = dict(get_app(name).worlds[world])
+        rig = make_rig(name, seed=seed, plant_options=options, trace=True, record=False)  # (a recording: no segments)
+        rig.run_for(seconds)
+        console, stats = rig.console, rig.stats
+        rig.stop()
+        lines = (rig.artefacts / "trace.jsonl").read_text().splitlines()
+        got[segments, pure] = ([r for r in map(json.loads, lines) if "header" not in r], console, stats.edge_segments)
+    (plain, plain_console, _), (seg, seg_console, n_segments) = got[False, False], got[True, False]
+    assert got[True, True][:2] == (seg, seg_console), f"{key}: the pure path's trace with segments differs from C's"
+    assert n_segments > 0, f"{key}: the run sent no EDGES"
+    assert seg_console == plain_console
+    assert _outputs(seg) == _outputs(plain), f"{key}: the firmware's outputs differ with segments"
+    assert _delivered(_expanded(seg)) == _delivered(plain), f"{key}: the firmware took other inputs with segments"
