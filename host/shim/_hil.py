@@ -298,7 +298,7 @@ class _Link:
                     _Link.edges = edges
                     return p
                 edges = None  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
-            elif type_ == F.EDGES:  # the encoder edges of the STATE that follows (_apply_edges)
+            elif type_ == F.EDGES:  # the encoder edges of the STATE that follows (_sync applies both)
                 edges = p
             elif type_ == F.BUS_IMAGE:
                 _Link.image_next = F.unpack_bus_image(p)[1]
@@ -884,7 +884,7 @@ def _sync(t_until, watch):
     edges = _Link.edges
     if edges is not None:
         _Link.edges = None
-        if struct.unpack_from("<Q", edges, 0)[0] != base:  # (not this STATE's: never acted on)
+        if struct.unpack_from(F.EDGES_FMT, edges, 0)[0] != base:  # (not this STATE's: never acted on)
             edges = None
     if fast is None or _dispatching or _irq_off or _Link.defer_from != FOREVER_US or (edges and not _Link.fast_edges):
         # (inside a callback, with IRQs off or in a C call: only the pure path keeps soft

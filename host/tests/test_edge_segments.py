@@ -229,3 +229,25 @@ def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
     assert seg_console == plain_console
     assert _outputs(seg) == _outputs(plain), f"{key}: the firmware's outputs differ with segments"
     assert _delivered(_expanded(seg)) == _delivered(plain), f"{key}: the firmware took other inputs with segments"
+
+
+def test_a_segment_counts_the_irq_edges_its_channels_fire():
+    from host.rig.inputs import _irq_edges
+
+    for mask, bits_a, bits_b in ((3, 0b0110, 0b1100), (1, 0b10, 0)):
+        for irq_a in range(4):
+            for irq_b in range(4):
+                for n in range(-6, 6):
+                    for count in range(10):
+                        for step in (1, -1):
+                            want = 0
+                            for j in range(1, count + 1):
+                                m, was = n + step * j, n + step * (j - 1)
+                                a = bits_a >> (m & mask) & 1
+                                if a != bits_a >> (was & mask) & 1:
+                                    trigger, level = irq_a, a
+                                else:
+                                    trigger, level = irq_b, bits_b >> (m & mask) & 1
+                                want += bool(trigger & (F.IRQ_RISING if level else F.IRQ_FALLING))
+                            got = _irq_edges(mask, bits_a, bits_b, irq_a, irq_b, n, count, step)
+                            assert got == want, (mask, irq_a, irq_b, n, count, step, got, want)
