@@ -18,8 +18,10 @@
 - encoder-heavy robot (``host/bench/encoder_bot``): Pico motor-control firmware counting
   every edge of two quadrature encoders (28 counts a motor turn, 98.5:1 gearboxes) in
   ``Pin.irq`` handlers, a velocity PID in a ``Timer`` callback, at 10,000 and 40,000 edges
-  a second: real-time factor, wall us per edge, and the same handler's bare cost in a
-  MicroPython loop (the limit), measured in the same run, with the ratio;
+  a second, its edges as EDGES segments (``--per-edge-encoders``: also a STATE change an
+  edge, as before them): real-time factor, wall us per edge, the host's and the firmware's
+  CPU an edge, and the same handler's bare cost in a MicroPython loop (the limit), measured
+  in the same run, with the ratio;
 - bus-heavy robot (``host/bench/imu_bot``): a Pico robot holding its heading on an LSM6DSOX
   read from a 208 Hz ``Timer`` (STATUS_REG polled for data-ready, then 12 bytes of gyro and
   accelerometer with ``readfrom_mem_into``) and steering away from walls seen by a VL53L0X
@@ -52,6 +54,7 @@ from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
 from host.rig import Recording, Rig, RigSpec, busimage, sandbox
+from host.rig.clock import EDGE_SEGMENTS_ENV
 from host.rig.pacing import Lockstep
 from host.rig.waits import ExpectTimeout
 
@@ -211,25 +214,70 @@ def encoder_firmware(folder: Path, edges_per_s: int, run_ms: int) -> Path:
     return folder
 
 
-def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, **recording) -> dict:
+def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, segments: bool | None = None, **recording) -> dict:
     """The encoder robot driven for ``run_ms`` at ``edges_per_s``, braked, and run to its end:
-    the firmware's counts, the plant's edges, the wall time."""
+    the firmware's counts, the plant's edges, the wall time, the host's and the firmware's
+    CPU. ``segments``: its edges as EDGES segments (True) or a change each (False; None: as
+    the environment's ``MPY_FIL_EDGE_SEGMENTS`` says)."""
+    if segments is None:
+        return _run_encoder_bot(edges_per_s, run_ms, seed, **recording)
+    was = os.environ.get(EDGE_SEGMENTS_ENV)
+    os.environ[EDGE_SEGMENTS_ENV] = "1" if segments else "0"
+    try:
+        return _run_encoder_bot(edges_per_s, run_ms, seed, **recording)
+    finally:
+        if was is None:
+            del os.environ[EDGE_SEGMENTS_ENV]
+        else:
+            os.environ[EDGE_SEGMENTS_ENV] = was
+
+
+def _proc_cpu_s(pid: int) -> float:
+    """A process's CPU time so far (user + system), from /proc (0.0 where there is none)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _run_encoder_bot(edges_per_s: int, run_ms: int, seed: int, **recording) -> dict:
     with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
         main_dir = encoder_firmware(Path(tmp) / "fw", edges_per_s, run_ms)
         spec = RigSpec(str(ENCODER_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True)
         with Rig(spec, Recording(**recording)) as rig:
             t0 = time.perf_counter()
-            rig.run_for(run_ms / 1000 + 0.5)
+            warm_s = min(0.5, run_ms / 2000)  # (the CPU an edge is read past the start, to the driving's end)
+            rig.run_for(warm_s)
+            cpu0, fw0, edges0 = time.process_time(), _fw_cpu_s(rig), _plant_edges(rig)
+            rig.run_for(run_ms / 1000 - warm_s)
+            cpu1, fw1, edges1 = time.process_time(), _fw_cpu_s(rig), _plant_edges(rig)
+            rig.run_for(0.5)  # (the firmware brakes, prints its counts and ends)
             wall = time.perf_counter() - t0
             truth = rig.truth()
             counts = [line for line in rig.console.splitlines() if line.startswith("counts ")]
-            return {
+            result = {
                 "sim_s": rig.t_us / 1e6,
                 "wall_s": wall,
                 "counts": tuple(int(c) for c in counts[-1].split()[1:]) if counts else None,
                 "edges": (truth["enc_l_edges"], truth["enc_r_edges"]),
                 "round_trips": rig.stats.link_round_trips,
+                "segments": rig.stats.edge_segments,
             }
+    driven = max(1, edges1 - edges0)
+    result["host_us_edge"] = (cpu1 - cpu0) * 1e6 / driven
+    result["fw_us_edge"] = (fw1 - fw0) * 1e6 / driven if fw0 and fw1 else 0.0  # (0.0: not there to read)
+    return result
+
+
+def _fw_cpu_s(rig) -> float:
+    proc = rig.target.proc
+    return _proc_cpu_s(sandbox.interpreter_pid(proc)) if proc is not None else 0.0
+
+
+def _plant_edges(rig) -> int:
+    truth = rig.plant.truth()
+    return truth["enc_l_edges"] + truth["enc_r_edges"]
 
 
 BARE_HANDLER = """
@@ -273,9 +321,15 @@ def _bare(script: str) -> str:
     ).stdout
 
 
-def bench_encoders(run_ms: int = 10_000) -> dict:
-    """Both edge rates, then the bare handler."""
-    return {"runs": {rate: run_encoder_bot(rate, run_ms) for rate in ENCODER_RATES}, "bare_us": bare_handler_us()}
+def bench_encoders(run_ms: int = 10_000, per_edge: bool = False) -> dict:
+    """Both edge rates, their edges as segments (and, with ``per_edge``, a change each: the
+    run before it, alternated with it), then the bare handler."""
+    runs = {}
+    for rate in ENCODER_RATES:
+        runs[rate] = run_encoder_bot(rate, run_ms, segments=True)
+        if per_edge:
+            runs[f"{rate:,} edges/s, a change an edge"] = run_encoder_bot(rate, run_ms, segments=False)
+    return {"runs": runs, "bare_us": bare_handler_us()}
 
 
 def encoder_floor_line(run: dict, rate: int, raw_us: float, bare_us: float) -> str:
@@ -285,6 +339,8 @@ def encoder_floor_line(run: dict, rate: int, raw_us: float, bare_us: float) -> s
     edges_per_s = sum(run["edges"]) / run["sim_s"]
     floor = floor_rtf(per_s, raw_us, 0.0, edges_per_s, bare_us)
     head = floor_text(floor, ENCODER_TARGET) if rate == ENCODER_RATES[0] else f"floor: {floor:.0f}x real time"
+    if not isinstance(rate, int):  # (the per-edge run: its own floor, with its own exchanges)
+        head = f"floor: {floor:.0f}x real time"
     return (
         f"{head} = 1 s / ({per_s:.0f} exchanges x raw {raw_us:.0f} us + {edges_per_s:,.0f} edges x bare "
         f"{bare_us:.2f} us) a simulated s; reached {run['sim_s'] / run['wall_s'] / floor:.0%}"
@@ -299,11 +355,18 @@ def report_encoders(enc: dict, raw_us: float) -> None:
         same = (
             "counts = plant's edges" if run["counts"] == run["edges"] else f"COUNTS {run['counts']} != {run['edges']}"
         )
+        how = f"{rate:,} edges/s" if isinstance(rate, int) else rate
+        how += f" ({run['segments']:,} segments)" if run.get("segments") else ""
         print(
-            f"  {rate:,} edges/s: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
+            f"  {how}: {run['sim_s'] / run['wall_s']:.1f}x real time (target >= 100x), {edges} edges in "
             f"{run['wall_s']:.2f} wall s: {per_edge_us:.2f} us an edge = {per_edge_us / bare_us:.0f}x the bare "
             f"handler; {run['round_trips'] / run['sim_s']:.0f} exchanges per simulated s; {same}"
         )
+        if run.get("fw_us_edge"):
+            print(
+                f"    CPU an edge (past the first 0.5 simulated s, to the driving's end): host "
+                f"{run['host_us_edge']:.2f} us, firmware {run['fw_us_edge']:.2f} us"
+            )
         print(f"    {encoder_floor_line(run, rate, raw_us, bare_us)}")
     print(f"  bare handler in a MicroPython loop (the limit): {bare_us:.2f} us an edge")
 
@@ -583,6 +646,11 @@ def main(argv=None) -> int:
     parser.add_argument("--no-campaign", action="store_true", help="skip the campaign throughput (1 and 2 workers)")
     parser.add_argument("--no-encoders", action="store_true", help="skip the encoder-heavy robot")
     parser.add_argument("--only-encoders", action="store_true", help="the encoder-heavy robot only")
+    parser.add_argument(
+        "--per-edge-encoders",
+        action="store_true",
+        help="also the encoder-heavy robot with a STATE change an edge (its edges as segments otherwise)",
+    )
     parser.add_argument("--no-imu", action="store_true", help="skip the bus-heavy robot")
     parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
     parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
@@ -604,7 +672,7 @@ def main(argv=None) -> int:
         return 0
     if args.only_encoders:
         print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
-        encoders = bench_encoders()
+        encoders = bench_encoders(per_edge=args.per_edge_encoders)
         raw = bench_raw()
         print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the runs)")
         report_encoders(encoders, statistics.median(raw))
@@ -616,7 +684,7 @@ def main(argv=None) -> int:
     rover = bench_rover(args.sim_minutes * 60)
     ping = bench_ping(2.0)
     duct = bench_duct()
-    encoders = None if args.no_encoders else bench_encoders()
+    encoders = None if args.no_encoders else bench_encoders(per_edge=args.per_edge_encoders)
     imu = None if args.no_imu else bench_imu()
     kits = None if args.no_kits else bench_kits()
     pool = plain = None

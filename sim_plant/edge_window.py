@@ -12,6 +12,8 @@ to pay for numpy's calls (``MIN_EDGES``) goes the loop's way. ``host/tests/test_
 the two ways give the same changes.
 """
 
+import math
+
 import numpy as np
 
 from sim_plant.plant import Change
@@ -104,3 +106,50 @@ def _cut(times, order, room: int):
         return order
     in_order = times[order]
     return order[: int(np.searchsorted(in_order, in_order[room - 1], side="right"))]
+
+
+SEGMENT_RATE = 0.5
+"""Segments (:func:`segments`) only below this many edges a microsecond: two edges of one
+counter are then more than 2 us apart, so the closed form's times strictly increase and
+``emit``'s clamp to later instants never bites (rounding cannot close a gap of 2)."""
+
+
+def _edge_us(enc, m: int) -> int:
+    """When the counter reaches count ``m`` past its next edge: ``emit``'s own arithmetic."""
+    rate = enc.rate
+    if rate > 0.0:
+        return enc.t0_us + math.ceil((m - enc.p0) / rate)
+    return enc.t0_us + math.ceil((enc.p0 - (m + 1)) / -rate)
+
+
+def segments(encoders, t_stop: int, segs: list):
+    """Every edge of ``encoders`` from their next ones through ``t_stop`` (no other part's
+    event in between) as one segment per encoder that has some, appended to ``segs`` as
+    (encoder index, first edge's time, count before it, edges, t0_us, p0, rate): the edges
+    themselves are left to whoever expands them (the shim). Each counter is moved past them
+    as ``emit`` would have. Returns the last instant of an edge, or None (nothing done: a
+    counter turns too fast for segments)."""
+    for enc in encoders:
+        if enc.next_us <= t_stop and not -SEGMENT_RATE < enc.rate < SEGMENT_RATE:
+            return None
+    t_last = None
+    for k, enc in enumerate(encoders):
+        t1 = enc.next_us
+        if t1 > t_stop:
+            continue
+        rate = enc.rate
+        step = 1 if rate > 0.0 else -1
+        n = enc.n
+        # edges j = 1 .. count reach n + step * j; the first at t1, the others by the closed form
+        count = max(1, int((t_stop - t1) * abs(rate)))
+        while count > 1 and _edge_us(enc, n + step * count) > t_stop:
+            count -= 1
+        while _edge_us(enc, n + step * (count + 1)) <= t_stop:
+            count += 1
+        last = t1 if count == 1 else _edge_us(enc, n + step * count)
+        segs.append((k, t1, n, count, enc.t0_us, enc.p0, rate))
+        enc.n = n + step * count
+        enc.next_us = _edge_us(enc, enc.n + step)
+        if t_last is None or last > t_last:
+            t_last = last
+    return t_last

@@ -249,6 +249,19 @@ class RobotPlant(Plant):
         return self._next_us
 
     def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
+        return self.advance_edges(t_us, limit, None)
+
+    @property
+    def edge_counters(self) -> tuple:
+        encoders = self.encoders
+        return tuple(encoders) if encoders and edge_window.plain(encoders) else ()
+
+    def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:
+        """:meth:`advance_to`; with a list ``segs``, the encoders' edges between two events
+        of the other parts go there as segments (``edge_window.segments``: the encoder's
+        index, its first edge's time, its count before it, edges, t0_us, p0, rate), not into
+        the changes (nor into ``limit``'s count), wherever the closed form holds; it stops
+        after the window that takes ``segs`` to ``seg_room`` (0: no limit)."""
         if self._motion_pending:
             self._settle()
         out: list[Change] = []
@@ -259,13 +272,17 @@ class RobotPlant(Plant):
             while nxt <= t_us:
                 if nxt >= window_at and self._next_part_us > nxt:
                     # the edges until the next part's event at once (sim_plant/edge_window.py)
-                    t_last = edge_window.emit_window(encoders, min(t_us, self._next_part_us - 1), out, limit)
+                    t_stop = min(t_us, self._next_part_us - 1)
+                    if segs is not None:
+                        t_last = edge_window.segments(encoders, t_stop, segs)
+                    else:
+                        t_last = edge_window.emit_window(encoders, t_stop, out, limit)
                     if t_last is None:
                         window_at = self._next_part_us  # (too few: one by one until then)
                     else:
                         self._t_us = t_last
                         nxt = min(self._next_part_us, *(enc.next_us for enc in encoders))
-                        if limit and len(out) >= limit and nxt > t_last:
+                        if (limit and len(out) >= limit or seg_room and len(segs) >= seg_room) and nxt > t_last:
                             self._next_us = nxt
                             return out
                         continue

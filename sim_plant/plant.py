@@ -196,6 +196,18 @@ class Plant:
     # -- what every plant answers (safe defaults) --------------------------------------
 
     @property
+    def edge_counters(self) -> tuple:
+        """Its encoders whose edges :meth:`advance_edges` may hand as segments (each an
+        ``sim_plant.physics.encoder._EdgeCounter`` with the plain ``emit``): none here."""
+        return ()
+
+    def advance_edges(self, t_us: int, limit: int, segs: list, seg_room: int = 0) -> list[Change]:
+        """:meth:`advance_to`, the edges of :attr:`edge_counters` between two of its other
+        events going to ``segs`` as segments (``sim_plant.engine.RobotPlant``); here, all of
+        them as changes."""
+        return self.advance_to(t_us, limit)
+
+    @property
     def unwrapped(self) -> "Plant":
         """The plant itself; a wrapper's (the fault schedule's) inner plant."""
         return self

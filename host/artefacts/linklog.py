@@ -122,6 +122,11 @@ class LinkLog:
         self._pending.append((_state_line, (t, base, horizon, changes)))
         self.flush()
 
+    def edges(self, base: int, segments) -> None:
+        """An EDGES sent before the STATE of the wait from ``base``: its encoder segments
+        (``F.EDGE_SEG_FMT``'s fields; ``F.expand_edges`` gives their edges)."""
+        self.write({"t": base, "to": "fw", "msg": "EDGES", "segments": [list(s) for s in segments]})
+
     def seen(self, t: int, h: int, sample_no: int) -> None:
         self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
 
@@ -207,6 +212,7 @@ class _NoLog(LinkLog):
         pass
 
     line = flush = cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
+    edges = line
 
 
 NO_LOG = _NoLog()

@@ -55,6 +55,12 @@ class BoardView:
     def t_us(self) -> int:
         return self._t_us
 
+    edge_counters = ()
+    """(Not the shared plant's: a board's edges come through its queue, one change each.)"""
+
+    def advance_edges(self, t_us: int, limit: int, segs: list, seg_room: int = 0) -> list:
+        return self.advance_to(t_us, limit)
+
     def reset(self, seed: int) -> None:
         """(The set resets the shared plant, once.)"""
 

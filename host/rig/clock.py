@@ -3,6 +3,7 @@ wait, the plant advanced for it, the plant caught up with the firmware's own tim
 rewound, when a handler changed an output inside a speculative batch), and the STATE
 that answers the wait. The pacing (:mod:`host.rig.pacing`) decides each step."""
 
+import os
 from dataclasses import dataclass
 
 from host.link import frames as F
@@ -14,6 +15,13 @@ them and applies each at its time, so a firmware that wakes, finds nothing to dr
 waits again needs no exchange for it. A lookahead the firmware voids (an output inside
 it) makes the next ones wait: 1, 2, 4 ... up to LOOKAHEAD_BACKOFF_MAX exchanges."""
 LOOKAHEAD_BACKOFF_MAX = 256
+EDGE_SEGMENTS_ENV = "MPY_FIL_EDGE_SEGMENTS"
+"""``MPY_FIL_EDGE_SEGMENTS=1`` in the host's environment: encoder edges go to the shim as
+segments (EDGES, docs/clock.md "Encoder edges as segments"), not one change each."""
+
+
+def edge_segments_wanted() -> bool:
+    return os.environ.get(EDGE_SEGMENTS_ENV, "").strip() in ("1", "yes", "true")
 
 
 @dataclass
@@ -42,6 +50,10 @@ class Clock:
         self._woke_us = F.FOREVER_US  # the last STATE's wake time, while the firmware runs
         self.end_us = 0  # the end of the run being served (a bus transfer's lease stops there)
         self.images = None  # host.rig.busimage.BusImages: bus reads the shim may answer itself
+        # Encoder edges as segments the shim expands (EDGES, docs/protocol.md): set by the rig
+        # (MPY_FIL_EDGE_SEGMENTS=1), used where edge_routes allows, up to a wait's end (never
+        # in the lookahead, whose changes the shim holds one by one)
+        self.edge_segments = edge_segments_wanted()
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
@@ -113,14 +125,32 @@ class Clock:
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
             for change in plant.advance_to(plant.t_us, inputs.room()):
                 route(change, watch)
+        routes = self._edge_routes(watch) if self.edge_segments and self.wait is not None else None
         while plant.t_us < target_us:
             t_next, limit = pacing.step(self, target_us, watch)
-            irq, hit = route_all(plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next), watch)
+            if routes is not None and limit:
+                segs = []
+                changes = plant.advance_edges(t_next, limit, segs, inputs.segment_room())
+                irq, hit = route_all(changes, watch)
+                if segs and inputs.route_segments(segs, routes):
+                    irq = True
+            else:
+                irq, hit = route_all(plant.advance_to(t_next, limit) if limit else plant.advance_to(t_next), watch)
             if recorder is not None:
                 recorder.sample(plant)
             if hit or (irq and pacing.irq_ends_batch) or inputs.full():
                 return True
         return False
+
+    def _edge_routes(self, watch):
+        """Each encoder's channels as EDGES segments go (``Inputs.edge_routes``), or None: not
+        a plant with encoders whose edges have a closed form (``edge_counters``), a recording
+        (it writes each edge), a watched wait, real time or a wire at zero delay."""
+        plant = self.plant
+        if watch or self.recorder is not None or not self.pacing.speculates or plant.zero_delay:
+            return None
+        counters = plant.edge_counters
+        return self.inputs.edge_routes(counters, watch) if counters else None
 
     def catch_up(self, t_us: int) -> None:
         """Bring the plant to the firmware's time: forward if the shim moved on inside
@@ -171,7 +201,12 @@ class Clock:
         # alone, far past what was asked for, while the host waits for it)
         horizon = min(self.plant.next_change_us(), max(t_end_us, self.plant.t_us))
         changes = self.inputs.take()
+        segments = self.inputs.take_segments()
         self._woke_us = t_us
+        if segments:  # (with the STATE, in one write: the shim expands them as it applies it)
+            self.session.hold(F.EDGES, F.pack_edges(base_us, segments))
+            self.log.edges(base_us, segments)
+            self.stats.edge_segments += len(segments)
         try:
             state = F.pack_state(base_us, t_us, horizon, changes)
             self.session.send(F.STATE, state + self.pacing.take_trailer() if self.pacing.walled else state)

@@ -55,6 +55,7 @@ class RunStats:
     bus_round_trips: int = 0  # BUS frames answered (a bus transfer's own exchange)
     bus_local: int = 0  # bus reads the shim answered from an image (BUS_DONE: host.rig.busimage)
     irq_edges: int = 0
+    edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.clock, MPY_FIL_EDGE_SEGMENTS=1)
     rollbacks: int = 0
     lease_violations: int = 0
     round_trip_us: list = field(default_factory=list)

@@ -161,6 +161,27 @@ def _wait_begins():
         del runs[: F.CPU_RUNS_MAX]
 
 
+def _mcu_compute():
+    """MCU time, at an exchange: the main program's compute before this WAIT (the last wait
+    begun since the last exchange, if nothing ran since it began), the waits' before it sent
+    as a CPU_RUNS; a record stretch said; the callbacks' compute told once a window."""
+    compute_us = _Console.ran_us
+    _Console.ran_us = 0
+    runs = _Console.runs
+    if runs:
+        if not compute_us:
+            compute_us = runs.pop()[1]
+        if runs:
+            _send_runs(runs)
+            runs.clear()
+    if compute_us > _Console.longest_us:
+        _cpu_stretch(compute_us)
+    _Console.top_us, _Console.top_stack = 0, None
+    if _Console.irq is not None and _now // F.CPU_WINDOW_US != _Console.irq_from // F.CPU_WINDOW_US:
+        _irq_load()
+    return compute_us
+
+
 def _send_runs(runs):
     payload = struct.pack(F.CPU_RUNS_FMT, len(runs))
     for t, ran in runs:
@@ -269,10 +290,13 @@ class _Link:
     # _hilfast.apply_state when the interpreter has it (the harness's build) and HIL_PURE
     # is not set, else None (the pure-Python loop of _sync: a user's own interpreter)
     fast = None
+    fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
+    pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE: _hil.transfer),
     # and the one that came before the STATE or BUS_REPLY being read.
     image = image_next = {}
     done = 0  # bus reads answered from an image since the last BUS
+    edges = None  # the EDGES payload that came with the last STATE (encoder segments), or None
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
     ctx = None  # (this module's globals, _Link, CallbackFailed): apply_state runs the handlers
@@ -310,15 +334,21 @@ class _Link:
         """Send WAIT and return the payload of the STATE that answers it."""
         self.queue(F.WAIT, wait_payload)
         self.flush()
+        edges = None
         while True:
             type_, _seq, p = self.recv()
             if type_ == F.BYE:
                 raise HostStop()
-            if type_ == F.STATE and struct.unpack_from(state_fmt, p, 0)[0] == t_now:
-                _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
-                _Link.done = 0  # (the reads it answered went with the WAIT)
-                return p  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
-            if type_ == F.BUS_IMAGE:
+            if type_ == F.STATE:
+                if struct.unpack_from(state_fmt, p, 0)[0] == t_now:
+                    _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
+                    _Link.done = 0  # (the reads it answered went with the WAIT)
+                    _Link.edges = edges
+                    return p
+                edges = None  # (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
+            elif type_ == F.EDGES:  # the encoder edges of the STATE that follows (_sync applies both)
+                edges = p
+            elif type_ == F.BUS_IMAGE:
                 _Link.image_next = F.unpack_bus_image(p)[1]
             elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
                 import _hilrepl
@@ -875,22 +905,10 @@ def _run_until_idle(t_target, watch):
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
     make_room()
-    compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
-    if _Console.cpu is not None:  # MCU time: the main program's, charged since the last wait
-        compute_us = _Console.ran_us
-        _Console.ran_us = 0
-        runs = _Console.runs
-        if runs:  # the waits begun since the last exchange: the last one's is this WAIT's (if
-            if not compute_us:  # nothing ran since it began), the ones before it a CPU_RUNS
-                compute_us = runs.pop()[1]
-            if runs:
-                _send_runs(runs)
-                runs.clear()
-        if compute_us > _Console.longest_us:
-            _cpu_stretch(compute_us)
-        _Console.top_us, _Console.top_stack = 0, None
-        if _Console.irq is not None and _now // F.CPU_WINDOW_US != _Console.irq_from // F.CPU_WINDOW_US:
-            _irq_load()
+    if _Console.cpu is None:
+        compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
+    else:
+        compute_us = _mcu_compute()
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT
@@ -908,13 +926,21 @@ def _sync(t_until, watch):
     _spin = 0  # new inputs: handlers and main start reading the clock afresh
     base, t_end, horizon, n = struct.unpack_from(state_fmt, p, 0)
     fast = _Link.fast
-    if fast is None or _dispatching or _irq_off or _Link.defer_from != FOREVER_US:
+    edges = _Link.edges
+    if edges is not None:
+        _Link.edges = None
+        if struct.unpack_from(F.EDGES_FMT, edges, 0)[0] != base:  # (not this STATE's: never acted on)
+            edges = None
+    if fast is None or _dispatching or _irq_off or _Link.defer_from != FOREVER_US or (edges and not _Link.fast_edges):
         # (inside a callback, with IRQs off or in a C call: only the pure path keeps soft
         # callbacks waiting and the queue bounded; _hilfast runs them all, as dispatch does outside)
-        return _apply_state(p, base, t_end, horizon, n, watch)
+        return _apply_state(p, base, t_end, horizon, n, watch, edges)
     # the same as _apply_state, in C (host/shim/cmod/_hilfast)
     cur = [F.STATE_LEN, 0, False]
-    stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
+    if edges is None:
+        stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
+    else:
+        stop = fast(p, cur, base, t_end, n, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g, edges)
     if stop:
         return cur[2] or stop == 2
     i = cur[1]
@@ -922,10 +948,13 @@ def _sync(t_until, watch):
     return cur[2]
 
 
-def _apply_state(p, base, t_end, horizon, n, watch):
+def _apply_state(p, base, t_end, horizon, n, watch, edges=None):
     """A STATE's changes applied in time order, the handlers due at each instant run before
-    the next (the pure-Python path; _hilfast.apply_state does the same in C)."""
+    the next (the pure-Python path; _hilfast.apply_state does the same in C). ``edges``: the
+    EDGES that came with it, whose encoder edges (all up to t_end) merge with its changes."""
     global _now
+    if edges is not None:
+        return _apply_merged(p, base, t_end, horizon, n, watch, edges)
     hit = False
     off = F.STATE_LEN
     group_t = -1
@@ -941,6 +970,47 @@ def _apply_state(p, base, t_end, horizon, n, watch):
         t = base + dt
         if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
             held = F.unpack_changes(p, off, base, n - i - 1, [(t, h, kind, value, extra)])
+            break
+        if t != group_t:
+            if pending and group_t >= 0:
+                stop = _handlers_wrote(group_t)
+                if stop:
+                    return hit or stop == 2
+            group_t = t
+            if _lockstep:
+                _now = t
+        handles[h]._hil_apply(kind, value, extra)
+        if watch and h in watch:
+            hit = True
+    if _pending and group_t >= 0:
+        stop = _handlers_wrote(group_t)
+        if stop:
+            return hit or stop == 2
+    _finish_state(held, t_end, horizon)
+    return hit
+
+
+def _apply_merged(p, base, t_end, horizon, n, watch, edges):
+    """_apply_state with an EDGES: its segments' edges (F.expand_edges) and the STATE's
+    changes in time order, at one instant the edges first (the plant emits an instant's
+    encoder edges before its other parts' changes)."""
+    global _now
+    changes = F.unpack_changes(p, F.STATE_LEN, base, n, [])
+    merged = F.expand_edges(F.unpack_edges(edges)[1])
+    if changes:
+        i = 0
+        for c in changes:  # (stable: the edges of an instant before its changes)
+            while i < len(merged) and merged[i][0] <= c[0]:
+                i += 1
+            merged.insert(i, c)
+            i += 1
+    hit = False
+    group_t = -1
+    held = None
+    handles, pending = _handles, _pending
+    for i, (t, h, kind, value, extra) in enumerate(merged):
+        if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
+            held = merged[i:]
             break
         if t != group_t:
             if pending and group_t >= 0:
@@ -1352,6 +1422,9 @@ def _fast_path(getenv):
     if hasattr(_hilfast, "arm"):  # (a build before it: the queue runs at the next call in)
         _exempt(_hilfast)
         _Link.arm = _hilfast.arm
+    _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
+    if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
+        _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     return _hilfast.apply_state
 
 

@@ -286,6 +286,7 @@ BYE = 0x83  # (empty) the host ends the session: the firmware stops at its next 
 BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's instant
 BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
 EVAL = 0x86  # while the firmware waits for a STATE: an expression or a REPL line to run in it (docs/live.md)
+EDGES = 0x87  # before a STATE: encoder edges up to its t_end as segments (EDGE_SEG_FMT), which the shim expands
 
 NAMES = {
     HELLO: "HELLO",
@@ -310,6 +311,7 @@ NAMES = {
     BUS_REPLY: "BUS_REPLY",
     BUS_IMAGE: "BUS_IMAGE",
     EVAL: "EVAL",
+    EDGES: "EDGES",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
@@ -332,6 +334,10 @@ BUS_IMAGE_ENTRY_FMT = "<HHQQBB"  # handle, address, until_us (exclusive), horizo
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
+EDGES_FMT = "<QH"  # base_us (the STATE's), segments, then each EDGE_SEG_FMT:
+EDGE_SEG_FMT = "<HHBBBQqIQdd"  # handle of channel a, of b (NO_HANDLE: none), mask, a's and b's level by
+# count & mask (bit k), first edge's t_us, count before it, edges, then t0_us, p0, rate of the edge
+# times after the first: count m reached at t0 + ceil((m - p0) / rate) (rate > 0), t0 + ceil((p0 - (m + 1)) / -rate)
 EVAL_FMT = "<B"  # EVAL_EXPR or EVAL_LINE, then the UTF-8 source
 EVAL_REPLY_FMT = "<B"  # EVAL_VALUE, EVAL_NONE or EVAL_ERROR, then UTF-8 text (the repr, the error)
 POLL_FMT = "<QQIBBII"  # t_us, since_us, reads, kind, bits, target, value; then UTF-8 lines: the
@@ -344,6 +350,9 @@ WATCH_LEN = struct.calcsize(WATCH_FMT)
 UART_TX_LEN = struct.calcsize(UART_TX_FMT)
 FAULT_LEN = struct.calcsize(FAULT_FMT)
 STATE_LEN = struct.calcsize(STATE_FMT)
+EDGES_LEN = struct.calcsize(EDGES_FMT)
+EDGE_SEG_LEN = struct.calcsize(EDGE_SEG_FMT)
+NO_HANDLE = 0xFFFF  # an encoder channel of an EDGES segment wired to no pin
 CHANGE_LEN = struct.calcsize(CHANGE_FMT)
 BUS_LEN = struct.calcsize(BUS_FMT)
 BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
@@ -580,6 +589,41 @@ def unpack_changes(p, off, base, n, changes):
             off += value
         changes.append((base + dt, h, kind, value, extra))
     return changes
+
+
+def pack_edges(base_us, segments):
+    """An EDGES payload: segments (EDGE_SEG_FMT's fields, in the plant's encoder order)."""
+    return struct.pack(EDGES_FMT, base_us, len(segments)) + b"".join(struct.pack(EDGE_SEG_FMT, *s) for s in segments)
+
+
+def unpack_edges(p):
+    """(base_us, [segment as EDGE_SEG_FMT's fields])"""
+    base, n = struct.unpack_from(EDGES_FMT, p, 0)
+    return base, [struct.unpack_from(EDGE_SEG_FMT, p, EDGES_LEN + i * EDGE_SEG_LEN) for i in range(n)]
+
+
+def expand_edges(segments):
+    """The segments' edges as a STATE's changes, (t_us, handle, CH_LEVEL, level, 0), in time
+    order, at one instant in the segments' order: the times by the plant's own arithmetic
+    (sim_plant/physics/encoder.py, _EdgeCounter.emit), IEEE double as there."""
+    from math import ceil
+
+    edges = []
+    for k, (ha, hb, mask, bits_a, bits_b, t, n, count, t0, p0, rate) in enumerate(segments):
+        step = 1 if rate > 0.0 else -1
+        for j in range(count):
+            m = n + step
+            if j:
+                t = t0 + (ceil((m - p0) / rate) if step > 0 else ceil((p0 - (m + 1)) / -rate))
+            a, a_was = bits_a >> (m & mask) & 1, bits_a >> (n & mask) & 1
+            if a != a_was:
+                if ha != NO_HANDLE:
+                    edges.append((t, k, ha, a))
+            elif hb != NO_HANDLE:
+                edges.append((t, k, hb, bits_b >> (m & mask) & 1))
+            n = m
+    edges.sort()  # (by time, then segment: no two edges of one segment share an instant)
+    return [(t, h, CH_LEVEL, level, 0) for t, _k, h, level in edges]
 
 
 # CFG kinds: one per shim class with a host side (machine.Pin, ADC, PWM, UART; an IRQ

@@ -356,6 +356,10 @@ def _board_line(name):
 
 _hil._Link.pin = Pin  # (its changes are applied in C when the shim has _hilfast)
 _OUT = Pin.OUT
+if _hil._Link.fast is not None and _hil._Link.pin_value is not None:  # (a board's Pin.value is C too)
+    Pin._value_py = Pin.value  # (what the C one hands on to: below its own cases, the same steps)
+    _hil._Link.pin_setup(Pin._value_py, _OUT, _hil._Link.ctx[0])
+    Pin.value = _hil._Link.pin_value
 _POLL_READS = _F.POLL_READS
 
 

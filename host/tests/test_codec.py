@@ -55,7 +55,7 @@ def test_corrupted_frame_is_counted_and_never_delivered():
         assert dec.frames == 0 and dec.bad_crc + dec.bad_length + dec.truncated >= 1
 
 
-TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i"}
+TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i", "i64": "q", "f64": "d"}
 # what follows the fixed part
 # (I2CT_DONE's row draws the transaction it answers too: the target's CH_BYTES change)
 SECOND_PART = {
@@ -64,6 +64,7 @@ SECOND_PART = {
     "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT",
     "I2CT_DONE": "I2CT_XACT_FMT",
     "CPU_RUNS": "CPU_RUN_FMT",
+    "EDGES": "EDGE_SEG_FMT",
 }
 
 
@@ -76,7 +77,7 @@ def documented_layouts() -> dict[str, str]:
     table = (HERE.parent.parent / "docs" / "protocol.md").read_text()
     for row in re.findall(r"^\| 0x[0-9a-f]{2} \| (\w+) \|[^|]*\|(.*)\|$", table, flags=re.M):
         name, payload = row
-        parts = [re.findall(r"\b([ui]\d+)\b", seg) for seg in re.findall(r"`([^`]*)`", payload)]
+        parts = [re.findall(r"\b([uif]\d+)\b", seg) for seg in re.findall(r"`([^`]*)`", payload)]
         formats = ["<" + "".join(TYPE_CODES[t] for t in p) for p in parts if p]
         if formats:
             layouts[f"{name}_FMT"] = formats[0]
@@ -87,7 +88,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 23, sorted(layouts)  # 18 messages with a payload, and the 5 second parts above
+    assert len(layouts) == 25, sorted(layouts)  # 19 messages with a payload, and the 6 second parts above
     for name, fmt in layouts.items():
         assert getattr(F, name) == fmt, f"{name}: docs/protocol.md draws {fmt}, the codec has {getattr(F, name)}"
 

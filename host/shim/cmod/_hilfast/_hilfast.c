@@ -4,15 +4,18 @@
 // interpreter runs the pure-Python path, which does exactly the same thing: the tests run
 // both and compare the traces byte for byte (host/tests/test_hilfast.py). One function:
 //
-// apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g)
+// apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g[, edges])
 //   applies a STATE's changes from offset cur[0] (change cur[1] of n) as _hil._sync's loop
-//   does: at each new instant first the handlers due at the one before (_handlers_wrote and
+//   does (with edges, the EDGES that came with it: its encoder segments' edges, expanded
+//   here, merged in time order, an instant's edges first, as _hil._apply_merged does): at each new instant first the handlers due at the one before (_handlers_wrote and
 //   dispatch, here in C; ctx: (_hil's globals, _Link, CallbackFailed)), then _now = t (in
 //   the module globals g, None in real time), then each change:
 //   a machine.Pin (exactly pin_type, no counters) in C as Pin._hil_apply does, anything
 //   else through its own _hil_apply. It stops at the first change past t_end (held by the
 //   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
 //   returns handlers_wrote's stop code (0: every change up to t_end applied).
+//
+// pin_setup(value_py, out_mode, g), pin_value: machine.Pin.value in C (below).
 //
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
 // board's own time (docs/mcu-time.md):
@@ -31,6 +34,7 @@
 // counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -40,6 +44,7 @@
 #include "py/objfun.h"
 #include "py/objlist.h"
 #include "py/objtuple.h"
+#include "py/objtype.h"
 #include "py/runtime.h"
 #include "py/smallint.h"
 
@@ -55,6 +60,31 @@ static uint32_t get_u32(const uint8_t *b) {
 static bool is_hard(mp_obj_t arg);
 static size_t queue_depth = 8;  // _Link.depth (MICROPY_SCHEDULER_DEPTH), read by apply_state
 static mp_obj_t shim_globals;  // _hil's (apply_state's ctx[0]: it holds them), for _lost
+
+// An attribute an instance of a class of Python's holds itself (in its members: where the
+// attribute's load looks first, py/objtype.c mp_obj_instance_load_attr), else the generic load.
+static mp_obj_t inst_get(mp_obj_t obj, qstr name) {
+    if (mp_obj_is_obj(obj) && mp_obj_is_instance_type(mp_obj_get_type(obj))) {
+        mp_obj_instance_t *o = MP_OBJ_TO_PTR(obj);
+        mp_map_elem_t *e = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+        if (e != NULL) {
+            return e->value;
+        }
+    }
+    return mp_load_attr(obj, name);
+}
+
+// A machine.Pin's own attribute set (the class has no property or __setattr__ of that name:
+// the store's checks for them find nothing), else the generic store.
+static void pin_set(mp_obj_t pin, qstr name, mp_obj_t value) {
+    mp_obj_instance_t *o = MP_OBJ_TO_PTR(pin);
+    mp_map_elem_t *e = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+    if (e != NULL) {
+        e->value = value;
+    } else {
+        mp_store_attr(pin, name, value);
+    }
+}
 
 // mp_sched_full's negation (_hil.room): the queue holds fewer than its depth soft callbacks.
 static bool room(mp_obj_t pending) {
@@ -73,18 +103,18 @@ static bool room(mp_obj_t pending) {
 
 // Pin._hil_apply, for a Pin with no counters; false when it must go through Python.
 static bool pin_apply(mp_obj_t pin, mp_obj_t value, mp_obj_t pending) {
-    if (mp_load_attr(pin, MP_QSTR__counters) != mp_const_none) {
+    if (inst_get(pin, MP_QSTR__counters) != mp_const_none) {
         return false;
     }
-    if (mp_obj_equal(mp_load_attr(pin, MP_QSTR__level), value)) {
+    if (mp_obj_equal(inst_get(pin, MP_QSTR__level), value)) {
         return true;
     }
-    mp_store_attr(pin, MP_QSTR__level, value);
-    mp_obj_t handler = mp_load_attr(pin, MP_QSTR__handler);
+    pin_set(pin, MP_QSTR__level, value);
+    mp_obj_t handler = inst_get(pin, MP_QSTR__handler);
     if (handler != mp_const_none) {
         mp_int_t edge = mp_obj_is_true(value) ? IRQ_RISING : IRQ_FALLING;
-        if (mp_obj_get_int(mp_load_attr(pin, MP_QSTR__trigger)) & edge) {
-            mp_store_attr(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
+        if (mp_obj_get_int(inst_get(pin, MP_QSTR__trigger)) & edge) {
+            pin_set(pin, MP_QSTR__flags, MP_OBJ_NEW_SMALL_INT(edge));
             if (room(pending) || is_hard(pin)) {
                 mp_obj_t item[2] = {handler, pin};
                 mp_obj_list_append(pending, mp_obj_new_tuple(2, item));
@@ -127,6 +157,12 @@ static bool pending_any(mp_obj_t pending) {
 // (An argument of the firmware's own, micropython.schedule's, may have a __getattr__ that
 // raises: not hard, as getattr(arg, "_hard", False) says.)
 static bool is_hard(mp_obj_t arg) {
+    if (mp_obj_is_obj(arg) && mp_obj_is_instance_type(mp_obj_get_type(arg))) {  // (a pin's own _hard)
+        mp_map_elem_t *e = mp_map_lookup(&((mp_obj_instance_t *)MP_OBJ_TO_PTR(arg))->members, MP_OBJ_NEW_QSTR(MP_QSTR__hard), MP_MAP_LOOKUP);
+        if (e != NULL) {
+            return mp_obj_is_true(e->value);
+        }
+    }
     mp_obj_t dest[2] = {MP_OBJ_NULL, MP_OBJ_NULL};
     nlr_buf_t nlr;
     if (nlr_push(&nlr) == 0) {
@@ -136,6 +172,32 @@ static bool is_hard(mp_obj_t arg) {
         return hard;
     }
     return false;
+}
+
+// An attribute of _Link held in the class's own dict, or NULL (then the generic load and
+// store): a store there is what storing the attribute does for a class of Python's without
+// accessors, less its checks for them (py/objtype.c, type_attr).
+static mp_map_elem_t *class_slot(mp_obj_t link, qstr name) {
+    const mp_obj_type_t *type = MP_OBJ_TO_PTR(link);
+    if (!mp_obj_is_type(link, &mp_type_type) || !MP_OBJ_TYPE_HAS_SLOT(type, locals_dict)) {
+        return NULL;
+    }
+    return mp_map_lookup(&MP_OBJ_TYPE_GET_SLOT(type, locals_dict)->map, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+}
+
+static mp_obj_t class_get(mp_obj_t link, qstr name) {
+    mp_map_elem_t *e = class_slot(link, name);
+    return e != NULL ? e->value : mp_load_attr(link, name);
+}
+
+// _Link.callbacks += 1
+static void count_callback(mp_obj_t link) {
+    mp_map_elem_t *e = class_slot(link, MP_QSTR_callbacks);
+    if (e != NULL && mp_obj_is_small_int(e->value) && MP_OBJ_SMALL_INT_VALUE(e->value) < MP_SMALL_INT_MAX) {
+        e->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(e->value) + 1);
+        return;
+    }
+    mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
 }
 
 // _hil.dispatch(_Link.until), in a wait: the pending callbacks in order, never re-entrantly,
@@ -151,9 +213,12 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
         return;
     }
-    mp_obj_t until_attr[2];
-    mp_load_method_maybe(link, MP_QSTR_until, until_attr);
-    mp_obj_t wait_end = until_attr[0];  // (MP_OBJ_NULL from a shim before it: no limit)
+    mp_map_elem_t *until_slot = class_slot(link, MP_QSTR_until);
+    mp_obj_t until_attr[2] = {MP_OBJ_NULL, MP_OBJ_NULL};
+    if (until_slot == NULL) {
+        mp_load_method_maybe(link, MP_QSTR_until, until_attr);
+    }
+    mp_obj_t wait_end = until_slot != NULL ? until_slot->value : until_attr[0];  // (MP_OBJ_NULL from a shim before it: no limit)
     mp_int_t until = wait_end != MP_OBJ_NULL ? mp_obj_get_int(wait_end) : 0;
     mp_obj_dict_store(g, dispatching, mp_const_true);
     if (!apply_clean) {
@@ -177,7 +242,7 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         end--;
         memmove(list->items + i, list->items + i + 1, (list->len - i) * sizeof(mp_obj_t));
         list->items[list->len] = MP_OBJ_NULL;
-        mp_store_attr(link, MP_QSTR_callbacks, mp_binary_op(MP_BINARY_OP_ADD, mp_load_attr(link, MP_QSTR_callbacks), MP_OBJ_NEW_SMALL_INT(1)));
+        count_callback(link);
         nlr_buf_t nlr;
         if (nlr_push(&nlr) == 0) {
             mp_call_function_1(callback, arg);
@@ -199,7 +264,12 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     }
     mp_obj_dict_store(g, dispatching, mp_const_false);
     if (wait_end != MP_OBJ_NULL) {
-        mp_store_attr(link, MP_QSTR_until, wait_end);  // (a callback's own wait set it)
+        mp_map_elem_t *e = class_slot(link, MP_QSTR_until);  // (a callback's own wait set it)
+        if (e != NULL) {
+            e->value = wait_end;
+        } else {
+            mp_store_attr(link, MP_QSTR_until, wait_end);
+        }
     }
     if (cost_on) {
         irq_end(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)));
@@ -217,9 +287,9 @@ static mp_int_t handlers_wrote(mp_obj_t ctx, mp_obj_t pending, mp_int_t t) {
     mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
     mp_obj_t g = c[0], link = c[1];
     mp_obj_dict_store(g, MP_OBJ_NEW_QSTR(MP_QSTR__wrote), mp_const_false);
-    mp_obj_t syncs = mp_load_attr(link, MP_QSTR_syncs);
+    mp_obj_t syncs = class_get(link, MP_QSTR_syncs);
     dispatch(ctx, pending);
-    if (!mp_obj_equal(mp_load_attr(link, MP_QSTR_syncs), syncs)) {
+    if (!mp_obj_equal(class_get(link, MP_QSTR_syncs), syncs)) {
         return 3;
     }
     mp_obj_t woke_fn = mp_load_attr(global(g, MP_QSTR__link), MP_QSTR_woke);
@@ -232,6 +302,72 @@ static mp_int_t handlers_wrote(mp_obj_t ctx, mp_obj_t pending, mp_int_t t) {
         return woke ? 2 : 1;
     }
     return 0;
+}
+
+// -- EDGES: encoder edges as segments (_hilframe.EDGE_SEG_FMT), expanded here --------------
+
+#define EDGES_MAX 64  // segments in one EDGES (host/rig/inputs.py, MAX_SEGMENTS)
+#define EDGES_HEAD 10  // "<QH": base, segments
+#define SEG_LEN 51  // "<HHBBBQqIQdd"
+#define NO_HANDLE 0xFFFF
+
+typedef struct {
+    mp_int_t t;  // the next edge's instant
+    int64_t n;  // the count before it
+    uint32_t left;  // edges still to come
+    uint16_t h[2];  // the channels' handles (NO_HANDLE: wired to no pin)
+    uint8_t mask, bits[2];  // each channel's level by count & mask
+    int step;  // +1, -1
+    int64_t t0;
+    double p0, rate;
+} seg_t;
+
+static uint64_t get_u64(const uint8_t *b) {
+    return (uint64_t)get_u32(b) | (uint64_t)get_u32(b + 4) << 32;
+}
+
+static double get_f64(const uint8_t *b) {
+    uint64_t u = get_u64(b);
+    double d;
+    memcpy(&d, &u, sizeof(d));
+    return d;
+}
+
+// When the counter reaches count m (not its first edge): _EdgeCounter.emit's arithmetic, IEEE
+// double as CPython's (_hilframe.expand_edges, sim_plant/edge_window.py).
+static mp_int_t seg_time(const seg_t *s, int64_t m) {
+    double x = s->step > 0 ? ((double)m - s->p0) / s->rate : (s->p0 - (double)(m + 1)) / -s->rate;
+    return (mp_int_t)(s->t0 + (int64_t)ceil(x));
+}
+
+static size_t parse_edges(mp_obj_t edges, mp_int_t base, seg_t *seg) {
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(edges, &buf, MP_BUFFER_READ);
+    const uint8_t *b = buf.buf;
+    if (buf.len < EDGES_HEAD) {
+        mp_raise_ValueError(MP_ERROR_TEXT("EDGES shorter than its segments"));
+    }
+    size_t n = b[8] | b[9] << 8;
+    if (n > EDGES_MAX || buf.len < EDGES_HEAD + n * SEG_LEN || (mp_int_t)get_u64(b) != base) {
+        mp_raise_ValueError(MP_ERROR_TEXT("EDGES not its STATE's"));
+    }
+    for (size_t k = 0; k < n; k++) {
+        const uint8_t *c = b + EDGES_HEAD + k * SEG_LEN;
+        seg_t *s = &seg[k];
+        s->h[0] = c[0] | c[1] << 8;
+        s->h[1] = c[2] | c[3] << 8;
+        s->mask = c[4];
+        s->bits[0] = c[5];
+        s->bits[1] = c[6];
+        s->t = (mp_int_t)get_u64(c + 7);
+        s->n = (int64_t)get_u64(c + 15);
+        s->left = get_u32(c + 23);
+        s->t0 = (int64_t)get_u64(c + 27);
+        s->p0 = get_f64(c + 35);
+        s->rate = get_f64(c + 43);
+        s->step = s->rate > 0.0 ? 1 : -1;
+    }
+    return n;
 }
 
 static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
@@ -253,12 +389,66 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     mp_int_t group_t = -1;
     bool hit = false;
     mp_int_t stop = 0;
-    for (; i < n; i++) {
-        if (off + CHANGE_LEN > buf.len) {
-            mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+    seg_t seg[EDGES_MAX];
+    size_t n_seg = n_args > 11 && args[11] != mp_const_none ? parse_edges(args[11], base, seg) : 0;
+    for (;;) {
+        // the next edge of the segments (at one instant, the first segment's), up to t_end
+        size_t si = n_seg;
+        mp_int_t ts = 0;
+        for (size_t k = 0; k < n_seg; k++) {
+            if (seg[k].left && (si == n_seg || seg[k].t < ts)) {
+                si = k;
+                ts = seg[k].t;
+            }
+        }
+        mp_int_t tc = 0;
+        if (i < n) {
+            if (off + CHANGE_LEN > buf.len) {
+                mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
+            }
+            tc = base + (mp_int_t)get_u32(p + off);
+        }
+        if (si < n_seg && (i >= n || ts <= tc)) {  // (an instant's encoder edges before its other changes)
+            seg_t *s = &seg[si];
+            int64_t m = s->n + s->step;
+            int a = s->bits[0] >> (m & s->mask) & 1;
+            int ch = a != (s->bits[0] >> (s->n & s->mask) & 1) ? 0 : 1;
+            int level = ch ? s->bits[1] >> (m & s->mask) & 1 : a;
+            mp_int_t h = s->h[ch];
+            s->n = m;
+            if (--s->left) {
+                s->t = seg_time(s, m + s->step);
+            }
+            if (ts > t_end) {
+                mp_raise_ValueError(MP_ERROR_TEXT("EDGES past its STATE's end"));
+            }
+            if (h == NO_HANDLE) {
+                continue;  // (a channel wired to no pin: no change, as the host sends none)
+            }
+            if (ts != group_t) {
+                if (group_t >= 0 && pending_any(pending)) {
+                    stop = handlers_wrote(ctx, pending, group_t);
+                    if (stop) {
+                        break;
+                    }
+                }
+                group_t = ts;
+                if (globals != mp_const_none) {
+                    mp_obj_dict_store(globals, MP_OBJ_NEW_QSTR(MP_QSTR__now), mp_obj_new_int(ts));
+                }
+            }
+            mp_obj_t obj = mp_obj_subscr(handles, MP_OBJ_NEW_SMALL_INT(h), MP_OBJ_SENTINEL);
+            apply_one(obj, pin_type, 0, MP_OBJ_NEW_SMALL_INT(level), MP_OBJ_NEW_SMALL_INT(0), pending);
+            if (watching && mp_obj_is_true(mp_binary_op(MP_BINARY_OP_CONTAINS, watch, MP_OBJ_NEW_SMALL_INT(h)))) {
+                hit = true;
+            }
+            continue;
+        }
+        if (i >= n) {
+            break;
         }
         const uint8_t *c = p + off;
-        mp_int_t t = base + (mp_int_t)get_u32(c);
+        mp_int_t t = tc;
         if (t > t_end) {
             break;  // held by the caller (the host's lookahead)
         }
@@ -294,6 +484,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
         if (watching && mp_obj_is_true(mp_binary_op(MP_BINARY_OP_CONTAINS, watch, MP_OBJ_NEW_SMALL_INT(h)))) {
             hit = true;
         }
+        i++;
     }
     if (!stop && group_t >= 0 && pending_any(pending)) {
         stop = handlers_wrote(ctx, pending, group_t);
@@ -303,7 +494,48 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     cur->items[2] = mp_obj_new_bool(hit);
     return MP_OBJ_NEW_SMALL_INT(stop);
 }
-static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 11, apply_state);
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 12, apply_state);
+
+// -- machine.Pin.value() ---------------------------------------------------------------
+
+// pin_setup(value_py, out_mode, g): machine.Pin.value becomes pin_value, which answers in C
+// what machine.py's Pin.value (value_py, kept by the class as _value_py) answers without a
+// look at the clock: an output's latch, and an input's level inside a handler (_hil's
+// _dispatching, in its globals g); every other call goes to value_py, as the Python method.
+static mp_obj_t pin_value_py = MP_OBJ_NULL;  // (held by machine.Pin._value_py: alive while the class is)
+static mp_obj_t pin_out_mode;
+static mp_obj_t pin_shim_globals;  // (held by the _hil module)
+
+static mp_obj_t pin_setup(mp_obj_t value_py, mp_obj_t out_mode, mp_obj_t g) {
+    pin_value_py = value_py;
+    pin_out_mode = out_mode;
+    pin_shim_globals = g;
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_3(pin_setup_obj, pin_setup);
+
+// (A type of its own, not a built-in function: those act as staticmethods in a class of
+// Python's, py/runtime.c mp_convert_member_lookup; this one binds self, as a def does.)
+static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const mp_obj_t *args) {
+    (void)fun;
+    if (n_kw == 0 && n_args >= 1 && (n_args == 1 || args[1] == mp_const_none)) {
+        mp_obj_t self = args[0];
+        if (mp_obj_equal(inst_get(self, MP_QSTR__mode), pin_out_mode)) {
+            return inst_get(self, MP_QSTR__out);
+        }
+        if (mp_obj_is_true(inst_get(self, MP_QSTR__cfg))
+            && mp_obj_is_true(mp_obj_dict_get(pin_shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))) {
+            return inst_get(self, MP_QSTR__level);  // (a handler's reads move no time)
+        }
+    }
+    // (the call into the shim's Python is this call's own: counted once, as the Python method's was)
+    if (mp_hil_cur == &mp_hil_counts) {
+        mp_hil_counts.ccalls--;
+    }
+    return mp_call_function_n_kw(pin_value_py, n_args, n_kw, args);
+}
+static MP_DEFINE_CONST_OBJ_TYPE(pin_value_type, MP_QSTR_function, MP_TYPE_FLAG_BINDS_SELF, call, pin_value_call);
+static const mp_obj_base_t pin_value_obj = {&pin_value_type};
 
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
@@ -527,6 +759,9 @@ static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(stack_obj, 0, 1, stack);
 static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
+    {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
+    {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
+    {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
     {MP_ROM_QSTR(MP_QSTR_arm), MP_ROM_PTR(&arm_obj)},
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
