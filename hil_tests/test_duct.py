@@ -4,6 +4,7 @@ branch run (with and without tether snags), the recursive exploration of a multi
 duct, and the record stream to the master. Each scenario records its figures for
 ``make hil`` (``record_property("result", ...)``)."""
 
+import json
 import math
 
 import pytest
@@ -379,3 +380,19 @@ def test_e_stop_from_the_master_stops_the_robot_within_a_control_period(make_rig
     assert stopped["v_m_s"] == 0 and later["v_m_s"] == 0 and later["x_m"] == stopped["x_m"], (
         f"expected the wheels stopped within 70 ms and still: {stopped['v_m_s']}, {later['v_m_s']}; {where(rig)}"
     )
+
+
+def test_a_recording_with_the_master_link_replays_to_the_same_outputs(make_rig, tmp_path):
+    """The record link's UART is one plant signal both ways: the master's lines to the
+    robot and the robot's records to the master. Recorded apart (``link.uart`` and
+    ``link.uart:sent``), a replay feeds the first and compares the second (before, both went
+    under one name and a replay of the duct robot diverged at its first record)."""
+    from host.rig.replay import replay
+
+    rig = make_rig("duct", seed=1, plant_options={"world": "bench_duct"}, record=True, trace=True)
+    rig.run_for(1.0)
+    rig.stop()
+    signals = json.loads((rig.artefacts / "header.json").read_text())["signals"]
+    assert signals["link.uart"]["role"] == "sensor" and signals["link.uart:sent"]["role"] == "actuator", signals
+    result = replay(rig.artefacts, tmp_path / "replay")
+    assert result.same and result.recorded >= 20, f"{result.difference} ({result.folder})"

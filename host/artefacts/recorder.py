@@ -31,6 +31,11 @@ ROLE_PIN = "pin"  # a firmware output wired to nothing
 ROLE_BUS = "bus"  # a bus's transactions, decoded as text (host/rig/bustrace.py)
 ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN, ROLE_BUS)
 
+SENT = ":sent"
+"""A line the firmware both reads and writes (a UART on a ``board_uart`` or a record link:
+one plant signal both ways): what the firmware sends on it is recorded as ``<signal>:sent``,
+so that a trace tells the plant's bytes to the firmware from the firmware's own."""
+
 TRUTH_PERIOD_US = 50_000
 """Ground truth is sampled once per control quantum."""
 
@@ -79,7 +84,11 @@ class Recorder:
         self.signals: dict[str, dict] = {}
         for name, kind in plant.outputs.items():
             self.signals[name] = {"role": ROLE_SENSOR, "kind": kind}
+        self._sent: dict[str, str] = {}  # a two-way line -> the name what the firmware sends on it is recorded as
         for name, kind in plant.inputs.items():
+            if name in plant.outputs:
+                self._sent[name] = name + SENT
+                name += SENT
             self.signals[name] = {"role": ROLE_ACTUATOR, "kind": kind}
         self.initial = {name: _plain(plant.output(name)) for name in plant.outputs}
         self._events: list[tuple[int, str, object]] = []  # not yet spilled
@@ -125,6 +134,7 @@ class Recorder:
 
     def command(self, t_us: int, name: str, value, *, role: str = ROLE_ACTUATOR, kind: str = "level") -> None:
         """The firmware drove ``name`` to ``value`` at ``t_us``."""
+        name = self._sent.get(name, name)
         if name not in self.signals:
             self.signals[name] = {"role": role, "kind": kind}
         self._events.append((t_us, name, _plain(value)))

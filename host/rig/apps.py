@@ -21,6 +21,24 @@ def apps() -> dict[str, App]:
     return _APPS
 
 
+BOARD_OF_SET = "::"
+"""``rig.toml::left``: the board ``left`` of a rig file with several boards, as the trace
+folder of that board names it (a replay of one board of a set: docs/multi-board.md)."""
+
+
+def board_of_set(path: str, board: str) -> App:
+    """Board ``board`` of the rig file with several boards at ``path``, as the one-board app
+    it amounts to (its inputs, as a trace recorded them, stand for the other boards)."""
+    from host.rig.boardfile import load_boards
+
+    apps_of_set = load_boards(path).apps
+    app = apps_of_set.get(board)
+    if not isinstance(app, App):
+        known = ", ".join(b for b, a in apps_of_set.items() if isinstance(a, App))
+        raise ConfigError(f"app: {path} has no board with firmware named {board!r} (its boards: {known})")
+    return app
+
+
 WHAT_FOLDERS_HOLD = ("rig.toml", "diagram.json")  # a folder named alone: a rig file's, a Wokwi project's
 
 
@@ -29,6 +47,8 @@ def get_app(name: str) -> App:
     project by its folder or its ``diagram.json`` (without a rig.toml: ``docs/wokwi.md``)."""
     if any(ord(c) < 32 or 127 <= ord(c) < 160 for c in name):
         raise ConfigError(f"app: expected an app's name or a rig file's path, got {name!r} (a control character)")
+    if BOARD_OF_SET in name:  # one board of a rig file with several (docs/multi-board.md): its trace's header
+        return board_of_set(*name.rsplit(BOARD_OF_SET, 1))
     try:
         if name.endswith((".toml", ".json")) or "/" in name or any(Path(name, f).is_file() for f in WHAT_FOLDERS_HOLD):
             path = Path(name)

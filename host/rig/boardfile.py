@@ -9,6 +9,7 @@ to ``<name>.a``, the other's to ``<name>.b``), a ``wire`` (one board's output pi
 ``<name>.in``, the other's input to ``<name>.out``).
 """
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -206,11 +207,12 @@ def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -
         one["world"] = data["world"]
     one.setdefault("firmware", {})
     try:
-        return rig_from_data(path, one)
+        app = rig_from_data(path, one)
     except ConfigError as e:
         text = str(e)
         prefix = f"{path}: "
         raise ConfigError(f"{prefix}{field}: {text.removeprefix(prefix)}") from None
+    return dataclasses.replace(app, extra={**app.extra, "set_board": entry["name"]})
 
 
 def apps_of(path) -> list[App]:

@@ -38,14 +38,14 @@ from pathlib import Path
 
 from host.artefacts.checks import partial_reason
 from host.artefacts.folder import LINK, TraceData, load_trace
-from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR
+from host.artefacts.recorder import ROLE_ACTUATOR, ROLE_SENSOR, SENT
 from host.core import safefs
 from host.core.errors import ConfigError, HarnessError
 from host.link import frames as F
 from host.rig import manifest
 from host.rig.rig import Rig
 from host.rig.spec import PlantOptionsError, Recording, RigSpec, build_plant
-from sim_plant.plant import BUSES
+from sim_plant.plant import BUSES, UART
 from sim_plant.scripted import ScriptedPlant
 
 
@@ -53,7 +53,7 @@ class ReplayPlant(ScriptedPlant):
     """A ScriptedPlant that keeps the recorded order of same-time changes and can be
     snapshotted cheaply (the rig rolls speculative batches back)."""
 
-    capabilities = frozenset((BUSES,))  # (the recorded bus reads, answered in order)
+    capabilities = frozenset((BUSES, UART))  # (the recorded bus reads, answered in order; UART bytes sent)
 
     def __init__(self, script, *, outputs, inputs, initial):
         super().__init__((), outputs=outputs, inputs=inputs, initial=initial)
@@ -74,6 +74,12 @@ class ReplayPlant(ScriptedPlant):
             return (F.BUS_NACK_ADDRESS, 0, b"") if op in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else (F.BUS_OK, 0, b"")
         self.answered[bus] = done + 1
         return recorded[done][2]
+
+    def send_bytes(self, name: str, data: bytes, baud: int) -> None:
+        """Bytes a UART sends on a line the recording's plant timed (a board_uart, a
+        record link): an output of the firmware's, compared as any other (on a line the
+        firmware reads too, as the recorder named it: ``<signal>:sent``)."""
+        self.set_input(name + SENT if name in self.outputs else name, bytes(data))
 
     def snapshot(self):
         return self._t_us, self._next, dict(self.values), len(self.log), dict(self.answered)
@@ -214,6 +220,7 @@ def replay_plant(trace: TraceData) -> ReplayPlant:
     signals = h.get("signals", {})
     outputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_SENSOR}
     inputs = {n: i["kind"] for n, i in signals.items() if i["role"] == ROLE_ACTUATOR}
+    inputs |= {n.removesuffix(SENT): k for n, k in inputs.items() if n.endswith(SENT)}  # (the two-way lines)
     try:
         script = [(t, n, bytes.fromhex(v) if outputs[n] == "bytes" else v) for t, n, v in trace.events if n in outputs]
         initial = {n: (bytes.fromhex(v) if outputs.get(n) == "bytes" else v) for n, v in h.get("initial", {}).items()}

@@ -98,7 +98,7 @@ class RigSpec:
     def header(self, app: App) -> dict:
         """The spec as plain data for a trace folder's header (what :meth:`from_header` reads)."""
         return {
-            "app": self.app if isinstance(self.app, str) else str(app.rig_file or app.name),
+            "app": self.app if isinstance(self.app, str) else app_reference(app),
             "board": self.board or app.default_board,
             "world": self.world,
             "seed": self.seed,
@@ -145,6 +145,14 @@ class Recording:
 
 
 NO_RECORDING = Recording()
+
+
+def app_reference(app: App) -> str:
+    """How a trace's header names an app: its rig file (with ``::<board>`` for a board of a
+    rig file with several: host.rig.apps.board_of_set), or its name."""
+    board = app.extra.get("set_board") if isinstance(app.extra, dict) else None
+    ref = str(app.rig_file or app.name)
+    return f"{ref}::{board}" if board and app.rig_file else ref
 
 
 def fault_schedule(spec: RigSpec, app: App) -> list:

@@ -407,3 +407,20 @@ def test_each_boards_coverage_goes_to_its_own_data_file(tmp_path):
         lines[board] = {Path(f).parent.name: set(data.lines(f)) for f in data.measured_files()}
     assert {5, 6} <= lines["left"]["left"] and "right" not in lines["left"], lines["left"]
     assert {8, 9, 10} <= lines["right"]["right"] and "left" not in lines["right"], lines["right"]
+
+
+def test_each_board_of_a_set_replays_from_its_own_trace_folder(tmp_path):
+    """A board's trace folder names its board (``rig.toml::left``); replayed alone, the other
+    board's bytes and levels as its recording holds them, it gives the same outputs (the
+    UART line both ways: what it sent recorded as ``link.a:sent``)."""
+    from host.rig.replay import FirmwareChoice, replay
+
+    with BoardSet(load_boards(RIG), seed=2, trace=True, record=True, artefacts=tmp_path / "run") as boards:
+        boards.run_for(0.2)
+    for board in ("left", "right"):
+        header = json.loads((tmp_path / "run" / board / "header.json").read_text())
+        assert header["spec"]["app"].endswith(f"two_boards/rig.toml::{board}"), header["spec"]["app"]
+        result = replay(
+            tmp_path / "run" / board, tmp_path / f"replay-{board}", choice=FirmwareChoice(trust_folder=True)
+        )
+        assert result.same and result.recorded >= 10, f"board {board}: {result.difference} ({result.folder})"
