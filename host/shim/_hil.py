@@ -951,66 +951,33 @@ def _sync(t_until, watch):
 def _apply_state(p, base, t_end, horizon, n, watch, edges=None):
     """A STATE's changes applied in time order, the handlers due at each instant run before
     the next (the pure-Python path; _hilfast.apply_state does the same in C). ``edges``: the
-    EDGES that came with it, whose encoder edges (all up to t_end) merge with its changes."""
-    global _now
-    if edges is not None:
-        return _apply_merged(p, base, t_end, horizon, n, watch, edges)
-    hit = False
-    off = F.STATE_LEN
-    group_t = -1
-    held = None
-    ch_bytes, unpack_from, handles, pending = F.CH_BYTES, struct.unpack_from, _handles, _pending
-    change_fmt, change_len = F.CHANGE_FMT, F.CHANGE_LEN
-    for i in range(n):
-        dt, h, kind, value, extra = unpack_from(change_fmt, p, off)
-        off += change_len
-        if kind == ch_bytes:
-            extra = p[off : off + value]
-            off += value
-        t = base + dt
-        if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
-            held = F.unpack_changes(p, off, base, n - i - 1, [(t, h, kind, value, extra)])
-            break
-        if t != group_t:
-            if pending and group_t >= 0:
-                stop = _handlers_wrote(group_t)
-                if stop:
-                    return hit or stop == 2
-            group_t = t
-            if _lockstep:
-                _now = t
-        handles[h]._hil_apply(kind, value, extra)
-        if watch and h in watch:
-            hit = True
-    if _pending and group_t >= 0:
-        stop = _handlers_wrote(group_t)
-        if stop:
-            return hit or stop == 2
-    _finish_state(held, t_end, horizon)
-    return hit
-
-
-def _apply_merged(p, base, t_end, horizon, n, watch, edges):
-    """_apply_state with an EDGES: its segments' edges (F.expand_edges) and the STATE's
-    changes in time order, at one instant the edges first (the plant emits an instant's
-    encoder edges before its other parts' changes)."""
-    global _now
+    EDGES that came with it, whose encoder edges (all up to t_end) merge with its changes:
+    its segments' edges (F.expand_edges) and the changes in time order, at one instant the
+    edges first (the plant emits an instant's encoder edges before its other parts' changes)."""
     changes = F.unpack_changes(p, F.STATE_LEN, base, n, [])
-    merged = F.expand_edges(F.unpack_edges(edges)[1])
-    if changes:
+    if edges is not None:
+        merged = F.expand_edges(F.unpack_edges(edges)[1])
         i = 0
         for c in changes:  # (stable: the edges of an instant before its changes)
             while i < len(merged) and merged[i][0] <= c[0]:
                 i += 1
             merged.insert(i, c)
             i += 1
+        changes = merged
+    return _apply_changes(changes, t_end, horizon, watch)
+
+
+def _apply_changes(changes, t_end, horizon, watch):
+    """Changes (t, handle, kind, value, extra) applied in order up to t_end, the handlers
+    due at each instant run before the next; those past t_end held."""
+    global _now
     hit = False
     group_t = -1
     held = None
     handles, pending = _handles, _pending
-    for i, (t, h, kind, value, extra) in enumerate(merged):
+    for i, (t, h, kind, value, extra) in enumerate(changes):
         if t > t_end:  # past the wake (the host's lookahead): held, applied as the clock passes it
-            held = merged[i:]
+            held = changes[i:]
             break
         if t != group_t:
             if pending and group_t >= 0:

@@ -7,7 +7,7 @@
 // apply_state(p, cur, base, t_end, n, handles, pin_type, pending, watch, ctx, g[, edges])
 //   applies a STATE's changes from offset cur[0] (change cur[1] of n) as _hil._sync's loop
 //   does (with edges, the EDGES that came with it: its encoder segments' edges, expanded
-//   here, merged in time order, an instant's edges first, as _hil._apply_merged does): at each new instant first the handlers due at the one before (_handlers_wrote and
+//   here, merged in time order, an instant's edges first, as _hil._apply_state does with an EDGES): at each new instant first the handlers due at the one before (_handlers_wrote and
 //   dispatch, here in C; ctx: (_hil's globals, _Link, CallbackFailed)), then _now = t (in
 //   the module globals g, None in real time), then each change:
 //   a machine.Pin (exactly pin_type, no counters) in C as Pin._hil_apply does, anything
