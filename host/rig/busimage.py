@@ -30,7 +30,6 @@ exchanges they save: docs/bench.md); without it every transfer is an exchange, t
 images must match byte for byte (``host/tests/test_bus_image.py``).
 """
 
-import copy
 import os
 import struct
 
@@ -40,7 +39,6 @@ from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice, tick_af
 
 ENV = "MPY_FIL_BUS_IMAGES"
 MAX_READS = 6  # read shapes imaged a bus handle: the ones read last (the firmware's polls)
-_POINTER = ("pointer", "pointed")
 _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
@@ -72,34 +70,62 @@ def steady_until(device, t_us: int) -> int:
     return until
 
 
+class _Draws(Exception):
+    """A trial read drew from a generator (the tripwire in its place on the copy)."""
+
+
+class _Tripwire:
+    """A chip copy's generator during a trial: any use of it is a draw."""
+
+    def __getattr__(self, name):
+        raise _Draws(name)
+
+
+_TRIPWIRE = _Tripwire()
+_PLAIN = frozenset((int, float, bool, str, bytes, tuple, frozenset, type(None)))  # (neither copied nor a generator)
+
+
 def _trial(device, t_us: int, address: int, n_read: int, wrote: bytes, rng):
     """The read on a copy of ``device`` at ``t_us``: (bytes read, the copy) if it changed
-    nothing but the pointer and drew nothing (from the plant's generator or its own), else None."""
-    trial = copy.copy(device)
-    for key, value in vars(device).items():
+    nothing but the pointer and drew nothing (from the plant's generator or its own), else None.
+    The copy's generators are tripwires; the plant's, where the chip does not hold it, is
+    checked by its state."""
+    before = device.__dict__
+    state = before.copy()
+    held = []
+    for key, value in state.items():
+        if type(value) in _PLAIN:
+            continue
         if isinstance(value, (list, dict, set)):
-            setattr(trial, key, value.copy())
-    gens = {id(g): g for g in (rng, *vars(device).values()) if hasattr(g, "bit_generator")}
-    states = {k: g.bit_generator.state for k, g in gens.items()}
+            state[key] = value.copy()
+        elif hasattr(value, "bit_generator"):
+            held.append(key)
+            state[key] = _TRIPWIRE
+    trial = object.__new__(type(device))
+    trial.__dict__.update(state)
+    state = trial.__dict__
+    plant_rng = rng is not None and not any(before[k] is rng for k in held)
+    saved = rng.bit_generator.state if plant_rng else None
     try:
         status, count, got = _BUS_SET._xfer(t_us, [trial], True, address, n_read, wrote)
+    except _Draws:
+        return None
     finally:
-        drew = False
-        for k, g in gens.items():
-            if g.bit_generator.state != states[k]:
-                g.bit_generator.state = states[k]
-                drew = True
-    if drew or status != F.BUS_OK or count != len(wrote):
+        for key in held:
+            state[key] = before[key]
+    if plant_rng and rng.bit_generator.state != saved:
+        rng.bit_generator.state = saved
         return None
-    before, after = vars(device), vars(trial)
-    if after.keys() != before.keys():
+    if status != F.BUS_OK or count != len(wrote):
         return None
+    moved = state["pointer"], state["pointed"]
+    state["pointer"], state["pointed"] = before["pointer"], before["pointed"]
     try:
-        if any(after[k] is not v and after[k] != v for k, v in before.items() if k not in _POINTER):
-            return None
+        same = state == before
     except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
-        return None
-    return got, trial
+        same = False
+    state["pointer"], state["pointed"] = moved
+    return (got, trial) if same else None
 
 
 class BusImages:
@@ -115,14 +141,25 @@ class BusImages:
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
         self.sent: list = []  # the last image's entries: (handle, address, wrote, n_read, got, horizon_us)
         self.local = 0  # transfers answered in the shim
+        # (handle, read shape) -> (version, t_us, steady_us, bytes read): a pure read tried at
+        # t_us and at steady_us - 1, valid between them while no transfer reaches its chip
+        self.known: dict = {}
+        self.versions: dict = {}  # (bus, address) or bus -> transfers played on it (the BUS frames')
 
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, [], set(), set()
+        self.known, self.versions = {}, {}
 
     def seen(self, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
-        """A BUS frame's transfer: a register read to image from now on."""
-        if not self.on or op != F.BUS_XFER or not wrote or not n_read or status != F.BUS_OK:
+        """A BUS frame's transfer: a register read to image from now on. What it reached of
+        the chips is known no more (the chip at ``address``: an I2C transfer; else its bus's)."""
+        if not self.on:
+            return
+        key = self.wiring.handles[h].key
+        where = (key, address) if op in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else key
+        self.versions[where] = self.versions.get(where, 0) + 1
+        if op != F.BUS_XFER or not wrote or not n_read or status != F.BUS_OK:
             return
         shape = (address, bytes(wrote), n_read)
         key = (h, *shape)
@@ -150,30 +187,56 @@ class BusImages:
         self.sent = []
         if not self.reads or horizon_us <= t_us:
             return None
-        rng = self.plant.rng
         entries = []
+        known, versions = self.known, self.versions
         for h, shapes in self.reads.items():
-            info = self.wiring.handles[h]
-            for address, wrote, n_read in list(shapes):
-                device = self.plant.bus_device(info.key, address)
-                if device is None:
-                    continue
-                until = min(steady_until(device, t_us), horizon_us)
+            bus = self.wiring.handles[h].key
+            on_bus = versions.get(bus, 0)
+            for shape in list(shapes):
+                address, wrote, n_read = shape
+                version = (on_bus, versions.get((bus, address), 0))
+                hit = known.get((h, shape))
+                if hit is None or hit[0] != version or not hit[1] <= t_us < hit[2]:
+                    hit = self._try(h, bus, shape, t_us, horizon_us, version)
+                    if hit is None:
+                        continue
+                until = min(hit[2], horizon_us)
                 if until <= t_us:
                     continue
-                first = _trial(device, t_us, address, n_read, wrote, rng)
-                if first is None:
-                    self.impure.add((h, address, wrote, n_read))  # (a sample read, a flag cleared: the host's)
-                    self.reads[h] = [s for s in self.reads[h] if s != (address, wrote, n_read)]
-                    continue
-                last = _trial(device, until - 1, address, n_read, wrote, rng)
-                if last is None or last[0] != first[0]:
-                    continue
-                self.sent.append((h, address, wrote, n_read, first[0], horizon_us))
-                entries.append(F.pack_bus_image_entry(h, address, until, horizon_us, wrote, first[0]))
+                got = hit[3]
+                self.sent.append((h, address, wrote, n_read, got, horizon_us))
+                entries.append(F.pack_bus_image_entry(h, address, until, horizon_us, wrote, got))
         if not entries:
             return None
         return struct.pack(F.BUS_IMAGE_FMT, t_us, len(entries)) + b"".join(entries)
+
+    def _try(self, h: int, bus: str, shape: tuple, t_us: int, horizon_us: int, version: tuple):
+        """A read tried on copies of its chip at ``t_us`` and at the end of its steady window
+        (kept in ``known`` while no transfer reaches the chip), or, where the chip reads
+        otherwise by then, at the horizon's (for this image alone); None: not imaged now."""
+        address, wrote, n_read = shape
+        self.known.pop((h, shape), None)
+        device = self.plant.bus_device(bus, address)
+        if device is None:
+            return None
+        steady = steady_until(device, t_us)
+        if min(steady, horizon_us) <= t_us:
+            return None
+        rng = self.plant.rng
+        first = _trial(device, t_us, address, n_read, wrote, rng)
+        if first is None:
+            self.impure.add((h, *shape))  # (a sample read, a flag cleared: the host's)
+            self.reads[h] = [s for s in self.reads[h] if s != shape]
+            return None
+        last = _trial(device, steady - 1, address, n_read, wrote, rng)
+        if last is not None and last[0] == first[0]:
+            hit = self.known[(h, shape)] = (version, t_us, steady, first[0])
+            return hit
+        if steady > horizon_us:  # (it reads otherwise before its next event: to the horizon, not kept)
+            last = _trial(device, horizon_us - 1, address, n_read, wrote, rng)
+            if last is not None and last[0] == first[0]:
+                return (version, t_us, horizon_us, first[0])
+        return None
 
     def done(self, rig, t_us: int, index: int) -> None:
         """BUS_DONE: the shim answered entry ``index`` of the last image at ``t_us``. The host
