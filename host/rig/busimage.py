@@ -31,7 +31,6 @@ images must match byte for byte (``host/tests/test_bus_image.py``).
 """
 
 import os
-import struct
 
 from host.core.errors import LinkError
 from host.link import frames as F
@@ -205,10 +204,10 @@ class BusImages:
                     continue
                 got = hit[3]
                 self.sent.append((h, address, wrote, n_read, got, horizon_us))
-                entries.append(F.pack_bus_image_entry(h, address, until, horizon_us, wrote, got))
+                entries.append((h, address, until, wrote, got))
         if not entries:
             return None
-        return struct.pack(F.BUS_IMAGE_FMT, t_us, len(entries)) + b"".join(entries)
+        return F.pack_bus_image(t_us, horizon_us, entries)
 
     def _try(self, h: int, bus: str, shape: tuple, t_us: int, horizon_us: int, version: tuple):
         """A read tried on copies of its chip at ``t_us`` and at the end of its steady window
