@@ -13,7 +13,7 @@ import json
 
 import pytest
 
-from host.bench import run_imu_bot
+from host.bench import KIT_DEMOS, run_imu_bot, run_kit_demo
 from host.pytest_plugin import rig_from_keywords
 from host.rig.busimage import ENV
 from host.tests.conftest import FIRMWARE  # noqa: F401  (the bus tests' firmware folder)
@@ -246,3 +246,21 @@ def ina219_read_while_the_motors_run(make_rig, tmp_path):
     rig = make_rig(app, main_dir=tmp_path, allow_exit=True)
     rig.run_for(0.4)
     assert "total" in results(rig.console), rig.console
+
+
+def kit_demo_both_ways(tmp_path, monkeypatch, kit: str) -> None:
+    """A kit's bench demo (host/bench.py, ``KIT_DEMOS``: the kits' firmware in its vendors'
+    style) both ways: the same bus readings and console (their reads are samples, each drawn
+    at its read: few or none are answered in the shim)."""
+    demo = next(d for k, *d in KIT_DEMOS if k == kit)
+    runs = {}
+    for way, images in (("exchange", "0"), ("image", "1")):
+        monkeypatch.setenv(ENV, images)
+        runs[way] = run_kit_demo(kit, *demo, trace=True, artefacts=tmp_path / way)
+        text = (tmp_path / way / "trace.jsonl").read_text()
+        runs[way]["bus"] = [line for line in text.splitlines() if '"msg":"BUS"' in line]
+    a, b = runs["exchange"], runs["image"]
+    assert a["ended"] and a["bus"], f"expected the demo to end and read its bus; console:\n{a['console'][-2000:]}"
+    assert a["bus"] == b["bus"], f"{kit}: expected the same bus readings both ways; artefacts in {tmp_path}"
+    assert a["console"] == b["console"], f"{kit}: expected the same console both ways; artefacts in {tmp_path}"
+    assert a["bus_local"] == 0, f"{kit}: expected no read answered in the shim with {ENV}=0"
