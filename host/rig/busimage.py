@@ -84,11 +84,13 @@ _TRIPWIRE = _Tripwire()
 _PLAIN = frozenset((int, float, bool, str, bytes, tuple, frozenset, type(None)))  # (neither copied nor a generator)
 
 
-def _trial(device, t_us: int, address: int, n_read: int, wrote: bytes, rng):
-    """The read on a copy of ``device`` at ``t_us``: (bytes read, the copy) if it changed
-    nothing but the pointer and drew nothing (from the plant's generator or its own), else None.
-    The copy's generators are tripwires; the plant's, where the chip does not hold it, is
-    checked by its state."""
+def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rng) -> list:
+    """The read on one copy of ``device`` at each of ``instants`` in turn: the bytes read at
+    each, up to the first read that changed anything of the chip but its pointer or drew
+    from a generator (the plant's or its own): None there, and nothing after. The copy's
+    generators are tripwires; the plant's, where the chip does not hold it, is checked by
+    its state. A pure read leaves the copy as the chip is, so the next instant's read is
+    tried on the same copy."""
     before = device.__dict__
     state = before.copy()
     held = []
@@ -99,32 +101,37 @@ def _trial(device, t_us: int, address: int, n_read: int, wrote: bytes, rng):
             state[key] = value.copy()
         elif hasattr(value, "bit_generator"):
             held.append(key)
-            state[key] = _TRIPWIRE
     trial = object.__new__(type(device))
     trial.__dict__.update(state)
     state = trial.__dict__
     plant_rng = rng is not None and not any(before[k] is rng for k in held)
-    saved = rng.bit_generator.state if plant_rng else None
-    try:
-        status, count, got = _BUS_SET._xfer(t_us, [trial], True, address, n_read, wrote)
-    except _Draws:
-        return None
-    finally:
+    out = []
+    for t_us in instants:
         for key in held:
-            state[key] = before[key]
-    if plant_rng and rng.bit_generator.state != saved:
-        rng.bit_generator.state = saved
-        return None
-    if status != F.BUS_OK or count != len(wrote):
-        return None
-    moved = state["pointer"], state["pointed"]
-    state["pointer"], state["pointed"] = before["pointer"], before["pointed"]
-    try:
-        same = state == before
-    except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
-        same = False
-    state["pointer"], state["pointed"] = moved
-    return (got, trial) if same else None
+            state[key] = _TRIPWIRE
+        saved = rng.bit_generator.state if plant_rng else None
+        try:
+            status, count, got = _BUS_SET._xfer(t_us, [trial], True, address, n_read, wrote)
+        except _Draws:
+            status = None
+        finally:
+            for key in held:
+                state[key] = before[key]
+        if plant_rng and rng.bit_generator.state != saved:
+            rng.bit_generator.state = saved
+            status = None
+        if status != F.BUS_OK or count != len(wrote):
+            out.append(None)
+            return out
+        state["pointer"], state["pointed"] = before["pointer"], before["pointed"]
+        try:
+            same = state == before
+        except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
+            same = False
+        out.append(got if same else None)
+        if not same:
+            return out
+    return out
 
 
 class BusImages:
@@ -222,19 +229,17 @@ class BusImages:
         if min(steady, horizon_us) <= t_us:
             return None
         rng = self.plant.rng
-        first = _trial(device, t_us, address, n_read, wrote, rng)
+        first, *last = _trials(device, (t_us, steady - 1), address, n_read, wrote, rng)
         if first is None:
             self.impure.add((h, *shape))  # (a sample read, a flag cleared: the host's)
             self.reads[h] = [s for s in self.reads[h] if s != shape]
             return None
-        last = _trial(device, steady - 1, address, n_read, wrote, rng)
-        if last is not None and last[0] == first[0]:
-            hit = self.known[(h, shape)] = (version, t_us, steady, first[0])
+        if last == [first]:
+            hit = self.known[(h, shape)] = (version, t_us, steady, first)
             return hit
         if steady > horizon_us:  # (it reads otherwise before its next event: to the horizon, not kept)
-            last = _trial(device, horizon_us - 1, address, n_read, wrote, rng)
-            if last is not None and last[0] == first[0]:
-                return (version, t_us, horizon_us, first[0])
+            if _trials(device, (horizon_us - 1,), address, n_read, wrote, rng) == [first]:
+                return (version, t_us, horizon_us, first)
         return None
 
     def done(self, rig, t_us: int, index: int) -> None:
