@@ -24,10 +24,17 @@ The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, th
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
 chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. Images are sent only with
-``MPY_FIL_BUS_IMAGES=1`` in the host's environment (today they cost more CPU than the
-exchanges they save: docs/bench.md); without it every transfer is an exchange, the path the
-images must match byte for byte (``host/tests/test_bus_image.py``).
+go exactly as with an exchange, one round trip fewer. Images are sent in lockstep unless
+``MPY_FIL_BUS_IMAGES=0`` is in the host's environment; with it every transfer is an
+exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
+
+What keeps them cheap (docs/bench.md, "Bus reads without an exchange, made to pay"): a pure
+read's entry is kept (``known``) while no BUS frame reaches its chip and its steady window
+lasts, so an image mostly repeats entries it has, and a read is tried again only after a
+transfer to its chip or past its window (an IMU's status twice a sample: at the new tick,
+after the sample's read); a trial copies the chip's attributes once for both its instants;
+and the shim reads the payload in place at a transfer (``_hilframe.bus_image_find``),
+decoding nothing when it arrives.
 """
 
 import os
@@ -42,9 +49,9 @@ _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): they save an exchange a pure
-    read but cost more host and shim CPU than the exchange does today (docs/bench.md)."""
-    return os.environ.get(ENV, "").strip() in ("1", "yes", "true")
+    """Images unless ``MPY_FIL_BUS_IMAGES=0`` (or ``no``, ``false``): every pure read they
+    answer saves an exchange, at less host and shim work than the exchange (docs/bench.md)."""
+    return os.environ.get(ENV, "").strip().lower() not in ("0", "no", "false")
 
 
 def steady_until(device, t_us: int) -> int:
@@ -257,7 +264,12 @@ class BusImages:
         info = self.wiring.handles[h]
         self.local += 1
         rig.stats.bus_local += 1
-        reply = rig.bus_trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
+        trace = rig.bus_trace
+        trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
+        try:
+            reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
+        finally:
+            trace.asking = False
         lease = rig.clock.lease_us()
         if reply != (F.BUS_OK, len(wrote), got) or lease != horizon_us:
             raise LinkError(
