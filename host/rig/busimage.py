@@ -152,7 +152,7 @@ class BusImages:
         self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
         self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
-        self.sent: list = []  # the last image's entries: (handle, address, wrote, n_read, got, horizon_us)
+        self.sent: dict = {}  # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us)
         self.local = 0  # transfers answered in the shim
         # (handle, read shape) -> (version, t_us, steady_us, bytes read): a pure read tried at
         # t_us and at steady_us - 1, valid between them while no transfer reaches its chip
@@ -161,7 +161,7 @@ class BusImages:
 
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
-        self.reads, self.sent, self.impure, self.once = {}, [], set(), set()
+        self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
         self.known, self.versions = {}, {}
 
     def seen(self, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
@@ -197,10 +197,10 @@ class BusImages:
         """The BUS_IMAGE payload for the plant at ``t_us`` (None: nothing to image), whose
         reads leave the shim the horizon ``horizon_us`` (the lease a BUS_REPLY would carry:
         the plant's next event, or the run's end), valid no later than it."""
-        self.sent = []
+        self.sent = {}
         if not self.reads or horizon_us <= t_us:
             return None
-        entries = []
+        entries, sent = [], []
         known, versions = self.known, self.versions
         for h, shapes in self.reads.items():
             bus = self.wiring.handles[h].key
@@ -217,10 +217,11 @@ class BusImages:
                 if until <= t_us:
                     continue
                 got = hit[3]
-                self.sent.append((h, address, wrote, n_read, got, horizon_us))
+                sent.append((h, address, wrote, n_read, got, horizon_us))
                 entries.append((h, address, until, wrote, got))
         if not entries:
             return None
+        self.sent = dict(zip(F.bus_image_offsets(entries), sent, strict=True))
         return F.pack_bus_image(t_us, horizon_us, entries)
 
     def _try(self, h: int, bus: str, shape: tuple, t_us: int, horizon_us: int, version: tuple):
@@ -249,16 +250,17 @@ class BusImages:
                 return (version, t_us, horizon_us, first)
         return None
 
-    def done(self, rig, t_us: int, index: int) -> None:
-        """BUS_DONE: the shim answered entry ``index`` of the last image at ``t_us``. The host
+    def done(self, rig, t_us: int, at: int) -> None:
+        """BUS_DONE: the shim answered the entry at offset ``at`` of the last image at ``t_us``. The host
         does what a BUS frame at ``t_us`` makes it do (the plant brought to ``t_us``, the
         transfer played on the chips and traced) but send the reply, and checks that the
         reply is the one the shim took: the bytes and the horizon."""
         try:
-            h, address, wrote, n_read, got, horizon_us = self.sent[index]
-        except IndexError:
+            h, address, wrote, n_read, got, horizon_us = self.sent[at]
+        except KeyError:
             raise LinkError(
-                f"BUS_DONE names entry {index} of a bus image of {len(self.sent)} (link protocol error)"
+                f"BUS_DONE names an entry at offset {at} of a bus image whose entries are at "
+                f"{sorted(self.sent)} (link protocol error)"
             ) from None
         rig.clock.catch_up(t_us)
         info = self.wiring.handles[h]

@@ -499,17 +499,17 @@ def transfer(handle, op, address, n_read, data):
         t = now()
         image = _Link.image
         if image:  # a register read whose bytes the host sent, inside their window: no exchange
-            known = F.bus_image_find(image, handle, address, data, n_read) if op == F.BUS_XFER else None
-            if known is not None and t < known[1] and _Link.done < DONE_BATCH:
+            at = F.bus_image_find(image, handle, address, data, n_read) if op == F.BUS_XFER and n_read else -1
+            if at >= 0 and _Link.done < DONE_BATCH and t < F.bus_image_until(image, at):
                 # (the shim as a BUS_REPLY leaves it: the lookahead void, the reply's horizon)
                 if _Link.held:
                     _drop_held()
-                _link.queue(F.BUS_DONE, F.pack_bus_done(t, known[0]))  # (sent with the next message)
+                _link.queue(F.BUS_DONE, F.pack_bus_done(t, at))  # (sent with the next message)
                 _Link.done += 1
                 _Link.ahead = False
                 _horizon = F.bus_image_horizon(image)
                 _wrote = True
-                return F.BUS_OK, len(data), known[2], t
+                return F.BUS_OK, len(data), F.bus_image_got(image, at), t
             _Link.image = _NO_IMAGE  # (the host answers this one, and sends a new image)
         _Link.done = 0
         if _Link.held:

@@ -325,7 +325,7 @@ CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value 
 BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
 BUS_IMAGE_FMT = "<QHQ"  # t_us (the plant's), entries, horizon_us, then each: BUS_IMAGE_ENTRY_FMT, written, read
 BUS_IMAGE_ENTRY_FMT = "<HHBBQ"  # handle, address, bytes written, bytes read, until_us (exclusive)
-BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
+BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry (its offset in the payload)
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 EVAL_FMT = "<B"  # EVAL_EXPR or EVAL_LINE, then the UTF-8 source
 EVAL_REPLY_FMT = "<B"  # EVAL_VALUE, EVAL_NONE or EVAL_ERROR, then UTF-8 text (the repr, the error)
@@ -479,24 +479,48 @@ def unpack_bus_image(p):
 
 
 def bus_image_find(p, handle, address, wrote, n_read):
-    """The entry of the BUS_IMAGE payload ``p`` (bytes) for a register read (``wrote``: bytes):
-    (its index, until_us, the bytes read), or None. The shim's lookup at each transfer: the
-    payload is kept as it came and read in place, a field at a time (nothing decoded at a STATE)."""
+    """Where the BUS_IMAGE payload ``p`` (bytes) has the entry for a register read (``wrote``:
+    bytes): its offset in ``p``, or -1. The shim's lookup at each transfer: the payload is kept
+    as it came and read in place a byte at a time, allocating nothing (nothing decoded at a
+    STATE); ``bus_image_until`` and ``bus_image_got`` read the entry found."""
     off = BUS_IMAGE_LEN
+    end = len(p)
     n_wrote = len(wrote)
-    for i in range(p[8] | p[9] << 8):
+    while off < end:
         nw = p[off + 4]
-        start = off + BUS_IMAGE_ENTRY_LEN
         if (
-            p[off] | p[off + 1] << 8 == handle
-            and p[off + 2] | p[off + 3] << 8 == address
-            and nw == n_wrote
+            p[off + 2] == address & 0xFF
             and p[off + 5] == n_read
-            and p[start : start + nw] == wrote
+            and nw == n_wrote
+            and p[off] | p[off + 1] << 8 == handle
+            and p[off + 3] == address >> 8
         ):
-            return i, struct.unpack_from("<Q", p, off + 6)[0], p[start + nw : start + nw + n_read]
-        off = start + nw + p[off + 5]
-    return None
+            start = off + BUS_IMAGE_ENTRY_LEN
+            if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
+                return off
+        off += BUS_IMAGE_ENTRY_LEN + nw + p[off + 5]
+    return -1
+
+
+def bus_image_until(p, off):
+    """The instant until which the entry at ``off`` of the BUS_IMAGE payload ``p`` reads its bytes."""
+    return struct.unpack_from("<Q", p, off + 6)[0]
+
+
+def bus_image_got(p, off):
+    """The bytes the entry at ``off`` of the BUS_IMAGE payload ``p`` reads."""
+    start = off + BUS_IMAGE_ENTRY_LEN + p[off + 4]
+    return p[start : start + p[off + 5]]
+
+
+def bus_image_offsets(entries):
+    """The offset of each entry (handle, address, until_us, wrote, got) in the payload
+    ``pack_bus_image`` makes of them: the entry BUS_DONE names."""
+    offsets, off = [], BUS_IMAGE_LEN
+    for _h, _address, _until, wrote, got in entries:
+        offsets.append(off)
+        off += BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
+    return offsets
 
 
 def bus_image_horizon(p):
