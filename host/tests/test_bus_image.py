@@ -1,5 +1,5 @@
 """Bus reads the shim answers from the host's image (``host/rig/busimage.py``) read exactly
-what they read when every transfer is its own exchange (without ``MPY_FIL_BUS_IMAGES=1``): each
+what they read when every transfer is its own exchange (``MPY_FIL_BUS_IMAGES=0``): each
 bus test below is run both ways and every rig it makes must give the same bus readings
 (every BUS record of ``trace.jsonl``: instant, bytes written, bytes read, outcome, register,
 duration), the same console (notes included) and the same ground truth at its end, and the
