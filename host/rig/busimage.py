@@ -156,17 +156,20 @@ class BusImages:
         self.local = 0  # transfers answered in the shim
         # (handle, read shape) -> (version, t_us, steady_us, bytes read): a pure read tried at
         # t_us and at steady_us - 1, valid between them while no transfer reaches its chip
+        # (bytes read None: one not imaged between them, its next read due after them)
         self.known: dict = {}
         self.versions: dict = {}  # (bus, address) or bus -> transfers played on it (the BUS frames')
+        self.read_at: dict = {}  # (handle, read shape) -> the instants of its last two reads
 
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
-        self.known, self.versions = {}, {}
+        self.known, self.versions, self.read_at = {}, {}, {}
 
-    def seen(self, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
-        """A BUS frame's transfer: a register read to image from now on. What it reached of
-        the chips is known no more (the chip at ``address``: an I2C transfer; else its bus's)."""
+    def seen(self, t_us: int, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
+        """A BUS frame's transfer at ``t_us``: a register read to image from now on. What it
+        reached of the chips is known no more (the chip at ``address``: an I2C transfer; else
+        its bus's)."""
         if not self.on:
             return
         key = self.wiring.handles[h].key
@@ -178,10 +181,15 @@ class BusImages:
         key = (h, *shape)
         if key in self.impure:
             return
+        self._read_at(h, shape, t_us)
         if key in self.once:  # (read again: a poll, or a read the firmware repeats)
             self._last(h, shape)
         else:
             self.once.add(key)
+
+    def _read_at(self, h: int, shape: tuple, t_us: int) -> None:
+        last = self.read_at.get((h, shape))
+        self.read_at[(h, shape)] = (t_us if last is None else last[1], t_us)
 
     def _last(self, h: int, shape: tuple) -> None:
         shapes = self.reads.setdefault(h, [])
@@ -213,6 +221,8 @@ class BusImages:
                     hit = self._try(h, bus, shape, t_us, horizon_us, version)
                     if hit is None:
                         continue
+                if hit[3] is None:  # (not imaged in this window)
+                    continue
                 until = min(hit[2], horizon_us)
                 if until <= t_us:
                     continue
@@ -234,7 +244,13 @@ class BusImages:
         if device is None:
             return None
         steady = steady_until(device, t_us)
-        if min(steady, horizon_us) <= t_us:
+        until = min(steady, horizon_us)
+        if until <= t_us:
+            return None
+        last = self.read_at.get((h, shape))
+        if last is not None and last[1] > last[0] and 2 * last[1] - last[0] >= until:
+            # (read at the firmware's pace, it comes next after the window: not tried until then)
+            self.known[(h, shape)] = (version, t_us, until, None)
             return None
         rng = self.plant.rng
         first, *last = _trials(device, (t_us, steady - 1), address, n_read, wrote, rng)
@@ -280,3 +296,4 @@ class BusImages:
                 f"{got.hex()} with horizon {horizon_us} us as imaged (host.rig.busimage: the image was wrong)"
             )
         self._last(h, (address, wrote, n_read))
+        self._read_at(h, (address, wrote, n_read), t_us)

@@ -76,7 +76,7 @@ def on_bus(rig, p: bytes) -> None:
     images = rig.bus_images
     lease = rig.clock.lease_us()
     if images.on:
-        images.seen(h, op, address, n_read, data, status)
+        images.seen(t, h, op, address, n_read, data, status)
         image = images.image(t, lease)
         if image is not None:
             rig.session.hold(F.BUS_IMAGE, image)
