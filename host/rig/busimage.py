@@ -24,11 +24,15 @@ The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, th
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
 chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. Images are sent in lockstep unless
-``MPY_FIL_BUS_IMAGES=0`` is in the host's environment; with it every transfer is an
-exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
+go exactly as with an exchange, one round trip fewer. Images are sent only with
+``MPY_FIL_BUS_IMAGES=1`` in the host's environment (in lockstep): without it every transfer
+is an exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
+They are off by default because, measured, they still cost the host and the shim about what
+the round trips they save cost (docs/bench.md, "Bus reads without an exchange, made cheaper"):
+the host's work for a read answered in the shim is the same as for an exchange (the plant,
+the trace), so only the round trip is saved, and the images' own building and frames spend it.
 
-What keeps them cheap (docs/bench.md, "Bus reads without an exchange, made to pay"): a pure
+What keeps them cheap (docs/bench.md): a pure
 read's entry is kept (``known``) while no BUS frame reaches its chip and its steady window
 lasts, so an image mostly repeats entries it has, and a read is tried again only after a
 transfer to its chip or past its window (an IMU's status twice a sample: at the new tick,
@@ -45,13 +49,16 @@ from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice, tick_af
 
 ENV = "MPY_FIL_BUS_IMAGES"
 MAX_READS = 6  # read shapes imaged a bus handle: the ones read last (the firmware's polls)
+IDLE = 4  # images in a row with a kind of message that answered nothing: from then on,
+PROBE = 16  # an image with every 16th message of that kind only
 _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    """Images unless ``MPY_FIL_BUS_IMAGES=0`` (or ``no``, ``false``): every pure read they
-    answer saves an exchange, at less host and shim work than the exchange (docs/bench.md)."""
-    return os.environ.get(ENV, "").strip().lower() not in ("0", "no", "false")
+    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): each pure read they answer saves
+    an exchange, but building and sending them costs the host and the shim about as much
+    as the round trips they save on a pty (docs/bench.md)."""
+    return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true")
 
 
 def steady_until(device, t_us: int) -> int:
@@ -160,11 +167,18 @@ class BusImages:
         self.known: dict = {}
         self.versions: dict = {}  # (bus, address) or bus -> transfers played on it (the BUS frames')
         self.read_at: dict = {}  # (handle, read shape) -> the instants of its last two reads
+        # What the images sent with each kind of message did (a STATE; a BUS_REPLY to a read
+        # shape): kinds whose last IDLE images answered nothing get one every PROBE-th time
+        self.sent_with = None  # the kind of message the last image went with
+        self.used = False  # the shim answered a read from it
+        self.idle: dict = {}  # kind -> images in a row that answered nothing
+        self.passed: dict = {}  # kind -> messages without an image since the last
 
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
         self.known, self.versions, self.read_at = {}, {}, {}
+        self.sent_with, self.used, self.idle, self.passed = None, False, {}, {}
 
     def seen(self, t_us: int, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
         """A BUS frame's transfer at ``t_us``: a register read to image from now on. What it
@@ -201,12 +215,15 @@ class BusImages:
         if len(shapes) > MAX_READS:
             del shapes[0]
 
-    def image(self, t_us: int, horizon_us: int) -> bytes | None:
+    def image(self, t_us: int, horizon_us: int, kind=None) -> bytes | None:
         """The BUS_IMAGE payload for the plant at ``t_us`` (None: nothing to image), whose
         reads leave the shim the horizon ``horizon_us`` (the lease a BUS_REPLY would carry:
-        the plant's next event, or the run's end), valid no later than it."""
+        the plant's next event, or the run's end), valid no later than it; ``kind``: the
+        message it goes with (with a kind whose last IDLE images answered nothing, one is
+        sent every PROBE-th time: after an IMU's sample read the firmware's callback returns
+        and waits, and the image would be built for nothing)."""
         self.sent = {}
-        if not self.reads or horizon_us <= t_us:
+        if not self._worth(kind) or not self.reads or horizon_us <= t_us:
             return None
         entries, sent = [], []
         known, versions = self.known, self.versions
@@ -232,7 +249,23 @@ class BusImages:
         if not entries:
             return None
         self.sent = dict(zip(F.bus_image_offsets(entries), sent, strict=True))
+        self.sent_with, self.used = kind, False
         return F.pack_bus_image(t_us, horizon_us, entries)
+
+    def _worth(self, kind) -> bool:
+        """Whether to image with a message of ``kind``; the last image's outcome noted first
+        (the shim drops an image at the next message it takes)."""
+        last, self.sent_with = self.sent_with, None
+        if last is not None:
+            if self.used:
+                self.idle.pop(last, None)
+            else:
+                self.idle[last] = self.idle.get(last, 0) + 1
+        if self.idle.get(kind, 0) < IDLE:
+            return True
+        passed = self.passed.get(kind, 0) + 1
+        self.passed[kind] = 0 if passed >= PROBE else passed
+        return passed >= PROBE
 
     def _try(self, h: int, bus: str, shape: tuple, t_us: int, horizon_us: int, version: tuple):
         """A read tried on copies of its chip at ``t_us`` and at the end of its steady window
@@ -281,6 +314,7 @@ class BusImages:
         rig.clock.catch_up(t_us)
         info = self.wiring.handles[h]
         self.local += 1
+        self.used = True
         rig.stats.bus_local += 1
         trace = rig.bus_trace
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
