@@ -32,13 +32,14 @@ the round trips they save cost (docs/bench.md, "Bus reads without an exchange, m
 the host's work for a read answered in the shim is the same as for an exchange (the plant,
 the trace), so only the round trip is saved, and the images' own building and frames spend it.
 
-What keeps them cheap (docs/bench.md): a pure
-read's entry is kept (``known``) while no BUS frame reaches its chip and its steady window
-lasts, so an image mostly repeats entries it has, and a read is tried again only after a
-transfer to its chip or past its window (an IMU's status twice a sample: at the new tick,
-after the sample's read); a trial copies the chip's attributes once for both its instants;
-and the shim reads the payload in place at a transfer (``_hilframe.bus_image_find``),
-decoding nothing when it arrives.
+What keeps them cheap: a pure read's entry is kept (``known``) while no BUS frame reaches
+its chip and its steady window lasts, so an image mostly repeats entries it has, and a read
+is tried again only after a transfer to its chip or past its window, and not while its next
+read, at the pace the firmware reads it, falls after that window (an IMU's data-ready poll
+is tried once a sample, at the new tick); a trial copies the chip's attributes once for
+both its instants; a kind of message whose last images answered nothing gets one only now
+and then (``IDLE``, ``PROBE``); and the shim reads the payload in place at a transfer
+(``_hilframe.bus_image_find``), decoding nothing when it arrives.
 """
 
 import os
