@@ -4,16 +4,21 @@ says how they are compared; these take a minute or more, so they run in make hil
 
 import pytest
 
-from host.tests.test_bus_image import SLOW_BUS_TESTS, bench_robot_both_ways, cases, compare
+from host.tests.test_bus_image import SLOW_BUS_TESTS, bench_robot_both_ways, case_id, cases, compare, kit_demo_both_ways
 
 pytestmark = [pytest.mark.hil, pytest.mark.long]
 SLOW = cases(SLOW_BUS_TESTS)
 
 
-@pytest.mark.parametrize(("module", "name", "polls"), SLOW, ids=[c[1][5:45] for c in SLOW])
-def test_a_slow_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls):
-    compare(tmp_path, monkeypatch, module, name, polls)
+@pytest.mark.parametrize(("module", "name", "polls", "params"), SLOW, ids=[case_id(c) for c in SLOW])
+def test_a_slow_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls, params):
+    compare(tmp_path, monkeypatch, module, name, polls, params)
 
 
 def test_the_bus_heavy_bench_robot_reads_the_same_bytes_with_images(tmp_path, monkeypatch):
     bench_robot_both_ways(tmp_path, monkeypatch)
+
+
+@pytest.mark.parametrize("kit", ["pololu_3pi_2040", "xrp"])
+def test_a_kit_demo_reads_the_same_bytes_with_images(tmp_path, monkeypatch, kit):
+    kit_demo_both_ways(tmp_path, monkeypatch, kit)

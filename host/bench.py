@@ -430,13 +430,13 @@ def kit_demo_folder(folder: Path, kit: str, parts, button, driver) -> Path:
     return folder / "rig.toml"
 
 
-def run_kit_demo(kit: str, parts, button, driver, last: str, sim_s: float = KIT_SIM_S) -> dict:
+def run_kit_demo(kit: str, parts, button, driver, last: str, sim_s: float = KIT_SIM_S, **recording) -> dict:
     """A kit's demo on its rig until it ends (or ``sim_s``): wall and CPU time from the
-    interpreter's start on, the link exchanges, how far it got."""
+    interpreter's start on, the link exchanges, how far it got, what it printed."""
     with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
         rig_file = kit_demo_folder(Path(tmp), kit, parts, button, driver)
         spec = RigSpec(str(rig_file), seed=1, allow_exit=True)
-        with Rig(spec, Recording()) as rig:
+        with Rig(spec, Recording(**recording)) as rig:
             fw_cpu0, cpu0, t0 = firmware_cpu_s(rig), time.process_time(), time.perf_counter()
             fw_cpu = [math.nan]
 
@@ -458,6 +458,8 @@ def run_kit_demo(kit: str, parts, button, driver, last: str, sim_s: float = KIT_
                 "firmware_cpu_s": fw_cpu[0],
                 "exchanges": rig.stats.link_round_trips + rig.stats.bus_round_trips,
                 "ended": last in rig.console,
+                "console": rig.console,
+                "bus_local": rig.stats.bus_local,
             }
 
 

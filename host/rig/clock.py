@@ -77,7 +77,9 @@ class Clock:
             self.wait = None
             t_wake = self.plant.t_us
             images = self.images
-            image = images.image(t_wake, self.lease_us()) if images is not None and images.on and images.reads else None
+            image = None
+            if images is not None and images.on and images.reads:
+                image = images.image(t_wake, self.lease_us(), "wake")
             if not stopped and wait.t_until > wait.t_now:  # (a wait of no length is a sync: none)
                 self._look_ahead(t_end_us)
             if image is not None:  # (taken at the wake, before the lookahead ran the plant on)

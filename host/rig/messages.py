@@ -76,8 +76,8 @@ def on_bus(rig, p: bytes) -> None:
     images = rig.bus_images
     lease = rig.clock.lease_us()
     if images.on:
-        images.seen(h, op, address, n_read, data, status)
-        image = images.image(t, lease)
+        images.seen(t, h, op, address, n_read, data, status)
+        image = images.image(t, lease, (h, op, address, n_read, data))
         if image is not None:
             rig.session.hold(F.BUS_IMAGE, image)
     ask = F.BUS_ASK_STACK if trace.held_poll is not None else 0

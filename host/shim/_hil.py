@@ -38,7 +38,7 @@ _now = 0
 _horizon = 0
 _spin = 0
 FOREVER_US = F.FOREVER_US
-_NO_IMAGE = {}
+_NO_IMAGE = b""
 _timer_due = FOREVER_US
 _timers = []
 _handles = []
@@ -292,9 +292,10 @@ class _Link:
     fast = None
     fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
     pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
-    # The bus reads the shim answers itself until an instant (the last BUS_IMAGE: _hil.transfer),
-    # and the one that came before the STATE or BUS_REPLY being read.
-    image = image_next = {}
+    # The bus reads the shim answers itself until an instant (the last BUS_IMAGE's payload, read
+    # in place by _hilframe.bus_image_find: _hil.transfer), and the one that came before the
+    # STATE or BUS_REPLY being read.
+    image = image_next = b""
     done = 0  # bus reads answered from an image since the last BUS
     edges = None  # the EDGES payload that came with the last STATE (encoder segments), or None
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
@@ -349,7 +350,7 @@ class _Link:
             elif type_ == F.EDGES:  # the encoder edges of the STATE that follows (_sync applies both)
                 edges = p
             elif type_ == F.BUS_IMAGE:
-                _Link.image_next = F.unpack_bus_image(p)[1]
+                _Link.image_next = p
             elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
                 import _hilrepl
 
@@ -555,17 +556,17 @@ def transfer(handle, op, address, n_read, data):
         t = now()
         image = _Link.image
         if image:  # a register read whose bytes the host sent, inside their window: no exchange
-            known = image.get((handle, address, data, n_read)) if op == F.BUS_XFER else None
-            if known is not None and t < known[1] and _Link.done < DONE_BATCH:
+            at = F.bus_image_find(image, handle, address, data, n_read) if op == F.BUS_XFER and n_read else -1
+            if at >= 0 and _Link.done < DONE_BATCH and t < F.bus_image_until(image, at):
                 # (the shim as a BUS_REPLY leaves it: the lookahead void, the reply's horizon)
                 if _Link.held:
                     _drop_held()
-                _link.queue(F.BUS_DONE, F.pack_bus_done(t, known[0]))  # (sent with the next message)
+                _link.queue(F.BUS_DONE, F.pack_bus_done(t, at))  # (sent with the next message)
                 _Link.done += 1
                 _Link.ahead = False
-                _horizon = known[3]
+                _horizon = F.bus_image_horizon(image)
                 _wrote = True
-                return F.BUS_OK, len(data), known[2], t
+                return F.BUS_OK, len(data), F.bus_image_got(image, at), t
             _Link.image = _NO_IMAGE  # (the host answers this one, and sends a new image)
         _Link.done = 0
         if _Link.held:
@@ -579,7 +580,7 @@ def transfer(handle, op, address, n_read, data):
             if type_ == F.BUS_REPLY:
                 break
             if type_ == F.BUS_IMAGE:
-                _Link.image = F.unpack_bus_image(p)[1]
+                _Link.image = p
         _t, status, count, horizon, got = F.unpack_bus_reply(p)
         if status & F.BUS_ASK_STACK:  # a poll of this read named: the firmware's stack with it
             status &= ~F.BUS_ASK_STACK

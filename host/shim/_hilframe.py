@@ -16,7 +16,7 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 4  # 3: POLL, and CFG carries its instant; 4: BUS_IMAGE, BUS_DONE (docs/protocol.md)
+PROTO_VERSION = 5  # 3: POLL, CFG's instant; 4: BUS_IMAGE, BUS_DONE; 5: BUS_IMAGE read in place, EDGES, I2CT, CPU_RUNS
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -329,9 +329,9 @@ EXIT_FMT = "<QBi"  # t_us, kind, code
 STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
 CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
 BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
-BUS_IMAGE_FMT = "<QH"  # t_us (the plant's), entries, then each: BUS_IMAGE_ENTRY_FMT, the bytes written, read
-BUS_IMAGE_ENTRY_FMT = "<HHQQBB"  # handle, address, until_us (exclusive), horizon_us, bytes written, bytes read
-BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry
+BUS_IMAGE_FMT = "<QHQ"  # t_us (the plant's), entries, horizon_us, then each: BUS_IMAGE_ENTRY_FMT, written, read
+BUS_IMAGE_ENTRY_FMT = "<HHBBQ"  # handle, address, bytes written, bytes read, until_us (exclusive)
+BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry (its offset in the payload)
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
 EDGES_FMT = "<QH"  # base_us (the STATE's), segments, then each EDGE_SEG_FMT:
@@ -356,6 +356,8 @@ NO_HANDLE = 0xFFFF  # an encoder channel of an EDGES segment wired to no pin
 CHANGE_LEN = struct.calcsize(CHANGE_FMT)
 BUS_LEN = struct.calcsize(BUS_FMT)
 BUS_REPLY_LEN = struct.calcsize(BUS_REPLY_FMT)
+BUS_IMAGE_LEN = struct.calcsize(BUS_IMAGE_FMT)
+BUS_IMAGE_ENTRY_LEN = struct.calcsize(BUS_IMAGE_ENTRY_FMT)
 POLL_LEN = struct.calcsize(POLL_FMT)
 CPU_FMT = "<QII"  # t_us (the wait it ends at), compute_us, its largest charge's µs; then UTF-8 stack lines
 CPU_LEN = struct.calcsize(CPU_FMT)
@@ -471,24 +473,76 @@ def pack_bus_reply(t_us, status, count, horizon_us, data):
     return struct.pack(BUS_REPLY_FMT, t_us, status, count, horizon_us) + data
 
 
-def pack_bus_image_entry(handle, address, until_us, horizon_us, wrote, got):
-    return struct.pack(BUS_IMAGE_ENTRY_FMT, handle, address, until_us, horizon_us, len(wrote), len(got)) + wrote + got
+def pack_bus_image(t_us, horizon_us, entries):
+    """entries: (handle, address, until_us, bytes written, bytes read) each."""
+    return struct.pack(BUS_IMAGE_FMT, t_us, len(entries), horizon_us) + b"".join(
+        struct.pack(BUS_IMAGE_ENTRY_FMT, h, address, len(wrote), len(got), until_us) + wrote + got
+        for h, address, until_us, wrote, got in entries
+    )
 
 
 def unpack_bus_image(p):
-    """(t_us, {(handle, address, bytes written, count read): (entry, until_us, bytes read, horizon_us)})."""
-    t_us, n = struct.unpack_from(BUS_IMAGE_FMT, p, 0)
-    off = struct.calcsize(BUS_IMAGE_FMT)
-    entry_len = struct.calcsize(BUS_IMAGE_ENTRY_FMT)
-    image = {}
-    for i in range(n):
-        handle, address, until_us, horizon_us, n_wrote, n_read = struct.unpack_from(BUS_IMAGE_ENTRY_FMT, p, off)
-        off += entry_len
-        wrote = bytes(p[off : off + n_wrote])
-        got = bytes(p[off + n_wrote : off + n_wrote + n_read])
-        off += n_wrote + n_read
-        image[(handle, address, wrote, n_read)] = (i, until_us, got, horizon_us)
-    return t_us, image
+    """(t_us, horizon_us, [(handle, address, until_us, bytes written, bytes read)])."""
+    t_us, n, horizon_us = struct.unpack_from(BUS_IMAGE_FMT, p, 0)
+    off = BUS_IMAGE_LEN
+    entries = []
+    for _ in range(n):
+        handle, address, n_wrote, n_read, until_us = struct.unpack_from(BUS_IMAGE_ENTRY_FMT, p, off)
+        off += BUS_IMAGE_ENTRY_LEN
+        wrote, off = bytes(p[off : off + n_wrote]), off + n_wrote
+        entries.append((handle, address, until_us, wrote, bytes(p[off : off + n_read])))
+        off += n_read
+    return t_us, horizon_us, entries
+
+
+def bus_image_find(p, handle, address, wrote, n_read):
+    """Where the BUS_IMAGE payload ``p`` (bytes) has the entry for a register read (``wrote``:
+    bytes): its offset in ``p``, or -1. The shim's lookup at each transfer: the payload is kept
+    as it came and read in place a byte at a time, allocating nothing (nothing decoded at a
+    STATE); ``bus_image_until`` and ``bus_image_got`` read the entry found."""
+    off = BUS_IMAGE_LEN
+    end = len(p)
+    n_wrote = len(wrote)
+    while off < end:
+        nw = p[off + 4]
+        if (
+            p[off + 2] == address & 0xFF
+            and p[off + 5] == n_read
+            and nw == n_wrote
+            and p[off] | p[off + 1] << 8 == handle
+            and p[off + 3] == address >> 8
+        ):
+            start = off + BUS_IMAGE_ENTRY_LEN
+            if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
+                return off
+        off += BUS_IMAGE_ENTRY_LEN + nw + p[off + 5]
+    return -1
+
+
+def bus_image_until(p, off):
+    """The instant until which the entry at ``off`` of the BUS_IMAGE payload ``p`` reads its bytes."""
+    return struct.unpack_from("<Q", p, off + 6)[0]
+
+
+def bus_image_got(p, off):
+    """The bytes the entry at ``off`` of the BUS_IMAGE payload ``p`` reads."""
+    start = off + BUS_IMAGE_ENTRY_LEN + p[off + 4]
+    return p[start : start + p[off + 5]]
+
+
+def bus_image_offsets(entries):
+    """The offset of each entry (handle, address, until_us, wrote, got) in the payload
+    ``pack_bus_image`` makes of them: the entry BUS_DONE names."""
+    offsets, off = [], BUS_IMAGE_LEN
+    for _h, _address, _until, wrote, got in entries:
+        offsets.append(off)
+        off += BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
+    return offsets
+
+
+def bus_image_horizon(p):
+    """The horizon a read answered from the BUS_IMAGE payload ``p`` leaves the shim."""
+    return struct.unpack_from("<Q", p, 10)[0]
 
 
 def pack_bus_done(t_us, entry):

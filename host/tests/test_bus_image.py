@@ -1,23 +1,24 @@
 """Bus reads the shim answers from the host's image (``host/rig/busimage.py``) read exactly
-what they read when every transfer is its own exchange (without ``MPY_FIL_BUS_IMAGES=1``): each
+what they read when every transfer is its own exchange (``MPY_FIL_BUS_IMAGES=0``): each
 bus test below is run both ways and every rig it makes must give the same bus readings
 (every BUS record of ``trace.jsonl``: instant, bytes written, bytes read, outcome, register,
 duration), the same console (notes included) and the same ground truth at its end, and the
 image path must have answered some reads itself where the firmware polls (so the
 comparison compares something). The slow ones, and the bench's bus-heavy robot, are
-compared the same way by hil_tests/test_bus_image_slow.py."""
+compared the same way by hil_tests/test_bus_image_slow.py. Together they hold every chip of
+the catalogue that firmware reads on a bus (``CHIPS``: ``test_every_bus_chip_is_compared``)."""
 
 import importlib
 import json
 
 import pytest
 
-from host.bench import run_imu_bot
+from host.bench import KIT_DEMOS, run_imu_bot, run_kit_demo
 from host.pytest_plugin import rig_from_keywords
 from host.rig.busimage import ENV
 from host.tests.conftest import FIRMWARE  # noqa: F401  (the bus tests' firmware folder)
 
-BUS_TESTS = {  # module: (test, polls answered in the shim expected): the bus tests that read chips
+BUS_TESTS = {  # module: (test, polls answered in the shim expected[, its parameters]): the bus tests that read chips
     "test_buses": (
         ("test_a_register_read_takes_its_clocks_at_the_bus_frequency", False),
         ("test_spi_api_with_a_chip_select_pin_and_8_clocks_a_byte", False),
@@ -28,10 +29,31 @@ BUS_TESTS = {  # module: (test, polls answered in the shim expected): the bus te
         ("test_published_qmc5883l_driver_compass_reads_the_heading_within_a_degree_twice_in_a_turn", True),
         ("test_hmc5883l_compass_read_as_its_public_drivers_read_it_gives_the_heading_within_a_degree", False),
         ("test_published_mpu6886_driver_integrates_a_turn_in_place_within_3_degrees", False),
+        ("test_published_pca9685_driver_turns_a_servo_on_channel_0_to_its_angle", False),
+        ("test_published_lsm6dsox_driver_at_0x6b_turns_an_lsm6dso_part_90_degrees_within_3", False),
+        (
+            "test_published_bme280_driver_reads_a_set_temperature_and_pressure_through_the_calibration",
+            False,
+            {"chip": "bme280", "address": 0x76},
+        ),
     ),
-    "test_bme280_humidity": (("test_a_bmp280_has_no_humidity", False),),
+    "test_bme280_humidity": (
+        ("test_a_bmp280_has_no_humidity", False),
+        ("test_published_driver_reads_the_set_humidity_through_the_humidity_trimming", False, {"humidity_pct": 67.8}),
+    ),
     "test_oled": (("test_published_ssd1306_driver_shows_the_text_framebuf_draws_on_i2c_and_spi", False),),
+    "test_sh1106": (("test_an_sh1106_driver_at_column_offset_two_shows_what_framebuf_draws_on_i2c_and_spi", False),),
     "test_spi_clock_pins": (("test_a_transfer_reaches_the_chips_whose_clock_pin_is_the_spis_at_that_instant", False),),
+    "test_apa102": (("test_a_dotstar_driver_sets_colours_and_brightness_the_strip_shows_over_time", False),),
+    "test_wokwi_more_parts": (
+        ("test_an_esp32_lcd1602_buzzer_and_ky040", False),
+        ("test_a_pico_lcd2004_at_0x3f_its_four_rows_beeps_and_a_polled_knob", False),
+        ("test_a_pico_dht11_read_by_the_dht_module_takes_the_protocols_time", False),
+    ),
+    "test_onewire": (
+        ("test_a_public_ds18b20_example_reads_the_parts_temperature", False, {"board": "rpi_pico", "pin": 22}),
+    ),
+    "test_bus_image": (("ina219_read_while_the_motors_run", False),),  # (it reads the plant: never imaged)
 }
 SLOW_BUS_TESTS = {  # the same, minutes of polling between them: hil_tests/test_bus_image_slow.py (make hil)
     "test_chip_polls": (
@@ -44,8 +66,40 @@ SLOW_BUS_TESTS = {  # the same, minutes of polling between them: hil_tests/test_
 }
 
 
+CHIPS = {  # every catalogue part firmware reads on a bus -> where it is compared
+    "lsm6dsox": "test_buses",
+    "lsm6dso": "test_bus_drivers",
+    "mpu6050": "test_buses",
+    "mpu6886": "test_bus_drivers",  # (the mpu6050 part's chip option)
+    "lis3mdl": "test_bus_drivers",
+    "qmc5883l": "test_bus_drivers",
+    "hmc5883l": "test_bus_drivers",
+    "pca9685": "test_bus_drivers",
+    "bmp280": "test_bme280_humidity",
+    "bme280": "test_bus_drivers",  # (the bmp280 part's chip option)
+    "ssd1306": "test_oled",
+    "sh1106": "test_sh1106",
+    "char_lcd": "test_wokwi_more_parts",
+    "apa102_strip": "test_apa102",
+    "dht": "test_wokwi_more_parts",
+    "ds18b20": "test_onewire",
+    "ina219": "test_bus_image",
+    "vl53l0x": "test_bus_drivers (slow) and the bench robot",
+    "vl53l1x": "test_vl53l1x (slow)",
+}
+
+
 def cases(tests: dict) -> list:
-    return [(module, name, polls) for module, tests_ in tests.items() for name, polls in tests_]
+    return [
+        (module, case[0], case[1], case[2] if len(case) > 2 else {})
+        for module, tests_ in tests.items()
+        for case in tests_
+    ]
+
+
+def case_id(case) -> str:
+    module, name, _polls, params = case
+    return name.removeprefix("test_")[:40] + "".join(f"-{v}" for v in params.values())
 
 
 CASES = cases(BUS_TESTS)
@@ -100,20 +154,34 @@ def same(pairs, where: str, tmp_path) -> int:
     return local
 
 
-@pytest.mark.parametrize(("module", "name", "polls"), CASES, ids=[c[1][5:45] for c in CASES])
-def test_a_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls):
-    compare(tmp_path, monkeypatch, module, name, polls)
+@pytest.mark.parametrize(("module", "name", "polls", "params"), CASES, ids=[case_id(c) for c in CASES])
+def test_a_bus_test_reads_the_same_bytes_with_images(tmp_path, monkeypatch, module, name, polls, params):
+    compare(tmp_path, monkeypatch, module, name, polls, params)
 
 
-def compare(tmp_path, monkeypatch, module: str, name: str, polls: bool) -> None:
+def test_every_bus_chip_is_compared():
+    """Every part of the catalogue that sits on a bus (its engine a bus device) is in ``CHIPS``,
+    and each module named there is compared."""
+    from sim_plant.catalogue import parts
+
+    on_bus = {kind for kind, part in parts().items() if getattr(part, "on_bus", False)}
+    assert on_bus - set(CHIPS) == set(), (
+        f"expected every bus part compared both ways, these are not: {on_bus - set(CHIPS)}"
+    )
+    modules = {m for m, _n, _p, _q in CASES + cases(SLOW_BUS_TESTS)}
+    for kind, where in CHIPS.items():
+        assert where.split(" ")[0] in modules, f"{kind}: expected {where} among the compared modules {sorted(modules)}"
+
+
+def compare(tmp_path, monkeypatch, module: str, name: str, polls: bool, params=None) -> None:
     """The bus test ``module::name`` both ways, the same bus readings, console and truth."""
     test = getattr(importlib.import_module(f"host.tests.{module}"), name)
 
     def call(make_rig, tmp):
         tmp.mkdir(parents=True, exist_ok=True)
-        args = {"make_rig": make_rig, "tmp_path": tmp}
-        params = test.__code__.co_varnames[: test.__code__.co_argcount]
-        test(**{p: args[p] for p in params})
+        args = {"make_rig": make_rig, "tmp_path": tmp, **(params or {})}
+        names = test.__code__.co_varnames[: test.__code__.co_argcount]
+        test(**{p: args[p] for p in names})
 
     local = same(run_both(tmp_path, monkeypatch, call), f"{module}::{name}", tmp_path)
     if polls:
@@ -135,3 +203,64 @@ def bench_robot_both_ways(tmp_path, monkeypatch) -> None:
         f"expected the status polls answered in the shim: {b['bus_exchanges']} BUS exchanges against "
         f"{a['bus_exchanges']} transfers"
     )
+
+
+INA219_MAIN = """
+import time
+from machine import I2C, PWM, Pin
+i2c = I2C(0, freq=400_000)
+buf = bytearray(2)
+i2c.writeto_mem(0x40, 0x05, b"\\x10\\x00")  # calibration: 100 uA a count
+pwm = PWM(Pin(25), freq=20000, duty_u16=0)
+Pin(26, Pin.OUT, value=1)
+total = 0
+for i in range(120):
+    if i == 40:
+        pwm.duty_u16(40000)
+    i2c.readfrom_mem_into(0x40, 0x02, buf)  # bus voltage
+    i2c.readfrom_mem_into(0x40, 0x04, buf)  # current
+    total += buf[0] << 8 | buf[1]
+    time.sleep_ms(2)
+print("R total", total)
+"""
+
+
+def ina219_read_while_the_motors_run(make_rig, tmp_path):
+    """An INA219 polled for its bus voltage and current (twice a 2 ms step) while a motor
+    starts: what the comparison runs for the INA219 (no bus test reads one)."""
+    from host.tests.conftest import bench_app, results
+
+    (tmp_path / "main.py").write_text(INA219_MAIN)
+    plant = {
+        "body": "differential",
+        "parts": [
+            {"kind": "dc_motor", "name": "motor_l", "bridge": "drv8833", "drives": "left", "time_constant_ms": 20},
+            {"kind": "dc_motor", "name": "motor_r", "bridge": "drv8833", "drives": "right", "time_constant_ms": 20},
+            {"kind": "battery", "name": "batt", "full_v": 7.4},
+            {"kind": "ina219", "name": "power", "bus": "i2c0", "battery": "batt"},
+        ],
+    }
+    app = bench_app(
+        "ina219_polled", plant, wiring={"IN1": "motor_l.in1", "IN2": "motor_l.in2"}, pins={"IN1": 25, "IN2": 26}
+    )
+    rig = make_rig(app, main_dir=tmp_path, allow_exit=True)
+    rig.run_for(0.4)
+    assert "total" in results(rig.console), rig.console
+
+
+def kit_demo_both_ways(tmp_path, monkeypatch, kit: str) -> None:
+    """A kit's bench demo (host/bench.py, ``KIT_DEMOS``: the kits' firmware in its vendors'
+    style) both ways: the same bus readings and console (their reads are samples, each drawn
+    at its read: few or none are answered in the shim)."""
+    demo = next(d for k, *d in KIT_DEMOS if k == kit)
+    runs = {}
+    for way, images in (("exchange", "0"), ("image", "1")):
+        monkeypatch.setenv(ENV, images)
+        runs[way] = run_kit_demo(kit, *demo, trace=True, artefacts=tmp_path / way)
+        text = (tmp_path / way / "trace.jsonl").read_text()
+        runs[way]["bus"] = [line for line in text.splitlines() if '"msg":"BUS"' in line]
+    a, b = runs["exchange"], runs["image"]
+    assert a["ended"] and a["bus"], f"expected the demo to end and read its bus; console:\n{a['console'][-2000:]}"
+    assert a["bus"] == b["bus"], f"{kit}: expected the same bus readings both ways; artefacts in {tmp_path}"
+    assert a["console"] == b["console"], f"{kit}: expected the same console both ways; artefacts in {tmp_path}"
+    assert a["bus_local"] == 0, f"{kit}: expected no read answered in the shim with {ENV}=0"

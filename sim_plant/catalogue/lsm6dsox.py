@@ -85,9 +85,20 @@ class Lsm6dsoxChip(Imu):
                 self.taken(t_us)
         return self.regs[reg]
 
+    # The sample, CTRL2_G and CTRL1_XL the output registers were last filled from, and what
+    # they then held: a read of the next byte of the same sample finds them so and fills
+    # nothing (a 12-byte read filled them once, not 12 times; class defaults: a snapshot
+    # taken before the first fill restores these, so the next read fills again).
+    filled_from = None
+    filled = ()
+
     def _fill(self, t_us: int) -> None:
-        gx, gy, gz, ax, ay, az = self.current(t_us)
+        sample = self.current(t_us)
         regs = self.regs
+        key = (sample, regs[CTRL2_G], regs[CTRL1_XL])
+        if key == self.filled_from and tuple(regs[OUT_TEMP_L:OUT_END]) == self.filled:
+            return
+        gx, gy, gz, ax, ay, az = sample
         gyro_dps = GYRO_MDPS[regs[CTRL2_G] >> 2 & 3] / 1000 if not regs[CTRL2_G] & 0x02 else 0.004375
         accel_m_s2 = ACCEL_MG[regs[CTRL1_XL] >> 2 & 3] / 1000 * G_M_S2
         put16(regs, OUT_TEMP_L, 0, False)
@@ -95,6 +106,7 @@ class Lsm6dsoxChip(Imu):
             put16(regs, OUTX_L_G + 2 * i, counts(value, gyro_dps), False)
         for i, value in enumerate((ax, ay, az)):
             put16(regs, OUTX_L_A + 2 * i, counts(value, accel_m_s2), False)
+        self.filled_from, self.filled = key, tuple(regs[OUT_TEMP_L:OUT_END])
 
     def store(self, t_us, reg, value):
         if reg == WHO_AM_I or OUT_TEMP_L <= reg < OUT_END or reg == STATUS_REG:
