@@ -171,8 +171,8 @@ MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-vers
 }
 # (The duct robot's multi-branch run with MCU time was pinned again when the shim's bus images
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
-# own code; the shim's own modules share the interpreter's heap, and where their allocations
-# fall moves the collections of a long run: issue 42's notes.)
+# own code; most likely through the heap the shim's modules share with it: where their allocations
+# fall can move the collections of a long run, not examined further.)
 MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (pytest --mpy-version)
     # Their link traces without MCU time are the default's (DIGESTS); with it they differ as the
     # firmware's own work differs (docs/shim.md, "On each MicroPython version"): from 1.26
