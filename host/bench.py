@@ -145,6 +145,66 @@ def bench_rover(sim_s: float) -> dict:
         }
 
 
+BOARDS_RIG = """\
+name = "two_boards_bench"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+[[boards]]
+name = "a"
+firmware = { dir = "a" }
+board = { family = "esp32", pins = { LINK_UART = 1 } }
+wiring = { LINK_UART = "link.a" }
+[[boards]]
+name = "b"
+firmware = { dir = "b" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+BOARDS_FIRMWARE = """\
+import time
+from machine import UART
+u = UART(ID, 115200)
+n = 0
+while True:
+    u.write(b"%d\\n" % n)  # (a line to the other board every 10 ms, what came from it read)
+    n += 1
+    u.read()
+    time.sleep_ms(10)
+"""
+
+
+def bench_boards(sim_s: float = 10.0) -> dict:
+    """Issue 47's speed case: two boards on one clock, each sending the other a line every
+    10 ms over a board_uart (docs/multi-board.md); its real-time factor and exchanges."""
+    from host.rig.boardfile import load_boards
+    from host.rig.boardset import BoardSet
+
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for board, uart in (("a", 1), ("b", 0)):
+            (folder / board).mkdir()
+            (folder / board / "main.py").write_text(BOARDS_FIRMWARE.replace("ID", str(uart)))
+        (folder / "rig.toml").write_text(BOARDS_RIG)
+        with BoardSet(load_boards(folder / "rig.toml"), seed=1) as boards:
+            t0 = time.perf_counter()
+            boards.run_for(sim_s)
+            wall = time.perf_counter() - t0
+            exchanges = sum(r.stats.link_round_trips for r in boards.rigs.values())
+    return {"sim_s": sim_s, "wall_s": wall, "rtf": sim_s / wall, "exchanges": exchanges}
+
+
+def report_boards(boards: dict, rover: dict | None) -> None:
+    share = f"; {boards['rtf'] / rover['rtf']:.0%} of the rover's in this run (issue 47 asks >= 50 %)" if rover else ""
+    print(
+        f"  two boards, a line each way every 10 ms: {boards['rtf']:.1f}x real time ({boards['sim_s']:g} simulated s "
+        f"in {boards['wall_s']:.2f} wall s){share}; {boards['exchanges'] / boards['sim_s']:.0f} link exchanges a "
+        f"simulated s, both boards"
+    )
+
+
 def bench_duct(seed: int = 3, limit_s: float = 90.0) -> dict:
     """The duct robot's single right branch run (make hil's sweeps are mostly these): bound
     by the cost of an exchange, not of a control step (docs/clock.md)."""
@@ -657,6 +717,8 @@ def main(argv=None) -> int:
     parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
     parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
     parser.add_argument("--only-kits", action="store_true", help="the robot kits' demos only")
+    parser.add_argument("--no-boards", action="store_true", help="skip the two boards on one clock")
+    parser.add_argument("--only-boards", action="store_true", help="the two boards on one clock only")
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
@@ -667,6 +729,10 @@ def main(argv=None) -> int:
         raw = bench_raw()
         print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
         report_imu(imu, statistics.median(raw))
+        return 0
+    if args.only_boards:
+        print("two boards on one clock (docs/multi-board.md): 10 simulated s")
+        report_boards(bench_boards(), None)
         return 0
     if args.only_kits:
         print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s")
@@ -689,6 +755,7 @@ def main(argv=None) -> int:
     encoders = None if args.no_encoders else bench_encoders(per_edge=args.per_edge_encoders)
     imu = None if args.no_imu else bench_imu()
     kits = None if args.no_kits else bench_kits()
+    two = None if args.no_boards else bench_boards()
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -719,6 +786,9 @@ def main(argv=None) -> int:
     if kits is not None:
         print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s:")
         report_kits(kits)
+    if two is not None:
+        print("two boards on one clock (docs/multi-board.md):")
+        report_boards(two, rover)
     if plain is not None:
         print("pool cleaner, full mission, unrecorded:")
         report_pool(plain, raw_us)
