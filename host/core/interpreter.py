@@ -132,19 +132,17 @@ MAKE_OPTIONS = (
     "USER_C_MODULES=host/shim/cmod",
 )
 TUNED_OPTIONS = {
-    "1.25": (
-        "COPT=-O2 -DNDEBUG -fdata-sections -ffunction-sections -flto=auto -DMICROPY_OPT_MAP_LOOKUP_CACHE_SIZE=4096",
-        "LDFLAGS_EXTRA=-flto=auto -O2",
-    ),
+    "1.25": ("COPT=-O2 -DNDEBUG -fdata-sections -ffunction-sections -DMICROPY_OPT_MAP_LOOKUP_CACHE_SIZE=4096",),
 }
 """Options measured to make a version's interpreter faster (docs/bench.md, "The interpreter
-we build"): -O2 where the port has -Os; link-time optimisation (the VM's calls into the
-object and runtime modules inlined across files); and a map lookup cache of 4096 entries
-where py/mpconfig.h has 128 (it remembers where a name was last found in a dict, a module's
-or a class's; 128 entries, shared by every name the shim and the firmware look up, kept few
-of them). The port's own ``COPT`` with its optimisation level replaced; the rest
+we build"): -O2 where the port has -Os, and a map lookup cache of 4096 entries where
+py/mpconfig.h has 128 (it remembers where a name was last found in a dict, a module's or a
+class's; 128 entries, shared by every name the shim and the firmware look up, kept few of
+them). The port's own ``COPT`` with its optimisation level replaced; the rest
 (``-DNDEBUG``, sections for ``--gc-sections``) as the port has it. None changes what a
-program does. A version not measured keeps the port's options."""
+program does, nor how deep it may recurse (link-time optimisation, faster still, made the
+VM's C frames larger and the recursion limit lower: left out). A version not measured
+keeps the port's options."""
 VARIANT_OPTIONS = {
     "standard": (),
     # line tracing (py/profile.c; it implies MICROPY_PERSISTENT_CODE_SAVE), objects of its own
