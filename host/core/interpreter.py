@@ -21,7 +21,11 @@ whose builds differ, never overwrite each other's binary.
 Before make, the patches in ``host/core/micropython/*.patch`` are applied to the unpacked
 source (:func:`patch_tree`): ``hilcount.patch`` makes the VM count what the firmware executes
 (bytecodes by opcode, calls into C, allocations, collections) and keep a stack of the running
-bytecode functions, for MCU time (docs/mcu-time.md). The patches, the make options and the
+bytecode functions, for MCU time (docs/mcu-time.md); ``threadstate.patch`` reads the
+thread's state (``MP_STATE_THREAD``, at every exception handler, stack check and collector
+lock) from a thread-local variable, inline, instead of a call to ``pthread_getspecific``
+(the unix port keeps ``_thread``, which a rig file may give back). The patches, the make
+options (with :data:`TUNED_OPTIONS`) and the
 frozen manifest make a build's identity (:func:`identity`), written beside each binary of a
 checkout's build: a binary of another identity is rebuilt (:func:`current`), but never
 under a running test session (:func:`_before_compile`: it names the inputs that changed).
@@ -129,6 +133,18 @@ MAKE_OPTIONS = (
     "MICROPY_PY_FFI=0",
     "USER_C_MODULES=host/shim/cmod",
 )
+TUNED_OPTIONS = {
+    "1.25": ("COPT=-O2 -DNDEBUG -fdata-sections -ffunction-sections -DMICROPY_OPT_MAP_LOOKUP_CACHE_SIZE=4096",),
+}
+"""Options measured to make a version's interpreter faster (docs/bench.md, "The interpreter
+we build"): -O2 where the port has -Os, and a map lookup cache of 4096 entries where
+py/mpconfig.h has 128 (it remembers where a name was last found in a dict, a module's or a
+class's; 128 entries, shared by every name the shim and the firmware look up, kept few of
+them). The port's own ``COPT`` with its optimisation level replaced; the rest
+(``-DNDEBUG``, sections for ``--gc-sections``) as the port has it. None changes what a
+program does, nor how deep it may recurse (link-time optimisation, faster still, made the
+VM's C frames larger and the recursion limit lower: left out). A version not measured
+keeps the port's options."""
 VARIANT_OPTIONS = {
     "standard": (),
     # line tracing (py/profile.c; it implies MICROPY_PERSISTENT_CODE_SAVE), objects of its own
@@ -337,8 +353,9 @@ stands in. Debian's package drops that check (its patch 0007)."""
 
 def make_options(variant: str = "standard", version: str | None = None) -> tuple[str, ...]:
     """The unix port's make options of a variant (without the frozen manifest)."""
-    upstream = UPSTREAM_OPTIONS if release(version).tag else ()
-    return (*MAKE_OPTIONS, *upstream, *VARIANT_OPTIONS[variant])
+    rel = release(version)
+    upstream = UPSTREAM_OPTIONS if rel.tag else ()
+    return (*MAKE_OPTIONS, *TUNED_OPTIONS.get(rel.version, ()), *upstream, *VARIANT_OPTIONS[variant])
 
 
 def _executable(path: Path) -> bool:

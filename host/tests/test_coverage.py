@@ -133,7 +133,8 @@ def test_the_tracers_blocks_of_every_boot_are_merged_and_mapped_to_the_sources(t
 
 
 def test_the_settrace_variant_is_the_standard_build_plus_line_tracing():
-    assert interpreter.make_options("standard") == interpreter.MAKE_OPTIONS
+    tuned = interpreter.TUNED_OPTIONS.get(interpreter.DEFAULT_VERSION, ())
+    assert interpreter.make_options("standard") == (*interpreter.MAKE_OPTIONS, *tuned)
     assert interpreter.MAKE_OPTIONS == (
         "VARIANT=standard",
         "MICROPY_PY_SSL=0",
@@ -144,7 +145,7 @@ def test_the_settrace_variant_is_the_standard_build_plus_line_tracing():
     assert interpreter._absolute("USER_C_MODULES=host/shim/cmod").endswith("/host/shim/cmod/".rstrip("/"))
     assert (interpreter.PROJECT_ROOT / "host" / "shim" / "cmod").is_dir()
     traced = interpreter.make_options("settrace")
-    assert traced[: len(interpreter.MAKE_OPTIONS)] == interpreter.MAKE_OPTIONS
+    assert traced[: len(interpreter.MAKE_OPTIONS) + len(tuned)] == (*interpreter.MAKE_OPTIONS, *tuned)
     assert "CFLAGS_EXTRA=-DMICROPY_PY_SYS_SETTRACE=1" in traced and "BUILD=build-settrace" in traced
     assert interpreter.variant_path("settrace").name == "micropython-settrace"
     assert interpreter.variant_path("standard") == interpreter.default_path()

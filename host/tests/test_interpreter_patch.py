@@ -11,7 +11,7 @@ from host.core import interpreter
 
 @pytest.fixture
 def tree(tmp_path):
-    """A copy of the files the patch touches, as the build left them (patched)."""
+    """A copy of the files the patches touch, as the build left them (patched)."""
     try:
         source = interpreter._tree(interpreter.build_root())
     except Exception as e:  # noqa: BLE001
@@ -19,7 +19,9 @@ def tree(tmp_path):
     if not (source / interpreter.APPLIED).is_file():
         pytest.skip(f"the source at {source} was not patched by this build (run make setup)")
     copy = tmp_path / "src"
-    for name in ("py/vm.c", "py/gc.c", "py/runtime.c", "py/mpz.c", "py/hilcount.h", interpreter.APPLIED):
+    touched = ("py/vm.c", "py/gc.c", "py/runtime.c", "py/mpz.c", "py/hilcount.h")
+    threads = ("ports/unix/mpthreadport.c", "ports/unix/mpthreadport.h")  # (threadstate.patch)
+    for name in (*touched, *threads, interpreter.APPLIED):
         (copy / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(source / name, copy / name)
     return copy
