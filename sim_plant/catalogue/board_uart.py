@@ -23,7 +23,7 @@ class BoardUart(PartType):
         Sig("a", "in", "uart", "one board's UART: what it sends goes to b, (out, bytes) what b sent"),
         Sig("b", "in", "uart", "the other board's UART: what it sends goes to a, (out, bytes) what a sent"),
     )
-    zero_delay = True
+    zero_delay = False  # (a byte arrives a byte time after it is sent: never at the write's instant)
     reads_empty = True
     """A UART line carries bytes as events: a UART configured on it reads nothing yet."""
 
