@@ -544,22 +544,33 @@ def _run_boards(args) -> int:
     from host.rig.boardset import BoardSet
 
     sub = args.sub
-    given = {"--board": args.board, "--world": args.world, "--param": args.param, "--coverage": args.coverage}
+    given = {"--board": args.board, "--coverage": args.coverage}
     given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
     given |= {"--interactive": args.interactive, "--break-at": args.break_at is not None}
     for option in (option for option, value in given.items() if value):
         sub.error(f"argument {option}: not for a rig file with several boards (docs/multi-board.md)")
     boards = load_boards(args.rig)
+    first = next(iter(boards.firmware().values()))
+    if args.world is not None and args.world not in first.worlds:
+        known = names.unknown(args.world, first.worlds, what="known")
+        sub.error(f"argument --world: unknown world {args.world!r} for {boards.name} {known}")
+    world = args.world if args.world is not None else next(iter(first.worlds))
+    if args.param:  # checked against the plant's own declarations, as a one-board rig's
+        try:
+            boards.make_plant(**{**first.worlds[world], **dict(args.param)})
+        except (TypeError, ValueError, ArithmeticError, ConfigError) as e:
+            sub.error(f"argument --param: {boards.name}'s plant rejects it: {e}")
     root = output_root(boards.rig_file)
     out = _writable(
         sub,
         "--out",
-        args.out or root / "runs" / f"{boards.name}-seed{args.seed}",
+        args.out or root / "runs" / f"{boards.name}-{world}-seed{args.seed}",
         inputs={f"board {name}'s firmware folder": app.path for name, app in boards.firmware().items()},
         owned={f"board {name}'s firmware folder": root for name in boards.firmware()},
         base=None if args.out else root.parent,
     )
-    with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out) as run:
+    options = {"world": world, "plant_options": dict(args.param or {})}
+    with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out, **options) as run:
         run.run_for(args.duration)
     for name, rig in run.rigs.items():
         print(f"board {name}:" if name in boards.firmware() else f"host program {name}:")

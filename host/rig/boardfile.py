@@ -19,7 +19,15 @@ from host.rig.app import App
 from host.rig.rigfile import MAX_RIG_BYTES, _name, _Where, rig_from_data
 from host.rig.tomlfile import read_toml
 
-TOP_KEYS = {"name": str, "description": str, "plant": dict, "world": dict, "boards": list, "budgets": dict}
+TOP_KEYS = {
+    "name": str,
+    "description": str,
+    "plant": dict,
+    "world": dict,
+    "worlds": dict,
+    "boards": list,
+    "budgets": dict,
+}
 REACTION_KEYS = {"kind": str, "stimulus": str, "response": str, "limit_us": int, "description": str}
 BOARD_KEYS = {
     "name": str,
@@ -203,8 +211,9 @@ def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -
     one = {k: v for k, v in entry.items() if k not in ("name",)}
     one["name"] = app_name
     one["plant"] = data["plant"]
-    if "world" in data:
-        one["world"] = data["world"]
+    for shared in ("world", "worlds"):  # (the plant's, so every board's: BoardSet(world=) picks one)
+        if shared in data:
+            one[shared] = data[shared]
     one.setdefault("firmware", {})
     try:
         app = rig_from_data(path, one)

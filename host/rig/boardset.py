@@ -39,6 +39,12 @@ MAX_ROUNDS_AT_ONE_INSTANT = 100_000
 each other's edges at the same µs, for ever)."""
 
 
+def _world_of(app, world: str) -> dict:
+    if world not in app.worlds:
+        raise ConfigError(f"world: unknown world {world!r} (the file's worlds: {', '.join(app.worlds)})")
+    return app.worlds[world]
+
+
 def label_error(error: HarnessError, board: str) -> None:
     """``error``'s message names ``board`` first (once)."""
     if board and error.args and isinstance(error.args[0], str) and not error.args[0].startswith("board "):
@@ -64,15 +70,33 @@ class BoardSet:
     on one plant and one clock. Use as a context manager, or call start() and stop()."""
 
     def __init__(
-        self, boards, seed: int = 0, *, artefacts=None, trace=False, record=False, watchdog_s=5.0, coverage=None
+        self,
+        boards,
+        seed: int = 0,
+        *,
+        artefacts=None,
+        trace=False,
+        record=False,
+        watchdog_s=5.0,
+        coverage=None,
+        world: str | None = None,
+        plant_options: dict | None = None,
     ):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
         folder is made, named as the board; ``coverage``: a board's name -> the coverage.py
-        data file its firmware's coverage goes to (docs/coverage.md), or None."""
+        data file its firmware's coverage goes to (docs/coverage.md), or None; ``world``: one
+        of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``)."""
         self.spec = boards
         self.seed = arguments.seed(seed)
-        self.plant = check_contract(boards.make_plant())
+        first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
+        options = dict(_world_of(first, world)) if world else {}
+        options.update(plant_options or {})
+        try:
+            made = boards.make_plant(**options)
+        except (TypeError, ValueError, ArithmeticError) as e:
+            raise ConfigError(f"{boards.name}: the plant rejects {options}: {e}") from None
+        self.plant = check_contract(made)
         self.plant.reset(self.seed)
         self.artefacts = Path(artefacts) if artefacts else None
         self.rigs: dict[str, Rig] = {}

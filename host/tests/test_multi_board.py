@@ -424,3 +424,53 @@ def test_each_board_of_a_set_replays_from_its_own_trace_folder(tmp_path):
             tmp_path / "run" / board, tmp_path / f"replay-{board}", choice=FirmwareChoice(trust_folder=True)
         )
         assert result.same and result.recorded >= 10, f"board {board}: {result.difference} ({result.folder})"
+
+
+WORLDS_RIG = """\
+name = "worlds"
+[plant]
+body = "differential"
+room_w_m = 3.0
+room_h_m = 2.0
+start_pose = [0.5, 1.0, 0.0]
+[[plant.parts]]
+kind = "dc_motor"
+name = "motor_l"
+drives = "left"
+[[plant.parts]]
+kind = "dc_motor"
+name = "motor_r"
+drives = "right"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+[worlds.default]
+[worlds.wide]
+room_w_m = 6.0
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { LINK_UART = 1 } }
+wiring = { LINK_UART = "link.a" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+
+
+def test_a_set_runs_in_a_world_of_its_file_with_options_over_it(tmp_path):
+    for board, uart in (("left", 1), ("right", 0)):
+        (tmp_path / board).mkdir()
+        (tmp_path / board / "main.py").write_text(
+            f"import time\nfrom machine import UART\nu = UART({uart})\nwhile True:\n    time.sleep_ms(50)\n"
+        )
+    (tmp_path / "rig.toml").write_text(WORLDS_RIG)
+    boards = load_boards(tmp_path / "rig.toml")
+    with BoardSet(boards, seed=1, world="wide", plant_options={"start_pose": [4.0, 1.0, 0.0]}) as wide:
+        wide.run_for(0.05)
+        bounds, x = wide.plant.world.bounds, wide.truth()["x_m"]
+    assert bounds[2] == 6.0 and x == 4.0, (bounds, x)
+    with pytest.raises(ConfigError, match=r"world: unknown world 'narrow' \(the file's worlds: default, wide\)"):
+        BoardSet(boards, seed=1, world="narrow")
