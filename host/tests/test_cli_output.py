@@ -83,5 +83,7 @@ def test_run_of_a_rig_with_several_boards_writes_a_trace_folder_per_board_and_sh
     assert f"all in {out}/nav/console.log" in done.stdout and "  | nav: go" in done.stdout, done.stdout
     for board in ("motor", "nav"):
         assert (out / board / "trace.jsonl").is_file() and (out / board / "truth.csv").is_file(), sorted(out.rglob("*"))
-    refused = mpy_fil("run", rig, "--world", "x")
-    assert refused.returncode == 2 and "argument --world: not for a rig file with several boards" in refused.stderr
+    refused = mpy_fil("run", rig, "--board", "x")
+    assert refused.returncode == 2 and "argument --board: not for a rig file with several boards" in refused.stderr
+    unknown = mpy_fil("run", rig, "--world", "x")  # (a set's worlds are its rig file's, as a one-board rig's)
+    assert unknown.returncode == 2 and "argument --world: unknown world 'x' for two_board_rover" in unknown.stderr
