@@ -55,6 +55,12 @@ def truth_due(rig: Rig, t_us: int) -> bool:
     return rig.recorder is not None and rig.recorder.next_truth_us <= t_us
 
 
+def to_wait(rig, what: str = "a message") -> None:
+    """Serve a running board (or host program) until it blocks in a wait, or ends."""
+    while rig.clock.wait is None and rig.exit_kind is None:
+        rig.dispatch(*rig.session.recv(rig.watchdog_s, what))
+
+
 @contextlib.contextmanager
 def naming(board: str):
     """Any harness error raised while serving ``board`` names it first."""
@@ -208,8 +214,7 @@ class BoardSet:
         """Serve each board that is running, in order, until it blocks (or ends)."""
         for board, rig in self.rigs.items():
             serving[0] = board
-            while rig.clock.wait is None and rig.exit_kind is None:
-                rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+            to_wait(rig)
 
     def _others_act_us(self, board: str, t_us: int, t_end_us: int) -> int:
         """The earliest instant a board other than ``board`` could act, with nothing written
@@ -279,8 +284,7 @@ class BoardSet:
         self._in_target = target
         try:
             with naming(target):
-                while rig.clock.wait is None and rig.exit_kind is None:  # (running: to its wait first)
-                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+                to_wait(rig)  # (running: to its wait first)
                 h = rig.wiring.i2c_targets.get(address) if rig.exit_kind is None else None
                 if h is None:  # (no target there: the plant's chips answer)
                     return None
@@ -295,8 +299,7 @@ class BoardSet:
                 rig._i2ct_done = None
                 rig.clock.bound_us = t_us + 1
                 rig.clock.serve(t_us)
-                while rig.clock.wait is None and rig.exit_kind is None:
-                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "the target's answer"))
+                to_wait(rig, "the target's answer")
         finally:
             self._in_target = None
         self.rigs[board].clock.bound_us = t_us + 1
@@ -315,8 +318,7 @@ class BoardSet:
         self._settle(serving)
         with naming(board):
             rig.power_cycle()
-            while rig.clock.wait is None and rig.exit_kind is None:  # (its boot, to its first wait)
-                rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+            to_wait(rig)  # (its boot, to its first wait)
 
     def target_addresses(self, board: str, bus: str) -> set:
         """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's),
@@ -325,8 +327,7 @@ class BoardSet:
         rig = self.rigs[target] if target is not None and self._in_target is None else None
         if rig is not None:
             with naming(target):
-                while rig.clock.wait is None and rig.exit_kind is None:
-                    rig.dispatch(*rig.session.recv(rig.watchdog_s, "a message"))
+                to_wait(rig)
         if rig is None or rig.exit_kind is not None:
             return set()
         return {a for a in rig.wiring.i2c_targets if FIRST_ADDRESS <= a <= LAST_ADDRESS}

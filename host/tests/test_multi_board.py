@@ -216,6 +216,15 @@ def test_a_board_of_a_set_is_not_run_alone(tmp_path):
         assert boards["left"].t_us == boards["right"].t_us == 10_000
 
 
+def set_folder(folder: Path, mains: dict, rig: str) -> Path:
+    """A rig file with several boards in ``folder``: each board's main.py (board -> text), its rig.toml."""
+    for board, main in mains.items():
+        (folder / board).mkdir()
+        (folder / board / "main.py").write_text(main)
+    (folder / "rig.toml").write_text(rig)
+    return folder / "rig.toml"
+
+
 REACTION_RIG = """\
 name = "reaction"
 [plant]
@@ -269,10 +278,7 @@ while True:
 
 @pytest.mark.parametrize(("limit_us", "holds"), [(5000, True), (2000, False)])
 def test_a_budget_across_boards_times_a_command_on_one_to_the_action_of_the_other(tmp_path, limit_us, holds):
-    for board, main in (("left", COMMANDER), ("right", ACTOR)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(main)
-    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", str(limit_us)))
+    set_folder(tmp_path, {"left": COMMANDER, "right": ACTOR}, REACTION_RIG.replace("LIMIT", str(limit_us)))
     with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1) as boards:
         boards.run_for(0.3)
     budget = boards.budgets["command"]
@@ -289,11 +295,10 @@ def test_a_budget_across_boards_times_a_command_on_one_to_the_action_of_the_othe
 
 
 def test_a_budget_across_boards_names_a_board_or_signal_it_cannot_see(tmp_path):
-    for board, main in (("left", COMMANDER), ("right", ACTOR)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(main)
-    (tmp_path / "rig.toml").write_text(
-        REACTION_RIG.replace("LIMIT", "5000").replace("right:probe:ack", "right:probe:nak")
+    set_folder(
+        tmp_path,
+        {"left": COMMANDER, "right": ACTOR},
+        REACTION_RIG.replace("LIMIT", "5000").replace("right:probe:ack", "right:probe:nak"),
     )
     with pytest.raises(ConfigError, match=r"\[budgets\.command\] response: board right wires no pin to 'probe:nak'"):
         load_boards(tmp_path / "rig.toml")
@@ -302,10 +307,9 @@ def test_a_budget_across_boards_names_a_board_or_signal_it_cannot_see(tmp_path):
 def test_a_board_that_browns_out_boots_again_and_the_others_carry_on(tmp_path):
     """BoardSet.power_cycle: the right board loses power at 0.1 s (killed in its wait) and
     boots again at that instant; the left board's commands after it are acted on again."""
-    for board, main in (("left", COMMANDER), ("right", 'print("actor up")\n' + ACTOR)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(main)
-    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", "5000"))
+    set_folder(
+        tmp_path, {"left": COMMANDER, "right": 'print("actor up")\n' + ACTOR}, REACTION_RIG.replace("LIMIT", "5000")
+    )
     with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1, artefacts=tmp_path / "out") as boards:
         boards.run_for(0.1)
         before = boards.budgets["command"].stats()["count"]
@@ -362,10 +366,7 @@ while True:
 
 @pytest.mark.parametrize("faults", ["drop_p = 0.1", "flip_p = 0.1"])
 def test_a_board_uart_loses_or_damages_bytes_as_its_faults_say_the_same_each_run(tmp_path, faults):
-    for board, main in (("left", SENDER), ("right", RECEIVER)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(main)
-    (tmp_path / "rig.toml").write_text(UART_FAULT_RIG.replace("FAULTS", faults))
+    set_folder(tmp_path, {"left": SENDER, "right": RECEIVER}, UART_FAULT_RIG.replace("FAULTS", faults))
     runs = []
     for _ in range(2):
         with BoardSet(load_boards(tmp_path / "rig.toml"), seed=4) as boards:
@@ -393,10 +394,7 @@ def test_each_boards_coverage_goes_to_its_own_data_file(tmp_path):
     and the actor's reaction, each in its board's file only."""
     from coverage import CoverageData
 
-    for board, main in (("left", COMMANDER), ("right", ACTOR)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(main)
-    (tmp_path / "rig.toml").write_text(REACTION_RIG.replace("LIMIT", "5000"))
+    set_folder(tmp_path, {"left": COMMANDER, "right": ACTOR}, REACTION_RIG.replace("LIMIT", "5000"))
     files = {b: tmp_path / "cov" / f".coverage.{b}" for b in ("left", "right")}
     with BoardSet(load_boards(tmp_path / "rig.toml"), seed=1, coverage=files.get) as boards:
         boards.run_for(0.1)
@@ -461,13 +459,8 @@ wiring = { LINK_UART = "link.b" }
 
 
 def test_a_set_runs_in_a_world_of_its_file_with_options_over_it(tmp_path):
-    for board, uart in (("left", 1), ("right", 0)):
-        (tmp_path / board).mkdir()
-        (tmp_path / board / "main.py").write_text(
-            f"import time\nfrom machine import UART\nu = UART({uart})\nwhile True:\n    time.sleep_ms(50)\n"
-        )
-    (tmp_path / "rig.toml").write_text(WORLDS_RIG)
-    boards = load_boards(tmp_path / "rig.toml")
+    idle = "import time\nfrom machine import UART\nu = UART({})\nwhile True:\n    time.sleep_ms(50)\n"
+    boards = load_boards(set_folder(tmp_path, {"left": idle.format(1), "right": idle.format(0)}, WORLDS_RIG))
     with BoardSet(boards, seed=1, world="wide", plant_options={"start_pose": [4.0, 1.0, 0.0]}) as wide:
         wide.run_for(0.05)
         bounds, x = wide.plant.world.bounds, wide.truth()["x_m"]
