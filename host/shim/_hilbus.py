@@ -44,17 +44,22 @@ def _reverse(data):
     return bytes(out)
 
 
+def _handle_of(made, key, obj):
+    """The handle of peripheral ``key`` (one per key, as on a board), now ``obj``'s."""
+    handle = made.get(key)
+    if handle is None:
+        handle = made[key] = _hil.register(obj)
+    else:
+        _hil._handles[handle] = obj
+    return handle
+
+
 class _Bus:
     _made = {}  # bus name -> its handle (one per bus, as on a board)
 
     def _open(self, kind, key, clock_hz):
         self._key = key
-        handle = _Bus._made.get(key)
-        if handle is None:
-            handle = _Bus._made[key] = _hil.register(self)
-        else:
-            _hil._handles[handle] = self
-        self._handle = handle
+        self._handle = handle = _handle_of(_Bus._made, key, self)
         _hil.configure(handle, kind, key, param=clock_hz)
 
     def _hil_apply(self, kind, value, extra):
@@ -397,14 +402,8 @@ class I2CTarget:
         self._handler, self._trigger, self._hard, self._flags = None, 0, False, 0
         self._rx = b""  # the byte the controller wrote, for readinto (WRITE_REQ)
         self._tx = bytearray()  # what write() gave, for the controller's reads (READ_REQ)
-        key = "i2ct%d" % id
-        handle = I2CTarget._made.get(id)
-        if handle is None:
-            handle = I2CTarget._made[id] = _hil.register(self)
-        else:
-            _hil._handles[handle] = self
-        self._handle = handle
-        self._key = key
+        self._key = key = "i2ct%d" % id
+        self._handle = handle = _handle_of(I2CTarget._made, id, self)
         _hil.configure(handle, F.CFG_I2CT, key, param=self._addr)
 
     @property
