@@ -1,12 +1,17 @@
 """The bus tests that poll for long, and the bench's bus-heavy robot, read the same bytes
 with the host's bus images as with an exchange a transfer (host/tests/test_bus_image.py
-says how they are compared; these take a minute or more, so they run in make hil)."""
+says how they are compared; these take a minute or more, so they run in make hil, which
+runs with a report, and are skipped in make test)."""
 
 import pytest
 
 from host.tests.test_bus_image import SLOW_BUS_TESTS, bench_robot_both_ways, case_id, cases, compare, kit_demo_both_ways
 
-pytestmark = [pytest.mark.hil, pytest.mark.long]
+pytestmark = [
+    pytest.mark.hil,
+    pytest.mark.long,
+    pytest.mark.skipif("not config.getoption('--hil-report')", reason="make hil runs the slow bus comparisons"),
+]
 SLOW = cases(SLOW_BUS_TESTS)
 
 

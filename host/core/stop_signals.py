@@ -55,6 +55,24 @@ def _stopped_uncaught(kind, value, traceback) -> None:
     os._exit(128 + signum)
 
 
+def _stopped_unraisable(unraisable) -> None:
+    """sys.unraisablehook of the program: a stop signal whose :class:`Stopped` was raised where
+    Python cannot raise (a weakref callback such as the import lock's, a ``__del__``) would be
+    printed as "Exception ignored" and lost, and the command would go on. Delivered again
+    instead, a millisecond later (a timer's SIGALRM), at the next line that can raise, as the
+    first would have."""
+    value = unraisable.exc_value
+    if not isinstance(value, Stopped):
+        return sys.__unraisablehook__(unraisable)
+
+    def again(_signum, frame):
+        signal.signal(signal.SIGALRM, signal.SIG_DFL)
+        stop(value.signum, frame)
+
+    signal.signal(signal.SIGALRM, again)  # (raised here, in the hook, it would be lost again)
+    signal.setitimer(signal.ITIMER_REAL, 0.001)
+
+
 def _the_program() -> bool:
     """host.cli runs as the program: the mpy-fil script, or python -m host.cli (and not a
     campaign's pool worker, which imports the script again as ``__mp_main__``)."""
@@ -68,4 +86,5 @@ def _the_program() -> bool:
 
 if _the_program():
     sys.excepthook = _stopped_uncaught
+    sys.unraisablehook = _stopped_unraisable
     install()

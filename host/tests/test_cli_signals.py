@@ -7,6 +7,7 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -178,3 +179,42 @@ def test_a_signal_while_run_draws_its_plots_says_so_and_keeps_the_whole_trace_fo
     text = stop_and_check(front, sig, "mpy-fil run")
     assert f"plots: stopped; the trace folder {out} is whole" in text, text[-2000:]
     assert (out / "trace.jsonl").is_file() and (out / "header.json").is_file()
+
+
+SWALLOWED = """
+import gc, signal, sys, weakref
+from host.core import stop_signals
+
+sys.unraisablehook = stop_signals._stopped_unraisable
+stop_signals.install()
+
+
+class Thing:
+    pass
+
+
+def callback(_ref):  # (as importlib's module-lock callback: an exception here is ignored)
+    stop_signals.stop(signal.SIGINT, None)
+
+
+try:
+    thing = Thing()
+    ref = weakref.ref(thing, callback)
+    del thing
+    gc.collect()
+    for _ in range(100_000):
+        pass
+    print("went on")
+except stop_signals.Stopped as e:
+    print("stopped by", e.signal_name)
+"""
+
+
+def test_a_stop_raised_where_python_ignores_exceptions_is_delivered_again():
+    """Found by the start-up test above under load: SIGINT came while importlib's module-lock
+    callback ran, Python printed "Exception ignored" and the command went on (argparse's exit
+    2). The program's unraisable hook delivers the signal again at the next line."""
+    done = subprocess.run([sys.executable, "-c", SWALLOWED], capture_output=True, text=True, timeout=60)
+    assert done.stdout.strip() == "stopped by SIGINT", (
+        f"expected the swallowed SIGINT delivered again, got stdout {done.stdout!r}, stderr {done.stderr[-2000:]!r}"
+    )
