@@ -55,6 +55,14 @@ def truth_due(rig: Rig, t_us: int) -> bool:
     return rig.recorder is not None and rig.recorder.next_truth_us <= t_us
 
 
+def wakeable(rig) -> bool:
+    """Whether an input change could end ``rig``'s wait before its end: its wait watches an
+    input, or an IRQ is armed on one of its pins (or it is not blocked). Another board's wait
+    that no change can end needs no round at each change of the plant: only at its end."""
+    wait = rig.clock.wait
+    return wait is None or bool(wait.watch) or getattr(rig.wiring, "irq_armed", False)
+
+
 def to_wait(rig, what: str = "a message") -> None:
     """Serve a running board (or host program) until it blocks in a wait, or ends."""
     while rig.clock.wait is None and rig.exit_kind is None:
@@ -124,6 +132,7 @@ class BoardSet:
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
+        self.rounds = 0  # rounds served (a round: the plant to an instant, each board with something there served)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
         self.budgets: dict[str, ReactionBudget] = {}  # the budgets across boards (the file's [budgets])
         for name, (stimulus, response, limit_us, description) in boards.budgets.items():
@@ -227,7 +236,7 @@ class BoardSet:
             if other == board or rig.exit_kind is not None:
                 continue
             wait = rig.clock.wait
-            if wait is None or wait.t_until <= t_us or self.views[other].queue:
+            if wait is None or wait.t_until <= t_us or (self.views[other].queue and wakeable(rig)):
                 return t_us + 1
             earliest = min(earliest, wait.t_until)
             if rig.recorder is not None:  # (its truth sample: the shared plant must be there then)
@@ -238,11 +247,12 @@ class BoardSet:
         """The round's instant: the earliest at which anything may change; None when every
         board is at ``t_end_us`` with nothing left at that instant."""
         plant = self.plant
-        t_us = min(plant.next_change_us(), t_end_us)
+        live = [rig for rig in self.rigs.values() if rig.exit_kind is None]
+        t_us = min(plant.next_change_us(), t_end_us) if any(wakeable(rig) for rig in live) else t_end_us
         behind = False
         for name, rig in self.rigs.items():
             view = self.views[name]
-            if view.queue:
+            if view.queue and (rig.exit_kind is not None or wakeable(rig)):
                 t_us = min(t_us, view.queue[0][0])
             if rig.exit_kind is None:
                 t_us = min(t_us, rig.clock.wait.t_until)
@@ -253,6 +263,7 @@ class BoardSet:
         if t_us >= t_end_us and not behind and not any(v.queue for v in self.views.values()):
             return None
         t_us = min(t_us, t_end_us)
+        self.rounds += 1
         last, rounds = self._instant
         self._instant = (t_us, rounds + 1 if t_us == last else 0)
         if rounds > MAX_ROUNDS_AT_ONE_INSTANT:

@@ -208,6 +208,59 @@ def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
     assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
 
 
+UART_PAIR_RIG = """\
+name = "uart_pair"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { LINK_UART = 1 } }
+wiring = { LINK_UART = "link.a" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+
+BURSTS = """\
+import time
+from machine import UART
+u = UART(1, 115200)
+for n in range(4):
+    u.write(bytes(range(n, n + 150)))  # (150 bytes: 13 ms on the wire)
+    time.sleep_ms(50)
+while True:
+    time.sleep_ms(100)
+"""
+
+SLOW_READER = """\
+import time
+from machine import UART
+u = UART(0, 115200)
+got = b""
+while True:
+    time.sleep_ms(40)
+    got += u.read() or b""
+    print("right has", len(got), "sum", sum(got), "at", time.ticks_us())
+"""
+
+
+def test_a_board_no_change_can_wake_takes_the_bytes_in_flight_at_its_wake_not_a_round_each(tmp_path):
+    rig = set_folder(tmp_path, {"left": BURSTS, "right": SLOW_READER}, UART_PAIR_RIG)
+    with BoardSet(load_boards(rig), seed=1, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.25)
+        console, rounds = boards["right"].console, boards.rounds
+    expected = sum(sum(range(n, n + 150)) for n in range(4))
+    assert f"right has 600 sum {expected}" in console, f"expected the 600 bytes sent, in order, got:\n{console}"
+    # (the left board's wakes, the right's, the run's end: about 12; a round a byte arriving: 600 more)
+    assert rounds < 40, f"expected a round at each board's wake only, got {rounds} for 600 bytes in flight"
+
+
 def test_a_board_of_a_set_is_not_run_alone(tmp_path):
     with BoardSet(load_boards(RIG), seed=10) as boards:
         with pytest.raises(ConfigError, match=r"board left is one of a set of boards: run the set"):
