@@ -544,7 +544,7 @@ def _run_boards(args) -> int:
     from host.rig.boardset import BoardSet
 
     sub = args.sub
-    given = {"--board": args.board, "--coverage": args.coverage}
+    given = {"--board": args.board}
     given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
     given |= {"--interactive": args.interactive, "--break-at": args.break_at is not None}
     for option in (option for option, value in given.items() if value):
@@ -570,6 +570,10 @@ def _run_boards(args) -> int:
         base=None if args.out else root.parent,
     )
     options = {"world": world, "plant_options": dict(args.param or {})}
+    # --coverage: each board's firmware measured into its own folder's coverage/ (docs/coverage.md)
+    measured = boards.firmware().items() if args.coverage else ()
+    coverage = {name: _coverage_file(out / name, app.mpy_version) for name, app in measured}
+    options["coverage"] = coverage.get if coverage else None
     with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out, **options) as run:
         run.run_for(args.duration)
     for name, rig in run.rigs.items():
@@ -578,6 +582,10 @@ def _run_boards(args) -> int:
         rows = rig.budget_rows() if name in boards.firmware() else None
         if rows:
             print(format_table(rows))
+        if name in coverage:
+            from host.coverage.session import run_summary
+
+            print(f"board {name}'s {run_summary(coverage[name])}")
     if run.budgets:
         print("budgets across boards:")
         print(format_table([b.stats() for b in run.budgets.values()]))
