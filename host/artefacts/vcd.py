@@ -96,6 +96,84 @@ def write_vcd(
     return paths
 
 
+def merge_vcd(path, parts: dict, *, top: str, comment: str) -> None:
+    """One VCD at ``path`` of several boards' (``parts``: a board's name -> the VCD
+    :func:`write_vcd` wrote for it), each board a scope of its own under ``top``
+    (``<top>.<board>.sensors...``), on the one virtual time: a set of boards'
+    (docs/multi-board.md). Each board's identifier codes get a prefix of its own, so none
+    clash; the changes are merged in time order, read a line at a time."""
+    boards = list(parts.items())
+    if len(boards) > _ID_LAST - _ID_FIRST + 1:
+        raise ValueError(f"merge_vcd: at most {_ID_LAST - _ID_FIRST + 1} boards, got {len(boards)}")
+    prefixes = [chr(_ID_FIRST + i) for i in range(len(boards))]
+    files = [open(vcd, encoding="ascii", errors="replace") for _name, vcd in boards]  # noqa: SIM115
+    try:
+        with open(path, "w", encoding="ascii", errors="replace") as f:
+            f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
+            f.write(f"$scope module {_ident(top)} $end\n")
+            for (name, _vcd), prefix, lines in zip(boards, prefixes, files, strict=True):
+                f.write(f"$scope module {_ident(name)} $end\n")
+                f.write("".join(_declarations(lines, prefix)))
+                f.write("$upscope $end\n")
+            f.write("$upscope $end\n$enddefinitions $end\n")
+            blocks = [_blocks(lines, prefix, i) for i, (prefix, lines) in enumerate(zip(prefixes, files, strict=True))]
+            first = [next(b, None) for b in blocks]  # (each file's $dumpvars: one block of them all)
+            f.write("#0\n$dumpvars\n" + "".join(line for block in first if block for line in block[2]) + "$end\n")
+            t_written = 0
+            for t, _i, changes in heapq.merge(*blocks):
+                if t != t_written:
+                    f.write(f"#{t}\n")
+                    t_written = t
+                f.write("".join(changes))
+    finally:
+        for lines in files:
+            lines.close()
+
+
+def _declarations(lines, prefix: str) -> list[str]:
+    """A VCD's declarations inside its top scope, each identifier code prefixed (the file
+    read up to its ``$enddefinitions``)."""
+    out, depth = [], 0
+    for line in lines:
+        if line.startswith("$enddefinitions"):
+            break
+        if line.startswith("$scope"):
+            depth += 1
+            if depth == 1:
+                continue
+        elif line.startswith("$upscope"):
+            depth -= 1
+            if depth == 0:
+                continue
+        elif line.startswith("$var"):
+            words = line.split()
+            words[3] = prefix + words[3]
+            line = " ".join(words) + "\n"
+        if depth >= 1:
+            out.append(line)
+    return out
+
+
+def _blocks(lines, prefix: str, order: int):
+    """(t, order, value lines) for each instant of a VCD's body, identifier codes prefixed;
+    the first, its ``$dumpvars`` at time 0."""
+    t, changes, started = 0, [], False
+    for line in lines:
+        if line.startswith("#"):
+            if started:
+                yield t, order, changes
+            t, changes, started = int(line[1:]), [], True
+        elif line.startswith("$"):  # ($dumpvars, $end)
+            continue
+        elif line[0] in "bBrRs":
+            value, code = line.rstrip("\n").rsplit(" ", 1)
+            changes.append(f"{value} {prefix}{code}\n")
+        elif line.strip():
+            changes.append(f"{line[0]}{prefix}{line[1:]}")
+    if started:
+        yield t, order, changes
+
+
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 

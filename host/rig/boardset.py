@@ -21,6 +21,8 @@ import contextlib
 import struct
 from pathlib import Path
 
+from host.artefacts.folder import VCD
+from host.artefacts.vcd import merge_vcd
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
 from host.rig import arguments
@@ -113,6 +115,7 @@ class BoardSet:
         self.plant = check_contract(made)
         self.plant.reset(self.seed)
         self.artefacts = Path(artefacts) if artefacts else None
+        self.recorded = bool(record)  # (each board records its signals: their VCDs merged at the stop)
         self.rigs: dict[str, Rig] = {}
         self.views: dict[str, BoardView] = {}
         for name, app in boards.apps.items():
@@ -162,7 +165,9 @@ class BoardSet:
         return self
 
     def stop(self, interrupted: BaseException | None = None) -> None:
-        """Stop every board (each writes its console and trace); the first error stands."""
+        """Stop every board (each writes its console and trace); the first error stands.
+        Recorded, the boards' VCDs are merged into the artefacts' own ``trace.vcd``, one
+        scope per board."""
         error = None
         for name, rig in self.rigs.items():
             try:
@@ -170,8 +175,19 @@ class BoardSet:
                     rig.stop(interrupted)
             except HarnessError as e:
                 error = error or e
+        if self.artefacts is not None and self.recorded:
+            self._merge_vcds()
         if error is not None and interrupted is None:
             raise error
+
+    def _merge_vcds(self) -> None:
+        """``artefacts/trace.vcd``: each recorded board's ``trace.vcd`` a scope of its own."""
+        parts = {name: self.artefacts / name / VCD for name, rig in self.rigs.items() if isinstance(rig, Rig)}
+        parts = {name: path for name, path in parts.items() if path.is_file()}
+        if parts:
+            boards = ", ".join(parts)
+            comment = f"boards {boards} of {self.spec.name} seed {self.seed} (each board's own trace.vcd in its folder)"
+            merge_vcd(self.artefacts / VCD, parts, top=self.spec.name, comment=comment)
 
     def __getitem__(self, name: str) -> Rig:
         return self.rigs[name]

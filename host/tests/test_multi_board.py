@@ -12,6 +12,7 @@ from host.core.errors import ConfigError, FirmwareError, FirmwareHung
 from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 from host.rig.rigfile import load_rig
+from host.tests.vcd_reader import read_vcd
 
 RIG = Path(__file__).parent / "firmware" / "two_boards" / "rig.toml"
 TICKS0 = 2**30 - 10_000_000  # ticks_us at t=0 (docs/clock.md: 10 s before the wrap)
@@ -43,6 +44,24 @@ def test_the_same_seed_gives_byte_identical_traces_for_every_board(tmp_path):
         )
         assert first[f"{board}.console"] == second[f"{board}.console"], f"board {board}: consoles differ"
     assert first["left.console"].count("left got pong") >= 3, f"expected pongs back:\n{first['left.console']}"
+
+
+def test_a_recorded_set_writes_one_vcd_with_a_scope_per_board_on_the_one_clock(tmp_path):
+    with BoardSet(load_boards(RIG), seed=2, record=True, artefacts=tmp_path) as boards:
+        boards.run_for(0.1)
+    merged = read_vcd((tmp_path / "trace.vcd").read_text())  # (strict: codes, values, time, scopes)
+    for board in ("left", "right"):
+        own = read_vcd((tmp_path / board / "trace.vcd").read_text())
+        assert own.vars, f"expected board {board}'s own VCD to hold its signals"
+        for path, var in own.vars.items():  # (its own VCD's top scope is its app's, two_boards_<board>)
+            there = f"two_boards.{board}.{path.split('.', 1)[1]}"
+            assert there in merged.vars and merged.vars[there].type == var.type, f"expected {there} in the merged VCD"
+            assert merged.changes.get(there) == own.changes.get(path), (
+                f"expected {there} to change as {path} in board {board}'s own VCD: "
+                f"{merged.changes.get(there, [])[:4]} for {own.changes.get(path, [])[:4]}"
+            )
+    edges = merged.timeline("two_boards.right.sensors.ready.out")
+    assert len(edges) > 3, f"expected the right board's ready line to change, got {edges}"
 
 
 def test_a_gpio_edge_reaches_the_other_board_at_the_instant_it_was_written(tmp_path):
