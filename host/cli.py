@@ -306,8 +306,9 @@ def _testing_parsers(sub) -> None:
     shr.set_defaults(command=lambda args: _say_command(shrink, "shrink_command", args), sub=shr)
 
     diff = sub.add_parser("diff", help="compare two trace folders: trajectories, outputs, budgets")
-    diff.add_argument("a", metavar="A", type=_trace_folder, help="trace folder (the reference)")
-    diff.add_argument("b", metavar="B", type=_trace_folder, help="trace folder (compared with A)")
+    where = "trace folder, or a set of boards' run folder (board by board)"
+    diff.add_argument("a", metavar="A", type=_trace_or_set_folder, help=f"{where} (the reference)")
+    diff.add_argument("b", metavar="B", type=_trace_or_set_folder, help=f"{where} (compared with A)")
     diff.add_argument("--out", type=_folder, help="folder for the plot (default: B/diff)")
     diff.add_argument("--max-pos-m", type=float, default=0.0, help="largest position deviation allowed (default 0)")
     diff.add_argument("--max-rms-m", type=float, default=0.0, help="largest RMS position deviation allowed (default 0)")
@@ -431,6 +432,16 @@ def _trace_folder(text: str) -> Path:
     if not (path / HEADER).is_file():
         raise argparse.ArgumentTypeError(f"{text} is not a trace folder (no {HEADER})")
     return path
+
+
+def _trace_or_set_folder(text: str) -> Path:
+    """A trace folder, or a set of boards' run folder (a trace folder a board: ``diff``)."""
+    from host.diff.command import set_boards
+
+    path = Path(text)
+    if path.is_dir() and not (path / HEADER).is_file() and set_boards(path):
+        return path
+    return _trace_folder(text)
 
 
 # -- commands ----------------------------------------------------------------------------

@@ -12,6 +12,7 @@ from host.core.errors import ConfigError, FirmwareError, FirmwareHung
 from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 from host.rig.rigfile import load_rig
+from host.tests.conftest import run_cli
 from host.tests.vcd_reader import read_vcd
 
 RIG = Path(__file__).parent / "firmware" / "two_boards" / "rig.toml"
@@ -539,3 +540,20 @@ def test_a_set_runs_in_a_world_of_its_file_with_options_over_it(tmp_path):
     assert bounds[2] == 6.0 and x == 4.0, (bounds, x)
     with pytest.raises(ConfigError, match=r"world: unknown world 'narrow' \(the file's worlds: default, wide\)"):
         BoardSet(boards, seed=1, world="narrow")
+
+
+def test_diff_of_two_runs_of_a_set_compares_board_by_board(tmp_path):
+    """mpy-fil diff A B of two sets' run folders: each board's trace folder with the other
+    run's, its tables and plot under its name; the worst exit (docs/testing-tools.md)."""
+    for run, seconds in (("a", 0.2), ("b", 0.2), ("c", 0.3)):  # (c: on for longer, more lines written)
+        with BoardSet(load_boards(RIG), seed=1, trace=True, record=True, artefacts=tmp_path / run) as boards:
+            boards.run_for(seconds)
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "b", "--fail-on-output", "--out", tmp_path / "ab")
+    assert code == 0, f"expected the same seed's runs the same, got exit {code}:\n{text}\n{err}"
+    for board in ("left", "right"):
+        assert f"board {board}:\n" in text and f"board {board}: same within the thresholds" in text, text
+        assert (tmp_path / "ab" / board / "diff.png").is_file(), sorted((tmp_path / "ab").rglob("*"))
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "c", "--fail-on-output", "--out", tmp_path / "ac")
+    assert code == 1 and "board left: DIFFERS beyond the thresholds" in text, f"exit {code}:\n{text}\n{err}"
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "c" / "left", "--out", tmp_path / "x")
+    assert code == 2 and "holds the boards left, right and B" in err + text, f"exit {code}:\n{text}\n{err}"
