@@ -34,6 +34,7 @@ from host.rig.peripherals import TARGET_PREFIX
 from host.rig.rig import Rig
 from host.rig.spec import Recording, RigSpec
 from sim_plant.buses import FIRST_ADDRESS, LAST_ADDRESS
+from sim_plant.faults import HARNESS_KINDS, FaultError, parse_faults, with_faults
 from sim_plant.plant import check_contract
 
 MAX_ROUNDS_AT_ONE_INSTANT = 100_000
@@ -45,6 +46,33 @@ def _world_of(app, world: str) -> dict:
     if world not in app.worlds:
         raise ConfigError(f"world: unknown world {world!r} (the file's worlds: {', '.join(app.worlds)})")
     return app.worlds[world]
+
+
+def split_faults(boards, faults) -> tuple[list, dict]:
+    """A set's fault tables (a campaign's fault set): those of the harness (``link_corrupt``,
+    ``link_stall``, ``brownout``, ``heap``) name their board (``board = "motor"``) and go
+    to that board's rig; the others act on the one plant and name none. (the plant's
+    tables, board -> its tables); a mistake is a ConfigError naming the table."""
+    plant, own = [], {}
+    for i, entry in enumerate(faults or ()):
+        table = dict(entry) if isinstance(entry, dict) else entry
+        board = table.pop("board", None) if isinstance(table, dict) else None
+        kind = table.get("kind") if isinstance(table, dict) else None
+        if kind in HARNESS_KINDS:
+            if board not in boards.firmware():
+                known = ", ".join(boards.firmware())
+                raise ConfigError(f"faults[{i}] ({kind}) board: expected the board it acts on ({known}), got {board!r}")
+            own.setdefault(board, []).append(table)
+        elif board is not None:
+            raise ConfigError(f"faults[{i}] ({kind}) board: a fault of the one plant names no board")
+        else:
+            plant.append(table)
+    try:  # (each board's, and the plant's, checked as one schedule: FaultError names the field)
+        for entries in (plant, *own.values()):
+            parse_faults(entries)
+    except FaultError as e:
+        raise ConfigError(str(e)) from None
+    return plant, own
 
 
 def label_error(error: HarnessError, board: str) -> None:
@@ -97,12 +125,15 @@ class BoardSet:
         coverage=None,
         world: str | None = None,
         plant_options: dict | None = None,
+        faults: list | None = None,
     ):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
         folder is made, named as the board; ``coverage``: a board's name -> the coverage.py
         data file its firmware's coverage goes to (docs/coverage.md), or None; ``world``: one
-        of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``)."""
+        of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``);
+        ``faults``: fault tables (:func:`split_faults`: the harness's name their board), the
+        brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`)."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
@@ -112,8 +143,18 @@ class BoardSet:
             made = boards.make_plant(**options)
         except (TypeError, ValueError, ArithmeticError) as e:
             raise ConfigError(f"{boards.name}: the plant rejects {options}: {e}") from None
-        self.plant = check_contract(made)
+        plant_faults, board_faults = split_faults(boards, faults)
+        try:
+            self.plant = with_faults(check_contract(made), parse_faults(plant_faults))
+        except FaultError as e:
+            raise ConfigError(f"{boards.name}: {e}") from None
         self.plant.reset(self.seed)
+        self.brownouts = sorted(  # (t_us, board): the brown-outs the faults schedule
+            (round(f.at_s * 1e6), board)
+            for board, entries in board_faults.items()
+            for f in parse_faults(entries)
+            if f.kind == "brownout"
+        )
         self.artefacts = Path(artefacts) if artefacts else None
         self.recorded = bool(record)  # (each board records its signals: their VCDs merged at the stop)
         self.rigs: dict[str, Rig] = {}
@@ -126,7 +167,8 @@ class BoardSet:
                     program = HostProgram(name, load_program(app.path, app.function), view, folder, watchdog_s)
                 self.rigs[name], self.views[name] = program, view
                 continue
-            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False)
+            own = board_faults.get(name, ())
+            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False, faults=tuple(own))
             folder = self.artefacts / name if self.artefacts else None
             measured = coverage(name) if coverage is not None else None
             with naming(name):

@@ -557,3 +557,49 @@ def test_diff_of_two_runs_of_a_set_compares_board_by_board(tmp_path):
     assert code == 1 and "board left: DIFFERS beyond the thresholds" in text, f"exit {code}:\n{text}\n{err}"
     code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "c" / "left", "--out", tmp_path / "x")
     assert code == 2 and "holds the boards left, right and B" in err + text, f"exit {code}:\n{text}\n{err}"
+
+
+SET_CAMPAIGN = """
+[campaign]
+rig = "RIG"
+seconds = 1.0
+step_s = 0.25
+seeds = 2
+budgets = ["motor:speed_loop"]
+[[faultsets]]
+name = "none"
+[[faultsets]]
+name = "motor_browns_out"
+[[faultsets.faults]]
+kind = "brownout"
+board = "motor"
+at_s = 0.4
+"""
+
+
+def test_a_campaign_of_a_set_gives_each_board_its_own_faults_and_budgets(tmp_path):
+    """A campaign's rig may be a rig file with several boards: each harness fault names its
+    board (a brown-out of the motor board), the budgets are the set's (a board's own as
+    <board>:<name>), each run's trace folders one a board (docs/campaigns.md)."""
+    from host.campaign import load_campaign
+    from host.campaign.runner import run_campaign
+
+    rig = Path(__file__).parents[2] / "examples" / "two_board_rover" / "rig.toml"
+    (tmp_path / "set.toml").write_text(SET_CAMPAIGN.replace("RIG", str(rig)))
+    results = {r["key"]: r for r in run_campaign(load_campaign(str(tmp_path / "set.toml")), tmp_path / "out")}
+    assert sorted(results) == [f"{s}/default/{n}" for s in ("motor_browns_out", "none") for n in (1, 2)], results
+    for n in (1, 2):
+        calm, cut = results[f"none/default/{n}"], results[f"motor_browns_out/default/{n}"]
+        assert calm["passed"] and calm["resets"] == 0, calm
+        assert calm["budgets"]["motor:speed_loop"]["misses"] == 0, calm["budgets"]
+        # (the motor board boots again at 0.4 s: its speed loop misses a period, the run fails on it)
+        assert cut["resets"] == 1 and not cut["passed"], cut
+        assert cut["message"] == "expected the budgets kept, missed: motor:speed_loop (1 misses)", cut["message"]
+        folder = Path(cut["artefacts"])
+        assert "[power lost and back at t=0.4" in (folder / "motor" / "console.log").read_text(), folder
+        assert "power lost" not in (folder / "nav" / "console.log").read_text(), f"expected the nav board on: {folder}"
+    bad = SET_CAMPAIGN.replace('board = "motor"\n', "")
+    (tmp_path / "bad.toml").write_text(bad.replace("RIG", str(rig)))
+    named = r"'motor_browns_out': faults\[0\] \(brownout\) board: expected the board it acts on \(motor, nav\)"
+    with pytest.raises(ConfigError, match=named):
+        load_campaign(str(tmp_path / "bad.toml"))
