@@ -580,7 +580,8 @@ at_s = 0.4
 def test_a_campaign_of_a_set_gives_each_board_its_own_faults_and_budgets(tmp_path):
     """A campaign's rig may be a rig file with several boards: each harness fault names its
     board (a brown-out of the motor board), the budgets are the set's (a board's own as
-    <board>:<name>), each run's trace folders one a board (docs/campaigns.md)."""
+    <board>:<name>), each run's trace folders one a board (docs/campaigns.md); a failing
+    run shrinks as a one-board run does (docs/testing-tools.md)."""
     from host.campaign import load_campaign
     from host.campaign.runner import run_campaign
 
@@ -598,6 +599,14 @@ def test_a_campaign_of_a_set_gives_each_board_its_own_faults_and_budgets(tmp_pat
         folder = Path(cut["artefacts"])
         assert "[power lost and back at t=0.4" in (folder / "motor" / "console.log").read_text(), folder
         assert "power lost" not in (folder / "nav" / "console.log").read_text(), f"expected the nav board on: {folder}"
+    # mpy-fil shrink of a set's failing run: the brown-out kept, the run cut to just past it
+    failing = tmp_path / "out" / "motor_browns_out" / "default" / "1"
+    code, text, err = run_cli("shrink", failing, "--out", tmp_path / "s")
+    assert code == 0 and "fails as: budget budgets: motor:speed_loop" in text, f"exit {code}:\n{text}\n{err}"
+    assert re.search(r"^faults\[0\] brownout 0\.4 +- +kept$", text, re.M), text
+    shrunk = json.loads((tmp_path / "s" / "shrink.json").read_text())["minimal"]
+    assert shrunk["faults"] == [{"kind": "brownout", "board": "motor", "at_s": 0.4}], shrunk["faults"]
+    assert 0.4 < shrunk["seconds"] < 1.0, f"expected the run cut to just past the brown-out, got {shrunk['seconds']} s"
     bad = SET_CAMPAIGN.replace('board = "motor"\n', "")
     (tmp_path / "bad.toml").write_text(bad.replace("RIG", str(rig)))
     named = r"'motor_browns_out': faults\[0\] \(brownout\) board: expected the board it acts on \(motor, nav\)"
