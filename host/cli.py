@@ -556,7 +556,7 @@ def _run_boards(args) -> int:
 
     sub = args.sub
     given = {"--board": args.board}
-    given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
+    given |= {"--mode": args.mode != "lockstep"}
     given |= {"--interactive": args.interactive, "--break-at": args.break_at is not None}
     for option in (option for option, value in given.items() if value):
         sub.error(f"argument {option}: not for a rig file with several boards (docs/multi-board.md)")
@@ -580,7 +580,7 @@ def _run_boards(args) -> int:
         owned={f"board {name}'s firmware folder": root for name in boards.firmware()},
         base=None if args.out else root.parent,
     )
-    options = {"world": world, "plant_options": dict(args.param or {})}
+    options = {"world": world, "plant_options": dict(args.param or {}), "allow_exit": args.allow_exit}
     # --coverage: each board's firmware measured into its own folder's coverage/ (docs/coverage.md)
     measured = boards.firmware().items() if args.coverage else ()
     coverage = {name: _coverage_file(out / name, app.mpy_version) for name, app in measured}

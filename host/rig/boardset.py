@@ -126,6 +126,7 @@ class BoardSet:
         world: str | None = None,
         plant_options: dict | None = None,
         faults: list | None = None,
+        allow_exit: bool = False,
     ):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
@@ -133,7 +134,9 @@ class BoardSet:
         data file its firmware's coverage goes to (docs/coverage.md), or None; ``world``: one
         of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``);
         ``faults``: fault tables (:func:`split_faults`: the harness's name their board), the
-        brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`)."""
+        brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`);
+        ``allow_exit``: a board's firmware may end (the others carry on), else its end fails
+        the run, naming it."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
@@ -167,8 +170,8 @@ class BoardSet:
                     program = HostProgram(name, load_program(app.path, app.function), view, folder, watchdog_s)
                 self.rigs[name], self.views[name] = program, view
                 continue
-            own = board_faults.get(name, ())
-            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False, faults=tuple(own))
+            own = {"faults": tuple(board_faults.get(name, ())), "allow_exit": allow_exit}
+            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False, **own)
             folder = self.artefacts / name if self.artefacts else None
             measured = coverage(name) if coverage is not None else None
             with naming(name):

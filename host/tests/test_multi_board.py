@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from host.core.errors import ConfigError, FirmwareError, FirmwareHung
+from host.core.errors import ConfigError, FirmwareError, FirmwareExited, FirmwareHung
 from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 from host.rig.rigfile import load_rig
@@ -122,6 +122,21 @@ def test_a_board_that_raises_is_named_in_the_failure(tmp_path):
     assert message.startswith("board right: firmware raised at virtual t=0.020000 s"), message
     assert "right gave up" in message and str(tmp_path / "out" / "right") in message, message
     assert "left ready" in (tmp_path / "out" / "left" / "console.log").read_text(), "expected left's console kept"
+
+
+def test_a_board_whose_firmware_ends_fails_the_run_unless_the_set_allows_it(tmp_path):
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(20)\nprint('right done')\n")
+    with pytest.raises(FirmwareExited, match=r"^board right: the firmware ended at virtual t=0\.020000 s"):
+        with BoardSet(load_boards(rig), seed=5) as boards:
+            boards.run_for(0.1)
+    with BoardSet(load_boards(rig), seed=5, allow_exit=True) as boards:  # (mpy-fil run --allow-exit)
+        boards.run_for(0.1)
+        left, right = boards["left"].console, boards["right"].console
+    assert boards.t_us == 100_000 and "right done" in right, right
+    late = [int(t) - TICKS0 for t in re.findall(r"left ready \d at (\d+)", left)]
+    assert late and late[-1] > 50_000, f"expected the left board on after the right ended, got its lines at {late}"
+    code, text, err = run_cli("run", rig, "--seconds", "0.1", "--no-plots", "--allow-exit", "--out", tmp_path / "run")
+    assert code == 0 and "right done" in text, f"exit {code}:\n{text}\n{err}"
 
 
 def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
