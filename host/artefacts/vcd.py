@@ -96,12 +96,13 @@ def write_vcd(
     return paths
 
 
-def merge_vcd(path, parts: dict, *, top: str, comment: str) -> None:
+def merge_vcd(path, parts: dict, *, top: str, comment: str) -> dict:
     """One VCD at ``path`` of several boards' (``parts``: a board's name -> the VCD
     :func:`write_vcd` wrote for it), each board a scope of its own under ``top``
     (``<top>.<board>.sensors...``), on the one virtual time: a set of boards'
     (docs/multi-board.md). Each board's identifier codes get a prefix of its own, so none
-    clash; the changes are merged in time order, read a line at a time."""
+    clash; the changes are merged in time order, read a line at a time. Returns each
+    board's variables as (full name in the file, kind), for :func:`write_set_gtkw`."""
     boards = list(parts.items())
     if len(boards) > _ID_LAST - _ID_FIRST + 1:
         raise ValueError(f"merge_vcd: at most {_ID_LAST - _ID_FIRST + 1} boards, got {len(boards)}")
@@ -111,9 +112,11 @@ def merge_vcd(path, parts: dict, *, top: str, comment: str) -> None:
         with open(path, "w", encoding="ascii", errors="replace") as f:
             f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
             f.write(f"$scope module {_ident(top)} $end\n")
+            declared = {}
             for (name, _vcd), prefix, lines in zip(boards, prefixes, files, strict=True):
                 f.write(f"$scope module {_ident(name)} $end\n")
-                f.write("".join(_declarations(lines, prefix)))
+                declared[name] = []
+                f.write("".join(_declarations(lines, prefix, f"{_ident(top)}.{_ident(name)}", declared[name])))
                 f.write("$upscope $end\n")
             f.write("$upscope $end\n$enddefinitions $end\n")
             blocks = [_blocks(lines, prefix, i) for i, (prefix, lines) in enumerate(zip(prefixes, files, strict=True))]
@@ -128,12 +131,18 @@ def merge_vcd(path, parts: dict, *, top: str, comment: str) -> None:
     finally:
         for lines in files:
             lines.close()
+    return declared
 
 
-def _declarations(lines, prefix: str) -> list[str]:
+_KIND_OF_VAR = {("wire", "1"): "level", ("integer", "32"): "u16", ("wire", "8"): "bytes", ("string", "1"): "text"}
+"""A declared variable's kind, as :func:`write_vcd` declares each (reals: ``real``)."""
+
+
+def _declarations(lines, prefix: str, scope: str, found: list) -> list[str]:
     """A VCD's declarations inside its top scope, each identifier code prefixed (the file
-    read up to its ``$enddefinitions``)."""
-    out, depth = [], 0
+    read up to its ``$enddefinitions``); each variable's (full name under ``scope``, kind)
+    appended to ``found``."""
+    out, depth, names = [], 0, [scope]
     for line in lines:
         if line.startswith("$enddefinitions"):
             break
@@ -141,17 +150,43 @@ def _declarations(lines, prefix: str) -> list[str]:
             depth += 1
             if depth == 1:
                 continue
+            names.append(line.split()[2])
         elif line.startswith("$upscope"):
             depth -= 1
             if depth == 0:
                 continue
+            names.pop()
         elif line.startswith("$var"):
             words = line.split()
             words[3] = prefix + words[3]
             line = " ".join(words) + "\n"
+            found.append((".".join([*names, words[4]]), _KIND_OF_VAR.get((words[1], words[2]), words[1])))
         if depth >= 1:
             out.append(line)
     return out
+
+
+def write_set_gtkw(path, vcd_path, declared: dict) -> None:
+    """GTKWave's save file for a set of boards' VCD (:func:`merge_vcd`'s): a group a board,
+    in it a group a role (sensors, actuators, ... as :func:`write_gtkw` groups them)."""
+    from vcd.gtkw import GTKWSave  # (only when a set's VCD is written)
+
+    with open(path, "w", encoding="utf-8") as f:
+        save = GTKWSave(f)
+        save.comment("mpy-fil: a set of boards; open with `gtkwave trace.gtkw` from this folder")
+        save.dumpfile(str(vcd_path), abspath=False)
+        save.timestart(0)
+        save.sst_expanded(True)
+        save.signals_width(300)
+        for board, variables in declared.items():
+            roles: dict[str, list] = {}
+            for full, kind in variables:
+                roles.setdefault(full.split(".")[2], []).append((full, kind))
+            with save.group(board):
+                for role in sorted(roles, key=_role_order):
+                    with save.group(role):
+                        for full, kind in roles[role]:
+                            save.trace(full, datafmt=_GTKW_FORMATS.get(kind, "bin"))
 
 
 def _blocks(lines, prefix: str, order: int):

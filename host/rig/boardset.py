@@ -21,8 +21,8 @@ import contextlib
 import struct
 from pathlib import Path
 
-from host.artefacts.folder import VCD
-from host.artefacts.vcd import merge_vcd
+from host.artefacts.folder import GTKW, VCD
+from host.artefacts.vcd import merge_vcd, write_set_gtkw
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
 from host.rig import arguments
@@ -226,13 +226,15 @@ class BoardSet:
             raise error
 
     def _merge_vcds(self) -> None:
-        """``artefacts/trace.vcd``: each recorded board's ``trace.vcd`` a scope of its own."""
+        """``artefacts/trace.vcd``: each recorded board's ``trace.vcd`` a scope of its own; and
+        its GTKWave save file, ``trace.gtkw`` (a group a board)."""
         parts = {name: self.artefacts / name / VCD for name, rig in self.rigs.items() if isinstance(rig, Rig)}
         parts = {name: path for name, path in parts.items() if path.is_file()}
         if parts:
             boards = ", ".join(parts)
             comment = f"boards {boards} of {self.spec.name} seed {self.seed} (each board's own trace.vcd in its folder)"
-            merge_vcd(self.artefacts / VCD, parts, top=self.spec.name, comment=comment)
+            declared = merge_vcd(self.artefacts / VCD, parts, top=self.spec.name, comment=comment)
+            write_set_gtkw(self.artefacts / GTKW, VCD, declared)
 
     def __getitem__(self, name: str) -> Rig:
         return self.rigs[name]

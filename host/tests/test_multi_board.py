@@ -13,7 +13,7 @@ from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 from host.rig.rigfile import load_rig
 from host.tests.conftest import run_cli
-from host.tests.vcd_reader import read_vcd
+from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
 RIG = Path(__file__).parent / "firmware" / "two_boards" / "rig.toml"
 TICKS0 = 2**30 - 10_000_000  # ticks_us at t=0 (docs/clock.md: 10 s before the wrap)
@@ -63,6 +63,14 @@ def test_a_recorded_set_writes_one_vcd_with_a_scope_per_board_on_the_one_clock(t
             )
     edges = merged.timeline("two_boards.right.sensors.ready.out")
     assert len(edges) > 3, f"expected the right board's ready line to change, got {edges}"
+    theirs = read_vcd(gtkwave_round_trip(tmp_path / "trace.vcd", tmp_path))  # (GTKWave reads it as written)
+    assert theirs.timeline("two_boards.right.sensors.ready.out") == edges, "expected GTKWave to read the same edges"
+    lines = (tmp_path / "trace.gtkw").read_text().splitlines()  # its save file: a group a board, then a role
+    assert '[dumpfile] "trace.vcd"' in lines, lines[:6]
+    traced = [line for line in lines if line.startswith("two_boards.")]
+    assert sorted(traced) == sorted(merged.vars), f"expected every variable shown once: {traced}"
+    groups = [line[1:] for line in lines if line.startswith("-")]
+    assert groups[:2] == ["left", "sensors"] and groups.count("right") == 2, groups  # (begun and ended)
 
 
 def test_a_gpio_edge_reaches_the_other_board_at_the_instant_it_was_written(tmp_path):
