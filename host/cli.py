@@ -436,7 +436,7 @@ def _trace_folder(text: str) -> Path:
 
 def _trace_or_set_folder(text: str) -> Path:
     """A trace folder, or a set of boards' run folder (a trace folder a board: ``diff``)."""
-    from host.diff.command import set_boards
+    from host.artefacts.folder import set_boards
 
     path = Path(text)
     if path.is_dir() and not (path / HEADER).is_file() and set_boards(path):

@@ -9,7 +9,7 @@ import argparse
 import math
 from pathlib import Path
 
-from host.artefacts.folder import HEADER, load_trace
+from host.artefacts.folder import HEADER, load_trace, set_boards
 from host.core import safefs
 from host.core.errors import ConfigError
 from host.diff.compare import Thresholds, compare
@@ -49,15 +49,6 @@ def _out(args) -> Path:
         owned=dict.fromkeys(folders, "diff"),
         base=None if args.out else args.b,
     )
-
-
-def set_boards(folder: Path) -> list[str]:
-    """The boards of a set of boards' run folder (docs/multi-board.md): its subfolders that
-    are trace folders, in name order; [] for anything else."""
-    try:
-        return sorted(p.name for p in Path(folder).iterdir() if (p / HEADER).is_file())
-    except OSError:
-        return []
 
 
 def diff_command(args, say) -> int:

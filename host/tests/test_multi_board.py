@@ -147,6 +147,23 @@ def test_a_board_whose_firmware_ends_fails_the_run_unless_the_set_allows_it(tmp_
     assert code == 0 and "right done" in text, f"exit {code}:\n{text}\n{err}"
 
 
+def test_a_failing_run_of_a_set_shrinks_from_its_run_folder(tmp_path):
+    """mpy-fil shrink of a set's run folder (a trace folder a board): the rig file, seed and
+    world its boards' headers name, run again only when trusted; cut to the failure."""
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(20)\nraise ValueError('right gave up')\n")
+    with pytest.raises(FirmwareError):
+        with BoardSet(load_boards(rig), seed=5, trace=True, record=True, artefacts=tmp_path / "run") as boards:
+            boards.run_for(0.3)
+    code, text, err = run_cli("shrink", tmp_path / "run", "--out", tmp_path / "s", "--workers", 1)
+    assert code == 2 and "--app RIG, or --trust-folder" in err, f"expected a rig file run only if trusted: {err}"
+    code, text, err = run_cli("shrink", tmp_path / "run", "--trust-folder", "--out", tmp_path / "s", "--workers", 1)
+    assert code == 0, f"exit {code}:\n{text}\n{err}"
+    assert "fails as: error FirmwareError: board right: firmware raised at virtual t=# s" in text, text
+    minimal = json.loads((tmp_path / "s" / "shrink.json").read_text())["minimal"]
+    assert minimal["rig"] == str(rig) and minimal["seed"] == 5, minimal
+    assert 0.02 <= minimal["seconds"] < 0.3, f"expected the run cut to just past 20 ms, got {minimal['seconds']} s"
+
+
 def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
     rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(5)\nwhile True:\n    pass\n")
     with pytest.raises(FirmwareHung) as failure:
