@@ -124,6 +124,7 @@ def bench_raw(n: int = 5000) -> list[float]:
 
 def bench_rover(sim_s: float) -> dict:
     with Rig(RigSpec("rover", seed=1, busy_poll=busy_poll_wanted()), Recording(time_round_trips=True)) as rig:
+        fw0, cpu0 = _fw_cpu_s(rig), time.process_time()
         t0 = time.perf_counter()
         step = 60.0
         done = 0.0
@@ -132,11 +133,14 @@ def bench_rover(sim_s: float) -> dict:
             done = rig.t_us / 1e6
             print(f"  rover: {done:6.0f} / {sim_s:.0f} simulated s", end="\r", flush=True)
         wall = time.perf_counter() - t0
+        fw, cpu = _fw_cpu_s(rig) - fw0, time.process_time() - cpu0
         print()
         return {
             "sim_s": sim_s,
             "wall_s": wall,
             "rtf": sim_s / wall,
+            "host_cpu_s": cpu,
+            "fw_cpu_s": fw,
             "round_trips": rig.stats.link_round_trips,
             "wake_rtt": rig.stats.round_trip_us,
             "control": rig.budgets["control.period"].stats(),
@@ -750,8 +754,11 @@ def main(argv=None) -> int:
     if args.only_boards:  # (with the rover for a minute, the figure it is held to in the same run)
         print("two boards on one clock (docs/multi-board.md): 10 simulated s, beside the rover's 60")
         rover = bench_rover(60.0)
-        exchanges = rover["round_trips"] / rover["sim_s"]
-        print(f"  rover: {rover['rtf']:.0f}x real time ({exchanges:.0f} link exchanges a simulated s)")
+        per_s = {k: rover[k] / rover["sim_s"] for k in ("round_trips", "host_cpu_s", "fw_cpu_s")}
+        print(
+            f"  rover: {rover['rtf']:.0f}x real time ({per_s['round_trips']:.0f} link exchanges a simulated s; CPU a "
+            f"simulated s: host {per_s['host_cpu_s'] * 1e3:.1f} ms, its interpreter {per_s['fw_cpu_s'] * 1e3:.1f} ms)"
+        )
         report_boards(bench_boards(), rover)
         return 0
     if args.only_kits:
