@@ -22,6 +22,7 @@ import struct
 from pathlib import Path
 
 from host.artefacts.folder import GTKW, VCD
+from host.artefacts.integrity import TraceWriteError
 from host.artefacts.vcd import merge_vcd, write_set_gtkw
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
@@ -107,6 +108,23 @@ def naming(board: str):
     except HarnessError as e:
         label_error(e, board)
         raise
+
+
+def merge_vcds(boards) -> HarnessError | None:
+    """A recorded set's ``artefacts/trace.vcd``: each board's ``trace.vcd`` a scope of its
+    own; and its GTKWave save file, ``trace.gtkw`` (a group a board). The error, if it could
+    not be written (each board's own stands)."""
+    parts = {name: boards.artefacts / name / VCD for name, rig in boards.rigs.items() if isinstance(rig, Rig)}
+    parts = {name: path for name, path in parts.items() if path.is_file()}
+    if not parts:
+        return None
+    comment = f"boards {', '.join(parts)} of {boards.spec.name} seed {boards.seed} (each board's own VCD in its folder)"
+    try:
+        declared = merge_vcd(boards.artefacts / VCD, parts, top=boards.spec.name, comment=comment)
+        write_set_gtkw(boards.artefacts / GTKW, VCD, declared)
+    except (OSError, ValueError) as e:  # (a full disk, a board's VCD cut short)
+        return TraceWriteError(f"the set's trace.vcd in {boards.artefacts} was not written: {e}")
+    return None
 
 
 class BoardSet:
@@ -221,20 +239,9 @@ class BoardSet:
             except HarnessError as e:
                 error = error or e
         if self.artefacts is not None and self.recorded:
-            self._merge_vcds()
+            error = error or merge_vcds(self)
         if error is not None and interrupted is None:
             raise error
-
-    def _merge_vcds(self) -> None:
-        """``artefacts/trace.vcd``: each recorded board's ``trace.vcd`` a scope of its own; and
-        its GTKWave save file, ``trace.gtkw`` (a group a board)."""
-        parts = {name: self.artefacts / name / VCD for name, rig in self.rigs.items() if isinstance(rig, Rig)}
-        parts = {name: path for name, path in parts.items() if path.is_file()}
-        if parts:
-            boards = ", ".join(parts)
-            comment = f"boards {boards} of {self.spec.name} seed {self.seed} (each board's own trace.vcd in its folder)"
-            declared = merge_vcd(self.artefacts / VCD, parts, top=self.spec.name, comment=comment)
-            write_set_gtkw(self.artefacts / GTKW, VCD, declared)
 
     def __getitem__(self, name: str) -> Rig:
         return self.rigs[name]
