@@ -3,11 +3,12 @@ interpreter on its own pty (a :class:`~host.rig.rig.Rig` each, on a
 :class:`~host.rig.boardview.BoardView` of the one plant), one virtual clock.
 
 The set serves in rounds. At the start of a round every board is blocked in a wait. The
-round's instant is the earliest at which anything can change: the plant's next change
-(which holds the bytes and levels in flight on the wires between boards), the earliest
-end of a board's wait, a ground-truth sample, the run's end. The plant is brought to that
-instant; each board with something there is served in the boards' order, and one whose
-wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
+round's instant is the earliest at which a board can wake: the earliest end of a board's
+wait, a ground-truth sample, the run's end, and the plant's next change (which holds the
+bytes and levels in flight on the wires between boards) when it can end a board's wait
+(:func:`wakeable`). The plant is brought to that instant, its changes queued for the
+boards wired to them; each board with something there is served in the boards' order,
+and one whose wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
 plant's next change or the earliest instant another board could act, at least the µs
 after the instant, so the board moves its clock no further without asking. Then each
 woken board is served, in order, until it blocks again: what it writes goes into the plant
@@ -52,8 +53,8 @@ def _world_of(app, world: str) -> dict:
 def split_faults(boards, faults) -> tuple[list, dict]:
     """A set's fault tables (a campaign's fault set): those of the harness (``link_corrupt``,
     ``link_stall``, ``brownout``, ``heap``) name their board (``board = "motor"``) and go
-    to that board's rig; the others act on the one plant and name none. (the plant's
-    tables, board -> its tables); a mistake is a ConfigError naming the table."""
+    to that board's rig; the others act on the one plant and name none. Returns (the
+    plant's tables, board -> its tables); a mistake is a ConfigError naming the table."""
     plant, own = [], {}
     for i, entry in enumerate(faults or ()):
         table = dict(entry) if isinstance(entry, dict) else entry
