@@ -11,6 +11,8 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
+from host.core.paths import REPO
+
 pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_budget_marks")]  # (make hil: its module fixtures run once)
 
 SESSION_TIMEOUT_S = 120
@@ -47,13 +49,88 @@ SCENARIOS = """
     @pytest.mark.hil_budget("control.period", maximum_ms=60)
     def test_unknown_key(make_rig):
         make_rig("rover", seed=1)
+
+
+    @pytest.mark.hil_budget("command", max_ms=2)
+    def test_boards_tight(make_boards):
+        boards = make_boards("reaction/rig.toml", seed=1)
+        boards.run_for(0.2)
+        boards.budgets["command"].check()
+
+
+    @pytest.mark.hil_budget("command", max_ms=2)
+    def test_boards_loose(make_boards):
+        boards = make_boards("reaction/rig.toml", seed=1, budget_limits={"command": {"max_ms": 6}})
+        boards.run_for(0.2)
+        boards.budgets["command"].check()
+
+
+    @pytest.mark.hil_budget("motor:speed_loop", tolerance_us=0)
+    def test_boards_own_band(make_boards):
+        boards = make_boards(TWO_BOARD_ROVER, seed=1)
+        boards.run_for(0.5)
+        boards["motor"].budgets["speed_loop"].check()
+
+
+    @pytest.mark.hil_budget("motor:speed_lop", max_ms=25)
+    def test_boards_unknown_name(make_boards):
+        make_boards(TWO_BOARD_ROVER, seed=1)
+"""
+REACTION_RIG = """\
+name = "reaction"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "wire"
+name = "cmd"
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { CMD = 4 } }
+wiring = { CMD = "cmd.in" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { CMD = 5, ACK = 6 } }
+wiring = { CMD = "cmd.out", ACK = "probe:ack" }
+[budgets.command]
+kind = "reaction"
+stimulus = "left:cmd.in"
+response = "right:probe:ack"
+limit_us = 5000
+"""
+COMMANDER = """\
+import time
+from machine import Pin
+cmd = Pin(4, Pin.OUT, value=0)
+while True:
+    time.sleep_ms(20)
+    cmd.toggle()
+"""
+ACTOR = """\
+import time
+from machine import Pin
+ack = Pin(6, Pin.OUT, value=0)
+cmd = Pin(5, Pin.IN)
+seen = 0
+while True:
+    time.sleep_ms(1)
+    if cmd.value() != seen:
+        seen = cmd.value()
+        time.sleep_us(3000)  # (the command's work: 3 ms, acted on within 4)
+        ack.toggle()
 """
 
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory):
     where = tmp_path_factory.mktemp("budget_marks")
-    (where / "test_budget_marks_scenarios.py").write_text(textwrap.dedent(SCENARIOS))
+    rover = REPO / "examples" / "two_board_rover" / "rig.toml"
+    scenarios = textwrap.dedent(SCENARIOS).replace("TWO_BOARD_ROVER", repr(str(rover)))
+    (where / "test_budget_marks_scenarios.py").write_text(scenarios)
+    for path, text in (("rig.toml", REACTION_RIG), ("left/main.py", COMMANDER), ("right/main.py", ACTOR)):
+        (where / "reaction" / path).parent.mkdir(parents=True, exist_ok=True)
+        (where / "reaction" / path).write_text(text)
     done = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-rA", "-p", "no:cacheprovider", "--strict-markers"]
         + [f"--junitxml={where / 'junit.xml'}", "test_budget_marks_scenarios.py"],
@@ -96,3 +173,22 @@ def test_a_budget_the_rig_has_not_or_an_unknown_limit_is_an_error_that_lists_wha
     assert outcome(done, "test_unknown_key") == "ERROR", done.stdout[-3000:]
     assert "unknown limit 'maximum_ms'; expected max_ms, max_us, tolerance_ms or tolerance_us" in done.stdout
     assert done.returncode == 1, f"expected exit 1 (tests failed), got {done.returncode}: {done.stderr[-2000:]}"
+
+
+def test_a_set_of_boards_takes_the_marks_for_its_budgets_across_boards_and_each_boards_own(session):
+    """make_boards (docs/multi-board.md): a budget across boards by its name, a board's own
+    as <board>:<name>; each in the JUnit properties (boards<n>.budget.<name>, and
+    boards<n>.<board>.budget.<name> as a rig's)."""
+    where, done = session
+    assert outcome(done, "test_boards_tight") == "FAILED", done.stdout[-3000:]
+    assert "budget command: expected every value left:cmd.in -> right:probe:ack <= 2000 us" in done.stdout
+    assert outcome(done, "test_boards_loose") == "PASSED", done.stdout[-3000:]  # (its argument outranks the mark)
+    assert outcome(done, "test_boards_own_band") == "PASSED", done.stdout[-3000:]  # lockstep: exactly 20 ms
+    cases = {c.get("name"): c for c in ET.parse(where / "junit.xml").iter("testcase")}
+    props = {p.get("name"): p.get("value") for p in cases["test_boards_loose"].iter("property")}
+    assert props["boards0.budget.command"].endswith("limit=left:cmd.in -> right:probe:ack <= 6000 us"), props
+    props = {p.get("name"): p.get("value") for p in cases["test_boards_own_band"].iter("property")}
+    assert props["boards0.motor.budget.speed_loop"].endswith("limit=20000 +- 0 us"), props
+    assert outcome(done, "test_boards_unknown_name") == "FAILED", done.stdout[-3000:]
+    named = "@pytest.mark.hil_budget: no budget 'motor:speed_lop' on the two_board_rover boards (their budgets: "
+    assert named + "motor:speed_loop; a board's own as <board>:<name>)" in done.stdout, done.stdout[-3000:]

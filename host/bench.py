@@ -124,6 +124,7 @@ def bench_raw(n: int = 5000) -> list[float]:
 
 def bench_rover(sim_s: float) -> dict:
     with Rig(RigSpec("rover", seed=1, busy_poll=busy_poll_wanted()), Recording(time_round_trips=True)) as rig:
+        fw0, cpu0 = _fw_cpu_s(rig), time.process_time()
         t0 = time.perf_counter()
         step = 60.0
         done = 0.0
@@ -132,11 +133,14 @@ def bench_rover(sim_s: float) -> dict:
             done = rig.t_us / 1e6
             print(f"  rover: {done:6.0f} / {sim_s:.0f} simulated s", end="\r", flush=True)
         wall = time.perf_counter() - t0
+        fw, cpu = _fw_cpu_s(rig) - fw0, time.process_time() - cpu0
         print()
         return {
             "sim_s": sim_s,
             "wall_s": wall,
             "rtf": sim_s / wall,
+            "host_cpu_s": cpu,
+            "fw_cpu_s": fw,
             "round_trips": rig.stats.link_round_trips,
             "wake_rtt": rig.stats.round_trip_us,
             "control": rig.budgets["control.period"].stats(),
@@ -189,11 +193,22 @@ def bench_boards(sim_s: float = 10.0) -> dict:
             (folder / board / "main.py").write_text(BOARDS_FIRMWARE.replace("ID", str(uart)))
         (folder / "rig.toml").write_text(BOARDS_RIG)
         with BoardSet(load_boards(folder / "rig.toml"), seed=1) as boards:
+            fw0, cpu0 = sum(map(_fw_cpu_s, boards.rigs.values())), time.process_time()
             t0 = time.perf_counter()
             boards.run_for(sim_s)
             wall = time.perf_counter() - t0
+            fw, cpu = sum(map(_fw_cpu_s, boards.rigs.values())) - fw0, time.process_time() - cpu0
             exchanges = sum(r.stats.link_round_trips for r in boards.rigs.values())
-    return {"sim_s": sim_s, "wall_s": wall, "rtf": sim_s / wall, "exchanges": exchanges}
+            rounds = boards.rounds
+    return {
+        "sim_s": sim_s,
+        "wall_s": wall,
+        "rtf": sim_s / wall,
+        "exchanges": exchanges,
+        "rounds": rounds,
+        "host_cpu_s": cpu,
+        "fw_cpu_s": fw,
+    }
 
 
 def report_boards(boards: dict, rover: dict | None) -> None:
@@ -201,7 +216,11 @@ def report_boards(boards: dict, rover: dict | None) -> None:
     print(
         f"  two boards, a line each way every 10 ms: {boards['rtf']:.1f}x real time ({boards['sim_s']:g} simulated s "
         f"in {boards['wall_s']:.2f} wall s){share}; {boards['exchanges'] / boards['sim_s']:.0f} link exchanges a "
-        f"simulated s, both boards"
+        f"simulated s, both boards, in {boards['rounds'] / boards['sim_s']:.0f} rounds"
+    )
+    print(
+        f"  CPU a simulated s: host {boards['host_cpu_s'] / boards['sim_s'] * 1e3:.1f} ms, the boards' interpreters "
+        f"{boards['fw_cpu_s'] / boards['sim_s'] * 1e3:.1f} ms (CPU time: what the machine's load does not change)"
     )
 
 
@@ -718,7 +737,9 @@ def main(argv=None) -> int:
     parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
     parser.add_argument("--only-kits", action="store_true", help="the robot kits' demos only")
     parser.add_argument("--no-boards", action="store_true", help="skip the two boards on one clock")
-    parser.add_argument("--only-boards", action="store_true", help="the two boards on one clock only")
+    parser.add_argument(
+        "--only-boards", action="store_true", help="the two boards on one clock only (and the rover a minute)"
+    )
     parser.add_argument("--recorded-pool-child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
@@ -730,9 +751,15 @@ def main(argv=None) -> int:
         print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
         report_imu(imu, statistics.median(raw))
         return 0
-    if args.only_boards:
-        print("two boards on one clock (docs/multi-board.md): 10 simulated s")
-        report_boards(bench_boards(), None)
+    if args.only_boards:  # (with the rover for a minute, the figure it is held to in the same run)
+        print("two boards on one clock (docs/multi-board.md): 10 simulated s, beside the rover's 60")
+        rover = bench_rover(60.0)
+        per_s = {k: rover[k] / rover["sim_s"] for k in ("round_trips", "host_cpu_s", "fw_cpu_s")}
+        print(
+            f"  rover: {rover['rtf']:.0f}x real time ({per_s['round_trips']:.0f} link exchanges a simulated s; CPU a "
+            f"simulated s: host {per_s['host_cpu_s'] * 1e3:.1f} ms, its interpreter {per_s['fw_cpu_s'] * 1e3:.1f} ms)"
+        )
+        report_boards(bench_boards(), rover)
         return 0
     if args.only_kits:
         print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s")

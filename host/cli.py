@@ -306,8 +306,9 @@ def _testing_parsers(sub) -> None:
     shr.set_defaults(command=lambda args: _say_command(shrink, "shrink_command", args), sub=shr)
 
     diff = sub.add_parser("diff", help="compare two trace folders: trajectories, outputs, budgets")
-    diff.add_argument("a", metavar="A", type=_trace_folder, help="trace folder (the reference)")
-    diff.add_argument("b", metavar="B", type=_trace_folder, help="trace folder (compared with A)")
+    where = "trace folder, or a set of boards' run folder (board by board)"
+    diff.add_argument("a", metavar="A", type=_trace_or_set_folder, help=f"{where} (the reference)")
+    diff.add_argument("b", metavar="B", type=_trace_or_set_folder, help=f"{where} (compared with A)")
     diff.add_argument("--out", type=_folder, help="folder for the plot (default: B/diff)")
     diff.add_argument("--max-pos-m", type=float, default=0.0, help="largest position deviation allowed (default 0)")
     diff.add_argument("--max-rms-m", type=float, default=0.0, help="largest RMS position deviation allowed (default 0)")
@@ -433,6 +434,16 @@ def _trace_folder(text: str) -> Path:
     return path
 
 
+def _trace_or_set_folder(text: str) -> Path:
+    """A trace folder, or a set of boards' run folder (a trace folder a board: ``diff``)."""
+    from host.artefacts.folder import set_boards
+
+    path = Path(text)
+    if path.is_dir() and not (path / HEADER).is_file() and set_boards(path):
+        return path
+    return _trace_folder(text)
+
+
 # -- commands ----------------------------------------------------------------------------
 
 
@@ -544,8 +555,8 @@ def _run_boards(args) -> int:
     from host.rig.boardset import BoardSet
 
     sub = args.sub
-    given = {"--board": args.board, "--coverage": args.coverage}
-    given |= {"--mode": args.mode != "lockstep", "--allow-exit": args.allow_exit}
+    given = {"--board": args.board}
+    given |= {"--mode": args.mode != "lockstep"}
     given |= {"--interactive": args.interactive, "--break-at": args.break_at is not None}
     for option in (option for option, value in given.items() if value):
         sub.error(f"argument {option}: not for a rig file with several boards (docs/multi-board.md)")
@@ -569,7 +580,11 @@ def _run_boards(args) -> int:
         owned={f"board {name}'s firmware folder": root for name in boards.firmware()},
         base=None if args.out else root.parent,
     )
-    options = {"world": world, "plant_options": dict(args.param or {})}
+    options = {"world": world, "plant_options": dict(args.param or {}), "allow_exit": args.allow_exit}
+    # --coverage: each board's firmware measured into its own folder's coverage/ (docs/coverage.md)
+    measured = boards.firmware().items() if args.coverage else ()
+    coverage = {name: _coverage_file(out / name, app.mpy_version) for name, app in measured}
+    options["coverage"] = coverage.get if coverage else None
     with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out, **options) as run:
         run.run_for(args.duration)
     for name, rig in run.rigs.items():
@@ -578,6 +593,10 @@ def _run_boards(args) -> int:
         rows = rig.budget_rows() if name in boards.firmware() else None
         if rows:
             print(format_table(rows))
+        if name in coverage:
+            from host.coverage.session import run_summary
+
+            print(f"board {name}'s {run_summary(coverage[name])}")
     if run.budgets:
         print("budgets across boards:")
         print(format_table([b.stats() for b in run.budgets.values()]))

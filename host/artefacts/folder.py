@@ -132,6 +132,18 @@ def reseal_file(folder: Path, name: str) -> None:
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
 
 
+def set_boards(folder) -> list[str]:
+    """The boards of a set of boards' run folder (docs/multi-board.md: a trace folder a
+    board, named as the board), in name order; [] for anything else (a trace folder too)."""
+    folder = Path(folder)
+    if (folder / HEADER).is_file():
+        return []
+    try:
+        return sorted(p.name for p in folder.iterdir() if (p / HEADER).is_file())
+    except OSError:
+        return []
+
+
 def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     """As a recorded run starts: an earlier run's files go, and a header marked partial
     ("the run did not end") stands until the run's own replaces it, so a run killed

@@ -96,6 +96,119 @@ def write_vcd(
     return paths
 
 
+def merge_vcd(path, parts: dict, *, top: str, comment: str) -> dict:
+    """One VCD at ``path`` of several boards' (``parts``: a board's name -> the VCD
+    :func:`write_vcd` wrote for it), each board a scope of its own under ``top``
+    (``<top>.<board>.sensors...``), on the one virtual time: a set of boards'
+    (docs/multi-board.md). Each board's identifier codes get a prefix of its own, so none
+    clash; the changes are merged in time order, read a line at a time. Returns each
+    board's variables as (full name in the file, kind), for :func:`write_set_gtkw`."""
+    boards = list(parts.items())
+    if len(boards) > _ID_LAST - _ID_FIRST + 1:
+        raise ValueError(f"merge_vcd: at most {_ID_LAST - _ID_FIRST + 1} boards, got {len(boards)}")
+    prefixes = [chr(_ID_FIRST + i) for i in range(len(boards))]
+    files = [open(vcd, encoding="ascii", errors="replace") for _name, vcd in boards]  # noqa: SIM115
+    try:
+        with open(path, "w", encoding="ascii", errors="replace") as f:
+            f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
+            f.write(f"$scope module {_ident(top)} $end\n")
+            declared = {}
+            for (name, _vcd), prefix, lines in zip(boards, prefixes, files, strict=True):
+                f.write(f"$scope module {_ident(name)} $end\n")
+                declared[name] = []
+                f.write("".join(_declarations(lines, prefix, f"{_ident(top)}.{_ident(name)}", declared[name])))
+                f.write("$upscope $end\n")
+            f.write("$upscope $end\n$enddefinitions $end\n")
+            blocks = [_blocks(lines, prefix, i) for i, (prefix, lines) in enumerate(zip(prefixes, files, strict=True))]
+            first = [next(b, None) for b in blocks]  # (each file's $dumpvars: one block of them all)
+            f.write("#0\n$dumpvars\n" + "".join(line for block in first if block for line in block[2]) + "$end\n")
+            t_written = 0
+            for t, _i, changes in heapq.merge(*blocks):
+                if t != t_written:
+                    f.write(f"#{t}\n")
+                    t_written = t
+                f.write("".join(changes))
+    finally:
+        for lines in files:
+            lines.close()
+    return declared
+
+
+_KIND_OF_VAR = {("wire", "1"): "level", ("integer", "32"): "u16", ("wire", "8"): "bytes", ("string", "1"): "text"}
+"""A declared variable's kind, as :func:`write_vcd` declares each (reals: ``real``)."""
+
+
+def _declarations(lines, prefix: str, scope: str, found: list) -> list[str]:
+    """A VCD's declarations inside its top scope, each identifier code prefixed (the file
+    read up to its ``$enddefinitions``); each variable's (full name under ``scope``, kind)
+    appended to ``found``."""
+    out, depth, names = [], 0, [scope]
+    for line in lines:
+        if line.startswith("$enddefinitions"):
+            break
+        if line.startswith("$scope"):
+            depth += 1
+            if depth == 1:
+                continue
+            names.append(line.split()[2])
+        elif line.startswith("$upscope"):
+            depth -= 1
+            if depth == 0:
+                continue
+            names.pop()
+        elif line.startswith("$var"):
+            words = line.split()
+            words[3] = prefix + words[3]
+            line = " ".join(words) + "\n"
+            found.append((".".join([*names, words[4]]), _KIND_OF_VAR.get((words[1], words[2]), words[1])))
+        if depth >= 1:
+            out.append(line)
+    return out
+
+
+def write_set_gtkw(path, vcd_path, declared: dict) -> None:
+    """GTKWave's save file for a set of boards' VCD (:func:`merge_vcd`'s): a group a board,
+    in it a group a role (sensors, actuators, ... as :func:`write_gtkw` groups them)."""
+    from vcd.gtkw import GTKWSave  # (only when a set's VCD is written)
+
+    with open(path, "w", encoding="utf-8") as f:
+        save = GTKWSave(f)
+        save.comment("mpy-fil: a set of boards; open with `gtkwave trace.gtkw` from this folder")
+        save.dumpfile(str(vcd_path), abspath=False)
+        save.timestart(0)
+        save.sst_expanded(True)
+        save.signals_width(300)
+        for board, variables in declared.items():
+            roles: dict[str, list] = {}
+            for full, kind in variables:
+                roles.setdefault(full.split(".")[2], []).append((full, kind))
+            with save.group(board):
+                for role in sorted(roles, key=_role_order):
+                    with save.group(role):
+                        for full, kind in roles[role]:
+                            save.trace(full, datafmt=_GTKW_FORMATS.get(kind, "bin"))
+
+
+def _blocks(lines, prefix: str, order: int):
+    """(t, order, value lines) for each instant of a VCD's body, identifier codes prefixed;
+    the first, its ``$dumpvars`` at time 0."""
+    t, changes, started = 0, [], False
+    for line in lines:
+        if line.startswith("#"):
+            if started:
+                yield t, order, changes
+            t, changes, started = int(line[1:]), [], True
+        elif line.startswith("$"):  # ($dumpvars, $end)
+            continue
+        elif line[0] in "bBrRs":
+            value, code = line.rstrip("\n").rsplit(" ", 1)
+            changes.append(f"{value} {prefix}{code}\n")
+        elif line.strip():
+            changes.append(f"{line[0]}{prefix}{line[1:]}")
+    if started:
+        yield t, order, changes
+
+
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 

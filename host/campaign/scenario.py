@@ -36,7 +36,8 @@ from host.rig import arguments
 from host.rig.apps import get_app
 from host.rig.spec import RigSpec, build_plant
 from host.rig.tomlfile import read_toml
-from sim_plant.faults import FaultError, parse_faults
+from sim_plant.faults import FaultError, parse_faults, with_faults
+from sim_plant.plant import check_contract
 
 CAMPAIGN_KEYS = {
     "rig": str,
@@ -172,16 +173,22 @@ def _faultsets(path: Path, data: dict) -> dict[str, list]:
 
 
 def _checked(path: Path, where: str, faults) -> list:
+    """The tables checked as a schedule; a ``board`` (the board a harness fault of a set of
+    boards acts on) is checked with the campaign's rig (:func:`_check`)."""
     try:
-        parse_faults(faults)
+        parse_faults([{k: v for k, v in f.items() if k != "board"} if isinstance(f, dict) else f for f in faults])
     except FaultError as e:
         raise ConfigError(f"{path}: {where}{e}") from None
     return faults
 
 
 def _check(campaign: Campaign) -> None:
-    from host.campaign.judges import judges
+    from host.rig.boardfile import names_boards
 
+    if str(campaign.rig).endswith(".toml") and names_boards(campaign.rig):
+        _check_boards(campaign)
+        _check_common(campaign)
+        return
     app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
     campaign.judge = campaign.judge or ("declared" if (app.extra.get("report") or {}).get("judge") else "generic")
     campaign.worlds = campaign.worlds or [next(iter(app.worlds))]
@@ -200,6 +207,49 @@ def _check(campaign: Campaign) -> None:
     for name in campaign.budgets:
         if name not in known:
             raise ConfigError(f"campaign budgets: {app.name} has no budget {name!r} (budgets: {', '.join(known)})")
+    _check_common(campaign)
+
+
+def _check_boards(campaign: Campaign) -> None:
+    """A campaign of a rig file with several boards (docs/multi-board.md): its worlds are the
+    file's, its fault sets' harness faults each name a board (``board = "motor"``), its
+    budgets are those across boards by name and each board's as ``<board>:<name>``; judged
+    ``generic`` or ``no_contact`` (over every board's console and the one plant's truth)."""
+    from host.rig.boardfile import load_boards
+    from host.rig.boardset import split_faults
+
+    boards = load_boards(campaign.rig)
+    first = next(iter(boards.firmware().values()))
+    campaign.judge = campaign.judge or "generic"
+    if campaign.judge not in ("generic", "no_contact"):
+        raise ConfigError(f"campaign judge: a set of boards is judged generic or no_contact, got {campaign.judge!r}")
+    if campaign.placement:
+        raise ConfigError("campaign placement: not for a set of boards (its plant's start pose is the world's)")
+    campaign.worlds = campaign.worlds or [next(iter(first.worlds))]
+    for world in campaign.worlds:
+        if world not in first.worlds:
+            known = ", ".join(first.worlds)
+            raise ConfigError(f"campaign worlds: {boards.name} has no world {world!r} (worlds: {known})")
+    for name, faults in campaign.faultsets.items():  # each set fits the boards and the plant
+        try:
+            plant_faults, _own = split_faults(boards, faults)
+            for world in campaign.worlds:
+                with_faults(check_contract(boards.make_plant(**first.worlds[world])), parse_faults(plant_faults))
+        except (ConfigError, FaultError) as e:
+            raise ConfigError(f"{campaign.source or campaign.rig}: fault set {name!r}: {e}") from None
+    _check_expected(campaign)
+    known = list(boards.budgets)
+    for board, app in boards.firmware().items():
+        plant = check_contract(boards.make_plant(**first.worlds[campaign.worlds[0]]))
+        known += [f"{board}:{b.name}" for b in app.make_budgets(plant)]
+    for name in campaign.budgets:
+        if name not in known:
+            raise ConfigError(f"campaign budgets: {boards.name} has no budget {name!r} (budgets: {', '.join(known)})")
+
+
+def _check_common(campaign: Campaign) -> None:
+    from host.campaign.judges import judges
+
     known = judges()  # (the generic ones, ours and the rig's own: its [plant] catalogue is read)
     if campaign.judge not in known:
         raise ConfigError(f"campaign judge: expected one of {', '.join(known)}, got {campaign.judge!r}")

@@ -62,12 +62,16 @@ def run_one(task: dict, artefacts: str | None = None, record: bool = False) -> d
     }
     rig = None
     try:
-        rig, cuts = _make_rig(task, artefacts, record, started)
+        if _is_set(task):  # several boards (docs/multi-board.md)
+            rig = _make_set(task, artefacts, record, started)
+            cuts = rig.brownouts
+        else:
+            rig, cuts = _make_rig(task, artefacts, record, started)
         rig.start()
         reached = _drive(rig, task, cuts)
         passed, figures, message = judges()[task["judge"]](rig, reached, task)
         result["figures"] = {k: float(v) for k, v in figures.items()}
-        result["budgets"] = {b.name: _budget(b) for b in rig.budgets.values()}
+        result["budgets"] = {name: _budget(b) for name, b in rig.budgets.items()}  # (a set's: <board>:<name>)
         save_coverage(rig, artefacts)
         missed = [f"{n} ({result['budgets'][n]['misses']} misses)" for n in task["budgets"] if rig.budgets[n].misses]
         if passed and missed:
@@ -159,14 +163,107 @@ def _drive(rig: Rig, task: dict, cuts: list[int]) -> bool:
     step_us = round(task["step_s"] * 1e6)
     until = task.get("until")
     while rig.t_us < end_us:
-        stop = min(rig.t_us + step_us, end_us, *[c for c in cuts if c > rig.t_us] or [end_us])
+        stop = min(rig.t_us + step_us, end_us, *[_at(c) for c in cuts if _at(c) > rig.t_us] or [end_us])
         rig.run_until(stop)
-        if cuts and rig.t_us >= cuts[0]:
-            cuts.pop(0)
-            brownout(rig)
+        while cuts and rig.t_us >= _at(cuts[0]):
+            cut = cuts.pop(0)
+            if isinstance(cut, tuple):  # (a set's: the board it names)
+                rig.power_cycle(cut[1])
+            else:
+                brownout(rig)
         if until and until in rig.console:
             return True
     return not until
+
+
+def _at(cut) -> int:
+    """A brown-out's instant: a one-board rig's (an instant), a set's ((instant, board))."""
+    return cut[0] if isinstance(cut, tuple) else cut
+
+
+def _is_set(task: dict) -> bool:
+    from host.rig.boardfile import names_boards
+
+    return str(task["rig"]).endswith(".toml") and names_boards(task["rig"])
+
+
+class SetRun:
+    """A set of boards as a campaign's run sees a rig: the set's clock and plant, every
+    board's console (each line after its board's name), the budgets across boards and each
+    board's as ``<board>:<name>``, the brown-outs of every board."""
+
+    def __init__(self, boards, progress):
+        self.boards = boards
+        self.progress = progress
+        self.plant = boards.plant
+        self.brownouts = list(boards.brownouts)
+        self.app = next(r.app for r in boards.rigs.values() if hasattr(r, "app"))
+        self.target = None
+
+    @property
+    def budgets(self) -> dict:
+        """(Read anew: a board that browns out has budgets anew.)"""
+        found = dict(self.boards.budgets)
+        for name, rig in self.boards.rigs.items():
+            found.update({f"{name}:{b}": budget for b, budget in getattr(rig, "budgets", {}).items()})
+        return found
+
+    @property
+    def t_us(self) -> int:
+        return self.boards.t_us
+
+    @property
+    def console(self) -> str:
+        return "".join(
+            f"{name}: {line}\n" for name, rig in self.boards.rigs.items() for line in rig.console.splitlines()
+        )
+
+    @property
+    def resets(self) -> int:
+        return sum(getattr(rig, "resets", 0) for rig in self.boards.rigs.values())
+
+    def truth(self) -> dict:
+        return self.boards.truth()
+
+    def start(self) -> None:
+        self.boards.start()
+
+    def stop(self) -> None:
+        self.boards.stop()
+
+    def run_until(self, t_us: int) -> None:
+        self.progress(self.t_us, t_us)
+        self.boards.run_until(t_us)
+
+    def power_cycle(self, board: str) -> None:
+        self.boards.power_cycle(board)
+
+
+def _make_set(task: dict, artefacts: str | None, record: bool, started: float) -> SetRun:
+    """A set of boards with the run's faults (each harness fault on its board, the others on
+    the one plant), its brown-outs as (instant, board)."""
+    from host.rig.boardfile import load_boards
+    from host.rig.boardset import BoardSet
+
+    deadline = started + task["timeout_s"]
+
+    def watch_the_clock(t_us: int, t_end_us: int) -> None:
+        if time.monotonic() > deadline:
+            raise RunTimeout(
+                f"the run took more than {task['timeout_s']:g} s of wall time (at virtual t={t_us / 1e6:.1f} s of "
+                f"{task['seconds']:g} s); expected it within its timeout_s"
+            )
+
+    boards = BoardSet(
+        load_boards(task["rig"]),
+        seed=task["seed"],
+        world=task["world"],
+        faults=task["faults"],
+        artefacts=Path(artefacts) if artefacts else None,
+        trace=record,
+        record=record,
+    )
+    return SetRun(boards, watch_the_clock)
 
 
 def _budget(budget) -> dict:

@@ -5,10 +5,11 @@ damaged (the command line's one line, :class:`CannotCompare` or another ConfigEr
 pose or output that is no number (NaN, inf: each named). The command line hands in
 ``say``."""
 
+import argparse
 import math
 from pathlib import Path
 
-from host.artefacts.folder import load_trace
+from host.artefacts.folder import HEADER, load_trace, set_boards
 from host.core import safefs
 from host.core.errors import ConfigError
 from host.diff.compare import Thresholds, compare
@@ -53,6 +54,22 @@ def _out(args) -> Path:
 def diff_command(args, say) -> int:
     limits = thresholds(args)
     out = _out(args)
+    a_boards, b_boards = (set_boards(f) if not (Path(f) / HEADER).is_file() else None for f in (args.a, args.b))
+    if a_boards is None and b_boards is None:
+        return _diff_folders(args.a, args.b, out, limits, say)
+    if a_boards != b_boards:
+        what = lambda boards: f"the boards {', '.join(boards)}" if boards else "one board's trace folder"  # noqa: E731
+        raise CannotCompare(f"A {args.a} holds {what(a_boards)} and B {args.b} {what(b_boards)}: not the same set")
+    worst = EXIT_SAME  # (a set of boards: board by board, each plot in out/<board>; the worst exit)
+    for board in a_boards:
+        say(f"board {board}:")
+        done = _diff_folders(Path(args.a) / board, Path(args.b) / board, out / board, limits, say, f"board {board}: ")
+        worst = max(worst, done)
+    return worst
+
+
+def _diff_folders(a_folder: Path, b_folder: Path, out: Path, limits, say, label: str = "") -> int:
+    args = argparse.Namespace(a=a_folder, b=b_folder)
     a, b = load_trace(args.a), load_trace(args.b)
     try:
         diff = compare(a, b)
@@ -68,12 +85,12 @@ def diff_command(args, say) -> int:
         say(f"plot: not written ({e.filename or out}: {e.strerror or e})")
     beyond = diff.beyond(limits)
     if beyond:
-        say("DIFFERS beyond the thresholds: " + "; ".join(beyond))
+        say(f"{label}DIFFERS beyond the thresholds: " + "; ".join(beyond))
         return EXIT_DIFFERS
     if diff.uncompared:
-        say("could not compare: " + "; ".join(diff.uncompared))
+        say(f"{label}could not compare: " + "; ".join(diff.uncompared))
         return EXIT_CANNOT_COMPARE
-    say("same within the thresholds")
+    say(f"{label}same within the thresholds")
     return EXIT_SAME
 
 

@@ -174,6 +174,10 @@ def _properties(node, key: str, rig, rows: list[dict]) -> None:
     """A rig's seed, artefacts and budgets as the test's properties (JUnit XML carries them;
     the artefacts folder relative to the JUnit file's, :func:`junit_path`)."""
     node.user_properties += [(f"{key}.seed", rig.seed), (f"{key}.artefacts", junit_path(node.config, rig.artefacts))]
+    _budget_properties(node, key, rows)
+
+
+def _budget_properties(node, key: str, rows: list[dict]) -> None:
     for row in rows:
         text = f"count={row['count']} max={row['max']} misses={row['misses']} limit={row['limit']}"
         node.user_properties.append((f"{key}.budget.{row['budget']}", text))
@@ -317,8 +321,9 @@ def make_boards(request):
     report = bool(request.config.getoption("--hil-report", None))
     recording = report and not _unrecorded_long(request.node)
     keep_failed = not report and request.config.getoption("--hil-keep", "none") == "failed"
+    marked = budget_marks.marked_limits(request.node)
 
-    def factory(rig_file, seed: int = 0, **kwargs):
+    def factory(rig_file, seed: int = 0, budget_limits: dict | None = None, **kwargs):
         path = userpath.resolve_rig(str(rig_file), getattr(request.node, "path", None))
         kwargs.setdefault("artefacts", artefacts_for(request.node, path) / f"boards{len(sets)}")
         if recording or keep_failed:  # (as make_rig's: the report's lanes, a failed test's whole traces)
@@ -328,6 +333,9 @@ def make_boards(request):
         if hil_coverage.data_file(request.config, nodeid, n) is not None:  # (--hil-coverage: each board's own file)
             kwargs.setdefault("coverage", lambda board: hil_coverage.data_file(request.config, f"{nodeid}::{board}", n))
         boards = BoardSet(load_boards(path), seed=seed, **kwargs)
+        budget_marks.apply_to_boards(boards, marked, f"@pytest.mark.{budget_marks.MARK}")
+        limits = {k: budget_marks.in_us(k, v, "make_boards budget_limits") for k, v in (budget_limits or {}).items()}
+        budget_marks.apply_to_boards(boards, limits, "make_boards budget_limits")
         sets.append(boards)
         return boards.start()
 
@@ -338,6 +346,8 @@ def make_boards(request):
             _finish_rigs(request, labelled, recording, keep_failed)
         finally:
             boards.stop()
+        failed = request.node.stash.get(_failed, False)  # (the budgets across boards: boards<n>.budget.<name>)
+        _budget_properties(request.node, f"boards{n}", verdicts.rows_of(boards.budgets.values(), failed))
 
 
 def rig_from_keywords(app, plant_options: dict | None = None, **kwargs) -> Rig:

@@ -4,7 +4,9 @@
     @pytest.mark.hil_budget("control.period", tolerance_us=200)
     def test_...(make_rig): ...
 
-or ``make_rig(app, budget_limits={"sonar.latency": {"max_ms": 20}})`` for one rig. ``max``
+or ``make_rig(app, budget_limits={"sonar.latency": {"max_ms": 20}})`` for one rig. For a set of
+boards (``make_boards``, docs/multi-board.md) a budget across boards goes by its name, a board's
+own as ``<board>:<name>`` (``@pytest.mark.hil_budget("motor:speed_loop", tolerance_us=500)``). ``max``
 is the largest value that holds (a period budget's band becomes period ± (max − period));
 ``tolerance`` is a period budget's ± band. Set before the rig starts, so every value is
 judged by it, ``check()`` and the tables included.
@@ -58,6 +60,25 @@ def apply(rig, limits: dict[str, dict[str, int]], where: str) -> None:
         if budget is None:
             known = ", ".join(sorted(rig.budgets)) or "none"
             raise ConfigError(f"{where}: no budget {name!r} on the {rig.app.name} rig (its budgets: {known})")
+        _set(budget, where, **limit)
+
+
+def apply_to_boards(boards, limits: dict[str, dict[str, int]], where: str) -> None:
+    """Set each named budget of a set of boards (a :class:`~host.rig.boardset.BoardSet`) to
+    its limits: a budget across boards by its name, a board's own as ``<board>:<name>``; a
+    name the set has no budget of is a ConfigError that lists what there is."""
+    for name, limit in limits.items():
+        budget = boards.budgets.get(name)
+        board, _, own = name.partition(":")
+        if budget is None and own and board in boards.rigs:
+            budget = getattr(boards.rigs[board], "budgets", {}).get(own)
+        if budget is None:
+            own_budgets = [f"{b}:{n}" for b, rig in boards.rigs.items() for n in sorted(getattr(rig, "budgets", {}))]
+            known = ", ".join([*sorted(boards.budgets), *own_budgets]) or "none"
+            raise ConfigError(
+                f"{where}: no budget {name!r} on the {boards.spec.name} boards (their budgets: {known}; "
+                f"a board's own as <board>:<name>)"
+            )
         _set(budget, where, **limit)
 
 

@@ -3,11 +3,12 @@ interpreter on its own pty (a :class:`~host.rig.rig.Rig` each, on a
 :class:`~host.rig.boardview.BoardView` of the one plant), one virtual clock.
 
 The set serves in rounds. At the start of a round every board is blocked in a wait. The
-round's instant is the earliest at which anything can change: the plant's next change
-(which holds the bytes and levels in flight on the wires between boards), the earliest
-end of a board's wait, a ground-truth sample, the run's end. The plant is brought to that
-instant; each board with something there is served in the boards' order, and one whose
-wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
+round's instant is the earliest at which a board can wake: the earliest end of a board's
+wait, a ground-truth sample, the run's end, and the plant's next change (which holds the
+bytes and levels in flight on the wires between boards) when it can end a board's wait
+(:func:`wakeable`). The plant is brought to that instant, its changes queued for the
+boards wired to them; each board with something there is served in the boards' order,
+and one whose wait ends (its time, an IRQ edge, a watched input) gets its STATE. Its horizon is the
 plant's next change or the earliest instant another board could act, at least the µs
 after the instant, so the board moves its clock no further without asking. Then each
 woken board is served, in order, until it blocks again: what it writes goes into the plant
@@ -21,6 +22,9 @@ import contextlib
 import struct
 from pathlib import Path
 
+from host.artefacts.folder import GTKW, VCD
+from host.artefacts.integrity import TraceWriteError
+from host.artefacts.vcd import merge_vcd, write_set_gtkw
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
 from host.rig import arguments
@@ -32,6 +36,7 @@ from host.rig.peripherals import TARGET_PREFIX
 from host.rig.rig import Rig
 from host.rig.spec import Recording, RigSpec
 from sim_plant.buses import FIRST_ADDRESS, LAST_ADDRESS
+from sim_plant.faults import HARNESS_KINDS, FaultError, parse_faults, with_faults
 from sim_plant.plant import check_contract
 
 MAX_ROUNDS_AT_ONE_INSTANT = 100_000
@@ -45,6 +50,33 @@ def _world_of(app, world: str) -> dict:
     return app.worlds[world]
 
 
+def split_faults(boards, faults) -> tuple[list, dict]:
+    """A set's fault tables (a campaign's fault set): those of the harness (``link_corrupt``,
+    ``link_stall``, ``brownout``, ``heap``) name their board (``board = "motor"``) and go
+    to that board's rig; the others act on the one plant and name none. Returns (the
+    plant's tables, board -> its tables); a mistake is a ConfigError naming the table."""
+    plant, own = [], {}
+    for i, entry in enumerate(faults or ()):
+        table = dict(entry) if isinstance(entry, dict) else entry
+        board = table.pop("board", None) if isinstance(table, dict) else None
+        kind = table.get("kind") if isinstance(table, dict) else None
+        if kind in HARNESS_KINDS:
+            if board not in boards.firmware():
+                known = ", ".join(boards.firmware())
+                raise ConfigError(f"faults[{i}] ({kind}) board: expected the board it acts on ({known}), got {board!r}")
+            own.setdefault(board, []).append(table)
+        elif board is not None:
+            raise ConfigError(f"faults[{i}] ({kind}) board: a fault of the one plant names no board")
+        else:
+            plant.append(table)
+    try:  # (each board's, and the plant's, checked as one schedule: FaultError names the field)
+        for entries in (plant, *own.values()):
+            parse_faults(entries)
+    except FaultError as e:
+        raise ConfigError(str(e)) from None
+    return plant, own
+
+
 def label_error(error: HarnessError, board: str) -> None:
     """``error``'s message names ``board`` first (once)."""
     if board and error.args and isinstance(error.args[0], str) and not error.args[0].startswith("board "):
@@ -53,6 +85,14 @@ def label_error(error: HarnessError, board: str) -> None:
 
 def truth_due(rig: Rig, t_us: int) -> bool:
     return rig.recorder is not None and rig.recorder.next_truth_us <= t_us
+
+
+def wakeable(rig) -> bool:
+    """Whether an input change could end ``rig``'s wait before its end: its wait watches an
+    input, or an IRQ is armed on one of its pins (or it is not blocked). Another board's wait
+    that no change can end needs no round at each change of the plant: only at its end."""
+    wait = rig.clock.wait
+    return wait is None or bool(wait.watch) or getattr(rig.wiring, "irq_armed", False)
 
 
 def to_wait(rig, what: str = "a message") -> None:
@@ -71,6 +111,23 @@ def naming(board: str):
         raise
 
 
+def merge_vcds(boards) -> HarnessError | None:
+    """A recorded set's ``artefacts/trace.vcd``: each board's ``trace.vcd`` a scope of its
+    own; and its GTKWave save file, ``trace.gtkw`` (a group a board). The error, if it could
+    not be written (each board's own stands)."""
+    parts = {name: boards.artefacts / name / VCD for name, rig in boards.rigs.items() if isinstance(rig, Rig)}
+    parts = {name: path for name, path in parts.items() if path.is_file()}
+    if not parts:
+        return None
+    comment = f"boards {', '.join(parts)} of {boards.spec.name} seed {boards.seed} (each board's own VCD in its folder)"
+    try:
+        declared = merge_vcd(boards.artefacts / VCD, parts, top=boards.spec.name, comment=comment)
+        write_set_gtkw(boards.artefacts / GTKW, VCD, declared)
+    except (OSError, ValueError) as e:  # (a full disk, a board's VCD cut short)
+        return TraceWriteError(f"the set's trace.vcd in {boards.artefacts} was not written: {e}")
+    return None
+
+
 class BoardSet:
     """Boards of a rig file with ``[[boards]]`` (:func:`host.rig.boardfile.load_boards`)
     on one plant and one clock. Use as a context manager, or call start() and stop()."""
@@ -87,12 +144,18 @@ class BoardSet:
         coverage=None,
         world: str | None = None,
         plant_options: dict | None = None,
+        faults: list | None = None,
+        allow_exit: bool = False,
     ):
         """``boards``: a :class:`~host.rig.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
         folder is made, named as the board; ``coverage``: a board's name -> the coverage.py
         data file its firmware's coverage goes to (docs/coverage.md), or None; ``world``: one
-        of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``)."""
+        of the file's ``[worlds.<name>]``, and ``plant_options`` over it (as ``--param``);
+        ``faults``: fault tables (:func:`split_faults`: the harness's name their board), the
+        brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`);
+        ``allow_exit``: a board's firmware may end (the others carry on), else its end fails
+        the run, naming it."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
@@ -102,9 +165,20 @@ class BoardSet:
             made = boards.make_plant(**options)
         except (TypeError, ValueError, ArithmeticError) as e:
             raise ConfigError(f"{boards.name}: the plant rejects {options}: {e}") from None
-        self.plant = check_contract(made)
+        plant_faults, board_faults = split_faults(boards, faults)
+        try:
+            self.plant = with_faults(check_contract(made), parse_faults(plant_faults))
+        except FaultError as e:
+            raise ConfigError(f"{boards.name}: {e}") from None
         self.plant.reset(self.seed)
+        self.brownouts = sorted(  # (t_us, board): the brown-outs the faults schedule
+            (round(f.at_s * 1e6), board)
+            for board, entries in board_faults.items()
+            for f in parse_faults(entries)
+            if f.kind == "brownout"
+        )
         self.artefacts = Path(artefacts) if artefacts else None
+        self.recorded = bool(record)  # (each board records its signals: their VCDs merged at the stop)
         self.rigs: dict[str, Rig] = {}
         self.views: dict[str, BoardView] = {}
         for name, app in boards.apps.items():
@@ -115,7 +189,8 @@ class BoardSet:
                     program = HostProgram(name, load_program(app.path, app.function), view, folder, watchdog_s)
                 self.rigs[name], self.views[name] = program, view
                 continue
-            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False)
+            own = {"faults": tuple(board_faults.get(name, ())), "allow_exit": allow_exit}
+            spec = RigSpec(app=app, seed=self.seed, watchdog_s=watchdog_s, busy_poll=False, **own)
             folder = self.artefacts / name if self.artefacts else None
             measured = coverage(name) if coverage is not None else None
             with naming(name):
@@ -124,6 +199,7 @@ class BoardSet:
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
+        self.rounds = 0  # rounds served (a round: the plant to an instant, each board with something there served)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
         self.budgets: dict[str, ReactionBudget] = {}  # the budgets across boards (the file's [budgets])
         for name, (stimulus, response, limit_us, description) in boards.budgets.items():
@@ -153,7 +229,9 @@ class BoardSet:
         return self
 
     def stop(self, interrupted: BaseException | None = None) -> None:
-        """Stop every board (each writes its console and trace); the first error stands."""
+        """Stop every board (each writes its console and trace); the first error stands.
+        Recorded, the boards' VCDs are merged into the artefacts' own ``trace.vcd``, one
+        scope per board."""
         error = None
         for name, rig in self.rigs.items():
             try:
@@ -161,6 +239,8 @@ class BoardSet:
                     rig.stop(interrupted)
             except HarnessError as e:
                 error = error or e
+        if self.artefacts is not None and self.recorded:
+            error = error or merge_vcds(self)
         if error is not None and interrupted is None:
             raise error
 
@@ -227,7 +307,7 @@ class BoardSet:
             if other == board or rig.exit_kind is not None:
                 continue
             wait = rig.clock.wait
-            if wait is None or wait.t_until <= t_us or self.views[other].queue:
+            if wait is None or wait.t_until <= t_us or (self.views[other].queue and wakeable(rig)):
                 return t_us + 1
             earliest = min(earliest, wait.t_until)
             if rig.recorder is not None:  # (its truth sample: the shared plant must be there then)
@@ -238,11 +318,12 @@ class BoardSet:
         """The round's instant: the earliest at which anything may change; None when every
         board is at ``t_end_us`` with nothing left at that instant."""
         plant = self.plant
-        t_us = min(plant.next_change_us(), t_end_us)
+        live = [rig for rig in self.rigs.values() if rig.exit_kind is None]
+        t_us = min(plant.next_change_us(), t_end_us) if any(wakeable(rig) for rig in live) else t_end_us
         behind = False
         for name, rig in self.rigs.items():
             view = self.views[name]
-            if view.queue:
+            if view.queue and (rig.exit_kind is not None or wakeable(rig)):
                 t_us = min(t_us, view.queue[0][0])
             if rig.exit_kind is None:
                 t_us = min(t_us, rig.clock.wait.t_until)
@@ -253,6 +334,7 @@ class BoardSet:
         if t_us >= t_end_us and not behind and not any(v.queue for v in self.views.values()):
             return None
         t_us = min(t_us, t_end_us)
+        self.rounds += 1
         last, rounds = self._instant
         self._instant = (t_us, rounds + 1 if t_us == last else 0)
         if rounds > MAX_ROUNDS_AT_ONE_INSTANT:

@@ -283,9 +283,15 @@ def of_campaign(rig: str, campaign: dict) -> dict:
     """A campaign's manifest: what its runs share (the rig's firmware, the interpreter, the
     shim, the plant of its first world, harness and tools) and the campaign itself (its
     seeds, worlds and fault sets: each run's seed and faults are in results.jsonl)."""
+    from host.rig.boardfile import load_boards, names_boards
     from host.rig.firmware import Firmware
     from host.rig.spec import RigSpec, build_plant
 
+    if str(rig).endswith(".toml") and names_boards(rig):  # a set of boards: each board's, the first's in full
+        made = {name: of_campaign(f"{rig}::{name}", campaign) for name in load_boards(rig).firmware()}
+        found = next(iter(made.values()))
+        found["boards"] = {name: each.get("firmware") for name, each in made.items()}
+        return found
     spec = RigSpec(rig, world=(campaign.get("worlds") or [None])[0])
     app = spec.resolve()
     board_folder, _pins = app.board_files(spec.board or app.default_board)

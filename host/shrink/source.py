@@ -7,7 +7,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from host.artefacts.folder import HEADER, load_trace
+from host.artefacts.folder import HEADER, load_trace, set_boards
 from host.campaign.scenario import Campaign, load_campaign, task_key
 from host.campaign.store import CAMPAIGN, ResultStore
 from host.core.errors import ConfigError
@@ -33,9 +33,11 @@ def find_run(text: str, *, app: str | None = None, trust_folder: bool = False) -
         return found
     if (path / HEADER).is_file():
         return _from_trace(path, app, trust_folder)
+    if set_boards(path):
+        return _from_set(path, app, trust_folder)
     raise ConfigError(
-        f"RUN {text}: expected a trace folder (with {HEADER}), a campaign's run folder "
-        "(CAMPAIGN/runs/faultset/world/seed) or CAMPAIGN/faultset/world/seed"
+        f"RUN {text}: expected a trace folder (with {HEADER}), a set of boards' run folder (a trace folder a "
+        "board), a campaign's run folder (CAMPAIGN/runs/faultset/world/seed) or CAMPAIGN/faultset/world/seed"
     )
 
 
@@ -93,6 +95,39 @@ def _from_trace(folder: Path, app: str | None, trust_folder: bool) -> Source:
         campaign.worlds = [spec["world"]]
     campaign.faultsets = {TRACE_FAULTSET: list(spec.get("faults") or [])}
     campaign.placement = dict(spec.get("placement") or {})
+    return Source(campaign.tasks()[0], str(folder))
+
+
+def _from_set(folder: Path, app: str | None, trust_folder: bool) -> Source:
+    """A set of boards' run folder (docs/multi-board.md): its rig file, seed and world as its
+    boards' headers name them (each ``<rig file>::<board>``), its duration the longest of
+    theirs, each board's harness faults naming it; judged as a campaign of that rig file."""
+    specs, ends = {}, []
+    for board in set_boards(folder):
+        header = load_trace(folder / board).header
+        specs[board] = header.get("spec") or {}
+        _check_spec(folder / board, specs[board])
+        ends.append(header["t_end_us"])
+    rigs = {str(spec.get("app", "")).rpartition("::")[0] for spec in specs.values()}
+    seeds = {spec.get("seed") for spec in specs.values()}
+    worlds = {spec.get("world") for spec in specs.values()}
+    if len(rigs) != 1 or "" in rigs or len(seeds) != 1 or len(worlds) != 1:
+        raise ConfigError(f"RUN {folder}: its boards' headers name different rig files, seeds or worlds ({rigs})")
+    rig = app or rigs.pop()
+    if app is None and not trust_folder:
+        raise ConfigError(
+            f"RUN {folder}: the boards' headers name a rig file to run ({rig}); a shrink runs only a firmware "
+            "you name: --app RIG, or --trust-folder to run the one the headers name"
+        )
+    if not Path(rig).is_absolute() and not Path(rig).exists() and (REPO / rig).exists():
+        rig = str(REPO / rig)
+    seconds = max(ends) / 1e6
+    campaign = load_campaign(rig, seeds=1, first_seed=int(seeds.pop() or 0), seconds=seconds, step_s=min(1.0, seconds))
+    world = worlds.pop()
+    if world:
+        campaign.worlds = [world]
+    faults = [{**f, "board": board} for board, spec in specs.items() for f in spec.get("faults") or ()]
+    campaign.faultsets = {TRACE_FAULTSET: faults}
     return Source(campaign.tasks()[0], str(folder))
 
 

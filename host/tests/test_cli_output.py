@@ -87,3 +87,18 @@ def test_run_of_a_rig_with_several_boards_writes_a_trace_folder_per_board_and_sh
     assert refused.returncode == 2 and "argument --board: not for a rig file with several boards" in refused.stderr
     unknown = mpy_fil("run", rig, "--world", "x")  # (a set's worlds are its rig file's, as a one-board rig's)
     assert unknown.returncode == 2 and "argument --world: unknown world 'x' for two_board_rover" in unknown.stderr
+
+
+def test_run_of_a_rig_with_several_boards_with_coverage_measures_each_board_into_its_own_folder(tmp_path, settrace):
+    out = tmp_path / "run"
+    rig = str(REPO / "examples" / "two_board_rover")
+    done = mpy_fil("run", rig, "--seconds", "0.5", "--no-plots", "--coverage", "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    for board, entry in (("motor", "motor_rp2040"), ("nav", "nav_esp32")):
+        html = out / board / "coverage" / "html" / "index.html"
+        line = rf"^board {board}'s firmware coverage: (\d+)% of lines and branches: (\S+) "
+        said = re.search(line, done.stdout, re.M)
+        assert said and said[2] == str(html) and int(said[1]) > 0, f"expected {board}'s coverage line:\n{done.stdout}"
+        assert html.is_file() and entry in html.read_text(), f"expected {board}'s firmware in {html}"
+        other = "nav_esp32" if board == "motor" else "motor_rp2040"
+        assert other not in html.read_text(), f"expected only board {board}'s own firmware in {html}"

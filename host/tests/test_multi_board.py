@@ -8,10 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from host.core.errors import ConfigError, FirmwareError, FirmwareHung
+from host.core.errors import ConfigError, FirmwareError, FirmwareExited, FirmwareHung
 from host.rig.boardfile import boards_from_data, load_boards
 from host.rig.boardset import BoardSet
 from host.rig.rigfile import load_rig
+from host.tests.conftest import run_cli
+from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
 RIG = Path(__file__).parent / "firmware" / "two_boards" / "rig.toml"
 TICKS0 = 2**30 - 10_000_000  # ticks_us at t=0 (docs/clock.md: 10 s before the wrap)
@@ -43,6 +45,32 @@ def test_the_same_seed_gives_byte_identical_traces_for_every_board(tmp_path):
         )
         assert first[f"{board}.console"] == second[f"{board}.console"], f"board {board}: consoles differ"
     assert first["left.console"].count("left got pong") >= 3, f"expected pongs back:\n{first['left.console']}"
+
+
+def test_a_recorded_set_writes_one_vcd_with_a_scope_per_board_on_the_one_clock(tmp_path):
+    with BoardSet(load_boards(RIG), seed=2, record=True, artefacts=tmp_path) as boards:
+        boards.run_for(0.1)
+    merged = read_vcd((tmp_path / "trace.vcd").read_text())  # (strict: codes, values, time, scopes)
+    for board in ("left", "right"):
+        own = read_vcd((tmp_path / board / "trace.vcd").read_text())
+        assert own.vars, f"expected board {board}'s own VCD to hold its signals"
+        for path, var in own.vars.items():  # (its own VCD's top scope is its app's, two_boards_<board>)
+            there = f"two_boards.{board}.{path.split('.', 1)[1]}"
+            assert there in merged.vars and merged.vars[there].type == var.type, f"expected {there} in the merged VCD"
+            assert merged.changes.get(there) == own.changes.get(path), (
+                f"expected {there} to change as {path} in board {board}'s own VCD: "
+                f"{merged.changes.get(there, [])[:4]} for {own.changes.get(path, [])[:4]}"
+            )
+    edges = merged.timeline("two_boards.right.sensors.ready.out")
+    assert len(edges) > 3, f"expected the right board's ready line to change, got {edges}"
+    theirs = read_vcd(gtkwave_round_trip(tmp_path / "trace.vcd", tmp_path))  # (GTKWave reads it as written)
+    assert theirs.timeline("two_boards.right.sensors.ready.out") == edges, "expected GTKWave to read the same edges"
+    lines = (tmp_path / "trace.gtkw").read_text().splitlines()  # its save file: a group a board, then a role
+    assert '[dumpfile] "trace.vcd"' in lines, lines[:6]
+    traced = [line for line in lines if line.startswith("two_boards.")]
+    assert sorted(traced) == sorted(merged.vars), f"expected every variable shown once: {traced}"
+    groups = [line[1:] for line in lines if line.startswith("-")]
+    assert groups[:2] == ["left", "sensors"] and groups.count("right") == 2, groups  # (begun and ended)
 
 
 def test_a_gpio_edge_reaches_the_other_board_at_the_instant_it_was_written(tmp_path):
@@ -102,6 +130,38 @@ def test_a_board_that_raises_is_named_in_the_failure(tmp_path):
     assert message.startswith("board right: firmware raised at virtual t=0.020000 s"), message
     assert "right gave up" in message and str(tmp_path / "out" / "right") in message, message
     assert "left ready" in (tmp_path / "out" / "left" / "console.log").read_text(), "expected left's console kept"
+
+
+def test_a_board_whose_firmware_ends_fails_the_run_unless_the_set_allows_it(tmp_path):
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(20)\nprint('right done')\n")
+    with pytest.raises(FirmwareExited, match=r"^board right: the firmware ended at virtual t=0\.020000 s"):
+        with BoardSet(load_boards(rig), seed=5) as boards:
+            boards.run_for(0.1)
+    with BoardSet(load_boards(rig), seed=5, allow_exit=True) as boards:  # (mpy-fil run --allow-exit)
+        boards.run_for(0.1)
+        left, right = boards["left"].console, boards["right"].console
+    assert boards.t_us == 100_000 and "right done" in right, right
+    late = [int(t) - TICKS0 for t in re.findall(r"left ready \d at (\d+)", left)]
+    assert late and late[-1] > 50_000, f"expected the left board on after the right ended, got its lines at {late}"
+    code, text, err = run_cli("run", rig, "--seconds", "0.1", "--no-plots", "--allow-exit", "--out", tmp_path / "run")
+    assert code == 0 and "right done" in text, f"exit {code}:\n{text}\n{err}"
+
+
+def test_a_failing_run_of_a_set_shrinks_from_its_run_folder(tmp_path):
+    """mpy-fil shrink of a set's run folder (a trace folder a board): the rig file, seed and
+    world its boards' headers name, run again only when trusted; cut to the failure."""
+    rig = _with_firmware(tmp_path, "import time\ntime.sleep_ms(20)\nraise ValueError('right gave up')\n")
+    with pytest.raises(FirmwareError):
+        with BoardSet(load_boards(rig), seed=5, trace=True, record=True, artefacts=tmp_path / "run") as boards:
+            boards.run_for(0.3)
+    code, text, err = run_cli("shrink", tmp_path / "run", "--out", tmp_path / "s", "--workers", 1)
+    assert code == 2 and "--app RIG, or --trust-folder" in err, f"expected a rig file run only if trusted: {err}"
+    code, text, err = run_cli("shrink", tmp_path / "run", "--trust-folder", "--out", tmp_path / "s", "--workers", 1)
+    assert code == 0, f"exit {code}:\n{text}\n{err}"
+    assert "fails as: error FirmwareError: board right: firmware raised at virtual t=# s" in text, text
+    minimal = json.loads((tmp_path / "s" / "shrink.json").read_text())["minimal"]
+    assert minimal["rig"] == str(rig) and minimal["seed"] == 5, minimal
+    assert 0.02 <= minimal["seconds"] < 0.3, f"expected the run cut to just past 20 ms, got {minimal['seconds']} s"
 
 
 def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
@@ -206,6 +266,59 @@ def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
     assert int(written[0][1]) - TICKS0 >= 5000, written
     # (a horizon of the next µs only: a sync every 10 us of each 5 ms spin, about 2,000)
     assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
+
+
+UART_PAIR_RIG = """\
+name = "uart_pair"
+[plant]
+body = "bench"
+[[plant.parts]]
+kind = "board_uart"
+name = "link"
+[[boards]]
+name = "left"
+firmware = { dir = "left" }
+board = { family = "esp32", pins = { LINK_UART = 1 } }
+wiring = { LINK_UART = "link.a" }
+[[boards]]
+name = "right"
+firmware = { dir = "right" }
+board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
+wiring = { LINK_UART = "link.b" }
+"""
+
+BURSTS = """\
+import time
+from machine import UART
+u = UART(1, 115200)
+for n in range(4):
+    u.write(bytes(range(n, n + 150)))  # (150 bytes: 13 ms on the wire)
+    time.sleep_ms(50)
+while True:
+    time.sleep_ms(100)
+"""
+
+SLOW_READER = """\
+import time
+from machine import UART
+u = UART(0, 115200)
+got = b""
+while True:
+    time.sleep_ms(40)
+    got += u.read() or b""
+    print("right has", len(got), "sum", sum(got), "at", time.ticks_us())
+"""
+
+
+def test_a_board_no_change_can_wake_takes_the_bytes_in_flight_at_its_wake_not_a_round_each(tmp_path):
+    rig = set_folder(tmp_path, {"left": BURSTS, "right": SLOW_READER}, UART_PAIR_RIG)
+    with BoardSet(load_boards(rig), seed=1, artefacts=tmp_path / "out") as boards:
+        boards.run_for(0.25)
+        console, rounds = boards["right"].console, boards.rounds
+    expected = sum(sum(range(n, n + 150)) for n in range(4))
+    assert f"right has 600 sum {expected}" in console, f"expected the 600 bytes sent, in order, got:\n{console}"
+    # (the left board's wakes, the right's, the run's end: about 12; a round a byte arriving: 600 more)
+    assert rounds < 40, f"expected a round at each board's wake only, got {rounds} for 600 bytes in flight"
 
 
 def test_a_board_of_a_set_is_not_run_alone(tmp_path):
@@ -467,3 +580,75 @@ def test_a_set_runs_in_a_world_of_its_file_with_options_over_it(tmp_path):
     assert bounds[2] == 6.0 and x == 4.0, (bounds, x)
     with pytest.raises(ConfigError, match=r"world: unknown world 'narrow' \(the file's worlds: default, wide\)"):
         BoardSet(boards, seed=1, world="narrow")
+
+
+def test_diff_of_two_runs_of_a_set_compares_board_by_board(tmp_path):
+    """mpy-fil diff A B of two sets' run folders: each board's trace folder with the other
+    run's, its tables and plot under its name; the worst exit (docs/testing-tools.md)."""
+    for run, seconds in (("a", 0.2), ("b", 0.2), ("c", 0.3)):  # (c: on for longer, more lines written)
+        with BoardSet(load_boards(RIG), seed=1, trace=True, record=True, artefacts=tmp_path / run) as boards:
+            boards.run_for(seconds)
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "b", "--fail-on-output", "--out", tmp_path / "ab")
+    assert code == 0, f"expected the same seed's runs the same, got exit {code}:\n{text}\n{err}"
+    for board in ("left", "right"):
+        assert f"board {board}:\n" in text and f"board {board}: same within the thresholds" in text, text
+        assert (tmp_path / "ab" / board / "diff.png").is_file(), sorted((tmp_path / "ab").rglob("*"))
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "c", "--fail-on-output", "--out", tmp_path / "ac")
+    assert code == 1 and "board left: DIFFERS beyond the thresholds" in text, f"exit {code}:\n{text}\n{err}"
+    code, text, err = run_cli("diff", tmp_path / "a", tmp_path / "c" / "left", "--out", tmp_path / "x")
+    assert code == 2 and "holds the boards left, right and B" in err + text, f"exit {code}:\n{text}\n{err}"
+
+
+SET_CAMPAIGN = """
+[campaign]
+rig = "RIG"
+seconds = 1.0
+step_s = 0.25
+seeds = 2
+budgets = ["motor:speed_loop"]
+[[faultsets]]
+name = "none"
+[[faultsets]]
+name = "motor_browns_out"
+[[faultsets.faults]]
+kind = "brownout"
+board = "motor"
+at_s = 0.4
+"""
+
+
+def test_a_campaign_of_a_set_gives_each_board_its_own_faults_and_budgets(tmp_path):
+    """A campaign's rig may be a rig file with several boards: each harness fault names its
+    board (a brown-out of the motor board), the budgets are the set's (a board's own as
+    <board>:<name>), each run's trace folders one a board (docs/campaigns.md); a failing
+    run shrinks as a one-board run does (docs/testing-tools.md)."""
+    from host.campaign import load_campaign
+    from host.campaign.runner import run_campaign
+
+    rig = Path(__file__).parents[2] / "examples" / "two_board_rover" / "rig.toml"
+    (tmp_path / "set.toml").write_text(SET_CAMPAIGN.replace("RIG", str(rig)))
+    results = {r["key"]: r for r in run_campaign(load_campaign(str(tmp_path / "set.toml")), tmp_path / "out")}
+    assert sorted(results) == [f"{s}/default/{n}" for s in ("motor_browns_out", "none") for n in (1, 2)], results
+    for n in (1, 2):
+        calm, cut = results[f"none/default/{n}"], results[f"motor_browns_out/default/{n}"]
+        assert calm["passed"] and calm["resets"] == 0, calm
+        assert calm["budgets"]["motor:speed_loop"]["misses"] == 0, calm["budgets"]
+        # (the motor board boots again at 0.4 s: its speed loop misses a period, the run fails on it)
+        assert cut["resets"] == 1 and not cut["passed"], cut
+        assert cut["message"] == "expected the budgets kept, missed: motor:speed_loop (1 misses)", cut["message"]
+        folder = Path(cut["artefacts"])
+        assert "[power lost and back at t=0.4" in (folder / "motor" / "console.log").read_text(), folder
+        assert "power lost" not in (folder / "nav" / "console.log").read_text(), f"expected the nav board on: {folder}"
+    # mpy-fil shrink of a set's failing run: the brown-out kept, the run cut to just past it
+    failing = tmp_path / "out" / "motor_browns_out" / "default" / "1"
+    code, text, err = run_cli("shrink", failing, "--out", tmp_path / "s")
+    assert code == 0 and "fails as: budget budgets: motor:speed_loop" in text, f"exit {code}:\n{text}\n{err}"
+    assert re.search(r"^faults\[0\] brownout 0\.4 +- +kept$", text, re.M), text
+    shrunk = json.loads((tmp_path / "s" / "shrink.json").read_text())["minimal"]
+    assert shrunk["faults"] == [{"kind": "brownout", "board": "motor", "at_s": 0.4}], shrunk["faults"]
+    assert 0.4 < shrunk["seconds"] < 1.0, f"expected the run cut to just past the brown-out, got {shrunk['seconds']} s"
+    bad = SET_CAMPAIGN.replace('board = "motor"\n', "")
+    (tmp_path / "bad.toml").write_text(bad.replace("RIG", str(rig)))
+    named = r"'motor_browns_out': faults\[0\] \(brownout\) board: expected the board it acts on \(motor, nav\)"
+    with pytest.raises(ConfigError, match=named):
+        load_campaign(str(tmp_path / "bad.toml"))
