@@ -161,7 +161,8 @@ class Pin:
                     raise ValueError("invalid pin af: %d" % (alt,))
             if mode == self.OPEN_DRAIN and value is None:
                 value = 1  # (mp_hal_pin_open_drain_with_value(id, value == -1 ? 1 : value): released)
-            self._init(mode, pull, value, alt)
+            if not self._as_it_is(mode, pull, value, alt):
+                self._init(mode, pull, value, alt)
 
     else:
 
@@ -171,7 +172,23 @@ class Pin:
                 raise TypeError("extra keyword arguments given")  # (py/argcheck.c, mp_arg_parse_all)
             if mode != -1 and mode not in self._MODES:
                 raise ValueError("invalid pin mode %r" % (mode,))
-            self._init(mode, pull, value, _ALT_SIO)
+            if not self._as_it_is(mode, pull, value, _ALT_SIO):
+                self._init(mode, pull, value, _ALT_SIO)
+
+    def _as_it_is(self, mode, pull, value, alt):
+        """The pin made anew as it is (a driver's ``Pin(n, Pin.IN)`` at each read): an input
+        or an output in SIO's hands, the same mode, pull and level, and nothing else (a PWM,
+        an ADC, a bus) configured on the pin since its CFG. Nothing changes for the host (the
+        level is known, the line neither taken nor let go): no CFG, and no sync (docs/shim.md,
+        "Pins")."""
+        return (
+            self._cfg
+            and (mode == -1 or mode == self._mode)
+            and (self._mode == Pin.IN or self._mode == Pin.OUT or self._mode == Pin.OPEN_DRAIN)
+            and (pull == -1 or pull == self._pull)
+            and (value is None or (1 if value else 0) == self._out)
+            and _hil.cfg_last.get(self._id) == self._handle
+        )
 
     def _init(self, mode, pull, value, alt):
         if mode != -1:
