@@ -1,6 +1,7 @@
 """A pin made anew as it already is (docs/shim.md, "Pins"): no CFG and no sync for it, the
 firmware reading the same levels (a driver that makes its pins at each read, as Kitronik's
-ultrasonic does, paid three exchanges a read for nothing)."""
+ultrasonic does, paid three exchanges a read for nothing); a PWM's frequency set again as
+it is: no OUT (Kitronik's motorOn sets it at each command)."""
 
 import json
 
@@ -25,3 +26,7 @@ def test_a_pin_made_as_it_is_sends_no_cfg(run_case):
         ("25", "pin", 0, 0),
     ]
     assert cfgs == expected, f"expected the CFGs (pin, kind, pull, param) {expected}, got {cfgs}"
+    pwm = next(rec["handle"] for rec in records if rec.get("msg") == "CFG" and rec["kind"] == "pwm")
+    outs = [rec for rec in records if rec.get("msg") == "OUT" and rec["handle"] == pwm]
+    freqs = [rec["value"] for rec in outs if rec["attr"] == "freq"]
+    assert freqs == [1000, 2000], f"expected the PWM's frequency told at 1000 Hz then 2000 Hz, got {freqs}"
