@@ -109,7 +109,12 @@ class FloorSensors(Part):
         self.look_at_world(plant)
         self.darks = self.dark(plant.pose_at(t_us))
         self.values = self._levels(self.darks)
-        self.next_us = t_us + self.period_us
+        self.next_us = self._next_look(t_us)
+
+    def _next_look(self, t_us: int) -> int:
+        """When to look again: a period on, or never where there is nothing to see (no
+        tape and no picture: the floor is white everywhere, no reading can change)."""
+        return t_us + self.period_us if self.floors else NEVER_US
 
     def initial_outputs(self) -> dict:
         return dict(zip(self.names, self.values))
@@ -121,7 +126,7 @@ class FloorSensors(Part):
             if new != old:
                 out.append(Change(t_us, name, new))
         self.values = values
-        self.next_us = t_us + self.period_us
+        self.next_us = self._next_look(t_us)
 
     def _levels(self, darks) -> list[int]:
         """Each reading, from white's level to black's in proportion to the darkness."""

@@ -101,8 +101,9 @@ _PLAIN = frozenset((int, float, bool, str, bytes, tuple, frozenset, type(None)))
 
 def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rng) -> list:
     """The read on one copy of ``device`` at each of ``instants`` in turn: the bytes read at
-    each, up to the first read that changed anything of the chip but its pointer or drew
-    from a generator (the plant's or its own): None there, and nothing after. The copy's
+    each and the register pointer the read leaves (``pointer``, ``pointed``), up to the first
+    read that changed anything of the chip but its pointer or drew from a generator (the
+    plant's or its own): None there, and nothing after. The copy's
     generators are tripwires; the plant's, where the chip does not hold it, is checked by
     its state. A pure read leaves the copy as the chip is, so the next instant's read is
     tried on the same copy."""
@@ -138,12 +139,13 @@ def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rn
         if status != F.BUS_OK or count != len(wrote):
             out.append(None)
             return out
+        left = (state["pointer"], state["pointed"])
         state["pointer"], state["pointed"] = before["pointer"], before["pointed"]
         try:
             same = state == before
         except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
             same = False
-        out.append(got if same else None)
+        out.append((got, left) if same else None)
         if not same:
             return out
     return out
@@ -160,8 +162,11 @@ class BusImages:
         self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
         self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
-        self.sent: dict = {}  # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us)
+        # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us,
+        # the register pointer the read leaves)
+        self.sent: dict = {}
         self.local = 0  # transfers answered in the shim
+        self.plain_buses: dict = {}  # bus -> no chip on it reads the plant at a transfer (_plain)
         # (handle, read shape) -> (version, t_us, steady_us, bytes read): a pure read tried at
         # t_us and at steady_us - 1, valid between them while no transfer reaches its chip
         # (bytes read None: one not imaged between them, its next read due after them)
@@ -174,6 +179,17 @@ class BusImages:
         self.used = False  # the shim answered a read from it
         self.idle: dict = {}  # kind -> images in a row that answered nothing
         self.passed: dict = {}  # kind -> messages without an image since the last
+
+    def _plain(self, bus: str) -> bool:
+        """No chip on ``bus`` reads the plant or sets its inputs at a transfer (``take_in``,
+        ``pass_on``: every transfer on the bus calls them, whatever its address)."""
+        plain = self.plain_buses.get(bus)
+        if plain is None:
+            kinds = [type(d) for d in self.plant.bus_devices() if d.bus == bus]
+            plain = self.plain_buses[bus] = bool(kinds) and all(
+                k.take_in is BusDevice.take_in and k.pass_on is BusDevice.pass_on for k in kinds
+            )
+        return plain
 
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
@@ -244,8 +260,8 @@ class BusImages:
                 until = min(hit[2], horizon_us)
                 if until <= t_us:
                     continue
-                got = hit[3]
-                sent.append((h, address, wrote, n_read, got, horizon_us))
+                got, left = hit[3]
+                sent.append((h, address, wrote, n_read, got, horizon_us, left))
                 entries.append((h, address, until, wrote, got))
         if not entries:
             return None
@@ -304,9 +320,15 @@ class BusImages:
         """BUS_DONE: the shim answered the entry at offset ``at`` of the last image at ``t_us``. The host
         does what a BUS frame at ``t_us`` makes it do (the plant brought to ``t_us``, the
         transfer played on the chips and traced) but send the reply, and checks that the
-        reply is the one the shim took: the bytes and the horizon."""
+        reply is the one the shim took: the bytes and the horizon.
+
+        The read is pure (its trials changed nothing of the chip but its register pointer),
+        so playing it on the chips is leaving the pointer where the trial's read left it: the
+        plant's transfer path (``bus_transfer``: its other chips' ``take_in`` and ``pass_on``,
+        the chip's registers byte by byte, the plant's schedule) runs only on a bus where a
+        chip reads the plant at every transfer (``_plain``)."""
         try:
-            h, address, wrote, n_read, got, horizon_us = self.sent[at]
+            h, address, wrote, n_read, got, horizon_us, left = self.sent[at]
         except KeyError:
             raise LinkError(
                 f"BUS_DONE names an entry at offset {at} of a bus image whose entries are at "
@@ -320,7 +342,13 @@ class BusImages:
         trace = rig.bus_trace
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
         try:
-            reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
+            device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
+            if device is not None:
+                device.pointer, device.pointed = left
+                reply = F.BUS_OK, len(wrote), got
+                trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
+            else:
+                reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
         finally:
             trace.asking = False
         lease = rig.clock.lease_us()

@@ -524,10 +524,20 @@ def send_out(handle, attr, value):
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
 
 
+cfg_last = {}
+"""Each pin's last CFG's handle (a Pin's, a PWM's, an ADC's), cleared by a CFG of anything
+else (a bus, a UART, PIO): a Pin made anew as it was, its pin not taken since, sends none
+(machine.Pin._init)."""
+
+
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
     """A CFG at the firmware's instant (as an OUT carries its time): the host brings the
     plant to it first, so what the CFG changes there (a line let go) starts then."""
     global _horizon
+    if kind == F.CFG_PIN or kind == F.CFG_PWM or kind == F.CFG_ADC:
+        cfg_last[name] = handle
+    elif kind != F.CFG_IRQ:
+        cfg_last.clear()
     _Link.image = _NO_IMAGE  # (a CFG may change the plant: the host images anew)
     if _Link.held or _Link.ahead:  # the host is ahead of this instant: back to it before the CFG
         _drop_held()

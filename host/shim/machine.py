@@ -161,7 +161,8 @@ class Pin:
                     raise ValueError("invalid pin af: %d" % (alt,))
             if mode == self.OPEN_DRAIN and value is None:
                 value = 1  # (mp_hal_pin_open_drain_with_value(id, value == -1 ? 1 : value): released)
-            self._init(mode, pull, value, alt)
+            if not self._as_it_is(mode, pull, value, alt):
+                self._init(mode, pull, value, alt)
 
     else:
 
@@ -171,7 +172,23 @@ class Pin:
                 raise TypeError("extra keyword arguments given")  # (py/argcheck.c, mp_arg_parse_all)
             if mode != -1 and mode not in self._MODES:
                 raise ValueError("invalid pin mode %r" % (mode,))
-            self._init(mode, pull, value, _ALT_SIO)
+            if not self._as_it_is(mode, pull, value, _ALT_SIO):
+                self._init(mode, pull, value, _ALT_SIO)
+
+    def _as_it_is(self, mode, pull, value, alt):
+        """The pin made anew as it is (a driver's ``Pin(n, Pin.IN)`` at each read): an input
+        or an output in SIO's hands, the same mode, pull and level, and nothing else (a PWM,
+        an ADC, a bus) configured on the pin since its CFG. Nothing changes for the host (the
+        level is known, the line neither taken nor let go): no CFG, and no sync (docs/shim.md,
+        "Pins")."""
+        return (
+            self._cfg
+            and (mode == -1 or mode == self._mode)
+            and (self._mode == Pin.IN or self._mode == Pin.OUT or self._mode == Pin.OPEN_DRAIN)
+            and (pull == -1 or pull == self._pull)
+            and (value is None or (1 if value else 0) == self._out)
+            and _hil.cfg_last.get(self._id) == self._handle
+        )
 
     def _init(self, mode, pull, value, alt):
         if mode != -1:
@@ -533,7 +550,7 @@ class PWM:
         self._invert = bool(invert)  # the line is high for the rest of each period
         if self._reg():
             _REG.set_funcsel(self._pin._id, _REG.FUNC_PWM)  # (machine_pwm.c: gpio_set_function)
-        self.freq(self._freq if freq is None else freq)
+        self._set_freq(self._freq if freq is None else freq, True)
         self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
     def init(self, *, freq=None, duty=None, duty_u16=None, duty_ns=None, **_kw):
@@ -563,13 +580,20 @@ class PWM:
             if self._reg():  # ports/rp2/machine_pwm.c, mp_machine_pwm_freq_get: from DIV and TOP
                 return _REG.pwm_freq(_REG._slice_of(self._pin._id))
             return self._freq
+        self._set_freq(value, False)
+
+    def _set_freq(self, value, made):
         if not 0 < value <= 40_000_000:
             raise ValueError("freq %r out of range" % (value,))
         if self._reg():  # (mp_machine_pwm_freq_set: DIV and TOP, then the duty again)
             _REG.pwm_set_freq(self._pin._id, int(value))
             _REG.pwm_set_duty_u16(self._pin._id, self._duty, self._invert)
-        self._freq = int(value)
-        _hil.send_out(self._handle, _F.OUT_FREQ, self._freq)
+        # The same frequency again (a driver that sets it at each motor command, as Kitronik's
+        # motorOn does) writes the same DIV and TOP: the waveform goes on, so the host is told
+        # nothing, as for the same duty; a PWM being made tells its frequency as ever
+        if made or int(value) != self._freq:
+            self._freq = int(value)
+            _hil.send_out(self._handle, _F.OUT_FREQ, self._freq)
 
     def duty_u16(self, value=None):
         if value is None:
