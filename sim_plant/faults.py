@@ -456,6 +456,7 @@ for _name in ("capabilities", "world", "start_pose", "catalogue_parts", "summary
 for _name in (
     "describe", "driven_inputs", "bus_devices", "bus_names", "chip_selects", "tied_chip_selects", "bus_notes",
     "bus_device", "coverage_grid", "footprint", "displays", "bus_transfer", "bitstream", "pose_at", "set_control",
+    "wired_signals",
 ):  # fmt: skip
     setattr(FaultyPlant, _name, _forwarded(_name))
 

@@ -226,6 +226,11 @@ class Plant:
         """Its body and parts as data, for the trace header and the report; None: nothing to say."""
         return None
 
+    def wired_signals(self) -> list | None:
+        """The signals one board of several is wired to (a board's view of a shared plant,
+        host/rig/boardview.py); None: the plant is one board's whole."""
+        return None
+
     def driven_inputs(self) -> set:
         """Inputs something inside the plant drives (a PWM expander's): no pin need be wired to them."""
         return set()

@@ -257,6 +257,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         "faults": [{"kind": f.kind, **f.fields} for f in plant.fault_schedule],
         "plant_options": run["plant_options"],
         "parts": plant.describe(),
+        **({"wired": wired} if (wired := plant.wired_signals()) is not None else {}),  # a board of a set's own
         **({"displays": shown} if (shown := pictures.describe_displays(plant)) else {}),  # their film strips
         "report": run.get("report"),
         **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)

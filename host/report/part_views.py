@@ -46,6 +46,14 @@ class Recorded:
             for n, v in grouped.items()
         }
         self.initial = trace.header.get("initial", {})
+        wired = trace.header.get("wired")
+        self.wired = None if wired is None else frozenset(wired)
+        """A board of a set: the signals its pins are wired to (the others are other boards')."""
+
+    def own(self, part) -> dict:
+        """``part.signals()`` that this trace's board is wired to (all of them for one board)."""
+        present = part.signals()
+        return present if self.wired is None else {n: v for n, v in present.items() if n in self.wired}
 
     def get(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         return self.series.get(name, (np.zeros(0, np.int64), np.zeros(0)))
@@ -84,9 +92,9 @@ def _part_class(kind: str, sources) -> type | None:
         return None
 
 
-def _signals(part, view) -> list[tuple[str, str, str]]:
-    """(full name, suffix, kind) of the view's signals present on this part."""
-    present = part.signals()
+def _signals(part, view, recorded: Recorded) -> list[tuple[str, str, str]]:
+    """(full name, suffix, kind) of the view's signals present on this part (and this board)."""
+    present = recorded.own(part)
     wanted = [f"{part.name}.{s}" for s in view.signals if s != "<i>"]
     if "<i>" in view.signals:
         wanted += [n for n in present if n not in wanted]
@@ -121,7 +129,7 @@ def high_pulses(t_us: np.ndarray, level: np.ndarray, initial=0) -> tuple[np.ndar
 
 
 def draw_range(panel: Panel, part, view, trace, recorded: Recorded) -> None:
-    for name, suffix, kind in _signals(part, view):
+    for name, suffix, kind in _signals(part, view, recorded):
         t, v = recorded.get(name)
         if kind == "level":
             t, v = high_pulses(t, v, recorded.initial.get(name, 0))
@@ -137,7 +145,7 @@ def signed_command(recorded: Recorded, part) -> tuple[np.ndarray, np.ndarray]:
     """A motor's signed duty as its bridge's pins make it, a value at each pin change:
     IN1/IN2 levels with a PWM (TB6612, L298N), two PWMs (DRV8833: IN1 - IN2), or DIR with
     a PWM (DIR high: forwards)."""
-    kinds = {n.split(".", 1)[1]: k for n, (_d, k) in part.signals().items()}
+    kinds = {n.split(".", 1)[1]: k for n, (_d, k) in recorded.own(part).items()}
     level = dict.fromkeys(kinds, 0)
     changes = sorted((t, suffix, v) for suffix in kinds for t, v in zip(*recorded.get(f"{part.name}.{suffix}")))
     t_out, v_out = [], []
@@ -155,6 +163,8 @@ def signed_command(recorded: Recorded, part) -> tuple[np.ndarray, np.ndarray]:
 
 
 def draw_command(panel: Panel, part, view, trace, recorded: Recorded) -> None:
+    if not recorded.own(part):
+        return  # (another board's motor)
     t_s, duty = signed_command(recorded, part)
     panel.lines.append(Line(f"{part.name} ({part.options.get('bridge', '')})", t_s, duty, "step"))
 
@@ -162,7 +172,7 @@ def draw_command(panel: Panel, part, view, trace, recorded: Recorded) -> None:
 def decoded_count(recorded: Recorded, part) -> tuple[np.ndarray, np.ndarray]:
     """An encoder's count from its recorded channels: A/B decoded x4 (A leading B counts
     up), or every edge of a single channel (no direction)."""
-    names = [n for n in part.signals()]
+    names = list(recorded.own(part))
     if len(names) == 1:
         t, _v = recorded.get(names[0])
         return t, np.arange(1, len(t) + 1, dtype=float)
@@ -182,15 +192,16 @@ def decoded_count(recorded: Recorded, part) -> tuple[np.ndarray, np.ndarray]:
 
 
 def draw_count(panel: Panel, part, view, trace, recorded: Recorded) -> None:
-    t, n = decoded_count(recorded, part)
-    what = "x4 from A/B" if len(part.signals()) == 2 else "edges, no direction"
-    panel.lines.append(Line(f"{part.name}: decoded ({what})", t / US_PER_S, n, "step"))
+    if recorded.own(part):  # (another board's encoder: its truth alone)
+        t, n = decoded_count(recorded, part)
+        what = "x4 from A/B" if len(recorded.own(part)) == 2 else "edges, no direction"
+        panel.lines.append(Line(f"{part.name}: decoded ({what})", t / US_PER_S, n, "step"))
     _truth_lines(panel, part, view, trace, "dashed")
 
 
 def draw_level(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     """Each signal on a row of its own (as a logic analyser draws them), 0 to 0.8 of it."""
-    for name, _suffix, kind in _signals(part, view):
+    for name, _suffix, kind in _signals(part, view, recorded):
         t, v = recorded.get(name)
         t = np.concatenate([[0], t, [trace.header.get("t_end_us", t[-1] if len(t) else 0)]])
         v = np.concatenate([[recorded.initial.get(name, 0)], v, v[-1:] if len(v) else [recorded.initial.get(name, 0)]])
@@ -206,7 +217,7 @@ def draw_level(panel: Panel, part, view, trace, recorded: Recorded) -> None:
 
 def draw_points(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     """A reading through the part's law (a battery's volts, a servo's angle) and its truth."""
-    for name, suffix, _kind in _signals(part, view):
+    for name, suffix, _kind in _signals(part, view, recorded):
         t, v = recorded.get(name)
         style = "step" if view.plot == "angle" else "points"
         what = "asked by the firmware's pulse" if view.plot == "angle" else "read by the firmware"
@@ -216,7 +227,7 @@ def draw_points(panel: Panel, part, view, trace, recorded: Recorded) -> None:
 
 def draw_strip(panel: Panel, part, view, trace, recorded: Recorded) -> None:
     """Each LED's colour (``0xRRGGBB`` outputs) as a bar of that colour on a row of its own."""
-    for name, (direction, _kind) in part.signals().items():
+    for name, (direction, _kind) in recorded.own(part).items():
         if direction != "out" or not name.rpartition(".")[2].startswith("led"):
             continue  # (an apa102_strip's level<i>: a brightness, not a colour)
         t, v = recorded.get(name)
@@ -252,7 +263,7 @@ def speed_panel(trace, recorded: Recorded, parts: list, body: dict) -> Panel:
     for part in parts:
         per_edge = getattr(part, "metres_per_edge", None)
         m = per_edge(body) if per_edge else None
-        if not m:
+        if not m or not recorded.own(part):
             continue
         t, n = decoded_count(recorded, part)
         if len(t) < 2:

@@ -55,6 +55,12 @@ class BoardView:
     def t_us(self) -> int:
         return self._t_us
 
+    def wired_signals(self) -> list | None:
+        """The signals this board's pins are wired to, for its trace header: the report draws
+        a board's readings and commands of those alone, the shared ground truth of every part
+        (host/report/part_views.py)."""
+        return sorted(self.signals)
+
     edge_counters = ()
     """(Not the shared plant's: a board's edges come through its queue, one change each.)"""
 

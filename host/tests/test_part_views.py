@@ -132,3 +132,20 @@ def test_a_led_strip_draws_each_leds_colours_as_bars_on_a_row_of_its_own():
     bars = ax.collections
     assert len(bars) == 5, "a bar per colour held: 3 on LED 0's row, 2 on LED 1's"
     assert tuple(bars[1].get_facecolor()[0][:3]) == (1.0, 0.0, 0.0)
+
+
+def test_a_board_of_a_set_draws_its_own_pins_and_every_parts_truth():
+    """A board's trace header names the signals its pins are wired to (``wired``): another
+    board's motor, encoder and probe are not drawn as this board's (a command at zero, a
+    level low for the whole run), their truth is (the plant is shared)."""
+    events = [(0, "sonar.echo", 1), (5831, "sonar.echo", 0), (0, "drive.in1", 65535), (0, "led.in", 1)]
+    events += [(k * 10_000, "enc.a" if k % 2 == 0 else "enc.b", (k // 2 + 1) % 2) for k in range(8)]
+    truth = {"t_us": [0, 500_000], "sonar_ping_range_m": [1.0, 1.0], "enc_edges": [0, 8]}
+    whole = lines_of(part_views.part_panels(car_trace(events, truth)))
+    trace = car_trace(events, truth)
+    trace.header["wired"] = ["sonar.echo", "sonar.trig"]
+    board = lines_of(part_views.part_panels(trace))
+    assert {"drive (drv8833)", "led.in (row 0)", "enc: decoded (x4 from A/B)"} <= set(whole), sorted(whole)
+    assert set(board) == {"sonar: read by the firmware", "sonar_ping_range_m (truth)", "enc_edges (truth)"}, (
+        f"expected the sonar's reading and every part's truth, got {sorted(board)}"
+    )
