@@ -54,9 +54,13 @@ class Scenario:
 
     @property
     def app(self) -> str:
-        """The app its first recorded rig ran (the report's group), else its test module's name."""
+        """The app its first recorded rig ran (the report's group; a board of a set, the set:
+        ``two_board_rover`` for ``two_board_rover.nav``), else its test module's name."""
         for rig in self.rigs:
             if rig.header and rig.header.get("app"):
+                board = (rig.header.get("spec") or {}).get("app", "").rpartition("::")[2]
+                if "wired" in rig.header and board:  # (host/artefacts/folder.py: a board of a set's header)
+                    return rig.header["app"].removesuffix(f".{board}")
                 return rig.header["app"]
         return self.nodeid.split("::")[0].rsplit("/", 1)[-1].removesuffix(".py") if self.rigs else NO_APP
 

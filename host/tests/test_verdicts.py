@@ -137,6 +137,23 @@ def test_the_report_groups_scenarios_by_app_lists_skipped_tests_and_shows_the_te
     assert "<code>t.py::test_c</code>: needs a board" in page
 
 
+def test_a_set_of_boards_is_grouped_under_the_sets_name_not_its_first_boards(tmp_path):
+    def board(name):
+        header = {"app": f"two_board_rover.{name}", "spec": {"app": f"/x/rig.toml::{name}"}, "wired": ["link.a"]}
+        return html.RigResult(f"boards0.{name}", tmp_path, header=header)
+
+    one = html.RigResult("rig0", tmp_path, header={"app": "pico.bot", "spec": {"app": "/x/rig.toml"}})
+    page = html.render(
+        [
+            html.Scenario("test_set", "t.py::test_set", "passed", rigs=[board("motor"), board("nav")]),
+            html.Scenario("test_one", "t.py::test_one", "passed", rigs=[one]),
+        ],
+        base=tmp_path,
+    )
+    assert 'id="app-two-board-rover"' in page and 'id="app-two-board-rover-motor"' not in page, page[:3000]
+    assert 'id="app-pico-bot"' in page, "an app's own dotted name is kept"
+
+
 def test_the_reports_images_are_files_beside_it_not_inline(tmp_path):
     plot = tmp_path / "build" / "rig0" / "plots" / "timing.png"
     plot.parent.mkdir(parents=True)
