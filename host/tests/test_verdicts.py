@@ -140,9 +140,11 @@ def test_the_report_groups_scenarios_by_app_lists_skipped_tests_and_shows_the_te
 def test_a_set_of_boards_is_grouped_under_the_sets_name_not_its_first_boards(tmp_path):
     def board(name):
         header = {"app": f"two_board_rover.{name}", "spec": {"app": f"/x/rig.toml::{name}"}, "wired": ["link.a"]}
+        header.update(board="b", seed=1, mode="lockstep", t_end_us=1_000_000)
         return html.RigResult(f"boards0.{name}", tmp_path, header=header)
 
-    one = html.RigResult("rig0", tmp_path, header={"app": "pico.bot", "spec": {"app": "/x/rig.toml"}})
+    plain = {"board": "b", "seed": 1, "mode": "lockstep", "t_end_us": 1_000_000, "spec": {"app": "/x/rig.toml"}}
+    one = html.RigResult("rig0", tmp_path, header={"app": "pico.bot", **plain})
     page = html.render(
         [
             html.Scenario("test_set", "t.py::test_set", "passed", rigs=[board("motor"), board("nav")]),
