@@ -201,7 +201,12 @@ def build_parser() -> argparse.ArgumentParser:
     prt.set_defaults(command=cmd_parts, sub=prt)
 
     rep = sub.add_parser("replay", help="drive the firmware with a trace's sensor stream; compare its outputs")
-    rep.add_argument("trace", metavar="TRACE", type=_trace_folder, help="trace folder of a lockstep run")
+    rep.add_argument(
+        "trace",
+        metavar="TRACE",
+        type=_trace_or_set_folder,
+        help="trace folder of a lockstep run (or a set's run folder)",
+    )
     rep.add_argument("--out", type=_folder, help="the replay's own trace folder (default: TRACE/replay)")
     rep.add_argument("--app", metavar="RIG", help="run this rig file or app of ours (not the one TRACE names)")
     rep.add_argument("--firmware", metavar="DIR", type=_folder, help="run the firmware in this folder (the board's /)")
@@ -917,8 +922,7 @@ def cmd_parts(args) -> int:
 
 
 def cmd_replay(args) -> int:
-    from host.link.transport import busy_poll_wanted
-    from host.rig.replay import FirmwareChoice, replay
+    from host.artefacts.folder import set_boards
 
     trace = "the trace folder TRACE"
     out = _writable(
@@ -929,11 +933,30 @@ def cmd_replay(args) -> int:
         owned={trace: "replay"},
         base=None if args.out else args.trace,
     )
-    show = _progress(f"replay {args.trace}")
+    boards = set_boards(args.trace)
+    if not boards:
+        return _replay_one(args, args.trace, out)
+    if args.app or args.firmware:
+        args.sub.error(
+            "argument --app/--firmware: a set's run folder replays each board's own firmware (name one "
+            f"board's folder, e.g. {args.trace / boards[0]}, to replay it with other firmware)"
+        )
+    worst = 0
+    for board in boards:  # (each board from its own recording: what the others sent is in it, docs/multi-board.md)
+        print(f"board {board}:", flush=True)
+        worst = max(worst, _replay_one(args, args.trace / board, out / board))
+    return worst
+
+
+def _replay_one(args, folder: Path, out: Path) -> int:
+    from host.link.transport import busy_poll_wanted
+    from host.rig.replay import FirmwareChoice, replay
+
+    show = _progress(f"replay {folder}")
     choice = FirmwareChoice(args.app, args.firmware, args.trust_folder)
     try:
         result = replay(
-            args.trace,
+            folder,
             out,
             progress=show,
             busy_poll=busy_poll_wanted(),

@@ -85,6 +85,14 @@ def test_run_of_a_rig_with_several_boards_writes_a_trace_folder_per_board_and_sh
         assert (out / board / "trace.jsonl").is_file() and (out / board / "truth.csv").is_file(), sorted(out.rglob("*"))
     refused = mpy_fil("run", rig, "--board", "x")
     assert refused.returncode == 2 and "argument --board: not for a rig file with several boards" in refused.stderr
+    replayed = mpy_fil("replay", str(out), "--trust-folder")  # (each board from its own folder's recording)
+    assert replayed.returncode == 0, replayed.stdout + replayed.stderr
+    for board in ("motor", "nav"):
+        said = re.search(rf"^board {board}:\n(?:.*\n)*?same outputs: (\d+) firmware outputs", replayed.stdout, re.M)
+        assert said and int(said[1]) > 0, f"expected board {board} replayed to the same outputs:\n{replayed.stdout}"
+        assert (out / "replay" / board / "trace.jsonl").is_file(), sorted((out / "replay").rglob("*"))
+    other = mpy_fil("replay", str(out), "--firmware", str(rig))
+    assert other.returncode == 2 and "a set's run folder replays each board's own firmware" in other.stderr
     unknown = mpy_fil("run", rig, "--world", "x")  # (a set's worlds are its rig file's, as a one-board rig's)
     assert unknown.returncode == 2 and "argument --world: unknown world 'x' for two_board_rover" in unknown.stderr
 
