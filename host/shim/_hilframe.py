@@ -277,6 +277,7 @@ CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the c
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
 CPU_RUNS = 0x10  # MCU time: the compute before each wait the shim served itself (t_us, compute_us pairs)
+PIO_DONE = 0x11  # a PIO frame the shim answered from the last PIO_AHEAD (its state machine, its entry, its instant)
 I2CT_DONE = 0x0F  # a controller's transaction on an I2CTarget done: what the controller read (I2CT_DONE_FMT)
 EVAL_REPLY = 0x0E  # an EVAL's outcome: a value's repr, nothing, or the error's text (EVAL_*)
 # host -> shim
@@ -287,6 +288,7 @@ BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's ins
 BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
 EVAL = 0x86  # while the firmware waits for a STATE: an expression or a REPL line to run in it (docs/live.md)
 EDGES = 0x87  # before a STATE: encoder edges up to its t_end as segments (EDGE_SEG_FMT), which the shim expands
+PIO_AHEAD = 0x88  # before a BUS_REPLY to a PIO frame: the replies to the frames the read makes next (PIO_AHEAD_FMT)
 
 NAMES = {
     HELLO: "HELLO",
@@ -305,6 +307,7 @@ NAMES = {
     EVAL_REPLY: "EVAL_REPLY",
     I2CT_DONE: "I2CT_DONE",
     CPU_RUNS: "CPU_RUNS",
+    PIO_DONE: "PIO_DONE",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -312,6 +315,7 @@ NAMES = {
     BUS_IMAGE: "BUS_IMAGE",
     EVAL: "EVAL",
     EDGES: "EDGES",
+    PIO_AHEAD: "PIO_AHEAD",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
@@ -332,6 +336,10 @@ BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes writ
 BUS_IMAGE_FMT = "<QHQ"  # t_us (the plant's), entries, horizon_us, then each: BUS_IMAGE_ENTRY_FMT, written, read
 BUS_IMAGE_ENTRY_FMT = "<HHBBQ"  # handle, address, bytes written, bytes read, until_us (exclusive)
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry (its offset in the payload)
+PIO_AHEAD_FMT = "<B"  # entries, then each PIO_AHEAD_ENTRY_FMT, the bytes written, the bytes read
+PIO_AHEAD_ENTRY_FMT = "<QBHBBBQH"  # t_us, op, address, n_read, status, count, horizon_us, bytes written
+PIO_AHEAD_GOT_FMT = "<H"  # (after the bytes written) bytes read
+PIO_DONE_FMT = "<QBB"  # t_us, state machine, the PIO_AHEAD's entry (its index)
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
 EDGES_FMT = "<QH"  # base_us (the STATE's), segments, then each EDGE_SEG_FMT:
@@ -547,6 +555,44 @@ def bus_image_horizon(p):
 
 def pack_bus_done(t_us, entry):
     return struct.pack(BUS_DONE_FMT, t_us, entry)
+
+
+def pack_pio_ahead(entries):
+    """entries: [(t_us, op, address, n_read, data, status, count, horizon_us, got)], the
+    frames one state machine's read makes next and their replies, in the order it makes them."""
+    out = [struct.pack(PIO_AHEAD_FMT, len(entries))]
+    for t_us, op, address, n_read, data, status, count, horizon_us, got in entries:
+        out.append(struct.pack(PIO_AHEAD_ENTRY_FMT, t_us, op, address, n_read, status, count, horizon_us, len(data)))
+        out.append(bytes(data))
+        out.append(struct.pack(PIO_AHEAD_GOT_FMT, len(got)))
+        out.append(bytes(got))
+    return b"".join(out)
+
+
+def unpack_pio_ahead(p):
+    """[(t_us, op, address, n_read, data, status, count, horizon_us, got)]"""
+    (n,) = struct.unpack_from(PIO_AHEAD_FMT, p, 0)
+    off = struct.calcsize(PIO_AHEAD_FMT)
+    size, got_size = struct.calcsize(PIO_AHEAD_ENTRY_FMT), struct.calcsize(PIO_AHEAD_GOT_FMT)
+    out = []
+    for _ in range(n):
+        t_us, op, address, n_read, status, count, horizon_us, n_data = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
+        off += size
+        data = bytes(p[off : off + n_data])
+        off += n_data
+        (n_got,) = struct.unpack_from(PIO_AHEAD_GOT_FMT, p, off)
+        off += got_size
+        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got])))
+        off += n_got
+    return out
+
+
+def pack_pio_done(t_us, sm_id, entry):
+    return struct.pack(PIO_DONE_FMT, t_us, sm_id, entry)
+
+
+def unpack_pio_done(p):
+    return struct.unpack_from(PIO_DONE_FMT, p, 0)
 
 
 def unpack_cpu_runs(p):
