@@ -5,6 +5,7 @@ frame types in :data:`HANDLERS` (``docs/protocol.md``), called by :meth:`Rig.dis
 from host.link import frames as F
 from host.rig import endings, peripherals
 from host.rig.pollwatch import shim_poll_text
+from host.shim._hilpio import unpack_pio_done
 
 _NO_WATCH = frozenset()
 
@@ -96,7 +97,7 @@ def on_bus_done(rig, p: bytes) -> None:
 
 def on_pio_done(rig, p: bytes) -> None:
     """A PIO frame the shim answered from the last PIO_AHEAD: played and traced as if it were a BUS."""
-    t, sm_id, entry = F.unpack_pio_done(p)
+    t, sm_id, entry = unpack_pio_done(p)
     rig.wiring.pio.ahead.done(rig, t, sm_id, entry)
 
 

@@ -35,6 +35,7 @@ import struct
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig.pio_out import driven_pins
+from host.shim._hilpio import pack_pio_ahead
 
 ENV = "MPY_FIL_PIO_AHEAD"
 AHEAD_MAX = 4  # frames answered ahead after one reply
@@ -131,7 +132,7 @@ class ReadsAhead:
         if not entries:
             return None
         self.sent = _Sent(h, sm_id, entries, twin, len(host.pending))
-        return F.pack_pio_ahead(entries)
+        return pack_pio_ahead(entries)
 
     def _next(self, sm_id, t, op, address, n_read, data, reply):
         """The frame the shim makes next after ``op``'s ``reply`` (t, op, address, n_read, data),

@@ -336,10 +336,6 @@ BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes writ
 BUS_IMAGE_FMT = "<QHQ"  # t_us (the plant's), entries, horizon_us, then each: BUS_IMAGE_ENTRY_FMT, written, read
 BUS_IMAGE_ENTRY_FMT = "<HHBBQ"  # handle, address, bytes written, bytes read, until_us (exclusive)
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry (its offset in the payload)
-PIO_AHEAD_FMT = "<B"  # entries, then each PIO_AHEAD_ENTRY_FMT, the bytes written, the bytes read
-PIO_AHEAD_ENTRY_FMT = "<QBHBBBQH"  # t_us, op, address, n_read, status, count, horizon_us, bytes written
-PIO_AHEAD_GOT_FMT = "<H"  # (after the bytes written) bytes read
-PIO_DONE_FMT = "<QBB"  # t_us, state machine, the PIO_AHEAD's entry (its index)
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
 EDGES_FMT = "<QH"  # base_us (the STATE's), segments, then each EDGE_SEG_FMT:
@@ -555,44 +551,6 @@ def bus_image_horizon(p):
 
 def pack_bus_done(t_us, entry):
     return struct.pack(BUS_DONE_FMT, t_us, entry)
-
-
-def pack_pio_ahead(entries):
-    """entries: [(t_us, op, address, n_read, data, status, count, horizon_us, got)], the
-    frames one state machine's read makes next and their replies, in the order it makes them."""
-    out = [struct.pack(PIO_AHEAD_FMT, len(entries))]
-    for t_us, op, address, n_read, data, status, count, horizon_us, got in entries:
-        out.append(struct.pack(PIO_AHEAD_ENTRY_FMT, t_us, op, address, n_read, status, count, horizon_us, len(data)))
-        out.append(bytes(data))
-        out.append(struct.pack(PIO_AHEAD_GOT_FMT, len(got)))
-        out.append(bytes(got))
-    return b"".join(out)
-
-
-def unpack_pio_ahead(p):
-    """[(t_us, op, address, n_read, data, status, count, horizon_us, got)]"""
-    (n,) = struct.unpack_from(PIO_AHEAD_FMT, p, 0)
-    off = struct.calcsize(PIO_AHEAD_FMT)
-    size, got_size = struct.calcsize(PIO_AHEAD_ENTRY_FMT), struct.calcsize(PIO_AHEAD_GOT_FMT)
-    out = []
-    for _ in range(n):
-        t_us, op, address, n_read, status, count, horizon_us, n_data = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
-        off += size
-        data = bytes(p[off : off + n_data])
-        off += n_data
-        (n_got,) = struct.unpack_from(PIO_AHEAD_GOT_FMT, p, off)
-        off += got_size
-        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got])))
-        off += n_got
-    return out
-
-
-def pack_pio_done(t_us, sm_id, entry):
-    return struct.pack(PIO_DONE_FMT, t_us, sm_id, entry)
-
-
-def unpack_pio_done(p):
-    return struct.unpack_from(PIO_DONE_FMT, p, 0)
 
 
 def unpack_cpu_runs(p):

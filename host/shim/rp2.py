@@ -17,6 +17,7 @@ import struct
 
 import _hil
 import _hilframe as F
+import _hilpio
 from _pioasm import PIOASMError, asm_pio, asm_pio_encode  # noqa: F401  (the port's names)
 
 _SYS_HZ = 125_000_000
@@ -285,7 +286,7 @@ class StateMachine:
         else:
             status, count, got, t = _hil.transfer(self._handle, op, address, n_read, data)
             ahead, _hil._Link.pio = _hil._Link.pio, None
-            self._ahead = ahead and F.unpack_pio_ahead(ahead)
+            self._ahead = ahead and _hilpio.unpack_pio_ahead(ahead)
             self._turn, self._used = _hil._Link.frames, 0
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
@@ -327,7 +328,7 @@ class StateMachine:
             _hil._Link.done = 0
             _hil._horizon = entry[7]
             _hil._wrote = True
-            _hil.send(F.PIO_DONE, F.pack_pio_done(t, self._id, self._used))
+            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, self._used))
         finally:
             _hil.heap_restore(depth)
         self._used += 1

@@ -3,8 +3,9 @@ answered ahead") go exactly as when every frame is its own exchange (``MPY_FIL_P
 each PIO firmware of the repository below runs three ways, every frame an exchange, answered
 ahead, and answered ahead with each answer played again on the host's blocks at once and
 compared (``check``: a wrong answer stops the run), and each run must give the same link
-records of its PIO frames and bus transfers (every BUS record of ``trace.jsonl``: instant,
-state machine, op, bytes written, reply), the same console and the same ground truth; where
+trace (every record of ``trace.jsonl`` but its header: each STATE's changes, each output,
+each PIO frame and bus transfer with its instant, op, bytes written and reply), the same
+console and the same ground truth; where
 the firmware reads a decoder by request, some frames must have been answered ahead (so the
 comparison compares something) and the exchanges must be fewer."""
 
@@ -22,19 +23,20 @@ WIRE = {"body": "bench", "parts": [{"kind": "wire", "name": "w0"}]}
 WAYS = ("0", "1", "check")  # every frame an exchange; answered ahead; answered ahead and checked
 
 
-def bus_records(folder) -> list[str]:
+def trace_records(folder) -> list[str]:
+    """Every record of the run's link trace but its header (which names the firmware's folder)."""
     text = (folder / "trace.jsonl").read_text()
-    return [line for line in text.splitlines() if '"msg":"BUS"' in line]
+    return [line for line in text.splitlines() if not line.startswith('{"header"')]
 
 
 def three_ways(monkeypatch, tmp_path, run) -> dict:
-    """``run(artefacts)`` each way: {way: (bus records, console, truth, frames answered ahead, exchanges)}."""
+    """``run(artefacts)`` each way: {way: (trace records, console, truth, frames answered ahead, exchanges)}."""
     out = {}
     for way in WAYS:
         monkeypatch.setenv(ENV, way)
         folder = tmp_path / f"ahead-{way}"
         console, truth, local, exchanges = run(folder)
-        out[way] = (bus_records(folder), console, truth, local, exchanges)
+        out[way] = (trace_records(folder), console, truth, local, exchanges)
     return out
 
 
@@ -42,7 +44,7 @@ def same(out: dict, where: str, tmp_path, answered: bool) -> None:
     exchange = out["0"]
     assert exchange[3] == 0, f"{where}: expected no frame answered ahead with {ENV}=0, got {exchange[3]}"
     for way in WAYS[1:]:
-        for i, name in enumerate(("link records of the PIO frames and transfers", "console", "truth")):
+        for i, name in enumerate(("link trace", "console", "truth")):
             a, b = exchange[i], out[way][i]
             if a != b:
                 first = ""
