@@ -57,6 +57,7 @@ class PioHost:
         self.raised: tuple = ([], [])  # per block: (t_us, flag) raised with a handler armed, not yet told
         self.outputs = PioOutputs(plant, wiring)
         self.ahead = ReadsAhead(self)
+        self.probe_in_place = False  # (a twin's blocks are probed in place: host.rig.pio_ahead)
         self.reset()
 
     def reset(self) -> None:
@@ -187,7 +188,7 @@ class PioHost:
     def _probe(self, block, local, t_us, want) -> int:
         if not block.running[local].active:
             return 0
-        t_ready = block.probe(local, t_us, PROBE_US, want)
+        t_ready = block.probe(local, t_us, PROBE_US, want, self.probe_in_place)
         return 0 if t_ready is None else max(1, int(t_ready - t_us))
 
     def _levels(self, block, local, t_us, address, n_read, data) -> tuple:

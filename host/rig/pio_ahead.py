@@ -39,7 +39,6 @@ from host.shim._hilpio import pack_pio_ahead
 
 ENV = "MPY_FIL_PIO_AHEAD"
 AHEAD_MAX = 4  # frames answered ahead after one reply
-RETRY_US = 1000  # the shim's wait when a reply names none (rp2.py's _RETRY_US)
 
 
 class _Sent:
@@ -140,10 +139,11 @@ class ReadsAhead:
         status, count, got = reply
         if status != F.BUS_OK:
             return None
-        if op == F.BUS_PIO_GET and count < n_read:
-            return t + (struct.unpack_from("<I", got, 0)[0] or RETRY_US), op, 0, n_read - count, b""
-        if op == F.BUS_PIO_PUT and count < len(data) // 4:
-            return t + (struct.unpack_from("<I", got, 0)[0] or RETRY_US), op, 0, 0, data[4 * count :]
+        wait = struct.unpack_from("<I", got, 0)[0] if op in (F.BUS_PIO_GET, F.BUS_PIO_PUT) else 0
+        if op == F.BUS_PIO_GET and count < n_read and wait:  # (no wait named: the twin probed to its horizon)
+            return t + wait, op, 0, n_read - count, b""
+        if op == F.BUS_PIO_PUT and count < len(data) // 4 and wait:
+            return t + wait, op, 0, 0, data[4 * count :]
         follow = self.follows.get((sm_id, op))
         if follow is None or op not in (F.BUS_PIO_LEVELS, F.BUS_PIO_PUT) or not follow[2]:
             return None
@@ -151,15 +151,17 @@ class ReadsAhead:
         return t, follow[0], popped << 8, follow[1], b""
 
     def _twin(self):
-        """A copy of the host's PIO to play frames ahead on: its own blocks, inputs and IRQ
-        raises; it gives the plant nothing and learns nothing."""
+        """A copy of the host's PIO to play frames ahead on: its own blocks (a block that runs
+        nothing, with no drive or raise to hand on, shared: time and frames do nothing to it),
+        inputs and IRQ raises; it gives the plant nothing and learns nothing."""
         host = self.host
         twin = copy.copy(host)
-        twin.blocks = tuple(copy.deepcopy(b) for b in host.blocks)
+        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else copy.deepcopy(b) for b in host.blocks)
         twin.pending, twin.levels = list(host.pending), dict(host.levels)
         twin.raised = (list(host.raised[0]), list(host.raised[1]))
         twin.outputs = _NoOutputs()
-        twin.ahead = ReadsAhead(twin, learning=False)
+        twin.ahead = _TWIN
+        twin.probe_in_place = True  # (a FIFO's probe leaves the twin at the instant it names: where its next frame is)
         return twin
 
     # -- what the shim answered -------------------------------------------------------------
@@ -205,3 +207,6 @@ class ReadsAhead:
                 f"{reply} with horizon {lease} us on the host's blocks, expected {(status, count, got)} with "
                 f"horizon {horizon_us} us as sent (host.rig.pio_ahead: the answer ahead was wrong)"
             )
+
+
+_TWIN = ReadsAhead(None, learning=False)  # (a twin's: it learns and sends nothing)
