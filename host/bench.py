@@ -477,7 +477,9 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
         return result
 
 
-def run_pio_bot(run_ms: int = 10_000, read_ms: int = PIO_READ_MS, seed: int = 1, **recording) -> dict:
+def run_pio_bot(
+    run_ms: int = 10_000, read_ms: int = PIO_READ_MS, seed: int = 1, watchdog_s: float | None = None, **recording
+) -> dict:
     """The PIO decoder robot (``host/bench/pio_bot``): both wheels at about 10,000 edges a
     second together for ``run_ms``, each decoder read by request every ``read_ms``, then
     stopped: wall and CPU time, exchanges, the frames answered ahead (PIO_AHEAD), the reads
@@ -488,7 +490,8 @@ def run_pio_bot(run_ms: int = 10_000, read_ms: int = PIO_READ_MS, seed: int = 1,
         for name in ("main.py", "decoder.py"):
             (main_dir / name).write_bytes((PIO_BOT / name).read_bytes())
         (main_dir / "config.py").write_text(f"RUN_MS = {run_ms}\nREAD_MS = {read_ms}\n")
-        spec = RigSpec(str(PIO_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True)
+        more = {"watchdog_s": watchdog_s} if watchdog_s else {}  # (longer under valgrind: host/bench/icount.py)
+        spec = RigSpec(str(PIO_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True, **more)
         with Rig(spec, Recording(**recording)) as rig:
             rig.run_for(0.2)  # (start-up, the wheels at speed)
             fw0, cpu0, t0 = _fw_cpu_s(rig), time.process_time(), time.perf_counter()
