@@ -288,7 +288,7 @@ BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's ins
 BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
 EVAL = 0x86  # while the firmware waits for a STATE: an expression or a REPL line to run in it (docs/live.md)
 EDGES = 0x87  # before a STATE: encoder edges up to its t_end as segments (EDGE_SEG_FMT), which the shim expands
-PIO_AHEAD = 0x88  # before a BUS_REPLY to a PIO frame: the replies to the frames the read makes next (PIO_AHEAD_FMT)
+PIO_AHEAD = 0x88  # before a BUS_REPLY to a PIO frame: the replies to the frames the read makes next (_hilpio.py)
 
 NAMES = {
     HELLO: "HELLO",
