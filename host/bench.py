@@ -22,6 +22,11 @@
   edge, as before them): real-time factor, wall us per edge, the host's and the firmware's
   CPU an edge, and the same handler's bare cost in a MicroPython loop (the limit), measured
   in the same run, with the ratio;
+- PIO decoder robot (``host/bench/pio_bot``): a Pico robot whose two wheels (about 10,000
+  edges a second together) are counted by PIO quadrature decoders, each read by request every
+  10 ms as the SDK's ``quadrature_encoder_get_count`` reads it (``rx_fifo()``, the old counts
+  taken, a fresh ``get()``): real-time factor, exchanges a simulated second, the PIO frames
+  answered ahead (``MPY_FIL_PIO_AHEAD``), the counts against the plant's edges, its floor;
 - bus-heavy robot (``host/bench/imu_bot``): a Pico robot holding its heading on an LSM6DSOX
   read from a 208 Hz ``Timer`` (STATUS_REG polled for data-ready, then 12 bytes of gyro and
   accelerometer with ``readfrom_mem_into``) and steering away from walls seen by a VL53L0X
@@ -53,7 +58,7 @@ from host.core.paths import REPO
 from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
-from host.rig import Recording, Rig, RigSpec, busimage, sandbox
+from host.rig import Recording, Rig, RigSpec, busimage, pio_ahead, sandbox
 from host.rig.clock import EDGE_SEGMENTS_ENV
 from host.rig.pacing import Lockstep
 from host.rig.waits import ExpectTimeout
@@ -62,6 +67,10 @@ PING = Path(__file__).parent / "tests" / "firmware" / "ping"
 ENCODER_BOT = Path(__file__).parent / "bench" / "encoder_bot"
 IMU_BOT = Path(__file__).parent / "bench" / "imu_bot"
 IMU_TARGET = 50.0  # issue 45: x real time on a quiet machine (and >= 50 % of the floor)
+PIO_BOT = Path(__file__).parent / "bench" / "pio_bot"
+PIO_READ_MS = 10  # issue 45: each PIO decoder read by request every 10 ms, at 10,000 edges a second
+PIO_FLOOR_SHARE = 0.40  # ... at >= 40 % of its floor
+PIO_TITLE = "PIO decoder robot (host/bench/pio_bot: two PIO quadrature decoders read by request every 10 ms):"
 ENCODER_RATES = (10_000, 40_000)  # edges a second, both wheels together
 STEP_US = 50_000  # the rover's control quantum
 ROVER_TARGET = POOL_TARGET = 400.0  # issue 30's real-time factors
@@ -487,6 +496,77 @@ def run_imu_bot(run_ms: int = 10_000, seed: int = 1, **recording) -> dict:
         return result
 
 
+def run_pio_bot(
+    run_ms: int = 10_000, read_ms: int = PIO_READ_MS, seed: int = 1, watchdog_s: float | None = None, **recording
+) -> dict:
+    """The PIO decoder robot (``host/bench/pio_bot``): both wheels at about 10,000 edges a
+    second together for ``run_ms``, each decoder read by request every ``read_ms``, then
+    stopped: wall and CPU time, exchanges, the frames answered ahead (PIO_AHEAD), the reads
+    and counts the firmware printed against the plant's edges."""
+    with tempfile.TemporaryDirectory(prefix="mpy-fil-bench-") as tmp:
+        main_dir = Path(tmp) / "fw"
+        main_dir.mkdir()
+        for name in ("main.py", "decoder.py"):
+            (main_dir / name).write_bytes((PIO_BOT / name).read_bytes())
+        (main_dir / "config.py").write_text(f"RUN_MS = {run_ms}\nREAD_MS = {read_ms}\n")
+        more = {"watchdog_s": watchdog_s} if watchdog_s else {}  # (longer under valgrind: host/bench/icount.py)
+        spec = RigSpec(str(PIO_BOT / "rig.toml"), seed=seed, main_dir=main_dir, allow_exit=True, **more)
+        with Rig(spec, Recording(**recording)) as rig:
+            rig.run_for(0.2)  # (start-up, the wheels at speed)
+            fw0, cpu0, t0 = _fw_cpu_s(rig), time.process_time(), time.perf_counter()
+            sim0, trips0, bus0, edges0 = (
+                rig.t_us,
+                rig.stats.link_round_trips,
+                rig.stats.bus_round_trips,
+                _plant_edges(rig),
+            )
+            local0 = rig.wiring.pio.ahead.local
+            rig.run_for(run_ms / 1000 - 0.25)
+            fw1, cpu1, wall = _fw_cpu_s(rig), time.process_time(), time.perf_counter() - t0
+            result = {
+                "sim_s": (rig.t_us - sim0) / 1e6,
+                "wall_s": wall,
+                "host_cpu_s": cpu1 - cpu0,
+                "firmware_cpu_s": fw1 - fw0,
+                "state_exchanges": rig.stats.link_round_trips - trips0,
+                "pio_exchanges": rig.stats.bus_round_trips - bus0,
+                "answered_ahead": rig.wiring.pio.ahead.local - local0,
+                "edges_per_s": (_plant_edges(rig) - edges0) / ((rig.t_us - sim0) / 1e6),
+            }
+            rig.run_for(0.4)  # (stopped, counted, printed)
+            truth = rig.truth()
+            lines = [line.split()[1:] for line in rig.console.splitlines() if line.startswith("pio_bot ")]
+            result["reads"], *counts = (int(v) for v in lines[-1]) if lines else (None, None, None)
+            result["counts"] = tuple(counts)
+            result["edges"] = (truth["enc_l_edges"], truth["enc_r_edges"])
+    result["exchanges"] = result["state_exchanges"] + result["pio_exchanges"]
+    return result
+
+
+def pio_floor(run: dict, raw_us: float) -> tuple[float, str]:
+    """The PIO decoder robot's floor: its exchanges a simulated second at the raw round trip
+    (the read's own compute left out: the floor is, if anything, too high)."""
+    per_s = run["exchanges"] / run["sim_s"]
+    floor = floor_rtf(per_s, raw_us)
+    return floor, (
+        f"floor: {floor:.0f}x real time = 1 s / ({per_s:.0f} exchanges x raw {raw_us:.0f} us) a simulated s; "
+        f"reached {run['sim_s'] / run['wall_s'] / floor:.0%} (target >= {PIO_FLOOR_SHARE:.0%})"
+    )
+
+
+def report_pio(run: dict, raw_us: float) -> None:
+    sim_s = run["sim_s"]
+    same = "counts = plant's edges" if run["counts"] == run["edges"] else f"COUNTS {run['counts']} != {run['edges']}"
+    print(
+        f"  {sim_s / run['wall_s']:.1f}x real time ({sim_s:.2f} simulated s in {run['wall_s']:.2f} wall s; CPU host "
+        f"{run['host_cpu_s']:.2f} s, firmware {run['firmware_cpu_s']:.2f} s); {run['edges_per_s']:,.0f} edges/s; "
+        f"{run['exchanges'] / sim_s:.0f} link exchanges a simulated s ({run['pio_exchanges'] / sim_s:.0f} a PIO "
+        f"frame's own, {run['answered_ahead'] / sim_s:.0f} frames answered ahead: {pio_ahead.ENV}); "
+        f"{run['reads']} reads; {same}"
+    )
+    print(f"    {pio_floor(run, raw_us)[1]}")
+
+
 def kit_demo_folder(folder: Path, kit: str, parts, button, driver) -> Path:
     """The kit's rig file and its demo in ``folder``; the rig file's path."""
     import ast
@@ -539,6 +619,7 @@ def run_kit_demo(kit: str, parts, button, driver, last: str, sim_s: float = KIT_
                 "ended": last in rig.console,
                 "console": rig.console,
                 "bus_local": rig.stats.bus_local,
+                "pio_local": rig.wiring.pio.ahead.local,
             }
 
 
@@ -747,6 +828,46 @@ def report_pool(pool: dict, raw_us: float, plain: dict | None = None) -> None:
         )
 
 
+def _run_only(args) -> bool:
+    """One case alone (``--only-imu``, ``--only-pio``, ...): run and reported; False: none asked."""
+    if args.only_imu:
+        print("bus-heavy robot (host/bench/imu_bot): 10 simulated s")
+        imu = bench_imu()
+        raw = bench_raw()
+        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
+        report_imu(imu, statistics.median(raw))
+        return True
+    if args.only_pio:
+        print(PIO_TITLE)
+        pio = run_pio_bot()
+        raw = bench_raw()
+        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
+        report_pio(pio, statistics.median(raw))
+        return True
+    if args.only_boards:  # (with the rover for a minute, the figure it is held to in the same run)
+        print("two boards on one clock (docs/multi-board.md): 10 simulated s, beside the rover's 60")
+        rover = bench_rover(60.0)
+        per_s = {k: rover[k] / rover["sim_s"] for k in ("round_trips", "host_cpu_s", "fw_cpu_s")}
+        print(
+            f"  rover: {rover['rtf']:.0f}x real time ({per_s['round_trips']:.0f} link exchanges a simulated s; CPU a "
+            f"simulated s: host {per_s['host_cpu_s'] * 1e3:.1f} ms, its interpreter {per_s['fw_cpu_s'] * 1e3:.1f} ms)"
+        )
+        report_boards(bench_boards(), rover)
+        return True
+    if args.only_kits:
+        print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s")
+        report_kits(bench_kits())
+        return True
+    if args.only_encoders:
+        print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
+        encoders = bench_encoders(per_edge=args.per_edge_encoders)
+        raw = bench_raw()
+        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the runs)")
+        report_encoders(encoders, statistics.median(raw))
+        return True
+    return False
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m host.bench", description=__doc__.split("\n")[0])
     parser.add_argument("--sim-minutes", type=float, default=10.0, help="simulated minutes of the rover (default 10)")
@@ -762,6 +883,8 @@ def main(argv=None) -> int:
     )
     parser.add_argument("--no-imu", action="store_true", help="skip the bus-heavy robot")
     parser.add_argument("--only-imu", action="store_true", help="the bus-heavy robot only")
+    parser.add_argument("--no-pio", action="store_true", help="skip the PIO decoder robot")
+    parser.add_argument("--only-pio", action="store_true", help="the PIO decoder robot only")
     parser.add_argument("--no-kits", action="store_true", help="skip the robot kits' demos")
     parser.add_argument("--only-kits", action="store_true", help="the robot kits' demos only")
     parser.add_argument("--no-boards", action="store_true", help="skip the two boards on one clock")
@@ -772,33 +895,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.recorded_pool_child:
         return _recorded_pool_child(args.recorded_pool_child)
-    if args.only_imu:
-        print("bus-heavy robot (host/bench/imu_bot): 10 simulated s")
-        imu = bench_imu()
-        raw = bench_raw()
-        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the run)")
-        report_imu(imu, statistics.median(raw))
-        return 0
-    if args.only_boards:  # (with the rover for a minute, the figure it is held to in the same run)
-        print("two boards on one clock (docs/multi-board.md): 10 simulated s, beside the rover's 60")
-        rover = bench_rover(60.0)
-        per_s = {k: rover[k] / rover["sim_s"] for k in ("round_trips", "host_cpu_s", "fw_cpu_s")}
-        print(
-            f"  rover: {rover['rtf']:.0f}x real time ({per_s['round_trips']:.0f} link exchanges a simulated s; CPU a "
-            f"simulated s: host {per_s['host_cpu_s'] * 1e3:.1f} ms, its interpreter {per_s['fw_cpu_s'] * 1e3:.1f} ms)"
-        )
-        report_boards(bench_boards(), rover)
-        return 0
-    if args.only_kits:
-        print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s")
-        report_kits(bench_kits())
-        return 0
-    if args.only_encoders:
-        print("encoder-heavy robot (host/bench/encoder_bot): 10 simulated s at each rate")
-        encoders = bench_encoders(per_edge=args.per_edge_encoders)
-        raw = bench_raw()
-        print(f"  raw pty round trip p50 {statistics.median(raw):.1f} us (after the runs)")
-        report_encoders(encoders, statistics.median(raw))
+    if _run_only(args):
         return 0
     print(f"raw pty round trip, CPython <-> MicroPython: {STATE_BYTES} bytes out, {REPLY_BYTES} back")
     raw_before = bench_raw()
@@ -809,6 +906,7 @@ def main(argv=None) -> int:
     duct = bench_duct()
     encoders = None if args.no_encoders else bench_encoders(per_edge=args.per_edge_encoders)
     imu = None if args.no_imu else bench_imu()
+    pio = None if args.no_pio else run_pio_bot()
     kits = None if args.no_kits else bench_kits()
     two = None if args.no_boards else bench_boards()
     pool = plain = None
@@ -838,6 +936,9 @@ def main(argv=None) -> int:
     if imu is not None:
         print("bus-heavy robot (host/bench/imu_bot: an LSM6DSOX from a 208 Hz Timer, a VL53L0X polled, on I2C):")
         report_imu(imu, raw_us)
+    if pio is not None:
+        print(PIO_TITLE)
+        report_pio(pio, raw_us)
     if kits is not None:
         print(f"robot kits (host/kits): each kit's demo until it ends, at most {KIT_SIM_S:g} simulated s:")
         report_kits(kits)

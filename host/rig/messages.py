@@ -5,6 +5,7 @@ frame types in :data:`HANDLERS` (``docs/protocol.md``), called by :meth:`Rig.dis
 from host.link import frames as F
 from host.rig import endings, peripherals
 from host.rig.pollwatch import shim_poll_text
+from host.shim._hilpio import unpack_pio_done
 
 _NO_WATCH = frozenset()
 
@@ -80,6 +81,10 @@ def on_bus(rig, p: bytes) -> None:
         image = images.image(t, lease, (h, op, address, n_read, data))
         if image is not None:
             rig.session.hold(F.BUS_IMAGE, image)
+    if info.peripheral.kind == F.CFG_PIO and not rig.pacing.walled:  # (the read's next frames: host.rig.pio)
+        ahead = info.pio.ahead.answer(h, t, int(info.key[2:]), (op, address, n_read, data), (status, count, got), lease)
+        if ahead is not None:
+            rig.session.hold(F.PIO_AHEAD, ahead)
     ask = F.BUS_ASK_STACK if trace.held_poll is not None else 0
     rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status | ask, count, lease, got))
 
@@ -88,6 +93,12 @@ def on_bus_done(rig, p: bytes) -> None:
     """A bus read the shim answered from the last BUS_IMAGE: traced as if it were a BUS."""
     t, entry = F.unpack_bus_done(p)
     rig.bus_images.done(rig, t, entry)
+
+
+def on_pio_done(rig, p: bytes) -> None:
+    """A PIO frame the shim answered from the last PIO_AHEAD: played and traced as if it were a BUS."""
+    t, sm_id, entry = unpack_pio_done(p)
+    rig.wiring.pio.ahead.done(rig, t, sm_id, entry)
 
 
 def on_i2ct_done(rig, p: bytes) -> None:
@@ -169,6 +180,7 @@ HANDLERS = {
     F.EXIT: on_exit,
     F.BUS: on_bus,
     F.BUS_DONE: on_bus_done,
+    F.PIO_DONE: on_pio_done,
     F.I2CT_DONE: on_i2ct_done,
     F.POLL: on_poll,
     F.CPU: on_cpu,

@@ -13,6 +13,14 @@ host and costs the firmware one exchange per ``get()``.
 A ``put`` to a full TX FIFO or a ``get`` from an empty RX FIFO blocks the firmware, as on
 a board: the reply says how long the state machine needs, the pins staying as they are
 (:meth:`PioBlock.probe`), and the shim waits that long in virtual time and asks again.
+
+A read is often several frames: a decoder read as the SDK's ``quadrature_encoder_get_count``
+reads it (``rx_fifo()``, the words it gives taken, then a ``get()`` that waits for a fresh
+one), a request (``put()`` then ``get()``). With the reply to a read's first frame the host
+sends the replies to the frames that follow it (PIO_AHEAD, :mod:`host.rig.pio_ahead`:
+docs/shim.md, "PIO reads answered ahead"), each played on a copy of the blocks at its
+instant; the shim answers those frames itself and tells the host (PIO_DONE), whose blocks
+then go as with an exchange a frame.
 """
 
 import functools
@@ -21,6 +29,7 @@ import struct
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig.peripherals import Peripheral, register
+from host.rig.pio_ahead import ReadsAhead
 from host.rig.pio_out import PioOutputs
 from sim_plant.pio import PioBlock, PioConfig
 
@@ -47,6 +56,8 @@ class PioHost:
         self.tracked = False
         self.raised: tuple = ([], [])  # per block: (t_us, flag) raised with a handler armed, not yet told
         self.outputs = PioOutputs(plant, wiring)
+        self.ahead = ReadsAhead(self)
+        self.probe_in_place = False  # (a twin's blocks are probed in place: host.rig.pio_ahead)
         self.reset()
 
     def reset(self) -> None:
@@ -56,6 +67,7 @@ class PioHost:
             block.record_events = False  # on a copy, host/rig/pio_out.py: the changes here are dropped)
         self.raised = ([], [])
         self.outputs.clear()
+        self.ahead.reset()
         for block in self.blocks:
             for gpio, level in self.levels.items():
                 block.set_input(gpio, level)
@@ -114,6 +126,7 @@ class PioHost:
     def transfer(self, t_us: int, sm_id: int, op: int, address: int, n_read: int, data: bytes) -> tuple:
         """A BUS_PIO_* frame at ``t_us`` on state machine ``sm_id``: (status, count, bytes)."""
         self.track()
+        self.ahead.before(t_us, sm_id, op, address, n_read)
         block, local = self.blocks[sm_id >> 2], sm_id & 3
         popped, address = address >> 8, address & 0xFF
         if popped and local in block.running:  # (words the firmware took at the last frame's instant)
@@ -133,6 +146,7 @@ class PioHost:
         reply = handler(self, block, local, t_us, address, n_read, data)
         if op != F.BUS_PIO_LEVELS:
             self.outputs.after(block, t_us)
+        self.ahead.after(t_us, sm_id, op, reply)
         return reply
 
     def _init(self, block, local, t_us, data) -> tuple:
@@ -174,7 +188,7 @@ class PioHost:
     def _probe(self, block, local, t_us, want) -> int:
         if not block.running[local].active:
             return 0
-        t_ready = block.probe(local, t_us, PROBE_US, want)
+        t_ready = block.probe(local, t_us, PROBE_US, want, self.probe_in_place)
         return 0 if t_ready is None else max(1, int(t_ready - t_us))
 
     def _levels(self, block, local, t_us, address, n_read, data) -> tuple:

@@ -297,6 +297,10 @@ class _Link:
     # STATE or BUS_REPLY being read.
     image = image_next = b""
     done = 0  # bus reads answered from an image since the last BUS
+    # The PIO_AHEAD that came with the last BUS_REPLY (rp2.py takes it), and the frames sent
+    # so far: rp2.py answers a PIO frame from it only while no frame went out since
+    pio = None
+    frames = 0
     edges = None  # the EDGES payload that came with the last STATE (encoder segments), or None
     pin = None  # machine.Pin (set by machine.py), whose changes apply_state makes in C
     g = None  # this module's globals, where apply_state sets _now (lockstep; None: real time)
@@ -385,6 +389,7 @@ def _framed_out(write):
             frame = F.encode(type_, seq, payload)
         out.append(frame)
         seq = (seq + 1) & 0xFF
+        _Link.frames += 1
 
     def flush():
         nonlocal out
@@ -591,6 +596,8 @@ def transfer(handle, op, address, n_read, data):
                 break
             if type_ == F.BUS_IMAGE:
                 _Link.image = p
+            elif type_ == F.PIO_AHEAD:  # (rp2.py's: the PIO read's next frames answered)
+                _Link.pio = p
         _t, status, count, horizon, got = F.unpack_bus_reply(p)
         if status & F.BUS_ASK_STACK:  # a poll of this read named: the firmware's stack with it
             status &= ~F.BUS_ASK_STACK

@@ -277,6 +277,7 @@ CPU = 0x0B  # MCU time: the longest compute between two waits so far, with the c
 CPU_IRQ = 0x0C  # MCU time: the callbacks' compute over a span (at most one a CPU_WINDOW_US)
 BUS_DONE = 0x0D  # a bus read the shim answered from the last BUS_IMAGE (its entry, its instant)
 CPU_RUNS = 0x10  # MCU time: the compute before each wait the shim served itself (t_us, compute_us pairs)
+PIO_DONE = 0x11  # a PIO frame the shim answered from the last PIO_AHEAD (its state machine, its entry, its instant)
 I2CT_DONE = 0x0F  # a controller's transaction on an I2CTarget done: what the controller read (I2CT_DONE_FMT)
 EVAL_REPLY = 0x0E  # an EVAL's outcome: a value's repr, nothing, or the error's text (EVAL_*)
 # host -> shim
@@ -287,6 +288,7 @@ BUS_REPLY = 0x84  # a BUS's outcome: what the devices answered, at the BUS's ins
 BUS_IMAGE = 0x85  # before a STATE or BUS_REPLY: register reads the shim may answer itself, until when
 EVAL = 0x86  # while the firmware waits for a STATE: an expression or a REPL line to run in it (docs/live.md)
 EDGES = 0x87  # before a STATE: encoder edges up to its t_end as segments (EDGE_SEG_FMT), which the shim expands
+PIO_AHEAD = 0x88  # before a BUS_REPLY to a PIO frame: the replies to the frames the read makes next (_hilpio.py)
 
 NAMES = {
     HELLO: "HELLO",
@@ -305,6 +307,7 @@ NAMES = {
     EVAL_REPLY: "EVAL_REPLY",
     I2CT_DONE: "I2CT_DONE",
     CPU_RUNS: "CPU_RUNS",
+    PIO_DONE: "PIO_DONE",
     WELCOME: "WELCOME",
     STATE: "STATE",
     BYE: "BYE",
@@ -312,6 +315,7 @@ NAMES = {
     BUS_IMAGE: "BUS_IMAGE",
     EVAL: "EVAL",
     EDGES: "EDGES",
+    PIO_AHEAD: "PIO_AHEAD",
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"

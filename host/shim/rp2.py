@@ -1,7 +1,9 @@
 # rp2 module for RP2040 firmware in the loop (docs/shim.md, "PIO"): asm_pio assembles as the
 # port does (_pioasm.py); a StateMachine's program runs on the host, beside the plant, in
 # virtual time (sim_plant/pio): its pins are the plant's, and the firmware sees what a board's
-# CPU sees of it, its FIFOs (put, get, rx_fifo, tx_fifo), each access one BUS exchange.
+# CPU sees of it, its FIFOs (put, get, rx_fifo, tx_fifo), each access one BUS exchange but
+# those the host answered ahead (PIO_AHEAD: the frames a read makes after its first, answered
+# with the first's reply; docs/shim.md, "PIO reads answered ahead").
 # Only an rp2 board has it: elsewhere `import rp2` fails, as on an ESP32.
 import sys
 
@@ -15,6 +17,7 @@ import struct
 
 import _hil
 import _hilframe as F
+import _hilpio
 from _pioasm import PIOASMError, asm_pio, asm_pio_encode  # noqa: F401  (the port's names)
 
 _SYS_HZ = 125_000_000
@@ -195,6 +198,9 @@ class StateMachine:
             sm._tx_level = 0
             sm._at = -1
             sm._popped = 0  # words taken from _rx the host is told with the next frame
+            sm._ahead = None  # the host's answers to this machine's next frames (PIO_AHEAD), in order
+            sm._turn = -1  # _hil._Link.frames when they came: they hold while no frame went out since
+            sm._used = 0  # answers taken from _ahead (the next one's index)
         return sm
 
     def __init__(self, id, program=None, *args, **kw):
@@ -273,13 +279,62 @@ class StateMachine:
         for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
             if other in _POPPED and other._at != now:
                 other._call(F.BUS_PIO_LEVELS, 0, 2)
-        status, count, got, t = _hil.transfer(self._handle, op, address | popped << 8, n_read, data)
+        address |= popped << 8
+        reply = self._ahead and self._answered(op, address, n_read, data)
+        if reply:
+            count, got, t = reply
+        else:
+            status, count, got, t = _hil.transfer(self._handle, op, address, n_read, data)
+            ahead, _hil._Link.pio = _hil._Link.pio, None
+            self._ahead = ahead and _hilpio.unpack_pio_ahead(ahead)
+            self._turn, self._used = _hil._Link.frames, 0
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
             self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
             self._tx_level = got[1]
             self._at = t
         return count, got
+
+    def _answered(self, op, address, n_read, data):
+        """The frame answered from the host's PIO_AHEAD, as its exchange would answer it:
+        (count, bytes, instant), or None (then it is an exchange, and the answers left are
+        dropped). An answer holds at its instant, for that very frame, while nothing went to
+        the host since the reply it came with (an output, a CFG, another exchange: the plant
+        may go otherwise); the host, told with the next message (PIO_DONE), plays the frame
+        on its PIO and stops the run if it answers otherwise."""
+        if _hil._Console.cpu is not None:
+            _hil._charge_cpu()
+        if _hil._Console.debt_ns >= 1000:  # (as _hil.transfer: a print before has returned)
+            _hil.pay_console()
+        t = _hil.now()
+        ahead = self._ahead
+        entry = ahead[0]
+        self._ahead = None
+        if (
+            _hil._Link.frames != self._turn
+            or entry[0] != t
+            or entry[1] != op
+            or entry[2] != address
+            or entry[3] != n_read
+            or entry[4] != bytes(data)
+        ):
+            return None
+        depth = _hil.heap_release()
+        try:
+            if _hil._Link.held:  # (as a BUS_REPLY leaves the shim: its lookahead void, its horizon)
+                _hil._drop_held()
+            _hil._Link.ahead = False
+            _hil._Link.image = _hil._NO_IMAGE
+            _hil._Link.done = 0
+            _hil._horizon = entry[7]
+            _hil._wrote = True
+            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, self._used))
+        finally:
+            _hil.heap_restore(depth)
+        self._used += 1
+        self._ahead = ahead[1:] or None
+        self._turn = _hil._Link.frames
+        return entry[6], entry[8], t
 
     def active(self, value=None):
         if value is None:

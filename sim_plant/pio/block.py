@@ -189,10 +189,11 @@ class PioBlock:
         """No state machine runs: time and pin changes do nothing to the block."""
         return not any(run.active for run in self.running.values())
 
-    def probe(self, sm_id: int, t_us: int, horizon_us: int, want) -> float | None:
+    def probe(self, sm_id: int, t_us: int, horizon_us: int, want, in_place: bool = False) -> float | None:
         """When ``want(sm)`` first holds if the pins stay as they are, looking no further
-        than ``horizon_us`` (None: not by then); the block itself is not moved."""
-        twin = copy.deepcopy(self)
+        than ``horizon_us`` (None: not by then); the block itself is not moved (``in_place``:
+        it is, to that instant, or to the horizon: a copy that is thrown away after)."""
+        twin = self if in_place else copy.deepcopy(self)
         run = twin.running[sm_id]
         step_us = 1
         t = t_us

@@ -1,0 +1,47 @@
+# PIO reads answered ahead (docs/shim.md, "PIO reads answered ahead"; docs/protocol.md,
+# PIO_AHEAD and PIO_DONE): their payloads' layouts, for both ends (the shim's rp2.py and
+# host/rig/pio_ahead.py). Apart from _hilframe so that a firmware without rp2 loads none of it.
+import struct
+
+PIO_AHEAD_FMT = "<B"  # entries, then each PIO_AHEAD_ENTRY_FMT, the bytes written, the bytes read
+PIO_AHEAD_ENTRY_FMT = "<QBHBBBQH"  # t_us, op, address, n_read, status, count, horizon_us, bytes written
+PIO_AHEAD_GOT_FMT = "<H"  # (after the bytes written) bytes read
+PIO_DONE_FMT = "<QBB"  # t_us, state machine, the PIO_AHEAD's entry (its index)
+
+
+def pack_pio_ahead(entries):
+    """entries: [(t_us, op, address, n_read, data, status, count, horizon_us, got)], the
+    frames one state machine's read makes next and their replies, in the order it makes them."""
+    out = [struct.pack(PIO_AHEAD_FMT, len(entries))]
+    for t_us, op, address, n_read, data, status, count, horizon_us, got in entries:
+        out.append(struct.pack(PIO_AHEAD_ENTRY_FMT, t_us, op, address, n_read, status, count, horizon_us, len(data)))
+        out.append(bytes(data))
+        out.append(struct.pack(PIO_AHEAD_GOT_FMT, len(got)))
+        out.append(bytes(got))
+    return b"".join(out)
+
+
+def unpack_pio_ahead(p):
+    """[(t_us, op, address, n_read, data, status, count, horizon_us, got)]"""
+    (n,) = struct.unpack_from(PIO_AHEAD_FMT, p, 0)
+    off = struct.calcsize(PIO_AHEAD_FMT)
+    size, got_size = struct.calcsize(PIO_AHEAD_ENTRY_FMT), struct.calcsize(PIO_AHEAD_GOT_FMT)
+    out = []
+    for _ in range(n):
+        t_us, op, address, n_read, status, count, horizon_us, n_data = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
+        off += size
+        data = bytes(p[off : off + n_data])
+        off += n_data
+        (n_got,) = struct.unpack_from(PIO_AHEAD_GOT_FMT, p, off)
+        off += got_size
+        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got])))
+        off += n_got
+    return out
+
+
+def pack_pio_done(t_us, sm_id, entry):
+    return struct.pack(PIO_DONE_FMT, t_us, sm_id, entry)
+
+
+def unpack_pio_done(p):
+    return struct.unpack_from(PIO_DONE_FMT, p, 0)
