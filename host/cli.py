@@ -45,9 +45,9 @@ from host.core.paths import FIRMWARE, output_root
 from host.core.printable import printable
 from host.report.progress import MissionProgress
 from host.report.table import format_table
-from host.rig import arguments
-from host.rig import boards as pin_maps
-from host.rig.apps import apps, get_app
+from host.rig.config import arguments
+from host.rig.config import boards as pin_maps
+from host.rig.config.apps import apps, get_app
 from sim_plant import names
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
@@ -437,7 +437,7 @@ def _trace_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from host.rig.boardfile import names_boards
+    from host.rig.config.boardfile import names_boards
 
     if args.rig and names_boards(args.rig):  # several boards (docs/multi-board.md)
         return _run_boards(args)
@@ -447,7 +447,7 @@ def cmd_run(args) -> int:
 def _run_one(args) -> int:
     from host.link.transport import busy_poll_wanted
     from host.rig import Recording, Rig, RigSpec
-    from host.rig.spec import PlantOptionsError
+    from host.rig.loop.spec import PlantOptionsError
 
     sub = args.sub
     app = get_app(args.rig) if args.rig else apps()[args.app]
@@ -540,8 +540,8 @@ def _run_one(args) -> int:
 def _run_boards(args) -> int:
     """``mpy-fil run`` of a rig file with several boards: each board's trace folder in the
     run's folder under its name, each board's console and budgets shown."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import BoardSet
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import BoardSet
 
     sub = args.sub
     given = {"--board": args.board, "--coverage": args.coverage}
@@ -686,7 +686,7 @@ def _stop_on_signals():
 
 
 def cmd_check(args) -> int:
-    from host.rig.boardfile import load_boards, names_boards
+    from host.rig.config.boardfile import load_boards, names_boards
 
     if names_boards(args.rig):  # several boards (docs/multi-board.md): each checked as one board
         boards = load_boards(args.rig)
@@ -701,7 +701,7 @@ def cmd_check(args) -> int:
 
 def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -> int:
     """One board's rig checked and described (``label``, ``wired_elsewhere``: a board of a set's)."""
-    from host.rig.spec import RigSpec, build_plant
+    from host.rig.loop.spec import RigSpec, build_plant
 
     plant, _ = build_plant(RigSpec(app), app)
     on_buses = sorted({d.bus for d in plant.bus_devices()})
@@ -732,7 +732,7 @@ def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -
 
 def _check_pins(app, args, plant=None) -> int:
     """The code's pins (and buses) against the wiring: warnings on stderr (exit 1 with --strict)."""
-    from host.rig.pincheck import check_pins
+    from host.rig.scan.pincheck import check_pins
 
     pins = check_pins(app, plant)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
@@ -783,7 +783,7 @@ def _init_kit(args) -> int:
 
 
 def cmd_init(args) -> int:
-    from host.rig.starter import starter
+    from host.rig.scan.starter import starter
 
     if args.kit:
         return _init_kit(args)
@@ -816,8 +816,8 @@ def cmd_migrate(args) -> int:
     it (never over it but with --in-place, never through a link: host/core/safefs.py)."""
     import tomllib
 
-    from host.rig import migrate
-    from host.rig.rigfile import MAX_RIG_BYTES, rig_from_data
+    from host.rig.config import migrate
+    from host.rig.config.rigfile import MAX_RIG_BYTES, rig_from_data
 
     sub, path = args.sub, args.rig
     out = path if args.in_place else (args.out or migrate.migrated_path(path))
@@ -899,7 +899,7 @@ def cmd_parts(args) -> int:
 
 def cmd_replay(args) -> int:
     from host.link.transport import busy_poll_wanted
-    from host.rig.replay import FirmwareChoice, replay
+    from host.rig.loop.replay import FirmwareChoice, replay
 
     trace = "the trace folder TRACE"
     out = _writable(

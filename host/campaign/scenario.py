@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.core.errors import ConfigError
-from host.rig import arguments
-from host.rig.apps import get_app
-from host.rig.spec import RigSpec, build_plant
-from host.rig.tomlfile import read_toml
+from host.rig.config import arguments
+from host.rig.config.apps import get_app
+from host.rig.config.tomlfile import read_toml
+from host.rig.loop.spec import RigSpec, build_plant
 from sim_plant.faults import FaultError, parse_faults
 
 CAMPAIGN_KEYS = {

@@ -22,8 +22,8 @@ from host.campaign.scenario import task_key
 from host.core import provenance, safefs
 from host.core.errors import ConfigError, HarnessError
 from host.rig import Rig
-from host.rig.spec import Recording, RigSpec, fault_schedule
-from host.rig.target import FaultyLinkTarget
+from host.rig.loop.spec import Recording, RigSpec, fault_schedule
+from host.rig.targets.target import FaultyLinkTarget
 
 MESSAGE_CHARS = 3000
 COVERAGE_FILE = "coverage.npz"

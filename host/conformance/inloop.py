@@ -55,10 +55,10 @@ IN_THE_LOOP_CHECKS = ("target_info.py",)  # feature checks whose answer is the b
 def preload() -> None:
     """Import what a run in the loop needs (the functions below import it when called):
     the conformance server does, once, before it forks a child per file."""
-    import host.rig.app  # noqa: F401
-    import host.rig.boards  # noqa: F401
-    import host.rig.rig  # noqa: F401
-    import host.rig.spec  # noqa: F401
+    import host.rig.config.app  # noqa: F401
+    import host.rig.config.boards  # noqa: F401
+    import host.rig.loop.rig  # noqa: F401
+    import host.rig.loop.spec  # noqa: F401
     import sim_plant.catalogue.assembly  # noqa: F401
 
 
@@ -70,8 +70,8 @@ def bench_plant(**options):
 
 
 def bench_app(test: Path, heap_size: str | None = None):
-    from host.rig.app import App
-    from host.rig.boards import identity
+    from host.rig.config.app import App
+    from host.rig.config.boards import identity
 
     board = os.environ.get(BOARD_ENV, "")
     return App(
@@ -115,8 +115,8 @@ def run(test: Path, heap: str | None) -> tuple[str, int]:
     """(what the firmware printed, its exit status)."""
     from host.core.errors import HarnessError
     from host.link.transport import busy_poll_wanted
-    from host.rig.rig import Rig
-    from host.rig.spec import RigSpec
+    from host.rig.loop.rig import Rig
+    from host.rig.loop.spec import RigSpec
 
     spec = RigSpec(bench_app(test, heap), watchdog_s=10.0, allow_exit=True, busy_poll=busy_poll_wanted())
     rig = Rig(spec)

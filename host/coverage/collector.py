@@ -20,7 +20,7 @@ from pathlib import Path
 
 from host.core import safefs
 from host.core.errors import HarnessError
-from host.rig.boardfs import board_name
+from host.rig.targets.boardfs import board_name
 
 
 class CoverageError(HarnessError):

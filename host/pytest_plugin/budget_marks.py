@@ -11,7 +11,7 @@ judged by it, ``check()`` and the tables included.
 """
 
 from host.core.errors import ConfigError
-from host.rig.budgets import PeriodBudget
+from host.rig.config.budgets import PeriodBudget
 
 MARK = "hil_budget"
 MARK_HELP = (

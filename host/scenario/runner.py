@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from host.core.errors import HarnessError
 from host.core.printable import printable
 from host.link import frames as F
-from host.rig.wiring import PROBE_PREFIX
+from host.rig.hardware.wiring import PROBE_PREFIX
 from sim_plant.controls import ControlError
 
 ONE_LINE_PINS = {"button": ("1.l", "1.r", "2.l", "2.r"), "slide_switch": ("1", "2", "3"), "probe": ("A", "C")}

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from host.rig.apps import App
-from host.rig.wiring import PROBE_PREFIX
+from host.rig.config.apps import App
+from host.rig.hardware.wiring import PROBE_PREFIX
 from sim_plant.catalogue.assembly import assemble
 from sim_plant.scripted import ScriptedPlant
 

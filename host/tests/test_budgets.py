@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.rig.budgets import COMPUTE, LEVEL, Budget, BudgetHooks, PeriodBudget, PulseBudget
+from host.rig.config.budgets import COMPUTE, LEVEL, Budget, BudgetHooks, PeriodBudget, PulseBudget
 
 
 def test_a_uart_period_counts_chunks_with_the_marker_byte_only():

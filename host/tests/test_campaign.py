@@ -20,8 +20,8 @@ from host.campaign.report import ReportError, error_bars, summarize, wilson, wor
 from host.campaign.runner import failed
 from host.campaign.store import ResultStore
 from host.core.errors import ConfigError
-from host.rig.rigfile import load_rig
-from host.rig.spec import placed
+from host.rig.config.rigfile import load_rig
+from host.rig.loop.spec import placed
 
 RIG = """
 name = "bench"

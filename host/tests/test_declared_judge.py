@@ -11,7 +11,7 @@ from host.campaign.judges import declared
 from host.campaign.scenario import load_campaign
 from host.core.errors import ConfigError
 from host.core.paths import REPO
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 
 TWO_SONAR = str(REPO / "examples" / "two_sonar_bot" / "rig.toml")
 

@@ -12,7 +12,7 @@ import pytest
 from host.core.errors import HarnessError
 from host.core.paths import REPO
 from host.device import flash, vboard
-from host.rig.apps import App, apps
+from host.rig.config.apps import App, apps
 
 pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"

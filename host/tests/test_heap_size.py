@@ -1,5 +1,5 @@
 """``[interpreter] heap_size`` is the firmware's heap, as on its board: the shim's share
-(host/rig/heap.py) is on top and held by the shim once it has started, so the firmware
+(host/rig/targets/heap.py) is on top and held by the shim once it has started, so the firmware
 finds heap_size free; the least a rig file takes runs a firmware with machine, time and
 asyncio, and one step below is refused by ``check``."""
 
@@ -9,7 +9,7 @@ import shutil
 import pytest
 
 from host.core.paths import REPO
-from host.rig.heap import HEAP_MIN_BYTES
+from host.rig.targets.heap import HEAP_MIN_BYTES
 from host.tests.conftest import FIRMWARE, results, shim_app
 from host.tests.test_rigfile_bounds import GOOD, check
 

@@ -4,7 +4,7 @@ and SIO's GPIO registers drive and read the pins, and any other address is named
 
 import pytest
 
-from host.rig.apps import App
+from host.rig.config.apps import App
 from host.tests.conftest import FIRMWARE, INPUTS, OUTPUTS, bench_app, results
 from sim_plant.scripted import ScriptedPlant
 

@@ -10,8 +10,8 @@ import pytest
 
 from host.core.errors import ConfigError, FirmwareError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.apps import apps, get_app
-from host.rig.rigfile import load_rig
+from host.rig.config.apps import apps, get_app
+from host.rig.config.rigfile import load_rig
 
 GOOD = """
 name = "mybot"
@@ -255,7 +255,7 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     rig.run_for(2)
     rig.stop()
     heap = int(rig.console.split("heap ")[1].split()[0])
-    # (the firmware's free heap is its board's: the shim's own is on top, host/rig/firmware.py)
+    # (the firmware's free heap is its board's: the shim's own is on top, host/rig/targets/firmware.py)
     assert 120 * 1024 < heap <= 136 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
     with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M, like 192K"):

@@ -8,8 +8,8 @@ changes (_hilfast's C loop and the pure-Python one)."""
 
 import pytest
 
-from host.rig.app import App
-from host.rig.budgets import PeriodBudget
+from host.rig.config.app import App
+from host.rig.config.budgets import PeriodBudget
 from host.tests.conftest import FIRMWARE, results
 from sim_plant.scripted import ScriptedPlant
 

@@ -5,7 +5,7 @@ hardware tests use (PWM read back with time_pulse_us, Encoder, Counter, RTC, mem
 import pytest
 
 from host.conformance.inloop import BENCH_LIB, PINS, WIRING, bench_plant
-from host.rig.app import App
+from host.rig.config.app import App
 from host.tests.conftest import FIRMWARE, results
 
 pytestmark = pytest.mark.hil

@@ -14,7 +14,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
-from host.rig.app import App
+from host.rig.config.app import App
 from host.tests.conftest import FIRMWARE, results
 from host.tests.test_shim_board import bench
 from sim_plant.scripted import ScriptedPlant

@@ -14,8 +14,8 @@ import pytest
 from host.core import interpreter
 from host.core.errors import SetupError
 from host.core.paths import REPO
-from host.rig.firmware import Firmware
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
+from host.rig.targets.firmware import Firmware
 from host.tests.test_rigfile_bounds import GOOD, refused
 
 pytest_plugins = ("pytester",)  # (pytest --mpy-version, run in this process on a test file of its own)

@@ -15,7 +15,7 @@ import pytest
 from host.cli import main
 from host.core.drivers import driver_folder
 from host.core.errors import ConfigError
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 from host.wokwi import docs
 from host.wokwi.project import import_wokwi, rig_from_project
 

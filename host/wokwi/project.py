@@ -1,5 +1,5 @@
 """A Wokwi project folder as a rig: ``rig_from_project(folder)`` gives the same App a rig
-file gives (:func:`host.rig.rigfile.load_rig`), each part named by its diagram ``id``;
+file gives (:func:`host.rig.config.rigfile.load_rig`), each part named by its diagram ``id``;
 ``rig_text(folder)`` the equivalent rig file, commented, which ``mpy-fil import-wokwi``
 writes (``docs/wokwi.md``).
 
@@ -17,9 +17,9 @@ import tomllib
 from host.core import safefs
 from host.core.errors import ConfigError
 from host.core.nesting import too_deep
-from host.rig.app import App
-from host.rig.pinscan import scan_folder
-from host.rig.rigfile import rig_from_data
+from host.rig.config.app import App
+from host.rig.config.rigfile import rig_from_data
+from host.rig.scan.pinscan import scan_folder
 from host.wokwi import parts as table
 from host.wokwi.boards import BOARD_ATTRS
 from host.wokwi.diagram import read_diagram
