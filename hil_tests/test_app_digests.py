@@ -24,8 +24,8 @@ import pytest
 from flashed import as_from_sources
 
 from host.core.paths import REPO
-from host.rig.config import boards
 from host.rig.config.apps import get_app
+from host.rig.scan import boards
 from host.rig.targets import mcutime
 
 pytestmark = pytest.mark.hil

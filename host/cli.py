@@ -46,8 +46,8 @@ from host.core.printable import printable
 from host.report.progress import MissionProgress
 from host.report.table import format_table
 from host.rig.config import arguments
-from host.rig.config import boards as pin_maps
 from host.rig.config.apps import apps, get_app
+from host.rig.scan import boards as pin_maps
 from sim_plant import names
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)

@@ -56,9 +56,9 @@ def preload() -> None:
     """Import what a run in the loop needs (the functions below import it when called):
     the conformance server does, once, before it forks a child per file."""
     import host.rig.config.app  # noqa: F401
-    import host.rig.config.boards  # noqa: F401
     import host.rig.loop.rig  # noqa: F401
     import host.rig.loop.spec  # noqa: F401
+    import host.rig.scan.boards  # noqa: F401
     import sim_plant.catalogue.assembly  # noqa: F401
 
 
@@ -71,7 +71,7 @@ def bench_plant(**options):
 
 def bench_app(test: Path, heap_size: str | None = None):
     from host.rig.config.app import App
-    from host.rig.config.boards import identity
+    from host.rig.scan.boards import identity
 
     board = os.environ.get(BOARD_ENV, "")
     return App(

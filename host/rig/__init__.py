@@ -19,11 +19,11 @@ __all__ = ["Recording", "Rig", "RigSpec"]
 MOVED = {
     module: package
     for package, modules in {
-        "config": "app apps arguments boardfile boards budgets migrate rigfile rigrules tomlfile verdicts",
+        "config": "app apps arguments boardfile budgets migrate rigfile rigrules tomlfile verdicts",
         "hardware": "busimage bustrace inputs outputs peripherals pio pio_out pollwatch wiring",
         "loop": "boardset boardview clock endings hostboard introspect manifest messages pacing replay rig session "
         "spec speculation waits",
-        "scan": "pincheck pinscan starter",
+        "scan": "boards pincheck pinscan starter",
         "targets": "boardfs firmware heap mcutime sandbox target",
     }.items()
     for module in modules.split()

@@ -6,12 +6,14 @@ from pathlib import Path
 from typing import Callable
 
 from host.core.paths import FIRMWARE
-from host.rig.config import boards as pin_maps
 from host.rig.config.budgets import Budget
+from host.rig.scan import boards as pin_maps
 from sim_plant.plant import Plant
 
 BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow")
 """Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
+PROBE_PREFIX = "probe:"
+"""Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 
 
 @dataclass

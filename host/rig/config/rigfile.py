@@ -15,15 +15,7 @@ from pathlib import Path
 from host.core.errors import ConfigError, SetupError
 from host.core.paths import BOARDS_DIR
 from host.rig.config import migrate, rigrules
-from host.rig.config.app import App
-from host.rig.config.boards import (
-    IDENTITIES,
-    identity,
-    known_boards,
-    read_board_file,
-    read_pin_map,
-    with_builtin_lines,
-)
+from host.rig.config.app import PROBE_PREFIX, App
 from host.rig.config.budgets import (
     BusLatencyBudget,
     BusSampleBudget,
@@ -33,7 +25,14 @@ from host.rig.config.budgets import (
     PulseBudget,
 )
 from host.rig.config.tomlfile import NESTED_DEPTH, read_toml
-from host.rig.hardware.wiring import PROBE_PREFIX
+from host.rig.scan.boards import (
+    IDENTITIES,
+    identity,
+    known_boards,
+    read_board_file,
+    read_pin_map,
+    with_builtin_lines,
+)
 from host.rig.targets import mcutime
 from host.rig.targets.boardfs import confinement
 from host.rig.targets.firmware import heap_bytes

@@ -20,8 +20,8 @@ and both sides of the clash, through ``where.error(field, message)``.
 import math
 import re
 
-from host.rig.config.boards import pin_key
-from host.rig.hardware.wiring import PROBE_PREFIX
+from host.rig.config.app import PROBE_PREFIX
+from host.rig.scan.boards import pin_key
 from sim_plant.names import unknown
 from sim_plant.option_table import SAFE_NAME
 

@@ -14,13 +14,12 @@ from dataclasses import dataclass
 
 from host.core.errors import ConfigError
 from host.link import frames as F
-from host.rig.config.boards import pin_key
+from host.rig.config.app import PROBE_PREFIX
 from host.rig.hardware.peripherals import UNCONFIGURED, Peripheral, handler
+from host.rig.scan.boards import pin_key
 
 RP2_FUNC_SPI = 1
 """GPIO_FUNC_SPI: an rp2 pin's function (FUNCSEL) when it is an SPI controller's."""
-PROBE_PREFIX = "probe:"
-"""Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 
 
 @dataclass

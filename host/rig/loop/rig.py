@@ -28,7 +28,7 @@ from host.core import paths, safefs
 from host.core.errors import LinkError
 from host.coverage import collector as coverage
 from host.link import frames as F
-from host.rig.config import arguments, boards
+from host.rig.config import arguments
 from host.rig.config.budgets import BudgetHooks, ComputeBudget
 from host.rig.hardware import peripherals
 from host.rig.hardware.busimage import BusImages
@@ -44,6 +44,7 @@ from host.rig.loop.pacing import PACINGS
 from host.rig.loop.session import Session
 from host.rig.loop.spec import NO_RECORDING, Recording, RigSpec, build_plant, default_target, plant_options
 from host.rig.loop.speculation import Speculation
+from host.rig.scan import boards
 from host.rig.targets import mcutime
 from host.rig.targets.boardfs import BoardFs
 from host.rig.targets.firmware import Firmware

@@ -7,7 +7,7 @@ file; pins are compared as the shim names them (``"18"``, ``"GP14"``, ``"uart2"`
 
 from dataclasses import dataclass, field
 
-from host.rig.config.boards import board_names, canonical_key, identity, is_builtin_line, pin_key
+from host.rig.scan.boards import board_names, canonical_key, identity, is_builtin_line, pin_key
 from host.rig.scan.pinscan import PinUse, Scan, scan_folder
 
 CLOCK_INPUT = ".sck"

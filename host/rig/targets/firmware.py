@@ -15,7 +15,7 @@ from host.core.errors import ConfigError
 from host.core.interpreter import VERSION_ENV
 from host.core.paths import SHIM_DIR
 from host.rig.targets import mcutime
-from host.rig.targets.boardfs import DEFAULT_FLASH_BYTES, flash_files, regular_file
+from host.rig.targets.boardfs import DEFAULT_FLASH_BYTES, board_name, flash_files, regular_file
 from host.rig.targets.heap import SHIM_HEAP_BYTES  # the shim's share: the interpreter gets heap_size plus this
 
 COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (docs/coverage.md)
@@ -113,6 +113,11 @@ class Firmware:
                     seen.add(path)
                     found.append((f"{index}:{rel}", path))
         return found
+
+    def board_files(self) -> list[tuple[str, Path]]:
+        """:meth:`files`, each with its path on the board (``main.py``, ``lib/motor.py``)
+        instead of its label."""
+        return [(board_name(label), path) for label, path in self.files()]
 
     def micropypath(self, shim: bool = True) -> str:
         board = [self.board_root, self.board_root / "lib"] if self.board_root else self.folders
