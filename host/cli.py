@@ -452,8 +452,8 @@ def _run_one(args) -> int:
     sub = args.sub
     app = get_app(args.rig) if args.rig else apps()[args.app]
     board = args.board or app.default_board
-    known_boards = tuple(dict.fromkeys((app.default_board, *app.boards)))
-    if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
+    known_boards = tuple(dict.fromkeys((app.default_board, *app.board.also)))
+    if app.board.pins is None and not app.board.also:  # an app that names no boards runs on any of ours
         known_boards = tuple(pin_maps.known_boards())
     if board not in known_boards:
         known = names.unknown(board, known_boards, what="known")
@@ -712,10 +712,13 @@ def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -
     else:  # (it loads, but the firmware and the plant are not connected)
         print(f"{app.rig_file or app.name}: loads, but 0 pins are wired: the firmware reads nothing from the plant")
         print("  and drives nothing of it; wire its pins to the plant's signals in [wiring] (docs/rig-file.md)")
-    print(f"  firmware: {app.path} (entry {app.entry})")
+    print(f"  firmware: {app.path} (entry {app.code.entry})")
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
-    print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
+    print(
+        f"  board: {app.default_board}"
+        + (f" (also {', '.join(app.board.also[1:])})" if len(app.board.also) > 1 else "")
+    )
     print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")

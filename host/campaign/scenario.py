@@ -33,6 +33,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.rig.config import arguments
+from host.rig.config.app import Judge
 from host.rig.config.apps import get_app
 from host.rig.config.tomlfile import read_toml
 from host.rig.loop.spec import RigSpec, build_plant
@@ -183,7 +184,8 @@ def _check(campaign: Campaign) -> None:
     from host.campaign.judges import judges
 
     app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
-    campaign.judge = campaign.judge or ("declared" if (app.extra.get("report") or {}).get("judge") else "generic")
+    judge = app.run.report.judge if app.run.report is not None else None
+    campaign.judge = campaign.judge or ("declared" if judge is not None and judge != Judge() else "generic")
     campaign.worlds = campaign.worlds or [next(iter(app.worlds))]
     for world in campaign.worlds:
         if world not in app.worlds:

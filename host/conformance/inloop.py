@@ -70,8 +70,9 @@ def bench_plant(**options):
 
 
 def bench_app(test: Path, heap_size: str | None = None):
-    from host.rig.config.app import App
+    from host.rig.config.app import App, BoardSettings, Code, InterpreterSettings
     from host.rig.scan.boards import identity
+    from host.rig.targets.boardfs import Confinement
 
     board = os.environ.get(BOARD_ENV, "")
     return App(
@@ -79,16 +80,14 @@ def bench_app(test: Path, heap_size: str | None = None):
         default_board=board or "bench",
         make_plant=bench_plant,
         wiring=WIRING,
-        folder=test.parent,
-        entry=test.name,
-        harness_lib=False,
-        lib_dirs=(BENCH_LIB,),  # target_wiring.py, for upstream's hardware tests
-        pins=PINS,
-        heap_size=heap_size,
-        identity=identity(board) if board else None,
+        # target_wiring.py in BENCH_LIB, for upstream's hardware tests
+        code=Code(folder=test.parent, entry=test.name, harness_lib=False, lib_dirs=(BENCH_LIB,)),
         # MicroPython's own tests, not a firmware under test: the select tests poll sockets
         # (the shim's select serves them); in the sandbox only its own loopback is there
-        extra={"confine": {"allow": ("socket",)}},
+        board=BoardSettings(
+            pins=PINS, identity=identity(board) if board else None, confine=Confinement(allow=("socket",))
+        ),
+        interpreter=InterpreterSettings(heap_size=heap_size),
     )
 
 

@@ -87,7 +87,7 @@ def stage(app_name: str, board: str, root: Path | None = None) -> tuple[Path, li
     files: list[str] = []
     board_folder, _pins = app.board_files(board)
     for name, src in on_board(Firmware.from_app(app, board_folder)).items():  # (host/rig/targets/boardfs.py)
-        if name in ("main.py", "boot.py", app.entry) or not name.endswith(".py"):
+        if name in ("main.py", "boot.py", app.code.entry) or not name.endswith(".py"):
             if name.endswith(".py"):
                 compile_module(src, out.parent / ".check" / name.replace(".py", ".mpy"))  # syntax check only
             (out / name).parent.mkdir(parents=True, exist_ok=True)

@@ -211,7 +211,7 @@ def test_a_rig_file_takes_faults_checked_against_its_plant(tmp_path):
     rig = tmp_path / "rig.toml"
     rig.write_text(RIG + '[[faults]]\nkind = "heap"\nsize = "96K"\n')
     app = load_rig(rig)
-    assert app.heap_size == "96K" and [f.kind for f in app.extra["faults"]] == ["heap"]
+    assert app.interpreter.heap_size == "96K" and [f.kind for f in app.run.faults] == ["heap"]
     rig.write_text(RIG + '[[faults]]\nkind = "stuck"\nsignal = "nothing"\nvalue = 1\n')
     with pytest.raises(ConfigError, match=r"rig.toml: \[\[faults\]\]: faults\[0\] \(stuck\) signal: the plant has no"):
         load_rig(rig)

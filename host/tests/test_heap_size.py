@@ -9,6 +9,7 @@ import shutil
 import pytest
 
 from host.core.paths import REPO
+from host.rig.config.app import InterpreterSettings
 from host.rig.targets.heap import HEAP_MIN_BYTES
 from host.tests.conftest import FIRMWARE, results, shim_app
 from host.tests.test_rigfile_bounds import GOOD, check
@@ -25,7 +26,7 @@ def pico(tmp_path):
 
 
 def run(make_rig, case, heap_size, duration_s):
-    app = dataclasses.replace(shim_app(console_baud=0), heap_size=heap_size)
+    app = dataclasses.replace(shim_app(console_baud=0), interpreter=InterpreterSettings(heap_size=heap_size))
     rig = make_rig(app, main_dir=FIRMWARE / case, allow_exit=True)
     rig.run_for(duration_s)
     rig.stop()

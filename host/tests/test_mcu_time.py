@@ -217,7 +217,7 @@ def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
             f'name = "cpu"\n[board]\n{board_lines}\n[board.pins]\nLED = 2\n'
             '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
         )
-        return load_rig(folder / "rig.toml").cpu
+        return load_rig(folder / "rig.toml").board.cpu
 
     assert cpu_of('cpu = "esp32s3@240MHz"') == "esp32s3@240MHz"
     assert cpu_of('family = "rpi_pico"') == "free"  # (no default CPU yet: mcutime.DEFAULT_ON)

@@ -408,7 +408,7 @@ def test_heap_size_takes_what_the_unix_port_reads(pico, size, ok):
     path = pico / "rig.toml"
     path.write_text(GOOD.replace('entry = "main.py"', f'entry = "main.py"\n[interpreter]\nheap_size = {value}'))
     if ok:
-        assert load_rig(path).heap_size == str(size)
+        assert load_rig(path).interpreter.heap_size == str(size)
     else:
         with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M"):
             load_rig(path)

@@ -148,7 +148,7 @@ def pico(tmp_path):
 def test_a_rig_file_names_its_boards_micropython(pico):
     path = pico / "rig.toml"
     path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "1.28.0"'))
-    assert load_rig(path).mpy_version == "1.28"
+    assert load_rig(path).interpreter.mpy_version == "1.28"
     refused(
         pico,
         GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "2.0"'),

@@ -89,7 +89,7 @@ def test_a_devkit_v1_button_toggles_its_led_in_the_irq(make_rig):
     rig.run_for(1.0)
     lines = [line.split() for line in rig.console.splitlines() if line.startswith("toggled")]
     assert [int(v) for _, v, _ in lines] == [1, 0] and [int(ms) for *_, ms in lines] == [250, 700]
-    assert rig.plant.truth()["blue_led_changes"] == 2 and rig.app.pins == {"D4": 4, "D2": 2}
+    assert rig.plant.truth()["blue_led_changes"] == 2 and rig.app.board.pins == {"D4": 4, "D2": 2}
 
 
 def test_import_wokwi_writes_the_same_rig_and_keeps_an_existing_file(tmp_path):

@@ -221,7 +221,7 @@ def _board_app(path: Path, data: dict, entry: dict, app_name: str, field: str) -
         text = str(e)
         prefix = f"{path}: "
         raise ConfigError(f"{prefix}{field}: {text.removeprefix(prefix)}") from None
-    return dataclasses.replace(app, extra={**app.extra, "set_board": entry["name"]})
+    return dataclasses.replace(app, board=dataclasses.replace(app.board, in_set=entry["name"]))
 
 
 def apps_of(path) -> list[App]:

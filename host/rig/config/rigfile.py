@@ -15,7 +15,18 @@ from pathlib import Path
 from host.core.errors import ConfigError, SetupError
 from host.core.paths import BOARDS_DIR
 from host.rig.config import migrate, rigrules
-from host.rig.config.app import PROBE_PREFIX, App
+from host.rig.config.app import (
+    CONSOLE_BAUD,
+    PROBE_PREFIX,
+    App,
+    BoardSettings,
+    Code,
+    InterpreterSettings,
+    Judge,
+    PoseLine,
+    Report,
+    RunSettings,
+)
 from host.rig.config.budgets import (
     BusLatencyBudget,
     BusSampleBudget,
@@ -206,29 +217,29 @@ def rig_from_data(path, data: dict, base=None) -> App:
         make_plant=make_plant,
         wiring=wiring,
         make_budgets=lambda plant: [build(plant) for build in budget_specs],
-        boards=boards,
         doc=data.get("description", ""),
-        folder=folder,
         worlds=worlds,
-        entry=entry,
-        lib_dirs=libs,
-        harness_lib=firmware.get("harness_lib", False),
-        board_dir=board_dir,
-        pins=pins,
         rig_file=path,
-        heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
-        ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
-        mpy_version=_mpy_version(where, interpreter.get("version")),
-        identity=_family(where, data.get("board", {})),
-        extra={
-            "faults": faults,
-            "report": _report(where, data.get("report", {}), wiring),
-            "confine": confinement(where, data.get("board", {})),
-        },
-        console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
-        console_baud=_console_baud(where, data.get("board", {})),
-        cpu=_cpu(where, data.get("board", {}), _family(where, data.get("board", {})) or identity(board_name)),
-        allow_exit=firmware.get("allow_exit", False),
+        code=Code(folder, entry, libs, firmware.get("harness_lib", False), firmware.get("allow_exit", False)),
+        board=BoardSettings(
+            also=boards,
+            folder=board_dir,
+            pins=pins,
+            identity=_family(where, data.get("board", {})),
+            cpu=_cpu(where, data.get("board", {}), _family(where, data.get("board", {})) or identity(board_name)),
+            console_baud=_console_baud(where, data.get("board", {})),
+            confine=confinement(where, data.get("board", {})),
+        ),
+        interpreter=InterpreterSettings(
+            heap_size=heap[-1] if heap else _heap_size(where, "[interpreter] heap_size", interpreter.get("heap_size")),
+            ticks_wrap_s=_wrap_s(where, interpreter.get("ticks_wrap_s")),
+            mpy_version=_mpy_version(where, interpreter.get("version")),
+        ),
+        run=RunSettings(
+            faults=tuple(faults),
+            console_max_bytes=_console_max_bytes(where, data.get("trace", {})),
+            report=_report(where, data.get("report", {}), wiring),
+        ),
     )
 
 
@@ -239,7 +250,7 @@ def _tests(where: _Where, table: dict) -> None:
             raise where.error("[tests] exclude", f"expected file name patterns (text), got {pattern!r}")
 
 
-def _report(where: _Where, table: dict, wiring: dict) -> dict:
+def _report(where: _Where, table: dict, wiring: dict) -> Report:
     """``[report]``: the report's own views of this robot by name (``views``, listed in
     docs/traces.md), how its firmware prints its pose (``pose_line``) and how a
     campaign's run of it passes (``judge``: docs/campaigns.md)."""
@@ -266,7 +277,10 @@ def _report(where: _Where, table: dict, wiring: dict) -> dict:
             raise where.error(
                 "[report.pose_line] columns", f"expected 4 names (t, x, y, heading), got {columns!r}"[:200]
             )
-    return dict(table)
+        pose = PoseLine(**{**pose, "columns": tuple(columns)})
+    views = table.get("views")
+    judged = Judge(**judge) if "judge" in table else None
+    return Report(tuple(views) if views is not None else None, pose, judged)
 
 
 def _walk(where: _Where, value, field: str, depth: int) -> None:
@@ -319,7 +333,7 @@ def _console_max_bytes(where: _Where, trace: dict) -> int | None:
 def _console_baud(where: _Where, board) -> int:
     """[board] console_baud: the REPL UART's rate, at which print() takes virtual time
     (0: printing is free); 300 baud to 12 Mbaud."""
-    value = board.get("console_baud", 115_200) if isinstance(board, dict) else 115_200
+    value = board.get("console_baud", CONSOLE_BAUD) if isinstance(board, dict) else CONSOLE_BAUD
     if isinstance(value, bool) or not (value == 0 or 300 <= value <= 12_000_000):
         raise where.error("[board] console_baud", f"expected 0 (off) or 300 to 12000000 baud, got {value!r}")
     return value

@@ -112,7 +112,7 @@ class Rig:
         self.mode = spec.mode
         self.pacing = PACINGS[spec.mode]()
         self.seed = spec.seed
-        self.allow_exit = spec.allow_exit or self.app.allow_exit
+        self.allow_exit = spec.allow_exit or self.app.code.allow_exit
         self.watchdog_s = spec.watchdog_s
         self.firmware, pins = firmware_and_pins(spec, self.app, self.board)
         options = plant_options(spec, self.app) if plant is not None else None  # (a given plant: as built)
@@ -120,7 +120,7 @@ class Rig:
         self.plant.reset(self.seed)
         shared = self.plant.outputs.keys() & self.plant.inputs.keys()  # (lines both drive in turn)
         self.wiring = Wiring(self.app.wiring, pins, self.board, sensors=self.plant.outputs, shared=shared)
-        self.identity = self.app.identity or boards.identity(self.board)  # sys.platform, _machine
+        self.identity = self.app.board.identity or boards.identity(self.board)  # sys.platform, _machine
         self.wiring.spi_clocks = spi_clocks(self.plant) if (self.identity or ("",))[0] == "rp2" else {}
         self.recorder = Recorder(self.plant) if recording.record else None
         if budgets is None:
@@ -147,7 +147,7 @@ class Rig:
         self.trace_enabled = recording.trace
         self.coverage_file, self.coverage = recording.coverage, None  # (host/coverage)
         self.progress = recording.progress
-        self.console_log = ConsoleLog(max_bytes=self.app.console_max_bytes or MAX_BYTES)
+        self.console_log = ConsoleLog(max_bytes=self.app.run.console_max_bytes or MAX_BYTES)
         self.micropython_version = ""
         self.exit_kind: int | None = None
         self.exit_code: int | None = None  # sys.exit's code (0 when the entry file returned)
@@ -395,7 +395,7 @@ def run_header(rig) -> dict:
         "rig_file": str(rig.app.rig_file) if rig.app.rig_file else None,
         "board": rig.board,
         "plant_options": dict(rig.plant_options),
-        "report": rig.app.extra.get("report"),
+        "report": rig.app.run.report.table() if rig.app.run.report is not None else None,
         "spec": rig.spec.header(rig.app),
         "seed": rig.seed,
         "mode": rig.mode,

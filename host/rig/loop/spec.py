@@ -93,7 +93,11 @@ class RigSpec:
 
         app = get_app(self.app) if isinstance(self.app, str) else self.app
         heap = [f.size for f in parse_faults(self.fault_entries) if f.kind == "heap"]
-        return dataclasses.replace(app, heap_size=heap[-1]) if heap else app
+        return (
+            dataclasses.replace(app, interpreter=dataclasses.replace(app.interpreter, heap_size=heap[-1]))
+            if heap
+            else app
+        )
 
     def header(self, app: App) -> dict:
         """The spec as plain data for a trace folder's header (what :meth:`from_header` reads)."""
@@ -150,7 +154,7 @@ NO_RECORDING = Recording()
 def app_reference(app: App) -> str:
     """How a trace's header names an app: its rig file (with ``::<board>`` for a board of a
     rig file with several: host.rig.config.apps.board_of_set), or its name."""
-    board = app.extra.get("set_board") if isinstance(app.extra, dict) else None
+    board = app.board.in_set
     ref = str(app.rig_file or app.name)
     return f"{ref}::{board}" if board and app.rig_file else ref
 
@@ -158,7 +162,7 @@ def app_reference(app: App) -> str:
 def fault_schedule(spec: RigSpec, app: App) -> list:
     """The rig file's faults, then the spec's, as one schedule: what the harness applies
     (a smaller heap, link faults, brown-outs; the plant's own wrap it: :func:`build_plant`)."""
-    own = [{"kind": f.kind, **f.fields} for f in app.extra.get("faults", ())]
+    own = [{"kind": f.kind, **f.fields} for f in app.run.faults]
     return parse_faults(own + spec.fault_entries)
 
 

@@ -31,8 +31,8 @@ def scan_app(app, board: str | None = None) -> Scan:
     board = board or app.default_board
     board_folder = app.board_files(board)[0]
     folders = app.firmware_folders(board_folder)
-    platform = (app.identity or identity(board) or ("",))[0]
-    return scan_folder(folders[0], folders[1:], entry=app.entry, family=platform or None)
+    platform = (app.board.identity or identity(board) or ("",))[0]
+    return scan_folder(folders[0], folders[1:], entry=app.code.entry, family=platform or None)
 
 
 def check_pins(app, plant=None) -> PinCheck:
@@ -40,7 +40,7 @@ def check_pins(app, plant=None) -> PinCheck:
     ``plant``, its buses against the devices the plant puts on them)."""
     scan = scan_app(app)
     pins = app.board_files(app.default_board)[1]
-    platform, machine = (app.identity or identity(app.default_board) or ("", ""))[:2]
+    platform, machine = (app.board.identity or identity(app.default_board) or ("", ""))[:2]
     result = compare(scan, pins, app.wiring, platform, board_names(machine))
     if plant is not None:
         result.warnings += compare_buses(scan, plant.bus_names())

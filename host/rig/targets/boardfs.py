@@ -19,6 +19,7 @@ import os
 import re
 import shutil
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 from host.core import safefs
@@ -78,14 +79,20 @@ def sandbox_setting(where, board: dict) -> str:
     return value
 
 
-def confinement(where, board) -> dict:
-    """The ``[board]`` settings of the firmware's confinement, for ``App.extra``."""
+@dataclass(frozen=True)
+class Confinement:
+    """What the board lets the firmware do (``[board] flash_size``, ``allow_modules``,
+    ``sandbox``: docs/security.md)."""
+
+    flash_bytes: int = DEFAULT_FLASH_BYTES
+    allow: tuple[str, ...] = ()  # host modules the board's port has
+    sandbox: str = "auto"  # SANDBOX_CHOICES
+
+
+def confinement(where, board) -> Confinement:
+    """The ``[board]`` settings of the firmware's confinement, for ``App.board``."""
     board = board if isinstance(board, dict) else {}
-    return {
-        "flash_bytes": flash_bytes(where, board),
-        "allow": allowed_modules(where, board),
-        "sandbox": sandbox_setting(where, board),
-    }
+    return Confinement(flash_bytes(where, board), allowed_modules(where, board), sandbox_setting(where, board))
 
 
 def board_name(label: str) -> str:

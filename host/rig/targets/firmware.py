@@ -56,22 +56,22 @@ class Firmware:
         """The app's folder (or ``main_dir``), its libraries, the board's pin map and,
         when the app asks for them, the project's drivers."""
         main = Path(main_dir) if main_dir else app.path
-        if regular_file(main, app.entry) is None:
-            raise ConfigError(f"main_dir: no {app.entry} in {main}")
+        if regular_file(main, app.code.entry) is None:
+            raise ConfigError(f"main_dir: no {app.code.entry} in {main}")
         folders = app.firmware_folders(board_folder)
-        confine = app.extra.get("confine", {})
+        confine, interpreter = app.board.confine, app.interpreter
         return cls(
             main,
             [main, *folders[1:]],
-            app.entry,
-            app.heap_size,
-            app.ticks_wrap_s,
-            app.console_baud,
-            confine.get("flash_bytes", DEFAULT_FLASH_BYTES),
-            confine.get("allow", ()),
-            confine.get("sandbox", "auto"),
-            cpu=getattr(app, "cpu", "free"),
-            mpy_version=getattr(app, "mpy_version", None),
+            app.code.entry,
+            interpreter.heap_size,
+            interpreter.ticks_wrap_s,
+            app.board.console_baud,
+            confine.flash_bytes,
+            confine.allow,
+            confine.sandbox,
+            cpu=app.board.cpu,
+            mpy_version=interpreter.mpy_version,
         )
 
     @classmethod
