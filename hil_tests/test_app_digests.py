@@ -203,7 +203,7 @@ def _expected(key) -> tuple[dict, str]:
 def app_cpu(app: str) -> str:
     """The CPU of the app's board family (MCU time's default when it is on)."""
     spec = get_app(APP_PATHS.get(app, app))
-    return mcutime.family_cpu(spec.identity or boards.identity(spec.default_board))
+    return mcutime.family_cpu(spec.board.identity or boards.identity(spec.default_board))
 
 
 def mcu_cpu(app: str) -> str:
