@@ -41,13 +41,39 @@ BUS = "bus"
 EVENTS = (CHANGE, SAMPLE, SEEN, LEVEL, COMPUTE, BUS)
 
 
+MAX_BUDGET_US = 3_600_000_000  # a rig file's budget times: at most an hour
 FIRST_MISSES = 5  # misses a budget's failure message names, with their times
 KEPT_MISSES = 1000  # misses a budget keeps the time of (budgets.json, the VCD's events)
 
 
 class Budget:
+    """A budget of a rig file (``[budgets.<name>]``, docs/rig-file.md) declares its own
+    schema: its ``kind``, the keys it takes with their types, which of them a rig file
+    may leave out and the bounds of its times; ``host/rig/config/rigfile.py`` checks a
+    table against them (:meth:`rig_keys`, :data:`BOUNDS`)."""
+
     wall_clock = False
     """True for a budget measured in wall-clock time (informational in lockstep runs)."""
+    KIND: str | None = None
+    """Its ``kind`` in a rig file (None: made in code only)."""
+    KEYS: dict = {}
+    """The keys a rig file's table of this kind takes, with their types, beside ``kind`` and
+    ``description`` (:data:`COMMON_KEYS`)."""
+    OPTIONAL: tuple[str, ...] = ()
+    """Those of :data:`KEYS` a rig file may leave out: each then has the class's default
+    (a period budget's ``period_us``: the sample period of the plant's signal)."""
+    ON_BUS = False
+    """A bus budget: its ``source`` is a bus of the plant's devices, not a signal."""
+    PERIOD_FROM_PLANT = False
+    """Without ``period_us``, the period is the sample period of the plant's ``source``."""
+    BOUNDS = {"period_us": (1, MAX_BUDGET_US), "limit_us": (1, MAX_BUDGET_US), "tolerance_us": (0, MAX_BUDGET_US)}
+    """The least and most microseconds each time key takes."""
+    COMMON_KEYS = {"kind": str, "description": str}
+
+    @classmethod
+    def rig_keys(cls, table: dict) -> tuple[dict, tuple[str, ...]]:
+        """(the keys with their types, the required ones) of a rig file's ``table``."""
+        return {**cls.COMMON_KEYS, **cls.KEYS}, tuple(k for k in cls.KEYS if k not in cls.OPTIONAL)
 
     def __init__(self, name: str, source: str, *, limit_us: int, description: str = ""):
         self.name = name
@@ -164,6 +190,11 @@ class PeriodBudget(Budget):
     received chunk that holds that byte (``b"$"``: the first byte of an NMEA sentence,
     sent at a fixed period, whereas its last byte moves with the sentence's length)."""
 
+    KIND = "period"
+    KEYS = {"source": str, "period_us": int, "tolerance_us": int, "marker": str}
+    OPTIONAL = ("marker", "period_us")
+    PERIOD_FROM_PLANT = True
+
     def __init__(self, name, source, *, period_us: int, tolerance_us: int, description="", marker: bytes | None = None):
         super().__init__(name, source, limit_us=period_us + tolerance_us, description=description)
         self.period_us = period_us
@@ -204,6 +235,9 @@ class LatencyBudget(Budget):
     ADC a sample is a new value; for a UART, a line (its last byte), read when the
     firmware's read takes that byte."""
 
+    KIND = "latency"
+    KEYS = {"source": str, "limit_us": int}
+
     def __init__(self, name, source, *, limit_us: int, description=""):
         super().__init__(name, source, limit_us=limit_us, description=description)
         self._pending: dict[int, int] = {}
@@ -231,6 +265,9 @@ class PulseBudget(Budget):
     """Length of each pulse on actuator outputs: a pulse is the time while exactly one
     of ``sources`` is 1 (one track stopped, the other running). Both at 1 is a hold,
     not a pulse (the pool cleaner stops both tracks while it measures, and when done)."""
+
+    KIND = "pulse"
+    KEYS = {"sources": list, "limit_us": int}
 
     def __init__(self, name, sources: tuple[str, ...], *, limit_us: int, description=""):
         super().__init__(name, sources[0], limit_us=limit_us, description=description)
@@ -262,6 +299,8 @@ class ComputeBudget(Budget):
     (``[board] cpu``, docs/mcu-time.md, ``mcu`` set by the rig) the board CPU's
     microseconds the main program computed between two waits, charged to virtual time."""
 
+    KIND = "compute"
+    KEYS = {"limit_us": int}
     mcu = None  # the board CPU whose time the firmware reports (None: wall time)
 
     @property
@@ -282,6 +321,11 @@ class BusLatencyBudget(Budget):
     """How long each transfer on the bus ``source`` takes at its clock (to ``address``
     only, when given): a transfer longer than ``limit_us`` is a miss. A stuck bus's
     transfer (its timeout, which the host is not told) is a miss of ``limit_us + 1``."""
+
+    KIND = "bus_latency"
+    KEYS = {"source": str, "limit_us": int, "address": int}
+    OPTIONAL = ("address",)
+    ON_BUS = True
 
     def __init__(self, name, source, *, limit_us: int, address: int | None = None, description=""):
         super().__init__(name, source, limit_us=limit_us, description=description)
@@ -306,6 +350,20 @@ class BusSampleBudget(PeriodBudget):
     ``source`` (``period_us`` +- ``tolerance_us``). With ``ready`` (the device's
     data-ready output, ``imu.int1``), the time from its rise to the next such read
     instead, against ``limit_us``; a sample ready again before it was read is a miss."""
+
+    KIND = "bus_sample"
+    KEYS = {"source": str, "register": int, "address": int, "period_us": int, "tolerance_us": int, "ready": str}
+    KEYS |= {"limit_us": int}
+    ON_BUS = True
+    OPTIONAL = ("address", "ready", "limit_us")  # (without ready: its period_us and tolerance_us)
+    OPTIONAL_READY = ("address", "period_us", "tolerance_us", "ready")  # (with ready: its limit_us)
+    PERIOD_FROM_PLANT = False
+
+    @classmethod
+    def rig_keys(cls, table: dict) -> tuple[dict, tuple[str, ...]]:
+        """With ``ready``: its ``limit_us``; without: its ``period_us`` and ``tolerance_us``."""
+        optional = cls.OPTIONAL_READY if "ready" in table else cls.OPTIONAL
+        return {**cls.COMMON_KEYS, **cls.KEYS}, tuple(k for k in cls.KEYS if k not in optional)
 
     def __init__(
         self,
@@ -391,6 +449,13 @@ class ReactionBudget(Budget):
 
     def record(self) -> dict:
         return {**super().record(), "stimulus": list(self.stimulus), "response": list(self.response)}
+
+
+KINDS = {
+    cls.KIND: cls
+    for cls in (PeriodBudget, LatencyBudget, PulseBudget, ComputeBudget, BusLatencyBudget, BusSampleBudget)
+}
+"""The budgets a rig file names by ``kind``, each with its schema."""
 
 
 class BudgetHooks:

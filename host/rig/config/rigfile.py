@@ -14,6 +14,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError, SetupError
 from host.core.paths import BOARDS_DIR
+from host.rig.config import budgets as budgets_of
 from host.rig.config import migrate, rigrules
 from host.rig.config.app import (
     CONSOLE_BAUD,
@@ -26,14 +27,6 @@ from host.rig.config.app import (
     PoseLine,
     Report,
     RunSettings,
-)
-from host.rig.config.budgets import (
-    BusLatencyBudget,
-    BusSampleBudget,
-    ComputeBudget,
-    LatencyBudget,
-    PeriodBudget,
-    PulseBudget,
 )
 from host.rig.config.tomlfile import NESTED_DEPTH, read_toml
 from host.rig.scan.boards import (
@@ -87,24 +80,10 @@ BOARD_KEYS = {
 }
 BOARD_KEYS |= {"flash_size": (str, int), "allow_modules": dict, "sandbox": str}  # (host/rig/targets/boardfs.py)
 INTERPRETER_KEYS = {"heap_size": (str, int), "ticks_wrap_s": (int, float), "version": str}
-BUDGET_KINDS = {
-    "period": (PeriodBudget, {"source": str, "period_us": int, "tolerance_us": int, "marker": str}),
-    "latency": (LatencyBudget, {"source": str, "limit_us": int}),
-    "pulse": (PulseBudget, {"sources": list, "limit_us": int}),
-    "compute": (ComputeBudget, {"limit_us": int}),
-    "bus_latency": (BusLatencyBudget, {"source": str, "limit_us": int, "address": int}),
-    "bus_sample": (
-        BusSampleBudget,
-        {"source": str, "register": int, "address": int, "period_us": int, "tolerance_us": int, "ready": str},
-    ),
-}
-BUS_OPTIONAL = {"bus_latency": ("address",), "bus_sample": ("address", "period_us", "tolerance_us", "ready")}
-COMMON_BUDGET_KEYS = {"kind": str, "description": str}
 TYPE_NAMES = {str: "text", int: "an integer", float: "a number", bool: "true/false", list: "a list", dict: "a table"}
 MAX_RIG_BYTES = 1 << 20  # a rig file is a page or two of TOML
 MAX_DEPTH = NESTED_DEPTH  # tables and lists within each other (an obstacle in a world: 5)
 CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f]")  # control characters (a tab is text)
-MAX_BUDGET_US = 3_600_000_000  # budget times: at most an hour
 
 
 class _Where:
@@ -514,17 +493,15 @@ def _budgets(where: _Where, budgets: dict, plant, wiring: dict) -> list:
         if not isinstance(spec, dict):
             raise where.error(field, f"expected a table, got {spec!r}")
         budget_kind = spec.get("kind")
-        if not isinstance(budget_kind, str) or budget_kind not in BUDGET_KINDS:
-            hint = _did_you_mean(str(budget_kind), BUDGET_KINDS)
-            raise where.error(f"{field} kind", f"expected one of {', '.join(BUDGET_KINDS)}, got {budget_kind!r}{hint}")
-        cls, keys = BUDGET_KINDS[budget_kind]
-        optional = ("marker", "period_us") if budget_kind == "period" else BUS_OPTIONAL.get(budget_kind, ())
-        if budget_kind == "bus_sample":  # (ready: its limit_us; else its period_us and tolerance_us)
-            keys = {**keys, "limit_us": int}
-            optional = ("address", "ready", "limit_us") if "ready" not in spec else optional
-        where.table(spec, field, {**COMMON_BUDGET_KEYS, **keys}, required=[k for k in keys if k not in optional])
+        if not isinstance(budget_kind, str) or budget_kind not in budgets_of.KINDS:
+            hint = _did_you_mean(str(budget_kind), budgets_of.KINDS)
+            kinds = ", ".join(budgets_of.KINDS)
+            raise where.error(f"{field} kind", f"expected one of {kinds}, got {budget_kind!r}{hint}")
+        cls = budgets_of.KINDS[budget_kind]  # (its schema: host/rig/config/budgets.py)
+        keys, required = cls.rig_keys(spec)
+        where.table(spec, field, keys, required=list(required))
         sources = [("source", spec.get("source"))] + [("sources", s) for s in spec.get("sources", [])]
-        if budget_kind in BUS_OPTIONAL:
+        if cls.ON_BUS:
             _bus_source(where, field, plant, spec)
             sources = [("ready", spec.get("ready"))]
         for key, signal in sources:
@@ -536,12 +513,9 @@ def _budgets(where: _Where, budgets: dict, plant, wiring: dict) -> list:
             if not signal.startswith(PROBE_PREFIX) and signal not in {**plant.inputs, **plant.outputs}:
                 known = unknown(signal, [*plant.inputs, *plant.outputs], what="signals")
                 raise where.error(f"{field} {key}", f"the plant has no signal {signal!r} {known}")
-        for key in ("period_us", "limit_us", "tolerance_us"):
-            least = 0 if key == "tolerance_us" else 1
-            if isinstance(spec.get(key), int) and not least <= spec[key] <= MAX_BUDGET_US:
-                raise where.error(
-                    f"{field} {key}", f"expected {least} to {MAX_BUDGET_US} microseconds, got {spec[key]}"
-                )
+        for key, (least, most) in cls.BOUNDS.items():
+            if isinstance(spec.get(key), int) and not least <= spec[key] <= most:
+                raise where.error(f"{field} {key}", f"expected {least} to {most} microseconds, got {spec[key]}")
         marker = spec.get("marker")
         if marker is not None and not (len(marker) == 1 and 0 < ord(marker) < 128):
             raise where.error(f"{field} marker", f"expected one character of one byte (ASCII, not NUL), got {marker!r}")
@@ -554,7 +528,7 @@ def _budgets(where: _Where, budgets: dict, plant, wiring: dict) -> list:
 def _budget_builder(where: _Where, field: str, name: str, cls, spec: dict):
     def build(plant):
         args = {k: spec[k] for k in spec if k not in ("kind", "description")}
-        if cls is PeriodBudget and "period_us" not in args:
+        if cls.PERIOD_FROM_PLANT and "period_us" not in args:
             args["period_us"] = _sample_period(where, field, plant, spec["source"])
         if "marker" in args:
             args["marker"] = args["marker"].encode()
