@@ -9,12 +9,11 @@ from host.core.paths import FIRMWARE
 from host.rig.config.budgets import Budget
 from host.rig.scan import boards as pin_maps
 from host.rig.targets.boardfs import Confinement
+from host.rig.targets.firmware import CONSOLE_BAUD
 from sim_plant.plant import Plant
 
 BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow")
 """Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
-CONSOLE_BAUD = 115_200
-"""The REPL UART's baud rate when the rig file names none (``[board] console_baud``)."""
 PROBE_PREFIX = "probe:"
 """Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 

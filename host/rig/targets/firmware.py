@@ -23,6 +23,10 @@ COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (do
 # without its octal (a leading 0) and signs
 HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
 
+CONSOLE_BAUD = 115_200
+"""The REPL UART's baud rate when the rig file names none (``[board] console_baud``): the
+one default (the shim is always told the rate, HIL_CONSOLE_BAUD)."""
+
 
 def heap_bytes(size: str | int) -> int | None:
     """Bytes of a ``heap_size`` (``192K``, ``2M``, ``0x30000``, ``24wK``, 262144), or None
@@ -42,7 +46,7 @@ class Firmware:
     entry: str = "main.py"
     heap_size: str | None = None  # -X heapsize, as a board's RAM
     ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (default 10 s in)
-    console_baud: int = 115_200  # the REPL UART: print() takes its time (0: free)
+    console_baud: int = CONSOLE_BAUD  # the REPL UART: print() takes its time (0: free)
     flash_bytes: int = DEFAULT_FLASH_BYTES  # the board's filesystem ([board] flash_size)
     allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
     sandbox: str = "auto"  # the interpreter in namespaces of its own ([board] sandbox, host/rig/targets/sandbox.py)
