@@ -226,7 +226,7 @@ def strongly_connected(graph: dict[str, set[str]]) -> list[set[str]]:
 def package_of(module: str, depths: dict[str, int]) -> str:
     parts = module.split(".")
     for prefix, depth in depths.items():
-        if module.startswith(prefix + ".") and len(parts) > depth:
+        if module.startswith(prefix + ".") and len(parts) >= depth:
             return ".".join(parts[:depth])
     return ".".join(parts[:2])
 
@@ -281,3 +281,22 @@ def test_the_cycle_finder_finds_a_cycle_between_packages_through_a_function_leve
     packages = {"host.a": {"host.b"}, "host.b": {"host.a"}, "host.c": {"host.a"}}
     assert strongly_connected(graph) == [], "expected no module cycle in a chain"
     assert strongly_connected(packages) == [{"host.a", "host.b"}], "expected host.a <-> host.b"
+
+
+RIG_JOBS = ("host.rig.targets", "host.rig.scan", "host.rig.config", "host.rig.hardware", "host.rig.loop")
+"""host/rig/'s sub-packages, lowest first, as docs/architecture.md draws them: each imports
+only those before it."""
+
+
+def test_host_rig_sub_packages_import_only_those_drawn_below_them():
+    graph, _ = graphs()
+    found = set(package_of(m, {"host.rig": 3}) for m in graph if m.startswith("host.rig."))
+    assert found == set(RIG_JOBS), f"expected host/rig's sub-packages {RIG_JOBS}, found {sorted(found)}"
+    upward = []
+    for module, targets in graph.items():
+        mine = package_of(module, {"host.rig": 3})
+        for target in targets:
+            theirs = package_of(target, {"host.rig": 3})
+            if mine in RIG_JOBS and theirs in RIG_JOBS and RIG_JOBS.index(theirs) > RIG_JOBS.index(mine):
+                upward.append(f"{module} ({mine}) imports {target} ({theirs})")
+    assert not upward, "host.rig sub-packages importing upward:\n" + "\n".join(upward)
