@@ -862,7 +862,7 @@ def cmd_migrate(args) -> int:
 
 
 def cmd_import_wokwi(args) -> int:
-    from host.wokwi.project import import_wokwi
+    from host.rig.config.wokwi.project import import_wokwi
 
     path = import_wokwi(args.folder, force=args.force)
     print(f"wrote {path}: mpy-fil check {path}, then add budgets, faults and worlds (docs/rig-file.md)")

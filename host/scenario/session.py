@@ -32,12 +32,12 @@ def find_rig(scenario_path) -> Path:
 
 def load_rig_for(scenario_path):
     """The rig (an App, as ``load_rig`` returns it) a scenario runs against: a rig file,
-    or a Wokwi project read as one (:func:`host.wokwi.project.rig_from_project`)."""
+    or a Wokwi project read as one (:func:`host.rig.config.wokwi.project.rig_from_project`)."""
     from host.rig.config.rigfile import load_rig
 
     found = find_rig(scenario_path)
     if found.name == DIAGRAM_NAME:
-        from host.wokwi.project import rig_from_project
+        from host.rig.config.wokwi.project import rig_from_project
 
         return rig_from_project(found.parent)
     return load_rig(found)

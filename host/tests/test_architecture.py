@@ -13,7 +13,7 @@ LAYERS = {
     "host.link": 1,
     "host.artefacts": 2,
     "host.rig": 3,
-    "host.wokwi": 3,  # a Wokwi project as a rig (host.rig.config.apps reads one by its path)
+    "host.wokwi": 3,  # the 0.2 import paths of host/rig/config/wokwi/ (a Wokwi project as a rig)
     "host.coverage": 3,  # firmware coverage: beside the rig it measures
     "host.kits": 3,  # robot kits' rig files and tests (mpy-fil init --kit)
     "host.report": 4,
@@ -141,11 +141,6 @@ PACKAGE_LEVELS = ({}, {"host.rig": 3})
 level under host/ and sim_plant/); then host.rig's sub-packages (``host.rig.loop``,
 ``host.rig.config``, ...) each as a package of its own."""
 KNOWN_PACKAGE_CYCLES = {
-    frozenset({"host.rig", "host.wokwi"}): "get_app (host/rig/config/apps.py) names a Wokwi project by its "
-    "folder as it names a rig file, and RigSpec keeps that name for a replay; host/wokwi reads the project into "
-    "the App a rig file gives (rig_from_data, pinscan). It goes when host/wokwi moves under host/rig/config/ "
-    "(its import path host.wokwi kept as host.rig's 0.2 paths are)",
-    frozenset({"host.rig.config", "host.wokwi"}): "the same cycle, seen from host.rig's sub-packages",
     frozenset({"sim_plant.buses", "sim_plant.catalogue", "sim_plant.imu"}): "sim_plant/catalogue/base.py, the "
     "vocabulary every part is declared with (Opt, Sig, PartType), lives in the catalogue's package, and the "
     "buses and the IMU model declare their options with it while the catalogue's chips are built on them; it "

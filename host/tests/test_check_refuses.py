@@ -18,9 +18,9 @@ from host.core.paths import REPO
 from host.core.printable import printable
 from host.rig.config.boardfile import apps_of
 from host.rig.config.rigfile import load_rig
+from host.rig.config.wokwi.diagram import read_diagram
 from host.rig.loop.waits import ExpectTimeout
 from host.scenario.scenario import ScenarioError, load_scenario
-from host.wokwi.diagram import read_diagram
 
 OLED_BOT = REPO / "examples" / "oled_bot"
 BASE = (OLED_BOT / "rig.toml").read_text()

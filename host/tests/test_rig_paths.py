@@ -24,6 +24,7 @@ PUBLIC = {  # what README.md, docs/ and hil_tests/ import from host.rig, by modu
     "host.rig.spec": ["build_plant", "fault_schedule", "placed"],
     "host.rig.target": ["FaultyLinkTarget"],
     "host.rig.tomlfile": ["read_toml"],
+    "host.wokwi.project": ["rig_from_project", "is_project"],  # (now host.rig.config.wokwi.project)
 }
 
 
@@ -46,6 +47,15 @@ def test_every_module_of_0_2_is_its_moved_module_itself():
         if old is not importlib.import_module(new) or old.__spec__.name != new:
             wrong.append(f"host.rig.{name}: expected the module {new}, got {old.__spec__.name}")
     assert not wrong, wrong
+
+
+def test_every_wokwi_module_of_0_2_is_its_moved_module_itself():
+    import host.wokwi
+
+    for name in host.wokwi.MOVED:
+        old = importlib.import_module(f"host.wokwi.{name}")
+        new = importlib.import_module(f"host.rig.config.wokwi.{name}")
+        assert old is new, f"host.wokwi.{name}: expected the module {new.__name__}, got {old.__spec__.name}"
 
 
 def test_importing_host_rig_imports_no_module_by_its_old_path():

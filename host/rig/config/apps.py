@@ -52,7 +52,7 @@ def get_app(name: str) -> App:
     try:
         if name.endswith((".toml", ".json")) or "/" in name or any(Path(name, f).is_file() for f in WHAT_FOLDERS_HOLD):
             path = Path(name)
-            from host.wokwi.project import is_project, rig_from_project
+            from host.rig.config.wokwi.project import is_project, rig_from_project
 
             if is_project(path):  # a Wokwi project: its diagram.json (docs/wokwi.md)
                 return rig_from_project(path)

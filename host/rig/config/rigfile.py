@@ -143,7 +143,7 @@ def load_rig(path) -> App:
 
 def rig_from_data(path, data: dict, base=None) -> App:
     """Check a rig given as data (a rig file's tables, as TOML reads them, from another
-    format: a Wokwi diagram, ``host/wokwi``); ``path`` is the file it came from, relative
+    format: a Wokwi diagram, ``host/rig/config/wokwi``); ``path`` is the file it came from, relative
     paths are relative to its folder (or ``base``) and messages name it. The App it describes."""
     path = Path(path)
     where = _Where(path)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from host.core.errors import ConfigError
-from host.wokwi.boards import GND
+from host.rig.config.wokwi.boards import GND
 
 LANE_M = 1.5  # HC-SR04s on a desk: one lane each, this far apart (the cone at 4 m is 1.05 m wide)
 MAX_SONARS = 6  # lanes within the mount's +-10 m

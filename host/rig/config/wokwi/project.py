@@ -19,11 +19,11 @@ from host.core.errors import ConfigError
 from host.core.nesting import too_deep
 from host.rig.config.app import App
 from host.rig.config.rigfile import rig_from_data
+from host.rig.config.wokwi import parts as table
+from host.rig.config.wokwi.boards import BOARD_ATTRS
+from host.rig.config.wokwi.diagram import read_diagram
+from host.rig.config.wokwi.tomlout import rig_toml
 from host.rig.scan.pinscan import scan_folder
-from host.wokwi import parts as table
-from host.wokwi.boards import BOARD_ATTRS
-from host.wokwi.diagram import read_diagram
-from host.wokwi.tomlout import rig_toml
 
 DIAGRAM = "diagram.json"
 WOKWI_KEYS = {"version", "firmware", "elf", "gdbServerPort", "rfc2217ServerPort"}

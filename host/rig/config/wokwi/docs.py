@@ -1,14 +1,14 @@
-"""The part table of ``docs/wokwi.md``, generated from :mod:`host.wokwi.parts` (a test
-keeps the page in step): ``python -m host.wokwi.docs`` rewrites it between its markers."""
+"""The part table of ``docs/wokwi.md``, generated from :mod:`host.rig.config.wokwi.parts` (a test
+keeps the page in step): ``python -m host.rig.config.wokwi.docs`` rewrites it between its markers."""
 
 import sys
 
 from host.core.paths import REPO
-from host.wokwi.boards import BOARDS
-from host.wokwi.parts import REFUSED, TABLE
+from host.rig.config.wokwi.boards import BOARDS
+from host.rig.config.wokwi.parts import REFUSED, TABLE
 
 PAGE = REPO / "docs" / "wokwi.md"
-BEGIN = "<!-- the part table: python -m host.wokwi.docs writes it from host/wokwi/parts.py -->"
+BEGIN = "<!-- the part table: python -m host.rig.config.wokwi.docs writes it from host/rig/config/wokwi/parts.py -->"
 END = "<!-- end of the part table -->"
 
 

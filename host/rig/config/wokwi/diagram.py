@@ -15,7 +15,7 @@ from pathlib import Path
 
 from host.core.errors import ConfigError
 from host.core.nesting import loads_json
-from host.wokwi.boards import BOARDS, Board, rail
+from host.rig.config.wokwi.boards import BOARDS, Board, rail
 
 MAX_DIAGRAM_BYTES = 1 << 20
 JOINED_INSIDE = {  # part type -> groups of its pins that are one conductor
