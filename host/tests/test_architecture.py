@@ -140,12 +140,7 @@ PACKAGE_LEVELS = ({}, {"host.rig": 3})
 """Packages as the cycles are looked for: ``host.rig``, ``sim_plant.catalogue`` (the top
 level under host/ and sim_plant/); then host.rig's sub-packages (``host.rig.loop``,
 ``host.rig.config``, ...) each as a package of its own."""
-KNOWN_PACKAGE_CYCLES = {
-    frozenset({"sim_plant.buses", "sim_plant.catalogue", "sim_plant.imu"}): "sim_plant/catalogue/base.py, the "
-    "vocabulary every part is declared with (Opt, Sig, PartType), lives in the catalogue's package, and the "
-    "buses and the IMU model declare their options with it while the catalogue's chips are built on them; it "
-    "goes when base.py moves beside them (its path kept for users' parts)",
-}
+KNOWN_PACKAGE_CYCLES = {}
 """Package cycles that stay for now, each with its reason."""
 KNOWN_MODULE_CYCLES = {
     frozenset({"sim_plant.catalogue", "sim_plant.catalogue.base"}): "the catalogue's registry (its __init__) "

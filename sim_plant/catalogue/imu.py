@@ -20,10 +20,7 @@ recent history (``on_motion_change``) so that a tick is evaluated at its own tim
 import math
 
 from sim_plant.buses import (
-    CS_OPTION,
-    CS_SIGNAL,
     NEVER_US,
-    SCK_SIGNAL,
     BusName,
     Change,
     RegisterDevice,
@@ -31,7 +28,7 @@ from sim_plant.buses import (
     chip_select,
     tick_after,
 )
-from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
+from sim_plant.catalogue.base import CS_OPTION, CS_SIGNAL, SCK_SIGNAL, Build, Opt, PartType, Sig, View
 from sim_plant.option_table import Flag, Num, Row
 
 G_M_S2 = 9.80665
