@@ -487,7 +487,7 @@ def _run_one(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
-    coverage = _coverage_file(out, getattr(app, "mpy_version", None)) if args.coverage else None
+    coverage = _coverage_file(out, app.interpreter.mpy_version) if args.coverage else None
     live = args.interactive or args.break_at is not None
     breaks = _break_at(args.break_at)
     recording = Recording(trace=True, record=True, artefacts=out, progress=None if live else show, coverage=coverage)

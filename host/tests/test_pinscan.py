@@ -341,7 +341,7 @@ def test_init_starts_from_a_usual_robots_parts_when_it_sees_no_bridge(tmp_path):
 def test_init_on_our_examples_names_their_pins_as_their_rig_files_do(tmp_path):
     shutil.copy(REPO / "examples" / "two_sonar_bot" / "main.py", tmp_path / "main.py")
     text = starter(tmp_path)
-    ours = load_rig(REPO / "examples" / "two_sonar_bot" / "rig.toml").pins
+    ours = load_rig(REPO / "examples" / "two_sonar_bot" / "rig.toml").board.pins
     written = dict(
         line.split(" = ")
         for line in text.split("[board.pins]")[1].split("[plant]")[0].splitlines()[1:]

@@ -126,7 +126,7 @@ class Rig:
         if budgets is None:
             budgets = self.app.make_budgets(self.plant)
         self.budgets = {b.name: b for b in budgets}
-        cpu = os.environ.get("MPYFIL_CPU") or getattr(self.app, "cpu", "free")  # (as host/rig/targets/firmware.py)
+        cpu = os.environ.get("MPYFIL_CPU") or self.app.board.cpu  # (as host/rig/targets/firmware.py)
         for b in self.budgets.values():
             if isinstance(b, ComputeBudget) and cpu != "free":
                 b.mcu = cpu  # the firmware's compute in the board CPU's time (docs/mcu-time.md)
