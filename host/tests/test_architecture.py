@@ -35,9 +35,9 @@ KIT_TESTS = "host/kits/"
 MAX_CLASS_LINES = 310
 
 
-@functools.cache
 def tree(path: Path) -> ast.Module:
-    """A file's syntax tree, parsed once for every test here."""
+    """A file's syntax tree (parsed again by each test: keeping every tree costs more, in
+    the garbage collector's passes over them, than parsing)."""
     return ast.parse(path.read_text(), str(path))
 
 
