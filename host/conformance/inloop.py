@@ -15,7 +15,9 @@ in the loop costs about a second: the harness's import and the rig's start.
 The harness is imported only for a run in the loop: a plain run starts at once.
 """
 
+import json
 import os
+import socket
 import sys
 from pathlib import Path
 
@@ -137,16 +139,40 @@ def run(test: Path, heap: str | None) -> tuple[str, int]:
     return rig.console + note, status
 
 
+SOCKET_ENV = "MPY_FIL_CONFORMANCE_SERVER"  # the server's socket (host/conformance/forkserver.py), for the wrapper
+
+
+def read_all(conn) -> bytes:
+    chunks = []
+    while True:
+        chunk = conn.recv(65536)
+        if not chunk:
+            return b"".join(chunks)
+        chunks.append(chunk)
+
+
+def ask(path: str, argv: list[str]) -> dict:
+    """Run ``argv`` (a test file's, as :func:`parse` takes it) on the server at
+    ``path``: {"console", "status", "stdout", "stderr"}."""
+    request = {"argv": argv, "cwd": os.getcwd(), "board": os.environ.get(BOARD_ENV, "")}
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
+        conn.connect(path)
+        conn.sendall(json.dumps(request).encode())
+        conn.shutdown(socket.SHUT_WR)
+        reply = read_all(conn)
+    if not reply:
+        raise SystemExit(f"error: the conformance server at {path} ended without an answer")
+    return json.loads(reply)
+
+
 def main(argv: list[str]) -> int:
     parsed = parse(argv)
     if parsed is None:
         plain = str(interpreter.find())
         os.execv(plain, [plain, *argv])
-    from host.conformance import forkserver
-
-    server = os.environ.get(forkserver.SOCKET_ENV)
+    server = os.environ.get(SOCKET_ENV)
     if server:  # (python -m host.conformance's server: the harness imported once)
-        reply = forkserver.ask(server, argv)
+        reply = ask(server, argv)
         sys.stderr.write(reply["stderr"])
         sys.stderr.flush()
         console, status = reply["stdout"] + reply["console"], reply["status"]

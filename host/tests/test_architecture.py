@@ -145,8 +145,6 @@ KNOWN_PACKAGE_CYCLES = {}
 KNOWN_MODULE_CYCLES = {
     frozenset({"sim_plant.catalogue", "sim_plant.catalogue.base"}): "the catalogue's registry (its __init__) "
     "holds the declarations base.py defines, and a declaration looks a part or a world up in it by name",
-    frozenset({"host.conformance.forkserver", "host.conformance.inloop"}): "the server preloads what inloop's "
-    "runs import and forks them; inloop's main hands its run to the server when one listens",
 }
 """Module cycles inside one package that stay, each with its reason."""
 
