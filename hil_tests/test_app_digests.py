@@ -24,8 +24,9 @@ import pytest
 from flashed import as_from_sources
 
 from host.core.paths import REPO
-from host.rig import boards, mcutime
-from host.rig.apps import get_app
+from host.rig.config.apps import get_app
+from host.rig.scan import boards
+from host.rig.targets import mcutime
 
 pytestmark = pytest.mark.hil
 
@@ -89,7 +90,7 @@ FIRMWARE_BEFORE = {  # the header's firmware identity (a regular expression) as 
     ),
 }
 """pico_bot's test_pico_bot.py is not firmware (issue 40: what ``make flash`` puts on a
-board, host/rig/boardfs.py); its traces are the same but for that identity in the header.
+board, host/rig/targets/boardfs.py); its traces are the same but for that identity in the header.
 The duct robot's folder holds the MCU firmware of the robot as built too (robostix.py, which
 its one-board firmware never imports: firmware/apps/duct/as_built.toml), counted in the
 identity: its one-board traces are the same but for it, whatever robostix.py holds."""
@@ -202,7 +203,7 @@ def _expected(key) -> tuple[dict, str]:
 def app_cpu(app: str) -> str:
     """The CPU of the app's board family (MCU time's default when it is on)."""
     spec = get_app(APP_PATHS.get(app, app))
-    return mcutime.family_cpu(spec.identity or boards.identity(spec.default_board))
+    return mcutime.family_cpu(spec.board.identity or boards.identity(spec.default_board))
 
 
 def mcu_cpu(app: str) -> str:

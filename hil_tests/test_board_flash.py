@@ -245,7 +245,7 @@ def test_nothing_the_shim_leaves_reachable_holds_a_host_handle_with_the_sandbox_
     import tempfile
 
     from host.core.paths import REPO
-    from host.rig.boardfs import PREFIX
+    from host.rig.targets.boardfs import PREFIX
 
     board = os.path.join(tempfile.gettempdir(), PREFIX)
     walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", "()")
@@ -275,7 +275,7 @@ def test_the_shims_private_modules_imported_by_firmware_reach_neither_the_link_n
     import tempfile
 
     from host.core.paths import REPO
-    from host.rig.boardfs import PREFIX
+    from host.rig.targets.boardfs import PREFIX
 
     board = os.path.join(tempfile.gettempdir(), PREFIX)
     walk = WALK.replace("{board}", board).replace("{repo}", str(REPO)).replace("{private}", repr(SHIM_PRIVATE))

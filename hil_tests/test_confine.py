@@ -12,7 +12,7 @@ import pytest
 from host.artefacts.folder import reseal
 from host.core.errors import ConfigError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.replay import FirmwareChoice, replay
+from host.rig.loop.replay import FirmwareChoice, replay
 
 pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_confine")]
 
@@ -309,7 +309,7 @@ def test_without_the_sandbox_a_firmware_that_gets_round_the_shim_reaches_the_hos
 
 
 def test_in_the_sandbox_a_firmware_that_gets_round_the_shim_reaches_nothing(tmp_path, monkeypatch):
-    from host.rig import sandbox
+    from host.rig.targets import sandbox
 
     if sandbox.refusal():
         pytest.skip(f"no sandbox on this machine: {sandbox.refusal()}")
@@ -321,7 +321,7 @@ def test_in_the_sandbox_a_firmware_that_gets_round_the_shim_reaches_nothing(tmp_
 
 def test_a_required_sandbox_that_cannot_start_refuses_the_run(tmp_path, monkeypatch):
     from host.core.errors import SetupError
-    from host.rig import sandbox
+    from host.rig.targets import sandbox
 
     monkeypatch.setattr(sandbox, "refusal", lambda: "the kernel refuses new namespaces (a test)")
     monkeypatch.setenv("MPY_FIL_SANDBOX", "require")

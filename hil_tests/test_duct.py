@@ -387,7 +387,7 @@ def test_a_recording_with_the_master_link_replays_to_the_same_outputs(make_rig, 
     robot and the robot's records to the master. Recorded apart (``link.uart`` and
     ``link.uart:sent``), a replay feeds the first and compares the second (before, both went
     under one name and a replay of the duct robot diverged at its first record)."""
-    from host.rig.replay import replay
+    from host.rig.loop.replay import replay
 
     rig = make_rig("duct", seed=1, plant_options={"world": "bench_duct"}, record=True, trace=True)
     rig.run_for(1.0)

@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from host.core.paths import REPO
-from host.rig.boardfile import boards_from_data
-from host.rig.boardset import BoardSet
-from host.rig.tomlfile import read_toml
+from host.rig.config.boardfile import boards_from_data
+from host.rig.config.tomlfile import read_toml
+from host.rig.loop.boardset import BoardSet
 
 RIG = REPO / "firmware" / "apps" / "duct" / "as_built.toml"
 START = (0.3, 0.2)
@@ -66,7 +66,7 @@ def test_straight_1m_duct_odometry_of_the_master_within_50mm(tmp_path, record_pr
 
 def test_the_master_is_a_host_program_and_the_mcu_firmware_is_board_code():
     """(The master's file is no firmware: it is not in the MCU's flash.)"""
-    from host.rig.boardfs import flash_files
+    from host.rig.targets.boardfs import flash_files
 
     flashed = {name for name, _ in flash_files(RIG.parent)[0]}
     assert "robostix.py" in flashed and not any("gumstix" in name for name in flashed), sorted(flashed)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from host.core import interpreter
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 from host.tests.conftest import results
 from host.tests.test_oled import vlsb_rows
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import pytest
 
 from host.core.paths import REPO
-from host.rig.apps import get_app
-from host.rig.budgets import CHANGE, Budget
+from host.rig.config.apps import get_app
+from host.rig.config.budgets import CHANGE, Budget
 from sim_plant.catalogue.assembly import rig_plant_table
 from sim_plant.world import CANYON_END_M
 

@@ -1,6 +1,6 @@
 """Every rig file our apps had in 0.1 (``[plant] kind = ...``, kept as they were in
 ``host/tests/data/rig01/``, from the commits that moved each app to a body and parts),
-written in today's form by ``host/rig/migrate.py``, runs its firmware to the link trace
+written in today's form by ``host/rig/config/migrate.py``, runs its firmware to the link trace
 pinned for the app (``test_app_digests.py``): the first world of each app is run, and every
 world's plant is the app's own, part for part and option for option."""
 
@@ -11,9 +11,9 @@ import tomllib
 from test_app_digests import APP_PATHS, DIGESTS, RUN_S, SECONDS, digest_before
 
 from host.core.paths import REPO
-from host.rig.apps import get_app
-from host.rig.migrate import migrate_text
-from host.rig.rigfile import rig_from_data
+from host.rig.config.apps import get_app
+from host.rig.config.migrate import migrate_text
+from host.rig.config.rigfile import rig_from_data
 
 pytestmark = pytest.mark.hil
 

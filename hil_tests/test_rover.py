@@ -3,7 +3,7 @@ bumper, and keeps its timing budgets (sonar every 500 ms, control every 50 ms)."
 
 import pytest
 
-from host.rig.apps import get_app
+from host.rig.config.apps import get_app
 from sim_plant.catalogue.assembly import rig_plant_table
 
 pytestmark = pytest.mark.hil
@@ -130,7 +130,7 @@ def test_realtime_mode_keeps_the_wall_clock_across_a_pause_between_run_calls(mak
 
 def test_a_budget_kind_of_ones_own_hears_the_rig_through_its_hooks(make_rig):
     """Budgets own their behaviour: the rig calls whatever hooks a budget lists."""
-    from host.rig.budgets import CHANGE, COMPUTE, LEVEL, Budget
+    from host.rig.config.budgets import CHANGE, COMPUTE, LEVEL, Budget
 
     class Tally(Budget):
         def __init__(self):

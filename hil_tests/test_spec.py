@@ -1,4 +1,4 @@
-"""One spec builds every rig (host/rig/spec.py): the CLI, the pytest plugin and a
+"""One spec builds every rig (host/rig/loop/spec.py): the CLI, the pytest plugin and a
 campaign's worker given the same spec run the same link trace and record the same spec,
 which a replay reads back; a campaign runs a rig file written as a body and parts.
 
@@ -19,9 +19,9 @@ from host.campaign.worker import run_one
 from host.cli import main
 from host.core.paths import REPO
 from host.rig import Rig, RigSpec
-from host.rig.replay import FirmwareChoice, replay
-from host.rig.spec import build_plant, fault_schedule, placed
-from host.rig.target import FaultyLinkTarget
+from host.rig.loop.replay import FirmwareChoice, replay
+from host.rig.loop.spec import build_plant, fault_schedule, placed
+from host.rig.targets.target import FaultyLinkTarget
 from sim_plant.faults import FaultyPlant
 
 pytestmark = pytest.mark.hil

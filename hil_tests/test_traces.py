@@ -13,7 +13,7 @@ from matplotlib.image import imread
 from host.artefacts.console import stamped_lines
 from host.artefacts.folder import load_trace, reseal
 from host.report.plots import plot_trace
-from host.rig.replay import replay
+from host.rig.loop.replay import replay
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
 pytestmark = [pytest.mark.hil, pytest.mark.xdist_group("test_traces")]  # (make hil: its module fixtures run once)

@@ -22,7 +22,7 @@ import pytest
 
 from host.core.paths import FIRMWARE
 from host.pytest_plugin import artefacts_for
-from host.rig.budgets import Budget
+from host.rig.config.budgets import Budget
 from sim_plant.catalogue.assembly import rig_plant_table
 from sim_plant.furniture import DEFAULT_ROUTE
 from sim_plant.physics.hcsr04 import Servo

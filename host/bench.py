@@ -58,10 +58,12 @@ from host.core.paths import REPO
 from host.link import frames as F
 from host.link import rawpingpong
 from host.link.transport import busy_poll_wanted
-from host.rig import Recording, Rig, RigSpec, busimage, pio_ahead, sandbox
-from host.rig.clock import EDGE_SEGMENTS_ENV
-from host.rig.pacing import Lockstep
-from host.rig.waits import ExpectTimeout
+from host.rig import Recording, Rig, RigSpec
+from host.rig.hardware import busimage, pio_ahead
+from host.rig.loop.clock import EDGE_SEGMENTS_ENV
+from host.rig.loop.pacing import Lockstep
+from host.rig.loop.waits import ExpectTimeout
+from host.rig.targets import sandbox
 
 PING = Path(__file__).parent / "tests" / "firmware" / "ping"
 ENCODER_BOT = Path(__file__).parent / "bench" / "encoder_bot"
@@ -192,8 +194,8 @@ while True:
 def bench_boards(sim_s: float = 10.0) -> dict:
     """Issue 47's speed case: two boards on one clock, each sending the other a line every
     10 ms over a board_uart (docs/multi-board.md); its real-time factor and exchanges."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import BoardSet
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import BoardSet
 
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)

@@ -45,9 +45,9 @@ from host.core.paths import FIRMWARE, output_root
 from host.core.printable import printable
 from host.report.progress import MissionProgress
 from host.report.table import format_table
-from host.rig import arguments
-from host.rig import boards as pin_maps
-from host.rig.apps import apps, get_app
+from host.rig.config import arguments
+from host.rig.config.apps import apps, get_app
+from host.rig.scan import boards as pin_maps
 from sim_plant import names
 
 CONSOLE_LINES = 10  # the console's last lines a run shows (all of them in console.log)
@@ -453,7 +453,7 @@ def _trace_or_set_folder(text: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from host.rig.boardfile import names_boards
+    from host.rig.config.boardfile import names_boards
 
     if args.rig and names_boards(args.rig):  # several boards (docs/multi-board.md)
         return _run_boards(args)
@@ -463,13 +463,13 @@ def cmd_run(args) -> int:
 def _run_one(args) -> int:
     from host.link.transport import busy_poll_wanted
     from host.rig import Recording, Rig, RigSpec
-    from host.rig.spec import PlantOptionsError
+    from host.rig.loop.spec import PlantOptionsError
 
     sub = args.sub
     app = get_app(args.rig) if args.rig else apps()[args.app]
     board = args.board or app.default_board
-    known_boards = tuple(dict.fromkeys((app.default_board, *app.boards)))
-    if app.pins is None and not app.boards:  # an app that names no boards runs on any of ours
+    known_boards = tuple(dict.fromkeys((app.default_board, *app.board.also)))
+    if app.board.pins is None and not app.board.also:  # an app that names no boards runs on any of ours
         known_boards = tuple(pin_maps.known_boards())
     if board not in known_boards:
         known = names.unknown(board, known_boards, what="known")
@@ -503,7 +503,7 @@ def _run_one(args) -> int:
         allow_exit=args.allow_exit,
         busy_poll=busy_poll_wanted(),
     )
-    coverage = _coverage_file(out, getattr(app, "mpy_version", None)) if args.coverage else None
+    coverage = _coverage_file(out, app.interpreter.mpy_version) if args.coverage else None
     live = args.interactive or args.break_at is not None
     breaks = _break_at(args.break_at)
     recording = Recording(trace=True, record=True, artefacts=out, progress=None if live else show, coverage=coverage)
@@ -556,8 +556,8 @@ def _run_one(args) -> int:
 def _run_boards(args) -> int:
     """``mpy-fil run`` of a rig file with several boards: each board's trace folder in the
     run's folder under its name, each board's console and budgets shown."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import BoardSet
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import BoardSet
 
     sub = args.sub
     given = {"--board": args.board}
@@ -588,7 +588,7 @@ def _run_boards(args) -> int:
     options = {"world": world, "plant_options": dict(args.param or {}), "allow_exit": args.allow_exit}
     # --coverage: each board's firmware measured into its own folder's coverage/ (docs/coverage.md)
     measured = boards.firmware().items() if args.coverage else ()
-    coverage = {name: _coverage_file(out / name, app.mpy_version) for name, app in measured}
+    coverage = {name: _coverage_file(out / name, app.interpreter.mpy_version) for name, app in measured}
     options["coverage"] = coverage.get if coverage else None
     with BoardSet(boards, seed=args.seed, trace=True, record=True, artefacts=out, **options) as run:
         run.run_for(args.duration)
@@ -710,7 +710,7 @@ def _stop_on_signals():
 
 
 def cmd_check(args) -> int:
-    from host.rig.boardfile import load_boards, names_boards
+    from host.rig.config.boardfile import load_boards, names_boards
 
     if names_boards(args.rig):  # several boards (docs/multi-board.md): each checked as one board
         boards = load_boards(args.rig)
@@ -725,7 +725,7 @@ def cmd_check(args) -> int:
 
 def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -> int:
     """One board's rig checked and described (``label``, ``wired_elsewhere``: a board of a set's)."""
-    from host.rig.spec import RigSpec, build_plant
+    from host.rig.loop.spec import RigSpec, build_plant
 
     plant, _ = build_plant(RigSpec(app), app)
     on_buses = sorted({d.bus for d in plant.bus_devices()})
@@ -736,10 +736,13 @@ def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -
     else:  # (it loads, but the firmware and the plant are not connected)
         print(f"{app.rig_file or app.name}: loads, but 0 pins are wired: the firmware reads nothing from the plant")
         print("  and drives nothing of it; wire its pins to the plant's signals in [wiring] (docs/rig-file.md)")
-    print(f"  firmware: {app.path} (entry {app.entry})")
+    print(f"  firmware: {app.path} (entry {app.code.entry})")
     folders = app.firmware_folders(app.board_files(app.default_board)[0])
     print(f"  path: {' : '.join(str(f) for f in folders)}")
-    print(f"  board: {app.default_board}" + (f" (also {', '.join(app.boards[1:])})" if len(app.boards) > 1 else ""))
+    print(
+        f"  board: {app.default_board}"
+        + (f" (also {', '.join(app.board.also[1:])})" if len(app.board.also) > 1 else "")
+    )
     print(f"  plant: {plant.summary}")
     print(f"    inputs (the firmware drives): {', '.join(f'{n} ({k})' for n, k in plant.inputs.items())}")
     print(f"    outputs (the firmware reads): {', '.join(f'{n} ({k})' for n, k in plant.outputs.items())}")
@@ -756,7 +759,7 @@ def _check_app(app, args, label: str = "", wired_elsewhere: set = frozenset()) -
 
 def _check_pins(app, args, plant=None) -> int:
     """The code's pins (and buses) against the wiring: warnings on stderr (exit 1 with --strict)."""
-    from host.rig.pincheck import check_pins
+    from host.rig.scan.pincheck import check_pins
 
     pins = check_pins(app, plant)
     print(f"  pins the code uses: {pins.checked} compared with the wiring, {len(pins.unchecked)} not checked")
@@ -807,7 +810,7 @@ def _init_kit(args) -> int:
 
 
 def cmd_init(args) -> int:
-    from host.rig.starter import starter
+    from host.rig.scan.starter import starter
 
     if args.kit:
         return _init_kit(args)
@@ -840,8 +843,8 @@ def cmd_migrate(args) -> int:
     it (never over it but with --in-place, never through a link: host/core/safefs.py)."""
     import tomllib
 
-    from host.rig import migrate
-    from host.rig.rigfile import MAX_RIG_BYTES, rig_from_data
+    from host.rig.config import migrate
+    from host.rig.config.rigfile import MAX_RIG_BYTES, rig_from_data
 
     sub, path = args.sub, args.rig
     out = path if args.in_place else (args.out or migrate.migrated_path(path))
@@ -883,7 +886,7 @@ def cmd_migrate(args) -> int:
 
 
 def cmd_import_wokwi(args) -> int:
-    from host.wokwi.project import import_wokwi
+    from host.rig.config.wokwi.project import import_wokwi
 
     path = import_wokwi(args.folder, force=args.force)
     print(f"wrote {path}: mpy-fil check {path}, then add budgets, faults and worlds (docs/rig-file.md)")
@@ -950,7 +953,7 @@ def cmd_replay(args) -> int:
 
 def _replay_one(args, folder: Path, out: Path) -> int:
     from host.link.transport import busy_poll_wanted
-    from host.rig.replay import FirmwareChoice, replay
+    from host.rig.loop.replay import FirmwareChoice, replay
 
     show = _progress(f"replay {folder}")
     choice = FirmwareChoice(args.app, args.firmware, args.trust_folder)

@@ -33,9 +33,7 @@ chip in the run's output (:meth:`RegisterDevice.take_notes`).
 import re
 from dataclasses import dataclass
 
-from sim_plant.catalogue.base import Opt, Sig
 from sim_plant.engine import Part
-from sim_plant.option_table import OneOf
 from sim_plant.plant import NEVER_US, Change
 
 # ops and statuses, as the link codec names them (host/shim/_hilframe.py: BUS_*)
@@ -446,29 +444,6 @@ def check_placement(options: dict, i2c_only: str | None = None) -> None:
         raise ValueError(f"address: {problem}")
 
 
-CS_OPTION = Opt(
-    "cs",
-    OneOf(("pin", "low")),
-    "pin",
-    'SPI only: "pin": its chip select is the cs input, wired to a pin the firmware drives; '
-    '"low": tied to ground (selected for good, no cs input)',
-)
-CS_SIGNAL = Sig(
-    "cs", "in", "level", "the chip select (SPI only: low selects it)", when=(("spi", (True,)), ("cs", ("pin",)))
-)
-"""A part on either bus: its ``cs`` option and its chip-select input (present on SPI
-unless the rig ties it low)."""
-SCK_SIGNAL = Sig(
-    "sck",
-    "in",
-    "level",
-    "the pin of its SPI clock (SPI only): wired, a transfer reaches the chip only while that pin is the SPI's"
-    " (rp2: FUNCSEL SPI, by SPI(..., sck=), Pin.ALT alt=1 or mem32), as when parts share MOSI on one"
-    " controller with a clock pin each; not wired, every transfer on its bus does",
-    when=(("spi", (True,)),),
-)
-
-
 def chip_select(device: BusDevice, options: dict) -> BusDevice:
     """``device`` with its chip select as the part's ``cs`` option says (tied low: no input)."""
     if options.get("spi") and options.get("cs") == "low":
@@ -486,9 +461,6 @@ __all__ = [
     "BusDevice",
     "BusName",
     "BusSet",
-    "CS_OPTION",
-    "CS_SIGNAL",
-    "SCK_SIGNAL",
     "DataReady",
     "Change",
     "RegisterDevice",

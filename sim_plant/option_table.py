@@ -167,7 +167,7 @@ ROOM_SIDE = length(0.1, 100)
 """A room's width or height (the differential's and the desk's room)."""
 
 
-MAX_T_S = 10 * 24 * 3600  # the longest run (host.rig.arguments.MAX_RUN_S)
+MAX_T_S = 10 * 24 * 3600  # the longest run (host.rig.config.arguments.MAX_RUN_S)
 PLACE = length(-1000, 1000)  # a coordinate
 HEADING = Num("radians", -10, 10)
 TIME = Num("seconds", 0, MAX_T_S)

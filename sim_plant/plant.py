@@ -50,7 +50,7 @@ class ReleasedAt(int):
     """An io line's input let go a little after the instant it is given: -1 (released) to
     anything that takes it as a number, and ``at_us`` to a part that times from it (a PIO
     state machine's ``pindirs`` change, seen by the host's look-ahead before its cycle comes:
-    ``host/rig/pio_out.py``; ``sim_plant.catalogue.qtr`` starts the discharge there)."""
+    ``host/rig/hardware/pio_out.py``; ``sim_plant.catalogue.qtr`` starts the discharge there)."""
 
     at_us: float
 
@@ -143,7 +143,7 @@ class Plant:
     """The catalogue parts it is built from (``sim_plant.catalogue``), if any."""
     rng = None
     """Its random generator (a numpy Generator), if it draws: a trial of a read on a copy of
-    a chip restores it (host/rig/busimage.py)."""
+    a chip restores it (host/rig/hardware/busimage.py)."""
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

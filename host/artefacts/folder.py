@@ -49,7 +49,7 @@ from host.core.errors import ConfigError, OutputRefused
 
 FORMAT = "mpy-fil-trace/1"
 HEADER = "header.json"
-MANIFEST = "manifest.json"  # what made the run (host/rig/manifest.py), sealed with the rest
+MANIFEST = "manifest.json"  # what made the run (host/rig/loop/manifest.py), sealed with the rest
 SIGNALS = "signals.csv"
 TRUTH = "truth.csv"
 BUDGETS = "budgets.json"
@@ -260,7 +260,7 @@ def make_header(run: dict, recorder, plant, link_trace: bool) -> dict:
         **({"wired": wired} if (wired := plant.wired_signals()) is not None else {}),  # a board of a set's own
         **({"displays": shown} if (shown := pictures.describe_displays(plant)) else {}),  # their film strips
         "report": run.get("report"),
-        **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/spec.py)
+        **({"spec": run["spec"]} if run.get("spec") else {}),  # what built the rig (host/rig/loop/spec.py)
         "seed": run["seed"],
         "mode": run["mode"],
         "commit": provenance.commit(),
@@ -464,7 +464,7 @@ def _read_truth(folder: Path) -> dict:
 
 
 def cpu_load_rows(record: dict) -> list[tuple]:
-    """``cpu_load.csv``'s rows from the header's ``mcu_time`` (host/rig/mcutime.py): (t_us at
+    """``cpu_load.csv``'s rows from the header's ``mcu_time`` (host/rig/targets/mcutime.py): (t_us at
     the window's start, the main program's busy share, the callbacks')."""
     irq = record.get("callbacks_share") or [0.0] * len(record["busy_share"])
     return [(i * record["window_us"], share, irq[i]) for i, share in enumerate(record["busy_share"])]

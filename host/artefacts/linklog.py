@@ -100,7 +100,7 @@ class LinkLog:
     # -- one record per message ----------------------------------------------------
 
     def cfg(self, t: int, h: int, kind: str | int, pin: str, mode: int, pull: int, param: int, signal) -> None:
-        """``kind``: its handler's name (``host/rig/peripherals.py``), a kind unknown its number."""
+        """``kind``: its handler's name (``host/rig/hardware/peripherals.py``), a kind unknown its number."""
         record = {"t": t, "msg": "CFG", "handle": h, "kind": kind, "pin": pin, "mode": mode, "pull": pull}
         self.write({**record, "param": param, "signal": signal})
 
@@ -135,7 +135,7 @@ class LinkLog:
 
     def bus(self, t: int, h: int, op: int, address: int, wrote: bytes, reply: tuple, more=None) -> None:
         """A bus transfer and its ``reply`` (status, count, bytes read); ``more``: the
-        transaction's bus, register and duration_us (host/rig/bustrace.py), for a bus's
+        transaction's bus, register and duration_us (host/rig/hardware/bustrace.py), for a bus's
         handle (a bitstream has none). ``replay`` answers a bus from these."""
         status, count, got = reply
         record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote.hex()}

@@ -28,7 +28,7 @@ ROLE_SENSOR = "sensor"  # a plant output, read by the firmware
 ROLE_ACTUATOR = "actuator"  # a firmware output that drives a plant input
 ROLE_PROBE = "probe"  # a firmware output only the harness watches
 ROLE_PIN = "pin"  # a firmware output wired to nothing
-ROLE_BUS = "bus"  # a bus's transactions, decoded as text (host/rig/bustrace.py)
+ROLE_BUS = "bus"  # a bus's transactions, decoded as text (host/rig/hardware/bustrace.py)
 ROLES = (ROLE_SENSOR, ROLE_ACTUATOR, ROLE_PROBE, ROLE_PIN, ROLE_BUS)
 
 SENT = ":sent"

@@ -26,7 +26,7 @@ from pathlib import Path
 import host.bench as bench
 from host.core import interpreter
 from host.rig import Recording, Rig, RigSpec
-from host.rig import target as rig_target
+from host.rig.targets import target as rig_target
 
 WATCHDOG_S = 600.0  # the interpreter runs some 50 times slower under valgrind
 

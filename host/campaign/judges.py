@@ -7,6 +7,7 @@ catalogue entries (:class:`sim_plant.catalogue.base.Judge`), found as parts are.
 
 import math
 
+from host.rig.config.app import Judge
 from sim_plant import catalogue
 
 
@@ -35,25 +36,26 @@ def declared(rig, reached: bool, task: dict):
     ``home_off_m``), ``min_coverage`` (figure ``coverage``); and the ``until`` text, as
     :func:`generic`. Every unmet condition, in that order, is the message (joined by
     ``; ``): a shrink's candidate fails the same way only when it misses the same ones."""
-    expect = (rig.app.extra.get("report") or {}).get("judge") or {}
+    report = rig.app.run.report
+    expect = (report.judge if report is not None else None) or Judge()
     ok, figures, message = generic(rig, reached, task)
     truth = rig.truth()
     problems = [] if ok else [message]
-    if expect.get("console") and expect["console"] not in rig.console:
-        problems.append(f"expected {expect['console']!r} on the console")
-    if expect.get("no_contact"):
+    if expect.console and expect.console not in rig.console:
+        problems.append(f"expected {expect.console!r} on the console")
+    if expect.no_contact:
         figures["contacts"] = len(truth.get("contacts", []))
         if figures["contacts"]:
             problems.append(f"expected no contact, got {figures['contacts']}")
-    if "home_within_m" in expect:
+    if expect.home_within_m is not None:
         x0, y0 = rig.plant.start_pose[:2]
         figures["home_off_m"] = math.hypot(truth["x_m"] - x0, truth["y_m"] - y0)
-        if figures["home_off_m"] > expect["home_within_m"]:
-            problems.append(f"expected home within {expect['home_within_m']:g} m, got {figures['home_off_m']:.3f} m")
-    if "min_coverage" in expect:
+        if figures["home_off_m"] > expect.home_within_m:
+            problems.append(f"expected home within {expect.home_within_m:g} m, got {figures['home_off_m']:.3f} m")
+    if expect.min_coverage is not None:
         figures["coverage"] = truth.get("coverage_fraction", math.nan)
-        if not figures["coverage"] >= expect["min_coverage"]:
-            problems.append(f"expected >= {expect['min_coverage']:.0%} covered, got {figures['coverage']:.1%}")
+        if not figures["coverage"] >= expect.min_coverage:
+            problems.append(f"expected >= {expect.min_coverage:.0%} covered, got {figures['coverage']:.1%}")
     return not problems, figures, "; ".join(problems)
 
 

@@ -51,12 +51,22 @@ SETUP = (
 )
 
 
+def expectation(campaign: dict, row: dict) -> str:
+    """For a showcase's group (``expected`` in its scenario file): whether its rate is the
+    known one (inside this run's 95 % interval) and where that is explained; else ""."""
+    rate = (campaign.get("expected") or {}).get(row["faultset"])
+    if rate is None:
+        return ""
+    where = campaign.get("explained") or "docs/campaigns.md"
+    if row["wilson_lo"] <= rate <= row["wilson_hi"]:
+        return f"the expected showcase figure (about {rate:.0%}; explained in {where})"
+    return f"NOT the showcase's expected {rate:.0%} (outside this interval; see {where})"
+
+
 def render(
     campaign: dict, rows: list[dict], worst_runs: list[dict], plots: list[Path], maps: dict, n: int, judged: tuple
 ) -> str:
     """The page; ``judged``: the figure the runs are ranked by, and whether lowest is worst."""
-    from host.campaign.report import expectation
-
     name = str(campaign.get("name"))
     by, low = judged
     groups = "".join(_group_line(campaign, r, expectation(campaign, r)) for r in rows)

@@ -14,7 +14,7 @@ import numpy as np
 
 from host.campaign.maps import coverage_maps
 from host.campaign.metrics import judged_by, metric
-from host.campaign.page import render
+from host.campaign.page import expectation, render
 from host.campaign.store import RESULTS
 from host.core import safefs
 from host.core.errors import HarnessError, OutputRefused
@@ -104,18 +104,6 @@ def worst(results: list[dict], by: str | None, low: bool = False, n: int = WORST
         return (bool(r["passed"]), not missing, badness, r["faultset"], r["world"], r["seed"])
 
     return sorted(results, key=rank)[:n]
-
-
-def expectation(campaign: dict, row: dict) -> str:
-    """For a showcase's group (``expected`` in its scenario file): whether its rate is the
-    known one (inside this run's 95 % interval) and where that is explained; else ""."""
-    rate = (campaign.get("expected") or {}).get(row["faultset"])
-    if rate is None:
-        return ""
-    where = campaign.get("explained") or "docs/campaigns.md"
-    if row["wilson_lo"] <= rate <= row["wilson_hi"]:
-        return f"the expected showcase figure (about {rate:.0%}; explained in {where})"
-    return f"NOT the showcase's expected {rate:.0%} (outside this interval; see {where})"
 
 
 def summary_lines(campaign: dict, results: list[dict]) -> list[str]:

@@ -23,7 +23,7 @@ from host.campaign.worker import run_one
 from host.core import safefs
 from host.core.children import die_with_parent
 from host.core.errors import ConfigError
-from host.rig import manifest
+from host.rig.loop import manifest
 
 GUARD_S = 120.0
 MAX_BREAKS = 2
@@ -180,7 +180,7 @@ def run_campaign(
     worker spins on its link. Returns every result in the store."""
     store = ResultStore(out)
     store.open(campaign.to_dict())
-    manifest.write_campaign(out, campaign.rig, campaign.to_dict())  # (host/rig/manifest.py)
+    manifest.write_campaign(out, campaign.rig, campaign.to_dict())  # (host/rig/loop/manifest.py)
     tasks = campaign.tasks()
     done_keys = store.done()
     todo = [t for t in tasks if task_key(t) not in done_keys]

@@ -32,10 +32,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from host.core.errors import ConfigError
-from host.rig import arguments
-from host.rig.apps import get_app
-from host.rig.spec import RigSpec, build_plant
-from host.rig.tomlfile import read_toml
+from host.rig.config import arguments
+from host.rig.config.app import Judge
+from host.rig.config.apps import get_app
+from host.rig.config.tomlfile import read_toml
+from host.rig.loop.spec import RigSpec, build_plant
 from sim_plant.faults import FaultError, parse_faults, with_faults
 from sim_plant.plant import check_contract
 
@@ -183,14 +184,15 @@ def _checked(path: Path, where: str, faults) -> list:
 
 
 def _check(campaign: Campaign) -> None:
-    from host.rig.boardfile import names_boards
+    from host.rig.config.boardfile import names_boards
 
     if str(campaign.rig).endswith(".toml") and names_boards(campaign.rig):
         _check_boards(campaign)
         _check_common(campaign)
         return
     app = get_app(campaign.rig)  # (a ConfigError names the rig file and the field)
-    campaign.judge = campaign.judge or ("declared" if (app.extra.get("report") or {}).get("judge") else "generic")
+    judge = app.run.report.judge if app.run.report is not None else None
+    campaign.judge = campaign.judge or ("declared" if judge is not None and judge != Judge() else "generic")
     campaign.worlds = campaign.worlds or [next(iter(app.worlds))]
     for world in campaign.worlds:
         if world not in app.worlds:
@@ -215,8 +217,8 @@ def _check_boards(campaign: Campaign) -> None:
     file's, its fault sets' harness faults each name a board (``board = "motor"``), its
     budgets are those across boards by name and each board's as ``<board>:<name>``; judged
     ``generic`` or ``no_contact`` (over every board's console and the one plant's truth)."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import split_faults
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import split_faults
 
     boards = load_boards(campaign.rig)
     first = next(iter(boards.firmware().values()))

@@ -22,8 +22,8 @@ from host.campaign.scenario import task_key
 from host.core import provenance, safefs
 from host.core.errors import ConfigError, HarnessError
 from host.rig import Rig
-from host.rig.spec import Recording, RigSpec, fault_schedule
-from host.rig.target import FaultyLinkTarget
+from host.rig.loop.spec import Recording, RigSpec, fault_schedule
+from host.rig.targets.target import FaultyLinkTarget
 
 MESSAGE_CHARS = 3000
 COVERAGE_FILE = "coverage.npz"
@@ -182,7 +182,7 @@ def _at(cut) -> int:
 
 
 def _is_set(task: dict) -> bool:
-    from host.rig.boardfile import names_boards
+    from host.rig.config.boardfile import names_boards
 
     return str(task["rig"]).endswith(".toml") and names_boards(task["rig"])
 
@@ -242,8 +242,8 @@ class SetRun:
 def _make_set(task: dict, artefacts: str | None, record: bool, started: float) -> SetRun:
     """A set of boards with the run's faults (each harness fault on its board, the others on
     the one plant), its brown-outs as (instant, board)."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import BoardSet
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import BoardSet
 
     deadline = started + task["timeout_s"]
 

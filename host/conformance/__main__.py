@@ -110,7 +110,7 @@ def run_tests(tests: Path, files: list[str], micropython: Path, name: str, board
 def fork_server():
     """The runs in the loop through one process that imported the harness once
     (:mod:`host.conformance.forkserver`), stopped and its socket removed after."""
-    from host.conformance.forkserver import SOCKET_ENV
+    from host.conformance.inloop import SOCKET_ENV
 
     folder = tempfile.mkdtemp(prefix="mpy-fil-conformance-")
     path = os.path.join(folder, "server")

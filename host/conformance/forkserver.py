@@ -24,31 +24,6 @@ import tempfile
 from host.conformance import inloop
 from host.core.children import die_with_parent
 
-SOCKET_ENV = "MPY_FIL_CONFORMANCE_SERVER"  # the server's socket, for the wrapper
-
-
-def _read_all(conn) -> bytes:
-    chunks = []
-    while True:
-        chunk = conn.recv(65536)
-        if not chunk:
-            return b"".join(chunks)
-        chunks.append(chunk)
-
-
-def ask(path: str, argv: list[str]) -> dict:
-    """Run ``argv`` (a test file's, as :func:`inloop.parse` takes it) on the server at
-    ``path``: {"console", "status", "stdout", "stderr"}."""
-    request = {"argv": argv, "cwd": os.getcwd(), "board": os.environ.get(inloop.BOARD_ENV, "")}
-    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
-        conn.connect(path)
-        conn.sendall(json.dumps(request).encode())
-        conn.shutdown(socket.SHUT_WR)
-        reply = _read_all(conn)
-    if not reply:
-        raise SystemExit(f"error: the conformance server at {path} ended without an answer")
-    return json.loads(reply)
-
 
 def _child(conn, listener, request: dict) -> None:
     """In the forked child: run the file, send the reply, end (never returns)."""
@@ -86,7 +61,7 @@ def serve(path: str) -> None:
         while True:
             conn, _ = listener.accept()
             with conn:
-                request = json.loads(_read_all(conn))
+                request = json.loads(inloop.read_all(conn))
                 pid = os.fork()
                 if pid == 0:
                     _child(conn, listener, request)

@@ -15,7 +15,9 @@ in the loop costs about a second: the harness's import and the rig's start.
 The harness is imported only for a run in the loop: a plain run starts at once.
 """
 
+import json
 import os
+import socket
 import sys
 from pathlib import Path
 
@@ -55,10 +57,10 @@ IN_THE_LOOP_CHECKS = ("target_info.py",)  # feature checks whose answer is the b
 def preload() -> None:
     """Import what a run in the loop needs (the functions below import it when called):
     the conformance server does, once, before it forks a child per file."""
-    import host.rig.app  # noqa: F401
-    import host.rig.boards  # noqa: F401
-    import host.rig.rig  # noqa: F401
-    import host.rig.spec  # noqa: F401
+    import host.rig.config.app  # noqa: F401
+    import host.rig.loop.rig  # noqa: F401
+    import host.rig.loop.spec  # noqa: F401
+    import host.rig.scan.boards  # noqa: F401
     import sim_plant.catalogue.assembly  # noqa: F401
 
 
@@ -70,8 +72,9 @@ def bench_plant(**options):
 
 
 def bench_app(test: Path, heap_size: str | None = None):
-    from host.rig.app import App
-    from host.rig.boards import identity
+    from host.rig.config.app import App, BoardSettings, Code, InterpreterSettings
+    from host.rig.scan.boards import identity
+    from host.rig.targets.boardfs import Confinement
 
     board = os.environ.get(BOARD_ENV, "")
     return App(
@@ -79,16 +82,14 @@ def bench_app(test: Path, heap_size: str | None = None):
         default_board=board or "bench",
         make_plant=bench_plant,
         wiring=WIRING,
-        folder=test.parent,
-        entry=test.name,
-        harness_lib=False,
-        lib_dirs=(BENCH_LIB,),  # target_wiring.py, for upstream's hardware tests
-        pins=PINS,
-        heap_size=heap_size,
-        identity=identity(board) if board else None,
+        # target_wiring.py in BENCH_LIB, for upstream's hardware tests
+        code=Code(folder=test.parent, entry=test.name, harness_lib=False, lib_dirs=(BENCH_LIB,)),
         # MicroPython's own tests, not a firmware under test: the select tests poll sockets
         # (the shim's select serves them); in the sandbox only its own loopback is there
-        extra={"confine": {"allow": ("socket",)}},
+        board=BoardSettings(
+            pins=PINS, identity=identity(board) if board else None, confine=Confinement(allow=("socket",))
+        ),
+        interpreter=InterpreterSettings(heap_size=heap_size),
     )
 
 
@@ -115,8 +116,8 @@ def run(test: Path, heap: str | None) -> tuple[str, int]:
     """(what the firmware printed, its exit status)."""
     from host.core.errors import HarnessError
     from host.link.transport import busy_poll_wanted
-    from host.rig.rig import Rig
-    from host.rig.spec import RigSpec
+    from host.rig.loop.rig import Rig
+    from host.rig.loop.spec import RigSpec
 
     spec = RigSpec(bench_app(test, heap), watchdog_s=10.0, allow_exit=True, busy_poll=busy_poll_wanted())
     rig = Rig(spec)
@@ -138,16 +139,40 @@ def run(test: Path, heap: str | None) -> tuple[str, int]:
     return rig.console + note, status
 
 
+SOCKET_ENV = "MPY_FIL_CONFORMANCE_SERVER"  # the server's socket (host/conformance/forkserver.py), for the wrapper
+
+
+def read_all(conn) -> bytes:
+    chunks = []
+    while True:
+        chunk = conn.recv(65536)
+        if not chunk:
+            return b"".join(chunks)
+        chunks.append(chunk)
+
+
+def ask(path: str, argv: list[str]) -> dict:
+    """Run ``argv`` (a test file's, as :func:`parse` takes it) on the server at
+    ``path``: {"console", "status", "stdout", "stderr"}."""
+    request = {"argv": argv, "cwd": os.getcwd(), "board": os.environ.get(BOARD_ENV, "")}
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as conn:
+        conn.connect(path)
+        conn.sendall(json.dumps(request).encode())
+        conn.shutdown(socket.SHUT_WR)
+        reply = read_all(conn)
+    if not reply:
+        raise SystemExit(f"error: the conformance server at {path} ended without an answer")
+    return json.loads(reply)
+
+
 def main(argv: list[str]) -> int:
     parsed = parse(argv)
     if parsed is None:
         plain = str(interpreter.find())
         os.execv(plain, [plain, *argv])
-    from host.conformance import forkserver
-
-    server = os.environ.get(forkserver.SOCKET_ENV)
+    server = os.environ.get(SOCKET_ENV)
     if server:  # (python -m host.conformance's server: the harness imported once)
-        reply = forkserver.ask(server, argv)
+        reply = ask(server, argv)
         sys.stderr.write(reply["stderr"])
         sys.stderr.flush()
         console, status = reply["stdout"] + reply["console"], reply["status"]

@@ -54,7 +54,7 @@ def output_root(rig_file: Path | None = None) -> Path:
     ``.git`` or a ``pyproject.toml``; the rig file's folder when there is none), so never in
     a firmware folder of its own (``firmware/bot/build/``); where the firmware folder is the
     repository's root itself, ``build/`` is there and never put on the board
-    (host/rig/boardfs.py, :func:`flash_files`). Without a rig file, the current folder's
+    (host/rig/targets/boardfs.py, :func:`flash_files`). Without a rig file, the current folder's
     ``build/``."""
     if rig_file is not None:
         folder = Path(rig_file).resolve().parent

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Debian's bubblewrap: the firmware's interpreter runs in namespaces of its own through it
-# (host/rig/sandbox.py, docs/security.md). Installed when run as root; otherwise named.
+# (host/rig/targets/sandbox.py, docs/security.md). Installed when run as root; otherwise named.
 # Not an error here: without it a run says so once and goes on with the shim's confinement.
 set -uo pipefail
 command -v bwrap >/dev/null && exit 0

@@ -20,7 +20,6 @@ from pathlib import Path
 
 from host.core import safefs
 from host.core.errors import HarnessError
-from host.rig.boardfs import board_name
 
 
 class CoverageError(HarnessError):
@@ -51,10 +50,10 @@ def sources(firmware) -> dict[str, Path]:
     (``main.py``, ``lib/motor.py``) and the host path itself (a run without a board copy);
     test files are not firmware."""
     found: dict[str, Path] = {}
-    for label, path in firmware.files():
+    for on_board, path in firmware.board_files():  # (a Firmware of host/rig/targets: the rig hands it over)
         if path.suffix != ".py" or is_test_file(path):
             continue
-        found.setdefault(board_name(label), path.resolve())
+        found.setdefault(on_board, path.resolve())
         found.setdefault(str(path), path.resolve())
         found.setdefault(str(path.resolve()), path.resolve())
     return found

@@ -31,9 +31,9 @@ from host.core.children import popen_options
 from host.core.errors import HarnessError
 from host.core.paths import REPO
 from host.device import vboard
-from host.rig.apps import apps, get_app
-from host.rig.boardfs import on_board
-from host.rig.firmware import Firmware
+from host.rig.config.apps import apps, get_app
+from host.rig.targets.boardfs import on_board
+from host.rig.targets.firmware import Firmware
 
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
@@ -86,8 +86,8 @@ def stage(app_name: str, board: str, root: Path | None = None) -> tuple[Path, li
     out.mkdir(parents=True)
     files: list[str] = []
     board_folder, _pins = app.board_files(board)
-    for name, src in on_board(Firmware.from_app(app, board_folder)).items():  # (host/rig/boardfs.py)
-        if name in ("main.py", "boot.py", app.entry) or not name.endswith(".py"):
+    for name, src in on_board(Firmware.from_app(app, board_folder)).items():  # (host/rig/targets/boardfs.py)
+        if name in ("main.py", "boot.py", app.code.entry) or not name.endswith(".py"):
             if name.endswith(".py"):
                 compile_module(src, out.parent / ".check" / name.replace(".py", ".mpy"))  # syntax check only
             (out / name).parent.mkdir(parents=True, exist_ok=True)

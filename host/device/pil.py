@@ -22,8 +22,8 @@ from host.device import flash
 from host.link import Channel, FdTransport
 from host.link import frames as F
 from host.rig import Recording, Rig, RigSpec
-from host.rig.spec import NO_RECORDING
-from host.rig.target import Target
+from host.rig.loop.spec import NO_RECORDING
+from host.rig.targets.target import Target
 
 SHIM_FILES = (
     "_hil.py",

@@ -40,8 +40,8 @@ from host.core.paths import REPO
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
 from host.rig import Rig, RigSpec
-from host.rig.firmware import Firmware
-from host.rig.target import UnixPortTarget
+from host.rig.targets.firmware import Firmware
+from host.rig.targets.target import UnixPortTarget
 
 VREPL_DIR = Path(__file__).resolve().parent / "vrepl"
 VBOARD_ROOT = REPO / "build" / "vboard"

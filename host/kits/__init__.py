@@ -12,7 +12,7 @@ from pathlib import Path
 
 from host.core import safefs
 from host.core.errors import ConfigError
-from host.rig.tomlfile import read_toml
+from host.rig.config.tomlfile import read_toml
 
 KITS_DIR = Path(__file__).parent
 

@@ -12,7 +12,7 @@ when replaying)."""
 
 from dataclasses import dataclass
 
-from host.rig.introspect import FirmwareEvalError, firmware_eval
+from host.rig.loop.introspect import FirmwareEvalError, firmware_eval
 from host.scenario.runner import write_console
 
 

@@ -13,9 +13,11 @@ from collections import deque
 from host.core.errors import ConfigError, HarnessError
 from host.link import frames as F
 from host.live import journal, look
-from host.rig import Rig, arguments, waits
-from host.rig.introspect import FirmwareEvalError
-from host.rig.spec import NO_RECORDING, Recording, RigSpec
+from host.rig import Rig
+from host.rig.config import arguments
+from host.rig.loop import waits
+from host.rig.loop.introspect import FirmwareEvalError
+from host.rig.loop.spec import NO_RECORDING, Recording, RigSpec
 
 PIN_STEP_S = 0.001  # simulated seconds between two looks at a pin (a board's system tick)
 BUS_LOG_MAX = 10_000  # transactions a live rig keeps (the trace keeps them all)

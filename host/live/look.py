@@ -4,8 +4,8 @@ instant they are given at."""
 
 from host.core.errors import ConfigError
 from host.link import frames as F
-from host.rig import peripherals
-from host.rig.bustrace import describe
+from host.rig.hardware import peripherals
+from host.rig.hardware.bustrace import describe
 from host.scenario.runner import pin_level
 from sim_plant.faults import HARNESS_KINDS, FaultError, check_against, parse_faults
 
@@ -44,7 +44,7 @@ def level(rig, pin: str) -> int:
 
 
 def transaction(tx) -> dict:
-    """A bus transaction as plain data (``host/rig/bustrace.py``), with its decoded text."""
+    """A bus transaction as plain data (``host/rig/hardware/bustrace.py``), with its decoded text."""
     return {
         "t_us": tx.t_us,
         "bus": tx.bus,

@@ -1,5 +1,5 @@
 import sys
 
-from host.rig.mcutime import main
+from host.rig.targets.mcutime import main
 
 sys.exit(main(sys.argv[1:]))

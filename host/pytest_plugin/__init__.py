@@ -36,8 +36,9 @@ from host.pytest_plugin import budget_marks, failure, first_test, hil_coverage, 
 from host.pytest_plugin.session_report import RIGS_ATTRIBUTE, SessionReport, is_worker, rig_record
 from host.pytest_plugin.terminal_line import clear_progress_lines, mission_progress
 from host.report.session import plot_one
-from host.rig import Rig, verdicts
-from host.rig.spec import Recording, RigSpec
+from host.rig import Rig
+from host.rig.config import verdicts
+from host.rig.loop.spec import Recording, RigSpec
 
 _rigs = pytest.StashKey[list]()  # the rigs a test made, for its failure report
 _records = pytest.StashKey[list]()  # what the report needs of each, once stopped
@@ -310,12 +311,12 @@ def _finish_rigs(request, labelled: list, recording: bool, keep_failed: bool) ->
 @pytest.fixture
 def make_boards(request):
     """A rig file with several boards (docs/multi-board.md) as a started
-    :class:`~host.rig.boardset.BoardSet`: ``make_boards("rig.toml", seed=1)`` (a path
+    :class:`~host.rig.loop.boardset.BoardSet`: ``make_boards("rig.toml", seed=1)`` (a path
     relative to the test file's folder, then the current directory), each board's folder
     under the test's artefacts (``build/hil/<test module>/<test>/boards<n>/<board>/``);
     stopped after the test."""
-    from host.rig.boardfile import load_boards
-    from host.rig.boardset import BoardSet
+    from host.rig.config.boardfile import load_boards
+    from host.rig.loop.boardset import BoardSet
 
     sets = []
     report = bool(request.config.getoption("--hil-report", None))

@@ -13,7 +13,7 @@ judged by it, ``check()`` and the tables included.
 """
 
 from host.core.errors import ConfigError
-from host.rig.budgets import PeriodBudget
+from host.rig.config.budgets import PeriodBudget
 
 MARK = "hil_budget"
 MARK_HELP = (
@@ -64,7 +64,7 @@ def apply(rig, limits: dict[str, dict[str, int]], where: str) -> None:
 
 
 def apply_to_boards(boards, limits: dict[str, dict[str, int]], where: str) -> None:
-    """Set each named budget of a set of boards (a :class:`~host.rig.boardset.BoardSet`) to
+    """Set each named budget of a set of boards (a :class:`~host.rig.loop.boardset.BoardSet`) to
     its limits: a budget across boards by its name, a board's own as ``<board>:<name>``; a
     name the set has no budget of is a ConfigError that lists what there is."""
     for name, limit in limits.items():

@@ -15,7 +15,7 @@ import pytest
 
 from host.report.session import ReportCollector
 from host.report.table import WIDTH, format_summary, format_table
-from host.rig import verdicts
+from host.rig.config import verdicts
 
 RIGS_ATTRIBUTE = "hil_rigs"
 

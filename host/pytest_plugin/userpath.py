@@ -33,7 +33,7 @@ import pytest
 
 from host.core.errors import ConfigError
 from host.core.paths import REPO, output_root, project_root
-from host.rig.tomlfile import read_toml
+from host.rig.config.tomlfile import read_toml
 
 MICROPYTHON_ONLY = frozenset(
     "machine micropython rp2 esp esp32 network bluetooth ubluetooth pyb neopixel utime uasyncio "

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from host.artefacts.checks import partial_reason
 from host.core import provenance, safefs
-from host.rig import verdicts
+from host.rig.config import verdicts
 
 BUDGET_COLUMNS = ("budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
 PLOT_TITLES = {

@@ -23,7 +23,7 @@ from host.artefacts import integrity
 from host.artefacts.folder import TraceData, load_trace
 from host.core import safefs
 from host.report import views
-from host.rig import verdicts
+from host.rig.config import verdicts
 
 DPI = 100
 PLOTS = "plots"

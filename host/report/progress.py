@@ -1,7 +1,7 @@
 """Progress of a long mission: simulated time against the mission's length, on one line.
 
 :class:`MissionProgress` is the ``progress(t_us, t_end_us)`` callback of a
-:class:`host.rig.rig.Rig`, called while ``run_until`` runs with the end of that run.
+:class:`host.rig.loop.rig.Rig`, called while ``run_until`` runs with the end of that run.
 It stays quiet for short runs; on a terminal it rewrites one line in place, elsewhere (a
 CI log) it writes a line now and then. Where the text goes is the caller's business: it
 is given ``rewrite(text)`` and ``line(text)``.

@@ -1,10 +1,10 @@
 """Budget statistics as a fixed-width text table, for terminals and logs, and the
 session's summary: a headline (did the budgets hold?), a line per scenario with its
-budgets' verdicts (:mod:`host.rig.verdicts`), the table of those that failed or missed."""
+budgets' verdicts (:mod:`host.rig.config.verdicts`), the table of those that failed or missed."""
 
 import textwrap
 
-from host.rig import verdicts
+from host.rig.config import verdicts
 
 FULL = ("scenario", "rig", "budget", "limit", "count", "p50", "p95", "p99", "max", "misses", "verdict")
 NARROW = ("scenario", "rig", "budget", "limit", "count", "p50", "max", "misses", "verdict")

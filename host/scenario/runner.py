@@ -17,13 +17,13 @@ from dataclasses import dataclass
 from host.core.errors import HarnessError
 from host.core.printable import printable
 from host.link import frames as F
-from host.rig.wiring import PROBE_PREFIX
+from host.rig.hardware.wiring import PROBE_PREFIX
 from sim_plant.controls import ControlError
 
 ONE_LINE_PINS = {"button": ("1.l", "1.r", "2.l", "2.r"), "slide_switch": ("1", "2", "3"), "probe": ("A", "C")}
 ONE_LINE_PINS["buzzer"] = ("1", "2")
 """Wokwi's pin names of a part whose one line the board sees under another name (its
-contacts, an LED's anode and cathode: host/wokwi/parts.py's mappers); every other pin is
+contacts, an LED's anode and cathode: host/rig/config/wokwi/parts.py's mappers); every other pin is
 named as its signal (Wokwi's ``TRIG`` is ``<part>.trig``)."""
 LOOK_US = 1_000  # simulated time between two looks of a wait (a board's system tick)
 TAIL_LINES = 5  # console lines a failure shows

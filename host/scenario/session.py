@@ -8,7 +8,7 @@ from pathlib import Path
 
 from host.core import safefs
 from host.core.paths import output_root
-from host.rig.wiring import PROBE_PREFIX
+from host.rig.hardware.wiring import PROBE_PREFIX
 from host.scenario.runner import ScenarioRun, known_ids, part_pins
 from host.scenario.scenario import ScenarioError, load_scenario
 from sim_plant.controls import ControlError
@@ -32,12 +32,12 @@ def find_rig(scenario_path) -> Path:
 
 def load_rig_for(scenario_path):
     """The rig (an App, as ``load_rig`` returns it) a scenario runs against: a rig file,
-    or a Wokwi project read as one (:func:`host.wokwi.project.rig_from_project`)."""
-    from host.rig.rigfile import load_rig
+    or a Wokwi project read as one (:func:`host.rig.config.wokwi.project.rig_from_project`)."""
+    from host.rig.config.rigfile import load_rig
 
     found = find_rig(scenario_path)
     if found.name == DIAGRAM_NAME:
-        from host.wokwi.project import rig_from_project
+        from host.rig.config.wokwi.project import rig_from_project
 
         return rig_from_project(found.parent)
     return load_rig(found)

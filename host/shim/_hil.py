@@ -96,7 +96,7 @@ def _printed(n_bytes):
 
 def cpu_start(getenv):
     """Compute costs the board's CPU time from here on, when the host names a CPU
-    (HIL_CPU, its cost table in HIL_CPU_COST; host/rig/mcutime.py): the firmware's work is
+    (HIL_CPU, its cost table in HIL_CPU_COST; host/rig/targets/mcutime.py): the firmware's work is
     counted by this interpreter (_hilfast, host/core/micropython/hilcount.patch), the
     shim's own is not. Without the counter (a user's own interpreter, HIL_PURE) compute
     stays free, which it says once."""
@@ -768,7 +768,7 @@ def _released_run_until(t_target, watch):
 # exchanges, timer callbacks and IRQs allocates at most 2.2K, most of it garbage before
 # the rest is needed; the link reads into a buffer of its own (its read, in _Link.__init__).
 ROOM_BYTES = 1024  # free heap, in one piece, an exchange's work needs at once
-# held back from the firmware, in the shim's share of the heap (host/rig/heap.py): the
+# held back from the firmware, in the shim's share of the heap (host/rig/targets/heap.py): the
 # first piece holds the longest frame (_hilframe.MAX_PAYLOAD), the link's own allocations
 # take the reserve when one fails
 RESERVE_PIECES = (4096 + 256, 1024, 1024, 512, 512)

@@ -157,7 +157,7 @@ def _firmware_heap():
 def _firmware_room(want):
     """The firmware's heap_size (``want``) set apart as the shim starts, in one piece: the
     shim's own start-up (compiling machine, the board's flash, confinement) then runs in
-    its share (host/rig/heap.py) beside it. py/gc.c collects only when an allocation
+    its share (host/rig/targets/heap.py) beside it. py/gc.c collects only when an allocation
     fails, so what the shim keeps from its start-up lies wherever the allocator stood
     then, across the whole heap; a firmware heap made afterwards from what is free would
     be in pieces between the shim's objects, where a board's fresh heap is one piece.

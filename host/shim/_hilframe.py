@@ -369,7 +369,7 @@ CPU_IRQ_FMT = "<QQI"  # t_from_us, t_us, the callbacks' compute_us between them
 CPU_RUNS_FMT = "<H"  # runs, then each CPU_RUN_FMT: the wait's instant (its start), the compute before it
 CPU_RUN_FMT = "<QI"
 CPU_RUNS_MAX = 32  # runs a CPU_RUNS message holds at most (the shim sends one when it has that many)
-CPU_WINDOW_US = 100_000  # the CPU load's window (host/rig/mcutime.py)
+CPU_WINDOW_US = 100_000  # the CPU load's window (host/rig/targets/mcutime.py)
 
 
 def pack_hello(info):
@@ -685,7 +685,7 @@ def expand_edges(segments):
 
 
 # CFG kinds: one per shim class with a host side (machine.Pin, ADC, PWM, UART; an IRQ
-# arms a pin or a UART already configured). The host's handler of each: host/rig/peripherals.py.
+# arms a pin or a UART already configured). The host's handler of each: host/rig/hardware/peripherals.py.
 CFG_PIN = 1
 CFG_ADC = 2
 CFG_PWM = 3

@@ -1,6 +1,6 @@
 # The board's filesystem, as a MicroPython VFS mounted at / (docs/shim.md, "The board's
 # filesystem"): a per-run copy of what `make flash` puts on the board, made by the host
-# (host/rig/boardfs.py). Every path the firmware names (open, os.listdir, os.stat,
+# (host/rig/targets/boardfs.py). Every path the firmware names (open, os.listdir, os.stat,
 # os.remove, os.rename, os.mkdir, os.rmdir, os.statvfs, os.chdir, and import itself) is
 # taken relative to the copy's root: ".." stops at /, as on a board, and nothing outside
 # is reached. The shim's own folder is seen, read-only and unlisted, at /_hil so that its

@@ -68,7 +68,7 @@ def campaign_run(folder: Path, key: str) -> Source:
 
 
 def _from_trace(folder: Path, app: str | None, trust_folder: bool) -> Source:
-    from host.rig.apps import apps
+    from host.rig.config.apps import apps
 
     header = load_trace(folder).header
     spec = header.get("spec") or {}

@@ -23,7 +23,7 @@ from pathlib import Path
 from host.bench import bench_raw
 from host.core.paths import REPO
 from host.pytest_plugin import rig_from_keywords
-from host.rig.sandbox import interpreter_pid
+from host.rig.targets.sandbox import interpreter_pid
 from host.tests import pio_corpus
 from sim_plant.pio import PioBlock, PioConfig
 

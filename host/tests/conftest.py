@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from host.rig.apps import App
-from host.rig.wiring import PROBE_PREFIX
+from host.rig.config.app import CONSOLE_BAUD, App, BoardSettings, Code
+from host.rig.hardware.wiring import PROBE_PREFIX
 from sim_plant.catalogue.assembly import assemble
 from sim_plant.scripted import ScriptedPlant
 
@@ -30,28 +30,29 @@ OUTPUTS = {"a": "level", "b": "level", "echo": "level", "adc": "u16", "button": 
 INPUTS = {"out1": "level", "pwm": "duty"}
 
 
-def shim_app(script=(), initial=None, wiring=None, console_baud=115_200) -> App:
+def shim_app(script=(), initial=None, wiring=None, console_baud=CONSOLE_BAUD) -> App:
     return App(
         name="shim-test",
         default_board="esp32_devkitc",
         wiring=wiring or WIRING,
         make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial=initial),
-        console_baud=console_baud,
+        board=BoardSettings(console_baud=console_baud),
     )
 
 
-def bench_app(name: str, plant: dict, *, board: str = "esp32_bench", wiring=None, pins=None, **options) -> App:
+def bench_app(
+    name: str, plant: dict, *, board: str = "esp32_bench", wiring=None, pins=None, identity=None, lib_dirs=()
+) -> App:
     """A firmware on a bench board (``esp32_bench``, ``rpi_pico_bench``) against a plant
     built from the catalogue (``plant``: a rig file's ``[plant]`` table), printing taking
-    no time (``console_baud=0``); ``options``: the rest of :class:`App`'s (``lib_dirs`` ...)."""
+    no time (``console_baud=0``)."""
     return App(
         name=name,
         default_board=board,
         make_plant=lambda: assemble(plant),
         wiring=wiring or {},
-        pins=pins or {},
-        console_baud=0,
-        **options,
+        code=Code(lib_dirs=tuple(lib_dirs)),
+        board=BoardSettings(pins=pins or {}, identity=identity, console_baud=0),
     )
 
 

@@ -2,7 +2,7 @@
 
 import pytest
 
-from host.rig.apps import get_app
+from host.rig.config.apps import get_app
 from sim_plant.catalogue.assembly import rig_plant_table
 
 

@@ -10,8 +10,8 @@ import pytest
 
 from host.core import paths, provenance
 from host.core.errors import ConfigError
-from host.rig.boardfs import BoardFs, flash_files, on_board
-from host.rig.firmware import Firmware
+from host.rig.targets.boardfs import BoardFs, flash_files, on_board
+from host.rig.targets.firmware import Firmware
 
 
 def firmware_in(folder: Path, flash_bytes: int = 64 * 1024) -> Firmware:
@@ -167,7 +167,7 @@ def test_the_flashs_blocks_are_littlefss():
 
 
 def test_a_replay_is_not_refused_for_the_users_commit_alone():
-    from host.rig.manifest import differences
+    from host.rig.loop.manifest import differences
 
     recorded = {"firmware": {"sha256": "a"}, "harness": {"commit": "h"}}
     now = {"firmware": {"sha256": "a"}, "harness": {"commit": "h"}, "project": {"root": "/r", "commit": "c"}}

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.rig.budgets import COMPUTE, LEVEL, Budget, BudgetHooks, PeriodBudget, PulseBudget
+from host.rig.config.budgets import COMPUTE, LEVEL, Budget, BudgetHooks, PeriodBudget, PulseBudget
 
 
 def test_a_uart_period_counts_chunks_with_the_marker_byte_only():
@@ -177,3 +177,18 @@ def test_a_failed_budget_says_when_its_first_misses_happened():
     text = str(err.value)
     assert "2 misses of 5" in text, text
     assert "the first: 53000 us at virtual t=0.153000 s, 57000 us at virtual t=0.260000 s" in text, text
+
+
+def test_each_budget_kind_declares_its_own_rig_file_schema():
+    """A budget of a rig file declares its ``kind``, keys, optional keys and bounds on its
+    class (host/rig/config/budgets.py); the rig file's reader holds no table of its own."""
+    from host.rig.config import budgets, rigfile
+
+    assert list(budgets.KINDS) == ["period", "latency", "pulse", "compute", "bus_latency", "bus_sample"]
+    for kind, cls in budgets.KINDS.items():
+        keys, required = cls.rig_keys({})
+        assert cls.KIND == kind and {"kind", "description"} <= set(keys), f"{cls.__name__}: expected kind {kind}"
+        assert set(required) <= set(cls.KEYS) and set(cls.OPTIONAL) <= set(cls.KEYS), f"{cls.__name__}: {required}"
+    assert budgets.KINDS["bus_sample"].rig_keys({"ready": "imu.int1"})[1] == ("source", "register", "limit_us")
+    schemas = [name for name in vars(rigfile) if "BUDGET" in name]
+    assert not schemas, f"expected no budget schema in rigfile.py, found {schemas}"

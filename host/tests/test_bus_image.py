@@ -1,4 +1,4 @@
-"""Bus reads the shim answers from the host's image (``host/rig/busimage.py``) read exactly
+"""Bus reads the shim answers from the host's image (``host/rig/hardware/busimage.py``) read exactly
 what they read when every transfer is its own exchange (``MPY_FIL_BUS_IMAGES=0``): each
 bus test below is run both ways and every rig it makes must give the same bus readings
 (every BUS record of ``trace.jsonl``: instant, bytes written, bytes read, outcome, register,
@@ -15,7 +15,7 @@ import pytest
 
 from host.bench import KIT_DEMOS, run_imu_bot, run_kit_demo
 from host.pytest_plugin import rig_from_keywords
-from host.rig.busimage import ENV
+from host.rig.hardware.busimage import ENV
 from host.tests.conftest import FIRMWARE  # noqa: F401  (the bus tests' firmware folder)
 
 BUS_TESTS = {  # module: (test, polls answered in the shim expected[, its parameters]): the bus tests that read chips

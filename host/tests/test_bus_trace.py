@@ -7,8 +7,8 @@ import json
 import pytest
 
 from host.link import frames as F
-from host.rig.budgets import BusLatencyBudget, BusSampleBudget
-from host.rig.bustrace import describe, duration_us, transaction
+from host.rig.config.budgets import BusLatencyBudget, BusSampleBudget
+from host.rig.hardware.bustrace import describe, duration_us, transaction
 from host.tests.conftest import FIRMWARE, results
 from host.tests.test_buses import bench
 
@@ -92,7 +92,7 @@ limit_us = 300
 
 
 def _load(tmp_path, text: str):
-    from host.rig.rigfile import load_rig
+    from host.rig.config.rigfile import load_rig
 
     (tmp_path / "main.py").write_text("")
     (tmp_path / "rig.toml").write_text(text)

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from host.rig.app import App
+from host.rig.config.app import App
 from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil

@@ -20,8 +20,8 @@ from host.campaign.report import ReportError, error_bars, summarize, wilson, wor
 from host.campaign.runner import failed
 from host.campaign.store import ResultStore
 from host.core.errors import ConfigError
-from host.rig.rigfile import load_rig
-from host.rig.spec import placed
+from host.rig.config.rigfile import load_rig
+from host.rig.loop.spec import placed
 
 RIG = """
 name = "bench"
@@ -211,7 +211,7 @@ def test_a_rig_file_takes_faults_checked_against_its_plant(tmp_path):
     rig = tmp_path / "rig.toml"
     rig.write_text(RIG + '[[faults]]\nkind = "heap"\nsize = "96K"\n')
     app = load_rig(rig)
-    assert app.heap_size == "96K" and [f.kind for f in app.extra["faults"]] == ["heap"]
+    assert app.interpreter.heap_size == "96K" and [f.kind for f in app.run.faults] == ["heap"]
     rig.write_text(RIG + '[[faults]]\nkind = "stuck"\nsignal = "nothing"\nvalue = 1\n')
     with pytest.raises(ConfigError, match=r"rig.toml: \[\[faults\]\]: faults\[0\] \(stuck\) signal: the plant has no"):
         load_rig(rig)

@@ -1,4 +1,4 @@
-"""What ``mpy-fil check`` refuses that no one field shows wrong alone (host/rig/rigrules.py),
+"""What ``mpy-fil check`` refuses that no one field shows wrong alone (host/rig/config/rigrules.py),
 every unknown name with the whole list and the nearest, nesting bombs named where they
 are, and the firmware's control characters escaped in everything the harness prints
 (kept raw in ``console.log``)."""
@@ -16,11 +16,11 @@ from host.core.errors import ConfigError, FirmwareError
 from host.core.nesting import loads_json, too_deep
 from host.core.paths import REPO
 from host.core.printable import printable
-from host.rig.boardfile import apps_of
-from host.rig.rigfile import load_rig
-from host.rig.waits import ExpectTimeout
+from host.rig.config.boardfile import apps_of
+from host.rig.config.rigfile import load_rig
+from host.rig.config.wokwi.diagram import read_diagram
+from host.rig.loop.waits import ExpectTimeout
 from host.scenario.scenario import ScenarioError, load_scenario
-from host.wokwi.diagram import read_diagram
 
 OLED_BOT = REPO / "examples" / "oled_bot"
 BASE = (OLED_BOT / "rig.toml").read_text()
@@ -285,7 +285,7 @@ def test_run_shows_the_console_with_escapes_escaped(capsys, tmp_path):
 
 def test_a_trace_folder_or_campaign_nested_past_reading_is_refused_by_name_not_a_traceback(tmp_path):
     from host.artefacts.folder import load_trace
-    from host.rig import manifest
+    from host.rig.loop import manifest
     from host.shrink.source import campaign_run
 
     bomb = "[" * 100_000

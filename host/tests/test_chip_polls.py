@@ -7,7 +7,7 @@ output: bus, address, register, value, since when and what the chip's model hono
 
 import pytest
 
-from host.rig.rig import run_header
+from host.rig.loop.rig import run_header
 from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil

@@ -7,8 +7,8 @@ import pytest
 
 from host.core.drivers import driver_folder
 from host.core.errors import ConfigError
-from host.rig.pincheck import check_pins
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
+from host.rig.scan.pincheck import check_pins
 from host.tests.conftest import FIRMWARE, bench_app, results
 from sim_plant import buses as B
 from sim_plant.catalogue.assembly import assemble

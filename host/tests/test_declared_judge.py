@@ -11,7 +11,8 @@ from host.campaign.judges import declared
 from host.campaign.scenario import load_campaign
 from host.core.errors import ConfigError
 from host.core.paths import REPO
-from host.rig.rigfile import load_rig
+from host.rig.config.app import Judge, Report, RunSettings
+from host.rig.config.rigfile import load_rig
 
 TWO_SONAR = str(REPO / "examples" / "two_sonar_bot" / "rig.toml")
 
@@ -19,7 +20,7 @@ TWO_SONAR = str(REPO / "examples" / "two_sonar_bot" / "rig.toml")
 def fake_rig(console: str, judge: dict, x_m: float = 1.0, contacts=()):
     truth = {"x_m": x_m, "y_m": 1.0, "contacts": list(contacts), "coverage_fraction": 0.5}
     return SimpleNamespace(
-        app=SimpleNamespace(extra={"report": {"judge": judge}}),
+        app=SimpleNamespace(run=RunSettings(report=Report(judge=Judge(**judge)))),
         console=console,
         truth=lambda: truth,
         plant=SimpleNamespace(start_pose=(1.0, 1.0, 0.0)),

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from host.bench import ENCODER_BOT, encoder_firmware
 from host.link import frames as F
 from host.rig import Recording, Rig, RigSpec
-from host.rig.clock import EDGE_SEGMENTS_ENV
+from host.rig.loop.clock import EDGE_SEGMENTS_ENV
 from host.tests.test_edge_window import _encoders, _one_by_one, _state
 from sim_plant import edge_window
 
@@ -206,7 +206,7 @@ APPS = {  # (app or rig file, world, seed, simulated s): encoders beside other p
 def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
     """With segments the firmware takes the same inputs at the same instants as with a
     change an edge (its outputs and console the same), and the pure path does as C does."""
-    from host.rig.apps import get_app
+    from host.rig.config.apps import get_app
 
     name, world, seed, seconds = APPS[key]
     got = {}
@@ -232,7 +232,7 @@ def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
 
 
 def test_a_segment_counts_the_irq_edges_its_channels_fire():
-    from host.rig.inputs import _irq_edges
+    from host.rig.hardware.inputs import _irq_edges
 
     for mask, bits_a, bits_b in ((3, 0b0110, 0b1100), (1, 0b10, 0)):
         for irq_a in range(4):

@@ -10,8 +10,8 @@ import pytest
 
 from host.artefacts.console import stamped_lines
 from host.core.errors import ConfigError, FirmwareError, FirmwareExited, SetupError
-from host.rig.rig import Rig
-from host.rig.spec import RigSpec
+from host.rig.loop.rig import Rig
+from host.rig.loop.spec import RigSpec
 from host.tests.conftest import FIRMWARE, shim_app
 
 BENCH = '[plant]\nbody = "bench"\n[[plant.parts]]\nkind = "wire"\nname = "w0"\n[wiring]\nLED = "w0.in"\n'

@@ -20,7 +20,7 @@ from host.core.paths import REPO
 PICO = REPO / "examples" / "pico_bot"
 SESSION_TIMEOUT_S = 240
 FAILING = """\
-from host.rig.budgets import PeriodBudget
+from host.rig.config.budgets import PeriodBudget
 
 
 def wait_for_ready(rig):
@@ -216,7 +216,7 @@ def test_tests_deselected_beside_a_rig_file_are_no_missing_first_test(tmp_path):
 def test_a_harness_message_with_a_console_line_that_starts_with_assert_is_kept_whole():
     """Only a harness `assert` statement's message loses pytest's explanation after it."""
     from host.pytest_plugin import failure
-    from host.rig import waits
+    from host.rig.loop import waits
 
     class Rig:
         t_us, seed, artefacts = 0, 1, None

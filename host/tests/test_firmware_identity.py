@@ -4,7 +4,7 @@ included (docs/reliability.md)."""
 import pytest
 
 from host.core.errors import ConfigError
-from host.rig.firmware import Firmware
+from host.rig.targets.firmware import Firmware
 
 
 def _tree(root, files):

@@ -12,7 +12,8 @@ import pytest
 from host.core.errors import HarnessError
 from host.core.paths import REPO
 from host.device import flash, vboard
-from host.rig.apps import App, apps
+from host.rig.config.app import Code
+from host.rig.config.apps import App, apps
 
 pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"
@@ -56,7 +57,7 @@ def test_syntax_error_fails_the_flash_with_file_and_line(tmp_path, monkeypatch):
     app.mkdir()
     (app / "main.py").write_text("import helper\n")
     (app / "helper.py").write_text("x = 1\n\ndef f(:\n    pass\n")
-    monkeypatch.setitem(apps(), "broken", App("broken", BOARD, make_plant=None, wiring={}, folder=app))
+    monkeypatch.setitem(apps(), "broken", App("broken", BOARD, make_plant=None, wiring={}, code=Code(folder=app)))
     with pytest.raises(HarnessError, match=r"helper\.py:3: SyntaxError"):
         flash.stage("broken", BOARD)
 

@@ -1,5 +1,5 @@
 """``[interpreter] heap_size`` is the firmware's heap, as on its board: the shim's share
-(host/rig/heap.py) is on top and held by the shim once it has started, so the firmware
+(host/rig/targets/heap.py) is on top and held by the shim once it has started, so the firmware
 finds heap_size free; the least a rig file takes runs a firmware with machine, time and
 asyncio, and one step below is refused by ``check``."""
 
@@ -9,7 +9,8 @@ import shutil
 import pytest
 
 from host.core.paths import REPO
-from host.rig.heap import HEAP_MIN_BYTES
+from host.rig.config.app import InterpreterSettings
+from host.rig.targets.heap import HEAP_MIN_BYTES
 from host.tests.conftest import FIRMWARE, results, shim_app
 from host.tests.test_rigfile_bounds import GOOD, check
 
@@ -25,7 +26,7 @@ def pico(tmp_path):
 
 
 def run(make_rig, case, heap_size, duration_s):
-    app = dataclasses.replace(shim_app(console_baud=0), heap_size=heap_size)
+    app = dataclasses.replace(shim_app(console_baud=0), interpreter=InterpreterSettings(heap_size=heap_size))
     rig = make_rig(app, main_dir=FIRMWARE / case, allow_exit=True)
     rig.run_for(duration_s)
     rig.stop()

@@ -13,7 +13,7 @@ import pytest
 from host.bench import run_encoder_bot
 from host.core import interpreter
 from host.core.paths import REPO, SHIM_DIR
-from host.rig.apps import get_app
+from host.rig.config.apps import get_app
 
 pytestmark = pytest.mark.hil
 

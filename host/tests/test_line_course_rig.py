@@ -16,7 +16,7 @@ from host.cli import main
 from host.core.errors import ConfigError
 from host.report.movie import write_movie
 from host.report.plots import trajectory_figure
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 
 RIG = """
 name = "liner"

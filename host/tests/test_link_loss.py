@@ -2,13 +2,13 @@
 the direction the link's counters show and keeps the firmware's stack (the traceback the
 shim sends when the watchdog interrupts it): a frame lost from the firmware just before it
 waits, a frame lost on its way to the firmware, and the firmware's HELLO lost in the
-handshake (host/rig/target.py, docs/reliability.md)."""
+handshake (host/rig/targets/target.py, docs/reliability.md)."""
 
 import pytest
 
 from host.core.errors import FirmwareHung
-from host.rig import session
-from host.rig.target import UnixPortTarget
+from host.rig.loop import session
+from host.rig.targets.target import UnixPortTarget
 from host.shim import _hilframe as F
 from host.tests.conftest import FIRMWARE, shim_app
 

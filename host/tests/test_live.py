@@ -9,8 +9,8 @@ import pytest
 
 from host.core.errors import ConfigError
 from host.live import LiveRig
-from host.rig.introspect import FirmwareEvalError
-from host.rig.waits import ExpectTimeout
+from host.rig.loop.introspect import FirmwareEvalError
+from host.rig.loop.waits import ExpectTimeout
 
 REPO = Path(__file__).resolve().parents[2]
 PAGE = REPO / "docs" / "live.md"

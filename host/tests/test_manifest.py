@@ -1,4 +1,4 @@
-"""A run's manifest.json (host/rig/manifest.py, docs/traces.md) and replay's check of it."""
+"""A run's manifest.json (host/rig/loop/manifest.py, docs/traces.md) and replay's check of it."""
 
 import hashlib
 import json
@@ -11,8 +11,8 @@ import pytest
 from host.artefacts.folder import reseal
 from host.core import interpreter
 from host.core.paths import REPO, SHIM_DIR
-from host.rig import manifest
-from host.rig.replay import FirmwareChoice, ManifestMismatch, replay
+from host.rig.loop import manifest
+from host.rig.loop.replay import FirmwareChoice, ManifestMismatch, replay
 from host.tests.test_coverage import covbot
 
 pytestmark = pytest.mark.hil

@@ -16,7 +16,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.paths import REPO
-from host.rig import mcutime
+from host.rig.targets import mcutime
 
 # A firmware step that allocates (garbage, a list that grows: a realloc in place or moved, by
 # what lies after it) and keeps some; between steps the harness's module allocates and keeps
@@ -104,7 +104,7 @@ RUN = """
 import hashlib, sys
 from pathlib import Path
 from host.pytest_plugin import rig_from_keywords
-from host.rig.apps import get_app
+from host.rig.config.apps import get_app
 app, world, seed, seconds, out = sys.argv[1:]
 spec = dict(get_app(app).worlds[world])
 rig = rig_from_keywords(app, seed=int(seed), plant_options=spec, trace=True, artefacts=Path(out))

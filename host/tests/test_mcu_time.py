@@ -8,7 +8,7 @@ import textwrap
 
 import pytest
 
-from host.rig import mcutime
+from host.rig.targets import mcutime
 from host.tests.conftest import results
 
 # A control loop: ~5 ms of float math per period on an RP2040 (per the model), then the LED
@@ -207,7 +207,7 @@ def test_the_stack_names_the_running_functions(tmp_path):
 
 def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
     from host.core.errors import ConfigError
-    from host.rig.rigfile import load_rig
+    from host.rig.config.rigfile import load_rig
 
     def cpu_of(board_lines):
         folder = tmp_path / "rig"
@@ -217,7 +217,7 @@ def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
             f'name = "cpu"\n[board]\n{board_lines}\n[board.pins]\nLED = 2\n'
             '[plant]\nbody = "bench"\n[wiring]\nLED = "probe:led"\n'
         )
-        return load_rig(folder / "rig.toml").cpu
+        return load_rig(folder / "rig.toml").board.cpu
 
     assert cpu_of('cpu = "esp32s3@240MHz"') == "esp32s3@240MHz"
     assert cpu_of('family = "rpi_pico"') == "free"  # (no default CPU yet: mcutime.DEFAULT_ON)

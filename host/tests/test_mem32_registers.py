@@ -4,7 +4,7 @@ and SIO's GPIO registers drive and read the pins, and any other address is named
 
 import pytest
 
-from host.rig.apps import App
+from host.rig.config.app import App, BoardSettings
 from host.tests.conftest import FIRMWARE, INPUTS, OUTPUTS, bench_app, results
 from sim_plant.scripted import ScriptedPlant
 
@@ -71,11 +71,9 @@ def gpio_app():
     return App(
         name="mem32_gpio",
         default_board="pins",
-        identity=RP2040,
         make_plant=lambda: ScriptedPlant(script, outputs=OUTPUTS, inputs=INPUTS, initial={"button": 1}),
         wiring={"OUT1": "out1", "BTN": "button"},
-        pins={"OUT1": 16, "BTN": 17},
-        console_baud=0,
+        board=BoardSettings(pins={"OUT1": 16, "BTN": 17}, identity=RP2040, console_baud=0),
     )
 
 

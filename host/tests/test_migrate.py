@@ -10,8 +10,8 @@ import pytest
 from host import cli
 from host.core.errors import ConfigError
 from host.core.paths import REPO
-from host.rig.migrate import MigrationError, migrate_text
-from host.rig.rigfile import load_rig
+from host.rig.config.migrate import MigrationError, migrate_text
+from host.rig.config.rigfile import load_rig
 
 OLD = REPO / "host" / "tests" / "data" / "rig01" / "pico_bot" / "rig.toml"
 

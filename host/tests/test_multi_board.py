@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from host.core.errors import ConfigError, FirmwareError, FirmwareExited, FirmwareHung
-from host.rig.boardfile import boards_from_data, load_boards
-from host.rig.boardset import BoardSet
-from host.rig.rigfile import load_rig
+from host.rig.config.boardfile import boards_from_data, load_boards
+from host.rig.config.rigfile import load_rig
+from host.rig.loop.boardset import BoardSet
 from host.tests.conftest import run_cli
 from host.tests.vcd_reader import gtkwave_round_trip, read_vcd
 
@@ -524,7 +524,7 @@ def test_each_board_of_a_set_replays_from_its_own_trace_folder(tmp_path):
     """A board's trace folder names its board (``rig.toml::left``); replayed alone, the other
     board's bytes and levels as its recording holds them, it gives the same outputs (the
     UART line both ways: what it sent recorded as ``link.a:sent``)."""
-    from host.rig.replay import FirmwareChoice, replay
+    from host.rig.loop.replay import FirmwareChoice, replay
 
     with BoardSet(load_boards(RIG), seed=2, trace=True, record=True, artefacts=tmp_path / "run") as boards:
         boards.run_for(0.2)

@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from host.core.errors import ConfigError, FirmwareError, FirmwareHung
-from host.rig.boardfile import boards_from_data, load_boards
-from host.rig.boardset import BoardSet
+from host.rig.config.boardfile import boards_from_data, load_boards
+from host.rig.loop.boardset import BoardSet
 
 RIG = Path(__file__).parent / "firmware" / "i2c_boards" / "rig.toml"
 

@@ -130,8 +130,8 @@ def test_a_pin_with_no_part_has_no_presence_and_says_what_the_bus_needs(make_rig
 
 
 def test_check_takes_a_onewire_pin_as_the_parts_line_not_an_unwired_pin(tmp_path):
-    from host.rig.pincheck import check_pins
-    from host.rig.rigfile import load_rig
+    from host.rig.config.rigfile import load_rig
+    from host.rig.scan.pincheck import check_pins
 
     (tmp_path / "main.py").write_text(EXAMPLE.replace("PIN", "4"))
     part = PART.replace("{t}", "20").replace("{pin}", "4")
@@ -175,7 +175,7 @@ def test_a_scenarios_temperature_control_is_what_the_next_conversion_reads():
 
 def test_a_traced_onewire_slot_lasts_modonewires_time_and_reads_as_text():
     from host.link import frames as F
-    from host.rig.bustrace import describe, transaction
+    from host.rig.hardware.bustrace import describe, transaction
 
     reset = transaction(0, "onewire:4", 1, F.BUS_XFER, 0x40, 1, b"\x00", F.BUS_OK, 1, b"\x01")
     assert (reset.duration_us, describe(reset)) == (960, "reset: presence (960 us)")

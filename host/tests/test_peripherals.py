@@ -1,4 +1,4 @@
-"""The host side of the peripherals (host/rig/peripherals.py): one handler per CFG kind in a
+"""The host side of the peripherals (host/rig/hardware/peripherals.py): one handler per CFG kind in a
 table, the codes on the wire named once in the codec (no bare numbers for them on the host),
 and a new kind (a bus, later) dispatched by registering it, with nothing else changed."""
 
@@ -11,10 +11,10 @@ import pytest
 from host.core.errors import ConfigError, LinkError
 from host.core.paths import REPO
 from host.link import frames as F
-from host.rig.inputs import Inputs
-from host.rig.peripherals import FIRED, HANDLERS, Peripheral, register
-from host.rig.speculation import Speculation
-from host.rig.wiring import Wiring
+from host.rig.hardware.inputs import Inputs
+from host.rig.hardware.peripherals import FIRED, HANDLERS, Peripheral, register
+from host.rig.hardware.wiring import Wiring
+from host.rig.loop.speculation import Speculation
 
 CODED_FIELDS = {"mode", "pull", "irq", "trigger"}  # CFG fields whose values the codec names
 

@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from host.cli import main
-from host.rig.app import App
-from host.rig.wiring import Wiring
+from host.rig.config.app import App
+from host.rig.hardware.wiring import Wiring
 from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil

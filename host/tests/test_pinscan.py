@@ -1,6 +1,6 @@
-"""The pin scanner (host/rig/pinscan.py) on firmware written as public MicroPython drivers and
+"""The pin scanner (host/rig/scan/pinscan.py) on firmware written as public MicroPython drivers and
 robots write it, `mpy-fil check`'s comparison of the code's pins with the wiring, and
-`mpy-fil init`'s names and bridge guess (host/rig/starter.py)."""
+`mpy-fil init`'s names and bridge guess (host/rig/scan/starter.py)."""
 
 import ast
 import shutil
@@ -9,11 +9,11 @@ import pytest
 
 from host import cli
 from host.core.paths import REPO
-from host.rig.boardfile import apps_of
-from host.rig.pincheck import check_pins
-from host.rig.pinscan import scan_folder, scan_modules
-from host.rig.rigfile import load_rig
-from host.rig.starter import starter
+from host.rig.config.boardfile import apps_of
+from host.rig.config.rigfile import load_rig
+from host.rig.scan.pincheck import check_pins
+from host.rig.scan.pinscan import scan_folder, scan_modules
+from host.rig.scan.starter import starter
 
 
 def pins(files: dict[str, str], family=None) -> dict[str, str | None]:
@@ -341,7 +341,7 @@ def test_init_starts_from_a_usual_robots_parts_when_it_sees_no_bridge(tmp_path):
 def test_init_on_our_examples_names_their_pins_as_their_rig_files_do(tmp_path):
     shutil.copy(REPO / "examples" / "two_sonar_bot" / "main.py", tmp_path / "main.py")
     text = starter(tmp_path)
-    ours = load_rig(REPO / "examples" / "two_sonar_bot" / "rig.toml").pins
+    ours = load_rig(REPO / "examples" / "two_sonar_bot" / "rig.toml").board.pins
     written = dict(
         line.split(" = ")
         for line in text.split("[board.pins]")[1].split("[plant]")[0].splitlines()[1:]
@@ -403,7 +403,7 @@ def test_the_scanner_names_the_buses_the_code_creates_as_the_shim_names_them(sou
 
 
 def test_check_names_a_device_on_a_bus_the_code_never_creates():
-    from host.rig.pincheck import compare_buses
+    from host.rig.scan.pincheck import compare_buses
 
     code = scan({"main": "from machine import I2C\ni2c = I2C(1)\n"})
     warnings = compare_buses(code, {"i2c0": ["imu"], "i2c1": ["baro"]})
@@ -428,7 +428,7 @@ def test_check_names_a_device_on_a_bus_the_code_never_creates():
 def test_a_buss_lines_are_no_plant_signals_and_clash_with_a_wired_one(make):
     """Bus lines need no wiring (the rig puts chips on the bus by its name); a bus line on a
     pin the rig wires to a plant signal is a mistake on one side, named with both."""
-    from host.rig.pincheck import compare
+    from host.rig.scan.pincheck import compare
 
     code = scan({"main": f"from machine import Pin, I2C, SoftI2C, SPI\nbus = {make}\nled = Pin(2, Pin.OUT)\n"})
     lines = {use.key for use in code.uses if use.kind == "bus"}
@@ -444,7 +444,7 @@ def test_an_spi_clock_line_wired_to_a_chips_clock_input_is_no_clash():
     """An SPI's sck= pin wired to a chip's ``<name>.sck`` (the pin of its clock, as parts that
     share MOSI have: docs/wiring.md) is right; its other lines there, and sck= on a signal of
     another kind, still clash."""
-    from host.rig.pincheck import compare
+    from host.rig.scan.pincheck import compare
 
     code = scan({"main": "from machine import Pin, SPI\nbus = SPI(0, sck=Pin(6), mosi=Pin(3), miso=Pin(0))\n"})
     right = compare(code, {"LED_SCK": 6}, {"LED_SCK": "leds.sck"})
@@ -459,7 +459,7 @@ def test_the_pins_after_a_pio_groups_first_pin_are_a_note_not_a_warning(base):
     """A PIO program reads or drives as many pins from ``in_base`` (``out_base``, ``set_base``,
     ``sideset_base``) as it says; the scan cannot tell how many, so a wired pin after the first
     one the code names is a note; a wired pin before it, or far past it, still a warning."""
-    from host.rig.pincheck import compare
+    from host.rig.scan.pincheck import compare
 
     source = f"import rp2\nfrom machine import Pin\nsm = rp2.StateMachine(0, prog, freq=1_000_000, in_base={base})\n"
     code = scan({"main": source}, family="rp2")

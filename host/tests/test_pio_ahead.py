@@ -14,7 +14,7 @@ import pytest
 from host.bench import KIT_DEMOS, kit_demo_folder, run_kit_demo, run_pio_bot
 from host.core.paths import REPO
 from host.pytest_plugin import rig_from_keywords
-from host.rig.pio_ahead import ENV
+from host.rig.hardware.pio_ahead import ENV
 from host.tests.conftest import FIRMWARE, bench_app
 
 pytestmark = pytest.mark.hil

@@ -189,11 +189,11 @@ def test_a_kitronik_servo_period_costs_a_few_dozen_steps(monkeypatch):
     "name, counting", [("kitronik_servo", True), ("servo_side_each", True), ("servo_side_each", False)]
 )
 def test_a_servo_waveform_is_a_pwm_to_the_plant_however_long_its_period(name, counting, monkeypatch):
-    """host/rig/pio_out.py: a 20 ms servo period is given as a PWM (50 Hz, a 1.5 ms pulse's
+    """host/rig/hardware/pio_out.py: a 20 ms servo period is given as a PWM (50 Hz, a 1.5 ms pulse's
     duty), whether the emulator sees it repeat (its counting loops jumped over) or only
     measures it (stepped: the period too long to be seen coming back)."""
     monkeypatch.setattr(block_module, "COUNTDOWN", counting)
-    from host.rig.pio_out import look_ahead, pwm_of
+    from host.rig.hardware.pio_out import look_ahead, pwm_of
 
     if name not in PROGRAMS:
         pytest.skip("the pinned Kitronik library is not fetched (python -m host.core.drivers)")

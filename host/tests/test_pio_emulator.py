@@ -170,7 +170,7 @@ def test_servo_pulses_are_x_plus_2_cycles_high_every_x_plus_y_plus_6():
 
 def test_a_block_whose_changes_nobody_reads_jumps_its_periods_to_the_same_state_and_levels():
     """``record_events`` False (the rig's own blocks: what they drive reaches the plant
-    through a look-ahead on a copy, host/rig/pio_out.py): a period of drives jumped over is
+    through a look-ahead on a copy, host/rig/hardware/pio_out.py): a period of drives jumped over is
     replayed once, not once a period, and the block ends where the one that keeps every
     change does: the same levels, registers, FIFOs and cycle, a change per period fewer."""
     runs = []

@@ -1,8 +1,8 @@
-"""The poll watch (host/rig/pollwatch.py) on its own: a poll is named once, only when its
+"""The poll watch (host/rig/hardware/pollwatch.py) on its own: a poll is named once, only when its
 reads in a row with one answer reach the count over the span of virtual time; a changed
 answer starts the count again; the note names the chip's modelled registers."""
 
-from host.rig.pollwatch import PollWatch, poll_text, shim_poll_text
+from host.rig.hardware.pollwatch import PollWatch, poll_text, shim_poll_text
 from sim_plant import buses as B
 from sim_plant.catalogue.assembly import assemble
 
@@ -41,11 +41,11 @@ def test_the_note_says_what_the_chips_model_honours_at_that_register():
 
 
 def test_a_shim_poll_names_its_pin_and_what_would_change_it_or_its_address():
-    """A POLL message's note (host/rig/pollwatch.py, shim_poll_text): the pin by its board
+    """A POLL message's note (host/rig/hardware/pollwatch.py, shim_poll_text): the pin by its board
     name, and what drives it by the wiring (a part, nothing, a probe, a plant input); an
     address with the shim's word on it; the firmware's stack when the message carries one."""
     from host.link import frames as F
-    from host.rig.wiring import Wiring
+    from host.rig.hardware.wiring import Wiring
 
     p = assemble({"body": "bench", "parts": [{"kind": "button", "name": "go"}, {"kind": "jumper", "name": "j"}]})
     pins = {"GO": 4, "LOOSE": 5, "PROBE": 6, "BACK": 7}

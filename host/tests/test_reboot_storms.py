@@ -1,6 +1,6 @@
 """A reboot storm at any rate ends the run within seconds of wall time, naming the resets
 and their rate; a board that resets rarely (a watchdog every few minutes) runs on
-(host/rig/endings.py, docs/reliability.md)."""
+(host/rig/loop/endings.py, docs/reliability.md)."""
 
 import re
 import shutil
@@ -9,7 +9,7 @@ import time
 import pytest
 
 from host.core.errors import FirmwareError
-from host.rig.endings import STORM_RESETS
+from host.rig.loop.endings import STORM_RESETS
 from host.tests.conftest import FIRMWARE, shim_app
 
 pytestmark = pytest.mark.hil

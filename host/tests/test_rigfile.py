@@ -10,8 +10,8 @@ import pytest
 
 from host.core.errors import ConfigError, FirmwareError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.apps import apps, get_app
-from host.rig.rigfile import load_rig
+from host.rig.config.apps import apps, get_app
+from host.rig.config.rigfile import load_rig
 
 GOOD = """
 name = "mybot"
@@ -87,7 +87,7 @@ def test_our_apps_are_rig_files():
         "duct",
     }
     rover = found["rover"]
-    assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.harness_lib
+    assert rover.rig_file == FIRMWARE / "apps" / "rover" / "rig.toml" and rover.code.harness_lib
     assert len(rover.wiring) == 13 and list(rover.worlds) == ["room", "long-room", "small-room"]
     plant = rover.make_plant(**rover.worlds["small-room"])
     assert plant.body.options["room_w_m"] == 3.0 and plant.body.options["start_pose"] == [1.0, 1.5, 0.0]
@@ -96,15 +96,18 @@ def test_our_apps_are_rig_files():
     adc = found["pool_cleaner_adc"]
     assert adc.path == found["pool_cleaner"].path and "sonar_l.adc" in adc.make_plant().outputs
     canyon = found["lab_robot_canyon"]
-    assert canyon.path == found["lab_robot"].path and canyon.boards == ("esp32_lab_robot", "rpi_pico_lab_robot")
+    assert canyon.path == found["lab_robot"].path and canyon.board.also == ("esp32_lab_robot", "rpi_pico_lab_robot")
     vacuum = found["vacuum"]
-    assert list(vacuum.lib_dirs) == [vacuum.path / "lib"] and vacuum.boards == ("esp32_vacuum", "rpi_pico_vacuum")
+    assert list(vacuum.code.lib_dirs) == [vacuum.path / "lib"] and vacuum.board.also == (
+        "esp32_vacuum",
+        "rpi_pico_vacuum",
+    )
 
 
 def test_a_rig_file_of_ones_own_loads_with_its_pins_table(tmp_path):
     app = load_rig(write_rig(tmp_path / "mybot"))
-    assert app.name == "mybot" and app.default_board == "pins" and app.pins["LED"] == 2
-    assert not app.harness_lib and app.firmware_folders(None) == [tmp_path / "mybot"]
+    assert app.name == "mybot" and app.default_board == "pins" and app.board.pins["LED"] == 2
+    assert not app.code.harness_lib and app.firmware_folders(None) == [tmp_path / "mybot"]
     budget = app.make_budgets(app.make_plant())[0]
     assert budget.period_us == 100_000 and budget.description == "the LED toggles every 100 ms"
 
@@ -255,7 +258,7 @@ def test_interpreter_settings_give_the_heap_and_when_the_ticks_wrap(make_rig, tm
     rig.run_for(2)
     rig.stop()
     heap = int(rig.console.split("heap ")[1].split()[0])
-    # (the firmware's free heap is its board's: the shim's own is on top, host/rig/firmware.py)
+    # (the firmware's free heap is its board's: the shim's own is on top, host/rig/targets/firmware.py)
     assert 120 * 1024 < heap <= 136 * 1024 and "wrapped True" in rig.console, rig.console
     bad = write_rig(tmp_path / "other", GOOD + '\n[interpreter]\nheap_size = "lots"\n')
     with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M, like 192K"):

@@ -24,9 +24,9 @@ from hypothesis import strategies as st
 from host import cli
 from host.core.errors import ConfigError
 from host.core.paths import FIRMWARE, REPO
-from host.rig.pinscan import firmware_sources
-from host.rig.rigfile import load_rig
-from host.rig.starter import starter
+from host.rig.config.rigfile import load_rig
+from host.rig.scan.pinscan import firmware_sources
+from host.rig.scan.starter import starter
 from sim_plant import catalogue
 
 SETTINGS = settings(
@@ -408,7 +408,7 @@ def test_heap_size_takes_what_the_unix_port_reads(pico, size, ok):
     path = pico / "rig.toml"
     path.write_text(GOOD.replace('entry = "main.py"', f'entry = "main.py"\n[interpreter]\nheap_size = {value}'))
     if ok:
-        assert load_rig(path).heap_size == str(size)
+        assert load_rig(path).interpreter.heap_size == str(size)
     else:
         with pytest.raises(ConfigError, match=r"\[interpreter\] heap_size: expected bytes from 24K to 1024M"):
             load_rig(path)
@@ -497,7 +497,7 @@ def test_init_skips_hidden_folders_and_virtual_environments(tmp_path):
 
 
 def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
-    from host.rig import pinscan
+    from host.rig.scan import pinscan
 
     monkeypatch.setattr(pinscan, "SCAN_MAX_FILES", 5)
     for i in range(20):
@@ -507,7 +507,7 @@ def test_init_stops_at_its_bounds_and_says_so(tmp_path, monkeypatch):
     assert len(notes) == 1 and "stopped reading at" in notes[0] and "after 5 files" in notes[0], notes
     assert "PIN_4 = 4" in text and "PIN_5 =" not in text
     code = subprocess.run(
-        [sys.executable, "-c", "import host.rig.pinscan as r; r.SCAN_MAX_BYTES = 40; from host import cli; "
+        [sys.executable, "-c", "import host.rig.scan.pinscan as r; r.SCAN_MAX_BYTES = 40; from host import cli; "
          f"raise SystemExit(cli.main(['init', {str(tmp_path)!r}]))"],
         capture_output=True, text=True, cwd=REPO, timeout=60,
     )  # fmt: skip

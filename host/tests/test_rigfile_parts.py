@@ -9,7 +9,7 @@ import pytest
 
 from host.core.errors import ConfigError
 from host.core.paths import REPO
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 
 EXAMPLE = REPO / "examples" / "two_sonar_bot" / "rig.toml"
 

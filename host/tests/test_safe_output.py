@@ -318,7 +318,7 @@ def test_a_board_folder_of_wokwis_micropython_template_runs_the_main_py_at_its_r
 
 def test_replay_refuses_out_onto_its_own_recording(tmp_path, recorded):
     """The library's replay() as the command line's: its recording is what it compares with."""
-    from host.rig.replay import replay
+    from host.rig.loop.replay import replay
 
     trace = tmp_path / "trace"
     shutil.copytree(recorded, trace)

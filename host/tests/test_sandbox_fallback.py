@@ -1,6 +1,6 @@
 """Where the sandbox cannot start (no bwrap, a kernel that refuses namespaces), a run goes
 on under the shim's confinement; how loudly it says so depends on whose firmware it is
-(host/rig/sandbox.py, docs/security.md): a received folder (outside the user's own git
+(host/rig/targets/sandbox.py, docs/security.md): a received folder (outside the user's own git
 work tree and the harness's examples) gets a warning block on stderr, the user's own a
 note; the manifest records how it ran; "require" refuses the run."""
 
@@ -10,7 +10,7 @@ import shutil
 import pytest
 
 from host.core.paths import REPO
-from host.rig import sandbox
+from host.rig.targets import sandbox
 from host.tests.conftest import run_cli
 
 pytestmark = pytest.mark.hil

@@ -8,8 +8,8 @@ changes (_hilfast's C loop and the pure-Python one)."""
 
 import pytest
 
-from host.rig.app import App
-from host.rig.budgets import PeriodBudget
+from host.rig.config.app import App, BoardSettings
+from host.rig.config.budgets import PeriodBudget
 from host.tests.conftest import FIRMWARE, results
 from sim_plant.scripted import ScriptedPlant
 
@@ -64,10 +64,9 @@ def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
     app = App(
         name="sched-hard",
         default_board="rpi_pico_bench",
-        pins={"ECHO": 5, "A": 6, "B": 7},
         wiring={"ECHO": "echo", "A": "a", "B": "b"},
         make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
-        console_baud=0,
+        board=BoardSettings(pins={"ECHO": 5, "A": 6, "B": 7}, console_baud=0),
     )
     rig = make_rig(app, main_dir=FIRMWARE / "sched_hard", allow_exit=True)
     rig.run_for(0.05)
@@ -94,7 +93,7 @@ def test_sleep_us_runs_callbacks_only_where_the_ports_delay_handles_events(make_
         default_board=board,
         wiring={},
         make_plant=lambda: ScriptedPlant((), outputs={}, inputs={}),
-        console_baud=0,
+        board=BoardSettings(console_baud=0),
     )
     rig = make_rig(app, main_dir=FIRMWARE / "sched_sleep_us", allow_exit=True)
     rig.run_for(0.01)

@@ -122,7 +122,7 @@ def test_the_outputs_later_commands_write_into_the_folder_are_not_part_of_its_se
 
 
 def test_the_budgets_verdicts_stamped_after_the_run_are_sealed_with_it(recorded, tmp_path):
-    from host.rig.verdicts import stamp
+    from host.rig.config.verdicts import stamp
 
     copy = copy_of(recorded, tmp_path)
     name = json.loads((copy / "budgets.json").read_text())[0]["name"]

@@ -5,7 +5,7 @@ hardware tests use (PWM read back with time_pulse_us, Encoder, Counter, RTC, mem
 import pytest
 
 from host.conformance.inloop import BENCH_LIB, PINS, WIRING, bench_plant
-from host.rig.app import App
+from host.rig.config.app import App, BoardSettings, Code
 from host.tests.conftest import FIRMWARE, results
 
 pytestmark = pytest.mark.hil
@@ -17,9 +17,9 @@ def bench(board: str) -> App:
         default_board=board,
         make_plant=bench_plant,
         wiring=WIRING,
-        pins=PINS,
-        lib_dirs=(BENCH_LIB,),
-        console_baud=0,  # (the cases print between the edges they time: the API's timing, not the console's)
+        code=Code(lib_dirs=(BENCH_LIB,)),
+        # (the cases print between the edges they time: the API's timing, not the console's)
+        board=BoardSettings(pins=PINS, console_baud=0),
     )
 
 

@@ -193,7 +193,7 @@ def test_mpy_fil_run_allow_exit_runs_a_firmware_that_ends_by_design(tmp_path, ca
 @pytest.mark.parametrize("baud", ["5", "-1", "'fast'", "true", "20_000_000"])
 def test_a_bad_console_baud_is_named(tmp_path, baud):
     from host.core.errors import ConfigError
-    from host.rig.rigfile import load_rig
+    from host.rig.config.rigfile import load_rig
 
     with pytest.raises(ConfigError, match=r"\[board\] console_baud: expected"):
         load_rig(rig_file(tmp_path, "print('hi')\n", baud=baud))

@@ -6,6 +6,7 @@ import dataclasses
 
 import pytest
 
+from host.rig.config.app import InterpreterSettings
 from host.tests.conftest import FIRMWARE, results, shim_app
 
 pytestmark = pytest.mark.hil
@@ -18,7 +19,7 @@ HEAP = "64K"  # the firmware's heap: small, so that filling it is quick
 @pytest.fixture
 def run_full(make_rig):
     def run(case, duration_s):
-        app = dataclasses.replace(shim_app(SCRIPT), heap_size=HEAP)
+        app = dataclasses.replace(shim_app(SCRIPT), interpreter=InterpreterSettings(heap_size=HEAP))
         rig = make_rig(app, main_dir=FIRMWARE / case, allow_exit=True)
         rig.run_for(duration_s)
         rig.stop()

@@ -1,5 +1,5 @@
 """A poll that never ends, named, of the pins and memory the shim reads itself (host/shim/
-_hilpoll.py, host/rig/pollwatch.py): a pin nothing drives, an RP2040 register and a word of
+_hilpoll.py, host/rig/hardware/pollwatch.py): a pin nothing drives, an RP2040 register and a word of
 plain memory through machine.mem32, each named once in the run's output with the answer,
 since when, how many reads and what would change it, beside a chip's data-ready bit (a
 bus poll); a button polled until a press that comes within the span is not named."""
@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-from host.rig.rig import run_header
+from host.rig.loop.rig import run_header
 from host.tests.conftest import FIRMWARE, bench_app, results
 
 pytestmark = pytest.mark.hil

@@ -180,7 +180,7 @@ def test_a_firmware_files_reason_names_its_rig_file_and_what_it_imports(tmp_path
     assert reason == f"in the firmware folder of {bot / 'rig.toml'}, imports machine"
     assert userpath.firmware_file(bot / "test_mine.py", tmp_path) is None
     (bot / "rig.toml").write_text((bot / "rig.toml").read_text() + '\n[tests]\nexclude = [""]\n')
-    from host.rig.rigfile import load_rig
+    from host.rig.config.rigfile import load_rig
 
     with pytest.raises(ConfigError, match=r"\[tests\] exclude: expected file name patterns"):
         load_rig(bot / "rig.toml")

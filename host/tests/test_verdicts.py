@@ -1,4 +1,4 @@
-"""One verdict per budget (host/rig/verdicts.py), the same on every surface: the
+"""One verdict per budget (host/rig/config/verdicts.py), the same on every surface: the
 terminal's summary, the HTML report, the histograms; a miss a passed test did not fail
 on is tolerated, with why, never red."""
 
@@ -9,8 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from host.report import html, plots, table, views
-from host.rig import verdicts
-from host.rig.budgets import LatencyBudget, PeriodBudget
+from host.rig.config import verdicts
+from host.rig.config.budgets import LatencyBudget, PeriodBudget
 
 LATENCY = {"budget": "link.latency", "limit": "<= 20000 us", "count": 206, "p50": 3000, "max": 9000, "misses": 1}
 

@@ -14,7 +14,7 @@ import pytest
 
 from host.core import interpreter
 from host.core.errors import SetupError
-from host.rig.app import App
+from host.rig.config.app import App, BoardSettings, InterpreterSettings
 from host.tests.conftest import FIRMWARE, results
 from host.tests.test_shim_board import bench
 from sim_plant.scripted import ScriptedPlant
@@ -45,7 +45,11 @@ def on_version(make_rig, hil_mpy_version, monkeypatch):
             pytest.skip(f"MicroPython {version} is not built here ({problem}): mpy-fil setup --micropython {version}")
         if not hil_mpy_version:  # (the version is the app's, as a rig file's [interpreter] version)
             monkeypatch.delenv(interpreter.VERSION_ENV, raising=False)
-        rig = make_rig(replace(app, mpy_version=version), main_dir=FIRMWARE / case, allow_exit=True)
+        rig = make_rig(
+            replace(app, interpreter=InterpreterSettings(mpy_version=version)),
+            main_dir=FIRMWARE / case,
+            allow_exit=True,
+        )
         rig.run_for(duration_s)
         rig.stop()
         r = results(rig.console)
@@ -62,7 +66,7 @@ def _plain(board: str = "rpi_pico") -> App:
         default_board=board,
         wiring={},
         make_plant=lambda: ScriptedPlant((), outputs={}, inputs={}),
-        console_baud=0,
+        board=BoardSettings(console_baud=0),
     )
 
 

@@ -14,8 +14,8 @@ import pytest
 from host.core import interpreter
 from host.core.errors import SetupError
 from host.core.paths import REPO
-from host.rig.firmware import Firmware
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
+from host.rig.targets.firmware import Firmware
 from host.tests.test_rigfile_bounds import GOOD, refused
 
 pytest_plugins = ("pytester",)  # (pytest --mpy-version, run in this process on a test file of its own)
@@ -148,7 +148,7 @@ def pico(tmp_path):
 def test_a_rig_file_names_its_boards_micropython(pico):
     path = pico / "rig.toml"
     path.write_text(GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "1.28.0"'))
-    assert load_rig(path).mpy_version == "1.28"
+    assert load_rig(path).interpreter.mpy_version == "1.28"
     refused(
         pico,
         GOOD.replace('entry = "main.py"', 'entry = "main.py"\n[interpreter]\nversion = "2.0"'),

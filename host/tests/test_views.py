@@ -85,7 +85,7 @@ def test_progress_in_a_log_writes_a_line_now_and_then_and_at_the_end():
 
 def test_the_terminal_summary_is_a_line_a_scenario_in_100_columns_naming_the_worst_budget():
     from host.report.table import format_summary
-    from host.rig.verdicts import judged
+    from host.rig.config.verdicts import judged
 
     long = "test_" + "long_name_" * 8
     keys = ("scenario", "budget", "limit", "count", "p50", "max", "misses", "checked")

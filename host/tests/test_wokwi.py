@@ -15,9 +15,9 @@ import pytest
 from host.cli import main
 from host.core.drivers import driver_folder
 from host.core.errors import ConfigError
-from host.rig.rigfile import load_rig
-from host.wokwi import docs
-from host.wokwi.project import import_wokwi, rig_from_project
+from host.rig.config.rigfile import load_rig
+from host.rig.config.wokwi import docs
+from host.rig.config.wokwi.project import import_wokwi, rig_from_project
 
 PROJECTS = Path(__file__).parent / "wokwi_projects"
 US_PER_CM = 58.31
@@ -89,7 +89,7 @@ def test_a_devkit_v1_button_toggles_its_led_in_the_irq(make_rig):
     rig.run_for(1.0)
     lines = [line.split() for line in rig.console.splitlines() if line.startswith("toggled")]
     assert [int(v) for _, v, _ in lines] == [1, 0] and [int(ms) for *_, ms in lines] == [250, 700]
-    assert rig.plant.truth()["blue_led_changes"] == 2 and rig.app.pins == {"D4": 4, "D2": 2}
+    assert rig.plant.truth()["blue_led_changes"] == 2 and rig.app.board.pins == {"D4": 4, "D2": 2}
 
 
 def test_import_wokwi_writes_the_same_rig_and_keeps_an_existing_file(tmp_path):
@@ -99,7 +99,11 @@ def test_import_wokwi_writes_the_same_rig_and_keeps_an_existing_file(tmp_path):
     text = path.read_text()
     assert "# wokwi-hc-sr04" in text and 'family = "rpi_pico"' in text
     loaded = load_rig(path)
-    assert (loaded.wiring, loaded.pins, loaded.identity) == (made.wiring, made.pins, made.identity)
+    assert (loaded.wiring, loaded.board.pins, loaded.board.identity) == (
+        made.wiring,
+        made.board.pins,
+        made.board.identity,
+    )
     assert loaded.make_plant().describe() == made.make_plant().describe()
     with pytest.raises(ConfigError, match="exists: expected --force"):
         import_wokwi(folder)
@@ -211,5 +215,5 @@ def test_cli_import_then_check_and_run_take_the_rig_file(tmp_path, capsys):
 
 def test_docs_wokwi_md_has_the_generated_part_table():
     text = docs.PAGE.read_text()
-    assert docs.page_with_table(text) == text, "run: python -m host.wokwi.docs"
+    assert docs.page_with_table(text) == text, "run: python -m host.rig.config.wokwi.docs"
     assert text.rstrip().endswith("## Scenarios") or "## Scenarios" in text

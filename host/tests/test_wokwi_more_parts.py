@@ -11,7 +11,7 @@ import pytest
 
 from host.cli import main
 from host.core.errors import ConfigError
-from host.wokwi.project import rig_from_project
+from host.rig.config.wokwi.project import rig_from_project
 
 PROJECTS = Path(__file__).parent / "wokwi_projects"
 

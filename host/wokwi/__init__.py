@@ -1,6 +1,9 @@
-"""Wokwi projects as rigs: a folder with a ``diagram.json`` (and a ``wokwi.toml``) and its
-MicroPython code runs here as a rig file would (``docs/wokwi.md``): the board part picks
-the chip family, each part maps to a catalogue part named by its diagram ``id``, each
-connection to wiring, each attribute to an option with its unit. :mod:`.project` is the
-entry (``rig_from_project``, ``import-wokwi``), :mod:`.diagram` reads the file and its
-nets, :mod:`.boards` the boards' pin names, :mod:`.parts` the part table."""
+"""Wokwi projects as rigs moved to ``host/rig/config/wokwi/`` (docs/wokwi.md): a rig's
+configuration read from a ``diagram.json``. Their paths of 0.2 (``host.wokwi.project``,
+...) still import, each as the same module there."""
+
+from host.core.moved import keep_old_paths
+
+MOVED = ("boards", "diagram", "docs", "parts", "project", "tomlout")
+HOST = __name__.rpartition(".")[0]  # (host, or mpy_fil.host where installed)
+keep_old_paths(__name__, {name: f"{HOST}.rig.config.wokwi.{name}" for name in MOVED})

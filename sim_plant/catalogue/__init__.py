@@ -27,7 +27,7 @@ from pathlib import Path
 
 from sim_plant.catalogue.base import BodyType, Judge, PartsError, PartType, ReportView, WorldType
 
-NOT_ENTRIES = frozenset(("base", "assembly", "docs"))
+NOT_ENTRIES = frozenset(("base", "assembly", "docs", "imu"))  # (imu: the IMU chips' shared model and part)
 ENTRY_POINT_GROUP = "mpy_fil.catalogue"
 TABLES = {"parts": PartType, "bodies": BodyType, "worlds": WorldType, "views": ReportView, "judges": Judge}
 """Each table and the class its entries derive from."""

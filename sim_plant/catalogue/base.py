@@ -328,6 +328,9 @@ def spec_text(spec) -> str:
 
 
 __all__ = [
+    "CS_OPTION",
+    "CS_SIGNAL",
+    "SCK_SIGNAL",
     "Build",
     "BodyType",
     "Judge",
@@ -343,3 +346,26 @@ __all__ = [
     "catalogue_world",
     "spec_text",
 ]
+
+
+CS_OPTION = Opt(
+    "cs",
+    OneOf(("pin", "low")),
+    "pin",
+    'SPI only: "pin": its chip select is the cs input, wired to a pin the firmware drives; '
+    '"low": tied to ground (selected for good, no cs input)',
+)
+CS_SIGNAL = Sig(
+    "cs", "in", "level", "the chip select (SPI only: low selects it)", when=(("spi", (True,)), ("cs", ("pin",)))
+)
+"""A part on either bus (sim_plant/buses.py): its ``cs`` option and its chip-select input (present on SPI
+unless the rig ties it low)."""
+SCK_SIGNAL = Sig(
+    "sck",
+    "in",
+    "level",
+    "the pin of its SPI clock (SPI only): wired, a transfer reaches the chip only while that pin is the SPI's"
+    " (rp2: FUNCSEL SPI, by SPI(..., sck=), Pin.ALT alt=1 or mem32), as when parts share MOSI on one"
+    " controller with a clock pin each; not wired, every transfer on its bus does",
+    when=(("spi", (True,)),),
+)

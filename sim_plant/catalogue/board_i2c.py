@@ -2,7 +2,7 @@
 in a rig with several boards (``docs/multi-board.md``). The controller's transfers on
 ``controller_bus`` to an address the target board's firmware has taken (``I2CTarget(id, addr)``) go
 to that firmware, at their instant: it answers from its memory or its IRQ handler as the
-port's interrupt would, the controller waiting meanwhile (``host.rig.boardset``). An
+port's interrupt would, the controller waiting meanwhile (``host.rig.loop.boardset``). An
 address no target has taken goes to the plant's chips on that bus, as any transfer does.
 The part has no signals: the set of boards routes the transfers (the plant holds nothing)."""
 
@@ -23,11 +23,11 @@ class BoardI2c(PartType):
     zero_delay = True
 
     def check(self) -> None:
-        """(Which boards it names: the rig file's reader checks, host.rig.boardfile.)"""
+        """(Which boards it names: the rig file's reader checks, host.rig.config.boardfile.)"""
         if self.options["controller"] is not None and self.options["controller"] == self.options["target"]:
             raise ValueError(
                 f"target: expected another board than the controller, got {self.options['target']!r} for both"
             )
 
     def add(self, build: Build) -> None:
-        pass  # (nothing in the plant: host.rig.boardset routes the controller's transfers)
+        pass  # (nothing in the plant: host.rig.loop.boardset routes the controller's transfers)

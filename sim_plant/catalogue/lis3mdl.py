@@ -25,7 +25,7 @@ import math
 
 from sim_plant.buses import BusName, DataReady, RegisterDevice, SelfClearing, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType, View
-from sim_plant.imu import counts, put16
+from sim_plant.catalogue.imu import counts, put16
 from sim_plant.option_table import Num, Row
 
 WHO_AM_I, CTRL_REG1, CTRL_REG2, CTRL_REG3, STATUS_REG = 0x0F, 0x20, 0x21, 0x22, 0x27

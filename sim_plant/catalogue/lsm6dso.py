@@ -6,8 +6,8 @@ The LSM6DSO datasheet (DocID031470) gives the same identity as the LSM6DSOX's (W
 bits and reset behaviour (9.14 CTRL3_C, 9.26 STATUS_REG): the chip is that part's
 (:mod:`sim_plant.catalogue.lsm6dsox`, its registers in docs/parts.md), at this address."""
 
+from sim_plant.catalogue.imu import ImuPart
 from sim_plant.catalogue.lsm6dsox import WHO_AM_I_OPTION, Lsm6dsox
-from sim_plant.imu import ImuPart
 
 
 class Lsm6dso(Lsm6dsox):

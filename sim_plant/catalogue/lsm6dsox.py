@@ -1,6 +1,6 @@
 """Part ``lsm6dsox``: an ST LSM6DSOX-class 6-axis IMU (LSM6DS family registers) on I2C
 (address 0x6A, 0x6B with SA0 high) or SPI (chip select ``<name>.cs``), fed by the
-body's motion (:mod:`sim_plant.imu`).
+body's motion (:mod:`sim_plant.catalogue.imu`).
 
 ``who_am_i`` picks the family member a driver checks for: 0x6C (LSM6DSOX, LSM6DSO), 0x6A
 (LSM6DSL), 0x69 (LSM6DS3, LSM6DS33); the registers below are the LSM6DSOX's for each.
@@ -17,7 +17,7 @@ gyro's (the accelerometer's while the gyro is powered down)."""
 
 from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.catalogue.base import Opt
-from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
+from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart, counts, put16
 from sim_plant.option_table import OneOf
 
 WHO_AM_I = 0x0F

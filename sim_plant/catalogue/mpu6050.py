@@ -1,6 +1,6 @@
 """Part ``mpu6050``: an InvenSense MPU-6050-class 6-axis IMU (the MPU-6xxx register map)
 on I2C (address 0x68, 0x69 with AD0 high) or SPI (the MPU-6500/6886/9250 have it;
-chip select ``<name>.cs``), fed by the body's motion (:mod:`sim_plant.imu`).
+chip select ``<name>.cs``), fed by the body's motion (:mod:`sim_plant.catalogue.imu`).
 ``who_am_i`` picks the family member a driver checks for (0x68 MPU-6050, 0x70 MPU-6500,
 0x19 MPU-6886, 0x71 MPU-9250).
 
@@ -16,8 +16,8 @@ once in the run's output)."""
 
 from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.catalogue.base import Opt
+from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart, counts, put16
 from sim_plant.controls import Control
-from sim_plant.imu import G_M_S2, Imu, ImuPart, counts, put16
 from sim_plant.option_table import Num, OneOf
 
 SMPLRT_DIV, CONFIG, GYRO_CONFIG, ACCEL_CONFIG = 0x19, 0x1A, 0x1B, 0x1C

@@ -16,8 +16,8 @@ modelled: the OSR's noise, the interrupt pin. A write to another register is nam
 in the run's output."""
 
 from sim_plant.buses import DataReady, RegisterDevice, SelfClearing
+from sim_plant.catalogue.imu import counts, put16
 from sim_plant.catalogue.lis3mdl import Lis3mdl, Lis3mdlChip
-from sim_plant.imu import counts, put16
 
 DATA, STATUS, TOUT, CONTROL1, CONTROL2, SET_RESET, CHIP_ID = 0x00, 0x06, 0x07, 0x09, 0x0A, 0x0B, 0x0D
 DRDY, OVL, DOR = 0x01, 0x02, 0x04

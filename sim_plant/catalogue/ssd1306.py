@@ -27,8 +27,8 @@ trace folder has the last as ``<name>.png`` and all as ``<name>.gif`` (``host/ar
 
 Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
-from sim_plant.buses import CS_OPTION, CS_SIGNAL, SCK_SIGNAL, BusDevice, BusName, check_placement, chip_select
-from sim_plant.catalogue.base import Build, Opt, PartType, Sig
+from sim_plant.buses import BusDevice, BusName, check_placement, chip_select
+from sim_plant.catalogue.base import CS_OPTION, CS_SIGNAL, SCK_SIGNAL, Build, Opt, PartType, Sig
 from sim_plant.option_table import Flag, Num, OneOf
 
 WIDTH = 128

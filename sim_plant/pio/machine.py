@@ -69,7 +69,7 @@ class StateMachine:
 
     def __deepcopy__(self, memo):
         """Its fields are numbers, the frozen config and the two FIFOs (a look-ahead's copy,
-        often: :meth:`PioBlock.probe`, ``host/rig/pio_out.py``)."""
+        often: :meth:`PioBlock.probe`, ``host/rig/hardware/pio_out.py``)."""
         twin = StateMachine.__new__(StateMachine)
         memo[id(self)] = twin
         twin.__dict__.update(self.__dict__)

@@ -66,9 +66,12 @@ def write(p, name, reg, *values):
 
 
 def register_chips() -> dict:
-    """Every register chip class the catalogue's modules define, by name."""
+    """Every register chip class the catalogue's parts define, by name (not the modules
+    beside them: the IMU chips' shared ``Imu`` in ``imu.py`` is no chip of its own)."""
     found = {}
     for info in pkgutil.iter_modules(catalogue.__path__):
+        if info.name in catalogue.NOT_ENTRIES:
+            continue
         module = importlib.import_module(f"sim_plant.catalogue.{info.name}")
         for obj in vars(module).values():
             if isinstance(obj, type) and issubclass(obj, B.RegisterDevice) and obj.__module__ == module.__name__:

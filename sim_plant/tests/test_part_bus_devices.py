@@ -1,4 +1,4 @@
-"""Chips on a bus (sim_plant/buses.py, sim_plant/imu.py, the lsm6dsox and mpu6050 parts),
+"""Chips on a bus (sim_plant/buses.py, sim_plant/catalogue/imu.py, the lsm6dsox and mpu6050 parts),
 played byte by byte as the shim's BUS frames play them: identity registers, auto-increment,
 the gyro's truth + bias + noise + saturation, the accelerometer's gravity, the data-ready
 line at the output data rate, SPI chip select, and the refusals at assembly."""

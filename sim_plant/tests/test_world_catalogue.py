@@ -9,7 +9,7 @@ import pytest
 
 from host.core.errors import ConfigError
 from host.core.paths import REPO
-from host.rig.rigfile import load_rig
+from host.rig.config.rigfile import load_rig
 from sim_plant import catalogue, world
 from sim_plant.catalogue.assembly import assemble, with_world
 from sim_plant.catalogue.base import PartsError

@@ -1,0 +1,362 @@
+"""Bus reads the shim answers without an exchange (``docs/protocol.md``, BUS_IMAGE and
+BUS_DONE; ``docs/clock.md``, "Bus reads inside the board").
+
+With each STATE and each BUS_REPLY the host sends an image: for the I2C register reads the
+firmware has made on its buses (an address, the register bytes written, the count read),
+the bytes each would read now and the instant until which they stay the same. The shim
+answers such a read inside that window itself and tells the host with its next message
+(BUS_DONE, the image's entry and the instant); the host writes it to the trace as it writes
+a transfer it answers, so the bus readings, budgets and notes are the same as when every
+transfer is an exchange.
+
+A read goes in the image only if it is **pure**: tried on a copy of the chip, it reads the
+same bytes at the window's first and last instant and changes nothing of the chip but its
+register pointer (no sample drawn from the plant's generator, no data-ready bit cleared,
+no line that falls). Its window ends at the chip's next event in the plant (``next_us``:
+a ranger's measurement, a data-ready line), its next output-data-rate tick (each
+``DataReady``'s period, the IMU's samples) and its next self-clearing deadline; a chip
+whose registers change otherwise (one that reads the plant at a transfer, ``take_in``,
+or sets other parts' inputs, ``pass_on``, or has inputs of its own) is never imaged. The
+image is taken with the plant at the firmware's instant, before the lookahead runs the
+plant on.
+
+The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, the reply's
+horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
+instant makes it do but reply: the plant brought to the instant, the transfer played on the
+chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
+go exactly as with an exchange, one round trip fewer. Images are sent only with
+``MPY_FIL_BUS_IMAGES=1`` in the host's environment (in lockstep): without it every transfer
+is an exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
+They are off by default because, measured, they still cost the host and the shim about what
+the round trips they save cost (docs/bench.md, "Bus reads without an exchange, made cheaper"):
+the host's work for a read answered in the shim is the same as for an exchange (the plant,
+the trace), so only the round trip is saved, and the images' own building and frames spend it.
+
+What keeps them cheap: a pure read's entry is kept (``known``) while no BUS frame reaches
+its chip and its steady window lasts, so an image mostly repeats entries it has, and a read
+is tried again only after a transfer to its chip or past its window, and not while its next
+read, at the pace the firmware reads it, falls after that window (an IMU's data-ready poll
+is tried once a sample, at the new tick); a trial copies the chip's attributes once for
+both its instants; a kind of message whose last images answered nothing gets one only now
+and then (``IDLE``, ``PROBE``); and the shim reads the payload in place at a transfer
+(``_hilframe.bus_image_find``), decoding nothing when it arrives.
+"""
+
+import os
+
+from host.core.errors import LinkError
+from host.link import frames as F
+from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice, tick_after
+
+ENV = "MPY_FIL_BUS_IMAGES"
+MAX_READS = 6  # read shapes imaged a bus handle: the ones read last (the firmware's polls)
+IDLE = 4  # images in a row with a kind of message that answered nothing: from then on,
+PROBE = 16  # an image with every 16th message of that kind only
+_BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
+
+
+def wanted() -> bool:
+    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): each pure read they answer saves
+    an exchange, but building and sending them costs the host and the shim about as much
+    as the round trips they save on a pty (docs/bench.md)."""
+    return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true")
+
+
+def steady_until(device, t_us: int) -> int:
+    """The first instant after ``t_us`` at which a read of ``device`` may answer otherwise
+    (``t_us`` itself: the chip is never imaged)."""
+    kind = type(device)
+    if (
+        not isinstance(device, RegisterDevice)
+        or device.inputs
+        or kind.take_in is not BusDevice.take_in
+        or kind.pass_on is not BusDevice.pass_on
+    ):
+        return t_us
+    until = getattr(device, "next_us", NEVER_US)
+    periods = [getattr(device, bit.period)() for bit in device.DATA_READY]
+    periods.append(device.period_us())
+    for period in periods:
+        if period:
+            until = min(until, tick_after(t_us, period))
+    for t_clear in device.clearing.values():
+        until = min(until, t_clear)
+    return until
+
+
+class _Draws(Exception):
+    """A trial read drew from a generator (the tripwire in its place on the copy)."""
+
+
+class _Tripwire:
+    """A chip copy's generator during a trial: any use of it is a draw."""
+
+    def __getattr__(self, name):
+        raise _Draws(name)
+
+
+_TRIPWIRE = _Tripwire()
+_PLAIN = frozenset((int, float, bool, str, bytes, tuple, frozenset, type(None)))  # (neither copied nor a generator)
+
+
+def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rng) -> list:
+    """The read on one copy of ``device`` at each of ``instants`` in turn: the bytes read at
+    each and the register pointer the read leaves (``pointer``, ``pointed``), up to the first
+    read that changed anything of the chip but its pointer or drew from a generator (the
+    plant's or its own): None there, and nothing after. The copy's
+    generators are tripwires; the plant's, where the chip does not hold it, is checked by
+    its state. A pure read leaves the copy as the chip is, so the next instant's read is
+    tried on the same copy."""
+    before = device.__dict__
+    state = before.copy()
+    held = []
+    for key, value in state.items():
+        if type(value) in _PLAIN:
+            continue
+        if isinstance(value, (list, dict, set)):
+            state[key] = value.copy()
+        elif hasattr(value, "bit_generator"):
+            held.append(key)
+    trial = object.__new__(type(device))
+    trial.__dict__.update(state)
+    state = trial.__dict__
+    plant_rng = rng is not None and not any(before[k] is rng for k in held)
+    out = []
+    for t_us in instants:
+        for key in held:
+            state[key] = _TRIPWIRE
+        saved = rng.bit_generator.state if plant_rng else None
+        try:
+            status, count, got = _BUS_SET._xfer(t_us, [trial], True, address, n_read, wrote)
+        except _Draws:
+            status = None
+        finally:
+            for key in held:
+                state[key] = before[key]
+        if plant_rng and rng.bit_generator.state != saved:
+            rng.bit_generator.state = saved
+            status = None
+        if status != F.BUS_OK or count != len(wrote):
+            out.append(None)
+            return out
+        left = (state["pointer"], state["pointed"])
+        state["pointer"], state["pointed"] = before["pointer"], before["pointed"]
+        try:
+            same = state == before
+        except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
+            same = False
+        out.append((got, left) if same else None)
+        if not same:
+            return out
+    return out
+
+
+class BusImages:
+    """The reads the firmware makes on each bus handle, and the image last sent."""
+
+    def __init__(self, plant, wiring, bus_trace):
+        self.plant = plant
+        self.wiring = wiring
+        self.bus_trace = bus_trace
+        self.on = wanted()
+        self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
+        self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
+        self.once: set = set()  # the same, read once so far (a read made once is not imaged)
+        # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us,
+        # the register pointer the read leaves)
+        self.sent: dict = {}
+        self.local = 0  # transfers answered in the shim
+        self.plain_buses: dict = {}  # bus -> no chip on it reads the plant at a transfer (_plain)
+        # (handle, read shape) -> (version, t_us, steady_us, bytes read): a pure read tried at
+        # t_us and at steady_us - 1, valid between them while no transfer reaches its chip
+        # (bytes read None: one not imaged between them, its next read due after them)
+        self.known: dict = {}
+        self.versions: dict = {}  # (bus, address) or bus -> transfers played on it (the BUS frames')
+        self.read_at: dict = {}  # (handle, read shape) -> the instants of its last two reads
+        # What the images sent with each kind of message did (a STATE; a BUS_REPLY to a read
+        # shape): kinds whose last IDLE images answered nothing get one every PROBE-th time
+        self.sent_with = None  # the kind of message the last image went with
+        self.used = False  # the shim answered a read from it
+        self.idle: dict = {}  # kind -> images in a row that answered nothing
+        self.passed: dict = {}  # kind -> messages without an image since the last
+
+    def _plain(self, bus: str) -> bool:
+        """No chip on ``bus`` reads the plant or sets its inputs at a transfer (``take_in``,
+        ``pass_on``: every transfer on the bus calls them, whatever its address)."""
+        plain = self.plain_buses.get(bus)
+        if plain is None:
+            kinds = [type(d) for d in self.plant.bus_devices() if d.bus == bus]
+            plain = self.plain_buses[bus] = bool(kinds) and all(
+                k.take_in is BusDevice.take_in and k.pass_on is BusDevice.pass_on for k in kinds
+            )
+        return plain
+
+    def forget(self) -> None:
+        """The firmware restarted: its handles and reads are new."""
+        self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
+        self.known, self.versions, self.read_at = {}, {}, {}
+        self.sent_with, self.used, self.idle, self.passed = None, False, {}, {}
+
+    def seen(self, t_us: int, h: int, op: int, address: int, n_read: int, wrote: bytes, status: int) -> None:
+        """A BUS frame's transfer at ``t_us``: a register read to image from now on. What it
+        reached of the chips is known no more (the chip at ``address``: an I2C transfer; else
+        its bus's)."""
+        if not self.on:
+            return
+        key = self.wiring.handles[h].key
+        where = (key, address) if op in (F.BUS_XFER, F.BUS_XFER_NOSTOP) else key
+        self.versions[where] = self.versions.get(where, 0) + 1
+        if op != F.BUS_XFER or not wrote or not n_read or status != F.BUS_OK:
+            return
+        shape = (address, bytes(wrote), n_read)
+        key = (h, *shape)
+        if key in self.impure:
+            return
+        self._read_at(h, shape, t_us)
+        if key in self.once:  # (read again: a poll, or a read the firmware repeats)
+            self._last(h, shape)
+        else:
+            self.once.add(key)
+
+    def _read_at(self, h: int, shape: tuple, t_us: int) -> None:
+        last = self.read_at.get((h, shape))
+        self.read_at[(h, shape)] = (t_us if last is None else last[1], t_us)
+
+    def _last(self, h: int, shape: tuple) -> None:
+        shapes = self.reads.setdefault(h, [])
+        if shapes and shapes[-1] == shape:
+            return
+        if shape in shapes:
+            shapes.remove(shape)
+        shapes.append(shape)
+        if len(shapes) > MAX_READS:
+            del shapes[0]
+
+    def image(self, t_us: int, horizon_us: int, kind=None) -> bytes | None:
+        """The BUS_IMAGE payload for the plant at ``t_us`` (None: nothing to image), whose
+        reads leave the shim the horizon ``horizon_us`` (the lease a BUS_REPLY would carry:
+        the plant's next event, or the run's end), valid no later than it; ``kind``: the
+        message it goes with (with a kind whose last IDLE images answered nothing, one is
+        sent every PROBE-th time: after an IMU's sample read the firmware's callback returns
+        and waits, and the image would be built for nothing)."""
+        self.sent = {}
+        if not self._worth(kind) or not self.reads or horizon_us <= t_us:
+            return None
+        entries, sent = [], []
+        known, versions = self.known, self.versions
+        for h, shapes in self.reads.items():
+            bus = self.wiring.handles[h].key
+            on_bus = versions.get(bus, 0)
+            for shape in list(shapes):
+                address, wrote, n_read = shape
+                version = (on_bus, versions.get((bus, address), 0))
+                hit = known.get((h, shape))
+                if hit is None or hit[0] != version or not hit[1] <= t_us < hit[2]:
+                    hit = self._try(h, bus, shape, t_us, horizon_us, version)
+                    if hit is None:
+                        continue
+                if hit[3] is None:  # (not imaged in this window)
+                    continue
+                until = min(hit[2], horizon_us)
+                if until <= t_us:
+                    continue
+                got, left = hit[3]
+                sent.append((h, address, wrote, n_read, got, horizon_us, left))
+                entries.append((h, address, until, wrote, got))
+        if not entries:
+            return None
+        self.sent = dict(zip(F.bus_image_offsets(entries), sent, strict=True))
+        self.sent_with, self.used = kind, False
+        return F.pack_bus_image(t_us, horizon_us, entries)
+
+    def _worth(self, kind) -> bool:
+        """Whether to image with a message of ``kind``; the last image's outcome noted first
+        (the shim drops an image at the next message it takes)."""
+        last, self.sent_with = self.sent_with, None
+        if last is not None:
+            if self.used:
+                self.idle.pop(last, None)
+            else:
+                self.idle[last] = self.idle.get(last, 0) + 1
+        if self.idle.get(kind, 0) < IDLE:
+            return True
+        passed = self.passed.get(kind, 0) + 1
+        self.passed[kind] = 0 if passed >= PROBE else passed
+        return passed >= PROBE
+
+    def _try(self, h: int, bus: str, shape: tuple, t_us: int, horizon_us: int, version: tuple):
+        """A read tried on copies of its chip at ``t_us`` and at the end of its steady window
+        (kept in ``known`` while no transfer reaches the chip), or, where the chip reads
+        otherwise by then, at the horizon's (for this image alone); None: not imaged now."""
+        address, wrote, n_read = shape
+        self.known.pop((h, shape), None)
+        device = self.plant.bus_device(bus, address)
+        if device is None:
+            return None
+        steady = steady_until(device, t_us)
+        until = min(steady, horizon_us)
+        if until <= t_us:
+            return None
+        last = self.read_at.get((h, shape))
+        if last is not None and last[1] > last[0] and 2 * last[1] - last[0] >= until:
+            # (read at the firmware's pace, it comes next after the window: not tried until then)
+            self.known[(h, shape)] = (version, t_us, until, None)
+            return None
+        rng = self.plant.rng
+        first, *last = _trials(device, (t_us, steady - 1), address, n_read, wrote, rng)
+        if first is None:
+            self.impure.add((h, *shape))  # (a sample read, a flag cleared: the host's)
+            self.reads[h] = [s for s in self.reads[h] if s != shape]
+            return None
+        if last == [first]:
+            hit = self.known[(h, shape)] = (version, t_us, steady, first)
+            return hit
+        if steady > horizon_us:  # (it reads otherwise before its next event: to the horizon, not kept)
+            if _trials(device, (horizon_us - 1,), address, n_read, wrote, rng) == [first]:
+                return (version, t_us, horizon_us, first)
+        return None
+
+    def done(self, rig, t_us: int, at: int) -> None:
+        """BUS_DONE: the shim answered the entry at offset ``at`` of the last image at ``t_us``. The host
+        does what a BUS frame at ``t_us`` makes it do (the plant brought to ``t_us``, the
+        transfer played on the chips and traced) but send the reply, and checks that the
+        reply is the one the shim took: the bytes and the horizon.
+
+        The read is pure (its trials changed nothing of the chip but its register pointer),
+        so playing it on the chips is leaving the pointer where the trial's read left it: the
+        plant's transfer path (``bus_transfer``: its other chips' ``take_in`` and ``pass_on``,
+        the chip's registers byte by byte, the plant's schedule) runs only on a bus where a
+        chip reads the plant at every transfer (``_plain``)."""
+        try:
+            h, address, wrote, n_read, got, horizon_us, left = self.sent[at]
+        except KeyError:
+            raise LinkError(
+                f"BUS_DONE names an entry at offset {at} of a bus image whose entries are at "
+                f"{sorted(self.sent)} (link protocol error)"
+            ) from None
+        rig.clock.catch_up(t_us)
+        info = self.wiring.handles[h]
+        self.local += 1
+        self.used = True
+        rig.stats.bus_local += 1
+        trace = rig.bus_trace
+        trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
+        try:
+            device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
+            if device is not None:
+                device.pointer, device.pointed = left
+                reply = F.BUS_OK, len(wrote), got
+                trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
+            else:
+                reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
+        finally:
+            trace.asking = False
+        lease = rig.clock.lease_us()
+        if reply != (F.BUS_OK, len(wrote), got) or lease != horizon_us:
+            raise LinkError(
+                f"a bus read the shim answered from the host's image at t={t_us} us ({info.key} 0x{address:02x} "
+                f"register {wrote.hex()}) reads {reply[2].hex()} with horizon {lease} us on the chips, expected "
+                f"{got.hex()} with horizon {horizon_us} us as imaged (host.rig.hardware.busimage: the image was wrong)"
+            )
+        self._last(h, (address, wrote, n_read))
+        self._read_at(h, (address, wrote, n_read), t_us)

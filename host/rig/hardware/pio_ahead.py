@@ -1,0 +1,212 @@
+"""PIO reads answered ahead (``docs/shim.md``, "PIO reads answered ahead"; PIO_AHEAD and
+PIO_DONE in ``docs/protocol.md``).
+
+A read of a state machine is often several frames, the later ones at instants the first
+one's reply fixes: a decoder read as the SDK's ``quadrature_encoder_get_count`` reads it
+(``rx_fifo()``, the words it gives taken, a ``get()`` that finds the FIFO empty and waits
+the microsecond the reply names, a ``get()`` again), a request (``put()``, then a ``get()``
+at the same instant, then again after the wait). With the reply to the first frame the
+host sends the replies to the frames that follow it, each played on a copy of the blocks
+(a twin) at its instant:
+
+- a ``get`` or a ``put`` the FIFO did not serve whole is asked again after the wait its
+  reply names (rp2.py's ``StateMachine.get``, ``put``);
+- after a LEVELS that the firmware drained, or a ``put``, the frame that came next at that
+  instant the last time (a ``get``), learned per state machine.
+
+Only while the pins are known to stay as they are (before the reply's horizon: the plant
+changes nothing before it) and while no state machine of the block drives a pin (its frames
+would give the plant something). The shim takes an answer for that very frame at that
+very instant, while no frame went to the host since the reply (an output, a CFG, another
+exchange: the plant may go otherwise), and tells the host with its next message
+(PIO_DONE); the host traces the frame with that reply at its instant and takes the twin's
+blocks once the shim has answered every frame sent ahead (the same frames on the same
+blocks with the same pins: what the host's own blocks would do), or plays the frames it
+answered on its own blocks when it next needs them. ``MPY_FIL_PIO_AHEAD=check`` plays each
+one on the host's blocks at once and stops the run if it answers otherwise;
+``MPY_FIL_PIO_AHEAD=0`` sends none (every frame an exchange: the path the answers ahead
+match, ``host/tests/test_pio_ahead.py``).
+"""
+
+import copy
+import os
+import struct
+
+from host.core.errors import LinkError
+from host.link import frames as F
+from host.rig.hardware.pio_out import driven_pins
+from host.shim._hilpio import pack_pio_ahead
+
+ENV = "MPY_FIL_PIO_AHEAD"
+AHEAD_MAX = 4  # frames answered ahead after one reply
+
+
+class _Sent:
+    """The answers ahead last sent: the frames and replies, the twin they were played on,
+    the pins' changes the host had then, how many the shim took, how many the blocks had."""
+
+    def __init__(self, h: int, sm_id: int, entries: list, twin, n_pending: int):
+        self.h, self.sm_id, self.entries, self.twin, self.n_pending = h, sm_id, entries, twin, n_pending
+        self.used = 0
+        self.played = 0
+
+
+class _NoOutputs:
+    """A twin's outputs: what it drives reaches no plant."""
+
+    def after(self, block, t_us: int) -> None:
+        pass
+
+
+class ReadsAhead:
+    """The answers ahead of one rig's PIO (``host.rig.hardware.pio.PioHost``)."""
+
+    def __init__(self, host, learning: bool = True):
+        self.host = host
+        self.learning = learning  # (a twin's: it plays frames, it learns and sends nothing)
+        way = os.environ.get(ENV, "").strip().lower()
+        self.on = learning and way not in ("0", "no", "false")
+        self.check = way == "check"  # (each frame answered ahead played again at once and compared)
+        self.reset()
+
+    def reset(self) -> None:
+        self.follows: dict = {}  # (sm, op) -> (op, n_read, drained): the frame that came next at its instant
+        self.last = None  # (sm, op, t_us, RX words given): the last frame, for follows
+        self.sent: _Sent | None = None
+        self.local = 0  # frames the shim answered ahead
+
+    # -- the host's frames ------------------------------------------------------------------
+    def before(self, t_us: int, sm_id: int, op: int, address: int, n_read: int) -> None:
+        """A frame reaches the blocks: the frames answered ahead before it first; a frame at
+        the instant of the last, on the same state machine, is the one that follows that kind
+        of frame (after a LEVELS: whether it took every word the LEVELS gave)."""
+        if not self.learning:
+            return
+        if self.sent is not None:
+            self.catch_up()
+        last = self.last
+        if last is not None and last[0] == sm_id and last[2] == t_us and op == F.BUS_PIO_GET:
+            popped = address >> 8
+            drained = popped == last[3] if last[1] == F.BUS_PIO_LEVELS else not popped
+            self.follows[(sm_id, last[1])] = (op, n_read, drained)
+        self.last = None
+
+    def after(self, t_us: int, sm_id: int, op: int, reply: tuple) -> None:
+        if self.learning:
+            self.last = (sm_id, op, t_us, reply[2][0] if op == F.BUS_PIO_LEVELS else 0)
+
+    def catch_up(self) -> None:
+        """The frames the shim answered ahead that the blocks have not had yet, played on them."""
+        sent, self.sent = self.sent, None
+        if sent is None:
+            return
+        for t, op, address, n_read, data, *_reply in sent.entries[sent.played : sent.used]:
+            self.host.transfer(t, sent.sm_id, op, address, n_read, data)
+
+    # -- what goes to the shim --------------------------------------------------------------
+    def answer(self, h: int, t_us: int, sm_id: int, frame: tuple, reply: tuple, lease: int) -> bytes | None:
+        """The PIO_AHEAD for the reply to ``frame`` (op, address, n_read, data) at ``t_us``: the
+        frames the shim's read makes next on this state machine, each answered on a twin at
+        its instant, as long as the pins stay as they are (before ``lease``, the plant's next
+        change) and no state machine of the block drives a pin; None: nothing to send."""
+        self.catch_up()
+        if not self.on:
+            return None
+        host = self.host
+        block = host.blocks[sm_id >> 2]
+        if any(driven_pins(run.sm) for run in block.running.values()):
+            return None
+        twin = None
+        entries = []
+        t, (op, address, n_read, data) = t_us, frame
+        for _ in range(AHEAD_MAX):
+            nxt = self._next(sm_id, t, op, address, n_read, data, reply)
+            if nxt is None or nxt[0] >= lease:
+                break
+            if twin is None:
+                twin = self._twin()
+            t, op, address, n_read, data = nxt
+            reply = twin.transfer(t, sm_id, op, address, n_read, data)
+            entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2]))
+        if not entries:
+            return None
+        self.sent = _Sent(h, sm_id, entries, twin, len(host.pending))
+        return pack_pio_ahead(entries)
+
+    def _next(self, sm_id, t, op, address, n_read, data, reply):
+        """The frame the shim makes next after ``op``'s ``reply`` (t, op, address, n_read, data),
+        or None when it is not known."""
+        status, count, got = reply
+        if status != F.BUS_OK:
+            return None
+        wait = struct.unpack_from("<I", got, 0)[0] if op in (F.BUS_PIO_GET, F.BUS_PIO_PUT) else 0
+        if op == F.BUS_PIO_GET and count < n_read and wait:  # (no wait named: the twin probed to its horizon)
+            return t + wait, op, 0, n_read - count, b""
+        if op == F.BUS_PIO_PUT and count < len(data) // 4 and wait:
+            return t + wait, op, 0, 0, data[4 * count :]
+        follow = self.follows.get((sm_id, op))
+        if follow is None or op not in (F.BUS_PIO_LEVELS, F.BUS_PIO_PUT) or not follow[2]:
+            return None
+        popped = got[0] if op == F.BUS_PIO_LEVELS else 0
+        return t, follow[0], popped << 8, follow[1], b""
+
+    def _twin(self):
+        """A copy of the host's PIO to play frames ahead on: its own blocks (a block that runs
+        nothing, with no drive or raise to hand on, shared: time and frames do nothing to it),
+        inputs and IRQ raises; it gives the plant nothing and learns nothing."""
+        host = self.host
+        twin = copy.copy(host)
+        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else copy.deepcopy(b) for b in host.blocks)
+        twin.pending, twin.levels = list(host.pending), dict(host.levels)
+        twin.raised = (list(host.raised[0]), list(host.raised[1]))
+        twin.outputs = _NoOutputs()
+        twin.ahead = _TWIN
+        twin.probe_in_place = True  # (a FIFO's probe leaves the twin at the instant it names: where its next frame is)
+        return twin
+
+    # -- what the shim answered -------------------------------------------------------------
+    def done(self, rig, t_us: int, sm_id: int, entry: int) -> None:
+        """PIO_DONE: the shim answered entry ``entry`` of the last PIO_AHEAD at ``t_us``. The
+        host does what that frame makes it do but reply: the plant brought to ``t_us``, the
+        frame traced with the reply sent ahead, and played on the blocks (the twin's taken
+        once the shim has answered every frame sent ahead, else each frame played when the
+        host next needs its blocks: :meth:`catch_up`); the reply's horizon checked."""
+        sent = self.sent
+        if sent is None or sent.sm_id != sm_id or sent.used != entry or entry >= len(sent.entries):
+            raise LinkError(
+                f"PIO_DONE names entry {entry} on state machine {sm_id}, not the next one answered ahead "
+                f"({None if sent is None else (sent.sm_id, sent.used, len(sent.entries))}) (link protocol error)"
+            )
+        t, op, address, n_read, data, status, count, horizon_us, got = sent.entries[entry]
+        if t != t_us:
+            raise LinkError(f"PIO_DONE at t={t_us} us for a frame answered ahead at {t} us (link protocol error)")
+        rig.clock.catch_up(t_us)
+        self.local += 1
+        h, host = sent.h, self.host
+        info = rig.wiring.handles[h]
+        if self.check:  # (played on the host's blocks now: before() plays those before it first)
+            reply = rig.bus_trace.answer(rig.plant, info, h, t_us, op, address, n_read, data)
+            sent.used = sent.played = entry + 1
+            self.sent = sent
+        else:
+            reply = rig.bus_trace.replay(rig.plant, info, h, t_us, op, address, n_read, data, (status, count, got))
+            sent.used = entry + 1
+            if sent.used == len(sent.entries) and len(host.pending) == sent.n_pending:
+                twin = sent.twin
+                host.blocks, host.pending, host.levels, host.raised = (
+                    twin.blocks,
+                    twin.pending,
+                    twin.levels,
+                    twin.raised,
+                )
+                sent.played = sent.used
+        lease = rig.clock.lease_us()
+        if reply != (status, count, got) or lease != horizon_us:
+            raise LinkError(
+                f"a PIO frame the shim answered ahead at t={t_us} us (state machine {sm_id}, op {op}) answers "
+                f"{reply} with horizon {lease} us on the host's blocks, expected {(status, count, got)} with "
+                f"horizon {horizon_us} us as sent (host.rig.hardware.pio_ahead: the answer ahead was wrong)"
+            )
+
+
+_TWIN = ReadsAhead(None, learning=False)  # (a twin's: it learns and sends nothing)
