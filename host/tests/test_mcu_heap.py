@@ -208,11 +208,12 @@ def test_checkouts_at_paths_of_other_lengths_give_the_same_trace_with_mcu_time(t
         )
 
 
-SHIM_CHANGE = {
-    # the clock's syncs go through deeper frames of the shim's, which allocate on the way and
-    # keep some of it; the shim's module holds more objects from its import on
-    "_hil": """
-        _extra = [bytearray(64) for _ in range(300)]
+def shim_change(pad: int, depth: int) -> dict:
+    """The shim's ``_hil`` with ``pad`` more objects held from its import and its clock syncs
+    through ``depth`` more frames of its own, which allocate on the way and keep some of it."""
+    return {
+        "_hil": f"""
+        _extra = [bytearray(64) for _ in range({pad})]
         _extra_kept = []
 
 
@@ -229,24 +230,32 @@ SHIM_CHANGE = {
             return lambda t_target, watch: deeper(depth, t_target, watch)
 
 
-        _released_run_until = _extra_deeper(_released_run_until, 20)
-    """,
-}
-"""A change of the shim's own work only: more objects, deeper frames, garbage. The firmware sees
-the same shim (what it calls does and returns the same)."""
+        _released_run_until = _extra_deeper(_released_run_until, {depth})
+    """
+    }
+
+
+SHIM_CHANGES = ((300, 20), (37, 3))
+"""Changes of the shim's own work only (:func:`shim_change`): more objects, deeper frames,
+garbage. The firmware sees the same shim (what it calls does and returns the same). Two of
+them: whether one moved a trace before depended on where the heap's blocks fell (the tree's
+path too)."""
 
 
 @pytest.mark.parametrize(("app", "world", "seed", "seconds"), [("duct", "multi-branch", 2, 4.0)])
 def test_a_change_of_the_shims_own_work_leaves_the_trace_with_mcu_time_unchanged(tmp_path, app, world, seed, seconds):
     """The same firmware gets the same charged time whatever the shim does internally
     (docs/mcu-time.md, "The collector's pause"): the duct robot's multi-branch run with MCU time
-    on gives one trace from the tree as it is and from one whose shim does more of its own work
-    (SHIM_CHANGE). (Before the collector's finalisers were the interpreter's, and its count of
+    on gives one trace from the tree as it is and from ones whose shim does more of its own work
+    (SHIM_CHANGES). (Before the collector's finalisers were the interpreter's, and its count of
     the firmware's blocks in use the board's, the second read a sample 45 us earlier at 1.48 s.)"""
     cpu = "esp32@240MHz"
     plain = _run_in_checkout(tmp_path / "plain", app, world, seed, seconds, cpu)
-    changed = _run_in_checkout(tmp_path / "changed", app, world, seed, seconds, cpu, SHIM_CHANGE)
-    assert changed == plain, (
-        f"{app} in {world}, seed {seed}, cpu {cpu}: expected the same trace with the shim's own work changed,"
-        f" got {changed} against {plain} (traces: {tmp_path / 'plain' / 'out'}, {tmp_path / 'changed' / 'out'})"
-    )
+    for pad, depth in SHIM_CHANGES:
+        root = tmp_path / f"changed-{pad}-{depth}"
+        changed = _run_in_checkout(root, app, world, seed, seconds, cpu, shim_change(pad, depth))
+        assert changed == plain, (
+            f"{app} in {world}, seed {seed}, cpu {cpu}: expected the same trace with the shim holding {pad}"
+            f" objects more and syncing {depth} frames deeper, got {changed} against {plain}"
+            f" (traces: {tmp_path / 'plain' / 'out'}, {root / 'out'})"
+        )
