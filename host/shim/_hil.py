@@ -120,6 +120,8 @@ def cpu_start(getenv):
     _exempt(fast)
     # (the board's heap the firmware's collections are modelled in: only its own objects count)
     fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), int(getenv("HIL_CPU_HEAP") or 0))
+    if hasattr(fast, "heap_roots"):  # (what a board holds in C for the firmware: no other of the shim's
+        fast.heap_roots((_handles, _timers, _pending))  # objects keeps the firmware's alive in its count)
     _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
     _Console.irq = getattr(fast, "irq_us", None)  # (a build before it: callbacks do not preempt)
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end

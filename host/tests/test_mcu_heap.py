@@ -56,12 +56,12 @@ def churn(i, pad):
 """
 
 
-def _probe(folder, pad: int) -> dict:
+def _probe(folder, pad: int, probe: str = PROBE, harness_text: str = HARNESS) -> dict:
     harness = folder / "shim"  # (the harness's own folder, exempt as the shim's is)
     harness.mkdir(parents=True)
-    (harness / "harness.py").write_text(HARNESS)
+    (harness / "harness.py").write_text(harness_text)
     cpu = "rp2040@125MHz"
-    script = PROBE.replace("HARNESS", repr(str(harness) + "/")).replace("PAD", str(pad))
+    script = probe.replace("HARNESS", repr(str(harness) + "/")).replace("PAD", str(pad))
     script = script.replace("TABLE", repr(mcutime.CPUS[cpu].table().hex()))
     script = script.replace("HEAP", str(mcutime.heap_model(cpu)))
     (folder / "probe.py").write_text(script)
@@ -83,6 +83,55 @@ def test_what_the_harness_holds_changes_nothing_in_the_firmwares_counts(tmp_path
     assert first["gc_used_bytes"] > 0, f"expected the firmware's kept objects in use at them, got {first}"
     for pad, got in runs.items():
         assert got == first, f"the harness holding {pad} bytes more changed the firmware's counts: {got} vs {first}"
+
+
+# The firmware hands the harness's module what it made (as it hands the shim a buffer to write)
+# and calls it at every step; the harness's module (``KEEPING``) keeps the last of them, calls
+# deeper before it returns (its frames on the C stack) and opens and drops a file (an object
+# with a finaliser, which the interpreter's collector runs when it finds it dead), or does
+# none of it (``PLAIN``).
+HANDING = PROBE.replace("    harness.churn(i, PAD)\n", "    harness.take(s, i)\n")
+PLAIN = """
+def hold(pad):
+    pass
+
+def take(obj, i):
+    pass
+"""
+KEEPING = """
+kept = []
+
+def hold(pad):
+    pass
+
+def deeper(n, obj, i):
+    if n:
+        return deeper(n - 1, [obj, i], i)
+    kept.append(obj)
+    if len(kept) > 8:
+        kept.pop(0)
+    if i % 50 == 0:
+        open(__file__)  # (dropped: the collector that finds it dead closes it)
+
+def take(obj, i):
+    deeper(1 + i % 23, obj, i)
+"""
+
+
+def test_what_the_harness_keeps_finalises_or_calls_changes_nothing_in_the_firmwares_counts(tmp_path):
+    """The board's collector counts the firmware's blocks reachable from its own roots (its
+    frames, its modules, what the shim holds for it as a board's C does), not the harness's
+    modules, frames or C stack; the finalisers the interpreter's collector runs are not the
+    firmware's work. So a harness's module that keeps what the firmware handed it, calls deeper
+    and leaves files to be finalised gives the firmware the same counts as one that does
+    none of it: its collections, the bytes in use at each, its calls into C."""
+    plain = _probe(tmp_path / "plain", 0, HANDING, PLAIN)
+    keeping = _probe(tmp_path / "keeping", 0, HANDING, KEEPING)
+    assert plain["collects"] >= 2, f"expected the firmware's allocations to need collections, got {plain}"
+    assert keeping == plain, (
+        "expected the same counts whatever the harness's module keeps, finalises or calls; got"
+        f" {keeping} with one that keeps, against {plain}"
+    )
 
 
 def test_the_modelled_heap_is_the_boards_at_this_builds_size_or_the_rig_files():
@@ -115,7 +164,9 @@ print(hashlib.sha256((rig.artefacts / "trace.jsonl").read_bytes()).hexdigest())
 """
 
 
-def _run_in_checkout(root, app: str, world: str, seed: int, seconds: float, cpu: str) -> str:
+def _run_in_checkout(root, app: str, world: str, seed: int, seconds: float, cpu: str, shim: dict | None = None) -> str:
+    """The run's trace digest from a copy of the tree at ``root``, with ``shim``'s text appended
+    to the shim's modules it names (a module name: text)."""
     ignore = shutil.ignore_patterns("__pycache__", "build", "*.pyc")
     for name in TREE:
         src = REPO / name
@@ -123,6 +174,9 @@ def _run_in_checkout(root, app: str, world: str, seed: int, seconds: float, cpu:
             shutil.copytree(src, root / name, ignore=ignore)
         else:
             shutil.copy2(src, root / name)
+    for module, text in (shim or {}).items():
+        path = root / "host" / "shim" / f"{module}.py"
+        path.write_text(path.read_text() + textwrap.dedent(text))
     env = {**os.environ, "PYTHONPATH": str(root), "MPYFIL_CPU": cpu, "MICROPYTHON": str(interpreter.find())}
     env.pop("PYTHONPYCACHEPREFIX", None)
     out = subprocess.run(
@@ -151,4 +205,57 @@ def test_checkouts_at_paths_of_other_lengths_give_the_same_trace_with_mcu_time(t
         assert digest == digests[0], (
             f"{app} in {world}, seed {seed}, cpu {cpu}: the trace's digest is {digests[0]} from {roots[0]} and"
             f" {digest} from {root} (traces: {roots[0] / 'out'}, {root / 'out'})"
+        )
+
+
+def shim_change(pad: int, depth: int) -> dict:
+    """The shim's ``_hil`` with ``pad`` more objects held from its import and its clock syncs
+    through ``depth`` more frames of its own, which allocate on the way and keep some of it."""
+    return {
+        "_hil": f"""
+        _extra = [bytearray(64) for _ in range({pad})]
+        _extra_kept = []
+
+
+        def _extra_deeper(sync, depth):
+            def deeper(n, t_target, watch):
+                if n:
+                    junk = [n] * 8
+                    if n % 5 == 0:
+                        _extra_kept.append(bytearray(n))
+                        del _extra_kept[:-40]
+                    return deeper(n - 1, t_target, watch) or junk is None
+                return sync(t_target, watch)
+
+            return lambda t_target, watch: deeper(depth, t_target, watch)
+
+
+        _released_run_until = _extra_deeper(_released_run_until, {depth})
+    """
+    }
+
+
+SHIM_CHANGES = ((300, 20), (37, 3))
+"""Changes of the shim's own work only (:func:`shim_change`): more objects, deeper frames,
+garbage. The firmware sees the same shim (what it calls does and returns the same). Two of
+them: whether one moved a trace before depended on where the heap's blocks fell (the tree's
+path too)."""
+
+
+@pytest.mark.parametrize(("app", "world", "seed", "seconds"), [("duct", "multi-branch", 2, 4.0)])
+def test_a_change_of_the_shims_own_work_leaves_the_trace_with_mcu_time_unchanged(tmp_path, app, world, seed, seconds):
+    """The same firmware gets the same charged time whatever the shim does internally
+    (docs/mcu-time.md, "The collector's pause"): the duct robot's multi-branch run with MCU time
+    on gives one trace from the tree as it is and from ones whose shim does more of its own work
+    (SHIM_CHANGES). (Before the collector's finalisers were the interpreter's, and its count of
+    the firmware's blocks in use the board's, the second read a sample 45 us earlier at 1.48 s.)"""
+    cpu = "esp32@240MHz"
+    plain = _run_in_checkout(tmp_path / "plain", app, world, seed, seconds, cpu)
+    for pad, depth in SHIM_CHANGES:
+        root = tmp_path / f"changed-{pad}-{depth}"
+        changed = _run_in_checkout(root, app, world, seed, seconds, cpu, shim_change(pad, depth))
+        assert changed == plain, (
+            f"{app} in {world}, seed {seed}, cpu {cpu}: expected the same trace with the shim holding {pad}"
+            f" objects more and syncing {depth} frames deeper, got {changed} against {plain}"
+            f" (traces: {tmp_path / 'plain' / 'out'}, {root / 'out'})"
         )

@@ -629,6 +629,22 @@ static mp_obj_t cost(mp_obj_t weights, mp_obj_t heap) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_2(cost_obj, cost);
 
+// heap_roots(roots): what the harness holds for the firmware as a board holds it in C (its
+// devices, timers, queued callbacks: a tuple of at most 8 of the shim's lists, which the
+// shim's module holds too), marked from when the board's collector counts the firmware's
+// blocks in use (py/gc.c, mp_hil_board_used: no harness module is entered otherwise).
+static mp_obj_t heap_roots(mp_obj_t roots) {
+    size_t n;
+    mp_obj_t *items;
+    mp_obj_tuple_get(roots, &n, &items);
+    if (n > 8) {
+        mp_raise_ValueError(MP_ERROR_TEXT("heap_roots: at most 8"));
+    }
+    mp_hil_heap_roots(n, items);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(heap_roots_obj, heap_roots);
+
 // The cost of what was counted since the last take, in ps. (Taken at each batch of callbacks,
 // twice: the opcodes in blocks of eight, a block that did not change skipped by one memcmp,
 // since a handler runs a few dozen kinds of bytecode of the 256.)
@@ -765,6 +781,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
     {MP_ROM_QSTR(MP_QSTR_arm), MP_ROM_PTR(&arm_obj)},
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
+    {MP_ROM_QSTR(MP_QSTR_heap_roots), MP_ROM_PTR(&heap_roots_obj)},
     {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
     {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
     {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
