@@ -16,12 +16,22 @@ waits again needs no exchange for it. A lookahead the firmware voids (an output 
 it) makes the next ones wait: 1, 2, 4 ... up to LOOKAHEAD_BACKOFF_MAX exchanges."""
 LOOKAHEAD_BACKOFF_MAX = 256
 EDGE_SEGMENTS_ENV = "MPY_FIL_EDGE_SEGMENTS"
-"""``MPY_FIL_EDGE_SEGMENTS=1`` in the host's environment: encoder edges go to the shim as
-segments (EDGES, docs/clock.md "Encoder edges as segments"), not one change each."""
+"""Encoder edges go to the shim as segments (EDGES, docs/clock.md "Encoder edges as
+segments"), not one change each: by default, but with MCU time on; ``MPY_FIL_EDGE_SEGMENTS=1``
+in the host's environment turns them on with it too, ``=0`` off everywhere."""
 
 
-def edge_segments_wanted() -> bool:
-    return os.environ.get(EDGE_SEGMENTS_ENV, "").strip() in ("1", "yes", "true")
+def edge_segments_wanted(mcu_time: bool = False) -> bool:
+    """Whether encoder edges go as segments: the environment's ``MPY_FIL_EDGE_SEGMENTS`` when
+    it says, else all but with MCU time on (there the shim's own objects, other with segments,
+    can still move a modelled collection of the firmware's: docs/mcu-time.md, "The collector's
+    pause")."""
+    said = os.environ.get(EDGE_SEGMENTS_ENV, "").strip().lower()
+    if said in ("1", "yes", "true", "on"):
+        return True
+    if said in ("0", "no", "false", "off"):
+        return False
+    return not mcu_time
 
 
 @dataclass
@@ -51,8 +61,8 @@ class Clock:
         self.end_us = 0  # the end of the run being served (a bus transfer's lease stops there)
         self.images = None  # host.rig.busimage.BusImages: bus reads the shim may answer itself
         # Encoder edges as segments the shim expands (EDGES, docs/protocol.md): set by the rig
-        # (MPY_FIL_EDGE_SEGMENTS=1), used where edge_routes allows, up to a wait's end (never
-        # in the lookahead, whose changes the shim holds one by one)
+        # (edge_segments_wanted), used where edge_routes allows, up to a wait's end (never in
+        # the lookahead, whose changes the shim holds one by one)
         self.edge_segments = edge_segments_wanted()
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
@@ -207,11 +217,13 @@ class Clock:
         self._woke_us = t_us
         if segments:  # (with the STATE, in one write: the shim expands them as it applies it)
             self.session.hold(F.EDGES, F.pack_edges(base_us, segments))
-            self.log.edges(base_us, segments)
             self.stats.edge_segments += len(segments)
+        # (the trace has the changes the firmware takes, the segments' edges merged into the
+        # STATE's as the shim merges them: a run's trace is the same with segments or a change
+        # an edge wherever its exchanges are the same, docs/traces.md)
         try:
             state = F.pack_state(base_us, t_us, horizon, changes)
             self.session.send(F.STATE, state + self.pacing.take_trailer() if self.pacing.walled else state)
         finally:  # (logged once sent: its writing overlaps the firmware's work)
-            self.log.state(t_us, base_us, horizon, changes)
+            self.log.state(t_us, base_us, horizon, changes, segments)
         self.stats.link_round_trips += 1

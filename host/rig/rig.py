@@ -33,7 +33,7 @@ from host.rig.boardfs import BoardFs
 from host.rig.budgets import BudgetHooks, ComputeBudget
 from host.rig.busimage import BusImages
 from host.rig.bustrace import BusTrace
-from host.rig.clock import Clock
+from host.rig.clock import Clock, edge_segments_wanted
 from host.rig.firmware import Firmware
 from host.rig.inputs import Inputs
 from host.rig.messages import HANDLERS
@@ -55,7 +55,7 @@ class RunStats:
     bus_round_trips: int = 0  # BUS frames answered (a bus transfer's own exchange)
     bus_local: int = 0  # bus reads the shim answered from an image (BUS_DONE: host.rig.busimage)
     irq_edges: int = 0
-    edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.clock, MPY_FIL_EDGE_SEGMENTS=1)
+    edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.clock, edge_segments_wanted)
     rollbacks: int = 0
     lease_violations: int = 0
     round_trip_us: list = field(default_factory=list)
@@ -162,6 +162,7 @@ class Rig:
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self.clock.images = self.bus_images
+        self.clock.edge_segments = edge_segments_wanted(self.cpu_load is not None)
         self._progress_wall = 0.0
         self._progress_last = None
 
