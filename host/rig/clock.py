@@ -21,6 +21,13 @@ segments"), not one change each: by default, but with MCU time on; ``MPY_FIL_EDG
 in the host's environment turns them on with it too, ``=0`` off everywhere."""
 
 
+SEGMENT_MIN_EDGES = 32
+"""A wait whose encoders are due fewer edges than this (at their rates as its batch begins)
+takes them a change each: for so few, an EDGES frame and its expansion cost both ends more
+than the changes do (the rover's 7 or 8 edges an exchange cost it 4-5 % more instructions on
+each side as segments; docs/bench.md)."""
+
+
 def edge_segments_wanted(mcu_time: bool = False) -> bool:
     """Whether encoder edges go as segments: the environment's ``MPY_FIL_EDGE_SEGMENTS`` when
     it says, else all but with MCU time on (there the shim's own objects, other with segments,
@@ -137,7 +144,7 @@ class Clock:
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
             for change in plant.advance_to(plant.t_us, inputs.room()):
                 route(change, watch)
-        routes = self._edge_routes(watch) if self.edge_segments and self.wait is not None else None
+        routes = self._edge_routes(watch, target_us) if self.edge_segments and self.wait is not None else None
         while plant.t_us < target_us:
             t_next, limit = pacing.step(self, target_us, watch)
             if routes is not None and limit:
@@ -154,15 +161,18 @@ class Clock:
                 return True
         return False
 
-    def _edge_routes(self, watch):
+    def _edge_routes(self, watch, target_us: int):
         """Each encoder's channels as EDGES segments go (``Inputs.edge_routes``), or None: not
-        a plant with encoders whose edges have a closed form (``edge_counters``), a recording
-        (it writes each edge), a watched wait, real time or a wire at zero delay."""
+        a plant with encoders whose edges have a closed form (``edge_counters``), fewer than
+        SEGMENT_MIN_EDGES due before ``target_us``, a recording (it writes each edge), a
+        watched wait, real time or a wire at zero delay."""
         plant = self.plant
         if watch or self.recorder is not None or not self.pacing.speculates or plant.zero_delay:
             return None
         counters = plant.edge_counters
-        return self.inputs.edge_routes(counters, watch) if counters else None
+        if not counters or sum(abs(c.rate) for c in counters) * (target_us - plant.t_us) < SEGMENT_MIN_EDGES:
+            return None
+        return self.inputs.edge_routes(counters, watch)
 
     def catch_up(self, t_us: int) -> None:
         """Bring the plant to the firmware's time: forward if the shim moved on inside

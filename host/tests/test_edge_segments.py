@@ -184,9 +184,12 @@ APPS = {  # (app or rig file, world, seed, simulated s): encoders beside other p
 @pytest.mark.parametrize("key", list(APPS))
 def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
     """With segments the firmware takes the same inputs at the same instants as with a
-    change an edge (its outputs and console the same), and the pure path does as C does."""
+    change an edge (its outputs and console the same), and the pure path does as C does
+    (segments for every wait, however few its edges: SEGMENT_MIN_EDGES 0)."""
+    from host.rig import clock
     from host.rig.apps import get_app
 
+    monkeypatch.setattr(clock, "SEGMENT_MIN_EDGES", 0)
     name, world, seed, seconds = APPS[key]
     got = {}
     for segments, pure in ((False, False), (True, False), (True, True)):
@@ -245,3 +248,19 @@ def test_segments_are_on_by_default_but_with_mcu_time(monkeypatch):
         monkeypatch.setenv(EDGE_SEGMENTS_ENV, said)
         got = (edge_segments_wanted(), edge_segments_wanted(mcu_time=True))
         assert got == (on, on), f"{EDGE_SEGMENTS_ENV}={said}: expected {(on, on)} (without, with MCU time), got {got}"
+
+
+@pytest.mark.hil
+def test_a_wait_with_few_edges_takes_them_a_change_each(monkeypatch):
+    """Segments only where a wait's encoders are due SEGMENT_MIN_EDGES edges or more: the
+    encoder bot at 10,000 edges a second sends them, the rover (under 200) none."""
+    monkeypatch.delenv(EDGE_SEGMENTS_ENV, raising=False)
+    monkeypatch.delenv("HIL_PURE", raising=False)
+    bot = _run(10_000, 700, monkeypatch, segments=True)
+    with Rig(RigSpec("rover", seed=1), Recording()) as rig:
+        rig.run_for(3.0)
+        rover = rig.stats.edge_segments, rig.stats.irq_edges
+    assert bot["segments"] > 0, "expected the encoder bot's edges as segments, got none"
+    assert rover[0] == 0 and rover[1] > 0, (
+        f"expected the rover's {rover[1]} IRQ edges a change each, got {rover[0]} segments"
+    )
