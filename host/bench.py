@@ -308,7 +308,7 @@ def run_encoder_bot(edges_per_s: int, run_ms: int, seed: int = 1, segments: bool
     """The encoder robot driven for ``run_ms`` at ``edges_per_s``, braked, and run to its end:
     the firmware's counts, the plant's edges, the wall time, the host's and the firmware's
     CPU. ``segments``: its edges as EDGES segments (True) or a change each (False; None: as
-    the environment's ``MPY_FIL_EDGE_SEGMENTS`` says)."""
+    the rig goes by default, ``host.rig.loop.clock.edge_segments_wanted``)."""
     if segments is None:
         return _run_encoder_bot(edges_per_s, run_ms, seed, **recording)
     was = os.environ.get(EDGE_SEGMENTS_ENV)

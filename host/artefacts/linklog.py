@@ -116,16 +116,15 @@ class LinkLog:
         if len(self._pending) >= KEPT_MAX:
             self.flush()  # (a link that sends no STATE: a board's)
 
-    def state(self, t: int, base: int, horizon: int, changes) -> None:
+    def state(self, t: int, base: int, horizon: int, changes, segments=()) -> None:
         """A STATE sent (``changes`` is not changed after): written now, with the
-        exchange's records before it."""
+        exchange's records before it. ``segments``: the EDGES sent with it, whose edges the
+        record lists among its changes as the firmware takes them (``F.merge_edges``): a
+        STATE record is the changes the firmware took, segments or a change an edge."""
+        if segments:
+            changes = F.merge_edges(segments, changes)
         self._pending.append((_state_line, (t, base, horizon, changes)))
         self.flush()
-
-    def edges(self, base: int, segments) -> None:
-        """An EDGES sent before the STATE of the wait from ``base``: its encoder segments
-        (``F.EDGE_SEG_FMT``'s fields; ``F.expand_edges`` gives their edges)."""
-        self.write({"t": base, "to": "fw", "msg": "EDGES", "segments": [list(s) for s in segments]})
 
     def seen(self, t: int, h: int, sample_no: int) -> None:
         self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
@@ -212,7 +211,6 @@ class _NoLog(LinkLog):
         pass
 
     line = flush = cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
-    edges = line
 
 
 NO_LOG = _NoLog()

@@ -293,6 +293,7 @@ class _Link:
     # is not set, else None (the pure-Python loop of _sync: a user's own interpreter)
     fast = None
     fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
+    merge = None  # _hilfast.merge_edges: _apply_state's merge of an EDGES in C (None: in Python)
     pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE's payload, read
     # in place by _hilframe.bus_image_find: _hil.transfer), and the one that came before the
@@ -975,7 +976,9 @@ def _apply_state(p, base, t_end, horizon, n, watch, edges=None):
     its segments' edges (F.expand_edges) and the changes in time order, at one instant the
     edges first (the plant emits an instant's encoder edges before its other parts' changes)."""
     changes = F.unpack_changes(p, F.STATE_LEN, base, n, [])
-    if edges is not None:
+    if edges is not None and _Link.merge is not None:  # (the same in C: _hilfast.merge_edges)
+        changes = _Link.merge(edges, base, changes)
+    elif edges is not None:
         merged = F.expand_edges(F.unpack_edges(edges)[1])
         i = 0
         for c in changes:  # (stable: the edges of an instant before its changes)
@@ -1410,6 +1413,7 @@ def _fast_path(getenv):
         _exempt(_hilfast)
         _Link.arm = _hilfast.arm
     _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
+    _Link.merge = getattr(_hilfast, "merge_edges", None)
     if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
         _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     return _hilfast.apply_state

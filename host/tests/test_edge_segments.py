@@ -1,12 +1,13 @@
-"""Encoder edges as segments (EDGES, ``MPY_FIL_EDGE_SEGMENTS=1``; docs/clock.md, "Encoder
-edges as segments"): the plant's segments (sim_plant/edge_window.py, ``segments``) expanded
+"""Encoder edges as segments (EDGES, on by default, ``MPY_FIL_EDGE_SEGMENTS=0`` off; docs/clock.md,
+"Encoder edges as segments"): the plant's segments (sim_plant/edge_window.py, ``segments``) expanded
 by the codec (``_hilframe.expand_edges``, the shim's pure path) give exactly the edges its
 event loop emits one by one, and leave the counters as it does; a run with segments gives
 the firmware every edge in order at its instant (the encoder bot's counts are the plant's
 edges at 10,000 and 40,000 edges a second, its outputs and console the same as with one
 change an edge), and so do the pico robot (quadrature encoders beside its other parts) and
 the duct robot (slot encoders, a timer, UART bytes), on the shim's C path and its pure-Python
-path alike."""
+path alike, their traces the same as with a change an edge (a STATE record lists the edges
+the firmware took, and no STATE of theirs is cut by its limit of changes)."""
 
 import copy
 import json
@@ -98,10 +99,7 @@ def test_an_unwired_channel_gives_no_edges_and_a_fast_counter_no_segments():
 
 
 def _run(rate: int, run_ms: int, monkeypatch, segments: bool, pure: bool = False) -> dict:
-    if segments:
-        monkeypatch.setenv(EDGE_SEGMENTS_ENV, "1")
-    else:
-        monkeypatch.delenv(EDGE_SEGMENTS_ENV, raising=False)
+    monkeypatch.setenv(EDGE_SEGMENTS_ENV, "1" if segments else "0")
     if pure:
         monkeypatch.setenv("HIL_PURE", "1")
     else:
@@ -132,25 +130,6 @@ def _outputs(trace) -> list:
     return [r for r in trace if r.get("msg") in ("OUT", "CFG", "EXIT")]
 
 
-def _expanded(trace) -> list:
-    """The trace with each EDGES's edges put into the STATE after it (merged in time order,
-    an instant's edges before its other changes), the EDGES records left out."""
-    out, edges = [], None
-    for r in trace:
-        if r.get("msg") == "EDGES":
-            edges = F.expand_edges([tuple(s) for s in r["segments"]])
-            continue
-        if r.get("msg") == "STATE" and edges is not None:
-            changes = [tuple(c) for c in r["changes"]]
-            merged = sorted(
-                [(c[0], 0, i, c) for i, c in enumerate(edges)] + [(c[0], 1, i, c) for i, c in enumerate(changes)]
-            )  # noqa: E501
-            r = {**r, "changes": [list(c) for *_k, c in merged]}
-            edges = None
-        out.append(r)
-    return out
-
-
 def _delivered(trace) -> list:
     """The changes the firmware took, in order: each STATE's up to the instant of a
     rollback that follows it (a handler wrote there: the shim dropped the rest, and the
@@ -177,7 +156,7 @@ def test_every_edge_reaches_the_firmware_in_order_at_its_instant(monkeypatch, ra
     assert seg["counts"] == seg["edges"], f"the firmware counted {seg['counts']}, the plant made {seg['edges']} edges"
     assert seg["edges"] == per_edge["edges"] and seg["console"] == per_edge["console"]
     assert _outputs(seg["trace"]) == _outputs(per_edge["trace"]), "the firmware's outputs differ with segments"
-    delivered, want = _delivered(_expanded(seg["trace"])), _delivered(per_edge["trace"])
+    delivered, want = _delivered(seg["trace"]), _delivered(per_edge["trace"])
     assert len(delivered) == len(want) and delivered == want, (
         f"{len(delivered)} changes reached the firmware with segments, {len(want)} one change an edge; first "
         f"difference: {next(((a, b) for a, b in zip(delivered, want) if a != b), None)}"
@@ -205,9 +184,12 @@ APPS = {  # (app or rig file, world, seed, simulated s): encoders beside other p
 @pytest.mark.parametrize("key", list(APPS))
 def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
     """With segments the firmware takes the same inputs at the same instants as with a
-    change an edge (its outputs and console the same), and the pure path does as C does."""
+    change an edge (its outputs and console the same), and the pure path does as C does
+    (segments for every wait, however few its edges: SEGMENT_MIN_EDGES 0)."""
     from host.rig.config.apps import get_app
+    from host.rig.loop import clock
 
+    monkeypatch.setattr(clock, "SEGMENT_MIN_EDGES", 0)
     name, world, seed, seconds = APPS[key]
     got = {}
     for segments, pure in ((False, False), (True, False), (True, True)):
@@ -228,7 +210,11 @@ def test_apps_take_the_same_inputs_with_segments(make_rig, monkeypatch, key):
     assert n_segments > 0, f"{key}: the run sent no EDGES"
     assert seg_console == plain_console
     assert _outputs(seg) == _outputs(plain), f"{key}: the firmware's outputs differ with segments"
-    assert _delivered(_expanded(seg)) == _delivered(plain), f"{key}: the firmware took other inputs with segments"
+    assert _delivered(seg) == _delivered(plain), f"{key}: the firmware took other inputs with segments"
+    assert seg == plain, (  # (no STATE cut by its limit of changes in these runs: the same exchanges)
+        f"{key}: the trace with segments differs from the one with a change an edge; first difference: "
+        f"{next(((a, b) for a, b in zip(seg, plain) if a != b), None)}"
+    )
 
 
 def test_a_segment_counts_the_irq_edges_its_channels_fire():
@@ -251,3 +237,30 @@ def test_a_segment_counts_the_irq_edges_its_channels_fire():
                                 want += bool(trigger & (F.IRQ_RISING if level else F.IRQ_FALLING))
                             got = _irq_edges(mask, bits_a, bits_b, irq_a, irq_b, n, count, step)
                             assert got == want, (mask, irq_a, irq_b, n, count, step, got, want)
+
+
+def test_segments_are_on_by_default_but_with_mcu_time(monkeypatch):
+    from host.rig.loop.clock import edge_segments_wanted
+
+    monkeypatch.delenv(EDGE_SEGMENTS_ENV, raising=False)
+    assert edge_segments_wanted() and not edge_segments_wanted(mcu_time=True), "by default: on, off with MCU time"
+    for said, on in (("0", False), ("no", False), ("1", True), ("yes", True)):
+        monkeypatch.setenv(EDGE_SEGMENTS_ENV, said)
+        got = (edge_segments_wanted(), edge_segments_wanted(mcu_time=True))
+        assert got == (on, on), f"{EDGE_SEGMENTS_ENV}={said}: expected {(on, on)} (without, with MCU time), got {got}"
+
+
+@pytest.mark.hil
+def test_a_wait_with_few_edges_takes_them_a_change_each(monkeypatch):
+    """Segments only where a wait's encoders are due SEGMENT_MIN_EDGES edges or more: the
+    encoder bot at 10,000 edges a second sends them, the rover (under 200) none."""
+    monkeypatch.delenv(EDGE_SEGMENTS_ENV, raising=False)
+    monkeypatch.delenv("HIL_PURE", raising=False)
+    bot = _run(10_000, 700, monkeypatch, segments=True)
+    with Rig(RigSpec("rover", seed=1), Recording()) as rig:
+        rig.run_for(3.0)
+        rover = rig.stats.edge_segments, rig.stats.irq_edges
+    assert bot["segments"] > 0, "expected the encoder bot's edges as segments, got none"
+    assert rover[0] == 0 and rover[1] > 0, (
+        f"expected the rover's {rover[1]} IRQ edges a change each, got {rover[0]} segments"
+    )

@@ -16,12 +16,29 @@ waits again needs no exchange for it. A lookahead the firmware voids (an output 
 it) makes the next ones wait: 1, 2, 4 ... up to LOOKAHEAD_BACKOFF_MAX exchanges."""
 LOOKAHEAD_BACKOFF_MAX = 256
 EDGE_SEGMENTS_ENV = "MPY_FIL_EDGE_SEGMENTS"
-"""``MPY_FIL_EDGE_SEGMENTS=1`` in the host's environment: encoder edges go to the shim as
-segments (EDGES, docs/clock.md "Encoder edges as segments"), not one change each."""
+"""Encoder edges go to the shim as segments (EDGES, docs/clock.md "Encoder edges as
+segments"), not one change each: by default, but with MCU time on; ``MPY_FIL_EDGE_SEGMENTS=1``
+in the host's environment turns them on with it too, ``=0`` off everywhere."""
 
 
-def edge_segments_wanted() -> bool:
-    return os.environ.get(EDGE_SEGMENTS_ENV, "").strip() in ("1", "yes", "true")
+SEGMENT_MIN_EDGES = 32
+"""A wait whose encoders are due fewer edges than this (at their rates as its batch begins)
+takes them a change each: for so few, an EDGES frame and its expansion cost both ends more
+than the changes do (the rover's 7 or 8 edges an exchange cost it 4-5 % more instructions on
+each side as segments; docs/bench.md)."""
+
+
+def edge_segments_wanted(mcu_time: bool = False) -> bool:
+    """Whether encoder edges go as segments: the environment's ``MPY_FIL_EDGE_SEGMENTS`` when
+    it says, else all but with MCU time on (there the shim's own objects, other with segments,
+    can still move a modelled collection of the firmware's: docs/mcu-time.md, "The collector's
+    pause")."""
+    said = os.environ.get(EDGE_SEGMENTS_ENV, "").strip().lower()
+    if said in ("1", "yes", "true", "on"):
+        return True
+    if said in ("0", "no", "false", "off"):
+        return False
+    return not mcu_time
 
 
 @dataclass
@@ -51,8 +68,8 @@ class Clock:
         self.end_us = 0  # the end of the run being served (a bus transfer's lease stops there)
         self.images = None  # host.rig.hardware.busimage.BusImages: bus reads the shim may answer itself
         # Encoder edges as segments the shim expands (EDGES, docs/protocol.md): set by the rig
-        # (MPY_FIL_EDGE_SEGMENTS=1), used where edge_routes allows, up to a wait's end (never
-        # in the lookahead, whose changes the shim holds one by one)
+        # (edge_segments_wanted), used where edge_routes allows, up to a wait's end (never in
+        # the lookahead, whose changes the shim holds one by one)
         self.edge_segments = edge_segments_wanted()
 
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
@@ -127,7 +144,7 @@ class Clock:
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
             for change in plant.advance_to(plant.t_us, inputs.room()):
                 route(change, watch)
-        routes = self._edge_routes(watch) if self.edge_segments and self.wait is not None else None
+        routes = self._edge_routes(watch, target_us) if self.edge_segments and self.wait is not None else None
         while plant.t_us < target_us:
             t_next, limit = pacing.step(self, target_us, watch)
             if routes is not None and limit:
@@ -144,15 +161,18 @@ class Clock:
                 return True
         return False
 
-    def _edge_routes(self, watch):
+    def _edge_routes(self, watch, target_us: int):
         """Each encoder's channels as EDGES segments go (``Inputs.edge_routes``), or None: not
-        a plant with encoders whose edges have a closed form (``edge_counters``), a recording
-        (it writes each edge), a watched wait, real time or a wire at zero delay."""
+        a plant with encoders whose edges have a closed form (``edge_counters``), fewer than
+        SEGMENT_MIN_EDGES due before ``target_us``, a recording (it writes each edge), a
+        watched wait, real time or a wire at zero delay."""
         plant = self.plant
         if watch or self.recorder is not None or not self.pacing.speculates or plant.zero_delay:
             return None
         counters = plant.edge_counters
-        return self.inputs.edge_routes(counters, watch) if counters else None
+        if not counters or sum(abs(c.rate) for c in counters) * (target_us - plant.t_us) < SEGMENT_MIN_EDGES:
+            return None
+        return self.inputs.edge_routes(counters, watch)
 
     def catch_up(self, t_us: int) -> None:
         """Bring the plant to the firmware's time: forward if the shim moved on inside
@@ -207,11 +227,13 @@ class Clock:
         self._woke_us = t_us
         if segments:  # (with the STATE, in one write: the shim expands them as it applies it)
             self.session.hold(F.EDGES, F.pack_edges(base_us, segments))
-            self.log.edges(base_us, segments)
             self.stats.edge_segments += len(segments)
+        # (the trace has the changes the firmware takes, the segments' edges merged into the
+        # STATE's as the shim merges them: a run's trace is the same with segments or a change
+        # an edge wherever its exchanges are the same, docs/traces.md)
         try:
             state = F.pack_state(base_us, t_us, horizon, changes)
             self.session.send(F.STATE, state + self.pacing.take_trailer() if self.pacing.walled else state)
         finally:  # (logged once sent: its writing overlaps the firmware's work)
-            self.log.state(t_us, base_us, horizon, changes)
+            self.log.state(t_us, base_us, horizon, changes, segments)
         self.stats.link_round_trips += 1

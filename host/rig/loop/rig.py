@@ -38,7 +38,7 @@ from host.rig.hardware.outputs import Outputs
 from host.rig.hardware.pio import PioHost
 from host.rig.hardware.wiring import Wiring
 from host.rig.loop import endings, manifest, waits
-from host.rig.loop.clock import Clock
+from host.rig.loop.clock import Clock, edge_segments_wanted
 from host.rig.loop.messages import HANDLERS
 from host.rig.loop.pacing import PACINGS
 from host.rig.loop.session import Session
@@ -59,7 +59,7 @@ class RunStats:
     bus_round_trips: int = 0  # BUS frames answered (a bus transfer's own exchange)
     bus_local: int = 0  # bus reads the shim answered from an image (BUS_DONE: host.rig.hardware.busimage)
     irq_edges: int = 0
-    edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.loop.clock, MPY_FIL_EDGE_SEGMENTS=1)
+    edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.loop.clock, edge_segments_wanted)
     rollbacks: int = 0
     lease_violations: int = 0
     round_trip_us: list = field(default_factory=list)
@@ -166,6 +166,7 @@ class Rig:
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self.clock.images = self.bus_images
+        self.clock.edge_segments = edge_segments_wanted(self.cpu_load is not None)
         self._progress_wall = 0.0
         self._progress_last = None
 

@@ -53,6 +53,8 @@ class Speculation:
                 f"return to (link protocol error)"
             )
         self.plant.restore(self.snapshot[1])
-        self.plant.advance_to(t_us)
+        # (the changes on the way are the firmware's already: an encoder's edges go as
+        # segments, dropped, its counters moved past them in closed form as emit would)
+        self.plant.advance_edges(t_us, 0, [])
         self.snapshot = None
         self.deferred = [e for e in self.deferred if e[0] <= t_us]

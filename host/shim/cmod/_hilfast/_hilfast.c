@@ -15,6 +15,8 @@
 //   caller), or when _handlers_wrote says to stop. cur gets [offset, index, watched hit];
 //   returns handlers_wrote's stop code (0: every change up to t_end applied).
 //
+// merge_edges(edges, base, changes): a STATE's changes with its EDGES' edges merged in, for
+//   _hil._apply_state (where apply_state cannot run: a callback, IRQs off, a C call).
 // pin_setup(value_py, out_mode, g), pin_value: machine.Pin.value in C (below).
 //
 // With the counting interpreter (host/core/micropython/hilcount.patch, py/hilcount.h), the
@@ -496,6 +498,69 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 12, apply_state);
 
+// merge_edges(edges, base, changes): a STATE's changes (a list of (t, handle, kind, value,
+// extra) in time order) with its EDGES' edges merged in, as a new list: what _hil._apply_state
+// applies where apply_state cannot run (a callback, IRQs off, a C call), as
+// _hilframe.expand_edges and the merge after it make it (an instant's edges first, at one
+// instant in the segments' order; an edge of a channel wired to no pin left out), in C.
+static mp_obj_t merge_edges(mp_obj_t edges, mp_obj_t base_in, mp_obj_t changes) {
+    seg_t seg[EDGES_MAX];
+    size_t n_seg = parse_edges(edges, mp_obj_get_int(base_in), seg);
+    size_t n_ch;
+    mp_obj_t *ch;
+    mp_obj_get_array(changes, &n_ch, &ch);
+    size_t room = n_ch;
+    for (size_t k = 0; k < n_seg; k++) {
+        room += seg[k].left;
+    }
+    mp_obj_t out = mp_obj_new_list(room, NULL);
+    mp_obj_list_t *list = MP_OBJ_TO_PTR(out);
+    size_t j = 0, ci = 0;
+    mp_int_t tc = 0;
+    bool have_tc = false;
+    for (;;) {
+        size_t si = n_seg;
+        mp_int_t ts = 0;
+        for (size_t k = 0; k < n_seg; k++) {
+            if (seg[k].left && (si == n_seg || seg[k].t < ts)) {
+                si = k;
+                ts = seg[k].t;
+            }
+        }
+        if (ci < n_ch && !have_tc) {
+            mp_obj_t *c;
+            mp_obj_get_array_fixed_n(ch[ci], 5, &c);
+            tc = mp_obj_get_int(c[0]);
+            have_tc = true;
+        }
+        if (si < n_seg && (ci >= n_ch || ts <= tc)) {
+            seg_t *s = &seg[si];
+            int64_t m = s->n + s->step;
+            int a = s->bits[0] >> (m & s->mask) & 1;
+            int which = a != (s->bits[0] >> (s->n & s->mask) & 1) ? 0 : 1;
+            int level = which ? s->bits[1] >> (m & s->mask) & 1 : a;
+            mp_int_t h = s->h[which];
+            s->n = m;
+            if (--s->left) {
+                s->t = seg_time(s, m + s->step);
+            }
+            if (h != NO_HANDLE) {
+                mp_obj_t item[5] = {mp_obj_new_int(ts), MP_OBJ_NEW_SMALL_INT(h), MP_OBJ_NEW_SMALL_INT(0),
+                                    MP_OBJ_NEW_SMALL_INT(level), MP_OBJ_NEW_SMALL_INT(0)};
+                list->items[j++] = mp_obj_new_tuple(5, item);
+            }
+        } else if (ci < n_ch) {
+            list->items[j++] = ch[ci++];
+            have_tc = false;
+        } else {
+            break;
+        }
+    }
+    list->len = j;  // (the edges of channels wired to no pin: none)
+    return out;
+}
+static MP_DEFINE_CONST_FUN_OBJ_3(merge_edges_obj, merge_edges);
+
 // -- machine.Pin.value() ---------------------------------------------------------------
 
 // pin_setup(value_py, out_mode, g): machine.Pin.value becomes pin_value, which answers in C
@@ -776,6 +841,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR___name__), MP_ROM_QSTR(MP_QSTR__hilfast)},
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
     {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
+    {MP_ROM_QSTR(MP_QSTR_merge_edges), MP_ROM_PTR(&merge_edges_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
