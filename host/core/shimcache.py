@@ -41,8 +41,13 @@ def folder(program: str | Path) -> Path:
         mtime = target.stat().st_mtime_ns
     except OSError:
         return paths.SHIM_DIR
-    made = _compiled(str(target), mtime, _sources_stamp())
+    made = _compiled(str(target), mtime, _sources_stamp(), cache_root())
     return made or paths.SHIM_DIR
+
+
+def cache_root() -> Path:
+    """Where compiled folders are kept: ``shim/`` beside the interpreters' build folder."""
+    return interpreter.build_root().parent / "shim"
 
 
 def _sources() -> list[Path]:
@@ -56,7 +61,7 @@ def _sources_stamp() -> tuple:
 
 
 @functools.cache
-def _compiled(program: str, _mtime_ns: int, _stamp: tuple) -> Path | None:
+def _compiled(program: str, _mtime_ns: int, _stamp: tuple, root: Path) -> Path | None:
     about = _interpreter(program)
     if about is None:
         return None
@@ -69,7 +74,6 @@ def _compiled(program: str, _mtime_ns: int, _stamp: tuple) -> Path | None:
     sources = _sources()
     for path in sources:
         key.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-    root = interpreter.build_root().parent / "shim"
     final = root / key.hexdigest()[:16]
     if (final / "_hilboot.mpy").is_file():
         return final
