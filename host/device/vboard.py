@@ -33,7 +33,7 @@ import sys
 import time
 from pathlib import Path
 
-from host.core import interpreter
+from host.core import interpreter, shimcache
 from host.core.children import popen_options
 from host.core.errors import HarnessError, LinkTimeout
 from host.core.paths import REPO
@@ -145,13 +145,15 @@ class VirtualBoardTarget(UnixPortTarget):
             "HIL_REPL_MODE": self.boot_mode,
             "HIL_BOARD_NAME": self.board,
         }
+        program = interpreter.find()
+        shim = shimcache.folder(program) if self.wired else False  # (compiled once: host/core/shimcache.py)
         if self.wired:
-            env.update(firmware.env(self.pty.slave_path))
-        env["MICROPYPATH"] = ":".join([str(VREPL_DIR), firmware.micropypath(shim=self.wired)])
+            env.update(firmware.env(self.pty.slave_path, shim))
+        env["MICROPYPATH"] = ":".join([str(VREPL_DIR), firmware.micropypath(shim)])
         slave = self.console.repl.slave_fd
         self._started_at = time.monotonic()
         self.proc = subprocess.Popen(
-            [str(interpreter.find()), "-m", "_vrepl"],
+            [str(program), "-m", "_vrepl"],
             env=env,
             cwd=str(self.fs),
             stdin=slave,

@@ -123,18 +123,21 @@ class Firmware:
         instead of its label."""
         return [(board_name(label), path) for label, path in self.files()]
 
-    def micropypath(self, shim: bool = True) -> str:
+    def micropypath(self, shim: bool | Path = True) -> str:
+        """The interpreter's path: the shim's folder (``shim``: the one given, or the source
+        folder for True: host/core/shimcache.py), then the board's."""
         board = [self.board_root, self.board_root / "lib"] if self.board_root else self.folders
-        folders = [SHIM_DIR, *board] if shim else board
+        folders = [SHIM_DIR if shim is True else shim, *board] if shim else board
         return ":".join([*map(str, folders), ".frozen"])
 
-    def env(self, link_path: str) -> dict:
-        """The interpreter's environment: the path, the pty the shim opens, the board's
-        folder and flash size, the host modules allowed (read by the shim at start)."""
+    def env(self, link_path: str, shim: Path = SHIM_DIR) -> dict:
+        """The interpreter's environment: the path (the shim from ``shim``), the pty the shim
+        opens, the board's folder and flash size, the host modules allowed (read by the shim
+        at start)."""
         board = {"HIL_BOARD_FS": str(self.board_root), "HIL_FLASH_BYTES": str(self.flash_bytes)}
         return {
             "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
-            "MICROPYPATH": self.micropypath(),
+            "MICROPYPATH": self.micropypath(shim),
             "HIL_LINK": link_path,
             "HIL_ALLOW": ",".join(self.allow),
             **(board if self.board_root else {}),

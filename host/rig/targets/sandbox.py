@@ -120,7 +120,12 @@ def _keep(board_root: Path, entry: dict) -> None:
 
 
 def command(
-    argv: list[str], board_root: Path | None, link_path: str, wanted: str, source: Path | None = None
+    argv: list[str],
+    board_root: Path | None,
+    link_path: str,
+    wanted: str,
+    source: Path | None = None,
+    shim: Path = SHIM_DIR,
 ) -> list[str]:
     """``argv`` inside the sandbox, or as it is when the sandbox is off or refused (a
     SetupError when it is required and refused). ``source``: the firmware's folder (whose
@@ -156,7 +161,7 @@ def command(
         view += ["--ro-bind", real, real]
         if real != path:
             view += ["--symlink", real, path]
-    view += ["--ro-bind", str(SHIM_DIR), str(SHIM_DIR), "--bind", str(board_root), str(board_root)]
+    view += ["--ro-bind", str(shim), str(shim), "--bind", str(board_root), str(board_root)]
     view += ["--dev-bind", "/dev/null", "/dev/null", "--dev-bind", "/dev/urandom", "/dev/urandom"]
     view += ["--dev-bind", link_path, link_path, "--remount-ro", "/"]
     spaces = ["--unshare-user", "--unshare-ipc", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try"]

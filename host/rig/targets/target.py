@@ -12,7 +12,7 @@ import signal
 import subprocess
 import time
 
-from host.core import interpreter
+from host.core import interpreter, shimcache
 from host.core.children import popen_options
 from host.core.errors import FirmwareError, FirmwareHung, HarnessError, LinkTimeout, SetupError
 from host.core.printable import printable
@@ -151,11 +151,12 @@ class UnixPortTarget(Target):
         program = str(interpreter.find_variant("settrace" if tracing else "standard", version))
         argv = [program, *firmware.interpreter_args(), "-c", "import _hilboot; _hilboot.main()"]
         setting = sandbox.setting(firmware.sandbox)
-        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, setting, firmware.main_dir)
+        shim = shimcache.folder(program)  # (compiled once: host/core/shimcache.py)
+        argv = sandbox.command(argv, firmware.board_root, self.pty.slave_path, setting, firmware.main_dir, shim)
         try:
             self.proc = subprocess.Popen(
                 argv,
-                env=firmware.env(self.pty.slave_path),
+                env=firmware.env(self.pty.slave_path, shim),
                 cwd=str(firmware.board_root or firmware.main_dir),
                 stdin=subprocess.PIPE,  # open and empty, as a board's console with no one typing
                 stdout=subprocess.PIPE,
