@@ -28,14 +28,24 @@ def test_every_shim_module_is_compiled_under_its_own_folders_name():
     assert folder.parent == shimcache.cache_root(), folder
 
 
-def test_the_compiled_shim_gives_the_same_link_trace_as_its_source(make_rig, monkeypatch):
-    """What the shim does cannot depend on how it was loaded: the rover's link trace, byte
-    for byte, from the compiled folder and from the source folder."""
+@pytest.mark.parametrize(
+    ("app", "world", "seed", "cpu"),
+    [("rover", "room", 3, "free"), ("duct", "multi-branch", 2, "esp32@240MHz")],
+    ids=["rover", "duct-mcu-time"],
+)
+def test_the_compiled_shim_gives_the_same_link_trace_as_its_source(make_rig, monkeypatch, app, world, seed, cpu):
+    """What the shim does cannot depend on how it was loaded: the link trace, byte for byte,
+    from the compiled folder and from the source folder; with MCU time on too (the duct
+    robot's multi-branch run, whose charged time a change of the shim's own objects once
+    moved: docs/mcu-time.md, "The collector's pause")."""
+    from host.rig.config.apps import get_app
+
     _ours()
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
 
     def digest():
-        rig = make_rig("rover", seed=3, trace=True)
-        rig.run_for(2.0)
+        rig = make_rig(app, seed=seed, plant_options=dict(get_app(app).worlds[world]), trace=True)
+        rig.run_for(2.0 if cpu == "free" else 4.0)
         rig.stop()
         return rig.trace_digest, rig.artefacts
 
