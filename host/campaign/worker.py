@@ -136,9 +136,8 @@ def task_spec(task: dict) -> RigSpec:
     )
 
 
-def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
-    """The rig with the run's faults, and the virtual times of its brown-outs."""
-    spec = task_spec(task)
+def _watch(task: dict, started: float):
+    """The run's progress callback: a RunTimeout once the run has taken its timeout_s of wall time."""
     deadline = started + task["timeout_s"]
 
     def watch_the_clock(t_us: int, t_end_us: int) -> None:
@@ -148,8 +147,14 @@ def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -
                 f"{task['seconds']:g} s); expected it within its timeout_s"
             )
 
+    return watch_the_clock
+
+
+def _make_rig(task: dict, artefacts: str | None, record: bool, started: float) -> tuple[Rig, list[int]]:
+    """The rig with the run's faults, and the virtual times of its brown-outs."""
+    spec = task_spec(task)
     recording = Recording(
-        trace=record, record=record, artefacts=Path(artefacts) if artefacts else None, progress=watch_the_clock
+        trace=record, record=record, artefacts=Path(artefacts) if artefacts else None, progress=_watch(task, started)
     )
     rig = Rig(spec, recording)
     schedule = fault_schedule(spec, rig.app)
@@ -245,15 +250,6 @@ def _make_set(task: dict, artefacts: str | None, record: bool, started: float) -
     from host.rig.config.boardfile import load_boards
     from host.rig.loop.boardset import BoardSet
 
-    deadline = started + task["timeout_s"]
-
-    def watch_the_clock(t_us: int, t_end_us: int) -> None:
-        if time.monotonic() > deadline:
-            raise RunTimeout(
-                f"the run took more than {task['timeout_s']:g} s of wall time (at virtual t={t_us / 1e6:.1f} s of "
-                f"{task['seconds']:g} s); expected it within its timeout_s"
-            )
-
     boards = BoardSet(
         load_boards(task["rig"]),
         seed=task["seed"],
@@ -263,7 +259,7 @@ def _make_set(task: dict, artefacts: str | None, record: bool, started: float) -
         trace=record,
         record=record,
     )
-    return SetRun(boards, watch_the_clock)
+    return SetRun(boards, _watch(task, started))
 
 
 def _budget(budget) -> dict:
