@@ -151,7 +151,7 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     ("duct", "straight", 3): "db482db014c93ce388ce0591db07ba99ab8ca4f502a36410b222aa3836c8fecc",
     ("duct", "bench", 1): "01f4815ac1dc93e311929c3b550c74ef0cf756a6f673bf40b9a84fcc9cf89217",
 }
-# (The duct robot's four re-recorded on 1.25 and 1.26 when the finalisers the interpreter's collector
+# (The duct robot's four re-recorded on 1.25, 1.26, 1.27 and 1.28 when the finalisers the interpreter's collector
 # runs stopped counting as the firmware's work and the board's collector counted the firmware's
 # blocks from its own roots, not the shim's frames and modules: docs/mcu-time.md, "The collector's
 # pause". The other apps' did not move.)
@@ -178,12 +178,6 @@ MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-vers
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
 # own code. The cause: an interpreter's collection, whose moment the shim's allocations set, ran
 # finalisers counted as the firmware's calls into C; fixed since, docs/mcu-time.md.)
-MCU_DIGESTS_1_27_DUCT = {  # 1.27's duct robot as pinned before that fix (no 1.27 build to re-record them on)
-    ("duct", "one-right-branch", 1): "f4cce5daaeb6f4817fa8aa0598a08e1e0122daac50206c6c86ad0bb4a8fdb906",
-    ("duct", "multi-branch", 2): "65e109a01a43b377a20ecc34a99372d6aac70f0959d3f3a20f8fb9f3aa1aad90",
-    ("duct", "straight", 3): "5ebc584d415b27509ea88acb04d6e4956fd6144d611cdb378ff60471ea106cdd",
-    ("duct", "bench", 1): "4afa5991f339e2d82f6d0b1f6d7c1ca663e4cbb5074c1497f64ea0ae6530392c",
-}
 MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (pytest --mpy-version)
     # Their link traces without MCU time are the default's (DIGESTS); with it they differ as the
     # firmware's own work differs (docs/shim.md, "On each MicroPython version"): from 1.26
@@ -192,16 +186,13 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
     # and allocate more from 1.28 as each version compiles them (the duct robot's). (pico_bot's
     # are 1.25's on every version.)
     "1.26": MCU_DIGESTS_1_26,
-    # (1.26's: its compiler and asyncio count the same; the duct robot's as pinned before the
-    # collector's finalisers and count were the firmware's own, not re-recorded: most likely they
-    # moved as 1.25's and 1.26's did, as 1.28's duct robot's)
-    "1.27": {**MCU_DIGESTS_1_26, **MCU_DIGESTS_1_27_DUCT},
+    "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
     "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
         **MCU_DIGESTS_1_26,
-        ("duct", "one-right-branch", 1): "0c8f305fcb0e5cb4cd04700d5eabbdbd01e07278933e69cb6b05b38e03dd9446",
-        ("duct", "multi-branch", 2): "1f603770c44a37ff8a5678da675d880c1d3eb2220e1f58eacfc90749bc50a021",
-        ("duct", "straight", 3): "a03168632e1d0d7f6dd7a75e2087d811284e50e7faa5e1114a22d9dddd303bc3",
-        ("duct", "bench", 1): "f0cfe94baaf3943ef828ee3b5f958eecd7dd8c94ac1aa3158198edfb63620803",
+        ("duct", "one-right-branch", 1): "d3183e2288e6da00afb27a81fd06104d6f910534c21303cdcabf2e7b50b92621",
+        ("duct", "multi-branch", 2): "658264bda8dec6abdb3491e8c2132577dcf641c72ba73959613bc3c60fcc4426",
+        ("duct", "straight", 3): "004c0fb6b0efafc018f9936a57eff6105b7f81b560afbcdc0b524a513fe93a90",
+        ("duct", "bench", 1): "8ffa9954d60d746d6df169fe5db8089d12cd77a2fb2090a0ee683048691d3b15",
     },
 }
 
