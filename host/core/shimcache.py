@@ -21,6 +21,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 from host.core import interpreter, paths
@@ -90,7 +91,24 @@ def _compiled(program: str, _mtime_ns: int, _stamp: tuple, root: Path) -> Path |
                 return None
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+    _prune(root, keep=final)
     return final
+
+
+STALE_S = 7 * 24 * 3600
+"""A compiled folder made this long ago goes when a new one is made (a shim edited often
+leaves one a version; a run still loading from one that old is not expected)."""
+
+
+def _prune(root: Path, keep: Path) -> None:
+    now = time.time()
+    for folder in root.iterdir():
+        try:
+            old = folder != keep and now - folder.stat().st_mtime > STALE_S
+        except OSError:
+            continue
+        if old:
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 def _compile(compiler: Path, arch: str | None, source: Path, named: Path, out: Path) -> bool:

@@ -2,7 +2,9 @@
 keyed by its content, it gives the same link trace as the source folder, an interpreter
 not of our builds gets the source, and two makers at once leave one whole folder."""
 
+import os
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -81,3 +83,16 @@ def test_two_makers_at_once_leave_one_whole_folder_and_nothing_else(tmp_path):
     assert len(set(results)) == 1 and results[0] is not None, results
     left = sorted(p.name for p in tmp_path.iterdir())
     assert left == [results[0].name], f"expected only the compiled folder in {tmp_path}, got {left}"
+
+
+def test_a_new_folder_takes_away_those_made_over_a_week_ago(tmp_path):
+    program = _ours()
+    old, recent = tmp_path / "0123456789abcdef", tmp_path / "fedcba9876543210"
+    for folder in (old, recent):
+        folder.mkdir()
+        (folder / "_hilboot.mpy").write_bytes(b"M")
+    week = shimcache.STALE_S + 60
+    os.utime(old, (time.time() - week, time.time() - week))
+    made = shimcache._compiled.__wrapped__(str(program), 0, shimcache._sources_stamp(), tmp_path)
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == sorted([made.name, recent.name]), f"expected {old.name} gone and {recent.name} kept, got {left}"
