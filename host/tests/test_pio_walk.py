@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from host.core.paths import REPO
 from host.tests.test_pio_emulator import QUAD, machine, pinctrl
 from sim_plant.pio import PioBlock, PioConfig
+from sim_plant.pio import block as block_module
 from sim_plant.pio import walk as walk_module
 
 sys.path.insert(0, str(REPO / "host" / "shim"))
@@ -183,3 +184,47 @@ def test_a_polling_loop_with_delays_walked_or_stepped_ends_the_same(gaps, pops):
                 t_us += 1
             seen.append(out)
     assert seen[0] == seen[1]
+
+
+def machine_state(block) -> tuple:
+    """What a block's next cycles and the plant see (not how it got there: steps, tables)."""
+    runs = [(sm_id, run.cycle, run.sm.key()) for sm_id, run in sorted(block.running.items())]
+    return (block.gpio_in, block.irq_flags, tuple(block.events), runs)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.lists(move, min_size=0, max_size=12), min_size=1, max_size=12),
+    st.lists(st.integers(0, 8), min_size=12, max_size=12),
+    st.lists(st.integers(1, 12), min_size=12, max_size=12),
+)
+def test_a_short_stretch_stepped_leaves_what_its_symbolic_run_leaves(moves, pops, probes_us):
+    """A stretch after a change shorter than ``SHORT_CYCLES`` is stepped, not run with X and
+    Y as symbols (a read's 1 µs probe, a batch ending just after its edge): the block is where
+    the symbolic run leaves it, at every batch end and every probe instant."""
+    batches = [  # (the moves' gaps an eighth as long: stretches of a few cycles)
+        ([(t // 8 + 1, gpio, level) for t, gpio, level in changes], t_end // 8 + 1)
+        for changes, t_end in batches_of(moves)
+    ]
+
+    def run_all(short: int) -> list:
+        with pytest.MonkeyPatch.context() as monkeypatch:
+            monkeypatch.setattr(block_module, "SHORT_CYCLES", short)
+            block, seen, t_end = blocks(), [], 0
+            for (changes, end), pop, probe_us in zip(batches, pops, probes_us):
+                changes = [(max(t, t_end), gpio, level) for t, gpio, level in changes]
+                t_end = max(t_end, end, *(t for t, _g, _l in changes))
+                block.advance(t_end, changes)
+                seen.append(machine_state(block))
+                for sm_id in (0, 1):
+                    rx = block.sm(sm_id).rx
+                    for _ in range(min(pop, len(rx))):
+                        rx.popleft()
+                if pop:
+                    block.touch()
+                t_end += probe_us  # (a read's probe: time on, pins as they are)
+                block.advance(t_end)
+                seen.append(machine_state(block))
+            return seen
+
+    assert run_all(64) == run_all(0)

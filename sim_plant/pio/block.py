@@ -20,6 +20,7 @@ from sim_plant.pio.machine import PioConfig, StateMachine
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
 COUNTDOWN = True  # jump over a counting loop's passes that do the same (False: step each, for tests)
 PASS_MAX = 64  # the longest pass of a counting loop looked at (instructions)
+SHORT_CYCLES = 64  # a stretch shorter than this after a change is stepped, not run with symbols
 
 
 class Running:
@@ -40,9 +41,8 @@ class Running:
     def __deepcopy__(self, memo):
         twin = Running.__new__(Running)
         memo[id(self)] = twin
-        for name, value in self.__dict__.items():  # (the table's entries never change: shared)
-            shared = name in ("entries", "table", "unaliased")
-            twin.__dict__[name] = value if shared else copy.deepcopy(value, memo)
+        twin.__dict__.update(self.__dict__)  # (numbers, and the table's entries, which never change: shared)
+        twin.sm = copy.deepcopy(self.sm, memo)
         return twin
 
     def cycle_at(self, t_us: int) -> int:
@@ -377,6 +377,8 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
             run.orbit, run.orbit_version = entry.period, block.version
             block.replays += 1
             return entry.at(run, c_end)  # (straight to c_end's state along the loop: one restore)
+    if c_end - c0 < SHORT_CYCLES:
+        return c0  # (too short to find a loop and go round it once more: single steps cost less)
     rec = trace.Recorder()
     sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
     if key[1] in ("x", "y"):
