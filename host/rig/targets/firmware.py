@@ -23,6 +23,8 @@ COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (do
 # without its octal (a leading 0) and signs
 HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
 
+ENTRY = "main.py"
+"""The file a board runs after boot.py when the rig file names no ``[firmware] entry``."""
 CONSOLE_BAUD = 115_200
 """The REPL UART's baud rate when the rig file names none (``[board] console_baud``): the
 one default (the shim is always told the rate, in WELCOME: :class:`ShimSettings`)."""
@@ -37,7 +39,7 @@ class ShimSettings:
     setting once, with its one default here; the shim has none of its own. A target sends
     what fits it (:meth:`host.rig.targets.target.Target.shim_settings`)."""
 
-    entry: str = "main.py"  # the file run after boot.py
+    entry: str = ENTRY  # the file run after boot.py
     console_baud: int = CONSOLE_BAUD  # print() takes the REPL UART's time (0: free, or a board's own UART)
     ticks_wrap_s: float = TICKS_WRAP_S
     board_fs: str = ""  # the board's folder on the host (host/rig/targets/boardfs.py); "": not confined
@@ -81,7 +83,7 @@ def heap_bytes(size: str | int) -> int | None:
 class Firmware:
     main_dir: Path  # the folder the entry file runs in (the board's /)
     folders: list[Path]  # on the path, in order: main_dir first
-    entry: str = "main.py"
+    entry: str = ENTRY
     heap_size: str | None = None  # -X heapsize, as a board's RAM
     ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (None: TICKS_WRAP_S)
     console_baud: int = CONSOLE_BAUD  # the REPL UART: print() takes its time (0: free)
