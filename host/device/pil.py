@@ -23,6 +23,7 @@ from host.link import Channel, FdTransport
 from host.link import frames as F
 from host.rig import Recording, Rig, RigSpec
 from host.rig.loop.spec import NO_RECORDING
+from host.rig.targets.firmware import ShimSettings
 from host.rig.targets.target import Target
 
 SHIM_FILES = (
@@ -121,6 +122,13 @@ class BoardTarget(Target):
 
     def alive(self) -> bool:
         return self.serial is not None
+
+    def shim_settings(self, firmware) -> ShimSettings:
+        """A board's own UART, heap, CPU and flash are real: the shim is told the entry and
+        the ticks' wrap (its clock is the loop's), and no console time (console_baud 0:
+        its UART's own time is real, a modelled one would come on top)."""
+        rig_file = firmware.shim_settings()
+        return ShimSettings(entry=rig_file.entry, ticks_wrap_s=rig_file.ticks_wrap_s, console_baud=0)
 
     def close(self, session_open: bool = False) -> None:
         """BYE ends a session still open: the firmware stops at its next wait and the

@@ -29,8 +29,6 @@ SPIN_STEP_US = 10  # virtual time each further read costs while spinning
 BEHIND_US = 100_000  # MCU time: callbacks this far ahead of the clock: the board falls behind
 TICKS_PERIOD = 1 << 30  # a 32-bit MCU's small-int tick period
 TICKS_MASK = TICKS_PERIOD - 1
-TICKS_START_US = TICKS_PERIOD - 10_000_000  # ticks_us wraps 10 s into the run
-TICKS_START_MS = TICKS_PERIOD - 10_000  # ticks_ms wraps 10 s into the run
 
 mode = F.MODE_LOCKSTEP
 _lockstep = True  # mode == MODE_LOCKSTEP, for the hot paths
@@ -96,15 +94,16 @@ def _printed(n_bytes):
 
 def cpu_start(getenv):
     """Compute costs the board's CPU time from here on, when the host names a CPU
-    (HIL_CPU, its cost table in HIL_CPU_COST; host/rig/targets/mcutime.py): the firmware's work is
+    (WELCOME's cpu, its cost table cpu_cost; host/rig/targets/mcutime.py): the firmware's work is
     counted by this interpreter (_hilfast, host/core/micropython/hilcount.patch), the
     shim's own is not. Without the counter (a user's own interpreter, HIL_PURE) compute
     stays free, which it says once."""
-    name = getenv("HIL_CPU") if getenv else None
+    settings = _Link.settings
+    name = settings["cpu"].decode()
     if not name:
         return
     fast = None
-    if not getenv("HIL_PURE"):
+    if not (getenv and getenv("HIL_PURE")):
         try:
             import _hilfast as fast
         except ImportError:
@@ -115,11 +114,9 @@ def cpu_start(getenv):
     if not _lockstep:  # (the clock is the wall's: compute takes the host's real time)
         sys.stderr.write("mpy-fil: [board] cpu = %s: not in real time, where compute takes the host's time\n" % name)
         return
-    import binascii
-
     _exempt(fast)
     # (the board's heap the firmware's collections are modelled in: only its own objects count)
-    fast.cost(binascii.unhexlify(getenv("HIL_CPU_COST")), int(getenv("HIL_CPU_HEAP") or 0))
+    fast.cost(settings["cpu_cost"], settings["cpu_heap"])
     if hasattr(fast, "heap_roots"):  # (what a board holds in C for the firmware: no other of the shim's
         fast.heap_roots((_handles, _timers, _pending))  # objects keeps the firmware's alive in its count)
     _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
@@ -315,6 +312,9 @@ class _Link:
     # _hilfast.arm (the harness's build, not HIL_PURE): the callbacks left queued run at the
     # firmware's next branches, one a branch (_leftovers); None: at its next call into the shim
     arm = None
+    # The host's settings for this run, from WELCOME (_hilframe.unpack_welcome: console_baud,
+    # ticks_wrap_ms, entry, the board's folder, ...; docs/protocol.md): set by start()
+    settings = None
 
     def __init__(self, path):
         f = open(path, "r+b")
@@ -1357,12 +1357,15 @@ def start():
         raise OSError(
             "host speaks link protocol %d, shim speaks %d" % (struct.unpack_from("<H", p, 0)[0], F.PROTO_VERSION)
         )
-    _proto, mode, t_start, flags, identity = F.unpack_welcome(p)
+    _proto, mode, t_start, flags, settings = F.unpack_welcome(p)
+    p = None
+    _Link.settings = settings
     _Link.zero = bool(flags & F.WELCOME_ZERO_DELAY)
     import _hilsys  # the board's sys (sys.platform, _machine when the host names it), os, micropython
 
+    identity = settings["identity"]
     board = identity.decode().split(";", 1) if identity else ()
-    baud = int(getenv("HIL_CONSOLE_BAUD") or 0) if getenv else 0  # on a board its own UART pays
+    baud = settings["console_baud"]  # (0 on a board: its own UART pays)
     console_setup(baud, 32 if board and board[0] == "rp2" else 128)  # the UART's TX FIFO
     _hilsys.install(said, baud > 0, *board)
     _now = t_start

@@ -99,23 +99,11 @@ def _getenv():
     return getattr(os, "getenv", None)  # boards have no environment
 
 
-def _entry():
-    """The file a board runs after boot.py: main.py, or the rig file's entry."""
-    import os
-
-    getenv = getattr(os, "getenv", None)  # boards have no environment
-    return (getenv("HIL_ENTRY") if getenv else None) or "main.py"
-
-
 def _confine():
     """The firmware's view made a board's: its flash at /, no host reach (_hilconfine)."""
-    import os
-
     import _hilconfine
 
-    names = ("HIL_BOARD_FS", "HIL_FLASH_BYTES", "HIL_ALLOW")
-    env = {name: os.getenv(name) for name in names}
-    _hilconfine.confine(env, __file__.rsplit("/", 1)[0])
+    _hilconfine.confine(_hil._Link.settings, __file__.rsplit("/", 1)[0])
 
 
 def _give_way():
@@ -144,14 +132,6 @@ def _coverage():
 # for the most, then a byte (three blocks) and a lone tuple (one) for the holes between
 # the shim's objects.
 BALLAST_DATA_BYTES = (192, 1)
-
-
-def _firmware_heap():
-    """The firmware's heap_size in bytes (HIL_HEAP_BYTES; 0: the interpreter's whole heap)."""
-    import os
-
-    getenv = getattr(os, "getenv", None)
-    return int(getenv("HIL_HEAP_BYTES") or 0) if getenv else 0
 
 
 def _firmware_room(want):
@@ -228,10 +208,11 @@ def main(pil=False):
     coverage = None
     try:
         _hil.start()  # (in here: interrupted in the handshake, its stack still goes to the host)
-        room = None if pil else _firmware_room(_firmware_heap())  # (before _confine: os.getenv)
-        getenv = _getenv()  # (the same)
+        settings = _hil._Link.settings  # (WELCOME's: docs/protocol.md)
+        room = None if pil else _firmware_room(settings["heap_bytes"])  # (0: the interpreter's whole heap)
+        getenv = _getenv()  # (before _confine: os.getenv)
         _asyncio_in_virtual_time()
-        entry = _entry()
+        entry = settings["entry"].decode()  # (the file a board runs after boot.py: main.py, or the rig file's)
         if not pil:  # (at a board's REPL, boot.py ran at power-on: its names are there)
             coverage = _coverage()
             _confine()

@@ -168,16 +168,16 @@ def give_way():
             sys.modules[_U_NAMES[name]] = mine
 
 
-def confine(env, shim_dir):
-    """``env``: the host's settings (read before os.getenv goes): HIL_BOARD_FS (the board's
-    folder on the host; none: the firmware's own folders, unconfined), HIL_FLASH_BYTES,
-    HIL_ALLOW (names the rig file allows: modules, or os.<name>)."""
-    allowed = [n for n in (env.get("HIL_ALLOW") or "").split(",") if n]
-    root = env.get("HIL_BOARD_FS")
+def confine(settings, shim_dir):
+    """``settings``: the host's, from WELCOME (_hilframe.unpack_welcome): board_fs (the
+    board's folder on the host; empty: the firmware's own folders, unconfined),
+    flash_bytes, allow (names the rig file allows, comma-separated: modules, or os.<name>)."""
+    allowed = [n for n in settings["allow"].decode().split(",") if n]
+    root = settings["board_fs"].decode()
     if root:
         import _hilfs
 
-        _hilfs.mount(root, int(env.get("HIL_FLASH_BYTES") or 2 * 1024 * 1024), shim_dir)
+        _hilfs.mount(root, settings["flash_bytes"], shim_dir)
         sys.path[:] = ["/_hil", "", "/lib", ".frozen"]
     fw_root, fw_libs, shim_entry = _board_path(shim_dir)
     shim_first, _firmware_first[:] = _shadowing(fw_root, fw_libs)

@@ -16,7 +16,8 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 5  # 3: POLL, CFG's instant; 4: BUS_IMAGE, BUS_DONE; 5: BUS_IMAGE read in place, EDGES, I2CT, CPU_RUNS
+PROTO_VERSION = 6  # 3: POLL, CFG's instant; 4: BUS_IMAGE, BUS_DONE; 5: BUS_IMAGE read in place, EDGES, I2CT, CPU_RUNS;
+# 6: the shim's settings in WELCOME
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -319,8 +320,14 @@ NAMES = {
 }
 
 HELLO_FMT = "<H"  # proto, then UTF-8 "<micropython version>;<machine>"
-WELCOME_FMT = "<HBQB"  # proto, mode, t_start_us, flags, then UTF-8 "<platform>;<machine>"
+WELCOME_FMT = "<HBQB"  # proto, mode, t_start_us, flags, then the settings: WELCOME_SETTINGS_FMT, WELCOME_TEXTS
 WELCOME_LEN = struct.calcsize(WELCOME_FMT)
+WELCOME_SETTINGS_FMT = "<IIIII"  # the numbers of WELCOME_NUMBERS, in order
+WELCOME_SETTINGS_LEN = struct.calcsize(WELCOME_SETTINGS_FMT)
+# The shim's settings (docs/protocol.md, "Settings"): numbers, then byte strings (each a u16
+# length and its bytes). The host writes each one's default once (host/rig/targets/firmware.py).
+WELCOME_NUMBERS = ("console_baud", "ticks_wrap_ms", "flash_bytes", "heap_bytes", "cpu_heap")
+WELCOME_TEXTS = ("identity", "entry", "board_fs", "allow", "cpu", "cpu_cost")
 WELCOME_ZERO_DELAY = 0x01  # flag: a wire may carry an output to an input at the same instant
 CFG_FMT = "<QHBBBi"  # t_us, handle, kind, mode, pull, param, then UTF-8 pin name
 OUT_FMT = "<QHBi"  # t_us, handle, attr, value
@@ -381,13 +388,25 @@ def unpack_hello(p):
     return struct.unpack_from(HELLO_FMT, p, 0)[0], bytes(p[HELLO_LEN:])
 
 
-def pack_welcome(mode, t_start_us, flags, identity):
-    return struct.pack(WELCOME_FMT, PROTO_VERSION, mode, t_start_us, flags) + identity
+def pack_welcome(mode, t_start_us, flags, settings):
+    """``settings``: a dict of every name of WELCOME_NUMBERS (an int) and WELCOME_TEXTS (bytes)."""
+    out = struct.pack(WELCOME_FMT, PROTO_VERSION, mode, t_start_us, flags)
+    out += struct.pack(WELCOME_SETTINGS_FMT, *[settings[name] for name in WELCOME_NUMBERS])
+    for name in WELCOME_TEXTS:
+        out += struct.pack("<H", len(settings[name])) + settings[name]
+    return out
 
 
 def unpack_welcome(p):
-    """(proto, mode, t_start_us, flags, identity bytes: b"<platform>;<machine>" or b"")"""
-    return struct.unpack_from(WELCOME_FMT, p, 0) + (bytes(p[WELCOME_LEN:]),)
+    """(proto, mode, t_start_us, flags, settings: a dict as pack_welcome takes it; its
+    identity b"<platform>;<machine>" or b"")"""
+    settings = dict(zip(WELCOME_NUMBERS, struct.unpack_from(WELCOME_SETTINGS_FMT, p, WELCOME_LEN)))
+    at = WELCOME_LEN + WELCOME_SETTINGS_LEN
+    for name in WELCOME_TEXTS:
+        end = at + 2 + struct.unpack_from("<H", p, at)[0]
+        settings[name] = bytes(p[at + 2 : end])
+        at = end
+    return struct.unpack_from(WELCOME_FMT, p, 0) + (settings,)
 
 
 def pack_cfg(t_us, handle, kind, mode, pull, param, name):

@@ -5,24 +5,18 @@ import _hil
 
 _MASK = _hil.TICKS_MASK
 _HALF = _hil.TICKS_PERIOD >> 1
-_START_US = _hil.TICKS_START_US
-_START_MS = _hil.TICKS_START_MS
 
 
-def _wrap_in():
-    """HIL_TICKS_WRAP_S: the ticks wrap this many seconds into the run (default 10)."""
-    global _START_US, _START_MS
-    import os
-
-    getenv = getattr(os, "getenv", None)  # boards have no environment
-    text = getenv("HIL_TICKS_WRAP_S") if getenv else None
-    if text:
-        wrap_ms = int(float(text) * 1000)
-        _START_US = (_hil.TICKS_PERIOD - wrap_ms * 1000) & _MASK
-        _START_MS = (_hil.TICKS_PERIOD - wrap_ms) & _MASK
+def _wrap_ms():
+    """The ticks wrap this long into the run: WELCOME's ticks_wrap_ms (the rig file's
+    [interpreter] ticks_wrap_s); imported with no host (the shim's pieces on their own,
+    host/bench/shim_pieces.py) they start at 0."""
+    settings = _hil._Link.settings
+    return settings["ticks_wrap_ms"] if settings else 0
 
 
-_wrap_in()
+_START_US = (_hil.TICKS_PERIOD - _wrap_ms() * 1000) & _MASK
+_START_MS = (_hil.TICKS_PERIOD - _wrap_ms()) & _MASK
 _EPOCH_S = 1_735_689_600  # 2025-01-01 00:00:00 UTC: the board's RTC at power-on
 
 

@@ -14,9 +14,12 @@ def unhex(text):
 
 
 def plain(value):
-    """JSON fields as the codec takes them: {"hex": ...} is bytes, lists stay lists."""
+    """JSON fields as the codec takes them: {"hex": ...} is bytes, lists stay lists, any
+    other dict (WELCOME's settings) is a dict of plain fields."""
     if isinstance(value, dict):
-        return unhex(value["hex"])
+        if list(value) == ["hex"]:
+            return unhex(value["hex"])
+        return {key: plain(v) for key, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [plain(v) for v in value]
     return value

@@ -60,6 +60,7 @@ TYPE_CODES = {"u8": "B", "u16": "H", "u32": "I", "u64": "Q", "i32": "i", "i64": 
 # what follows the fixed part
 # (I2CT_DONE's row draws the transaction it answers too: the target's CH_BYTES change)
 SECOND_PART = {
+    "WELCOME": "WELCOME_SETTINGS_FMT",
     "WAIT": "WATCH_FMT",
     "STATE": "CHANGE_FMT",
     "BUS_IMAGE": "BUS_IMAGE_ENTRY_FMT",
@@ -90,7 +91,7 @@ def documented_layouts() -> dict[str, str]:
 
 def test_codec_message_layouts_are_the_ones_docs_protocol_md_draws():
     layouts = documented_layouts()
-    assert len(layouts) == 28, sorted(layouts)  # 21 messages with a payload, and the 7 second parts above
+    assert len(layouts) == 29, sorted(layouts)  # 21 messages with a payload, and the 8 second parts above
     for name, fmt in layouts.items():
         codec = F if hasattr(F, name) else _hilpio  # (PIO_AHEAD's and PIO_DONE's: rp2.py's alone)
         got = getattr(codec, name)

@@ -137,14 +137,14 @@ def test_what_the_harness_keeps_finalises_or_calls_changes_nothing_in_the_firmwa
 def test_the_modelled_heap_is_the_boards_at_this_builds_size_or_the_rig_files():
     """The firmware's collections are scheduled in its board's heap: the family's (HEAPS) at
     64-bit objects, twice a board's bytes, or the rig file's heap_size when it names one."""
-    env = mcutime.shim_env("rp2040@125MHz")
-    assert env["HIL_CPU_HEAP"] == str(2 * mcutime.HEAPS["rp2040"]), env["HIL_CPU_HEAP"]
-    env = mcutime.shim_env("esp32@240MHz", 96 * 1024)
-    assert env["HIL_CPU_HEAP"] == str(96 * 1024), env["HIL_CPU_HEAP"]
+    told = mcutime.shim_settings("rp2040@125MHz")
+    assert told["cpu_heap"] == 2 * mcutime.HEAPS["rp2040"], told["cpu_heap"]
+    told = mcutime.shim_settings("esp32@240MHz", 96 * 1024)
+    assert told["cpu_heap"] == 96 * 1024, told["cpu_heap"]
     board = mcutime.CPUS["esp32@240MHz"]
-    own = dataclasses.replace(board, heap=96 * 1024 // mcutime.WORD_RATIO).table().hex()
-    assert env["HIL_CPU_COST"] == own != board.table().hex(), "expected the sweep to cost the rig file's heap"
-    assert mcutime.shim_env(mcutime.FREE, 96 * 1024) == {}, "a free CPU models no heap"
+    own = dataclasses.replace(board, heap=96 * 1024 // mcutime.WORD_RATIO).table()
+    assert told["cpu_cost"] == own != board.table(), "expected the sweep to cost the rig file's heap"
+    assert mcutime.shim_settings(mcutime.FREE, 96 * 1024) == {}, "a free CPU models no heap"
 
 
 TREE = ("host", "firmware", "sim_plant", "pyproject.toml")

@@ -9,7 +9,7 @@ from host.core.paths import FIRMWARE
 from host.rig.config.budgets import Budget
 from host.rig.scan import boards as pin_maps
 from host.rig.targets.boardfs import Confinement
-from host.rig.targets.firmware import CONSOLE_BAUD
+from host.rig.targets.firmware import CONSOLE_BAUD, ENTRY
 from sim_plant.plant import Plant
 
 BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow")
@@ -23,7 +23,7 @@ class Code:
     """Where the firmware's code is (``[firmware]``)."""
 
     folder: Path | None = None  # default: firmware/apps/<name>
-    entry: str = "main.py"  # the file the board runs after boot.py
+    entry: str = ENTRY  # the file the board runs after boot.py
     lib_dirs: tuple[Path, ...] = ()  # library folders of the firmware's own (its /lib)
     harness_lib: bool = True  # the project's firmware/lib on the path
     allow_exit: bool = False  # the firmware may end by design ([firmware] allow_exit)

@@ -18,6 +18,7 @@ from host.rig.config import budgets as budgets_of
 from host.rig.config import migrate, rigrules
 from host.rig.config.app import (
     CONSOLE_BAUD,
+    ENTRY,
     PROBE_PREFIX,
     App,
     BoardSettings,
@@ -156,7 +157,7 @@ def rig_from_data(path, data: dict, base=None) -> App:
     folder = _inside(where, base, "[firmware] dir", firmware.get("dir", "."), "the rig file's folder")
     if not folder.is_dir():
         raise where.error("[firmware] dir", f"no folder {folder}")
-    entry = firmware.get("entry", "main.py")
+    entry = firmware.get("entry", ENTRY)
     if not _inside(where, folder, "[firmware] entry", entry, "the firmware folder").is_file():
         found = sorted(p.name for p in folder.glob("*.py"))[:50]  # (a folder of thousands: the first 50)
         raise where.error("[firmware] entry", f"no {entry} in {folder} {unknown(entry, found, what='its .py files')}")

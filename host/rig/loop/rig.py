@@ -219,7 +219,8 @@ class Rig:
         self.speculation.end()
         self.clock.wait = None
         chan = launch(self.firmware, self._on_console)
-        version = self.session.handshake(chan, self.pacing.code, self.t_us, self.plant.zero_delay, self.identity)
+        settings = self.target.shim_settings(self.firmware).packed(self.identity)
+        version = self.session.handshake(chan, self.pacing.code, self.t_us, settings, self.plant.zero_delay)
         self.micropython_version = version
         self.pacing.begin(self.t_us)
 

@@ -23,10 +23,10 @@ class Session:
         self.last_sent_type: int | None = None  # of the last message to it
         self._t_sent = None
 
-    def handshake(self, chan, mode: int, t_us: int, zero_delay=False, identity: tuple[str, str] | None = None) -> str:
+    def handshake(self, chan, mode: int, t_us: int, settings: dict, zero_delay=False) -> str:
         """HELLO from the shim, WELCOME back; the shim's "<micropython version>;<machine>".
-        ``zero_delay``: the plant's wires carry a write to an input at once;
-        ``identity``: the board's (platform, machine)."""
+        ``settings``: the shim's, as the codec packs them (ShimSettings.packed, with the
+        board's identity); ``zero_delay``: the plant's wires carry a write to an input at once."""
         self.chan = chan
         self.last_type = self.last_sent_type = None  # (of this boot's conversation)
         type_, payload = self.recv(HANDSHAKE_TIMEOUT_S, "HELLO")
@@ -35,9 +35,8 @@ class Session:
         proto, info = F.unpack_hello(payload)
         if proto != F.PROTO_VERSION:
             raise LinkError(f"shim speaks link protocol {proto}, host speaks {F.PROTO_VERSION}")
-        ident = ";".join(identity).encode() if identity else b""
         flags = F.WELCOME_ZERO_DELAY if zero_delay else 0
-        self.send(F.WELCOME, F.pack_welcome(mode, t_us, flags, ident))
+        self.send(F.WELCOME, F.pack_welcome(mode, t_us, flags, settings))
         return info.decode(errors="replace")
 
     def send(self, type_: int, payload: bytes) -> None:

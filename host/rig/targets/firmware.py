@@ -23,9 +23,49 @@ COVERAGE_HEAP_BYTES = 64 * 1024  # the coverage tracer's closures and frames (do
 # without its octal (a leading 0) and signs
 HEAP_SIZE = re.compile(r"([1-9][0-9]*|0[xX][0-9a-fA-F]+)([wW]?)([kKmM]?)")
 
+ENTRY = "main.py"
+"""The file a board runs after boot.py when the rig file names no ``[firmware] entry``."""
 CONSOLE_BAUD = 115_200
 """The REPL UART's baud rate when the rig file names none (``[board] console_baud``): the
-one default (the shim is always told the rate, HIL_CONSOLE_BAUD)."""
+one default (the shim is always told the rate, in WELCOME: :class:`ShimSettings`)."""
+TICKS_WRAP_S = 10.0
+"""When ticks_ms and ticks_us wrap, in seconds into the run, when the rig file names no
+``[interpreter] ticks_wrap_s``."""
+
+
+@dataclass(frozen=True)
+class ShimSettings:
+    """What the shim is told of its run in WELCOME (docs/protocol.md, "Settings"): each
+    setting once, with its one default here; the shim has none of its own. A target sends
+    what fits it (:meth:`host.rig.targets.target.Target.shim_settings`)."""
+
+    entry: str = ENTRY  # the file run after boot.py
+    console_baud: int = CONSOLE_BAUD  # print() takes the REPL UART's time (0: free, or a board's own UART)
+    ticks_wrap_s: float = TICKS_WRAP_S
+    board_fs: str = ""  # the board's folder on the host (host/rig/targets/boardfs.py); "": not confined
+    flash_bytes: int = DEFAULT_FLASH_BYTES  # the board's filesystem ([board] flash_size)
+    allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
+    heap_bytes: int = 0  # the firmware's heap as it starts (0: the interpreter's whole heap)
+    cpu: str = ""  # compute costs this CPU's time (host/rig/targets/mcutime.py; "": free)
+    cpu_cost: bytes = b""  # its cost table (mcutime.Cpu.table)
+    cpu_heap: int = 0  # the heap its collections are modelled in (mcutime.heap_model)
+
+    def packed(self, identity: tuple[str, str] | None = None) -> dict:
+        """The codec's dict (host/shim/_hilframe.py pack_welcome); ``identity``: the board's
+        (platform, machine), which becomes the firmware's sys.platform and machine."""
+        return {
+            "console_baud": self.console_baud,
+            "ticks_wrap_ms": int(self.ticks_wrap_s * 1000),
+            "flash_bytes": self.flash_bytes,
+            "heap_bytes": self.heap_bytes,
+            "cpu_heap": self.cpu_heap,
+            "identity": ";".join(identity).encode() if identity else b"",
+            "entry": self.entry.encode(),
+            "board_fs": self.board_fs.encode(),
+            "allow": ",".join(self.allow).encode(),
+            "cpu": self.cpu.encode(),
+            "cpu_cost": self.cpu_cost,
+        }
 
 
 def heap_bytes(size: str | int) -> int | None:
@@ -43,9 +83,9 @@ def heap_bytes(size: str | int) -> int | None:
 class Firmware:
     main_dir: Path  # the folder the entry file runs in (the board's /)
     folders: list[Path]  # on the path, in order: main_dir first
-    entry: str = "main.py"
+    entry: str = ENTRY
     heap_size: str | None = None  # -X heapsize, as a board's RAM
-    ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (default 10 s in)
+    ticks_wrap_s: float | None = None  # when ticks_ms/ticks_us wrap (None: TICKS_WRAP_S)
     console_baud: int = CONSOLE_BAUD  # the REPL UART: print() takes its time (0: free)
     flash_bytes: int = DEFAULT_FLASH_BYTES  # the board's filesystem ([board] flash_size)
     allow: tuple = ()  # host modules the rig file allows ([board] allow_modules)
@@ -130,24 +170,30 @@ class Firmware:
         folders = [SHIM_DIR if shim is True else shim, *board] if shim else board
         return ":".join([*map(str, folders), ".frozen"])
 
+    def shim_settings(self) -> ShimSettings:
+        """What the shim is told in WELCOME when it runs here, in the unix port: the entry,
+        the console's rate, the ticks' wrap, the board's folder and flash size, the host
+        modules allowed, the firmware's heap and the CPU whose time compute costs."""
+        given = {"ticks_wrap_s": self.ticks_wrap_s} if self.ticks_wrap_s is not None else {}
+        board = {"board_fs": str(self.board_root), "flash_bytes": self.flash_bytes} if self.board_root else {}
+        heap = {"heap_bytes": self.firmware_heap_bytes()} if self.heap_size else {}
+        # compute's cost on the board's CPU (MPYFIL_CPU overrides the rig file's, docs/mcu-time.md)
+        cpu = mcutime.shim_settings(os.environ.get("MPYFIL_CPU") or self.cpu, self.rig_heap_bytes())
+        return ShimSettings(
+            entry=self.entry, console_baud=self.console_baud, allow=tuple(self.allow), **given, **board, **heap, **cpu
+        )
+
     def env(self, link_path: str, shim: Path = SHIM_DIR) -> dict:
-        """The interpreter's environment: the path (the shim from ``shim``), the pty the shim
-        opens, the board's folder and flash size, the host modules allowed (read by the shim
-        at start)."""
-        board = {"HIL_BOARD_FS": str(self.board_root), "HIL_FLASH_BYTES": str(self.flash_bytes)}
+        """The interpreter's environment: what must be there before the link opens (the
+        settings come in WELCOME, :meth:`shim_settings`). The path (the shim from
+        ``shim``, which finds the shim itself), the pty the shim opens (HIL_LINK: it names
+        the link), the file descriptor the coverage tracer writes to (HIL_COVERAGE_FD: this
+        process's own, given at its start) and HIL_PURE (the host's switch, passed on)."""
         return {
             "PATH": os.environ.get("PATH", "/usr/bin:/bin"),
             "MICROPYPATH": self.micropypath(shim),
             "HIL_LINK": link_path,
-            "HIL_ALLOW": ",".join(self.allow),
-            **(board if self.board_root else {}),
-            "HIL_ENTRY": self.entry,
-            "HIL_CONSOLE_BAUD": str(self.console_baud),
-            **({"HIL_TICKS_WRAP_S": repr(self.ticks_wrap_s)} if self.ticks_wrap_s is not None else {}),
             **({"HIL_COVERAGE_FD": str(self.coverage_fd)} if self.coverage_fd is not None else {}),
-            **({"HIL_HEAP_BYTES": str(self.firmware_heap_bytes())} if self.heap_size else {}),
-            # compute's cost on the board's CPU (MPYFIL_CPU overrides the rig file's, docs/mcu-time.md)
-            **mcutime.shim_env(os.environ.get("MPYFIL_CPU") or self.cpu, self.rig_heap_bytes()),
             # the shim's pure-Python hot path even where the build has it in C (host/shim/cmod)
             **({"HIL_PURE": "1"} if os.environ.get("HIL_PURE") else {}),
         }

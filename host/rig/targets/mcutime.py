@@ -355,14 +355,15 @@ def heap_model(cpu: str, heap_size: int | None = None) -> int:
     return heap_size or WORD_RATIO * CPUS[cpu].heap
 
 
-def shim_env(cpu: str, heap_size: int | None = None) -> dict[str, str]:
-    """What the shim is told of the cpu (HIL_CPU: its name; HIL_CPU_COST: the weights, hex;
-    HIL_CPU_HEAP: the modelled heap, :func:`heap_model`, whose size a collection's sweep
-    costs: the rig file's heap_size in a board's bytes when it names one)."""
+def shim_settings(cpu: str, heap_size: int | None = None) -> dict:
+    """What the shim is told of the cpu in WELCOME (host/rig/targets/firmware.py ShimSettings:
+    ``cpu`` its name; ``cpu_cost`` the weights; ``cpu_heap`` the modelled heap,
+    :func:`heap_model`, whose size a collection's sweep costs: the rig file's heap_size in a
+    board's bytes when it names one). Nothing for a free CPU."""
     if cpu == FREE:
         return {}
     model = CPUS[cpu] if not heap_size else replace(CPUS[cpu], heap=heap_size // WORD_RATIO)
-    return {"HIL_CPU": cpu, "HIL_CPU_COST": model.table().hex(), "HIL_CPU_HEAP": str(heap_model(cpu, heap_size))}
+    return {"cpu": cpu, "cpu_cost": model.table(), "cpu_heap": heap_model(cpu, heap_size)}
 
 
 def table(counts: dict[str, dict], cpus: dict[str, Cpu] | None = None) -> list[tuple]:

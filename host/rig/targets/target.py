@@ -118,6 +118,11 @@ class Target:
         """Opened and not closed."""
         raise NotImplementedError
 
+    def shim_settings(self, firmware):
+        """What the shim is told in WELCOME (host/rig/targets/firmware.py ShimSettings): a
+        firmware run here is told all the rig file sets."""
+        return firmware.shim_settings()
+
     def close(self, session_open: bool = False) -> None:
         """End the firmware; ``session_open``: the shim still waits on the link."""
         raise NotImplementedError
