@@ -372,13 +372,15 @@ def stop_background(board: str, home: Path | None = None) -> bool:
         os.kill(pid, signal.SIGTERM)
     except ProcessLookupError:
         return False
-    deadline = time.monotonic() + 5
+    deadline = time.monotonic() + STOP_S + 1  # (its own alarm ends it after STOP_S: that first)
     while time.monotonic() < deadline:
         if _gone(pid):
             return True
         time.sleep(0.02)
-    os.kill(pid, signal.SIGKILL)
-    _gone(pid)
+    os.kill(pid, signal.SIGKILL)  # (not ended in 5 s, a loaded machine: waited for, reaped when ours)
+    deadline = time.monotonic() + 5
+    while not _gone(pid) and time.monotonic() < deadline:
+        time.sleep(0.02)
     return True
 
 
