@@ -268,24 +268,29 @@ def test_a_board_spins_alone_until_another_board_could_act(tmp_path):
     assert exchanges < 40, f"expected the spins alone up to the right board's wake, got {exchanges} exchanges"
 
 
-UART_PAIR_RIG = """\
-name = "uart_pair"
+def uart_pair_rig(name: str, faults: str = "") -> str:
+    """Two boards, an ESP32 (left) and a Pico (right), on one board_uart (the link's options
+    in ``faults``: its drop and damage chances)."""
+    return f"""\
+name = "{name}"
 [plant]
 body = "bench"
 [[plant.parts]]
 kind = "board_uart"
 name = "link"
+{faults}
 [[boards]]
 name = "left"
-firmware = { dir = "left" }
-board = { family = "esp32", pins = { LINK_UART = 1 } }
-wiring = { LINK_UART = "link.a" }
+firmware = {{ dir = "left" }}
+board = {{ family = "esp32", pins = {{ LINK_UART = 1 }} }}
+wiring = {{ LINK_UART = "link.a" }}
 [[boards]]
 name = "right"
-firmware = { dir = "right" }
-board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
-wiring = { LINK_UART = "link.b" }
+firmware = {{ dir = "right" }}
+board = {{ family = "rpi_pico", pins = {{ LINK_UART = 0 }} }}
+wiring = {{ LINK_UART = "link.b" }}
 """
+
 
 BURSTS = """\
 import time
@@ -311,7 +316,7 @@ while True:
 
 
 def test_a_board_no_change_can_wake_takes_the_bytes_in_flight_at_its_wake_not_a_round_each(tmp_path):
-    rig = set_folder(tmp_path, {"left": BURSTS, "right": SLOW_READER}, UART_PAIR_RIG)
+    rig = set_folder(tmp_path, {"left": BURSTS, "right": SLOW_READER}, uart_pair_rig("uart_pair"))
     with BoardSet(load_boards(rig), seed=1, artefacts=tmp_path / "out") as boards:
         boards.run_for(0.25)
         console, rounds = boards["right"].console, boards.rounds
@@ -435,26 +440,6 @@ def test_a_board_that_browns_out_boots_again_and_the_others_carry_on(tmp_path):
     assert 3 <= before < after <= 10, f"expected commands acted on before and after the brownout: {before}, {after}"
 
 
-UART_FAULT_RIG = """\
-name = "uart_faults"
-[plant]
-body = "bench"
-[[plant.parts]]
-kind = "board_uart"
-name = "link"
-FAULTS
-[[boards]]
-name = "left"
-firmware = { dir = "left" }
-board = { family = "esp32", pins = { LINK_UART = 1 } }
-wiring = { LINK_UART = "link.a" }
-[[boards]]
-name = "right"
-firmware = { dir = "right" }
-board = { family = "rpi_pico", pins = { LINK_UART = 0 } }
-wiring = { LINK_UART = "link.b" }
-"""
-
 SENDER = """\
 import time
 from machine import UART
@@ -479,7 +464,7 @@ while True:
 
 @pytest.mark.parametrize("faults", ["drop_p = 0.1", "flip_p = 0.1"])
 def test_a_board_uart_loses_or_damages_bytes_as_its_faults_say_the_same_each_run(tmp_path, faults):
-    set_folder(tmp_path, {"left": SENDER, "right": RECEIVER}, UART_FAULT_RIG.replace("FAULTS", faults))
+    set_folder(tmp_path, {"left": SENDER, "right": RECEIVER}, uart_pair_rig("uart_faults", faults))
     runs = []
     for _ in range(2):
         with BoardSet(load_boards(tmp_path / "rig.toml"), seed=4) as boards:
