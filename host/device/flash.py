@@ -38,6 +38,8 @@ from host.rig.targets.firmware import Firmware
 STAGING = REPO / "build" / "flash"
 VENV_BIN = Path(sys.executable).parent
 MPREMOTE_TIMEOUT_S = 120
+FIRST_LINE_S = 15.0
+"""After a reset, how long to wait for a board's first line when none came within ``--wait``."""
 
 
 class FlashError(HarnessError):
@@ -189,9 +191,15 @@ def reset_and_read(port: str, max_lines: int = 10, wait_s: float = 3.0) -> list[
         _read_quiet(ser, 0.3)
         ser.write(b"\x04")  # soft reset: boot.py, main.py
         data = _read_until(ser, None, wait_s, max_lines + 1)
+        deadline = time.monotonic() + max(0.0, FIRST_LINE_S - wait_s)
+        while not _lines(data[: data.rfind(b"\n") + 1]) and time.monotonic() < deadline:
+            data += ser.read(256)  # a board slow to boot (a loaded host): wait for its first whole line
+    return _lines(data)[:max_lines]
+
+
+def _lines(data: bytes) -> list[str]:
     text = data.decode(errors="replace").replace("\r\n", "\n")
-    lines = [t for t in text.split("\n") if t.strip() and "soft reboot" not in t]
-    return lines[:max_lines]
+    return [t for t in text.split("\n") if t.strip() and "soft reboot" not in t]
 
 
 def _read_quiet(ser, quiet_s: float, timeout_s: float = 3.0) -> None:

@@ -93,6 +93,17 @@ def test_ctrl_c_during_a_flash_leaves_the_board_usable(board_port, tmp_path):
     assert again["first_lines"][:1] == ["rover on esp32-devkitc control every 50 ms"]
 
 
+def test_a_board_slower_to_print_than_the_wait_still_shows_its_first_line(board_port):
+    """A loaded host (or a slow boot.py) can take longer than ``--wait`` to reach main.py's
+    first print: the flash waits for one whole line rather than showing none."""
+    port, home = board_port
+    (home / "fs" / "main.py").write_text("import time\ntime.sleep(1.5)\nprint('late hello')\n")
+    t0 = time.monotonic()
+    lines = flash.reset_and_read(port, 3, wait_s=0.3)
+    assert lines[:1] == ["late hello"], f"expected main.py's line after its 1.5 s sleep; got {lines}"
+    assert time.monotonic() - t0 < flash.FIRST_LINE_S, "it stopped waiting once the line came"
+
+
 def test_hil_scenario_runs_from_the_flashed_files(board_port, make_rig):
     port, home = board_port
     flash.flash("rover", BOARD, port, wait_s=1.0, log=lambda _: None)
