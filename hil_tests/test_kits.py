@@ -61,7 +61,14 @@ def test_init_kit_refuses_to_overwrite_and_names_the_kits(capsys, tmp_path):
     code, _, err = cli(capsys, "init", "--kit", "xrp_beta", folder)
     assert code == 2 and "is a link" in err and not (tmp_path / "elsewhere.toml").exists(), err
     code, _, err = cli(capsys, "init", "--kit", "no_such_kit", folder)
-    assert code == 2 and "no kit 'no_such_kit'" in err, err
+    assert code == 2 and "no kit 'no_such_kit'" in err and "did you mean" not in err, err
+    for typed, meant in (
+        ("pololu", "pololu_3pi_2040"),
+        ("3pi", "pololu_3pi_2040"),
+        ("maker-pi", "cytron_maker_pi_rp2040"),
+    ):
+        code, _, err = cli(capsys, "init", "--kit", typed, folder)
+        assert code == 2 and f"did you mean {meant}?" in err, (typed, err)
     code, listing, _ = cli(capsys, "kits")
     for name, kit in kits.kits().items():
         assert f"{name:<14} {kit.title}" in listing and kit.sources, listing

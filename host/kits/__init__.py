@@ -7,6 +7,7 @@ from), ``rig.toml`` (the rig file written as it is: a rig like any user's) and `
 rig and holds it to the plant's ground truth). A kit of one's own is the same two files, a
 rig and a test, in one's own repository."""
 
+import difflib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -49,8 +50,18 @@ def kits() -> dict[str, Kit]:
 def kit(name: str) -> Kit:
     known = kits()
     if name not in known:
-        raise ConfigError(f"no kit {name!r} (kits: {', '.join(known)}; mpy-fil kits lists them)")
+        near = _near(name, known)
+        hint = f"did you mean {' or '.join(near)}? " if near else ""
+        raise ConfigError(f"no kit {name!r} ({hint}kits: {', '.join(known)}; mpy-fil kits lists them)")
     return known[name]
+
+
+def _near(name: str, known: dict) -> list[str]:
+    """The kits a mistyped name means: those whose name or title holds it (``pololu``,
+    ``3pi``, ``maker-pi``), else the closest names."""
+    typed = name.lower().replace("-", "_").replace(" ", "_")
+    held = [k for k, v in known.items() if typed and (typed in k or typed.replace("_", " ") in v.title.lower())]
+    return held or difflib.get_close_matches(typed, list(known), n=2, cutoff=0.6)
 
 
 def write(name: str, folder: Path) -> list[Path]:
