@@ -27,12 +27,14 @@ from host.artefacts.integrity import TraceWriteError
 from host.artefacts.vcd import merge_vcd, write_set_gtkw
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
+from host.link.transport import spare_core
 from host.rig.config import arguments
 from host.rig.config.boardfile import ProgramSpec
 from host.rig.config.budgets import ReactionBudget
 from host.rig.hardware.peripherals import TARGET_PREFIX
 from host.rig.loop.boardview import BoardView, couple
 from host.rig.loop.hostboard import HostProgram, load_program
+from host.rig.loop.pacing import BUSY_POLL_S
 from host.rig.loop.rig import Rig
 from host.rig.loop.spec import Recording, RigSpec
 from sim_plant.buses import FIRST_ADDRESS, LAST_ADDRESS
@@ -101,6 +103,27 @@ def to_wait(rig, what: str = "a message") -> None:
         rig.dispatch(*rig.session.recv(rig.watchdog_s, what))
 
 
+def settle(rigs: dict, serving: list, spin_s: float = 0.0) -> None:
+    """Serve each board of ``rigs`` that is running, in order, until it blocks (or ends),
+    its name in ``serving[0]``. The last of them is read spinning on its link for up to
+    ``spin_s`` (every other board is blocked: a core is spare), the others as they come."""
+    last = None
+    for rig in rigs.values():
+        if rig.clock.wait is None and rig.exit_kind is None:
+            last = rig
+    for board, rig in rigs.items():
+        serving[0] = board
+        if rig is last and spin_s and isinstance(rig, Rig):  # (a host program has no link)
+            transport = rig.session.chan.transport
+            transport.busy_poll_s = spin_s
+            try:
+                to_wait(rig)
+            finally:
+                transport.busy_poll_s = 0.0
+        else:
+            to_wait(rig)
+
+
 @contextlib.contextmanager
 def naming(board: str):
     """Any harness error raised while serving ``board`` names it first."""
@@ -146,6 +169,7 @@ class BoardSet:
         plant_options: dict | None = None,
         faults: list | None = None,
         allow_exit: bool = False,
+        busy_poll: bool = False,
     ):
         """``boards``: a :class:`~host.rig.config.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
@@ -155,7 +179,9 @@ class BoardSet:
         ``faults``: fault tables (:func:`split_faults`: the harness's name their board), the
         brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`);
         ``allow_exit``: a board's firmware may end (the others carry on), else its end fails
-        the run, naming it."""
+        the run, naming it; ``busy_poll``: this process may spin on the link of the last
+        board still running in a round (the front end's choice, as ``RigSpec.busy_poll``;
+        only with a core to spare)."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
@@ -208,6 +234,7 @@ class BoardSet:
                 self.rigs[board].outputs.level_hooks.setdefault(signal, []).append(call)
             self.budgets[name] = budget
         self._in_target = None  # the target board a controller's transfer is being served by
+        self.spin_s = BUSY_POLL_S if busy_poll and spare_core() else 0.0  # (settle)
 
     # -- life cycle ---------------------------------------------------------------------
 
@@ -274,7 +301,7 @@ class BoardSet:
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
         while True:
-            self._settle(serving)
+            settle(self.rigs, serving, self.spin_s)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
@@ -289,12 +316,6 @@ class BoardSet:
                 elif view.queue or rig.clock.wait.t_until <= t_us or t_us >= t_end_us or truth_due(rig, t_us):
                     rig.clock.bound_us = self._others_act_us(board, t_us, t_end_us)
                     rig.clock.serve(t_us)  # (a board with nothing at this instant waits for its next)
-
-    def _settle(self, serving: list) -> None:
-        """Serve each board that is running, in order, until it blocks (or ends)."""
-        for board, rig in self.rigs.items():
-            serving[0] = board
-            to_wait(rig)
 
     def _others_act_us(self, board: str, t_us: int, t_end_us: int) -> int:
         """The earliest instant a board other than ``board`` could act, with nothing written
@@ -317,21 +338,27 @@ class BoardSet:
     def _next_instant(self, t_end_us: int) -> int | None:
         """The round's instant: the earliest at which anything may change; None when every
         board is at ``t_end_us`` with nothing left at that instant."""
-        plant = self.plant
-        live = [rig for rig in self.rigs.values() if rig.exit_kind is None]
-        t_us = min(plant.next_change_us(), t_end_us) if any(wakeable(rig) for rig in live) else t_end_us
-        behind = False
+        plant, views = self.plant, self.views
+        t_us = t_end_us
+        woken = behind = queued = False  # a live board a change can wake; one short of the end; a change queued
         for name, rig in self.rigs.items():
-            view = self.views[name]
-            if view.queue and (rig.exit_kind is not None or wakeable(rig)):
-                t_us = min(t_us, view.queue[0][0])
-            if rig.exit_kind is None:
+            view = views[name]
+            live = rig.exit_kind is None
+            can_wake = live and wakeable(rig)
+            woken = woken or can_wake
+            if view.queue:
+                queued = True
+                if can_wake or not live:
+                    t_us = min(t_us, view.queue[0][0])
+            if live:
                 t_us = min(t_us, rig.clock.wait.t_until)
                 if rig.recorder is not None:
                     t_us = min(t_us, rig.recorder.next_truth_us)
             behind = behind or view.t_us < t_end_us
+        if woken:
+            t_us = min(t_us, plant.next_change_us())
         t_us = max(t_us, plant.t_us)
-        if t_us >= t_end_us and not behind and not any(v.queue for v in self.views.values()):
+        if t_us >= t_end_us and not behind and not queued:
             return None
         t_us = min(t_us, t_end_us)
         self.rounds += 1
@@ -397,7 +424,7 @@ class BoardSet:
         if not isinstance(rig, Rig):
             raise ConfigError(f"board {board} is a host program: it has no power to lose")
         serving = [""]
-        self._settle(serving)
+        settle(self.rigs, serving, self.spin_s)
         with naming(board):
             rig.power_cycle()
             to_wait(rig)  # (its boot, to its first wait)
