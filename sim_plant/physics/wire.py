@@ -173,15 +173,16 @@ class Wires(Plant):
             changes, self.now = self.now[:limit], self.now[limit:]
             return changes
         changes, self.now = self.now, []
-        while True:
-            t_next = self.next_change_us()
+        on_line = self.bytes
+        while True:  # (self.now is empty here: a UART's next byte is the next change, or a PWM's edge)
+            t_next = self.next_change_us() if self.waves else on_line[0].t_us if on_line else NEVER_US
             if t_next > t_us:
                 break
             if limit and len(changes) >= limit and t_next > self._t_us:
                 return changes  # stopped after the instant that reached the limit
             self._t_us = t_next
-            if self.bytes and self.bytes[0].t_us == t_next:
-                changes.append(self.bytes.pop(0))
+            if on_line and on_line[0].t_us == t_next:
+                changes.append(on_line.pop(0))
                 continue
             wire = min((w.next_edge()[0], name) for name, w in self.waves.items())[1]
             wave = self.waves[wire]
