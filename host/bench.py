@@ -203,7 +203,7 @@ def bench_boards(sim_s: float = 10.0) -> dict:
             (folder / board).mkdir()
             (folder / board / "main.py").write_text(BOARDS_FIRMWARE.replace("ID", str(uart)))
         (folder / "rig.toml").write_text(BOARDS_RIG)
-        with BoardSet(load_boards(folder / "rig.toml"), seed=1, busy_poll=busy_poll_wanted()) as boards:
+        with BoardSet(load_boards(folder / "rig.toml"), seed=1) as boards:
             fw0, cpu0 = sum(map(_fw_cpu_s, boards.rigs.values())), time.process_time()
             t0 = time.perf_counter()
             boards.run_for(sim_s)

@@ -26,8 +26,8 @@ def _records(folder: Path, board: str) -> list[dict]:
     return [json.loads(line) for line in (folder / board / "trace.jsonl").read_text().splitlines()]
 
 
-def _run(folder: Path, seed: int = 1, seconds: float = 0.3, busy_poll: bool = False) -> dict:
-    with BoardSet(load_boards(RIG), seed=seed, trace=True, artefacts=folder, busy_poll=busy_poll) as boards:
+def _run(folder: Path, seed: int = 1, seconds: float = 0.3) -> dict:
+    with BoardSet(load_boards(RIG), seed=seed, trace=True, artefacts=folder) as boards:
         boards.run_for(seconds)
         assert boards.t_us == round(seconds * 1e6), f"expected the run to end at {seconds} s, got {boards.t_us} us"
         return {name: rig.trace_digest for name, rig in boards.rigs.items()} | {
@@ -37,7 +37,7 @@ def _run(folder: Path, seed: int = 1, seconds: float = 0.3, busy_poll: bool = Fa
 
 def test_the_same_seed_gives_byte_identical_traces_for_every_board(tmp_path):
     first = _run(tmp_path / "a")
-    second = _run(tmp_path / "b", busy_poll=True)  # (the host spinning on a board's link, or not: the same)
+    second = _run(tmp_path / "b")
     for board in ("left", "right"):
         assert first[board] == second[board], (
             f"board {board}: expected the same link trace twice, got two digests "

@@ -27,14 +27,12 @@ from host.artefacts.integrity import TraceWriteError
 from host.artefacts.vcd import merge_vcd, write_set_gtkw
 from host.core.errors import ConfigError, HarnessError, LinkError
 from host.link import frames as F
-from host.link.transport import spare_core
 from host.rig.config import arguments
 from host.rig.config.boardfile import ProgramSpec
 from host.rig.config.budgets import ReactionBudget
 from host.rig.hardware.peripherals import TARGET_PREFIX
 from host.rig.loop.boardview import BoardView, couple
 from host.rig.loop.hostboard import HostProgram, load_program
-from host.rig.loop.pacing import BUSY_POLL_S
 from host.rig.loop.rig import Rig
 from host.rig.loop.spec import Recording, RigSpec
 from sim_plant.buses import FIRST_ADDRESS, LAST_ADDRESS
@@ -103,25 +101,12 @@ def to_wait(rig, what: str = "a message") -> None:
         rig.dispatch(*rig.session.recv(rig.watchdog_s, what))
 
 
-def settle(rigs: dict, serving: list, spin_s: float = 0.0) -> None:
+def settle(rigs: dict, serving: list) -> None:
     """Serve each board of ``rigs`` that is running, in order, until it blocks (or ends),
-    its name in ``serving[0]``. The last of them is read spinning on its link for up to
-    ``spin_s`` (every other board is blocked: a core is spare), the others as they come."""
-    last = None
-    for rig in rigs.values():
-        if rig.clock.wait is None and rig.exit_kind is None:
-            last = rig
+    its name in ``serving[0]``."""
     for board, rig in rigs.items():
         serving[0] = board
-        if rig is last and spin_s and isinstance(rig, Rig):  # (a host program has no link)
-            transport = rig.session.chan.transport
-            transport.busy_poll_s = spin_s
-            try:
-                to_wait(rig)
-            finally:
-                transport.busy_poll_s = 0.0
-        else:
-            to_wait(rig)
+        to_wait(rig)
 
 
 @contextlib.contextmanager
@@ -169,7 +154,6 @@ class BoardSet:
         plant_options: dict | None = None,
         faults: list | None = None,
         allow_exit: bool = False,
-        busy_poll: bool = False,
     ):
         """``boards``: a :class:`~host.rig.config.boardfile.Boards` (the apps by board name and
         the plant's builder); ``artefacts``: the folder under which each board's trace
@@ -179,9 +163,7 @@ class BoardSet:
         ``faults``: fault tables (:func:`split_faults`: the harness's name their board), the
         brown-outs' instants in ``brownouts`` for the caller to cut (:meth:`power_cycle`);
         ``allow_exit``: a board's firmware may end (the others carry on), else its end fails
-        the run, naming it; ``busy_poll``: this process may spin on the link of the last
-        board still running in a round (the front end's choice, as ``RigSpec.busy_poll``;
-        only with a core to spare)."""
+        the run, naming it."""
         self.spec = boards
         self.seed = arguments.seed(seed)
         first = next(a for a in boards.apps.values() if not isinstance(a, ProgramSpec))
@@ -234,7 +216,6 @@ class BoardSet:
                 self.rigs[board].outputs.level_hooks.setdefault(signal, []).append(call)
             self.budgets[name] = budget
         self._in_target = None  # the target board a controller's transfer is being served by
-        self.spin_s = BUSY_POLL_S if busy_poll and spare_core() else 0.0  # (settle)
 
     # -- life cycle ---------------------------------------------------------------------
 
@@ -301,7 +282,7 @@ class BoardSet:
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
         while True:
-            settle(self.rigs, serving, self.spin_s)
+            settle(self.rigs, serving)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
@@ -424,7 +405,7 @@ class BoardSet:
         if not isinstance(rig, Rig):
             raise ConfigError(f"board {board} is a host program: it has no power to lose")
         serving = [""]
-        settle(self.rigs, serving, self.spin_s)
+        settle(self.rigs, serving)
         with naming(board):
             rig.power_cycle()
             to_wait(rig)  # (its boot, to its first wait)
