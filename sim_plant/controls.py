@@ -46,9 +46,10 @@ class ControlTimeline(Part):
     @property
     def next_us(self) -> int:
         entries, i = self.entries, self.i
-        while i < len(entries) and not entries[i][4]:
+        n = len(entries)
+        while i < n and not entries[i][4]:
             i += 1
-        return entries[i][0] if i < len(entries) else NEVER_US
+        return entries[i][0] if i < n else NEVER_US
 
     def set(self, t_us: int, part: str, control: str, value, change=None) -> None:
         """``part``'s ``control`` is ``value`` from ``t_us`` on; ``change``: the output

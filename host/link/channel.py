@@ -40,8 +40,11 @@ class Channel:
     def recv(self, timeout_s: float):
         """The next good frame (type, seq, payload); LinkTimeout if none by the deadline;
         LinkDamaged as soon as a frame was damaged or lost (a duplicate is dropped)."""
-        got = self._recv(timeout_s)
-        self._check()
+        got = self.decoder.next()  # (a read brings several frames at once)
+        if got is None:
+            got = self._recv(timeout_s)
+        if self.decoder.damaged:
+            raise LinkDamaged(self.damage_report("from the firmware"))
         return got
 
     def recv_despite_damage(self, timeout_s: float):
@@ -63,9 +66,6 @@ class Channel:
         )
 
     def _recv(self, timeout_s: float, strict: bool = True):
-        got = self.decoder.next()
-        if got is not None:  # (a read brings several frames at once)
-            return got
         deadline = time.monotonic() + timeout_s
         stalled_since = None
         while True:

@@ -97,8 +97,14 @@ class FdTransport:
             self.side_closed = True
 
     def write(self, data: bytes, timeout_s: float = 5.0) -> None:
+        try:  # (the usual case: the pty takes the frames at once, whole)
+            n = os.write(self.fd, data)
+        except BlockingIOError:
+            n = 0
+        if n == len(data):
+            return
         deadline = time.monotonic() + timeout_s
-        view = memoryview(data)
+        view = memoryview(data)[n:]
         while view:
             try:
                 n = os.write(self.fd, view)

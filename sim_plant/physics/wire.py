@@ -17,12 +17,14 @@ a byte), one after another on the line. A crossed pair of UART lines (``crossed`
 line's UART sends arrives on the other's, timed the same way at the sender's baud rate.
 """
 
+from operator import itemgetter
 from typing import NamedTuple
 
 from sim_plant.engine import Part
 from sim_plant.plant import NEVER_US, PWM, UART, Change, Plant
 
 BITS_PER_BYTE = 10  # start, 8 data, stop
+_TIME = itemgetter(0)  # a Change's t_us
 
 
 class _Waveform(NamedTuple):
@@ -124,13 +126,19 @@ class Wires(Plant):
         start = max(self._t_us, self.line_free[name])
         byte_us = BITS_PER_BYTE * 1e6 / max(1, baud)
         faults = self.faults.get(name)
+        on_line = self.bytes
+        n_before = len(on_line)
+        to = self.peer.get(name, name)
         for i, b in enumerate(data):
             if faults is not None:
                 b = self._fault(name, faults, b)
             if b is not None:
-                self.bytes.append(Change(start + round((i + 1) * byte_us), self.peer.get(name, name), bytes((b,))))
+                on_line.append(Change(start + round((i + 1) * byte_us), to, bytes((b,))))
         self.line_free[name] = start + round(len(data) * byte_us)
-        self.bytes.sort(key=lambda c: c.t_us)
+        # (a line's bytes come in time order: sorted only when they land among another
+        # line's later ones; a stable sort, so bytes of one instant keep their order)
+        if 0 < n_before < len(on_line) and on_line[n_before - 1].t_us > on_line[n_before].t_us:
+            on_line.sort(key=_TIME)
 
     def _fault(self, name: str, faults: tuple, b: int) -> int | None:
         """Byte ``b``, the line's next, lost (None), one bit flipped, or as sent: by a
@@ -152,23 +160,29 @@ class Wires(Plant):
     def next_change_us(self) -> int:
         if self.now:
             return self._t_us
-        t_byte = self.bytes[0].t_us if self.bytes else NEVER_US
-        return min([t_byte, *(w.next_edge()[0] for w in self.waves.values())])
+        t_next = self.bytes[0].t_us if self.bytes else NEVER_US
+        if self.waves:
+            for wave in self.waves.values():
+                t_edge = wave.next_edge()[0]
+                if t_edge < t_next:
+                    t_next = t_edge
+        return t_next
 
     def advance_to(self, t_us: int, limit: int = 0) -> list[Change]:
         if limit and len(self.now) > limit:  # a burst of writes at one instant: in parts
             changes, self.now = self.now[:limit], self.now[limit:]
             return changes
         changes, self.now = self.now, []
-        while True:
-            t_next = self.next_change_us()
+        on_line = self.bytes
+        while True:  # (self.now is empty here: a UART's next byte is the next change, or a PWM's edge)
+            t_next = self.next_change_us() if self.waves else on_line[0].t_us if on_line else NEVER_US
             if t_next > t_us:
                 break
             if limit and len(changes) >= limit and t_next > self._t_us:
                 return changes  # stopped after the instant that reached the limit
             self._t_us = t_next
-            if self.bytes and self.bytes[0].t_us == t_next:
-                changes.append(self.bytes.pop(0))
+            if on_line and on_line[0].t_us == t_next:
+                changes.append(on_line.pop(0))
                 continue
             wire = min((w.next_edge()[0], name) for name, w in self.waves.items())[1]
             wave = self.waves[wire]

@@ -228,8 +228,9 @@ class UartPeripheral(Peripheral):
         for _ in range(value.count(b"\n")):  # a line is a sample (the shim counts them too)
             info.samples += 1
             inputs.sampled(info.signal, t_us, info.samples)
-        inputs.pending.append((t_us, h, _BYTES, len(value), value))
-        inputs.pending_bytes += len(value)
+        n = len(value)
+        inputs.pending.append((t_us, h, _BYTES, n, value))
+        inputs.pending_bytes += n
         if h in watch:
             return WOKE
         if info.irq:  # UART.irq(IRQ_RX): its handler runs at the bytes' time

@@ -101,6 +101,14 @@ def to_wait(rig, what: str = "a message") -> None:
         rig.dispatch(*rig.session.recv(rig.watchdog_s, what))
 
 
+def settle(rigs: dict, serving: list) -> None:
+    """Serve each board of ``rigs`` that is running, in order, until it blocks (or ends),
+    its name in ``serving[0]``."""
+    for board, rig in rigs.items():
+        serving[0] = board
+        to_wait(rig)
+
+
 @contextlib.contextmanager
 def naming(board: str):
     """Any harness error raised while serving ``board`` names it first."""
@@ -274,7 +282,7 @@ class BoardSet:
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
         while True:
-            self._settle(serving)
+            settle(self.rigs, serving)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
@@ -289,12 +297,6 @@ class BoardSet:
                 elif view.queue or rig.clock.wait.t_until <= t_us or t_us >= t_end_us or truth_due(rig, t_us):
                     rig.clock.bound_us = self._others_act_us(board, t_us, t_end_us)
                     rig.clock.serve(t_us)  # (a board with nothing at this instant waits for its next)
-
-    def _settle(self, serving: list) -> None:
-        """Serve each board that is running, in order, until it blocks (or ends)."""
-        for board, rig in self.rigs.items():
-            serving[0] = board
-            to_wait(rig)
 
     def _others_act_us(self, board: str, t_us: int, t_end_us: int) -> int:
         """The earliest instant a board other than ``board`` could act, with nothing written
@@ -317,21 +319,27 @@ class BoardSet:
     def _next_instant(self, t_end_us: int) -> int | None:
         """The round's instant: the earliest at which anything may change; None when every
         board is at ``t_end_us`` with nothing left at that instant."""
-        plant = self.plant
-        live = [rig for rig in self.rigs.values() if rig.exit_kind is None]
-        t_us = min(plant.next_change_us(), t_end_us) if any(wakeable(rig) for rig in live) else t_end_us
-        behind = False
+        plant, views = self.plant, self.views
+        t_us = t_end_us
+        woken = behind = queued = False  # a live board a change can wake; one short of the end; a change queued
         for name, rig in self.rigs.items():
-            view = self.views[name]
-            if view.queue and (rig.exit_kind is not None or wakeable(rig)):
-                t_us = min(t_us, view.queue[0][0])
-            if rig.exit_kind is None:
+            view = views[name]
+            live = rig.exit_kind is None
+            can_wake = live and wakeable(rig)
+            woken = woken or can_wake
+            if view.queue:
+                queued = True
+                if can_wake or not live:
+                    t_us = min(t_us, view.queue[0][0])
+            if live:
                 t_us = min(t_us, rig.clock.wait.t_until)
                 if rig.recorder is not None:
                     t_us = min(t_us, rig.recorder.next_truth_us)
             behind = behind or view.t_us < t_end_us
+        if woken:
+            t_us = min(t_us, plant.next_change_us())
         t_us = max(t_us, plant.t_us)
-        if t_us >= t_end_us and not behind and not any(v.queue for v in self.views.values()):
+        if t_us >= t_end_us and not behind and not queued:
             return None
         t_us = min(t_us, t_end_us)
         self.rounds += 1
@@ -397,7 +405,7 @@ class BoardSet:
         if not isinstance(rig, Rig):
             raise ConfigError(f"board {board} is a host program: it has no power to lose")
         serving = [""]
-        self._settle(serving)
+        settle(self.rigs, serving)
         with naming(board):
             rig.power_cycle()
             to_wait(rig)  # (its boot, to its first wait)

@@ -43,17 +43,13 @@ class BoardView:
         self.board_name = name
         self.signals: frozenset = frozenset()  # the signals this board's pins are wired to (set once wired)
         self.queue: deque = deque()  # changes of the shared plant not yet taken by this board
-        self._t_us = self._core.t_us
+        self.t_us = self._core.t_us  # (where this board has taken the plant to: an attribute, read often)
         self.inputs = self._core.inputs
         self.outputs = self._core.outputs
         self.zero_delay = self._core.zero_delay
 
     def __getattr__(self, name):  # (truth, world, bus_devices, describe, capabilities, ...)
         return getattr(self._core, name)
-
-    @property
-    def t_us(self) -> int:
-        return self._t_us
 
     def wired_signals(self) -> list | None:
         """The signals this board's pins are wired to, for its trace header: the report draws
@@ -77,10 +73,10 @@ class BoardView:
         queue, taken = self.queue, []
         while queue and queue[0][0] <= t_us:
             if limit and len(taken) >= limit and queue[0][0] > taken[-1][0]:
-                self._t_us = taken[-1][0]
+                self.t_us = taken[-1][0]
                 return taken
             taken.append(queue.popleft())
-        self._t_us = max(self._t_us, t_us)
+        self.t_us = max(self.t_us, t_us)
         return taken
 
     def next_change_us(self) -> int:
@@ -88,12 +84,12 @@ class BoardView:
 
     def _at_plant(self) -> None:
         """A write at this board's instant: the shared plant must be there (never past it)."""
-        if self._core.t_us > self._t_us:
+        if self._core.t_us > self.t_us:
             raise LinkError(
-                f"board {self.board_name} wrote at t={self._t_us} us, before the shared plant's "
+                f"board {self.board_name} wrote at t={self.t_us} us, before the shared plant's "
                 f"{self._core.t_us} us (the set of boards lost lockstep)"
             )
-        self._boards.plant_to(self._t_us, self)
+        self._boards.plant_to(self.t_us, self)
 
     def set_input(self, name: str, value) -> None:
         self._at_plant()

@@ -97,7 +97,7 @@ class Clock:
             image = None
             if images is not None and images.on and images.reads:
                 image = images.image(t_wake, self.lease_us(), "wake")
-            if not stopped and wait.t_until > wait.t_now:  # (a wait of no length is a sync: none)
+            if self.lookahead_us and not stopped and wait.t_until > wait.t_now:  # (a sync: none)
                 self._look_ahead(t_end_us)
             if image is not None:  # (taken at the wake, before the lookahead ran the plant on)
                 self.session.hold(F.BUS_IMAGE, image)
