@@ -373,7 +373,6 @@ class _Link:
 
                 _hilrepl.answer(self, p)
 
-
     def other(self, c, frame):
         """A frame that came before the STATE of the C link's wait (c.wait): handled as
         exchange handles it; then the next, or None once the STATE is there."""
@@ -1048,6 +1047,12 @@ def _sync(t_until, watch):
         i = cur[1]
         _finish_state(F.unpack_changes(c.state(), cur[0], base, n - i, []) if i < n else None, t_end, horizon)
         return cur[2]
+    return _sync_py(t_until, watch, compute_us)
+
+
+def _sync_py(t_until, watch, compute_us):
+    """_sync's exchange through the link's Python (a user's own interpreter, HIL_PURE)."""
+    global _wake_real_us, _spin, _rt_origin_us
     # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
     # once per wake. (No module globals for them: more globals here slow every lookup.)
     state_fmt = F.STATE_FMT

@@ -85,7 +85,8 @@ def _reference(data: bytes) -> list[str]:
             break
         lines.append(f"frame {frame[0]} {frame[1]} {bytes(frame[2]).hex()}")
     c = dec.counters()
-    lines.append(f"{end} {c['frames']} {c['bad_crc']} {c['bad_length']} {c['truncated']} {c['seq_gaps']} {c['duplicates']}")
+    counts = (c["frames"], c["bad_crc"], c["bad_length"], c["truncated"], c["seq_gaps"], c["duplicates"])
+    lines.append(" ".join(str(v) for v in (end, *counts)))
     return lines
 
 
