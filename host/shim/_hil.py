@@ -373,28 +373,20 @@ class _Link:
 
                 _hilrepl.answer(self, p)
 
-    def other(self, c, frame):
-        """A frame that came before the STATE of the C link's wait (c.wait): handled as
-        exchange handles it; then the next, or None once the STATE is there."""
-        hdr = _Link.hdr
-        while frame is not None:
-            if frame == 0:
-                raise _damaged(*c.counters())
-            type_, _seq, p = frame
-            if type_ == F.BYE:
-                raise HostStop()
-            if type_ == F.BUS_IMAGE:
-                _Link.image_next = p
-            elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
-                import _hilrepl
+    def other(self, frame):
+        """A frame that came before the STATE of the C link's wait (_c_framed's exchange),
+        handled as exchange handles it."""
+        if frame == 0:
+            raise _damaged(*_Link.c.counters())
+        type_, _seq, p = frame
+        if type_ == F.BYE:
+            raise HostStop()
+        if type_ == F.BUS_IMAGE:
+            _Link.image_next = p
+        elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
+            import _hilrepl
 
-                _hilrepl.answer(self, p)
-            p = None
-            try:
-                frame = c.wait(hdr, _now)
-            except MemoryError:  # (a frame not taken: read again)
-                spend_reserve()
-                frame = c.wait(hdr, _now)
+            _hilrepl.answer(self, p)
 
 
 def _c_link(f):
@@ -432,7 +424,27 @@ def _c_framed(link, c, close):
                 raise _damaged(*c.counters())
             return frame
 
-    link.queue, link.flush, link.recv, link.close = queue, c.flush, recv, close
+    def exchange(hdr, t_now, t_until, compute_us, watch):
+        """Send WAIT and read up to the STATE that answers it, held by the C link (hdr: its
+        header). (Its name is the one the host looks for in the stack of a firmware that went
+        quiet: it waits for the host, host/rig/targets/target.py.)"""
+        if link.queue is not queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
+            link.queue(F.WAIT, b"")
+        try:
+            frame = wait(hdr, t_now, t_until, compute_us, watch)
+        except MemoryError:  # (a frame of another kind not taken: read again)
+            spend_reserve()
+            frame = wait(hdr, t_now)
+        while frame is not None:
+            link.other(frame)
+            try:
+                frame = wait(hdr, t_now)
+            except MemoryError:
+                spend_reserve()
+                frame = wait(hdr, t_now)
+
+    wait = c.wait
+    link.queue, link.flush, link.recv, link.close, link.exchange = queue, c.flush, recv, close, exchange
 
 
 def _damaged(frames, bad_crc, bad_length, truncated, seq_gaps, duplicates):
@@ -1018,13 +1030,7 @@ def _sync(t_until, watch):
     if c is not None:  # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
         hdr = _Link.hdr
         _Link.frames += 1
-        try:
-            frame = c.wait(hdr, _now, t_until, compute_us, watch)
-        except MemoryError:  # (a frame of another kind not taken: read again)
-            spend_reserve()
-            frame = c.wait(hdr, _now)
-        if frame is not None:
-            _link.other(c, frame)
+        _link.exchange(hdr, _now, t_until, compute_us, watch)
         _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
         _Link.done = 0  # (the reads it answered went with the WAIT)
         _wake_real_us = _rtime.ticks_us()
