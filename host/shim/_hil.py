@@ -373,20 +373,26 @@ class _Link:
 
                 _hilrepl.answer(self, p)
 
-    def other(self, frame):
-        """A frame that came before the STATE of the C link's wait (_c_framed's exchange),
-        handled as exchange handles it."""
-        if frame == 0:
-            raise _damaged(*_Link.c.counters())
-        type_, _seq, p = frame
-        if type_ == F.BYE:
-            raise HostStop()
-        if type_ == F.BUS_IMAGE:
-            _Link.image_next = p
-        elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
-            import _hilrepl
+    def other(self, c, frame, t_now):
+        """The frames that came before the STATE of the C link's wait (c.wait in _sync),
+        handled as exchange handles them, up to that STATE."""
+        while frame is not None:
+            if frame == 0:
+                raise _damaged(*c.counters())
+            type_, _seq, p = frame
+            if type_ == F.BYE:
+                raise HostStop()
+            if type_ == F.BUS_IMAGE:
+                _Link.image_next = p
+            elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
+                import _hilrepl
 
-            _hilrepl.answer(self, p)
+                _hilrepl.answer(self, p)
+            p = frame = None
+            try:
+                frame = c.wait(_Link.hdr, t_now)
+            except MemoryError:  # (a frame not taken: read again)
+                spend_reserve()
 
 
 def _c_link(f):
@@ -424,27 +430,8 @@ def _c_framed(link, c, close):
                 raise _damaged(*c.counters())
             return frame
 
-    def exchange(hdr, t_now, t_until, compute_us, watch):
-        """Send WAIT and read up to the STATE that answers it, held by the C link (hdr: its
-        header). (Its name is the one the host looks for in the stack of a firmware that went
-        quiet: it waits for the host, host/rig/targets/target.py.)"""
-        if link.queue is not queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
-            link.queue(F.WAIT, b"")
-        try:
-            frame = wait(hdr, t_now, t_until, compute_us, watch)
-        except MemoryError:  # (a frame of another kind not taken: read again)
-            spend_reserve()
-            frame = wait(hdr, t_now)
-        while frame is not None:
-            link.other(frame)
-            try:
-                frame = wait(hdr, t_now)
-            except MemoryError:
-                spend_reserve()
-                frame = wait(hdr, t_now)
-
-    wait = c.wait
-    link.queue, link.flush, link.recv, link.close, link.exchange = queue, c.flush, recv, close, exchange
+    link.queue, link.flush, link.recv, link.close = queue, c.flush, recv, close
+    link.own_queue = queue  # (_sync's check: _hilrepl puts another in its place)
 
 
 def _damaged(frames, bad_crc, bad_length, truncated, seq_gaps, duplicates):
@@ -1030,7 +1017,15 @@ def _sync(t_until, watch):
     if c is not None:  # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
         hdr = _Link.hdr
         _Link.frames += 1
-        _link.exchange(hdr, _now, t_until, compute_us, watch)
+        if _link.queue is not _link.own_queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
+            _link.queue(F.WAIT, b"")
+        try:  # (waits here for the host: host/rig/targets/target.py, WAITING_ON_LINK)
+            frame = c.wait(hdr, _now, t_until, compute_us, watch)
+        except MemoryError:  # (a frame of another kind not taken: read again)
+            spend_reserve()
+            frame = -1
+        if frame is not None:
+            _link.other(c, frame if frame != -1 else c.wait(hdr, _now), _now)
         _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
         _Link.done = 0  # (the reads it answered went with the WAIT)
         _wake_real_us = _rtime.ticks_us()
