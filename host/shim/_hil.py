@@ -430,7 +430,14 @@ def _c_framed(link, c, close):
                 raise _damaged(*c.counters())
             return frame
 
-    link.queue, link.flush, link.recv, link.close = queue, c.flush, recv, close
+    def flush():
+        c.flush()
+
+    def close_link():
+        close()
+
+    # (no bound method kept: its object out of sight, docs/security.md)
+    link.queue, link.flush, link.recv, link.close = queue, flush, recv, close_link
     link.own_queue = queue  # (_sync's check: _hilrepl puts another in its place)
 
 
