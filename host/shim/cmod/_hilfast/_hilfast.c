@@ -45,6 +45,7 @@
 
 #include "py/bc.h"
 #include "py/gc.h"
+#include "py/mpstate.h"
 #include "py/hilcount.h"
 #include "py/obj.h"
 #include "py/objfun.h"
@@ -978,8 +979,16 @@ static mp_obj_t link_edges(mp_obj_t self) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(link_edges_obj, link_edges);
 
+// (First: whether the heap's blocks past the highest in use, py/gc.c's gc_last_used_block, hold
+// n bytes: then gc_alloc would find them, with no search through the heap's holes.)
 static mp_obj_t link_room(mp_obj_t self, mp_obj_t n) {
     (void)self;
+    const mp_state_mem_area_t *area = &MP_STATE_MEM(area);
+    size_t blocks = area->gc_alloc_table_byte_len * 4;  // (py/gc.c: BLOCKS_PER_ATB)
+    size_t need = (mp_obj_get_int(n) + MICROPY_BYTES_PER_GC_BLOCK - 1) / MICROPY_BYTES_PER_GC_BLOCK;
+    if (area->gc_last_used_block + 1 + need <= blocks) {
+        return mp_const_true;
+    }
     void *b = gc_alloc(mp_obj_get_int(n), 0);
     if (b == NULL) {
         return mp_const_false;
