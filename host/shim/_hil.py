@@ -292,6 +292,7 @@ class _Link:
     fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
     merge = None  # _hilfast.merge_edges: _apply_state's merge of an EDGES in C (None: in Python)
     pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
+    roomy = None  # _hilfast.roomy (a Pin's attribute table with room: its class's methods found sooner), or None
     # _hilfast.link's (the harness's build, not HIL_PURE): the link's frames, their CRC and a
     # STATE's decoding and applying in C, with no allocation an exchange; None: in Python
     c = None
@@ -1545,6 +1546,7 @@ def _fast_path(getenv):
         _Link.arm = _hilfast.arm
     _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
     _Link.merge = getattr(_hilfast, "merge_edges", None)
+    _Link.roomy = getattr(_hilfast, "roomy", None)
     if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
         _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     return _hilfast.apply_state

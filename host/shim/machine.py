@@ -358,6 +358,8 @@ def _make(id, cls=Pin):
         pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
         pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
         pin._handle = _hil.register(pin)
+        if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
+            _hil._Link.roomy(pin)
     return pin
 
 

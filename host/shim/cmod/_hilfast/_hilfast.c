@@ -1145,6 +1145,30 @@ static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const m
 static MP_DEFINE_CONST_OBJ_TYPE(pin_value_type, MP_QSTR_function, MP_TYPE_FLAG_BINDS_SELF, call, pin_value_call);
 static const mp_obj_base_t pin_value_obj = {&pin_value_type};
 
+// roomy(obj): an instance's attribute table made about twice as large as what it holds. A
+// table of py/map.c grows only when full, and a name it lacks (a method of the class: a
+// Pin's value, irq) is compared with every slot until an empty one: in a machine.Pin's full
+// table of 17, all 17 on each call of a method from the firmware's handler.
+static mp_obj_t roomy(mp_obj_t obj) {
+    if (!mp_obj_is_obj(obj) || !mp_obj_is_instance_type(mp_obj_get_type(obj))) {
+        return mp_const_none;
+    }
+    mp_obj_instance_t *o = MP_OBJ_TO_PTR(obj);
+    mp_map_t old = o->members;
+    if (old.is_fixed || old.is_ordered) {
+        return mp_const_none;
+    }
+    mp_map_init(&o->members, old.used * 2 + 5);
+    for (size_t i = 0; i < old.alloc; i++) {
+        if (mp_map_slot_is_filled(&old, i)) {
+            mp_map_lookup(&o->members, old.table[i].key, MP_MAP_LOOKUP_ADD_IF_NOT_FOUND)->value = old.table[i].value;
+        }
+    }
+    m_del(mp_map_elem_t, old.table, old.alloc);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(roomy_obj, roomy);
+
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
 #define N_EXTRA 8  // ccalls, allocs, alloc_bytes, collects, gc_used_bytes, gc_total_bytes, wide, big_bits
@@ -1386,6 +1410,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
     {MP_ROM_QSTR(MP_QSTR_merge_edges), MP_ROM_PTR(&merge_edges_obj)},
     {MP_ROM_QSTR(MP_QSTR_link), MP_ROM_PTR(&link_new_obj)},
+    {MP_ROM_QSTR(MP_QSTR_roomy), MP_ROM_PTR(&roomy_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
