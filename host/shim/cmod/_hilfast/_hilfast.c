@@ -1069,6 +1069,14 @@ static mp_map_elem_t *shim_slot(qstr name) {
     return mp_map_lookup(&d->map, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
 }
 
+// t >= limit (an int: no Timer's due is FOREVER_US, a big int here)
+static bool reached(mp_int_t t, mp_obj_t limit) {
+    if (mp_obj_is_small_int(limit)) {
+        return t >= MP_OBJ_SMALL_INT_VALUE(limit);
+    }
+    return mp_obj_is_true(mp_binary_op(MP_BINARY_OP_MORE_EQUAL, MP_OBJ_NEW_SMALL_INT(t), limit));
+}
+
 // An input's read in the main program, in C (above); MP_OBJ_NULL: Python's steps.
 static mp_obj_t pin_read_main(mp_obj_t self) {
     if (!mp_obj_is_obj(self) || !mp_obj_is_instance_type(mp_obj_get_type(self))) {
@@ -1081,13 +1089,12 @@ static mp_obj_t pin_read_main(mp_obj_t self) {
     if (pending == NULL || lockstep == NULL || obs == NULL || free_obs == NULL || spin == NULL || now == NULL
         || horizon == NULL || due == NULL || obs->value != free_obs->value || lockstep->value != mp_const_true
         || !mp_obj_is_type(pending->value, &mp_type_list) || ((mp_obj_list_t *)MP_OBJ_TO_PTR(pending->value))->len
-        || !mp_obj_is_small_int(spin->value) || !mp_obj_is_small_int(now->value)
-        || !mp_obj_is_small_int(horizon->value) || !mp_obj_is_small_int(due->value)) {
+        || !mp_obj_is_small_int(spin->value) || !mp_obj_is_small_int(now->value)) {
         return MP_OBJ_NULL;
     }
     mp_int_t n_spin = MP_OBJ_SMALL_INT_VALUE(spin->value) + 1;
     mp_int_t t = MP_OBJ_SMALL_INT_VALUE(now->value) + (n_spin > pin_spin_limit ? pin_spin_step : 0);
-    if (t >= MP_OBJ_SMALL_INT_VALUE(horizon->value) || t >= MP_OBJ_SMALL_INT_VALUE(due->value)) {
+    if (reached(t, horizon->value) || reached(t, due->value)) {
         return MP_OBJ_NULL;  // (a look at the host, or a Timer due)
     }
     mp_obj_instance_t *o = MP_OBJ_TO_PTR(self);
