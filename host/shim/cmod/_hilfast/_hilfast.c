@@ -891,7 +891,8 @@ static mp_obj_t link_wait(size_t n_args, const mp_obj_t *args) {
         }
         uint8_t *p = link_frame(T_WAIT, WAIT_HEAD + 2 * n_watch);
         put_u64(p, t_now);
-        put_u64(p + 8, mp_obj_get_int(args[3]));
+        put_u64(p + 8, mp_obj_is_small_int(args[3]) ? (uint64_t)MP_OBJ_SMALL_INT_VALUE(args[3])
+                                                     : (uint64_t)mp_obj_int_get_uint_checked(args[3]));  // (FOREVER_US: a big int)
         put_u32(p + 16, mp_obj_get_int(args[4]));
         if (n_watch) {
             mp_obj_iter_buf_t iter_buf;
