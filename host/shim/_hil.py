@@ -292,6 +292,12 @@ class _Link:
     fast_edges = False  # apply_state takes an EDGES too (a build before it: the pure path does)
     merge = None  # _hilfast.merge_edges: _apply_state's merge of an EDGES in C (None: in Python)
     pin_setup = pin_value = None  # _hilfast.pin_setup and pin_value (machine.Pin.value in C), or None
+    roomy = None  # _hilfast.roomy (a Pin's attribute table with room: its class's methods found sooner), or None
+    # _hilfast.link's (the harness's build, not HIL_PURE): the link's frames, their CRC and a
+    # STATE's decoding and applying in C, with no allocation an exchange; None: in Python
+    c = None
+    hdr = [0, 0, 0, 0, 0]  # the STATE's base, t_end, horizon, count, paused µs (c.wait fills it)
+    cur = [0, 0, False]  # apply's offset, change and watched hit (c.apply)
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE's payload, read
     # in place by _hilframe.bus_image_find: _hil.transfer), and the one that came before the
     # STATE or BUS_REPLY being read.
@@ -318,6 +324,11 @@ class _Link:
 
     def __init__(self, path):
         f = open(path, "r+b")
+        c = _c_link(f)
+        if c is not None:  # (the same frames, their bytes and their decoding, in C)
+            _Link.c = c
+            _c_framed(self, c, f.close)
+            return
         poller = _rselect.poll()
         poller.register(f.fileno(), _rselect.POLLIN)  # (its answers carry the fd, never the file)
         readinto = f.readinto
@@ -362,6 +373,81 @@ class _Link:
                 import _hilrepl
 
                 _hilrepl.answer(self, p)
+
+    def other(self, c, frame, t_now):
+        """The frames that came before the STATE of the C link's wait (c.wait in _sync),
+        handled as exchange handles them, up to that STATE."""
+        while frame is not None:
+            if frame == 0:
+                raise _damaged(*c.counters())
+            type_, _seq, p = frame
+            if type_ == F.BYE:
+                raise HostStop()
+            if type_ == F.BUS_IMAGE:
+                _Link.image_next = p
+            elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
+                import _hilrepl
+
+                _hilrepl.answer(self, p)
+            p = frame = None
+            try:
+                frame = c.wait(_Link.hdr, t_now)
+            except MemoryError:  # (a frame not taken: read again)
+                spend_reserve()
+
+
+def _c_link(f):
+    """The link in C (_hilfast.link over the pty's fd), or None: not in this interpreter, or
+    HIL_PURE set (the pure path: a user's own interpreter)."""
+    getenv = getattr(os, "getenv", None)
+    if getenv and getenv("HIL_PURE"):
+        return None
+    try:
+        import _hilfast
+    except ImportError:
+        return None
+    if not hasattr(_hilfast, "link"):
+        return None
+    return _hilfast.link(f.fileno(), HostGone)
+
+
+def _c_framed(link, c, close):
+    """_framed's queue, flush, recv and close over the C link: the same frames, the same
+    decoding (what the firmware can reach of it sends only frames it encodes)."""
+    queue_c, recv_c = c.queue, c.recv
+
+    def queue(type_, payload):
+        queue_c(type_, payload)
+        _Link.frames += 1
+
+    def recv():
+        while True:
+            try:
+                frame = recv_c()
+            except MemoryError:  # (not taken: read again)
+                spend_reserve()
+                continue
+            if frame is None:
+                raise _damaged(*c.counters())
+            return frame
+
+    def flush():
+        c.flush()
+
+    def close_link():
+        close()
+
+    # (no bound method kept: its object out of sight, docs/security.md)
+    link.queue, link.flush, link.recv, link.close = queue, flush, recv, close_link
+    link.own_queue = queue  # (_sync's check: _hilrepl puts another in its place)
+
+
+def _damaged(frames, bad_crc, bad_length, truncated, seq_gaps, duplicates):
+    return LinkDamaged(
+        "a frame from the host was damaged or lost on the plant link (bad_crc=%d, bad_length=%d, "
+        "truncated=%d, seq_gaps=%d; good frames %d, duplicates dropped %d): the run cannot be "
+        "trusted past it" % (bad_crc, bad_length, truncated, seq_gaps, frames, duplicates)
+    )
 
 
 def _framed(link, write, read, poll, close):
@@ -424,11 +510,8 @@ def _framed_in(read, poll):
             if frame is not None or dec.damaged:
                 if dec.damaged:
                     c = dec.counters()
-                    raise LinkDamaged(
-                        "a frame from the host was damaged or lost on the plant link (bad_crc=%d, bad_length=%d, "
-                        "truncated=%d, seq_gaps=%d; good frames %d, duplicates dropped %d): the run cannot be "
-                        "trusted past it"
-                        % (c["bad_crc"], c["bad_length"], c["truncated"], c["seq_gaps"], c["frames"], c["duplicates"])
+                    raise _damaged(
+                        c["frames"], c["bad_crc"], c["bad_length"], c["truncated"], c["seq_gaps"], c["duplicates"]
                     )
                 return frame
             events = poll(1000)
@@ -925,21 +1008,67 @@ def _run_until_idle(t_target, watch):
 
 def _sync(t_until, watch):
     global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
-    make_room()
+    c = _Link.c
+    if c is None:
+        make_room()
+    elif not c.room(ROOM_BYTES):  # (make_room's probe, given back at once)
+        spend_reserve()
     if _Console.cpu is None:
         compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     else:
         compute_us = _mcu_compute()
-    # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
-    # once per wake. (No module globals for them: more globals here slow every lookup.)
-    state_fmt = F.STATE_FMT
-    payload = struct.pack(F.WAIT_FMT, _now, t_until, compute_us if compute_us > 0 else 0)
-    if watch:
-        for h in watch:
-            payload += struct.pack(F.WATCH_FMT, h)
+    if compute_us < 0:
+        compute_us = 0
     _Link.syncs += 1
     if _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
+    if c is not None:  # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
+        hdr = _Link.hdr
+        _Link.frames += 1
+        if _link.queue is not _link.own_queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
+            _link.queue(F.WAIT, b"")
+        try:  # (waits here for the host: host/rig/targets/target.py, WAITING_ON_LINK)
+            frame = c.wait(hdr, _now, t_until, compute_us, watch)
+        except MemoryError:  # (a frame of another kind not taken: read again)
+            spend_reserve()
+            frame = -1
+        if frame is not None:
+            _link.other(c, frame if frame != -1 else c.wait(hdr, _now), _now)
+        _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
+        _Link.done = 0  # (the reads it answered went with the WAIT)
+        _wake_real_us = _rtime.ticks_us()
+        if not _lockstep:  # real time: the STATE ends in the µs the host paused (docs/clock.md)
+            _rt_origin_us = _rtime.ticks_add(_rt_origin_us, hdr[4])
+        _spin = 0
+        base = hdr[0]
+        t_end = hdr[1]
+        horizon = hdr[2]
+        n = hdr[3]
+        if _dispatching or _irq_off or _Link.defer_from != FOREVER_US:  # (as below: the pure loop)
+            return _apply_state(c.state(), base, t_end, horizon, n, watch, c.edges())
+        cur = _Link.cur
+        cur[0] = 26  # (F.STATE_LEN)
+        cur[1] = 0
+        cur[2] = False
+        stop = c.apply(cur, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
+        if stop:
+            return cur[2] or stop == 2
+        i = cur[1]
+        _finish_state(F.unpack_changes(c.state(), cur[0], base, n - i, []) if i < n else None, t_end, horizon)
+        return cur[2]
+    return _sync_py(t_until, watch, compute_us)
+
+
+def _sync_py(t_until, watch, compute_us):
+    """_sync's exchange through the link's Python (a user's own interpreter, HIL_PURE)."""
+    global _wake_real_us, _spin, _rt_origin_us
+    # F.pack_wait and F.unpack_state, inline, with the codec's layouts in locals: this runs
+    # once per wake. (No module globals for them: more globals here slow every lookup.)
+    state_fmt = F.STATE_FMT
+    payload = struct.pack(F.WAIT_FMT, _now, t_until, compute_us)
+    if watch:
+        for h in watch:
+            payload += struct.pack(F.WATCH_FMT, h)
     p = _link.exchange(payload, _now, state_fmt)
     _wake_real_us = _rtime.ticks_us()
     if not _lockstep:  # real time: the STATE ends in the µs the host paused, which this clock skips (docs/clock.md)
@@ -1417,6 +1546,7 @@ def _fast_path(getenv):
         _Link.arm = _hilfast.arm
     _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
     _Link.merge = getattr(_hilfast, "merge_edges", None)
+    _Link.roomy = getattr(_hilfast, "roomy", None)
     if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
         _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     return _hilfast.apply_state

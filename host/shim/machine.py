@@ -358,6 +358,8 @@ def _make(id, cls=Pin):
         pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
         pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
         pin._handle = _hil.register(pin)
+        if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
+            _hil._Link.roomy(pin)
     return pin
 
 
@@ -373,11 +375,14 @@ def _board_line(name):
 
 _hil._Link.pin = Pin  # (its changes are applied in C when the shim has _hilfast)
 _OUT = Pin.OUT
+_POLL_READS = _F.POLL_READS
 if _hil._Link.fast is not None and _hil._Link.pin_value is not None:  # (a board's Pin.value is C too)
     Pin._value_py = Pin.value  # (what the C one hands on to: below its own cases, the same steps)
-    _hil._Link.pin_setup(Pin._value_py, _OUT, _hil._Link.ctx[0])
+    if _hil._Link.c is not None:  # (this build's: an input's read in the main program in C too)
+        _hil._Link.pin_setup(Pin._value_py, _OUT, _hil._Link.ctx[0], _POLL_READS)
+    else:
+        _hil._Link.pin_setup(Pin._value_py, _OUT, _hil._Link.ctx[0])
     Pin.value = _hil._Link.pin_value
-_POLL_READS = _F.POLL_READS
 
 
 def _polled(obj, addr=None, run=None, register=False):

@@ -14,6 +14,8 @@ from host.bench import run_encoder_bot
 from host.core import interpreter
 from host.core.paths import REPO, SHIM_DIR
 from host.rig.config.apps import get_app
+from host.tests.conftest import FIRMWARE, bench_app
+from host.tests.test_shim_polls import PINS, PLANT, RP2040, WIRING
 
 pytestmark = pytest.mark.hil
 
@@ -82,6 +84,28 @@ def test_both_paths_record_the_same_encoder_edges(tmp_path, monkeypatch):
         assert run["counts"] == run["edges"]
         signals[pure] = (tmp_path / f"run{pure}" / "signals.csv").read_bytes()
     assert signals[False] == signals[True]
+
+
+@needs_c
+def test_both_paths_give_the_same_trace_for_pins_the_main_program_polls(make_rig, monkeypatch):
+    """Pin.value() read by the main program (C when the read needs no look at the host):
+    a button read until its press, a pin nothing drives read for ever, with sleeps between
+    reads and without, up to the poll named after POLL_READS reads."""
+    traces = {}
+    for pure in (False, True):
+        if pure:
+            monkeypatch.setenv("HIL_PURE", "1")
+        else:
+            monkeypatch.delenv("HIL_PURE", raising=False)
+        app = bench_app("polls_forever", PLANT, board="pins", identity=RP2040, pins=PINS, wiring=WIRING)
+        rig = make_rig(app, main_dir=FIRMWARE / "polls_forever", allow_exit=True, trace=True)
+        rig.run_for(2.0)
+        console = rig.console
+        rig.stop()
+        traces[pure] = ((rig.artefacts / "trace.jsonl").read_bytes(), console)
+    assert "R button" in traces[False][1], traces[False][1][-800:]
+    assert traces[False][1] == traces[True][1]
+    assert traces[False][0] == traces[True][0], "the C path's link trace differs from the pure-Python path's"
 
 
 def test_the_codes_the_c_module_spells_out_are_the_codecs():

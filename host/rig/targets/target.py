@@ -61,7 +61,8 @@ def _stack(proc, rig) -> str:
 
 
 LOSS_COUNTERS = ("seq_gaps", "bad_crc", "bad_length", "truncated")
-WAITING_ON_LINK = (" in recv", " in exchange")  # the shim's functions that wait for the host
+WAITING_ON_LINK = (" in recv", " in exchange", " in _sync")  # the shim's functions that wait for the host
+# (_sync: over the C link, _hilfast.link, its wait is a C call there)
 
 
 def waiting_on_link(stack: str) -> bool:

@@ -36,11 +36,16 @@
 // counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
+#include <errno.h>
 #include <math.h>
+#include <poll.h>
 #include <stddef.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "py/bc.h"
+#include "py/gc.h"
+#include "py/mpstate.h"
 #include "py/hilcount.h"
 #include "py/obj.h"
 #include "py/objfun.h"
@@ -342,15 +347,12 @@ static mp_int_t seg_time(const seg_t *s, int64_t m) {
     return (mp_int_t)(s->t0 + (int64_t)ceil(x));
 }
 
-static size_t parse_edges(mp_obj_t edges, mp_int_t base, seg_t *seg) {
-    mp_buffer_info_t buf;
-    mp_get_buffer_raise(edges, &buf, MP_BUFFER_READ);
-    const uint8_t *b = buf.buf;
-    if (buf.len < EDGES_HEAD) {
+static size_t parse_edges_buf(const uint8_t *b, size_t len, mp_int_t base, seg_t *seg) {
+    if (len < EDGES_HEAD) {
         mp_raise_ValueError(MP_ERROR_TEXT("EDGES shorter than its segments"));
     }
     size_t n = b[8] | b[9] << 8;
-    if (n > EDGES_MAX || buf.len < EDGES_HEAD + n * SEG_LEN || (mp_int_t)get_u64(b) != base) {
+    if (n > EDGES_MAX || len < EDGES_HEAD + n * SEG_LEN || (mp_int_t)get_u64(b) != base) {
         mp_raise_ValueError(MP_ERROR_TEXT("EDGES not its STATE's"));
     }
     for (size_t k = 0; k < n; k++) {
@@ -372,27 +374,25 @@ static size_t parse_edges(mp_obj_t edges, mp_int_t base, seg_t *seg) {
     return n;
 }
 
-static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
+static size_t parse_edges(mp_obj_t edges, mp_int_t base, seg_t *seg) {
     mp_buffer_info_t buf;
-    mp_get_buffer_raise(args[0], &buf, MP_BUFFER_READ);
-    mp_obj_list_t *cur = MP_OBJ_TO_PTR(args[1]);
-    mp_int_t base = mp_obj_get_int(args[2]);
-    mp_int_t t_end = mp_obj_get_int(args[3]);
-    mp_int_t n = mp_obj_get_int(args[4]);
-    mp_obj_t handles = args[5], pin_type = args[6], pending = args[7], watch = args[8];
-    mp_obj_t ctx = args[9], globals = args[10];
+    mp_get_buffer_raise(edges, &buf, MP_BUFFER_READ);
+    return parse_edges_buf(buf.buf, buf.len, base, seg);
+}
+
+// apply_state's loop over a STATE's payload (p, of buf_len bytes) and its segments.
+static mp_int_t apply_core(const uint8_t *p, size_t buf_len, mp_obj_list_t *cur, mp_int_t base, mp_int_t t_end, mp_int_t n,
+    mp_obj_t handles, mp_obj_t pin_type, mp_obj_t pending, mp_obj_t watch, mp_obj_t ctx, mp_obj_t globals,
+    seg_t *seg, size_t n_seg) {
     queue_depth = mp_obj_get_int(mp_load_attr(((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[1], MP_QSTR_depth));
     shim_globals = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items[0];
     bool watching = mp_obj_is_true(watch);
     apply_clean = false;  // (the firmware ran before this call: its compute is taken first)
-    const uint8_t *p = buf.buf;
     size_t off = MP_OBJ_SMALL_INT_VALUE(cur->items[0]);
     mp_int_t i = MP_OBJ_SMALL_INT_VALUE(cur->items[1]);
     mp_int_t group_t = -1;
     bool hit = false;
     mp_int_t stop = 0;
-    seg_t seg[EDGES_MAX];
-    size_t n_seg = n_args > 11 && args[11] != mp_const_none ? parse_edges(args[11], base, seg) : 0;
     for (;;) {
         // the next edge of the segments (at one instant, the first segment's), up to t_end
         size_t si = n_seg;
@@ -405,7 +405,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
         }
         mp_int_t tc = 0;
         if (i < n) {
-            if (off + CHANGE_LEN > buf.len) {
+            if (off + CHANGE_LEN > buf_len) {
                 mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
             }
             tc = base + (mp_int_t)get_u32(p + off);
@@ -461,7 +461,7 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
         off += CHANGE_LEN;
         mp_obj_t extra;
         if (kind == CH_BYTES) {
-            if (value < 0 || off + value > buf.len) {
+            if (value < 0 || off + value > buf_len) {
                 mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its changes"));
             }
             extra = mp_obj_new_bytes(p + off, value);
@@ -494,7 +494,17 @@ static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
     cur->items[0] = MP_OBJ_NEW_SMALL_INT(off);
     cur->items[1] = MP_OBJ_NEW_SMALL_INT(i);
     cur->items[2] = mp_obj_new_bool(hit);
-    return MP_OBJ_NEW_SMALL_INT(stop);
+    return stop;
+}
+
+static mp_obj_t apply_state(size_t n_args, const mp_obj_t *args) {
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(args[0], &buf, MP_BUFFER_READ);
+    mp_int_t base = mp_obj_get_int(args[2]);
+    seg_t seg[EDGES_MAX];
+    size_t n_seg = n_args > 11 && args[11] != mp_const_none ? parse_edges(args[11], base, seg) : 0;
+    return MP_OBJ_NEW_SMALL_INT(apply_core(buf.buf, buf.len, MP_OBJ_TO_PTR(args[1]), base, mp_obj_get_int(args[3]),
+        mp_obj_get_int(args[4]), args[5], args[6], args[7], args[8], args[9], args[10], seg, n_seg));
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(apply_state_obj, 11, 12, apply_state);
 
@@ -561,23 +571,558 @@ static mp_obj_t merge_edges(mp_obj_t edges, mp_obj_t base_in, mp_obj_t changes) 
 }
 static MP_DEFINE_CONST_FUN_OBJ_3(merge_edges_obj, merge_edges);
 
+// -- the link: the firmware's side of an exchange, in C ---------------------------------
+//
+// link(fd, host_gone): the link's frames over the host's pty (fd), with no allocation per
+// exchange: frames are encoded into a buffer of this module's and written from it, read
+// from the fd into another, their CRC-32 taken here, a STATE kept (with its EDGES) in a
+// buffer of its own and applied from there (apply_core, in one pass). Exactly the bytes
+// and the decoding of _hil._framed_out and _hilframe.Decoder (the same frames accepted,
+// the same counted: the pure path is the reference, host/tests/test_hilfast.py). Made once
+// (the shim's link, before the firmware runs); its methods are held by the shim's link only:
+//   queue(type, payload), flush(): as _hil._framed_out's;
+//   recv(): the next good frame (type, seq, payload), or None once a frame was damaged
+//     or lost (the shim raises LinkDamaged with counters());
+//   wait(hdr, t_now[, t_until, compute_us, watch]): with its arguments, WAIT sent first; then the frames
+//     read until the STATE for t_now: None (the STATE held, hdr = [base, t_end, horizon,
+//     count, paused_us]); a frame of another kind is returned as recv returns it (the
+//     shim handles it and calls wait(hdr, t_now) again); 0 once damaged. An EDGES is kept
+//     for the STATE after it, a STATE for another instant dropped;
+//   apply(cur, handles, pin_type, pending, watch, ctx, g): apply_state over the held STATE
+//     (and its EDGES); state(), edges(): them as bytes (None: no EDGES), for the pure loop;
+//   room(n): whether n bytes can be had from the heap (taken and given back at once: no
+//     garbage), as _hil.make_room's probe; counters(): (frames, bad_crc, bad_length,
+//     truncated, seq_gaps, duplicates).
+
+#define SOF 0xA5
+#define HEADER_LEN 5  // SOF, type, seq, length (u16)
+#define CRC_LEN 4
+#define MAX_PAYLOAD 4096
+#define FRAME_MAX (HEADER_LEN + MAX_PAYLOAD + CRC_LEN)
+#define T_WAIT 0x04
+#define T_STATE 0x82
+#define T_EDGES 0x87
+#define STATE_HEAD 26  // "<QQQH"
+#define WAIT_HEAD 20  // "<QQI"
+#define IN_SIZE (4 * FRAME_MAX)
+#define OUT_SIZE (2 * FRAME_MAX)
+
+static uint32_t crc_t[8][256];  // CRC-32 (zlib's), eight bytes a step
+static bool crc_ready;
+
+static void crc_init(void) {
+    for (uint32_t i = 0; i < 256; i++) {
+        uint32_t c = i;
+        for (int k = 0; k < 8; k++) {
+            c = (c >> 1) ^ (0xEDB88320 & -(c & 1));
+        }
+        crc_t[0][i] = c;
+    }
+    for (uint32_t i = 0; i < 256; i++) {
+        for (int k = 1; k < 8; k++) {
+            crc_t[k][i] = (crc_t[k - 1][i] >> 8) ^ crc_t[0][crc_t[k - 1][i] & 0xFF];
+        }
+    }
+    crc_ready = true;
+}
+
+static uint32_t crc32_of(const uint8_t *b, size_t n) {
+    uint32_t c = 0xFFFFFFFF;
+    while (n >= 8) {
+        c ^= get_u32(b);
+        uint32_t hi = get_u32(b + 4);
+        c = crc_t[7][c & 0xFF] ^ crc_t[6][(c >> 8) & 0xFF] ^ crc_t[5][(c >> 16) & 0xFF] ^ crc_t[4][c >> 24]
+            ^ crc_t[3][hi & 0xFF] ^ crc_t[2][(hi >> 8) & 0xFF] ^ crc_t[1][(hi >> 16) & 0xFF] ^ crc_t[0][hi >> 24];
+        b += 8;
+        n -= 8;
+    }
+    while (n--) {
+        c = crc_t[0][(c ^ *b++) & 0xFF] ^ (c >> 8);
+    }
+    return c ^ 0xFFFFFFFF;
+}
+
+static void put_u32(uint8_t *b, uint32_t v) {
+    b[0] = v;
+    b[1] = v >> 8;
+    b[2] = v >> 16;
+    b[3] = v >> 24;
+}
+
+static void put_u64(uint8_t *b, uint64_t v) {
+    put_u32(b, (uint32_t)v);
+    put_u32(b + 4, (uint32_t)(v >> 32));
+}
+
+static mp_obj_t int_u64(uint64_t v) {
+    return v <= (uint64_t)MP_SMALL_INT_MAX ? MP_OBJ_NEW_SMALL_INT((mp_int_t)v) : mp_obj_new_int_from_ull(v);
+}
+
+static int link_fd = -1;
+static mp_obj_t link_host_gone;  // _hil.HostGone (held by the _hil module)
+static uint8_t in_buf[IN_SIZE];
+static size_t in_pos, in_len;
+static uint8_t out_buf[OUT_SIZE];
+static size_t out_len;
+static uint8_t out_seq;
+static int expect_seq = -1;
+static size_t n_frames, n_bad_crc, n_bad_length, n_truncated, n_seq_gaps, n_duplicates, n_damaged;
+static uint8_t state_buf[MAX_PAYLOAD];
+static size_t state_len;
+static mp_int_t state_base, state_t_end, state_n;
+static uint8_t edges_buf[MAX_PAYLOAD];
+static int edges_len = -1;  // the EDGES read before the coming STATE (-1: none)
+static int state_edges = -1;  // the held STATE's EDGES (its length in edges_buf; -1: none)
+
+typedef struct {
+    int type, seq;
+    size_t off, len, next;  // the payload in in_buf, where the decoder goes on after it
+} frame_t;
+
+static void link_gone(void) {
+    nlr_raise(mp_call_function_1(link_host_gone, mp_obj_new_str("plant link closed", 17)));
+}
+
+// Decoder.next up to taking the frame: true with f filled (link_take commits it); false when
+// no whole frame is there. Bad lengths, bad CRCs and duplicates are counted and skipped.
+static bool link_next(frame_t *f) {
+    size_t pos = in_pos;
+    for (;;) {
+        const uint8_t *s = pos < in_len ? memchr(in_buf + pos, SOF, in_len - pos) : NULL;
+        size_t i = s != NULL ? (size_t)(s - in_buf) : in_len;
+        if (i + HEADER_LEN > in_len) {
+            in_pos = i;
+            return false;
+        }
+        size_t n = in_buf[i + 3] | in_buf[i + 4] << 8;
+        if (n > MAX_PAYLOAD) {
+            n_bad_length++;
+            n_damaged++;
+            pos = i + 1;
+            continue;
+        }
+        size_t end = i + HEADER_LEN + n;
+        if (end + CRC_LEN > in_len) {
+            in_pos = i;
+            return false;
+        }
+        if (crc32_of(in_buf + i + 1, end - i - 1) != get_u32(in_buf + end)) {
+            n_bad_crc++;
+            n_damaged++;
+            pos = i + 1;
+            continue;
+        }
+        int seq = in_buf[i + 2];
+        if (expect_seq >= 0 && seq == ((expect_seq - 1) & 0xFF)) {  // the last frame again
+            in_pos = pos = end + CRC_LEN;
+            n_duplicates++;
+            continue;
+        }
+        in_pos = i;
+        f->type = in_buf[i + 1];
+        f->seq = seq;
+        f->off = i + HEADER_LEN;
+        f->len = n;
+        f->next = end + CRC_LEN;
+        return true;
+    }
+}
+
+static void link_take(const frame_t *f) {
+    in_pos = f->next;
+    if (expect_seq >= 0 && f->seq != expect_seq) {
+        n_seq_gaps++;
+        n_damaged++;
+    }
+    n_frames++;
+    expect_seq = (f->seq + 1) & 0xFF;
+}
+
+// More bytes from the host: _framed_in's poll of a second, then a read (HostGone when
+// the pty closed); a partial frame that stopped arriving for that second is dropped.
+static void link_fill(void) {
+    for (;;) {
+        struct pollfd pfd = {link_fd, POLLIN, 0};
+        int r = poll(&pfd, 1, 1000);
+        if (r < 0) {
+            if (errno == EINTR) {
+                mp_handle_pending(true);
+                continue;
+            }
+            mp_raise_OSError(errno);
+        }
+        if (r == 0) {
+            if (in_len > in_pos) {  // (Decoder.expire)
+                n_truncated++;
+                n_damaged++;
+                in_pos++;
+            }
+            return;
+        }
+        if (pfd.revents & (POLLHUP | POLLERR)) {
+            link_gone();
+        }
+        if (in_pos == in_len) {
+            in_pos = in_len = 0;
+        } else if (in_len + FRAME_MAX > IN_SIZE) {
+            memmove(in_buf, in_buf + in_pos, in_len - in_pos);
+            in_len -= in_pos;
+            in_pos = 0;
+        }
+        ssize_t got = read(link_fd, in_buf + in_len, IN_SIZE - in_len);
+        if (got < 0 && errno == EINTR) {
+            mp_handle_pending(true);
+            continue;
+        }
+        if (got <= 0) {
+            link_gone();
+        }
+        in_len += got;
+        return;
+    }
+}
+
+static void link_flush(void) {
+    const uint8_t *b = out_buf;
+    size_t n = out_len;
+    while (n) {
+        ssize_t r = write(link_fd, b, n);
+        if (r < 0) {
+            if (errno == EINTR) {
+                mp_handle_pending(true);
+                continue;
+            }
+            if (errno == EAGAIN) {
+                struct pollfd pfd = {link_fd, POLLOUT, 0};
+                poll(&pfd, 1, 1000);
+                continue;
+            }
+            out_len = 0;
+            mp_raise_OSError(errno);
+        }
+        b += r;
+        n -= r;
+    }
+    out_len = 0;
+}
+
+// One frame into the out buffer (_hilframe.encode; flushed first when it has no room).
+static uint8_t *link_frame(int type, size_t n) {
+    if (n > MAX_PAYLOAD) {
+        mp_raise_msg_varg(&mp_type_ValueError, MP_ERROR_TEXT("payload of %d bytes exceeds %d"), (int)n, MAX_PAYLOAD);
+    }
+    if (out_len + HEADER_LEN + n + CRC_LEN > OUT_SIZE) {
+        link_flush();
+    }
+    uint8_t *f = out_buf + out_len;
+    f[0] = SOF;
+    f[1] = type;
+    f[2] = out_seq;
+    f[3] = n & 0xFF;
+    f[4] = n >> 8;
+    return f + HEADER_LEN;
+}
+
+static void link_sealed(size_t n) {  // the frame link_frame began, its n bytes written: its CRC
+    uint8_t *f = out_buf + out_len;
+    put_u32(f + HEADER_LEN + n, crc32_of(f + 1, n + HEADER_LEN - 1));
+    out_len += HEADER_LEN + n + CRC_LEN;
+    out_seq++;
+}
+
+typedef struct {
+    mp_obj_base_t base;
+} link_obj_t;
+
+static mp_obj_t link_queue(mp_obj_t self, mp_obj_t type, mp_obj_t payload) {
+    (void)self;
+    mp_buffer_info_t buf;
+    mp_get_buffer_raise(payload, &buf, MP_BUFFER_READ);
+    uint8_t *p = link_frame(mp_obj_get_int(type), buf.len);
+    memcpy(p, buf.buf, buf.len);
+    link_sealed(buf.len);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_3(link_queue_obj, link_queue);
+
+static mp_obj_t link_flush_py(mp_obj_t self) {
+    (void)self;
+    link_flush();
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_flush_obj, link_flush_py);
+
+// The frame as recv returns it, taken only once its objects are made (a MemoryError leaves
+// it to be read again, as the Decoder's copy does).
+static mp_obj_t link_tuple(const frame_t *f) {
+    mp_obj_t item[3] = {MP_OBJ_NEW_SMALL_INT(f->type), MP_OBJ_NEW_SMALL_INT(f->seq), mp_obj_new_bytes(in_buf + f->off, f->len)};
+    mp_obj_t t = mp_obj_new_tuple(3, item);
+    link_take(f);
+    return t;
+}
+
+static mp_obj_t link_recv(mp_obj_t self) {
+    (void)self;
+    for (;;) {
+        frame_t f;
+        bool got = link_next(&f);
+        if (n_damaged) {  // (the good frame after a damaged one is taken and counted, as the Decoder does)
+            if (got) {
+                link_take(&f);
+            }
+            return mp_const_none;
+        }
+        if (got) {
+            mp_obj_t t = link_tuple(&f);
+            return n_damaged ? mp_const_none : t;  // (a gap before it: taken, then the run stops)
+        }
+        link_fill();
+    }
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_recv_obj, link_recv);
+
+static mp_obj_t link_wait(size_t n_args, const mp_obj_t *args) {
+    mp_obj_list_t *hdr = MP_OBJ_TO_PTR(args[1]);
+    mp_int_t t_now = mp_obj_get_int(args[2]);
+    if (n_args > 3) {  // the WAIT (_hil._sync's: F.WAIT_FMT, then F.WATCH_FMT a watched handle)
+        size_t n_watch = 0;
+        if (args[5] != mp_const_none && mp_obj_is_true(args[5])) {
+            n_watch = mp_obj_get_int(mp_obj_len(args[5]));
+        }
+        uint8_t *p = link_frame(T_WAIT, WAIT_HEAD + 2 * n_watch);
+        put_u64(p, t_now);
+        put_u64(p + 8, mp_obj_is_small_int(args[3]) ? (uint64_t)MP_OBJ_SMALL_INT_VALUE(args[3])
+                                                     : (uint64_t)mp_obj_int_get_uint_checked(args[3]));  // (FOREVER_US: a big int)
+        put_u32(p + 16, mp_obj_get_int(args[4]));
+        if (n_watch) {
+            mp_obj_iter_buf_t iter_buf;
+            mp_obj_t it = mp_getiter(args[5], &iter_buf), h;
+            size_t k = 0;
+            while ((h = mp_iternext(it)) != MP_OBJ_STOP_ITERATION && k < n_watch) {
+                mp_int_t v = mp_obj_get_int(h);
+                p[WAIT_HEAD + 2 * k] = v & 0xFF;
+                p[WAIT_HEAD + 2 * k + 1] = (v >> 8) & 0xFF;
+                k++;
+            }
+        }
+        link_sealed(WAIT_HEAD + 2 * n_watch);
+        link_flush();
+        edges_len = -1;
+    }
+    for (;;) {
+        frame_t f;
+        bool got = link_next(&f);
+        if (n_damaged) {
+            if (got) {
+                link_take(&f);
+            }
+            return MP_OBJ_NEW_SMALL_INT(0);
+        }
+        if (!got) {
+            link_fill();
+            continue;
+        }
+        const uint8_t *p = in_buf + f.off;  // (there until the next link_fill)
+        if (f.type != T_STATE && f.type != T_EDGES) {
+            mp_obj_t t = link_tuple(&f);
+            return n_damaged ? MP_OBJ_NEW_SMALL_INT(0) : t;
+        }
+        link_take(&f);
+        if (n_damaged) {  // (a gap before it)
+            return MP_OBJ_NEW_SMALL_INT(0);
+        }
+        if (f.type == T_STATE) {
+            if (f.len < STATE_HEAD) {
+                mp_raise_ValueError(MP_ERROR_TEXT("STATE shorter than its header"));
+            }
+            if ((mp_int_t)get_u64(p) != t_now) {
+                edges_len = -1;  // (a STATE for another WAIT is stale: a Ctrl-C cut that wait short)
+                continue;
+            }
+            memcpy(state_buf, p, f.len);
+            state_len = f.len;
+            state_base = (mp_int_t)get_u64(p);
+            state_t_end = (mp_int_t)get_u64(p + 8);
+            state_n = p[24] | p[25] << 8;
+            state_edges = edges_len >= (int)EDGES_HEAD && (mp_int_t)get_u64(edges_buf) == state_base ? edges_len : -1;
+            edges_len = -1;
+            hdr->items[0] = int_u64(state_base);
+            hdr->items[1] = int_u64(state_t_end);
+            hdr->items[2] = int_u64(get_u64(p + 16));
+            hdr->items[3] = MP_OBJ_NEW_SMALL_INT(state_n);
+            hdr->items[4] = int_u64(get_u64(p + f.len - 8));
+            return mp_const_none;
+        }
+        memcpy(edges_buf, p, f.len);  // (an EDGES: for the STATE after it)
+        edges_len = f.len;
+    }
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_wait_obj, 3, 6, link_wait);
+
+static mp_obj_t link_apply(size_t n_args, const mp_obj_t *args) {
+    (void)n_args;
+    seg_t seg[EDGES_MAX];
+    size_t n_seg = state_edges >= 0 ? parse_edges_buf(edges_buf, state_edges, state_base, seg) : 0;
+    return MP_OBJ_NEW_SMALL_INT(apply_core(state_buf, state_len, MP_OBJ_TO_PTR(args[1]), state_base, state_t_end, state_n,
+        args[2], args[3], args[4], args[5], args[6], args[7], seg, n_seg));
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_apply_obj, 8, 8, link_apply);
+
+static mp_obj_t link_state(mp_obj_t self) {
+    (void)self;
+    return mp_obj_new_bytes(state_buf, state_len);
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_state_obj, link_state);
+
+static mp_obj_t link_edges(mp_obj_t self) {
+    (void)self;
+    return state_edges >= 0 ? mp_obj_new_bytes(edges_buf, state_edges) : mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_edges_obj, link_edges);
+
+// (First: whether the heap's blocks past the highest in use, py/gc.c's gc_last_used_block, hold
+// n bytes: then gc_alloc would find them, with no search through the heap's holes.)
+static mp_obj_t link_room(mp_obj_t self, mp_obj_t n) {
+    (void)self;
+    const mp_state_mem_area_t *area = &MP_STATE_MEM(area);
+    size_t blocks = area->gc_alloc_table_byte_len * 4;  // (py/gc.c: BLOCKS_PER_ATB)
+    size_t need = (mp_obj_get_int(n) + MICROPY_BYTES_PER_GC_BLOCK - 1) / MICROPY_BYTES_PER_GC_BLOCK;
+    if (area->gc_last_used_block + 1 + need <= blocks) {
+        return mp_const_true;
+    }
+    void *b = gc_alloc(mp_obj_get_int(n), 0);
+    if (b == NULL) {
+        return mp_const_false;
+    }
+    gc_free(b);
+    return mp_const_true;
+}
+static MP_DEFINE_CONST_FUN_OBJ_2(link_room_obj, link_room);
+
+static mp_obj_t link_counters(mp_obj_t self) {
+    (void)self;
+    mp_obj_t item[6] = {MP_OBJ_NEW_SMALL_INT(n_frames), MP_OBJ_NEW_SMALL_INT(n_bad_crc), MP_OBJ_NEW_SMALL_INT(n_bad_length),
+                        MP_OBJ_NEW_SMALL_INT(n_truncated), MP_OBJ_NEW_SMALL_INT(n_seq_gaps), MP_OBJ_NEW_SMALL_INT(n_duplicates)};
+    return mp_obj_new_tuple(6, item);
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_counters_obj, link_counters);
+
+static const mp_rom_map_elem_t link_locals_table[] = {
+    {MP_ROM_QSTR(MP_QSTR_queue), MP_ROM_PTR(&link_queue_obj)},
+    {MP_ROM_QSTR(MP_QSTR_flush), MP_ROM_PTR(&link_flush_obj)},
+    {MP_ROM_QSTR(MP_QSTR_recv), MP_ROM_PTR(&link_recv_obj)},
+    {MP_ROM_QSTR(MP_QSTR_wait), MP_ROM_PTR(&link_wait_obj)},
+    {MP_ROM_QSTR(MP_QSTR_apply), MP_ROM_PTR(&link_apply_obj)},
+    {MP_ROM_QSTR(MP_QSTR_state), MP_ROM_PTR(&link_state_obj)},
+    {MP_ROM_QSTR(MP_QSTR_edges), MP_ROM_PTR(&link_edges_obj)},
+    {MP_ROM_QSTR(MP_QSTR_room), MP_ROM_PTR(&link_room_obj)},
+    {MP_ROM_QSTR(MP_QSTR_counters), MP_ROM_PTR(&link_counters_obj)},
+};
+static MP_DEFINE_CONST_DICT(link_locals, link_locals_table);
+static MP_DEFINE_CONST_OBJ_TYPE(link_type, MP_QSTR_link, MP_TYPE_FLAG_NONE, locals_dict, &link_locals);
+
+static mp_obj_t link_new(mp_obj_t fd, mp_obj_t host_gone) {
+    if (link_fd >= 0) {
+        mp_raise_msg(&mp_type_RuntimeError, MP_ERROR_TEXT("the link is open"));
+    }
+    if (!crc_ready) {
+        crc_init();
+    }
+    link_fd = mp_obj_get_int(fd);
+    link_host_gone = host_gone;
+    link_obj_t *o = mp_obj_malloc(link_obj_t, &link_type);
+    return MP_OBJ_FROM_PTR(o);
+}
+static MP_DEFINE_CONST_FUN_OBJ_2(link_new_obj, link_new);
+
 // -- machine.Pin.value() ---------------------------------------------------------------
 
 // pin_setup(value_py, out_mode, g): machine.Pin.value becomes pin_value, which answers in C
 // what machine.py's Pin.value (value_py, kept by the class as _value_py) answers without a
 // look at the clock: an output's latch, and an input's level inside a handler (_hil's
 // _dispatching, in its globals g); every other call goes to value_py, as the Python method.
+// With poll_reads (machine._POLL_READS), an input's read in the main program is C too, when it
+// is what _hil.observe does without a look at the host: in lockstep, no callback left queued,
+// no MCU time (observe is _hil._observe_free), the clock (after the spin's step) short of the
+// horizon and the next Timer; then _now and _spin move, and the pin's count down to a look
+// (_pv, _pn, _pr, _pt) as machine.py's Pin.value moves it; its last read goes to Python (_polled).
 static mp_obj_t pin_value_py = MP_OBJ_NULL;  // (held by machine.Pin._value_py: alive while the class is)
 static mp_obj_t pin_out_mode;
 static mp_obj_t pin_shim_globals;  // (held by the _hil module)
+static mp_int_t pin_poll_reads;  // 0: an input's main-program read goes to Python
+static mp_int_t pin_spin_limit, pin_spin_step;
 
-static mp_obj_t pin_setup(mp_obj_t value_py, mp_obj_t out_mode, mp_obj_t g) {
-    pin_value_py = value_py;
-    pin_out_mode = out_mode;
-    pin_shim_globals = g;
+static mp_obj_t pin_setup(size_t n_args, const mp_obj_t *args) {
+    pin_value_py = args[0];
+    pin_out_mode = args[1];
+    pin_shim_globals = args[2];
+    pin_poll_reads = n_args > 3 ? mp_obj_get_int(args[3]) : 0;
+    if (pin_poll_reads) {
+        pin_spin_limit = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_LIMIT)));
+        pin_spin_step = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_STEP_US)));
+    }
     return mp_const_none;
 }
-static MP_DEFINE_CONST_FUN_OBJ_3(pin_setup_obj, pin_setup);
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(pin_setup_obj, 3, 4, pin_setup);
+
+static mp_map_elem_t *shim_slot(qstr name) {
+    mp_obj_dict_t *d = MP_OBJ_TO_PTR(pin_shim_globals);
+    return mp_map_lookup(&d->map, MP_OBJ_NEW_QSTR(name), MP_MAP_LOOKUP);
+}
+
+// t >= limit (an int: no Timer's due is FOREVER_US, a big int here)
+static bool reached(mp_int_t t, mp_obj_t limit) {
+    if (mp_obj_is_small_int(limit)) {
+        return t >= MP_OBJ_SMALL_INT_VALUE(limit);
+    }
+    return mp_obj_is_true(mp_binary_op(MP_BINARY_OP_MORE_EQUAL, MP_OBJ_NEW_SMALL_INT(t), limit));
+}
+
+// An input's read in the main program, in C (above); MP_OBJ_NULL: Python's steps.
+static mp_obj_t pin_read_main(mp_obj_t self) {
+    if (!mp_obj_is_obj(self) || !mp_obj_is_instance_type(mp_obj_get_type(self))) {
+        return MP_OBJ_NULL;
+    }
+    mp_map_elem_t *pending = shim_slot(MP_QSTR__pending), *lockstep = shim_slot(MP_QSTR__lockstep);
+    mp_map_elem_t *obs = shim_slot(MP_QSTR_observe), *free_obs = shim_slot(MP_QSTR__observe_free);
+    mp_map_elem_t *spin = shim_slot(MP_QSTR__spin), *now = shim_slot(MP_QSTR__now);
+    mp_map_elem_t *horizon = shim_slot(MP_QSTR__horizon), *due = shim_slot(MP_QSTR__timer_due);
+    if (pending == NULL || lockstep == NULL || obs == NULL || free_obs == NULL || spin == NULL || now == NULL
+        || horizon == NULL || due == NULL || obs->value != free_obs->value || lockstep->value != mp_const_true
+        || !mp_obj_is_type(pending->value, &mp_type_list) || ((mp_obj_list_t *)MP_OBJ_TO_PTR(pending->value))->len
+        || !mp_obj_is_small_int(spin->value) || !mp_obj_is_small_int(now->value)) {
+        return MP_OBJ_NULL;
+    }
+    mp_int_t n_spin = MP_OBJ_SMALL_INT_VALUE(spin->value) + 1;
+    mp_int_t t = MP_OBJ_SMALL_INT_VALUE(now->value) + (n_spin > pin_spin_limit ? pin_spin_step : 0);
+    if (reached(t, horizon->value) || reached(t, due->value)) {
+        return MP_OBJ_NULL;  // (a look at the host, or a Timer due)
+    }
+    mp_obj_instance_t *o = MP_OBJ_TO_PTR(self);
+    mp_map_elem_t *level = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(MP_QSTR__level), MP_MAP_LOOKUP);
+    mp_map_elem_t *pv = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(MP_QSTR__pv), MP_MAP_LOOKUP);
+    mp_map_elem_t *pn = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(MP_QSTR__pn), MP_MAP_LOOKUP);
+    mp_map_elem_t *pr = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(MP_QSTR__pr), MP_MAP_LOOKUP);
+    mp_map_elem_t *pt = mp_map_lookup(&o->members, MP_OBJ_NEW_QSTR(MP_QSTR__pt), MP_MAP_LOOKUP);
+    if (level == NULL || pv == NULL || pn == NULL || pr == NULL || pt == NULL || !mp_obj_is_small_int(pn->value)) {
+        return MP_OBJ_NULL;
+    }
+    bool same = mp_obj_equal(level->value, pv->value);
+    if (same && MP_OBJ_SMALL_INT_VALUE(pn->value) <= 1) {
+        return MP_OBJ_NULL;  // (the read that looks: _polled)
+    }
+    spin->value = MP_OBJ_NEW_SMALL_INT(n_spin);
+    now->value = MP_OBJ_NEW_SMALL_INT(t);
+    if (same) {
+        pn->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(pn->value) - 1);
+    } else {
+        pv->value = level->value;
+        pn->value = MP_OBJ_NEW_SMALL_INT(pin_poll_reads - 1);
+        pr->value = MP_OBJ_NEW_SMALL_INT(0);
+        pt->value = now->value;
+    }
+    return level->value;
+}
 
 // (A type of its own, not a built-in function: those act as staticmethods in a class of
 // Python's, py/runtime.c mp_convert_member_lookup; this one binds self, as a def does.)
@@ -592,6 +1137,12 @@ static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const m
             && mp_obj_is_true(mp_obj_dict_get(pin_shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))) {
             return inst_get(self, MP_QSTR__level);  // (a handler's reads move no time)
         }
+        if (pin_poll_reads && mp_obj_is_true(inst_get(self, MP_QSTR__cfg))) {
+            mp_obj_t level = pin_read_main(self);
+            if (level != MP_OBJ_NULL) {
+                return level;
+            }
+        }
     }
     // (the call into the shim's Python is this call's own: counted once, as the Python method's was)
     if (mp_hil_cur == &mp_hil_counts) {
@@ -601,6 +1152,30 @@ static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const m
 }
 static MP_DEFINE_CONST_OBJ_TYPE(pin_value_type, MP_QSTR_function, MP_TYPE_FLAG_BINDS_SELF, call, pin_value_call);
 static const mp_obj_base_t pin_value_obj = {&pin_value_type};
+
+// roomy(obj): an instance's attribute table made about twice as large as what it holds. A
+// table of py/map.c grows only when full, and a name it lacks (a method of the class: a
+// Pin's value, irq) is compared with every slot until an empty one: in a machine.Pin's full
+// table of 17, all 17 on each call of a method from the firmware's handler.
+static mp_obj_t roomy(mp_obj_t obj) {
+    if (!mp_obj_is_obj(obj) || !mp_obj_is_instance_type(mp_obj_get_type(obj))) {
+        return mp_const_none;
+    }
+    mp_obj_instance_t *o = MP_OBJ_TO_PTR(obj);
+    mp_map_t old = o->members;
+    if (old.is_fixed || old.is_ordered) {
+        return mp_const_none;
+    }
+    mp_map_init(&o->members, old.used * 2 + 5);
+    for (size_t i = 0; i < old.alloc; i++) {
+        if (mp_map_slot_is_filled(&old, i)) {
+            mp_map_lookup(&o->members, old.table[i].key, MP_MAP_LOOKUP_ADD_IF_NOT_FOUND)->value = old.table[i].value;
+        }
+    }
+    m_del(mp_map_elem_t, old.table, old.alloc);
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(roomy_obj, roomy);
 
 // -- MCU time: the counters of py/hilcount.h ------------------------------------------
 
@@ -842,6 +1417,8 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_apply_state), MP_ROM_PTR(&apply_state_obj)},
     {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
     {MP_ROM_QSTR(MP_QSTR_merge_edges), MP_ROM_PTR(&merge_edges_obj)},
+    {MP_ROM_QSTR(MP_QSTR_link), MP_ROM_PTR(&link_new_obj)},
+    {MP_ROM_QSTR(MP_QSTR_roomy), MP_ROM_PTR(&roomy_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
     {MP_ROM_QSTR(MP_QSTR_exempt), MP_ROM_PTR(&exempt_obj)},
