@@ -13,6 +13,7 @@ costs a few steps per input change, whatever the time between changes.
 """
 
 import copy
+from collections import deque
 
 from sim_plant.pio import trace, walk
 from sim_plant.pio.machine import PioConfig, StateMachine, read_mask
@@ -96,6 +97,31 @@ class PioBlock:
         twin.running = {sm_id: copy.deepcopy(run, memo) for sm_id, run in self.running.items()}
         twin._run = None if self._run is None else copy.deepcopy(self._run, memo)
         twin._log = None if self._log is None else copy.deepcopy(self._log, memo)
+        return twin
+
+    def fork(self) -> "PioBlock":
+        """A copy to run ahead on (``host/rig/hardware/pio_ahead.py``, ``pio_out.py``), as
+        :func:`copy.deepcopy` makes it but without its machinery: taken between two runs (no
+        state machine stepping, its registers numbers), the memory and the tables shared
+        (never changed in place: :meth:`load` replaces them)."""
+        if self._run is not None or self._log is not None:
+            return copy.deepcopy(self)
+        twin = PioBlock.__new__(PioBlock)
+        twin.__dict__.update(self.__dict__)
+        twin.levels, twin.dirs = dict(self.levels), dict(self.dirs)
+        twin.events, twin.irqs = list(self.events), list(self.irqs)
+        running = twin.running = {}
+        for sm_id, run in self.running.items():
+            sm = run.sm
+            if not trace.plain(sm):
+                return copy.deepcopy(self)
+            copied = Running.__new__(Running)
+            copied.__dict__.update(run.__dict__)
+            copied.sm = twin_sm = StateMachine.__new__(StateMachine)
+            twin_sm.__dict__.update(sm.__dict__)
+            twin_sm.block = twin
+            twin_sm.tx, twin_sm.rx = deque(sm.tx), deque(sm.rx)
+            running[sm_id] = copied
         return twin
 
     # -- configuration ---------------------------------------------------------------
@@ -200,7 +226,7 @@ class PioBlock:
         """When ``want(sm)`` first holds if the pins stay as they are, looking no further
         than ``horizon_us`` (None: not by then); the block itself is not moved (``in_place``:
         it is, to that instant, or to the horizon: a copy that is thrown away after)."""
-        twin = self if in_place else copy.deepcopy(self)
+        twin = self if in_place else self.fork()
         run = twin.running[sm_id]
         step_us = 1
         t = t_us

@@ -156,7 +156,7 @@ class ReadsAhead:
         inputs and IRQ raises; it gives the plant nothing and learns nothing."""
         host = self.host
         twin = copy.copy(host)
-        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else copy.deepcopy(b) for b in host.blocks)
+        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else b.fork() for b in host.blocks)
         twin.pending, twin.levels = list(host.pending), dict(host.levels)
         twin.raised = (list(host.raised[0]), list(host.raised[1]))
         twin.outputs = _NoOutputs()
