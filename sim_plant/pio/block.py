@@ -281,7 +281,7 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
             c += step()
             block.steps += 1
             if path is not None:
-                path.append((c - c0, trace.capture(sm, rx_from)))
+                path.append((c - c0, trace.raw(sm, rx_from)))
             if sm.pc > pc:
                 continue
             key = sm.key()
@@ -430,7 +430,7 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
         sm.isr = sm.x if key[1] == "x" else sm.y
     if key[3] in ("x", "y"):
         sm.osr = sm.x if key[3] == "x" else sm.y
-    path = [(0, trace.capture(sm, len(rx_old)))]
+    path = [(0, trace.raw(sm, len(rx_old)))]
     entry = None
     try:
         c, period, drove = _steps(block, run, c0, limit, True, path)

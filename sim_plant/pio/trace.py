@@ -14,6 +14,7 @@ few dozen instructions of its stretch.
 
 from bisect import bisect_left
 from collections import deque
+from itertools import islice
 
 MASK = 0xFFFFFFFF
 ENTRIES_MAX = 4096  # table entries a state machine keeps (then it starts afresh)
@@ -124,10 +125,15 @@ def spec(v):
 
 
 def value(s, x: int, y: int) -> int:
+    """A register as a state keeps it (a number, a form, or a :class:`Sym` in a stretch's
+    states before its loop: :func:`raw`) for this X and Y."""
     if type(s) is tuple:
         base, neg, off = s
         b = x if base == "x" else y
         return ((-b if neg else b) + off) & MASK
+    if type(s) is Sym:
+        b = x if s.base == "x" else y
+        return ((-b if s.neg else b) + s.off) & MASK
     return s
 
 
@@ -170,20 +176,42 @@ def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int, mask: int) -
 
 
 def capture(sm, rx_from: int) -> tuple:
-    rx = list(sm.rx)[rx_from:]
+    """A state machine's state, X and Y as their forms (each step of a stretch run with symbols)."""
+    x, y, isr, osr, rx = sm.x, sm.y, sm.isr, sm.osr, sm.rx
     return (
         sm.pc,
-        spec(sm.x),
-        spec(sm.y),
-        spec(sm.isr),
+        x if type(x) is int else x.form(),
+        y if type(y) is int else y.form(),
+        isr if type(isr) is int else spec(isr),
         sm.isr_n,
-        spec(sm.osr),
+        osr if type(osr) is int else spec(osr),
         sm.osr_n,
         sm.pending_exec,
         sm.irq_waiting,
         sm.block.irq_flags,
-        tuple(sm.tx),
-        tuple(spec(v) for v in rx),
+        tuple(sm.tx) if sm.tx else (),
+        tuple(spec(v) for v in islice(rx, rx_from, None)) if len(rx) > rx_from else (),
+    )
+
+
+def raw(sm, rx_from: int) -> tuple:
+    """:func:`capture` with the registers as they are (symbols kept as :class:`Sym`, which
+    :func:`value` and :func:`restore` read as their forms): a stretch's states before its
+    loop, one a step, are only restored, and mostly never."""
+    rx = sm.rx
+    return (
+        sm.pc,
+        sm.x,
+        sm.y,
+        sm.isr,
+        sm.isr_n,
+        sm.osr,
+        sm.osr_n,
+        sm.pending_exec,
+        sm.irq_waiting,
+        sm.block.irq_flags,
+        tuple(sm.tx) if sm.tx else (),
+        tuple(islice(rx, rx_from, None)) if len(rx) > rx_from else (),
     )
 
 
