@@ -41,6 +41,7 @@ class Running:
         self.unaliased: set = set()  # shapes whose shift register only matched X or Y by chance
         self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
         self.misses = 0  # stretches run past the instant asked for that gave no table entry
+        self.short: set = set()  # shapes of short stretches stepped once: run past the instant when seen again
 
     def __deepcopy__(self, memo):
         twin = Running.__new__(Running)
@@ -129,7 +130,7 @@ class PioBlock:
         self.memory = list(memory) + [0] * (32 - len(memory))
         self.pure = pure(self.memory)
         for run in self.running.values():
-            run.entries, run.table, run.unaliased, run.misses = {}, None, set(), 0
+            run.entries, run.table, run.unaliased, run.misses, run.short = {}, None, set(), 0, set()
             run.sm.read_mask = read_mask(self.memory, run.sm)
 
     def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
@@ -420,10 +421,9 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
             run.orbit, run.orbit_version = entry.period, block.version
             block.replays += 1
             return entry.at(run, c_end)  # (straight to c_end's state along the loop: one restore)
-    ahead = block.pure and run.misses < AHEAD_MISSES and sm.pending_exec is None and not sm.irq_waiting
-    if c_end - c0 < SHORT_CYCLES and not ahead:
+    limit = _limit(block, run, key, c0, c_end)
+    if limit is None:
         return c0  # (too short to find a loop and go round it once more: single steps cost less)
-    limit = max(c_end, c0 + AHEAD_CYCLES) if ahead else c_end
     rec = trace.Recorder()
     sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
     if key[1] in ("x", "y"):
@@ -451,13 +451,35 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
         _concrete(sm)
     if c <= c_end or limit == c_end:
         return c
-    if entry is not None:  # (run past c_end: back to c_end's state, along the entry)
+    return _put_back(run, entry, path, x, y, rx_old, c0, c_end, c)
+
+
+def _limit(block: PioBlock, run: Running, key: tuple, c0: int, c_end: int) -> int | None:
+    """How far a stretch that missed the table is run with symbols: past ``c_end`` to
+    ``AHEAD_CYCLES`` for a pure program (:func:`pure`) that has not missed too often, else
+    to ``c_end``; None: not at all (a short stretch, stepped; the first time its shape comes,
+    when it could be run ahead: the next time it is)."""
+    sm = run.sm
+    ahead = block.pure and run.misses < AHEAD_MISSES and sm.pending_exec is None and not sm.irq_waiting
+    if c_end - c0 < SHORT_CYCLES and (not ahead or key not in run.short):
+        if ahead:
+            if len(run.short) >= SEEN_MAX:
+                run.short.clear()
+            run.short.add(key)
+        return None
+    return max(c_end, c0 + AHEAD_CYCLES) if ahead else c_end
+
+
+def _put_back(run: Running, entry, path: list, x: int, y: int, rx_old: list, c0: int, c_end: int, c: int) -> int:
+    """A stretch run past ``c_end`` (to cycle ``c``) put back at its first step boundary at or
+    after ``c_end``: along ``entry`` when it was kept, else from the states it went through."""
+    if entry is not None:
         run.table = (entry, x, y, rx_old, c0 + entry.cycles)
         return entry.at(run, c_end)
     run.misses += 1
-    for offset, state in path:  # (no entry: back to c_end's state from those it went through)
+    for offset, state in path:
         if c0 + offset >= c_end:
-            trace.restore(sm, state, x, y, rx_old)
+            trace.restore(run.sm, state, x, y, rx_old)
             return c0 + offset
     return c  # (not reached: the path ends where the state machine is, past c_end)
 
