@@ -48,8 +48,9 @@ class _Sent:
     """The answers ahead last sent: the frames and replies, the twin they were played on,
     the pins' changes the host had then, how many the shim took, how many the blocks had."""
 
-    def __init__(self, handles: dict, entries: list, twin, n_pending: int):
+    def __init__(self, handles: dict, entries: list, twin, n_pending: int, marks: dict):
         self.handles, self.entries, self.twin, self.n_pending = handles, entries, twin, n_pending
+        self.marks = marks  # entry index -> the twin as it was before that entry (a LEVELS: a new read)
         self.used = 0
         self.played = 0
 
@@ -110,6 +111,10 @@ class ReadsAhead:
         sent, self.sent = self.sent, None
         if sent is None:
             return
+        mark = sent.marks.get(sent.used)
+        if mark is not None and sent.played == 0:  # (the shim stopped before a read answered ahead:
+            self._take(sent, *mark)  # the twin as it was then)
+            return
         for t, op, address, n_read, data, *_reply, sm_id in sent.entries[sent.played : sent.used]:
             self.host.transfer(t, sm_id, op, address, n_read, data)
 
@@ -126,6 +131,7 @@ class ReadsAhead:
         host = self.host
         twin = None
         entries = []
+        marks: dict = {}
         t, (op, address, n_read, data) = t_us, frame
         for _ in range(AHEAD_MAX):
             block = host.blocks[sm_id >> 2]
@@ -139,12 +145,14 @@ class ReadsAhead:
             t, sm_next, op, address, n_read, data = nxt
             if sm_next != sm_id and any(driven_pins(run.sm) for run in host.blocks[sm_next >> 2].running.values()):
                 break
+            if op == F.BUS_PIO_LEVELS:  # (a new read: the shim may stop before it, the twin kept as it is)
+                marks[len(entries)] = self._mark(twin)
             sm_id = sm_next
             reply = twin.transfer(t, sm_id, op, address, n_read, data)
             entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2], sm_id))
         if not entries:
             return None
-        self.sent = _Sent(dict(self.handles), entries, twin, len(host.pending))
+        self.sent = _Sent(dict(self.handles), entries, twin, len(host.pending), marks)
         return pack_pio_ahead(entries)
 
     def _next(self, sm_id, t, op, address, n_read, data, reply):
@@ -183,6 +191,20 @@ class ReadsAhead:
         twin.probe_in_place = True  # (a FIFO's probe leaves the twin at the instant it names: where its next frame is)
         return twin
 
+    def _take(self, sent: _Sent, blocks, pending: list, levels: dict, raised: tuple) -> None:
+        """The host's PIO as the twin left it, with the changes the plant committed since the
+        answers were sent (each after their instants: they were sent before the plant's next
+        change, and the shim answers none after a frame of its own) still to come."""
+        host = self.host
+        host.blocks, host.levels, host.raised = blocks, levels, raised
+        host.pending = pending + host.pending[sent.n_pending :]
+
+    def _mark(self, twin) -> tuple:
+        """The twin's blocks (a copy of each it runs), pins and raises as they are now."""
+        host = self.host
+        blocks = tuple(b if b is h else b.fork() for b, h in zip(twin.blocks, host.blocks))
+        return blocks, list(twin.pending), dict(twin.levels), (list(twin.raised[0]), list(twin.raised[1]))
+
     # -- what the shim answered -------------------------------------------------------------
     def done(self, rig, t_us: int, sm_id: int, entry: int) -> None:
         """PIO_DONE: the shim answered entry ``entry`` of the last PIO_AHEAD at ``t_us``. The
@@ -202,7 +224,7 @@ class ReadsAhead:
         rig.clock.catch_up(t_us)
         self.local += 1
         self.after(t_us, sm_id, op, (status, count, got), n_read)  # (what follows it is learnt as after an exchange)
-        h, host = sent.handles[sm_id], self.host
+        h = sent.handles[sm_id]
         info = rig.wiring.handles[h]
         if self.check:  # (played on the host's blocks now: before() plays those before it first)
             reply = rig.bus_trace.answer(rig.plant, info, h, t_us, op, address, n_read, data)
@@ -211,14 +233,9 @@ class ReadsAhead:
         else:
             reply = rig.bus_trace.replay(rig.plant, info, h, t_us, op, address, n_read, data, (status, count, got))
             sent.used = entry + 1
-            if sent.used == len(sent.entries) and len(host.pending) == sent.n_pending:
+            if sent.used == len(sent.entries):
                 twin = sent.twin
-                host.blocks, host.pending, host.levels, host.raised = (
-                    twin.blocks,
-                    twin.pending,
-                    twin.levels,
-                    twin.raised,
-                )
+                self._take(sent, twin.blocks, twin.pending, twin.levels, twin.raised)
                 sent.played = sent.used
         lease = rig.clock.lease_us()
         if reply != (status, count, got) or lease != horizon_us:
