@@ -76,6 +76,7 @@ class ReadsAhead:
     def reset(self) -> None:
         self.follows: dict = {}  # (sm, op) -> (op, n_read, drained): the frame that came next at its instant
         self.then: dict = {}  # sm -> (sm, n_read): the LEVELS asked next at the instant of a get that took all
+        self.unsure: set = set()  # sm whose `then` read the shim once did not make: the twin kept before it
         self.handles: dict = {}  # sm -> its handle (an exchange of its own told it)
         self.last = None  # (sm, op, t_us, RX words given, a get that took all): the last frame, for follows
         self.sent: _Sent | None = None
@@ -115,6 +116,8 @@ class ReadsAhead:
         if mark is not None and sent.played == 0:  # (the shim stopped before a read answered ahead:
             self._take(sent, *mark)  # the twin as it was then)
             return
+        if 0 < sent.used < len(sent.entries) and sent.entries[sent.used][1] == F.BUS_PIO_LEVELS:
+            self.unsure.add(sent.entries[sent.used - 1][9])  # (its next reads ahead: the twin kept before)
         for t, op, address, n_read, data, *_reply, sm_id in sent.entries[sent.played : sent.used]:
             self.host.transfer(t, sm_id, op, address, n_read, data)
 
@@ -145,8 +148,8 @@ class ReadsAhead:
             t, sm_next, op, address, n_read, data = nxt
             if sm_next != sm_id and any(driven_pins(run.sm) for run in host.blocks[sm_next >> 2].running.values()):
                 break
-            if op == F.BUS_PIO_LEVELS:  # (a new read: the shim may stop before it, the twin kept as it is)
-                marks[len(entries)] = self._mark(twin)
+            if op == F.BUS_PIO_LEVELS and sm_id in self.unsure:  # (a new read the shim stopped before
+                marks[len(entries)] = self._mark(twin)  # once: the twin kept as it is before it)
             sm_id = sm_next
             reply = twin.transfer(t, sm_id, op, address, n_read, data)
             entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2], sm_id))
