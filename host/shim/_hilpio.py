@@ -4,17 +4,19 @@
 import struct
 
 PIO_AHEAD_FMT = "<B"  # entries, then each PIO_AHEAD_ENTRY_FMT, the bytes written, the bytes read
-PIO_AHEAD_ENTRY_FMT = "<QBHBBBQH"  # t_us, op, address, n_read, status, count, horizon_us, bytes written
+PIO_AHEAD_ENTRY_FMT = "<QBHBBBQHB"  # t_us, op, address, n_read, status, count, horizon_us, bytes written, sm
 PIO_AHEAD_GOT_FMT = "<H"  # (after the bytes written) bytes read
 PIO_DONE_FMT = "<QBB"  # t_us, state machine, the PIO_AHEAD's entry (its index)
 
 
 def pack_pio_ahead(entries):
-    """entries: [(t_us, op, address, n_read, data, status, count, horizon_us, got)], the
-    frames one state machine's read makes next and their replies, in the order it makes them."""
+    """entries: [(t_us, op, address, n_read, data, status, count, horizon_us, got, sm)], the
+    frames the firmware's reads make next (on the state machine ``sm``) and their replies, in
+    the order it makes them."""
     out = [struct.pack(PIO_AHEAD_FMT, len(entries))]
-    for t_us, op, address, n_read, data, status, count, horizon_us, got in entries:
-        out.append(struct.pack(PIO_AHEAD_ENTRY_FMT, t_us, op, address, n_read, status, count, horizon_us, len(data)))
+    for t_us, op, address, n_read, data, status, count, horizon_us, got, sm in entries:
+        fixed = (t_us, op, address, n_read, status, count, horizon_us, len(data), sm)
+        out.append(struct.pack(PIO_AHEAD_ENTRY_FMT, *fixed))
         out.append(bytes(data))
         out.append(struct.pack(PIO_AHEAD_GOT_FMT, len(got)))
         out.append(bytes(got))
@@ -22,19 +24,20 @@ def pack_pio_ahead(entries):
 
 
 def unpack_pio_ahead(p):
-    """[(t_us, op, address, n_read, data, status, count, horizon_us, got)]"""
+    """[(t_us, op, address, n_read, data, status, count, horizon_us, got, sm)]"""
     (n,) = struct.unpack_from(PIO_AHEAD_FMT, p, 0)
     off = struct.calcsize(PIO_AHEAD_FMT)
     size, got_size = struct.calcsize(PIO_AHEAD_ENTRY_FMT), struct.calcsize(PIO_AHEAD_GOT_FMT)
     out = []
     for _ in range(n):
-        t_us, op, address, n_read, status, count, horizon_us, n_data = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
+        fixed = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
+        t_us, op, address, n_read, status, count, horizon_us, n_data, sm = fixed
         off += size
         data = bytes(p[off : off + n_data])
         off += n_data
         (n_got,) = struct.unpack_from(PIO_AHEAD_GOT_FMT, p, off)
         off += got_size
-        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got])))
+        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got]), sm))
         off += n_got
     return out
 

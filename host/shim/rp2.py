@@ -178,6 +178,10 @@ def _levels(init, base):
 _SMS = {}
 _KEEP = object()  # (irq() with no argument: the IRQ object as it is)
 _POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
+# The host's answers to the next PIO frames (PIO_AHEAD), in order, each naming its state
+# machine; _hil._Link.frames when they came (they hold while no frame went out since); the
+# answers taken (the next one's index).
+_AHEAD = [None, -1, 0]
 
 
 class StateMachine:
@@ -198,9 +202,6 @@ class StateMachine:
             sm._tx_level = 0
             sm._at = -1
             sm._popped = 0  # words taken from _rx the host is told with the next frame
-            sm._ahead = None  # the host's answers to this machine's next frames (PIO_AHEAD), in order
-            sm._turn = -1  # _hil._Link.frames when they came: they hold while no frame went out since
-            sm._used = 0  # answers taken from _ahead (the next one's index)
         return sm
 
     def __init__(self, id, program=None, *args, **kw):
@@ -280,14 +281,14 @@ class StateMachine:
             if other in _POPPED and other._at != now:
                 other._call(F.BUS_PIO_LEVELS, 0, 2)
         address |= popped << 8
-        reply = self._ahead and self._answered(op, address, n_read, data)
+        reply = _AHEAD[0] and self._answered(op, address, n_read, data)
         if reply:
             count, got, t = reply
         else:
             status, count, got, t = _hil.transfer(self._handle, op, address, n_read, data)
             ahead, _hil._Link.pio = _hil._Link.pio, None
-            self._ahead = ahead and _hilpio.unpack_pio_ahead(ahead)
-            self._turn, self._used = _hil._Link.frames, 0
+            _AHEAD[0] = ahead and _hilpio.unpack_pio_ahead(ahead)
+            _AHEAD[1], _AHEAD[2] = _hil._Link.frames, 0
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
             self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
@@ -307,11 +308,12 @@ class StateMachine:
         if _hil._Console.debt_ns >= 1000:  # (as _hil.transfer: a print before has returned)
             _hil.pay_console()
         t = _hil.now()
-        ahead = self._ahead
+        ahead = _AHEAD[0]
         entry = ahead[0]
-        self._ahead = None
+        _AHEAD[0] = None
         if (
-            _hil._Link.frames != self._turn
+            _hil._Link.frames != _AHEAD[1]
+            or entry[9] != self._id
             or entry[0] != t
             or entry[1] != op
             or entry[2] != address
@@ -328,12 +330,11 @@ class StateMachine:
             _hil._Link.done = 0
             _hil._horizon = entry[7]
             _hil._wrote = True
-            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, self._used))
+            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, _AHEAD[2]))
         finally:
             _hil.heap_restore(depth)
-        self._used += 1
-        self._ahead = ahead[1:] or None
-        self._turn = _hil._Link.frames
+        _AHEAD[0] = ahead[1:] or None
+        _AHEAD[1], _AHEAD[2] = _hil._Link.frames, _AHEAD[2] + 1
         return entry[6], entry[8], t
 
     def active(self, value=None):

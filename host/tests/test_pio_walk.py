@@ -228,3 +228,71 @@ def test_a_short_stretch_stepped_leaves_what_its_symbolic_run_leaves(moves, pops
             return seen
 
     assert run_all(64) == run_all(0)
+
+
+def stepped(block, run, c_end: int) -> None:
+    """``run_cycles`` as plain single steps: no table, no loop skipped (the reference)."""
+    sm, c = run.sm, run.cycle
+    block._run = run
+    try:
+        while c < c_end:
+            block._cycle = c
+            c += sm.step()
+    finally:
+        block._run = None
+    run.cycle = max(run.cycle, c)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.lists(move, min_size=0, max_size=10), min_size=1, max_size=10),
+    st.lists(st.integers(0, 8), min_size=10, max_size=10),
+    st.lists(st.lists(st.integers(1, 12), min_size=1, max_size=4), min_size=10, max_size=10),
+    st.booleans(),
+)
+def test_a_stretch_run_past_its_instant_and_put_back_leaves_what_single_steps_leave(moves, pops, probes, poll):
+    """A stretch run with symbols past the instant asked for, to its loop, then put back at
+    that instant from the states it went through (``block._stretch``, ``AHEAD_CYCLES``; a
+    decoder's FIFO refilled after a read, probed 1 µs on): at every batch end and every probe
+    instant the block is where single steps leave it, for two decoders and a polling loop with
+    delays, edges a few cycles to hundreds of µs apart, the FIFO drained between batches."""
+    batches = [  # (some gaps an eighth as long: stretches of a few cycles)
+        ([(t // 8 + 1, gpio, level) for t, gpio, level in changes], t_end // 8 + 1)
+        for changes, t_end in batches_of(moves)
+    ]
+
+    def make():
+        if not poll:
+            return blocks()
+        prog = _pioasm.asm_pio()(poll_counter)
+        block = PioBlock()
+        block.load(list(prog[0]))
+        block.init(0, PioConfig(prog[3] | 6 << 24, prog[4], 0, 256 * 25, 0), 0)  # 5 MHz, jmp_pin GP6
+        block.set_active(0, True, 0)
+        return block
+
+    def run_all(reference: bool) -> list:
+        with pytest.MonkeyPatch.context() as monkeypatch:
+            if reference:
+                monkeypatch.setattr(walk_module, "walk", lambda block, t_us, changes, i=0: i)
+                monkeypatch.setattr(block_module, "run_cycles", stepped)
+            block, seen, t_end = make(), [], 0
+            for (changes, end), pop, probe in zip(batches, pops, probes):
+                changes = [(max(t, t_end), gpio, level) for t, gpio, level in changes]
+                t_end = max(t_end, end, *(t for t, _g, _l in changes))
+                block.advance(t_end, changes)
+                seen.append(machine_state(block))
+                for sm_id in block.running:
+                    rx = block.sm(sm_id).rx
+                    for _ in range(min(pop, len(rx))):
+                        rx.popleft()
+                if pop:
+                    block.touch()
+                for probe_us in probe:  # (a read's probes: time on, pins as they are)
+                    t_end += probe_us
+                    block.advance(t_end)
+                    seen.append(machine_state(block))
+            return seen
+
+    tabled, reference = run_all(False), run_all(True)
+    assert tabled == reference, "expected the block where single steps leave it at every instant (tabled, stepped)"

@@ -13,14 +13,17 @@ costs a few steps per input change, whatever the time between changes.
 """
 
 import copy
+from collections import deque
 
 from sim_plant.pio import trace, walk
-from sim_plant.pio.machine import PioConfig, StateMachine
+from sim_plant.pio.machine import PioConfig, StateMachine, read_mask
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
 COUNTDOWN = True  # jump over a counting loop's passes that do the same (False: step each, for tests)
 PASS_MAX = 64  # the longest pass of a counting loop looked at (instructions)
 SHORT_CYCLES = 64  # a stretch shorter than this after a change is stepped, not run with symbols
+AHEAD_CYCLES = 512  # how far a stretch is run with symbols past the instant asked for, to reach its loop
+AHEAD_MISSES = 16  # runs past the instant that found no loop fit for the table before a state machine stops
 
 
 class Running:
@@ -37,6 +40,8 @@ class Running:
         self.entries: dict = {}  # shape -> [trace.Entry]: stretches after a change, replayed
         self.unaliased: set = set()  # shapes whose shift register only matched X or Y by chance
         self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
+        self.misses = 0  # stretches run past the instant asked for that gave no table entry
+        self.short: set = set()  # shapes of short stretches stepped once: run past the instant when seen again
 
     def __deepcopy__(self, memo):
         twin = Running.__new__(Running)
@@ -81,6 +86,7 @@ class PioBlock:
         self._now_us = 0.0
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
         self._cycle = 0
+        self.pure = True  # its program touches nothing but its own state machine (no IRQ, no exec): pure()
 
     def __deepcopy__(self, memo):
         """Numbers, containers of numbers and tuples, and the state machines."""
@@ -94,15 +100,43 @@ class PioBlock:
         twin._log = None if self._log is None else copy.deepcopy(self._log, memo)
         return twin
 
+    def fork(self) -> "PioBlock":
+        """A copy to run ahead on (``host/rig/hardware/pio_ahead.py``, ``pio_out.py``), as
+        :func:`copy.deepcopy` makes it but without its machinery: taken between two runs (no
+        state machine stepping, its registers numbers), the memory and the tables shared
+        (never changed in place: :meth:`load` replaces them)."""
+        if self._run is not None or self._log is not None:
+            return copy.deepcopy(self)
+        twin = PioBlock.__new__(PioBlock)
+        twin.__dict__.update(self.__dict__)
+        twin.levels, twin.dirs = dict(self.levels), dict(self.dirs)
+        twin.events, twin.irqs = list(self.events), list(self.irqs)
+        running = twin.running = {}
+        for sm_id, run in self.running.items():
+            sm = run.sm
+            if not trace.plain(sm):
+                return copy.deepcopy(self)
+            copied = Running.__new__(Running)
+            copied.__dict__.update(run.__dict__)
+            copied.sm = twin_sm = StateMachine.__new__(StateMachine)
+            twin_sm.__dict__.update(sm.__dict__)
+            twin_sm.block = twin
+            twin_sm.tx, twin_sm.rx = deque(sm.tx), deque(sm.rx)
+            running[sm_id] = copied
+        return twin
+
     # -- configuration ---------------------------------------------------------------
     def load(self, memory: list[int]) -> None:
         self.memory = list(memory) + [0] * (32 - len(memory))
+        self.pure = pure(self.memory)
         for run in self.running.values():
-            run.entries, run.table, run.unaliased = {}, None, set()
+            run.entries, run.table, run.unaliased, run.misses, run.short = {}, None, set(), 0, set()
+            run.sm.read_mask = read_mask(self.memory, run.sm)
 
     def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
         old = self.running.get(sm_id)
         sm = StateMachine(self, sm_id, config)
+        sm.read_mask = read_mask(self.memory, sm)
         if old is not None:
             sm.tx, sm.rx = old.sm.tx, old.sm.rx
         self.running[sm_id] = Running(sm, t_us)
@@ -193,7 +227,7 @@ class PioBlock:
         """When ``want(sm)`` first holds if the pins stay as they are, looking no further
         than ``horizon_us`` (None: not by then); the block itself is not moved (``in_place``:
         it is, to that instant, or to the horizon: a copy that is thrown away after)."""
-        twin = self if in_place else copy.deepcopy(self)
+        twin = self if in_place else self.fork()
         run = twin.running[sm_id]
         step_us = 1
         t = t_us
@@ -228,10 +262,13 @@ def run_cycles(block: PioBlock, run: Running, c_end: int) -> None:
     run.cycle = _steps(block, run, c, c_end, False)[0]
 
 
-def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bool) -> tuple:
+def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bool, path: list | None = None) -> tuple:
     """The stepping loop: (the cycle it got to, the period of the loop it found when
-    ``stop_at_repeat``, else 0; whether it drove a pin or raised an IRQ on the way)."""
+    ``stop_at_repeat``, else 0; whether it drove a pin or raised an IRQ on the way); each
+    step's state kept in ``path`` (by the cycles since ``c``, :func:`trace.capture`)."""
     sm = run.sm
+    c0 = c
+    rx_from = len(sm.rx)
     seen: dict = {}
     heads: dict = {}  # pc -> (key, log length): the last pass of a loop through it
     counting = COUNTDOWN and trace.plain(sm)
@@ -244,6 +281,8 @@ def _steps(block: PioBlock, run: Running, c: int, c_end: int, stop_at_repeat: bo
             block._cycle = c
             c += step()
             block.steps += 1
+            if path is not None:
+                path.append((c - c0, trace.raw(sm, rx_from)))
             if sm.pc > pc:
                 continue
             key = sm.key()
@@ -365,19 +404,25 @@ def _count_down(block: PioBlock, run: Running, name: str, c: int, c_end: int, lo
 
 def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
     """From a change to the loop it leads to: from the table when the same shape with this
-    X and Y was seen, else run with X and Y as symbols (and kept when it is fit)."""
+    X and Y was seen, else run with X and Y as symbols (and kept when it is fit). A table
+    entry keeps the stretch's states before its loop too, so an instant before the loop is
+    one restore as well (a decoder's FIFO refilled after a read); a state machine whose
+    program touches nothing outside itself (:func:`pure`) is run with symbols past
+    ``c_end``, to its loop, and put back at ``c_end``'s state from the states it went
+    through, so that a short stretch (a read's 1 µs probe) is learnt too."""
     sm = run.sm
     key = trace.shape(sm)
     if key in run.unaliased:  # (a shift register equal to X or Y by chance, and used as a number)
         key = trace.shape(sm, aliases=False)
     x, y, rx_old = sm.x, sm.y, list(sm.rx)
     for entry in run.entries.get(key, ()):
-        if c0 + entry.cycles <= c_end and entry.holds(x, y):
+        if (c0 + entry.cycles <= c_end or entry.path) and entry.holds(x, y):
             run.table = (entry, x, y, rx_old, c0 + entry.cycles)
             run.orbit, run.orbit_version = entry.period, block.version
             block.replays += 1
             return entry.at(run, c_end)  # (straight to c_end's state along the loop: one restore)
-    if c_end - c0 < SHORT_CYCLES:
+    limit = _limit(block, run, key, c0, c_end)
+    if limit is None:
         return c0  # (too short to find a loop and go round it once more: single steps cost less)
     rec = trace.Recorder()
     sm.x, sm.y = trace.Sym(x, "x", False, 0, rec), trace.Sym(y, "y", False, 0, rec)
@@ -385,14 +430,16 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
         sm.isr = sm.x if key[1] == "x" else sm.y
     if key[3] in ("x", "y"):
         sm.osr = sm.x if key[3] == "x" else sm.y
+    path = [(0, trace.raw(sm, len(rx_old)))]
+    entry = None
     try:
-        c, period, drove = _steps(block, run, c0, c_end, True)
+        c, period, drove = _steps(block, run, c0, limit, True, path)
         if rec.tainted and (key[1] in ("x", "y") or key[3] in ("x", "y")):
             run.unaliased.add(key)
-        if period and not drove and not rec.tainted and c + period <= c_end:
-            table = _one_period(block, run, c, period, len(rx_old))
+        if period and not drove and not rec.tainted and c + period <= limit:
+            table = _one_period(block, run, c, period, len(rx_old), path, c0)
             if table is not None and not rec.tainted:
-                entry = trace.Entry(list(rec.guards), c - c0, period, table)
+                entry = trace.Entry(list(rec.guards), c - c0, period, table, [p for p in path if p[0] < c - c0])
                 entries = run.entries
                 if len(entries) >= trace.ENTRIES_MAX:
                     entries.clear()
@@ -402,11 +449,56 @@ def _stretch(block: PioBlock, run: Running, c0: int, c_end: int) -> int:
             c += period
     finally:
         _concrete(sm)
-    return c
+    if c <= c_end or limit == c_end:
+        return c
+    return _put_back(run, entry, path, x, y, rx_old, c0, c_end, c)
 
 
-def _one_period(block: PioBlock, run: Running, c: int, period: int, rx_from: int) -> list | None:
-    """Step one period from ``c`` (the loop's state), keeping the state at each step."""
+def _limit(block: PioBlock, run: Running, key: tuple, c0: int, c_end: int) -> int | None:
+    """How far a stretch that missed the table is run with symbols: past ``c_end`` to
+    ``AHEAD_CYCLES`` for a pure program (:func:`pure`) that has not missed too often, else
+    to ``c_end``; None: not at all (a short stretch, stepped; the first time its shape comes,
+    when it could be run ahead: the next time it is)."""
+    sm = run.sm
+    ahead = block.pure and run.misses < AHEAD_MISSES and sm.pending_exec is None and not sm.irq_waiting
+    if c_end - c0 < SHORT_CYCLES and (not ahead or key not in run.short):
+        if ahead:
+            if len(run.short) >= SEEN_MAX:
+                run.short.clear()
+            run.short.add(key)
+        return None
+    return max(c_end, c0 + AHEAD_CYCLES) if ahead else c_end
+
+
+def _put_back(run: Running, entry, path: list, x: int, y: int, rx_old: list, c0: int, c_end: int, c: int) -> int:
+    """A stretch run past ``c_end`` (to cycle ``c``) put back at its first step boundary at or
+    after ``c_end``: along ``entry`` when it was kept, else from the states it went through."""
+    if entry is not None:
+        run.table = (entry, x, y, rx_old, c0 + entry.cycles)
+        return entry.at(run, c_end)
+    run.misses += 1
+    for offset, state in path:
+        if c0 + offset >= c_end:
+            trace.restore(run.sm, state, x, y, rx_old)
+            return c0 + offset
+    return c  # (not reached: the path ends where the state machine is, past c_end)
+
+
+def pure(memory: list) -> bool:
+    """A program that changes nothing outside its state machine and reads no IRQ flag: no
+    ``irq``, no ``wait irq``, no ``mov exec`` or ``out exec`` (which could run either). Its
+    state machine can be run ahead of an instant and put back (:func:`_stretch`)."""
+    for word in memory:
+        op = word >> 13
+        irq = op == 6 or (op == 1 and word >> 5 & 3 == 2)
+        if irq or (op == 5 and word >> 5 & 7 == 4) or (op == 3 and word >> 5 & 7 == 7):
+            return False
+    return True
+
+
+def _one_period(block: PioBlock, run: Running, c: int, period: int, rx_from: int, path: list, c0: int) -> list | None:
+    """Step one period from ``c`` (the loop's state), keeping the state at each step (in
+    ``path`` too, by the cycles since ``c0``)."""
     sm = run.sm
     table = [(0, trace.capture(sm, rx_from))]
     block._run = run
@@ -416,12 +508,14 @@ def _one_period(block: PioBlock, run: Running, c: int, period: int, rx_from: int
             block._cycle = c
             c += sm.step()
             block.steps += 1
+            state = trace.capture(sm, rx_from)
+            path.append((c - c0, state))
             if c - c_start >= period:
                 break
-            table.append((c - c_start, trace.capture(sm, rx_from)))
+            table.append((c - c_start, state))
     finally:
         block._run = None
-    return table if c - c_start == period and trace.capture(sm, rx_from) == table[0][1] else None
+    return table if c - c_start == period and path[-1][1] == table[0][1] else None
 
 
 def _concrete(sm) -> None:

@@ -62,6 +62,7 @@ class StateMachine:
     def __init__(self, block, sm_id: int, config: PioConfig):
         self.block = block
         self.sm_id = sm_id
+        self.read_mask = MASK  # the GPIOs its program can read (read_mask(), set by the block)
         self.configure(config)
         self.restart()
         self.tx = deque()
@@ -319,6 +320,28 @@ class StateMachine:
         if source == 7:
             return self.osr
         return 0
+
+
+def read_mask(memory: list, sm: StateMachine) -> int:
+    """The GPIOs the instructions in ``memory`` can read when ``sm`` runs them (``wait gpio``,
+    ``wait pin``, ``jmp pin``, ``in pins``; all of them for a ``mov`` from the pins or a
+    program that can execute a word of data, ``out exec`` or ``mov exec``): a pin outside it
+    changes nothing the state machine does."""
+    mask = 0
+    for word in memory:
+        op = word >> 13
+        if op == 0 and word >> 5 & 7 == 6:
+            mask |= 1 << sm.jmp_pin
+        elif op == 1 and word >> 5 & 3 == 0:
+            mask |= 1 << (word & 0x1F)
+        elif op == 1 and word >> 5 & 3 == 1:
+            mask |= 1 << ((sm.in_base + (word & 0x1F)) & 31)
+        elif op == 2 and word >> 5 & 7 == 0:
+            bits = _bits((word & 0x1F) or 32)
+            mask |= ((bits << sm.in_base) | (bits >> (32 - sm.in_base))) & MASK
+        elif (op == 5 and word & 7 == 0) or (op == 5 and word >> 5 & 7 == 4) or (op == 3 and word >> 5 & 7 == 7):
+            return MASK
+    return mask
 
 
 def _out_pins(sm, data, n):

@@ -14,6 +14,7 @@ few dozen instructions of its stretch.
 
 from bisect import bisect_left
 from collections import deque
+from itertools import islice
 
 MASK = 0xFFFFFFFF
 ENTRIES_MAX = 4096  # table entries a state machine keeps (then it starts afresh)
@@ -124,10 +125,15 @@ def spec(v):
 
 
 def value(s, x: int, y: int) -> int:
+    """A register as a state keeps it (a number, a form, or a :class:`Sym` in a stretch's
+    states before its loop: :func:`raw`) for this X and Y."""
     if type(s) is tuple:
         base, neg, off = s
         b = x if base == "x" else y
         return ((-b if neg else b) + off) & MASK
+    if type(s) is Sym:
+        b = x if s.base == "x" else y
+        return ((-b if s.neg else b) + s.off) & MASK
     return s
 
 
@@ -141,7 +147,8 @@ def alias(v: int, x: int, y: int):
 
 def shape(sm, aliases: bool = True) -> tuple:
     """What a stretch's table entry is kept under: the state but X, Y (and, ``aliases``, a
-    shift register holding a copy of one) and the RX words."""
+    shift register holding a copy of one) and the RX words; of the pins, those its program
+    reads (``machine.read_mask``: the other decoder's edges make no new shape)."""
     x, y = (sm.x, sm.y) if aliases else (None, None)
     return (
         sm.pc,
@@ -154,33 +161,57 @@ def shape(sm, aliases: bool = True) -> tuple:
         sm.pending_exec,
         sm.irq_waiting,
         sm.block.irq_flags,
-        sm.block.gpio_in,
+        sm.block.gpio_in if sm.pending_exec is not None else sm.block.gpio_in & sm.read_mask,
     )
 
 
-def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int) -> tuple:
+def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int, mask: int) -> tuple:
     """:func:`shape` of a state machine at ``state`` (as :func:`capture` keeps it), given its
     shift registers as :func:`alias` keeps them, its RX words' count and the pins (walk.py:
-    the next stretch's key along a loop, the registers not restored)."""
+    the next stretch's key along a loop, the registers not restored); ``mask`` the pins its
+    program reads."""
     pc, _x, _y, _isr, isr_n, _osr, osr_n, pending, waiting, flags, tx, _rx_new = state
-    return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, gpio_in)
+    pins = gpio_in if pending is not None else gpio_in & mask
+    return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, pins)
 
 
 def capture(sm, rx_from: int) -> tuple:
-    rx = list(sm.rx)[rx_from:]
+    """A state machine's state, X and Y as their forms (each step of a stretch run with symbols)."""
+    x, y, isr, osr, rx = sm.x, sm.y, sm.isr, sm.osr, sm.rx
     return (
         sm.pc,
-        spec(sm.x),
-        spec(sm.y),
-        spec(sm.isr),
+        x if type(x) is int else x.form(),
+        y if type(y) is int else y.form(),
+        isr if type(isr) is int else spec(isr),
         sm.isr_n,
-        spec(sm.osr),
+        osr if type(osr) is int else spec(osr),
         sm.osr_n,
         sm.pending_exec,
         sm.irq_waiting,
         sm.block.irq_flags,
-        tuple(sm.tx),
-        tuple(spec(v) for v in rx),
+        tuple(sm.tx) if sm.tx else (),
+        tuple(spec(v) for v in islice(rx, rx_from, None)) if len(rx) > rx_from else (),
+    )
+
+
+def raw(sm, rx_from: int) -> tuple:
+    """:func:`capture` with the registers as they are (symbols kept as :class:`Sym`, which
+    :func:`value` and :func:`restore` read as their forms): a stretch's states before its
+    loop, one a step, are only restored, and mostly never."""
+    rx = sm.rx
+    return (
+        sm.pc,
+        sm.x,
+        sm.y,
+        sm.isr,
+        sm.isr_n,
+        sm.osr,
+        sm.osr_n,
+        sm.pending_exec,
+        sm.irq_waiting,
+        sm.block.irq_flags,
+        tuple(sm.tx) if sm.tx else (),
+        tuple(islice(rx, rx_from, None)) if len(rx) > rx_from else (),
     )
 
 
@@ -202,17 +233,28 @@ class Entry:
     """A stretch: its guards, its length to the loop, the loop's period and its states
     along one period ((offset, state), offset 0 the state the stretch ends in)."""
 
-    def __init__(self, guards, cycles, period, table):
+    def __init__(self, guards, cycles, period, table, path=()):
         self.guards = guards
+        self.path = path  # [(cycles since the change, state)]: the stretch's states before its loop
         self.cycles = cycles
         self.period = period
         self.offsets = [off for off, _state in table]
         self.states = [state for _off, state in table]
         self.shapes: dict = {}  # (state index, pins, RX words) -> a stretch's shape from it (walk.py)
+        self.checks = None  # the guards as (on X, neg, off, other, result), when each compares a form with a number
+        if all(kind == "==" and type(b) is int and a[0] in ("x", "y") for kind, a, b, _r in guards):
+            self.checks = tuple((a[0] == "x", a[1], a[2], b, result) for _kind, a, b, result in guards)
         flags = {state[9] for state in self.states}  # the block's IRQ flags along the loop
         self.irq_flags = flags.pop() if len(flags) == 1 else -1  # (-1: they change on the way)
 
     def holds(self, x: int, y: int) -> bool:
+        checks = self.checks
+        if checks is not None:  # (every guard a form of X or Y compared with a number: the common case)
+            for on_x, neg, off, other, result in checks:
+                b = x if on_x else y
+                if ((((-b if neg else b) + off) & MASK) == other) != result:
+                    return False
+            return True
         for kind, a, b, result in self.guards:
             if kind == "==":
                 if (value(a, x, y) == b) != result:
@@ -225,6 +267,13 @@ class Entry:
         """Put ``run``'s state machine at its first step boundary at or after ``c_end``
         along this loop (anchored where ``run.table`` says): the cycle it is at."""
         _entry, x, y, rx_old, anchor = run.table
+        if c_end < anchor and self.path:  # (before the loop: along the stretch's own states)
+            c0 = anchor - self.cycles
+            path = self.path
+            i = bisect_left(path, (c_end - c0,))
+            offset, state = path[i] if i < len(path) else (self.cycles, self.states[0])
+            restore(run.sm, state, x, y, rx_old)
+            return c0 + offset
         k, r = divmod(c_end - anchor, self.period)
         j = bisect_left(self.offsets, r)
         if j == len(self.offsets):

@@ -38,32 +38,32 @@ class _Walker:
         self.den = run.sm.config.div256 * 1_000_000
         if not pending:
             self.entry, self.x, self.y, self.rx, self.anchor = run.table
-            self.j = _position(self.entry, self.cycle - self.anchor)
+            # (None: still on the stretch before its loop, where the state machine is as it is)
+            self.j = _position(self.entry, self.cycle - self.anchor) if self.cycle >= self.anchor else None
 
     def key(self, block) -> tuple:
         """(the stretch's shape as :func:`trace.shape` gives it, X, Y, the RX words)."""
-        if self.entry is None:
+        if self.entry is None or self.j is None:  # (its registers are its state)
             sm = self.run.sm
             return trace.shape(sm), sm.x, sm.y, list(sm.rx)
         x, y = self.x, self.y
-        state = self.entry.states[self.j]
-        sx, sy, rx_new = state[1], state[2], state[11]
+        mkey = (self.j, block.gpio_in & self.run.sm.read_mask, len(self.rx))
+        known = self.entry.shapes.get(mkey)
+        if known is None:
+            known = self.entry.shapes[mkey] = _shape_of(self.entry.states[self.j], mkey)
+        shape, danger_x, danger_y, x_eq_y, sx, sy, rx_new = known
         xv = sx if type(sx) is int else _value(sx, x, y)
         yv = sy if type(sy) is int else _value(sy, x, y)
         rx = self.rx + [_value(v, x, y) for v in rx_new] if rx_new else self.rx
-        memo = self.entry.shapes
-        mkey = (self.j, block.gpio_in, len(rx))
-        known = memo.get(mkey)
-        if known is None:
-            known = memo[mkey] = _shape_of(state, mkey)
-        shape, danger_x, danger_y, x_eq_y = known
         if shape is None or xv in danger_x or yv in danger_y or (x_eq_y and xv == yv):
-            shape = self._shape(state, xv, yv, len(rx), block)
+            shape = self._shape(self.entry.states[self.j], xv, yv, len(rx), block)
         return shape, xv, yv, rx
 
     def _shape(self, state, xv: int, yv: int, n_rx: int, block) -> tuple:
         isr, osr = _value(state[3], self.x, self.y), _value(state[5], self.x, self.y)
-        return trace.shape_of_state(state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in)
+        return trace.shape_of_state(
+            state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in, self.run.sm.read_mask
+        )
 
     def resolve(self, block, c_end: int) -> bool:
         """The pending stretch from the table (False: not there, or not one to walk)."""
@@ -73,9 +73,11 @@ class _Walker:
             return False
         c0 = self.cycle
         for entry in run.entries.get(shape, ()):
-            if c0 + entry.cycles <= c_end and entry.holds(x, y):
-                break
+            if (c0 + entry.cycles <= c_end or entry.path) and entry.holds(x, y):
+                break  # (the slow path's choice: block._stretch)
         else:
+            return False
+        if c0 + entry.cycles > c_end:  # (an instant before its loop: the slow path restores it)
             return False
         if entry.irq_flags != block.irq_flags:  # (a restore sets them: only a loop that keeps them)
             return False
@@ -100,7 +102,7 @@ class _Walker:
         run = self.run
         run.cycle = self.cycle
         entry = self.entry
-        if entry is None:
+        if entry is None or self.j is None:
             return
         run.table = (entry, self.x, self.y, self.rx, self.anchor)
         run.orbit = entry.period
@@ -121,8 +123,11 @@ def _shape_of(state, mkey: tuple) -> tuple:
     words, as long as X and Y are none of the values that would alias a shift register
     differently (:func:`trace.alias`): (shape, X's such values, Y's, whether X == Y is one);
     shape None when a shift register is a form of X or Y other than a copy."""
-    _j, gpio_in, n_rx = mkey
+    _j, gpio_in, n_old = mkey
+    n_rx = n_old + len(state[11])  # (the RX words before the stretch, and those its state pushed)
     danger_x, danger_y, x_eq_y, kept = set(), set(), False, []
+    if state[7] is not None:  # (a pending exec may read any pin: its shape keeps them all, _shape)
+        return None, danger_x, danger_y, x_eq_y, state[1], state[2], state[11]
     for reg in (state[3], state[5]):
         if type(reg) is int:
             if reg:
@@ -137,9 +142,9 @@ def _shape_of(state, mkey: tuple) -> tuple:
             x_eq_y = True
             kept.append("y")
         else:
-            return None, danger_x, danger_y, x_eq_y
-    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in)
-    return shape, frozenset(danger_x), frozenset(danger_y), x_eq_y
+            return None, danger_x, danger_y, x_eq_y, state[1], state[2], state[11]
+    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in, trace.MASK)  # (gpio_in: masked already)
+    return shape, frozenset(danger_x), frozenset(danger_y), x_eq_y, state[1], state[2], state[11]
 
 
 def _position(entry, since: int) -> int:
@@ -188,8 +193,8 @@ def walk(block, t_us: int, changes, i: int = 0) -> int:
             c_t = -((-(t - w.t0) * w.mul) // w.den)
             if w.cycle >= c_t:
                 continue
-            if w.pending and not w.resolve(block, c_t):
-                for other in ws:
+            if (w.pending and not w.resolve(block, c_t)) or c_t < w.anchor:  # (an instant before the loop:
+                for other in ws:  # the slow path restores it from the stretch's states)
                     other.settle(block)
                 return i
             w.go(c_t)

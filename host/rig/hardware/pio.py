@@ -146,7 +146,7 @@ class PioHost:
         reply = handler(self, block, local, t_us, address, n_read, data)
         if op != F.BUS_PIO_LEVELS:
             self.outputs.after(block, t_us)
-        self.ahead.after(t_us, sm_id, op, reply)
+        self.ahead.after(t_us, sm_id, op, reply, n_read)
         return reply
 
     def _init(self, block, local, t_us, data) -> tuple:

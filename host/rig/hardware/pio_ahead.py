@@ -12,7 +12,10 @@ host sends the replies to the frames that follow it, each played on a copy of th
 - a ``get`` or a ``put`` the FIFO did not serve whole is asked again after the wait its
   reply names (rp2.py's ``StateMachine.get``, ``put``);
 - after a LEVELS that the firmware drained, or a ``put``, the frame that came next at that
-  instant the last time (a ``get``), learned per state machine.
+  instant the last time (a ``get``), learned per state machine;
+- after a ``get`` that took all it asked for, the LEVELS another state machine was asked
+  for next at that instant the last time (a robot's second decoder, read right after the
+  first), learned per state machine, its handle known from an exchange of its own.
 
 Only while the pins are known to stay as they are (before the reply's horizon: the plant
 changes nothing before it) and while no state machine of the block drives a pin (its frames
@@ -38,15 +41,16 @@ from host.rig.hardware.pio_out import driven_pins
 from host.shim._hilpio import pack_pio_ahead
 
 ENV = "MPY_FIL_PIO_AHEAD"
-AHEAD_MAX = 4  # frames answered ahead after one reply
+AHEAD_MAX = 6  # frames answered ahead after one reply
 
 
 class _Sent:
     """The answers ahead last sent: the frames and replies, the twin they were played on,
     the pins' changes the host had then, how many the shim took, how many the blocks had."""
 
-    def __init__(self, h: int, sm_id: int, entries: list, twin, n_pending: int):
-        self.h, self.sm_id, self.entries, self.twin, self.n_pending = h, sm_id, entries, twin, n_pending
+    def __init__(self, handles: dict, entries: list, twin, n_pending: int, marks: dict):
+        self.handles, self.entries, self.twin, self.n_pending = handles, entries, twin, n_pending
+        self.marks = marks  # entry index -> the twin as it was before that entry (a LEVELS: a new read)
         self.used = 0
         self.played = 0
 
@@ -71,7 +75,10 @@ class ReadsAhead:
 
     def reset(self) -> None:
         self.follows: dict = {}  # (sm, op) -> (op, n_read, drained): the frame that came next at its instant
-        self.last = None  # (sm, op, t_us, RX words given): the last frame, for follows
+        self.then: dict = {}  # sm -> (sm, n_read): the LEVELS asked next at the instant of a get that took all
+        self.unsure: set = set()  # sm whose `then` read the shim once did not make: the twin kept before it
+        self.handles: dict = {}  # sm -> its handle (an exchange of its own told it)
+        self.last = None  # (sm, op, t_us, RX words given, a get that took all): the last frame, for follows
         self.sent: _Sent | None = None
         self.local = 0  # frames the shim answered ahead
 
@@ -89,19 +96,30 @@ class ReadsAhead:
             popped = address >> 8
             drained = popped == last[3] if last[1] == F.BUS_PIO_LEVELS else not popped
             self.follows[(sm_id, last[1])] = (op, n_read, drained)
+        elif last is not None and last[4] and last[2] == t_us and op == F.BUS_PIO_LEVELS and not address:
+            self.then[last[0]] = (sm_id, n_read)
+        elif last is not None and last[4]:
+            self.then.pop(last[0], None)
         self.last = None
 
-    def after(self, t_us: int, sm_id: int, op: int, reply: tuple) -> None:
+    def after(self, t_us: int, sm_id: int, op: int, reply: tuple, n_read: int = 0) -> None:
         if self.learning:
-            self.last = (sm_id, op, t_us, reply[2][0] if op == F.BUS_PIO_LEVELS else 0)
+            took_all = op == F.BUS_PIO_GET and reply[0] == F.BUS_OK and reply[1] == n_read
+            self.last = (sm_id, op, t_us, reply[2][0] if op == F.BUS_PIO_LEVELS else 0, took_all)
 
     def catch_up(self) -> None:
         """The frames the shim answered ahead that the blocks have not had yet, played on them."""
         sent, self.sent = self.sent, None
         if sent is None:
             return
-        for t, op, address, n_read, data, *_reply in sent.entries[sent.played : sent.used]:
-            self.host.transfer(t, sent.sm_id, op, address, n_read, data)
+        mark = sent.marks.get(sent.used)
+        if mark is not None and sent.played == 0:  # (the shim stopped before a read answered ahead:
+            self._take(sent, *mark)  # the twin as it was then)
+            return
+        if 0 < sent.used < len(sent.entries) and sent.entries[sent.used][1] == F.BUS_PIO_LEVELS:
+            self.unsure.add(sent.entries[sent.used - 1][9])  # (its next reads ahead: the twin kept before)
+        for t, op, address, n_read, data, *_reply, sm_id in sent.entries[sent.played : sent.used]:
+            self.host.transfer(t, sm_id, op, address, n_read, data)
 
     # -- what goes to the shim --------------------------------------------------------------
     def answer(self, h: int, t_us: int, sm_id: int, frame: tuple, reply: tuple, lease: int) -> bytes | None:
@@ -110,45 +128,57 @@ class ReadsAhead:
         its instant, as long as the pins stay as they are (before ``lease``, the plant's next
         change) and no state machine of the block drives a pin; None: nothing to send."""
         self.catch_up()
+        self.handles[sm_id] = h
         if not self.on:
             return None
         host = self.host
-        block = host.blocks[sm_id >> 2]
-        if any(driven_pins(run.sm) for run in block.running.values()):
-            return None
         twin = None
         entries = []
+        marks: dict = {}
         t, (op, address, n_read, data) = t_us, frame
         for _ in range(AHEAD_MAX):
+            block = host.blocks[sm_id >> 2]
+            if any(driven_pins(run.sm) for run in block.running.values()):
+                break
             nxt = self._next(sm_id, t, op, address, n_read, data, reply)
             if nxt is None or nxt[0] >= lease:
                 break
             if twin is None:
                 twin = self._twin()
-            t, op, address, n_read, data = nxt
+            t, sm_next, op, address, n_read, data = nxt
+            if sm_next != sm_id and any(driven_pins(run.sm) for run in host.blocks[sm_next >> 2].running.values()):
+                break
+            if op == F.BUS_PIO_LEVELS and sm_id in self.unsure:  # (a new read the shim stopped before
+                marks[len(entries)] = self._mark(twin)  # once: the twin kept as it is before it)
+            sm_id = sm_next
             reply = twin.transfer(t, sm_id, op, address, n_read, data)
-            entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2]))
+            entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2], sm_id))
         if not entries:
             return None
-        self.sent = _Sent(h, sm_id, entries, twin, len(host.pending))
+        self.sent = _Sent(dict(self.handles), entries, twin, len(host.pending), marks)
         return pack_pio_ahead(entries)
 
     def _next(self, sm_id, t, op, address, n_read, data, reply):
-        """The frame the shim makes next after ``op``'s ``reply`` (t, op, address, n_read, data),
-        or None when it is not known."""
+        """The frame the shim makes next after ``op``'s ``reply`` (t, state machine, op, address,
+        n_read, data), or None when it is not known."""
         status, count, got = reply
         if status != F.BUS_OK:
             return None
         wait = struct.unpack_from("<I", got, 0)[0] if op in (F.BUS_PIO_GET, F.BUS_PIO_PUT) else 0
         if op == F.BUS_PIO_GET and count < n_read and wait:  # (no wait named: the twin probed to its horizon)
-            return t + wait, op, 0, n_read - count, b""
+            return t + wait, sm_id, op, 0, n_read - count, b""
         if op == F.BUS_PIO_PUT and count < len(data) // 4 and wait:
-            return t + wait, op, 0, 0, data[4 * count :]
+            return t + wait, sm_id, op, 0, 0, data[4 * count :]
+        if op == F.BUS_PIO_GET and count == n_read:  # (another state machine's LEVELS next)
+            then = self.then.get(sm_id)
+            if then is None or then[0] not in self.handles:
+                return None
+            return t, then[0], F.BUS_PIO_LEVELS, 0, then[1], b""
         follow = self.follows.get((sm_id, op))
         if follow is None or op not in (F.BUS_PIO_LEVELS, F.BUS_PIO_PUT) or not follow[2]:
             return None
         popped = got[0] if op == F.BUS_PIO_LEVELS else 0
-        return t, follow[0], popped << 8, follow[1], b""
+        return t, sm_id, follow[0], popped << 8, follow[1], b""
 
     def _twin(self):
         """A copy of the host's PIO to play frames ahead on: its own blocks (a block that runs
@@ -156,13 +186,27 @@ class ReadsAhead:
         inputs and IRQ raises; it gives the plant nothing and learns nothing."""
         host = self.host
         twin = copy.copy(host)
-        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else copy.deepcopy(b) for b in host.blocks)
+        twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else b.fork() for b in host.blocks)
         twin.pending, twin.levels = list(host.pending), dict(host.levels)
         twin.raised = (list(host.raised[0]), list(host.raised[1]))
         twin.outputs = _NoOutputs()
         twin.ahead = _TWIN
         twin.probe_in_place = True  # (a FIFO's probe leaves the twin at the instant it names: where its next frame is)
         return twin
+
+    def _take(self, sent: _Sent, blocks, pending: list, levels: dict, raised: tuple) -> None:
+        """The host's PIO as the twin left it, with the changes the plant committed since the
+        answers were sent (each after their instants: they were sent before the plant's next
+        change, and the shim answers none after a frame of its own) still to come."""
+        host = self.host
+        host.blocks, host.levels, host.raised = blocks, levels, raised
+        host.pending = pending + host.pending[sent.n_pending :]
+
+    def _mark(self, twin) -> tuple:
+        """The twin's blocks (a copy of each it runs), pins and raises as they are now."""
+        host = self.host
+        blocks = tuple(b if b is h else b.fork() for b, h in zip(twin.blocks, host.blocks))
+        return blocks, list(twin.pending), dict(twin.levels), (list(twin.raised[0]), list(twin.raised[1]))
 
     # -- what the shim answered -------------------------------------------------------------
     def done(self, rig, t_us: int, sm_id: int, entry: int) -> None:
@@ -172,17 +216,18 @@ class ReadsAhead:
         once the shim has answered every frame sent ahead, else each frame played when the
         host next needs its blocks: :meth:`catch_up`); the reply's horizon checked."""
         sent = self.sent
-        if sent is None or sent.sm_id != sm_id or sent.used != entry or entry >= len(sent.entries):
+        if sent is None or sent.used != entry or entry >= len(sent.entries) or sent.entries[entry][9] != sm_id:
             raise LinkError(
                 f"PIO_DONE names entry {entry} on state machine {sm_id}, not the next one answered ahead "
-                f"({None if sent is None else (sent.sm_id, sent.used, len(sent.entries))}) (link protocol error)"
+                f"({None if sent is None else (sent.used, [e[9] for e in sent.entries])}) (link protocol error)"
             )
-        t, op, address, n_read, data, status, count, horizon_us, got = sent.entries[entry]
+        t, op, address, n_read, data, status, count, horizon_us, got, _sm = sent.entries[entry]
         if t != t_us:
             raise LinkError(f"PIO_DONE at t={t_us} us for a frame answered ahead at {t} us (link protocol error)")
         rig.clock.catch_up(t_us)
         self.local += 1
-        h, host = sent.h, self.host
+        self.after(t_us, sm_id, op, (status, count, got), n_read)  # (what follows it is learnt as after an exchange)
+        h = sent.handles[sm_id]
         info = rig.wiring.handles[h]
         if self.check:  # (played on the host's blocks now: before() plays those before it first)
             reply = rig.bus_trace.answer(rig.plant, info, h, t_us, op, address, n_read, data)
@@ -191,14 +236,9 @@ class ReadsAhead:
         else:
             reply = rig.bus_trace.replay(rig.plant, info, h, t_us, op, address, n_read, data, (status, count, got))
             sent.used = entry + 1
-            if sent.used == len(sent.entries) and len(host.pending) == sent.n_pending:
+            if sent.used == len(sent.entries):
                 twin = sent.twin
-                host.blocks, host.pending, host.levels, host.raised = (
-                    twin.blocks,
-                    twin.pending,
-                    twin.levels,
-                    twin.raised,
-                )
+                self._take(sent, twin.blocks, twin.pending, twin.levels, twin.raised)
                 sent.played = sent.used
         lease = rig.clock.lease_us()
         if reply != (status, count, got) or lease != horizon_us:

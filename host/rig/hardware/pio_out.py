@@ -25,8 +25,6 @@ Lookahead costs what the emulator costs over the burst; a burst already given is
 given again (each pin keeps the instant up to which the plant has it).
 """
 
-import copy
-
 from host.link import frames as F
 from sim_plant.pio.block import RELEASED
 from sim_plant.plant import BITSTREAM, ReleasedAt
@@ -46,7 +44,7 @@ def look_ahead(block, local: int, t_us: int):
     its drives until it is quiet or repeats a waveform (``periodic``: True), at most
     :data:`HORIZON_US` ahead (then periodic when the pins' last periods are alike:
     :func:`steady`)."""
-    twin = copy.deepcopy(block)
+    twin = block.fork()
     twin.events.clear()
     twin.record_events = True
     run = twin.running[local]
