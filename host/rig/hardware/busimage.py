@@ -151,6 +151,122 @@ def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rn
     return out
 
 
+WINDOW_MAX = 0xFFFFFFFF  # an entry's window ends at most this many us after the image's instant
+STREAM_TICKS = 8  # a stream's windows imaged ahead at most (its chip's sample ticks)
+STREAMS = 15  # streams an image holds at most (the shim's counts: a bytearray of 16)
+MAX_IMAGE = 3000  # an image's payload at most, in bytes (a frame's is 4096)
+
+
+def streamable(device, rng) -> bool:
+    """Whether ``device``'s reads that change it (a sample drawn, a data-ready bit cleared)
+    may be imaged as a stream: a register chip whose reads depend on nothing but its own
+    state, the instant and the plant's generator (no inputs, no ``take_in`` or ``pass_on``,
+    no generator of its own)."""
+    kind = type(device)
+    if (
+        not isinstance(device, RegisterDevice)
+        or device.inputs
+        or kind.take_in is not BusDevice.take_in
+        or kind.pass_on is not BusDevice.pass_on
+    ):
+        return False
+    return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
+
+
+def _clone(device):
+    """A copy of ``device`` whose containers are copies (a trial's)."""
+    state = device.__dict__.copy()
+    for key, value in state.items():
+        if type(value) not in _PLAIN and isinstance(value, (list, dict, set)):
+            state[key] = value.copy()
+    copy = object.__new__(type(device))
+    copy.__dict__.update(state)
+    return copy
+
+
+def _state(device) -> dict:
+    """``device``'s state but its register pointer (what a read can see of it later)."""
+    state = device.__dict__.copy()
+    del state["pointer"], state["pointed"]
+    return state
+
+
+def _read(device, t_us: int, shape: tuple, rng, rng_state):
+    """The read ``shape`` on a copy of ``device`` at ``t_us``, the plant's generator at
+    ``rng_state``: (bytes read, the copy after it, the generator's state after it), or None."""
+    address, wrote, n_read = shape
+    rng.bit_generator.state = rng_state
+    copy = _clone(device)
+    try:
+        status, count, got = _BUS_SET._xfer(t_us, [copy], True, address, n_read, wrote)
+    except (ArithmeticError, LookupError, TypeError, ValueError):
+        return None
+    if status != F.BUS_OK or count != len(wrote):
+        return None
+    return got, copy, rng.bit_generator.state
+
+
+def stream(device, shapes: list, t_us: int, horizon_us: int, rng, may_draw: bool) -> tuple[list, bool]:
+    """What ``device`` answers to each of ``shapes`` (address, written, count) over its next
+    sample windows from ``t_us`` (its steady windows: :func:`steady_until`, no further than
+    ``horizon_us``), as the firmware reads it in turn: in each window the reads that change
+    nothing, then the one read that changes the chip (a sample drawn from the plant's
+    generator, its data-ready bits cleared), then the reads that change nothing after it.
+    Each answer is an entry (shape, from, until, the stream's count it needs, the count it
+    leaves, bytes): a read in that window answers so only if the reads answered before it
+    were the ones the stream expects (the count), so the generator has drawn what it drew
+    here and the chip is as it is here; any other read is the host's. Tried on copies with
+    the generator's state saved and set back. ``may_draw``: whether a read may draw from the
+    generator (one stream an image may: two chips' draws interleave as the firmware reads
+    them). Returns (the entries, whether one draws)."""
+    real = rng.bit_generator.state
+    path, chip, count, a, out, drew = real, device, 0, t_us, [], False
+    try:
+        for _ in range(STREAM_TICKS):
+            b = min(steady_until(chip, a), horizon_us)
+            if b <= a or count >= 254:
+                break
+            before = _state(chip)
+            changing = None
+            for shape in shapes:
+                first = _read(chip, a, shape, rng, path)
+                if first is None:
+                    continue
+                last = _read(chip, b - 1, shape, rng, path) if b - 1 > a else first
+                if last is None or last[0] != first[0]:
+                    continue
+                after = _state(first[1])
+                if after == before and first[2] == path:
+                    out.append((shape, a, b, count, count, first[0]))
+                    continue
+                if (
+                    changing is not None
+                    or (first[2] != path and not may_draw)
+                    or after.get("next_us") != before.get("next_us")  # (a line, an event: the host's)
+                    or _state(last[1]) != after
+                    or last[2] != first[2]
+                ):
+                    continue
+                changing = shape, first
+            if changing is not None:
+                shape, (got, chip, path_after) = changing
+                out.append((shape, a, b, count, count + 1, got))
+                drew = drew or path_after != path
+                path, count = path_after, count + 1
+                before = _state(chip)
+                for shape in shapes:  # (read again after it in the same window)
+                    first = _read(chip, a, shape, rng, path)
+                    if first is None or _state(first[1]) != before or first[2] != path:
+                        continue
+                    last = _read(chip, b - 1, shape, rng, path) if b - 1 > a else first
+                    if last is not None and last[0] == first[0]:
+                        out.append((shape, a, b, count, count, first[0]))
+            a = b
+    finally:
+        rng.bit_generator.state = real
+    return out, drew
+
+
 class BusImages:
     """The reads the firmware makes on each bus handle, and the image last sent."""
 
@@ -161,6 +277,7 @@ class BusImages:
         self.on = wanted()
         self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
         self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
+        self.streaming: set = set()  # (bus, address): chips whose reads change them, imaged as streams
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
         # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us,
         # the register pointer the read leaves)
@@ -194,6 +311,7 @@ class BusImages:
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
+        self.streaming = set()
         self.known, self.versions, self.read_at = {}, {}, {}
         self.sent_with, self.used, self.idle, self.passed = None, False, {}, {}
 
@@ -244,11 +362,15 @@ class BusImages:
             return None
         entries, sent = [], []
         known, versions = self.known, self.versions
+        streams: dict = {}  # (bus, address) -> [(handle, read shape)]: its reads imaged as a stream
         for h, shapes in self.reads.items():
             bus = self.wiring.handles[h].key
             on_bus = versions.get(bus, 0)
             for shape in list(shapes):
                 address, wrote, n_read = shape
+                if (bus, address) in self.streaming:
+                    streams.setdefault((bus, address), []).append((h, shape))
+                    continue
                 version = (on_bus, versions.get((bus, address), 0))
                 hit = known.get((h, shape))
                 if hit is None or hit[0] != version or not hit[1] <= t_us < hit[2]:
@@ -262,12 +384,39 @@ class BusImages:
                     continue
                 got, left = hit[3]
                 sent.append((h, address, wrote, n_read, got, horizon_us, left))
-                entries.append((h, address, until, wrote, got))
+                entries.append((h, address, 0, min(until - t_us, WINDOW_MAX), 0, 0, 0, wrote, got))
+        if streams:
+            self._streams(streams, t_us, horizon_us, entries, sent)
         if not entries:
             return None
         self.sent = dict(zip(F.bus_image_offsets(entries), sent, strict=True))
         self.sent_with, self.used = kind, False
         return F.pack_bus_image(t_us, horizon_us, entries)
+
+    def _streams(self, streams: dict, t_us: int, horizon_us: int, entries: list, sent: list) -> None:
+        """The stream of each chip in ``streams`` (:func:`stream`) added to ``entries`` and
+        ``sent``; one stream an image draws from the plant's generator; the payload kept
+        under ``MAX_IMAGE``."""
+        rng = self.plant.rng
+        drawn = False
+        size = F.BUS_IMAGE_LEN + sum(F.BUS_IMAGE_ENTRY_LEN + len(e[7]) + len(e[8]) for e in entries)
+        for number, ((bus, address), pairs) in enumerate(streams.items(), 1):
+            device = self.plant.bus_device(bus, address)
+            if number > STREAMS or device is None:
+                break
+            shapes = list(dict.fromkeys(shape for _h, shape in pairs))
+            answers, drew = stream(device, shapes, t_us, horizon_us, rng, not drawn)
+            drawn = drawn or drew
+            for shape, a, b, need, then, got in answers:
+                _address, wrote, n_read = shape
+                for h, read in pairs:
+                    if read != shape:
+                        continue
+                    size += F.BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
+                    if size > MAX_IMAGE:
+                        return
+                    sent.append((h, address, wrote, n_read, got, horizon_us, None))
+                    entries.append((h, address, a - t_us, min(b - t_us, WINDOW_MAX), number, need, then, wrote, got))
 
     def _worth(self, kind) -> bool:
         """Whether to image with a message of ``kind``; the last image's outcome noted first
@@ -305,7 +454,10 @@ class BusImages:
         rng = self.plant.rng
         first, *last = _trials(device, (t_us, steady - 1), address, n_read, wrote, rng)
         if first is None:
-            self.impure.add((h, *shape))  # (a sample read, a flag cleared: the host's)
+            if streamable(device, rng):  # (a sample read, a flag cleared: its chip's reads a stream from now on)
+                self.streaming.add((bus, address))
+                return None
+            self.impure.add((h, *shape))  # (the host's)
             self.reads[h] = [s for s in self.reads[h] if s != shape]
             return None
         if last == [first]:
@@ -342,7 +494,8 @@ class BusImages:
         trace = rig.bus_trace
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
         try:
-            device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
+            plain = left is not None and self._plain(info.key)  # (a stream's read: played on the chips)
+            device = self.plant.bus_device(info.key, address) if plain else None
             if device is not None:
                 device.pointer, device.pointed = left
                 reply = F.BUS_OK, len(wrote), got
