@@ -152,6 +152,7 @@ def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rn
 
 
 WINDOW_MAX = 0xFFFFFFFF  # an entry's window ends at most this many us after the image's instant
+TRUST = 32  # a stream's windows found the same at both ends before it is tried at their start only
 STREAM_TICKS = 8  # a stream's windows imaged ahead at most (its chip's sample ticks)
 STREAMS = 15  # streams an image holds at most (the shim's counts: a bytearray of 16)
 MAX_IMAGE = 3000  # an image's payload at most, in bytes (a frame's is 4096)
@@ -173,14 +174,20 @@ def streamable(device, rng) -> bool:
     return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
 
 
+_CONTAINERS: dict = {}  # (a chip's class, its attributes' names) -> the names that hold a list, dict or set
+
+
 def _clone(device):
     """A copy of ``device`` whose containers are copies (a trial's)."""
     state = device.__dict__.copy()
-    for key, value in state.items():
-        if type(value) not in _PLAIN and isinstance(value, (list, dict, set)):
-            state[key] = value.copy()
+    key = type(device), tuple(state)
+    containers = _CONTAINERS.get(key)
+    if containers is None:
+        containers = _CONTAINERS[key] = tuple(k for k, v in state.items() if isinstance(v, (list, dict, set)))
+    for name in containers:
+        state[name] = state[name].copy()
     copy = object.__new__(type(device))
-    copy.__dict__.update(state)
+    copy.__dict__ = state
     return copy
 
 
@@ -206,7 +213,161 @@ def _read(device, t_us: int, shape: tuple, rng, rng_state):
     return got, copy, rng.bit_generator.state
 
 
-def stream(device, shapes: list, t_us: int, horizon_us: int, rng, may_draw: bool) -> tuple[list, bool]:
+class Window:
+    """One steady window ``[a, b)`` of a stream's chip (no tick, event or deadline of its
+    inside): the chip and the plant's generator as the stream left them at ``a`` (``count``
+    of its changing reads answered), the reads that change nothing then (``pure``: (shape,
+    bytes) each), the one read that changes the chip (``change``) and after it the chip, the
+    generator and the reads that change nothing (``again``). ``cut``: ``b`` is the horizon
+    it was played to, not the chip's own end of the window."""
+
+    __slots__ = ("a", "b", "cut", "count", "chip", "before", "rng", "pure", "change", "draws", "after", "again")
+
+    def end_state(self) -> tuple:
+        """The chip (a copy, never changed) and the generator's state the next window starts from."""
+        return (self.after[0], self.after[2]) if self.change is not None else (self.chip, self.rng)
+
+
+def _pure(chip, before: dict, a: int, b: int, shape: tuple, rng, rng_state, first=None, ends=True):
+    """The bytes ``shape`` reads on ``chip`` throughout ``[a, b)`` changing nothing of it (the
+    generator at ``rng_state``), or None; ``first``: the read at ``a``, made already;
+    ``ends``: tried at ``b - 1`` too (not: the same read found the same at both ends in this
+    window already, on the chip before it changed)."""
+    if first is None:
+        first = _read(chip, a, shape, rng, rng_state)
+    if first is None or first[2] != rng_state or _state(first[1]) != before:
+        return None
+    if ends and b - 1 > a:
+        last = _read(chip, b - 1, shape, rng, rng_state)
+        if last is None or last[0] != first[0]:
+            return None
+    return first[0]
+
+
+def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rng, n: int, trust=None) -> list:
+    """Up to ``n`` windows of a stream from ``a`` (:class:`Window`), no further than
+    ``horizon_us``: ``chip`` (a copy, never changed) and the generator at ``rng_state`` as
+    the firmware finds them at ``a``, ``count`` changing reads answered before. Each window
+    tried on copies at its first instant, and at its last while ``trust`` (a one-item list:
+    windows found the same at both ends so far, -1: one was not) is under ``TRUST`` (a chip
+    whose reads hold through its steady windows is tried at their start only from then
+    on); the generator's state set back after."""
+    real = rng.bit_generator.state
+    out = []
+    trust = [0] if trust is None else trust
+    try:
+        for _ in range(n):
+            steady = steady_until(chip, a)
+            b = min(steady, horizon_us)
+            if b <= a or count >= 250:
+                break
+            end = b if 0 <= trust[0] < TRUST else a + 1  # (tried at end - 1 too: b - 1)
+            w = Window()
+            w.a, w.b, w.cut, w.count, w.chip, w.rng = a, b, steady > horizon_us, count, chip, rng_state
+            w.before = before = _state(chip)
+            w.pure, w.change, w.draws, w.after, w.again = [], None, False, None, []
+            for shape in shapes:
+                first = _read(chip, a, shape, rng, rng_state)
+                if first is None:
+                    continue
+                got = _pure(chip, before, a, end, shape, rng, rng_state, first)
+                if got is not None:
+                    w.pure.append((shape, got))
+                    continue
+                if w.change is not None:
+                    continue
+                after = _state(first[1])
+                if after.get("next_us") != before.get("next_us"):  # (a line, an event: the host's)
+                    continue
+                if end - 1 > a:
+                    last = _read(chip, end - 1, shape, rng, rng_state)
+                    if last is None or last[0] != first[0] or last[2] != first[2] or _state(last[1]) != after:
+                        trust[0] = -1
+                        continue
+                w.change, w.after, w.draws = (shape, first[0]), (first[1], after, first[2]), first[2] != rng_state
+            if w.change is not None:
+                chip, after, rng_after = w.after
+                steady = {shape for shape, _got in w.pure}
+                steady.add(w.change[0])
+                for shape in shapes:  # (read again after it in the same window)
+                    got = _pure(chip, after, a, end, shape, rng, rng_after, ends=shape not in steady)
+                    if got is not None:
+                        w.again.append((shape, got))
+                chip, rng_state, count = chip, rng_after, count + 1
+            if trust[0] >= 0 and end == b:
+                trust[0] += 1
+            out.append(w)
+            a = b
+    finally:
+        rng.bit_generator.state = real
+    return out
+
+
+class Stream:
+    """A chip's stream as last played (its windows from the last image's instant on), kept
+    for the next image: while the chip and the generator are as one of its windows left
+    them, its windows from there on hold (the same bytes at the same instants)."""
+
+    def __init__(self, shapes: tuple, windows: list):
+        self.shapes, self.windows = shapes, windows
+        self.played = 0  # windows played on copies (what the cache spared: the tests' counts)
+        self.trust = [0]  # its windows found the same at both ends so far (-1: one was not): play's
+
+    def entries(self, device, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
+        """The stream's answers from ``t_us`` (:func:`stream`'s), its windows taken from the
+        last image's where the chip and the generator are as one of them left them, played
+        anew from the first that its horizon cut short, or from ``t_us`` where none is."""
+        state, real = _state(device), rng.bit_generator.state
+        windows, base, after = None, 0, False
+        for i, w in enumerate(self.windows):
+            if w.a <= t_us < w.b:
+                if state == w.before and real == w.rng:
+                    windows, base = self.windows[i:], w.count
+                elif w.change is not None and state == w.after[1] and real == w.after[2]:
+                    windows, base, after = self.windows[i:], w.count + 1, True
+                break
+        if windows is None:
+            windows = self.windows = play(
+                _clone(device), real, 0, t_us, horizon_us, self.shapes, rng, STREAM_TICKS, self.trust
+            )
+            self.played += len(windows)
+        else:
+            for j, w in enumerate(windows):
+                if w.a >= horizon_us:
+                    windows = windows[:j]
+                    break
+                if w.cut and w.b < horizon_us:  # (played to a nearer horizon: from there anew)
+                    more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, STREAM_TICKS - j, self.trust)
+                    self.played += len(more)
+                    windows = windows[:j] + more
+                    break
+            else:
+                if windows and len(windows) < STREAM_TICKS and not windows[-1].cut and windows[-1].b < horizon_us:
+                    last = windows[-1]
+                    chip, rng_state = last.end_state()
+                    count = last.count + (last.change is not None)
+                    n = STREAM_TICKS - len(windows)
+                    more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n, self.trust)
+                    self.played += len(more)
+                    windows = windows + more
+            self.windows = windows
+        out = []
+        for k, w in enumerate(windows):
+            a, b, need = max(w.a, t_us), min(w.b, horizon_us), w.count - base
+            if a >= b:
+                break
+            if not (k == 0 and after):
+                out.extend((shape, a, b, need, need, got) for shape, got in w.pure)
+                if w.change is None:
+                    continue
+                if w.draws and not may_draw:
+                    break
+                out.append((w.change[0], a, b, need, need + 1, w.change[1]))
+            out.extend((shape, a, b, need + 1, need + 1, got) for shape, got in w.again)
+        return out
+
+
+def stream(device, shapes: tuple, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
     """What ``device`` answers to each of ``shapes`` (address, written, count) over its next
     sample windows from ``t_us`` (its steady windows: :func:`steady_until`, no further than
     ``horizon_us``), as the firmware reads it in turn: in each window the reads that change
@@ -218,53 +379,8 @@ def stream(device, shapes: list, t_us: int, horizon_us: int, rng, may_draw: bool
     here and the chip is as it is here; any other read is the host's. Tried on copies with
     the generator's state saved and set back. ``may_draw``: whether a read may draw from the
     generator (one stream an image may: two chips' draws interleave as the firmware reads
-    them). Returns (the entries, whether one draws)."""
-    real = rng.bit_generator.state
-    path, chip, count, a, out, drew = real, device, 0, t_us, [], False
-    try:
-        for _ in range(STREAM_TICKS):
-            b = min(steady_until(chip, a), horizon_us)
-            if b <= a or count >= 254:
-                break
-            before = _state(chip)
-            changing = None
-            for shape in shapes:
-                first = _read(chip, a, shape, rng, path)
-                if first is None:
-                    continue
-                last = _read(chip, b - 1, shape, rng, path) if b - 1 > a else first
-                if last is None or last[0] != first[0]:
-                    continue
-                after = _state(first[1])
-                if after == before and first[2] == path:
-                    out.append((shape, a, b, count, count, first[0]))
-                    continue
-                if (
-                    changing is not None
-                    or (first[2] != path and not may_draw)
-                    or after.get("next_us") != before.get("next_us")  # (a line, an event: the host's)
-                    or _state(last[1]) != after
-                    or last[2] != first[2]
-                ):
-                    continue
-                changing = shape, first
-            if changing is not None:
-                shape, (got, chip, path_after) = changing
-                out.append((shape, a, b, count, count + 1, got))
-                drew = drew or path_after != path
-                path, count = path_after, count + 1
-                before = _state(chip)
-                for shape in shapes:  # (read again after it in the same window)
-                    first = _read(chip, a, shape, rng, path)
-                    if first is None or _state(first[1]) != before or first[2] != path:
-                        continue
-                    last = _read(chip, b - 1, shape, rng, path) if b - 1 > a else first
-                    if last is not None and last[0] == first[0]:
-                        out.append((shape, a, b, count, count, first[0]))
-            a = b
-    finally:
-        rng.bit_generator.state = real
-    return out, drew
+    them; the stream stops before the first that draws)."""
+    return Stream(shapes, []).entries(device, t_us, horizon_us, rng, may_draw)
 
 
 class BusImages:
@@ -278,6 +394,7 @@ class BusImages:
         self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
         self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
         self.streaming: set = set()  # (bus, address): chips whose reads change them, imaged as streams
+        self.streams: dict = {}  # (bus, address) -> its Stream as last played
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
         # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us,
         # the register pointer the read leaves)
@@ -311,7 +428,7 @@ class BusImages:
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
-        self.streaming = set()
+        self.streaming, self.streams = set(), {}
         self.known, self.versions, self.read_at = {}, {}, {}
         self.sent_with, self.used, self.idle, self.passed = None, False, {}, {}
 
@@ -394,21 +511,24 @@ class BusImages:
         return F.pack_bus_image(t_us, horizon_us, entries)
 
     def _streams(self, streams: dict, t_us: int, horizon_us: int, entries: list, sent: list) -> None:
-        """The stream of each chip in ``streams`` (:func:`stream`) added to ``entries`` and
-        ``sent``; one stream an image draws from the plant's generator; the payload kept
-        under ``MAX_IMAGE``."""
+        """The stream of each chip in ``streams`` (:class:`Stream`, kept from image to image)
+        added to ``entries`` and ``sent``; one stream an image draws from the plant's
+        generator; the payload kept under ``MAX_IMAGE``."""
         rng = self.plant.rng
         drawn = False
         size = F.BUS_IMAGE_LEN + sum(F.BUS_IMAGE_ENTRY_LEN + len(e[7]) + len(e[8]) for e in entries)
-        for number, ((bus, address), pairs) in enumerate(streams.items(), 1):
-            device = self.plant.bus_device(bus, address)
+        for number, (key, pairs) in enumerate(streams.items(), 1):
+            device = self.plant.bus_device(*key)
             if number > STREAMS or device is None:
                 break
-            shapes = list(dict.fromkeys(shape for _h, shape in pairs))
-            answers, drew = stream(device, shapes, t_us, horizon_us, rng, not drawn)
-            drawn = drawn or drew
+            shapes = tuple(dict.fromkeys(shape for _h, shape in pairs))
+            kept = self.streams.get(key)
+            if kept is None or kept.shapes != shapes:
+                kept = self.streams[key] = Stream(shapes, [])
+            answers = kept.entries(device, t_us, horizon_us, rng, not drawn)
+            drawn = drawn or any(w.draws for w in kept.windows)
             for shape, a, b, need, then, got in answers:
-                _address, wrote, n_read = shape
+                address, wrote, n_read = shape
                 for h, read in pairs:
                     if read != shape:
                         continue
@@ -494,11 +614,20 @@ class BusImages:
         trace = rig.bus_trace
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
         try:
-            plain = left is not None and self._plain(info.key)  # (a stream's read: played on the chips)
-            device = self.plant.bus_device(info.key, address) if plain else None
-            if device is not None:
+            device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
+            if device is not None and left is not None:
                 device.pointer, device.pointed = left
                 reply = F.BUS_OK, len(wrote), got
+                trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
+            elif device is not None:  # (a stream's read: played on its chip alone, which no other reads)
+                next_us = device.next_us
+                reply = _BUS_SET._xfer(t_us, [device], True, address, n_read, wrote)
+                if device.next_us != next_us:
+                    raise LinkError(
+                        f"a bus read the shim answered from the host's image at t={t_us} us ({info.key} "
+                        f"0x{address:02x} register {wrote.hex()}) moved its chip's next event to {device.next_us} "
+                        "us (host.rig.hardware.busimage: the image was wrong)"
+                    )
                 trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
             else:
                 reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
