@@ -41,6 +41,8 @@ class Imu(RegisterDevice):
     :meth:`gyro_scale`, :meth:`accel_scale`, :meth:`period_us`, :meth:`drdy_enabled` and
     its ``RESET`` map; this class keeps the samples and the data-ready line."""
 
+    READS_STEADY = True  # its reads change only at its output data rate's ticks and its own events (busimage)
+
     def __init__(self, name, bus, address, mount_rad, *, gyro_bias_dps, gyro_noise_dps, accel_noise_m_s2, rng):
         super().__init__(name, bus, address)
         self.heading_rad = mount_rad[2]

@@ -38,6 +38,8 @@ HISTORY = 16
 
 
 class Lis3mdlChip(RegisterDevice):
+    READS_STEADY = True  # its reads change only at its output data rate's ticks (busimage)
+
     RESET = {WHO_AM_I: 0x3D, CTRL_REG1: 0x10, CTRL_REG3: 0x03}
     MODELLED = {
         WHO_AM_I: "WHO_AM_I: 0x3D",

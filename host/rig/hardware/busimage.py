@@ -62,6 +62,13 @@ def wanted() -> bool:
     return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true")
 
 
+def _timeline(device) -> bool:
+    """Whether a scenario's set-controls may set what ``device`` reads (its ``controls``, the
+    plant's timeline, has entries: an MPU6050's axes set by a scenario): never imaged."""
+    controls = device.__dict__.get("controls")
+    return controls is not None and bool(getattr(controls, "entries", None))
+
+
 def steady_until(device, t_us: int) -> int:
     """The first instant after ``t_us`` at which a read of ``device`` may answer otherwise
     (``t_us`` itself: the chip is never imaged)."""
@@ -71,6 +78,7 @@ def steady_until(device, t_us: int) -> int:
         or device.inputs
         or kind.take_in is not BusDevice.take_in
         or kind.pass_on is not BusDevice.pass_on
+        or _timeline(device)
     ):
         return t_us
     until = getattr(device, "next_us", NEVER_US)
@@ -152,7 +160,6 @@ def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rn
 
 
 WINDOW_MAX = 0xFFFFFFFF  # an entry's window ends at most this many us after the image's instant
-TRUST = 32  # a stream's windows found the same at both ends before it is tried at their start only
 STREAM_TICKS = 8  # a stream's windows imaged ahead at most (its chip's sample ticks)
 STREAMS = 15  # streams an image holds at most (the shim's counts: a bytearray of 16)
 MAX_IMAGE = 3000  # an image's payload at most, in bytes (a frame's is 4096)
@@ -169,6 +176,7 @@ def streamable(device, rng) -> bool:
         or device.inputs
         or kind.take_in is not BusDevice.take_in
         or kind.pass_on is not BusDevice.pass_on
+        or _timeline(device)
     ):
         return False
     return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
@@ -228,40 +236,40 @@ class Window:
         return (self.after[0], self.after[2]) if self.change is not None else (self.chip, self.rng)
 
 
-def _pure(chip, before: dict, a: int, b: int, shape: tuple, rng, rng_state, first=None, ends=True):
-    """The bytes ``shape`` reads on ``chip`` throughout ``[a, b)`` changing nothing of it (the
-    generator at ``rng_state``), or None; ``first``: the read at ``a``, made already;
-    ``ends``: tried at ``b - 1`` too (not: the same read found the same at both ends in this
-    window already, on the chip before it changed)."""
+def _pure(chip, before: dict, a: int, b: int, shape: tuple, rng, rng_state, first=None):
+    """The bytes ``shape`` reads on ``chip`` throughout ``[a, b)`` (tried at ``a`` and at
+    ``b - 1``) changing nothing of it (the generator at ``rng_state``), or None; ``first``:
+    the read at ``a``, made already."""
     if first is None:
         first = _read(chip, a, shape, rng, rng_state)
     if first is None or first[2] != rng_state or _state(first[1]) != before:
         return None
-    if ends and b - 1 > a:
+    if b - 1 > a:
         last = _read(chip, b - 1, shape, rng, rng_state)
         if last is None or last[0] != first[0]:
             return None
     return first[0]
 
 
-def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rng, n: int, trust=None) -> list:
+def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rng, n: int) -> list:
     """Up to ``n`` windows of a stream from ``a`` (:class:`Window`), no further than
     ``horizon_us``: ``chip`` (a copy, never changed) and the generator at ``rng_state`` as
     the firmware finds them at ``a``, ``count`` changing reads answered before. Each window
-    tried on copies at its first instant, and at its last while ``trust`` (a one-item list:
-    windows found the same at both ends so far, -1: one was not) is under ``TRUST`` (a chip
-    whose reads hold through its steady windows is tried at their start only from then
-    on); the generator's state set back after."""
+    tried on copies at its first and its last instant (a chip may read otherwise inside a
+    window its declared instants do not end: the HMC5883L's RDY, clear for 250 us after each
+    sample), at its first only where the chip's class says its reads change at those
+    instants alone (``READS_STEADY``: its samples at its output data rate's ticks, its
+    data-ready bits with them); the generator's state set back after."""
     real = rng.bit_generator.state
     out = []
-    trust = [0] if trust is None else trust
+    ends = not getattr(chip, "READS_STEADY", False)
     try:
         for _ in range(n):
             steady = steady_until(chip, a)
             b = min(steady, horizon_us)
             if b <= a or count >= 250:
                 break
-            end = b if 0 <= trust[0] < TRUST else a + 1  # (tried at end - 1 too: b - 1)
+            end = b if ends else a + 1  # (tried at end - 1 too)
             w = Window()
             w.a, w.b, w.cut, w.count, w.chip, w.rng = a, b, steady > horizon_us, count, chip, rng_state
             w.before = before = _state(chip)
@@ -282,20 +290,15 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
                 if end - 1 > a:
                     last = _read(chip, end - 1, shape, rng, rng_state)
                     if last is None or last[0] != first[0] or last[2] != first[2] or _state(last[1]) != after:
-                        trust[0] = -1
                         continue
                 w.change, w.after, w.draws = (shape, first[0]), (first[1], after, first[2]), first[2] != rng_state
             if w.change is not None:
                 chip, after, rng_after = w.after
-                steady = {shape for shape, _got in w.pure}
-                steady.add(w.change[0])
                 for shape in shapes:  # (read again after it in the same window)
-                    got = _pure(chip, after, a, end, shape, rng, rng_after, ends=shape not in steady)
+                    got = _pure(chip, after, a, end, shape, rng, rng_after)
                     if got is not None:
                         w.again.append((shape, got))
                 chip, rng_state, count = chip, rng_after, count + 1
-            if trust[0] >= 0 and end == b:
-                trust[0] += 1
             out.append(w)
             a = b
     finally:
@@ -311,7 +314,6 @@ class Stream:
     def __init__(self, shapes: tuple, windows: list):
         self.shapes, self.windows = shapes, windows
         self.played = 0  # windows played on copies (what the cache spared: the tests' counts)
-        self.trust = [0]  # its windows found the same at both ends so far (-1: one was not): play's
 
     def entries(self, device, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
         """The stream's answers from ``t_us`` (:func:`stream`'s), its windows taken from the
@@ -327,9 +329,7 @@ class Stream:
                     windows, base, after = self.windows[i:], w.count + 1, True
                 break
         if windows is None:
-            windows = self.windows = play(
-                _clone(device), real, 0, t_us, horizon_us, self.shapes, rng, STREAM_TICKS, self.trust
-            )
+            windows = self.windows = play(_clone(device), real, 0, t_us, horizon_us, self.shapes, rng, STREAM_TICKS)
             self.played += len(windows)
         else:
             for j, w in enumerate(windows):
@@ -337,7 +337,7 @@ class Stream:
                     windows = windows[:j]
                     break
                 if w.cut and w.b < horizon_us:  # (played to a nearer horizon: from there anew)
-                    more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, STREAM_TICKS - j, self.trust)
+                    more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, STREAM_TICKS - j)
                     self.played += len(more)
                     windows = windows[:j] + more
                     break
@@ -347,7 +347,7 @@ class Stream:
                     chip, rng_state = last.end_state()
                     count = last.count + (last.change is not None)
                     n = STREAM_TICKS - len(windows)
-                    more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n, self.trust)
+                    more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n)
                     self.played += len(more)
                     windows = windows + more
             self.windows = windows
