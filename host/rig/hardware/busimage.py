@@ -3,43 +3,56 @@ BUS_DONE; ``docs/clock.md``, "Bus reads inside the board").
 
 With each STATE and each BUS_REPLY the host sends an image: for the I2C register reads the
 firmware has made on its buses (an address, the register bytes written, the count read),
-the bytes each would read now and the instant until which they stay the same. The shim
-answers such a read inside that window itself and tells the host with its next message
-(BUS_DONE, the image's entry and the instant); the host writes it to the trace as it writes
-a transfer it answers, so the bus readings, budgets and notes are the same as when every
-transfer is an exchange.
+the bytes each would read and the window of instants in which it reads them. The shim
+answers such a read inside its window itself and tells the host with its next message
+(BUS_DONE, the image's entry and the instant); the host plays it on the chip and writes it
+to the trace as it writes a transfer it answers, so the bus readings, budgets and notes
+are the same as when every transfer is an exchange.
 
-A read goes in the image only if it is **pure**: tried on a copy of the chip, it reads the
-same bytes at the window's first and last instant and changes nothing of the chip but its
-register pointer (no sample drawn from the plant's generator, no data-ready bit cleared,
-no line that falls). Its window ends at the chip's next event in the plant (``next_us``:
-a ranger's measurement, a data-ready line), its next output-data-rate tick (each
-``DataReady``'s period, the IMU's samples) and its next self-clearing deadline; a chip
-whose registers change otherwise (one that reads the plant at a transfer, ``take_in``,
-or sets other parts' inputs, ``pass_on``, or has inputs of its own) is never imaged. The
-image is taken with the plant at the firmware's instant, before the lookahead runs the
-plant on.
+Two kinds of entries:
+
+- a **pure** read's (tried on a copy of the chip, it reads the same bytes at the window's
+  first and last instant and changes nothing of the chip but its register pointer: a
+  status poll, an identity, a register between samples). Its window ends at the chip's
+  next event in the plant (``next_us``: a ranger's measurement, a data-ready line), its
+  next output-data-rate tick (each ``DataReady``'s period, the IMU's samples) and its next
+  self-clearing deadline (:func:`steady_until`).
+- a **stream**'s (:class:`Stream`): the reads of a chip that change it (a sample drawn
+  from the plant's generator, data-ready bits cleared), played on copies over its next
+  windows from the image's instant, as the firmware reads it in turn: in each window the
+  reads that change nothing, the one that changes the chip, the reads after it. Each such
+  entry carries the count of the stream's changing reads it needs answered before it and
+  the count it leaves; the shim answers it only then, so a sample is answered only when
+  every sample before it in the window was drawn as the host drew it (the generator at the
+  same state, the chip the same), and any other read is an exchange. One stream an image
+  draws from the plant's generator (two chips' draws interleave as the firmware reads them).
+
+A chip whose registers change otherwise (one that reads the plant at a transfer,
+``take_in``, or sets other parts' inputs, ``pass_on``, or has inputs of its own, or whose
+reads a scenario's set-controls may set) is never imaged. The image is taken with the
+plant at the firmware's instant, before the lookahead runs the plant on, and no entry
+outlives the plant's next event (the horizon): no other part draws from the generator or
+changes the body's motion before it.
 
 The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, the reply's
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
-chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. Images are sent only with
-``MPY_FIL_BUS_IMAGES=1`` in the host's environment (in lockstep): without it every transfer
-is an exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
-They are off by default because, measured, they still cost the host and the shim about what
-the round trips they save cost (docs/bench.md, "Bus reads without an exchange, made cheaper"):
-the host's work for a read answered in the shim is the same as for an exchange (the plant,
-the trace), so only the round trip is saved, and the images' own building and frames spend it.
+chip, traced; a reply other than the image's is a LinkError. So the firmware and the plant
+go exactly as with an exchange, one round trip fewer. Images are sent in lockstep unless
+``MPY_FIL_BUS_IMAGES=0`` is in the host's environment: then every transfer is an exchange,
+the path the images must match byte for byte (``host/tests/test_bus_image.py``).
 
 What keeps them cheap: a pure read's entry is kept (``known``) while no BUS frame reaches
 its chip and its steady window lasts, so an image mostly repeats entries it has, and a read
 is tried again only after a transfer to its chip or past its window, and not while its next
 read, at the pace the firmware reads it, falls after that window (an IMU's data-ready poll
-is tried once a sample, at the new tick); a trial copies the chip's attributes once for
-both its instants; a kind of message whose last images answered nothing gets one only now
-and then (``IDLE``, ``PROBE``); and the shim reads the payload in place at a transfer
-(``_hilframe.bus_image_find``), decoding nothing when it arrives.
+is tried once a sample, at the new tick); a stream's windows are kept from image to image
+while the chip and the generator are as one of them left them (a motion change, a write,
+another part's draw: played anew), and tried at a window's start only where the chip's
+class says its reads change at its declared instants alone (``READS_STEADY``); a trial
+copies the chip's attributes once; a kind of message whose last images answered nothing
+gets one only now and then (``IDLE``, ``PROBE``); and the shim reads the payload in place
+at a transfer (``_hilframe.bus_image_find``), decoding nothing when it arrives.
 """
 
 import os
@@ -56,10 +69,9 @@ _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): each pure read they answer saves
-    an exchange, but building and sending them costs the host and the shim about as much
-    as the round trips they save on a pty (docs/bench.md)."""
-    return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true")
+    """Images unless told not to (``MPY_FIL_BUS_IMAGES=0``): every transfer an exchange, the
+    path the images are held to (docs/bench.md, "Bus reads as streams")."""
+    return os.environ.get(ENV, "").strip().lower() not in ("0", "no", "false")
 
 
 def _timeline(device) -> bool:
