@@ -755,8 +755,8 @@ def report_imu(imu: dict, raw_us: float) -> None:
         f"  {sim_s / run['wall_s']:.1f}x real time (target >= {IMU_TARGET:g}x) ({sim_s:.1f} simulated s in "
         f"{run['wall_s']:.2f} wall s; CPU host {run['host_cpu_s']:.2f} s, firmware {run['firmware_cpu_s']:.2f} s); "
         f"{run['transfers'] / sim_s:.0f} bus transfers and {run['exchanges'] / sim_s:.0f} link exchanges per "
-        f"simulated s ({run['bus_exchanges'] / sim_s:.0f} of them a transfer's own; bus images "
-        f"{'on' if busimage.wanted() else 'off'}: {busimage.ENV})"
+        f"simulated s ({run['bus_exchanges'] / sim_s:.0f} of them a transfer's own, {run['bus_local'] / sim_s:.0f} "
+        f"reads answered in the board; bus images {'on' if busimage.wanted() else 'off'}: {busimage.ENV})"
     )
     print(f"    {imu_floor(run, raw_us, bare)[1]}")
     print(f"  bare driver code (the limit): {bare[0]:.1f} us a Timer tick, {bare[1]:.1f} us a ranger poll")

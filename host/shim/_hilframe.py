@@ -533,11 +533,12 @@ def bus_image_find(p, handle, address, wrote, n_read, t_us, streams):
     ``streams`` (a bytearray: each stream's count of reads answered, zeros with each new
     image) holds the count it needs; ``bus_image_took`` then moves the count on. The shim's
     lookup at each transfer: the payload is kept as it came and read in place a byte at a
-    time, allocating nothing (nothing decoded at a STATE); ``bus_image_got`` reads the bytes."""
+    time, allocating nothing (nothing decoded at a STATE; the instants built from their
+    bytes, small ints); ``bus_image_got`` reads the bytes."""
     off = BUS_IMAGE_LEN
     end = len(p)
     n_wrote = len(wrote)
-    dt = t_us - struct.unpack_from("<Q", p, 0)[0]
+    dt = -1
     while off < end:
         nw = p[off + 4]
         if (
@@ -547,13 +548,16 @@ def bus_image_find(p, handle, address, wrote, n_read, t_us, streams):
             and p[off] | p[off + 1] << 8 == handle
             and p[off + 3] == address >> 8
         ):
-            start = off + BUS_IMAGE_ENTRY_LEN
-            if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
-                window = struct.unpack_from("<II", p, off + 6)
-                if window[0] <= dt < window[1]:
-                    stream = p[off + 14]
-                    if not stream or streams[stream] == p[off + 15]:
-                        return off
+            stream = p[off + 14]
+            if not stream or streams[stream] == p[off + 15]:  # (a stream's past windows end here)
+                start = off + BUS_IMAGE_ENTRY_LEN
+                if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
+                    if dt < 0:  # (the instant after the image's, once)
+                        t0 = p[0] | p[1] << 8 | p[2] << 16 | p[3] << 24
+                        dt = t_us - (t0 | (p[4] | p[5] << 8 | p[6] << 16 | p[7] << 24) << 32)
+                    if p[off + 6] | p[off + 7] << 8 | p[off + 8] << 16 | p[off + 9] << 24 <= dt:
+                        if dt < p[off + 10] | p[off + 11] << 8 | p[off + 12] << 16 | p[off + 13] << 24:
+                            return off
         off += BUS_IMAGE_ENTRY_LEN + nw + p[off + 5]
     return -1
 

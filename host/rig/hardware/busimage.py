@@ -194,17 +194,40 @@ def streamable(device, rng) -> bool:
     return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
 
 
-_CONTAINERS: dict = {}  # (a chip's class, its attributes' names) -> the names that hold a list, dict or set
+_CONTAINERS: dict = {}  # (a chip's class, its attributes' names) -> (the names that hold a list, dict or set,
+# the names that hold the plant's generator)
+
+
+class _Watched:
+    """The plant's generator as a trial's copy of a chip holds it: any use of it is a draw
+    (noted in ``drew``), passed on to the generator."""
+
+    __slots__ = ("rng", "drew")
+
+    def __init__(self, rng):
+        self.rng, self.drew = rng, False
+
+    def __getattr__(self, name):
+        self.drew = True
+        return getattr(self.rng, name)
+
+
+def _kinds(kind: type, state: dict) -> tuple:
+    """The names of a chip's attributes that hold containers, and the generator (``state``:
+    its attributes; the same names, the same kinds)."""
+    key = kind, tuple(state)
+    kinds = _CONTAINERS.get(key)
+    if kinds is None:
+        containers = tuple(k for k, v in state.items() if isinstance(v, (list, dict, set)))
+        generators = tuple(k for k, v in state.items() if isinstance(v, _Watched) or hasattr(v, "bit_generator"))
+        kinds = _CONTAINERS[key] = containers, generators
+    return kinds
 
 
 def _clone(device):
     """A copy of ``device`` whose containers are copies (a trial's)."""
     state = device.__dict__.copy()
-    key = type(device), tuple(state)
-    containers = _CONTAINERS.get(key)
-    if containers is None:
-        containers = _CONTAINERS[key] = tuple(k for k, v in state.items() if isinstance(v, (list, dict, set)))
-    for name in containers:
+    for name in _kinds(type(device), state)[0]:
         state[name] = state[name].copy()
     copy = object.__new__(type(device))
     copy.__dict__ = state
@@ -212,25 +235,43 @@ def _clone(device):
 
 
 def _state(device) -> dict:
-    """``device``'s state but its register pointer (what a read can see of it later)."""
+    """``device``'s state but its register pointer and the generator it holds (what a read
+    can see of it later: the generator's state is compared apart)."""
     state = device.__dict__.copy()
     del state["pointer"], state["pointed"]
+    for name in _kinds(type(device), device.__dict__)[1]:
+        del state[name]
     return state
+
+
+_AT = [None]  # the state the plant's generator was last set to or read at in a play (None: not known)
 
 
 def _read(device, t_us: int, shape: tuple, rng, rng_state):
     """The read ``shape`` on a copy of ``device`` at ``t_us``, the plant's generator at
-    ``rng_state``: (bytes read, the copy after it, the generator's state after it), or None."""
+    ``rng_state``: (bytes read, the copy after it, the generator's state after it: the same
+    object if the read drew nothing), or None. The generator is set only where a read
+    before drew from it (its state read after a draw only: the copy's is watched)."""
     address, wrote, n_read = shape
-    rng.bit_generator.state = rng_state
+    if _AT[0] is not rng_state:
+        rng.bit_generator.state = rng_state
+        _AT[0] = rng_state
     copy = _clone(device)
+    state = copy.__dict__
+    watched = _Watched(rng)
+    for name in _kinds(type(copy), state)[1]:
+        state[name] = watched
     try:
         status, count, got = _BUS_SET._xfer(t_us, [copy], True, address, n_read, wrote)
     except (ArithmeticError, LookupError, TypeError, ValueError):
+        _AT[0] = None
         return None
+    after = rng_state
+    if watched.drew:
+        after = _AT[0] = rng.bit_generator.state
     if status != F.BUS_OK or count != len(wrote):
         return None
-    return got, copy, rng.bit_generator.state
+    return got, copy, after
 
 
 class Window:
@@ -272,7 +313,7 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
     sample), at its first only where the chip's class says its reads change at those
     instants alone (``READS_STEADY``: its samples at its output data rate's ticks, its
     data-ready bits with them); the generator's state set back after."""
-    real = rng.bit_generator.state
+    real = _AT[0] = rng.bit_generator.state
     out = []
     ends = not getattr(chip, "READS_STEADY", False)
     try:
@@ -306,7 +347,9 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
                 w.change, w.after, w.draws = (shape, first[0]), (first[1], after, first[2]), first[2] != rng_state
             if w.change is not None:
                 chip, after, rng_after = w.after
-                for shape in shapes:  # (read again after it in the same window)
+                for shape in shapes:  # (read again after it in the same window: not the sample itself)
+                    if shape == w.change[0]:
+                        continue
                     got = _pure(chip, after, a, end, shape, rng, rng_after)
                     if got is not None:
                         w.again.append((shape, got))
@@ -314,7 +357,9 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
             out.append(w)
             a = b
     finally:
-        rng.bit_generator.state = real
+        if _AT[0] is not real:
+            rng.bit_generator.state = real
+        _AT[0] = None
     return out
 
 
