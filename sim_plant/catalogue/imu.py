@@ -141,7 +141,7 @@ class Imu(RegisterDevice):
         c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
         accel = (c * forward + s * lateral, -s * forward + c * lateral, G_M_S2)
         rate = (0.0, 0.0, math.degrees(w))
-        noise = self.rng.standard_normal(6)
+        noise = self.rng.standard_normal(6).tolist()  # (Python floats: the same values, cheaper arithmetic)
         gyro = tuple(rate[i] + self.gyro_bias_dps[i] + self.gyro_noise_dps * noise[i] for i in range(3))
         accel = tuple(accel[i] + self.accel_noise_m_s2 * noise[3 + i] for i in range(3))
         return gyro + accel
