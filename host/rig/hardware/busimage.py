@@ -282,7 +282,20 @@ class Window:
     generator and the reads that change nothing (``again``). ``cut``: ``b`` is the horizon
     it was played to, not the chip's own end of the window."""
 
-    __slots__ = ("a", "b", "cut", "count", "chip", "before", "rng", "pure", "change", "draws", "after", "again")
+    __slots__ = (
+        *("a", "b", "cut", "steady", "held", "count", "chip", "before", "rng"),
+        *("pure", "change", "draws", "after", "again"),
+    )
+
+    def reach(self, horizon_us: int) -> "Window":
+        """The window cut at a nearer horizon, to ``horizon_us`` (no further than the chip's
+        own end): its reads hold there too where its chip's do through a steady window
+        (``held``: ``READS_STEADY``), so nothing is played again."""
+        w = Window()
+        for name in Window.__slots__:
+            setattr(w, name, getattr(self, name))
+        w.b, w.cut = min(self.steady, horizon_us), self.steady > horizon_us
+        return w
 
     def end_state(self) -> tuple:
         """The chip (a copy, never changed) and the generator's state the next window starts from."""
@@ -325,6 +338,7 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
             end = b if ends else a + 1  # (tried at end - 1 too)
             w = Window()
             w.a, w.b, w.cut, w.count, w.chip, w.rng = a, b, steady > horizon_us, count, chip, rng_state
+            w.steady, w.held = steady, not ends
             w.before = before = _state(chip)
             w.pure, w.change, w.draws, w.after, w.again = [], None, False, None, []
             for shape in shapes:
@@ -371,6 +385,7 @@ class Stream:
     def __init__(self, shapes: tuple, windows: list):
         self.shapes, self.windows = shapes, windows
         self.played = 0  # windows played on copies (what the cache spared: the tests' counts)
+        self.ticks = STREAM_TICKS  # windows played ahead at most (1: the firmware reads it slower than it samples)
 
     def entries(self, device, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
         """The stream's answers from ``t_us`` (:func:`stream`'s), its windows taken from the
@@ -379,49 +394,57 @@ class Stream:
         state, real = _state(device), rng.bit_generator.state
         windows, base, after = None, 0, False
         for i, w in enumerate(self.windows):
-            if w.a <= t_us < w.b:
+            if w.a <= t_us < (w.steady if w.cut and w.held else w.b):  # (a held window reaches its chip's end)
                 if state == w.before and real == w.rng:
                     windows, base = self.windows[i:], w.count
                 elif w.change is not None and state == w.after[1] and real == w.after[2]:
                     windows, base, after = self.windows[i:], w.count + 1, True
                 break
         if windows is None:
-            windows = self.windows = play(_clone(device), real, 0, t_us, horizon_us, self.shapes, rng, STREAM_TICKS)
+            windows = self.windows = play(_clone(device), real, 0, t_us, horizon_us, self.shapes, rng, self.ticks)
             self.played += len(windows)
         else:
             for j, w in enumerate(windows):
                 if w.a >= horizon_us:
                     windows = windows[:j]
                     break
-                if w.cut and w.b < horizon_us:  # (played to a nearer horizon: from there anew)
-                    more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, STREAM_TICKS - j)
-                    self.played += len(more)
-                    windows = windows[:j] + more
+                if w.cut and w.b < horizon_us:  # (played to a nearer horizon: on from there)
+                    if w.held:
+                        windows = [*windows[:j], w.reach(horizon_us)]
+                    else:
+                        more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, self.ticks - j)
+                        self.played += len(more)
+                        windows = windows[:j] + more
                     break
-            else:
-                if windows and len(windows) < STREAM_TICKS and not windows[-1].cut and windows[-1].b < horizon_us:
-                    last = windows[-1]
-                    chip, rng_state = last.end_state()
-                    count = last.count + (last.change is not None)
-                    n = STREAM_TICKS - len(windows)
-                    more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n)
-                    self.played += len(more)
-                    windows = windows + more
+            if windows and len(windows) < self.ticks and not windows[-1].cut and windows[-1].b < horizon_us:
+                last = windows[-1]
+                chip, rng_state = last.end_state()
+                count = last.count + (last.change is not None)
+                n = self.ticks - len(windows)
+                more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n)
+                self.played += len(more)
+                windows = windows + more
             self.windows = windows
-        out = []
-        for k, w in enumerate(windows):
-            a, b, need = max(w.a, t_us), min(w.b, horizon_us), w.count - base
-            if a >= b:
+        return _answers(windows, t_us, horizon_us, base, after, may_draw)
+
+
+def _answers(windows: list, t_us: int, horizon_us: int, base: int, after: bool, may_draw: bool) -> list:
+    """The entries of ``windows`` from ``t_us`` to ``horizon_us`` (``Stream.entries``), the
+    counts from ``base`` (``after``: the first window's changing read answered already)."""
+    out = []
+    for k, w in enumerate(windows):
+        a, b, need = max(w.a, t_us), min(w.b, horizon_us), w.count - base
+        if a >= b:
+            break
+        if not (k == 0 and after):
+            out.extend((shape, a, b, need, need, got) for shape, got in w.pure)
+            if w.change is None:
+                continue
+            if w.draws and not may_draw:
                 break
-            if not (k == 0 and after):
-                out.extend((shape, a, b, need, need, got) for shape, got in w.pure)
-                if w.change is None:
-                    continue
-                if w.draws and not may_draw:
-                    break
-                out.append((w.change[0], a, b, need, need + 1, w.change[1]))
-            out.extend((shape, a, b, need + 1, need + 1, got) for shape, got in w.again)
-        return out
+            out.append((w.change[0], a, b, need, need + 1, w.change[1]))
+        out.extend((shape, a, b, need + 1, need + 1, got) for shape, got in w.again)
+    return out
 
 
 def stream(device, shapes: tuple, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
@@ -582,6 +605,7 @@ class BusImages:
             kept = self.streams.get(key)
             if kept is None or kept.shapes != shapes:
                 kept = self.streams[key] = Stream(shapes, [])
+            kept.ticks = self._ticks(device, pairs)
             answers = kept.entries(device, t_us, horizon_us, rng, not drawn)
             drawn = drawn or any(w.draws for w in kept.windows)
             for shape, a, b, need, then, got in answers:
@@ -594,6 +618,17 @@ class BusImages:
                         return
                     sent.append((h, address, wrote, n_read, got, horizon_us, None))
                     entries.append((h, address, a - t_us, min(b - t_us, WINDOW_MAX), number, need, then, wrote, got))
+
+    def _ticks(self, device, pairs: list) -> int:
+        """How many windows of ``device``'s stream to play ahead: ``STREAM_TICKS``, or one
+        where the firmware reads it more than twice as slowly as it samples (a gyro at
+        1.66 kHz read at 208 Hz: a stream's later windows expect every sample read, so a
+        read that lets ticks pass is the host's anyway, and only the window it is in counts)."""
+        period = device.period_us() if hasattr(device, "period_us") else 0
+        if not period:
+            return STREAM_TICKS
+        paces = [last - prev for prev, last in (self.read_at.get(pair, (0, 0)) for pair in pairs) if last > prev]
+        return 1 if paces and min(paces) > 2 * period else STREAM_TICKS
 
     def _worth(self, kind) -> bool:
         """Whether to image with a message of ``kind``; the last image's outcome noted first
