@@ -31,7 +31,8 @@
   read from a 208 Hz ``Timer`` (STATUS_REG polled for data-ready, then 12 bytes of gyro and
   accelerometer with ``readfrom_mem_into``) and steering away from walls seen by a VL53L0X
   polled for its result: real-time factor, bus transfers and link exchanges a simulated
-  second, and its floor (its exchanges at the raw round trip plus the same driver code's bare
+  second, the reads answered in the board from the bus images (``MPY_FIL_BUS_IMAGES``), and
+  its floor (its exchanges at the raw round trip plus the same driver code's bare
   cost in a MicroPython loop against a stub bus).
 These are measurements, not pass/fail tests; the target figures are printed beside them,
 each with the FLOOR measured in the same run: the best real-time factor the lockstep
