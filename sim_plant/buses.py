@@ -76,6 +76,10 @@ class BusDevice(Part):
         self.selected = selected
         return False
 
+    def read_block(self, t_us: int, n: int) -> bytes:
+        """``n`` bytes read in one I2C read (a chip may read a block at once, as these would)."""
+        return bytes(self.read(t_us) for _ in range(n))
+
     def tie_cs_low(self, t_us: int = 0) -> None:
         """Chip select tied to ground (a rig's ``cs = "low"``): no input, selected from power-on."""
         if self.cs_signal is None:
@@ -356,7 +360,7 @@ class BusSet:
         got = b""
         if n_read:
             device.begin(t_us, True)
-            got = bytes(device.read(t_us) for _ in range(n_read))
+            got = device.read_block(t_us, n_read)
         if stop:
             device.end(t_us)
         return OK, acks, got

@@ -5,11 +5,12 @@ two versions of the shim compare on a busy machine.
     PYTHONPATH=. python host/bench/icount.py rover 5 45 [--binary PATH] [--tool cachegrind]
     PYTHONPATH=. python host/bench/icount.py enc10k 1 3
     PYTHONPATH=. python host/bench/icount.py pio10k 1 2
+    PYTHONPATH=. python host/bench/icount.py imu 1 3
 
 The robot runs twice, SHORT and LONG simulated seconds (the rover with seed 1; the encoder
 bot at 10,000 edges a second, ``enc40k`` at 40,000, its counts checked against the plant's
-edges; ``pio10k`` the PIO decoder robot, its counts checked too), the interpreter under
-valgrind (callgrind by default) and without the sandbox; the instructions of each run and
+edges; ``pio10k`` the PIO decoder robot, its counts checked too; ``imu`` the bus-heavy
+robot), the interpreter under valgrind (callgrind by default) and without the sandbox; the instructions of each run and
 (LONG - SHORT) / (LONG - SHORT seconds) are printed: the start-up (about 280 M
 instructions, most of it compiling the shim) cancels out. A run's count repeats to a few
 thousand instructions.
@@ -69,6 +70,10 @@ def run(workload: str, sim_s: float, binary: str, tool: str) -> int:
         if workload == "rover":
             with Rig(RigSpec("rover", seed=1, watchdog_s=WATCHDOG_S), Recording()) as rig:
                 rig.run_for(sim_s)
+        elif workload == "imu":  # (the bus-heavy robot; MPY_FIL_BUS_IMAGES=0 or 1 compares the two ways)
+            r = bench.run_imu_bot(round(sim_s * 1000), watchdog_s=WATCHDOG_S)
+            if not (r["printed"] or "").startswith("imu_bot "):
+                sys.exit(f"expected the robot's summary, got {r['printed']!r}")
         elif workload == "pio10k":  # (the PIO decoder robot; MPY_FIL_PIO_AHEAD=0 or 1 compares the two ways)
             r = bench.run_pio_bot(round(sim_s * 1000), watchdog_s=WATCHDOG_S)
             if r["counts"] != r["edges"]:
@@ -92,7 +97,7 @@ def run(workload: str, sim_s: float, binary: str, tool: str) -> int:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("workload", choices=("rover", "enc10k", "enc40k", "pio10k"))
+    parser.add_argument("workload", choices=("rover", "enc10k", "enc40k", "pio10k", "imu"))
     parser.add_argument("short", type=float, help="simulated s of the first run")
     parser.add_argument("long", type=float, help="simulated s of the second run")
     parser.add_argument("--binary", help="the interpreter (default: the harness's)")

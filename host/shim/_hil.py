@@ -37,6 +37,7 @@ _horizon = 0
 _spin = 0
 FOREVER_US = F.FOREVER_US
 _NO_IMAGE = b""
+_NO_STREAMS = bytes(16)
 _timer_due = FOREVER_US
 _timers = []
 _handles = []
@@ -303,6 +304,9 @@ class _Link:
     # STATE or BUS_REPLY being read.
     image = image_next = b""
     done = 0  # bus reads answered from an image since the last BUS
+    # each stream's count of reads answered from the image streams_of (a chip's samples read in turn)
+    streams = bytearray(16)
+    streams_of = None
     # The PIO_AHEAD that came with the last BUS_REPLY (rp2.py takes it), and the frames sent
     # so far: rp2.py answers a PIO frame from it only while no frame went out since
     pio = None
@@ -639,6 +643,21 @@ def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
         _sync(now(), None)
 
 
+def _image_entry(image, handle, op, address, n_read, data, t):
+    """The offset of the entry of the BUS_IMAGE payload ``image`` that answers this transfer
+    at ``t`` (its stream's count moved on), or -1: the host's."""
+    if op != F.BUS_XFER or not n_read or _Link.done >= DONE_BATCH:
+        return -1
+    streams = _Link.streams
+    if _Link.streams_of is not image:  # (a new image: its streams' counts from 0)
+        _Link.streams_of = image
+        streams[:] = _NO_STREAMS
+    at = F.bus_image_find(image, handle, address, data, n_read, t, streams)
+    if at >= 0:
+        F.bus_image_took(image, at, streams)
+    return at
+
+
 def transfer(handle, op, address, n_read, data):
     """A bus transfer (I2C, SPI: host/shim/_hilbus.py) at the firmware's instant: the
     host answers it from the devices as the plant is at that instant (BUS, BUS_REPLY:
@@ -657,8 +676,8 @@ def transfer(handle, op, address, n_read, data):
         t = now()
         image = _Link.image
         if image:  # a register read whose bytes the host sent, inside their window: no exchange
-            at = F.bus_image_find(image, handle, address, data, n_read) if op == F.BUS_XFER and n_read else -1
-            if at >= 0 and _Link.done < DONE_BATCH and t < F.bus_image_until(image, at):
+            at = _image_entry(image, handle, op, address, n_read, data, t)
+            if at >= 0:
                 # (the shim as a BUS_REPLY leaves it: the lookahead void, the reply's horizon)
                 if _Link.held:
                     _drop_held()

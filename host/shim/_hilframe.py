@@ -16,8 +16,8 @@ except ImportError:  # a board build without binascii.crc32
         return crc ^ 0xFFFFFFFF
 
 
-PROTO_VERSION = 6  # 3: POLL, CFG's instant; 4: BUS_IMAGE, BUS_DONE; 5: BUS_IMAGE read in place, EDGES, I2CT, CPU_RUNS;
-# 6: the shim's settings in WELCOME
+PROTO_VERSION = 7  # 3: POLL, CFG's instant; 4: BUS_IMAGE, BUS_DONE; 5: BUS_IMAGE read in place, EDGES, I2CT, CPU_RUNS;
+# 6: the shim's settings in WELCOME; 7: BUS_IMAGE entries' windows and streams
 SOF = 0xA5
 HEADER_LEN = 5  # SOF, type, seq, length (u16)
 CRC_LEN = 4
@@ -341,7 +341,9 @@ STATE_FMT = "<QQQH"  # base_us, t_end_us, horizon_us, count, then count changes:
 CHANGE_FMT = "<IHBiI"  # dt_us (from base), handle, kind, value, extra (+ value bytes for CH_BYTES)
 BUS_FMT = "<QHBHH"  # t_us, handle, op, address, read count, then the bytes written
 BUS_IMAGE_FMT = "<QHQ"  # t_us (the plant's), entries, horizon_us, then each: BUS_IMAGE_ENTRY_FMT, written, read
-BUS_IMAGE_ENTRY_FMT = "<HHBBQ"  # handle, address, bytes written, bytes read, until_us (exclusive)
+# handle, address, bytes written, bytes read, from and until (exclusive) in us after the image's
+# t_us, its stream (0: none), the stream's count it needs and the count it leaves
+BUS_IMAGE_ENTRY_FMT = "<HHBBIIBBB"
 BUS_DONE_FMT = "<QH"  # t_us (the read's instant), the image's entry (its offset in the payload)
 BUS_REPLY_FMT = "<QBHQ"  # t_us (the BUS's), status, count (acks), horizon_us, then the bytes read
 I2CT_DONE_FMT = "<QHBH"  # t_us, the target's handle, status (BUS_*), acks, then the bytes the controller read
@@ -497,35 +499,46 @@ def pack_bus_reply(t_us, status, count, horizon_us, data):
 
 
 def pack_bus_image(t_us, horizon_us, entries):
-    """entries: (handle, address, until_us, bytes written, bytes read) each."""
+    """entries: (handle, address, from_us, until_us, stream, need, then, bytes written, bytes
+    read) each; from_us and until_us after ``t_us``."""
     return struct.pack(BUS_IMAGE_FMT, t_us, len(entries), horizon_us) + b"".join(
-        struct.pack(BUS_IMAGE_ENTRY_FMT, h, address, len(wrote), len(got), until_us) + wrote + got
-        for h, address, until_us, wrote, got in entries
+        struct.pack(BUS_IMAGE_ENTRY_FMT, h, address, len(wrote), len(got), from_us, until_us, stream, need, then)
+        + wrote
+        + got
+        for h, address, from_us, until_us, stream, need, then, wrote, got in entries
     )
 
 
 def unpack_bus_image(p):
-    """(t_us, horizon_us, [(handle, address, until_us, bytes written, bytes read)])."""
+    """(t_us, horizon_us, [(handle, address, from_us, until_us, stream, need, then, bytes
+    written, bytes read)])."""
     t_us, n, horizon_us = struct.unpack_from(BUS_IMAGE_FMT, p, 0)
     off = BUS_IMAGE_LEN
     entries = []
     for _ in range(n):
-        handle, address, n_wrote, n_read, until_us = struct.unpack_from(BUS_IMAGE_ENTRY_FMT, p, off)
+        handle, address, n_wrote, n_read, from_us, until_us, stream, need, then = struct.unpack_from(
+            BUS_IMAGE_ENTRY_FMT, p, off
+        )
         off += BUS_IMAGE_ENTRY_LEN
         wrote, off = bytes(p[off : off + n_wrote]), off + n_wrote
-        entries.append((handle, address, until_us, wrote, bytes(p[off : off + n_read])))
+        entries.append((handle, address, from_us, until_us, stream, need, then, wrote, bytes(p[off : off + n_read])))
         off += n_read
     return t_us, horizon_us, entries
 
 
-def bus_image_find(p, handle, address, wrote, n_read):
+def bus_image_find(p, handle, address, wrote, n_read, t_us, streams):
     """Where the BUS_IMAGE payload ``p`` (bytes) has the entry for a register read (``wrote``:
-    bytes): its offset in ``p``, or -1. The shim's lookup at each transfer: the payload is kept
-    as it came and read in place a byte at a time, allocating nothing (nothing decoded at a
-    STATE); ``bus_image_until`` and ``bus_image_got`` read the entry found."""
+    bytes) at ``t_us``: its offset in ``p``, or -1. An entry answers inside its window and,
+    if it is one of a stream's (a chip's samples and status bits, read in turn), only while
+    ``streams`` (a bytearray: each stream's count of reads answered, zeros with each new
+    image) holds the count it needs; ``bus_image_took`` then moves the count on. The shim's
+    lookup at each transfer: the payload is kept as it came and read in place a byte at a
+    time, allocating nothing (nothing decoded at a STATE; the instants built from their
+    bytes, small ints); ``bus_image_got`` reads the bytes."""
     off = BUS_IMAGE_LEN
     end = len(p)
     n_wrote = len(wrote)
+    dt = -1
     while off < end:
         nw = p[off + 4]
         if (
@@ -535,16 +548,25 @@ def bus_image_find(p, handle, address, wrote, n_read):
             and p[off] | p[off + 1] << 8 == handle
             and p[off + 3] == address >> 8
         ):
-            start = off + BUS_IMAGE_ENTRY_LEN
-            if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
-                return off
+            stream = p[off + 14]
+            if not stream or streams[stream] == p[off + 15]:  # (a stream's past windows end here)
+                start = off + BUS_IMAGE_ENTRY_LEN
+                if (p[start] == wrote[0]) if nw == 1 else (p[start : start + nw] == wrote):
+                    if dt < 0:  # (the instant after the image's, once)
+                        t0 = p[0] | p[1] << 8 | p[2] << 16 | p[3] << 24
+                        dt = t_us - (t0 | (p[4] | p[5] << 8 | p[6] << 16 | p[7] << 24) << 32)
+                    if p[off + 6] | p[off + 7] << 8 | p[off + 8] << 16 | p[off + 9] << 24 <= dt:
+                        if dt < p[off + 10] | p[off + 11] << 8 | p[off + 12] << 16 | p[off + 13] << 24:
+                            return off
         off += BUS_IMAGE_ENTRY_LEN + nw + p[off + 5]
     return -1
 
 
-def bus_image_until(p, off):
-    """The instant until which the entry at ``off`` of the BUS_IMAGE payload ``p`` reads its bytes."""
-    return struct.unpack_from("<Q", p, off + 6)[0]
+def bus_image_took(p, off, streams):
+    """The entry at ``off`` answered a read: its stream's count moves on."""
+    stream = p[off + 14]
+    if stream:
+        streams[stream] = p[off + 16]
 
 
 def bus_image_got(p, off):
@@ -554,12 +576,12 @@ def bus_image_got(p, off):
 
 
 def bus_image_offsets(entries):
-    """The offset of each entry (handle, address, until_us, wrote, got) in the payload
-    ``pack_bus_image`` makes of them: the entry BUS_DONE names."""
+    """The offset of each entry (as ``pack_bus_image`` takes them) in the payload it makes of
+    them: the entry BUS_DONE names."""
     offsets, off = [], BUS_IMAGE_LEN
-    for _h, _address, _until, wrote, got in entries:
+    for entry in entries:
         offsets.append(off)
-        off += BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
+        off += BUS_IMAGE_ENTRY_LEN + len(entry[7]) + len(entry[8])
     return offsets
 
 

@@ -27,6 +27,8 @@ RDY_CLEAR_US = 250  # RDY clear as new data is written
 
 
 class Hmc5883lChip(Lis3mdlChip):
+    READS_STEADY = False  # RDY clears for 250 us after each sample, inside a tick (busimage)
+
     RESET = {CRA: 0x10, CRB: 0x20, MODE: 0x01, IDENT: 0x48, IDENT + 1: 0x34, IDENT + 2: 0x33}
     MODELLED = {
         CRA: "configuration A: DO (MA, MS kept)",

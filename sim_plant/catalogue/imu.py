@@ -41,6 +41,8 @@ class Imu(RegisterDevice):
     :meth:`gyro_scale`, :meth:`accel_scale`, :meth:`period_us`, :meth:`drdy_enabled` and
     its ``RESET`` map; this class keeps the samples and the data-ready line."""
 
+    READS_STEADY = True  # its reads change only at its output data rate's ticks and its own events (busimage)
+
     def __init__(self, name, bus, address, mount_rad, *, gyro_bias_dps, gyro_noise_dps, accel_noise_m_s2, rng):
         super().__init__(name, bus, address)
         self.heading_rad = mount_rad[2]
@@ -139,7 +141,7 @@ class Imu(RegisterDevice):
         c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
         accel = (c * forward + s * lateral, -s * forward + c * lateral, G_M_S2)
         rate = (0.0, 0.0, math.degrees(w))
-        noise = self.rng.standard_normal(6)
+        noise = self.rng.standard_normal(6).tolist()  # (Python floats: the same values, cheaper arithmetic)
         gyro = tuple(rate[i] + self.gyro_bias_dps[i] + self.gyro_noise_dps * noise[i] for i in range(3))
         accel = tuple(accel[i] + self.accel_noise_m_s2 * noise[3 + i] for i in range(3))
         return gyro + accel

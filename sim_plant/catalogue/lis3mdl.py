@@ -38,6 +38,8 @@ HISTORY = 16
 
 
 class Lis3mdlChip(RegisterDevice):
+    READS_STEADY = True  # its reads change only at its output data rate's ticks (busimage)
+
     RESET = {WHO_AM_I: 0x3D, CTRL_REG1: 0x10, CTRL_REG3: 0x03}
     MODELLED = {
         WHO_AM_I: "WHO_AM_I: 0x3D",
@@ -114,7 +116,7 @@ class Lis3mdlChip(RegisterDevice):
         horizontal, vertical, north = self.field
         angle = north - self.heading_at(t_us) - self.mount_rad[2]
         true = (horizontal * math.cos(angle), horizontal * math.sin(angle), -vertical)
-        noise = self.rng.standard_normal(3)
+        noise = self.rng.standard_normal(3).tolist()  # (Python floats: the same values, cheaper arithmetic)
         return tuple(true[i] + self.hard_iron_ut[i] + self.noise_ut * noise[i] for i in range(3))
 
     def load(self, t_us, reg):

@@ -26,6 +26,7 @@ CTRL1_XL, CTRL2_G, CTRL3_C = 0x10, 0x11, 0x12
 STATUS_REG = 0x1E
 OUT_TEMP_L, OUTX_L_G, OUTX_L_A, OUT_END = 0x20, 0x22, 0x28, 0x2E
 ODR_HZ = {1: 12.5, 2: 26, 3: 52, 4: 104, 5: 208, 6: 416, 7: 833, 8: 1666, 9: 3332, 10: 6664, 11: 1.6}
+ODR_US = {code: round(1e6 / hz) for code, hz in ODR_HZ.items()}  # (the period of each ODR code, in us)
 GYRO_MDPS = {0: 8.75, 1: 17.5, 2: 35.0, 3: 70.0}  # per count, by FS_G
 ACCEL_MG = {0: 0.061, 1: 0.488, 2: 0.122, 3: 0.244}  # per count, by FS_XL (2, 16, 4, 8 g)
 
@@ -65,18 +66,34 @@ class Lsm6dsoxChip(Imu):
         return self.gyro_period_us() or self.accel_period_us()
 
     def gyro_period_us(self) -> int:
-        hz = ODR_HZ.get(self.regs[CTRL2_G] >> 4)
-        return round(1e6 / hz) if hz else 0
+        return ODR_US.get(self.regs[CTRL2_G] >> 4, 0)
 
     def accel_period_us(self) -> int:
-        hz = ODR_HZ.get(self.regs[CTRL1_XL] >> 4)
-        return round(1e6 / hz) if hz else 0
+        return ODR_US.get(self.regs[CTRL1_XL] >> 4, 0)
 
     def drdy_enabled(self) -> bool:
         return bool(self.regs[INT1_CTRL] & 0x03)
 
     def next_register(self, reg: int) -> int:
         return (reg + 1) & 0xFF if self.regs[CTRL3_C] & 0x04 else reg
+
+    def read_block(self, t_us: int, n: int) -> bytes:
+        """``n`` bytes read on from the pointer: the output registers' (with IF_INC) at once,
+        the sample filled once, as byte by byte (:meth:`read`) would read them."""
+        p = self.pointer
+        if n < 2 or p < OUT_TEMP_L or p + n > OUT_END or not self.regs[CTRL3_C] & 0x04:
+            return super().read_block(t_us, n)
+        if self.clearing:
+            self._settle(t_us)
+        self._fill(t_us)
+        if p + n > OUTX_L_G:
+            self.taken(t_us)
+        for bit in self.DATA_READY:
+            if p < bit.cleared_by[-1] + 1 and bit.cleared_by[0] < p + n:
+                period = getattr(self, bit.period)()
+                self.read_ticks[bit.name] = t_us // period if period else -1
+        self.pointer = p + n
+        return bytes(self.regs[p : p + n])
 
     def load(self, t_us, reg):
         if OUT_TEMP_L <= reg < OUT_END:

@@ -3,43 +3,56 @@ BUS_DONE; ``docs/clock.md``, "Bus reads inside the board").
 
 With each STATE and each BUS_REPLY the host sends an image: for the I2C register reads the
 firmware has made on its buses (an address, the register bytes written, the count read),
-the bytes each would read now and the instant until which they stay the same. The shim
-answers such a read inside that window itself and tells the host with its next message
-(BUS_DONE, the image's entry and the instant); the host writes it to the trace as it writes
-a transfer it answers, so the bus readings, budgets and notes are the same as when every
-transfer is an exchange.
+the bytes each would read and the window of instants in which it reads them. The shim
+answers such a read inside its window itself and tells the host with its next message
+(BUS_DONE, the image's entry and the instant); the host plays it on the chip and writes it
+to the trace as it writes a transfer it answers, so the bus readings, budgets and notes
+are the same as when every transfer is an exchange.
 
-A read goes in the image only if it is **pure**: tried on a copy of the chip, it reads the
-same bytes at the window's first and last instant and changes nothing of the chip but its
-register pointer (no sample drawn from the plant's generator, no data-ready bit cleared,
-no line that falls). Its window ends at the chip's next event in the plant (``next_us``:
-a ranger's measurement, a data-ready line), its next output-data-rate tick (each
-``DataReady``'s period, the IMU's samples) and its next self-clearing deadline; a chip
-whose registers change otherwise (one that reads the plant at a transfer, ``take_in``,
-or sets other parts' inputs, ``pass_on``, or has inputs of its own) is never imaged. The
-image is taken with the plant at the firmware's instant, before the lookahead runs the
-plant on.
+Two kinds of entries:
+
+- a **pure** read's (tried on a copy of the chip, it reads the same bytes at the window's
+  first and last instant and changes nothing of the chip but its register pointer: a
+  status poll, an identity, a register between samples). Its window ends at the chip's
+  next event in the plant (``next_us``: a ranger's measurement, a data-ready line), its
+  next output-data-rate tick (each ``DataReady``'s period, the IMU's samples) and its next
+  self-clearing deadline (:func:`steady_until`).
+- a **stream**'s (:class:`Stream`): the reads of a chip that change it (a sample drawn
+  from the plant's generator, data-ready bits cleared), played on copies over its next
+  windows from the image's instant, as the firmware reads it in turn: in each window the
+  reads that change nothing, the one that changes the chip, the reads after it. Each such
+  entry carries the count of the stream's changing reads it needs answered before it and
+  the count it leaves; the shim answers it only then, so a sample is answered only when
+  every sample before it in the window was drawn as the host drew it (the generator at the
+  same state, the chip the same), and any other read is an exchange. One stream an image
+  draws from the plant's generator (two chips' draws interleave as the firmware reads them).
+
+A chip whose registers change otherwise (one that reads the plant at a transfer,
+``take_in``, or sets other parts' inputs, ``pass_on``, or has inputs of its own, or whose
+reads a scenario's set-controls may set) is never imaged. The image is taken with the
+plant at the firmware's instant, before the lookahead runs the plant on, and no entry
+outlives the plant's next event (the horizon): no other part draws from the generator or
+changes the body's motion before it.
 
 The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, the reply's
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
-chips, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. Images are sent only with
-``MPY_FIL_BUS_IMAGES=1`` in the host's environment (in lockstep): without it every transfer
-is an exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``).
-They are off by default because, measured, they still cost the host and the shim about what
-the round trips they save cost (docs/bench.md, "Bus reads without an exchange, made cheaper"):
-the host's work for a read answered in the shim is the same as for an exchange (the plant,
-the trace), so only the round trip is saved, and the images' own building and frames spend it.
+chip, traced; a reply other than the image's is a LinkError. So the firmware and the plant
+go exactly as with an exchange, one round trip fewer. Images are sent in lockstep unless
+``MPY_FIL_BUS_IMAGES=0`` is in the host's environment: then every transfer is an exchange,
+the path the images must match byte for byte (``host/tests/test_bus_image.py``).
 
 What keeps them cheap: a pure read's entry is kept (``known``) while no BUS frame reaches
 its chip and its steady window lasts, so an image mostly repeats entries it has, and a read
 is tried again only after a transfer to its chip or past its window, and not while its next
 read, at the pace the firmware reads it, falls after that window (an IMU's data-ready poll
-is tried once a sample, at the new tick); a trial copies the chip's attributes once for
-both its instants; a kind of message whose last images answered nothing gets one only now
-and then (``IDLE``, ``PROBE``); and the shim reads the payload in place at a transfer
-(``_hilframe.bus_image_find``), decoding nothing when it arrives.
+is tried once a sample, at the new tick); a stream's windows are kept from image to image
+while the chip and the generator are as one of them left them (a motion change, a write,
+another part's draw: played anew), and tried at a window's start only where the chip's
+class says its reads change at its declared instants alone (``READS_STEADY``); a trial
+copies the chip's attributes once; a kind of message whose last images answered nothing
+gets one only now and then (``IDLE``, ``PROBE``); and the shim reads the payload in place
+at a transfer (``_hilframe.bus_image_find``), decoding nothing when it arrives.
 """
 
 import os
@@ -56,10 +69,16 @@ _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    """Images only when asked for (``MPY_FIL_BUS_IMAGES=1``): each pure read they answer saves
-    an exchange, but building and sending them costs the host and the shim about as much
-    as the round trips they save on a pty (docs/bench.md)."""
-    return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true")
+    """Images unless told not to (``MPY_FIL_BUS_IMAGES=0``): every transfer an exchange, the
+    path the images are held to (docs/bench.md, "Bus reads as streams")."""
+    return os.environ.get(ENV, "").strip().lower() not in ("0", "no", "false")
+
+
+def _timeline(device) -> bool:
+    """Whether a scenario's set-controls may set what ``device`` reads (its ``controls``, the
+    plant's timeline, has entries: an MPU6050's axes set by a scenario): never imaged."""
+    controls = device.__dict__.get("controls")
+    return controls is not None and bool(getattr(controls, "entries", None))
 
 
 def steady_until(device, t_us: int) -> int:
@@ -71,6 +90,7 @@ def steady_until(device, t_us: int) -> int:
         or device.inputs
         or kind.take_in is not BusDevice.take_in
         or kind.pass_on is not BusDevice.pass_on
+        or _timeline(device)
     ):
         return t_us
     until = getattr(device, "next_us", NEVER_US)
@@ -151,6 +171,298 @@ def _trials(device, instants: tuple, address: int, n_read: int, wrote: bytes, rn
     return out
 
 
+WINDOW_MAX = 0xFFFFFFFF  # an entry's window ends at most this many us after the image's instant
+STREAM_TICKS = 8  # a stream's windows imaged ahead at most (its chip's sample ticks)
+STREAMS = 15  # streams an image holds at most (the shim's counts: a bytearray of 16)
+MAX_IMAGE = 3000  # an image's payload at most, in bytes (a frame's is 4096)
+
+
+def streamable(device, rng) -> bool:
+    """Whether ``device``'s reads that change it (a sample drawn, a data-ready bit cleared)
+    may be imaged as a stream: a register chip whose reads depend on nothing but its own
+    state, the instant and the plant's generator (no inputs, no ``take_in`` or ``pass_on``,
+    no generator of its own)."""
+    kind = type(device)
+    if (
+        not isinstance(device, RegisterDevice)
+        or device.inputs
+        or kind.take_in is not BusDevice.take_in
+        or kind.pass_on is not BusDevice.pass_on
+        or _timeline(device)
+    ):
+        return False
+    return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
+
+
+_CONTAINERS: dict = {}  # (a chip's class, its attributes' names) -> (the names that hold a list, dict or set,
+# the names that hold the plant's generator)
+
+
+class _Watched:
+    """The plant's generator as a trial's copy of a chip holds it: any use of it is a draw
+    (noted in ``drew``), passed on to the generator."""
+
+    __slots__ = ("rng", "drew")
+
+    def __init__(self, rng):
+        self.rng, self.drew = rng, False
+
+    def __getattr__(self, name):
+        self.drew = True
+        return getattr(self.rng, name)
+
+
+def _kinds(kind: type, state: dict) -> tuple:
+    """The names of a chip's attributes that hold containers, and the generator (``state``:
+    its attributes; the same names, the same kinds)."""
+    key = kind, tuple(state)
+    kinds = _CONTAINERS.get(key)
+    if kinds is None:
+        containers = tuple(k for k, v in state.items() if isinstance(v, (list, dict, set)))
+        generators = tuple(k for k, v in state.items() if isinstance(v, _Watched) or hasattr(v, "bit_generator"))
+        kinds = _CONTAINERS[key] = containers, generators
+    return kinds
+
+
+def _clone(device):
+    """A copy of ``device`` whose containers are copies (a trial's)."""
+    state = device.__dict__.copy()
+    for name in _kinds(type(device), state)[0]:
+        state[name] = state[name].copy()
+    copy = object.__new__(type(device))
+    copy.__dict__ = state
+    return copy
+
+
+def _state(device) -> dict:
+    """``device``'s state but its register pointer and the generator it holds (what a read
+    can see of it later: the generator's state is compared apart)."""
+    state = device.__dict__.copy()
+    del state["pointer"], state["pointed"]
+    for name in _kinds(type(device), device.__dict__)[1]:
+        del state[name]
+    return state
+
+
+_AT = [None]  # the state the plant's generator was last set to or read at in a play (None: not known)
+
+
+def _read(device, t_us: int, shape: tuple, rng, rng_state):
+    """The read ``shape`` on a copy of ``device`` at ``t_us``, the plant's generator at
+    ``rng_state``: (bytes read, the copy after it, the generator's state after it: the same
+    object if the read drew nothing), or None. The generator is set only where a read
+    before drew from it (its state read after a draw only: the copy's is watched)."""
+    address, wrote, n_read = shape
+    if _AT[0] is not rng_state:
+        rng.bit_generator.state = rng_state
+        _AT[0] = rng_state
+    copy = _clone(device)
+    state = copy.__dict__
+    watched = _Watched(rng)
+    for name in _kinds(type(copy), state)[1]:
+        state[name] = watched
+    try:
+        status, count, got = _BUS_SET._xfer(t_us, [copy], True, address, n_read, wrote)
+    except (ArithmeticError, LookupError, TypeError, ValueError):
+        _AT[0] = None
+        return None
+    after = rng_state
+    if watched.drew:
+        after = _AT[0] = rng.bit_generator.state
+    if status != F.BUS_OK or count != len(wrote):
+        return None
+    return got, copy, after
+
+
+class Window:
+    """One steady window ``[a, b)`` of a stream's chip (no tick, event or deadline of its
+    inside): the chip and the plant's generator as the stream left them at ``a`` (``count``
+    of its changing reads answered), the reads that change nothing then (``pure``: (shape,
+    bytes) each), the one read that changes the chip (``change``) and after it the chip, the
+    generator and the reads that change nothing (``again``). ``cut``: ``b`` is the horizon
+    it was played to, not the chip's own end of the window."""
+
+    __slots__ = (
+        *("a", "b", "cut", "steady", "held", "count", "chip", "before", "rng"),
+        *("pure", "change", "draws", "after", "again"),
+    )
+
+    def reach(self, horizon_us: int) -> "Window":
+        """The window cut at a nearer horizon, to ``horizon_us`` (no further than the chip's
+        own end): its reads hold there too where its chip's do through a steady window
+        (``held``: ``READS_STEADY``), so nothing is played again."""
+        w = Window()
+        for name in Window.__slots__:
+            setattr(w, name, getattr(self, name))
+        w.b, w.cut = min(self.steady, horizon_us), self.steady > horizon_us
+        return w
+
+    def end_state(self) -> tuple:
+        """The chip (a copy, never changed) and the generator's state the next window starts from."""
+        return (self.after[0], self.after[2]) if self.change is not None else (self.chip, self.rng)
+
+
+def _pure(chip, before: dict, a: int, b: int, shape: tuple, rng, rng_state, first=None):
+    """The bytes ``shape`` reads on ``chip`` throughout ``[a, b)`` (tried at ``a`` and at
+    ``b - 1``) changing nothing of it (the generator at ``rng_state``), or None; ``first``:
+    the read at ``a``, made already."""
+    if first is None:
+        first = _read(chip, a, shape, rng, rng_state)
+    if first is None or first[2] != rng_state or _state(first[1]) != before:
+        return None
+    if b - 1 > a:
+        last = _read(chip, b - 1, shape, rng, rng_state)
+        if last is None or last[0] != first[0]:
+            return None
+    return first[0]
+
+
+def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rng, n: int) -> list:
+    """Up to ``n`` windows of a stream from ``a`` (:class:`Window`), no further than
+    ``horizon_us``: ``chip`` (a copy, never changed) and the generator at ``rng_state`` as
+    the firmware finds them at ``a``, ``count`` changing reads answered before. Each window
+    tried on copies at its first and its last instant (a chip may read otherwise inside a
+    window its declared instants do not end: the HMC5883L's RDY, clear for 250 us after each
+    sample), at its first only where the chip's class says its reads change at those
+    instants alone (``READS_STEADY``: its samples at its output data rate's ticks, its
+    data-ready bits with them); the generator's state set back after."""
+    real = _AT[0] = rng.bit_generator.state
+    out = []
+    ends = not getattr(chip, "READS_STEADY", False)
+    try:
+        for _ in range(n):
+            steady = steady_until(chip, a)
+            b = min(steady, horizon_us)
+            if b <= a or count >= 250:
+                break
+            end = b if ends else a + 1  # (tried at end - 1 too)
+            w = Window()
+            w.a, w.b, w.cut, w.count, w.chip, w.rng = a, b, steady > horizon_us, count, chip, rng_state
+            w.steady, w.held = steady, not ends
+            w.before = before = _state(chip)
+            w.pure, w.change, w.draws, w.after, w.again = [], None, False, None, []
+            for shape in shapes:
+                first = _read(chip, a, shape, rng, rng_state)
+                if first is None:
+                    continue
+                got = _pure(chip, before, a, end, shape, rng, rng_state, first)
+                if got is not None:
+                    w.pure.append((shape, got))
+                    continue
+                if w.change is not None:
+                    continue
+                after = _state(first[1])
+                if after.get("next_us") != before.get("next_us"):  # (a line, an event: the host's)
+                    continue
+                if end - 1 > a:
+                    last = _read(chip, end - 1, shape, rng, rng_state)
+                    if last is None or last[0] != first[0] or last[2] != first[2] or _state(last[1]) != after:
+                        continue
+                w.change, w.after, w.draws = (shape, first[0]), (first[1], after, first[2]), first[2] != rng_state
+            if w.change is not None:
+                chip, after, rng_after = w.after
+                for shape in shapes:  # (read again after it in the same window: not the sample itself)
+                    if shape == w.change[0]:
+                        continue
+                    got = _pure(chip, after, a, end, shape, rng, rng_after)
+                    if got is not None:
+                        w.again.append((shape, got))
+                chip, rng_state, count = chip, rng_after, count + 1
+            out.append(w)
+            a = b
+    finally:
+        if _AT[0] is not real:
+            rng.bit_generator.state = real
+        _AT[0] = None
+    return out
+
+
+class Stream:
+    """A chip's stream as last played (its windows from the last image's instant on), kept
+    for the next image: while the chip and the generator are as one of its windows left
+    them, its windows from there on hold (the same bytes at the same instants)."""
+
+    def __init__(self, shapes: tuple, windows: list):
+        self.shapes, self.windows = shapes, windows
+        self.played = 0  # windows played on copies (what the cache spared: the tests' counts)
+        self.ticks = STREAM_TICKS  # windows played ahead at most (1: the firmware reads it slower than it samples)
+
+    def entries(self, device, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
+        """The stream's answers from ``t_us`` (:func:`stream`'s), its windows taken from the
+        last image's where the chip and the generator are as one of them left them, played
+        anew from the first that its horizon cut short, or from ``t_us`` where none is."""
+        state, real = _state(device), rng.bit_generator.state
+        windows, base, after = None, 0, False
+        for i, w in enumerate(self.windows):
+            if w.a <= t_us < (w.steady if w.cut and w.held else w.b):  # (a held window reaches its chip's end)
+                if state == w.before and real == w.rng:
+                    windows, base = self.windows[i:], w.count
+                elif w.change is not None and state == w.after[1] and real == w.after[2]:
+                    windows, base, after = self.windows[i:], w.count + 1, True
+                break
+        if windows is None:
+            windows = self.windows = play(_clone(device), real, 0, t_us, horizon_us, self.shapes, rng, self.ticks)
+            self.played += len(windows)
+        else:
+            for j, w in enumerate(windows):
+                if w.a >= horizon_us:
+                    windows = windows[:j]
+                    break
+                if w.cut and w.b < horizon_us:  # (played to a nearer horizon: on from there)
+                    if w.held:
+                        windows = [*windows[:j], w.reach(horizon_us)]
+                    else:
+                        more = play(w.chip, w.rng, w.count, w.a, horizon_us, self.shapes, rng, self.ticks - j)
+                        self.played += len(more)
+                        windows = windows[:j] + more
+                    break
+            if windows and len(windows) < self.ticks and not windows[-1].cut and windows[-1].b < horizon_us:
+                last = windows[-1]
+                chip, rng_state = last.end_state()
+                count = last.count + (last.change is not None)
+                n = self.ticks - len(windows)
+                more = play(chip, rng_state, count, last.b, horizon_us, self.shapes, rng, n)
+                self.played += len(more)
+                windows = windows + more
+            self.windows = windows
+        return _answers(windows, t_us, horizon_us, base, after, may_draw)
+
+
+def _answers(windows: list, t_us: int, horizon_us: int, base: int, after: bool, may_draw: bool) -> list:
+    """The entries of ``windows`` from ``t_us`` to ``horizon_us`` (``Stream.entries``), the
+    counts from ``base`` (``after``: the first window's changing read answered already)."""
+    out = []
+    for k, w in enumerate(windows):
+        a, b, need = max(w.a, t_us), min(w.b, horizon_us), w.count - base
+        if a >= b:
+            break
+        if not (k == 0 and after):
+            out.extend((shape, a, b, need, need, got) for shape, got in w.pure)
+            if w.change is None:
+                continue
+            if w.draws and not may_draw:
+                break
+            out.append((w.change[0], a, b, need, need + 1, w.change[1]))
+        out.extend((shape, a, b, need + 1, need + 1, got) for shape, got in w.again)
+    return out
+
+
+def stream(device, shapes: tuple, t_us: int, horizon_us: int, rng, may_draw: bool) -> list:
+    """What ``device`` answers to each of ``shapes`` (address, written, count) over its next
+    sample windows from ``t_us`` (its steady windows: :func:`steady_until`, no further than
+    ``horizon_us``), as the firmware reads it in turn: in each window the reads that change
+    nothing, then the one read that changes the chip (a sample drawn from the plant's
+    generator, its data-ready bits cleared), then the reads that change nothing after it.
+    Each answer is an entry (shape, from, until, the stream's count it needs, the count it
+    leaves, bytes): a read in that window answers so only if the reads answered before it
+    were the ones the stream expects (the count), so the generator has drawn what it drew
+    here and the chip is as it is here; any other read is the host's. Tried on copies with
+    the generator's state saved and set back. ``may_draw``: whether a read may draw from the
+    generator (one stream an image may: two chips' draws interleave as the firmware reads
+    them; the stream stops before the first that draws)."""
+    return Stream(shapes, []).entries(device, t_us, horizon_us, rng, may_draw)
+
+
 class BusImages:
     """The reads the firmware makes on each bus handle, and the image last sent."""
 
@@ -161,6 +473,8 @@ class BusImages:
         self.on = wanted()
         self.reads: dict[int, list] = {}  # handle -> [(address, wrote, n_read)], read last at the end
         self.impure: set = set()  # (handle, address, wrote, n_read) found to change the chip: never imaged
+        self.streaming: set = set()  # (bus, address): chips whose reads change them, imaged as streams
+        self.streams: dict = {}  # (bus, address) -> its Stream as last played
         self.once: set = set()  # the same, read once so far (a read made once is not imaged)
         # the last image's entries by offset: (handle, address, wrote, n_read, got, horizon_us,
         # the register pointer the read leaves)
@@ -194,6 +508,7 @@ class BusImages:
     def forget(self) -> None:
         """The firmware restarted: its handles and reads are new."""
         self.reads, self.sent, self.impure, self.once = {}, {}, set(), set()
+        self.streaming, self.streams = set(), {}
         self.known, self.versions, self.read_at = {}, {}, {}
         self.sent_with, self.used, self.idle, self.passed = None, False, {}, {}
 
@@ -244,11 +559,15 @@ class BusImages:
             return None
         entries, sent = [], []
         known, versions = self.known, self.versions
+        streams: dict = {}  # (bus, address) -> [(handle, read shape)]: its reads imaged as a stream
         for h, shapes in self.reads.items():
             bus = self.wiring.handles[h].key
             on_bus = versions.get(bus, 0)
             for shape in list(shapes):
                 address, wrote, n_read = shape
+                if (bus, address) in self.streaming:
+                    streams.setdefault((bus, address), []).append((h, shape))
+                    continue
                 version = (on_bus, versions.get((bus, address), 0))
                 hit = known.get((h, shape))
                 if hit is None or hit[0] != version or not hit[1] <= t_us < hit[2]:
@@ -262,12 +581,54 @@ class BusImages:
                     continue
                 got, left = hit[3]
                 sent.append((h, address, wrote, n_read, got, horizon_us, left))
-                entries.append((h, address, until, wrote, got))
+                entries.append((h, address, 0, min(until - t_us, WINDOW_MAX), 0, 0, 0, wrote, got))
+        if streams:
+            self._streams(streams, t_us, horizon_us, entries, sent)
         if not entries:
             return None
         self.sent = dict(zip(F.bus_image_offsets(entries), sent, strict=True))
         self.sent_with, self.used = kind, False
         return F.pack_bus_image(t_us, horizon_us, entries)
+
+    def _streams(self, streams: dict, t_us: int, horizon_us: int, entries: list, sent: list) -> None:
+        """The stream of each chip in ``streams`` (:class:`Stream`, kept from image to image)
+        added to ``entries`` and ``sent``; one stream an image draws from the plant's
+        generator; the payload kept under ``MAX_IMAGE``."""
+        rng = self.plant.rng
+        drawn = False
+        size = F.BUS_IMAGE_LEN + sum(F.BUS_IMAGE_ENTRY_LEN + len(e[7]) + len(e[8]) for e in entries)
+        for number, (key, pairs) in enumerate(streams.items(), 1):
+            device = self.plant.bus_device(*key)
+            if number > STREAMS or device is None:
+                break
+            shapes = tuple(dict.fromkeys(shape for _h, shape in pairs))
+            kept = self.streams.get(key)
+            if kept is None or kept.shapes != shapes:
+                kept = self.streams[key] = Stream(shapes, [])
+            kept.ticks = self._ticks(device, pairs)
+            answers = kept.entries(device, t_us, horizon_us, rng, not drawn)
+            drawn = drawn or any(w.draws for w in kept.windows)
+            for shape, a, b, need, then, got in answers:
+                address, wrote, n_read = shape
+                for h, read in pairs:
+                    if read != shape:
+                        continue
+                    size += F.BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
+                    if size > MAX_IMAGE:
+                        return
+                    sent.append((h, address, wrote, n_read, got, horizon_us, None))
+                    entries.append((h, address, a - t_us, min(b - t_us, WINDOW_MAX), number, need, then, wrote, got))
+
+    def _ticks(self, device, pairs: list) -> int:
+        """How many windows of ``device``'s stream to play ahead: ``STREAM_TICKS``, or one
+        where the firmware reads it more than twice as slowly as it samples (a gyro at
+        1.66 kHz read at 208 Hz: a stream's later windows expect every sample read, so a
+        read that lets ticks pass is the host's anyway, and only the window it is in counts)."""
+        period = device.period_us() if hasattr(device, "period_us") else 0
+        if not period:
+            return STREAM_TICKS
+        paces = [last - prev for prev, last in (self.read_at.get(pair, (0, 0)) for pair in pairs) if last > prev]
+        return 1 if paces and min(paces) > 2 * period else STREAM_TICKS
 
     def _worth(self, kind) -> bool:
         """Whether to image with a message of ``kind``; the last image's outcome noted first
@@ -305,7 +666,10 @@ class BusImages:
         rng = self.plant.rng
         first, *last = _trials(device, (t_us, steady - 1), address, n_read, wrote, rng)
         if first is None:
-            self.impure.add((h, *shape))  # (a sample read, a flag cleared: the host's)
+            if streamable(device, rng):  # (a sample read, a flag cleared: its chip's reads a stream from now on)
+                self.streaming.add((bus, address))
+                return None
+            self.impure.add((h, *shape))  # (the host's)
             self.reads[h] = [s for s in self.reads[h] if s != shape]
             return None
         if last == [first]:
@@ -343,9 +707,19 @@ class BusImages:
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
         try:
             device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
-            if device is not None:
+            if device is not None and left is not None:
                 device.pointer, device.pointed = left
                 reply = F.BUS_OK, len(wrote), got
+                trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
+            elif device is not None:  # (a stream's read: played on its chip alone, which no other reads)
+                next_us = device.next_us
+                reply = _BUS_SET._xfer(t_us, [device], True, address, n_read, wrote)
+                if device.next_us != next_us:
+                    raise LinkError(
+                        f"a bus read the shim answered from the host's image at t={t_us} us ({info.key} "
+                        f"0x{address:02x} register {wrote.hex()}) moved its chip's next event to {device.next_us} "
+                        "us (host.rig.hardware.busimage: the image was wrong)"
+                    )
                 trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
             else:
                 reply = trace.answer(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote)
