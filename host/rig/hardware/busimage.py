@@ -38,9 +38,11 @@ The shim leaves itself as a BUS_REPLY would (its lookahead's changes dropped, th
 horizon: the image carries it) and the host, on BUS_DONE, does what a BUS frame at that
 instant makes it do but reply: the plant brought to the instant, the transfer played on the
 chip, traced; a reply other than the image's is a LinkError. So the firmware and the plant
-go exactly as with an exchange, one round trip fewer. Images are sent in lockstep unless
-``MPY_FIL_BUS_IMAGES=0`` is in the host's environment: then every transfer is an exchange,
-the path the images must match byte for byte (``host/tests/test_bus_image.py``).
+go exactly as with an exchange, one round trip fewer. Images are sent in lockstep when
+``MPY_FIL_BUS_IMAGES=1`` is in the host's environment; by default every transfer is an
+exchange, the path the images must match byte for byte (``host/tests/test_bus_image.py``):
+on a quiet machine that path is the faster one today (building the images costs the host
+more than the round trips they save; docs/bench.md, "Bus images: off by default again").
 
 What keeps them cheap: a pure read's entry is kept (``known``) while no BUS frame reaches
 its chip and its steady window lasts, so an image mostly repeats entries it has, and a read
@@ -69,9 +71,10 @@ _BUS_SET = BusSet([])  # (its _xfer plays a transfer against the devices given)
 
 
 def wanted() -> bool:
-    """Images unless told not to (``MPY_FIL_BUS_IMAGES=0``): every transfer an exchange, the
-    path the images are held to (docs/bench.md, "Bus reads as streams")."""
-    return os.environ.get(ENV, "").strip().lower() not in ("0", "no", "false")
+    """Images only when asked (``MPY_FIL_BUS_IMAGES=1``); by default every transfer is an
+    exchange, the path the images are held to (docs/bench.md, "Bus images: off by default
+    again")."""
+    return os.environ.get(ENV, "").strip().lower() in ("1", "yes", "true", "on")
 
 
 def _timeline(device) -> bool:
