@@ -84,17 +84,24 @@ def _timeline(device) -> bool:
     return controls is not None and bool(getattr(controls, "entries", None))
 
 
+def _self_contained(device) -> bool:
+    """A register chip whose reads depend on its own registers, the instant and the plant's
+    generator alone: no inputs, no ``take_in`` or ``pass_on`` of its own, no scenario
+    setting what it reads."""
+    kind = type(device)
+    return (
+        isinstance(device, RegisterDevice)
+        and not device.inputs
+        and kind.take_in is BusDevice.take_in
+        and kind.pass_on is BusDevice.pass_on
+        and not _timeline(device)
+    )
+
+
 def steady_until(device, t_us: int) -> int:
     """The first instant after ``t_us`` at which a read of ``device`` may answer otherwise
     (``t_us`` itself: the chip is never imaged)."""
-    kind = type(device)
-    if (
-        not isinstance(device, RegisterDevice)
-        or device.inputs
-        or kind.take_in is not BusDevice.take_in
-        or kind.pass_on is not BusDevice.pass_on
-        or _timeline(device)
-    ):
+    if not _self_contained(device):
         return t_us
     until = getattr(device, "next_us", NEVER_US)
     periods = [getattr(device, bit.period)() for bit in device.DATA_READY]
@@ -185,14 +192,7 @@ def streamable(device, rng) -> bool:
     may be imaged as a stream: a register chip whose reads depend on nothing but its own
     state, the instant and the plant's generator (no inputs, no ``take_in`` or ``pass_on``,
     no generator of its own)."""
-    kind = type(device)
-    if (
-        not isinstance(device, RegisterDevice)
-        or device.inputs
-        or kind.take_in is not BusDevice.take_in
-        or kind.pass_on is not BusDevice.pass_on
-        or _timeline(device)
-    ):
+    if not _self_contained(device):
         return False
     return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
 
