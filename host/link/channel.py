@@ -40,9 +40,10 @@ class Channel:
     def recv(self, timeout_s: float):
         """The next good frame (type, seq, payload); LinkTimeout if none by the deadline;
         LinkDamaged as soon as a frame was damaged or lost (a duplicate is dropped)."""
-        got = self.decoder.next()  # (a read brings several frames at once)
+        decoder = self.decoder
+        got = decoder.next() if decoder.pos < len(decoder.buf) else None  # (a read brings several frames at once)
         if got is None:
-            got = self._recv(timeout_s)
+            got = self._recv(timeout_s, fed=False)
         if self.decoder.damaged:
             raise LinkDamaged(self.damage_report("from the firmware"))
         return got
@@ -65,13 +66,17 @@ class Channel:
             f"duplicates dropped {c['duplicates']}): the run cannot be trusted past it"
         )
 
-    def _recv(self, timeout_s: float, strict: bool = True):
+    def _recv(self, timeout_s: float, strict: bool = True, fed: bool = True):
+        """``fed``: bytes may have come since the decoder was last asked (False: it was
+        just asked, and holds no whole frame)."""
         deadline = time.monotonic() + timeout_s
         stalled_since = None
         while True:
-            got = self.decoder.next()
-            if got is not None:
-                return got
+            if fed:
+                got = self.decoder.next()
+                if got is not None:
+                    return got
+            fed = True
             if strict:
                 self._check()  # (a damaged frame with nothing after it: say so now)
             now = time.monotonic()

@@ -189,8 +189,10 @@ class BusTrace:
         """A BUS frame's transfer answered from the plant's devices (status, count, bytes
         read), traced: a bus's transaction here, every transfer in the link log.
         ``unclocked``: SPI chips' clock inputs not on the SPI now (``Wiring.unclocked``)."""
-        kw = {"unclocked": unclocked} if unclocked else {}  # (an SPI bus's only: BusPeripheral.transfer)
-        reply = info.peripheral.transfer(plant, info, op, address, n_read, data, **kw)
+        if unclocked:  # (an SPI bus's only: BusPeripheral.transfer)
+            reply = info.peripheral.transfer(plant, info, op, address, n_read, data, unclocked=unclocked)
+        else:
+            reply = info.peripheral.transfer(plant, info, op, address, n_read, data)
         return self.replay(plant, info, h, t_us, op, address, n_read, data, reply)
 
     def replay(self, plant, info, h, t_us, op, address, n_read, data, reply: tuple) -> tuple:

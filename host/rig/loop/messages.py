@@ -68,7 +68,7 @@ def on_bus(rig, p: bytes) -> None:
     rig.clock.catch_up(t)
     rig.stats.bus_round_trips += 1
     info = rig.wiring.handles[h]
-    unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
+    unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else _NO_WATCH
     trace = rig.bus_trace
     trace.asking = True  # (a poll named here waits for the firmware's stack: BUS_ASK_STACK)
     try:
