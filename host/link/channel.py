@@ -16,7 +16,7 @@ class Channel:
 
     def __init__(self, transport):
         self.transport = transport
-        self.decoder = frames.Decoder()
+        self.decoder = frames.HostDecoder()
         self.seq = 0
         self.sent = 0
         self.held = b""  # frames to go out with the next one sent (hold)

@@ -87,7 +87,7 @@ def on_bus(rig, p: bytes) -> None:
         if ahead is not None:
             rig.session.hold(F.PIO_AHEAD, ahead)
     ask = F.BUS_ASK_STACK if trace.held_poll is not None else 0
-    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status | ask, count, lease, got))
+    rig.session.send(F.BUS_REPLY, F.pack_bus_reply_head(t, status | ask, count, lease) + got)  # (F.pack_bus_reply)
 
 
 def on_bus_done(rig, p: bytes) -> None:
