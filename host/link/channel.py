@@ -77,8 +77,8 @@ class Channel:
                 if got is not None:
                     return got
             fed = True
-            if strict:
-                self._check()  # (a damaged frame with nothing after it: say so now)
+            if strict and self.decoder.damaged:  # (a damaged frame with nothing after it: say so now)
+                raise LinkDamaged(self.damage_report("from the firmware"))
             now = time.monotonic()
             if now >= deadline:
                 pending = self.decoder.pending()
@@ -89,7 +89,7 @@ class Channel:
                     raise LinkError("the firmware's console closed: its process ended")
                 self.closed_read = True
                 wait = min(wait, TRUNCATION_TIMEOUT_S)
-            if self.decoder.pending():
+            if self.decoder.pos < len(self.decoder.buf):  # (a partial frame pending)
                 stalled_since = stalled_since or now
                 if now - stalled_since >= TRUNCATION_TIMEOUT_S:
                     self.decoder.expire()

@@ -19,7 +19,7 @@ import struct
 
 from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.catalogue.base import Opt
-from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart, counts
+from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart
 from sim_plant.option_table import OneOf
 
 WHO_AM_I = 0x0F
@@ -122,14 +122,15 @@ class Lsm6dsoxChip(Imu):
         gyro_dps = GYRO_MDPS[regs[CTRL2_G] >> 2 & 3] / 1000 if not regs[CTRL2_G] & 0x02 else 0.004375
         accel_m_s2 = ACCEL_MG[regs[CTRL1_XL] >> 2 & 3] / 1000 * G_M_S2
         # OUT_TEMP (0: 25 °C), then the gyro's and the accelerometer's counts, each little-endian
+        # (imu.counts inline: each saturated at the register's ends)
         out = _OUTPUTS(
             0,
-            counts(gx, gyro_dps),
-            counts(gy, gyro_dps),
-            counts(gz, gyro_dps),
-            counts(ax, accel_m_s2),
-            counts(ay, accel_m_s2),
-            counts(az, accel_m_s2),
+            max(-32768, min(32767, round(gx / gyro_dps))),
+            max(-32768, min(32767, round(gy / gyro_dps))),
+            max(-32768, min(32767, round(gz / gyro_dps))),
+            max(-32768, min(32767, round(ax / accel_m_s2))),
+            max(-32768, min(32767, round(ay / accel_m_s2))),
+            max(-32768, min(32767, round(az / accel_m_s2))),
         )
         regs[OUT_TEMP_L:OUT_END] = out
         self.filled_from, self.filled = key, tuple(out)

@@ -204,7 +204,7 @@ class BusTrace:
             tx = self.transfer(t_us, info, op, address, n_read, data, status, count, got)
             if status != F.BUS_OK:
                 self.last_failed = tx
-            elif tx.reads:
+            elif got if op != F.BUS_SPI_XFER else tx.reads:  # (Transaction.reads, its status OK)
                 self._watch(plant, tx)
             if data:  # (a write: a chip may have a note)
                 for text in plant.bus_notes(tx.bus):
