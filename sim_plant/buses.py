@@ -78,7 +78,9 @@ class BusDevice(Part):
 
     def read_block(self, t_us: int, n: int) -> bytes:
         """``n`` bytes read in one I2C read (a chip may read a block at once, as these would)."""
-        return bytes(self.read(t_us) for _ in range(n))
+        if n == 1:  # (a status register polled)
+            return bytes((self.read(t_us),))
+        return bytes([self.read(t_us) for _ in range(n)])
 
     def tie_cs_low(self, t_us: int = 0) -> None:
         """Chip select tied to ground (a rig's ``cs = "low"``): no input, selected from power-on."""
@@ -159,6 +161,25 @@ class DataReady:
     source: str = ""
 
 
+_READY_BITS: dict = {}  # id of a DATA_READY tuple -> (the tuple, {register -> (bits it holds, bits it clears)})
+
+
+def _ready_bits(data_ready: tuple, reg: int) -> tuple:
+    """The :class:`DataReady` bits of ``data_ready`` held in register ``reg``, and those
+    a read of it clears, each in the tuple's order (found once a register)."""
+    kept = _READY_BITS.get(id(data_ready))
+    if kept is None or kept[0] is not data_ready:
+        kept = _READY_BITS[id(data_ready)] = (data_ready, {})
+    by_reg = kept[1]
+    found = by_reg.get(reg)
+    if found is None:
+        found = by_reg[reg] = (
+            tuple(bit for bit in data_ready if bit.reg == reg),
+            tuple(bit for bit in data_ready if reg in bit.cleared_by),
+        )
+    return found
+
+
 class RegisterDevice(BusDevice):
     """A device with a register file: the first byte written after its address (I2C) or
     after chip select falls (SPI, bit 7 set: a read) is the register pointer; each byte
@@ -218,18 +239,17 @@ class RegisterDevice(BusDevice):
     def _ready(self, t_us: int, reg: int, value: int) -> int:
         """``value`` read from ``reg`` with its data-ready and overrun bits as they are at
         ``t_us``; a register that clears one marks its sample read."""
-        for bit in self.DATA_READY:
-            if bit.reg == reg:
-                period = getattr(self, bit.period)()
-                value &= ~(bit.mask | bit.overrun_mask) & 0xFF
-                if period:
-                    tick, last = t_us // period, self.read_ticks.get(bit.name, -1)
-                    value |= bit.mask if tick != last else 0
-                    value |= bit.overrun_mask if last >= 0 and tick - last > 1 else 0
-        for bit in self.DATA_READY:
-            if reg in bit.cleared_by:
-                period = getattr(self, bit.period)()
-                self.read_ticks[bit.name] = t_us // period if period else -1
+        sets, clears = _ready_bits(self.DATA_READY, reg)
+        for bit in sets:
+            period = getattr(self, bit.period)()
+            value &= ~(bit.mask | bit.overrun_mask) & 0xFF
+            if period:
+                tick, last = t_us // period, self.read_ticks.get(bit.name, -1)
+                value |= bit.mask if tick != last else 0
+                value |= bit.overrun_mask if last >= 0 and tick - last > 1 else 0
+        for bit in clears:
+            period = getattr(self, bit.period)()
+            self.read_ticks[bit.name] = t_us // period if period else -1
         return value
 
     def _written(self, t_us: int, reg: int, value: int) -> None:
@@ -309,20 +329,36 @@ class BusSet:
     """A plant's bus devices by bus name, and the state of each bus between the
     primitives of a SoftI2C (a start, the address byte, the bytes after it)."""
 
+    FIXED_STATE = ("devices", "_buses")  # (a plant snapshot copies the SoftI2C state only)
+
     def __init__(self, devices: list):
         self.devices = list(devices)
         self.state = {}  # bus -> (device index or -1, expecting the address byte, reading)
+        self._buses = {}  # bus -> its _Bus, made at its first transfer (the devices never change)
 
-    def on(self, bus: str) -> list:
-        return [d for d in self.devices if d.bus == bus]
+    def on(self, bus: str) -> tuple:
+        return self.bus(bus).devices
+
+    def bus(self, bus: str) -> "_Bus":
+        """The devices on ``bus`` as a transfer looks them up (made once a bus)."""
+        found = self._buses.get(bus)
+        if found is None:
+            found = self._buses[bus] = _Bus([d for d in self.devices if d.bus == bus])
+        return found
 
     def transfer(self, t_us: int, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()):
         """One BUS frame's transfer: (status, count, bytes read). SPI: to the chips selected
         (chip select low, or tied low) whose clock input is not in ``unclocked`` (the host's:
         wired to a pin that is not the SPI's at this instant, ``Wiring.unclocked``)."""
-        devices = self.on(bus)
-        if any(d.holds_bus for d in devices):
+        found = self.bus(bus)
+        if found.held:
             return STUCK, 0, b""
+        if op == XFER or op == XFER_NOSTOP:  # (the usual transfer: one lookup by address)
+            device = found.at.get(address)
+            if device is None:
+                return NACK_ADDRESS, 0, b""
+            return self._play(t_us, device, op == XFER, n_read, data)
+        devices = found.devices
         if op == SPI_XFER:
             chosen = [d for d in devices if d.selected and d.sck_signal not in unclocked]
             out = bytearray()
@@ -337,8 +373,6 @@ class BusSet:
         if op == SCAN:
             found = sorted({d.address for d in devices if d.address is not None})
             return OK, len(found), bytes(a for a in found if FIRST_ADDRESS <= a <= LAST_ADDRESS)
-        if op in (XFER, XFER_NOSTOP):
-            return self._xfer(t_us, devices, op == XFER, address, n_read, data)
         return self._primitive(t_us, bus, devices, op, n_read, data)
 
     @staticmethod
@@ -349,6 +383,12 @@ class BusSet:
         device = self._at(devices, address)
         if device is None:
             return NACK_ADDRESS, 0, b""
+        return self._play(t_us, device, stop, n_read, data)
+
+    @staticmethod
+    def _play(t_us, device, stop, n_read, data):
+        """An I2C transfer to ``device`` (its address matched): the bytes written, then
+        ``n_read`` read after a repeated start, then the stop if ``stop``."""
         acks = 0
         if data or not n_read:
             device.begin(t_us, False)
@@ -394,6 +434,25 @@ class BusSet:
             return OK, acks, b""
         got = bytes(device.read(t_us) if device is not None and reading else 0xFF for _ in range(n_read))
         return OK, n_read, got
+
+
+class _Bus:
+    """The devices on one bus as a transfer looks them up: in order, by address (the
+    first at an address answers, as :meth:`BusSet._at` finds it), whether one holds the
+    bus, and those whose :meth:`~BusDevice.take_in` or :meth:`~BusDevice.pass_on` does
+    something."""
+
+    FIXED_STATE = True  # (configuration: a snapshot leaves it out)
+
+    def __init__(self, devices: list):
+        self.devices = tuple(devices)
+        self.at = {}
+        for d in devices:
+            if d.address is not None:
+                self.at.setdefault(d.address, d)
+        self.held = any(d.holds_bus for d in devices)
+        self.takers = tuple(d for d in devices if type(d).take_in is not BusDevice.take_in)
+        self.passers = tuple(d for d in devices if type(d).pass_on is not BusDevice.pass_on)
 
 
 BUS_NAME = re.compile(

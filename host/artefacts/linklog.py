@@ -136,9 +136,10 @@ class LinkLog:
         """A bus transfer and its ``reply`` (status, count, bytes read); ``more``: the
         transaction's bus, register and duration_us (host/rig/hardware/bustrace.py), for a bus's
         handle (a bitstream has none). ``replay`` answers a bus from these."""
-        status, count, got = reply
-        record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote.hex()}
-        self.write({**record, "status": status, "count": count, "read": got.hex(), **(more or {})})
+        status, count, got = reply  # (kept as its values, made a line when written: as OUT's)
+        self._pending.append((_bus_line, (t, h, op, address, wrote.hex(), status, count, got.hex(), more)))
+        if len(self._pending) >= KEPT_MAX:
+            self.flush()
 
     def i2ct_done(self, t: int, h: int, status: int, acks: int, got: bytes) -> None:
         """A controller's transaction on this board's I2CTarget, as it answered."""
@@ -176,6 +177,14 @@ def _wait_line(t, until, watch) -> str:
     return _encode({"t": t, "msg": "WAIT", "until": until, "watch": watched}) + "\n"
 
 
+def _bus_line(t, h, op, address, wrote, status, count, read, more) -> str:
+    record = {"t": t, "msg": "BUS", "handle": h, "op": op, "address": address, "wrote": wrote}
+    record.update(status=status, count=count, read=read)
+    if more:
+        record.update(more)
+    return _encode(record) + "\n"
+
+
 def _state_line(t, base, horizon, changes) -> str:
     entries = [[ct, h, k, v, e.hex() if k == F.CH_BYTES else e] for ct, h, k, v, e in changes]
     if type(t) is int and type(base) is int and type(horizon) is int and all(_plain_ints(e) for e in entries):
@@ -210,7 +219,9 @@ class _NoLog(LinkLog):
     def close(self) -> None:
         pass
 
-    line = flush = cfg = out = wait = state = seen = uart_tx = fault = exit = rollback = lambda self, *args: None
+    line = flush = cfg = out = wait = state = seen = uart_tx = bus = i2ct_done = fault = exit = rollback = (
+        lambda self, *args: None
+    )
 
 
 NO_LOG = _NoLog()

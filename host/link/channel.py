@@ -16,7 +16,7 @@ class Channel:
 
     def __init__(self, transport):
         self.transport = transport
-        self.decoder = frames.Decoder()
+        self.decoder = frames.HostDecoder()
         self.seq = 0
         self.sent = 0
         self.held = b""  # frames to go out with the next one sent (hold)
@@ -40,9 +40,10 @@ class Channel:
     def recv(self, timeout_s: float):
         """The next good frame (type, seq, payload); LinkTimeout if none by the deadline;
         LinkDamaged as soon as a frame was damaged or lost (a duplicate is dropped)."""
-        got = self.decoder.next()  # (a read brings several frames at once)
+        decoder = self.decoder
+        got = decoder.next() if decoder.pos < len(decoder.buf) else None  # (a read brings several frames at once)
         if got is None:
-            got = self._recv(timeout_s)
+            got = self._recv(timeout_s, fed=False)
         if self.decoder.damaged:
             raise LinkDamaged(self.damage_report("from the firmware"))
         return got
@@ -65,15 +66,19 @@ class Channel:
             f"duplicates dropped {c['duplicates']}): the run cannot be trusted past it"
         )
 
-    def _recv(self, timeout_s: float, strict: bool = True):
+    def _recv(self, timeout_s: float, strict: bool = True, fed: bool = True):
+        """``fed``: bytes may have come since the decoder was last asked (False: it was
+        just asked, and holds no whole frame)."""
         deadline = time.monotonic() + timeout_s
         stalled_since = None
         while True:
-            got = self.decoder.next()
-            if got is not None:
-                return got
-            if strict:
-                self._check()  # (a damaged frame with nothing after it: say so now)
+            if fed:
+                got = self.decoder.next()
+                if got is not None:
+                    return got
+            fed = True
+            if strict and self.decoder.damaged:  # (a damaged frame with nothing after it: say so now)
+                raise LinkDamaged(self.damage_report("from the firmware"))
             now = time.monotonic()
             if now >= deadline:
                 pending = self.decoder.pending()
@@ -84,7 +89,7 @@ class Channel:
                     raise LinkError("the firmware's console closed: its process ended")
                 self.closed_read = True
                 wait = min(wait, TRUNCATION_TIMEOUT_S)
-            if self.decoder.pending():
+            if self.decoder.pos < len(self.decoder.buf):  # (a partial frame pending)
                 stalled_since = stalled_since or now
                 if now - stalled_since >= TRUNCATION_TIMEOUT_S:
                     self.decoder.expire()

@@ -18,6 +18,52 @@ from host.shim._hilframe import *  # noqa: F403  (the codec's names are this mod
 
 unpack_out = _struct.Struct(codec.OUT_FMT).unpack_from  # (t_us, handle, attr, value), as codec.unpack_out
 
+_frame_head = _struct.Struct("<BBH").pack  # type, seq, length (after the SOF)
+_crc_field = _struct.Struct("<I")
+
+
+def encode(type_: int, seq: int, payload: bytes) -> bytes:
+    """One frame, as ``codec.encode`` makes it (its bytes: host/tests/test_codec.py), with
+    one CRC over type..payload."""
+    n = len(payload)
+    if n > codec.MAX_PAYLOAD:
+        raise ValueError("payload of %d bytes exceeds %d" % (n, codec.MAX_PAYLOAD))
+    body = _frame_head(type_, seq & 0xFF, n) + payload
+    return b"\xa5" + body + _crc_field.pack(codec.crc32(body) & 0xFFFFFFFF)
+
+
+# (t_us, status, count, horizon_us), the bytes read to follow: as codec.pack_bus_reply
+pack_bus_reply_head = _struct.Struct(codec.BUS_REPLY_FMT).pack
+
+
+class HostDecoder(codec.Decoder):
+    """The codec's decoder, with the host's usual case first: a whole good frame at the
+    start of what is left, the one expected next (a short one, in bytes fed at once).
+    Anything else (bytes before it, a bad CRC, a gap, a duplicate, a long or partial
+    frame) goes to the codec's own :meth:`next`, which takes the same frames and counts
+    the same (host/tests/test_codec_properties.py)."""
+
+    def next(self):
+        buf = self.buf
+        pos = self.pos
+        end = pos + codec.HEADER_LEN
+        if end <= len(buf) and buf[pos] == codec.SOF and not self._grown:
+            n = buf[pos + 3] | buf[pos + 4] << 8
+            end += n
+            seq = buf[pos + 2]
+            expect = self.expect_seq
+            if (
+                n < codec._LONG
+                and end + codec.CRC_LEN <= len(buf)
+                and (seq == expect or expect < 0)
+                and codec.crc32(buf[pos + 1 : end]) == _crc_field.unpack_from(buf, end)[0]
+            ):
+                self.pos = end + codec.CRC_LEN
+                self.frames += 1
+                self.expect_seq = (seq + 1) & 0xFF
+                return buf[pos + 1], seq, buf[pos + codec.HEADER_LEN : end]
+        return codec.Decoder.next(self)
+
 
 def unpack_cpu(p) -> tuple:
     """A CPU message (MCU time, docs/mcu-time.md): (t_us, compute_us, piece_us, the code's

@@ -120,6 +120,14 @@ def test_the_hosts_compiled_helpers_give_the_codecs_bytes_on_every_vector():
             base, t_end, horizon, changes = F.unpack_state(payload)
             assert frames.pack_state(base, t_end, horizon, changes) == F.pack_state(base, t_end, horizon, changes)
             assert frames.pack_state(base, t_end, horizon, changes) == payload
+    for v in json.loads(VECTORS.read_text())["good"]:
+        payload = bytes.fromhex(v["payload"])
+        assert frames.encode(v["type"], v["seq"], payload).hex() == v["frame"]
+    for n in (0, 1, 251, 252, 4096):
+        payload = bytes(range(256)) * (n // 256) + bytes(n % 256)
+        assert frames.encode(0x42, 300, payload) == F.encode(0x42, 300, payload)
+    reply = frames.pack_bus_reply_head(123456, 1, 2, 123789) + b"\x0c\x00"
+    assert reply == F.pack_bus_reply(123456, 1, 2, 123789, b"\x0c\x00")
 
 
 def test_the_fuzzer_of_make_fuzz_runs_its_cases_on_both_interpreters():

@@ -10,6 +10,7 @@ import struct
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from host.link.frames import HostDecoder
 from host.shim import _hilframe as F
 
 SETTINGS = settings(
@@ -203,13 +204,14 @@ def test_the_decoder_takes_and_counts_what_the_reference_decoder_does(stream, at
     shared = F.Decoder()
     shared.share_after = 16  # (MicroPython's default; CPython's is None)
     runs = []
-    for dec in (F.Decoder(), shared, ReferenceDecoder()):
+    for dec in (F.Decoder(), shared, ReferenceDecoder(), HostDecoder()):
         skipped = []
         dec.on_skip = lambda b, skipped=skipped: skipped.append(bytes(b))
         frames = decode(dec, split(stream, at), list(expire_when_stuck))
         runs.append((frames, dec.counters(), b"".join(skipped)))
-    assert runs[0] == runs[1] == runs[2], (
-        f"decoder {runs[0]}\nsharing {runs[1]}\nreference {runs[2]}\nfor stream {stream.hex()} cut at {at}"
+    assert runs[0] == runs[1] == runs[2] == runs[3], (
+        f"decoder {runs[0]}\nsharing {runs[1]}\nreference {runs[2]}\nthe host's {runs[3]}\n"
+        f"for stream {stream.hex()} cut at {at}"
     )
 
 

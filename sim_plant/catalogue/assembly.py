@@ -167,10 +167,11 @@ class PartsPlant(RobotPlant):
         whose chips the transfer does not reach (``BusSet.transfer``)."""
         if self._motion_pending:
             self._settle()
-        for device in self.bus_set.on(bus):
+        on = self.bus_set.bus(bus)
+        for device in on.takers:
             device.take_in(self)
         result = self.bus_set.transfer(self._t_us, bus, op, address, n_read, data, unclocked)
-        for device in self.bus_set.on(bus):
+        for device in on.passers:
             device.pass_on(self)
         self._reschedule()
         return result
@@ -179,7 +180,7 @@ class PartsPlant(RobotPlant):
         """What the devices on ``bus`` have to say in the run's output (each once): a
         write to a register a chip's model does not honour."""
         notes = []
-        for device in self.bus_set.on(bus):
+        for device in self.bus_set.bus(bus).devices:
             if getattr(device, "notes", None):
                 notes += device.take_notes()
         return notes

@@ -139,12 +139,17 @@ class Imu(RegisterDevice):
         forward = (v - v_before) / (ACCEL_WINDOW_US * 1e-6)
         lateral = v * w
         c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
-        accel = (c * forward + s * lateral, -s * forward + c * lateral, G_M_S2)
-        rate = (0.0, 0.0, math.degrees(w))
-        noise = self.rng.standard_normal(6).tolist()  # (Python floats: the same values, cheaper arithmetic)
-        gyro = tuple(rate[i] + self.gyro_bias_dps[i] + self.gyro_noise_dps * noise[i] for i in range(3))
-        accel = tuple(accel[i] + self.accel_noise_m_s2 * noise[3 + i] for i in range(3))
-        return gyro + accel
+        n0, n1, n2, n3, n4, n5 = self.rng.standard_normal(6).tolist()  # (Python floats: cheaper arithmetic)
+        bx, by, bz = self.gyro_bias_dps
+        gn, an = self.gyro_noise_dps, self.accel_noise_m_s2
+        return (  # gyro x, y, z: the turn rate about z; accel x, y, z: forward and lateral as mounted, and g
+            0.0 + bx + gn * n0,
+            0.0 + by + gn * n1,
+            math.degrees(w) + bz + gn * n2,
+            (c * forward + s * lateral) + an * n3,
+            (-s * forward + c * lateral) + an * n4,
+            G_M_S2 + an * n5,
+        )
 
 
 def counts(value: float, per_count: float) -> int:

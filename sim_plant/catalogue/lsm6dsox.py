@@ -15,9 +15,11 @@ cleared by reading its outputs; TDA not modelled), OUT_TEMP (0x20, 25 °C), OUTX
 in the run's output). One output data rate: the
 gyro's (the accelerometer's while the gyro is powered down)."""
 
+import struct
+
 from sim_plant.buses import DataReady, SelfClearing
 from sim_plant.catalogue.base import Opt
-from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart, counts, put16
+from sim_plant.catalogue.imu import G_M_S2, Imu, ImuPart
 from sim_plant.option_table import OneOf
 
 WHO_AM_I = 0x0F
@@ -29,6 +31,7 @@ ODR_HZ = {1: 12.5, 2: 26, 3: 52, 4: 104, 5: 208, 6: 416, 7: 833, 8: 1666, 9: 333
 ODR_US = {code: round(1e6 / hz) for code, hz in ODR_HZ.items()}  # (the period of each ODR code, in us)
 GYRO_MDPS = {0: 8.75, 1: 17.5, 2: 35.0, 3: 70.0}  # per count, by FS_G
 ACCEL_MG = {0: 0.061, 1: 0.488, 2: 0.122, 3: 0.244}  # per count, by FS_XL (2, 16, 4, 8 g)
+_OUTPUTS = struct.Struct("<7h").pack  # OUT_TEMP_L..OUT_END: seven 16-bit counts, little-endian
 
 
 class Lsm6dsoxChip(Imu):
@@ -118,12 +121,19 @@ class Lsm6dsoxChip(Imu):
         gx, gy, gz, ax, ay, az = sample
         gyro_dps = GYRO_MDPS[regs[CTRL2_G] >> 2 & 3] / 1000 if not regs[CTRL2_G] & 0x02 else 0.004375
         accel_m_s2 = ACCEL_MG[regs[CTRL1_XL] >> 2 & 3] / 1000 * G_M_S2
-        put16(regs, OUT_TEMP_L, 0, False)
-        for i, value in enumerate((gx, gy, gz)):
-            put16(regs, OUTX_L_G + 2 * i, counts(value, gyro_dps), False)
-        for i, value in enumerate((ax, ay, az)):
-            put16(regs, OUTX_L_A + 2 * i, counts(value, accel_m_s2), False)
-        self.filled_from, self.filled = key, tuple(regs[OUT_TEMP_L:OUT_END])
+        # OUT_TEMP (0: 25 °C), then the gyro's and the accelerometer's counts, each little-endian
+        # (imu.counts inline: each saturated at the register's ends)
+        out = _OUTPUTS(
+            0,
+            max(-32768, min(32767, round(gx / gyro_dps))),
+            max(-32768, min(32767, round(gy / gyro_dps))),
+            max(-32768, min(32767, round(gz / gyro_dps))),
+            max(-32768, min(32767, round(ax / accel_m_s2))),
+            max(-32768, min(32767, round(ay / accel_m_s2))),
+            max(-32768, min(32767, round(az / accel_m_s2))),
+        )
+        regs[OUT_TEMP_L:OUT_END] = out
+        self.filled_from, self.filled = key, tuple(out)
 
     def store(self, t_us, reg, value):
         if reg == WHO_AM_I or OUT_TEMP_L <= reg < OUT_END or reg == STATUS_REG:

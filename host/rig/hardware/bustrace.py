@@ -19,8 +19,9 @@ the command line): a poll that never ends (:mod:`host.rig.hardware.pollwatch`), 
 write to a register its model does not honour, ``sim_plant.buses``).
 """
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
+from host.artefacts.linklog import NO_LOG
 from host.artefacts.recorder import ROLE_BUS
 from host.link import frames as F
 from host.rig.hardware.peripherals import BusPeripheral
@@ -40,8 +41,7 @@ ONEWIRE_OPS = {
 OUTCOMES = {F.BUS_OK: "", F.BUS_NACK_ADDRESS: " NACK", F.BUS_NACK_DATA: " NACK data", F.BUS_STUCK: " TIMEOUT"}
 
 
-@dataclass(frozen=True)
-class Transaction:
+class Transaction(NamedTuple):  # (immutable, made at every transfer: a tuple is the cheapest)
     t_us: int
     bus: str
     op: int
@@ -91,6 +91,13 @@ def duration_us(op: int, clock_hz: int, status: int, count: int, n_wrote: int, n
 
 
 def transaction(t_us, bus, clock_hz, op, address, n_read, wrote, status, count, got) -> Transaction:
+    if op == F.BUS_XFER and status == F.BUS_OK and clock_hz > 0 and bus[0] != "o":  # (the usual: a register chip's)
+        clocks = 9 * len(wrote) + 11
+        if n_read:
+            clocks += 9 * (1 + n_read) + 1 if wrote else 9 * n_read
+        duration = (clocks * 1_000_000 + clock_hz - 1) // clock_hz
+        register = wrote[0] if wrote else None
+        return Transaction(t_us, bus, op, address, register, bytes(wrote), bytes(got), status, duration)
     register = None
     if op == F.BUS_SPI_XFER:
         address = None
@@ -182,26 +189,30 @@ class BusTrace:
         """A BUS frame's transfer answered from the plant's devices (status, count, bytes
         read), traced: a bus's transaction here, every transfer in the link log.
         ``unclocked``: SPI chips' clock inputs not on the SPI now (``Wiring.unclocked``)."""
-        kw = {"unclocked": unclocked} if unclocked else {}  # (an SPI bus's only: BusPeripheral.transfer)
-        reply = info.peripheral.transfer(plant, info, op, address, n_read, data, **kw)
+        if unclocked:  # (an SPI bus's only: BusPeripheral.transfer)
+            reply = info.peripheral.transfer(plant, info, op, address, n_read, data, unclocked=unclocked)
+        else:
+            reply = info.peripheral.transfer(plant, info, op, address, n_read, data)
         return self.replay(plant, info, h, t_us, op, address, n_read, data, reply)
 
     def replay(self, plant, info, h, t_us, op, address, n_read, data, reply: tuple) -> tuple:
         """A transfer's ``reply`` (status, count, bytes read), traced as :meth:`answer` traces
         it: also one the shim answered itself (``host.rig.hardware.busimage``)."""
         status, count, got = reply
-        more = None
+        log = self.linklog()
         if isinstance(info.peripheral, BusPeripheral):  # (not a pin's bitstream)
             tx = self.transfer(t_us, info, op, address, n_read, data, status, count, got)
-            more = tx.record()
             if status != F.BUS_OK:
                 self.last_failed = tx
-            elif tx.reads:
+            elif got if op != F.BUS_SPI_XFER else tx.reads:  # (Transaction.reads, its status OK)
                 self._watch(plant, tx)
             if data:  # (a write: a chip may have a note)
                 for text in plant.bus_notes(tx.bus):
                     self.say(t_us, text)
-        self.linklog().bus(t_us, h, op, address, data, (status, count, got), more)
+            if log is not NO_LOG:  # (a rig that traces: the record made only then)
+                log.bus(t_us, h, op, address, data, reply, tx.record())
+        elif log is not NO_LOG:
+            log.bus(t_us, h, op, address, data, reply)
         return status, count, got
 
     def _watch(self, plant, tx: Transaction) -> None:
@@ -233,8 +244,10 @@ class BusTrace:
 
     def transfer(self, t_us, info, op, address, n_read, wrote, status, count, got) -> Transaction:
         tx = transaction(t_us, info.key, info.freq, op, address, n_read, wrote, status, count, got)
-        for call in self.hooks.get(tx.bus, ()):
-            call(tx)
+        hooks = self.hooks.get(tx.bus)
+        if hooks:
+            for call in hooks:
+                call(tx)
         if self.recorder is not None:
             self.recorder.command(t_us, f"bus:{tx.bus}", describe(tx), role=ROLE_BUS, kind="text")
         if self.tap is not None:

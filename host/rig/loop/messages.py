@@ -68,7 +68,7 @@ def on_bus(rig, p: bytes) -> None:
     rig.clock.catch_up(t)
     rig.stats.bus_round_trips += 1
     info = rig.wiring.handles[h]
-    unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else frozenset()
+    unclocked = rig.wiring.unclocked(info.key) if op == F.BUS_SPI_XFER else _NO_WATCH
     trace = rig.bus_trace
     trace.asking = True  # (a poll named here waits for the firmware's stack: BUS_ASK_STACK)
     try:
@@ -87,7 +87,7 @@ def on_bus(rig, p: bytes) -> None:
         if ahead is not None:
             rig.session.hold(F.PIO_AHEAD, ahead)
     ask = F.BUS_ASK_STACK if trace.held_poll is not None else 0
-    rig.session.send(F.BUS_REPLY, F.pack_bus_reply(t, status | ask, count, lease, got))
+    rig.session.send(F.BUS_REPLY, F.pack_bus_reply_head(t, status | ask, count, lease) + got)  # (F.pack_bus_reply)
 
 
 def on_bus_done(rig, p: bytes) -> None:
