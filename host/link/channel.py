@@ -53,10 +53,6 @@ class Channel:
         says when interrupted, with a lost frame before it); LinkTimeout if none."""
         return self._recv(timeout_s, strict=False)
 
-    def _check(self) -> None:
-        if self.decoder.damaged:
-            raise LinkDamaged(self.damage_report("from the firmware"))
-
     def damage_report(self, direction: str) -> str:
         c = self.counters()
         lost = {k: c[k] for k in ("bad_crc", "bad_length", "truncated", "seq_gaps") if c[k]}
