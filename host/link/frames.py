@@ -81,18 +81,3 @@ SIG_DUTY = "duty"  # a PWM duty, 0..65535
 SIG_PWM = "pwm"  # a PWM waveform: duty and frequency (``plant.set_pwm``)
 SIG_BYTES = "bytes"  # bytes, as a whole
 SIG_UART = "uart"  # bytes timed on the line at the baud rate (``plant.send_bytes``)
-
-
-def merge_edges(segments, changes) -> list:
-    """The changes a STATE and its EDGES give the firmware, in the order it takes them, as
-    the shim merges them (``_hil._apply_state``; ``_hilfast.apply_state`` the same in C): the
-    segments' edges (``expand_edges``) and the STATE's changes in time order, at one instant
-    the edges first. (Host-side only: the trace records these.)"""
-    merged = codec.expand_edges(segments)
-    i = 0
-    for c in changes:  # (stable: the edges of an instant before its changes)
-        while i < len(merged) and merged[i][0] <= c[0]:
-            i += 1
-        merged.insert(i, c)
-        i += 1
-    return merged

@@ -1127,14 +1127,7 @@ def _apply_state(p, base, t_end, horizon, n, watch, edges=None):
     if edges is not None and _Link.merge is not None:  # (the same in C: _hilfast.merge_edges)
         changes = _Link.merge(edges, base, changes)
     elif edges is not None:
-        merged = F.expand_edges(F.unpack_edges(edges)[1])
-        i = 0
-        for c in changes:  # (stable: the edges of an instant before its changes)
-            while i < len(merged) and merged[i][0] <= c[0]:
-                i += 1
-            merged.insert(i, c)
-            i += 1
-        changes = merged
+        changes = F.merge_edges(F.unpack_edges(edges)[1], changes)
     return _apply_changes(changes, t_end, horizon, watch)
 
 

@@ -725,6 +725,22 @@ def expand_edges(segments):
     return [(t, h, CH_LEVEL, level, 0) for t, _k, h, level in edges]
 
 
+def merge_edges(segments, changes):
+    """The changes a STATE and its EDGES give the firmware, in the order it takes them: the
+    segments' edges (``expand_edges``) and the STATE's changes in time order, at one instant
+    the edges first (the plant emits an instant's encoder edges before its other parts'
+    changes). The shim's pure path applies these (``_hil._apply_state``; ``_hilfast.merge_edges``
+    the same in C); the host's trace records them."""
+    merged = expand_edges(segments)
+    i = 0
+    for c in changes:  # (stable: the edges of an instant before its changes)
+        while i < len(merged) and merged[i][0] <= c[0]:
+            i += 1
+        merged.insert(i, c)
+        i += 1
+    return merged
+
+
 # CFG kinds: one per shim class with a host side (machine.Pin, ADC, PWM, UART; an IRQ
 # arms a pin or a UART already configured). The host's handler of each: host/rig/hardware/peripherals.py.
 CFG_PIN = 1
