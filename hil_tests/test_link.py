@@ -94,12 +94,15 @@ def test_a_duplicated_frame_is_dropped_and_the_run_is_unchanged(make_rig, direct
     assert rig.trace_digest == reference_digest(make_rig), "the duplicated frame changed what the rig did"
 
 
-@pytest.fixture
-def board(tmp_path):
-    home = tmp_path / "board"
+@pytest.fixture(scope="module")
+def board(tmp_path_factory):
+    """One board for both directions: a run ended by a damaged frame leaves it usable, and
+    the next run finds the shim already uploaded."""
+    root = tmp_path_factory.mktemp("link")
+    home = root / "board"
     port = vboard.start_background("esp32_devkitc", home=home, wired=False)
     try:
-        folder, files = flash.stage("rover", "esp32_devkitc", root=tmp_path / "staged")
+        folder, files = flash.stage("rover", "esp32_devkitc", root=root / "staged")
         flash.copy(port, folder, files)
         yield port
     finally:
@@ -111,9 +114,17 @@ def test_a_damaged_frame_on_a_boards_serial_ends_the_run_too(board, tmp_path, di
     rig = board_rig(RigSpec("rover", seed=1, watchdog_s=10), Recording(artefacts=tmp_path / "pil"), port=board)
     try:
         rig.start()
+        closed = []
+        close = rig.target.close
+        rig.target.close = lambda session_open=False: closed.append(session_open) or close(session_open)
         rig.run_for(0.5)
         Tamper(rig, direction, "flip")
         with pytest.raises(LinkDamaged, match="bad_crc=1"):
             rig.run_for(2.0)
     finally:
         rig.stop()
+    # seen by the shim, the board's session ended with its FAULT and EXIT: no BYE typed at its
+    # REPL (and no wait of seconds for an EXIT that came already); seen by the host, the shim
+    # still waits on the link: BYE ends it
+    expected = direction == "from_firmware"
+    assert closed and closed[0] is expected, f"expected the board closed with session_open={expected}, got {closed}"

@@ -2,8 +2,11 @@
 plant serves it. Tested against a bare virtual board (the unix port's own machine
 module, the flashed files in its folder)."""
 
+import shutil
+
 import pytest
 
+from host.core.paths import SHIM_DIR
 from host.device import flash, vboard
 from host.device.pil import board_rig
 from host.rig import Recording, RigSpec
@@ -12,20 +15,29 @@ pytestmark = pytest.mark.hil
 BOARD = "esp32_devkitc"
 
 
-@pytest.fixture
-def flashed_board(tmp_path):
-    home = tmp_path / "board"
-    port = vboard.start_background(BOARD, home=home, wired=False)
+@pytest.fixture(scope="module")
+def board_home(tmp_path_factory):
+    return tmp_path_factory.mktemp("pil") / "board"
+
+
+@pytest.fixture(scope="module")
+def flashed_board(board_home):
+    """One board for the module, as a user keeps theirs: the first run uploads the shim,
+    the second finds it there (mpremote copies only what changed). The board holds the
+    source of one shim module from an upload before the shim was compiled."""
+    port = vboard.start_background(BOARD, home=board_home, wired=False)
     try:  # (a failed flash stops the board too)
-        folder, files = flash.stage("rover", BOARD, root=tmp_path / "staged")
+        folder, files = flash.stage("rover", BOARD, root=board_home.parent / "staged")
         flash.copy(port, folder, files)
+        (board_home / "fs" / "hil").mkdir(parents=True, exist_ok=True)
+        shutil.copy(SHIM_DIR / "machine.py", board_home / "fs" / "hil" / "machine.py")
         yield port
     finally:
-        vboard.stop_background(BOARD, home)
+        vboard.stop_background(BOARD, board_home)
 
 
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
-def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flashed_board, tmp_path, mode):
+def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flashed_board, board_home, tmp_path, mode):
     spec = RigSpec("rover", seed=1, mode=mode, watchdog_s=10)
     rig = board_rig(spec, Recording(artefacts=tmp_path / "pil"), port=flashed_board)
     try:
@@ -47,3 +59,9 @@ def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flash
     # the board is back at its REPL and usable
     answer = flash._mpremote(flashed_board, "exec", "print(6 * 7)")
     assert "42" in answer, answer
+    # the shim went over compiled for the board's .mpy version, the stale source gone
+    shim = board_home / "fs" / "hil"
+    held = sorted(p.name for p in shim.iterdir())
+    assert (shim / "_hil.mpy").is_file() and (shim / "machine.mpy").is_file(), f"expected the shim compiled: {held}"
+    assert not list(shim.glob("*.py")), f"expected no shim source left beside the compiled modules: {held}"
+    assert (shim / "asyncio" / "core.mpy").is_file(), sorted(p.name for p in (shim / "asyncio").iterdir())

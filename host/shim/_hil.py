@@ -740,8 +740,12 @@ def _lockstep_now():
 
 
 def _realtime_now():
+    """The board's clock less the host's pauses; never back (a pause the host measured longer
+    than this clock saw it would take it back: held until the clock passes it)."""
     global _now
-    _now = _rtime.ticks_diff(_rtime.ticks_us(), _rt_origin_us)
+    t = _rtime.ticks_diff(_rtime.ticks_us(), _rt_origin_us)
+    if t > _now:
+        _now = t
     return _now
 
 

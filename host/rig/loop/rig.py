@@ -227,7 +227,8 @@ class Rig:
     def stop(self, interrupted: BaseException | None = None) -> None:
         """End the firmware and close the link; safe to call twice. Writes the console
         and, when recording, the trace folder (:func:`finish_recording`)."""
-        self.target.close(session_open=self.exit_kind is None and self.session.chan is not None)
+        ended = self.exit_kind is not None or self.session.last_type == F.EXIT  # (an EXIT after a FAULT)
+        self.target.close(session_open=not ended and self.session.chan is not None)
         self.plant.close()  # (a program outside serving a chip ends: sim_plant/catalogue/external.py)
         end_board_fs(self)
         self.bus_trace.flush_poll()
