@@ -69,6 +69,16 @@ def test_init_kit_refuses_to_overwrite_and_names_the_kits(capsys, tmp_path):
     ):
         code, _, err = cli(capsys, "init", "--kit", typed, folder)
         assert code == 2 and f"did you mean {meant}?" in err, (typed, err)
+    # a new folder is made (the vendor's library goes in after, as docs/kits.md shows); one
+    # whose parent is not there, or a file in its place, is named
+    code, out, err = cli(capsys, "init", "--kit", "xrp_beta", tmp_path / "new")
+    assert code == 0 and f"made {tmp_path / 'new'}/" in out, err
+    assert sorted(p.name for p in (tmp_path / "new").iterdir()) == ["rig.toml", "test_xrp_beta.py"]
+    code, _, err = cli(capsys, "init", "--kit", "xrp_beta", tmp_path / "nowhere" / "new")
+    assert code == 2 and "no folder" in err and "nowhere" in err and not (tmp_path / "nowhere").exists(), err
+    (tmp_path / "afile").write_text("")
+    code, _, err = cli(capsys, "init", "--kit", "xrp_beta", tmp_path / "afile")
+    assert code == 2 and "is not a folder" in err, err
     code, listing, _ = cli(capsys, "kits")
     for name, kit in kits.kits().items():
         assert f"{name:<14} {kit.title}" in listing and kit.sources, listing

@@ -791,12 +791,19 @@ def _init_kit(args) -> int:
         chosen = kit(args.kit)
     except ConfigError as e:
         args.sub.error(f"argument --kit: {e}")
+    made = False
     try:
-        if not folder.is_dir():
-            args.sub.error(f"argument DIR: no folder {str(folder)[:200]!r}")
+        if not folder.is_dir():  # a kit's folder may be new (the vendor's library is copied in after)
+            if folder.exists() or folder.is_symlink():
+                args.sub.error(f"argument DIR: {str(folder)[:200]!r} is not a folder")
+            if not folder.parent.is_dir():
+                args.sub.error(f"argument DIR: no folder {str(folder.parent)[:200]!r} to make {folder.name!r} in")
+            made = True
     except (OSError, ValueError) as e:
         args.sub.error(f"argument DIR: cannot read {str(folder)[:200]!r} ({getattr(e, 'strerror', None) or e})")
-    _writable(args.sub, "DIR", folder, base=folder)
+    _writable(args.sub, "DIR", folder, base=folder.parent if made else folder)  # (made here if new)
+    if made:
+        print(f"made {folder}/")
     try:
         written = write(chosen.name, folder)
     except FileExistsError as e:
