@@ -279,3 +279,28 @@ print("names", sys.implementation._machine, Pin("MOTOR_L_IN_1"), Pin("ML_IN_1"),
     line = rig.expect(r"names (.*)\n").group(1)
     got = re.sub(r"Pin\(GPIO(\d+)[^)]*\)", r"\1", line)
     assert got == want, f"console:\n{rig.console}"
+
+
+def test_3pi_yellow_led_and_button_a_share_gp25_as_on_the_robot(capsys, make_rig, tmp_path):
+    """The yellow LED driven as an output on GP25 (blink.py, gyro_turn.py: Pin(25, Pin.OUT))
+    and button A read through the IO_BANK0 override on the same pin: the rig accepts the
+    output, the plant's LED is lit while the pin drives low, and the button reads pressed
+    (only) while it is, the LED's drive back after each read."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_led_button")
+    rig_file = folder / "rig.toml"
+    text = rig_file.read_text()
+    assert 'name = "button_a"\nled = "low"' in text, "the kit's button A carries the yellow LED"
+    rig_file.write_text(text.replace('name = "button_a"\n', 'name = "button_a"\npresses = [[0.12, 0.22]]\n'))
+    rig = make_rig(str(rig_file), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    steps = []
+    for _ in range(8):
+        found = rig.expect(r"R step (\d+) (\d+) (\d) (\d)")
+        step, ms, pressed, level = map(int, found.groups())
+        lit = rig.truth()["button_a_led"]
+        steps.append((step, ms, pressed, level, lit))
+    for step, ms, pressed, level, lit in steps:
+        on = step % 2 == 0
+        assert level == (0 if on else 1) and lit == int(on), f"LED step {step}: {steps}; {where()}"
+        assert pressed == int(120 <= ms < 220), f"button A at {ms} ms: {steps}; {where()}"
+    assert [s[2] for s in steps] == [0, 0, 0, 1, 1, 0, 0, 0], f"pressed at 160 and 210 ms: {steps}; {where()}"

@@ -6,20 +6,55 @@ from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.controls import Control
 from sim_plant.option_table import TIME, Flag, Num, OneOf, Row, Rows
 from sim_plant.physics.button import Buttons
+from sim_plant.plant import Change
 
 
 class _Button(Buttons):
-    """One button, its signal ``<name>.out``; active high flips its levels."""
+    """One button, its signal ``<name>.out``; active high flips its levels. With an LED on
+    its line (``led``: the level that lights it), the line is an input of the part too: the
+    board's level while a pin drives it, the button's while the pin lets it go."""
 
-    def __init__(self, name: str, presses, bounce_us: int, active_low: bool):
+    def __init__(self, name: str, presses, bounce_us: int, active_low: bool, led: str = "none"):
         super().__init__([name], [(name, t0, t1) for t0, t1 in presses], bounce_us)
         signal = f"{name}.out"
+        self.signal = signal
         self.outputs = {signal: "level"}
         self.events = [(t, signal, level if active_low else 1 - level) for t, _, level in self.events]
         self.released = 1 if active_low else 0
+        self.label = name
+        self.lit_by = None if led == "none" else (0 if led == "low" else 1)
+        if self.lit_by is not None:
+            self.inputs = {signal: "level"}
+        self.level = self.released  # the button's own (what a pin reads once it lets the line go)
+        self.line = self.released
+        self.driven = None  # the board's level on the line, None while it lets it go
 
     def initial_outputs(self) -> dict:
         return dict.fromkeys(self.outputs, self.released)
+
+    def fire(self, t_us: int, plant, out: list) -> None:
+        if self.lit_by is None:
+            super().fire(t_us, plant, out)
+            return
+        pressed: list = []
+        super().fire(t_us, plant, pressed)
+        for change in pressed:
+            self.level = change[2]
+        line = self.level if self.driven is None else self.driven
+        if line != self.line:
+            self.line = line
+            out.append(Change(t_us, self.signal, line))
+
+    def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        if self.lit_by is None:
+            return super().set_input(name, value, t_us, plant)
+        self.driven = None if value is None or value < 0 else (1 if value else 0)
+        self.next_us = t_us  # (the line's level at this instant: fire)
+        return False
+
+    def truth(self, t_us: int, plant) -> dict:
+        lit = None if self.lit_by is None else int(self.driven == self.lit_by)
+        return {f"{self.label}_led": lit}
 
 
 class Button(PartType):
@@ -36,11 +71,32 @@ class Button(PartType):
             "presses", Rows(Row((TIME, TIME), "[t_press_s, t_release_s]"), 1000), [], "when it is pressed and released"
         ),
         Opt("bounce_us", Num("microseconds", 0, 1_000_000, whole=True), 0, "contact chatter at each press and release"),
+        Opt(
+            "led",
+            OneOf(("none", "low", "high")),
+            "none",
+            "an LED on the button's line, lit while a pin drives it low (low: from 3V3, the 3pi+ 2040's yellow "
+            "LED and button A on GP25) or high: the line is the pin's while it drives it, the button's while the "
+            "pin lets it go (an input, or its output disabled by an IO_BANK0 override)",
+        ),
     )
-    SIGNALS = (Sig("out", "out", "level", "the button's level"),)
-    TRUTH = ()
+    SIGNALS = (
+        Sig("out", "out", "level", "the button's level", (("led", ("none",)),)),
+        Sig(
+            "out",
+            "io",
+            "level",
+            "the line: the pin's level while it drives it, else the button's",
+            (("led", ("low", "high")),),
+        ),
+    )
+    TRUTH = ("{name}_led",)
     VIEWS = (View("level", "the button's level over time", signals=("out",)),)
     CONTROLS = (Control("pressed", OneOf((0, 1)), "1: held down, 0: let go (at the scenario's instant)"),)
+
+    @property
+    def zero_delay(self) -> bool:  # (with an LED: the pin's drive is on the line at the same instant)
+        return self.options["led"] != "none"
 
     def check(self) -> None:
         _Button(self.name, self.options["presses"], 0, True)  # refuse a release before its press
@@ -52,4 +108,4 @@ class Button(PartType):
 
     def add(self, build: Build) -> None:
         o = self.options
-        build.parts.append(_Button(self.name, o["presses"], o["bounce_us"], o["active_low"]))
+        build.parts.append(_Button(self.name, o["presses"], o["bounce_us"], o["active_low"], o["led"]))
