@@ -8,13 +8,16 @@ link on a pty; the board and virtual-board targets live with the devices
 """
 
 import os
+import re
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 from host.core import interpreter, shimcache
 from host.core.children import popen_options
 from host.core.errors import FirmwareError, FirmwareHung, HarnessError, LinkTimeout, SetupError
+from host.core.paths import SHIM_DIR
 from host.core.printable import printable
 from host.link import Channel, FdTransport, PtyPair
 from host.link import frames as F
@@ -71,6 +74,23 @@ def waiting_on_link(stack: str) -> bool:
     return bool(frames) and "_hil" in frames[-1] and frames[-1].endswith(WAITING_ON_LINK)
 
 
+SPINS = (
+    ". Its innermost frame calls nothing of the board's (no clock or pin read, no sleep): a loop like that "
+    "moves no virtual time here, so a Timer or an IRQ it waits for (`while playing: pass`) never comes due, "
+    'where a board\'s would interrupt it (docs/shim.md, "Where callbacks run"); a sleep or a clock read in '
+    "the loop lets it"
+)
+
+
+def spins_in_own_code(stack: str) -> bool:
+    """The interrupted firmware's innermost frame is its own code, not the shim's (a board's C)."""
+    frames = re.findall(r'File "([^"]+)", line \d+', stack)
+    if not frames:
+        return False
+    folder = Path(frames[-1]).parent
+    return folder != SHIM_DIR and folder.parent.name != "shim"  # (the shim, or its compiled copy: build/shim/<key>/)
+
+
 def diagnosis(stack: str, counters: dict, sent_any: bool) -> str:
     """Which way a frame was lost, as the link's counters and the firmware's stack show it."""
     lost = ", ".join(f"{k}={counters[k]}" for k in LOSS_COUNTERS if counters.get(k))
@@ -80,7 +100,8 @@ def diagnosis(stack: str, counters: dict, sent_any: bool) -> str:
             f"numbers ({lost}), and the firmware waits for the answer to a message the host never got"
         )
     if stack and not waiting_on_link(stack):
-        return "nothing was lost on the link in either direction: the firmware hangs in its own code (its stack below)"
+        why = "nothing was lost on the link in either direction: the firmware hangs in its own code (its stack below)"
+        return why + (SPINS if spins_in_own_code(stack) else "")
     if not sent_any:
         return (
             "nothing has been sent to the firmware yet, so no frame to it was lost; the firmware's first frame "
