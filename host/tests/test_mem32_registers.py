@@ -95,3 +95,18 @@ def test_sio_registers_drive_pins_and_an_override_reads_a_button_on_an_led_pin(m
     assert r["unknown"] == [0, 0, 0]
     for addr in ("0xd0000100", "0x40054000"):
         assert sum(f"note: read of {addr}" in line for line in rig.console.splitlines()) == 1, rig.console
+
+
+@pytest.mark.parametrize(
+    ("identity", "over"),
+    [(RP2040, 65535), (("esp32", "Generic ESP32 module with ESP32"), "duty_u16 must be from 0 to 65535")],
+)
+def test_a_duty_above_full_is_full_on_an_rp2_and_refused_on_an_esp32(make_rig, identity, over):
+    """ports/rp2/machine_pwm.c limits duty_u16 to 65535; ports/esp32/machine_pwm.c raises."""
+    app = bench_app("pwm_over_range", ROBOT, board="pins", identity=identity, wiring=WIRING, pins=PINS)
+    rig = make_rig(app, main_dir=FIRMWARE / "pwm_over_range", allow_exit=True)
+    rig.run_for(0.2)
+    rig.stop()
+    r = results(rig.console)
+    assert r["over"] == over, rig.console
+    assert r["negative"] == "duty_u16 must be from 0 to 65535", rig.console

@@ -1,10 +1,10 @@
-# The controller's LSM6DSO (accelerometer and gyro) on I2C1 at 0x6A: the gyro's z rate,
+# The controller's LSM6DSO (accelerometer and gyro) on I2C1 at 0x6B: the gyro's z rate,
 # integrated in degrees by whoever calls update() often.
 import time
 from array import array
 from machine import I2C, Pin
 
-_ADDRESS = 0x6A
+_ADDRESS = 0x6B
 _CTRL2_G = 0x11
 _CTRL3_C = 0x12
 _OUTZ_L_G = 0x26
