@@ -38,9 +38,9 @@ def range_cm():
 
 
 print("range_before", range_cm())
-Pin("MOTOR_L_IN_1", Pin.OUT, value=0)  # a PWM each way: the left motor (mounted mirrored) on IN2
-Pin("MOTOR_R_IN_2", Pin.OUT, value=0)
-speed = [PWM(Pin(name), freq=50, duty_u16=32768) for name in ("MOTOR_L_IN_2", "MOTOR_R_IN_1")]
+Pin("MOTOR_L_IN_2", Pin.OUT, value=0)  # a PWM each way, forwards as XRPLib's DualPWMMotor drives it:
+Pin("MOTOR_R_IN_1", Pin.OUT, value=0)  # IN2 for the right motor, IN1 for the left (mounted mirrored)
+speed = [PWM(Pin(name), freq=50, duty_u16=32768) for name in ("MOTOR_L_IN_1", "MOTOR_R_IN_2")]
 time.sleep_ms(500)
 for pwm in speed:
     pwm.duty_u16(0)

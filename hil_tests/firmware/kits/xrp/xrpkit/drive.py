@@ -37,7 +37,7 @@ class Drivetrain:
             rest = cm - (left + right) / 2 * math.pi * WHEEL_DIAMETER_CM
             if rest <= 0.05:
                 break
-            effort = min(max_effort, 0.16 + 0.06 * rest)
+            effort = min(max_effort, 0.1 + 0.06 * rest)
             skew = (left - right) * 2.0  # hold the wheels together
             self.set_effort(effort - skew, effort + skew)
             time.sleep_ms(5)
@@ -50,7 +50,7 @@ class Drivetrain:
             rest = degrees - self.imu.update()
             if abs(rest) <= 0.3:
                 break
-            effort = min(max_effort, 0.14 + 0.01 * abs(rest))
+            effort = min(max_effort, 0.08 + 0.01 * abs(rest))
             effort = effort if rest > 0 else -effort
             self.set_effort(-effort, effort)
             time.sleep_ms(5)

@@ -2,8 +2,9 @@
 # 16-entry table indexed by the previous and the current B/A levels gives the step.
 from machine import Pin
 
-# (previous B A) << 2 | (B A now) -> step; A leads going forwards
-_STEP = (0, 1, -1, 0, -1, 0, 0, 1, 1, 0, 0, -1, 0, -1, 1, 0)
+# (previous B A) << 2 | (B A now) -> step; B leads going forwards (the way XRPLib's PIO
+# decoder counts up, its left count flipped with the motor)
+_STEP = (0, -1, 1, 0, 1, 0, 0, -1, -1, 0, 0, 1, 0, 1, -1, 0)
 
 
 class Encoder:

@@ -24,8 +24,9 @@ class TwoPwmMotor:
         self.flip = flip
 
     def set_effort(self, effort):
+        # as the vendor's DualPWMMotor: a positive effort drives IN2, unless flipped
         effort = max(-1.0, min(1.0, effort))
-        if self.flip:
-            effort = -effort
-        self.fwd.duty_u16(int(effort * _FULL) if effort > 0 else 0)
-        self.back.duty_u16(int(-effort * _FULL) if effort < 0 else 0)
+        in1 = (effort < 0) != self.flip
+        duty = int(abs(effort) * _FULL)
+        self.fwd.duty_u16(duty if in1 else 0)
+        self.back.duty_u16(0 if in1 else duty)
