@@ -16,7 +16,7 @@ import copy
 from collections import deque
 
 from sim_plant.pio import trace, walk
-from sim_plant.pio.machine import PioConfig, StateMachine, read_mask
+from sim_plant.pio.machine import PioConfig, StateMachine, read_mask, relative
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
 COUNTDOWN = True  # jump over a counting loop's passes that do the same (False: step each, for tests)
@@ -87,6 +87,7 @@ class PioBlock:
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
         self._cycle = 0
         self.pure = True  # its program touches nothing but its own state machine (no IRQ, no exec): pure()
+        self.relative = False  # ... and reads the pins only from in_base (machine.relative): tables shared
 
     def __deepcopy__(self, memo):
         """Numbers, containers of numbers and tuples, and the state machines."""
@@ -129,9 +130,11 @@ class PioBlock:
     def load(self, memory: list[int]) -> None:
         self.memory = list(memory) + [0] * (32 - len(memory))
         self.pure = pure(self.memory)
+        self.relative = self.pure and relative(self.memory)
         for run in self.running.values():
             run.entries, run.table, run.unaliased, run.misses, run.short = {}, None, set(), 0, set()
             run.sm.read_mask = read_mask(self.memory, run.sm)
+            run.sm.key_rot = run.sm.in_base if self.relative else None
 
     def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
         old = self.running.get(sm_id)
@@ -139,7 +142,13 @@ class PioBlock:
         sm.read_mask = read_mask(self.memory, sm)
         if old is not None:
             sm.tx, sm.rx = old.sm.tx, old.sm.rx
-        self.running[sm_id] = Running(sm, t_us)
+        run = self.running[sm_id] = Running(sm, t_us)
+        if self.relative:  # (a sibling with the same registers but in_base: one table for both)
+            sm.key_rot = sm.in_base
+            for other_id, other in self.running.items():
+                if other_id != sm_id and other.sm.key_rot is not None and _alike(other.sm.config, config):
+                    run.entries, run.unaliased, run.short = other.entries, other.unaliased, other.short
+                    break
         return sm
 
     def sm(self, sm_id: int) -> StateMachine:
@@ -159,6 +168,13 @@ class PioBlock:
     def touch(self) -> None:
         """Something outside the state machines changed what they may do next."""
         self.version += 1
+
+    def touch_sm(self, sm_id: int) -> None:
+        """Something outside changed what state machine ``sm_id`` alone may do next (its
+        FIFOs, an exec, its start): the loop it was in is no longer known; the others' are."""
+        run = self.running.get(sm_id)
+        if run is not None:
+            run.orbit_version = -1
 
     def drive(self, gpio: int, level: int, dirs: bool = False) -> None:
         """A state machine drives ``gpio``'s level, or with ``dirs`` its direction (1 an
@@ -482,6 +498,18 @@ def _put_back(run: Running, entry, path: list, x: int, y: int, rx_old: list, c0:
             trace.restore(run.sm, state, x, y, rx_old)
             return c0 + offset
     return c  # (not reached: the path ends where the state machine is, past c_end)
+
+
+def _alike(a: PioConfig, b: PioConfig) -> bool:
+    """Two state machines' registers the same but for ``in_base`` (PINCTRL bits 15..19)."""
+    in_base = 0x1F << 15
+    return (
+        a.execctrl == b.execctrl
+        and a.shiftctrl == b.shiftctrl
+        and a.pinctrl & ~in_base == b.pinctrl & ~in_base
+        and a.div256 == b.div256
+        and a.pc == b.pc
+    )
 
 
 def pure(memory: list) -> bool:

@@ -47,7 +47,8 @@ class _Walker:
             sm = self.run.sm
             return trace.shape(sm), sm.x, sm.y, list(sm.rx)
         x, y = self.x, self.y
-        mkey = (self.j, block.gpio_in & self.run.sm.read_mask, len(self.rx))
+        sm = self.run.sm
+        mkey = (self.j, trace.pins_of(block.gpio_in, sm.read_mask, sm.key_rot, None), len(self.rx))
         known = self.entry.shapes.get(mkey)
         if known is None:
             known = self.entry.shapes[mkey] = _shape_of(self.entry.states[self.j], mkey)
@@ -61,8 +62,9 @@ class _Walker:
 
     def _shape(self, state, xv: int, yv: int, n_rx: int, block) -> tuple:
         isr, osr = _value(state[3], self.x, self.y), _value(state[5], self.x, self.y)
+        sm = self.run.sm
         return trace.shape_of_state(
-            state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in, self.run.sm.read_mask
+            state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in, sm.read_mask, sm.key_rot
         )
 
     def resolve(self, block, c_end: int) -> bool:
@@ -143,7 +145,7 @@ def _shape_of(state, mkey: tuple) -> tuple:
             kept.append("y")
         else:
             return None, danger_x, danger_y, x_eq_y, state[1], state[2], state[11]
-    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in, trace.MASK)  # (gpio_in: masked already)
+    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in, trace.MASK)  # (gpio_in: masked, turned)
     return shape, frozenset(danger_x), frozenset(danger_y), x_eq_y, state[1], state[2], state[11]
 
 

@@ -136,9 +136,9 @@ class ReadsAhead:
         entries = []
         marks: dict = {}
         t, (op, address, n_read, data) = t_us, frame
+        drives = (_drives(host.blocks[0]), _drives(host.blocks[1]))  # (no init among the frames ahead: as they are)
         for _ in range(AHEAD_MAX):
-            block = host.blocks[sm_id >> 2]
-            if any(driven_pins(run.sm) for run in block.running.values()):
+            if drives[sm_id >> 2]:
                 break
             nxt = self._next(sm_id, t, op, address, n_read, data, reply)
             if nxt is None or nxt[0] >= lease:
@@ -146,7 +146,7 @@ class ReadsAhead:
             if twin is None:
                 twin = self._twin()
             t, sm_next, op, address, n_read, data = nxt
-            if sm_next != sm_id and any(driven_pins(run.sm) for run in host.blocks[sm_next >> 2].running.values()):
+            if drives[sm_next >> 2]:
                 break
             if op == F.BUS_PIO_LEVELS and sm_id in self.unsure:  # (a new read the shim stopped before
                 marks[len(entries)] = self._mark(twin)  # once: the twin kept as it is before it)
@@ -247,6 +247,11 @@ class ReadsAhead:
                 f"{reply} with horizon {lease} us on the host's blocks, expected {(status, count, got)} with "
                 f"horizon {horizon_us} us as sent (host.rig.hardware.pio_ahead: the answer ahead was wrong)"
             )
+
+
+def _drives(block) -> bool:
+    """A state machine of ``block`` drives a pin (its frames would give the plant something)."""
+    return any(driven_pins(run.sm) for run in block.running.values())
 
 
 _TWIN = ReadsAhead(None, learning=False)  # (a twin's: it learns and sends nothing)
