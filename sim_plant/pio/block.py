@@ -42,6 +42,7 @@ class Running:
         self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
         self.misses = 0  # stretches run past the instant asked for that gave no table entry
         self.short: set = set()  # shapes of short stretches stepped once: run past the instant when seen again
+        self.per_us = (sm.config.SYS_HZ * 256, sm.config.div256 * 1_000_000)  # cycles a µs, as a fraction
 
     def __deepcopy__(self, memo):
         twin = Running.__new__(Running)
@@ -52,11 +53,12 @@ class Running:
 
     def cycle_at(self, t_us: int) -> int:
         """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
-        num = (t_us - self.t0_us) * self.sm.config.SYS_HZ * 256
-        return -((-num) // (self.sm.config.div256 * 1_000_000))
+        mul, den = self.per_us
+        return -((self.t0_us - t_us) * mul // den)
 
     def time_us(self, cycle: int) -> float:
-        return self.t0_us + cycle * self.sm.config.div256 * 1_000_000 / (self.sm.config.SYS_HZ * 256)
+        mul, den = self.per_us
+        return self.t0_us + cycle * den / mul
 
 
 RELEASED = -1
@@ -232,7 +234,10 @@ class PioBlock:
     def _run_all(self, t_us: int) -> None:
         for run in self.running.values():
             if run.active:
-                run_cycles(self, run, run.cycle_at(t_us))
+                mul, den = run.per_us  # (run.cycle_at(t_us), inline)
+                c_end = -((run.t0_us - t_us) * mul // den)
+                if run.cycle < c_end:
+                    run_cycles(self, run, c_end)
 
     @property
     def idle(self) -> bool:

@@ -135,7 +135,8 @@ class PioHost:
     # -- the firmware's frames -----------------------------------------------------------
     def transfer(self, t_us: int, sm_id: int, op: int, address: int, n_read: int, data: bytes) -> tuple:
         """A BUS_PIO_* frame at ``t_us`` on state machine ``sm_id``: (status, count, bytes)."""
-        self.track()
+        if not self.tracked:
+            self.track()
         self.ahead.before(t_us, sm_id, op, address, n_read)
         block, local = self.blocks[sm_id >> 2], sm_id & 3
         popped, address = address >> 8, address & 0xFF
