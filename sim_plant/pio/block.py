@@ -83,7 +83,8 @@ class PioBlock:
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
         self.replays = 0  # stretches taken from a table instead
-        self.version = 0  # bumped by every change from outside: a pin, a FIFO access, an exec
+        self.version = 0  # bumped by a change from outside for every state machine (the firmware's IRQ flags);
+        # a pin, a FIFO access, an exec forget the loops of those it concerns (set_input, touch_sm)
         self._run: Running | None = None  # (the state machine stepping: the instant of a drive)
         self._now_us = 0.0
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
@@ -207,7 +208,13 @@ class PioBlock:
         self.irq_flags |= 1 << flag
 
     def set_input(self, gpio: int, level: int) -> None:
-        self.version += 1
+        """A pin's level from the plant: the loop of each state machine that reads it (or has
+        an instruction pending from an exec, which may read any) is no longer known; the
+        others go on along theirs (a pin a program does not read changes nothing it does)."""
+        for run in self.running.values():
+            sm = run.sm
+            if sm.read_mask >> gpio & 1 or sm.pending_exec is not None:
+                run.orbit_version = -1
         if level:
             self.gpio_in |= 1 << gpio
         else:

@@ -19,6 +19,7 @@ from bisect import bisect_left
 from sim_plant.pio import trace
 
 _value = trace.value
+_MASK = MASK = trace.MASK
 _alias = trace.alias
 
 
@@ -26,7 +27,7 @@ class _Walker:
     """One active state machine: concrete (``entry`` None: its registers are its state, a
     stretch pending) or along ``entry``'s loop at state ``j``."""
 
-    __slots__ = ("run", "entry", "x", "y", "rx", "anchor", "cycle", "j", "pending", "t0", "mul", "den")
+    __slots__ = ("run", "entry", "x", "y", "rx", "anchor", "cycle", "j", "pending", "t0", "mul", "den", "reads")
 
     def __init__(self, run, pending: bool):
         self.run = run
@@ -36,6 +37,7 @@ class _Walker:
         self.t0 = run.t0_us
         self.mul = run.sm.config.SYS_HZ * 256
         self.den = run.sm.config.div256 * 1_000_000
+        self.reads = MASK if run.sm.pending_exec is not None else run.sm.read_mask  # (the pins it reads)
         if not pending:
             self.entry, self.x, self.y, self.rx, self.anchor = run.table
             # (None: still on the stretch before its loop, where the state machine is as it is)
@@ -48,7 +50,10 @@ class _Walker:
             return trace.shape(sm), sm.x, sm.y, list(sm.rx)
         x, y = self.x, self.y
         sm = self.run.sm
-        mkey = (self.j, trace.pins_of(block.gpio_in, sm.read_mask, sm.key_rot, None), len(self.rx))
+        pins, rot = block.gpio_in & sm.read_mask, sm.key_rot  # (trace.pins_of, inline)
+        if rot:
+            pins = ((pins >> rot) | (pins << (32 - rot))) & _MASK
+        mkey = (self.j, pins, len(self.rx))
         known = self.entry.shapes.get(mkey)
         if known is None:
             known = self.entry.shapes[mkey] = _shape_of(self.entry.states[self.j], mkey)
@@ -203,8 +208,9 @@ def walk(block, t_us: int, changes, i: int = 0) -> int:
         if i < n:
             _t, gpio, level = changes[i]
             block.set_input(gpio, level)
-            for w in ws:
-                w.pending = True
+            for w in ws:  # (those that read it: block.set_input)
+                if w.reads >> gpio & 1:
+                    w.pending = True
         i += 1
     for w in ws:
         w.settle(block)
