@@ -16,7 +16,7 @@ import copy
 from collections import deque
 
 from sim_plant.pio import trace, walk
-from sim_plant.pio.machine import PioConfig, StateMachine, read_mask
+from sim_plant.pio.machine import PioConfig, StateMachine, read_mask, relative
 
 SEEN_MAX = 4096  # loop heads remembered in one constant stretch before starting afresh
 COUNTDOWN = True  # jump over a counting loop's passes that do the same (False: step each, for tests)
@@ -42,6 +42,7 @@ class Running:
         self.table = None  # (entry, x, y, rx words before, anchor cycle): the loop it is in, by states
         self.misses = 0  # stretches run past the instant asked for that gave no table entry
         self.short: set = set()  # shapes of short stretches stepped once: run past the instant when seen again
+        self.per_us = (sm.config.SYS_HZ * 256, sm.config.div256 * 1_000_000)  # cycles a µs, as a fraction
 
     def __deepcopy__(self, memo):
         twin = Running.__new__(Running)
@@ -52,11 +53,12 @@ class Running:
 
     def cycle_at(self, t_us: int) -> int:
         """The first cycle at or after ``t_us`` (exact: cycles per µs = SYS_HZ*256 / (div256 * 10**6))."""
-        num = (t_us - self.t0_us) * self.sm.config.SYS_HZ * 256
-        return -((-num) // (self.sm.config.div256 * 1_000_000))
+        mul, den = self.per_us
+        return -((self.t0_us - t_us) * mul // den)
 
     def time_us(self, cycle: int) -> float:
-        return self.t0_us + cycle * self.sm.config.div256 * 1_000_000 / (self.sm.config.SYS_HZ * 256)
+        mul, den = self.per_us
+        return self.t0_us + cycle * den / mul
 
 
 RELEASED = -1
@@ -81,12 +83,14 @@ class PioBlock:
         self.running: dict[int, Running] = {}
         self.steps = 0  # instructions stepped (the cost)
         self.replays = 0  # stretches taken from a table instead
-        self.version = 0  # bumped by every change from outside: a pin, a FIFO access, an exec
+        self.version = 0  # bumped by a change from outside for every state machine (the firmware's IRQ flags);
+        # a pin, a FIFO access, an exec forget the loops of those it concerns (set_input, touch_sm)
         self._run: Running | None = None  # (the state machine stepping: the instant of a drive)
         self._now_us = 0.0
         self._log: list | None = None  # (cycle, call, args): what the stretch watched for a period did
         self._cycle = 0
         self.pure = True  # its program touches nothing but its own state machine (no IRQ, no exec): pure()
+        self.relative = False  # ... and reads the pins only from in_base (machine.relative): tables shared
 
     def __deepcopy__(self, memo):
         """Numbers, containers of numbers and tuples, and the state machines."""
@@ -129,9 +133,11 @@ class PioBlock:
     def load(self, memory: list[int]) -> None:
         self.memory = list(memory) + [0] * (32 - len(memory))
         self.pure = pure(self.memory)
+        self.relative = self.pure and relative(self.memory)
         for run in self.running.values():
             run.entries, run.table, run.unaliased, run.misses, run.short = {}, None, set(), 0, set()
             run.sm.read_mask = read_mask(self.memory, run.sm)
+            run.sm.key_rot = run.sm.in_base if self.relative else None
 
     def init(self, sm_id: int, config: PioConfig, t_us: int) -> StateMachine:
         old = self.running.get(sm_id)
@@ -139,7 +145,13 @@ class PioBlock:
         sm.read_mask = read_mask(self.memory, sm)
         if old is not None:
             sm.tx, sm.rx = old.sm.tx, old.sm.rx
-        self.running[sm_id] = Running(sm, t_us)
+        run = self.running[sm_id] = Running(sm, t_us)
+        if self.relative:  # (a sibling with the same registers but in_base: one table for both)
+            sm.key_rot = sm.in_base
+            for other_id, other in self.running.items():
+                if other_id != sm_id and other.sm.key_rot is not None and _alike(other.sm.config, config):
+                    run.entries, run.unaliased, run.short = other.entries, other.unaliased, other.short
+                    break
         return sm
 
     def sm(self, sm_id: int) -> StateMachine:
@@ -159,6 +171,13 @@ class PioBlock:
     def touch(self) -> None:
         """Something outside the state machines changed what they may do next."""
         self.version += 1
+
+    def touch_sm(self, sm_id: int) -> None:
+        """Something outside changed what state machine ``sm_id`` alone may do next (its
+        FIFOs, an exec, its start): the loop it was in is no longer known; the others' are."""
+        run = self.running.get(sm_id)
+        if run is not None:
+            run.orbit_version = -1
 
     def drive(self, gpio: int, level: int, dirs: bool = False) -> None:
         """A state machine drives ``gpio``'s level, or with ``dirs`` its direction (1 an
@@ -189,7 +208,13 @@ class PioBlock:
         self.irq_flags |= 1 << flag
 
     def set_input(self, gpio: int, level: int) -> None:
-        self.version += 1
+        """A pin's level from the plant: the loop of each state machine that reads it (or has
+        an instruction pending from an exec, which may read any) is no longer known; the
+        others go on along theirs (a pin a program does not read changes nothing it does)."""
+        for run in self.running.values():
+            sm = run.sm
+            if sm.read_mask >> gpio & 1 or sm.pending_exec is not None:
+                run.orbit_version = -1
         if level:
             self.gpio_in |= 1 << gpio
         else:
@@ -216,7 +241,10 @@ class PioBlock:
     def _run_all(self, t_us: int) -> None:
         for run in self.running.values():
             if run.active:
-                run_cycles(self, run, run.cycle_at(t_us))
+                mul, den = run.per_us  # (run.cycle_at(t_us), inline)
+                c_end = -((run.t0_us - t_us) * mul // den)
+                if run.cycle < c_end:
+                    run_cycles(self, run, c_end)
 
     @property
     def idle(self) -> bool:
@@ -482,6 +510,18 @@ def _put_back(run: Running, entry, path: list, x: int, y: int, rx_old: list, c0:
             trace.restore(run.sm, state, x, y, rx_old)
             return c0 + offset
     return c  # (not reached: the path ends where the state machine is, past c_end)
+
+
+def _alike(a: PioConfig, b: PioConfig) -> bool:
+    """Two state machines' registers the same but for ``in_base`` (PINCTRL bits 15..19)."""
+    in_base = 0x1F << 15
+    return (
+        a.execctrl == b.execctrl
+        and a.shiftctrl == b.shiftctrl
+        and a.pinctrl & ~in_base == b.pinctrl & ~in_base
+        and a.div256 == b.div256
+        and a.pc == b.pc
+    )
 
 
 def pure(memory: list) -> bool:

@@ -63,6 +63,7 @@ class StateMachine:
         self.block = block
         self.sm_id = sm_id
         self.read_mask = MASK  # the GPIOs its program can read (read_mask(), set by the block)
+        self.key_rot = None  # the pins in its shapes turned by in_base (relative(): shared tables), or not
         self.configure(config)
         self.restart()
         self.tx = deque()
@@ -342,6 +343,19 @@ def read_mask(memory: list, sm: StateMachine) -> int:
         elif (op == 5 and word & 7 == 0) or (op == 5 and word >> 5 & 7 == 4) or (op == 3 and word >> 5 & 7 == 7):
             return MASK
     return mask
+
+
+def relative(memory: list) -> bool:
+    """A program whose state machine reads the pins only through ``in_base`` (``in pins``,
+    ``wait pin``, ``mov`` from the pins; no ``wait gpio``, no ``jmp pin``) and touches nothing
+    outside itself (:func:`block.pure`): two state machines of a block that run it with the
+    same registers but ``in_base`` do the same with the same pins counted from ``in_base``,
+    so they can share their stretch tables (their shapes' pins turned by ``in_base``)."""
+    for word in memory:
+        op = word >> 13
+        if (op == 0 and word >> 5 & 7 == 6) or (op == 1 and word >> 5 & 3 != 1):
+            return False
+    return True
 
 
 def _out_pins(sm, data, n):

@@ -161,18 +161,31 @@ def shape(sm, aliases: bool = True) -> tuple:
         sm.pending_exec,
         sm.irq_waiting,
         sm.block.irq_flags,
-        sm.block.gpio_in if sm.pending_exec is not None else sm.block.gpio_in & sm.read_mask,
+        pins_of(sm.block.gpio_in, sm.read_mask, sm.key_rot, sm.pending_exec),
     )
 
 
-def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int, mask: int) -> tuple:
+def pins_of(gpio_in: int, mask: int, rot, pending) -> int | tuple:
+    """The pins as a shape keeps them: those the program reads (``mask``; all of them
+    with an instruction pending from an exec, which may read any), turned by ``rot`` (the
+    state machine's ``in_base``) when its tables are shared (``machine.relative``): the same
+    pins counted from ``in_base`` give the same key; with an exec pending, its ``in_base``
+    kept beside them (an exec'd ``wait gpio`` reads a pin by its number)."""
+    if pending is not None:
+        return gpio_in if rot is None else (gpio_in, rot)
+    pins = gpio_in & mask
+    if rot:
+        pins = ((pins >> rot) | (pins << (32 - rot))) & MASK
+    return pins
+
+
+def shape_of_state(state: tuple, isr, osr, n_rx: int, gpio_in: int, mask: int, rot=None) -> tuple:
     """:func:`shape` of a state machine at ``state`` (as :func:`capture` keeps it), given its
     shift registers as :func:`alias` keeps them, its RX words' count and the pins (walk.py:
     the next stretch's key along a loop, the registers not restored); ``mask`` the pins its
-    program reads."""
+    program reads, ``rot`` its shapes' turn (:func:`pins_of`)."""
     pc, _x, _y, _isr, isr_n, _osr, osr_n, pending, waiting, flags, tx, _rx_new = state
-    pins = gpio_in if pending is not None else gpio_in & mask
-    return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, pins)
+    return (pc, isr, isr_n, osr, osr_n, n_rx, tx, pending, waiting, flags, pins_of(gpio_in, mask, rot, pending))
 
 
 def capture(sm, rx_from: int) -> tuple:

@@ -19,6 +19,7 @@ from bisect import bisect_left
 from sim_plant.pio import trace
 
 _value = trace.value
+_MASK = MASK = trace.MASK
 _alias = trace.alias
 
 
@@ -26,7 +27,7 @@ class _Walker:
     """One active state machine: concrete (``entry`` None: its registers are its state, a
     stretch pending) or along ``entry``'s loop at state ``j``."""
 
-    __slots__ = ("run", "entry", "x", "y", "rx", "anchor", "cycle", "j", "pending", "t0", "mul", "den")
+    __slots__ = ("run", "entry", "x", "y", "rx", "anchor", "cycle", "j", "pending", "t0", "mul", "den", "reads")
 
     def __init__(self, run, pending: bool):
         self.run = run
@@ -36,6 +37,7 @@ class _Walker:
         self.t0 = run.t0_us
         self.mul = run.sm.config.SYS_HZ * 256
         self.den = run.sm.config.div256 * 1_000_000
+        self.reads = MASK if run.sm.pending_exec is not None else run.sm.read_mask  # (the pins it reads)
         if not pending:
             self.entry, self.x, self.y, self.rx, self.anchor = run.table
             # (None: still on the stretch before its loop, where the state machine is as it is)
@@ -47,7 +49,11 @@ class _Walker:
             sm = self.run.sm
             return trace.shape(sm), sm.x, sm.y, list(sm.rx)
         x, y = self.x, self.y
-        mkey = (self.j, block.gpio_in & self.run.sm.read_mask, len(self.rx))
+        sm = self.run.sm
+        pins, rot = block.gpio_in & sm.read_mask, sm.key_rot  # (trace.pins_of, inline)
+        if rot:
+            pins = ((pins >> rot) | (pins << (32 - rot))) & _MASK
+        mkey = (self.j, pins, len(self.rx))
         known = self.entry.shapes.get(mkey)
         if known is None:
             known = self.entry.shapes[mkey] = _shape_of(self.entry.states[self.j], mkey)
@@ -61,8 +67,9 @@ class _Walker:
 
     def _shape(self, state, xv: int, yv: int, n_rx: int, block) -> tuple:
         isr, osr = _value(state[3], self.x, self.y), _value(state[5], self.x, self.y)
+        sm = self.run.sm
         return trace.shape_of_state(
-            state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in, self.run.sm.read_mask
+            state, _alias(isr, xv, yv), _alias(osr, xv, yv), n_rx, block.gpio_in, sm.read_mask, sm.key_rot
         )
 
     def resolve(self, block, c_end: int) -> bool:
@@ -143,7 +150,7 @@ def _shape_of(state, mkey: tuple) -> tuple:
             kept.append("y")
         else:
             return None, danger_x, danger_y, x_eq_y, state[1], state[2], state[11]
-    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in, trace.MASK)  # (gpio_in: masked already)
+    shape = trace.shape_of_state(state, kept[0], kept[1], n_rx, gpio_in, trace.MASK)  # (gpio_in: masked, turned)
     return shape, frozenset(danger_x), frozenset(danger_y), x_eq_y, state[1], state[2], state[11]
 
 
@@ -201,8 +208,9 @@ def walk(block, t_us: int, changes, i: int = 0) -> int:
         if i < n:
             _t, gpio, level = changes[i]
             block.set_input(gpio, level)
-            for w in ws:
-                w.pending = True
+            for w in ws:  # (those that read it: block.set_input)
+                if w.reads >> gpio & 1:
+                    w.pending = True
         i += 1
     for w in ws:
         w.settle(block)

@@ -103,6 +103,11 @@ class PioHost:
         """Both blocks to ``t_us``, over the changes committed up to it (a block with no
         state machine running only takes the levels)."""
         pending, upto = self.pending, 0
+        if not pending or pending[0][0] > t_us:  # (no change to take: each block's machines to t_us)
+            for block in self.blocks:
+                block._run_all(t_us)
+                self._handed(block)
+            return
         while upto < len(pending) and pending[upto][0] <= t_us:
             upto += 1
         changes, self.pending = pending[:upto], pending[upto:]
@@ -117,7 +122,12 @@ class PioHost:
             if block not in live:  # (a block that runs nothing needs only the levels now)
                 for gpio in changed:
                     block.set_input(gpio, levels[gpio])
-            block.events.clear()  # (the levels the PIO drives are not yet given to the plant)
+            self._handed(block)
+
+    def _handed(self, block) -> None:
+        """What ``block`` did in its run handed on: its IRQ raises the firmware handles kept."""
+        block.events.clear()  # (the levels the PIO drives are not yet given to the plant)
+        if block.irqs:
             if block.irq_clears:
                 self.raised[block.block_id].extend((t, f) for t, f, _sm in block.irqs if block.irq_clears >> f & 1)
             block.irqs.clear()
@@ -125,7 +135,8 @@ class PioHost:
     # -- the firmware's frames -----------------------------------------------------------
     def transfer(self, t_us: int, sm_id: int, op: int, address: int, n_read: int, data: bytes) -> tuple:
         """A BUS_PIO_* frame at ``t_us`` on state machine ``sm_id``: (status, count, bytes)."""
-        self.track()
+        if not self.tracked:
+            self.track()
         self.ahead.before(t_us, sm_id, op, address, n_read)
         block, local = self.blocks[sm_id >> 2], sm_id & 3
         popped, address = address >> 8, address & 0xFF
@@ -133,7 +144,7 @@ class PioHost:
             rx = block.sm(local).rx
             for _ in range(min(popped, len(rx))):
                 rx.popleft()
-            block.touch()
+            block.touch_sm(local)
         self.advance(t_us)
         if op == F.BUS_PIO_INIT:
             return self._init(block, local, t_us, data)
@@ -142,7 +153,10 @@ class PioHost:
         handler = _OPS.get(op)
         if handler is None:
             raise LinkError(f"BUS op {op} on state machine {sm_id}, which is no PIO op (link protocol error)")
-        block.touch()
+        if op == F.BUS_PIO_IRQ:  # (the block's flags: every state machine's next steps)
+            block.touch()
+        else:  # (its own FIFOs, an exec, its start: the others go on as they were)
+            block.touch_sm(local)
         reply = handler(self, block, local, t_us, address, n_read, data)
         if op != F.BUS_PIO_LEVELS:
             self.outputs.after(block, t_us)

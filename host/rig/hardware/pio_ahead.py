@@ -15,7 +15,9 @@ host sends the replies to the frames that follow it, each played on a copy of th
   instant the last time (a ``get``), learned per state machine;
 - after a ``get`` that took all it asked for, the LEVELS another state machine was asked
   for next at that instant the last time (a robot's second decoder, read right after the
-  first), learned per state machine, its handle known from an exchange of its own.
+  first; the first again, both read twice at one instant), learned per state machine and
+  per the read's place in the run of reads at that instant (:attr:`ReadsAhead.hop`), its
+  handle known from an exchange of its own.
 
 Only while the pins are known to stay as they are (before the reply's horizon: the plant
 changes nothing before it) and while no state machine of the block drives a pin (its frames
@@ -31,25 +33,26 @@ one on the host's blocks at once and stops the run if it answers otherwise;
 match, ``host/tests/test_pio_ahead.py``).
 """
 
-import copy
 import os
 import struct
 
 from host.core.errors import LinkError
 from host.link import frames as F
 from host.rig.hardware.pio_out import driven_pins
-from host.shim._hilpio import pack_pio_ahead
+from host.shim._hilpio import PIO_AHEAD_ENTRY_FMT, PIO_AHEAD_GOT_FMT, pack_pio_ahead
 
 ENV = "MPY_FIL_PIO_AHEAD"
-AHEAD_MAX = 6  # frames answered ahead after one reply
+AHEAD_MAX = 12  # frames answered ahead after one reply (a robot's two decoders read twice at one instant: 11)
+AHEAD_BYTES = 2048  # ... and no more bytes of them (a PIO_AHEAD stays well under a frame's payload)
 
 
 class _Sent:
     """The answers ahead last sent: the frames and replies, the twin they were played on,
     the pins' changes the host had then, how many the shim took, how many the blocks had."""
 
-    def __init__(self, handles: dict, entries: list, twin, n_pending: int, marks: dict):
+    def __init__(self, handles: dict, entries: list, twin, n_pending: int, marks: dict, hops: list):
         self.handles, self.entries, self.twin, self.n_pending = handles, entries, twin, n_pending
+        self.hops = hops  # entry index -> the hop of the read it belongs to (ReadsAhead.hop)
         self.marks = marks  # entry index -> the twin as it was before that entry (a LEVELS: a new read)
         self.used = 0
         self.played = 0
@@ -75,8 +78,9 @@ class ReadsAhead:
 
     def reset(self) -> None:
         self.follows: dict = {}  # (sm, op) -> (op, n_read, drained): the frame that came next at its instant
-        self.then: dict = {}  # sm -> (sm, n_read): the LEVELS asked next at the instant of a get that took all
-        self.unsure: set = set()  # sm whose `then` read the shim once did not make: the twin kept before it
+        self.then: dict = {}  # (sm, hop) -> (sm, n_read): the LEVELS asked next at the instant of a get that took all
+        self.unsure: set = set()  # (sm, hop) whose `then` read the shim once did not make: the twin kept before it
+        self.hop = 0  # the last read's place in a run of reads at one instant (0 its first; LEVELS frames)
         self.handles: dict = {}  # sm -> its handle (an exchange of its own told it)
         self.last = None  # (sm, op, t_us, RX words given, a get that took all): the last frame, for follows
         self.sent: _Sent | None = None
@@ -92,14 +96,18 @@ class ReadsAhead:
         if self.sent is not None:
             self.catch_up()
         last = self.last
+        chained = False  # (a LEVELS at the instant of a get that took all: the next read of a run)
         if last is not None and last[0] == sm_id and last[2] == t_us and op == F.BUS_PIO_GET:
             popped = address >> 8
             drained = popped == last[3] if last[1] == F.BUS_PIO_LEVELS else not popped
             self.follows[(sm_id, last[1])] = (op, n_read, drained)
         elif last is not None and last[4] and last[2] == t_us and op == F.BUS_PIO_LEVELS and not address:
-            self.then[last[0]] = (sm_id, n_read)
+            self.then[(last[0], self.hop)] = (sm_id, n_read)
+            chained = True
         elif last is not None and last[4]:
-            self.then.pop(last[0], None)
+            self.then.pop((last[0], self.hop), None)
+        if op == F.BUS_PIO_LEVELS:
+            self.hop = self.hop + 1 if chained else 0
         self.last = None
 
     def after(self, t_us: int, sm_id: int, op: int, reply: tuple, n_read: int = 0) -> None:
@@ -117,7 +125,7 @@ class ReadsAhead:
             self._take(sent, *mark)  # the twin as it was then)
             return
         if 0 < sent.used < len(sent.entries) and sent.entries[sent.used][1] == F.BUS_PIO_LEVELS:
-            self.unsure.add(sent.entries[sent.used - 1][9])  # (its next reads ahead: the twin kept before)
+            self.unsure.add((sent.entries[sent.used - 1][9], sent.hops[sent.used - 1]))  # (the twin kept before)
         for t, op, address, n_read, data, *_reply, sm_id in sent.entries[sent.played : sent.used]:
             self.host.transfer(t, sm_id, op, address, n_read, data)
 
@@ -135,32 +143,40 @@ class ReadsAhead:
         twin = None
         entries = []
         marks: dict = {}
+        hops: list = []
+        hop, size = self.hop, 0
         t, (op, address, n_read, data) = t_us, frame
+        drives = (_drives(host.blocks[0]), _drives(host.blocks[1]))  # (no init among the frames ahead: as they are)
         for _ in range(AHEAD_MAX):
-            block = host.blocks[sm_id >> 2]
-            if any(driven_pins(run.sm) for run in block.running.values()):
+            if drives[sm_id >> 2]:
                 break
-            nxt = self._next(sm_id, t, op, address, n_read, data, reply)
+            nxt = self._next(sm_id, hop, t, op, address, n_read, data, reply)
             if nxt is None or nxt[0] >= lease:
                 break
             if twin is None:
                 twin = self._twin()
             t, sm_next, op, address, n_read, data = nxt
-            if sm_next != sm_id and any(driven_pins(run.sm) for run in host.blocks[sm_next >> 2].running.values()):
+            if drives[sm_next >> 2]:
                 break
-            if op == F.BUS_PIO_LEVELS and sm_id in self.unsure:  # (a new read the shim stopped before
-                marks[len(entries)] = self._mark(twin)  # once: the twin kept as it is before it)
+            if op == F.BUS_PIO_LEVELS:  # (the next read of a run at one instant: only `then` gives one)
+                if (sm_id, hop) in self.unsure:  # (a read the shim stopped before once: the twin kept before it)
+                    marks[len(entries)] = self._mark(twin)
+                hop += 1
             sm_id = sm_next
             reply = twin.transfer(t, sm_id, op, address, n_read, data)
+            size += _ENTRY_BYTES + len(data) + len(reply[2])
+            if size > AHEAD_BYTES:
+                break
             entries.append((t, op, address, n_read, data, reply[0], reply[1], lease, reply[2], sm_id))
+            hops.append(hop)
         if not entries:
             return None
-        self.sent = _Sent(dict(self.handles), entries, twin, len(host.pending), marks)
+        self.sent = _Sent(dict(self.handles), entries, twin, len(host.pending), marks, hops)
         return pack_pio_ahead(entries)
 
-    def _next(self, sm_id, t, op, address, n_read, data, reply):
-        """The frame the shim makes next after ``op``'s ``reply`` (t, state machine, op, address,
-        n_read, data), or None when it is not known."""
+    def _next(self, sm_id, hop, t, op, address, n_read, data, reply):
+        """The frame the shim makes next after ``op``'s ``reply`` in a read at place ``hop`` of
+        its run (t, state machine, op, address, n_read, data), or None when it is not known."""
         status, count, got = reply
         if status != F.BUS_OK:
             return None
@@ -170,7 +186,7 @@ class ReadsAhead:
         if op == F.BUS_PIO_PUT and count < len(data) // 4 and wait:
             return t + wait, sm_id, op, 0, 0, data[4 * count :]
         if op == F.BUS_PIO_GET and count == n_read:  # (another state machine's LEVELS next)
-            then = self.then.get(sm_id)
+            then = self.then.get((sm_id, hop))
             if then is None or then[0] not in self.handles:
                 return None
             return t, then[0], F.BUS_PIO_LEVELS, 0, then[1], b""
@@ -185,7 +201,8 @@ class ReadsAhead:
         nothing, with no drive or raise to hand on, shared: time and frames do nothing to it),
         inputs and IRQ raises; it gives the plant nothing and learns nothing."""
         host = self.host
-        twin = copy.copy(host)
+        twin = type(host).__new__(type(host))
+        twin.__dict__.update(host.__dict__)
         twin.blocks = tuple(b if b.idle and not b.events and not b.irqs else b.fork() for b in host.blocks)
         twin.pending, twin.levels = list(host.pending), dict(host.levels)
         twin.raised = (list(host.raised[0]), list(host.raised[1]))
@@ -240,6 +257,8 @@ class ReadsAhead:
                 twin = sent.twin
                 self._take(sent, twin.blocks, twin.pending, twin.levels, twin.raised)
                 sent.played = sent.used
+        if op == F.BUS_PIO_LEVELS:  # (its place in the run of reads, as the answers ahead counted it)
+            self.hop = sent.hops[entry]
         lease = rig.clock.lease_us()
         if reply != (status, count, got) or lease != horizon_us:
             raise LinkError(
@@ -249,4 +268,10 @@ class ReadsAhead:
             )
 
 
+def _drives(block) -> bool:
+    """A state machine of ``block`` drives a pin (its frames would give the plant something)."""
+    return any(driven_pins(run.sm) for run in block.running.values())
+
+
+_ENTRY_BYTES = struct.calcsize(PIO_AHEAD_ENTRY_FMT) + struct.calcsize(PIO_AHEAD_GOT_FMT)
 _TWIN = ReadsAhead(None, learning=False)  # (a twin's: it learns and sends nothing)
