@@ -3,9 +3,8 @@
 # GPIO25_CTRL's OEOVER (IO_BANK0), its pad level from GPIO25_STATUS's INFROMPAD, as the
 # kit's library reads it. Written in that library's style: a YellowLED class on Pin(25,
 # Pin.OUT), a ButtonA class on the registers.
-import time
-
 import machine
+import time
 from machine import Pin
 
 GPIO25_STATUS = 0x400140C8
