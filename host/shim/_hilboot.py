@@ -64,6 +64,31 @@ def _fresh_main():
     env["__name__"] = "__main__"
 
 
+def _port_boot():
+    """The names the port's frozen _boot.py leaves in __main__ before boot.py and main.py run
+    there: machine and rp2 on an rp2 (ports/rp2/modules/_boot.py imports them and deletes
+    only vfs, bdev and fs), gc and vfs on an ESP32 (ports/esp32/modules/_boot.py deletes
+    nothing; its bdev, the flash partition, is not modelled). A main.py that uses
+    machine.Pin without importing machine runs on those boards, and so here."""
+    import __main__
+
+    env = __main__.__dict__
+    platform = sys.modules.get("sys", sys).platform  # (the board's sys: _hilsys)
+    if platform == "rp2":
+        import machine
+        import rp2
+
+        env["machine"] = machine
+        env["rp2"] = rp2
+    elif platform == "esp32":
+        import gc
+
+        import vfs
+
+        env["gc"] = gc
+        env["vfs"] = vfs
+
+
 def _run(name):
     """Run a file as the board runs boot.py and main.py: in the __main__ module (so
     `import __main__` and unittest.main() find its names), both in the same globals (what
@@ -219,6 +244,7 @@ def main(pil=False):
             _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
             _hil._Link.ballast = _board_heap(room)
             _give_way()
+            _port_boot()
             _hil.cpu_start(getenv)  # (MCU time: the firmware's compute costs from here)
             _run("boot.py")
         if not _run(entry):

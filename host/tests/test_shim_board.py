@@ -82,6 +82,19 @@ def test_the_firmware_sees_its_boards_platform_and_runs_as_main(make_rig, board,
     assert r["rtc"][1] == (2024, 3, 1, 0, 0, 1), "and time.localtime follows it"
 
 
+@pytest.mark.parametrize(
+    "board, names",
+    [("esp32_bench", ["gc", "vfs"]), ("rpi_pico_bench", ["machine", "rp2"]), ("bench", [])],
+)
+def test_main_finds_the_names_the_ports_boot_left(make_rig, board, names):
+    """ports/rp2/modules/_boot.py imports machine and rp2 in __main__ and deletes only vfs,
+    bdev and fs; ports/esp32/modules/_boot.py imports gc and vfs and deletes nothing (its
+    bdev, a flash partition, is not modelled)."""
+    rig, r = run(make_rig, "port_boot_names", board, 0.1)
+    assert r["names"] == names, rig.console
+    assert ("pin" in r) == ("machine" in names), rig.console
+
+
 def test_a_uart_sends_at_its_baud_rate_and_fires_irq_rx_for_each_byte(make_rig):
     """9600 baud, 10 bits a byte: 1041.7 us each; flush() returns when the last has left.
     Each byte fires IRQ_RX, whose handler is scheduled (ports/esp32/machine_uart.c:
