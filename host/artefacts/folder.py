@@ -172,10 +172,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
     vcd_paths: dict = {}
 
     def signals(path):
-        with open(path, "w", newline="", encoding="utf-8") as f:
-            out = csv.writer(f, lineterminator="\n")
-            out.writerow(["t_us", "signal", "value"])
-            out.writerows(events)
+        _write_signals(path, events)
 
     def vcd(path):
         comment = f"app {run['app']} board {run['board']} seed {run['seed']} commit {provenance.commit()}"
@@ -317,13 +314,93 @@ def _truth_contacts(plant) -> list:
     return [[int(c[0]), float(c[1]), float(c[2])] for c in contacts if isinstance(c, (list, tuple)) and len(c) >= 3]
 
 
-def _write_truth(path: Path, truth, columns: list[str]) -> None:
+def _write_signals(path: Path, events) -> None:
+    """``signals.csv``: what ``csv.writer`` writes (``t_us,signal,value``), each line made by
+    hand where ``csv`` would neither quote nor change a field (:func:`_csv_free`), by
+    ``csv`` itself where it would."""
     with open(path, "w", newline="", encoding="utf-8") as f:
-        out = csv.writer(f, lineterminator="\n")
-        out.writerow(["t_us", *columns])
-        # (csv writes None as "", a float as float's repr, the rest as str: the recorder's
-        # values are plain ints and floats, numpy's made plain)
-        out.writerows([t, *map(row.get, columns)] for t, row in truth)
+        f.write("t_us,signal,value\n")
+        lines: list[str] = []
+        free: dict = {}  # signal name -> whether csv leaves it as it is
+        csv_line = _CsvLine()
+        for t, name, value in events:
+            kind = type(value)
+            plain = free.get(name)
+            if plain is None:
+                plain = free[name] = type(name) is str and _csv_free(name)
+            if plain and type(t) is int and (kind is int or kind is float or (kind is str and _csv_free(value))):
+                lines.append(f"{t},{name},{value}\n")
+            else:
+                lines.append(csv_line((t, name, value)))
+            if len(lines) >= _LINES_A_WRITE:
+                f.write("".join(lines))
+                lines.clear()
+        f.write("".join(lines))
+
+
+def _write_truth(path: Path, truth, columns: list[str]) -> None:
+    """``truth.csv``: what ``csv.writer`` writes (None as "", a float as its repr, an int as
+    ``str``), made by hand for the rows whose values are all plain ints, floats or None."""
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        csv_line = _CsvLine()
+        f.write(csv_line(["t_us", *columns]))
+        lines: list[str] = []
+        shown = [_UNSET] * (len(columns) + 1)  # each column's last value written ...
+        texts = [""] * len(shown)  # ... and its text
+        for t, row in truth:
+            values = [t, *map(row.get, columns)]
+            line = _truth_line(values, shown, texts)
+            lines.append(csv_line(values) if line is None else line)
+            if len(lines) >= _LINES_A_WRITE:
+                f.write("".join(lines))
+                lines.clear()
+        f.write("".join(lines))
+
+
+def _truth_line(values: list, shown: list, texts: list) -> str | None:
+    """A row of ``truth.csv`` made by hand, or None where a value is not a plain int, float
+    or None (csv writes that row). A value equal to its column's last one (the same type,
+    and not a float zero: -0.0 == 0.0 but reads otherwise) takes the same text."""
+    parts = []
+    for i, v in enumerate(values):
+        before = shown[i]
+        if type(v) is type(before) and v == before and (v != 0 or type(v) is not float):
+            parts.append(texts[i])
+            continue
+        if type(v) not in _CSV_NUMBERS:
+            return None
+        text = "" if v is None else repr(v)
+        shown[i], texts[i] = v, text
+        parts.append(text)
+    return ",".join(parts) + "\n"
+
+
+_UNSET = object()
+_LINES_A_WRITE = 4096
+_CSV_NUMBERS = {int, float, type(None)}  # (csv writes these as repr, None as "": never quoted)
+_CSV_SPECIAL = re.compile(r'[,"\r\n]')
+
+
+def _csv_free(text: str) -> bool:
+    """Whether ``csv.writer`` (the excel dialect, "\n" lines) writes ``text`` as it is: no
+    delimiter, quote or line break in it, and not empty (an empty field alone on its line
+    is quoted)."""
+    return bool(text) and _CSV_SPECIAL.search(text) is None
+
+
+class _CsvLine:
+    """One row as ``csv.writer`` writes it (the excel dialect, "\n" lines)."""
+
+    def __init__(self):
+        self._buffer = io.StringIO()
+        self._writer = csv.writer(self._buffer, lineterminator="\n")
+
+    def __call__(self, row) -> str:
+        buffer = self._buffer
+        buffer.seek(0)
+        buffer.truncate()
+        self._writer.writerow(row)
+        return buffer.getvalue()
 
 
 def _json(data) -> str:

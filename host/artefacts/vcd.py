@@ -28,7 +28,6 @@ counts and duties in decimal, a UART byte as its character).
 """
 
 import heapq
-import itertools
 import re
 
 TIMESCALE = "1us"
@@ -67,14 +66,7 @@ def write_vcd(
         f.write(f"$scope module {_ident(top)} $end\n")
         _declare(f, tree, ids, paths, _ident(top))
         f.write("$upscope $end\n$enddefinitions $end\n")
-        kinds = {name: info["kind"] for name, info in signals.items()}
-        sigs = _changes(events, kinds, {name for kind, name in ids if kind == "text"})
         truth_codes = [(col, ids[("truth", col)]) for col in columns]
-        reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
-        texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
-        # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
-        # (no key: each stream's own order is kept, and no two streams share an order)
-        merged = heapq.merge(sigs, reals, texts)
         # $dumpvars holds every variable's value at time 0, after the changes at time 0
         state = {
             ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
@@ -82,17 +74,8 @@ def write_vcd(
         }
         state.update({ids[("truth", col)]: _value("real", None, ids[("truth", col)]) for col in columns})
         state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] in ("text", "note")})
-        change = next(merged, None)
-        while change is not None and change[0] <= 0:
-            _t, _order, key, kind, value = change
-            if key is _ROW:
-                state.update(_row_values(value, truth_codes))
-            elif key in ids:
-                state[ids[key]] = _value(kind, value, ids[key])
-            change = next(merged, None)
-        f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
-        if change is not None:
-            _write_changes(f, itertools.chain([change], merged), ids, truth_codes, state)
+        kinds = {name: info["kind"] for name, info in signals.items()}
+        _Body(f, ids, kinds, truth_codes, state).write(events, truth, notes)
     return paths
 
 
@@ -212,35 +195,17 @@ def _blocks(lines, prefix: str, order: int):
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 
-def _changes(events, kinds: dict, texts: set):
-    """Each event as a change of its variable and, after an instant's changes, each UART's
-    text (its ``_text`` variable) that changed then, in the order of its events: one pass
-    over ``events`` (read from disk), in the order a stable sort of the two would give."""
-    held = []
-    t_held = None
-    uart = _uart_text(texts)
-    for t, name, v in events:
-        if held and t != t_held:
-            yield from held
-            held.clear()
-        yield (t, 0, ("sig", name), kinds.get(name, "level"), v)
-        if name in texts and v:
-            held.append(uart(t, name, v))
-            t_held = t
-    yield from held
-
-
-def _uart_text(texts: set):
+def _uart_text():
     """For each UART (a ``_text`` variable): at each chunk, the line being received,
     or the line just completed until the next one starts."""
     lines: dict[str, str] = {}
 
-    def text_at(t, name, value):
+    def text_at(name, value):
         text = lines.get(name, "") + bytes.fromhex(value).decode("latin-1").replace("\r", "")
         done, _, partial = text.rpartition("\n")
         lines[name] = partial[-TEXT_LINE_MAX:]
         shown = partial or done.rpartition("\n")[2]
-        return (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+        return shown[-TEXT_LINE_MAX:]
 
     return text_at
 
@@ -282,59 +247,139 @@ def _role_order(role: str) -> tuple:
 _GTKW_FORMATS = {"real": "real", "text": "ascii", "bytes": "ascii", "u16": "dec", "duty": "dec"}
 
 
-_ROW = ("truth", None)  # a ground-truth row: one change per column in it
-
-
-def _row_values(row: dict, truth_codes) -> dict:
-    return {code: _real(row[col], code) for col, code in truth_codes if col in row}
-
-
 def _real(value, code: str) -> str:
     return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
 
 
 _UNSET = object()
 _CHUNK = 2048  # instants formatted before each write
+_NEVER = float("inf")
+_CACHED = 1024  # a variable's value lines kept, at most (then forgotten, and kept anew)
 
 
-def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
-    """Each instant's changes, a variable's last one at that instant. A ground-truth
-    value the variable already shows is not written again (``shown``: code -> its value
-    line); every other change is, as a repeated console line is an event of its own.
-    A truth value equal to the column's last one (same type, not zero: -0.0 == 0.0 but
-    reads otherwise) gives the same line, so it is not formatted again."""
-    out: list[str] = []
-    last: dict[str, str] = {}
-    raw: dict[str, object] = {}  # column -> its last value formatted
-    t_now = None
-    for t, _order, key, kind, value in merged:
-        if t != t_now:
-            if last:
-                out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
-                last = {}
-                if len(out) >= _CHUNK:
-                    f.write("".join(out))
-                    out = []
-            t_now = t
-        if key is _ROW:
-            for col, code in truth_codes:
-                v = value.get(col, _UNSET)
-                if v is _UNSET:
-                    continue
-                before = raw.get(col, _UNSET)
-                if v == before and type(v) is type(before) and v != 0:
-                    continue
-                raw[col] = v
-                line = _real(v, code)
-                if shown.get(code) != line:
-                    last[code] = shown[code] = line
-            continue
-        code = ids.get(key)
-        if code is not None:
-            last[code] = _value(kind, value, code)
-    if last:
-        out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
-    f.write("".join(out))
+class _Body:
+    """The changes after the declarations: the ``$dumpvars`` (every variable's value at time
+    0, after the changes at time 0), then each instant's changes, a variable's last one at
+    that instant. At an instant: the signals' changes in the order recorded, then each
+    UART's text that changed then (its ``_text`` variable: the line being received or sent),
+    then the ground truth's row, then the notes. A ground-truth value the variable already
+    shows is not written again; every other change is, as a repeated console line is an
+    event of its own. A truth value equal to the column's last one (same type, and not a
+    float zero: -0.0 == 0.0 but reads otherwise) gives the same line, so it is not
+    formatted again.
+
+    One pass over each stream (events, truth and notes may read from disk), merged by time
+    by hand; a signal's value lines are kept by value (``_CACHED`` at most a signal)."""
+
+    def __init__(self, f, ids: dict, kinds: dict, truth_codes: list, state: dict):
+        self.f = f
+        self.state = state  # code -> the line it shows (the $dumpvars, then the truth's last)
+        self.truth_codes = [(i, col, code) for i, (col, code) in enumerate(truth_codes)]
+        self.signals = {name: (code, kinds[name], {}) for (group, name), code in ids.items() if group == "sig"}
+        self.texts = {name: code for (group, name), code in ids.items() if group == "text"}
+        self.notes = {channel: code for (group, channel), code in ids.items() if group == "note"}
+        self.raw = [_UNSET] * len(truth_codes)  # each column's last value formatted
+        self.out: list[str] = []
+        self.dumping = True  # the changes go to the $dumpvars (at or before time 0)
+        self.t_now = None
+        self.last = state  # where the changes of the instant t_now go
+
+    def at(self, t: int) -> dict:
+        """The changes of the instant ``t`` (the one after those gathered so far)."""
+        if t == self.t_now:
+            return self.last
+        if self.dumping:
+            if t <= 0:
+                return self.last
+            self.f.write("#0\n$dumpvars\n" + "\n".join(self.state.values()) + "\n$end\n")
+            self.dumping = False
+        elif self.last:
+            self.out.append(f"#{self.t_now}\n" + "\n".join(self.last.values()) + "\n")
+            if len(self.out) >= _CHUNK:
+                self.f.write("".join(self.out))
+                self.out.clear()
+        self.last = {}
+        self.t_now = t
+        return self.last
+
+    def write(self, events, truth, notes) -> None:
+        self._rows, self._notes = iter(truth), iter(notes)
+        self._next_row()
+        self._next_note()
+        signals, texts, held = self.signals, self.texts, []
+        uart = _uart_text()
+        t_ev = None
+        last = self.last
+        for t, name, v in events:
+            if t != t_ev:
+                if held:  # (the UARTs' texts, after the instant's changes)
+                    self._texts(last, held, uart)
+                if self.t_row < t or self.t_note < t:
+                    self._before(t)
+                last = self.at(t)
+                t_ev = t
+            signal = signals.get(name)
+            if signal is not None:
+                code, kind, lines = signal
+                if type(v) is int or type(v) is str:
+                    line = lines.get(v)
+                    if line is None:
+                        if len(lines) >= _CACHED:
+                            lines.clear()
+                        line = lines[v] = _value(kind, v, code)
+                else:
+                    line = _value(kind, v, code)
+                last[code] = line
+            if v and name in texts:
+                held.append((name, v))
+        self._texts(last, held, uart)
+        self._before(_NEVER)
+        if self.dumping:
+            self.f.write("#0\n$dumpvars\n" + "\n".join(self.state.values()) + "\n$end\n")
+        elif self.last:
+            self.out.append(f"#{self.t_now}\n" + "\n".join(self.last.values()) + "\n")
+        self.f.write("".join(self.out))
+
+    def _texts(self, last: dict, held: list, uart) -> None:
+        for name, value in held:
+            code = self.texts[name]
+            last[code] = _value("text", uart(name, value), code)
+        held.clear()
+
+    def _before(self, t: int) -> None:
+        """The truth's rows and the notes before ``t``: at each instant, the row, then the notes."""
+        while self.t_row < t or self.t_note < t:
+            if self.t_row <= self.t_note:
+                self._row(self.at(self.t_row), self.row[1])
+                self._next_row()
+            else:
+                _t, channel, text = self.note
+                code = self.notes.get(channel)
+                if code is not None:
+                    self.at(self.t_note)[code] = _value("text", text, code)
+                self._next_note()
+
+    def _next_row(self) -> None:
+        self.row = next(self._rows, None)
+        self.t_row = _NEVER if self.row is None else self.row[0]
+
+    def _next_note(self) -> None:
+        self.note = next(self._notes, None)
+        self.t_note = _NEVER if self.note is None else self.note[0]
+
+    def _row(self, last: dict, row: dict) -> None:
+        raw, shown = self.raw, self.state
+        for i, col, code in self.truth_codes:
+            v = row.get(col, _UNSET)
+            if v is _UNSET:
+                continue
+            before = raw[i]
+            if type(v) is type(before) and v == before and (v != 0 or type(v) is not float):
+                continue
+            raw[i] = v
+            line = _real(v, code)
+            if shown.get(code) != line:
+                last[code] = shown[code] = line
 
 
 def _insert(tree: dict, path: list[str], leaf) -> None:
@@ -414,7 +459,15 @@ def _ident(text: str) -> str:
 
 def _escape(text: str) -> str:
     """A string value: C escapes for white space, backslashes and what is not printable."""
+    if _PLAIN_TEXT.fullmatch(text):
+        return text
+    if max(text) <= "\xff":
+        return text.translate(_ESCAPES)
     return "".join(c if "!" <= c <= "~" and c != "\\" else f"\\x{ord(c) & 0xFF:02x}" for c in text)
+
+
+_PLAIN_TEXT = re.compile(r"[!-\[\]-~]*")  # (printable, no backslash: as it is)
+_ESCAPES = {i: f"\\x{i:02x}" for i in range(256) if not (ord("!") <= i <= ord("~") and i != ord("\\"))}
 
 
 def _clean(text: str) -> str:
