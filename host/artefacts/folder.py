@@ -31,6 +31,7 @@ import contextlib
 import csv
 import heapq
 import io
+import itertools
 import json
 import math
 import re
@@ -42,7 +43,9 @@ import numpy as np
 
 from host.artefacts import checks, integrity, pictures
 from host.artefacts.console import stamped_lines
+from host.artefacts.csvlines import SignalLines, TruthLines
 from host.artefacts.recorder import ROLE_SENSOR
+from host.artefacts.streaming import Streamed
 from host.artefacts.vcd import write_gtkw, write_vcd
 from host.core import provenance, safefs
 from host.core.errors import ConfigError, OutputRefused
@@ -151,6 +154,8 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     folder = Path(folder)
     shown = [name for name, _write in pictures.writers(plant)]  # (a display's pictures)
     integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW, *shown))
+    if recorder.streamed is None:  # (the big files made as the run goes: host/artefacts/streaming.py)
+        recorder.streamed = Streamed(recorder)
     stop = {"reason": NOT_ENDED, "signal": None}
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
@@ -170,9 +175,26 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
     events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
     truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
     vcd_paths: dict = {}
+    streamed = recorder.streamed  # (the lines made as the run went, where they fit)
+    if streamed is not None:
+        streamed.finish()
 
     def signals(path):
-        _write_signals(path, events)
+        if streamed is not None and streamed.in_order:
+            with open(path, "wb") as f:
+                f.write(b"t_us,signal,value\n")
+                streamed.copy(streamed.signals_file, f)
+        else:
+            _write_signals(path, events)
+
+    def truth_csv(path):
+        columns = recorder.truth_columns()
+        if streamed is not None and streamed.truth_fits(columns):
+            with open(path, "wb") as f:
+                f.write(streamed.truth_lines.header().encode())
+                streamed.copy(streamed.truth_file, f)
+        else:
+            _write_truth(path, truth, columns)
 
     def vcd(path):
         comment = f"app {run['app']} board {run['board']} seed {run['seed']} commit {provenance.commit()}"
@@ -189,6 +211,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
                 truth=truth,
                 notes=notes,
                 columns=recorder.truth_columns(),
+                streamed=None if streamed is None else streamed.changes(),
             )
         )
 
@@ -200,7 +223,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
 
     return (
         (SIGNALS, signals),
-        (TRUTH, lambda path: _write_truth(path, truth, recorder.truth_columns())),
+        (TRUTH, truth_csv),
         (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
         (VCD, vcd),
         (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
@@ -315,92 +338,26 @@ def _truth_contacts(plant) -> list:
 
 
 def _write_signals(path: Path, events) -> None:
-    """``signals.csv``: what ``csv.writer`` writes (``t_us,signal,value``), each line made by
-    hand where ``csv`` would neither quote nor change a field (:func:`_csv_free`), by
-    ``csv`` itself where it would."""
+    """``signals.csv``: what ``csv.writer`` writes (:class:`~host.artefacts.csvlines.SignalLines`)."""
     with open(path, "w", newline="", encoding="utf-8") as f:
         f.write("t_us,signal,value\n")
-        lines: list[str] = []
-        free: dict = {}  # signal name -> whether csv leaves it as it is
-        csv_line = _CsvLine()
-        for t, name, value in events:
-            kind = type(value)
-            plain = free.get(name)
-            if plain is None:
-                plain = free[name] = type(name) is str and _csv_free(name)
-            if plain and type(t) is int and (kind is int or kind is float or (kind is str and _csv_free(value))):
-                lines.append(f"{t},{name},{value}\n")
-            else:
-                lines.append(csv_line((t, name, value)))
-            if len(lines) >= _LINES_A_WRITE:
-                f.write("".join(lines))
-                lines.clear()
-        f.write("".join(lines))
+        lines = SignalLines()
+        events = iter(events)
+        while chunk := list(itertools.islice(events, _LINES_A_WRITE)):
+            f.write(lines(chunk))
 
 
 def _write_truth(path: Path, truth, columns: list[str]) -> None:
-    """``truth.csv``: what ``csv.writer`` writes (None as "", a float as its repr, an int as
-    ``str``), made by hand for the rows whose values are all plain ints, floats or None."""
+    """``truth.csv``: what ``csv.writer`` writes (:class:`~host.artefacts.csvlines.TruthLines`)."""
     with open(path, "w", newline="", encoding="utf-8") as f:
-        csv_line = _CsvLine()
-        f.write(csv_line(["t_us", *columns]))
-        lines: list[str] = []
-        shown = [_UNSET] * (len(columns) + 1)  # each column's last value written ...
-        texts = [""] * len(shown)  # ... and its text
-        for t, row in truth:
-            values = [t, *map(row.get, columns)]
-            line = _truth_line(values, shown, texts)
-            lines.append(csv_line(values) if line is None else line)
-            if len(lines) >= _LINES_A_WRITE:
-                f.write("".join(lines))
-                lines.clear()
-        f.write("".join(lines))
+        lines = TruthLines(columns)
+        f.write(lines.header())
+        truth = iter(truth)
+        while chunk := list(itertools.islice(truth, _LINES_A_WRITE)):
+            f.write(lines(chunk))
 
 
-def _truth_line(values: list, shown: list, texts: list) -> str | None:
-    """A row of ``truth.csv`` made by hand, or None where a value is not a plain int, float
-    or None (csv writes that row). A value equal to its column's last one (the same type,
-    and not a float zero: -0.0 == 0.0 but reads otherwise) takes the same text."""
-    parts = []
-    for i, v in enumerate(values):
-        before = shown[i]
-        if type(v) is type(before) and v == before and (v != 0 or type(v) is not float):
-            parts.append(texts[i])
-            continue
-        if type(v) not in _CSV_NUMBERS:
-            return None
-        text = "" if v is None else repr(v)
-        shown[i], texts[i] = v, text
-        parts.append(text)
-    return ",".join(parts) + "\n"
-
-
-_UNSET = object()
 _LINES_A_WRITE = 4096
-_CSV_NUMBERS = {int, float, type(None)}  # (csv writes these as repr, None as "": never quoted)
-_CSV_SPECIAL = re.compile(r'[,"\r\n]')
-
-
-def _csv_free(text: str) -> bool:
-    """Whether ``csv.writer`` (the excel dialect, "\n" lines) writes ``text`` as it is: no
-    delimiter, quote or line break in it, and not empty (an empty field alone on its line
-    is quoted)."""
-    return bool(text) and _CSV_SPECIAL.search(text) is None
-
-
-class _CsvLine:
-    """One row as ``csv.writer`` writes it (the excel dialect, "\n" lines)."""
-
-    def __init__(self):
-        self._buffer = io.StringIO()
-        self._writer = csv.writer(self._buffer, lineterminator="\n")
-
-    def __call__(self, row) -> str:
-        buffer = self._buffer
-        buffer.seek(0)
-        buffer.truncate()
-        self._writer.writerow(row)
-        return buffer.getvalue()
 
 
 def _json(data) -> str:

@@ -40,6 +40,7 @@ class LinkLog:
         self._written = 0  # lines hashed (and written)
         self._pending: list[tuple] = []  # (format, args) of each record not yet written
         self.error: TraceWriteError | None = None
+        self.idle = None  # called once each STATE is logged: work that may overlap the firmware's
 
     _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
 
@@ -129,6 +130,8 @@ class LinkLog:
             changes = F.merge_edges(segments, changes)
         self._pending.append((_state_line, (t, base, horizon, changes)))
         self.flush()
+        if self.idle is not None:
+            self.idle()
 
     def seen(self, t: int, h: int, sample_no: int) -> None:
         self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
@@ -216,6 +219,7 @@ class _NoLog(LinkLog):
 
     digest = None
     error = None
+    idle = None
     lines = 0
 
     def __init__(self):
