@@ -180,7 +180,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
         streamed.finish()
 
     def signals(path):
-        if streamed is not None and streamed.in_order:
+        if streamed is not None and streamed.usable:
             with open(path, "wb") as f:
                 f.write(b"t_us,signal,value\n")
                 streamed.copy(streamed.signals_file, f)

@@ -167,6 +167,8 @@ class Recorder:
     def rewind(self, t_us: int) -> None:
         """The plant went back to ``t_us``: forget what was recorded after it (never what
         was spilled: that was committed)."""
+        if self.streamed is not None:
+            self.streamed.rewound(t_us)
         events, truth = self._events, self._truth
         while events and events[-1][0] > t_us:
             events.pop()

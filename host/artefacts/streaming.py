@@ -27,7 +27,8 @@ class Streamed:
     def __init__(self, recorder):
         self.recorder = recorder
         self.signals_file = self.truth_file = self.vcd = None
-        self.in_order = True  # the events came in time order (else nothing here is used)
+        self.usable = True  # the events came in time order, none rewound once made (else nothing here is used)
+        self.made_to = -_NEVER  # the records before this time are made
         self.columns_ok = True  # truth.csv's lines were made with the truth's columns
         self.vcd_ok = True  # the VCD's changes were made for the signals and columns there are
         self._start()
@@ -50,7 +51,7 @@ class Streamed:
         """Make the lines of the records before ``limit`` (None: the recorder's last commit),
         ``bounded``: no more than about EVENTS_A_TURN events and ROWS_A_TURN rows."""
         recorder = self.recorder
-        if not self.in_order:
+        if not self.usable:
             return
         spilled = recorder.events_spilled or recorder.rows_spilled
         if len(recorder.signals) != self._signals:  # (a signal first driven now)
@@ -79,7 +80,7 @@ class Streamed:
             return
         self.signals_file.write(self.signal_lines(batch).encode())
         if not self.signal_lines.in_order:
-            self.in_order = False
+            self.usable = False
             return
         if self.columns_ok:
             self.truth_file.write(self.truth_lines(batch_rows).encode())
@@ -87,6 +88,14 @@ class Streamed:
             self.vcd.feed(batch, batch_rows, (), limit)
         self.events_done += len(batch)
         self.rows_done += len(batch_rows)
+        self.made_to = max(self.made_to, limit)
+
+    def rewound(self, t_us: int) -> None:
+        """The recording went back to ``t_us``: what was made after it is void (the clock
+        never rewinds past its commit, so this is never so; if it were, the writers'
+        own files)."""
+        if t_us + 1 < self.made_to:
+            self.usable = False
 
     def finish(self) -> None:
         """The recording ended: every record made."""
@@ -94,11 +103,11 @@ class Streamed:
 
     def truth_fits(self, columns: list[str]) -> bool:
         """Whether truth.csv's lines were made with these columns (the truth's at the end)."""
-        return self.in_order and self.columns_ok and self.columns == list(columns)
+        return self.usable and self.columns_ok and self.columns == list(columns)
 
     def changes(self) -> StreamedChanges | None:
         """The VCD's changes, where they may fit (:meth:`StreamedChanges.fits` has the last word)."""
-        return self.vcd if self.in_order and self.vcd_ok else None
+        return self.vcd if self.usable and self.vcd_ok else None
 
     def copy(self, file, f) -> None:
         """A streamed file's bytes onto ``f`` (a file open for bytes)."""
