@@ -42,6 +42,10 @@ TRUTH_PERIOD_US = 50_000
 SPILL_AT = 20_000
 """Events and truth rows kept in memory before the committed ones go to disk."""
 
+STREAM_EVENTS, STREAM_ROWS = 64, 8
+"""A turn of the streamed files (:meth:`Recorder.work`) once this many events or truth rows
+wait for one (some of them may not be committed yet)."""
+
 
 class Spill:
     """Lists of records appended in chunks to an unnamed temporary file (pickled), read
@@ -202,9 +206,14 @@ class Recorder:
             self.rows_spilled += n
 
     def work(self) -> None:
-        """A turn of the folder's streamed files (while the firmware works on a STATE)."""
-        if self.streamed is not None:
-            self.streamed.work()
+        """A turn of the folder's streamed files (while the firmware works on a STATE), once
+        enough records wait for one (a turn's own cost, spread over them)."""
+        streamed = self.streamed
+        if streamed is not None and (
+            len(self._events) + self.events_spilled - streamed.events_done >= STREAM_EVENTS
+            or len(self._truth) + self.rows_spilled - streamed.rows_done >= STREAM_ROWS
+        ):
+            streamed.work()
 
     def _check_order(self, events: list) -> None:
         last = self._last_event_us
