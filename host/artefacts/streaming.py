@@ -49,10 +49,17 @@ class Streamed:
 
     def work(self, limit: float | None = None, bounded: bool = True) -> None:
         """Make the lines of the records before ``limit`` (None: the recorder's last commit),
-        ``bounded``: no more than about EVENTS_A_TURN events and ROWS_A_TURN rows."""
-        recorder = self.recorder
+        ``bounded``: no more than about EVENTS_A_TURN events and ROWS_A_TURN rows. A
+        temporary file that cannot be written leaves the files to the writers."""
         if not self.usable:
             return
+        try:
+            self._work(limit, bounded)
+        except OSError:
+            self.usable = False
+
+    def _work(self, limit: float | None, bounded: bool) -> None:
+        recorder = self.recorder
         spilled = recorder.events_spilled or recorder.rows_spilled
         if len(recorder.signals) != self._signals:  # (a signal first driven now)
             if spilled:
