@@ -31,6 +31,7 @@ import contextlib
 import csv
 import heapq
 import io
+import itertools
 import json
 import math
 import re
@@ -42,7 +43,9 @@ import numpy as np
 
 from host.artefacts import checks, integrity, pictures
 from host.artefacts.console import stamped_lines
+from host.artefacts.csvlines import SignalLines, TruthLines
 from host.artefacts.recorder import ROLE_SENSOR
+from host.artefacts.streaming import Streamed
 from host.artefacts.vcd import write_gtkw, write_vcd
 from host.core import provenance, safefs
 from host.core.errors import ConfigError, OutputRefused
@@ -151,6 +154,8 @@ def begin_trace_folder(folder: Path, run: dict, recorder, plant) -> None:
     folder = Path(folder)
     shown = [name for name, _write in pictures.writers(plant)]  # (a display's pictures)
     integrity.remove_stale(folder, (HEADER, SIGNALS, TRUTH, BUDGETS, VCD, GTKW, *shown))
+    if recorder.streamed is None:  # (the big files made as the run goes: host/artefacts/streaming.py)
+        recorder.streamed = Streamed(recorder)
     stop = {"reason": NOT_ENDED, "signal": None}
     header = make_header({**run, "stop": stop}, recorder, plant, link_trace=(folder / LINK).is_file())
     integrity.write_text(folder / HEADER, _json(integrity.seal(header)))
@@ -170,12 +175,26 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
     events = _Records(recorder.events_in_time_order)  # (read from disk each time: never all in memory)
     truth = _Records(lambda: (row for chunk in recorder.iter_truth() for row in chunk))
     vcd_paths: dict = {}
+    streamed = recorder.streamed  # (the lines made as the run went, where they fit)
+    if streamed is not None:
+        streamed.finish()
 
     def signals(path):
-        with open(path, "w", newline="", encoding="utf-8") as f:
-            out = csv.writer(f, lineterminator="\n")
-            out.writerow(["t_us", "signal", "value"])
-            out.writerows(events)
+        if streamed is not None and streamed.usable:
+            with open(path, "wb") as f:
+                f.write(b"t_us,signal,value\n")
+                streamed.copy(streamed.signals_file, f)
+        else:
+            _write_signals(path, events)
+
+    def truth_csv(path):
+        columns = recorder.truth_columns()
+        if streamed is not None and streamed.truth_fits(columns):
+            with open(path, "wb") as f:
+                f.write(streamed.truth_lines.header().encode())
+                streamed.copy(streamed.truth_file, f)
+        else:
+            _write_truth(path, truth, columns)
 
     def vcd(path):
         comment = f"app {run['app']} board {run['board']} seed {run['seed']} commit {provenance.commit()}"
@@ -192,6 +211,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
                 truth=truth,
                 notes=notes,
                 columns=recorder.truth_columns(),
+                streamed=None if streamed is None else streamed.changes(),
             )
         )
 
@@ -203,7 +223,7 @@ def _writers(folder: Path, run: dict, recorder, budgets: dict):
 
     return (
         (SIGNALS, signals),
-        (TRUTH, lambda path: _write_truth(path, truth, recorder.truth_columns())),
+        (TRUTH, truth_csv),
         (BUDGETS, lambda path: path.write_text(_json([b.record() for b in budgets.values()]), encoding="utf-8")),
         (VCD, vcd),
         (GTKW, lambda path: write_gtkw(path, VCD, vcd_paths)),
@@ -317,13 +337,27 @@ def _truth_contacts(plant) -> list:
     return [[int(c[0]), float(c[1]), float(c[2])] for c in contacts if isinstance(c, (list, tuple)) and len(c) >= 3]
 
 
-def _write_truth(path: Path, truth, columns: list[str]) -> None:
+def _write_signals(path: Path, events) -> None:
+    """``signals.csv``: what ``csv.writer`` writes (:class:`~host.artefacts.csvlines.SignalLines`)."""
     with open(path, "w", newline="", encoding="utf-8") as f:
-        out = csv.writer(f, lineterminator="\n")
-        out.writerow(["t_us", *columns])
-        # (csv writes None as "", a float as float's repr, the rest as str: the recorder's
-        # values are plain ints and floats, numpy's made plain)
-        out.writerows([t, *map(row.get, columns)] for t, row in truth)
+        f.write("t_us,signal,value\n")
+        lines = SignalLines()
+        events = iter(events)
+        while chunk := list(itertools.islice(events, _LINES_A_WRITE)):
+            f.write(lines(chunk))
+
+
+def _write_truth(path: Path, truth, columns: list[str]) -> None:
+    """``truth.csv``: what ``csv.writer`` writes (:class:`~host.artefacts.csvlines.TruthLines`)."""
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        lines = TruthLines(columns)
+        f.write(lines.header())
+        truth = iter(truth)
+        while chunk := list(itertools.islice(truth, _LINES_A_WRITE)):
+            f.write(lines(chunk))
+
+
+_LINES_A_WRITE = 4096
 
 
 def _json(data) -> str:

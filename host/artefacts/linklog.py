@@ -10,7 +10,7 @@ to :data:`NO_LOG`, which keeps nothing.
 The records of an exchange are kept as they come (their numbers, not yet text) and written
 together when its STATE is logged, which the clock does once the STATE is on its way: the
 formatting, hashing and one write then overlap the firmware's own work on it. Each write
-ends at a whole line and reaches the file at once (line-buffered), so a run killed outright
+ends at a whole line and reaches the file at once (one unbuffered write), so a run killed outright
 (SIGKILL) leaves every record up to the last STATE sent, to its last whole line; a stopped
 run's (``close``) and the digest hold every record. A write that fails (a full disk)
 raises :class:`~host.artefacts.integrity.TraceWriteError` once; the file stays as it was
@@ -34,11 +34,13 @@ OUT_ATTRS = {F.OUT_LEVEL: "level", F.OUT_DUTY: "duty_u16", F.OUT_FREQ: "freq", F
 class LinkLog:
     def __init__(self, path: Path | None = None):
         self.path = path
-        self._file = safefs.open_write(path, "w", encoding="utf-8", buffering=1) if path else None  # (no link)
+        # (unbuffered bytes: each flush one write of whole lines, the bytes hashed)
+        self._file = safefs.open_write(path, "wb", buffering=0) if path else None  # (no link)
         self._hash = hashlib.sha256()
         self._written = 0  # lines hashed (and written)
         self._pending: list[tuple] = []  # (format, args) of each record not yet written
         self.error: TraceWriteError | None = None
+        self.idle = None  # called once each STATE is logged: work that may overlap the firmware's
 
     _encode = json.JSONEncoder(separators=(",", ":"), sort_keys=True).encode  # (json.dumps makes one per call)
 
@@ -59,11 +61,14 @@ class LinkLog:
             self._put("".join([form(*args) for form, args in pending]), len(pending))
 
     def _put(self, text: str, lines: int) -> None:
-        self._hash.update(text.encode())
+        data = text.encode()
+        self._hash.update(data)
         self._written += lines
         if self._file:
             try:
-                self._file.write(text)
+                done = self._file.write(data)
+                while done < len(data):  # (a write cut short: the rest, or the error that cut it)
+                    done += self._file.write(memoryview(data)[done:])
             except OSError as e:
                 self._fail(e)
 
@@ -125,6 +130,8 @@ class LinkLog:
             changes = F.merge_edges(segments, changes)
         self._pending.append((_state_line, (t, base, horizon, changes)))
         self.flush()
+        if self.idle is not None:
+            self.idle()
 
     def seen(self, t: int, h: int, sample_no: int) -> None:
         self.write({"t": t, "msg": "SEEN", "handle": h, "sample": sample_no})
@@ -170,6 +177,8 @@ def _out_line(t, h, attr, value) -> str:
 
 
 def _wait_line(t, until, watch) -> str:
+    if not watch and type(t) is int and type(until) is int:
+        return f'{{"msg":"WAIT","t":{t},"until":{until},"watch":[]}}\n'
     watched = sorted(watch)
     if type(t) is int and type(until) is int and all(type(h) is int for h in watched):
         listed = ",".join(map(str, watched))
@@ -186,6 +195,8 @@ def _bus_line(t, h, op, address, wrote, status, count, read, more) -> str:
 
 
 def _state_line(t, base, horizon, changes) -> str:
+    if not changes and type(t) is int and type(base) is int and type(horizon) is int:
+        return f'{{"base":{base},"changes":[],"horizon":{horizon},"msg":"STATE","t":{t},"to":"fw"}}\n'
     entries = [[ct, h, k, v, e.hex() if k == F.CH_BYTES else e] for ct, h, k, v, e in changes]
     if type(t) is int and type(base) is int and type(horizon) is int and all(_plain_ints(e) for e in entries):
         listed = ",".join(
@@ -208,6 +219,7 @@ class _NoLog(LinkLog):
 
     digest = None
     error = None
+    idle = None
     lines = 0
 
     def __init__(self):

@@ -42,6 +42,10 @@ TRUTH_PERIOD_US = 50_000
 SPILL_AT = 20_000
 """Events and truth rows kept in memory before the committed ones go to disk."""
 
+STREAM_EVENTS, STREAM_ROWS = 64, 8
+"""A turn of the streamed files (:meth:`Recorder.work`) once this many events or truth rows
+wait for one (some of them may not be committed yet)."""
+
 
 class Spill:
     """Lists of records appended in chunks to an unnamed temporary file (pickled), read
@@ -99,6 +103,9 @@ class Recorder:
         self._truth_spilled_to_us = -1  # of the last truth row spilled
         self._spilled_columns: dict[str, None] = {}  # the truth columns of the rows spilled, in order
         self.sorted = True  # so far, every event came at or after the time of the one before
+        self.events_spilled = self.rows_spilled = 0  # records gone to disk
+        self.committed_us = -1  # nothing before this time can be rewound (the clock's last commit)
+        self.streamed = None  # host.artefacts.streaming.Streamed: the folder's files made as the run goes
         self._next_truth_us = 0
         self.sample(plant)
 
@@ -164,6 +171,8 @@ class Recorder:
     def rewind(self, t_us: int) -> None:
         """The plant went back to ``t_us``: forget what was recorded after it (never what
         was spilled: that was committed)."""
+        if self.streamed is not None:
+            self.streamed.rewound(t_us)
         events, truth = self._events, self._truth
         while events and events[-1][0] > t_us:
             events.pop()
@@ -173,21 +182,38 @@ class Recorder:
         self._next_truth_us = (last // self.truth_period_us + 1) * self.truth_period_us
 
     def commit(self, t_us: int) -> None:
-        """Nothing up to ``t_us`` will be rewound: once enough is kept, what is up to
-        then goes to disk."""
+        """Nothing up to ``t_us`` will be rewound: once enough is kept, what is before
+        then goes to disk (what is at ``t_us`` may still be joined by more at that instant),
+        made into the folder's lines first when they are streamed."""
+        if t_us > self.committed_us:
+            self.committed_us = t_us
         if len(self._events) + len(self._truth) < SPILL_AT:
             return
+        if self.streamed is not None:
+            self.streamed.work(t_us, bounded=False)
         n = _prefix(self._events, t_us)
         if n:
             self._check_order(self._events[:n])
             self._spilled_events.append(self._events[:n])
             self._events = self._events[n:]
+            self.events_spilled += n
         n = _prefix(self._truth, t_us)
         if n:
             self._truth_spilled_to_us = self._truth[n - 1][0]
             _note_columns(self._spilled_columns, self._truth[:n])
             self._spilled_truth.append(self._truth[:n])
             self._truth = self._truth[n:]
+            self.rows_spilled += n
+
+    def work(self) -> None:
+        """A turn of the folder's streamed files (while the firmware works on a STATE), once
+        enough records wait for one (a turn's own cost, spread over them)."""
+        streamed = self.streamed
+        if streamed is not None and (
+            len(self._events) + self.events_spilled - streamed.events_done >= STREAM_EVENTS
+            or len(self._truth) + self.rows_spilled - streamed.rows_done >= STREAM_ROWS
+        ):
+            streamed.work()
 
     def _check_order(self, events: list) -> None:
         last = self._last_event_us
@@ -219,6 +245,8 @@ class Recorder:
         """Drop what went to disk (the temporary files)."""
         self._spilled_events.close()
         self._spilled_truth.close()
+        if self.streamed is not None:
+            self.streamed.close()
 
 
 def _note_columns(columns: dict, rows: list) -> None:
@@ -234,10 +262,10 @@ def _note_columns(columns: dict, rows: list) -> None:
 
 
 def _prefix(records: list, t_us: int) -> int:
-    """How many records from the start are at or before ``t_us``."""
+    """How many records from the start are before ``t_us``."""
     n = 0
     for record in records:
-        if record[0] > t_us:
+        if record[0] >= t_us:
             break
         n += 1
     return n

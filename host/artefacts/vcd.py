@@ -27,9 +27,13 @@ grouped by role and then by part, each in the format that reads best (levels as 
 counts and duties in decimal, a UART byte as its character).
 """
 
+import bisect
 import heapq
-import itertools
+import io
+import os
 import re
+import tempfile
+from array import array
 
 TIMESCALE = "1us"
 _SCOPES = {"bus": "buses"}  # a role's scope when its plural is not role + "s"
@@ -37,19 +41,50 @@ _ID_FIRST, _ID_LAST = 33, 126  # printable ASCII, as identifier codes
 
 
 def write_vcd(
-    path, *, top: str, comment: str, signals: dict, initial: dict, events, truth, notes=(), columns=None
+    path,
+    *,
+    top: str,
+    comment: str,
+    signals: dict,
+    initial: dict,
+    events,
+    truth,
+    notes=(),
+    columns=None,
+    streamed: "StreamedChanges | None" = None,
 ) -> dict:
     """``signals``: name -> {"role", "kind"}; ``events``: (t_us, name, value) in time
     order; ``truth``: (t_us, {column: value}) in time order; ``notes``:
     (t_us, channel, text) in time order (iterated twice), each channel a string variable of
     the ``events`` scope. All three may be iterables that read from disk (``events`` is
     read once): nothing here holds them whole. ``columns``: the truth's columns, when
-    known (else found in a first pass over ``truth``). Returns each variable's (full name in the
-    file, kind) by (group, name), for :func:`write_gtkw`."""
+    known (else found in a first pass over ``truth``). ``streamed``: the changes already
+    made while the run went (:class:`StreamedChanges`), used when they were made for these
+    signals, initial values and columns (``events`` and ``truth`` are then not read).
+    Returns each variable's (full name in the file, kind) by (group, name), for
+    :func:`write_gtkw`."""
     if columns is None:
         columns = {k for _t, row in truth for k in row}
     columns = sorted(set(columns) - {"t_us"})
     channels = sorted({channel for _t, channel, _text in notes})
+    ids, paths, declared = _declare_all(top, signals, columns, channels)
+    with open(path, "w", encoding="ascii", errors="replace") as f:
+        f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
+        f.write(declared)
+        if streamed is not None and streamed.fits(signals, initial, columns, ids):
+            streamed.write_to(f, ids, notes)
+            return paths
+        # $dumpvars holds every variable's value at time 0, after the changes at time 0
+        body = _Body(ids, signals, initial, columns, f.write)
+        body.feed(events, truth, notes, _NEVER)
+        body.close()
+    return paths
+
+
+def _declare_all(top: str, signals: dict, columns: list, channels: list) -> tuple[dict, dict, str]:
+    """Each variable's identifier code and full name by (group, name), and the declarations'
+    text: a scope a role (then a part), the truth's, the notes' (``events``: last, so the
+    other variables' codes do not depend on the notes)."""
     ids: dict[tuple[str, str], str] = {}
     tree: dict = {}
     for name, info in signals.items():
@@ -62,38 +97,11 @@ def write_vcd(
     for channel in channels:
         _insert(tree, ["events", channel], ("note", channel, "text"))
     paths: dict[tuple[str, str], str] = {}
-    with open(path, "w", encoding="ascii", errors="replace") as f:
-        f.write(f"$version mpy-fil $end\n$comment {_clean(comment)} $end\n$timescale {TIMESCALE} $end\n")
-        f.write(f"$scope module {_ident(top)} $end\n")
-        _declare(f, tree, ids, paths, _ident(top))
-        f.write("$upscope $end\n$enddefinitions $end\n")
-        kinds = {name: info["kind"] for name, info in signals.items()}
-        sigs = _changes(events, kinds, {name for kind, name in ids if kind == "text"})
-        truth_codes = [(col, ids[("truth", col)]) for col in columns]
-        reals = ((t, 1, _ROW, "row", row) for t, row in truth)  # (a row at a time: columns are many)
-        texts = ((t, 2, ("note", channel), "text", text) for t, channel, text in notes)
-        # (streamed, not held: each comes in time order, so a merge gives what a stable sort would)
-        # (no key: each stream's own order is kept, and no two streams share an order)
-        merged = heapq.merge(sigs, reals, texts)
-        # $dumpvars holds every variable's value at time 0, after the changes at time 0
-        state = {
-            ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
-            for name, info in signals.items()
-        }
-        state.update({ids[("truth", col)]: _value("real", None, ids[("truth", col)]) for col in columns})
-        state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] in ("text", "note")})
-        change = next(merged, None)
-        while change is not None and change[0] <= 0:
-            _t, _order, key, kind, value = change
-            if key is _ROW:
-                state.update(_row_values(value, truth_codes))
-            elif key in ids:
-                state[ids[key]] = _value(kind, value, ids[key])
-            change = next(merged, None)
-        f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
-        if change is not None:
-            _write_changes(f, itertools.chain([change], merged), ids, truth_codes, state)
-    return paths
+    text = io.StringIO()
+    text.write(f"$scope module {_ident(top)} $end\n")
+    _declare(text, tree, ids, paths, _ident(top))
+    text.write("$upscope $end\n$enddefinitions $end\n")
+    return ids, paths, text.getvalue()
 
 
 def merge_vcd(path, parts: dict, *, top: str, comment: str) -> dict:
@@ -212,35 +220,17 @@ def _blocks(lines, prefix: str, order: int):
 TEXT_LINE_MAX = 120  # characters of a UART line kept as text
 
 
-def _changes(events, kinds: dict, texts: set):
-    """Each event as a change of its variable and, after an instant's changes, each UART's
-    text (its ``_text`` variable) that changed then, in the order of its events: one pass
-    over ``events`` (read from disk), in the order a stable sort of the two would give."""
-    held = []
-    t_held = None
-    uart = _uart_text(texts)
-    for t, name, v in events:
-        if held and t != t_held:
-            yield from held
-            held.clear()
-        yield (t, 0, ("sig", name), kinds.get(name, "level"), v)
-        if name in texts and v:
-            held.append(uart(t, name, v))
-            t_held = t
-    yield from held
-
-
-def _uart_text(texts: set):
+def _uart_text():
     """For each UART (a ``_text`` variable): at each chunk, the line being received,
     or the line just completed until the next one starts."""
     lines: dict[str, str] = {}
 
-    def text_at(t, name, value):
+    def text_at(name, value):
         text = lines.get(name, "") + bytes.fromhex(value).decode("latin-1").replace("\r", "")
         done, _, partial = text.rpartition("\n")
         lines[name] = partial[-TEXT_LINE_MAX:]
         shown = partial or done.rpartition("\n")[2]
-        return (t, 0, ("text", name), "text", shown[-TEXT_LINE_MAX:])
+        return shown[-TEXT_LINE_MAX:]
 
     return text_at
 
@@ -282,59 +272,256 @@ def _role_order(role: str) -> tuple:
 _GTKW_FORMATS = {"real": "real", "text": "ascii", "bytes": "ascii", "u16": "dec", "duty": "dec"}
 
 
-_ROW = ("truth", None)  # a ground-truth row: one change per column in it
-
-
-def _row_values(row: dict, truth_codes) -> dict:
-    return {code: _real(row[col], code) for col, code in truth_codes if col in row}
-
-
 def _real(value, code: str) -> str:
     return f"r{float(value):.9g} {code}" if value is not None else f"r0 {code}"
 
 
 _UNSET = object()
 _CHUNK = 2048  # instants formatted before each write
+_NEVER = float("inf")
+_CACHED = 1024  # a variable's value lines kept, at most (then forgotten, and kept anew)
 
 
-def _write_changes(f, merged, ids, truth_codes, shown: dict) -> None:
-    """Each instant's changes, a variable's last one at that instant. A ground-truth
-    value the variable already shows is not written again (``shown``: code -> its value
-    line); every other change is, as a repeated console line is an event of its own.
-    A truth value equal to the column's last one (same type, not zero: -0.0 == 0.0 but
-    reads otherwise) gives the same line, so it is not formatted again."""
-    out: list[str] = []
-    last: dict[str, str] = {}
-    raw: dict[str, object] = {}  # column -> its last value formatted
-    t_now = None
-    for t, _order, key, kind, value in merged:
-        if t != t_now:
-            if last:
-                out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
-                last = {}
-                if len(out) >= _CHUNK:
-                    f.write("".join(out))
-                    out = []
-            t_now = t
-        if key is _ROW:
-            for col, code in truth_codes:
-                v = value.get(col, _UNSET)
-                if v is _UNSET:
-                    continue
-                before = raw.get(col, _UNSET)
-                if v == before and type(v) is type(before) and v != 0:
-                    continue
-                raw[col] = v
-                line = _real(v, code)
-                if shown.get(code) != line:
-                    last[code] = shown[code] = line
-            continue
-        code = ids.get(key)
-        if code is not None:
-            last[code] = _value(kind, value, code)
-    if last:
-        out.append(f"#{t_now}\n" + "\n".join(last.values()) + "\n")
-    f.write("".join(out))
+class _Body:
+    """The changes after the declarations: the ``$dumpvars`` (every variable's value at time
+    0, after the changes at time 0), then each instant's changes, a variable's last one at
+    that instant. At an instant: the signals' changes in the order recorded, then each
+    UART's text that changed then (its ``_text`` variable: the line being received or sent),
+    then the ground truth's row, then the notes. A ground-truth value the variable already
+    shows is not written again; every other change is, as a repeated console line is an
+    event of its own. A truth value equal to the column's last one (same type, and not a
+    float zero: -0.0 == 0.0 but reads otherwise) gives the same line, so it is not
+    formatted again.
+
+    One pass over each stream (events, truth and notes may read from disk), merged by time
+    by hand; a signal's value lines are kept by value (``_CACHED`` at most a signal)."""
+
+    def __init__(self, ids: dict, signals: dict, initial: dict, columns: list, write):
+        self.write_text = write
+        truth_codes = [(col, ids[("truth", col)]) for col in columns]
+        self.state = {  # code -> the line it shows (the $dumpvars, then the truth's last)
+            ids[("sig", name)]: _value(info["kind"], initial.get(name), ids[("sig", name)])
+            for name, info in signals.items()
+        }
+        self.state.update({code: _value("real", None, code) for _col, code in truth_codes})
+        self.state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] in ("text", "note")})
+        self.truth_codes = [(i, col, code) for i, (col, code) in enumerate(truth_codes)]
+        self.signals = {
+            name: (code, signals[name]["kind"], {}) for (group, name), code in ids.items() if group == "sig"
+        }
+        self.texts = {name: code for (group, name), code in ids.items() if group == "text"}
+        self.notes = {channel: code for (group, channel), code in ids.items() if group == "note"}
+        self.raw = [_UNSET] * len(truth_codes)  # each column's last value formatted
+        self.uart = _uart_text()
+        self.out: list[str] = []
+        self.dumping = True  # the changes go to the $dumpvars (at or before time 0)
+        self.t_now = None
+        self.t_ev = None  # the last event's instant
+        self.in_order = True  # every event came at or after the one before
+        self.last = self.state  # where the changes of the instant t_now go
+
+    def at(self, t: int) -> dict:
+        """The changes of the instant ``t`` (the one after those gathered so far)."""
+        if t == self.t_now:
+            return self.last
+        if self.dumping:
+            if t <= 0:
+                return self.last
+            self._dump()
+            self.dumping = False
+        elif self.last:
+            self._instant(f"#{self.t_now}\n" + "\n".join(self.last.values()) + "\n")
+        self.last = {}
+        self.t_now = t
+        return self.last
+
+    def _dump(self) -> None:
+        """The changes leave the $dumpvars (an instant after 0 comes)."""
+        self.write_text("#0\n$dumpvars\n" + "\n".join(self.state.values()) + "\n$end\n")
+
+    def _instant(self, text: str) -> None:
+        self.out.append(text)
+        if len(self.out) >= _CHUNK:
+            self._flush()
+
+    def _flush(self) -> None:
+        self.write_text("".join(self.out))
+        self.out.clear()
+
+    def close(self) -> None:
+        """The last instant, and everything out."""
+        if self.dumping:
+            self._dump()
+        elif self.last:
+            self._instant(f"#{self.t_now}\n" + "\n".join(self.last.values()) + "\n")
+            self.last = {}
+        self._flush()
+
+    def feed(self, events, truth, notes, limit) -> None:
+        """The events, then the rows and notes before ``limit`` (every event before it
+        comes here, none later)."""
+        self._rows, self._notes = iter(truth), iter(notes)
+        self._next_row()
+        self._next_note()
+        signals, texts, held = self.signals, self.texts, []
+        t_ev, last = self.t_ev, self.last
+        for t, name, v in events:
+            if t != t_ev:
+                if held:  # (the UARTs' texts, after the instant's changes)
+                    self._texts(last, held)
+                if t_ev is not None and t < t_ev:
+                    self.in_order = False
+                if self.t_row < t or self.t_note < t:
+                    self._before(t)
+                last = self.at(t)
+                t_ev = t
+            signal = signals.get(name)
+            if signal is not None:
+                code, kind, lines = signal
+                if type(v) is int or type(v) is str:
+                    line = lines.get(v)
+                    if line is None:
+                        if len(lines) >= _CACHED:
+                            lines.clear()
+                        line = lines[v] = _value(kind, v, code)
+                else:
+                    line = _value(kind, v, code)
+                last[code] = line
+            if v and name in texts:
+                held.append((name, v))
+        self.t_ev = t_ev
+        self._texts(last, held)
+        self._before(limit)
+
+    def _texts(self, last: dict, held: list) -> None:
+        for name, value in held:
+            code = self.texts[name]
+            last[code] = _value("text", self.uart(name, value), code)
+        held.clear()
+
+    def _before(self, t: int) -> None:
+        """The truth's rows and the notes before ``t``: at each instant, the row, then the notes."""
+        while self.t_row < t or self.t_note < t:
+            if self.t_row <= self.t_note:
+                self._row(self.at(self.t_row), self.row[1])
+                self._next_row()
+            else:
+                _t, channel, text = self.note
+                code = self.notes.get(channel)
+                if code is not None:
+                    self.at(self.t_note)[code] = _value("text", text, code)
+                self._next_note()
+
+    def _next_row(self) -> None:
+        self.row = next(self._rows, None)
+        self.t_row = _NEVER if self.row is None else self.row[0]
+
+    def _next_note(self) -> None:
+        self.note = next(self._notes, None)
+        self.t_note = _NEVER if self.note is None else self.note[0]
+
+    def _row(self, last: dict, row: dict) -> None:
+        raw, shown = self.raw, self.state
+        for i, col, code in self.truth_codes:
+            v = row.get(col, _UNSET)
+            if v is _UNSET:
+                continue
+            before = raw[i]
+            if type(v) is type(before) and v == before and (v != 0 or type(v) is not float):
+                continue
+            raw[i] = v
+            line = _real(v, code)
+            if shown.get(code) != line:
+                last[code] = shown[code] = line
+
+
+class StreamedChanges(_Body):
+    """The VCD's changes made while the run goes, from what it can no longer rewind
+    (:class:`host.artefacts.streaming.Streamed` feeds it), to a temporary file; the notes
+    (the console's lines, the budgets' misses: known at the end) are merged in when the
+    file is written (:meth:`write_to`), each at the end of its instant's changes, as
+    :class:`_Body` would have put it. Made for the signals, initial values and truth
+    columns it was given: :meth:`fits` says whether they are those of the end."""
+
+    def __init__(self, signals: dict, initial: dict, columns: list):
+        self.signals_given = {name: dict(info) for name, info in signals.items()}
+        self.initial_given = dict(initial)
+        self.columns_given = sorted(set(columns) - {"t_us"})
+        self.ids, _paths, _text = _declare_all("top", signals, self.columns_given, [])
+        self.file = tempfile.TemporaryFile(prefix="mpy-fil-vcd-")
+        self.size = 0  # bytes in the file
+        self.pending = 0  # characters of the instants not yet in it
+        self.times = array("q")  # each instant written: its time ...
+        self.offsets = array("q")  # ... and where its text starts in the file
+        self.dumped: dict | None = None  # the $dumpvars, once an instant after 0 came
+        super().__init__(self.ids, signals, initial, self.columns_given, self._write)
+
+    def _write(self, text: str) -> None:
+        data = text.encode("ascii", "replace")
+        self.file.write(data)
+        self.size += len(data)
+        self.pending = 0
+
+    def _dump(self) -> None:
+        self.dumped = dict(self.state)
+
+    def _instant(self, text: str) -> None:
+        self.times.append(self.t_now)
+        self.offsets.append(self.size + self.pending)  # (ASCII: a character a byte)
+        self.pending += len(text)
+        super()._instant(text)
+
+    def fits(self, signals: dict, initial: dict, columns: list, ids: dict) -> bool:
+        """Whether the changes were made for these signals, initial values, columns and
+        identifier codes (the notes' aside), all in time order."""
+        return (
+            self.in_order
+            and signals == self.signals_given
+            and initial == self.initial_given
+            and sorted(set(columns) - {"t_us"}) == self.columns_given
+            and {key: code for key, code in ids.items() if key[0] != "note"} == self.ids
+        )
+
+    def write_to(self, f, ids: dict, notes) -> None:
+        """The $dumpvars and the changes, the notes merged in (``ids``: the file's codes,
+        the notes' among them: after every other variable's, which are the ones made here)."""
+        self.close()
+        self.file.flush()  # (read back by offset below)
+        state = dict(self.state if self.dumped is None else self.dumped)
+        state.update({code: _value("text", "", code) for key, code in ids.items() if key[0] == "note"})
+        later: dict[int, dict] = {}  # instant -> the notes' lines at it (after 0)
+        for t, channel, text in notes:
+            code = ids.get(("note", channel))
+            if code is not None:
+                (state if t <= 0 else later.setdefault(t, {}))[code] = _value("text", text, code)
+        f.write("#0\n$dumpvars\n" + "\n".join(state.values()) + "\n$end\n")
+        done = 0  # bytes of the file written
+        times, offsets = self.times, self.offsets
+        for t, lines in later.items():
+            i = bisect.bisect_left(times, t)
+            start = offsets[i] if i < len(times) else self.size
+            self._copy(f, done, start)
+            added = "\n".join(lines.values()) + "\n"
+            if i < len(times) and times[i] == t:  # (its instant's changes, then the notes)
+                done = offsets[i + 1] if i + 1 < len(times) else self.size
+                f.write(self._read(start, done) + added)
+            else:
+                f.write(f"#{t}\n" + added)
+                done = start
+        self._copy(f, done, self.size)
+        self.discard()
+
+    def _read(self, start: int, end: int) -> str:
+        return os.pread(self.file.fileno(), end - start, start).decode("ascii")
+
+    def _copy(self, f, start: int, end: int) -> None:
+        while start < end:
+            n = min(end - start, 1 << 20)
+            f.write(self._read(start, start + n))
+            start += n
+
+    def discard(self) -> None:
+        self.file.close()
 
 
 def _insert(tree: dict, path: list[str], leaf) -> None:
@@ -414,7 +601,15 @@ def _ident(text: str) -> str:
 
 def _escape(text: str) -> str:
     """A string value: C escapes for white space, backslashes and what is not printable."""
+    if _PLAIN_TEXT.fullmatch(text):
+        return text
+    if max(text) <= "\xff":
+        return text.translate(_ESCAPES)
     return "".join(c if "!" <= c <= "~" and c != "\\" else f"\\x{ord(c) & 0xFF:02x}" for c in text)
+
+
+_PLAIN_TEXT = re.compile(r"[!-\[\]-~]*")  # (printable, no backslash: as it is)
+_ESCAPES = {i: f"\\x{i:02x}" for i in range(256) if not (ord("!") <= i <= ord("~") and i != ord("\\"))}
 
 
 def _clean(text: str) -> str:

@@ -389,6 +389,8 @@ def begin_recording(rig) -> None:
         manifest.write(rig.artefacts, manifest.of_rig(rig))
     if rig.artefacts and rig.recorder is not None:
         begin_trace_folder(rig.artefacts, run_header(rig), rig.recorder, rig.plant)
+        if rig.trace_enabled:  # (the folder's files made while the firmware works: host/artefacts/streaming.py)
+            rig.linklog.idle = rig.recorder.work
 
 
 def run_header(rig) -> dict:
