@@ -233,7 +233,7 @@ STATUS, SAMPLE = (0x6A, b"\x1e", 1), (0x6A, b"\x22", 12)
 def answer(entries: list, t_us: int, shape: tuple, counts: dict):
     """What the shim answers for ``shape`` at ``t_us`` from ``stream``'s entries, its count
     moved on (None: the host's)."""
-    for read, a, b, need, then, got in entries:
+    for read, a, b, need, then, got, _how in entries:
         if read == shape and a <= t_us < b and counts["n"] == need:
             counts["n"] = then
             return got
