@@ -52,9 +52,12 @@ is tried once a sample, at the new tick); a stream's windows are kept from image
 while the chip and the generator are as one of them left them (a motion change, a write,
 another part's draw: played anew), and tried at a window's start only where the chip's
 class says its reads change at its declared instants alone (``READS_STEADY``); a trial
-copies the chip's attributes once; a kind of message whose last images answered nothing
-gets one only now and then (``IDLE``, ``PROBE``); and the shim reads the payload in place
-at a transfer (``_hilframe.bus_image_find``), decoding nothing when it arrives.
+copies the chip's attributes once, and a window's reads that change nothing are made on one
+copy (each leaves it as the chip is), compared in place; BUS_DONE of a stream's sample read
+installs the chip and the generator its trial left instead of drawing it again; a kind
+of message whose last images answered nothing gets one only now and then (``IDLE``,
+``PROBE``); and the shim reads the payload in place at a transfer
+(``_hilframe.bus_image_find``), decoding nothing when it arrives.
 """
 
 import os
