@@ -233,7 +233,7 @@ STATUS, SAMPLE = (0x6A, b"\x1e", 1), (0x6A, b"\x22", 12)
 def answer(entries: list, t_us: int, shape: tuple, counts: dict):
     """What the shim answers for ``shape`` at ``t_us`` from ``stream``'s entries, its count
     moved on (None: the host's)."""
-    for read, a, b, need, then, got in entries:
+    for read, a, b, need, then, got, _how in entries:
         if read == shape and a <= t_us < b and counts["n"] == need:
             counts["n"] = then
             return got
@@ -341,3 +341,36 @@ def kit_demo_both_ways(tmp_path, monkeypatch, kit: str) -> None:
     assert a["console"] == b["console"], f"{kit}: expected the same console both ways; artefacts in {tmp_path}"
     assert a["bus_local"] == 0, f"{kit}: expected no read answered in the shim with {ENV}=0"
     assert b["bus_local"] > 0, f"{kit}: expected the gyro's reads answered in the shim, none were"
+
+
+def test_a_sample_read_answered_in_the_shim_installs_its_trial_only_on_the_chip_its_window_found():
+    """BUS_DONE of a stream's sample read (``busimage._install``): on the chip and the
+    generator as its window found them, the chip becomes what the read made of the trial's
+    copy and the generator moves on as the read drew (the same as playing the read on the
+    chip: its bytes, its state, the next draw); on a chip changed since (a motion change
+    the window did not see), nothing is installed and the host plays the read itself."""
+    from host.rig.hardware.busimage import _install, play
+
+    chip, bus, rng = imu_chip()
+    period = chip.period_us()
+    t0 = 3 * period + 100
+    windows = play(chip, rng.bit_generator.state, 0, t0, t0 + 3 * period, (STATUS, SAMPLE), rng, 3)
+    w = windows[0]
+    assert w.a == t0 and w.change is not None, f"expected the tick's sample read to change the chip: {w.change}"
+    bus.transfer(t0 + 10, "i2c0", 0, 0x6A, 1, b"\x1e")  # (the status poll: its pointer only)
+    twin, twin_bus, twin_rng = imu_chip()
+    twin_bus.transfer(t0 + 10, "i2c0", 0, 0x6A, 1, b"\x1e")
+    status, _count, played = twin_bus.transfer(t0 + 20, "i2c0", 0, 0x6A, 12, b"\x22")
+    assert status == 0 and played == w.change[1], f"expected the sample {w.change[1].hex()}, got {played.hex()}"
+    assert _install(chip, w, rng), "expected the sample installed on the chip its window found"
+    differ = sorted(k for k, v in chip.__dict__.items() if k != "rng" and twin.__dict__.get(k) != v)
+    assert not differ and chip.__dict__.keys() == twin.__dict__.keys(), (
+        f"expected the chip as the read played on it leaves it; differ: {differ}"
+    )
+    assert rng.standard_normal() == twin_rng.standard_normal(), "expected the generator moved on as the read drew"
+    moved, moved_bus, moved_rng = imu_chip()
+    moved_bus.transfer(t0 + 10, "i2c0", 0, 0x6A, 1, b"\x1e")
+    moved.history.append((t0 + 15, 0.2, 0.5))  # (a motion change the window did not see)
+    before = dict(moved.__dict__, history=list(moved.history), regs=list(moved.regs))
+    assert not _install(moved, w, moved_rng), "expected nothing installed on a chip changed since its window"
+    assert moved.__dict__ == before, "expected the changed chip untouched"

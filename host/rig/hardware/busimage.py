@@ -52,16 +52,19 @@ is tried once a sample, at the new tick); a stream's windows are kept from image
 while the chip and the generator are as one of them left them (a motion change, a write,
 another part's draw: played anew), and tried at a window's start only where the chip's
 class says its reads change at its declared instants alone (``READS_STEADY``); a trial
-copies the chip's attributes once; a kind of message whose last images answered nothing
-gets one only now and then (``IDLE``, ``PROBE``); and the shim reads the payload in place
-at a transfer (``_hilframe.bus_image_find``), decoding nothing when it arrives.
+copies the chip's attributes once, and a window's reads that change nothing are made on one
+copy (each leaves it as the chip is), compared in place; BUS_DONE of a stream's sample read
+installs the chip and the generator its trial left instead of drawing it again; a kind
+of message whose last images answered nothing gets one only now and then (``IDLE``,
+``PROBE``); and the shim reads the payload in place at a transfer
+(``_hilframe.bus_image_find``), decoding nothing when it arrives.
 """
 
 import os
 
 from host.core.errors import LinkError
 from host.link import frames as F
-from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice, tick_after
+from sim_plant.buses import NEVER_US, BusDevice, BusSet, RegisterDevice
 
 ENV = "MPY_FIL_BUS_IMAGES"
 MAX_READS = 6  # read shapes imaged a bus handle: the ones read last (the firmware's polls)
@@ -98,19 +101,23 @@ def _self_contained(device) -> bool:
     )
 
 
-def steady_until(device, t_us: int) -> int:
+def steady_until(device, t_us: int, contained: bool | None = None) -> int:
     """The first instant after ``t_us`` at which a read of ``device`` may answer otherwise
-    (``t_us`` itself: the chip is never imaged)."""
-    if not _self_contained(device):
+    (``t_us`` itself: the chip is never imaged); ``contained``: :func:`_self_contained`, found
+    already (a stream's copies: the chip's)."""
+    if not (_self_contained(device) if contained is None else contained):
         return t_us
     until = getattr(device, "next_us", NEVER_US)
-    periods = [getattr(device, bit.period)() for bit in device.DATA_READY]
-    periods.append(device.period_us())
-    for period in periods:
-        if period:
-            until = min(until, tick_after(t_us, period))
+    period = device.period_us()
+    if period:
+        until = min(until, (t_us // period + 1) * period)  # (tick_after)
+    for bit in device.DATA_READY:
+        other = getattr(device, bit.period)()
+        if other and other != period:
+            until = min(until, (t_us // other + 1) * other)
     for t_clear in device.clearing.values():
-        until = min(until, t_clear)
+        if t_clear < until:
+            until = t_clear
     return until
 
 
@@ -197,8 +204,8 @@ def streamable(device, rng) -> bool:
     return all(value is rng for value in device.__dict__.values() if hasattr(value, "bit_generator"))
 
 
-_CONTAINERS: dict = {}  # (a chip's class, its attributes' names) -> (the names that hold a list, dict or set,
-# the names that hold the plant's generator)
+_CONTAINERS: dict = {}  # a chip's class -> (its attributes' names, the names that hold a list, dict or
+# set, the names that hold the plant's generator): found again where a chip's names differ
 
 
 class _Watched:
@@ -218,13 +225,12 @@ class _Watched:
 def _kinds(kind: type, state: dict) -> tuple:
     """The names of a chip's attributes that hold containers, and the generator (``state``:
     its attributes; the same names, the same kinds)."""
-    key = kind, tuple(state)
-    kinds = _CONTAINERS.get(key)
-    if kinds is None:
+    kinds = _CONTAINERS.get(kind)
+    if kinds is None or state.keys() != kinds[0]:
         containers = tuple(k for k, v in state.items() if isinstance(v, (list, dict, set)))
         generators = tuple(k for k, v in state.items() if isinstance(v, _Watched) or hasattr(v, "bit_generator"))
-        kinds = _CONTAINERS[key] = containers, generators
-    return kinds
+        kinds = _CONTAINERS[kind] = frozenset(state), containers, generators
+    return kinds[1], kinds[2]
 
 
 def _clone(device):
@@ -237,38 +243,69 @@ def _clone(device):
     return copy
 
 
-def _state(device) -> dict:
-    """``device``'s state but its register pointer and the generator it holds (what a read
-    can see of it later: the generator's state is compared apart)."""
-    state = device.__dict__.copy()
-    del state["pointer"], state["pointed"]
-    for name in _kinds(type(device), device.__dict__)[1]:
-        del state[name]
-    return state
+def _same(device, chip) -> bool:
+    """Whether ``device`` is as ``chip`` (a copy) is, its register pointer aside."""
+    state, chip_state = device.__dict__, chip.__dict__
+    left = state["pointer"], state["pointed"]
+    state["pointer"], state["pointed"] = chip_state["pointer"], chip_state["pointed"]
+    try:
+        return state == chip_state
+    except (TypeError, ValueError):  # (a value that does not compare as one truth)
+        return False
+    finally:
+        state["pointer"], state["pointed"] = left
+
+
+def _as(copy, chip) -> tuple | None:
+    """Whether a trial's read left ``copy`` as ``chip`` is, its register pointer aside: then
+    the pointer the read left, and ``copy`` is made ``chip``'s equal (to read on again); else
+    None, ``copy`` as the read left it."""
+    state, chip_state = copy.__dict__, chip.__dict__
+    left = state["pointer"], state["pointed"]
+    state["pointer"], state["pointed"] = chip_state["pointer"], chip_state["pointed"]
+    try:
+        same = state == chip_state
+    except (TypeError, ValueError):  # (a value that does not compare as one truth: not imaged)
+        same = False
+    if same:
+        return left
+    state["pointer"], state["pointed"] = left
+    return None
 
 
 _AT = [None]  # the state the plant's generator was last set to or read at in a play (None: not known)
 
 
-def _read(device, t_us: int, shape: tuple, rng, rng_state):
+def _read(device, t_us: int, shape: tuple, rng, rng_state, copy=None, generators=None):
     """The read ``shape`` on a copy of ``device`` at ``t_us``, the plant's generator at
     ``rng_state``: (bytes read, the copy after it, the generator's state after it: the same
-    object if the read drew nothing), or None. The generator is set only where a read
-    before drew from it (its state read after a draw only: the copy's is watched)."""
+    object if the read drew nothing), or None. ``copy``: the copy to read on (``device``'s
+    equal; made here if None); ``generators``: the names of its attributes that hold the
+    plant's generator (found here if None). The generator is set only where a read before
+    drew from it (its state read after a draw only: the copy's is watched); the copy holds
+    the plant's generator again after the read."""
     address, wrote, n_read = shape
     if _AT[0] is not rng_state:
         rng.bit_generator.state = rng_state
         _AT[0] = rng_state
-    copy = _clone(device)
+    if copy is None:
+        copy = _clone(device)
     state = copy.__dict__
+    if generators is None:
+        generators = _kinds(type(copy), state)[1]
     watched = _Watched(rng)
-    for name in _kinds(type(copy), state)[1]:
+    for name in generators:
         state[name] = watched
     try:
-        status, count, got = _BUS_SET._xfer(t_us, [copy], True, address, n_read, wrote)
+        if copy.address != address:
+            return None
+        status, count, got = _BUS_SET._play(t_us, copy, True, n_read, wrote)
     except (ArithmeticError, LookupError, TypeError, ValueError):
         _AT[0] = None
         return None
+    finally:
+        for name in generators:
+            state[name] = rng
     after = rng_state
     if watched.drew:
         after = _AT[0] = rng.bit_generator.state
@@ -279,14 +316,15 @@ def _read(device, t_us: int, shape: tuple, rng, rng_state):
 
 class Window:
     """One steady window ``[a, b)`` of a stream's chip (no tick, event or deadline of its
-    inside): the chip and the plant's generator as the stream left them at ``a`` (``count``
-    of its changing reads answered), the reads that change nothing then (``pure``: (shape,
-    bytes) each), the one read that changes the chip (``change``) and after it the chip, the
-    generator and the reads that change nothing (``again``). ``cut``: ``b`` is the horizon
-    it was played to, not the chip's own end of the window."""
+    inside): the chip (``chip``, a copy) and the plant's generator's state (``rng``) as the
+    stream left them at ``a`` (``count`` of its changing reads answered), the reads that
+    change nothing then (``pure``: (shape, bytes, the register pointer it leaves) each), the
+    one read that changes the chip (``change``: shape, bytes) and after it the chip and the
+    generator's state (``after``) and the reads that change nothing (``again``). ``cut``:
+    ``b`` is the horizon it was played to, not the chip's own end of the window."""
 
     __slots__ = (
-        *("a", "b", "cut", "steady", "held", "count", "chip", "before", "rng"),
+        *("a", "b", "cut", "steady", "held", "count", "chip", "rng"),
         *("pure", "change", "draws", "after", "again"),
     )
 
@@ -302,22 +340,25 @@ class Window:
 
     def end_state(self) -> tuple:
         """The chip (a copy, never changed) and the generator's state the next window starts from."""
-        return (self.after[0], self.after[2]) if self.change is not None else (self.chip, self.rng)
+        return self.after if self.change is not None else (self.chip, self.rng)
 
 
-def _pure(chip, before: dict, a: int, b: int, shape: tuple, rng, rng_state, first=None):
+def _pure(chip, a: int, b: int, shape: tuple, rng, rng_state, first, generators=None):
     """The bytes ``shape`` reads on ``chip`` throughout ``[a, b)`` (tried at ``a`` and at
-    ``b - 1``) changing nothing of it (the generator at ``rng_state``), or None; ``first``:
-    the read at ``a``, made already."""
-    if first is None:
-        first = _read(chip, a, shape, rng, rng_state)
-    if first is None or first[2] != rng_state or _state(first[1]) != before:
+    ``b - 1``) changing nothing of it (the generator at ``rng_state``) and the register
+    pointer it leaves, or None; ``first``: the read at ``a``, made already (its copy, if the
+    read changed nothing of it, made ``chip``'s equal again: :func:`_as`)."""
+    if first is None or first[2] is not rng_state:
+        return None
+    left = _as(first[1], chip)
+    if left is None:
         return None
     if b - 1 > a:
-        last = _read(chip, b - 1, shape, rng, rng_state)
+        last = _read(chip, b - 1, shape, rng, rng_state, None, generators)
         if last is None or last[0] != first[0]:
+            first[1].pointer, first[1].pointed = left  # (as the read left it)
             return None
-    return first[0]
+    return first[0], left
 
 
 def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rng, n: int) -> list:
@@ -328,13 +369,18 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
     window its declared instants do not end: the HMC5883L's RDY, clear for 250 us after each
     sample), at its first only where the chip's class says its reads change at those
     instants alone (``READS_STEADY``: its samples at its output data rate's ticks, its
-    data-ready bits with them); the generator's state set back after."""
+    data-ready bits with them); the generator's state set back after. A read that changed
+    nothing leaves its copy as the chip is, so the next read is made on the same copy (one
+    copy a window: the one its changing read takes)."""
     real = _AT[0] = rng.bit_generator.state
     out = []
     ends = not getattr(chip, "READS_STEADY", False)
+    spare = None  # a copy of chip as it is (a pure read's, made its equal again)
+    generators = _kinds(type(chip), chip.__dict__)[1]
+    contained = _self_contained(chip)
     try:
         for _ in range(n):
-            steady = steady_until(chip, a)
+            steady = steady_until(chip, a, contained)
             b = min(steady, horizon_us)
             if b <= a or count >= 250:
                 break
@@ -342,35 +388,39 @@ def play(chip, rng_state, count: int, a: int, horizon_us: int, shapes: tuple, rn
             w = Window()
             w.a, w.b, w.cut, w.count, w.chip, w.rng = a, b, steady > horizon_us, count, chip, rng_state
             w.steady, w.held = steady, not ends
-            w.before = before = _state(chip)
             w.pure, w.change, w.draws, w.after, w.again = [], None, False, None, []
             for shape in shapes:
-                first = _read(chip, a, shape, rng, rng_state)
+                first = _read(chip, a, shape, rng, rng_state, _clone(chip) if spare is None else spare, generators)
+                spare = None
                 if first is None:
                     continue
-                got = _pure(chip, before, a, end, shape, rng, rng_state, first)
+                got = _pure(chip, a, end, shape, rng, rng_state, first, generators)
                 if got is not None:
-                    w.pure.append((shape, got))
+                    spare = first[1]
+                    w.pure.append((shape, *got))
                     continue
                 if w.change is not None:
                     continue
-                after = _state(first[1])
-                if after.get("next_us") != before.get("next_us"):  # (a line, an event: the host's)
+                if getattr(first[1], "next_us", None) != getattr(chip, "next_us", None):  # (an event: the host's)
                     continue
                 if end - 1 > a:
-                    last = _read(chip, end - 1, shape, rng, rng_state)
-                    if last is None or last[0] != first[0] or last[2] != first[2] or _state(last[1]) != after:
+                    last = _read(chip, end - 1, shape, rng, rng_state, None, generators)
+                    if last is None or last[0] != first[0] or last[2] != first[2] or not _same(last[1], first[1]):
                         continue
-                w.change, w.after, w.draws = (shape, first[0]), (first[1], after, first[2]), first[2] != rng_state
+                w.change, w.after, w.draws = (shape, first[0]), (first[1], first[2]), first[2] is not rng_state
             if w.change is not None:
-                chip, after, rng_after = w.after
+                chip, rng_after = w.after
+                spare = None  # (a copy of the chip before it)
                 for shape in shapes:  # (read again after it in the same window: not the sample itself)
                     if shape == w.change[0]:
                         continue
-                    got = _pure(chip, after, a, end, shape, rng, rng_after)
+                    first = _read(chip, a, shape, rng, rng_after, _clone(chip) if spare is None else spare, generators)
+                    spare = None
+                    got = _pure(chip, a, end, shape, rng, rng_after, first, generators)
                     if got is not None:
-                        w.again.append((shape, got))
-                chip, rng_state, count = chip, rng_after, count + 1
+                        spare = first[1]
+                        w.again.append((shape, *got))
+                rng_state, count = rng_after, count + 1
             out.append(w)
             a = b
     finally:
@@ -394,13 +444,13 @@ class Stream:
         """The stream's answers from ``t_us`` (:func:`stream`'s), its windows taken from the
         last image's where the chip and the generator are as one of them left them, played
         anew from the first that its horizon cut short, or from ``t_us`` where none is."""
-        state, real = _state(device), rng.bit_generator.state
+        real = rng.bit_generator.state
         windows, base, after = None, 0, False
         for i, w in enumerate(self.windows):
             if w.a <= t_us < (w.steady if w.cut and w.held else w.b):  # (a held window reaches its chip's end)
-                if state == w.before and real == w.rng:
+                if real == w.rng and _same(device, w.chip):
                     windows, base = self.windows[i:], w.count
-                elif w.change is not None and state == w.after[1] and real == w.after[2]:
+                elif w.change is not None and real == w.after[1] and _same(device, w.after[0]):
                     windows, base, after = self.windows[i:], w.count + 1, True
                 break
         if windows is None:
@@ -440,13 +490,13 @@ def _answers(windows: list, t_us: int, horizon_us: int, base: int, after: bool, 
         if a >= b:
             break
         if not (k == 0 and after):
-            out.extend((shape, a, b, need, need, got) for shape, got in w.pure)
+            out.extend((shape, a, b, need, need, got, left) for shape, got, left in w.pure)
             if w.change is None:
                 continue
             if w.draws and not may_draw:
                 break
-            out.append((w.change[0], a, b, need, need + 1, w.change[1]))
-        out.extend((shape, a, b, need + 1, need + 1, got) for shape, got in w.again)
+            out.append((w.change[0], a, b, need, need + 1, w.change[1], w))
+        out.extend((shape, a, b, need + 1, need + 1, got, left) for shape, got, left in w.again)
     return out
 
 
@@ -457,13 +507,51 @@ def stream(device, shapes: tuple, t_us: int, horizon_us: int, rng, may_draw: boo
     nothing, then the one read that changes the chip (a sample drawn from the plant's
     generator, its data-ready bits cleared), then the reads that change nothing after it.
     Each answer is an entry (shape, from, until, the stream's count it needs, the count it
-    leaves, bytes): a read in that window answers so only if the reads answered before it
+    leaves, bytes, what the read does to the chip: the register pointer it leaves, or, the
+    read that changes it, its :class:`Window`): a read in that window answers so only if the reads answered before it
     were the ones the stream expects (the count), so the generator has drawn what it drew
     here and the chip is as it is here; any other read is the host's. Tried on copies with
     the generator's state saved and set back. ``may_draw``: whether a read may draw from the
     generator (one stream an image may: two chips' draws interleave as the firmware reads
     them; the stream stops before the first that draws)."""
     return Stream(shapes, []).entries(device, t_us, horizon_us, rng, may_draw)
+
+
+_CONTAINER_TYPES = (list, dict, set)
+
+
+def _install(device, w: "Window", rng) -> bool:
+    """The changing read of window ``w`` answered by the shim: ``device`` made what the
+    read left the window's copy (its containers updated in place, so what holds them sees
+    it), the plant's generator set where the read drew; False (nothing done) where the chip
+    or the generator is not as the window found them."""
+    copy = w.after[0].__dict__
+    state = device.__dict__
+    if not state.keys() <= copy.keys() or not _same(device, w.chip):
+        return False
+    if w.draws:
+        if rng.bit_generator.state != w.rng:
+            return False
+        rng.bit_generator.state = w.after[1]
+    for name, value in copy.items():
+        old = state.get(name)
+        if old is value:
+            continue
+        kind = type(value)
+        if kind in _CONTAINER_TYPES:
+            if type(old) is kind:
+                if old == value:
+                    continue
+                if kind is list:
+                    old[:] = value
+                else:
+                    old.clear()
+                    old.update(value)
+            else:
+                state[name] = value.copy()
+        else:
+            state[name] = value
+    return True
 
 
 class BusImages:
@@ -611,7 +699,7 @@ class BusImages:
             kept.ticks = self._ticks(device, pairs)
             answers = kept.entries(device, t_us, horizon_us, rng, not drawn)
             drawn = drawn or any(w.draws for w in kept.windows)
-            for shape, a, b, need, then, got in answers:
+            for shape, a, b, need, then, got, how in answers:
                 address, wrote, n_read = shape
                 for h, read in pairs:
                     if read != shape:
@@ -619,7 +707,7 @@ class BusImages:
                     size += F.BUS_IMAGE_ENTRY_LEN + len(wrote) + len(got)
                     if size > MAX_IMAGE:
                         return
-                    sent.append((h, address, wrote, n_read, got, horizon_us, None))
+                    sent.append((h, address, wrote, n_read, got, horizon_us, how))
                     entries.append((h, address, a - t_us, min(b - t_us, WINDOW_MAX), number, need, then, wrote, got))
 
     def _ticks(self, device, pairs: list) -> int:
@@ -689,11 +777,13 @@ class BusImages:
         transfer played on the chips and traced) but send the reply, and checks that the
         reply is the one the shim took: the bytes and the horizon.
 
-        The read is pure (its trials changed nothing of the chip but its register pointer),
-        so playing it on the chips is leaving the pointer where the trial's read left it: the
-        plant's transfer path (``bus_transfer``: its other chips' ``take_in`` and ``pass_on``,
-        the chip's registers byte by byte, the plant's schedule) runs only on a bus where a
-        chip reads the plant at every transfer (``_plain``)."""
+        A pure read (its trials changed nothing of the chip but its register pointer) is
+        played on the chips by leaving the pointer where the trial's read left it, a stream's
+        changing read by making the chip and the generator what its trial left
+        (:func:`_install`; where they are not as its window found them, the read is played on
+        the chip): the plant's transfer path (``bus_transfer``: its other chips' ``take_in``
+        and ``pass_on``, the chip's registers byte by byte, the plant's schedule) runs only
+        on a bus where a chip reads the plant at every transfer (``_plain``)."""
         try:
             h, address, wrote, n_read, got, horizon_us, left = self.sent[at]
         except KeyError:
@@ -710,9 +800,12 @@ class BusImages:
         trace.asking = True  # (a poll named here is said with the firmware's stack: the next BUS_REPLY asks for it)
         try:
             device = self.plant.bus_device(info.key, address) if self._plain(info.key) else None
-            if device is not None and left is not None:
+            if device is not None and type(left) is tuple:
                 device.pointer, device.pointed = left
                 reply = F.BUS_OK, len(wrote), got
+                trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
+            elif device is not None and left is not None and _install(device, left, self.plant.rng):
+                reply = F.BUS_OK, len(wrote), got  # (a stream's changing read: the chip as its trial left it)
                 trace.replay(self.plant, info, h, t_us, F.BUS_XFER, address, n_read, wrote, reply)
             elif device is not None:  # (a stream's read: played on its chip alone, which no other reads)
                 next_us = device.next_us
