@@ -600,6 +600,13 @@ static MP_DEFINE_CONST_FUN_OBJ_3(merge_edges_obj, merge_edges);
 //     for the STATE after it, a STATE for another instant dropped;
 //   apply(cur, handles, pin_type, pending, watch, ctx, g): apply_state over the held STATE
 //     (and its EDGES); state(), edges(): them as bytes (None: no EDGES), for the pure loop;
+//     has_edges(): whether it came with an EDGES;
+//   bind(hdr, cur, handles, pending, ctx, g, shim_g), then exchange(t_until, compute_us,
+//     watch) and run(watch, pin_type): wait and apply with what bind gave (the shim's _sync:
+//     fewer arguments, a frame of its own that fits the C stack's), exchange's MemoryError
+//     for a frame of another kind returned as -1;
+//   out(t, handle, attr, value): an OUT queued, as _hil.send_out packs it (False: a value
+//     that is not a small int, left to struct.pack);
 //   room(n): whether n bytes can be had from the heap (taken and given back at once: no
 //     garbage), as _hil.make_room's probe; counters(): (frames, bad_crc, bad_length,
 //     truncated, seq_gaps, duplicates).
