@@ -827,7 +827,17 @@ def run_until(t_target, watch=None):
         _wait_begins()
     if _pending:  # left by a C call (c_begin), a read or a callback: the wait's first checks
         dispatch(t_target)
-    return _released_run_until(t_target, watch)
+    if _Console.cpu is not None or _Console.debt_ns >= 1000:
+        return _released_owed(t_target, watch)
+    # (_released_run_until's usual case, inline: one call less a wait)
+    _Link.heap_lock()
+    depth = _Link.heap_unlock()  # (heap_release's: the firmware's lock depth)
+    if depth:
+        return _released_locked(t_target, watch, depth, True)
+    hit = _run_until(t_target, watch)
+    if _Link.spent:
+        keep_reserve()
+    return hit
 
 
 def run_until_woken(watch=None):
@@ -859,7 +869,10 @@ def _released_run_until(t_target, watch):
     return hit
 
 
-def _released_locked(t_target, watch, depth):
+def _released_locked(t_target, watch, depth, locked=False):
+    if locked:  # (the rest of heap_release: the firmware's lock let go)
+        for _ in range(depth):
+            _Link.heap_unlock()
     try:
         return _run_until(t_target, watch)
     finally:

@@ -69,9 +69,9 @@ def sleep_us(us):
     _hil.blocking()
     t = _hil.now()
     if _RP2:
-        _wait(t + (us // 1000) * 1000 if us > 1000 else t, t + us)
+        _waiting(_hil.c_begin(t + (us // 1000) * 1000 if us > 1000 else t), t + us)  # (_wait, inline)
     elif _ESP32:
-        _wait(t + us - 155 if us > 155 else t, t + us)
+        _waiting(_hil.c_begin(t + us - 155 if us > 155 else t), t + us)
     else:
         _hil.run_until(t + us)
 
