@@ -626,7 +626,8 @@ def send_out(handle, attr, value):
         _send_out_py(handle, attr, value)
         return
     _Link.frames += 1  # (as send_output, the OUT queued in C: _hilfast.link's out)
-    _Link.image = _NO_IMAGE
+    if _Link.image is not _NO_IMAGE:
+        _Link.image = _NO_IMAGE
     _horizon = _now
     _wrote = True
     if _Link.held:
@@ -1127,8 +1128,11 @@ def _compute_us():
 def _woke():
     """A STATE came (the C link's): the bus image that came with it in use, the clock's marks."""
     global _wake_real_us, _spin, _rt_origin_us
-    _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
-    _Link.done = 0  # (the reads it answered went with the WAIT)
+    # (a class attribute's store costs some 700 instructions: none where nothing changes)
+    if _Link.image_next is not _NO_IMAGE or _Link.image is not _NO_IMAGE:
+        _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
+    if _Link.done:
+        _Link.done = 0  # (the reads it answered went with the WAIT)
     _wake_real_us = _rtime.ticks_us()
     if not _lockstep:  # real time: the STATE ends in the µs the host paused (docs/clock.md)
         _rt_origin_us = _rtime.ticks_add(_rt_origin_us, _Link.hdr[4])
@@ -1250,7 +1254,8 @@ def _finish_state(held, t_end, horizon):
 def _hold(held, horizon):
     """After a STATE: the changes past its end held, the horizon the first of them (or the host's)."""
     global _horizon
-    _Link.ahead = _lockstep
+    if _Link.ahead is not _lockstep:
+        _Link.ahead = _lockstep
     if held:
         _Link.held = held
         _Link.after = horizon
