@@ -297,6 +297,7 @@ class _Link:
     # _hilfast.link's (the harness's build, not HIL_PURE): the link's frames, their CRC and a
     # STATE's decoding and applying in C, with no allocation an exchange; None: in Python
     c = None
+    out = None  # c.out (an OUT queued in C), or None
     hdr = [0, 0, 0, 0, 0]  # the STATE's base, t_end, horizon, count, paused µs (c.wait fills it)
     cur = [0, 0, False]  # apply's offset, change and watched hit (c.apply)
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE's payload, read
@@ -384,20 +385,23 @@ class _Link:
         while frame is not None:
             if frame == 0:
                 raise _damaged(*c.counters())
-            type_, _seq, p = frame
-            if type_ == F.BYE:
-                raise HostStop()
-            if type_ == F.BUS_IMAGE:
-                _Link.image_next = p
-            elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
-                import _hilrepl
+            if frame == -1:  # (a frame of another kind not taken for want of memory: read again)
+                spend_reserve()
+            else:
+                type_, _seq, p = frame
+                if type_ == F.BYE:
+                    raise HostStop()
+                if type_ == F.BUS_IMAGE:
+                    _Link.image_next = p
+                elif type_ == F.EVAL:  # the host looks inside while it holds the clock (docs/live.md)
+                    import _hilrepl
 
-                _hilrepl.answer(self, p)
+                    _hilrepl.answer(self, p)
             p = frame = None
             try:
                 frame = c.wait(_Link.hdr, t_now)
-            except MemoryError:  # (a frame not taken: read again)
-                spend_reserve()
+            except MemoryError:
+                frame = -1
 
 
 def _c_link(f):
@@ -410,7 +414,7 @@ def _c_link(f):
         import _hilfast
     except ImportError:
         return None
-    if not hasattr(_hilfast, "link"):
+    if not hasattr(_hilfast, "defers"):  # (a build before exchange, run and out: the pure path)
         return None
     return _hilfast.link(f.fileno(), HostGone)
 
@@ -612,10 +616,25 @@ def _drop_held():
 
 
 def send_out(handle, attr, value):
+    global _horizon, _wrote
     if _Console.cpu is not None:
         _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board writes once the print before has returned
         pay_console()
+    out = _Link.out
+    if out is None or _link.queue is not _link.own_queue or not out(now(), handle, attr, value):
+        _send_out_py(handle, attr, value)
+        return
+    _Link.frames += 1  # (as send_output, the OUT queued in C: _hilfast.link's out)
+    if _Link.image is not _NO_IMAGE:
+        _Link.image = _NO_IMAGE
+    _horizon = _now
+    _wrote = True
+    if _Link.held:
+        _drop_held()
+
+
+def _send_out_py(handle, attr, value):
     send_output(F.OUT, struct.pack(F.OUT_FMT, now(), handle, attr, value))  # F.pack_out, inline
 
 
@@ -813,7 +832,17 @@ def run_until(t_target, watch=None):
         _wait_begins()
     if _pending:  # left by a C call (c_begin), a read or a callback: the wait's first checks
         dispatch(t_target)
-    return _released_run_until(t_target, watch)
+    if _Console.cpu is not None or _Console.debt_ns >= 1000:
+        return _released_owed(t_target, watch)
+    # (_released_run_until's usual case, inline: one call less a wait)
+    _Link.heap_lock()
+    depth = _Link.heap_unlock()  # (heap_release's: the firmware's lock depth)
+    if depth:
+        return _released_locked(t_target, watch, depth, True)
+    hit = _run_until(t_target, watch)
+    if _Link.spent:
+        keep_reserve()
+    return hit
 
 
 def run_until_woken(watch=None):
@@ -833,6 +862,32 @@ def run_until_woken(watch=None):
 
 
 def _released_run_until(t_target, watch):
+    if _Console.cpu is not None or _Console.debt_ns >= 1000:
+        return _released_owed(t_target, watch)
+    # (the usual case, with a frame of its own small enough for the C stack)
+    depth = heap_release()
+    if depth:
+        return _released_locked(t_target, watch, depth)
+    hit = _run_until(t_target, watch)
+    if _Link.spent:
+        keep_reserve()
+    return hit
+
+
+def _released_locked(t_target, watch, depth, locked=False):
+    if locked:  # (the rest of heap_release: the firmware's lock let go)
+        for _ in range(depth):
+            _Link.heap_unlock()
+    try:
+        return _run_until(t_target, watch)
+    finally:
+        if _Link.spent:
+            keep_reserve()
+        heap_restore(depth)
+
+
+def _released_owed(t_target, watch):
+    """_released_run_until with MCU time, or a print's time owed first."""
     if _Console.cpu is not None:
         _charge_cpu()  # (the wait begins once the compute before it is done)
     if _Console.debt_ns >= 1000:
@@ -1030,56 +1085,80 @@ def _run_until_idle(t_target, watch):
 
 
 def _sync(t_until, watch):
-    global _now, _horizon, _wake_real_us, _spin, _rt_origin_us
+    # (Each function on this path keeps its locals and its stack within the C stack's frame,
+    # py/objfun.c VM_MAX_STATE_ON_STACK, 11 words: a larger one is a heap block an exchange.)
     c = _Link.c
     if c is None:
         make_room()
-    elif not c.room(ROOM_BYTES):  # (make_room's probe, given back at once)
+        return _sync_py(t_until, watch, _compute_us())
+    if not c.room(ROOM_BYTES):  # (make_room's probe, given back at once)
         spend_reserve()
+    _Link.syncs += 1
+    if _Link.thread() != _Link.main_thread:
+        raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
+    # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
+    _Link.frames += 1
+    if _link.queue is not _link.own_queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
+        _link.queue(F.WAIT, b"")
+    # (waits here for the host: host/rig/targets/target.py, WAITING_ON_LINK)
+    frame = c.exchange(t_until, _compute_us(), watch)
+    if frame is not None:  # (-1: a frame of another kind not taken for want of memory)
+        _link.other(c, frame, _now)
+    _woke()
+    hdr = _Link.hdr
+    if not hdr[3] and not c.has_edges():  # (nothing to apply: what either loop ends with)
+        _finish_state(None, hdr[1], hdr[2])
+        return False
+    if _dispatching or _irq_off:  # (as below: the pure loop)
+        return _pure_apply(c, watch)
+    return _c_apply(c, watch)
+
+
+def _pure_apply(c, watch):
+    """The held STATE applied by the pure loop (inside a callback, with IRQs off)."""
+    hdr = _Link.hdr
+    return _apply_state(c.state(), hdr[0], hdr[1], hdr[2], hdr[3], watch, c.edges())
+
+
+def _compute_us():
+    """The firmware's compute since the last STATE woke it (MCU time: its board's)."""
     if _Console.cpu is None:
         compute_us = _rtime.ticks_diff(_rtime.ticks_us(), _wake_real_us)
     else:
         compute_us = _mcu_compute()
-    if compute_us < 0:
-        compute_us = 0
-    _Link.syncs += 1
-    if _Link.thread() != _Link.main_thread:
-        raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
-    if c is not None:  # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
-        hdr = _Link.hdr
-        _Link.frames += 1
-        if _link.queue is not _link.own_queue:  # (a line the host runs at a pause may not wait: _hilrepl refuses)
-            _link.queue(F.WAIT, b"")
-        try:  # (waits here for the host: host/rig/targets/target.py, WAITING_ON_LINK)
-            frame = c.wait(hdr, _now, t_until, compute_us, watch)
-        except MemoryError:  # (a frame of another kind not taken: read again)
-            spend_reserve()
-            frame = -1
-        if frame is not None:
-            _link.other(c, frame if frame != -1 else c.wait(hdr, _now), _now)
+    return compute_us if compute_us > 0 else 0
+
+
+def _woke():
+    """A STATE came (the C link's): the bus image that came with it in use, the clock's marks."""
+    global _wake_real_us, _spin, _rt_origin_us
+    # (a class attribute's store costs some 700 instructions: none where nothing changes)
+    if _Link.image_next is not _NO_IMAGE or _Link.image is not _NO_IMAGE:
         _Link.image, _Link.image_next = _Link.image_next, _NO_IMAGE
+    if _Link.done:
         _Link.done = 0  # (the reads it answered went with the WAIT)
-        _wake_real_us = _rtime.ticks_us()
-        if not _lockstep:  # real time: the STATE ends in the µs the host paused (docs/clock.md)
-            _rt_origin_us = _rtime.ticks_add(_rt_origin_us, hdr[4])
-        _spin = 0
-        base = hdr[0]
-        t_end = hdr[1]
-        horizon = hdr[2]
-        n = hdr[3]
-        if _dispatching or _irq_off or _Link.defer_from != FOREVER_US:  # (as below: the pure loop)
-            return _apply_state(c.state(), base, t_end, horizon, n, watch, c.edges())
-        cur = _Link.cur
-        cur[0] = 26  # (F.STATE_LEN)
-        cur[1] = 0
-        cur[2] = False
-        stop = c.apply(cur, _handles, _Link.pin, _pending, watch, _Link.ctx, _Link.g)
-        if stop:
-            return cur[2] or stop == 2
-        i = cur[1]
-        _finish_state(F.unpack_changes(c.state(), cur[0], base, n - i, []) if i < n else None, t_end, horizon)
-        return cur[2]
-    return _sync_py(t_until, watch, compute_us)
+    _wake_real_us = _rtime.ticks_us()
+    if not _lockstep:  # real time: the STATE ends in the µs the host paused (docs/clock.md)
+        _rt_origin_us = _rtime.ticks_add(_rt_origin_us, _Link.hdr[4])
+    _spin = 0
+
+
+def _c_apply(c, watch):
+    """The held STATE applied in C (_hilfast.link's run: apply_state's loop)."""
+    cur = _Link.cur
+    stop = c.run(watch, _Link.pin)
+    if stop:
+        return cur[2] or stop == 2
+    hdr = _Link.hdr
+    if cur[1] < hdr[3]:  # changes past its end (the host's lookahead): held
+        _finish_state(_held_rest(c, cur, hdr), hdr[1], hdr[2])
+    else:
+        _finish_state(None, hdr[1], hdr[2])
+    return cur[2]
+
+
+def _held_rest(c, cur, hdr):
+    return F.unpack_changes(c.state(), cur[0], hdr[0], hdr[3] - cur[1], [])
 
 
 def _sync_py(t_until, watch, compute_us):
@@ -1104,7 +1183,7 @@ def _sync_py(t_until, watch, compute_us):
         _Link.edges = None
         if struct.unpack_from(F.EDGES_FMT, edges, 0)[0] != base:  # (not this STATE's: never acted on)
             edges = None
-    if fast is None or _dispatching or _irq_off or _Link.defer_from != FOREVER_US or (edges and not _Link.fast_edges):
+    if fast is None or _dispatching or _irq_off or (edges and not _Link.fast_edges):
         # (inside a callback, with IRQs off or in a C call: only the pure path keeps soft
         # callbacks waiting and the queue bounded; _hilfast runs them all, as dispatch does outside)
         return _apply_state(p, base, t_end, horizon, n, watch, edges)
@@ -1179,7 +1258,8 @@ def _finish_state(held, t_end, horizon):
 def _hold(held, horizon):
     """After a STATE: the changes past its end held, the horizon the first of them (or the host's)."""
     global _horizon
-    _Link.ahead = _lockstep
+    if _Link.ahead is not _lockstep:
+        _Link.ahead = _lockstep
     if held:
         _Link.held = held
         _Link.after = horizon
@@ -1565,7 +1645,11 @@ def _fast_path(getenv):
     _Link.roomy = getattr(_hilfast, "roomy", None)
     if hasattr(_hilfast, "pin_value"):  # (machine.Pin.value in C: machine.py installs it)
         _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
-    return _hilfast.apply_state
+    if _Link.c is not None:
+        _Link.c.bind(_Link.hdr, _Link.cur, _handles, _pending, _Link.ctx, _Link.g, globals())
+        _Link.out = _Link.c.out
+    # (a build before "defers" runs every soft callback in apply_state's dispatch, in a C call too)
+    return _hilfast.apply_state if hasattr(_hilfast, "defers") else None
 
 
 def _exempt(fast):

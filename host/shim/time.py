@@ -69,9 +69,9 @@ def sleep_us(us):
     _hil.blocking()
     t = _hil.now()
     if _RP2:
-        _wait(t + (us // 1000) * 1000 if us > 1000 else t, t + us)
+        _waiting(_hil.c_begin(t + (us // 1000) * 1000 if us > 1000 else t), t + us)  # (_wait, inline)
     elif _ESP32:
-        _wait(t + us - 155 if us > 155 else t, t + us)
+        _waiting(_hil.c_begin(t + us - 155 if us > 155 else t), t + us)
     else:
         _hil.run_until(t + us)
 
@@ -79,7 +79,12 @@ def sleep_us(us):
 def _wait(busy_from, t_end):
     """Wait to t_end, in a C busy loop from busy_from on (_hil.c_begin). (No allocation:
     sleeps work under micropython.heap_lock().)"""
-    prev = _hil.c_begin(busy_from)
+    _waiting(_hil.c_begin(busy_from), t_end)
+
+
+def _waiting(prev, t_end):
+    # (apart from _wait: a frame with few locals around its try fits the C stack's,
+    # py/objfun.c VM_MAX_STATE_ON_STACK, where _wait's took a heap block each sleep)
     try:
         _hil.run_until(t_end)
     finally:

@@ -14,7 +14,7 @@ from host.bench import run_encoder_bot
 from host.core import interpreter
 from host.core.paths import REPO, SHIM_DIR
 from host.rig.config.apps import get_app
-from host.tests.conftest import FIRMWARE, bench_app
+from host.tests.conftest import FIRMWARE, bench_app, results
 from host.tests.test_shim_polls import PINS, PLANT, RP2040, WIRING
 
 pytestmark = pytest.mark.hil
@@ -104,6 +104,31 @@ def test_both_paths_give_the_same_trace_for_pins_the_main_program_polls(make_rig
         rig.stop()
         traces[pure] = ((rig.artefacts / "trace.jsonl").read_bytes(), console)
     assert "R button" in traces[False][1], traces[False][1][-800:]
+    assert traces[False][1] == traces[True][1]
+    assert traces[False][0] == traces[True][0], "the C path's link trace differs from the pure-Python path's"
+
+
+@needs_c
+def test_both_paths_give_the_same_trace_for_edges_inside_a_c_call(make_rig, monkeypatch):
+    """Edges applied while the main program is in what is a C call on a board (an RP2040's
+    sleep_us under 1 ms, _hil.c_begin): the soft handler's runs wait for its return, the
+    hard handler's run at their edges, on both paths (the C apply's dispatch defers them
+    from _Link.defer_from on, as _hil.dispatch does)."""
+    plant = {**PLANT, "parts": [*PLANT["parts"][:3], {"kind": "button", "name": "stop", "presses": [[0.3, 0.45]]}]}
+    traces = {}
+    for pure in (False, True):
+        if pure:
+            monkeypatch.setenv("HIL_PURE", "1")
+        else:
+            monkeypatch.delenv("HIL_PURE", raising=False)
+        app = bench_app("irq_in_c_call", plant, board="pins", identity=RP2040, pins=PINS, wiring=WIRING)
+        rig = make_rig(app, main_dir=FIRMWARE / "irq_in_c_call", allow_exit=True, trace=True)
+        rig.run_for(1.5)
+        console = rig.console
+        rig.stop()
+        traces[pure] = ((rig.artefacts / "trace.jsonl").read_bytes(), console)
+    got = results(traces[False][1])
+    assert len(got.get("soft", ())) == 2 and len(got.get("hard", ())) == 2, traces[False][1][-800:]
     assert traces[False][1] == traces[True][1]
     assert traces[False][0] == traces[True][0], "the C path's link trace differs from the pure-Python path's"
 

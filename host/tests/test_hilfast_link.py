@@ -130,6 +130,28 @@ def test_the_c_link_encodes_the_frames_the_codec_does(tmp_path):
     assert got == want, f"expected {len(want)} bytes as _hilframe.encode makes them, got {len(got)} that differ"
 
 
+# In MicroPython: OUTs queued by the C link's out (and one it leaves to struct.pack: False).
+_OUT = """
+import sys, _hilfast
+f = open(sys.argv[1], "wb")
+link = _hilfast.link(f.fileno(), Exception)
+outs = ((0, 0, 0, 1), (123456789012, 65535, 3, -5), (1, 7, 255, 2**31 - 1), (2, 8, 1, -2**31), (3, 9, 2, 65535))
+for t, h, attr, value in outs:
+    print(link.out(t, h, attr, value))
+print(link.out(4, 1, 0, 2**70))
+link.flush()
+"""
+
+
+def test_the_c_link_queues_an_out_as_the_shim_packs_it(tmp_path):
+    outs = ((0, 0, 0, 1), (123456789012, 65535, 3, -5), (1, 7, 255, 2**31 - 1), (2, 8, 1, -(2**31)), (3, 9, 2, 65535))
+    said = _mpy(tmp_path, _OUT, str(tmp_path / "out.bin")).split()
+    assert said == ["True"] * len(outs) + ["False"], f"expected five OUTs queued and a big int left, got {said}"
+    want = b"".join(F.encode(F.OUT, i, struct.pack(F.OUT_FMT, *o)) for i, o in enumerate(outs))
+    got = (tmp_path / "out.bin").read_bytes()
+    assert got == want, f"expected the OUTs as _hilframe.encode and OUT_FMT make them, got {got.hex()}"
+
+
 def test_the_codes_the_c_link_spells_out_are_the_codecs():
     source = (SHIM_DIR / "cmod" / "_hilfast" / "_hilfast.c").read_text()
     for name, value in (
@@ -137,6 +159,8 @@ def test_the_codes_the_c_link_spells_out_are_the_codecs():
         ("HEADER_LEN", F.HEADER_LEN),
         ("CRC_LEN", F.CRC_LEN),
         ("MAX_PAYLOAD", F.MAX_PAYLOAD),
+        ("T_OUT", f"0x{F.OUT:02X}"),
+        ("OUT_LEN", struct.calcsize(F.OUT_FMT)),
         ("T_WAIT", f"0x{F.WAIT:02X}"),
         ("T_STATE", f"0x{F.STATE:02X}"),
         ("T_EDGES", f"0x{F.EDGES:02X}"),

@@ -216,8 +216,18 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
     mp_obj_t *c = ((mp_obj_tuple_t *)MP_OBJ_TO_PTR(ctx))->items;
     mp_obj_t g = c[0], link = c[1], failed = c[2];
     mp_obj_t dispatching = MP_OBJ_NEW_QSTR(MP_QSTR__dispatching);
-    if (mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))
-        || mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
+    if (mp_obj_is_true(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__irq_off)))) {
+        return;
+    }
+    if (mp_obj_is_true(mp_obj_dict_get(g, dispatching))
+        || mp_obj_is_true(mp_binary_op(MP_BINARY_OP_MORE_EQUAL, mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__now)),
+            class_get(link, MP_QSTR_defer_from)))) {
+        // inside a callback, or from _Link.defer_from on (what is a C call on a board): the hard
+        // IRQs' handlers only (_hil._run_hard, unless one runs), the soft callbacks stay queued
+        if (!mp_obj_is_true(class_get(link, MP_QSTR_hard))) {
+            mp_call_function_0(mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__run_hard)));
+            apply_clean = false;  // (what a handler computed is taken by the next batch's irq_begin)
+        }
         return;
     }
     mp_map_elem_t *until_slot = class_slot(link, MP_QSTR_until);
@@ -590,6 +600,13 @@ static MP_DEFINE_CONST_FUN_OBJ_3(merge_edges_obj, merge_edges);
 //     for the STATE after it, a STATE for another instant dropped;
 //   apply(cur, handles, pin_type, pending, watch, ctx, g): apply_state over the held STATE
 //     (and its EDGES); state(), edges(): them as bytes (None: no EDGES), for the pure loop;
+//     has_edges(): whether it came with an EDGES;
+//   bind(hdr, cur, handles, pending, ctx, g, shim_g), then exchange(t_until, compute_us,
+//     watch) and run(watch, pin_type): wait and apply with what bind gave (the shim's _sync:
+//     fewer arguments, a frame of its own that fits the C stack's), exchange's MemoryError
+//     for a frame of another kind returned as -1;
+//   out(t, handle, attr, value): an OUT queued, as _hil.send_out packs it (False: a value
+//     that is not a small int, left to struct.pack);
 //   room(n): whether n bytes can be had from the heap (taken and given back at once: no
 //     garbage), as _hil.make_room's probe; counters(): (frames, bad_crc, bad_length,
 //     truncated, seq_gaps, duplicates).
@@ -599,7 +616,9 @@ static MP_DEFINE_CONST_FUN_OBJ_3(merge_edges_obj, merge_edges);
 #define CRC_LEN 4
 #define MAX_PAYLOAD 4096
 #define FRAME_MAX (HEADER_LEN + MAX_PAYLOAD + CRC_LEN)
+#define T_OUT 0x03
 #define T_WAIT 0x04
+#define OUT_LEN 15  // "<QHBi"
 #define T_STATE 0x82
 #define T_EDGES 0x87
 #define STATE_HEAD 26  // "<QQQH"
@@ -968,11 +987,82 @@ static mp_obj_t link_apply(size_t n_args, const mp_obj_t *args) {
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_apply_obj, 8, 8, link_apply);
 
+// bind(hdr, cur, handles, pending, ctx, g, shim_g): what exchange and run take each time (the
+// shim holds each: _Link.hdr, _Link.cur, _hil._handles, _hil._pending, _Link.ctx, _Link.g, and
+// _hil's globals, whose _now is the WAIT's instant).
+static mp_obj_t bound[7];
+enum { B_HDR, B_CUR, B_HANDLES, B_PENDING, B_CTX, B_G, B_SHIM };
+
+static mp_obj_t link_bind(size_t n_args, const mp_obj_t *args) {
+    for (size_t i = 0; i < 7; i++) {
+        bound[i] = args[i + 1];
+    }
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_bind_obj, 8, 8, link_bind);
+
+// exchange(t_until, compute_us, watch): wait(hdr, _now, t_until, compute_us, watch) with what
+// bind gave, save that a frame of another kind whose objects could not be made (a MemoryError)
+// is -1: the shim frees its reserve and reads again (wait(hdr, _now)).
+static mp_obj_t link_exchange(size_t n_args, const mp_obj_t *args) {
+    (void)n_args;
+    mp_obj_t a[6] = {args[0], bound[B_HDR], mp_obj_dict_get(bound[B_SHIM], MP_OBJ_NEW_QSTR(MP_QSTR__now)), args[1], args[2], args[3]};
+    nlr_buf_t nlr;
+    if (nlr_push(&nlr) == 0) {
+        mp_obj_t r = link_wait(6, a);
+        nlr_pop();
+        return r;
+    }
+    if (mp_obj_is_subclass_fast(MP_OBJ_FROM_PTR(((mp_obj_base_t *)nlr.ret_val)->type), MP_OBJ_FROM_PTR(&mp_type_MemoryError))) {
+        return MP_OBJ_NEW_SMALL_INT(-1);
+    }
+    nlr_jump(nlr.ret_val);
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_exchange_obj, 4, 4, link_exchange);
+
+// run(watch, pin_type): apply(cur, handles, pin_type, pending, watch, ctx, g) with what bind gave,
+// cur set to [STATE_LEN, 0, False] first.
+static mp_obj_t link_run(mp_obj_t self, mp_obj_t watch, mp_obj_t pin_type) {
+    mp_obj_list_t *cur = MP_OBJ_TO_PTR(bound[B_CUR]);
+    cur->items[0] = MP_OBJ_NEW_SMALL_INT(STATE_HEAD);
+    cur->items[1] = MP_OBJ_NEW_SMALL_INT(0);
+    cur->items[2] = mp_const_false;
+    mp_obj_t a[8] = {self, bound[B_CUR], bound[B_HANDLES], pin_type, bound[B_PENDING], watch, bound[B_CTX], bound[B_G]};
+    return link_apply(8, a);
+}
+static MP_DEFINE_CONST_FUN_OBJ_3(link_run_obj, link_run);
+
 static mp_obj_t link_state(mp_obj_t self) {
     (void)self;
     return mp_obj_new_bytes(state_buf, state_len);
 }
 static MP_DEFINE_CONST_FUN_OBJ_1(link_state_obj, link_state);
+
+static mp_obj_t link_has_edges(mp_obj_t self) {
+    (void)self;
+    return mp_obj_new_bool(state_edges >= 0);
+}
+static MP_DEFINE_CONST_FUN_OBJ_1(link_has_edges_obj, link_has_edges);
+
+// out(t, handle, attr, value): an OUT queued (_hilframe.OUT_FMT, as _hil.send_out packs it),
+// True; False (nothing queued) for a value that is not a small int (struct.pack's way with
+// it is the shim's to take).
+static mp_obj_t link_out(size_t n_args, const mp_obj_t *args) {
+    (void)n_args;
+    if (!mp_obj_is_small_int(args[4]) || !mp_obj_is_small_int(args[1])) {
+        return mp_const_false;
+    }
+    uint8_t *p = link_frame(T_OUT, OUT_LEN);
+    put_u64(p, (uint64_t)MP_OBJ_SMALL_INT_VALUE(args[1]));
+    mp_int_t h = mp_obj_get_int(args[2]);
+    p[8] = h & 0xFF;
+    p[9] = (h >> 8) & 0xFF;
+    p[10] = mp_obj_get_int(args[3]) & 0xFF;
+    put_u32(p + 11, (uint32_t)MP_OBJ_SMALL_INT_VALUE(args[4]));
+    link_sealed(OUT_LEN);
+    return mp_const_true;
+}
+static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(link_out_obj, 5, 5, link_out);
 
 static mp_obj_t link_edges(mp_obj_t self) {
     (void)self;
@@ -1015,6 +1105,11 @@ static const mp_rom_map_elem_t link_locals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_apply), MP_ROM_PTR(&link_apply_obj)},
     {MP_ROM_QSTR(MP_QSTR_state), MP_ROM_PTR(&link_state_obj)},
     {MP_ROM_QSTR(MP_QSTR_edges), MP_ROM_PTR(&link_edges_obj)},
+    {MP_ROM_QSTR(MP_QSTR_has_edges), MP_ROM_PTR(&link_has_edges_obj)},
+    {MP_ROM_QSTR(MP_QSTR_out), MP_ROM_PTR(&link_out_obj)},
+    {MP_ROM_QSTR(MP_QSTR_bind), MP_ROM_PTR(&link_bind_obj)},
+    {MP_ROM_QSTR(MP_QSTR_exchange), MP_ROM_PTR(&link_exchange_obj)},
+    {MP_ROM_QSTR(MP_QSTR_run), MP_ROM_PTR(&link_run_obj)},
     {MP_ROM_QSTR(MP_QSTR_room), MP_ROM_PTR(&link_room_obj)},
     {MP_ROM_QSTR(MP_QSTR_counters), MP_ROM_PTR(&link_counters_obj)},
 };
@@ -1418,6 +1513,7 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_EDGES_MAX), MP_ROM_INT(EDGES_MAX)},
     {MP_ROM_QSTR(MP_QSTR_merge_edges), MP_ROM_PTR(&merge_edges_obj)},
     {MP_ROM_QSTR(MP_QSTR_link), MP_ROM_PTR(&link_new_obj)},
+    {MP_ROM_QSTR(MP_QSTR_defers), MP_ROM_TRUE},  // apply_state's dispatch keeps soft callbacks queued from _Link.defer_from on
     {MP_ROM_QSTR(MP_QSTR_roomy), MP_ROM_PTR(&roomy_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_setup), MP_ROM_PTR(&pin_setup_obj)},
     {MP_ROM_QSTR(MP_QSTR_pin_value), MP_ROM_PTR(&pin_value_obj)},
