@@ -206,6 +206,7 @@ class BoardSet:
             couple(rig)
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
+        self.routes: dict | None = None  # a plant signal -> the queues of the boards wired to it (made when needed)
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
         self.rounds = 0  # rounds served (a round: the plant to an instant, each board with something there served)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
@@ -282,7 +283,10 @@ class BoardSet:
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
         while True:
-            settle(self.rigs, serving)
+            for board, rig in rigs.items():  # (settle's loop: each board running served to its wait)
+                if rig.clock.wait is None and rig.exit_kind is None:
+                    serving[0] = board
+                    to_wait(rig)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
@@ -428,9 +432,18 @@ class BoardSet:
         plant = self.plant
         if plant.t_us >= t_us and plant.next_change_us() > t_us:
             return
-        views = self.views.values()
-        for change in plant.advance_to(t_us):
-            name = change[1]
-            for each in views:
-                if name in each.signals:
-                    each.queue.append(change)
+        changes = plant.advance_to(t_us)
+        if changes:
+            routes = self.routes if self.routes is not None else self._make_routes()
+            for change in changes:
+                for queue in routes.get(change[1], ()):
+                    queue.append(change)
+
+    def _make_routes(self) -> dict:
+        """Each signal some board is wired to -> those boards' queues, in the boards' order."""
+        routes: dict = {}
+        for view in self.views.values():
+            for signal in view.signals:
+                routes.setdefault(signal, []).append(view.queue)
+        self.routes = {signal: tuple(queues) for signal, queues in routes.items()}
+        return self.routes

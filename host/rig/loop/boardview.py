@@ -41,7 +41,7 @@ class BoardView:
         self._boards = boards  # host.rig.loop.boardset.BoardSet: it advances the shared plant
         self._core = boards.plant
         self.board_name = name
-        self.signals: frozenset = frozenset()  # the signals this board's pins are wired to (set once wired)
+        self._signals: frozenset = frozenset()  # the signals this board's pins are wired to (set once wired)
         self.queue: deque = deque()  # changes of the shared plant not yet taken by this board
         self.t_us = self._core.t_us  # (where this board has taken the plant to: an attribute, read often)
         self.inputs = self._core.inputs
@@ -50,6 +50,15 @@ class BoardView:
 
     def __getattr__(self, name):  # (truth, world, bus_devices, describe, capabilities, ...)
         return getattr(self._core, name)
+
+    @property
+    def signals(self) -> frozenset:
+        return self._signals
+
+    @signals.setter
+    def signals(self, signals) -> None:
+        self._signals = frozenset(signals)
+        self._boards.routes = None  # (the set's signal -> queues, made again when next needed)
 
     def wired_signals(self) -> list | None:
         """The signals this board's pins are wired to, for its trace header: the report draws
@@ -70,7 +79,14 @@ class BoardView:
         """This board's changes up to ``t_us`` (those at the current instant too: another
         board's write that arrives now); at most ``limit`` instants' worth past ``limit``."""
         self._boards.plant_to(t_us, self)
-        queue, taken = self.queue, []
+        queue = self.queue
+        if not queue or (queue[-1][0] <= t_us and (not limit or len(queue) <= limit)):  # (all of it)
+            taken = list(queue)
+            queue.clear()
+            if t_us > self.t_us:
+                self.t_us = t_us
+            return taken
+        taken = []
         while queue and queue[0][0] <= t_us:
             if limit and len(taken) >= limit and queue[0][0] > taken[-1][0]:
                 self.t_us = taken[-1][0]
@@ -135,7 +151,10 @@ class BoardClock(Clock):
     def advance(self, target_us: int, watch: frozenset) -> bool:
         plant, inputs, recorder = self.plant, self.inputs, self.recorder
         while True:
-            irq, hit = inputs.route_all(plant.advance_to(self.to_truth(target_us), inputs.room()), watch)
+            changes = plant.advance_to(target_us if recorder is None else self.to_truth(target_us), inputs.room())
+            irq = hit = False
+            if changes:
+                irq, hit = inputs.route_all(changes, watch)
             if recorder is not None:
                 recorder.sample(plant)
             if irq or hit or inputs.full():
