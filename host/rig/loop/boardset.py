@@ -109,6 +109,15 @@ def settle(rigs: dict, serving: list) -> None:
         to_wait(rig)
 
 
+def routes_of(views: dict) -> dict:
+    """Each signal some board is wired to -> those boards' queues, in the boards' order."""
+    routes: dict = {}
+    for view in views.values():
+        for signal in view.signals:
+            routes.setdefault(signal, []).append(view.queue)
+    return {signal: tuple(queues) for signal, queues in routes.items()}
+
+
 @contextlib.contextmanager
 def naming(board: str):
     """Any harness error raised while serving ``board`` names it first."""
@@ -434,16 +443,9 @@ class BoardSet:
             return
         changes = plant.advance_to(t_us)
         if changes:
-            routes = self.routes if self.routes is not None else self._make_routes()
+            routes = self.routes
+            if routes is None:
+                routes = self.routes = routes_of(self.views)
             for change in changes:
                 for queue in routes.get(change[1], ()):
                     queue.append(change)
-
-    def _make_routes(self) -> dict:
-        """Each signal some board is wired to -> those boards' queues, in the boards' order."""
-        routes: dict = {}
-        for view in self.views.values():
-            for signal in view.signals:
-                routes.setdefault(signal, []).append(view.queue)
-        self.routes = {signal: tuple(queues) for signal, queues in routes.items()}
-        return self.routes
