@@ -216,6 +216,7 @@ class BoardSet:
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
         self.routes: dict | None = None  # a plant signal -> the queues of the boards wired to it (made when needed)
+        self.plant_clear_us = -1  # the plant is at least there with nothing due by then, nothing written since
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
         self.rounds = 0  # rounds served (a round: the plant to an instant, each board with something there served)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
@@ -291,6 +292,7 @@ class BoardSet:
 
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
+        self.plant_clear_us = -1  # (the plant may have been moved between runs: a scenario's carry_to)
         while True:
             for board, rig in rigs.items():  # (settle's loop: each board running served to its wait)
                 if rig.clock.wait is None and rig.exit_kind is None:
@@ -438,7 +440,10 @@ class BoardSet:
     def plant_to(self, t_us: int, view: BoardView | None = None) -> None:
         """Bring the shared plant to ``t_us`` (a board's view asks), its changes queued for
         every board wired to their signals."""
+        if t_us <= self.plant_clear_us:  # (brought there already this round, nothing written since)
+            return
         plant = self.plant
+        self.plant_clear_us = t_us  # (nothing is due by then once advanced; a board's write clears it)
         if plant.t_us >= t_us and plant.next_change_us() > t_us:
             return
         changes = plant.advance_to(t_us)

@@ -49,6 +49,7 @@ class BoardView:
         self.zero_delay = self._core.zero_delay
 
     def __getattr__(self, name):  # (truth, world, bus_devices, describe, capabilities, ...)
+        self._boards.plant_clear_us = -1  # (what is asked of the shared plant may change it: looked at again)
         return getattr(self._core, name)
 
     @property
@@ -105,7 +106,9 @@ class BoardView:
                 f"board {self.board_name} wrote at t={self.t_us} us, before the shared plant's "
                 f"{self._core.t_us} us (the set of boards lost lockstep)"
             )
-        self._boards.plant_to(self.t_us, self)
+        boards = self._boards
+        boards.plant_to(self.t_us, self)
+        boards.plant_clear_us = -1  # (the write that follows may make a change due at once)
 
     def set_input(self, name: str, value) -> None:
         self._at_plant()
@@ -161,6 +164,17 @@ class BoardClock(Clock):
                 return True
             if plant.t_us >= target_us:
                 return False
+
+    def catch_up(self, t_us: int) -> None:
+        """(At the plant's instant, the usual case: only the commit, without its calls when
+        nothing waits for it. A board among others never rewinds.)"""
+        if t_us != self.plant.t_us:
+            super().catch_up(t_us)
+            return
+        if self.speculation.deferred:
+            self.speculation.commit(t_us)
+        if self.recorder is not None:
+            self.recorder.commit(t_us)
 
     bound_us = 0
     """The earliest instant another board could act (the set's, before each round's serve):
