@@ -290,6 +290,25 @@ class WirePart(Part):
             wires._t_us = t_us
         self.next_us = on_line[0][0] if on_line else NEVER_US
 
+    def fire_until(self, t_stop: int, out: list) -> int | None:
+        """Every byte due by ``t_stop`` at once, when the wires hold bytes alone (no PWM, no
+        write at this instant): the engine's ``_fire_alone``, in place of a ``fire`` at
+        each byte's instant. The last byte's instant; None (nothing taken) otherwise."""
+        wires = self.wires
+        on_line = wires.bytes
+        if wires.waves or wires.now or not on_line or on_line[0][0] > t_stop:
+            return None
+        k, n = 1, len(on_line)
+        while k < n and on_line[k][0] <= t_stop:
+            k += 1
+        last = on_line[k - 1][0]
+        out += on_line[:k]
+        del on_line[:k]
+        if last > wires._t_us:
+            wires._t_us = last
+        self.next_us = on_line[0][0] if on_line else NEVER_US
+        return last
+
     @property
     def burst(self) -> int:
         """How many changes the writes at this instant made, not yet taken."""
