@@ -288,7 +288,7 @@ class RobotPlant(Plant):
                         continue
                 # everything due at nxt: encoder edges first (they follow the speeds that
                 # held until nxt), then the drive, then the other parts in order
-                if not limit and not encoders and self._next_part_us == nxt and self._fire_alone(nxt, t_us, out):
+                if not limit and not encoders and self._next_part_us == nxt and _fire_alone(self, nxt, t_us, out):
                     nxt = self._next_part_us
                     continue
                 self._t_us = nxt
@@ -387,38 +387,8 @@ class RobotPlant(Plant):
 
     def _reacts(self) -> bool:
         """Whether :meth:`_react` may do anything (else the instants of a part whose events
-        are its own can be fired at once: :meth:`_fire_alone`)."""
+        are its own can be fired at once: :func:`_fire_alone`)."""
         return type(self)._react is not RobotPlant._react
-
-    def _fire_alone(self, nxt: int, t_us: int, out: list) -> bool:
-        """The one part due at ``nxt`` fired for every instant of its own up to ``t_us``
-        in one call, when nothing else is due before the last of them (the drive, another
-        part) and the plant does not react at an instant: a ``board_uart``'s bytes, a byte
-        an instant (``fire_until``; the same changes, in the same order, the same values
-        and schedule after as an instant at a time). False: fire as ever."""
-        other = self.drive.next_us
-        due = None
-        for part in self.parts:
-            n = part.next_us
-            if n == nxt:
-                if due is not None:
-                    return False
-                due = part
-            elif n < other:
-                other = n
-        fire_until = getattr(due, "fire_until", None)
-        if fire_until is None or other <= nxt or self._reacts():
-            return False
-        n0 = len(out)
-        last = fire_until(min(t_us, other - 1), out)
-        if last is None:
-            return False
-        self._t_us = last
-        values = self.values
-        for change in out[n0:]:
-            values[change[1]] = change[2]
-        self._reschedule()
-        return True
 
     def sample_period_us(self, signal: str) -> int | None:
         """How often the part that drives ``signal`` takes a new sample (its
@@ -456,6 +426,37 @@ class RobotPlant(Plant):
             if enc.next_us < nxt:
                 nxt = enc.next_us
         self._next_us = nxt
+
+
+def _fire_alone(plant: RobotPlant, nxt: int, t_us: int, out: list) -> bool:
+    """The one part due at ``nxt`` fired for every instant of its own up to ``t_us``
+    in one call, when nothing else is due before the last of them (the drive, another
+    part) and the plant does not react at an instant: a ``board_uart``'s bytes, a byte
+    an instant (``fire_until``; the same changes, in the same order, the same values
+    and schedule after as an instant at a time). False: fire as ever."""
+    other = plant.drive.next_us
+    due = None
+    for part in plant.parts:
+        n = part.next_us
+        if n == nxt:
+            if due is not None:
+                return False
+            due = part
+        elif n < other:
+            other = n
+    fire_until = getattr(due, "fire_until", None)
+    if fire_until is None or other <= nxt or plant._reacts():
+        return False
+    n0 = len(out)
+    last = fire_until(min(t_us, other - 1), out)
+    if last is None:
+        return False
+    plant._t_us = last
+    values = plant.values
+    for change in out[n0:]:
+        values[change[1]] = change[2]
+    plant._reschedule()
+    return True
 
 
 __all__ = ["NEVER_US", "Change", "Part", "RobotPlant"]
