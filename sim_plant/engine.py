@@ -256,7 +256,7 @@ class RobotPlant(Plant):
         encoders = self.encoders
         return tuple(encoders) if encoders and edge_window.plain(encoders) else ()
 
-    def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:
+    def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:  # noqa: C901 (the one loop)
         """:meth:`advance_to`; with a list ``segs``, the encoders' edges between two events
         of the other parts go there as segments (``edge_window.segments``: the encoder's
         index, its first edge's time, its count before it, edges, t0_us, p0, rate), not into
@@ -288,6 +288,9 @@ class RobotPlant(Plant):
                         continue
                 # everything due at nxt: encoder edges first (they follow the speeds that
                 # held until nxt), then the drive, then the other parts in order
+                if not limit and not encoders and self._next_part_us == nxt and _fire_alone(self, nxt, t_us, out):
+                    nxt = self._next_part_us
+                    continue
                 self._t_us = nxt
                 for enc in encoders:
                     if enc.next_us == nxt:
@@ -382,6 +385,11 @@ class RobotPlant(Plant):
         bumpers); True if the motion changed."""
         return False
 
+    def _reacts(self) -> bool:
+        """Whether :meth:`_react` may do anything (else the instants of a part whose events
+        are its own can be fired at once: :func:`_fire_alone`)."""
+        return type(self)._react is not RobotPlant._react
+
     def sample_period_us(self, signal: str) -> int | None:
         """How often the part that drives ``signal`` takes a new sample (its
         ``period_us``), or None if it is not sampled at a fixed period."""
@@ -418,6 +426,37 @@ class RobotPlant(Plant):
             if enc.next_us < nxt:
                 nxt = enc.next_us
         self._next_us = nxt
+
+
+def _fire_alone(plant: RobotPlant, nxt: int, t_us: int, out: list) -> bool:
+    """The one part due at ``nxt`` fired for every instant of its own up to ``t_us``
+    in one call, when nothing else is due before the last of them (the drive, another
+    part) and the plant does not react at an instant: a ``board_uart``'s bytes, a byte
+    an instant (``fire_until``; the same changes, in the same order, the same values
+    and schedule after as an instant at a time). False: fire as ever."""
+    other = plant.drive.next_us
+    due = None
+    for part in plant.parts:
+        n = part.next_us
+        if n == nxt:
+            if due is not None:
+                return False
+            due = part
+        elif n < other:
+            other = n
+    fire_until = getattr(due, "fire_until", None)
+    if fire_until is None or other <= nxt or plant._reacts():
+        return False
+    n0 = len(out)
+    last = fire_until(min(t_us, other - 1), out)
+    if last is None:
+        return False
+    plant._t_us = last
+    values = plant.values
+    for change in out[n0:]:
+        values[change[1]] = change[2]
+    plant._reschedule()
+    return True
 
 
 __all__ = ["NEVER_US", "Change", "Part", "RobotPlant"]

@@ -11,7 +11,7 @@ import tomllib
 
 from sim_plant import catalogue
 from sim_plant.buses import BusDevice, BusSet
-from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, Build, PartsError
+from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, BodyType, Build, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
 from sim_plant.engine import RobotPlant
@@ -106,6 +106,9 @@ class PartsPlant(RobotPlant):
 
     def _react(self, t: int) -> bool:
         return self.body.react(self, t)
+
+    def _reacts(self) -> bool:
+        return type(self.body).react is not BodyType.react
 
     def carry_to(self, pose) -> None:
         """Someone lifts the robot and sets it down at ``pose`` (x_m, y_m, theta_rad) now

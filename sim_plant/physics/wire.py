@@ -25,6 +25,8 @@ from sim_plant.plant import NEVER_US, PWM, UART, Change, Plant
 
 BITS_PER_BYTE = 10  # start, 8 data, stop
 _TIME = itemgetter(0)  # a Change's t_us
+_BYTE = tuple(bytes((b,)) for b in range(256))  # (a byte's value as a change carries it)
+_new_change = tuple.__new__  # (a Change made without its Python __new__: a byte each, the hot path)
 
 
 class _Waveform(NamedTuple):
@@ -129,11 +131,13 @@ class Wires(Plant):
         on_line = self.bytes
         n_before = len(on_line)
         to = self.peer.get(name, name)
-        for i, b in enumerate(data):
-            if faults is not None:
+        if faults is None:
+            on_line += [_new_change(Change, (start + round(i * byte_us), to, _BYTE[b])) for i, b in enumerate(data, 1)]
+        else:
+            for i, b in enumerate(data):
                 b = self._fault(name, faults, b)
-            if b is not None:
-                on_line.append(Change(start + round((i + 1) * byte_us), to, bytes((b,))))
+                if b is not None:
+                    on_line.append(Change(start + round((i + 1) * byte_us), to, bytes((b,))))
         self.line_free[name] = start + round(len(data) * byte_us)
         # (a line's bytes come in time order: sorted only when they land among another
         # line's later ones; a stable sort, so bytes of one instant keep their order)
@@ -274,8 +278,36 @@ class WirePart(Part):
         self._planned()
 
     def fire(self, t_us: int, plant, out: list) -> None:
-        out.extend(self.wires.advance_to(t_us))
-        self._planned()
+        wires = self.wires
+        if wires.waves or wires.now:
+            out.extend(wires.advance_to(t_us))
+            self._planned()
+            return
+        on_line = wires.bytes  # (bytes alone on the timeline: Wires.advance_to's loop, written out)
+        while on_line and on_line[0][0] <= t_us:
+            out.append(on_line.pop(0))
+        if t_us > wires._t_us:
+            wires._t_us = t_us
+        self.next_us = on_line[0][0] if on_line else NEVER_US
+
+    def fire_until(self, t_stop: int, out: list) -> int | None:
+        """Every byte due by ``t_stop`` at once, when the wires hold bytes alone (no PWM, no
+        write at this instant): the engine's ``_fire_alone``, in place of a ``fire`` at
+        each byte's instant. The last byte's instant; None (nothing taken) otherwise."""
+        wires = self.wires
+        on_line = wires.bytes
+        if wires.waves or wires.now or not on_line or on_line[0][0] > t_stop:
+            return None
+        k, n = 1, len(on_line)
+        while k < n and on_line[k][0] <= t_stop:
+            k += 1
+        last = on_line[k - 1][0]
+        out += on_line[:k]
+        del on_line[:k]
+        if last > wires._t_us:
+            wires._t_us = last
+        self.next_us = on_line[0][0] if on_line else NEVER_US
+        return last
 
     @property
     def burst(self) -> int:

@@ -94,3 +94,36 @@ def test_a_board_uart_carries_each_side_s_bytes_to_the_other_side_each_direction
     changes = [tuple(c) for c in plant.advance_to(3000)]
     assert changes == [(1087, "link.b", b"a"), (1174, "link.b", b"b"), (2042, "link.a", b"x")]
     assert plant.output("link.a") == b"" and plant.zero_delay is True
+
+
+def _bytes_both_ways(step_us: int, alone: bool = True) -> tuple:
+    """A board_uart's bytes (and, from 30 ms on, a PWM on a wire of the same timeline) as
+    the plant gives them, advanced ``step_us`` at a time; (changes, next change, truth).
+    ``alone``: False, the engine fires the wire at each instant, never its bytes at once."""
+    plant = bench({"kind": "board_uart", "name": "link"}, wire("w"))
+    if not alone:
+        plant._reacts = lambda: True  # (as a plant that reacts at each instant: _fire_alone declines)
+    got = []
+    for k in range(8):  # (a line each way every 10 ms; bytes of both lines at the same instants)
+        t = k * 10_000
+        while plant.t_us < t:
+            got += plant.advance_to(min(t, plant.t_us + step_us))
+        plant.send_bytes("link.a", b"%d\n" % (k * 37), 115_200)
+        plant.send_bytes("link.b", b"x" * (k + 1), 57_600)
+        if k == 3:
+            plant.set_pwm("w.in", 1_000, 20_000)
+    while plant.t_us < 90_000:
+        got += plant.advance_to(min(90_000, plant.t_us + step_us))
+    return [tuple(c) for c in got], plant.next_change_us(), plant.truth()
+
+
+def test_a_board_uart_s_bytes_fired_at_once_are_those_fired_an_instant_at_a_time():
+    each_instant = _bytes_both_ways(90_000, alone=False)
+    for got in (_bytes_both_ways(90_000), _bytes_both_ways(1), _bytes_both_ways(1, alone=False)):
+        first = next((i for i, (a, b) in enumerate(zip(got[0], each_instant[0], strict=False)) if a != b), None)
+        assert got == each_instant, (
+            f"expected the changes, next change and truth of the wire fired an instant at a time; got "
+            f"{len(got[0])} changes against {len(each_instant[0])}, the first other at #{first}, "
+            f"next change {got[1]} against {each_instant[1]}"
+        )
+    assert len(each_instant[0]) > 100 and any(c[1] == "w.out" for c in each_instant[0])

@@ -109,6 +109,15 @@ def settle(rigs: dict, serving: list) -> None:
         to_wait(rig)
 
 
+def routes_of(views: dict) -> dict:
+    """Each signal some board is wired to -> those boards' queues, in the boards' order."""
+    routes: dict = {}
+    for view in views.values():
+        for signal in view.signals:
+            routes.setdefault(signal, []).append(view.queue)
+    return {signal: tuple(queues) for signal, queues in routes.items()}
+
+
 @contextlib.contextmanager
 def naming(board: str):
     """Any harness error raised while serving ``board`` names it first."""
@@ -206,6 +215,8 @@ class BoardSet:
             couple(rig)
             view.signals = rig.wiring.wired
             self.rigs[name], self.views[name] = rig, view
+        self.routes: dict | None = None  # a plant signal -> the queues of the boards wired to it (made when needed)
+        self.plant_clear_us = -1  # the plant is at least there with nothing due by then, nothing written since
         self._instant = (-1, 0)  # (the last round's instant, rounds at it)
         self.rounds = 0  # rounds served (a round: the plant to an instant, each board with something there served)
         self.i2c_links = dict(boards.i2c_links)  # (controller, bus) -> target board: board_i2c parts
@@ -281,8 +292,12 @@ class BoardSet:
 
     def _serve_until(self, t_end_us: int, serving: list) -> None:
         rigs, views = self.rigs, self.views
+        self.plant_clear_us = -1  # (the plant may have been moved between runs: a scenario's carry_to)
         while True:
-            settle(self.rigs, serving)
+            for board, rig in rigs.items():  # (settle's loop: each board running served to its wait)
+                if rig.clock.wait is None and rig.exit_kind is None:
+                    serving[0] = board
+                    to_wait(rig)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
@@ -425,12 +440,17 @@ class BoardSet:
     def plant_to(self, t_us: int, view: BoardView | None = None) -> None:
         """Bring the shared plant to ``t_us`` (a board's view asks), its changes queued for
         every board wired to their signals."""
+        if t_us <= self.plant_clear_us:  # (brought there already this round, nothing written since)
+            return
         plant = self.plant
+        self.plant_clear_us = t_us  # (nothing is due by then once advanced; a board's write clears it)
         if plant.t_us >= t_us and plant.next_change_us() > t_us:
             return
-        views = self.views.values()
-        for change in plant.advance_to(t_us):
-            name = change[1]
-            for each in views:
-                if name in each.signals:
-                    each.queue.append(change)
+        changes = plant.advance_to(t_us)
+        if changes:
+            routes = self.routes
+            if routes is None:
+                routes = self.routes = routes_of(self.views)
+            for change in changes:
+                for queue in routes.get(change[1], ()):
+                    queue.append(change)

@@ -41,7 +41,7 @@ class BoardView:
         self._boards = boards  # host.rig.loop.boardset.BoardSet: it advances the shared plant
         self._core = boards.plant
         self.board_name = name
-        self.signals: frozenset = frozenset()  # the signals this board's pins are wired to (set once wired)
+        self._signals: frozenset = frozenset()  # the signals this board's pins are wired to (set once wired)
         self.queue: deque = deque()  # changes of the shared plant not yet taken by this board
         self.t_us = self._core.t_us  # (where this board has taken the plant to: an attribute, read often)
         self.inputs = self._core.inputs
@@ -49,7 +49,17 @@ class BoardView:
         self.zero_delay = self._core.zero_delay
 
     def __getattr__(self, name):  # (truth, world, bus_devices, describe, capabilities, ...)
+        self._boards.plant_clear_us = -1  # (what is asked of the shared plant may change it: looked at again)
         return getattr(self._core, name)
+
+    @property
+    def signals(self) -> frozenset:
+        return self._signals
+
+    @signals.setter
+    def signals(self, signals) -> None:
+        self._signals = frozenset(signals)
+        self._boards.routes = None  # (the set's signal -> queues, made again when next needed)
 
     def wired_signals(self) -> list | None:
         """The signals this board's pins are wired to, for its trace header: the report draws
@@ -70,7 +80,14 @@ class BoardView:
         """This board's changes up to ``t_us`` (those at the current instant too: another
         board's write that arrives now); at most ``limit`` instants' worth past ``limit``."""
         self._boards.plant_to(t_us, self)
-        queue, taken = self.queue, []
+        queue = self.queue
+        if not queue or (queue[-1][0] <= t_us and (not limit or len(queue) <= limit)):  # (all of it)
+            taken = list(queue)
+            queue.clear()
+            if t_us > self.t_us:
+                self.t_us = t_us
+            return taken
+        taken = []
         while queue and queue[0][0] <= t_us:
             if limit and len(taken) >= limit and queue[0][0] > taken[-1][0]:
                 self.t_us = taken[-1][0]
@@ -89,7 +106,9 @@ class BoardView:
                 f"board {self.board_name} wrote at t={self.t_us} us, before the shared plant's "
                 f"{self._core.t_us} us (the set of boards lost lockstep)"
             )
-        self._boards.plant_to(self.t_us, self)
+        boards = self._boards
+        boards.plant_to(self.t_us, self)
+        boards.plant_clear_us = -1  # (the write that follows may make a change due at once)
 
     def set_input(self, name: str, value) -> None:
         self._at_plant()
@@ -135,13 +154,27 @@ class BoardClock(Clock):
     def advance(self, target_us: int, watch: frozenset) -> bool:
         plant, inputs, recorder = self.plant, self.inputs, self.recorder
         while True:
-            irq, hit = inputs.route_all(plant.advance_to(self.to_truth(target_us), inputs.room()), watch)
+            changes = plant.advance_to(target_us if recorder is None else self.to_truth(target_us), inputs.room())
+            irq = hit = False
+            if changes:
+                irq, hit = inputs.route_all(changes, watch)
             if recorder is not None:
                 recorder.sample(plant)
             if irq or hit or inputs.full():
                 return True
             if plant.t_us >= target_us:
                 return False
+
+    def catch_up(self, t_us: int) -> None:
+        """(At the plant's instant, the usual case: only the commit, without its calls when
+        nothing waits for it. A board among others never rewinds.)"""
+        if t_us != self.plant.t_us:
+            super().catch_up(t_us)
+            return
+        if self.speculation.deferred:
+            self.speculation.commit(t_us)
+        if self.recorder is not None:
+            self.recorder.commit(t_us)
 
     bound_us = 0
     """The earliest instant another board could act (the set's, before each round's serve):
