@@ -86,23 +86,30 @@ def test_both_paths_record_the_same_encoder_edges(tmp_path, monkeypatch):
     assert signals[False] == signals[True]
 
 
-@needs_c
-def test_both_paths_give_the_same_trace_for_pins_the_main_program_polls(make_rig, monkeypatch):
-    """Pin.value() read by the main program (C when the read needs no look at the host):
-    a button read until its press, a pin nothing drives read for ever, with sleeps between
-    reads and without, up to the poll named after POLL_READS reads."""
+def _both_paths(make_rig, monkeypatch, case: str, plant: dict, seconds: float) -> dict:
+    """``case`` run on an RP2040 with the C path (False) and the pure path (True):
+    {pure: (the link trace's bytes, the console)}."""
     traces = {}
     for pure in (False, True):
         if pure:
             monkeypatch.setenv("HIL_PURE", "1")
         else:
             monkeypatch.delenv("HIL_PURE", raising=False)
-        app = bench_app("polls_forever", PLANT, board="pins", identity=RP2040, pins=PINS, wiring=WIRING)
-        rig = make_rig(app, main_dir=FIRMWARE / "polls_forever", allow_exit=True, trace=True)
-        rig.run_for(2.0)
+        app = bench_app(case, plant, board="pins", identity=RP2040, pins=PINS, wiring=WIRING)
+        rig = make_rig(app, main_dir=FIRMWARE / case, allow_exit=True, trace=True)
+        rig.run_for(seconds)
         console = rig.console
         rig.stop()
         traces[pure] = ((rig.artefacts / "trace.jsonl").read_bytes(), console)
+    return traces
+
+
+@needs_c
+def test_both_paths_give_the_same_trace_for_pins_the_main_program_polls(make_rig, monkeypatch):
+    """Pin.value() read by the main program (C when the read needs no look at the host):
+    a button read until its press, a pin nothing drives read for ever, with sleeps between
+    reads and without, up to the poll named after POLL_READS reads."""
+    traces = _both_paths(make_rig, monkeypatch, "polls_forever", PLANT, 2.0)
     assert "R button" in traces[False][1], traces[False][1][-800:]
     assert traces[False][1] == traces[True][1]
     assert traces[False][0] == traces[True][0], "the C path's link trace differs from the pure-Python path's"
@@ -115,18 +122,7 @@ def test_both_paths_give_the_same_trace_for_edges_inside_a_c_call(make_rig, monk
     hard handler's run at their edges, on both paths (the C apply's dispatch defers them
     from _Link.defer_from on, as _hil.dispatch does)."""
     plant = {**PLANT, "parts": [*PLANT["parts"][:3], {"kind": "button", "name": "stop", "presses": [[0.3, 0.45]]}]}
-    traces = {}
-    for pure in (False, True):
-        if pure:
-            monkeypatch.setenv("HIL_PURE", "1")
-        else:
-            monkeypatch.delenv("HIL_PURE", raising=False)
-        app = bench_app("irq_in_c_call", plant, board="pins", identity=RP2040, pins=PINS, wiring=WIRING)
-        rig = make_rig(app, main_dir=FIRMWARE / "irq_in_c_call", allow_exit=True, trace=True)
-        rig.run_for(1.5)
-        console = rig.console
-        rig.stop()
-        traces[pure] = ((rig.artefacts / "trace.jsonl").read_bytes(), console)
+    traces = _both_paths(make_rig, monkeypatch, "irq_in_c_call", plant, 1.5)
     got = results(traces[False][1])
     assert len(got.get("soft", ())) == 2 and len(got.get("hard", ())) == 2, traces[False][1][-800:]
     assert traces[False][1] == traces[True][1]
