@@ -78,7 +78,7 @@ ENCODER_RATES = (10_000, 40_000)  # edges a second, both wheels together
 STEP_US = 50_000  # the rover's control quantum
 ROVER_TARGET = POOL_TARGET = 400.0  # issue 30's real-time factors
 ENCODER_TARGET = 100.0  # at 10,000 edges a second
-STATE_WAIT_TARGET = 1.3  # STATE -> WAIT over the raw round trip
+STATE_WAIT_TARGET = 1.6  # issue 45: STATE -> WAIT over the raw round trip
 KIT_TARGET = 20.0  # issue 44: each kit's demo, x real time on a quiet machine
 KIT_SIM_S = 15.0  # a kit's demo runs until it ends, or this long
 HIL_FIRMWARE = REPO / "hil_tests" / "firmware"
