@@ -297,7 +297,7 @@ class _Link:
     # _hilfast.link's (the harness's build, not HIL_PURE): the link's frames, their CRC and a
     # STATE's decoding and applying in C, with no allocation an exchange; None: in Python
     c = None
-    out = None  # c.out (an OUT queued in C), or None
+    out = False  # True: an OUT is queued in C (c.out; not kept bound: the firmware could reach the link through it)
     hdr = [0, 0, 0, 0, 0]  # the STATE's base, t_end, horizon, count, paused µs (c.wait fills it)
     cur = [0, 0, False]  # apply's offset, change and watched hit (c.apply)
     # The bus reads the shim answers itself until an instant (the last BUS_IMAGE's payload, read
@@ -621,8 +621,7 @@ def send_out(handle, attr, value):
         _charge_cpu()
     if _Console.debt_ns >= 1000:  # a board writes once the print before has returned
         pay_console()
-    out = _Link.out
-    if out is None or _link.queue is not _link.own_queue or not out(now(), handle, attr, value):
+    if not _Link.out or _link.queue is not _link.own_queue or not _Link.c.out(now(), handle, attr, value):
         _send_out_py(handle, attr, value)
         return
     _Link.frames += 1  # (as send_output, the OUT queued in C: _hilfast.link's out)
@@ -1647,7 +1646,7 @@ def _fast_path(getenv):
         _Link.pin_setup, _Link.pin_value = _hilfast.pin_setup, _hilfast.pin_value
     if _Link.c is not None:
         _Link.c.bind(_Link.hdr, _Link.cur, _handles, _pending, _Link.ctx, _Link.g, globals())
-        _Link.out = _Link.c.out
+        _Link.out = True
     # (a build before "defers" runs every soft callback in apply_state's dispatch, in a C call too)
     return _hilfast.apply_state if hasattr(_hilfast, "defers") else None
 
