@@ -156,13 +156,23 @@ def _mpremote(port: str, *args: str) -> str:
     return out
 
 
+MPY_PROBE = "import sys\nprint('MPY', getattr(sys.implementation, '_mpy', -1))"
+"""What a board runs to say the .mpy version it loads (:func:`mpy_of` reads the answer)."""
+
+
+def mpy_of(out: str) -> tuple[int, int] | None:
+    """The (version, sub-version) of .mpy in what :data:`MPY_PROBE` printed; None if it said none."""
+    m = re.search(r"MPY (-?\d+)", out)
+    value = int(m.group(1)) if m else -1
+    return None if value < 0 else (value & 0xFF, (value >> 8) & 3)
+
+
 def target_mpy_version(port: str) -> tuple[int, int]:
-    out = _mpremote(port, "exec", "import sys; print('MPY', sys.implementation._mpy)")
-    m = re.search(r"MPY (\d+)", out)
-    if not m:
+    out = _mpremote(port, "exec", MPY_PROBE)
+    version = mpy_of(out)
+    if version is None:
         raise FlashError(f"PORT={port}: the board did not report its .mpy version: {out.strip()[-200:]}")
-    value = int(m.group(1))
-    return value & 0xFF, (value >> 8) & 3
+    return version
 
 
 def copy(port: str, folder: Path, files: list[str]) -> tuple[list[str], list[str]]:

@@ -12,7 +12,6 @@ wait and the board is back at its REPL.
 Tested against the virtual board of ``host/device/vboard.py`` (``hil_tests/test_pil.py``).
 """
 
-import re
 import tempfile
 import time
 from pathlib import Path
@@ -50,15 +49,8 @@ RAW_BANNER = b"raw REPL; CTRL-B to exit\r\n"
 
 def _board_mpy(port: str) -> tuple[int, int] | None:
     """The folders for the shim made, and the .mpy version the board loads (None: it says none)."""
-    out = flash._mpremote(
-        port,
-        "exec",
-        "import os, sys\nfor d in ('hil', 'hil/asyncio'):\n try:\n  os.mkdir(d)\n except OSError:\n  pass\n"
-        "print('MPY', getattr(sys.implementation, '_mpy', -1))",
-    )
-    m = re.search(r"MPY (-?\d+)", out)
-    value = int(m.group(1)) if m else -1
-    return None if value < 0 else (value & 0xFF, (value >> 8) & 3)
+    folders = "import os\nfor d in ('hil', 'hil/asyncio'):\n try:\n  os.mkdir(d)\n except OSError:\n  pass\n"
+    return flash.mpy_of(flash._mpremote(port, "exec", folders + flash.MPY_PROBE))
 
 
 def _compiled(src: Path, folder: Path) -> Path:
