@@ -219,6 +219,8 @@ class RobotPlant(Plant):
         }
         self._motion_pending = False
         self._motion_changed(0)
+        # (a part whose instants may be fired at once, :func:`_fire_alone`: found once, not at each instant)
+        self._alone = not self.encoders and not self._reacts() and any(hasattr(p, "fire_until") for p in self.parts)
 
     @property
     def t_us(self) -> int:
@@ -288,7 +290,7 @@ class RobotPlant(Plant):
                         continue
                 # everything due at nxt: encoder edges first (they follow the speeds that
                 # held until nxt), then the drive, then the other parts in order
-                if not limit and not encoders and self._next_part_us == nxt and _fire_alone(self, nxt, t_us, out):
+                if self._alone and not limit and self._next_part_us == nxt and _fire_alone(self, nxt, t_us, out):
                     nxt = self._next_part_us
                     continue
                 self._t_us = nxt
@@ -385,6 +387,8 @@ class RobotPlant(Plant):
         bumpers); True if the motion changed."""
         return False
 
+    _alone = False  # (reset finds whether :func:`_fire_alone` may serve)
+
     def _reacts(self) -> bool:
         """Whether :meth:`_react` may do anything (else the instants of a part whose events
         are its own can be fired at once: :func:`_fire_alone`)."""
@@ -431,8 +435,8 @@ class RobotPlant(Plant):
 def _fire_alone(plant: RobotPlant, nxt: int, t_us: int, out: list) -> bool:
     """The one part due at ``nxt`` fired for every instant of its own up to ``t_us``
     in one call, when nothing else is due before the last of them (the drive, another
-    part) and the plant does not react at an instant: a ``board_uart``'s bytes, a byte
-    an instant (``fire_until``; the same changes, in the same order, the same values
+    part) and the plant does not react at an instant (``plant._alone``, found at reset):
+    a ``board_uart``'s bytes, a byte an instant (``fire_until``; the same changes, in the same order, the same values
     and schedule after as an instant at a time). False: fire as ever."""
     other = plant.drive.next_us
     due = None
@@ -445,7 +449,7 @@ def _fire_alone(plant: RobotPlant, nxt: int, t_us: int, out: list) -> bool:
         elif n < other:
             other = n
     fire_until = getattr(due, "fire_until", None)
-    if fire_until is None or other <= nxt or plant._reacts():
+    if fire_until is None or other <= nxt:
         return False
     n0 = len(out)
     last = fire_until(min(t_us, other - 1), out)

@@ -102,7 +102,7 @@ def _bytes_both_ways(step_us: int, alone: bool = True) -> tuple:
     ``alone``: False, the engine fires the wire at each instant, never its bytes at once."""
     plant = bench({"kind": "board_uart", "name": "link"}, wire("w"))
     if not alone:
-        plant._reacts = lambda: True  # (as a plant that reacts at each instant: _fire_alone declines)
+        plant._alone = False  # (as a plant that reacts at each instant: _fire_alone is not asked)
     got = []
     for k in range(8):  # (a line each way every 10 ms; bytes of both lines at the same instants)
         t = k * 10_000
