@@ -13,6 +13,7 @@ the writers make the file from the recording, as they do without this.
 Everything goes to unnamed temporary files (gone once closed), so memory stays bounded."""
 
 import bisect
+import shutil
 import tempfile
 
 from host.artefacts.csvlines import SignalLines, TruthLines
@@ -120,8 +121,7 @@ class Streamed:
         """A streamed file's bytes onto ``f`` (a file open for bytes)."""
         file.flush()
         file.seek(0)
-        while data := file.read(1 << 20):
-            f.write(data)
+        shutil.copyfileobj(file, f, 1 << 20)
 
     def close(self) -> None:
         for file in (self.signals_file, self.truth_file):

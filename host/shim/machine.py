@@ -608,7 +608,7 @@ class PWM:
         value = int(value)
         if _RP2 and value > 65535:  # ports/rp2/machine_pwm.c, mp_machine_pwm_duty_set_u16: "Limit duty_u16 to 65535"
             value = 65535
-        elif not 0 <= value <= 65535:  # ports/esp32/machine_pwm.c, set_duty_u16 (a negative duty on rp2: below)
+        elif not 0 <= value <= 65535:  # ports/esp32/machine_pwm.c, set_duty_u16 (a negative one: on rp2 too)
             raise ValueError("duty_u16 must be from 0 to 65535")
         if self._reg():
             _REG.pwm_set_duty_u16(self._pin._id, value, self._invert)

@@ -105,8 +105,9 @@ def settle(rigs: dict, serving: list) -> None:
     """Serve each board of ``rigs`` that is running, in order, until it blocks (or ends),
     its name in ``serving[0]``."""
     for board, rig in rigs.items():
-        serving[0] = board
-        to_wait(rig)
+        if rig.clock.wait is None and rig.exit_kind is None:  # (to_wait's own test: no call where it has none)
+            serving[0] = board
+            to_wait(rig)
 
 
 def routes_of(views: dict) -> dict:
@@ -294,10 +295,7 @@ class BoardSet:
         rigs, views = self.rigs, self.views
         self.plant_clear_us = -1  # (the plant may have been moved between runs: a scenario's carry_to)
         while True:
-            for board, rig in rigs.items():  # (settle's loop: each board running served to its wait)
-                if rig.clock.wait is None and rig.exit_kind is None:
-                    serving[0] = board
-                    to_wait(rig)
+            settle(rigs, serving)
             t_us = self._next_instant(t_end_us)
             if t_us is None:
                 return
