@@ -26,6 +26,7 @@ SPIN_LIMIT = 50  # clock/input reads without a blocking call before time starts 
 DONE_BATCH = 32  # bus reads answered from an image in a row at most: the next is an exchange (a poll
 # on its own stays in step with the host, its reports few in the heap and the link)
 SPIN_STEP_US = 10  # virtual time each further read costs while spinning
+BRANCHES = 256  # the firmware's own branches between two looks at whether it spins (_branches)
 BEHIND_US = 100_000  # MCU time: callbacks this far ahead of the clock: the board falls behind
 TICKS_PERIOD = 1 << 30  # a 32-bit MCU's small-int tick period
 TICKS_MASK = TICKS_PERIOD - 1
@@ -35,6 +36,9 @@ _lockstep = True  # mode == MODE_LOCKSTEP, for the hot paths
 _now = 0
 _horizon = 0
 _spin = 0
+_b_now = _b_spin = -1  # the clock and the spin count at _branches' last look, the compute
+_b_owed = -1  # owed then (MCU time; -1: not known), and the branches since (_b_window)
+_b_window = 0
 FOREVER_US = F.FOREVER_US
 _NO_IMAGE = b""
 _NO_STREAMS = bytes(16)
@@ -65,6 +69,7 @@ class _Console:
     # compute since the last charge, µs: added to the debt above, paid the same way) and
     # _hilfast.busy_us (until when callbacks' compute keeps the CPU busy); else None
     cpu = busy = irq = None  # (irq: _hilfast.irq_us, all the callbacks' compute so far)
+    owing = None  # _hilfast.owing_us: owed_us without taking it (_branches), with MCU time
     ran_us = 0  # the main program's compute charged since its last wait began (WAIT's compute_us)
     runs = []  # (t_us, compute_us) of each wait begun since the last exchange (CPU_RUNS, then WAIT)
     stack = None  # _hilfast.stack (the firmware's running functions), with MCU time
@@ -121,6 +126,7 @@ def cpu_start(getenv):
     if hasattr(fast, "heap_roots"):  # (what a board holds in C for the firmware: no other of the shim's
         fast.heap_roots((_handles, _timers, _pending))  # objects keeps the firmware's alive in its count)
     _Console.cpu, _Console.busy, _Console.stack = fast.owed_us, fast.busy_us, fast.stack
+    _Console.owing = getattr(fast, "owing_us", None)
     _Console.irq = getattr(fast, "irq_us", None)  # (a build before it: callbacks do not preempt)
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
     _reads_charge()
@@ -277,6 +283,7 @@ class _Link:
     after = 0
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
+    branches = None  # _branches, while _hilfast.branches calls it
     callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
     # The scheduler's queue holds at most this many soft callbacks (MICROPY_SCHEDULER_DEPTH:
     # 8 in ports/rp2/mpconfigport.h and ports/esp32/mpconfigport.h; py/mpconfig.h's default
@@ -805,6 +812,41 @@ def _observe_mcu():
     if not _dispatching and _charge_cpu():
         _released_run_until(_now, None)
     _observe_free()
+
+
+def _branches():
+    """At every BRANCHES-th branch of the firmware's own code (_hilfast.branches, the VM's
+    branch hook in the harness's build). A loop that read no clock and no input since the
+    last look (the clock and the spin count as they were) spends a board's time there: it
+    is a read, as far as virtual time goes (observe): without MCU time one that spins (past
+    SPIN_LIMIT each costs SPIN_STEP_US), with it the compute so far is charged once a Timer
+    or an input change comes due within it (none due: nothing charged yet, the stretch
+    goes on; one due before the next look at this pace: the next look is sooner, so the
+    loop sees a flag its callback sets within a few branches of the callback's instant, as
+    on a board). So `while playing: pass` ends when the Timer that clears `playing` fires,
+    where it would hang with compute free of time (docs/mcu-time.md, "A loop that calls
+    nothing of the board's"). Allocates nothing (it runs under heap_lock too)."""
+    global _b_now, _b_spin, _b_owed, _b_window
+    window = BRANCHES
+    owing = _Console.owing
+    if _b_now == _now and _b_spin == _spin and not _dispatching and _Link.thread() == _Link.main_thread:
+        if owing is None:
+            observe()
+        else:
+            owed = owing() + _Console.debt_ns // 1000
+            ahead = _now + owed
+            due = _horizon if _horizon < _timer_due else _timer_due
+            if ahead >= due:
+                observe()
+            elif _b_owed >= 0 and due < FOREVER_US and owed - _b_owed > due - ahead:
+                window = (due - ahead) * _b_window // (owed - _b_owed) + 1
+                _b_owed, _b_window = owed, window
+                return window
+    _b_now = _now
+    _b_spin = _spin
+    _b_owed = -1 if owing is None else owing() + _Console.debt_ns // 1000
+    _b_window = window
+    return window
 
 
 def _reads_charge():
@@ -1639,6 +1681,9 @@ def _fast_path(getenv):
     if hasattr(_hilfast, "arm"):  # (a build before it: the queue runs at the next call in)
         _exempt(_hilfast)
         _Link.arm = _hilfast.arm
+    if hasattr(_hilfast, "branches"):  # (a loop that calls nothing of the board's)
+        _Link.branches = _branches  # (held here too: _hilfast's reference is no root)
+        _hilfast.branches(_branches, BRANCHES)
     _Link.fast_edges = hasattr(_hilfast, "EDGES_MAX")  # (apply_state expands an EDGES itself)
     _Link.merge = getattr(_hilfast, "merge_edges", None)
     _Link.roomy = getattr(_hilfast, "roomy", None)

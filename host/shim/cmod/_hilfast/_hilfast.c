@@ -33,6 +33,9 @@
 // owed_us(): the whole µs of MCU time the main program's work since the last call costs
 //   (the rest carried to the next); irq_begin(), irq_end(now): a batch of callbacks runs
 //   (their work keeps the CPU busy from now); busy_us(): until when callbacks keep it busy;
+// owing_us(): what owed_us() would say, taking nothing;
+// branches(fn, every): fn() at every every-th branch of the firmware's own code (a loop that
+//   calls nothing of the board's: the shim moves virtual time there, _hil._branches);
 // counts(): the raw counters (a dict, for calibration);
 // stack(all=False): the running bytecode functions, outermost first, as
 //   [(file, function, line)]; without all, only the firmware's (not the exempt modules').
@@ -1383,7 +1386,7 @@ static MP_DEFINE_CONST_FUN_OBJ_1(heap_roots_obj, heap_roots);
 // The cost of what was counted since the last take, in ps. (Taken at each batch of callbacks,
 // twice: the opcodes in blocks of eight, a block that did not change skipped by one memcmp,
 // since a handler runs a few dozen kinds of bytecode of the 256.)
-static uint64_t take_ps(void) {
+static uint64_t counted_ps(bool take) {
     uint64_t ps = 0;
     for (int b = 0; b < 256; b += 8) {
         if (memcmp(&mp_hil_counts.ops[b], &charged.ops[b], 8 * sizeof(uint64_t)) == 0) {
@@ -1391,14 +1394,22 @@ static uint64_t take_ps(void) {
         }
         for (int i = b; i < b + 8; i++) {
             ps += (mp_hil_counts.ops[i] - charged.ops[i]) * cost_ps[i];
-            charged.ops[i] = mp_hil_counts.ops[i];
+            if (take) {
+                charged.ops[i] = mp_hil_counts.ops[i];
+            }
         }
     }
     for (int i = 0; i < N_EXTRA; i++) {
         ps += (extra(&mp_hil_counts, i) - extra(&charged, i)) * cost_ps[256 + i];
     }
-    memcpy(&charged.ccalls, &mp_hil_counts.ccalls, sizeof(mp_hil_counts_t) - offsetof(mp_hil_counts_t, ccalls));
+    if (take) {
+        memcpy(&charged.ccalls, &mp_hil_counts.ccalls, sizeof(mp_hil_counts_t) - offsetof(mp_hil_counts_t, ccalls));
+    }
     return ps;
+}
+
+static uint64_t take_ps(void) {
+    return counted_ps(true);
 }
 
 // The main program's compute since the last call, in whole µs (the rest carried).
@@ -1411,6 +1422,59 @@ static mp_obj_t owed_us(void) {
     return new_uint(us);
 }
 static MP_DEFINE_CONST_FUN_OBJ_0(owed_us_obj, owed_us);
+
+// What owed_us() would say now, taking nothing (the compute stays the main program's to charge).
+static mp_obj_t owing_us(void) {
+    return new_uint(((cost_on ? counted_ps(false) : 0) + main_ps) / 1000000);
+}
+static MP_DEFINE_CONST_FUN_OBJ_0(owing_us_obj, owing_us);
+
+// branches(fn, every): fn() runs at every every-th branch of the firmware's own code
+// (py/hilcount.h, mp_hil_branch_hook; branches(None, 0): no more), with the harness's
+// counters (its work is not the firmware's); what it raises is raised there, in the
+// firmware, as a pending exception is. Not while it runs (a callback it runs branches too).
+// When fn returns an int n > 0, the next call is n branches later instead.
+// fn is held by the shim (_Link.branches) as well: this static is no root of the collector.
+static mp_obj_t branch_fn = MP_OBJ_NULL;
+static bool in_branch_hook;
+
+static void branch_hook(void) {
+    mp_hil_branch_left = mp_hil_branch_every;
+    if (in_branch_hook) {
+        return;
+    }
+    mp_hil_counts_t *was = mp_hil_cur;
+    mp_hil_cur = &mp_hil_sink;
+    in_branch_hook = true;
+    nlr_buf_t nlr;
+    if (nlr_push(&nlr) == 0) {
+        mp_obj_t next = mp_call_function_0(branch_fn);
+        nlr_pop();
+        if (mp_obj_is_small_int(next) && MP_OBJ_SMALL_INT_VALUE(next) > 0) {
+            mp_hil_branch_left = (size_t)MP_OBJ_SMALL_INT_VALUE(next);
+        }
+        in_branch_hook = false;
+        mp_hil_cur = was;
+    } else {
+        in_branch_hook = false;
+        mp_hil_cur = was;
+        nlr_jump(nlr.ret_val);
+    }
+}
+
+static mp_obj_t branches(mp_obj_t fn, mp_obj_t every_in) {
+    mp_int_t every = mp_obj_get_int(every_in);
+    if (fn == mp_const_none || every <= 0) {
+        mp_hil_branch_hook = NULL;
+        branch_fn = MP_OBJ_NULL;
+        return mp_const_none;
+    }
+    branch_fn = fn;
+    mp_hil_branch_every = mp_hil_branch_left = (size_t)every;
+    mp_hil_branch_hook = branch_hook;
+    return mp_const_none;
+}
+static MP_DEFINE_CONST_FUN_OBJ_2(branches_obj, branches);
 
 // Callbacks run (IRQ handlers, Timer callbacks): what the main program computed before
 // them is its own; theirs keeps the CPU busy from their instant (or from when the ones
@@ -1522,6 +1586,8 @@ static const mp_rom_map_elem_t hilfast_globals_table[] = {
     {MP_ROM_QSTR(MP_QSTR_cost), MP_ROM_PTR(&cost_obj)},
     {MP_ROM_QSTR(MP_QSTR_heap_roots), MP_ROM_PTR(&heap_roots_obj)},
     {MP_ROM_QSTR(MP_QSTR_owed_us), MP_ROM_PTR(&owed_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_owing_us), MP_ROM_PTR(&owing_us_obj)},
+    {MP_ROM_QSTR(MP_QSTR_branches), MP_ROM_PTR(&branches_obj)},
     {MP_ROM_QSTR(MP_QSTR_counts), MP_ROM_PTR(&counts_obj)},
     {MP_ROM_QSTR(MP_QSTR_irq_begin), MP_ROM_PTR(&irq_begin_obj)},
     {MP_ROM_QSTR(MP_QSTR_irq_end), MP_ROM_PTR(&irq_end_obj)},

@@ -1,0 +1,50 @@
+"""Loops that call nothing of the board's (`while playing: pass`): on a board the CPU spends
+time there, so the Timer or the IRQ they wait for comes due. The harness's interpreter runs
+the shim at every 256th of the firmware's own branches (host/core/micropython/hilcount.patch,
+_hilfast.branches, _hil._branches): such a loop moves virtual time as a loop of clock reads
+does (docs/mcu-time.md, "A loop that calls nothing of the board's")."""
+
+import re
+
+import pytest
+
+from host.core.errors import FirmwareHung
+
+
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
+def test_a_wait_on_a_flag_ends_when_the_timer_or_irq_that_clears_it_fires(run_case, monkeypatch, cpu):
+    """A buzzer's 100 ms note held by a one-shot Timer (Pololu's Buzzer.play), a bumper's IRQ
+    flag set at 250 ms, and a 30 ms Timer wait under heap_lock: each loop ends just after
+    its callback. With compute free, the loop's time is a spinning read's (10 us a look);
+    on an RP2040 it is the loop's own compute, and the look before the callback's instant
+    comes within a few branches of it."""
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
+    rig, r = run_case("spin_wait", 0.5, [(250_000, "button", 1)])
+    where = f"(console: {rig.console!r}; artefacts: {rig.artefacts})"
+    # (with MCU time the callbacks' own compute comes on top: the bumper's handler appends
+    # a clock read to a list, about 130 us on an RP2040 by the cost model)
+    late_us = 20 if cpu == "free" else 60
+    played, locked = r.get("played_us", -1), r.get("locked_us", -1)
+    assert 100_000 <= played <= 100_000 + late_us, f"expected the 100 ms note to end then, got {r} {where}"
+    assert 30_000 <= locked <= 30_000 + late_us, f"expected the locked wait to end at 30 ms, got {r} {where}"
+    pressed, seen = r["pressed_at_us"]
+    handler_us = 20 if cpu == "free" else 200
+    assert seen - pressed <= handler_us, f"expected the flag seen just after the IRQ, got {r} {where}"
+
+
+def test_a_loop_that_never_yields_runs_on_in_virtual_time_as_on_a_board(run_case):
+    """`while True: pass` after a sleep: a board spins there while time goes on; so does the
+    loop (the watchdog named it before the branch hook: test_shim.py, with HIL_PURE)."""
+    rig, _ = run_case("hangs", 0.3)
+    assert rig.t_us == 300_000, f"expected the run to reach 0.3 s, got t={rig.t_us} us (artefacts: {rig.artefacts})"
+
+
+def test_a_callback_that_spins_forever_is_named_by_the_watchdog(run_case):
+    """A Timer callback that waits for what only the main program could do never ends on a
+    board either; a callback runs at its instant here, so the watchdog stops the run and
+    says where it spins, and why."""
+    with pytest.raises(FirmwareHung) as err:
+        run_case("spin_in_callback", 0.5, watchdog_s=3.0)
+    text = str(err.value)
+    assert re.search(r'File "main.py", line 1[12], in tick', text), f"expected the callback's own line, got {text}"
+    assert "In an IRQ handler or a Timer callback a loop like that moves no virtual time" in text, text
