@@ -12,6 +12,8 @@ import pytest
 
 from host.core.paths import REPO
 from host.tests.conftest import FIRMWARE, results
+from host.tests.test_shim_board import bench
+from host.tests.test_version_behaviour import VERSIONS, on_version  # noqa: F401  (a fixture)
 
 pytestmark = pytest.mark.hil
 
@@ -190,3 +192,20 @@ def test_the_boards_sockets_never_reach_the_hosts_network(make_rig, tmp_path):
     assert r["connect_host"] == ("OSError", 113) and not reached, f"expected EHOSTUNREACH, no host connection; {where}"
     assert r["bind"] == ("ok", None) and r["listen"] == ("ok", None), where
     assert host_port_free, f"expected the firmware's bind to leave the host's port {free} alone; {where}"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_the_esp32s_names_follow_each_versions_esp_idf(on_version, version):  # noqa: F811  (the fixture)
+    """ports/esp32/network_wlan.c and modnetwork_globals.h, built with ESP-IDF 5.2 (1.25),
+    5.4 (1.26: SEC_DPP, SEC_WPA3_ENT), 5.5 (1.27 and 1.28: SEC_WPA_ENT, PROTOCOL_DEFAULT);
+    AUTH_MAX is the IDF's WIFI_AUTH_MAX; MSG_PEEK and MSG_DONTWAIT from 1.26
+    (ports/esp32/modsocket.c, lwIP's 0x01 and 0x08)."""
+    rig, r = on_version(version, bench("esp32_bench"), "ver_radio", 0.1)
+    v = tuple(int(x) for x in version.split("."))
+    sec = [] if v < (1, 26) else ["SEC_DPP", "SEC_WPA3_ENT"] if v < (1, 27) else None
+    if sec is None:
+        sec = ["PROTOCOL_DEFAULT", "SEC_DPP", "SEC_WPA3_ENT", "SEC_WPA_ENT"]
+    expected = {"auth_max": {(1, 25): 13, (1, 26): 16}.get(v, 17), "sec": sec}
+    expected["msg"] = [None, None] if v < (1, 26) else [1, 8]
+    got = {k: r.get(k) for k in expected}
+    assert got == expected, f"MicroPython {version} on an ESP32: got {got}, expected {expected} ({rig.artefacts})"
