@@ -8,7 +8,8 @@
 #   SO_REUSEADDR: EADDRINUSE), listen() (TCP only: EOPNOTSUPP), close() (then EBADF);
 # - accept(), recv(), recvfrom(): nothing ever comes. Non-blocking: EAGAIN; with a timeout:
 #   ETIMEDOUT once it has passed in virtual time; blocking: waits for ever in virtual time
-#   (IRQs and Timers run), as a board with no client waits;
+#   (IRQs and Timers run), as a board with no client waits; select.poll never finds one
+#   readable, nor a connecting TCP socket writable (ioctl, as lwIP's);
 # - connect(): no route (no interface up whose subnet holds the address): EHOSTUNREACH at
 #   once; into the soft AP's subnet (192.168.4.0/24, the AP active): no one answers the SYN,
 #   so EINPROGRESS non-blocking, ETIMEDOUT after a timeout, or a wait for ever;
@@ -249,8 +250,23 @@ class socket:
     def makefile(self, mode="rb", buffering=0):
         return self
 
-    def _poll_ready(self, mask):
-        return False  # (select.poll: nothing ever arrives)
+    def ioctl(self, request, arg):
+        # extmod/modlwip.c, lwip_socket_ioctl, as select.poll asks it (MP_STREAM_POLL, 3):
+        # nothing is ever readable; a UDP socket is writable, a TCP one unless it connects;
+        # one never connected hangs up (POLLHUP), a closed one is invalid (POLLNVAL)
+        if request == 4:  # MP_STREAM_CLOSE
+            self.close()
+            return 0
+        if request != 3:
+            return -_E["EINVAL"]
+        if self._closed:
+            return 0x20
+        ready = 0
+        if arg & 0x0004 and (self._type != SOCK_STREAM or not self._connecting):
+            ready |= 0x0004
+        if self._type == SOCK_STREAM and not (self._listening or self._connecting):
+            ready |= 0x0010
+        return ready
 
 
 def getaddrinfo(host, port, af=0, type=0, proto=0, flags=0):

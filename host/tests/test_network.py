@@ -77,6 +77,9 @@ def test_a_kit_librarys_web_server_imports_and_finds_no_network_on_the_xrp(make_
     assert r["dns_sendto_station"] == ("ok", 1), f"expected a datagram into the AP's subnet to go out; {where}"
     assert r["connect_internet"] == ("OSError", 113), f"expected EHOSTUNREACH: no route; {where}"
     assert r["getaddrinfo_name"] == ("OSError", -2), f"expected lwIP's -2: no DNS answers; {where}"
+    assert r["connect_station"] == ("OSError", 115), f"expected EINPROGRESS into the AP's subnet; {where}"
+    assert r["poll_waiting"] == [] and r["poll_ms"] == 200, f"expected no client, no answer: 200 ms; {where}"
+    assert r["poll_udp_writable"] == [(True, 4)], f"expected the UDP socket alone writable; {where}"
     assert r["rebind_80"] == ("OSError", 98), f"expected EADDRINUSE (the other without SO_REUSEADDR); {where}"
     assert r["ap_active_after"] is False, where
 
@@ -94,6 +97,8 @@ def test_the_same_library_on_an_esp32_gets_esp_idfs_values(make_rig, tmp_path):
     assert r["accept_timeout"] == ("OSError", 116), f"expected newlib's ETIMEDOUT; {where}"
     assert r["connect_internet"] == ("OSError", 118), f"expected newlib's EHOSTUNREACH; {where}"
     assert r["getaddrinfo_name"] == ("OSError", -202), where
+    assert r["connect_station"] == ("OSError", 119), f"expected newlib's EINPROGRESS; {where}"
+    assert r["poll_waiting"] == [] and r["poll_udp_writable"] == [(True, 4)], where
     assert r["rebind_80"] == ("OSError", 112), where
 
 

@@ -11,6 +11,7 @@ except ImportError as e:
     sys.exit()
 
 import network
+import select
 import socket
 
 import usocket
@@ -58,6 +59,17 @@ say("dns_sendto_station", err(lambda: webserver.dns.sendto(b"x", ("192.168.4.2",
 out = socket.socket()
 say("connect_internet", err(lambda: out.connect(("8.8.8.8", 80))))
 say("getaddrinfo_name", err(lambda: socket.getaddrinfo("example.com", 80)))
+station = socket.socket()
+station.setblocking(False)
+say("connect_station", err(lambda: station.connect(("192.168.4.2", 80))))
+poller = select.poll()
+poller.register(webserver.http, select.POLLIN)
+poller.register(station, select.POLLOUT)
+t0 = time.ticks_ms()
+say("poll_waiting", [e for _, e in poller.poll(200)])
+say("poll_ms", time.ticks_diff(time.ticks_ms(), t0))
+poller.register(webserver.dns, select.POLLOUT)
+say("poll_udp_writable", [(s is webserver.dns, e) for s, e in poller.poll(200)])
 say("rebind_80", err(lambda: socket.socket().bind(("0.0.0.0", 80))))
 webserver.stop_server()
 say("ap_active_after", webserver.wlan.active())
