@@ -287,11 +287,11 @@ class WLAN:
         SEC_WPA3_ENT_192 = 10
         SEC_WPA3_EXT_PSK = 11
         SEC_WPA3_EXT_PSK_MIXED_MODE = 12
-        if _MPY >= (1, 26):  # ESP-IDF 5.3 and 5.4
+        if _MPY >= (1, 26):  # ESP-IDF 5.4 (1.26's)
             SEC_DPP = 13
             SEC_WPA3_ENT = 14
             SEC_WPA2_WPA3_ENT = 15
-        if _MPY >= (1, 27):  # ESP-IDF 5.5
+        if _MPY >= (1, 27):  # ESP-IDF 5.5 (1.27's and 1.28's)
             SEC_WPA_ENT = 16
             PROTOCOL_DEFAULT = 7
             PROTOCOL_LR = 8
