@@ -3,8 +3,12 @@
 # MICROPY_HW_BOARD_NAME, which begins sys.implementation._machine), and the GPIO count
 # (NUM_BANK0_GPIOS: 30, or 48 where the board's mpconfigboard.cmake sets PICO_NUM_GPIOS 48,
 # an RP2350B). machine.py looks a board up here by the machine name the host gave it.
-# Names on the radio's GPIOs (EXT_GPIO0..2: the CYW43's, not the chip's) are left out.
+# A board with a CYW43 radio has its GPIOs too (pins.csv: LED, WL_GPIO0..2 on EXT_GPIO0..2,
+# the radio's, not the chip's; machine_pin_ext_*): they are lines by those names, as the
+# BOOTSEL line is (an output that reaches no chip GPIO; a rig file may wire them by name).
 _GP30 = {"GP%d" % n: n for n in range(30)}
+_CYW43 = {"LED": "EXT_GPIO0", "WL_GPIO0": "EXT_GPIO0", "WL_GPIO1": "EXT_GPIO1", "WL_GPIO2": "EXT_GPIO2"}
+_XRP_LED = dict(_CYW43, BOARD_LED="EXT_GPIO0", BRD_LED="EXT_GPIO0")
 _XRP_BETA = {
     "MOTOR_L_IN_1": 6, "MOTOR_L_IN_2": 7, "MOTOR_R_IN_1": 14, "MOTOR_R_IN_2": 15,
     "MOTOR_3_IN_1": 2, "MOTOR_3_IN_2": 3, "MOTOR_4_IN_1": 10, "MOTOR_4_IN_2": 11,
@@ -39,6 +43,9 @@ _XRP = {
 }  # fmt: skip
 _POLOLU = dict(_GP30, LED=25)
 
+_XRP_BETA.update(_XRP_LED)
+_XRP.update(_XRP_LED)
+
 BOARDS = {
     "SparkFun XRP Controller (Beta)": (30, _XRP_BETA),
     "SparkFun XRP Controller": (48, _XRP),
@@ -47,8 +54,35 @@ BOARDS = {
 
 
 def board(machine):
-    """(GPIO count, board names) of the board whose name begins ``machine``, or None."""
+    """(GPIO count, board names) of the board whose name begins ``machine``, or None. (A
+    board whose mpconfigboard.h sets MICROPY_BANNER_MACHINE to its name alone, as
+    POLOLU_3PI_2040_ROBOT's does, has that name alone as its _machine.)"""
     for name in sorted(BOARDS, key=len, reverse=True):  # (the beta's name begins with the other's)
-        if machine.startswith(name + " with "):
+        if machine == name or machine.startswith(name + " with "):
             return BOARDS[name]
+    return None
+
+
+# Boards with a radio, and whose (network.WLAN: host/shim/network.py; socket: _hilsocket.py).
+# rp2: a board whose mpconfigboard.cmake sets MICROPY_PY_NETWORK_CYW43 (ports/rp2/boards/
+# <BOARD>), by its MICROPY_HW_BOARD_NAME, with its MICROPY_PY_NETWORK_HOSTNAME_DEFAULT
+# (mpconfigboard.h; the port's own default, "mpy-rp2", where the board sets none). Every
+# ESP32 of the loop's family has its WLAN (ports/esp32/network_wlan.c), hostname "mpy-esp32"
+# (ports/esp32/mpconfigport.h). A board not named here has no radio: no network, no socket.
+CYW43_BOARDS = {
+    "Raspberry Pi Pico W": "PicoW",  # RPI_PICO_W
+    "Raspberry Pi Pico 2 W": "Pico2W",  # RPI_PICO2_W
+    "SparkFun XRP Controller (Beta)": "XRP",  # SPARKFUN_XRP_CONTROLLER_BETA (a Pico W's module)
+    "SparkFun XRP Controller": "XRP",  # SPARKFUN_XRP_CONTROLLER
+}
+
+
+def radio(platform, machine):
+    """("cyw43" or "esp32", the board's default hostname) for a board with a radio, or None."""
+    if platform == "esp32":
+        return ("esp32", "mpy-esp32")
+    if platform == "rp2":
+        for name in sorted(CYW43_BOARDS, key=len, reverse=True):
+            if machine == name or machine.startswith(name + " with "):
+                return ("cyw43", CYW43_BOARDS[name])
     return None

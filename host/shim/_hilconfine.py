@@ -7,7 +7,9 @@
 #   importer's package;
 # - the unix port's host reach taken away: os.system, os.getenv/putenv/unsetenv, os.errno,
 #   os.VfsPosix and vfs.VfsPosix go; ffi, socket, _thread and termios import as on a port
-#   without them (ImportError), unless the rig file allows one by name ([board] allow_modules).
+#   without them (ImportError), unless the rig file allows one by name ([board] allow_modules);
+#   on a board with a radio, socket and usocket are the board's (_hilsocket: a radio with no
+#   network in range), never the host's.
 import builtins
 import micropython
 import sys
@@ -48,6 +50,10 @@ BOARD_MODULES = {
 }
 # a family's own (ports/rp2/modules/_boot.py imports rp2; ports/esp32/modesp.c registers esp)
 FAMILY_MODULES = {"rp2": ("rp2", BUILT_IN), "esp": ("esp", BUILT_IN)}
+# a board with a radio's (_hilboards.radio): network is built in (extmod/modnetwork.c,
+# MP_REGISTER_MODULE); socket is extensible (extmod/modlwip.c, ports/esp32/modsocket.c:
+# MP_REGISTER_EXTENSIBLE_MODULE), the board's _hilsocket put in sys.modules (confine)
+RADIO_MODULES = {"network": BUILT_IN}
 _U_NAMES = {"machine": "umachine", "time": "utime", "select": "uselect"}  # a board's u-prefix: the built-in itself
 
 
@@ -131,6 +137,15 @@ def _board_path(shim_dir):
     return root, libs, (shim[0] if shim else shim_dir)
 
 
+def _radio():
+    """The board's radio (_hilboards.radio), or None."""
+    from _hilboards import radio
+
+    board = sys.modules.get("sys", sys)
+    machine = getattr(getattr(board, "implementation", None), "_machine", "") or ""
+    return radio(getattr(board, "platform", ""), machine)
+
+
 def _shadowing(root, libs):
     """(the loop's modules the board's own module keeps against a firmware file of their
     name; those a firmware file takes from the loop), per BOARD_MODULES."""
@@ -140,6 +155,8 @@ def _shadowing(root, libs):
     for prefix, (name, kind) in FAMILY_MODULES.items():
         if platform.startswith(prefix):
             table[name] = kind  # (elsewhere the board has none: the firmware's file, or ImportError)
+    if _radio():
+        table.update(RADIO_MODULES)  # (elsewhere: the firmware's network.py, or ImportError)
     shim_first, firmware_first = [], []
     for name, kind in table.items():
         in_root = _module_file(root, name) is not None
@@ -191,6 +208,11 @@ def confine(settings, shim_dir):
     if "vfs.VfsPosix" not in allowed:
         sys.modules["vfs"] = _without(vfs, ("VfsPosix",))
     blocked = tuple(m for m in HOST_MODULES if m not in allowed)
+    # A board with a radio has its own socket (the board's, _hilsocket: no host network);
+    # the host's goes as on every board, unless the rig file allows it by name.
+    board_socket = None
+    if _radio() is not None and "socket" not in allowed and "usocket" not in allowed:
+        import _hilsocket as board_socket
     board_open = _board_open(builtins.open)
     real_io = _builtin("io")
     board_io = _without(real_io, ("open",))
@@ -198,6 +220,13 @@ def confine(settings, shim_dir):
     sys.modules["io"] = board_io
     builtins.open = board_open
     _scrub(allowed, blocked, shim_dir, sys.modules["vfs"], real_io, board_io)
+    if board_socket is not None:
+        # usocket is the built-in itself (py/objmodule.c mp_module_get_builtin); socket too,
+        # unless the firmware brings a socket.py (an extensible built-in: its file wins)
+        sys.modules["usocket"] = board_socket
+        if not any(_module_file(p, "socket") for p in [fw_root] + fw_libs):
+            sys.modules["socket"] = board_socket
+        blocked = tuple(m for m in blocked if m not in ("socket", "usocket"))
     builtins.__import__ = _board_import(builtins.__import__, blocked, _shim_first, shim_entry)
 
 
