@@ -159,7 +159,8 @@ def test_a_run_that_ends_by_design_is_a_rig_setting(make_rig, tmp_path):
         ("import esp\n", r"no module named 'esp': the loop has it for an ESP32 board only"),
         ("from machine import I2S\n", r"machine.I2S is not in the loop; it has Pin, .*\(docs/shim.md\)"),
         ("import machine\nmachine.CAN(1)\n", r"machine.CAN is not in the loop; .*\(docs/shim.md\)"),
-        ("import network\n", r"network is built into a board's MicroPython and not into the loop: docs/shim.md"),
+        ("import network\n", r"network is the radio's: the loop has it on a board with one, .*; this board has none"),
+        ("import bluetooth\n", r"bluetooth is built into a board's MicroPython and not into the loop: docs/shim.md"),
     ],
 )
 def test_what_the_loop_has_not_got_says_so_and_points_at_docs_shim(make_rig, tmp_path, main, expected):

@@ -13,7 +13,10 @@ from host.rig.targets.firmware import CONSOLE_BAUD, ENTRY
 from sim_plant.plant import Plant
 
 BOARD_ONLY_MODULES = ("network", "bluetooth", "esp32", "espnow")
-"""Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not."""
+"""Modules the ESP32 and RP2040 ports build in (or freeze) and the loop has not (network: on a
+board without a radio)."""
+RADIO_MODULES = ("network",)
+"""Modules the loop has on a board with a radio only (host/shim/network.py)."""
 PROBE_PREFIX = "probe:"
 """Wiring target prefix for a pin that only the harness watches (a logic-analyser probe)."""
 
@@ -138,6 +141,12 @@ class App:
         import re
 
         missing = re.search(r"no module named '([\w.]+)'", traceback)
+        if missing and missing.group(1) in RADIO_MODULES:
+            return (
+                f"\n({missing.group(1)} is the radio's: the loop has it on a board with one, an ESP32, a "
+                "Pico W or Pico 2 W, an XRP, as their ports build it in; this board has none. docs/shim.md, "
+                '"The radio: network and socket")'
+            )
         if missing and missing.group(1) in BOARD_ONLY_MODULES:
             return (
                 f"\n({missing.group(1)} is built into a board's MicroPython and not into the loop: "
