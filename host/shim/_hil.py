@@ -39,6 +39,11 @@ _spin = 0
 _b_now = _b_spin = -1  # the clock and the spin count at _branches' last look, the compute
 _b_owed = -1  # owed then (MCU time; -1: not known), and the branches since (_b_window)
 _b_window = 0
+_b_since = -1  # when the firmware's own code last called the board, as _branches saw it (-1: it
+_b_looks = 0  # just did), and its looks since: named once a run after POLL_SPAN_US (a POLL_SPIN)
+_b_said = False
+_b_told = 0  # when the host last heard of the loop (every SPIN_TELL_US of it: the link stays alive)
+SPIN_TELL_US = 100_000
 FOREVER_US = F.FOREVER_US
 _NO_IMAGE = b""
 _NO_STREAMS = bytes(16)
@@ -826,10 +831,18 @@ def _branches():
     on a board). So `while playing: pass` ends when the Timer that clears `playing` fires,
     where it would hang with compute free of time (docs/mcu-time.md, "A loop that calls
     nothing of the board's"). Allocates nothing (it runs under heap_lock too)."""
-    global _b_now, _b_spin, _b_owed, _b_window
+    global _b_now, _b_spin, _b_owed, _b_window, _b_since, _b_looks, _b_told
     window = BRANCHES
     owing = _Console.owing
-    if _b_now == _now and _b_spin == _spin and not _dispatching and _Link.thread() == _Link.main_thread:
+    if _b_now != _now or _b_spin != _spin:
+        _b_since = -1
+    elif not _dispatching and _Link.thread() == _Link.main_thread:
+        if _b_since < 0:
+            _b_since, _b_looks = _now, 0
+            _b_told = _now
+        _b_looks += 1
+        if _now - _b_told >= SPIN_TELL_US:
+            _spin_told()
         if owing is None:
             observe()
         else:
@@ -847,6 +860,30 @@ def _branches():
     _b_owed = -1 if owing is None else owing() + _Console.debt_ns // 1000
     _b_window = window
     return window
+
+
+def _spin_told():
+    """The loop of _branches has moved SPIN_TELL_US more of virtual time without calling the
+    board: a POLL_SPIN to the host, which hears from the board as it would from a wait (its
+    watchdog sees a board alive, far inside a long horizon). Once it is POLL_SPAN_US long
+    (once a run) the POLL_SPIN names it, with the firmware's stack: the host's note says
+    where it spins. A board spins there too; a loop that waits for a callback's flag ends
+    when the callback fires."""
+    global _b_said, _b_told
+    _b_told = _now
+    name = not _b_said and _now - _b_since >= F.POLL_SPAN_US
+    try:
+        text = ""
+        if name:
+            import _hilpoll
+
+            stack = _hilpoll.firmware_stack()
+            text = "\n" + "\n".join(stack) if stack else ""
+        send(F.POLL, F.pack_poll(_now, _b_since, _b_looks * BRANCHES, F.POLL_SPIN, 0, 0, name, text.encode()))
+        _link.flush()
+        _b_said = _b_said or name
+    except MemoryError:  # (under heap_lock: nothing said; the next tell tries again)
+        pass
 
 
 def _reads_charge():

@@ -826,6 +826,8 @@ POLL_PIN = 0
 POLL_MEM = 1
 POLL_REG = 2
 POLL_STACK = 3  # not a poll: the firmware's stack for a bus poll the host named (BUS_ASK_STACK)
+POLL_SPIN = 4  # a loop of the firmware's own code that called nothing of the board's (_hil._branches; target
+# 0; value 1: named, with the stack; 0: the host only hears that the board is alive)
 POLL_READS = 10_000
 POLL_SPAN_US = 1_000_000
 

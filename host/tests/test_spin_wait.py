@@ -34,9 +34,14 @@ def test_a_wait_on_a_flag_ends_when_the_timer_or_irq_that_clears_it_fires(run_ca
 
 def test_a_loop_that_never_yields_runs_on_in_virtual_time_as_on_a_board(run_case):
     """`while True: pass` after a sleep: a board spins there while time goes on; so does the
-    loop (the watchdog named it before the branch hook: test_shim.py, with HIL_PURE)."""
-    rig, _ = run_case("hangs", 0.3)
-    assert rig.t_us == 300_000, f"expected the run to reach 0.3 s, got t={rig.t_us} us (artefacts: {rig.artefacts})"
+    loop (the watchdog named it before the branch hook: test_shim.py, with HIL_PURE), and the
+    run says once, a second after the firmware last called the board, where it spins."""
+    rig, _ = run_case("hangs", 1.3)
+    where = f"(console: {rig.console!r}; artefacts: {rig.artefacts})"
+    assert rig.t_us == 1_300_000, f"expected the run to reach 1.3 s, got t={rig.t_us} us {where}"
+    notes = [text for _t, text in rig.bus_trace.notes if "a loop that never ends?" in text]
+    assert len(notes) == 1, f"expected the loop named once, 1 s after its last call into the board, got {notes} {where}"
+    assert "from virtual t=0.100000 s to t=1.1" in notes[0] and 'File "main.py", line' in notes[0], notes[0]
 
 
 def test_a_callback_that_spins_forever_is_named_by_the_watchdog(run_case):

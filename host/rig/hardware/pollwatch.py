@@ -84,7 +84,15 @@ def shim_poll_text(poll: tuple, wiring, plant) -> str:
     lines = words.decode(errors="replace").split("\n")
     word, stack = lines[0], [line for line in lines[1:] if line]
     span = f"{reads} times from virtual t={since_us / 1e6:.6f} s to t={t_us / 1e6:.6f} s and got"
-    if kind == F.POLL_PIN:
+    if kind == F.POLL_SPIN:
+        text = (
+            f"a loop that never ends? the firmware's own code called nothing of the board's (no clock or pin "
+            f"read, no sleep, no output) from virtual t={since_us / 1e6:.6f} s to t={t_us / 1e6:.6f} s "
+            f"({reads} branches): a board spins there too, while time goes on; a loop that waits for what a "
+            'callback sets ends when the callback fires (docs/mcu-time.md, "A loop that calls nothing of the '
+            "board's\")"
+        )
+    elif kind == F.POLL_PIN:
         info = wiring.handles[target] if 0 <= target < len(wiring.handles) else None
         key = info.key if info is not None else f"handle {target}"
         pin = f"pin {info.board_name} ({key})" if info is not None and info.board_name else f"pin {key}"

@@ -115,6 +115,8 @@ def on_poll(rig, p: bytes) -> None:
     poll = F.unpack_poll(p)
     if poll[3] == F.POLL_STACK:  # the firmware's stack for the bus poll the host named
         rig.bus_trace.poll_stack(poll[7])
+    elif poll[3] == F.POLL_SPIN and not poll[6]:  # (a loop that moves virtual time: alive, not yet named)
+        return
     elif rig.bus_trace.polls.first((poll[3], poll[5])):  # (kind, target): once a run
         rig.bus_trace.say(poll[0], shim_poll_text(poll, rig.wiring, rig.plant))
 
