@@ -288,6 +288,7 @@ class _Link:
     after = 0
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
+    threads = None  # _hilthread once the firmware has started a thread of its own (the board's _thread)
     branches = None  # _branches, while _hilfast.branches calls it
     callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
     # The scheduler's queue holds at most this many soft callbacks (MICROPY_SCHEDULER_DEPTH:
@@ -787,6 +788,8 @@ def observe():
     global _spin, _now
     if _dispatching:  # a handler runs at its edge's instant: its reads move no time
         return
+    if _Link.threads is not None:  # (the firmware's threads take turns: _hilthread)
+        _Link.threads.tick()
     if _pending:  # left by a C call (c_begin) or a wait: at the firmware's branches
         _leftovers()
     if _lockstep:
@@ -834,9 +837,12 @@ def _branches():
     global _b_now, _b_spin, _b_owed, _b_window, _b_since, _b_looks, _b_told
     window = BRANCHES
     owing = _Console.owing
+    threads = _Link.threads
+    if threads is not None:
+        threads.tick()
     if _b_now != _now or _b_spin != _spin:
         _b_since = -1
-    elif not _dispatching and _Link.thread() == _Link.main_thread:
+    elif not _dispatching and (threads is not None or _Link.thread() == _Link.main_thread):
         if _b_since < 0:
             _b_since, _b_looks = _now, 0
             _b_told = _now
@@ -901,9 +907,17 @@ def run_until(t_target, watch=None):
     """Move virtual time to t_target, running timers and IRQ handlers on the way.
 
     With `watch` (a list of handles), return True as soon as one of them changes.
-    Under micropython.heap_lock() too (see heap_release).
-    """
-    if _Link.thread() != _Link.main_thread:
+    Under micropython.heap_lock() too (see heap_release). With the firmware's threads
+    (_hilthread), the others run meanwhile."""
+    threads = _Link.threads
+    if threads is not None:
+        return threads.wait(t_target, watch)
+    return _wait(t_target, watch)
+
+
+def _wait(t_target, watch):
+    """run_until in the thread that holds the clock."""
+    if _Link.threads is None and _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     _Link.until = t_target  # (the wait handles events: the callbacks due on its way run)
     if _Console.cpu is not None and not _dispatching:
@@ -1172,7 +1186,7 @@ def _sync(t_until, watch):
     if not c.room(ROOM_BYTES):  # (make_room's probe, given back at once)
         spend_reserve()
     _Link.syncs += 1
-    if _Link.thread() != _Link.main_thread:
+    if _Link.threads is None and _Link.thread() != _Link.main_thread:
         raise RuntimeError("a second thread waits in virtual time: the loop runs one thread of control (docs/shim.md)")
     # the WAIT, the STATE's frame and its decoding in C (_hilfast.link)
     _Link.frames += 1

@@ -213,6 +213,11 @@ def confine(settings, shim_dir):
     board_socket = None
     if _radio() is not None and "socket" not in allowed and "usocket" not in allowed:
         import _hilsocket as board_socket
+    # An rp2 or ESP32 board has _thread (its second core, FreeRTOS tasks): the board's,
+    # on the one virtual clock (_hilthread), unless the rig file allows the host's by name.
+    board_thread = None
+    if _threads_port() and "_thread" not in allowed:
+        import _hilthread as board_thread
     board_open = _board_open(builtins.open)
     real_io = _builtin("io")
     board_io = _without(real_io, ("open",))
@@ -227,7 +232,17 @@ def confine(settings, shim_dir):
         if not any(_module_file(p, "socket") for p in [fw_root] + fw_libs):
             sys.modules["socket"] = board_socket
         blocked = tuple(m for m in blocked if m not in ("socket", "usocket"))
+    if board_thread is not None:
+        sys.modules["_thread"] = board_thread
+        blocked = tuple(m for m in blocked if m != "_thread")
     builtins.__import__ = _board_import(builtins.__import__, blocked, _shim_first, shim_entry)
+
+
+def _threads_port():
+    """The board's port has _thread (MICROPY_PY_THREAD: ports/rp2/mpconfigport.h,
+    ports/esp32/mpconfigport.h)."""
+    platform = getattr(sys.modules.get("sys", sys), "platform", "")
+    return platform.startswith("rp2") or platform.startswith("esp32")
 
 
 def _board_open(real):
