@@ -184,6 +184,18 @@ _POPPED = []  # state machines with words taken from their RX FIFO the host is n
 _AHEAD = [None, -1, 0]
 
 
+def _instant():
+    """The firmware's instant at a FIFO access: with MCU time (or a print's time owed), after
+    the compute before it, as at a clock read (docs/mcu-time.md, "How it works", 3). The RX
+    words and levels a LEVELS reply gave hold at its instant only, and the words taken from
+    them reach the host before any frame at a later one: both compare with this instant, not
+    with the clock before the compute is paid (a read after 40 us of compute is a read 40 us
+    later, on the host's PIO too)."""
+    if _hil._Console.cpu is not None or _hil._Console.debt_ns >= 1000:
+        _hil.pay_console()
+    return _hil.now()
+
+
 class StateMachine:
     """One of the eight state machines (0..3 in PIO0, 4..7 in PIO1); its program runs on the
     host, against the plant's pins, from active(1) on."""
@@ -273,7 +285,7 @@ class StateMachine:
     def _call(self, op, address=0, n_read=0, data=b""):
         if self._handle is None:
             raise OSError("StateMachine(%d) has no program: init() it first" % self._id)
-        now = _hil.now()
+        now = _instant()
         popped, self._popped = self._popped, 0
         if self in _POPPED:  # (first: another machine's exchange below must not come back to this one)
             _POPPED.remove(self)
@@ -379,7 +391,7 @@ class StateMachine:
             n = len(view) // size if size else 1
         out = []
         while len(out) < n:
-            if self._rx and self._at == _hil.now():
+            if self._rx and self._at == _instant():
                 out.append(self._rx.pop(0))
                 self._popped += 1
                 if self not in _POPPED:
@@ -404,12 +416,12 @@ class StateMachine:
         _hil.run_until(_hil.now() + wait_us)
 
     def rx_fifo(self):
-        if self._at == _hil.now():
+        if self._at == _instant():
             return len(self._rx)
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][0]
 
     def tx_fifo(self):
-        if self._at == _hil.now():
+        if self._at == _instant():
             return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 
