@@ -185,12 +185,15 @@ _AHEAD = [None, -1, 0]
 
 
 def _instant():
-    """The firmware's instant at a FIFO access: with MCU time (or a print's time owed), after
-    the compute before it, as at a clock read (docs/mcu-time.md, "How it works", 3). The RX
-    words and levels a LEVELS reply gave hold at its instant only, and the words taken from
-    them reach the host before any frame at a later one: both compare with this instant, not
-    with the clock before the compute is paid (a read after 40 us of compute is a read 40 us
-    later, on the host's PIO too)."""
+    """The firmware's instant at a frame or a level read: with MCU time (or a print's time
+    owed), after the compute before it, as at a clock read (docs/mcu-time.md, "How it
+    works", 3). The levels a LEVELS reply gave hold at its instant only (a level read after
+    40 us of compute is read 40 us later, on the host's PIO too: host/tests/test_pio_mcu_time.py),
+    and the words taken from its RX words reach the host before a frame of another state
+    machine at a later instant: both compare with this instant, not with the clock before
+    the compute is paid. (A get those words serve takes the FIFO's oldest word, which it still
+    is after any compute: it moves no time, its compute charged at the next clock read as a C
+    call's is.)"""
     if _hil._Console.cpu is not None or _hil._Console.debt_ns >= 1000:
         _hil.pay_console()
     return _hil.now()
@@ -391,7 +394,7 @@ class StateMachine:
             n = len(view) // size if size else 1
         out = []
         while len(out) < n:
-            if self._rx and self._at == _instant():
+            if self._rx and self._at == _hil.now():  # (the oldest word: no instant needed, _instant)
                 out.append(self._rx.pop(0))
                 self._popped += 1
                 if self not in _POPPED:
