@@ -92,10 +92,8 @@ def test_init_kit_writes_a_test_that_passes(capsys, make_rig, monkeypatch, tmp_p
     kit's rig beside it), with compute free, as the rig it writes has it (no ``cpu``:
     docs/mcu-time.md, "Default"). Its figures are a free CPU's: the 3pi+ 2040's times each
     line sensor with ``time_pulse_us`` right after letting the pin go, within 10 us of the
-    plant's 150 us; on an RP2040 (MPYFIL_CPU=rp2040@125MHz) it reads 64: the call itself is
-    charged before the pulse is timed (a C call is 24.5 us in that model), and the pin's CFG
-    (let go) is stamped at the clock before the compute that came before it, where an OUT
-    is stamped after it (_hil.configure, _hil.send_out)."""
+    plant's 150 us; on an RP2040 (MPYFIL_CPU=rp2040@125MHz) it reads 109: the call itself is
+    charged before the pulse is timed (a C call is 24.5 us in that model)."""
     monkeypatch.setenv("MPYFIL_CPU", "free")
     folder = tmp_path / kit
     folder.mkdir()
@@ -245,9 +243,8 @@ def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(
     Pin.value and ticks_us in a loop), each fall stamped with the clock read before the pass
     that saw it, and the thresholds are those of the flaps' 300 us to the microsecond. On an
     RP2040 (MPYFIL_CPU=rp2040@125MHz) a pass of that loop takes about 195 us (five C calls),
-    and the released flaps read 183 and 36 (thresholds [257, 50] [293, 57]; the second's
-    CFG, let go, stamped before the compute before it, as in test_init_kit_writes_a_test_that_passes):
-    the library's PIO timing is what holds there (test_kits_pio.py runs it on both)."""
+    and the released flaps read 180 (thresholds 252 and 288): the library's PIO timing is
+    what holds there (test_kits_pio.py runs it on both)."""
     monkeypatch.setenv("MPYFIL_CPU", "free")
     folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
     shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
@@ -266,6 +263,22 @@ def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(
     assert (left, right) == (side == "left", side == "right"), f"the firmware felt the {side} flap; {where()}"
     gap_m = 3.0 - truth["x_m"] - 0.0485 * math.cos(heading_rad)  # (the east wall, the body's radius)
     assert abs(gap_m) < 0.01, f"stopped {gap_m * 1000:.1f} mm from the wall; {where()}"
+
+
+def test_3pi_bump_sensors_released_together_read_alike_on_an_rp2040(capsys, make_rig, monkeypatch, tmp_path):
+    """The two flaps' channels let go one after the other (Pin.init(Pin.IN) in a loop) and
+    polled in one loop read alike with MCU time: each CFG is stamped after the compute
+    before it, as an OUT is (_hil.configure). Stamped at the clock before that compute, the
+    second channel's release came before the loop's start was read: it read 36 us where the
+    first read 183 (thresholds [257, 50] [293, 57])."""
+    monkeypatch.setenv("MPYFIL_CPU", "rp2040@125MHz")
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    shutil.copy(FIRMWARE / "pololu_3pi_line" / "ir_sensors.py", folder)
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    found = rig.expect(r"thresholds \[(\d+), (\d+)\] \[(\d+), (\d+)\]").groups()
+    low_l, low_r, high_l, high_r = (int(v) for v in found)
+    assert (low_l, high_l) == (low_r, high_r), f"expected both flaps' thresholds alike, got {found}; {rig.console}"
 
 
 @pytest.mark.parametrize(

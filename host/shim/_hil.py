@@ -658,8 +658,15 @@ else (a bus, a UART, PIO): a Pin made anew as it was, its pin not taken since, s
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
     """A CFG at the firmware's instant (as an OUT carries its time): the host brings the
-    plant to it first, so what the CFG changes there (a line let go) starts then."""
+    plant to it first, so what the CFG changes there (a line let go) starts then. With MCU
+    time (or a print's time owed) that instant is after the compute before it, as an OUT's
+    is (send_out): a pin let go after 30 us of compute is let go 30 us later, on the clock
+    the firmware's next read sees."""
     global _horizon
+    if _Console.cpu is not None:
+        _charge_cpu()
+    if _Console.debt_ns >= 1000:
+        pay_console()
     if kind == F.CFG_PIN or kind == F.CFG_PWM or kind == F.CFG_ADC:
         cfg_last[name] = handle
     elif kind != F.CFG_IRQ:
