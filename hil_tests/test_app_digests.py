@@ -125,6 +125,9 @@ MCU_CPU = {"pico_bot": "rp2040@125MHz"}
 board (``pins``) names no chip; its firmware is a Pico's (GP numbers, the LED on GP25)."""
 
 MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on (mcu_cpu: the family's CPU)
+    # All pinned again on 1.25 to 1.28 when a pin's CFG came to be stamped after the compute
+    # before it, as an output is (docs/mcu-time.md, "Charging"): every app configures its pins
+    # after some compute. The free digests (DIGESTS) did not move.
     # The rover's and the duct robot's bench were recorded once the collector was modelled on the
     # board's heap and a growth counted the same moved or not (docs/mcu-time.md, "The collector's
     # pause"): the same in a checkout at any path (host/tests/test_mcu_heap.py). A change to the
@@ -133,23 +136,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # check, at the firmware's branches; a wait serves while the callbacks' compute is within it)
     # and the shim's modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
     # Every other app's worlds recorded beside them (MCU_SECONDS long), on the same tree.
-    ("rover", "room", 11): "999cf71dbcc5d6fa530e9130fd346a294567f9a8c3706ed8f715f1673b34e297",
-    ("rover", "long-room", 11): "0cacac25dfe8657b4ea5db1cc0504f01117f97388fe9061c779bf1cce525a733",
-    ("rover", "small-room", 11): "87e5612c24a4327691ff6cfdf4b105c668c8d5e2cd924a6dc14dfd1b1ebdabab",
-    ("vacuum", "vacuum-room", 11): "8f786b0eba96091eb690f6d682bbe4de2b3a5fdd7e5bbbbb070c43ba22a8e0f7",
-    ("vacuum", "open-floor", 11): "fb4e2ef0a4e19b9d17009dc273976291cdea0b523ef801ab74c7e953efe287ca",
-    ("lab_robot", "arena", 11): "eb0077d7b313bd34f40b9bb1cf7c4237fe99ece1b21abf7c6e07eded56c73d78",
-    ("lab_robot", "arena-noisy", 11): "2e080b958ef0b3ad2d7abe397ca782115fd2c812ef43a781ae81e759fb043d6a",
-    ("lab_robot_canyon", "canyon", 11): "29e150cb2702348cbb6e73a34b1284d3fec27034a2bc0fbfd47f1afa5d0d52ad",
-    ("lab_robot_canyon", "canyon-noisy", 11): "42bcccf9622a6f196dc8b6a3b27d1a959b9624b992ad4709ebcb99e1033f4c2e",
-    ("pico_bot", "box-ahead", 11): "0d5c24ee98c08c89301c175c761feb1b22b2130538abce736a1ab84252358c2c",
-    ("pico_bot", "open-room", 11): "e860dfa04e1fcf81ba846dcc89363daf976fed67db8859704a13962f7f6a727c",
-    ("pool_cleaner", "default", 1): "15ab3d7830305d0d48cef6bc57b5ad0ae9038d2a9cf95feb27ac378e664584dc",
-    ("pool_cleaner_adc", "default", 1): "9983aaf88e8ac590dce1c62841595b8353cbe8ea48927b107f27d09f4043743c",
-    ("duct", "one-right-branch", 1): "a12d47cf520aa27844e6d9ba42fb9403fdfaacfd529581f639c31003a9648b91",
-    ("duct", "multi-branch", 2): "0898e6e798ddf1f92cd2490a5e38ea0198109a8e9bd8379deb57abf2eef0dd90",
-    ("duct", "straight", 3): "4c91ea756d8e46b09af471f2080d8665c8468c482829dd0957f7067812b00341",
-    ("duct", "bench", 1): "b4ddece04c7382fd3ca73719e00e92e03e82b888ad4747ebf0527292726d4e33",
+    ("rover", "room", 11): "a3fda950ca280f93726122c74b8a1d1e0e36febff0683dca0917a26d4b3b8b6a",
+    ("rover", "long-room", 11): "b5aef6ff5a616e612f902015d809c3d8b1beb2c0aba3fc16002ed6bb96a490ea",
+    ("rover", "small-room", 11): "33ac4c8e644ab624884ae39bc68c72adad7060a38dbd7c9b794b4062912f75c5",
+    ("vacuum", "vacuum-room", 11): "77e7c8433b86f84562e34afbb35d3e9d815ae2d7b875fa694c46ebcd67d64e73",
+    ("vacuum", "open-floor", 11): "a178c7cea1025062ddb23b15cf18d449cdf4796722392c51584b32b49debc649",
+    ("lab_robot", "arena", 11): "e9024679952bb879fbf35ec2bd0f69e7d23bb9008183396194c92e00167eea4d",
+    ("lab_robot", "arena-noisy", 11): "c32507ca3621f8da03e7b6da3f87b477bc54ea822a22f56718d4a79c3b4bf992",
+    ("lab_robot_canyon", "canyon", 11): "62a44ba16574eb0046226a0e0c5e507184603397c135dc9d1ccccfa72f4cbe59",
+    ("lab_robot_canyon", "canyon-noisy", 11): "ffe19753c7b758b82de144358cfeda532927d2fc076157fbcf4314d0e9396dac",
+    ("pico_bot", "box-ahead", 11): "61135ac70094f0de922196e25eb3682473effae903a71e153d9ac1f4586478a1",
+    ("pico_bot", "open-room", 11): "05dec918a1b9ebe006f072756e4e6497fb3ac958db587a730ed76496fbc959b8",
+    ("pool_cleaner", "default", 1): "fc556e2aa4ec281a26bec4a576760df8dc6fa46518e0900bff8f222f4841579a",
+    ("pool_cleaner_adc", "default", 1): "622ef4667d8b828517af9f2678451e124b458db25247e54b10b97e9e34570e1b",
+    ("duct", "one-right-branch", 1): "d0e288685e723d43f8d5690ab71b73eccb3d383987288e0ba7cd6185d9f52a11",
+    ("duct", "multi-branch", 2): "90bc305470a609d23ce05d7bbd3aa1811460955abae0b08eac430c82d9c62e8e",
+    ("duct", "straight", 3): "ecae9997c49ae93353ea2d08d0d642f7da371ec66c66ba40b223af92a12146cc",
+    ("duct", "bench", 1): "1bee210359d9640640bd5d140314369cdda18b602c363a1fd9d9b4c03ebc97e9",
 }
 # (The duct robot's four re-recorded on 1.25, 1.26, 1.27 and 1.28 when the finalisers the interpreter's collector
 # runs stopped counting as the firmware's work and the board's collector counted the firmware's
@@ -160,23 +163,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
 # gc and vfs: docs/shim.md): the firmware's globals, and so its heap, as a board's.
 # pico_bot's, on the `pins` board of no family, did not move.)
 MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-version 1.26)
-    ("rover", "room", 11): "1dfdae07faf9f5b69a2bbcff57dabdbed53fdc5881057bf0c1dd6d77cf82e446",
-    ("rover", "long-room", 11): "d8275821ae9097efd0c528b41b7a81671d9a990f28909380e4afa8db7d939d84",
-    ("rover", "small-room", 11): "b3a028a00843195e48729b0cdea0bb11eab5c1ba34ecdc08f1d2816a1908a39c",
-    ("vacuum", "vacuum-room", 11): "7ecd508abe93e8993abec8d0f28022843af507e3c548d9b57a8d62ad8466fdd8",
-    ("vacuum", "open-floor", 11): "60e34896d4a3914c83cca155e928299a81ae84258e45a309a3df4b0d621b261c",
-    ("lab_robot", "arena", 11): "aba2a87c3e2689d81f0c3050f1137b098cdc0376f0754e7f7866ae545fa3ebcc",
-    ("lab_robot", "arena-noisy", 11): "246bc2a9c82a81481d7ac72ba157e5a62853319a5653db6450cf6288f4ae1758",
-    ("lab_robot_canyon", "canyon", 11): "5f7f9c4160c9a88014c8904cca1791bf3267047bc20e6eed7469a618148ff051",
-    ("lab_robot_canyon", "canyon-noisy", 11): "60900306db41b0625f2669ed25c1d91d17d9e69e09ca98677b5a5d605cd116b3",
-    ("pico_bot", "box-ahead", 11): "0d5c24ee98c08c89301c175c761feb1b22b2130538abce736a1ab84252358c2c",
-    ("pico_bot", "open-room", 11): "e860dfa04e1fcf81ba846dcc89363daf976fed67db8859704a13962f7f6a727c",
-    ("pool_cleaner", "default", 1): "4a16d1b34ddbfdfb6f267630d587c00988ee23b7117c9cef586aebf50cf7f3d2",
-    ("pool_cleaner_adc", "default", 1): "ecf1116a15120ae45cf2948d5637f88f85c43a3eddae18fba1a3788b36305b02",
-    ("duct", "one-right-branch", 1): "5747b8502c498adfe1d18a2fa71f157203e0c3d19cfa31e2db51a089f82ecc49",
-    ("duct", "multi-branch", 2): "1eb3b924257d324e95e75471e585d3991b5340301ed427fd46eebe36e7ccf084",
-    ("duct", "straight", 3): "461227b7d0bfd4afb210b994ad9496b6f2d57b0468980ab866d8d45c6b652722",
-    ("duct", "bench", 1): "d4c74ffe278963d64fb65f1dd048fe36df15f4b2fcb22d4d8ad6cf7a4ac5e85f",
+    ("rover", "room", 11): "0c61581b7ad08d54b297506ba3583e3edd1e062f896f20331c5941ff8d8d69a6",
+    ("rover", "long-room", 11): "05d6bf2835b2aa7d1f658c56c821e67057f000e1c95a8a042a1dfd687d96552e",
+    ("rover", "small-room", 11): "3a1bdf3d78c3efbe13093a164f26c7a31b6aa45446debc40a0c62251e9d1b7f3",
+    ("vacuum", "vacuum-room", 11): "ed7ef452f251a8f9185931df22625b90bb34cc42cde399c26d1bf5026a02f3a0",
+    ("vacuum", "open-floor", 11): "7ede28f009f6ff3bc8afd1499fa208396fae601add9774f86e82fcca82ce145f",
+    ("lab_robot", "arena", 11): "57118457d5c3f6075111e923f8dd4a13f1959fceb30c38dc1a81bb2035daaf19",
+    ("lab_robot", "arena-noisy", 11): "f7fd38f407d16a6c46660d1f53e375c2d06aa9d88774cfea27f6778d97c402d9",
+    ("lab_robot_canyon", "canyon", 11): "49512b30a8d47fb77aa8c70c56d3780e38b36224fa32eea08c95161ca07fdbfb",
+    ("lab_robot_canyon", "canyon-noisy", 11): "fc1e9f6e9d6c91d8c35f1e11b3836cce1ee16c5e6a139a48936a2b04cd9d9cdd",
+    ("pico_bot", "box-ahead", 11): "61135ac70094f0de922196e25eb3682473effae903a71e153d9ac1f4586478a1",
+    ("pico_bot", "open-room", 11): "05dec918a1b9ebe006f072756e4e6497fb3ac958db587a730ed76496fbc959b8",
+    ("pool_cleaner", "default", 1): "02643530bf17df0816f104d9e938edf106802e66380ce3d583410b0b34f54ef8",
+    ("pool_cleaner_adc", "default", 1): "616fb98598302fc19b893f2a41919150a2547dc7af4ab4c7c70ca6527f54c102",
+    ("duct", "one-right-branch", 1): "e0ff683786f1784482ecfb11dd6d916ede19a41c5c4cdd89afea4f30f41ef2ae",
+    ("duct", "multi-branch", 2): "1a3455d45533b38c69a0ebab391057ec9118c88fcf5c0c62b2d4f302a968aac4",
+    ("duct", "straight", 3): "c20a502991102b2ef728cee81e4d4274ec8a1ac8ded062e5bae1ca46ea47d78b",
+    ("duct", "bench", 1): "f44fd090c51d97b9f42e956996c631464c9b02b509f24329679951bfaf2969e0",
 }
 # (The duct robot's multi-branch run with MCU time was pinned again when the shim's bus images
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
@@ -193,10 +196,10 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
     "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
     "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
         **MCU_DIGESTS_1_26,
-        ("duct", "one-right-branch", 1): "86bed73f308a1698007e4f52706255bf7ff2bf405e43f5fb2215f57c77e5c789",
-        ("duct", "multi-branch", 2): "c087df435fa01993ca186eb0497f53bef4ba958a0e7926e99a3dc74a8be4fbf7",
-        ("duct", "straight", 3): "509512a16fcfc16135727d3d0c4076a4872b6f2a7c7afe02e8f8641ebcdacea3",
-        ("duct", "bench", 1): "593a30060d23a7b5bd0260e51dcc590e529feb7b02298e3e8477120cb35073d7",
+        ("duct", "one-right-branch", 1): "5bf7fd02a36dbf650c520edbf2f487345179cf8ddf3220730805692988eecac4",
+        ("duct", "multi-branch", 2): "b80b45e65c6ebbd1101c1e73b84cbcbb4f348d18032fa1542ea8c029293295ef",
+        ("duct", "straight", 3): "b1073131be96a25bc0638d982ee98fa531218bc21bdfcc0e861b011f2866bd39",
+        ("duct", "bench", 1): "b7255f2d12768ba687df352543677b3f3882364ab8cba16239035cf3fb48574d",
     },
 }
 

@@ -87,9 +87,14 @@ def test_init_kit_refuses_to_overwrite_and_names_the_kits(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("kit", sorted(kits.kits()))
-def test_init_kit_writes_a_test_that_passes(capsys, make_rig, tmp_path, kit):
+def test_init_kit_writes_a_test_that_passes(capsys, make_rig, monkeypatch, tmp_path, kit):
     """The test ``init --kit`` writes, run as pytest would run it (its own firmware, the
-    kit's rig beside it)."""
+    kit's rig beside it), with compute free, as the rig it writes has it (no ``cpu``:
+    docs/mcu-time.md, "Default"). Its figures are a free CPU's: the 3pi+ 2040's times each
+    line sensor with ``time_pulse_us`` right after letting the pin go, within 10 us of the
+    plant's 150 us; on an RP2040 (MPYFIL_CPU=rp2040@125MHz) it reads 109: the call itself is
+    charged before the pulse is timed (a C call is 24.5 us in that model)."""
+    monkeypatch.setenv("MPYFIL_CPU", "free")
     folder = tmp_path / kit
     folder.mkdir()
     code, _, err = cli(capsys, "init", "--kit", kit, folder)
@@ -226,11 +231,21 @@ def test_3pi_display_and_led_colours_are_in_the_report_as_the_firmware_drew_them
 
 
 @pytest.mark.parametrize(("heading_rad", "side"), [(-0.17, "left"), (0.17, "right")])
-def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(capsys, make_rig, tmp_path, heading_rad, side):
+def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(
+    capsys, make_rig, monkeypatch, tmp_path, heading_rad, side
+):
     """The 3pi+ 2040's two bump sensors (QTR RC channels on GP17 and GP16, emitters on GP23)
     read as Pololu's library reads them (hil_tests/firmware/kits/pololu_3pi_bump, the
     thresholds calibrated standing): driven at the east wall 10 degrees off square, the
-    flap on the side that meets it is pressed, and the robot stops at the contact."""
+    flap on the side that meets it is pressed, and the robot stops at the contact.
+
+    Compute free: here the CPU times the discharges itself (pololu_3pi_line's ir_sensors.py,
+    Pin.value and ticks_us in a loop), each fall stamped with the clock read before the pass
+    that saw it, and the thresholds are those of the flaps' 300 us to the microsecond. On an
+    RP2040 (MPYFIL_CPU=rp2040@125MHz) a pass of that loop takes about 195 us (five C calls),
+    and the released flaps read 180 (thresholds 252 and 288): the library's PIO timing is
+    what holds there (test_kits_pio.py runs it on both)."""
+    monkeypatch.setenv("MPYFIL_CPU", "free")
     folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
     shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
     shutil.copy(FIRMWARE / "pololu_3pi_line" / "ir_sensors.py", folder)
@@ -248,6 +263,22 @@ def test_3pi_bump_sensors_feel_the_wall_on_the_side_that_meets_it(capsys, make_r
     assert (left, right) == (side == "left", side == "right"), f"the firmware felt the {side} flap; {where()}"
     gap_m = 3.0 - truth["x_m"] - 0.0485 * math.cos(heading_rad)  # (the east wall, the body's radius)
     assert abs(gap_m) < 0.01, f"stopped {gap_m * 1000:.1f} mm from the wall; {where()}"
+
+
+def test_3pi_bump_sensors_released_together_read_alike_on_an_rp2040(capsys, make_rig, monkeypatch, tmp_path):
+    """The two flaps' channels let go one after the other (Pin.init(Pin.IN) in a loop) and
+    polled in one loop read alike with MCU time: each CFG is stamped after the compute
+    before it, as an OUT is (_hil.configure). Stamped at the clock before that compute, the
+    second channel's release came before the loop's start was read: it read 36 us where the
+    first read 183 (thresholds [257, 50] [293, 57])."""
+    monkeypatch.setenv("MPYFIL_CPU", "rp2040@125MHz")
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    shutil.copy(FIRMWARE / "pololu_3pi_line" / "ir_sensors.py", folder)
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    found = rig.expect(r"thresholds \[(\d+), (\d+)\] \[(\d+), (\d+)\]").groups()
+    low_l, low_r, high_l, high_r = (int(v) for v in found)
+    assert (low_l, high_l) == (low_r, high_r), f"expected both flaps' thresholds alike, got {found}; {rig.console}"
 
 
 @pytest.mark.parametrize(

@@ -19,8 +19,16 @@ PASS_US = 1  # the program's loop: 8 instructions at 8 MHz (and the plant's whol
 TAPE = "tape = [[0.535, 0.5], [0.535, 1.5]]   # under the line sensors, across the robot's heading\n"
 
 
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
 @pytest.mark.parametrize("floor", ["white", "black"])
-def test_3pi_pio_line_and_bump_reads_are_the_plants_discharge_times(capsys, make_rig, tmp_path, floor):
+def test_3pi_pio_line_and_bump_reads_are_the_plants_discharge_times(
+    capsys, make_rig, monkeypatch, tmp_path, floor, cpu
+):
+    """With compute free and with MCU time (docs/mcu-time.md): the CPU's exec'd words, its
+    active(1), the program's cycles, the plant's discharge and the CPU's gets (each after the
+    compute before it, on an RP2040) agree on their instants, so each reading is the plant's
+    discharge time to the program's pass, however long the CPU takes between its gets."""
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
     folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_pio")
     rig_file = folder / "rig.toml"
     if floor == "black":
@@ -45,10 +53,13 @@ def test_3pi_pio_line_and_bump_reads_are_the_plants_discharge_times(capsys, make
             )
 
 
-def test_3pi_pio_bump_sensors_read_pressed_and_released(capsys, make_rig, tmp_path):
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
+def test_3pi_pio_bump_sensors_read_pressed_and_released(capsys, make_rig, monkeypatch, tmp_path, cpu):
     """Pololu's wall_bumper.py's way (hil_tests/firmware/kits/pololu_3pi_bump) with the PIO
     reads: calibrated standing (flaps released), driven at the east wall 10 degrees off
-    square, the left flap is read pressed and the right one released, as the plant has them."""
+    square, the left flap is read pressed and the right one released, as the plant has them;
+    the same with MCU time (the PIO times the discharge: the CPU's compute moves no reading)."""
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
     folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_bump")
     shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
     shutil.copy(FIRMWARE / "pololu_3pi_pio" / "ir_sensors.py", folder)

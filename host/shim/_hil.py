@@ -42,8 +42,9 @@ _b_window = 0
 _b_since = -1  # when the firmware's own code last called the board, as _branches saw it (-1: it
 _b_looks = 0  # just did), and its looks since: named once a run after POLL_SPAN_US (a POLL_SPIN)
 _b_said = False
-_b_told = 0  # when the host last heard of the loop (every SPIN_TELL_US of it: the link stays alive)
+_b_told = 0  # when the host last heard from a look (every SPIN_TELL_US of virtual time: the link stays alive)
 SPIN_TELL_US = 100_000
+_b_syncs = 0  # the exchanges so far (_Link.syncs) at that look
 FOREVER_US = F.FOREVER_US
 _NO_IMAGE = b""
 _NO_STREAMS = bytes(16)
@@ -658,8 +659,15 @@ else (a bus, a UART, PIO): a Pin made anew as it was, its pin not taken since, s
 
 def configure(handle, kind, name, mode_=0, pull=0, param=0, sync=False):
     """A CFG at the firmware's instant (as an OUT carries its time): the host brings the
-    plant to it first, so what the CFG changes there (a line let go) starts then."""
+    plant to it first, so what the CFG changes there (a line let go) starts then. With MCU
+    time (or a print's time owed) that instant is after the compute before it, as an OUT's
+    is (send_out): a pin let go after 30 us of compute is let go 30 us later, on the clock
+    the firmware's next read sees."""
     global _horizon
+    if _Console.cpu is not None:
+        _charge_cpu()
+    if _Console.debt_ns >= 1000:
+        pay_console()
     if kind == F.CFG_PIN or kind == F.CFG_PWM or kind == F.CFG_ADC:
         cfg_last[name] = handle
     elif kind != F.CFG_IRQ:
@@ -834,21 +842,22 @@ def _branches():
     on a board). So `while playing: pass` ends when the Timer that clears `playing` fires,
     where it would hang with compute free of time (docs/mcu-time.md, "A loop that calls
     nothing of the board's"). Allocates nothing (it runs under heap_lock too)."""
-    global _b_now, _b_spin, _b_owed, _b_window, _b_since, _b_looks, _b_told
+    global _b_now, _b_spin, _b_owed, _b_window, _b_since, _b_looks, _b_told, _b_syncs
     window = BRANCHES
     owing = _Console.owing
     threads = _Link.threads
     if threads is not None:
         threads.tick()
+    if _Link.syncs != _b_syncs:  # (the host heard from the board: an exchange)
+        _b_syncs, _b_told = _Link.syncs, _now
+    elif _now - _b_told >= SPIN_TELL_US:
+        _spin_told()
     if _b_now != _now or _b_spin != _spin:
         _b_since = -1
     elif not _dispatching and (threads is not None or _Link.thread() == _Link.main_thread):
         if _b_since < 0:
             _b_since, _b_looks = _now, 0
-            _b_told = _now
         _b_looks += 1
-        if _now - _b_told >= SPIN_TELL_US:
-            _spin_told()
         if owing is None:
             observe()
         else:
@@ -869,15 +878,16 @@ def _branches():
 
 
 def _spin_told():
-    """The loop of _branches has moved SPIN_TELL_US more of virtual time without calling the
-    board: a POLL_SPIN to the host, which hears from the board as it would from a wait (its
-    watchdog sees a board alive, far inside a long horizon). Once it is POLL_SPAN_US long
-    (once a run) the POLL_SPIN names it, with the firmware's stack: the host's note says
-    where it spins. A board spins there too; a loop that waits for a callback's flag ends
-    when the callback fires."""
+    """The firmware's own code has run on for SPIN_TELL_US more of virtual time since the host
+    last heard of it this way (a loop of clock or register reads, or of nothing at all, far
+    inside a long horizon, where no exchange is due): a POLL_SPIN tells the host the board
+    is alive, as a wait would (its watchdog counts wall time between messages). Once a loop
+    that called nothing of the board's is POLL_SPAN_US long (once a run) the POLL_SPIN names
+    it, with the firmware's stack: the host's note says where it spins. A board spins there
+    too; a loop that waits for a callback's flag ends when the callback fires."""
     global _b_said, _b_told
     _b_told = _now
-    name = not _b_said and _now - _b_since >= F.POLL_SPAN_US
+    name = not _b_said and _b_since >= 0 and _now - _b_since >= F.POLL_SPAN_US
     try:
         text = ""
         if name:

@@ -184,6 +184,21 @@ _POPPED = []  # state machines with words taken from their RX FIFO the host is n
 _AHEAD = [None, -1, 0]
 
 
+def _instant():
+    """The firmware's instant at a frame or a level read: with MCU time (or a print's time
+    owed), after the compute before it, as at a clock read (docs/mcu-time.md, "How it
+    works", 3). The levels a LEVELS reply gave hold at its instant only (a level read after
+    40 us of compute is read 40 us later, on the host's PIO too: host/tests/test_pio_mcu_time.py),
+    and the words taken from its RX words reach the host before a frame of another state
+    machine at a later instant: both compare with this instant, not with the clock before
+    the compute is paid. (A get those words serve takes the FIFO's oldest word, which it still
+    is after any compute: it moves no time, its compute charged at the next clock read as a C
+    call's is.)"""
+    if _hil._Console.cpu is not None or _hil._Console.debt_ns >= 1000:
+        _hil.pay_console()
+    return _hil.now()
+
+
 class StateMachine:
     """One of the eight state machines (0..3 in PIO0, 4..7 in PIO1); its program runs on the
     host, against the plant's pins, from active(1) on."""
@@ -273,7 +288,7 @@ class StateMachine:
     def _call(self, op, address=0, n_read=0, data=b""):
         if self._handle is None:
             raise OSError("StateMachine(%d) has no program: init() it first" % self._id)
-        now = _hil.now()
+        now = _instant()
         popped, self._popped = self._popped, 0
         if self in _POPPED:  # (first: another machine's exchange below must not come back to this one)
             _POPPED.remove(self)
@@ -379,7 +394,7 @@ class StateMachine:
             n = len(view) // size if size else 1
         out = []
         while len(out) < n:
-            if self._rx and self._at == _hil.now():
+            if self._rx and self._at == _hil.now():  # (the oldest word: no instant needed, _instant)
                 out.append(self._rx.pop(0))
                 self._popped += 1
                 if self not in _POPPED:
@@ -404,12 +419,12 @@ class StateMachine:
         _hil.run_until(_hil.now() + wait_us)
 
     def rx_fifo(self):
-        if self._at == _hil.now():
+        if self._at == _instant():
             return len(self._rx)
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][0]
 
     def tx_fifo(self):
-        if self._at == _hil.now():
+        if self._at == _instant():
             return self._tx_level
         return self._call(F.BUS_PIO_LEVELS, 0, 2)[1][1]
 

@@ -2,6 +2,7 @@
 package imports itself round a cycle, and no class outgrows about 300 lines."""
 
 import ast
+import dataclasses
 import functools
 from pathlib import Path
 
@@ -35,10 +36,31 @@ KIT_TESTS = "host/kits/"
 MAX_CLASS_LINES = 310
 
 
-def tree(path: Path) -> ast.Module:
-    """A file's syntax tree (parsed again by each test: keeping every tree costs more, in
-    the garbage collector's passes over them, than parsing)."""
-    return ast.parse(path.read_text(), str(path))
+@dataclasses.dataclass(frozen=True)
+class Facts:
+    """What the tests below read of a file, from one walk of its syntax tree: the tests share
+    it (a file is parsed once a session; every tree kept whole would cost more, in the garbage
+    collector's passes over them, than parsing each again)."""
+
+    imports: tuple  # its ast.Import and ast.ImportFrom nodes, at the top or inside a function
+    classes: tuple  # (name, first line, last line) of each class
+    plant_probes: tuple  # (line, the probed object's source, the call's) of each getattr/hasattr
+    inner_lines: tuple  # the lines of the string constant "inner"
+
+
+@functools.cache
+def facts(path: Path) -> Facts:
+    imports, classes, probes, inner = [], [], [], []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            imports.append(node)
+        elif isinstance(node, ast.ClassDef):
+            classes.append((node.name, node.lineno, node.end_lineno))
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("getattr", "hasattr"):
+            probes.append((node.lineno, ast.unparse(node.args[0]) if node.args else "", ast.unparse(node)))
+        elif isinstance(node, ast.Constant) and node.value == "inner":
+            inner.append(node.lineno)
+    return Facts(tuple(imports), tuple(classes), tuple(probes), tuple(inner))
 
 
 def layer_of(module: str) -> int | None:
@@ -60,7 +82,7 @@ def host_modules():
 def imported(path: Path) -> list[tuple[int, str]]:
     """Every host module a file imports, at the top or inside a function."""
     found = []
-    for node in ast.walk(tree(path)):
+    for node in facts(path).imports:
         if isinstance(node, ast.Import):
             found += [(node.lineno, a.name) for a in node.names if a.name.startswith("host.")]
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -92,9 +114,9 @@ def test_no_class_in_host_or_sim_plant_is_over_about_300_lines():
     big = []
     for folder in ("host", "sim_plant"):
         for path in (REPO / folder).rglob("*.py"):
-            for node in ast.walk(tree(path)):
-                if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > MAX_CLASS_LINES:
-                    big.append(f"{path.relative_to(REPO)}: {node.name} has {node.end_lineno - node.lineno + 1} lines")
+            for name, first, last in facts(path).classes:
+                if last - first + 1 > MAX_CLASS_LINES:
+                    big.append(f"{path.relative_to(REPO)}: {name} has {last - first + 1} lines")
     assert not big, big
 
 
@@ -107,7 +129,7 @@ def test_only_the_catalogue_imports_the_physics_of_its_parts():
             rel = path.relative_to(REPO).as_posix()
             if rel.startswith(("sim_plant/catalogue/", "sim_plant/physics/", "sim_plant/tests/", "host/tests/")):
                 continue
-            for node in ast.walk(tree(path)):
+            for node in facts(path).imports:
                 names = []
                 if isinstance(node, ast.Import):
                     names = [a.name for a in node.names]
@@ -124,14 +146,12 @@ def test_the_host_asks_no_plant_what_it_has():
     wrapper (``inner``: its ``unwrapped`` says)."""
     probes = []
     for module, path in host_modules():
-        for node in ast.walk(tree(path)):
-            call = isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
-            if call and node.func.id in ("getattr", "hasattr"):
-                subject = ast.unparse(node.args[0]) if node.args else ""
-                if "plant" in subject.lower():
-                    probes.append(f"{path.relative_to(REPO)}:{node.lineno}: {ast.unparse(node)}")
-            elif isinstance(node, ast.Constant) and node.value == "inner" and not module.startswith("host.link"):
-                probes.append(f"{path.relative_to(REPO)}:{node.lineno}: the string 'inner'")
+        found = facts(path)
+        for line, subject, call in found.plant_probes:
+            if "plant" in subject.lower():
+                probes.append(f"{path.relative_to(REPO)}:{line}: {call}")
+        if not module.startswith("host.link"):
+            probes += [f"{path.relative_to(REPO)}:{line}: the string 'inner'" for line in found.inner_lines]
     assert not probes, "the plant probed instead of asked:\n" + "\n".join(probes)
 
 
@@ -169,7 +189,7 @@ def import_graph(modules: dict[str, Path]) -> dict[str, set[str]]:
     graph = {}
     for module, path in modules.items():
         edges = set()
-        for node in ast.walk(tree(path)):
+        for node in facts(path).imports:
             if isinstance(node, ast.Import):
                 edges |= {a.name for a in node.names}
             elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:

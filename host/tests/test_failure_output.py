@@ -130,11 +130,13 @@ def test_every_error_the_harness_raises_on_purpose_leads_with_its_message(failed
 
 @pytest.mark.hil
 def test_a_rig_file_run_as_a_test_leads_with_the_budgets_it_missed(tmp_path):
+    """A rig file named to pytest is a test of its budgets: it fails on a budget it misses
+    (``pytest rig.toml`` from its folder, as a user runs it), and says which first."""
     robot = repository(tmp_path)
     rig = (robot / "rig.toml").read_text().replace("tolerance_us = 2_000", "tolerance_us = 1")
     (robot / "rig.toml").write_text(rig)
     done = pytest_in(robot, "--hil-rig-seconds", "3", "rig.toml")
-    assert done.returncode == 1, done.stdout[-3000:]
+    assert done.returncode == 1 and "1 failed" in done.stdout, done.stdout[-3000:]
     (lines,) = failure_sections(done.stdout).values()
     assert lines[0] == f"E   AssertionError: {robot / 'rig.toml'} for 3 s:", lines
     assert lines[1].startswith("E     budget loop: expected every value 50000 +- 1 us"), lines

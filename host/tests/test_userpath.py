@@ -85,10 +85,10 @@ def test_a_rig_or_firmware_that_does_not_exist_is_one_line_and_exit_2_before_pyt
 
 
 @pytest.mark.hil
-@pytest.mark.parametrize("named", ["folder", "rig.toml"])
-def test_make_hil_rig_runs_only_the_tests_beside_the_rig_and_writes_only_beside_it(tmp_path, named):
+def test_make_hil_rig_runs_only_the_tests_beside_the_rig_and_writes_only_beside_it(tmp_path):
     """Before: pytest on the rig folder's parent, the whole parent collected; build/hil and
-    .pytest_cache in the parent; make_rig("rig.toml") looked in the current directory."""
+    .pytest_cache in the parent; make_rig("rig.toml") looked in the current directory. (RIG=
+    the rig file itself starts this same session: the next test.)"""
     parent = tmp_path / "robots"
     (parent / "other").mkdir(parents=True)
     (parent / "test_not_mine.py").write_text("def test_not_mine():\n    assert False, 'the parent ran'\n")
@@ -96,7 +96,7 @@ def test_make_hil_rig_runs_only_the_tests_beside_the_rig_and_writes_only_beside_
     (bot / "sub").mkdir()
     (bot / "sub" / "test_below.py").write_text("def test_below():\n    assert False, 'a folder below ran'\n")
     before = everything_under(parent)
-    done = make_hil("--rig", str(bot if named == "folder" else bot / "rig.toml"))
+    done = make_hil("--rig", str(bot))
     out = done.stdout + done.stderr
     assert done.returncode == 0 and "1 passed" in done.stdout, out[-3000:]
     assert "not_mine" not in out and "below" not in out and "pin_test" not in out, out[-3000:]
@@ -105,6 +105,25 @@ def test_make_hil_rig_runs_only_the_tests_beside_the_rig_and_writes_only_beside_
     new = everything_under(parent) - before
     assert all(p.startswith("mybot/build/") or p == "mybot/build" for p in new), sorted(new)[:10]
     assert not [p for p in new if "__pycache__" in p and not p.startswith("mybot/")], new
+
+
+def test_make_hil_rig_given_the_rig_file_starts_the_session_its_folder_starts(tmp_path, monkeypatch):
+    """RIG=<folder>/rig.toml and RIG=<folder>, absolute or relative: the same pytest arguments in
+    the same folder (hil_run's main execs pytest with nothing else of the argument), so the
+    session the test above runs on the folder is the rig file's too."""
+    from argparse import Namespace
+
+    from host.pytest_plugin.hil_run import pytest_args
+
+    bot = mybot(tmp_path / "robots" / "mybot", {"test_mybot.py": MY_TEST, "pin_test.py": FIRMWARE_TEST})
+    monkeypatch.chdir(tmp_path)
+    sessions = {
+        rig: pytest_args(Namespace(rig=rig, long="1", workers="1"))
+        for rig in (str(bot), str(bot / "rig.toml"), "robots/mybot", "robots/mybot/rig.toml")
+    }
+    assert len({repr(session) for session in sessions.values()}) == 1, sessions
+    args, folder = sessions[str(bot / "rig.toml")]
+    assert folder == bot and args[-1] == "test_mybot.py", sessions
 
 
 @pytest.mark.hil
@@ -128,22 +147,6 @@ def test_a_rig_with_no_test_beside_it_runs_its_budgets_as_a_test_and_says_how_to
         timeout=SESSION_TIMEOUT_S,
     )
     assert again.returncode == 0 and "1 passed" in again.stdout, (again.stdout + again.stderr)[-3000:]
-
-
-@pytest.mark.hil
-def test_a_rig_file_run_as_a_test_fails_on_a_budget_it_misses(tmp_path):
-    bot = mybot(tmp_path / "mybot")
-    rig = (bot / "rig.toml").read_text().replace("tolerance_us = 2_000", "tolerance_us = 1")
-    (bot / "rig.toml").write_text(rig.replace("period_us = 50_000", "period_us = 40_000"))
-    done = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--hil-rig-seconds", "3", "rig.toml"],
-        cwd=bot,
-        capture_output=True,
-        text=True,
-        timeout=SESSION_TIMEOUT_S,
-    )
-    assert done.returncode == 1 and "1 failed" in done.stdout, done.stdout[-3000:]
-    assert "budget loop" in done.stdout and "for 3 s" in done.stdout, done.stdout[-3000:]
 
 
 def test_pytest_on_a_firmware_folder_leaves_out_the_firmwares_own_files(tmp_path):
