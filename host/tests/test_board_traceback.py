@@ -1,0 +1,116 @@
+"""The firmware's traceback as its board prints it (docs/shim.md, "Tracebacks as on a
+board"): only the firmware's frames (and frozen asyncio's), never the shim's (its boot
+that runs main.py, its open, machine, the scheduler), which a board has in C; in the
+run's error, on the console and from the firmware's own ``sys.print_exception``."""
+
+import pytest
+
+from host.core.errors import FirmwareError
+from host.tests.conftest import shim_app
+
+pytestmark = pytest.mark.hil
+
+HELPER = """def load(name):
+    with open(name, "rb") as f:
+        return f.read()
+"""
+SHIM_MARKS = ("_hil", "build/shim", "host/shim")
+"""What names the shim's frames: its modules (_hilboot.py, _hilconfine.py, _hilfs.py, _hil.py)
+and its folders (the compiled one, the source one, /_hil/ as the sandbox shows it)."""
+
+
+def run(make_rig, tmp_path, main: str, seconds: float = 0.1, **files: str):
+    fw = tmp_path / "fw"
+    fw.mkdir()
+    (fw / "main.py").write_text(main)
+    for name, text in files.items():
+        (fw / f"{name}.py").write_text(text)
+    rig = make_rig(shim_app(), main_dir=fw, allow_exit=True)
+    try:
+        rig.run_for(seconds)
+    finally:
+        rig.stop()
+    return rig
+
+
+def shim_lines(text: str) -> list[str]:
+    return [line for line in text.splitlines() if any(mark in line for mark in SHIM_MARKS)]
+
+
+def test_an_uncaught_exception_raised_in_the_loops_open_shows_only_the_firmwares_frames(make_rig, tmp_path):
+    """Pololu's 3pi+ 2040 library opening a file its board has not got: the board's traceback
+    ends at the library's line that called open (C on a board)."""
+    with pytest.raises(FirmwareError) as err:
+        run(make_rig, tmp_path, "import helper\nhelper.load('splash.pbm')\n", helper=HELPER)
+    board = (
+        "Traceback (most recent call last):\n"
+        '  File "main.py", line 2, in <module>\n'
+        '  File "helper.py", line 2, in load\n'
+        "OSError: [Errno 2] ENOENT\n"
+    )
+    assert err.value.traceback == board, f"expected the board's traceback:\n{board}got:\n{err.value.traceback}"
+    assert f"MicroPython traceback:\n{board}" in str(err.value), str(err.value)
+    assert not shim_lines(str(err.value)), f"expected none of the shim's frames, got {shim_lines(str(err.value))}"
+    assert err.value.console.count(board) == 1, f"expected the console to show it once:\n{err.value.console}"
+
+
+MAIN_PRINTS = """import io, sys, micropython
+from machine import Pin
+
+def bad_pin():
+    Pin("NOPE", Pin.OUT)
+
+try:
+    bad_pin()
+except ValueError as e:
+    buf = io.StringIO()
+    sys.print_exception(e, buf)
+    print("TEXT", repr(buf.getvalue()))
+    sys.print_exception(e)
+    micropython.heap_lock()  # (no room for a copy of the text: printed all the same, as a board does)
+    try:
+        sys.print_exception(e)
+    finally:
+        micropython.heap_unlock()
+print("DONE")
+"""
+
+
+def test_the_firmwares_own_print_exception_leaves_out_the_shims_frames(make_rig, tmp_path):
+    rig = run(make_rig, tmp_path, MAIN_PRINTS)
+    board = (
+        "Traceback (most recent call last):\n"
+        '  File "main.py", line 8, in <module>\n'
+        '  File "main.py", line 5, in bad_pin\n'
+        "ValueError: invalid pin\n"
+    )
+    assert f"TEXT {board!r}\n" in rig.console, f"expected the board's text in the buffer:\n{rig.console}"
+    assert board in rig.console.split("TEXT", 1)[1], f"expected it on the console too:\n{rig.console}"
+    assert rig.console.count("ValueError: invalid pin") == 3 and "DONE" in rig.console, rig.console
+    assert rig.console.rstrip().endswith("DONE"), f"expected the firmware to go on:\n{rig.console}"
+
+
+MAIN_TASK = """import asyncio
+
+async def worker():
+    await asyncio.sleep_ms(5)
+    raise ValueError("in a task")
+
+async def main():
+    asyncio.create_task(worker())
+    await asyncio.sleep_ms(50)
+
+asyncio.run(main())
+"""
+
+
+def test_a_task_that_dies_shows_its_frames_and_asyncios_never_the_shims(make_rig, tmp_path):
+    with pytest.raises(FirmwareError) as err:
+        run(make_rig, tmp_path, MAIN_TASK)
+    text = err.value.traceback
+    assert text.startswith('Traceback (most recent call last):\n  File "main.py", line 11, in <module>\n'), text
+    assert text.endswith('  File "main.py", line 5, in worker\nValueError: in a task\n'), text
+    assert 'File "asyncio/core.py"' in text, f"expected asyncio's own frames, frozen as on a board:\n{text}"
+    assert not shim_lines(text), f"expected none of the shim's frames, got {shim_lines(text)}"
+    assert not shim_lines(err.value.console), f"expected none on the console, got {shim_lines(err.value.console)}"
+    assert "Task exception wasn't retrieved" in err.value.console, err.value.console
