@@ -150,7 +150,7 @@ def _board_traceback(text):
     return "\n".join([TRACEBACK] + kept + lines[end:])
 
 
-def _print_exception(exc, file=None):
+def print_exception(exc, file=None):
     """The firmware's sys.print_exception: the C one's text with the shim's frames left
     out (:func:`_board_traceback`). Where there is no room for the text (a full heap, the
     heap locked), the C one's as it is: a board's needs none."""
@@ -177,7 +177,7 @@ def _board_print_exception():
     sys, a board of no known family's, is read-only and keeps the C one."""
     board = sys.modules.get("sys", sys)
     if board is not sys:
-        board.print_exception = _print_exception
+        board.print_exception = print_exception
 
 
 def _heap_unlocked():
