@@ -43,6 +43,7 @@ HOST = {  # what stays on the host, each for its reason
     "robotlib/README.rst": b"",
     "Makefile": b"all:\n",  # the repository's tools
     "LICENSE": b"MIT\n",
+    "robotlib/LICENSE.txt": b"MIT\n",
     "requirements.txt": b"pytest\n",
     "test_bot.py": b"def test(): pass\n",  # pytest's
     "conftest.py": b"",
