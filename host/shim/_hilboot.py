@@ -311,10 +311,10 @@ def main(pil=False):
             coverage = _coverage()
             _confine()
             _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
+            _board_print_exception()  # (before _board_heap too: the board's sys grows by a name)
             _hil._Link.ballast = _board_heap(room)
             _give_way()
             _port_boot()
-            _board_print_exception()
             _hil.cpu_start(getenv)  # (MCU time: the firmware's compute costs from here)
             _run("boot.py")
         if not _run(entry):
