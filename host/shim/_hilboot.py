@@ -341,8 +341,14 @@ def main(pil=False):
         _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
         if _hil._Link.reserve is not None:
             _hil.spend_reserve()  # (raised with the heap full: the same)
-        text = _traceback_text(e)  # (the firmware's frames, as its board prints them)
-        if text is None:  # (no room to leave the shim's out: the text as it is)
+        # The firmware's frames, as its board prints them; but the watchdog's interrupt
+        # (host/rig/targets/target.py, _stack) keeps the whole stack, as the harness's word on
+        # where the firmware was: the shim's frames tell the host a wait on the link from a
+        # spin in the firmware's own code (a run that ends on one otherwise shows it as the
+        # firmware's: host/rig/loop/endings.py, board_traceback). With no room to leave the
+        # shim's out, the text as it is.
+        text = None if isinstance(e, KeyboardInterrupt) else _traceback_text(e)
+        if text is None:
             buf = io.StringIO()
             sys.print_exception(e, buf)
             text = buf.getvalue()

@@ -6,9 +6,9 @@ run's error, on the console and from the firmware's own ``sys.print_exception``.
 import pytest
 
 from host.core.errors import FirmwareError
+from host.core.paths import SHIM_DIR
+from host.rig.loop.endings import board_traceback
 from host.tests.conftest import shim_app
-
-pytestmark = pytest.mark.hil
 
 HELPER = """def load(name):
     with open(name, "rb") as f:
@@ -37,6 +37,7 @@ def shim_lines(text: str) -> list[str]:
     return [line for line in text.splitlines() if any(mark in line for mark in SHIM_MARKS)]
 
 
+@pytest.mark.hil
 def test_an_uncaught_exception_raised_in_the_loops_open_shows_only_the_firmwares_frames(make_rig, tmp_path):
     """Pololu's 3pi+ 2040 library opening a file its board has not got: the board's traceback
     ends at the library's line that called open (C on a board)."""
@@ -76,6 +77,7 @@ print("DONE")
 """
 
 
+@pytest.mark.hil
 def test_the_firmwares_own_print_exception_leaves_out_the_shims_frames(make_rig, tmp_path):
     rig = run(make_rig, tmp_path, MAIN_PRINTS)
     board = (
@@ -104,6 +106,7 @@ asyncio.run(main())
 """
 
 
+@pytest.mark.hil
 def test_a_task_that_dies_shows_its_frames_and_asyncios_never_the_shims(make_rig, tmp_path):
     with pytest.raises(FirmwareError) as err:
         run(make_rig, tmp_path, MAIN_TASK)
@@ -114,3 +117,53 @@ def test_a_task_that_dies_shows_its_frames_and_asyncios_never_the_shims(make_rig
     assert not shim_lines(text), f"expected none of the shim's frames, got {shim_lines(text)}"
     assert not shim_lines(err.value.console), f"expected none on the console, got {shim_lines(err.value.console)}"
     assert "Task exception wasn't retrieved" in err.value.console, err.value.console
+
+
+@pytest.mark.hil
+def test_a_keyboardinterrupt_the_firmware_raises_ends_the_run_with_its_own_frames(make_rig, tmp_path):
+    """The shim sends a KeyboardInterrupt's whole stack (the watchdog's interrupt: the host
+    reads where the firmware waited from it); a run that ends on one shows it as the board's."""
+    with pytest.raises(FirmwareError) as err:
+        run(make_rig, tmp_path, "def stop():\n    raise KeyboardInterrupt\n\nstop()\n")
+    board = (
+        "Traceback (most recent call last):\n"
+        '  File "main.py", line 4, in <module>\n'
+        '  File "main.py", line 2, in stop\n'
+        "KeyboardInterrupt: \n"
+    )
+    assert err.value.traceback == board, f"expected the board's traceback:\n{board}got:\n{err.value.traceback}"
+    assert f"MicroPython traceback:\n{board.rstrip()}" in str(err.value), str(err.value)
+
+
+def test_the_hosts_view_leaves_out_the_shims_frames_wherever_it_was_compiled():
+    """The shim's source folder, its compiled copy, /_hil/ and, on a board in the loop, its
+    private modules under their bare names; a firmware's file of a shim module's name in a
+    folder of its own, and frozen asyncio, stay."""
+    compiled = "/home/u/robot/build/shim/0123456789abcdef"
+    text = "\n".join(
+        [
+            "Traceback (most recent call last):",
+            f'  File "{compiled}/_hilboot.py", line 250, in main',
+            '  File "_hilboot.py", line 110, in _run',
+            '  File "main.py", line 3, in <module>',
+            '  File "asyncio/core.py", line 1, in run',
+            '  File "asyncio/task.py", line 1, in push',
+            '  File "lib/time.py", line 2, in sleep',
+            f'  File "{SHIM_DIR}/time.py", line 74, in sleep_us',
+            '  File "/_hil/_hilfs.py", line 383, in op',
+            f'  File "{compiled}/_hil.py", line 1103, in _sync',
+            "OSError: [Errno 2] ENOENT",
+            "",
+        ]
+    )
+    want = (
+        "Traceback (most recent call last):\n"
+        '  File "main.py", line 3, in <module>\n'
+        '  File "asyncio/core.py", line 1, in run\n'
+        '  File "lib/time.py", line 2, in sleep\n'
+        "OSError: [Errno 2] ENOENT\n"
+    )
+    assert board_traceback(text) == want, board_traceback(text)
+    harness = f'Traceback (most recent call last):\n  File "{compiled}/_hilboot.py", line 9, in main\nOSError: x\n'
+    assert board_traceback(harness) == harness, "a traceback of the shim's frames only is the harness's: whole"
+    assert board_traceback("ValueError: no frames\n") == "ValueError: no frames\n"
