@@ -31,7 +31,7 @@ DATA = {  # path in the firmware folder: bytes, each a file the board gets
     "fonts/font5x8.bin": bytes(range(40)),
     "readings.csv": b"t,v\n0,1\n",
     "certs/ca.pem": b"-----BEGIN CERTIFICATE-----\n",
-    "wifi": b"ssid password\n",  # (no suffix: still the firmware's)
+    "wifi.cfg": b"ssid password\n",
     "config.json": b'{"speed": 3}\n',
 }
 HOST = {  # what stays on the host, each for its reason
@@ -41,7 +41,8 @@ HOST = {  # what stays on the host, each for its reason
     "press.test.yaml": b"",  # Wokwi's test scenario
     "README.md": b"# bot\n",  # documentation
     "robotlib/README.rst": b"",
-    "Makefile": b"all:\n",  # the repository's tools
+    "Makefile": b"all:\n",  # the repository's tools, and a file with no suffix
+    "Dockerfile": b"FROM python\n",
     "LICENSE": b"MIT\n",
     "robotlib/LICENSE.txt": b"MIT\n",
     "requirements.txt": b"pytest\n",
@@ -51,6 +52,9 @@ HOST = {  # what stays on the host, each for its reason
     "stubs.pyi": b"",  # an editor's stubs, CPython's bytecode, an editor's backup
     "robotlib/display.cpython-312.pyc": b"",
     "main.py~": b"",
+    "seen.log": b"x",  # what a rig's external part's program leaves in the rig file's folder
+    "pid": b"123",
+    "dev.pid": b"123",
     ".gitignore": b"build/\n",  # hidden
     ".vscode/settings.json": b"{}",
     "build/flash/x.bin": b"x",  # the host's folders
@@ -134,7 +138,7 @@ def test_a_library_reads_its_image_and_its_text_at_run_time_as_on_a_board(make_r
     r = results(rig.console)
     assert r.get("pbm") == (len(PBM), b"P4\n", PBM.count(0), PBM.count(b"\n")), rig.console
     assert r.get("notes") == NOTES.splitlines(), rig.console
-    root = sorted(["main.py", "lib", "robotlib", "www", "fonts", "certs", "readings.csv", "wifi", "config.json"])
+    root = sorted(["main.py", "lib", "robotlib", "www", "fonts", "certs", "readings.csv", "wifi.cfg", "config.json"])
     assert r.get("root") == root, f"expected the board's / to hold {root}, got {r.get('root')}:\n{rig.console}"
     assert r.get("robotlib") == ["__init__.py", "display.py", "extras", "notes.txt"], rig.console
     assert r.get("size") == 8, rig.console

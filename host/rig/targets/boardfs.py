@@ -113,18 +113,14 @@ def on_board(firmware) -> dict[str, Path]:
     return placed
 
 
-HOST_SUFFIXES = (".toml", ".yaml", ".yml", ".md", ".rst", ".pyc", ".pyo", ".pyi")
+HOST_SUFFIXES = (".toml", ".yaml", ".yml", ".md", ".rst", ".pyc", ".pyo", ".pyi", ".log", ".pid", ".lock")
 """Files of these kinds are the host's, never a board's: the tools' configuration in TOML and
 YAML (the rig file ``rig.toml``, its ``as_built.toml``, ``pyproject.toml``, ``wokwi.toml``,
 Wokwi's test scenarios ``*.test.yaml``, CI files: MicroPython parses neither), documentation
-(``README.md``) and CPython's bytecode and type stubs."""
+(``README.md``), CPython's bytecode and type stubs, and what host programs leave: logs, pid
+and lock files (a rig's external parts run in the rig file's folder, docs/external.md; a
+firmware's own log is written on its board)."""
 HOST_FILES = (
-    "Makefile",
-    "makefile",
-    "GNUmakefile",
-    "LICENSE",
-    "LICENCE",
-    "COPYING",
     "LICENSE.txt",
     "LICENCE.txt",
     "COPYING.txt",
@@ -136,8 +132,9 @@ HOST_FILES = (
     "mypy.ini",
     "MANIFEST.in",
 )
-"""Files by name that are the repository's tools' (make, pip, pytest and their configuration,
-the licence), not the firmware's."""
+"""Files by name that are the repository's tools' (pip, pytest and their configuration, the
+licence), not the firmware's. (A file with no suffix is a tool's too: ``Makefile``,
+``Dockerfile``, ``LICENSE``, a pid file; a library names its data files with their kind.)"""
 NOT_FIRMWARE_FOLDERS = ("build", "__pycache__", "tests", "test", "venv", "node_modules", "htmlcov")
 """Folders ``make flash`` never puts on a board (and hidden ones, and trace folders)."""
 TRACE_FILES = ("header.json", "trace.jsonl", "manifest.json", "console.log")
@@ -152,11 +149,14 @@ def is_test_file(name: str) -> bool:
 
 def is_host_file(name: str) -> bool:
     """A file of the firmware folder that stays on the host: hidden, pytest's, one of
-    :data:`HOST_SUFFIXES` or :data:`HOST_FILES`, or an editor's backup (``main.py~``)."""
+    :data:`HOST_SUFFIXES` or :data:`HOST_FILES`, one with no suffix, or an editor's backup
+    (``main.py~``)."""
+    suffix = Path(name).suffix
     return (
         name.startswith(".")
         or is_test_file(name)
-        or Path(name).suffix in HOST_SUFFIXES
+        or not suffix
+        or suffix in HOST_SUFFIXES
         or name in HOST_FILES
         or name.endswith("~")
     )
