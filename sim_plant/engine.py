@@ -19,6 +19,7 @@ in place and :meth:`RobotPlant.restore` bring it back, for the host's rollback o
 speculative batch of IRQ edges.
 """
 
+import ctypes
 import math
 
 import numpy as np
@@ -27,10 +28,10 @@ from sim_plant import edge_window
 from sim_plant.motors import DcMotor
 from sim_plant.plant import NEVER_US, POSE, Change, Plant
 
-SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan"))
+SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan", "_raw_rng"))
 """Plant attributes a snapshot leaves alone: the generator (its state is saved instead),
 the world (walls do not change; its cache of local views may differ harmlessly) and the
-snapshot plan itself."""
+snapshot plan itself (and the generator's copier made with it)."""
 _SCALARS = frozenset((int, float, str, bytes, bool, type(None), frozenset))
 
 
@@ -84,6 +85,62 @@ def _snapshot_plan(root) -> list:
                 containers.append(key)
         plan.append((obj, tuple(containers)))
     return plan
+
+
+class _RawGenerator:
+    """A PCG64 generator's state as raw bytes (its 128-bit state and increment, its
+    buffered 32-bit draw), saved and put back as two copies of memory: ``bit_generator.state``
+    builds a dict of 128-bit Python ints (some 20,000 instructions a snapshot, a fifth of
+    it). :func:`_raw_generator` checks the layout once on the generator itself."""
+
+    __slots__ = ("bit_generator", "_pcg", "_buffered")
+
+    def __init__(self, bit_generator):
+        self.bit_generator = bit_generator  # (kept: the arrays are views of its memory)
+        at = bit_generator.ctypes.state_address  # a pcg64_state: a pointer, has_uint32, uinteger
+        pcg_at = ctypes.c_void_p.from_address(at).value  # a pcg64_random_t: state, inc
+        self._pcg = (ctypes.c_char * 32).from_address(pcg_at)
+        self._buffered = (ctypes.c_char * 8).from_address(at + ctypes.sizeof(ctypes.c_void_p))
+
+    def save(self) -> tuple:
+        return self.bit_generator, self._pcg.raw, self._buffered.raw
+
+    def put(self, saved: tuple) -> None:
+        self._pcg.raw = saved[1]
+        self._buffered.raw = saved[2]
+
+
+def _raw_generator(rng):
+    """A :class:`_RawGenerator` of ``rng``, or None (another bit generator, or a layout other
+    than the one it copies: the generator is then saved as ``bit_generator.state``). The check
+    draws from the generator and leaves it as it found it."""
+    bit_generator = rng.bit_generator
+    if type(bit_generator) is not np.random.PCG64:
+        return None
+    state = bit_generator.state
+    try:
+        raw = _RawGenerator(bit_generator)
+        saved = raw.save()
+        rng.integers(0, 2**32, dtype=np.uint32)  # (a 32-bit draw: the buffered half is set)
+        rng.random()
+        raw.put(saved)
+        same = bit_generator.state == state
+    except Exception:  # (no ctypes interface: the dict way)
+        same = False
+    bit_generator.state = state  # (as found, whatever the check did)
+    return raw if same else None
+
+
+def _put_generator(plant, saved) -> None:
+    """The plant's generator as a snapshot saved it (a state dict, or raw bytes)."""
+    bit_generator = plant.rng.bit_generator
+    if type(saved) is dict:
+        bit_generator.state = saved
+    elif plant._raw_rng is not None and plant._raw_rng.bit_generator is bit_generator:
+        plant._raw_rng.put(saved)
+    else:  # (saved from another generator: put back there, then passed on as a dict)
+        _RawGenerator(saved[0]).put(saved)
+        bit_generator.state = saved[0].state
 
 
 class Part:
@@ -201,6 +258,7 @@ class RobotPlant(Plant):
     def reset(self, seed: int) -> None:
         self.rng = np.random.default_rng(seed)
         self._snapshot_plan = None  # made at the first snapshot after each reset
+        self._raw_rng = None  # (the generator's raw copier, found with the plan; None: its dict)
         self._t_us = 0
         self._build()
         route = {name: -1 for name in self.drive.inputs}
@@ -341,13 +399,15 @@ class RobotPlant(Plant):
         plan = self._snapshot_plan
         if plan is None:
             plan = self._snapshot_plan = _snapshot_plan(self)
+            self._raw_rng = _raw_generator(self.rng)
         saved = []
         for obj, containers in plan:
             attrs = obj.__dict__.copy()
             for key in containers:
                 attrs[key] = attrs[key].copy()
             saved.append((obj, attrs, containers))
-        return saved, self.rng.bit_generator.state
+        raw = self._raw_rng
+        return saved, self.rng.bit_generator.state if raw is None else raw.save()
 
     def restore(self, snap) -> None:
         saved, rng_state = snap
@@ -357,7 +417,7 @@ class RobotPlant(Plant):
             state.update(attrs)
             for key in containers:
                 state[key] = state[key].copy()
-        self.rng.bit_generator.state = rng_state
+        _put_generator(self, rng_state)
 
     # -- loop -----------------------------------------------------------------------
 
