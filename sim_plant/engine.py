@@ -276,6 +276,8 @@ class RobotPlant(Plant):
             name: (i, k) for i, enc in enumerate(self.encoders) for k, name in enumerate(enc.names)
         }
         self._motion_pending = False
+        # (whether the encoders' edges have a closed form, :func:`edge_window.plain`: found once, not at each advance)
+        self._plain_encoders = edge_window.plain(self.encoders)
         self._motion_changed(0)
         # (a part whose instants may be fired at once, :func:`_fire_alone`: found once, not at each instant)
         self._alone = not self.encoders and not self._reacts() and any(hasattr(p, "fire_until") for p in self.parts)
@@ -314,7 +316,7 @@ class RobotPlant(Plant):
     @property
     def edge_counters(self) -> tuple:
         encoders = self.encoders
-        return tuple(encoders) if encoders and edge_window.plain(encoders) else ()
+        return tuple(encoders) if encoders and self._plain_encoders else ()
 
     def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:  # noqa: C901 (the one loop)
         """:meth:`advance_to`; with a list ``segs``, the encoders' edges between two events
@@ -328,7 +330,7 @@ class RobotPlant(Plant):
         nxt = self._next_us
         if nxt <= t_us:
             encoders = self.encoders
-            window_at = nxt if edge_window.plain(encoders) else NEVER_US
+            window_at = nxt if self._plain_encoders else NEVER_US
             while nxt <= t_us:
                 if nxt >= window_at and self._next_part_us > nxt:
                     # the edges until the next part's event at once (sim_plant/edge_window.py)
