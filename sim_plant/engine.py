@@ -87,6 +87,13 @@ def _snapshot_plan(root) -> list:
     return plan
 
 
+def _dicts_of(plan: list) -> tuple:
+    """A snapshot plan as a snapshot reads it: each object's ``__dict__`` (copied in one
+    comprehension), and where containers are (the object's place, their names)."""
+    dicts = tuple(obj.__dict__ for obj, _ in plan)
+    return dicts, tuple((i, containers) for i, (_, containers) in enumerate(plan) if containers)
+
+
 class _RawGenerator:
     """A PCG64 generator's state as raw bytes (its 128-bit state and increment, its
     buffered 32-bit draw), saved and put back as two copies of memory: ``bit_generator.state``
@@ -400,23 +407,24 @@ class RobotPlant(Plant):
         attributes of the plant and of every part object in it, saved in place."""
         plan = self._snapshot_plan
         if plan is None:
-            plan = self._snapshot_plan = _snapshot_plan(self)
+            plan = self._snapshot_plan = _dicts_of(_snapshot_plan(self))
             self._raw_rng = _raw_generator(self.rng)
-        saved = []
-        for obj, containers in plan:
-            attrs = obj.__dict__.copy()
+        dicts, deep = plan
+        copies = [state.copy() for state in dicts]
+        for i, containers in deep:
+            attrs = copies[i]
             for key in containers:
                 attrs[key] = attrs[key].copy()
-            saved.append((obj, attrs, containers))
         raw = self._raw_rng
-        return saved, self.rng.bit_generator.state if raw is None else raw.save()
+        return plan, copies, self.rng.bit_generator.state if raw is None else raw.save()
 
     def restore(self, snap) -> None:
-        saved, rng_state = snap
-        for obj, attrs, containers in saved:
-            state = obj.__dict__
+        (dicts, deep), copies, rng_state = snap
+        for state, attrs in zip(dicts, copies):
             state.clear()
             state.update(attrs)
+        for i, containers in deep:
+            state = dicts[i]
             for key in containers:
                 state[key] = state[key].copy()
         _put_generator(self, rng_state)
