@@ -62,7 +62,8 @@ def emit_window(encoders, t_stop: int, out: list, limit: int, min_edges: int = M
     """Every edge of ``encoders`` from their next ones through ``t_stop`` appended to ``out``
     (no other part's event in between), up to the instant that brings ``out`` to ``limit``
     (0: no limit). Returns the last instant emitted, or None (nothing done: the loop's way)."""
-    if sum(abs(enc.rate) for enc in encoders) * (t_stop - min(enc.next_us for enc in encoders)) < min_edges:
+    # (lists, not generators: this runs at each window of the plant's loop)
+    if sum([abs(enc.rate) for enc in encoders]) * (t_stop - min([enc.next_us for enc in encoders])) < min_edges:
         return None
     parts = []
     for k, enc in enumerate(encoders):

@@ -19,6 +19,7 @@ in place and :meth:`RobotPlant.restore` bring it back, for the host's rollback o
 speculative batch of IRQ edges.
 """
 
+import ctypes
 import math
 
 import numpy as np
@@ -27,10 +28,10 @@ from sim_plant import edge_window
 from sim_plant.motors import DcMotor
 from sim_plant.plant import NEVER_US, POSE, Change, Plant
 
-SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan"))
+SHARED_STATE = frozenset(("rng", "world", "_snapshot_plan", "_raw_rng"))
 """Plant attributes a snapshot leaves alone: the generator (its state is saved instead),
 the world (walls do not change; its cache of local views may differ harmlessly) and the
-snapshot plan itself."""
+snapshot plan itself (and the generator's copier made with it)."""
 _SCALARS = frozenset((int, float, str, bytes, bool, type(None), frozenset))
 
 
@@ -84,6 +85,69 @@ def _snapshot_plan(root) -> list:
                 containers.append(key)
         plan.append((obj, tuple(containers)))
     return plan
+
+
+def _dicts_of(plan: list) -> tuple:
+    """A snapshot plan as a snapshot reads it: each object's ``__dict__`` (copied in one
+    comprehension), and where containers are (the object's place, their names)."""
+    dicts = tuple(obj.__dict__ for obj, _ in plan)
+    return dicts, tuple((i, containers) for i, (_, containers) in enumerate(plan) if containers)
+
+
+class _RawGenerator:
+    """A PCG64 generator's state as raw bytes (its 128-bit state and increment, its
+    buffered 32-bit draw), saved and put back as two copies of memory: ``bit_generator.state``
+    builds a dict of 128-bit Python ints (some 20,000 instructions a snapshot, a fifth of
+    it). :func:`_raw_generator` checks the layout once on the generator itself."""
+
+    __slots__ = ("bit_generator", "_pcg", "_buffered")
+
+    def __init__(self, bit_generator):
+        self.bit_generator = bit_generator  # (kept: the arrays are views of its memory)
+        at = bit_generator.ctypes.state_address  # a pcg64_state: a pointer, has_uint32, uinteger
+        pcg_at = ctypes.c_void_p.from_address(at).value  # a pcg64_random_t: state, inc
+        self._pcg = (ctypes.c_char * 32).from_address(pcg_at)
+        self._buffered = (ctypes.c_char * 8).from_address(at + ctypes.sizeof(ctypes.c_void_p))
+
+    def save(self) -> tuple:
+        return self.bit_generator, self._pcg.raw, self._buffered.raw
+
+    def put(self, saved: tuple) -> None:
+        self._pcg.raw = saved[1]
+        self._buffered.raw = saved[2]
+
+
+def _raw_generator(rng):
+    """A :class:`_RawGenerator` of ``rng``, or None (another bit generator, or a layout other
+    than the one it copies: the generator is then saved as ``bit_generator.state``). The check
+    draws from the generator and leaves it as it found it."""
+    bit_generator = rng.bit_generator
+    if type(bit_generator) is not np.random.PCG64:
+        return None
+    state = bit_generator.state
+    try:
+        raw = _RawGenerator(bit_generator)
+        saved = raw.save()
+        rng.integers(0, 2**32, dtype=np.uint32)  # (a 32-bit draw: the buffered half is set)
+        rng.random()
+        raw.put(saved)
+        same = bit_generator.state == state
+    except Exception:  # (no ctypes interface: the dict way)
+        same = False
+    bit_generator.state = state  # (as found, whatever the check did)
+    return raw if same else None
+
+
+def _put_generator(plant, saved) -> None:
+    """The plant's generator as a snapshot saved it (a state dict, or raw bytes)."""
+    bit_generator = plant.rng.bit_generator
+    if type(saved) is dict:
+        bit_generator.state = saved
+    elif plant._raw_rng is not None and plant._raw_rng.bit_generator is bit_generator:
+        plant._raw_rng.put(saved)
+    else:  # (saved from another generator: put back there, then passed on as a dict)
+        _RawGenerator(saved[0]).put(saved)
+        bit_generator.state = saved[0].state
 
 
 class Part:
@@ -201,6 +265,7 @@ class RobotPlant(Plant):
     def reset(self, seed: int) -> None:
         self.rng = np.random.default_rng(seed)
         self._snapshot_plan = None  # made at the first snapshot after each reset
+        self._raw_rng = None  # (the generator's raw copier, found with the plan; None: its dict)
         self._t_us = 0
         self._build()
         route = {name: -1 for name in self.drive.inputs}
@@ -218,6 +283,8 @@ class RobotPlant(Plant):
             name: (i, k) for i, enc in enumerate(self.encoders) for k, name in enumerate(enc.names)
         }
         self._motion_pending = False
+        # (whether the encoders' edges have a closed form, :func:`edge_window.plain`: found once, not at each advance)
+        self._plain_encoders = edge_window.plain(self.encoders)
         self._motion_changed(0)
         # (a part whose instants may be fired at once, :func:`_fire_alone`: found once, not at each instant)
         self._alone = not self.encoders and not self._reacts() and any(hasattr(p, "fire_until") for p in self.parts)
@@ -256,7 +323,7 @@ class RobotPlant(Plant):
     @property
     def edge_counters(self) -> tuple:
         encoders = self.encoders
-        return tuple(encoders) if encoders and edge_window.plain(encoders) else ()
+        return tuple(encoders) if encoders and self._plain_encoders else ()
 
     def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:  # noqa: C901 (the one loop)
         """:meth:`advance_to`; with a list ``segs``, the encoders' edges between two events
@@ -270,7 +337,7 @@ class RobotPlant(Plant):
         nxt = self._next_us
         if nxt <= t_us:
             encoders = self.encoders
-            window_at = nxt if edge_window.plain(encoders) else NEVER_US
+            window_at = nxt if self._plain_encoders else NEVER_US
             while nxt <= t_us:
                 if nxt >= window_at and self._next_part_us > nxt:
                     # the edges until the next part's event at once (sim_plant/edge_window.py)
@@ -340,24 +407,27 @@ class RobotPlant(Plant):
         attributes of the plant and of every part object in it, saved in place."""
         plan = self._snapshot_plan
         if plan is None:
-            plan = self._snapshot_plan = _snapshot_plan(self)
-        saved = []
-        for obj, containers in plan:
-            attrs = obj.__dict__.copy()
+            plan = self._snapshot_plan = _dicts_of(_snapshot_plan(self))
+            self._raw_rng = _raw_generator(self.rng)
+        dicts, deep = plan
+        copies = [state.copy() for state in dicts]
+        for i, containers in deep:
+            attrs = copies[i]
             for key in containers:
                 attrs[key] = attrs[key].copy()
-            saved.append((obj, attrs, containers))
-        return saved, self.rng.bit_generator.state
+        raw = self._raw_rng
+        return plan, copies, self.rng.bit_generator.state if raw is None else raw.save()
 
     def restore(self, snap) -> None:
-        saved, rng_state = snap
-        for obj, attrs, containers in saved:
-            state = obj.__dict__
+        (dicts, deep), copies, rng_state = snap
+        for state, attrs in zip(dicts, copies):
             state.clear()
             state.update(attrs)
+        for i, containers in deep:
+            state = dicts[i]
             for key in containers:
                 state[key] = state[key].copy()
-        self.rng.bit_generator.state = rng_state
+        _put_generator(self, rng_state)
 
     # -- loop -----------------------------------------------------------------------
 

@@ -83,6 +83,8 @@ class BeamRangeModel:
     ==========================  ========  ==============================================
     """
 
+    FIXED_STATE = True  # configuration only (measure draws from the plant's generator)
+
     def __init__(
         self,
         mount=(0.0, 0.0, 0.0),

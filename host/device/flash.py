@@ -2,7 +2,9 @@
 
 1. Compile the app's modules, the board's pin map and the drivers with mpy-cross for
    the target's .mpy version (``main.py`` and ``boot.py`` stay source, as boards run
-   them); a syntax error stops the flash and names file and line.
+   them); a syntax error stops the flash and names file and line. The firmware folder's
+   data files (images, fonts, text, web pages: all but the host's, boardfs.is_host_file)
+   go as they are.
 2. Copy them with mpremote, which skips every file whose content the board already
    has (SHA-256 on the board); remove a stale ``.py`` where a ``.mpy`` now stands.
 3. Soft-reset the board in its friendly REPL, so ``main.py`` runs, and show the first

@@ -42,8 +42,9 @@ _b_window = 0
 _b_since = -1  # when the firmware's own code last called the board, as _branches saw it (-1: it
 _b_looks = 0  # just did), and its looks since: named once a run after POLL_SPAN_US (a POLL_SPIN)
 _b_said = False
-_b_told = 0  # when the host last heard from a look (every SPIN_TELL_US of virtual time: the link stays alive)
-SPIN_TELL_US = 100_000
+_b_told = 0  # when the host last heard from the board (the wall's ms: every ALIVE_MS, the link stays alive)
+ALIVE_MS = 1_000
+_b_told_at = 0  # and the virtual time then
 _b_syncs = 0  # the exchanges so far (_Link.syncs) at that look
 FOREVER_US = F.FOREVER_US
 _NO_IMAGE = b""
@@ -849,15 +850,17 @@ def _branches():
     if threads is not None:
         threads.tick()
     if _Link.syncs != _b_syncs:  # (the host heard from the board: an exchange)
-        _b_syncs, _b_told = _Link.syncs, _now
-    elif _now - _b_told >= SPIN_TELL_US:
-        _spin_told()
+        _b_syncs, _b_told = _Link.syncs, _rtime.ticks_ms()
+    elif _rtime.ticks_diff(_rtime.ticks_ms(), _b_told) >= ALIVE_MS and _now > _b_told_at:
+        _spin_told(False)  # (only while virtual time moves: a loop stuck at one instant is a hang)
     if _b_now != _now or _b_spin != _spin:
         _b_since = -1
     elif not _dispatching and (threads is not None or _Link.thread() == _Link.main_thread):
         if _b_since < 0:
             _b_since, _b_looks = _now, 0
         _b_looks += 1
+        if not _b_said and _now - _b_since >= F.POLL_SPAN_US:
+            _spin_told(True)
         if owing is None:
             observe()
         else:
@@ -877,17 +880,17 @@ def _branches():
     return window
 
 
-def _spin_told():
-    """The firmware's own code has run on for SPIN_TELL_US more of virtual time since the host
-    last heard of it this way (a loop of clock or register reads, or of nothing at all, far
-    inside a long horizon, where no exchange is due): a POLL_SPIN tells the host the board
-    is alive, as a wait would (its watchdog counts wall time between messages). Once a loop
-    that called nothing of the board's is POLL_SPAN_US long (once a run) the POLL_SPIN names
-    it, with the firmware's stack: the host's note says where it spins. A board spins there
-    too; a loop that waits for a callback's flag ends when the callback fires."""
-    global _b_said, _b_told
-    _b_told = _now
-    name = not _b_said and _b_since >= 0 and _now - _b_since >= F.POLL_SPAN_US
+def _spin_told(name):
+    """A POLL_SPIN to the host. Without `name`: the firmware has run on for ALIVE_MS of wall
+    time since the host last heard from it (a loop of clock or register reads, or of
+    nothing at all, inside a long horizon, where no exchange is due): the host hears the
+    board is alive, as from a wait (its watchdog counts wall time between messages; the
+    message changes nothing it records). With `name` (once a run): a loop that called
+    nothing of the board's for POLL_SPAN_US of virtual time, with the firmware's stack: the
+    host's note says where it spins. A board spins there too; a loop that waits for a
+    callback's flag ends when the callback fires."""
+    global _b_said, _b_told, _b_told_at
+    _b_told, _b_told_at = _rtime.ticks_ms(), _now
     try:
         text = ""
         if name:
@@ -895,10 +898,10 @@ def _spin_told():
 
             stack = _hilpoll.firmware_stack()
             text = "\n" + "\n".join(stack) if stack else ""
-        send(F.POLL, F.pack_poll(_now, _b_since, _b_looks * BRANCHES, F.POLL_SPIN, 0, 0, name, text.encode()))
+        send(F.POLL, F.pack_poll(_now, max(_b_since, 0), _b_looks * BRANCHES, F.POLL_SPIN, 0, 0, name, text.encode()))
         _link.flush()
         _b_said = _b_said or name
-    except MemoryError:  # (under heap_lock: nothing said; the next tell tries again)
+    except MemoryError:  # (under heap_lock: nothing said; the next look tries again)
         pass
 
 

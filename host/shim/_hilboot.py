@@ -111,6 +111,75 @@ def _run(name):
     return True
 
 
+TRACEBACK = "Traceback (most recent call last):"
+FRAME = '  File "'
+
+
+def _shim_folder():
+    """The shim's folder as its modules were compiled (the one this function was compiled
+    in, before the sandbox), read from a traceback of its own: kept nowhere, so no host path
+    stays reachable (hil_tests/test_board_flash.py's walk)."""
+    buf = io.StringIO()
+    try:
+        raise KeyError
+    except KeyError as e:
+        sys.print_exception(e, buf)
+    for line in buf.getvalue().split("\n"):
+        if line.startswith(FRAME):
+            return line[len(FRAME) : line.index('"', len(FRAME))].rsplit("/", 1)[0] + "/"
+    return None
+
+
+def _board_traceback(text):
+    """A traceback as the firmware's board prints it: the shim's own frames left out (its
+    folder as compiled, and /_hil/, where the sandbox shows it; on a board those are C:
+    machine, open, the boot that runs main.py), as _hil._exempt and _hilpoll.firmware_stack
+    tell them, and asyncio's task queue (C on a board: _asyncio); the firmware's and the rest
+    of asyncio's kept. One whose every frame is the shim's is the harness's own failure: kept
+    whole."""
+    lines = text.split("\n")
+    if lines[0] != TRACEBACK:
+        return text
+    end = 1
+    while end < len(lines) and lines[end].startswith(FRAME):
+        end += 1
+    shim = (_shim_folder() or "/_hil/", "/_hil/", "asyncio/task.py")  # (the task queue: C on a board)
+    kept = [line for line in lines[1:end] if not line[len(FRAME) :].startswith(shim)]
+    if not kept:
+        return text
+    return "\n".join([TRACEBACK] + kept + lines[end:])
+
+
+def print_exception(exc, file=None):
+    """The firmware's sys.print_exception: the C one's text with the shim's frames left
+    out (:func:`_board_traceback`). Where there is no room for the text (a full heap, the
+    heap locked), the C one's as it is: a board's needs none."""
+    out = sys.stdout if file is None else file
+    text = _traceback_text(exc)
+    if text is None:
+        sys.print_exception(exc, out)
+    else:
+        out.write(text)
+
+
+def _traceback_text(exc):
+    """:func:`_board_traceback` of ``exc``'s traceback; None where there is no room for it."""
+    try:
+        buf = io.StringIO()
+        sys.print_exception(exc, buf)
+        return _board_traceback(buf.getvalue())
+    except MemoryError:
+        return None
+
+
+def _board_print_exception():
+    """The board's sys (_hilsys) prints a traceback as the board does; the unix port's own
+    sys, a board of no known family's, is read-only and keeps the C one."""
+    board = sys.modules.get("sys", sys)
+    if board is not sys:
+        board.print_exception = print_exception
+
+
 def _heap_unlocked():
     # (no import statement: under heap_lock the board's import filter cannot run)
     _micropython.heap_lock()
@@ -242,6 +311,7 @@ def main(pil=False):
             coverage = _coverage()
             _confine()
             _fresh_main()  # (before _board_heap: the -c command's names, freed, would be the firmware's)
+            _board_print_exception()  # (before _board_heap too: the board's sys grows by a name)
             _hil._Link.ballast = _board_heap(room)
             _give_way()
             _port_boot()
@@ -271,9 +341,17 @@ def main(pil=False):
         _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
         if _hil._Link.reserve is not None:
             _hil.spend_reserve()  # (raised with the heap full: the same)
-        buf = io.StringIO()
-        sys.print_exception(e, buf)
-        text = buf.getvalue()
+        # The firmware's frames, as its board prints them; but the watchdog's interrupt
+        # (host/rig/targets/target.py, _stack) keeps the whole stack, as the harness's word on
+        # where the firmware was: the shim's frames tell the host a wait on the link from a
+        # spin in the firmware's own code (a run that ends on one otherwise shows it as the
+        # firmware's: host/rig/loop/endings.py, board_traceback). With no room to leave the
+        # shim's out, the text as it is.
+        text = None if isinstance(e, KeyboardInterrupt) else _traceback_text(e)
+        if text is None:
+            buf = io.StringIO()
+            sys.print_exception(e, buf)
+            text = buf.getvalue()
         if not pil:  # on a board the console is the link: the traceback goes in FAULT
             sys.stderr.write(text)
         _finish(coverage, F.EXIT_SYSEXIT, 1, text)

@@ -30,6 +30,7 @@ class PartsPlant(RobotPlant):
     a body and catalogue parts; rebuilt afresh at each reset."""
 
     capabilities = frozenset((POSE, PWM, UART, BUSES, BITSTREAM, CONTROLS))
+    FIXED_STATE = (*RobotPlant.FIXED_STATE, "catalogue_parts")
 
     def __init__(self, body, parts: list, sources: tuple = ()):
         self.body = body

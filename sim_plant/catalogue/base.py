@@ -102,6 +102,7 @@ class Declared:
     kind: str = ""
     doc: str = ""
     OPTIONS: tuple = ()
+    FIXED_STATE = True  # (a declaration, as built: a plant's snapshot leaves it out)
 
     @classmethod
     def defaults(cls) -> dict:

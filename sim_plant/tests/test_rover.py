@@ -110,6 +110,27 @@ def test_snapshot_and_restore_replay_the_same_future():
     assert plant.advance_to(3_000_000) == first and plant.truth() == truth
 
 
+def test_a_snapshot_brings_the_generator_back_as_its_state_dict_would():
+    """The generator is saved as raw bytes (``engine._RawGenerator``): after draws of every
+    width (a buffered 32-bit half included) a restore gives the state a snapshot of
+    ``bit_generator.state`` gave, and the same draws after."""
+    import numpy as np
+
+    from sim_plant.engine import _raw_generator
+
+    plant = rover_plant()
+    plant.rng.integers(0, 2**32, dtype=np.uint32)  # (a half left buffered)
+    state = plant.rng.bit_generator.state
+    snap = plant.snapshot()
+    assert plant._raw_rng is not None, "expected the PCG64 generator saved raw"
+    draws = [plant.rng.random(), int(plant.rng.integers(0, 2**32, dtype=np.uint32)), plant.rng.normal()]
+    plant.restore(snap)
+    assert plant.rng.bit_generator.state == state
+    again = [plant.rng.random(), int(plant.rng.integers(0, 2**32, dtype=np.uint32)), plant.rng.normal()]
+    assert again == draws, f"expected the same draws after a restore: {draws}, got {again}"
+    assert _raw_generator(np.random.Generator(np.random.MT19937(1))) is None  # (another generator: its dict)
+
+
 def test_coverage_sampled_at_bends_matches_sampling_every_change_of_motion():
     """A board trims its wheel duties every 50 ms; the recorder samples those changes
     only where the path bends or turns back. The swept cells match a recorder that

@@ -6,6 +6,7 @@ that answers the wait. The pacing (:mod:`host.rig.loop.pacing`) decides each ste
 import os
 from dataclasses import dataclass
 
+from host.artefacts.linklog import NO_LOG
 from host.link import frames as F
 
 _NO_WATCH = frozenset()
@@ -234,6 +235,7 @@ class Clock:
         try:
             state = F.pack_state(base_us, t_us, horizon, changes)
             self.session.send(F.STATE, state + self.pacing.take_trailer() if self.pacing.walled else state)
-        finally:  # (logged once sent: its writing overlaps the firmware's work)
-            self.log.state(t_us, base_us, horizon, changes, segments)
+        finally:  # (logged once sent: its writing overlaps the firmware's work; not recorded: no call)
+            if self.log is not NO_LOG:
+                self.log.state(t_us, base_us, horizon, changes, segments)
         self.stats.link_round_trips += 1

@@ -4,8 +4,10 @@ names the virtual time, the seed, the console's last lines and the artefacts
 link. ``docs/reliability.md`` lists them with the tests that show them."""
 
 import re
+from pathlib import Path
 
 from host.core.errors import FirmwareError, FirmwareExited, FirmwareHung, LinkDamaged, LinkError
+from host.core.paths import SHIM_DIR
 from host.core.printable import printable
 from host.link import frames as F
 from host.rig.hardware.bustrace import failed_hint
@@ -25,6 +27,43 @@ DEEPSLEEP_WAKE = 1
 """EXIT_RESET's code when the board wakes from machine.deepsleep() (no crash: no storm)."""
 
 
+TRACEBACK = "Traceback (most recent call last):"
+FRAME = re.compile(r'  File "([^"]*)"')
+SHIM_FILES = frozenset(path.name for path in SHIM_DIR.glob("*.py"))
+
+
+def shim_frame(path: str) -> bool:
+    """A traceback frame of the shim's own code: in its folder (``host/shim``, or its
+    compiled copy ``build/shim/<key>/``), in ``/_hil/`` where the sandbox shows it, asyncio's
+    task queue (C on a board), or a private module of the shim under its bare name (a board
+    in the loop: ``host/device/pil.py`` compiles the shim so)."""
+    if path.startswith("/_hil/") or path == "asyncio/task.py":
+        return True
+    name = Path(path).name
+    if name not in SHIM_FILES:
+        return False
+    if "/" not in path:
+        return name.startswith("_hil")
+    return Path(path).parent == SHIM_DIR or Path(path).parent.parent.name == "shim"
+
+
+def board_traceback(text: str) -> str:
+    """A firmware's traceback as its board prints it (docs/shim.md, "Tracebacks as on a
+    board"): the shim's frames left out. The shim leaves them out itself (host/shim/_hilboot.py,
+    ``_board_traceback``) but for a KeyboardInterrupt, whose whole stack the watchdog reads
+    (host/rig/targets/target.py, ``diagnosis``); this serves that one when it ends a run
+    otherwise (the firmware raised it) and a board in the loop. One whose every frame is
+    the shim's is the harness's own failure: kept whole."""
+    lines = text.split("\n")
+    if lines[0] != TRACEBACK:
+        return text
+    end = 1
+    while end < len(lines) and FRAME.match(lines[end]):
+        end += 1
+    kept = [line for line in lines[1:end] if not shim_frame(FRAME.match(line).group(1))]
+    return "\n".join([TRACEBACK, *kept, *lines[end:]]) if kept else text
+
+
 def where(rig) -> str:
     """The console's last lines, the seed and the artefacts folder, for error messages."""
     tail = printable("\n".join(rig.console.rstrip().splitlines()[-CONSOLE_TAIL_LINES:]))
@@ -42,6 +81,7 @@ def fault(rig, t: int, text: str):
     except (LinkError, FirmwareError, FirmwareHung):
         pass
     rig.stop()
+    text = board_traceback(text)
     last = text.rstrip().splitlines()[-1] if text.strip() else ""
     if last.startswith(SHIM_LINK_DAMAGED):
         raise LinkDamaged(

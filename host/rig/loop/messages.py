@@ -2,6 +2,7 @@
 frame types in :data:`HANDLERS` (``docs/protocol.md``), called by :meth:`Rig.dispatch
 <host.rig.loop.rig.Rig.dispatch>` with the payload's bytes."""
 
+from host.artefacts.linklog import NO_LOG
 from host.link import frames as F
 from host.rig.hardware import peripherals
 from host.rig.hardware.pollwatch import shim_poll_text
@@ -15,7 +16,8 @@ def on_out(rig, p: bytes) -> None:
     t, h, attr, value = F.unpack_out(p)
     if t != rig.plant.t_us:
         rig.clock.catch_up(t)
-    rig.linklog.out(t, h, attr, value)
+    if rig.linklog is not NO_LOG:  # (not recorded: no call at each message)
+        rig.linklog.out(t, h, attr, value)
     rig.outputs.out(t, h, attr, value)
 
 
@@ -29,7 +31,8 @@ def on_wait(rig, p: bytes) -> None:
         call(compute_us)
     if rig.cpu_load is not None:  # (MCU time: the firmware's CPU load, docs/mcu-time.md)
         rig.cpu_load.wait(t_now, compute_us)
-    rig.linklog.wait(t_now, t_until, watch)
+    if rig.linklog is not NO_LOG:  # (not recorded: no call at each message)
+        rig.linklog.wait(t_now, t_until, watch)
 
 
 def on_cfg(rig, p: bytes) -> None:
@@ -52,14 +55,16 @@ def on_seen(rig, p: bytes) -> None:
     rig.speculation.commit(t)
     for call in rig._seen_hooks.get(rig.wiring.handles[h].signal, ()):
         call(t, sample_no)
-    rig.linklog.seen(t, h, sample_no)
+    if rig.linklog is not NO_LOG:  # (not recorded: no call at each message)
+        rig.linklog.seen(t, h, sample_no)
 
 
 def on_uart_tx(rig, p: bytes) -> None:
     t, h, data = F.unpack_uart_tx(p)
     rig.clock.catch_up(t)
     rig.outputs.uart_tx(t, h, data)
-    rig.linklog.uart_tx(t, h, data)
+    if rig.linklog is not NO_LOG:
+        rig.linklog.uart_tx(t, h, data)
 
 
 def on_bus(rig, p: bytes) -> None:

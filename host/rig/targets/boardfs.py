@@ -113,9 +113,29 @@ def on_board(firmware) -> dict[str, Path]:
     return placed
 
 
-FIRMWARE_SUFFIXES = (".py", ".mpy", ".json")
-"""The files a board's flash gets: code (source or compiled) and JSON data."""
-NOT_FIRMWARE_FOLDERS = ("build", "__pycache__", "tests", "test", "venv", "node_modules")
+HOST_SUFFIXES = (".toml", ".yaml", ".yml", ".md", ".rst", ".pyc", ".pyo", ".pyi", ".log", ".pid", ".lock")
+"""Files of these kinds are the host's, never a board's: the tools' configuration in TOML and
+YAML (the rig file ``rig.toml``, its ``as_built.toml``, ``pyproject.toml``, ``wokwi.toml``,
+Wokwi's test scenarios ``*.test.yaml``, CI files: MicroPython parses neither), documentation
+(``README.md``), CPython's bytecode and type stubs, and what host programs leave: logs, pid
+and lock files (a rig's external parts run in the rig file's folder, docs/external.md; a
+firmware's own log is written on its board)."""
+HOST_FILES = (
+    "LICENSE.txt",
+    "LICENCE.txt",
+    "COPYING.txt",
+    "requirements.txt",
+    "requirements-dev.txt",
+    "pytest.ini",
+    "tox.ini",
+    "setup.cfg",
+    "mypy.ini",
+    "MANIFEST.in",
+)
+"""Files by name that are the repository's tools' (pip, pytest and their configuration, the
+licence), not the firmware's. (A file with no suffix is a tool's too: ``Makefile``,
+``Dockerfile``, ``LICENSE``, a pid file; a library names its data files with their kind.)"""
+NOT_FIRMWARE_FOLDERS = ("build", "__pycache__", "tests", "test", "venv", "node_modules", "htmlcov")
 """Folders ``make flash`` never puts on a board (and hidden ones, and trace folders)."""
 TRACE_FILES = ("header.json", "trace.jsonl", "manifest.json", "console.log")
 """A folder holding two of these is a run's trace folder (docs/traces.md), not firmware (one
@@ -124,18 +144,33 @@ alone may be the firmware's own data: a ``manifest.json`` of its assets)."""
 
 def is_test_file(name: str) -> bool:
     """pytest's files (``test_*.py``, ``*_test.py``, ``conftest.py``): the host's, not the board's."""
-    return name.startswith("test_") or name.endswith("_test.py") or name == "conftest.py"
+    return name.endswith(".py") and (name.startswith("test_") or name.endswith("_test.py") or name == "conftest.py")
+
+
+def is_host_file(name: str) -> bool:
+    """A file of the firmware folder that stays on the host: hidden, pytest's, one of
+    :data:`HOST_SUFFIXES` or :data:`HOST_FILES`, one with no suffix, or an editor's backup
+    (``main.py~``)."""
+    suffix = Path(name).suffix
+    return (
+        name.startswith(".")
+        or is_test_file(name)
+        or not suffix
+        or suffix in HOST_SUFFIXES
+        or name in HOST_FILES
+        or name.endswith("~")
+    )
 
 
 def _skipped_folder(path: Path) -> bool:
     name = path.name
-    if name.startswith(".") or name in NOT_FIRMWARE_FOLDERS:
+    if name.startswith(".") or name in NOT_FIRMWARE_FOLDERS or name.endswith(".egg-info"):
         return True
     return sum((path / marker).exists() or (path / marker).is_symlink() for marker in TRACE_FILES) >= 2
 
 
 def _takes(name: str) -> bool:
-    return not name.startswith(".") and Path(name).suffix in FIRMWARE_SUFFIXES and not is_test_file(name)
+    return not is_host_file(name)
 
 
 def _refuse(folder: Path, path: Path, what: str):
@@ -150,11 +185,14 @@ def _refuse(folder: Path, path: Path, what: str):
 
 def flash_files(folder: Path) -> tuple[list[tuple[str, Path]], list[str]]:
     """What ``make flash`` puts on a board from one firmware folder, the one rule of the
-    per-run board copy, the manifest and ``make flash`` (host/device/flash.py): every
-    ``.py``, ``.mpy`` and ``.json`` file inside it, subfolders too, except hidden ones,
-    pytest's files (``test_*.py``, ``conftest.py``), ``build/``, ``tests/``, ``__pycache__``
-    and trace folders (a folder with two of ``header.json``, ``trace.jsonl``, ``manifest.json``
-    and ``console.log``).
+    per-run board copy, the manifest and ``make flash`` (host/device/flash.py): every file
+    inside it, subfolders too, as ``mpremote cp -r`` copies a folder (code, and the data a
+    library reads at run time: images, fonts, text, web pages, blobs), except the host's
+    (:func:`is_host_file`: hidden files, pytest's, the rig file and other TOML, documentation,
+    the repository's tools' files) and the host's folders (hidden ones, ``build/``,
+    ``tests/``, ``__pycache__``, ``venv/``, ``node_modules/``, ``htmlcov/``, ``*.egg-info`` and
+    trace folders: a folder with two of ``header.json``, ``trace.jsonl``, ``manifest.json`` and
+    ``console.log``).
     A link (to a file or a folder) or a special file where such a file would be taken is
     refused by name (ConfigError), never followed. Returns ([(path in the folder, file)], [its
     subfolders, empty ones too]), sorted."""
@@ -245,10 +283,12 @@ class BoardFs:
             if total > self.flash_bytes:
                 from host.core.errors import ConfigError
 
+                largest = sorted(placed.items(), key=lambda item: -item[1].stat().st_size)[:3]
+                named = ", ".join(f"{name} ({path.stat().st_size} bytes)" for name, path in largest)
                 raise ConfigError(
                     f"firmware folder {firmware.main_dir}: its {len(placed)} files take {total} bytes, more than "
                     f"the board's {self.flash_bytes}-byte flash ([board] flash_size) holds: as `make flash` "
-                    "would, the run stops (a bigger flash_size, or fewer files)"
+                    f"would, the run stops (a bigger flash_size, or fewer files; the largest: {named})"
                 )
             for name, path in placed.items():
                 dest = self.root / name
