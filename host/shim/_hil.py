@@ -254,7 +254,7 @@ class CallbackFailed(Exception):
     that call; in the loop the run ends, naming the callback (nothing fails unseen)."""
 
     def __init__(self, callback, error):
-        sys.print_exception(error)
+        sys.modules.get("sys", sys).print_exception(error)  # (the board's: its frames only, _hilboot)
         name = getattr(callback, "__name__", repr(callback))
         super().__init__("the callback %s raised %s: %s" % (name, type(error).__name__, error))
 
