@@ -867,6 +867,10 @@ def _branches():
             owed = owing() + _Console.debt_ns // 1000
             ahead = _now + owed
             due = _horizon if _horizon < _timer_due else _timer_due
+            if threads is not None:  # (another thread's wake: it takes its turn then)
+                wake = threads.next_wake()
+                if wake < due:
+                    due = wake
             if ahead >= due:
                 observe()
             elif _b_owed >= 0 and due < FOREVER_US and owed - _b_owed > due - ahead:
@@ -1786,3 +1790,5 @@ def finish(kind, code=0, text=None):
         _link.close()  # Ctrl-C works again before the host sees EXIT
     send(F.EXIT, F.pack_exit(now(), kind, code))
     _link.flush()
+    if _Link.threads is not None:  # (the firmware's other threads end with it: _hilthread.end)
+        _Link.threads.end()

@@ -13,11 +13,11 @@
 # the same seed gives the same trace. Callbacks (IRQ handlers, Timers) run in whichever
 # thread moves the clock, at their instants, as before.
 import sys
+from _thread import allocate_lock as _new_lock
+from _thread import get_ident  # noqa: F401  (the board's _thread.get_ident)
+from _thread import start_new_thread as _start_real
 
 import _hil
-from _thread import allocate_lock as _new_lock
-from _thread import get_ident
-from _thread import start_new_thread as _start_real
 
 # (the unix port's _thread itself is not kept here: a firmware reaches this module as its
 # _thread, and the host's module stays out of its reach, hil_tests/test_board_flash.py)
@@ -50,6 +50,9 @@ def _start():
     _hil._Link.threads = sys.modules[__name__]
 
 
+_ending = False  # the firmware has ended (end()): a thread given the baton back unwinds
+
+
 def _hand(to):
     """The baton to `to`; the caller blocks until it comes back (unless it has ended)."""
     global _running
@@ -59,6 +62,24 @@ def _hand(to):
     to.gate.release()
     if not me.done:
         me.gate.acquire()
+        if _ending:
+            raise SystemExit
+
+
+def end():
+    """The firmware ended (its main program returned, raised or reset): the threads still
+    waiting for the baton unwind and end, as the process ends (the unix port would cancel
+    them, pthread_cancel, which this build's libc cannot do quietly). Each is woken in turn
+    and waited for (a short while of the wall's time)."""
+    global _ending
+    _ending = True
+    for t in _threads[1:]:
+        if not t.done:
+            t.gate.release()
+            for _ in range(200):
+                if t.done:
+                    break
+                _hil._rtime.sleep_ms(1)
 
 
 def _ready(me):
@@ -79,6 +100,15 @@ def _first_wake(me):
         if t is not me and not t.done and t.wake is not None and (best is None or t.wake < best.wake):
             best = t
     return best
+
+
+def next_wake():
+    """The first wake of the threads that wait (FOREVER_US: none)."""
+    t = _hil.FOREVER_US
+    for th in _threads:
+        if th is not _running and not th.done and th.wake is not None and th.wake < t:
+            t = th.wake
+    return t
 
 
 def wait(t_target, watch):
@@ -129,20 +159,28 @@ def block():
 def _body(me, function, args, kwargs):
     me.gate.acquire()  # (the baton, from _hand)
     try:
+        if _ending:
+            raise SystemExit
         function(*args, **kwargs)
     except SystemExit:
         pass
     except Exception as e:
         print("Unhandled exception in thread started by %r" % (function,))  # (py/modthread.c, on the console)
-        sys.print_exception(e)
+        sys.modules.get("sys", sys).print_exception(e)  # (the board's: the firmware's frames only)
     finally:
         me.done = True
-        other = _ready(me) or _first_wake(me)
-        if other is not None:
-            _hand(other)
-        else:  # (nothing else left: the main program ended, its EXIT sent)
-            global _running
-            _running = None
+        if not _ending:  # (the firmware ended: the thread ends with it, handing nothing on)
+            _pass_on(me)
+
+
+def _pass_on(me):
+    """A thread ended: the baton to the next that may run, or the first to wake."""
+    global _running
+    other = _ready(me) or _first_wake(me)
+    if other is not None:
+        _hand(other)
+    else:  # (nothing else left: the main program ended, its EXIT sent)
+        _running = None
 
 
 def start_new_thread(function, args, kwargs=None):

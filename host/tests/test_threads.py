@@ -21,7 +21,9 @@ def test_threads_interleave_at_their_instants_share_locks_and_report_their_failu
     assert grows, f"expected the busy thread to run between the main's sleeps, its passes seen {seen} {where}"
     # a lock held across a 20 ms sleep: the main program gets it when the thread lets go
     lock = r["lock"]
-    assert lock[0] == ("held", 0) and ("main got it", 20) in lock, f"expected the lock taken at 20 ms, got {lock} {where}"
+    assert lock[0] == ("held", 0) and ("main got it", 20) in lock, (
+        f"expected the lock taken at 20 ms, got {lock} {where}"
+    )
     assert "Unhandled exception in thread started by <function fails" in rig.console, where
     assert "ValueError: from the thread" in rig.console and r["after_failure"] is True, where
 
@@ -30,3 +32,11 @@ def test_the_same_seed_gives_the_same_trace_with_threads(run_case):
     a, _ = run_case("threads", 0.3)
     b, _ = run_case("threads", 0.3)
     assert a.trace_digest == b.trace_digest, f"expected one trace, got two ({a.artefacts}, {b.artefacts})"
+
+
+def test_a_firmware_that_ends_with_a_thread_still_running_ends_cleanly(run_case):
+    """The thread ends with the firmware (as the process ends), quietly: no libc complaint
+    on the console, no hang."""
+    rig, r = run_case("threads_left", 0.1)
+    assert r.get("done") is True, f"expected the firmware to end, console: {rig.console!r}"
+    assert "pthread" not in rig.console and "Traceback" not in rig.console, rig.console
