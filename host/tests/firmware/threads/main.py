@@ -1,8 +1,7 @@
 # Two threads as a kit's demos use them (Pololu's line_follower.py: a fast loop on the second
 # core, the display and the buttons on the first), on one virtual clock.
-import time
-
 import _thread
+import time
 from machine import Pin
 
 led = Pin(2, Pin.OUT)

@@ -1,7 +1,6 @@
 # The main program ends while a thread still runs (its loop sleeps 5 ms a pass).
-import time
-
 import _thread
+import time
 
 
 def loop():
