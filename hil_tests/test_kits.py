@@ -335,3 +335,18 @@ def test_3pi_yellow_led_and_button_a_share_gp25_as_on_the_robot(capsys, make_rig
         assert level == (0 if on else 1) and lit == int(on), f"LED step {step}: {steps}; {where()}"
         assert pressed == int(120 <= ms < 220), f"button A at {ms} ms: {steps}; {where()}"
     assert [s[2] for s in steps] == [0, 0, 0, 1, 1, 0, 0, 0], f"pressed at 160 and 210 ms: {steps}; {where()}"
+
+
+def test_3pi_yellow_led_dimmed_by_a_pwm_on_gp25_beside_button_a(capsys, make_rig, tmp_path):
+    """Pololu's splash loader fades the yellow LED with PWM(YellowLED().pin) on GP25, the line
+    button A shares: the rig takes the PWM (it was refused as a second driver of the button's
+    line), the LED is lit while the PWM holds the line low most of the time, and the pin
+    drives it again after the PWM's deinit."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_led_pwm")
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    lit = []
+    for expected in (r"R pwm 0 60000", r"R pwm 1 5000", r"R pin 1"):
+        rig.expect(expected)
+        lit.append(rig.truth()["button_a_led"])
+    assert lit == [0, 1, 0], f"expected the LED off at 92 % duty, lit at 8 %, off driven high: {lit}; {where()}"

@@ -187,6 +187,7 @@ class PwmPeripheral(Peripheral):
 
     kind = F.CFG_PWM
     name = "pwm"
+    lets_go = True  # (on a shared line: an LED beside a button, the 3pi+ 2040's GP25; deinit lets it go)
 
     def refuse(self, mode, pin, board_name, signal, sensor):
         return _drives(pin, signal, board_name)
@@ -208,6 +209,10 @@ class PwmPeripheral(Peripheral):
         duty = value if attr == F.OUT_DUTY else 0  # (deinit: the line held low)
         if sig_kind == F.SIG_PWM:  # the plant takes the waveform
             outputs.plant.set_pwm(signal, info.freq, duty)
+        elif sig_kind == F.SIG_LEVEL and signal in outputs.wiring.shared:
+            # a line a part drives too (a button's, with an LED on it): the level the PWM holds
+            # it at most of the time (an LED dimmed by it is lit or not, to this model)
+            outputs.plant.set_input(signal, 1 if duty >= 32768 else 0)
         else:
             outputs.plant.set_input(signal, duty)
 
