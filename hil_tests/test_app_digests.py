@@ -128,6 +128,10 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # All pinned again on 1.25 to 1.28 when a pin's CFG came to be stamped after the compute
     # before it, as an output is (docs/mcu-time.md, "Charging"): every app configures its pins
     # after some compute. The free digests (DIGESTS) did not move.
+    # And again when the board's _thread came to be imported only when the firmware imports
+    # it (before, at the confinement: a board of 16K could not compile its main.py): the
+    # shim's sys.modules holds one module fewer, and the firmware's imports grow it at other
+    # points, allocations a board's import makes too (its sys.modules is the firmware's).
     # The rover's and the duct robot's bench were recorded once the collector was modelled on the
     # board's heap and a growth counted the same moved or not (docs/mcu-time.md, "The collector's
     # pause"): the same in a checkout at any path (host/tests/test_mcu_heap.py). A change to the
@@ -136,23 +140,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # check, at the firmware's branches; a wait serves while the callbacks' compute is within it)
     # and the shim's modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
     # Every other app's worlds recorded beside them (MCU_SECONDS long), on the same tree.
-    ("rover", "room", 11): "a3fda950ca280f93726122c74b8a1d1e0e36febff0683dca0917a26d4b3b8b6a",
-    ("rover", "long-room", 11): "b5aef6ff5a616e612f902015d809c3d8b1beb2c0aba3fc16002ed6bb96a490ea",
-    ("rover", "small-room", 11): "33ac4c8e644ab624884ae39bc68c72adad7060a38dbd7c9b794b4062912f75c5",
-    ("vacuum", "vacuum-room", 11): "77e7c8433b86f84562e34afbb35d3e9d815ae2d7b875fa694c46ebcd67d64e73",
-    ("vacuum", "open-floor", 11): "a178c7cea1025062ddb23b15cf18d449cdf4796722392c51584b32b49debc649",
-    ("lab_robot", "arena", 11): "e9024679952bb879fbf35ec2bd0f69e7d23bb9008183396194c92e00167eea4d",
-    ("lab_robot", "arena-noisy", 11): "c32507ca3621f8da03e7b6da3f87b477bc54ea822a22f56718d4a79c3b4bf992",
-    ("lab_robot_canyon", "canyon", 11): "62a44ba16574eb0046226a0e0c5e507184603397c135dc9d1ccccfa72f4cbe59",
-    ("lab_robot_canyon", "canyon-noisy", 11): "ffe19753c7b758b82de144358cfeda532927d2fc076157fbcf4314d0e9396dac",
-    ("pico_bot", "box-ahead", 11): "61135ac70094f0de922196e25eb3682473effae903a71e153d9ac1f4586478a1",
-    ("pico_bot", "open-room", 11): "05dec918a1b9ebe006f072756e4e6497fb3ac958db587a730ed76496fbc959b8",
-    ("pool_cleaner", "default", 1): "fc556e2aa4ec281a26bec4a576760df8dc6fa46518e0900bff8f222f4841579a",
-    ("pool_cleaner_adc", "default", 1): "622ef4667d8b828517af9f2678451e124b458db25247e54b10b97e9e34570e1b",
-    ("duct", "one-right-branch", 1): "d0e288685e723d43f8d5690ab71b73eccb3d383987288e0ba7cd6185d9f52a11",
-    ("duct", "multi-branch", 2): "90bc305470a609d23ce05d7bbd3aa1811460955abae0b08eac430c82d9c62e8e",
-    ("duct", "straight", 3): "ecae9997c49ae93353ea2d08d0d642f7da371ec66c66ba40b223af92a12146cc",
-    ("duct", "bench", 1): "1bee210359d9640640bd5d140314369cdda18b602c363a1fd9d9b4c03ebc97e9",
+    ("rover", "room", 11): "6ff5900c28bf0ec833a0a012e42ca62cc33267905d6a533411da2fb2b127399e",
+    ("rover", "long-room", 11): "94590087b8dddd90253132853d3f3795a3934c3bbb5158dbfc09993601ce1c68",
+    ("rover", "small-room", 11): "9c5db7469808a64a9525db678aa905dd718a0497bf31eb8658264a4624d35846",
+    ("vacuum", "vacuum-room", 11): "c8c35931b4acdb50ed988fd55c5e719edc1ae630d21c02ab0a27db04e60e3e23",
+    ("vacuum", "open-floor", 11): "b9b4dd2ddf7559b9f80d8b72f92865a3c73eaa1abd253b7f2f1acfc075942af6",
+    ("lab_robot", "arena", 11): "3d4d5f09b5b0a3a012981cd53e8045dc4a328e87975e5e1823e853e4c9cc7460",
+    ("lab_robot", "arena-noisy", 11): "73c13a413b869aa75623d49fe1684a0cf1ade3aaa316c96ede82e2c14ef2a4cf",
+    ("lab_robot_canyon", "canyon", 11): "5acd0948f3eef948558448a81a90bfbc656ab35ce260af994e9030b0d5c7a1ed",
+    ("lab_robot_canyon", "canyon-noisy", 11): "ad1a005e6c9d810293a5229618a5b3b6e875fa7fdd89468aca8697abc919afe7",
+    ("pico_bot", "box-ahead", 11): "534536be1c0a458b34c1cfff3cd9e521c575a07ed13e0b6a282e4eb79e834ef0",
+    ("pico_bot", "open-room", 11): "4fd7bdb28188e24fc8c7fda57f7f91d734cfea911595b92eff0968bb521ce7cb",
+    ("pool_cleaner", "default", 1): "cfce4544f51563b55de6bf3d603bf33aff6af16dbdceaef7ad5f8bfe2bf1a428",
+    ("pool_cleaner_adc", "default", 1): "4005f044c9e946788b98ee45b56c8c0c55496443b5d50e304cf763a329b0e7a3",
+    ("duct", "one-right-branch", 1): "4ec18f46172897ce3a04622bd0caa08807fec58c5e075023bf42e29d8ccfd968",
+    ("duct", "multi-branch", 2): "bcf33582de319b4cf7339d90f75867aae11aadd1481cd05f0a25da55c9c71a59",
+    ("duct", "straight", 3): "4bf6053ecc7d6bb38b57d4e98de38aa36fd5ee014ba9b4a3983dca7de2e171b5",
+    ("duct", "bench", 1): "c672c95584ef5558054ae4db7f2828b6b536d5cfe849af4ac1925cac27436d02",
 }
 # (The duct robot's four re-recorded on 1.25, 1.26, 1.27 and 1.28 when the finalisers the interpreter's collector
 # runs stopped counting as the firmware's work and the board's collector counted the firmware's
@@ -163,23 +167,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
 # gc and vfs: docs/shim.md): the firmware's globals, and so its heap, as a board's.
 # pico_bot's, on the `pins` board of no family, did not move.)
 MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-version 1.26)
-    ("rover", "room", 11): "0c61581b7ad08d54b297506ba3583e3edd1e062f896f20331c5941ff8d8d69a6",
-    ("rover", "long-room", 11): "05d6bf2835b2aa7d1f658c56c821e67057f000e1c95a8a042a1dfd687d96552e",
-    ("rover", "small-room", 11): "3a1bdf3d78c3efbe13093a164f26c7a31b6aa45446debc40a0c62251e9d1b7f3",
-    ("vacuum", "vacuum-room", 11): "ed7ef452f251a8f9185931df22625b90bb34cc42cde399c26d1bf5026a02f3a0",
-    ("vacuum", "open-floor", 11): "7ede28f009f6ff3bc8afd1499fa208396fae601add9774f86e82fcca82ce145f",
-    ("lab_robot", "arena", 11): "57118457d5c3f6075111e923f8dd4a13f1959fceb30c38dc1a81bb2035daaf19",
-    ("lab_robot", "arena-noisy", 11): "f7fd38f407d16a6c46660d1f53e375c2d06aa9d88774cfea27f6778d97c402d9",
-    ("lab_robot_canyon", "canyon", 11): "49512b30a8d47fb77aa8c70c56d3780e38b36224fa32eea08c95161ca07fdbfb",
-    ("lab_robot_canyon", "canyon-noisy", 11): "fc1e9f6e9d6c91d8c35f1e11b3836cce1ee16c5e6a139a48936a2b04cd9d9cdd",
-    ("pico_bot", "box-ahead", 11): "61135ac70094f0de922196e25eb3682473effae903a71e153d9ac1f4586478a1",
-    ("pico_bot", "open-room", 11): "05dec918a1b9ebe006f072756e4e6497fb3ac958db587a730ed76496fbc959b8",
-    ("pool_cleaner", "default", 1): "02643530bf17df0816f104d9e938edf106802e66380ce3d583410b0b34f54ef8",
-    ("pool_cleaner_adc", "default", 1): "616fb98598302fc19b893f2a41919150a2547dc7af4ab4c7c70ca6527f54c102",
-    ("duct", "one-right-branch", 1): "e0ff683786f1784482ecfb11dd6d916ede19a41c5c4cdd89afea4f30f41ef2ae",
-    ("duct", "multi-branch", 2): "1a3455d45533b38c69a0ebab391057ec9118c88fcf5c0c62b2d4f302a968aac4",
-    ("duct", "straight", 3): "c20a502991102b2ef728cee81e4d4274ec8a1ac8ded062e5bae1ca46ea47d78b",
-    ("duct", "bench", 1): "f44fd090c51d97b9f42e956996c631464c9b02b509f24329679951bfaf2969e0",
+    ("rover", "room", 11): "546764205144da67ee2d58d5c66fc19aae9fc73cff9c43a3d99f0800bdefbd52",
+    ("rover", "long-room", 11): "f9e07e250fbbb6e1280197e55d231fc93c7ee60d71b6b67d575edbad5c8b8a65",
+    ("rover", "small-room", 11): "53ffdcb22d4f2fbb495521c644f60876b54da6b431348165d1e7824a1c686ccb",
+    ("vacuum", "vacuum-room", 11): "1072755484fb71cd4837988a6a82d4ec70caf3bfa2acd5e477be849b71dd494d",
+    ("vacuum", "open-floor", 11): "3601467ea0a147f507097538b447f5a1d4772dec0514df385ebfd4c74aff8bc7",
+    ("lab_robot", "arena", 11): "3d0d6bec02848c248f69e48ab3f4422ca835db69a41515e006015301e0615edc",
+    ("lab_robot", "arena-noisy", 11): "19fc8ba4efdd52b6a99de47d5490c81110aa222e55d663344ec69b907d6fbe7c",
+    ("lab_robot_canyon", "canyon", 11): "140e355d5465dfa5ec02f574b0824c8161f02a7922ae1721aed9ab41562cf8ad",
+    ("lab_robot_canyon", "canyon-noisy", 11): "b71b71b963f5621dabf813e35e28802f735c070d646459429dac30de56a41620",
+    ("pico_bot", "box-ahead", 11): "534536be1c0a458b34c1cfff3cd9e521c575a07ed13e0b6a282e4eb79e834ef0",
+    ("pico_bot", "open-room", 11): "4fd7bdb28188e24fc8c7fda57f7f91d734cfea911595b92eff0968bb521ce7cb",
+    ("pool_cleaner", "default", 1): "07be660ef53de9d8c1fc6183185eec7605dcabe9e76d6e7162f3cfb8ec0fc5da",
+    ("pool_cleaner_adc", "default", 1): "8586ff1b25606111ef1147048f850b49fda58540f4060c6f14e41c9873eb40ab",
+    ("duct", "one-right-branch", 1): "43dfc528671ef4a0c7d531dea78ff1369f43e02b4ea11db42305e5d695b49360",
+    ("duct", "multi-branch", 2): "8da67565ba9cd3783bbb2a2433c3855cf24bfff15c75c45f0f005b9872189767",
+    ("duct", "straight", 3): "1c0c91169f7b4b40093ce36a7d5faf5163e9d6978d948ceac5132ef89aad64e4",
+    ("duct", "bench", 1): "4d6358e27d49ce93faf5dca44d8456b186ccb149533d3cd94b4805f9320c8657",
 }
 # (The duct robot's multi-branch run with MCU time was pinned again when the shim's bus images
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
@@ -196,10 +200,10 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
     "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
     "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
         **MCU_DIGESTS_1_26,
-        ("duct", "one-right-branch", 1): "5bf7fd02a36dbf650c520edbf2f487345179cf8ddf3220730805692988eecac4",
-        ("duct", "multi-branch", 2): "b80b45e65c6ebbd1101c1e73b84cbcbb4f348d18032fa1542ea8c029293295ef",
-        ("duct", "straight", 3): "b1073131be96a25bc0638d982ee98fa531218bc21bdfcc0e861b011f2866bd39",
-        ("duct", "bench", 1): "b7255f2d12768ba687df352543677b3f3882364ab8cba16239035cf3fb48574d",
+        ("duct", "one-right-branch", 1): "9ce27e80cff58c480d3dd64e733631c2f8c99b74c3ebd5c023ad8a5e85d932e2",
+        ("duct", "multi-branch", 2): "2c03a637b958d665d53bdf373f9fc9668ae19d33905162afa2e048367bee1d71",
+        ("duct", "straight", 3): "0867be75cd3f8565433925976a2242c936f8150e35c4569a59abb9076d051545",
+        ("duct", "bench", 1): "8233ea2c0cb21b3db20e9b35b9a2f8260ddbed828f7931d85c393427345dbc72",
     },
 }
 

@@ -291,6 +291,7 @@ class _Link:
     ahead = False  # since the last STATE the host's plant may be past this clock
     thread = main_thread = None  # _thread.get_ident and the firmware's thread (start())
     threads = None  # _hilthread once the firmware has started a thread of its own (the board's _thread)
+    thread_api = None  # the unix port's allocate_lock and start_new_thread, for _hilthread (_hilconfine)
     branches = None  # _branches, while _hilfast.branches calls it
     callbacks = 0  # IRQ handlers and Timer callbacks run so far (a light sleep's wake)
     # The scheduler's queue holds at most this many soft callbacks (MICROPY_SCHEDULER_DEPTH:

@@ -75,13 +75,20 @@ def _absolute_name(name, level, importer):
     return current[:end] + "." + name if name else current[:end]
 
 
-def _board_import(real, blocked, shim_first, shim_entry):
+def _board_import(real, blocked, shim_first, shim_entry, aliases=None):
     dotted = tuple(name + "." for name in blocked)
+    aliases = aliases or {}  # a board's module (its name) the shim's module of another name stands in for
 
     def absolute(name, globals=None, locals=None, fromlist=(), level=0):
         # (allocates nothing on the way to an allowed module: imports run under heap_lock too)
         if name in blocked:
             raise ImportError("no module named '%s'" % name)
+        if name in aliases and name not in sys.modules:
+            sys.path.insert(0, shim_entry)
+            try:
+                sys.modules[name] = real(aliases[name], None, None, (), 0)
+            finally:
+                sys.path.pop(0)
         for prefix in dotted:
             if name.startswith(prefix):
                 raise ImportError("no module named '%s'" % name)
@@ -215,9 +222,16 @@ def confine(settings, shim_dir):
         import _hilsocket as board_socket
     # An rp2 or ESP32 board has _thread (its second core, FreeRTOS tasks): the board's,
     # on the one virtual clock (_hilthread), unless the rig file allows the host's by name.
-    board_thread = None
+    # (imported only when the firmware imports _thread: until then it takes none of the heap;
+    # the unix port's functions it needs are kept now, before the host's module goes)
+    aliases = {}
     if _threads_port() and "_thread" not in allowed:
-        import _hilthread as board_thread
+        import _thread
+
+        import _hil
+
+        _hil._Link.thread_api = (_thread.allocate_lock, _thread.start_new_thread)
+        aliases["_thread"] = "_hilthread"
     board_open = _board_open(builtins.open)
     real_io = _builtin("io")
     board_io = _without(real_io, ("open",))
@@ -232,10 +246,10 @@ def confine(settings, shim_dir):
         if not any(_module_file(p, "socket") for p in [fw_root] + fw_libs):
             sys.modules["socket"] = board_socket
         blocked = tuple(m for m in blocked if m not in ("socket", "usocket"))
-    if board_thread is not None:
-        sys.modules["_thread"] = board_thread
-        blocked = tuple(m for m in blocked if m != "_thread")
-    builtins.__import__ = _board_import(builtins.__import__, blocked, _shim_first, shim_entry)
+    if aliases:
+        sys.modules.pop("_thread", None)
+        blocked = tuple(m for m in blocked if m not in aliases)
+    builtins.__import__ = _board_import(builtins.__import__, blocked, _shim_first, shim_entry, aliases)
 
 
 def _threads_port():

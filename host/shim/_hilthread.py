@@ -13,14 +13,14 @@
 # the same seed gives the same trace. Callbacks (IRQ handlers, Timers) run in whichever
 # thread moves the clock, at their instants, as before.
 import sys
-from _thread import allocate_lock as _new_lock
-from _thread import get_ident  # noqa: F401  (the board's _thread.get_ident)
-from _thread import start_new_thread as _start_real
 
 import _hil
 
 # (the unix port's _thread itself is not kept here: a firmware reaches this module as its
-# _thread, and the host's module stays out of its reach, hil_tests/test_board_flash.py)
+# _thread, and the host's module stays out of its reach, hil_tests/test_board_flash.py; its
+# two functions are kept by the confinement before it goes, _hilconfine)
+_new_lock, _start_real = _hil._Link.thread_api
+get_ident = _hil._Link.thread
 
 SLICE_US = 1_000  # a busy thread's turn, in virtual time, while another could run
 

@@ -84,12 +84,20 @@ SPINS = (
 )
 
 
+BRANCH_HOOK = ("_branches", "_spin_told")
+"""The shim's functions the VM's branch hook runs inside the firmware's own loop (_hil): a
+stack interrupted in them is the firmware's loop's."""
+
+
 def spins_in_own_code(stack: str) -> bool:
-    """The interrupted firmware's innermost frame is its own code, not the shim's (a board's C)."""
-    frames = re.findall(r'File "([^"]+)", line \d+', stack)
+    """The interrupted firmware's innermost frame is its own code, not the shim's (a board's C);
+    the branch hook's frames on top of it (BRANCH_HOOK) do not count."""
+    frames = re.findall(r'File "([^"]+)", line \d+, in (\S+)', stack)
+    while frames and frames[-1][1] in BRANCH_HOOK:
+        frames.pop()
     if not frames:
         return False
-    folder = Path(frames[-1]).parent
+    folder = Path(frames[-1][0]).parent
     return folder != SHIM_DIR and folder.parent.name != "shim"  # (the shim, or its compiled copy: build/shim/<key>/)
 
 
