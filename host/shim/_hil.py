@@ -847,9 +847,7 @@ def _branches():
     global _b_now, _b_spin, _b_owed, _b_window, _b_since, _b_looks, _b_told, _b_syncs
     window = BRANCHES
     owing = _Console.owing
-    threads = _Link.threads
-    if threads is not None:
-        threads.tick()
+    threads = _Link.threads  # (their turns: observe's tick, at a read or a look below)
     if _Link.syncs != _b_syncs:  # (the host heard from the board: an exchange)
         _b_syncs, _b_told = _Link.syncs, _rtime.ticks_ms()
     elif _rtime.ticks_diff(_rtime.ticks_ms(), _b_told) >= ALIVE_MS and _now > _b_told_at:
@@ -868,10 +866,10 @@ def _branches():
             owed = owing() + _Console.debt_ns // 1000
             ahead = _now + owed
             due = _horizon if _horizon < _timer_due else _timer_due
-            if threads is not None:  # (another thread's wake: it takes its turn then)
-                wake = threads.next_wake()
-                if wake < due:
-                    due = wake
+            if threads is not None:  # (another thread's wake or turn: it runs then)
+                turn = threads.due()
+                if turn < due:
+                    due = turn
             if ahead >= due:
                 observe()
             elif _b_owed >= 0 and due < FOREVER_US and owed - _b_owed > due - ahead:

@@ -29,21 +29,20 @@ _running = None  # the one holding the baton
 
 
 class _Thread:
-    __slots__ = ("gate", "wake", "done", "name", "since")
+    __slots__ = ("gate", "wake", "done", "since")
 
-    def __init__(self, name):
+    def __init__(self):
         self.gate = _new_lock()  # held while the thread waits for the baton
         self.gate.acquire()
         self.wake = None  # None: ready to run; else the virtual instant it waits for
         self.done = False
-        self.name = name
         self.since = 0  # when it last got the baton
 
 
 def _start():
     """The first thread started: the main program becomes one of the firmware's threads."""
     global _running
-    main = _Thread("main")
+    main = _Thread()
     main.since = _hil._now
     _threads.append(main)
     _running = main
@@ -102,12 +101,16 @@ def _first_wake(me):
     return best
 
 
-def next_wake():
-    """The first wake of the threads that wait (FOREVER_US: none)."""
-    t = _hil.FOREVER_US
-    for th in _threads:
-        if th is not _running and not th.done and th.wake is not None and th.wake < t:
-            t = th.wake
+def due():
+    """When the running thread is to let another run (tick): the first wake of those that
+    wait, or the end of its turn while another is ready (FOREVER_US: never). MCU time's
+    looks (_hil._branches) charge a compute that reaches it, so a thread that only computes
+    takes its turn too."""
+    me = _running
+    later = _first_wake(me)
+    t = later.wake if later is not None else _hil.FOREVER_US
+    if _ready(me) is not None and me.since + SLICE_US < t:
+        t = me.since + SLICE_US
     return t
 
 
@@ -190,7 +193,7 @@ def start_new_thread(function, args, kwargs=None):
         raise TypeError("expecting a dict")
     if not _threads:
         _start()
-    me = _Thread(getattr(function, "__name__", "thread"))
+    me = _Thread()
     _threads.append(me)
     return _start_real(_body, (me, function, args, kwargs or {}))  # (the new thread's id)
 
