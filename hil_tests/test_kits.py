@@ -312,6 +312,25 @@ print("names", sys.implementation._machine, Pin("MOTOR_L_IN_1"), Pin("ML_IN_1"),
     assert got == want, f"console:\n{rig.console}"
 
 
+def test_3pi_names_itself_as_its_board_definition_does(capsys, make_rig, tmp_path):
+    """ports/rp2/boards/POLOLU_3PI_2040_ROBOT/mpconfigboard.h sets MICROPY_BANNER_MACHINE to
+    the board's name, so sys.implementation._machine has no " with RP2040"; its pins by number
+    up to the RP2040's 30 and the platform rp2 all the same."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_led_button")
+    (folder / "main.py").write_text(
+        """import sys
+from machine import Pin
+
+cpus = sum(1 for n in range(64) if hasattr(Pin.cpu, "GPIO%d" % n))
+print("names|%s|%s|%d" % (sys.platform, sys.implementation._machine, cpus))
+"""
+    )
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    line = rig.expect(r"names\|(.*)\n").group(1)
+    want = "rp2|Pololu 3pi+ 2040 Robot|30"
+    assert line == want, f"expected {want}, got {line!r}; console:\n{rig.console}"
+
+
 def test_3pi_yellow_led_and_button_a_share_gp25_as_on_the_robot(capsys, make_rig, tmp_path):
     """The yellow LED driven as an output on GP25 (blink.py, gyro_turn.py: Pin(25, Pin.OUT))
     and button A read through the IO_BANK0 override on the same pin: the rig accepts the

@@ -224,6 +224,9 @@ def test_the_rig_file_names_the_cpu_or_gets_its_familys(tmp_path, monkeypatch):
     monkeypatch.setattr(mcutime, "DEFAULT_ON", True)
     assert cpu_of('family = "rpi_pico"') == "rp2040@125MHz"
     assert cpu_of('family = "rpi_pico2"') == "rp2350@150MHz"
+    # (the 3pi+'s _machine is its board's name alone, "Pololu 3pi+ 2040 Robot": its chip from a table)
+    assert cpu_of('family = "pololu_3pi_2040_robot"') == "rp2040@125MHz"
+    assert cpu_of('family = "sparkfun_xrp_controller"') == "rp2350@150MHz"
     assert cpu_of('family = "esp32"\ncpu = "free"') == "free"
     with pytest.raises(ConfigError, match=r"\[board\] cpu.*expected one of rp2040@125MHz.*got 'rp2040'"):
         cpu_of('cpu = "rp2040"')

@@ -15,10 +15,11 @@ IDENTITIES = {
     "rpi_pico2": ("rp2", "Raspberry Pi Pico2 with RP2350"),
     "rpi_pico": ("rp2", "Raspberry Pi Pico with RP2040"),
     # kits' boards: MICROPY_HW_BOARD_NAME of ports/rp2/boards/<BOARD>/mpconfigboard.h, " with ",
-    # the chip (their pin names: host/shim/_hilboards.py)
+    # the chip (their pin names: host/shim/_hilboards.py), or the name alone where the board
+    # sets MICROPY_BANNER_MACHINE to it (its chip then in host/rig/targets/mcutime.py BANNER_CHIPS)
     "sparkfun_xrp_controller_beta": ("rp2", "SparkFun XRP Controller (Beta) with RP2040"),
     "sparkfun_xrp_controller": ("rp2", "SparkFun XRP Controller with RP2350"),
-    "pololu_3pi_2040_robot": ("rp2", "Pololu 3pi+ 2040 Robot with RP2040"),
+    "pololu_3pi_2040_robot": ("rp2", "Pololu 3pi+ 2040 Robot"),
 }
 
 

@@ -62,12 +62,23 @@ not yet (17 app tests fail with it: figures pinned on a free CPU, and findings a
 apps' firmware, docs/mcu-time.md, "Our apps with MCU time on"); until then it gets "free"."""
 
 
+BANNER_CHIPS = {"Pololu 3pi+ 2040 Robot": "RP2040"}
+"""The chip of a board whose _machine names none (ports/rp2/boards/POLOLU_3PI_2040_ROBOT/
+mpconfigboard.h: ``#define MICROPY_BANNER_MACHINE MICROPY_HW_BOARD_NAME``, 1.25 to 1.28)."""
+
+
+def chip_of(machine: str) -> str:
+    """The chip a board's ``sys.implementation._machine`` names ("... with RP2040"), or its
+    :data:`BANNER_CHIPS` entry, else the whole name; upper-case."""
+    return BANNER_CHIPS.get(machine, machine).rsplit(" with ", 1)[-1].upper()
+
+
 def family_cpu(identity: tuple[str, str] | None) -> str:
     """The CPU of a board's family (:data:`FAMILY_CPU`, by the chip its identity names), or
     "free" when none is known."""
     if not identity:
         return FREE
-    chip = identity[1].rsplit(" with ", 1)[-1].upper()
+    chip = chip_of(identity[1])
     return next((cpu for name, cpu in FAMILY_CPU.items() if chip.startswith(name)), FREE)
 
 
