@@ -823,6 +823,13 @@ def observe():
 _observe_free = observe
 
 
+def pay_cpu():
+    """MCU time: the main program's compute so far paid, as before a clock read (the callbacks
+    due within it run); nothing without MCU time."""
+    if _Console.cpu is not None and not _dispatching and _charge_cpu():
+        _released_run_until(_now, None)
+
+
 def _observe_mcu():
     """observe() with MCU time (cpu_start puts it in observe's place, so that the clock
     reads of a run without it check nothing more): the compute before the read is paid

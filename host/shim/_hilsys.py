@@ -45,6 +45,7 @@ class _Unset:
 
 _UNSET = _Unset()  # an argument print() was not given
 _said = _print = None  # the shim's hook and the built-in print (install)
+before_print = None  # with the firmware's threads: _hilthread.look, the other threads' turn first
 _counting = False  # print() costs the console UART's time: count what it writes
 
 
@@ -53,6 +54,8 @@ def _board_print(a=_UNSET, b=_UNSET, c=_UNSET, d=_UNSET, e=_UNSET, f=_UNSET, *mo
     # not *args (a tuple per call), and no closure (one allocates for five arguments or more):
     # up to six items print under micropython.heap_lock(), as the built-in does on a board.
     out = _sys.stdout if file is None else file
+    if before_print is not None:
+        before_print()
     if more:
         _print(a, b, c, d, e, f, *more, sep=sep, end=end, file=out)
     elif f is not _UNSET:

@@ -47,6 +47,20 @@ def _start():
     _threads.append(main)
     _running = main
     _hil._Link.threads = sys.modules[__name__]
+    import _hilsys
+
+    _hilsys.before_print = look
+
+
+def look():
+    """Before the firmware prints: its compute so far paid (MCU time), then tick(). On a board
+    the other core ran meanwhile: a thread whose wake came during that compute prints first,
+    and what it set is there when the printing thread goes on (Pololu's line_follower.py
+    prints the list its second thread fills, then reads it)."""
+    if _hil._dispatching:
+        return
+    _hil.pay_cpu()
+    tick()
 
 
 _ending = False  # the firmware has ended (end()): a thread given the baton back unwinds

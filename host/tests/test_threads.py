@@ -3,6 +3,8 @@ virtual clock (host/shim/_hilthread.py, docs/shim.md "Threads"): the firmware's 
 turns, at their waits and every millisecond of a busy one, so each sees the others' work at
 its virtual instant, and the same seed gives the same trace."""
 
+import pytest
+
 
 def test_threads_interleave_at_their_instants_share_locks_and_report_their_failures(run_case):
     rig, r = run_case("threads", 0.3)
@@ -40,3 +42,24 @@ def test_a_firmware_that_ends_with_a_thread_still_running_ends_cleanly(run_case)
     rig, r = run_case("threads_left", 0.1)
     assert r.get("done") is True, f"expected the firmware to end, console: {rig.console!r}"
     assert "pthread" not in rig.console and "Traceback" not in rig.console, rig.console
+
+
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
+def test_a_thread_whose_wake_comes_during_the_main_programs_compute_runs_before_its_print(run_case, monkeypatch, cpu):
+    """On a board the second core runs while the main program computes: a thread whose wake
+    comes during straight-line compute (no clock read, no loop: no look of the branch hook)
+    has run by the time the main program prints, so its print comes first and what it set is
+    there after the print (Pololu's line_follower.py reads the list its thread fills). With
+    the CPU free the main program's compute takes no time: it prints and reads at its wake,
+    before the thread's (as a board infinitely fast would)."""
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
+    rig, r = run_case("threads_print", 0.05)
+    where = f"(console: {rig.console!r}; artefacts: {rig.artefacts})"
+    printed = rig.console.index("R printed")
+    worker = rig.console.index("R worker_us")
+    if cpu == "free":
+        assert r["seen"] == [] and printed < worker, f"expected the main program first, {where}"
+        return
+    assert r["seen"] == [1, 2, 3], f"expected the thread's list after the main program's print, {where}"
+    assert worker < printed, f"expected the thread's print before the main program's, {where}"
+    assert 1050 <= r["worker_us"] <= r["main_us"], f"expected the thread at 1,050 us, then the main, {where}"
