@@ -187,3 +187,30 @@ def test_a_block_whose_changes_nobody_reads_jumps_its_periods_to_the_same_state_
     assert (state, cycle) == (kept, kept_cycle), f"expected the same end, got {state} at {cycle} against {kept}"
     assert kept_changes > 19_000 and changes < 100, f"every period's changes kept, then the last: {runs}"
     assert steps == kept_steps, f"expected the same instructions stepped, got {steps} against {kept_steps}"
+
+
+def test_a_pin_change_no_state_machine_reads_leaves_the_block_where_running_through_it_does():
+    """A servo's program beside an echo pin that it does not read (Kitronik's buggy: the
+    ranger's echo, the line sensors): its block, its events not kept, goes on from before the
+    changes to after them in one run, and ends where a run stopped at each change does (the
+    same levels, registers, FIFOs and cycle), with far fewer steps."""
+    changes = [(t, 3, (t // 700) & 1) for t in range(700, 1_000_000, 700)]  # (GP3: not the servo's)
+    runs = []
+    for at_each in (True, False):
+        block, sm = machine("servo", 1_000_000, pinctrl(side_base=15, side_count=2))
+        block.record_events = False
+        preload_isr(block, sm, 20_000 - 6 - 1498)
+        sm.tx.append(1500 - 2)
+        steps = block.steps
+        if at_each:  # (each change's instant a run of its own, as before a change was known unread)
+            for t, gpio, level in changes:
+                block.advance(t)
+                block.set_input(gpio, level)
+            block.advance(1_000_000)
+        else:
+            block.advance(1_000_000, changes)
+        state = (dict(block.levels), sm.x, sm.y, sm.isr, sm.osr, sm.pc, list(sm.tx), list(sm.rx), block.gpio_in)
+        runs.append((state, block.running[0].cycle, block.steps - steps))
+    (each, each_cycle, each_steps), (once, cycle, steps) = runs
+    assert (once, cycle) == (each, each_cycle), f"expected the same end, got {once} at {cycle} against {each}"
+    assert steps * 20 < each_steps, f"expected far fewer steps than {each_steps} in one run, got {steps}"

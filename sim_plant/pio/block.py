@@ -233,10 +233,23 @@ class PioBlock:
             if i == n:
                 break
             t_change, gpio, level = changes[i]
-            self._run_all(t_change)
+            if self.record_events or not self.pure or self._reads(gpio):
+                self._run_all(t_change)
             self.set_input(gpio, level)
             i += 1
         self._run_all(t_us)
+
+    def _reads(self, gpio: int) -> bool:
+        """Whether an active state machine may read ``gpio`` (its program's pins, or any with
+        an exec pending). One that does not goes on from before the change to after it in one
+        run, to the same state: in a pure block (:func:`pure`: no IRQ flag, no exec) nothing
+        but its FIFOs and the pins it reads moves a state machine, and with ``events`` not
+        kept no order of the state machines' drives is seen (a servo's or a LED strip's
+        program beside the ranger's echo)."""
+        for run in self.running.values():
+            if run.active and (run.sm.read_mask >> gpio & 1 or run.sm.pending_exec is not None):
+                return True
+        return False
 
     def _run_all(self, t_us: int) -> None:
         for run in self.running.values():
