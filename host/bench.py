@@ -908,7 +908,7 @@ def main(argv=None) -> int:
     print(f"  p50 {statistics.median(raw_before):.1f} us, p99 {percentile(raw_before, 99):.0f} us")
     print(f"core loop benchmark: rover firmware, {args.sim_minutes:g} simulated minutes, 50 ms control quanta")
     rover = bench_rover(args.sim_minutes * 60)
-    ping = bench_ping(2.0)
+    ping, ping_taken = bench_ping(2.0)
     duct = bench_duct()
     encoders = None if args.no_encoders else bench_encoders(per_edge=args.per_edge_encoders)
     imu = None if args.no_imu else bench_imu()
@@ -933,6 +933,11 @@ def main(argv=None) -> int:
         f"  link round trip (STATE -> WAIT, pin-toggling firmware, {len(ping)} exchanges): p50 {p50:.0f} us "
         f"({ratio(p50, raw_us)}; target <= {STATE_WAIT_TARGET:g}x), p99 {percentile(ping, 99):.0f} us, "
         f"mean {statistics.fmean(ping):.0f} us"
+    )
+    taken = percentile(ping_taken, 50)
+    print(
+        f"    (to the read that brought the WAIT's bytes; to the WAIT taken, the OUT before it handled by the host: "
+        f"p50 {taken:.0f} us, {ratio(taken, raw_us)})"
     )
     print(f"  {ratio_floor_text(1.0, STATE_WAIT_TARGET)}: the raw round trip itself, the same bytes each way")
     report_duct(duct, raw_us)
@@ -973,11 +978,13 @@ def report_campaign() -> None:
     )
 
 
-def bench_ping(sim_s: float) -> list[float]:
+def bench_ping(sim_s: float) -> tuple[list[float], list[float]]:
+    """STATE -> WAIT of the pin-toggling firmware: to the read that brought the WAIT's bytes,
+    and to the WAIT taken (the OUT before it handled by the host first)."""
     spec = RigSpec("rover", seed=0, main_dir=PING, busy_poll=busy_poll_wanted())
     with Rig(spec, Recording(time_round_trips=True)) as rig:
         rig.run_for(sim_s)
-        return rig.stats.round_trip_us[10:]
+        return rig.stats.round_trip_us[10:], rig.stats.round_trip_taken_us[10:]
 
 
 def bench_campaign(workers: int, runs: int = 16, sim_s: float = 300.0, busy_poll: bool = True) -> dict:

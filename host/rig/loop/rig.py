@@ -62,7 +62,8 @@ class RunStats:
     edge_segments: int = 0  # encoder segments sent in EDGES (host.rig.loop.clock, edge_segments_wanted)
     rollbacks: int = 0
     lease_violations: int = 0
-    round_trip_us: list = field(default_factory=list)
+    round_trip_us: list = field(default_factory=list)  # STATE -> the WAIT's bytes read (Session)
+    round_trip_taken_us: list = field(default_factory=list)  # STATE -> the WAIT taken, what came before it handled
 
 
 def open_link_log(rig: "Rig") -> LinkLog:
@@ -161,8 +162,10 @@ class Rig:
         self.board_fs_written: list[str] = []  # what the firmware wrote there (kept in board_fs/)
         self.board_fs_faults: list[str] = []  # files past the flash's size, not kept (host/rig/targets/boardfs.py)
         damaged = lambda error: endings.damaged(self, error)  # noqa: E731
-        round_trips = self.stats.round_trip_us if recording.time_round_trips else None
-        self.session = Session(self._on_silence, round_trips, damaged)
+        timed = recording.time_round_trips
+        round_trips = self.stats.round_trip_us if timed else None
+        taken = self.stats.round_trip_taken_us if timed else None
+        self.session = Session(self._on_silence, round_trips, damaged, taken)
         parts = (self.wiring, self.inputs, self.speculation, self.recorder, self.stats, self.session)
         self.clock = Clock(self.plant, self.pacing, *parts, self.linklog)
         self.clock.images = self.bus_images

@@ -14,10 +14,14 @@ HANDSHAKE_TIMEOUT_S = 10.0
 
 
 class Session:
-    def __init__(self, on_silence, round_trip_us: list | None = None, on_damage=None):
+    def __init__(self, on_silence, round_trip_us: list | None = None, on_damage=None, taken_us: list | None = None):
         self.on_silence = on_silence  # (timeout_s, what) -> raises
         self.on_damage = on_damage  # (LinkDamaged) -> raises: a frame was damaged or lost
-        self.round_trip_us = round_trip_us  # STATE -> WAIT wall times, when timed
+        # STATE -> WAIT wall times, when timed: from the STATE's write to the read that brought
+        # the WAIT's bytes (the firmware's wake and work, the pty both ways); what the host does
+        # with the frames before the WAIT (an OUT's handling) is the host's share, not in it
+        self.round_trip_us = round_trip_us
+        self.taken_us = taken_us  # (with it: from the STATE's write to the WAIT taken, the OUT's handling in)
         self.chan = None
         self.last_type: int | None = None  # of the last message from the shim
         self.last_sent_type: int | None = None  # of the last message to it
@@ -46,7 +50,7 @@ class Session:
         except OSError as e:
             raise LinkError(f"plant link write failed: {e}") from e
         if self.round_trip_us is not None:
-            self._t_sent = time.perf_counter()
+            self._t_sent = time.monotonic()  # (the clock of the channel's last_data_wall)
 
     def hold(self, type_: int, payload: bytes) -> None:
         """A frame sent with the next one, in one write."""
@@ -65,7 +69,9 @@ class Session:
         except LinkError:
             self.on_silence(0, what)
         if self._t_sent is not None and type_ == F.WAIT:
-            self.round_trip_us.append((time.perf_counter() - self._t_sent) * 1e6)
+            self.round_trip_us.append((self.chan.last_data_wall - self._t_sent) * 1e6)
+            if self.taken_us is not None:
+                self.taken_us.append((time.monotonic() - self._t_sent) * 1e6)
             self._t_sent = None
         self.last_type = type_
         return type_, payload
