@@ -128,6 +128,9 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # All pinned again on 1.25 to 1.28 when a pin's CFG came to be stamped after the compute
     # before it, as an output is (docs/mcu-time.md, "Charging"): every app configures its pins
     # after some compute. The free digests (DIGESTS) did not move.
+    # And again when a print() came to leave after the compute before it (MCU time: the clock
+    # brought to that instant at the print, so the console's stamp is the board's and each line
+    # has its own: _hilsys.before_print, docs/mcu-time.md "Charging"); a few more exchanges.
     # And again when the board's _thread came to be imported only when the firmware imports
     # it (before, at the confinement: a board of 16K could not compile its main.py): the
     # shim's sys.modules holds one module fewer, and the firmware's imports grow it at other
@@ -140,23 +143,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # check, at the firmware's branches; a wait serves while the callbacks' compute is within it)
     # and the shim's modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
     # Every other app's worlds recorded beside them (MCU_SECONDS long), on the same tree.
-    ("rover", "room", 11): "6ff5900c28bf0ec833a0a012e42ca62cc33267905d6a533411da2fb2b127399e",
-    ("rover", "long-room", 11): "94590087b8dddd90253132853d3f3795a3934c3bbb5158dbfc09993601ce1c68",
-    ("rover", "small-room", 11): "9c5db7469808a64a9525db678aa905dd718a0497bf31eb8658264a4624d35846",
-    ("vacuum", "vacuum-room", 11): "c8c35931b4acdb50ed988fd55c5e719edc1ae630d21c02ab0a27db04e60e3e23",
-    ("vacuum", "open-floor", 11): "b9b4dd2ddf7559b9f80d8b72f92865a3c73eaa1abd253b7f2f1acfc075942af6",
-    ("lab_robot", "arena", 11): "3d4d5f09b5b0a3a012981cd53e8045dc4a328e87975e5e1823e853e4c9cc7460",
-    ("lab_robot", "arena-noisy", 11): "73c13a413b869aa75623d49fe1684a0cf1ade3aaa316c96ede82e2c14ef2a4cf",
-    ("lab_robot_canyon", "canyon", 11): "5acd0948f3eef948558448a81a90bfbc656ab35ce260af994e9030b0d5c7a1ed",
-    ("lab_robot_canyon", "canyon-noisy", 11): "ad1a005e6c9d810293a5229618a5b3b6e875fa7fdd89468aca8697abc919afe7",
-    ("pico_bot", "box-ahead", 11): "534536be1c0a458b34c1cfff3cd9e521c575a07ed13e0b6a282e4eb79e834ef0",
-    ("pico_bot", "open-room", 11): "4fd7bdb28188e24fc8c7fda57f7f91d734cfea911595b92eff0968bb521ce7cb",
-    ("pool_cleaner", "default", 1): "cfce4544f51563b55de6bf3d603bf33aff6af16dbdceaef7ad5f8bfe2bf1a428",
-    ("pool_cleaner_adc", "default", 1): "4005f044c9e946788b98ee45b56c8c0c55496443b5d50e304cf763a329b0e7a3",
-    ("duct", "one-right-branch", 1): "4ec18f46172897ce3a04622bd0caa08807fec58c5e075023bf42e29d8ccfd968",
-    ("duct", "multi-branch", 2): "bcf33582de319b4cf7339d90f75867aae11aadd1481cd05f0a25da55c9c71a59",
-    ("duct", "straight", 3): "4bf6053ecc7d6bb38b57d4e98de38aa36fd5ee014ba9b4a3983dca7de2e171b5",
-    ("duct", "bench", 1): "c672c95584ef5558054ae4db7f2828b6b536d5cfe849af4ac1925cac27436d02",
+    ("rover", "room", 11): "5ecff1269696e5128cf031d5328ceb7943669540dc33a5c1100d0a24bc1037ec",
+    ("rover", "long-room", 11): "5f211445067415246ad5746dfeddf49bf1250f3e41add9b38487d5b1b65a9c72",
+    ("rover", "small-room", 11): "d456a046f2fadede6122c7e55bb006f1e240d072957d89ebbd012ceaedf7c80c",
+    ("vacuum", "vacuum-room", 11): "14f3cca2394f11c289376f93ed770679c397ca4559eba0bd614627d59f153f00",
+    ("vacuum", "open-floor", 11): "4722e39d6b22c372d5992893fd2c7d3f6ed4ce33d0304b7b967ceabc7c42244a",
+    ("lab_robot", "arena", 11): "e758ee7dccfa11e81b95456dad9fb32147e35b7df3d005a225efe7ceef8d9c69",
+    ("lab_robot", "arena-noisy", 11): "4770f326e8a58cd464fcb4da9639daa12e7989373313303e4197fcd8beb9d0b6",
+    ("lab_robot_canyon", "canyon", 11): "9eb715936e7c968f63d0fa713627b4bbed9e4b72c4a0b4c846e011f7c5ad020f",
+    ("lab_robot_canyon", "canyon-noisy", 11): "e860464430e864903595500c78bc2d07b0da9552083e9cbcabd8c5b260d95008",
+    ("pico_bot", "box-ahead", 11): "041242dc8617cf118144351d0010cb2df96d6916be808e348c2408c1274c7665",
+    ("pico_bot", "open-room", 11): "d6a6bb55b95cc597ceae7593390ab29231350f5fcda2f3168807296224c47f69",
+    ("pool_cleaner", "default", 1): "0812ede4ee7a1a511bddc7d5b726fc73e5afbd50fe207e556114f4cd9976cc84",
+    ("pool_cleaner_adc", "default", 1): "5b03c35c4d9220dad270bc1da1d489638001b89a8a8a0504eea3bac11cfc6165",
+    ("duct", "one-right-branch", 1): "8d88f95c2fd4404e7f15dc052328c17ceb11b17410bf9dfe6b684016c7f219bf",
+    ("duct", "multi-branch", 2): "3de60297258bc79030b5f52e3dd19c85660c9ca2ad315b61d64e435cfec7dc3d",
+    ("duct", "straight", 3): "2d10c1157f32c5c4cc443fa6da26a233d86fafd3469c3625bbfef6c08b673434",
+    ("duct", "bench", 1): "8fb5a26c40a7dd4de46ae0985113e6691214030d9ba0c82d52e72b4a3fa57270",
 }
 # (The duct robot's four re-recorded on 1.25, 1.26, 1.27 and 1.28 when the finalisers the interpreter's collector
 # runs stopped counting as the firmware's work and the board's collector counted the firmware's
@@ -167,23 +170,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
 # gc and vfs: docs/shim.md): the firmware's globals, and so its heap, as a board's.
 # pico_bot's, on the `pins` board of no family, did not move.)
 MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-version 1.26)
-    ("rover", "room", 11): "546764205144da67ee2d58d5c66fc19aae9fc73cff9c43a3d99f0800bdefbd52",
-    ("rover", "long-room", 11): "f9e07e250fbbb6e1280197e55d231fc93c7ee60d71b6b67d575edbad5c8b8a65",
-    ("rover", "small-room", 11): "53ffdcb22d4f2fbb495521c644f60876b54da6b431348165d1e7824a1c686ccb",
-    ("vacuum", "vacuum-room", 11): "1072755484fb71cd4837988a6a82d4ec70caf3bfa2acd5e477be849b71dd494d",
-    ("vacuum", "open-floor", 11): "3601467ea0a147f507097538b447f5a1d4772dec0514df385ebfd4c74aff8bc7",
-    ("lab_robot", "arena", 11): "3d0d6bec02848c248f69e48ab3f4422ca835db69a41515e006015301e0615edc",
-    ("lab_robot", "arena-noisy", 11): "19fc8ba4efdd52b6a99de47d5490c81110aa222e55d663344ec69b907d6fbe7c",
-    ("lab_robot_canyon", "canyon", 11): "140e355d5465dfa5ec02f574b0824c8161f02a7922ae1721aed9ab41562cf8ad",
-    ("lab_robot_canyon", "canyon-noisy", 11): "b71b71b963f5621dabf813e35e28802f735c070d646459429dac30de56a41620",
-    ("pico_bot", "box-ahead", 11): "534536be1c0a458b34c1cfff3cd9e521c575a07ed13e0b6a282e4eb79e834ef0",
-    ("pico_bot", "open-room", 11): "4fd7bdb28188e24fc8c7fda57f7f91d734cfea911595b92eff0968bb521ce7cb",
-    ("pool_cleaner", "default", 1): "07be660ef53de9d8c1fc6183185eec7605dcabe9e76d6e7162f3cfb8ec0fc5da",
-    ("pool_cleaner_adc", "default", 1): "8586ff1b25606111ef1147048f850b49fda58540f4060c6f14e41c9873eb40ab",
-    ("duct", "one-right-branch", 1): "43dfc528671ef4a0c7d531dea78ff1369f43e02b4ea11db42305e5d695b49360",
-    ("duct", "multi-branch", 2): "8da67565ba9cd3783bbb2a2433c3855cf24bfff15c75c45f0f005b9872189767",
-    ("duct", "straight", 3): "1c0c91169f7b4b40093ce36a7d5faf5163e9d6978d948ceac5132ef89aad64e4",
-    ("duct", "bench", 1): "4d6358e27d49ce93faf5dca44d8456b186ccb149533d3cd94b4805f9320c8657",
+    ("rover", "room", 11): "9324f0b431a9a9550074f070dfd9e68ccb13cc811684281d3414924587f7b49f",
+    ("rover", "long-room", 11): "33bdaa7f403417009299f9f728493d970f979d6be72f64b01505411797f6a959",
+    ("rover", "small-room", 11): "d9c50b7cc5689665b272a66e6e186479b250195ef5092ce590387e2cb3ef5894",
+    ("vacuum", "vacuum-room", 11): "3facfd62bcd8709abb62a3a2b3ca2b4379fc1540b275a517ffa9558e80709844",
+    ("vacuum", "open-floor", 11): "3661ba9c33b1a033ddef1e478b3891a7db4857b145097ab1c87a5591d05ac9ba",
+    ("lab_robot", "arena", 11): "e56e0a6967d6bc8699deb815d8e428d36bad9e08914fb9c8b8631e2bb8905ac7",
+    ("lab_robot", "arena-noisy", 11): "ea96c2d979cb6bfa2f190ae3786d2ba285b556e3ee04858c9564553d86c69f08",
+    ("lab_robot_canyon", "canyon", 11): "bacc15453c2fef5c2962241ee80c1cc5dce8993db8bad8f496643fe17bde1af6",
+    ("lab_robot_canyon", "canyon-noisy", 11): "e9e221cb6a1db4e0f08dbe5a6175cb44e03a050e1a054189807beabdba715f2d",
+    ("pico_bot", "box-ahead", 11): "041242dc8617cf118144351d0010cb2df96d6916be808e348c2408c1274c7665",
+    ("pico_bot", "open-room", 11): "d6a6bb55b95cc597ceae7593390ab29231350f5fcda2f3168807296224c47f69",
+    ("pool_cleaner", "default", 1): "24cb6392b67f8c69b0482dfe8524beaa2c5f0147dcb93fad6744e4691181d507",
+    ("pool_cleaner_adc", "default", 1): "895f5f71da3875627daa7d66cad129c52fa31047ee72fb53cb8c16180b3a8b0c",
+    ("duct", "one-right-branch", 1): "78554afb58c98a7d46b26e5bbb96f964c21e4c41c24acc12a4b508d645804fce",
+    ("duct", "multi-branch", 2): "17249ca626b185bedac788f65b6323bbb68ed67bd85a59751f2b2b28b647e215",
+    ("duct", "straight", 3): "fe84c3436e62394dcaf6a6c0ab076c86a75ea4e793d7d8d8c12778accf00b340",
+    ("duct", "bench", 1): "217bafa87ad942976e3e2934d5d7510b43510c7991b8c2ed545aab5d257cb6d8",
 }
 # (The duct robot's multi-branch run with MCU time was pinned again when the shim's bus images
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
@@ -200,10 +203,10 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
     "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
     "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
         **MCU_DIGESTS_1_26,
-        ("duct", "one-right-branch", 1): "9ce27e80cff58c480d3dd64e733631c2f8c99b74c3ebd5c023ad8a5e85d932e2",
-        ("duct", "multi-branch", 2): "2c03a637b958d665d53bdf373f9fc9668ae19d33905162afa2e048367bee1d71",
-        ("duct", "straight", 3): "0867be75cd3f8565433925976a2242c936f8150e35c4569a59abb9076d051545",
-        ("duct", "bench", 1): "8233ea2c0cb21b3db20e9b35b9a2f8260ddbed828f7931d85c393427345dbc72",
+        ("duct", "one-right-branch", 1): "c077a08dee3f234fb4d71aa89065bb703a9f66c1a0d9a4ee7c5d2f2fef0aaeae",
+        ("duct", "multi-branch", 2): "b1dde31a866faed7891a79a09d8b17bdd35ed43cf7eee310b2342fe4cb50fe76",
+        ("duct", "straight", 3): "98bbba5197e0d4461f7aeec117a83ff02903f1ce334ddfbbc135e2f813a3f67d",
+        ("duct", "bench", 1): "c67020ca63eab03477cd5264477316ac66fd595cf437546189b730514708d0b6",
     },
 }
 

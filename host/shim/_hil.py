@@ -137,6 +137,9 @@ def cpu_start(getenv):
     _Console.irq = getattr(fast, "irq_us", None)  # (a build before it: callbacks do not preempt)
     _Link.irq_begin, _Link.irq_end = fast.irq_begin, fast.irq_end
     _reads_charge()
+    import _hilsys
+
+    _hilsys.before_print = pay_cpu  # (a print leaves after the compute before it: stamped then)
 
 
 def _charge_cpu():
@@ -825,7 +828,9 @@ _observe_free = observe
 
 def pay_cpu():
     """MCU time: the main program's compute so far paid, as before a clock read (the callbacks
-    due within it run); nothing without MCU time."""
+    due within it run); nothing without MCU time. Before each print() too (_hilsys.before_print):
+    on a board the text leaves once the compute before it is done, so the console's stamp is
+    that instant (and the blocking of the prints before it is over by then)."""
     if _Console.cpu is not None and not _dispatching and _charge_cpu():
         _released_run_until(_now, None)
 

@@ -45,7 +45,7 @@ class _Unset:
 
 _UNSET = _Unset()  # an argument print() was not given
 _said = _print = None  # the shim's hook and the built-in print (install)
-before_print = None  # with the firmware's threads: _hilthread.look, the other threads' turn first
+before_print = None  # MCU time: _hil.pay_cpu (the compute before the print paid); with threads _hilthread.look
 _counting = False  # print() costs the console UART's time: count what it writes
 
 

@@ -399,3 +399,24 @@ def test_waits_the_shim_serves_itself_end_each_compute_stretch(make_rig, tmp_pat
     assert 1000 < longest < 1400, f"expected the longest stretch one loop's ~1.1 ms, got {longest} us {where}"
     shares = mcu["busy_share"]
     assert all(0.07 <= s <= 0.13 for s in shares[:3]), f"expected ~10 % busy each 100 ms, got {shares} {where}"
+
+
+@pytest.mark.parametrize("cpu", ["free", "rp2040@125MHz"])
+def test_a_line_printed_after_compute_is_stamped_when_it_leaves(run_case, monkeypatch, cpu):
+    """On a board a print's text leaves once the compute before it is done: with MCU time the
+    console's stamp of each line is that instant, two lines printed between the same two waits
+    each with its own; with the CPU free both carry the wait's instant (1 ms)."""
+    from host.artefacts.console import stamped_lines
+
+    monkeypatch.setenv("MPYFIL_CPU", cpu)
+    rig, r = run_case("print_after_compute", 0.01)
+    lines = {line.split()[1]: t for t, line in stamped_lines(rig.artefacts / "console.log") if line.startswith("R ")}
+    where = f"(console.log: {lines}; results {r}; artefacts: {rig.artefacts})"
+    first, second, elapsed = lines["first"], lines["second"], r["elapsed_us"]
+    if cpu == "free":
+        assert first == second == 1000 and elapsed == 0, f"expected both lines at 1 ms, no time spent, {where}"
+        return
+    t0 = lines["elapsed_us"] - elapsed  # (the clock read before the first loop)
+    assert t0 < first < second < lines["elapsed_us"], f"expected each line after the compute before it, {where}"
+    # (the two loops are alike: each line comes one loop's compute after the one before it)
+    assert abs((second - first) - (first - t0)) <= 0.2 * (first - t0), f"expected a loop between the lines, {where}"
