@@ -154,7 +154,10 @@ def _charge_cpu():
         _Console.ran_us = ran
         if owed > _Console.top_us and owed * 4 > _Console.longest_us:  # (the code of a would-be record's
             _Console.top_us = owed  # largest piece, sampled as it is charged: bounded, one call per larger piece)
-            _Console.top_stack = _Console.stack()
+            try:
+                _Console.top_stack = _Console.stack()
+            except MemoryError:  # (under the firmware's heap_lock: the record's code is taken at its wait)
+                _Console.top_stack = None
     return _Console.debt_ns >= 1000
 
 
@@ -167,14 +170,18 @@ def _wait_begins():
     if not ran:
         return
     _Console.ran_us = 0
-    if ran > _Console.longest_us:
-        _cpu_stretch(ran)
-    _Console.top_us, _Console.top_stack = 0, None
-    runs = _Console.runs
-    runs.append((_now, ran))
-    if len(runs) > F.CPU_RUNS_MAX:  # (the oldest go now, with the next message sent)
-        _send_runs(runs[: F.CPU_RUNS_MAX])
-        del runs[: F.CPU_RUNS_MAX]
+    depth = heap_release()  # (a wait under the firmware's heap_lock: these records allocate, a board's do not)
+    try:
+        if ran > _Console.longest_us:
+            _cpu_stretch(ran)
+        _Console.top_us, _Console.top_stack = 0, None
+        runs = _Console.runs
+        runs.append((_now, ran))
+        if len(runs) > F.CPU_RUNS_MAX:  # (the oldest go now, with the next message sent)
+            _send_runs(runs[: F.CPU_RUNS_MAX])
+            del runs[: F.CPU_RUNS_MAX]
+    finally:
+        heap_restore(depth)
 
 
 def _mcu_compute():

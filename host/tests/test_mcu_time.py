@@ -420,3 +420,15 @@ def test_a_line_printed_after_compute_is_stamped_when_it_leaves(run_case, monkey
     assert t0 < first < second < lines["elapsed_us"], f"expected each line after the compute before it, {where}"
     # (the two loops are alike: each line comes one loop's compute after the one before it)
     assert abs((second - first) - (first - t0)) <= 0.2 * (first - t0), f"expected a loop between the lines, {where}"
+
+
+def test_prints_under_heap_lock_pay_their_compute_without_allocating(run_case, monkeypatch):
+    """A print under micropython.heap_lock() (as a board's print allocates nothing) after
+    compute, and a wait after a longer stretch: the clock brought to the print's instant there
+    too, the stretch's code sampled where it can be, no MemoryError."""
+    monkeypatch.setenv("MPYFIL_CPU", "rp2040@125MHz")
+    rig, r = run_case("print_locked", 0.01)
+    where = f"(console: {rig.console!r}; artefacts: {rig.artefacts})"
+    assert r.get("done") is True and r["locked"] == sum(range(200)) and r["again"] == 3, where
+    assert r["after_wait"] == sum(range(200)) - sum(range(400)), where
+    assert "MemoryError" not in rig.console, where
