@@ -128,6 +128,10 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # All pinned again on 1.25 to 1.28 when a pin's CFG came to be stamped after the compute
     # before it, as an output is (docs/mcu-time.md, "Charging"): every app configures its pins
     # after some compute. The free digests (DIGESTS) did not move.
+    # And again when a hard IRQ's handler came to run with the heap locked, as the port's does:
+    # Pin.irq takes no **kw (its dict was allocated at each call, in the firmware's count: a
+    # pin's irq() is C on a board) and its IRQ object is made once (docs/shim.md, "Hard
+    # handlers and the heap"). pico_bot's two did not move.
     # And again when a print() came to leave after the compute before it (MCU time: the clock
     # brought to that instant at the print, so the console's stamp is the board's and each line
     # has its own: _hilsys.before_print, docs/mcu-time.md "Charging"); a few more exchanges.
@@ -143,23 +147,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
     # check, at the firmware's branches; a wait serves while the callbacks' compute is within it)
     # and the shim's modules as the sandbox shows them (/_hil/) stopped counting as the firmware's.
     # Every other app's worlds recorded beside them (MCU_SECONDS long), on the same tree.
-    ("rover", "room", 11): "5ecff1269696e5128cf031d5328ceb7943669540dc33a5c1100d0a24bc1037ec",
-    ("rover", "long-room", 11): "5f211445067415246ad5746dfeddf49bf1250f3e41add9b38487d5b1b65a9c72",
-    ("rover", "small-room", 11): "d456a046f2fadede6122c7e55bb006f1e240d072957d89ebbd012ceaedf7c80c",
-    ("vacuum", "vacuum-room", 11): "14f3cca2394f11c289376f93ed770679c397ca4559eba0bd614627d59f153f00",
-    ("vacuum", "open-floor", 11): "4722e39d6b22c372d5992893fd2c7d3f6ed4ce33d0304b7b967ceabc7c42244a",
-    ("lab_robot", "arena", 11): "e758ee7dccfa11e81b95456dad9fb32147e35b7df3d005a225efe7ceef8d9c69",
-    ("lab_robot", "arena-noisy", 11): "4770f326e8a58cd464fcb4da9639daa12e7989373313303e4197fcd8beb9d0b6",
-    ("lab_robot_canyon", "canyon", 11): "9eb715936e7c968f63d0fa713627b4bbed9e4b72c4a0b4c846e011f7c5ad020f",
-    ("lab_robot_canyon", "canyon-noisy", 11): "e860464430e864903595500c78bc2d07b0da9552083e9cbcabd8c5b260d95008",
-    ("pico_bot", "box-ahead", 11): "041242dc8617cf118144351d0010cb2df96d6916be808e348c2408c1274c7665",
-    ("pico_bot", "open-room", 11): "d6a6bb55b95cc597ceae7593390ab29231350f5fcda2f3168807296224c47f69",
+    ("rover", "room", 11): "4ec36b729584d933c8affe9f2cf9ff38cfc5d7ade71c0605da1e03f8df8ff505",
+    ("rover", "long-room", 11): "1c6331c7f2ef3b704a2fe8ae989042f5479254dd43896b7fec7a0f676542dfaf",
+    ("rover", "small-room", 11): "ab0bb45a7838fc904f8648b7a35aed54ae8f9be2ab7306815dc1a8934f925da9",
+    ("vacuum", "vacuum-room", 11): "f314d2b22961ab3fbb1a955bb0392bab0bb65e6b41c092307e75441217681556",
+    ("vacuum", "open-floor", 11): "9751ad3ecd5e99aedb5802ca5beca7b1765ce38b0a6f1a90c1be2d939c28874e",
+    ("lab_robot", "arena", 11): "dac02d60120b6df26f7af5d205bb59e3e9fb237977f10b6e983a129d396c91aa",
+    ("lab_robot", "arena-noisy", 11): "b72ad9af589cc66f53764e53d42148f5ee3e3ab31b6d585c31bbf6d9f49919b3",
+    ("lab_robot_canyon", "canyon", 11): "f41c29965ea3db3cccc3a2a5011749e404afa72b69afebfb84a0f43e1154ae6b",
+    ("lab_robot_canyon", "canyon-noisy", 11): "2af87dcfec84f79b1415d0e737194a0e744327abf3d893c6afb89385ed2ec828",
+    ("pico_bot", "box-ahead", 11): "be436decc81865c089489da30169cf7bf08263200d63370f7c27c7cacd6741f6",
+    ("pico_bot", "open-room", 11): "1ef2fdef2cae64e1f0158a48017aa3e819456d04fe6a594db0e76bd17cc43530",
     ("pool_cleaner", "default", 1): "0812ede4ee7a1a511bddc7d5b726fc73e5afbd50fe207e556114f4cd9976cc84",
     ("pool_cleaner_adc", "default", 1): "5b03c35c4d9220dad270bc1da1d489638001b89a8a8a0504eea3bac11cfc6165",
-    ("duct", "one-right-branch", 1): "8d88f95c2fd4404e7f15dc052328c17ceb11b17410bf9dfe6b684016c7f219bf",
-    ("duct", "multi-branch", 2): "3de60297258bc79030b5f52e3dd19c85660c9ca2ad315b61d64e435cfec7dc3d",
-    ("duct", "straight", 3): "2d10c1157f32c5c4cc443fa6da26a233d86fafd3469c3625bbfef6c08b673434",
-    ("duct", "bench", 1): "8fb5a26c40a7dd4de46ae0985113e6691214030d9ba0c82d52e72b4a3fa57270",
+    ("duct", "one-right-branch", 1): "cdba2f2da65a7d973608a6694ce9866fc6d3467e63f0701352de2f528dda4d11",
+    ("duct", "multi-branch", 2): "daaf196e66fc311783affd60ecd2929e909b1af470e294b754fd764920d6613f",
+    ("duct", "straight", 3): "819640058ef116a568a41c5911c5e807bf432f779a5b227d9b70706e177538b0",
+    ("duct", "bench", 1): "e33b39c17cd3bae97cb9bdbaab75fc3346366e447f23581cf172cf3bc34aa41e",
 }
 # (The duct robot's four re-recorded on 1.25, 1.26, 1.27 and 1.28 when the finalisers the interpreter's collector
 # runs stopped counting as the firmware's work and the board's collector counted the firmware's
@@ -170,23 +174,23 @@ MCU_DIGESTS = {  # (app, world, seed): the link trace's digest with MCU time on 
 # gc and vfs: docs/shim.md): the firmware's globals, and so its heap, as a board's.
 # pico_bot's, on the `pins` board of no family, did not move.)
 MCU_DIGESTS_1_26 = {  # MCU_DIGESTS' runs on MicroPython 1.26 (pytest --mpy-version 1.26)
-    ("rover", "room", 11): "9324f0b431a9a9550074f070dfd9e68ccb13cc811684281d3414924587f7b49f",
-    ("rover", "long-room", 11): "33bdaa7f403417009299f9f728493d970f979d6be72f64b01505411797f6a959",
-    ("rover", "small-room", 11): "d9c50b7cc5689665b272a66e6e186479b250195ef5092ce590387e2cb3ef5894",
-    ("vacuum", "vacuum-room", 11): "3facfd62bcd8709abb62a3a2b3ca2b4379fc1540b275a517ffa9558e80709844",
-    ("vacuum", "open-floor", 11): "3661ba9c33b1a033ddef1e478b3891a7db4857b145097ab1c87a5591d05ac9ba",
-    ("lab_robot", "arena", 11): "e56e0a6967d6bc8699deb815d8e428d36bad9e08914fb9c8b8631e2bb8905ac7",
-    ("lab_robot", "arena-noisy", 11): "ea96c2d979cb6bfa2f190ae3786d2ba285b556e3ee04858c9564553d86c69f08",
-    ("lab_robot_canyon", "canyon", 11): "bacc15453c2fef5c2962241ee80c1cc5dce8993db8bad8f496643fe17bde1af6",
-    ("lab_robot_canyon", "canyon-noisy", 11): "e9e221cb6a1db4e0f08dbe5a6175cb44e03a050e1a054189807beabdba715f2d",
-    ("pico_bot", "box-ahead", 11): "041242dc8617cf118144351d0010cb2df96d6916be808e348c2408c1274c7665",
-    ("pico_bot", "open-room", 11): "d6a6bb55b95cc597ceae7593390ab29231350f5fcda2f3168807296224c47f69",
+    ("rover", "room", 11): "f462b5c6b6754a921f862c4613b4ddcd1e2f6bbf8ba405a439eaabb3541b0b5f",
+    ("rover", "long-room", 11): "b3f0362ae28a58eb0b45cc55895b49e45437deae768812291ee5d1e095500ce2",
+    ("rover", "small-room", 11): "650bc69cdf1f7a073108194be5053b684aa2e0d2c67d6ea797c2872384db6f10",
+    ("vacuum", "vacuum-room", 11): "5d1d66fac2d63650b25ba6ed308c6f9cd352454d98605cb85d13f295aa34dca6",
+    ("vacuum", "open-floor", 11): "e36d7d5312907a07e5254ceee8aa3e28ded413ee76d427a95cc0f5cd109a7b66",
+    ("lab_robot", "arena", 11): "fee8f381fb129a4cc4c9645334eb06c10a74786ebdc18ed26c6f779a4d7e207d",
+    ("lab_robot", "arena-noisy", 11): "3f3d4e278fcebbac3ef9a95cea94f693c2561605bd82dfe68f7dd32c9f8ac3c9",
+    ("lab_robot_canyon", "canyon", 11): "b0f00350d6f51be6d9f17b784862429ae50df4c6b39302bfeade0e300a592362",
+    ("lab_robot_canyon", "canyon-noisy", 11): "1f7a9566bf8bb5aef4b2de5476e3e78c82ec5bfb0bd43d226e4cfa7ab28b1957",
+    ("pico_bot", "box-ahead", 11): "be436decc81865c089489da30169cf7bf08263200d63370f7c27c7cacd6741f6",
+    ("pico_bot", "open-room", 11): "1ef2fdef2cae64e1f0158a48017aa3e819456d04fe6a594db0e76bd17cc43530",
     ("pool_cleaner", "default", 1): "24cb6392b67f8c69b0482dfe8524beaa2c5f0147dcb93fad6744e4691181d507",
     ("pool_cleaner_adc", "default", 1): "895f5f71da3875627daa7d66cad129c52fa31047ee72fb53cb8c16180b3a8b0c",
-    ("duct", "one-right-branch", 1): "78554afb58c98a7d46b26e5bbb96f964c21e4c41c24acc12a4b508d645804fce",
-    ("duct", "multi-branch", 2): "17249ca626b185bedac788f65b6323bbb68ed67bd85a59751f2b2b28b647e215",
-    ("duct", "straight", 3): "fe84c3436e62394dcaf6a6c0ab076c86a75ea4e793d7d8d8c12778accf00b340",
-    ("duct", "bench", 1): "217bafa87ad942976e3e2934d5d7510b43510c7991b8c2ed545aab5d257cb6d8",
+    ("duct", "one-right-branch", 1): "2c642916158a04290faec36d15ac01faf71e98feba91ca5f18d1f5fc0fd399b4",
+    ("duct", "multi-branch", 2): "88e8ebf5b7c0d73aea88fa723356a19200ed90f4325f638ad76ad1e95c33f483",
+    ("duct", "straight", 3): "87ce8bd06acb4cfa8f29f88b16a64f9393ad3acc137dac8b442e3ffb74f5a7bf",
+    ("duct", "bench", 1): "8e7f890bd69901b90cc7422c97ccee2667420bcb7ed81cdcc762385fa423aa4f",
 }
 # (The duct robot's multi-branch run with MCU time was pinned again when the shim's bus images
 # were made cheaper: its trace moved on 1.25 and 1.28, not on 1.26 and 1.27, with no change of its
@@ -203,10 +207,10 @@ MCU_DIGESTS_BY_VERSION = {  # the same runs on the other MicroPython versions (p
     "1.27": MCU_DIGESTS_1_26,  # (1.26's: its compiler and asyncio count the same)
     "1.28": {  # (1.26's but the duct robot's: its modules allocate more as 1.28 compiles them)
         **MCU_DIGESTS_1_26,
-        ("duct", "one-right-branch", 1): "c077a08dee3f234fb4d71aa89065bb703a9f66c1a0d9a4ee7c5d2f2fef0aaeae",
-        ("duct", "multi-branch", 2): "b1dde31a866faed7891a79a09d8b17bdd35ed43cf7eee310b2342fe4cb50fe76",
-        ("duct", "straight", 3): "98bbba5197e0d4461f7aeec117a83ff02903f1ce334ddfbbc135e2f813a3f67d",
-        ("duct", "bench", 1): "c67020ca63eab03477cd5264477316ac66fd595cf437546189b730514708d0b6",
+        ("duct", "one-right-branch", 1): "6f042249f04535818a82356e3eb3f3e41857168f8af0d859b232feab7bd9f2a3",
+        ("duct", "multi-branch", 2): "02817acca21d806b331e7376b3bc7a56d2fe5399a93c1bb5773989cfd1327207",
+        ("duct", "straight", 3): "f43258ac42e6fc06a0cf814625a9fc11a8248073816ba70928fc0b95b54f9e3e",
+        ("duct", "bench", 1): "5dab11177bfd0b362b5541537ccb22d5235ceb70a499ea989be06b2f53fa693b",
     },
 }
 

@@ -264,6 +264,9 @@ class CallbackFailed(Exception):
     that call; in the loop the run ends, naming the callback (nothing fails unseen)."""
 
     def __init__(self, callback, error):
+        if isinstance(error, CallbackFailed):  # (a hard handler's, named already: hard_handler)
+            super().__init__(*error.args)
+            return
         sys.modules.get("sys", sys).print_exception(error)  # (the board's: its frames only, _hilboot)
         name = getattr(callback, "__name__", repr(callback))
         super().__init__("the callback %s raised %s: %s" % (name, type(error).__name__, error))
@@ -1506,7 +1509,11 @@ def mp_schedule(function, arg):
     when the queue is full. Called from the main program, the callback runs at the next
     branch (_leftovers); from a callback or a hard IRQ's handler, once the
     running callbacks are done (the scheduler is locked meanwhile, as on the port)."""
-    if not _queue(function, arg):  # (the firmware hears of it: no lost call to say)
+    # (the port's queue is a fixed array: from a hard handler, the heap locked, it allocates nothing)
+    depth = heap_release()
+    queued = _queue(function, arg)
+    heap_restore(depth)
+    if not queued:  # (the firmware hears of it: no lost call to say)
         raise RuntimeError("schedule queue full")
     if not _dispatching:
         _leftovers()
@@ -1602,6 +1609,31 @@ def _run_hard():
             continue
         del pending[i]
         run_hard_now(callback, arg)
+
+
+def hard_handler(handler):
+    """A hard IRQ's (or hard Timer's) handler as the port runs it (shared/runtime/mpirq.c,
+    mp_irq_handler: gc_lock() around the call): the heap locked, so what would allocate on a
+    board raises MemoryError here too (a float, a list grown, a string made). The shim's own
+    work inside it (a pin read or write, a clock read) allocates nothing, or unlocks as it
+    does under the firmware's own heap_lock. A failure names the firmware's handler. (Made
+    once, where the handler is set: the call itself allocates nothing.) Not on the pure path
+    (HIL_PURE, an interpreter without _hilfast), whose outputs allocate: there unlocked."""
+
+    def hard(arg):
+        lock = _Link.c is not None  # (the pure path, a user's own interpreter: its outputs allocate, so unlocked)
+        if lock:
+            _Link.heap_lock()
+        try:
+            handler(arg)
+        except Exception as e:
+            if lock:  # (the traceback's printing allocates: a board prints it unlocked too)
+                _Link.heap_unlock()
+            raise CallbackFailed(handler, e)  # noqa: B904  (MicroPython warns on "from")
+        if lock:
+            _Link.heap_unlock()
+
+    return hard
 
 
 def run_hard_now(callback, arg):

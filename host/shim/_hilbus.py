@@ -417,16 +417,24 @@ class I2CTarget:
             _hil.configure(self._handle, F.CFG_I2CT, self._key, param=-1)
 
     def readinto(self, buf):
-        view = wbuf(buf)
-        n = min(len(view), len(self._rx))
-        view[:n] = self._rx[:n]
-        self._rx = self._rx[n:]
+        depth = _hil.heap_release()  # (from a hard handler, the heap locked: the port's FIFO read allocates nothing)
+        try:
+            view = wbuf(buf)
+            n = min(len(view), len(self._rx))
+            view[:n] = self._rx[:n]
+            self._rx = self._rx[n:]
+        finally:
+            _hil.heap_restore(depth)
         return n
 
     def write(self, buf):
-        data = rbuf(buf)
-        n = min(len(data), _TX_FIFO - len(self._tx))
-        self._tx += data[:n]
+        depth = _hil.heap_release()  # (as readinto)
+        try:
+            data = rbuf(buf)
+            n = min(len(data), _TX_FIFO - len(self._tx))
+            self._tx += data[:n]
+        finally:
+            _hil.heap_restore(depth)
         return n
 
     def irq(self, handler=None, trigger=_IRQ_END_READ | _IRQ_END_WRITE, hard=False):
@@ -436,9 +444,13 @@ class I2CTarget:
                     raise ValueError("hard IRQ required")
             elif hard:
                 raise ValueError("hard IRQ unsupported")
-            self._handler, self._hard, self._flags = handler, bool(hard), 0
+            self._hard, self._flags = bool(hard) and handler is not None, 0
+            self._handler = _hil.hard_handler(handler) if self._hard else handler  # (the heap locked around it)
             self._trigger = trigger if handler is not None else 0
-        return _TargetIRQ(self)
+        irq = getattr(self, "_irq", None)  # (one a target, as the port's: a hard handler's irq() allocates nothing)
+        if irq is None:
+            irq = self._irq = _TargetIRQ(self)
+        return irq
 
     # -- the controller's transaction (the C's state machine) ------------------------
 

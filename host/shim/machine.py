@@ -312,20 +312,32 @@ class Pin:
             return self._pull
         self.init(pull=pull)
 
-    def irq(self, handler=_UNSET, trigger=IRQ_FALLING | IRQ_RISING, *more, **kw):
-        if handler is _UNSET and not more and not kw and trigger == self.IRQ_FALLING | self.IRQ_RISING:
-            return _PinIRQ(self)  # pin.irq(): the IRQ object as it is (its flags: the last edge)
-        hard = _pin_irq_hard(more, kw)
+    def irq(self, handler=_UNSET, trigger=IRQ_FALLING | IRQ_RISING, *more, hard=_UNSET, wake=_UNSET):
+        # (no **kw: a call would allocate its dict, and pin.irq().flags() runs in hard handlers,
+        # the heap locked; a keyword neither port takes is the VM's TypeError)
+        plain = handler is _UNSET and not more and hard is _UNSET and wake is _UNSET
+        if plain and trigger == self.IRQ_FALLING | self.IRQ_RISING:
+            return self._irq_object()  # pin.irq(): the IRQ object as it is (its flags: the last edge)
+        hard = _pin_irq_hard(more, hard, wake)
         handler = None if handler is _UNSET else handler
         if not self._cfg:
             self.init()
-        self._handler = handler
         # hard=True: ports/rp2/machine_pin.c (machine_pin_irq, mp_hal_pin_interrupt) runs the
-        # handler in the interrupt (shared/runtime/mpirq.c, mp_irq_handler); without it, scheduled
+        # handler in the interrupt (shared/runtime/mpirq.c, mp_irq_handler: the heap locked
+        # around it, _hil.hard_handler); without it, scheduled
         self._hard = bool(hard) and handler is not None
+        self._handler = _hil.hard_handler(handler) if self._hard else handler
         self._trigger = _wire_edges(trigger) if handler is not None else 0
         _hil.configure(self._handle, _F.CFG_IRQ, self._id, self._trigger)
-        return _PinIRQ(self)
+        return self._irq_object()
+
+    def _irq_object(self):
+        # one a pin, made at its first irq() (ports/rp2/machine_pin.c machine_pin_irq keeps it
+        # in MP_STATE_PORT; the ESP32's are static): a hard handler's pin.irq().flags() allocates nothing
+        irq = self._irq
+        if irq is None:
+            irq = self._irq = _PinIRQ(self)
+        return irq
 
     def __repr__(self):
         if _RP2 and isinstance(self._id, int):  # ports/rp2/machine_pin.c, machine_pin_print (its mode and alt)
@@ -350,6 +362,7 @@ def _make(id, cls=Pin):
         pin._level = 0
         pin._out = 0
         pin._handler = None
+        pin._irq = None  # its IRQ object (_irq_object)
         pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
         pin._trigger = 0
         pin._flags = 0
@@ -417,10 +430,15 @@ def _port_edges(edges):
 _PIN_IRQ_MORE = ("wake",) if _ESP32 else ("hard",) if _RP2 else ("hard", "wake")
 
 
-def _pin_irq_hard(more, kw):
+def _pin_irq_hard(more, hard, wake):
     """Pin.irq's arguments past handler and trigger, checked as the port's are; its hard."""
     if len(more) > 1:
         raise TypeError("extra positional arguments given")
+    kw = {}
+    if hard is not _UNSET:
+        kw["hard"] = hard
+    if wake is not _UNSET:
+        kw["wake"] = wake
     if more:
         if _PIN_IRQ_MORE[0] in kw:  # (given by position, its keyword is left over)
             raise TypeError("extra keyword arguments given")
@@ -690,6 +708,7 @@ class Timer:
             raise ValueError("Timer needs a period or a freq")
         self._callback = callback
         self._hard = bool(hard) and callback is not None
+        self._callback = _hil.hard_handler(callback) if self._hard else callback  # (the heap locked around it)
         self._period_us = period_us if mode == self.PERIODIC else 0
         self._due = _hil.now() + period_us
         if callback is None:

@@ -247,12 +247,16 @@ while True:
 SLEEPS = """\
 import time
 from machine import Pin
-edges = []
+levels, at, n = bytearray(8), [0] * 8, 0  # (a hard handler runs with the heap locked: it allocates nothing)
 both = Pin.IRQ_RISING | Pin.IRQ_FALLING
-Pin(5, Pin.IN).irq(lambda pin: edges.append((pin.value(), time.ticks_us())), both, hard=True)
+def edge(pin):
+    global n
+    levels[n], at[n] = pin.value(), time.ticks_us()
+    n += 1
+Pin(5, Pin.IN).irq(edge, both, hard=True)
 time.sleep_ms(50)
-for level, t in edges:
-    print("right edge", level, "at", t)
+for i in range(n):
+    print("right edge", levels[i], "at", at[i])
 while True:
     time.sleep_ms(100)
 """

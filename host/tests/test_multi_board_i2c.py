@@ -57,19 +57,25 @@ HARD_TARGET = """\
 import time
 from machine import I2CTarget
 
-events = []
-out = bytearray(b"abc")
+# (a hard handler runs with the heap locked, as on an rp2: it allocates nothing)
+events, n_events = bytearray(16), 0
+OUT = (b"a", b"b", b"c")
+n_out = 0
 got = bytearray(1)
-written = []
+written, n_written = bytearray(4), 0
 
 def on_i2c(t):
+    global n_events, n_out, n_written
     flags = t.irq().flags()
-    events.append(flags)
+    events[n_events] = flags
+    n_events += 1
     if flags & I2CTarget.IRQ_READ_REQ:
-        t.write(out[len([e for e in events if e & I2CTarget.IRQ_READ_REQ]) - 1 :][:1])
+        t.write(OUT[n_out])
+        n_out += 1
     if flags & I2CTarget.IRQ_WRITE_REQ:
         t.readinto(got)
-        written.append(got[0])
+        written[n_written] = got[0]
+        n_written += 1
 
 t = I2CTarget(0, 0x42)
 every = 63  # ADDR_MATCH_READ | ADDR_MATCH_WRITE | READ_REQ | WRITE_REQ | END_READ | END_WRITE
@@ -81,9 +87,9 @@ except ValueError as e:
 t.irq(on_i2c, trigger=every, hard=True)
 while True:
     time.sleep_ms(10)
-    if events:
-        print("mcu events", events, "written", written)
-        events.clear()
+    if n_events:
+        print("mcu events", list(events[:n_events]), "written", list(written[:n_written]))
+        n_events = 0
 """
 
 HARD_MASTER = """\

@@ -158,3 +158,41 @@ def test_a_callback_that_never_lets_the_main_loop_rest_ends_with_the_run_not_mem
         assert mains == [0], f"the main loop ran again: {mains[:8]} {_where(rig)}"
     calls = [line.split()[1:] for line in lines if line.startswith("C ")]
     assert calls[-1] == ["100", "1980"], f"callbacks (count, ms): {calls[-3:]} {_where(rig)}"
+
+
+def _hard_irq_app(name: str) -> App:
+    script = [(t, "a", i % 2 == 0) for i, t in enumerate(range(2_000, 12_000, 2_000))]
+    return App(
+        name=name,
+        default_board="rpi_pico_bench",
+        wiring={"A": "a"},
+        make_plant=lambda: ScriptedPlant(script, outputs={"a": "level"}, inputs={}),
+        board=BoardSettings(pins={"A": 5}, console_baud=0),
+    )
+
+
+def test_a_hard_handler_does_what_a_board_allows_with_its_heap_locked(make_rig):
+    """shared/runtime/mpirq.c, mp_irq_handler: a hard handler runs with the heap locked. What
+    it may do on a board it does here: read its pin, the clock and its IRQ's flags, drive a pin
+    and a PWM, store into buffers made before, count, run as a bound method, schedule a soft
+    callback: five edges, each at its instant, no MemoryError."""
+    rig = make_rig(_hard_irq_app("hard-heap"), main_dir=FIRMWARE / "hard_irq_heap", allow_exit=True)
+    rig.run_for(0.03)
+    rig.stop()
+    r = results(rig.console)
+    where = _where(rig)
+    assert r.get("edges") == 5 and r["scheduled"] == 5, f"expected 5 edges handled and scheduled, got {r} {where}"
+    assert [t // 1000 for t in r["at"]] == [2, 4, 6, 8, 10], f"expected the edges at their instants, got {r} {where}"
+    # (rp2's IRQ_RISING 8, IRQ_FALLING 4)
+    assert r["flags"] == [8, 4, 8, 4, 8], f"expected rising, falling, ... {r} {where}"
+
+
+def test_a_hard_handler_that_allocates_fails_as_on_a_board(make_rig, path):
+    """A float made in a hard handler is an allocation: MemoryError at the first edge, as on a
+    board (the heap is locked there), the run ending with the handler named."""
+    if path == "pure":
+        pytest.skip("the pure path (a user's own interpreter) runs hard handlers unlocked: its outputs allocate")
+    rig = make_rig(_hard_irq_app("hard-allocates"), main_dir=FIRMWARE / "hard_irq_allocates", allow_exit=True)
+    with pytest.raises(Exception, match=r"on_edge raised MemoryError: memory allocation failed, heap is locked"):
+        rig.run_for(0.03)
+    assert 'File "main.py", line 10, in on_edge' in rig.console, _where(rig)

@@ -9,11 +9,15 @@ a = Pin(6, Pin.IN)
 b = Pin(7, Pin.IN)
 inside = False
 hard, soft = [], []
+hard_at, hard_inside, n_hard = [0] * 4, [False] * 4, 0  # (a hard handler allocates nothing: the heap is locked)
 t0 = time.ticks_us()
 
 
 def on_a(_p):
-    hard.append((time.ticks_diff(time.ticks_us(), t0), inside))
+    global n_hard
+    hard_at[n_hard] = time.ticks_diff(time.ticks_us(), t0)
+    hard_inside[n_hard] = inside
+    n_hard += 1
 
 
 def on_b(_p):
@@ -35,5 +39,5 @@ inside = False
 Timer(-1, mode=Timer.ONE_SHOT, period=5, callback=slow)
 time.sleep_ms(20)
 print("R width", width)
-print("R hard", hard)
+print("R hard", [(hard_at[i], hard_inside[i]) for i in range(n_hard)])
 print("R soft", soft)

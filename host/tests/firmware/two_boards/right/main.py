@@ -5,11 +5,16 @@ from machine import UART, Pin
 
 uart = UART(0, baudrate=115200)
 ready = Pin(5, Pin.IN)
-edges = []
+EDGES = 16  # (a ring the hard handler fills: it runs with the heap locked, so it allocates nothing)
+edge_level, edge_at, n_in, n_out = bytearray(EDGES), [0] * EDGES, 0, 0
 
 
 def on_edge(pin):
-    edges.append((pin.value(), time.ticks_us()))
+    global n_in
+    i = n_in % EDGES
+    edge_level[i] = pin.value()
+    edge_at[i] = time.ticks_us()
+    n_in += 1
 
 
 ready.irq(on_edge, Pin.IRQ_RISING | Pin.IRQ_FALLING, hard=True)  # (at the edge, in any sleep)
@@ -25,9 +30,10 @@ def draw(n):
 buf = b""
 while True:
     time.sleep_us(200 + draw(2500))
-    while edges:
-        level, t = edges.pop(0)
-        print("right edge", level, "at", t)
+    while n_out < n_in:
+        i = n_out % EDGES
+        print("right edge", edge_level[i], "at", edge_at[i])
+        n_out += 1
     if uart.any():
         buf += uart.read()
         while b"\n" in buf:
