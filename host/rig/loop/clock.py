@@ -76,12 +76,17 @@ class Clock:
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
         self._woke_us = F.FOREVER_US
-        self.catch_up(t_now)
+        t_plant = self.plant.t_us
+        if t_now != t_plant:
+            self.catch_up(t_now)
+            t_plant = self.plant.t_us
+        else:  # (catch_up at the plant's instant: the commit alone)
+            self.commit(t_now)
         if self.looked:  # the lookahead served: the next ones come at once
             self.looked = False
             self.look_backoff = 1
         self.speculation.end()
-        self.wait = Wait(t_now, max(t_until, self.plant.t_us), watch)
+        self.wait = Wait(t_now, max(t_until, t_plant), watch)
 
     def serve(self, t_end_us: int) -> None:
         """Advance the plant for the pending wait, no further than ``t_end_us``; answer
