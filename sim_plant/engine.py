@@ -322,8 +322,7 @@ class RobotPlant(Plant):
 
     @property
     def edge_counters(self) -> tuple:
-        encoders = self.encoders
-        return tuple(encoders) if encoders and self._plain_encoders else ()
+        return tuple(self.encoders) if self.encoders and self._plain_encoders else ()
 
     def advance_edges(self, t_us: int, limit: int, segs, seg_room: int = 0) -> list[Change]:  # noqa: C901 (the one loop)
         """:meth:`advance_to`; with a list ``segs``, the encoders' edges between two events
@@ -346,15 +345,17 @@ class RobotPlant(Plant):
                         t_last = edge_window.segments(encoders, t_stop, segs)
                     else:
                         t_last = edge_window.emit_window(encoders, t_stop, out, limit)
-                    if t_last is None:
-                        window_at = self._next_part_us  # (too few: one by one until then)
+                    if t_last is None:  # (too few: one by one until the next part's event, emit's loop in one call)
+                        t_last, nxt = encoders[0].emit_until(encoders, nxt, t_stop, self._next_part_us, out, limit)
+                        stop = limit and len(out) >= limit
                     else:
-                        self._t_us = t_last
                         nxt = min(self._next_part_us, *(enc.next_us for enc in encoders))
-                        if (limit and len(out) >= limit or seg_room and len(segs) >= seg_room) and nxt > t_last:
-                            self._next_us = nxt
-                            return out
-                        continue
+                        stop = limit and len(out) >= limit or seg_room and len(segs) >= seg_room
+                    self._t_us = t_last
+                    if stop and nxt > t_last:
+                        self._next_us = nxt
+                        return out
+                    continue
                 # everything due at nxt: encoder edges first (they follow the speeds that
                 # held until nxt), then the drive, then the other parts in order
                 if self._alone and not limit and self._next_part_us == nxt and _fire_alone(self, nxt, t_us, out):
@@ -453,8 +454,7 @@ class RobotPlant(Plant):
         self._reschedule()
 
     def _react(self, t: int) -> bool:
-        """Hook after the parts fired at ``t`` (e.g. a machine's own reaction to its
-        bumpers); True if the motion changed."""
+        """Hook after the parts fired at ``t`` (a machine's reaction to its bumpers); True if the motion changed."""
         return False
 
     _alone = False  # (reset finds whether :func:`_fire_alone` may serve)

@@ -68,8 +68,10 @@ class Channel:
         deadline = time.monotonic() + timeout_s
         stalled_since = None
         while True:
-            if fed:
-                got = self.decoder.next()
+            if fed:  # (the usual frame first, without next's call; anything else the codec's)
+                got = self.decoder.next_plain()
+                if got is None:
+                    got = self.decoder.next()
                 if got is not None:
                     return got
             fed = True

@@ -17,9 +17,18 @@ from host.shim import _hilframe as codec
 from host.shim._hilframe import *  # noqa: F403  (the codec's names are this module's)
 
 unpack_out = _struct.Struct(codec.OUT_FMT).unpack_from  # (t_us, handle, attr, value), as codec.unpack_out
+unpack_seen = _struct.Struct(codec.SEEN_FMT).unpack_from  # (t_us, handle, sample number), as codec.unpack_seen
+# a WAIT without watched handles (shorter than WAIT_NO_WATCH_BELOW): (t_now_us, t_until_us, compute_us),
+# codec.unpack_wait's but its empty watch
+unpack_wait_head = _struct.Struct(codec.WAIT_FMT).unpack_from
+WAIT_NO_WATCH_BELOW = codec.WAIT_LEN + codec.WATCH_LEN
+# (t_us, handle) of a UART_TX, its bytes after UART_TX_LEN: codec.unpack_uart_tx's
+unpack_uart_tx_head = _struct.Struct(codec.UART_TX_FMT).unpack_from
 
 _frame_head = _struct.Struct("<BBH").pack  # type, seq, length (after the SOF)
 _crc_field = _struct.Struct("<I")
+_crc_at = _crc_field.unpack_from
+_SOF, _HEADER_LEN, _CRC_LEN, _LONG, _crc32 = codec.SOF, codec.HEADER_LEN, codec.CRC_LEN, codec._LONG, codec.crc32
 
 
 def encode(type_: int, seq: int, payload: bytes) -> bytes:
@@ -44,25 +53,32 @@ class HostDecoder(codec.Decoder):
     the same (host/tests/test_codec_properties.py)."""
 
     def next(self):
+        got = self.next_plain()
+        return got if got is not None else codec.Decoder.next(self)
+
+    def next_plain(self, not_type: int = -1):
+        """The usual case alone: the whole good frame expected next at the start of what
+        is left, as (type, seq, payload), taken; else None, nothing taken (anything else
+        is :meth:`next`'s). A frame of type ``not_type`` is left for :meth:`next` too."""
         buf = self.buf
         pos = self.pos
-        end = pos + codec.HEADER_LEN
-        if end <= len(buf) and buf[pos] == codec.SOF and not self._grown:
+        end = pos + _HEADER_LEN
+        if end <= len(buf) and buf[pos] == _SOF and not self._grown and buf[pos + 1] != not_type:
             n = buf[pos + 3] | buf[pos + 4] << 8
             end += n
             seq = buf[pos + 2]
             expect = self.expect_seq
             if (
-                n < codec._LONG
-                and end + codec.CRC_LEN <= len(buf)
+                n < _LONG
+                and end + _CRC_LEN <= len(buf)
                 and (seq == expect or expect < 0)
-                and codec.crc32(buf[pos + 1 : end]) == _crc_field.unpack_from(buf, end)[0]
+                and _crc32(buf[pos + 1 : end]) == _crc_at(buf, end)[0]
             ):
-                self.pos = end + codec.CRC_LEN
+                self.pos = end + _CRC_LEN
                 self.frames += 1
                 self.expect_seq = (seq + 1) & 0xFF
-                return buf[pos + 1], seq, buf[pos + codec.HEADER_LEN : end]
-        return codec.Decoder.next(self)
+                return buf[pos + 1], seq, buf[pos + _HEADER_LEN : end]
+        return None
 
 
 def unpack_cpu(p) -> tuple:

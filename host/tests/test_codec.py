@@ -116,6 +116,16 @@ def test_the_hosts_compiled_helpers_give_the_codecs_bytes_on_every_vector():
         payload = bytes.fromhex(v["payload"])
         if v["message"] == "out":
             assert frames.unpack_out(payload) == F.unpack_out(payload)
+        if v["message"] == "seen":
+            assert frames.unpack_seen(payload) == F.unpack_seen(payload)
+        if v["message"] == "uart_tx":
+            head = frames.unpack_uart_tx_head(payload)
+            assert head + (bytes(payload[F.UART_TX_LEN :]),) == F.unpack_uart_tx(payload)
+        if v["message"] == "wait":
+            if len(payload) < frames.WAIT_NO_WATCH_BELOW:
+                assert frames.unpack_wait_head(payload) + ((),) == F.unpack_wait(payload)
+            else:
+                assert F.unpack_wait(payload)[3], f"a WAIT of {len(payload)} bytes watches a handle"
         if v["message"] == "state":
             base, t_end, horizon, changes = F.unpack_state(payload)
             assert frames.pack_state(base, t_end, horizon, changes) == F.pack_state(base, t_end, horizon, changes)

@@ -161,7 +161,11 @@ class PartsPlant(RobotPlant):
 
     def send_bytes(self, name: str, data: bytes, baud: int) -> None:
         """Bytes a UART sends on a UART wire at ``baud``, from now (after what is on it)."""
-        self._wire_part(name).send_bytes(name, data, baud, self._t_us)
+        where = self._input_route.get(name, -1)  # (the wire's part: _wire_part, without its call)
+        send = getattr(self.parts[where], "send_bytes", None) if where >= 0 else None
+        if send is None:
+            send = self._wire_part(name).send_bytes  # (raises: no wire input of that name)
+        send(name, data, baud, self._t_us)
         self._reschedule()
 
     def bus_transfer(self, bus: str, op: int, address: int, n_read: int, data: bytes, unclocked=frozenset()) -> tuple:
@@ -236,7 +240,7 @@ class PartsPlant(RobotPlant):
             burst = self._burst(limit)
             if burst:
                 return burst
-        return super().advance_to(t_us, limit)
+        return self.advance_edges(t_us, limit, None)  # (RobotPlant.advance_to, without its call)
 
     def _burst(self, limit: int) -> list:
         """A wire's writes at this instant beyond ``limit`` (a loop of writes with no wait

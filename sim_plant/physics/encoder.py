@@ -123,6 +123,40 @@ class _EdgeCounter:
     """The closed-form emit: an encoder whose class's ``emit`` is still this one lets
     :mod:`sim_plant.edge_window` compute a window of its edges at once."""
 
+    @staticmethod
+    def emit_until(encoders, nxt: int, t_stop: int, soonest_other: int, out: list, limit: int) -> tuple[int, int]:
+        """The plant's loop over the instants where only encoders are due (each encoder's
+        ``emit`` its ``plain_emit``), from ``nxt`` through ``t_stop`` (before
+        ``soonest_other``, the next event of anything else), in one call: at each instant the
+        edges due, in the encoders' order, with :meth:`_EdgeCounter.emit`'s arithmetic, then the
+        next instant; it stops after the instant that brings ``out`` to ``limit`` (0: no
+        limit). Returns (the last instant emitted, or -1 if none; the next instant due)."""
+        last = -1
+        ceil = math.ceil
+        while nxt <= t_stop:
+            for enc in encoders:
+                if enc.next_us == nxt:  # (emit, inline)
+                    rate = enc.rate
+                    if rate > 0.0:
+                        n = enc.n + 1
+                        name, level = enc._fwd[n & enc._mask]
+                        t = enc.t0_us + ceil((n + 1 - enc.p0) / rate)
+                    else:
+                        n = enc.n - 1
+                        name, level = enc._bwd[n & enc._mask]
+                        t = enc.t0_us + ceil((enc.p0 - n) / -rate)
+                    enc.n = n
+                    out.append(_new_tuple(Change, (nxt, name, level)))
+                    enc.next_us = t if t > nxt else nxt + 1
+            last = nxt
+            nxt = soonest_other
+            for enc in encoders:
+                if enc.next_us < nxt:
+                    nxt = enc.next_us
+            if limit and len(out) >= limit:
+                break
+        return last, nxt
+
 
 class QuadratureEncoder(_EdgeCounter):
     """Two channels 90 degrees apart: ``lines_per_rev`` lines on the disk give 4 edges

@@ -1,5 +1,6 @@
 """The firmware's outputs: each OUT and UART_TX applied to the plant at its virtual time,
-shown to the budgets that watch the pin, and recorded.
+shown to the budgets that watch the pin, and recorded. The message's handler
+(``host/rig/loop/messages.py``) hands it to its handle's peripheral with these.
 
 The handle's kind's handler (``host/rig/hardware/peripherals.py``) says what its output does: a
 pin's level, a PWM's duty (a waveform, with its frequency, when the plant input is of
@@ -17,14 +18,6 @@ class Outputs:
         self.wiring = wiring
         self.level_hooks = hooks.level
         self.recorder = recorder
-
-    def out(self, t: int, h: int, attr: int, value: int) -> None:
-        info = self.wiring.handles[h]
-        info.peripheral.out(self, t, info, attr, value)
-
-    def uart_tx(self, t: int, h: int, data: bytes) -> None:
-        info = self.wiring.handles[h]
-        info.peripheral.transmit(self, t, info, data)
 
     def record(self, t: int, info, value, kind: str) -> None:
         """A firmware output, as the plant's input (or the probe, or the bare pin) saw it;

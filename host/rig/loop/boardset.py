@@ -95,19 +95,13 @@ def wakeable(rig) -> bool:
     return wait is None or bool(wait.watch) or getattr(rig.wiring, "irq_armed", False)
 
 
-def to_wait(rig, what: str = "a message") -> None:
-    """Serve a running board (or host program) until it blocks in a wait, or ends."""
-    while rig.clock.wait is None and rig.exit_kind is None:
-        rig.dispatch(*rig.session.recv(rig.watchdog_s, what))
-
-
 def settle(rigs: dict, serving: list) -> None:
     """Serve each board of ``rigs`` that is running, in order, until it blocks (or ends),
     its name in ``serving[0]``."""
     for board, rig in rigs.items():
         if rig.clock.wait is None and rig.exit_kind is None:  # (to_wait's own test: no call where it has none)
             serving[0] = board
-            to_wait(rig)
+            rig.to_wait()
 
 
 def routes_of(views: dict) -> dict:
@@ -387,7 +381,7 @@ class BoardSet:
         self._in_target = target
         try:
             with naming(target):
-                to_wait(rig)  # (running: to its wait first)
+                rig.to_wait()  # (running: to its wait first)
                 h = rig.wiring.i2c_targets.get(address) if rig.exit_kind is None else None
                 if h is None:  # (no target there: the plant's chips answer)
                     return None
@@ -402,7 +396,7 @@ class BoardSet:
                 rig._i2ct_done = None
                 rig.clock.bound_us = t_us + 1
                 rig.clock.serve(t_us)
-                to_wait(rig, "the target's answer")
+                rig.to_wait("the target's answer")
         finally:
             self._in_target = None
         self.rigs[board].clock.bound_us = t_us + 1
@@ -421,7 +415,7 @@ class BoardSet:
         settle(self.rigs, serving)
         with naming(board):
             rig.power_cycle()
-            to_wait(rig)  # (its boot, to its first wait)
+            rig.to_wait()  # (its boot, to its first wait)
 
     def target_addresses(self, board: str, bus: str) -> set:
         """The addresses another board's I2CTarget has taken on ``board``'s ``bus`` (a scan's),
@@ -430,7 +424,7 @@ class BoardSet:
         rig = self.rigs[target] if target is not None and self._in_target is None else None
         if rig is not None:
             with naming(target):
-                to_wait(rig)
+                rig.to_wait()
         if rig is None or rig.exit_kind is not None:
             return set()
         return {a for a in rig.wiring.i2c_targets if FIRST_ADDRESS <= a <= LAST_ADDRESS}

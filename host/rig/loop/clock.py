@@ -76,12 +76,17 @@ class Clock:
     def block(self, t_now: int, t_until: int, watch: frozenset) -> None:
         """A WAIT: the firmware took the whole last batch and blocks until ``t_until``."""
         self._woke_us = F.FOREVER_US
-        self.catch_up(t_now)
+        t_plant = self.plant.t_us
+        if t_now != t_plant:
+            self.catch_up(t_now)
+            t_plant = self.plant.t_us
+        else:  # (catch_up at the plant's instant: the commit alone)
+            self.commit(t_now)
         if self.looked:  # the lookahead served: the next ones come at once
             self.looked = False
             self.look_backoff = 1
         self.speculation.end()
-        self.wait = Wait(t_now, max(t_until, self.plant.t_us), watch)
+        self.wait = Wait(t_now, max(t_until, t_plant), watch)
 
     def serve(self, t_end_us: int) -> None:
         """Advance the plant for the pending wait, no further than ``t_end_us``; answer
@@ -91,9 +96,9 @@ class Clock:
         if self.pacing.walled:  # (real time: a pause before this wait is not the firmware's time)
             self.pacing.resume(wait.t_now, self.plant.t_us)
         stopped = self.advance(min(wait.t_until, t_end_us), wait.watch)
-        if stopped or self.plant.t_us >= wait.t_until:
+        t_wake = self.plant.t_us
+        if stopped or t_wake >= wait.t_until:
             self.wait = None
-            t_wake = self.plant.t_us
             images = self.images
             image = None
             if images is not None and images.on and images.reads:
@@ -103,8 +108,8 @@ class Clock:
             if image is not None:  # (taken at the wake, before the lookahead ran the plant on)
                 self.session.hold(F.BUS_IMAGE, image)
             self._send_state(wait.t_now, t_end_us, t_wake)
-        elif not self.speculation.open:
-            self.commit(self.plant.t_us)  # nothing in this batch can be rewound
+        elif self.speculation.snapshot is None:  # (not open)
+            self.commit(t_wake)  # nothing in this batch can be rewound
 
     def _look_ahead(self, t_end_us: int) -> None:
         """Advance the plant past the wait's end (never past the run's), its changes going
@@ -140,7 +145,7 @@ class Clock:
         edge is due. Lockstep batches IRQ edges speculatively."""
         plant, pacing, inputs, recorder = self.plant, self.pacing, self.inputs, self.recorder
         route, route_all = inputs.route, inputs.route_all
-        if pacing.speculates and not self.speculation.open and self.wait is not None and self.wiring.irq_armed:
+        if pacing.speculates and self.speculation.snapshot is None and self.wait is not None and self.wiring.irq_armed:
             self.speculation.begin()
         if plant.zero_delay:  # a wire carries a write to an input at its own instant
             for change in plant.advance_to(plant.t_us, inputs.room()):
@@ -171,7 +176,7 @@ class Clock:
         if watch or self.recorder is not None or not self.pacing.speculates or plant.zero_delay:
             return None
         counters = plant.edge_counters
-        if not counters or sum(abs(c.rate) for c in counters) * (target_us - plant.t_us) < SEGMENT_MIN_EDGES:
+        if not counters or sum([abs(c.rate) for c in counters]) * (target_us - plant.t_us) < SEGMENT_MIN_EDGES:
             return None
         return self.inputs.edge_routes(counters, watch)
 
@@ -179,13 +184,15 @@ class Clock:
         """Bring the plant to the firmware's time: forward if the shim moved on inside
         its horizon, back if a handler changed an output inside a speculative batch."""
         plant = self.plant
-        while t_us > plant.t_us:  # (through ground truth's sample times, as advance() goes)
+        t_plant = plant.t_us
+        while t_us > t_plant:  # (through ground truth's sample times, as advance() goes)
             for change in plant.advance_to(self.to_truth(t_us)):
                 self.stats.lease_violations += 1
                 self.inputs.route(change, _NO_WATCH)
             if self.recorder is not None:
                 self.recorder.sample(plant)
-        if t_us < plant.t_us and self.pacing.speculates:
+            t_plant = plant.t_us
+        if t_us < t_plant and self.pacing.speculates:
             if self.looked:  # the firmware voided the lookahead: wait longer for the next
                 self.looked = False
                 self.look_skip = self.look_backoff

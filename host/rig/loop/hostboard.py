@@ -133,6 +133,11 @@ class HostProgram:
                 f"(waiting for {what}): it computes without sleeping, or waits on something outside the set"
             ) from None
 
+    def to_wait(self, what: str = "a message") -> None:
+        """Serve the program until it blocks in a wait, or ends (as ``Rig.to_wait``)."""
+        while self.clock.wait is None and self.exit_kind is None:
+            self.dispatch(*self.recv(self.watchdog_s, what))
+
     def dispatch(self, kind: str, payload) -> None:
         if kind == "wait":
             t_until, watch = payload

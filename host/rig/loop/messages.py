@@ -18,12 +18,17 @@ def on_out(rig, p: bytes) -> None:
         rig.clock.catch_up(t)
     if rig.linklog is not NO_LOG:  # (not recorded: no call at each message)
         rig.linklog.out(t, h, attr, value)
-    rig.outputs.out(t, h, attr, value)
+    info = rig.wiring.handles[h]  # (the handle's kind's handler applies it: Outputs' module doc)
+    info.peripheral.out(rig.outputs, t, info, attr, value)
 
 
 def on_wait(rig, p: bytes) -> None:
-    t_now, t_until, compute_us, watch = F.unpack_wait(p)
-    watch = frozenset(watch) if watch else _NO_WATCH
+    if len(p) < F.WAIT_NO_WATCH_BELOW:  # (the usual WAIT: no handle watched)
+        t_now, t_until, compute_us = F.unpack_wait_head(p)
+        watch = _NO_WATCH
+    else:
+        t_now, t_until, compute_us, watch = F.unpack_wait(p)
+        watch = frozenset(watch) if watch else _NO_WATCH
     rig.clock.block(t_now, t_until, watch)
     if rig.console_log.pending:
         rig.console_log.stamp(t_now)
@@ -51,7 +56,7 @@ def on_cfg(rig, p: bytes) -> None:
 
 
 def on_seen(rig, p: bytes) -> None:
-    t, h, sample_no = F.unpack_seen(p)
+    t, h, sample_no = F.unpack_seen(p)  # (the host's compiled form: host/link/frames.py)
     rig.speculation.commit(t)
     for call in rig._seen_hooks.get(rig.wiring.handles[h].signal, ()):
         call(t, sample_no)
@@ -60,9 +65,11 @@ def on_seen(rig, p: bytes) -> None:
 
 
 def on_uart_tx(rig, p: bytes) -> None:
-    t, h, data = F.unpack_uart_tx(p)
+    t, h = F.unpack_uart_tx_head(p)  # (F.unpack_uart_tx)
+    data = bytes(p[F.UART_TX_LEN :])
     rig.clock.catch_up(t)
-    rig.outputs.uart_tx(t, h, data)
+    info = rig.wiring.handles[h]
+    info.peripheral.transmit(rig.outputs, t, info, data)
     if rig.linklog is not NO_LOG:
         rig.linklog.uart_tx(t, h, data)
 

@@ -277,9 +277,9 @@ class Rig:
                 self.clock.run_alone(t_end_us)
                 return
             if self.clock.wait is None:
-                self.dispatch(*self.session.recv(self.watchdog_s, "a message"))
+                self.to_wait()
                 continue
-            if self.t_us >= t_end_us:
+            if self.plant.t_us >= t_end_us:  # (self.t_us)
                 return
             self.clock.serve(t_end_us)
 
@@ -304,6 +304,30 @@ class Rig:
         if handler is None:
             raise LinkError(f"unexpected message type 0x{type_:02x} from the shim")
         handler(self, payload)
+
+    def to_wait(self, what: str = "a message") -> None:
+        """Serve the running firmware until it blocks in a wait, or ends: each message to
+        its handler, as :meth:`dispatch`. The frames a read brought are taken in this loop
+        from the channel's decoder (``HostDecoder.next_plain``: a whole good frame, the one
+        expected next, at the front), not each through ``Session.recv`` and
+        ``Channel.recv``; the first of a read, anything else (a partial or damaged frame,
+        a gap), and a WAIT whose round trip is being timed go through ``Session.recv``."""
+        session, clock, handlers = self.session, self.clock, HANDLERS
+        while clock.wait is None and self.exit_kind is None:
+            decoder = session.chan.decoder  # (a restart's handshake may bring another channel)
+            got = None
+            if decoder.pos < len(decoder.buf) and not decoder.damaged:
+                # (a WAIT while its round trip is timed goes through Session.recv, which times it)
+                got = decoder.next_plain(F.WAIT if session._t_sent is not None else -1)
+            if got is None:
+                type_, payload = session.recv(self.watchdog_s, what)
+            else:
+                type_, _seq, payload = got
+                session.last_type = type_
+            handler = handlers.get(type_)
+            if handler is None:
+                raise LinkError(f"unexpected message type 0x{type_:02x} from the shim")
+            handler(self, payload)
 
     def restart(self) -> None:
         """The firmware restarts on its target (a reset) and shakes hands again."""
