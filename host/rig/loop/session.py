@@ -45,12 +45,14 @@ class Session:
 
     def send(self, type_: int, payload: bytes) -> None:
         self.last_sent_type = type_
+        # (timed from before the write, as the raw round trip is: the clock of the channel's last_data_wall)
+        t_sent = time.monotonic() if self.round_trip_us is not None else None
         try:
             self.chan.send(type_, payload)
         except OSError as e:
             raise LinkError(f"plant link write failed: {e}") from e
-        if self.round_trip_us is not None:
-            self._t_sent = time.monotonic()  # (the clock of the channel's last_data_wall)
+        if t_sent is not None:
+            self._t_sent = t_sent
 
     def hold(self, type_: int, payload: bytes) -> None:
         """A frame sent with the next one, in one write."""
