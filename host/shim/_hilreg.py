@@ -95,6 +95,10 @@ def _slice_of(gpio):
     return (gpio >> 1) & 7
 
 
+# each slice's GPIOs in order (2n, 2n + 1, 2n + 16, 2n + 17 below N_GPIO: _slice_of's inverse)
+_SLICE_GPIOS = tuple(tuple(g for g in range(N_GPIO) if _slice_of(g) == sl) for sl in range(8))
+
+
 def slice_reg(sl, off):
     return _regs.get(PWM_BASE + 0x14 * sl + off, 0x10 if off == _DIV else (0xFFFF if off == _TOP else 0))
 
@@ -158,8 +162,8 @@ def _pwm_apply(sl):
     """A slice's registers changed: each pin of it whose function is PWM drives what they say."""
     m = _machine()
     csr = slice_reg(sl, _CSR)
-    for gpio in range(N_GPIO):
-        if _slice_of(gpio) != sl or funcsel(gpio) != FUNC_PWM:
+    for gpio in _SLICE_GPIOS[sl]:
+        if funcsel(gpio) != FUNC_PWM:
             continue
         pwm = m.PWM._made.get(gpio)
         if pwm is None:

@@ -18,6 +18,7 @@ import struct
 import _hil
 import _hilframe as F
 import _hilpio
+from _hilbuf import rbuf, typecode, wbuf
 from _pioasm import PIOASMError, asm_pio, asm_pio_encode  # noqa: F401  (the port's names)
 
 _SYS_HZ = 125_000_000
@@ -27,8 +28,6 @@ _RETRY_US = 1000  # a FIFO the pins as they are never serve: look again this muc
 
 def _put_words(value):
     """The words StateMachine.put takes from a buffer (rp2_state_machine_put)."""
-    from _hilbuf import rbuf, typecode
-
     try:
         view = memoryview(value)
     except TypeError:
@@ -40,14 +39,25 @@ def _put_words(value):
         return []
     if not size:
         raise ValueError("unsupported buffer type")
-    return list(struct.unpack("<%d%s" % (len(data) // size, "BHxI"[size - 1]), data))
+    return list(struct.unpack(_fmt(len(data) // size, size), data))
+
+
+_FMTS = {}  # (n, item size) -> the struct format of n little-endian items of that size
+
+
+def _fmt(n, size=4):
+    """struct's format for ``n`` items of ``size`` bytes ('B', 'H', 'I'), made once: a str
+    made anew costs the interpreter a look-up among every interned name."""
+    key = n << 3 | size
+    f = _FMTS.get(key)
+    if f is None:
+        f = _FMTS[key] = "<%d%s" % (n, "BHxI"[size - 1])
+    return f
 
 
 def _get_items(buf):
     """A writable view of StateMachine.get's buffer and its item's size, 0 for a typecode the
     port refuses (rp2_state_machine_get: lower-cased, 'b', 'h' or 'i')."""
-    from _hilbuf import typecode, wbuf
-
     view = wbuf(buf)  # (TypeError for bytes, str, anything not a writable buffer)
     code = typecode(memoryview(buf))
     if code != 1:
@@ -306,7 +316,7 @@ class StateMachine:
             _AHEAD[1], _AHEAD[2] = _hil._Link.frames, 0
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
-            self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
+            self._rx = list(struct.unpack_from(_fmt(got[0]), got, 2))
             self._tx_level = got[1]
             self._at = t
         return count, got
@@ -377,7 +387,7 @@ class StateMachine:
             words = _put_words(value)
         words = [(w << shift) & 0xFFFFFFFF for w in words]
         while words:
-            count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack("<%dI" % len(words), *words))
+            count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack(_fmt(len(words)), *words))
             words = words[count:]
             if words:
                 self._wait(got)
@@ -401,7 +411,7 @@ class StateMachine:
                     _POPPED.append(self)
                 continue
             count, got = self._call(F.BUS_PIO_GET, 0, n - len(out))
-            out += struct.unpack_from("<%dI" % count, got, 4)
+            out += struct.unpack_from(_fmt(count), got, 4)
             if len(out) < n:
                 self._wait(got)
         if buf is None:
@@ -409,7 +419,7 @@ class StateMachine:
         if not size:
             raise ValueError("unsupported buffer type")
         mask = (1 << (8 * size)) - 1
-        struct.pack_into("<%d%s" % (n, "BHxI"[size - 1]), view, 0, *[(w >> shift) & mask for w in out])
+        struct.pack_into(_fmt(n, size), view, 0, *[(w >> shift) & mask for w in out])
         return buf
 
     def _wait(self, reply):
