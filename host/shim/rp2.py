@@ -189,8 +189,8 @@ _SMS = {}
 _KEEP = object()  # (irq() with no argument: the IRQ object as it is)
 _POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 # The host's answers to the next PIO frames (PIO_AHEAD), in order, each naming its state
-# machine; _hil._Link.frames when they came (they hold while no frame went out since); the
-# answers taken (the next one's index).
+# machine (the whole list while some are left); _hil._Link.frames when they came (they hold
+# while no frame went out since); the answers taken (the next one's index in the list).
 _AHEAD = [None, -1, 0]
 
 
@@ -302,9 +302,10 @@ class StateMachine:
         popped, self._popped = self._popped, 0
         if self in _POPPED:  # (first: another machine's exchange below must not come back to this one)
             _POPPED.remove(self)
-        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
-            if other in _POPPED and other._at != now:
-                other._call(F.BUS_PIO_LEVELS, 0, 2)
+        if _POPPED:
+            for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
+                if other in _POPPED and other._at != now:
+                    other._call(F.BUS_PIO_LEVELS, 0, 2)
         address |= popped << 8
         reply = _AHEAD[0] and self._answered(op, address, n_read, data)
         if reply:
@@ -334,7 +335,8 @@ class StateMachine:
             _hil.pay_console()
         t = _hil.now()
         ahead = _AHEAD[0]
-        entry = ahead[0]
+        i = _AHEAD[2]
+        entry = ahead[i]
         _AHEAD[0] = None
         if (
             _hil._Link.frames != _AHEAD[1]
@@ -343,7 +345,7 @@ class StateMachine:
             or entry[1] != op
             or entry[2] != address
             or entry[3] != n_read
-            or entry[4] != bytes(data)
+            or entry[4] != data  # (bytes: each caller's)
         ):
             return None
         depth = _hil.heap_release()
@@ -355,11 +357,12 @@ class StateMachine:
             _hil._Link.done = 0
             _hil._horizon = entry[7]
             _hil._wrote = True
-            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, _AHEAD[2]))
+            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, i))
         finally:
             _hil.heap_restore(depth)
-        _AHEAD[0] = ahead[1:] or None
-        _AHEAD[1], _AHEAD[2] = _hil._Link.frames, _AHEAD[2] + 1
+        if i + 1 < len(ahead):  # (the entries left: the list kept, its next index; no copy made)
+            _AHEAD[0] = ahead
+        _AHEAD[1], _AHEAD[2] = _hil._Link.frames, i + 1
         return entry[6], entry[8], t
 
     def active(self, value=None):
@@ -396,6 +399,11 @@ class StateMachine:
         # ports/rp2/rp2_pio.c, rp2_state_machine_get: a writable buffer is filled item by item
         # as its typecode says, without regard to sign (bytearray, 'b', 'h', 'i'); another
         # typecode raises ValueError once the first word is taken; it returns the buffer.
+        if buf is None and self._rx and self._at == _hil.now():  # (a word the last LEVELS gave: as below)
+            self._popped += 1
+            if self not in _POPPED:
+                _POPPED.append(self)
+            return self._rx.pop(0) >> shift
         n = 1
         if buf is not None:
             view, size = _get_items(buf)
