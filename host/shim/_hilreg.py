@@ -340,7 +340,8 @@ def mems(base):
                         shift = 8 * (addr & 3)
                         value = (old & ~(((1 << self._bits) - 1) << shift)) | (value << shift)
                 value &= 0xFFFFFFFF
-                value = (value, old ^ value, old | value, old & ~value)[op]
+                if op:  # (an alias: XOR, SET, CLR)
+                    value = (value, old ^ value, old | value, old & ~value)[op]
                 if _write32(word, value):
                     return
             _note(addr, "write to")

@@ -385,10 +385,11 @@ class StateMachine:
         # as its typecode says (bytes, str, bytearray, 'B', 'H', 'I'; any other typecode
         # raises ValueError at its first item); anything else must convert to an int.
         if isinstance(value, int):
-            words = [value]
+            words = [(value << shift) & 0xFFFFFFFF]
         else:
-            words = _put_words(value)
-        words = [(w << shift) & 0xFFFFFFFF for w in words]
+            words = _put_words(value)  # (words of 32 bits at most: as they are when not shifted)
+            if shift:
+                words = [(w << shift) & 0xFFFFFFFF for w in words]
         while words:
             count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack(_fmt(len(words)), *words))
             words = words[count:]
