@@ -147,7 +147,9 @@ class SoftI2C(_Bus):
         return len(data) if self._hard else acks
 
     def _memaddr(self, memaddr, addrsize):
-        if addrsize not in (8, 16, 24, 32):
+        if addrsize == 8:  # (the common case, without the generator below)
+            return bytes((memaddr & 0xFF,))
+        if addrsize not in (16, 24, 32):
             raise ValueError("invalid addrsize")
         return bytes((memaddr >> s) & 0xFF for s in range(addrsize - 8, -1, -8))
 

@@ -25,21 +25,27 @@ def pack_pio_ahead(entries):
 
 def unpack_pio_ahead(p):
     """[(t_us, op, address, n_read, data, status, count, horizon_us, got, sm)]"""
+    if type(p) is not bytes:  # (slices of bytes are bytes: none made twice below)
+        p = bytes(p)
     (n,) = struct.unpack_from(PIO_AHEAD_FMT, p, 0)
-    off = struct.calcsize(PIO_AHEAD_FMT)
-    size, got_size = struct.calcsize(PIO_AHEAD_ENTRY_FMT), struct.calcsize(PIO_AHEAD_GOT_FMT)
+    off = _HEAD_SIZE
+    unpack_from = struct.unpack_from
     out = []
     for _ in range(n):
-        fixed = struct.unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
-        t_us, op, address, n_read, status, count, horizon_us, n_data, sm = fixed
-        off += size
-        data = bytes(p[off : off + n_data])
+        t_us, op, address, n_read, status, count, horizon_us, n_data, sm = unpack_from(PIO_AHEAD_ENTRY_FMT, p, off)
+        off += _ENTRY_SIZE
+        data = p[off : off + n_data] if n_data else b""
         off += n_data
-        (n_got,) = struct.unpack_from(PIO_AHEAD_GOT_FMT, p, off)
-        off += got_size
-        out.append((t_us, op, address, n_read, data, status, count, horizon_us, bytes(p[off : off + n_got]), sm))
+        n_got = p[off] | p[off + 1] << 8  # (PIO_AHEAD_GOT_FMT, "<H", without its tuple)
+        off += _GOT_SIZE
+        out.append((t_us, op, address, n_read, data, status, count, horizon_us, p[off : off + n_got], sm))
         off += n_got
     return out
+
+
+_HEAD_SIZE = struct.calcsize(PIO_AHEAD_FMT)
+_ENTRY_SIZE = struct.calcsize(PIO_AHEAD_ENTRY_FMT)
+_GOT_SIZE = struct.calcsize(PIO_AHEAD_GOT_FMT)
 
 
 def pack_pio_done(t_us, sm_id, entry):

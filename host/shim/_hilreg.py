@@ -95,6 +95,10 @@ def _slice_of(gpio):
     return (gpio >> 1) & 7
 
 
+# each slice's GPIOs in order (2n, 2n + 1, 2n + 16, 2n + 17 below N_GPIO: _slice_of's inverse)
+_SLICE_GPIOS = tuple(tuple(g for g in range(N_GPIO) if _slice_of(g) == sl) for sl in range(8))
+
+
 def slice_reg(sl, off):
     return _regs.get(PWM_BASE + 0x14 * sl + off, 0x10 if off == _DIV else (0xFFFF if off == _TOP else 0))
 
@@ -155,18 +159,26 @@ def pwm_set_duty_u16(gpio, duty, invert):
 
 
 def _pwm_apply(sl):
-    """A slice's registers changed: each pin of it whose function is PWM drives what they say."""
+    """A slice's registers changed: each pin of it whose function is PWM drives what they say
+    (pwm_duty_u16, pwm_freq and funcsel inline: a duty written through mem32 comes often)."""
     m = _machine()
-    csr = slice_reg(sl, _CSR)
-    for gpio in range(N_GPIO):
-        if _slice_of(gpio) != sl or funcsel(gpio) != FUNC_PWM:
+    get = _regs.get
+    base = PWM_BASE + 0x14 * sl
+    csr = get(base + _CSR, 0)
+    for gpio in _SLICE_GPIOS[sl]:
+        if get(IO_BANK0 + 8 * gpio + 4, FUNC_NULL) & 0x1F != FUNC_PWM:
             continue
         pwm = m.PWM._made.get(gpio)
         if pwm is None:
             pwm = m.PWM._from_registers(gpio)
-        duty = pwm_duty_u16(gpio) if csr & 1 else 0  # (a slice stopped: the line low)
+        top = get(base + _TOP, 0xFFFF) & 0xFFFF
+        duty = 0  # (a slice stopped: the line low)
+        if csr & 1:
+            cc = (get(base + _CC, 0) >> (16 if gpio & 1 else 0)) & 0xFFFF
+            duty = min(65535, (cc * 65535 + (top + 1) // 2) // (top + 1))
         invert = bool(csr & (8 if gpio & 1 else 4))
-        pwm._drive(pwm_freq(sl), duty, invert)
+        d = (get(base + _DIV, 0x10) & 0xFFF or 0x1000) * (top + 1)
+        pwm._drive(_slice_hz(d // 2, d), duty, invert)
 
 
 def _pins_apply(changed):
@@ -328,7 +340,8 @@ def mems(base):
                         shift = 8 * (addr & 3)
                         value = (old & ~(((1 << self._bits) - 1) << shift)) | (value << shift)
                 value &= 0xFFFFFFFF
-                value = (value, old ^ value, old | value, old & ~value)[op]
+                if op:  # (an alias: XOR, SET, CLR)
+                    value = (value, old ^ value, old | value, old & ~value)[op]
                 if _write32(word, value):
                     return
             _note(addr, "write to")

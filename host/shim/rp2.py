@@ -18,6 +18,7 @@ import struct
 import _hil
 import _hilframe as F
 import _hilpio
+from _hilbuf import rbuf, typecode, wbuf
 from _pioasm import PIOASMError, asm_pio, asm_pio_encode  # noqa: F401  (the port's names)
 
 _SYS_HZ = 125_000_000
@@ -27,8 +28,6 @@ _RETRY_US = 1000  # a FIFO the pins as they are never serve: look again this muc
 
 def _put_words(value):
     """The words StateMachine.put takes from a buffer (rp2_state_machine_put)."""
-    from _hilbuf import rbuf, typecode
-
     try:
         view = memoryview(value)
     except TypeError:
@@ -40,14 +39,25 @@ def _put_words(value):
         return []
     if not size:
         raise ValueError("unsupported buffer type")
-    return list(struct.unpack("<%d%s" % (len(data) // size, "BHxI"[size - 1]), data))
+    return list(struct.unpack(_fmt(len(data) // size, size), data))
+
+
+_FMTS = {}  # (n, item size) -> the struct format of n little-endian items of that size
+
+
+def _fmt(n, size=4):
+    """struct's format for ``n`` items of ``size`` bytes ('B', 'H', 'I'), made once: a str
+    made anew costs the interpreter a look-up among every interned name."""
+    key = n << 3 | size
+    f = _FMTS.get(key)
+    if f is None:
+        f = _FMTS[key] = "<%d%s" % (n, "BHxI"[size - 1])
+    return f
 
 
 def _get_items(buf):
     """A writable view of StateMachine.get's buffer and its item's size, 0 for a typecode the
     port refuses (rp2_state_machine_get: lower-cased, 'b', 'h' or 'i')."""
-    from _hilbuf import typecode, wbuf
-
     view = wbuf(buf)  # (TypeError for bytes, str, anything not a writable buffer)
     code = typecode(memoryview(buf))
     if code != 1:
@@ -179,8 +189,8 @@ _SMS = {}
 _KEEP = object()  # (irq() with no argument: the IRQ object as it is)
 _POPPED = []  # state machines with words taken from their RX FIFO the host is not yet told of
 # The host's answers to the next PIO frames (PIO_AHEAD), in order, each naming its state
-# machine; _hil._Link.frames when they came (they hold while no frame went out since); the
-# answers taken (the next one's index).
+# machine (the whole list while some are left); _hil._Link.frames when they came (they hold
+# while no frame went out since); the answers taken (the next one's index in the list).
 _AHEAD = [None, -1, 0]
 
 
@@ -292,9 +302,10 @@ class StateMachine:
         popped, self._popped = self._popped, 0
         if self in _POPPED:  # (first: another machine's exchange below must not come back to this one)
             _POPPED.remove(self)
-        for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
-            if other in _POPPED and other._at != now:
-                other._call(F.BUS_PIO_LEVELS, 0, 2)
+        if _POPPED:
+            for other in list(_POPPED):  # (the host runs the PIO on only after it knows what was taken)
+                if other in _POPPED and other._at != now:
+                    other._call(F.BUS_PIO_LEVELS, 0, 2)
         address |= popped << 8
         reply = _AHEAD[0] and self._answered(op, address, n_read, data)
         if reply:
@@ -306,7 +317,7 @@ class StateMachine:
             _AHEAD[1], _AHEAD[2] = _hil._Link.frames, 0
         self._at = -1
         if op == F.BUS_PIO_LEVELS:  # the levels and the RX words: gets at this instant need no exchange
-            self._rx = list(struct.unpack_from("<%dI" % got[0], got, 2))
+            self._rx = list(struct.unpack_from(_fmt(got[0]), got, 2))
             self._tx_level = got[1]
             self._at = t
         return count, got
@@ -324,7 +335,8 @@ class StateMachine:
             _hil.pay_console()
         t = _hil.now()
         ahead = _AHEAD[0]
-        entry = ahead[0]
+        i = _AHEAD[2]
+        entry = ahead[i]
         _AHEAD[0] = None
         if (
             _hil._Link.frames != _AHEAD[1]
@@ -333,7 +345,7 @@ class StateMachine:
             or entry[1] != op
             or entry[2] != address
             or entry[3] != n_read
-            or entry[4] != bytes(data)
+            or entry[4] != data  # (bytes: each caller's)
         ):
             return None
         depth = _hil.heap_release()
@@ -345,11 +357,12 @@ class StateMachine:
             _hil._Link.done = 0
             _hil._horizon = entry[7]
             _hil._wrote = True
-            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, _AHEAD[2]))
+            _hil.send(F.PIO_DONE, _hilpio.pack_pio_done(t, self._id, i))
         finally:
             _hil.heap_restore(depth)
-        _AHEAD[0] = ahead[1:] or None
-        _AHEAD[1], _AHEAD[2] = _hil._Link.frames, _AHEAD[2] + 1
+        if i + 1 < len(ahead):  # (the entries left: the list kept, its next index; no copy made)
+            _AHEAD[0] = ahead
+        _AHEAD[1], _AHEAD[2] = _hil._Link.frames, i + 1
         return entry[6], entry[8], t
 
     def active(self, value=None):
@@ -372,12 +385,13 @@ class StateMachine:
         # as its typecode says (bytes, str, bytearray, 'B', 'H', 'I'; any other typecode
         # raises ValueError at its first item); anything else must convert to an int.
         if isinstance(value, int):
-            words = [value]
+            words = [(value << shift) & 0xFFFFFFFF]
         else:
-            words = _put_words(value)
-        words = [(w << shift) & 0xFFFFFFFF for w in words]
+            words = _put_words(value)  # (words of 32 bits at most: as they are when not shifted)
+            if shift:
+                words = [(w << shift) & 0xFFFFFFFF for w in words]
         while words:
-            count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack("<%dI" % len(words), *words))
+            count, got = self._call(F.BUS_PIO_PUT, 0, 0, struct.pack(_fmt(len(words)), *words))
             words = words[count:]
             if words:
                 self._wait(got)
@@ -386,6 +400,11 @@ class StateMachine:
         # ports/rp2/rp2_pio.c, rp2_state_machine_get: a writable buffer is filled item by item
         # as its typecode says, without regard to sign (bytearray, 'b', 'h', 'i'); another
         # typecode raises ValueError once the first word is taken; it returns the buffer.
+        if buf is None and self._rx and self._at == _hil.now():  # (a word the last LEVELS gave: as below)
+            self._popped += 1
+            if self not in _POPPED:
+                _POPPED.append(self)
+            return self._rx.pop(0) >> shift
         n = 1
         if buf is not None:
             view, size = _get_items(buf)
@@ -401,7 +420,7 @@ class StateMachine:
                     _POPPED.append(self)
                 continue
             count, got = self._call(F.BUS_PIO_GET, 0, n - len(out))
-            out += struct.unpack_from("<%dI" % count, got, 4)
+            out += struct.unpack_from(_fmt(count), got, 4)
             if len(out) < n:
                 self._wait(got)
         if buf is None:
@@ -409,7 +428,7 @@ class StateMachine:
         if not size:
             raise ValueError("unsupported buffer type")
         mask = (1 << (8 * size)) - 1
-        struct.pack_into("<%d%s" % (n, "BHxI"[size - 1]), view, 0, *[(w >> shift) & mask for w in out])
+        struct.pack_into(_fmt(n, size), view, 0, *[(w >> shift) & mask for w in out])
         return buf
 
     def _wait(self, reply):
