@@ -42,7 +42,7 @@ TRUTH_PERIOD_US = 50_000
 SPILL_AT = 20_000
 """Events and truth rows kept in memory before the committed ones go to disk."""
 
-STREAM_EVENTS, STREAM_ROWS = 64, 8
+STREAM_EVENTS, STREAM_ROWS = 16, 1
 """A turn of the streamed files (:meth:`Recorder.work`) once this many events or truth rows
 wait for one (some of them may not be committed yet)."""
 

@@ -19,8 +19,8 @@ import tempfile
 from host.artefacts.csvlines import SignalLines, TruthLines
 from host.artefacts.vcd import StreamedChanges
 
-EVENTS_A_TURN = 256  # events taken at most in a turn (the instant's last ones may add a few)
-ROWS_A_TURN = 32  # truth rows, likewise
+EVENTS_A_TURN = 32  # events taken at most in a turn (the instant's last ones may add a few)
+ROWS_A_TURN = 2  # truth rows, likewise
 _NEVER = float("inf")
 
 

@@ -421,16 +421,16 @@ class _Body:
         self.t_note = _NEVER if self.note is None else self.note[0]
 
     def _row(self, last: dict, row: dict) -> None:
-        raw, shown = self.raw, self.state
+        raw, shown, get = self.raw, self.state, row.get
         for i, col, code in self.truth_codes:
-            v = row.get(col, _UNSET)
+            v = get(col, _UNSET)
             if v is _UNSET:
                 continue
             before = raw[i]
-            if type(v) is type(before) and v == before and (v != 0 or type(v) is not float):
+            if v == before and type(v) is type(before) and (v != 0 or type(v) is not float):
                 continue
             raw[i] = v
-            line = _real(v, code)
+            line = f"r{v:.9g} {code}" if type(v) is float else _real(v, code)  # (_real's, without its call)
             if shown.get(code) != line:
                 last[code] = shown[code] = line
 

@@ -46,6 +46,9 @@ class CoverageGrid:
         self.free.flags.writeable = False  # fixed: snapshots share it
         self.covered = np.zeros((self.ny, self.nx), dtype=bool)
         self.free_cells = int(self.free.sum())
+        # each column's and row's centre, as Python floats (tuples: fixed, and no copy in a snapshot)
+        self.centres_x = tuple(x0 + (i + 0.5) * cell_m for i in range(self.nx))
+        self.centres_y = tuple(y0 + (j + 0.5) * cell_m for j in range(self.ny))
         self.covered_free = 0  # free cells swept so far: kept up by _sweep, fraction() reads it
         self.pending: list[tuple[float, float]] = []
 
@@ -114,41 +117,57 @@ class CoverageGrid:
         return None if i0 >= i1 or j0 >= j1 else (i0, i1, j0, j1)
 
     def _sweep_few(self, a, b) -> None:
-        """_sweep for a few segments (ground truth sweeps one or two every 50 ms): cell by
-        cell in Python, the same arithmetic as the arrays' element by element, and a cell
-        already swept is passed over before any of it (most of a moving robot's box is)."""
-        r, c, x0, y0 = self.half_width_m, self.cell_m, self.x0_m, self.y0_m
-        r2 = r * r
-        xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
-        if any(v != v for v in xs_ + ys_):  # (as the arrays' int() of a NaN bound raises)
-            raise ValueError("coverage grid: a path point is NaN")
-        box = self._box(min(xs_) - r, min(ys_) - r, max(xs_) + r, max(ys_) + r)
+        """_sweep for a few segments (ground truth sweeps one or two every 50 ms): the box's
+        cells not yet swept found in its bytes, then each of them tested in Python, the same
+        arithmetic as the arrays' element by element (most of a moving robot's box is swept
+        already; of the rest, most are the box's corners, which the footprint never reaches)."""
+        r = self.half_width_m
+        if len(a) == 1:  # (one segment: the usual)
+            (ax, ay), (bx, by) = a[0], b[0]
+            if ax != ax or ay != ay or bx != bx or by != by:  # (as the arrays' int() of a NaN bound raises)
+                raise ValueError("coverage grid: a path point is NaN")
+            lo_x, hi_x = (ax, bx) if ax <= bx else (bx, ax)
+            lo_y, hi_y = (ay, by) if ay <= by else (by, ay)
+            box = self._box(lo_x - r, lo_y - r, hi_x + r, hi_y + r)
+            ux, uy = bx - ax, by - ay
+            l2 = ux * ux + uy * uy
+            segs = [(ax, ay, ux, uy, l2 if l2 > 0 else 1.0)]
+        else:
+            xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
+            if any(v != v for v in xs_ + ys_):
+                raise ValueError("coverage grid: a path point is NaN")
+            box = self._box(min(xs_) - r, min(ys_) - r, max(xs_) + r, max(ys_) + r)
+            segs = []
+            for (ax, ay), (bx, by) in zip(a, b):
+                ux, uy = bx - ax, by - ay
+                l2 = ux * ux + uy * uy
+                segs.append((ax, ay, ux, uy, l2 if l2 > 0 else 1.0))
         if box is None:
             return
         i0, i1, j0, j1 = box
-        segs = []
-        for (ax, ay), (bx, by) in zip(a, b):
-            ux, uy = bx - ax, by - ay
-            l2 = ux * ux + uy * uy
-            segs.append((ax, ay, ux, uy, l2 if l2 > 0 else 1.0))
-        xs = [(i, x0 + (i + 0.5) * c) for i in range(i0, i1)]
-        covered, free = self.covered, self.free
+        covered = self.covered
+        swept = covered[j0:j1, i0:i1].tobytes()  # (a byte a cell, row by row: 0 not yet swept)
+        k = swept.find(0)
+        if k < 0:
+            return
+        r2, w = r * r, i1 - i0
+        cxs, cys, free = self.centres_x, self.centres_y, self.free
         new = 0
-        for j, done in zip(range(j0, j1), covered[j0:j1, i0:i1].tolist()):
-            cy = y0 + (j + 0.5) * c
-            row = covered[j]
-            for (i, cx), swept in zip(xs, done):
-                if swept:
-                    continue
-                for ax, ay, ux, uy, l2 in segs:
-                    px, py = cx - ax, cy - ay
-                    s = (px * ux + py * uy) / l2
-                    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
-                    dx, dy = px - s * ux, py - s * uy
-                    if dx * dx + dy * dy <= r2:
-                        row[i] = True
-                        new += bool(free[j, i])
-                        break
+        while k >= 0:
+            j, i = divmod(k, w)
+            j += j0
+            i += i0
+            cx, cy = cxs[i], cys[j]
+            for ax, ay, ux, uy, l2 in segs:
+                px, py = cx - ax, cy - ay
+                s = (px * ux + py * uy) / l2
+                s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
+                dx, dy = px - s * ux, py - s * uy
+                if dx * dx + dy * dy <= r2:
+                    covered[j, i] = True
+                    new += bool(free[j, i])
+                    break
+            k = swept.find(0, k + 1)
         self.covered_free += new
 
     def _mark(self, j0: int, i0: int, hit) -> None:

@@ -299,14 +299,25 @@ class NmeaDepthSounder(Part):
         self.sample_us = t_us + self.period_us
 
     def truth(self, t_us: int, plant) -> dict:
-        key = self.name.split(".")[0]  # sonar.uart: sonar_l_range_m, sonar_reading_m, ...
-        sides = ("l", "r") if len(self.transducers) == 2 else tuple(str(i) for i in range(len(self.transducers)))
-        truth = {f"{key}_{s}_range_m": self.true_m[i] for i, s in enumerate(sides)}
-        truth.update(
-            {
-                f"{key}_selected": self.selected,
-                f"{key}_reading_m": self.reading_m,
-                f"{key}_sentence": self.last_sentence,
-            }
-        )
+        names = _truth_names(self.name, len(self.transducers))
+        truth = dict(zip(names[0], self.true_m))
+        truth[names[1]] = self.selected
+        truth[names[2]] = self.reading_m
+        truth[names[3]] = self.last_sentence
         return truth
+
+
+_TRUTH_NAMES: dict = {}
+
+
+def _truth_names(name: str, transducers: int) -> tuple:
+    """A sounder's truth columns (made once: ground truth asks every 50 ms): sonar.uart's
+    sonar_l_range_m, sonar_r_range_m (two transducers; else sonar_0_range_m, ...), then
+    sonar_selected, sonar_reading_m, sonar_sentence."""
+    names = _TRUTH_NAMES.get((name, transducers))
+    if names is None:
+        key = name.split(".")[0]
+        sides = ("l", "r") if transducers == 2 else tuple(str(i) for i in range(transducers))
+        ranges = tuple(f"{key}_{s}_range_m" for s in sides)
+        names = _TRUTH_NAMES[(name, transducers)] = (ranges, f"{key}_selected", f"{key}_reading_m", f"{key}_sentence")
+    return names

@@ -208,9 +208,19 @@ class Clock:
     def to_truth(self, t_us: int) -> int:
         """``t_us``, or the next ground-truth sample time if the recorder wants one before
         it: how far the plant may go in one step."""
-        if self.recorder is None:
+        recorder = self.recorder
+        if recorder is None:
             return t_us
-        return min(t_us, max(self.recorder.next_truth_us, self.plant.t_us + 1))
+        plant = self.plant
+        t_truth = recorder.next_truth_us
+        # A sample due before ``t_us`` with no change of the plant's before it or at it is
+        # taken here, the plant moved to its instant (nothing due: only its time moves, as
+        # a step there would move it), without a step of the loop's for it.
+        while plant.t_us < t_truth < t_us and t_truth < plant.next_change_us():
+            plant.advance_to(t_truth)
+            recorder.sample(plant)
+            t_truth = recorder.next_truth_us
+        return min(t_us, max(t_truth, plant.t_us + 1))
 
     def commit(self, t_us: int) -> None:
         """Nothing up to ``t_us`` can be rewound: held-back budget events go to the
