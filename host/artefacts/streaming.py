@@ -76,8 +76,8 @@ class Streamed:
                 limit = min(limit, events[i0 + EVENTS_A_TURN][0])
             if bounded and j0 + ROWS_A_TURN < len(rows):
                 limit = min(limit, rows[j0 + ROWS_A_TURN][0])
-            batch = events[i0 : bisect.bisect_left(events, limit, i0, key=_time)]
-            batch_rows = rows[j0 : bisect.bisect_left(rows, limit, j0, key=_time)]
+            batch = events[i0 : _before(events, limit, i0)]
+            batch_rows = rows[j0 : _before(rows, limit, j0)]
             if self.columns_ok and not all(row.keys() <= self._seen for _t, row in batch_rows):
                 if not spilled:  # (a truth column that came now: every row made again)
                     self._start()
@@ -129,6 +129,18 @@ class Streamed:
                 file.close()
         if self.vcd is not None:
             self.vcd.discard()
+
+
+def _before(records: list, limit: float, start: int) -> int:
+    """Where the records from ``start`` on stop being before ``limit`` (in time order, as
+    bisect finds it): looked for from the end, since a turn comes after each STATE, when
+    all but the last few are."""
+    end = len(records)
+    for _ in range(8):
+        if end <= start or records[end - 1][0] < limit:
+            return end
+        end -= 1
+    return bisect.bisect_left(records, limit, start, end, key=_time)
 
 
 def _time(record) -> int:

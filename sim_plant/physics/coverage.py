@@ -132,7 +132,15 @@ class CoverageGrid:
             ux, uy = bx - ax, by - ay
             l2 = ux * ux + uy * uy
             segs = [(ax, ay, ux, uy, l2 if l2 > 0 else 1.0)]
+            # (a cell farther from the segment's middle than r and half its length is missed
+            # for sure: the box's corners, passed over at a third of the test's arithmetic; the
+            # bound is widened by far more than any rounding, so no cell near the edge goes)
+            mx, my = (ax + bx) / 2, (ay + by) / 2
+            reach = (r + math.sqrt(l2) / 2) * (1 + 1e-9)
+            reach2 = reach * reach
         else:
+            mx = my = 0.0
+            reach2 = math.inf
             xs_, ys_ = [p[0] for p in a] + [p[0] for p in b], [p[1] for p in a] + [p[1] for p in b]
             if any(v != v for v in xs_ + ys_):
                 raise ValueError("coverage grid: a path point is NaN")
@@ -158,6 +166,9 @@ class CoverageGrid:
             j += j0
             i += i0
             cx, cy = cxs[i], cys[j]
+            if (cx - mx) * (cx - mx) + (cy - my) * (cy - my) > reach2:
+                k = swept.find(0, k + 1)
+                continue
             for ax, ay, ux, uy, l2 in segs:
                 px, py = cx - ax, cy - ay
                 s = (px * ux + py * uy) / l2
