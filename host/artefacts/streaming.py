@@ -19,8 +19,8 @@ import tempfile
 from host.artefacts.csvlines import SignalLines, TruthLines
 from host.artefacts.vcd import StreamedChanges
 
-EVENTS_A_TURN = 32  # events taken at most in a turn (the instant's last ones may add a few)
-ROWS_A_TURN = 2  # truth rows, likewise
+EVENTS_A_TURN = 256  # events taken at most in a turn (the instant's last ones may add a few)
+ROWS_A_TURN = 32  # truth rows, likewise
 _NEVER = float("inf")
 
 
@@ -133,8 +133,9 @@ class Streamed:
 
 def _before(records: list, limit: float, start: int) -> int:
     """Where the records from ``start`` on stop being before ``limit`` (in time order, as
-    bisect finds it): looked for from the end, since a turn comes after each STATE, when
-    all but the last few are."""
+    bisect finds it): looked for from the end first (a turn's limit is the last commit,
+    after which come only the few records of the exchange going on), by bisection past a
+    few records."""
     end = len(records)
     for _ in range(8):
         if end <= start or records[end - 1][0] < limit:
