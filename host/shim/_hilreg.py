@@ -159,26 +159,18 @@ def pwm_set_duty_u16(gpio, duty, invert):
 
 
 def _pwm_apply(sl):
-    """A slice's registers changed: each pin of it whose function is PWM drives what they say
-    (pwm_duty_u16, pwm_freq and funcsel inline: a duty written through mem32 comes often)."""
+    """A slice's registers changed: each pin of it whose function is PWM drives what they say."""
     m = _machine()
-    get = _regs.get
-    base = PWM_BASE + 0x14 * sl
-    csr = get(base + _CSR, 0)
+    csr = slice_reg(sl, _CSR)
     for gpio in _SLICE_GPIOS[sl]:
-        if get(IO_BANK0 + 8 * gpio + 4, FUNC_NULL) & 0x1F != FUNC_PWM:
+        if funcsel(gpio) != FUNC_PWM:
             continue
         pwm = m.PWM._made.get(gpio)
         if pwm is None:
             pwm = m.PWM._from_registers(gpio)
-        top = get(base + _TOP, 0xFFFF) & 0xFFFF
-        duty = 0  # (a slice stopped: the line low)
-        if csr & 1:
-            cc = (get(base + _CC, 0) >> (16 if gpio & 1 else 0)) & 0xFFFF
-            duty = min(65535, (cc * 65535 + (top + 1) // 2) // (top + 1))
+        duty = pwm_duty_u16(gpio) if csr & 1 else 0  # (a slice stopped: the line low)
         invert = bool(csr & (8 if gpio & 1 else 4))
-        d = (get(base + _DIV, 0x10) & 0xFFF or 0x1000) * (top + 1)
-        pwm._drive(_slice_hz(d // 2, d), duty, invert)
+        pwm._drive(pwm_freq(sl), duty, invert)
 
 
 def _pins_apply(changed):

@@ -706,7 +706,6 @@ class Timer:
             period_us = period * 1_000_000 // tick_hz
         else:
             raise ValueError("Timer needs a period or a freq")
-        self._callback = callback
         self._hard = bool(hard) and callback is not None
         self._callback = _hil.hard_handler(callback) if self._hard else callback  # (the heap locked around it)
         self._period_us = period_us if mode == self.PERIODIC else 0

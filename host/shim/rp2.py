@@ -401,10 +401,7 @@ class StateMachine:
         # as its typecode says, without regard to sign (bytearray, 'b', 'h', 'i'); another
         # typecode raises ValueError once the first word is taken; it returns the buffer.
         if buf is None and self._rx and self._at == _hil.now():  # (a word the last LEVELS gave: as below)
-            self._popped += 1
-            if self not in _POPPED:
-                _POPPED.append(self)
-            return self._rx.pop(0) >> shift
+            return self._take() >> shift
         n = 1
         if buf is not None:
             view, size = _get_items(buf)
@@ -414,10 +411,7 @@ class StateMachine:
         out = []
         while len(out) < n:
             if self._rx and self._at == _hil.now():  # (the oldest word: no instant needed, _instant)
-                out.append(self._rx.pop(0))
-                self._popped += 1
-                if self not in _POPPED:
-                    _POPPED.append(self)
+                out.append(self._take())
                 continue
             count, got = self._call(F.BUS_PIO_GET, 0, n - len(out))
             out += struct.unpack_from(_fmt(count), got, 4)
@@ -430,6 +424,13 @@ class StateMachine:
         mask = (1 << (8 * size)) - 1
         struct.pack_into(_fmt(n, size), view, 0, *[(w >> shift) & mask for w in out])
         return buf
+
+    def _take(self):
+        """The oldest word the last LEVELS gave, taken (the host told of it with the next frame)."""
+        self._popped += 1
+        if self not in _POPPED:
+            _POPPED.append(self)
+        return self._rx.pop(0)
 
     def _wait(self, reply):
         """The FIFO is not ready: the board's CPU blocks; so does virtual time, until the

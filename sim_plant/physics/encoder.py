@@ -128,26 +128,14 @@ class _EdgeCounter:
         """The plant's loop over the instants where only encoders are due (each encoder's
         ``emit`` its ``plain_emit``), from ``nxt`` through ``t_stop`` (before
         ``soonest_other``, the next event of anything else), in one call: at each instant the
-        edges due, in the encoders' order, with :meth:`_EdgeCounter.emit`'s arithmetic, then the
-        next instant; it stops after the instant that brings ``out`` to ``limit`` (0: no
-        limit). Returns (the last instant emitted, or -1 if none; the next instant due)."""
+        edges due, in the encoders' order, each by its ``emit``, then the next instant; it
+        stops after the instant that brings ``out`` to ``limit`` (0: no limit). Returns (the
+        last instant emitted, or -1 if none; the next instant due)."""
         last = -1
-        ceil = math.ceil
         while nxt <= t_stop:
             for enc in encoders:
-                if enc.next_us == nxt:  # (emit, inline)
-                    rate = enc.rate
-                    if rate > 0.0:
-                        n = enc.n + 1
-                        name, level = enc._fwd[n & enc._mask]
-                        t = enc.t0_us + ceil((n + 1 - enc.p0) / rate)
-                    else:
-                        n = enc.n - 1
-                        name, level = enc._bwd[n & enc._mask]
-                        t = enc.t0_us + ceil((enc.p0 - n) / -rate)
-                    enc.n = n
-                    out.append(_new_tuple(Change, (nxt, name, level)))
-                    enc.next_us = t if t > nxt else nxt + 1
+                if enc.next_us == nxt:
+                    enc.emit(nxt, out)
             last = nxt
             nxt = soonest_other
             for enc in encoders:

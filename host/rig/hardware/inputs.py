@@ -8,9 +8,9 @@ next sample to an ADC, bytes to a UART (each line a sample). A change of a watch
 """
 
 from host.link import frames as F
-from host.rig.hardware.peripherals import FIRED, WOKE, PinPeripheral, UartPeripheral
+from host.rig.hardware.peripherals import FIRED, WOKE, PinPeripheral
 
-_LEVEL, _BYTES, _RISING, _FALLING = F.CH_LEVEL, F.CH_BYTES, F.IRQ_RISING, F.IRQ_FALLING
+_LEVEL, _RISING, _FALLING = F.CH_LEVEL, F.IRQ_RISING, F.IRQ_FALLING
 
 MAX_BATCH = 200  # changes in one STATE (15 bytes each)
 MAX_BATCH_BYTES = 800  # UART bytes in one STATE
@@ -133,10 +133,9 @@ class Inputs:
                     hit = True
         return irq, hit
 
-    def route_all(self, changes, watch) -> tuple[bool, bool]:  # noqa: C901 (the one loop)
+    def route_all(self, changes, watch) -> tuple[bool, bool]:
         """:meth:`route` for each change in turn, in one loop (the hot path: an encoder's
-        edges, a board_uart's bytes), a pin's and a UART's delivery inline
-        (``PinPeripheral.deliver``, ``UartPeripheral.deliver``); (any fires an IRQ, any
+        edges), a pin's delivery inline (``PinPeripheral.deliver``); (any fires an IRQ, any
         wakes a watched wait)."""
         irq = hit = False
         edges = 0
@@ -165,19 +164,6 @@ class Inputs:
                         hit = True
                     elif info.irq & (_RISING if value else _FALLING):
                         edges += 1
-                        irq = True
-                    continue
-                if peripheral.__class__ is UartPeripheral:
-                    for _ in range(value.count(b"\n")):  # a line is a sample (the shim counts them too)
-                        info.samples += 1
-                        self.sampled(info.signal, t, info.samples)
-                    n = len(value)
-                    append((t, h, _BYTES, n, value))
-                    self.pending_bytes += n
-                    if h in watch:
-                        hit = True
-                    elif info.irq:  # UART.irq(IRQ_RX): its handler runs at the bytes' time
-                        self.stats.irq_edges += 1
                         irq = True
                     continue
                 took = peripheral.deliver(self, t, h, info, value, watch)
