@@ -23,6 +23,7 @@ import argparse
 import resource
 import sys
 import time
+from operator import methodcaller
 
 import host.bench as bench
 from host.rig import Recording, Rig, RigSpec
@@ -35,13 +36,13 @@ class RecordedPlant:
     parameter such as ``advance_edges``' segments) as a fresh empty list on replay."""
 
     def __init__(self, plant):
-        object.__setattr__(self, "_plant", plant)
+        object.__setattr__(self, "_target", plant)  # (the calls forwarded by name: what the rig asked, no probing)
         object.__setattr__(self, "calls", [])
         object.__setattr__(self, "_snaps", {})
         object.__setattr__(self, "_made", [0])  # snapshots so far (an id may come again once one is dropped)
 
     def __getattr__(self, name):
-        value = getattr(self._plant, name)
+        value = getattr(self._target, name)
         if not callable(value) or name.startswith("__"):
             return value
         calls, snaps = self.calls, self._snaps
@@ -66,7 +67,7 @@ class RecordedPlant:
 
     def __setattr__(self, name, value):
         self.calls.append(("__setattr__", (name, value), None))
-        setattr(self._plant, name, value)
+        setattr(self._target, name, value)
 
 
 def replay(plant, calls: list, check: bool, snaps: list) -> float:
@@ -78,7 +79,7 @@ def replay(plant, calls: list, check: bool, snaps: list) -> float:
             setattr(plant, *kept)
             continue
         args = [snaps[a[1]] if type(a) is tuple and a[:1] == ("snap",) else [] if a == ("list",) else a for a in kept]
-        result = getattr(plant, name)(*args)
+        result = methodcaller(name, *args)(plant)  # (the call the rig made, by its name)
         if name == "snapshot":
             snaps.append(result)
             if len(snaps) > 8:  # (the rig holds one at a time: the older ones go, as in the run)
