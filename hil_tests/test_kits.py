@@ -356,6 +356,35 @@ def test_3pi_yellow_led_and_button_a_share_gp25_as_on_the_robot(capsys, make_rig
     assert [s[2] for s in steps] == [0, 0, 0, 1, 1, 0, 0, 0], f"pressed at 160 and 210 ms: {steps}; {where()}"
 
 
+def test_3pi_button_c_shares_the_displays_dc_line_as_on_the_robot(capsys, make_rig, tmp_path):
+    """Button C on GP0, the SH1106's DC line, read between display writes as the kit's
+    library reads it (the pin an input with its pull-up for a moment, then driven low again):
+    pressed only while the plant's button is, and the display's picture, drawn with the DC the
+    same pin drives, is each frame buffer pixel for pixel."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_button_c")
+    shutil.copytree(FIRMWARE.parent / "kitbot" / "lib", folder / "lib")
+    rig_file = folder / "rig.toml"
+    text = rig_file.read_text()
+    assert 'name = "button_c"\nshares = "display.dc"' in text, "the kit's button C is on the display's DC line"
+    rig_file.write_text(text.replace('name = "button_c"\n', 'name = "button_c"\npresses = [[0.2, 0.7]]\n'))
+    trace = tmp_path / "trace"
+    rig = make_rig(str(rig_file), allow_exit=True, artefacts=trace, record=True)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {trace}"  # noqa: E731
+    steps = []
+    for _ in range(8):
+        found = rig.expect(r"C step (\d+) (\d+) (\d) ([0-9a-f]+)")
+        step, ms, pressed = map(int, found.groups()[:3])
+        steps.append((step, ms, pressed, found.group(4)))
+    rig.expect("done")
+    rig.stop()
+    pressed = [(ms, p) for _s, ms, p, _b in steps]
+    assert all(p == int(200 <= ms < 700) for ms, p in pressed), f"pressed from 200 to 700 ms: {pressed}; {where()}"
+    assert sum(p for _ms, p in pressed) >= 2, f"expected two reads inside the press: {pressed}; {where()}"
+    last = Image.open(trace / "display.png").convert("L")
+    got = bytes(last.getpixel((x * SCALE, y * SCALE)) > 0 for y in range(64) for x in range(128))
+    assert got == vlsb_rows(bytes.fromhex(steps[-1][3]), 128, 64), f"display.png is the last frame buffer; {where()}"
+
+
 def test_3pi_yellow_led_dimmed_by_a_pwm_on_gp25_beside_button_a(capsys, make_rig, tmp_path):
     """Pololu's splash loader fades the yellow LED with PWM(YellowLED().pin) on GP25, the line
     button A shares: the rig takes the PWM (it was refused as a second driver of the button's

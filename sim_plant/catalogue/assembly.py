@@ -322,7 +322,21 @@ def assemble(table: dict, base=None, rig_file=None) -> PartsPlant:
             part.rig_file = str(rig_file)
         parts.append(part)
     _check_addresses(parts)
+    _check_line_inputs(parts)
     return PartsPlant(body, parts, sources)
+
+
+def _check_line_inputs(parts) -> None:
+    """Each input a part drives from its line (``line_inputs``) is another part's input."""
+    inputs = {signal: part for part in parts for signal, (direction, _) in part.signals().items() if direction == "in"}
+    for part in parts:
+        for signal in part.line_inputs():
+            owner = inputs.get(signal)
+            if owner is None or owner is part:
+                known = ", ".join(sorted(s for s, p in inputs.items() if p is not part)) or "none"
+                raise PartsError(
+                    f"{part.label} shares: expected another part's input (inputs: {known}), got {signal!r}"
+                )
 
 
 OWN_WORLDS = ("room", "furnished")

@@ -127,3 +127,30 @@ def test_a_board_uart_s_bytes_fired_at_once_are_those_fired_an_instant_at_a_time
             f"next change {got[1]} against {each_instant[1]}"
         )
     assert len(each_instant[0]) > 100 and any(c[1] == "w.out" for c in each_instant[0])
+
+
+def test_a_button_sharing_a_chips_input_passes_the_pins_drive_on_and_is_read_once_let_go():
+    """A button on a chip's line (``shares``, the 3pi+ 2040's button C on the display's DC):
+    the pin's level goes on to the chip's input at the same instant; let go, the line is
+    the button's (released 1 on its pull-up, pressed 0), and the chip's input keeps the
+    pin's last drive."""
+    plant = bench(wire("dc"), {"kind": "button", "name": "c", "shares": "dc.in", "presses": [[0.001, 0.002]]})
+    assert plant.zero_delay is True and "c.out" in plant.inputs and "c.out" in plant.outputs
+    plant.set_input("c.out", 1)
+    got = [tuple(ch) for ch in plant.advance_to(0)]
+    assert got == [(0, "dc.out", 1)], f"the line was high already (released, on its pull-up): {got}"
+    plant.set_input("c.out", 0)
+    got = [tuple(ch) for ch in plant.advance_to(10)]
+    assert got == [(0, "dc.out", 0), (0, "c.out", 0)], got
+    plant.set_input("c.out", -1)  # (the pin let go: an input with its pull-up)
+    got = [tuple(ch) for ch in plant.advance_to(1500)]
+    assert got == [(10, "c.out", 1), (1000, "c.out", 0)], f"released, then pressed at 1 ms: {got}"
+    assert plant.output("dc.out") == 0, "the chip's input keeps the pin's last drive"
+
+
+def test_a_button_sharing_no_such_input_is_refused_naming_the_inputs():
+    with pytest.raises(PartsError) as e:
+        bench(wire("dc"), {"kind": "button", "name": "c", "shares": "display.dc"})
+    assert str(e.value) == (
+        "[[plant.parts]] #2 (c) shares: expected another part's input (inputs: dc.in), got 'display.dc'"
+    ), e.value
