@@ -6,18 +6,26 @@ full speed, taken at each sample). Its ``voltage`` control sets the voltage at a
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.controls import Control
 from sim_plant.engine import Part
-from sim_plant.option_table import Num
+from sim_plant.option_table import Name, Num
 from sim_plant.plant import Change
 from sim_plant.sonars import Adc
 
 
 class _Cell(Part):
-    FIXED_STATE = ("inputs", "outputs", "controls")
+    """The battery's divided voltage, sampled every period. With ``shares`` the divider's
+    line is a pin's too (the 3pi+ 2040's GP26, the down emitters' control): what the pin
+    drives goes on to that chip's input; let go, the line is the divider's, under a logic
+    high, so the chip's input reads low."""
+
+    FIXED_STATE = ("inputs", "outputs", "controls", "shares")
 
     def __init__(self, name: str, o: dict, controls=None):
         self.signal, self.label = f"{name}.adc", name
         self.controls = controls  # (the plant's timeline: a voltage set by the control)
         self.outputs = {self.signal: "u16"}
+        self.shares = o["shares"]
+        if self.shares is not None:
+            self.inputs = {self.signal: "level"}
         self.v = float(o["full_v"])
         self.empty_v, self.ratio = float(o["empty_v"]), float(o["divider_ratio"])
         self.rate_v_s, self.motor_v_s = float(o["drain_v_per_s"]), float(o["motor_drain_v_per_s"])
@@ -48,6 +56,11 @@ class _Cell(Part):
         out.append(Change(t_us, self.signal, self.adc.u16(self.v * self.ratio)))
         self.next_us = t_us + self.period_us
 
+    def set_input(self, name: str, value, t_us: int, plant) -> bool:
+        # (the pin's drive, or -1 as it lets the line go: the divider's voltage, a logic low)
+        plant.set_input(self.shares, 0 if value is None or value < 0 else (1 if value else 0))
+        return False
+
     def truth(self, t_us: int, plant) -> dict:
         return {f"{self.label}_v": self.v}
 
@@ -64,8 +77,22 @@ class Battery(PartType):
         Opt("period_us", Num("microseconds", 100, 1_000_000_000, whole=True), 100_000, "a new sample every"),
         Opt("adc_bits", Num("", 1, 16, whole=True), 12, "the board's ADC resolution"),
         Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt(
+            "shares",
+            Name(),
+            None,
+            "a chip's input on the divider's line (the 3pi+ 2040's GP26, the down emitters' control: "
+            "line.emitter): what the pin drives goes on to it; let go, the line is the divider's (a logic low there)",
+        ),
     )
-    SIGNALS = (Sig("adc", "out", "u16", "the divided voltage's ADC reading (read_u16)"),)
+    SIGNALS = (
+        Sig(
+            "adc",
+            "out",
+            "u16",
+            "the divided voltage's ADC reading (read_u16); with shares set it is io: a pin drives the line in turn",
+        ),
+    )
     TRUTH = ("{name}_v",)
     CONTROLS = (
         Control("voltage", Num("volts", 0, 100), "the battery's voltage from then on (it drains on from there)"),
@@ -79,6 +106,15 @@ class Battery(PartType):
             raise ValueError(
                 f"empty_v: expected at most full_v ({self.options['full_v']}), got {self.options['empty_v']}"
             )
+
+    def signals(self) -> dict[str, tuple[str, str]]:
+        signals = super().signals()
+        if self.options["shares"] is not None:
+            signals[f"{self.name}.adc"] = ("io", "u16")
+        return signals
+
+    def line_inputs(self) -> tuple:
+        return () if self.options["shares"] is None else (self.options["shares"],)
 
     def control_change(self, control: str, value) -> tuple | None:
         super().control_change(control, value)

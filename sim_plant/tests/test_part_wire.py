@@ -154,3 +154,25 @@ def test_a_button_sharing_no_such_input_is_refused_naming_the_inputs():
     assert str(e.value) == (
         "[[plant.parts]] #2 (c) shares: expected another part's input (inputs: dc.in), got 'display.dc'"
     ), e.value
+
+
+def test_a_battery_sharing_a_chips_input_passes_the_pins_drive_on_and_low_once_let_go():
+    """A battery's divider on a chip's line (``shares``, the 3pi+ 2040's GP26: the down
+    emitters' control): the pin's level goes on to the chip's input; let go, the chip's input
+    is low (the divided voltage is under a logic high), and the ADC reads the divider all along."""
+    battery = {
+        "kind": "battery",
+        "name": "bat",
+        "full_v": 4.8,
+        "empty_v": 4.0,
+        "divider_ratio": 1 / 11,
+        "shares": "em.in",
+    }
+    plant = bench(wire("em"), battery)
+    assert "bat.adc" in plant.inputs and "bat.adc" in plant.outputs
+    reading = plant.output("bat.adc")
+    plant.set_input("bat.adc", 1)
+    assert [tuple(ch) for ch in plant.advance_to(0)] == [(0, "em.out", 1)]
+    plant.set_input("bat.adc", -1)
+    assert [tuple(ch) for ch in plant.advance_to(50)] == [(0, "em.out", 0)]
+    assert plant.output("bat.adc") == reading and abs(reading / 65535 * 3.3 * 11 - 4.8) < 0.01, reading
