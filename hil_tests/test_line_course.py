@@ -175,12 +175,9 @@ def test_kitbot_takes_the_courses_first_corner_by_its_qtr_channels(make_rig, tmp
     assert rig.truth()["line_on_tape"][1], f"the middle channel over the line; {where()}"
 
 
-def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys, make_rig, tmp_path):
-    """The 3pi+ 2040 kit's rig (``init --kit pololu_3pi_2040``: five QTR RC line sensors on
-    GP18..GP22, their emitters on GP26) on the course, with a line follower in the style of
-    Pololu's (hil_tests/firmware/kits/pololu_3pi_line: the sensors read as the library reads
-    them, emitters on, charged, let go together and timed; calibrated by a sweep over the
-    line; PD on the line's position under the five), through the first quarter circle."""
+def pololu_3pi_on_the_course(capsys, make_rig, tmp_path: Path):
+    """``init --kit pololu_3pi_2040``, our Pololu-style line follower beside it, the course
+    under it, button B pressed: the rig, its first read held to the plant's discharge times."""
     folder = tmp_path / "pololu_3pi_2040"
     folder.mkdir()
     assert main(["init", "--kit", "pololu_3pi_2040", str(folder)]) == 0, capsys.readouterr().err
@@ -197,6 +194,17 @@ def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys,
             f"expected each read within a polling pass ({POLL_PASS_US} us) of its discharge time, read {start}, "
             f"discharged {truth['line_discharge_us']} us; {where()}"
         )
+    return rig
+
+
+def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys, make_rig, tmp_path):
+    """The 3pi+ 2040 kit's rig (``init --kit pololu_3pi_2040``: five QTR RC line sensors on
+    GP18..GP22, their emitters on GP26) on the course, with a line follower in the style of
+    Pololu's (hil_tests/firmware/kits/pololu_3pi_line: the sensors read as the library reads
+    them, emitters on, charged, let go together and timed; calibrated by a sweep over the
+    line; PD on the line's position under the five), through the first quarter circle."""
+    rig = pololu_3pi_on_the_course(capsys, make_rig, tmp_path)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     rig.expect(r"calibrated")
     path = SensorPath(rig, ahead_m=0.035)  # the line sensors (the kit's rig.toml)
     corner_end_y = CENTRE_M[1] - HALF_M[1] + CORNER_M
@@ -212,3 +220,35 @@ def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys,
     truth = rig.truth()
     assert truth["line_on_tape"][2], f"the middle sensor over the line; {where()}"
     assert truth["rgb_leds_lit"] == 6 and truth["rgb_leds_faults"] == 0, f"six LEDs lit green: {truth}; {where()}"
+
+
+@pytest.mark.long
+@pytest.mark.skipif(
+    "not config.getoption('--hil-report')", reason="make hil runs the 3pi+'s whole lap (about real time)"
+)
+def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(capsys, make_rig, tmp_path):
+    """The corner test's robot on for a whole lap: once round (the line sensors' path within
+    3 % of the loop's length), back across the start on its line, never more than the
+    margin off it, never lost."""
+    rig = pololu_3pi_on_the_course(capsys, make_rig, tmp_path)
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    rig.expect(r"calibrated")
+    path = SensorPath(rig, ahead_m=0.035)
+    start_x = START[0] + path.ahead_m
+
+    def lapped():
+        _, x, y, _ = path.sample()
+        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]
+
+    rig.run_until(lapped, timeout_s=40)
+    _, x, y, th = path.points[-1]
+    off_m = path.check_on_line(where())
+    print(
+        f"lap {(rig.t_us - path.t0_us) / 1e6:.2f} s, {path.length_m:.3f} m, at most {off_m * 1000:.1f} mm off the line"
+    )
+    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
+    assert path.length_m == pytest.approx(LAP_M, rel=0.03), f"the line sensors went {path.length_m:.3f} m; {where()}"
+    assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(10), (
+        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
+        f"heading {math.degrees(th):.1f} deg; {where()}"
+    )
