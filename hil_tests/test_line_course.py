@@ -6,7 +6,8 @@ in XRPLib's style) drives a lap in virtual time. The plant's pose is the judge: 
 length, the return to the start, and the sensor bar never further from the line's centre
 than the margin. The kitbot (QTR RC channels, Pololu's style) and the Pololu 3pi+ 2040 kit
 (its five QTR RC line sensors) take the course's first corner the same way (a lap of
-either costs about its own time in wall time: their reads are many round trips)."""
+either costs about its own time in wall time: their reads are many round trips); ``make
+hil`` runs the 3pi+'s whole lap, and the Kitronik buggy's on Kitronik's own library."""
 
 import math
 import shutil
@@ -17,6 +18,7 @@ import pytest
 from PIL import Image
 
 from host.cli import main
+from host.core.drivers import DriverMissing, driver_folder
 
 pytestmark = pytest.mark.hil
 FIRMWARE = Path(__file__).parent / "firmware" / "kits"
@@ -249,6 +251,53 @@ def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(cap
     assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
     assert path.length_m == pytest.approx(LAP_M, rel=0.03), f"the line sensors went {path.length_m:.3f} m; {where()}"
     assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(10), (
+        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
+        f"heading {math.degrees(th):.1f} deg; {where()}"
+    )
+
+
+@pytest.mark.long
+@pytest.mark.skipif(
+    "not config.getoption('--hil-report')", reason="make hil runs the buggy's whole lap (about real time)"
+)
+def test_kitronik_buggy_follows_the_drawn_course_for_a_lap_on_kitronik_s_own_library(capsys, make_rig, tmp_path):
+    """The ``kitronik_buggy`` kit's rig on the course, Kitronik's own library (pinned,
+    fetched by ``make setup``) unchanged beside a line follower in the style of their
+    Basic3SensorLineFollow.py (hil_tests/firmware/kits/kitronik_line: the centre sensor on
+    the line drives ahead, else a motor reverses towards the darker side), the button
+    pressed by the test: once round and back across the start on its line, within the
+    margin, never lost. The path is longer than the loop by the bang-bang follower's
+    zigzag (their demo's own way): within 5 %."""
+    try:
+        library = driver_folder("kitronikpicoautonomousroboticsplatform") / "PicoAutonomousRobotics.py"
+    except DriverMissing as e:
+        pytest.skip(str(e))
+    folder = tmp_path / "kitronik_buggy"
+    folder.mkdir()
+    assert main(["init", "--kit", "kitronik_buggy", str(folder)]) == 0, capsys.readouterr().err
+    shutil.copy(library, folder)
+    shutil.copy(FIRMWARE / "kitronik_line" / "main.py", folder / "main.py")
+    pressed = {'name = "button"\n': 'name = "button"\npresses = [[0.1, 0.2]]\n'}
+    rig = make_rig(str(on_the_course(folder / "rig.toml", pressed)))
+    where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
+    left, centre, right = (int(v) for v in rig.expect(r"start (\d+) (\d+) (\d+)").groups())
+    assert centre > 30000 > max(left, right), f"the centre sensor alone over the line at the start; {where()}"
+    path = SensorPath(rig, ahead_m=0.07)  # the line following board (the kit's rig.toml)
+    start_x = START[0] + path.ahead_m
+
+    def lapped():
+        _, x, y, _ = path.sample()
+        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]
+
+    rig.run_until(lapped, timeout_s=60)
+    _, x, y, th = path.points[-1]
+    off_m = path.check_on_line(where())
+    print(
+        f"lap {(rig.t_us - path.t0_us) / 1e6:.2f} s, {path.length_m:.3f} m, at most {off_m * 1000:.1f} mm off the line"
+    )
+    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
+    assert path.length_m == pytest.approx(LAP_M, rel=0.05), f"the sensor board went {path.length_m:.3f} m; {where()}"
+    assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(20), (
         f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
         f"heading {math.degrees(th):.1f} deg; {where()}"
     )
