@@ -84,6 +84,29 @@ class SensorPath:
         worst = int(np.argmax(errors))
         return float(errors[worst]), self.points[worst]
 
+    def lap(self, where, timeout_s: float, rel: float = 0.03, heading_deg: float = 10.0) -> None:
+        """Run until the bar has gone most of the way round and is back across the start;
+        then hold the lap: its length within ``rel`` of the loop's, within the margin of the
+        line all along, back on the start line heading along it (within ``heading_deg``),
+        never lost. ``where``: the failure messages' tail (a callable)."""
+        rig, start_x = self.rig, START[0] + self.ahead_m
+
+        def lapped():
+            _, x, y, _ = self.sample()
+            return self.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]  # back across the start
+
+        rig.run_until(lapped, timeout_s=timeout_s)
+        _, x, y, th = self.points[-1]
+        off_m = self.check_on_line(where())
+        lap_s = (rig.t_us - self.t0_us) / 1e6
+        print(f"lap {lap_s:.2f} s, {self.length_m:.3f} m of {LAP_M:.3f}, at most {off_m * 1000:.1f} mm off the line")
+        assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
+        assert self.length_m == pytest.approx(LAP_M, rel=rel), f"the sensors went {self.length_m:.3f} m; {where()}"
+        assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(heading_deg), (
+            f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
+            f"heading {math.degrees(th):.1f} deg; {where()}"
+        )
+
     def check_on_line(self, where: str) -> float:
         off_m, (t_us, x, y, _) = self.worst_off_line()
         assert off_m <= MARGIN_M, (
@@ -133,24 +156,7 @@ def test_xrp_follows_a_drawn_line_course_for_a_lap_within_its_margin(capsys, mak
     (left, right) = (float(v) for v in rig.expect(r"start (\S+) (\S+)").groups())
     assert min(left, right) > 0.5, f"both channels over the tape at the start: {left}, {right}; {where()}"
     path = SensorPath(rig, ahead_m=0.08)  # the reflectance board (the kit's rig.toml)
-    start_x = START[0] + path.ahead_m
-
-    def lapped():
-        _, x, y, _ = path.sample()
-        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]  # back across the start
-
-    rig.run_until(lapped, timeout_s=40)
-    lap_s = (rig.t_us - path.t0_us) / 1e6
-    _, x, y, th = path.points[-1]
-    off_m = path.worst_off_line()[0]
-    print(f"lap {lap_s:.2f} s, {path.length_m:.3f} m of {LAP_M:.3f}, at most {off_m * 1000:.1f} mm off the line")
-    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
-    assert path.length_m == pytest.approx(LAP_M, rel=0.03), f"the sensor bar went {path.length_m:.3f} m; {where()}"
-    path.check_on_line(where())
-    assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(10), (
-        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
-        f"heading {math.degrees(th):.1f} deg; {where()}"
-    )
+    path.lap(where, timeout_s=40)
 
 
 def test_kitbot_takes_the_courses_first_corner_by_its_qtr_channels(make_rig, tmp_path):
@@ -236,24 +242,7 @@ def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(cap
     where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     rig.expect(r"calibrated")
     path = SensorPath(rig, ahead_m=0.035)
-    start_x = START[0] + path.ahead_m
-
-    def lapped():
-        _, x, y, _ = path.sample()
-        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]
-
-    rig.run_until(lapped, timeout_s=40)
-    _, x, y, th = path.points[-1]
-    off_m = path.check_on_line(where())
-    print(
-        f"lap {(rig.t_us - path.t0_us) / 1e6:.2f} s, {path.length_m:.3f} m, at most {off_m * 1000:.1f} mm off the line"
-    )
-    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
-    assert path.length_m == pytest.approx(LAP_M, rel=0.03), f"the line sensors went {path.length_m:.3f} m; {where()}"
-    assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(10), (
-        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
-        f"heading {math.degrees(th):.1f} deg; {where()}"
-    )
+    path.lap(where, timeout_s=40)
 
 
 @pytest.mark.long
@@ -283,21 +272,4 @@ def test_kitronik_buggy_follows_the_drawn_course_for_a_lap_on_kitronik_s_own_lib
     left, centre, right = (int(v) for v in rig.expect(r"start (\d+) (\d+) (\d+)").groups())
     assert centre > 30000 > max(left, right), f"the centre sensor alone over the line at the start; {where()}"
     path = SensorPath(rig, ahead_m=0.07)  # the line following board (the kit's rig.toml)
-    start_x = START[0] + path.ahead_m
-
-    def lapped():
-        _, x, y, _ = path.sample()
-        return path.length_m > 0.9 * LAP_M and x >= start_x and y < CENTRE_M[1]
-
-    rig.run_until(lapped, timeout_s=60)
-    _, x, y, th = path.points[-1]
-    off_m = path.check_on_line(where())
-    print(
-        f"lap {(rig.t_us - path.t0_us) / 1e6:.2f} s, {path.length_m:.3f} m, at most {off_m * 1000:.1f} mm off the line"
-    )
-    assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
-    assert path.length_m == pytest.approx(LAP_M, rel=0.05), f"the sensor board went {path.length_m:.3f} m; {where()}"
-    assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(20), (
-        f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
-        f"heading {math.degrees(th):.1f} deg; {where()}"
-    )
+    path.lap(where, timeout_s=60, rel=0.05, heading_deg=20)
