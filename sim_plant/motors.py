@@ -98,6 +98,40 @@ class TwoPwmBridge(Bridge):
         return d1 - d2, d1 >= 1.0 and d2 >= 1.0
 
 
+class GangedBridges(Bridge):
+    """The bridges of the motors on one side of a four-wheel skid-steer car (two motors a
+    side, their wheels tied through the ground): the side is driven at the mean of their
+    effective duties, braked when all of them brake. Its pins are its members' own
+    (``motor_lf.in1``, ``motor_lr.in1``, ...)."""
+
+    FIXED_STATE = ("pins", "kinds", "members")
+
+    def __init__(self, bridges):
+        self.members = list(bridges)
+        self.pins = {name: name for b in self.members for name in b.pins}
+        self.kinds = {name: kind for b in self.members for name, kind in b.kinds.items()}
+        self.state = dict.fromkeys(self.pins, 0)
+
+    @property
+    def standby(self) -> bool:
+        return self.members[0].standby
+
+    @standby.setter
+    def standby(self, value: bool) -> None:
+        for b in self.members:
+            b.standby = value
+
+    def set_pin(self, role: str, value) -> None:
+        self.state[role] = int(value)
+        for b in self.members:
+            if role in b.pins:
+                b.set_pin(b.pins[role], value)
+
+    def effective(self) -> tuple[float, bool]:
+        each = [b.effective() for b in self.members]
+        return sum(d for d, _ in each) / len(each), all(braking for _, braking in each)
+
+
 class DcMotor:
     """Signed duty -> wheel speed, with a dead band, saturation and a gain.
 

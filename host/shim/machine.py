@@ -965,7 +965,10 @@ class _UartIRQ:
 def time_pulse_us(pin, pulse_level, timeout_us=1_000_000):
     """Length of a pulse in us; -2 if it never started, -1 if it never ended. A busy loop
     in C on a board (extmod/machine_pulse.c, machine_time_pulse_us): soft callbacks due
-    meanwhile run when it returns (_hil.c_begin), hard IRQs' handlers at their edges."""
+    meanwhile run when it returns (_hil.c_begin), hard IRQs' handlers at their edges. The
+    level is any object, true or not (machine_time_pulse_us_: mp_obj_is_true(args[1])):
+    time_pulse_us(echo, Pin.on) waits for a high, as on a board."""
+    pulse_level = 1 if pulse_level else 0
     if not isinstance(pin, Pin):  # a PinBase: read it in a loop, as the C function does
         return _pulse_by_reads(pin, pulse_level, timeout_us)
     _hil.blocking()

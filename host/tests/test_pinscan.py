@@ -512,3 +512,18 @@ def test_check_counts_the_pins_used_in_lib_packages_and_package_folders_through_
     (tmp_path / "rig.toml").write_text(rig)
     assert cli.main(["check", "--strict", str(tmp_path / "rig.toml")]) == 0, capsys.readouterr().err
     assert "never touches" not in capsys.readouterr().err
+
+
+def test_init_sets_the_rp2_family_when_the_code_names_rp2(tmp_path):
+    """SunFounder's Pico-4WD library (``from rp2 import PIO, StateMachine, asm_pio``) runs on a
+    Pico: the rig file init writes says so, where it left [board] out and the first run
+    stopped at ``ImportError: no module named 'rp2'``."""
+    (tmp_path / "main.py").write_text(
+        "from machine import Pin, PWM\nfrom rp2 import PIO, StateMachine, asm_pio\nservo = PWM(Pin(18, Pin.OUT))\n"
+    )
+    text = starter(tmp_path)
+    assert '\n[board]\nfamily = "rpi_pico"' in text, text
+    (tmp_path / "rig.toml").write_text(text)
+    assert load_rig(tmp_path / "rig.toml").board.identity[0] == "rp2", text
+    (tmp_path / "main.py").write_text("from machine import Pin\nLED = Pin(2, Pin.OUT)\n")
+    assert "[board]" not in starter(tmp_path), "no family for code that names none"

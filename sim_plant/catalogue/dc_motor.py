@@ -4,7 +4,7 @@ the body (:mod:`sim_plant.motors`: the bridges' truth tables and :class:`DcMotor
 import math
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
-from sim_plant.motors import DcMotor, DirPinsPwmBridge, DirPwmBridge, TwoPwmBridge
+from sim_plant.motors import DcMotor, DirPinsPwmBridge, DirPwmBridge, GangedBridges, TwoPwmBridge
 from sim_plant.option_table import Num, OneOf
 
 BRIDGES = {"tb6612": DirPinsPwmBridge, "l298n": DirPinsPwmBridge, "drv8833": TwoPwmBridge, "dir_pwm": DirPwmBridge}
@@ -27,7 +27,13 @@ class DcMotorPart(PartType):
     doc = "A DC gear motor on one H-bridge channel (TB6612, L298N, DRV8833 or DIR+PWM), driving a wheel."
     OPTIONS = (
         Opt("bridge", OneOf(tuple(BRIDGES)), "tb6612", "the H-bridge and so its pins"),
-        Opt("drives", OneOf(("left", "right", "rear")), "left", "the wheel it turns (rear: a car's rear axle)"),
+        Opt(
+            "drives",
+            OneOf(("left", "right", "rear")),
+            "left",
+            "the wheel it turns (rear: a car's rear axle); two motors on one side (a four-wheel car's front "
+            "and rear): that side at the mean of their duties, the first one's speed and lag",
+        ),
         Opt("polarity", OneOf((-1, 1)), 1, "-1: leads swapped, the wheel turns backwards for a forward command"),
         Opt(
             "time_constant_ms",
@@ -59,8 +65,6 @@ class DcMotorPart(PartType):
 
     def add(self, build: Build) -> None:
         o = self.options
-        if o["drives"] in build.motors:
-            raise ValueError(f"drives: the {o['drives']} wheel has a motor already")
         wheel_radius_m = build.body["wheel_radius_m"]
         if o["rpm"] is None:
             max_rad_s = build.body["v_max_m_s"] / wheel_radius_m
@@ -74,4 +78,9 @@ class DcMotorPart(PartType):
             gain=o["gain"],
             time_constant_ms=o["time_constant_ms"],
         )
+        if o["drives"] in build.motors:  # (a four-wheel car: a second motor on that side, geared to it by the ground)
+            ganged, first = build.motors[o["drives"]]
+            members = ganged.members if isinstance(ganged, GangedBridges) else [ganged]
+            build.motors[o["drives"]] = (GangedBridges([*members, bridge]), first)
+            return
         build.motors[o["drives"]] = (bridge, motor)

@@ -11,8 +11,10 @@ before that goes on with the same frame. Each LED's colour is an output,
 latch that changes it).
 
 WS2812 timing is checked: each of the stream's (high_0, low_0, high_1, low_1) against the
-datasheet's (400, 850, 800, 450) ns within ``tolerance_ns`` (WS2812B: 150). A stream out of
-tolerance is counted in the truth (``<name>_timing_faults``) and its first problem is kept
+datasheet's (400, 850, 800, 450) ns within ``tolerance_ns`` (WS2812B: 150); a bit the
+stream does not have is not checked (a PIO program's frame comes in bursts as its FIFO
+fills, a burst of black all 0s). A frame (the streams between two latches:
+``<name>_writes``) out of tolerance is counted in the truth (``<name>_timing_faults``) and its first problem is kept
 (the part's ``timing_problem``); its bits are decoded as a chip would
 (a 400 kHz tuple on this strip reads every bit as a 1: white).
 
@@ -31,9 +33,14 @@ BITS_PER_LED = 24
 
 
 def timing_problem(timing_ns: tuple, tolerance_ns: float) -> str | None:
-    """Why a bitstream's timing is out of the WS2812's tolerance (None: it is within)."""
+    """Why a bitstream's timing is out of the WS2812's tolerance (None: it is within). A
+    None is a bit the stream does not have (a PIO burst of 0s only: its 1s unmeasured)."""
     names = ("high_0", "low_0", "high_1", "low_1")
-    off = [f"{n} {t} ns" for n, t, want in zip(names, timing_ns, WS2812_NS) if abs(t - want) > tolerance_ns]
+    off = [
+        f"{n} {t} ns"
+        for n, t, want in zip(names, timing_ns, WS2812_NS)
+        if t is not None and abs(t - want) > tolerance_ns
+    ]
     if not off:
         return None
     return (
@@ -57,8 +64,9 @@ class Ws2812Strip(Part):
         self.shown = [0] * count  # each LED's colour, 0xRRGGBB
         self.end_us = -(10**12)  # the last stream's end
         self.next_us = NEVER_US
-        self.faults = 0
-        self.streams = 0
+        self.faults = 0  # frames out of tolerance
+        self.frame_faulty = False
+        self.streams = 0  # frames: streams after the line latched
         self.timing_problem = None
 
     def set_input(self, name, value, t_us, plant) -> bool:
@@ -69,14 +77,17 @@ class Ws2812Strip(Part):
 
     def bitstream(self, t_us: int, timing_ns: tuple, data: bytes) -> None:
         """A stream starting at ``t_us``: its bits decoded into the frame; the latch after it."""
-        problem = timing_problem(timing_ns, self.tolerance_ns)
-        if problem:
-            self.faults += 1
-            self.timing_problem = self.timing_problem or problem
         if t_us - self.end_us >= self.reset_us:
             self.frame = []
-        one_as = int(timing_ns[2] > SAMPLE_NS)
-        zero_as = int(timing_ns[0] > SAMPLE_NS)
+            self.streams += 1  # (a frame: a PIO program's comes in several bursts)
+            self.frame_faulty = False
+        problem = timing_problem(timing_ns, self.tolerance_ns)
+        if problem:
+            self.faults += not self.frame_faulty
+            self.frame_faulty = True
+            self.timing_problem = self.timing_problem or problem
+        one_as = int(timing_ns[2] > SAMPLE_NS) if timing_ns[2] is not None else 1
+        zero_as = int(timing_ns[0] > SAMPLE_NS) if timing_ns[0] is not None else 0
         total_ns = 0
         for byte in data:
             decoded = 0
@@ -86,7 +97,6 @@ class Ws2812Strip(Part):
                 total_ns += timing_ns[2] + timing_ns[3] if one else timing_ns[0] + timing_ns[1]
             self.frame.append(decoded)
         self.end_us = t_us + (total_ns + 999) // 1000
-        self.streams += 1
         self.next_us = self.end_us + self.reset_us
 
     def fire(self, t_us, plant, out) -> None:

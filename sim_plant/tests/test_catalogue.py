@@ -86,7 +86,7 @@ def test_every_option_of_a_part_out_of_its_bounds_is_refused_by_name(kind):
         ),
         (
             {"body": "differential", "parts": [MOTORS[0], {**MOTORS[1], "drives": "left"}]},
-            r"#2 \(motor_r\) drives: the left wheel has a motor already",
+            r"needs a dc_motor that drives right",  # (two on the left: a four-wheel car's side, no right)
         ),
         ({"body": "bench", "parts": [{"kind": "button", "name": "b", "presses": [[2, 1]]}]}, r"#1 \(b\) presses"),
         ({"body": "differential", "start_pose": [9, 1, 0]}, r"\[plant\] start_pose: .* outside the room"),

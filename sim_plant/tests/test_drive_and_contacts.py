@@ -7,7 +7,7 @@ import pytest
 from sim_plant.contacts import MIN_STEP_US, RECHECK_US, Bumper, ContactMonitor, _release_s
 from sim_plant.drivetrain import DiffDriveTrain
 from sim_plant.engine import RobotPlant
-from sim_plant.motors import DcMotor, DirPinsPwmBridge, DirPwmBridge, TwoPwmBridge
+from sim_plant.motors import DcMotor, DirPinsPwmBridge, DirPwmBridge, GangedBridges, TwoPwmBridge
 from sim_plant.physics.encoder import QuadratureEncoder
 from sim_plant.world import box, rectangle, room
 
@@ -86,6 +86,23 @@ def test_lmd18200_and_drv8833_effective_duty():
     drv.set_pin("in1", FULL)
     drv.set_pin("in2", FULL // 4)
     assert drv.effective()[0] == pytest.approx(0.75, abs=1e-4)
+
+
+def test_two_motors_on_a_side_drive_it_at_the_mean_of_their_duties():
+    """A four-wheel car's side (SunFounder's Pico-4WD: each motor's inputs held high, one
+    pulsed low): the side at the mean effective duty, braked only when both brake."""
+    front, rear = TwoPwmBridge("front"), TwoPwmBridge("rear")
+    side = GangedBridges([front, rear])
+    assert set(side.pins) == {"front.in1", "front.in2", "rear.in1", "rear.in2"}
+    for name in side.pins:
+        side.set_pin(name, FULL)
+    assert side.effective() == (0.0, True), "all four inputs high: both braked"
+    side.set_pin("front.in2", FULL - 39321)  # 60 % low on in2: +0.6 (slow decay)
+    assert side.effective()[0] == pytest.approx(0.3, abs=1e-4) and not side.effective()[1]
+    side.set_pin("rear.in2", FULL - 39321)
+    assert side.effective()[0] == pytest.approx(0.6, abs=1e-4)
+    side.standby = True
+    assert front.standby and rear.standby
 
 
 def test_dc_motor_dead_band_saturation_and_gain():

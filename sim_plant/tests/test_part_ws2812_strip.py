@@ -48,6 +48,21 @@ def test_a_timing_out_of_tolerance_is_counted_named_and_decoded_as_the_chip_woul
     assert p.truth()["leds_timing_faults"] == 1 and p.output("leds.led0") == 0x010000
 
 
+def test_a_frame_in_bursts_of_one_kind_of_bit_is_one_write_and_no_fault():
+    """A PIO program's frame comes as bursts as its FIFO fills; a burst of black has no 1
+    bit (its times unmeasured: None), one of white no 0: neither is out of tolerance."""
+    p = strip(count=2)
+    p.bitstream("leds.din", (250, 1000, None, None), bytes(3))
+    p.advance_to(40)  # (30 us of stream, 10 us low: the same frame)
+    p.bitstream("leds.din", (None, None, 875, 375), bytes((255,) * 3))
+    p.advance_to(2_000)
+    assert p.output("leds.led0") == 0 and p.output("leds.led1") == 0xFFFFFF
+    assert p.truth()["leds_timing_faults"] == 0 and p.truth()["leds_writes"] == 1, p.truth()
+    p.bitstream("leds.din", (250, 1000, None, None), bytes(6))
+    p.advance_to(4_000)
+    assert p.output("leds.led1") == 0 and p.truth()["leds_writes"] == 2
+
+
 rgb = st.tuples(*[st.integers(0, 255)] * 3)
 
 

@@ -182,7 +182,9 @@ def pwm_of(levels: list) -> tuple[int, int] | None:
 
 def bitstream_of(levels: list) -> tuple[tuple, bytes] | None:
     """A burst of pulses as (timing_ns (high_0, low_0, high_1, low_1), bytes): each rise to
-    the next a bit, a high longer than half of it a 1; None for fewer than 8 pulses."""
+    the next a bit, a high longer than half of it a 1; None for fewer than 8 pulses. A
+    burst with no 0 (or no 1) has None for that bit's high and low: nothing measured them
+    (a PIO strip's frame of black, or of white, is bursts of one kind of bit)."""
     rises = [i for i, (_t, level) in enumerate(levels) if level == 1]
     bits, highs = [], []
     for a, b in zip(rises, rises[1:] + [None]):
@@ -197,11 +199,10 @@ def bitstream_of(levels: list) -> tuple[tuple, bytes] | None:
         bits.append(1 if high > period / 2 else 0)
     if len(bits) < 8:
         return None
-    ones = [(h, p) for (h, p), bit in zip(highs, bits) if bit] or [(0.0, 0.0)]
-    zeros = [(h, p) for (h, p), bit in zip(highs, bits) if not bit] or [(0.0, 0.0)]
-    h1, p1 = ones[0]
-    h0, p0 = zeros[0]
-    timing = tuple(round(v * 1000) for v in (h0, p0 - h0, h1, p1 - h1))
+    timing = ()
+    for bit in (0, 1):
+        shapes = [(h, p) for (h, p), b in zip(highs, bits) if b == bit]
+        timing += (round(shapes[0][0] * 1000), round((shapes[0][1] - shapes[0][0]) * 1000)) if shapes else (None, None)
     data = bytes(int("".join(map(str, bits[i : i + 8])), 2) for i in range(0, len(bits) - 7, 8))
     return timing, data
 

@@ -71,7 +71,7 @@ entry = "{entry}"          # what runs after boot.py
 # lib = ["lib"]            # library folders of your own
 # harness_lib = false      # the harness's own drivers (firmware/lib): off unless you ask
 
-[board.pins]               # the pins your code uses, by the code's own names
+{board}[board.pins]               # the pins your code uses, by the code's own names
 {pins}
 {plant}
 [wiring]                   # pin name = plant signal (mpy-fil check lists them), or probe:<name>
@@ -81,6 +81,11 @@ entry = "{entry}"          # what runs after boot.py
 # source = "probe:loop"
 # period_us = 50_000
 # tolerance_us = 1_000
+"""
+RP2_BOARD = """\
+[board]
+family = "rpi_pico"        # the code names rp2 (import rp2, "GP14"): an RP2040; "rpi_pico2" for an RP2350
+
 """
 ROLE_NAMES = {"IN1": "in1", "IN2": "in2", "PWM": "pwm", "EN": "pwm", "SPEED": "pwm", "DIR": "dir", "PHASE": "dir"}
 
@@ -98,7 +103,8 @@ def starter(folder: Path, notes: list | None = None) -> str:
     where it stopped early goes to ``notes``."""
     files = sorted(folder.glob("*.py"))
     entry = "main.py" if (folder / "main.py").is_file() or not files else files[0].name
-    scan = scan_folder(folder, family=_family(folder))
+    family = _family(folder)
+    scan = scan_folder(folder, family=family)
     if notes is not None:
         notes.extend(scan.notes)
     pins = _named(scan.uses)
@@ -117,6 +123,7 @@ def starter(folder: Path, notes: list | None = None) -> str:
         name=folder.resolve().name,
         path=folder / "rig.toml",
         entry=entry,
+        board=RP2_BOARD if family == "rp2" else "",
         pins=lines or "# LED = 25\n",
         plant=BODY_FORM.format(parts=_parts(motors) + _ranger_parts(rangers)) if motors else DEFAULT_FORM.format(),
         wiring=wiring or '# LED = "probe:led"\n',
