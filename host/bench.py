@@ -91,6 +91,7 @@ KIT_DEMOS = (
     ("pololu_3pi_2040", (("kits/pololu_3pi_2040", "."), ("kitbot/lib", "lib")), "button_b", None, "done"),
     ("kitronik_buggy", (("kits/kitronik_buggy", "."),), "button", "kitronikpicoautonomousroboticsplatform", "done"),
     ("cytron_maker_pi_rp2040", (), "button_1", None, "range_after"),
+    ("sunfounder_pico_4wd", (), None, None, "done"),
 )
 STATE_BYTES = F.HEADER_LEN + F.CRC_LEN + F.STATE_LEN  # an empty STATE
 REPLY_BYTES = 2 * (F.HEADER_LEN + F.CRC_LEN) + struct.calcsize(F.OUT_FMT) + F.WAIT_LEN  # an OUT and a WAIT
