@@ -385,6 +385,22 @@ def test_3pi_button_c_shares_the_displays_dc_line_as_on_the_robot(capsys, make_r
     assert got == vlsb_rows(bytes.fromhex(steps[-1][3]), 128, 64), f"display.png is the last frame buffer; {where()}"
 
 
+def test_3pi_battery_level_on_gp26_reads_its_voltage_through_the_divider(capsys, make_rig, tmp_path):
+    """The battery on GP26 (the down emitters' line), read as the kit's library reads it:
+    its 4.8 V through the 1/11 divider, to the ADC's step (12 bits: 8.9 mV of battery),
+    before and after the pin has driven the emitters on and let them go."""
+    folder = kit_folder(capsys, tmp_path, "pololu_3pi_2040", "pololu_3pi_battery")
+    rig = make_rig(str(folder / "rig.toml"), allow_exit=True)
+    rig.expect("done")
+    where = f"console:\n{rig.console}\nartefacts: {rig.artefacts}"
+    readings = [int(v) for v in re.findall(r"vbat (\d+)", rig.console)]
+    want_mv = rig.truth()["battery_v"] * 1000
+    assert len(readings) == 2 and all(abs(mv - want_mv) <= 9 for mv in readings), (
+        f"{readings} mV, want {want_mv}; {where}"
+    )
+    assert "emitters 1" in rig.console, where
+
+
 def test_3pi_yellow_led_dimmed_by_a_pwm_on_gp25_beside_button_a(capsys, make_rig, tmp_path):
     """Pololu's splash loader fades the yellow LED with PWM(YellowLED().pin) on GP25, the line
     button A shares: the rig takes the PWM (it was refused as a second driver of the button's
