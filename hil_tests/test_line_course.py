@@ -84,11 +84,12 @@ class SensorPath:
         worst = int(np.argmax(errors))
         return float(errors[worst]), self.points[worst]
 
-    def lap(self, where, timeout_s: float, rel: float = 0.03, heading_deg: float = 10.0) -> None:
+    def lap(self, where, timeout_s: float, rel: float = 0.03, heading_deg: float = 10.0) -> str:
         """Run until the bar has gone most of the way round and is back across the start;
         then hold the lap: its length within ``rel`` of the loop's, within the margin of the
         line all along, back on the start line heading along it (within ``heading_deg``),
-        never lost. ``where``: the failure messages' tail (a callable)."""
+        never lost. ``where``: the failure messages' tail (a callable). The lap in a line
+        (the report's result)."""
         rig, start_x = self.rig, START[0] + self.ahead_m
 
         def lapped():
@@ -99,13 +100,15 @@ class SensorPath:
         _, x, y, th = self.points[-1]
         off_m = self.check_on_line(where())
         lap_s = (rig.t_us - self.t0_us) / 1e6
-        print(f"lap {lap_s:.2f} s, {self.length_m:.3f} m of {LAP_M:.3f}, at most {off_m * 1000:.1f} mm off the line")
+        result = f"lap {lap_s:.2f} s, {self.length_m:.3f} m of {LAP_M:.3f}, at most {off_m * 1000:.1f} mm off the line"
+        print(result)
         assert "lost" not in rig.console, f"the firmware lost the line; {where()}"
         assert self.length_m == pytest.approx(LAP_M, rel=rel), f"the sensors went {self.length_m:.3f} m; {where()}"
         assert abs(y - START[1]) <= MARGIN_M and abs(math.remainder(th, math.tau)) < math.radians(heading_deg), (
             f"back at the start line ({start_x:.2f}, {START[1]:.2f}) m heading 0: at ({x:.3f}, {y:.3f}) "
             f"heading {math.degrees(th):.1f} deg; {where()}"
         )
+        return result
 
     def check_on_line(self, where: str) -> float:
         off_m, (t_us, x, y, _) = self.worst_off_line()
@@ -150,13 +153,13 @@ def xrp_on_the_course(capsys, tmp_path: Path) -> Path:
     return on_the_course(folder / "rig.toml", pressed)
 
 
-def test_xrp_follows_a_drawn_line_course_for_a_lap_within_its_margin(capsys, make_rig, tmp_path):
+def test_xrp_follows_a_drawn_line_course_for_a_lap_within_its_margin(capsys, make_rig, tmp_path, record_property):
     rig = make_rig(str(xrp_on_the_course(capsys, tmp_path)))
     where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     (left, right) = (float(v) for v in rig.expect(r"start (\S+) (\S+)").groups())
     assert min(left, right) > 0.5, f"both channels over the tape at the start: {left}, {right}; {where()}"
     path = SensorPath(rig, ahead_m=0.08)  # the reflectance board (the kit's rig.toml)
-    path.lap(where, timeout_s=40)
+    record_property("result", path.lap(where, timeout_s=40))
 
 
 def test_kitbot_takes_the_courses_first_corner_by_its_qtr_channels(make_rig, tmp_path):
@@ -230,11 +233,12 @@ def test_3pi_takes_the_courses_first_corner_by_its_five_qtr_line_sensors(capsys,
     assert truth["rgb_leds_lit"] == 6 and truth["rgb_leds_faults"] == 0, f"six LEDs lit green: {truth}; {where()}"
 
 
-@pytest.mark.long
 @pytest.mark.skipif(
     "not config.getoption('--hil-report')", reason="make hil runs the 3pi+'s whole lap (about real time)"
 )
-def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(capsys, make_rig, tmp_path):
+def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(
+    capsys, make_rig, tmp_path, record_property
+):
     """The corner test's robot on for a whole lap: once round (the line sensors' path within
     3 % of the loop's length), back across the start on its line, never more than the
     margin off it, never lost."""
@@ -242,14 +246,15 @@ def test_3pi_follows_the_drawn_course_for_a_lap_by_its_five_qtr_line_sensors(cap
     where = lambda: f"console:\n{rig.console}\nartefacts: {rig.artefacts}"  # noqa: E731
     rig.expect(r"calibrated")
     path = SensorPath(rig, ahead_m=0.035)
-    path.lap(where, timeout_s=40)
+    record_property("result", path.lap(where, timeout_s=40))
 
 
-@pytest.mark.long
 @pytest.mark.skipif(
     "not config.getoption('--hil-report')", reason="make hil runs the buggy's whole lap (about real time)"
 )
-def test_kitronik_buggy_follows_the_drawn_course_for_a_lap_on_kitronik_s_own_library(capsys, make_rig, tmp_path):
+def test_kitronik_buggy_follows_the_drawn_course_for_a_lap_on_kitronik_s_own_library(
+    capsys, make_rig, tmp_path, record_property
+):
     """The ``kitronik_buggy`` kit's rig on the course, Kitronik's own library (pinned,
     fetched by ``make setup``) unchanged beside a line follower in the style of their
     Basic3SensorLineFollow.py (hil_tests/firmware/kits/kitronik_line: the centre sensor on
@@ -272,4 +277,4 @@ def test_kitronik_buggy_follows_the_drawn_course_for_a_lap_on_kitronik_s_own_lib
     left, centre, right = (int(v) for v in rig.expect(r"start (\d+) (\d+) (\d+)").groups())
     assert centre > 30000 > max(left, right), f"the centre sensor alone over the line at the start; {where()}"
     path = SensorPath(rig, ahead_m=0.07)  # the line following board (the kit's rig.toml)
-    path.lap(where, timeout_s=60, rel=0.05, heading_deg=20)
+    record_property("result", path.lap(where, timeout_s=60, rel=0.05, heading_deg=20))
