@@ -92,21 +92,16 @@ def replay(plant, calls: list, check: bool, snaps: list) -> float:
     return time.process_time() - t0
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("robot", help="an app's name or a rig file (RigSpec's first argument)")
-    parser.add_argument("sim_s", type=float, help="simulated seconds measured (after 1 s not counted)")
-    parser.add_argument("--repeat", type=int, default=5, help="runs and replays timed (the least is printed)")
-    parser.add_argument("--share", type=float, default=0.65, help="a share of the floor to set the host's time against")
-    args = parser.parse_args(argv)
-    raw_us = bench.percentile(bench.bench_raw(2000), 50)
-    spec = RigSpec(args.robot, seed=1, busy_poll=False, allow_exit=True)
+def measure(robot: str, sim_s: float, repeat: int, raw_us: float) -> dict:
+    """The robot run ``repeat`` times for ``sim_s`` simulated s (after 1 s not counted) and its
+    plant's calls replayed as many times: each figure the least, an exchange's µs."""
+    spec = RigSpec(robot, seed=1, busy_poll=False, allow_exit=True)
     runs = []
-    for _ in range(args.repeat):  # (the host's time, from runs of their own: the recording costs)
+    for _ in range(repeat):  # (the host's time, from runs of their own: the recording costs)
         with Rig(spec, Recording()) as rig:
             rig.run_for(1.0)
             n0, t0, fw0 = rig.stats.link_round_trips, resource.getrusage(resource.RUSAGE_SELF), bench._fw_cpu_s(rig)
-            rig.run_for(args.sim_s)
+            rig.run_for(sim_s)
             t1, exchanges = resource.getrusage(resource.RUSAGE_SELF), rig.stats.link_round_trips - n0
             fw_s = bench._fw_cpu_s(rig) - fw0
         runs.append((t1.ru_utime - t0.ru_utime, t1.ru_stime - t0.ru_stime, fw_s))
@@ -117,35 +112,59 @@ def main(argv=None) -> int:
     with Rig(spec, Recording(), plant=recorded) as rig:
         rig.run_for(1.0)
         start, n0 = len(recorded.calls), rig.stats.link_round_trips
-        rig.run_for(args.sim_s)
+        rig.run_for(sim_s)
         if rig.stats.link_round_trips - n0 != exchanges:
             sys.exit(f"expected the recorded run's {exchanges} exchanges again, got {rig.stats.link_round_trips - n0}")
     calls = recorded.calls
-    print(f"{args.robot}: {args.sim_s:g} simulated s, {exchanges} exchanges, {len(calls) - start} plant calls")
     replays = []
-    for k in range(args.repeat):
+    for k in range(repeat):
         fresh, _ = build_plant(spec, spec.resolve())
-        head, tail = calls[:start], calls[start:]
         snaps = []
-        replay(fresh, head, k == 0, snaps)
-        replays.append(replay(fresh, tail, k == 0, snaps))
-    plant_s = min(replays)
+        replay(fresh, calls[:start], k == 0, snaps)
+        replays.append(replay(fresh, calls[start:], k == 0, snaps))
     per = 1e6 / max(exchanges, 1)
-    host_us, plant_us, fw_us = user_s * per, plant_s * per, fw_s * per
-    print(
-        f"  host CPU an exchange (least of {args.repeat} runs): user {host_us:.1f} us, system {system_s * per:.1f} us "
-        f"(the pty's calls); the plant's own calls replayed: {plant_us:.1f} us (least of {args.repeat}; "
-        f"{plant_s / user_s:.0%} of the host's user time); the rest of the user time (the rig, the link's Python, "
-        f"the codec): {host_us - plant_us:.1f} us"
-    )
-    floor_us = raw_us + fw_us
-    budget_us = floor_us / args.share - floor_us
-    print(
-        f"  an exchange's floor: raw round trip {raw_us:.1f} us + the interpreter's CPU {fw_us:.1f} us = "
-        f"{floor_us:.1f} us; at {args.share:.0%} of it an exchange may take {floor_us / args.share:.1f} us, which "
+    return {
+        "robot": robot,
+        "sim_s": sim_s,
+        "repeat": repeat,
+        "exchanges": exchanges,
+        "plant_calls": len(calls) - start,
+        "raw_us": raw_us,
+        "host_us": user_s * per,
+        "system_us": system_s * per,
+        "plant_us": min(replays) * per,
+        "fw_us": fw_s * per,
+    }
+
+
+def lines(m: dict, share: float) -> list[str]:
+    """What :func:`measure` found, and what ``share`` of the exchange's floor leaves the host."""
+    host_us, plant_us, repeat = m["host_us"], m["plant_us"], m["repeat"]
+    floor_us = m["raw_us"] + m["fw_us"]
+    budget_us = floor_us / share - floor_us
+    return [
+        f"host CPU an exchange (least of {repeat} runs): user {host_us:.1f} us, system {m['system_us']:.1f} us "
+        f"(the pty's calls); the plant's own calls replayed: {plant_us:.1f} us (least of {repeat}; "
+        f"{plant_us / host_us:.0%} of the host's user time); the rest of the user time (the rig, the link's Python, "
+        f"the codec): {host_us - plant_us:.1f} us",
+        f"an exchange's floor: raw round trip {m['raw_us']:.1f} us + the interpreter's CPU {m['fw_us']:.1f} us = "
+        f"{floor_us:.1f} us; at {share:.0%} of it an exchange may take {floor_us / share:.1f} us, which "
         f"leaves the host {budget_us:.1f} us beyond the floor: the plant alone takes {plant_us / budget_us:.0%} of "
-        f"that, the host's user time {host_us / budget_us:.0%}"
-    )
+        f"that, the host's user time {host_us / budget_us:.0%}",
+    ]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("robot", help="an app's name or a rig file (RigSpec's first argument)")
+    parser.add_argument("sim_s", type=float, help="simulated seconds measured (after 1 s not counted)")
+    parser.add_argument("--repeat", type=int, default=5, help="runs and replays timed (the least is printed)")
+    parser.add_argument("--share", type=float, default=0.65, help="a share of the floor to set the host's time against")
+    args = parser.parse_args(argv)
+    m = measure(args.robot, args.sim_s, args.repeat, bench.percentile(bench.bench_raw(2000), 50))
+    print(f"{args.robot}: {args.sim_s:g} simulated s, {m['exchanges']} exchanges, {m['plant_calls']} plant calls")
+    for line in lines(m, args.share):
+        print("  " + line)
     return 0
 
 
