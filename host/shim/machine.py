@@ -18,6 +18,44 @@ _reset_cause = PWRON_RESET
 _UNSET = object()
 
 
+def _subclass_made(cls, id, bind, made, key):
+    """A Python subclass of a machine class (py/objtype.c, mp_obj_instance_make_new): an
+    object of its own, bound to its peripheral now when the call names it (the one made
+    before, if it is of that class: Led(25) is Led(25)), or else when the subclass's
+    __init__ passes it to super().__init__() (native_base_init_wrapper), as ``class
+    Remote(Pin): def __init__(self): super().__init__(5, Pin.IN)`` does. Each class's
+    __new__ comes here through a call of two arguments (_pin_subclass, ...): with MCU time the
+    firmware's call of __new__ is charged the callee's frame when it is too large for the C
+    stack (py/objfun.c, fun_bc_call's heap frame), so a longer call there moved the charged
+    time of every firmware that makes an ADC."""
+    if id is not _UNSET:
+        old = made.get(key(id))
+        if isinstance(old, cls):
+            return old
+    obj = object.__new__(cls)
+    if id is not _UNSET:
+        bind(obj, id)
+    return obj
+
+
+def _same(id):
+    return id
+
+
+def _uart_subclass(cls, id):
+    return _subclass_made(cls, id, UART._bind, UART._made, _same)
+
+
+def _take_over(obj, made, key, old):
+    """``obj`` becomes the peripheral's object (``made[key]``), with the state of the one
+    made before it, if any (its handle then names ``obj``)."""
+    if old is not None:
+        for name, value in old.__dict__.items():
+            setattr(obj, name, value)
+        _hil._handles[old._handle] = obj
+    made[key] = obj
+
+
 def _platform():
     import sys
 
@@ -137,11 +175,18 @@ class Pin:
     _MODES = {IN: _F.PIN_IN, OUT: _F.PIN_OUT, OPEN_DRAIN: _F.PIN_OPEN_DRAIN}  # as CFG_PIN says them
     _PULLS = {None: _F.PULL_NONE, PULL_UP: _F.PULL_UP, PULL_DOWN: _F.PULL_DOWN}
     _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
+    _id = _UNSET  # (a subclass's object until its __init__ names its id)
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not Pin:  # (a short call: _subclass_made)
+            return _pin_subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         return _make(_pin_id(id), cls)
 
     def __init__(self, id, *args, **kw):
+        if self._id is _UNSET:  # (a subclass's object, its id given to super().__init__)
+            _bind_pin(self, id)
         if _RP2 and not args and not kw:
             return  # (mp_pin_make_new: Pin(n) alone configures nothing)
         self.init(*args, **kw)
@@ -351,29 +396,45 @@ class Pin:
         return "Pin(%r)" % (self._id,)
 
 
+def _pin_subclass(cls, id):
+    return _subclass_made(cls, id, _bind_pin, Pin._made, _pin_id)
+
+
+def _bind_pin(pin, id):
+    id = _pin_id(id)
+    old = Pin._made.get(id)
+    _take_over(pin, Pin._made, id, old)
+    if old is None:
+        _set_up(pin, id)
+
+
 def _make(id, cls=Pin):
     pin = Pin._made.get(id)
     if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
         pin = Pin._made[id] = object.__new__(cls)
-        pin._id = id
-        pin._mode = Pin.IN
-        pin._pull = None
-        pin._alt = _ALT_SIO
-        pin._level = 0
-        pin._out = 0
-        pin._handler = None
-        pin._irq = None  # its IRQ object (_irq_object)
-        pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
-        pin._trigger = 0
-        pin._flags = 0
-        pin._counters = None  # Counter and Encoder units counting this pin's edges
-        pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
-        pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
-        pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
-        pin._handle = _hil.register(pin)
-        if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
-            _hil._Link.roomy(pin)
+        _set_up(pin, id)
     return pin
+
+
+def _set_up(pin, id):
+    pin._id = id
+    pin._mode = Pin.IN
+    pin._pull = None
+    pin._alt = _ALT_SIO
+    pin._level = 0
+    pin._out = 0
+    pin._handler = None
+    pin._irq = None  # its IRQ object (_irq_object)
+    pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
+    pin._trigger = 0
+    pin._flags = 0
+    pin._counters = None  # Counter and Encoder units counting this pin's edges
+    pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
+    pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
+    pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
+    pin._handle = _hil.register(pin)
+    if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
+        _hil._Link.roomy(pin)
 
 
 def _board_line(name):
@@ -495,7 +556,11 @@ class ADC:
 
     _made = {}  # pin id -> its ADC, one object per input as Pin's
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not ADC:  # (a short call, as Pin's)
+            return _adc_subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         key = id._id if isinstance(id, Pin) else id
         if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
             key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
@@ -508,6 +573,8 @@ class ADC:
         return adc
 
     def __init__(self, id, *, atten=None, **_kw):
+        if type(self) is not ADC:  # (a subclass's object: its id given to super().__init__)
+            _adc_subclass_init(self, id)
         _hil.configure(self._handle, _F.CFG_ADC, self._id, param=atten or 0, sync=True)
 
     def _hil_apply(self, kind, value, extra):
@@ -532,6 +599,34 @@ class ADC:
 
     def width(self, bits):
         pass
+
+
+def _adc_key(id):
+    """The input an ADC(id) reads, as ADC.__new__ finds it."""
+    key = id._id if isinstance(id, Pin) else id
+    if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
+        key += 26
+    return key
+
+
+def _adc_subclass(cls, id):
+    return _subclass_made(cls, id, _adc_bind, ADC._made, _adc_key)
+
+
+def _adc_subclass_init(adc, id):
+    if ADC._made.get(_adc_key(id)) is not adc:
+        _adc_bind(adc, id)
+
+
+def _adc_bind(adc, id):
+    """A subclass's ADC bound to its input (_subclass_made)."""
+    key = _adc_key(id)
+    old = ADC._made.get(key)
+    _take_over(adc, ADC._made, key, old)
+    if old is None:
+        adc._id = key
+        adc._value = adc._sample = adc._seen = 0
+        adc._handle = _hil.register(adc)
 
 
 class PWM:
@@ -729,27 +824,43 @@ class UART:
     IRQ_RXIDLE = 2
     IRQ_TXIDLE = 4
     _made = {}  # UART id -> its UART: one peripheral per id (UART(1) is UART(1))
+    _id = _UNSET  # (a subclass's object until its __init__ names its id)
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not UART:  # (a short call, as Pin's)
+            return _uart_subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         uart = UART._made.get(id)
         if uart is None:
             uart = UART._made[id] = object.__new__(cls)
-            uart._id = id
-            uart._rx = b""
-            uart._lines = 0  # complete lines the firmware has taken (the host's samples)
-            uart._handle = _hil.register(uart)
-            uart._tx_end = 0
-            uart._handler = None
-            uart._trigger = 0
-            uart._flags = 0
-            uart._timer = None
-            uart._baud = 9600
-            uart._char_bits = 10
-            uart._timeout = 0
-            uart._timeout_char = 0
+            uart._set_up(id)
         return uart
 
+    def _bind(self, id):
+        old = UART._made.get(id)
+        _take_over(self, UART._made, id, old)
+        if old is None:
+            self._set_up(id)
+
+    def _set_up(self, id):
+        self._id = id
+        self._rx = b""
+        self._lines = 0  # complete lines the firmware has taken (the host's samples)
+        self._handle = _hil.register(self)
+        self._tx_end = 0
+        self._handler = None
+        self._trigger = 0
+        self._flags = 0
+        self._timer = None
+        self._baud = 9600
+        self._char_bits = 10
+        self._timeout = 0
+        self._timeout_char = 0
+
     def __init__(self, id, baudrate=None, *args, **kw):
+        if self._id is _UNSET:  # (a subclass's object, its id given to super().__init__)
+            self._bind(id)
         self.init(baudrate, *args, **kw)
 
     def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, timeout_char=None, **kw):
