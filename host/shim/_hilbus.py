@@ -247,17 +247,12 @@ class SoftSPI(_Bus):
         if self._firstbit == self.LSB:
             data = _reverse(data)
         data = bytes(data)
-        if len(data) <= _SPI_PIECE:
-            got = self._piece(data)
-        else:  # (a display's frame: a board clocks out any length; a BUS frame carries _SPI_PIECE bytes)
-            got = b"".join([self._piece(data[i : i + _SPI_PIECE]) for i in range(0, len(data), _SPI_PIECE)])
+        got = None
+        for i in range(0, len(data) or 1, _SPI_PIECE):  # (a display's frame: a BUS frame holds _SPI_PIECE bytes)
+            _status, _count, part, t = _hil.transfer(self._handle, F.BUS_SPI_XFER, 0, 0, data[i : i + _SPI_PIECE])
+            _hil.bus_time(t + self._clocks(8 * min(_SPI_PIECE, len(data) - i), self._baud))
+            got = part if got is None else got + part
         return _reverse(got) if self._firstbit == self.LSB else got
-
-    def _piece(self, data):
-        """One BUS frame of the transfer at the firmware's instant, the clock on by its bytes' time."""
-        _status, _count, got, t = _hil.transfer(self._handle, F.BUS_SPI_XFER, 0, 0, data)
-        _hil.bus_time(t + self._clocks(8 * len(data), self._baud))
-        return got
 
     def read(self, nbytes, write=0x00):
         return self._xfer(bytes((write,)) * nbytes)

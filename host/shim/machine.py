@@ -18,42 +18,32 @@ _reset_cause = PWRON_RESET
 _UNSET = object()
 
 
-def _subclass_made(cls, id, bind, made, key):
-    """A Python subclass of a machine class (py/objtype.c, mp_obj_instance_make_new): an
-    object of its own, bound to its peripheral now when the call names it (the one made
-    before, if it is of that class: Led(25) is Led(25)), or else when the subclass's
-    __init__ passes it to super().__init__() (native_base_init_wrapper), as ``class
-    Remote(Pin): def __init__(self): super().__init__(5, Pin.IN)`` does. Each class's
-    __new__ comes here through a call of two arguments (_pin_subclass, ...): with MCU time the
-    firmware's call of __new__ is charged the callee's frame when it is too large for the C
-    stack (py/objfun.c, fun_bc_call's heap frame), so a longer call there moved the charged
-    time of every firmware that makes an ADC."""
-    if id is not _UNSET:
-        old = made.get(key(id))
+def _subclass(cls, id, obj=None):
+    """A Python subclass of Pin, ADC or UART (py/objtype.c, mp_obj_instance_make_new): an
+    object of its own (``obj``, or a new one: the one made before if it is of that class,
+    Led(25) is Led(25)), bound to its peripheral when the call names it, or when the
+    subclass's __init__ passes it to super().__init__() (native_base_init_wrapper), as
+    ``class Remote(Pin): def __init__(self): super().__init__(5, Pin.IN)`` does; the state
+    of one made before goes with it (its handle then names it). Called with few arguments:
+    with MCU time the firmware's call of __new__ is charged the callee's frame when it is
+    too large for the C stack (py/objfun.c, fun_bc_call), which moved the charged time of
+    every firmware that makes an ADC."""
+    base = Pin if issubclass(cls, Pin) else ADC if issubclass(cls, ADC) else UART
+    key = _pin_id(id) if base is Pin else _adc_key(id) if base is ADC else id
+    old = base._made.get(key)
+    if obj is None:
         if isinstance(old, cls):
             return old
-    obj = object.__new__(cls)
-    if id is not _UNSET:
-        bind(obj, id)
+        obj = object.__new__(cls)
+    if old is not obj:
+        if old is not None:
+            for name, value in old.__dict__.items():
+                setattr(obj, name, value)
+            _hil._handles[old._handle] = obj
+        base._made[key] = obj
+        if old is None:
+            (_set_up if base is Pin else _adc_set_up if base is ADC else UART._set_up)(obj, key)
     return obj
-
-
-def _same(id):
-    return id
-
-
-def _uart_subclass(cls, id):
-    return _subclass_made(cls, id, UART._bind, UART._made, _same)
-
-
-def _take_over(obj, made, key, old):
-    """``obj`` becomes the peripheral's object (``made[key]``), with the state of the one
-    made before it, if any (its handle then names ``obj``)."""
-    if old is not None:
-        for name, value in old.__dict__.items():
-            setattr(obj, name, value)
-        _hil._handles[old._handle] = obj
-    made[key] = obj
 
 
 def _platform():
@@ -175,18 +165,17 @@ class Pin:
     _MODES = {IN: _F.PIN_IN, OUT: _F.PIN_OUT, OPEN_DRAIN: _F.PIN_OPEN_DRAIN}  # as CFG_PIN says them
     _PULLS = {None: _F.PULL_NONE, PULL_UP: _F.PULL_UP, PULL_DOWN: _F.PULL_DOWN}
     _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
-    _id = _UNSET  # (a subclass's object until its __init__ names its id)
 
     def __new__(cls, id=_UNSET, *args, **kw):
-        if cls is not Pin:  # (a short call: _subclass_made)
-            return _pin_subclass(cls, id)
+        if cls is not Pin:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
         if id is _UNSET:
             raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         return _make(_pin_id(id), cls)
 
     def __init__(self, id, *args, **kw):
-        if self._id is _UNSET:  # (a subclass's object, its id given to super().__init__)
-            _bind_pin(self, id)
+        if type(self) is not Pin:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         if _RP2 and not args and not kw:
             return  # (mp_pin_make_new: Pin(n) alone configures nothing)
         self.init(*args, **kw)
@@ -396,18 +385,6 @@ class Pin:
         return "Pin(%r)" % (self._id,)
 
 
-def _pin_subclass(cls, id):
-    return _subclass_made(cls, id, _bind_pin, Pin._made, _pin_id)
-
-
-def _bind_pin(pin, id):
-    id = _pin_id(id)
-    old = Pin._made.get(id)
-    _take_over(pin, Pin._made, id, old)
-    if old is None:
-        _set_up(pin, id)
-
-
 def _make(id, cls=Pin):
     pin = Pin._made.get(id)
     if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
@@ -557,8 +534,8 @@ class ADC:
     _made = {}  # pin id -> its ADC, one object per input as Pin's
 
     def __new__(cls, id=_UNSET, *args, **kw):
-        if cls is not ADC:  # (a short call, as Pin's)
-            return _adc_subclass(cls, id)
+        if cls is not ADC:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
         if id is _UNSET:
             raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         key = id._id if isinstance(id, Pin) else id
@@ -573,8 +550,8 @@ class ADC:
         return adc
 
     def __init__(self, id, *, atten=None, **_kw):
-        if type(self) is not ADC:  # (a subclass's object: its id given to super().__init__)
-            _adc_subclass_init(self, id)
+        if type(self) is not ADC:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         _hil.configure(self._handle, _F.CFG_ADC, self._id, param=atten or 0, sync=True)
 
     def _hil_apply(self, kind, value, extra):
@@ -609,24 +586,10 @@ def _adc_key(id):
     return key
 
 
-def _adc_subclass(cls, id):
-    return _subclass_made(cls, id, _adc_bind, ADC._made, _adc_key)
-
-
-def _adc_subclass_init(adc, id):
-    if ADC._made.get(_adc_key(id)) is not adc:
-        _adc_bind(adc, id)
-
-
-def _adc_bind(adc, id):
-    """A subclass's ADC bound to its input (_subclass_made)."""
-    key = _adc_key(id)
-    old = ADC._made.get(key)
-    _take_over(adc, ADC._made, key, old)
-    if old is None:
-        adc._id = key
-        adc._value = adc._sample = adc._seen = 0
-        adc._handle = _hil.register(adc)
+def _adc_set_up(adc, key):
+    adc._id = key
+    adc._value = adc._sample = adc._seen = 0
+    adc._handle = _hil.register(adc)
 
 
 class PWM:
@@ -824,11 +787,10 @@ class UART:
     IRQ_RXIDLE = 2
     IRQ_TXIDLE = 4
     _made = {}  # UART id -> its UART: one peripheral per id (UART(1) is UART(1))
-    _id = _UNSET  # (a subclass's object until its __init__ names its id)
 
     def __new__(cls, id=_UNSET, *args, **kw):
-        if cls is not UART:  # (a short call, as Pin's)
-            return _uart_subclass(cls, id)
+        if cls is not UART:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
         if id is _UNSET:
             raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         uart = UART._made.get(id)
@@ -836,12 +798,6 @@ class UART:
             uart = UART._made[id] = object.__new__(cls)
             uart._set_up(id)
         return uart
-
-    def _bind(self, id):
-        old = UART._made.get(id)
-        _take_over(self, UART._made, id, old)
-        if old is None:
-            self._set_up(id)
 
     def _set_up(self, id):
         self._id = id
@@ -859,8 +815,8 @@ class UART:
         self._timeout_char = 0
 
     def __init__(self, id, baudrate=None, *args, **kw):
-        if self._id is _UNSET:  # (a subclass's object, its id given to super().__init__)
-            self._bind(id)
+        if type(self) is not UART:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         self.init(baudrate, *args, **kw)
 
     def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, timeout_char=None, **kw):
