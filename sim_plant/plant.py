@@ -63,6 +63,24 @@ class ReleasedAt(int):
         return ReleasedAt, (self.at_us,)
 
 
+class LevelAt(int):
+    """A level (0 or 1) a PIO state machine drives a little after the instant it is given,
+    seen by the host's look-ahead before its cycle comes (``host/rig/hardware/pio_out.py``):
+    the level to anything that takes it as a number, and ``at_us`` to a part that takes
+    each edge at its own instant (its signal in :attr:`Plant.timed_inputs`: a clocked
+    serial chip, ``sim_plant.catalogue.tlc1543``)."""
+
+    at_us: float
+
+    def __new__(cls, level: int, at_us: float):
+        value = super().__new__(cls, level)
+        value.at_us = at_us
+        return value
+
+    def __reduce__(self):
+        return LevelAt, (int(self), self.at_us)
+
+
 NEVER_US = 1 << 62
 """A time later than any run: returned by :meth:`Plant.next_change_us` when nothing is due."""
 
@@ -133,6 +151,9 @@ class Plant:
     zero_delay = False
     """True when an input may change an output at the same instant (a wire from a board
     output to a board input): the shim then syncs a read that follows a write."""
+    timed_inputs: frozenset = frozenset()
+    """The inputs whose parts take a PIO's edges each at its own instant (:class:`LevelAt`),
+    not the burst's last level at the frame's: a clock and the data it clocks."""
     capabilities: frozenset = frozenset()
     """What it can do beyond levels and samples (``CAPABILITIES``)."""
     world = None

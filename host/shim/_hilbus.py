@@ -246,8 +246,12 @@ class SoftSPI(_Bus):
     def _xfer(self, data):
         if self._firstbit == self.LSB:
             data = _reverse(data)
-        _status, _count, got, t = _hil.transfer(self._handle, F.BUS_SPI_XFER, 0, 0, bytes(data))
-        _hil.bus_time(t + self._clocks(8 * len(data), self._baud))
+        data = bytes(data)
+        got = None
+        for i in range(0, len(data) or 1, _SPI_PIECE):  # (a display's frame: a BUS frame holds _SPI_PIECE bytes)
+            _status, _count, part, t = _hil.transfer(self._handle, F.BUS_SPI_XFER, 0, 0, data[i : i + _SPI_PIECE])
+            _hil.bus_time(t + self._clocks(8 * min(_SPI_PIECE, len(data) - i), self._baud))
+            got = part if got is None else got + part
         return _reverse(got) if self._firstbit == self.LSB else got
 
     def read(self, nbytes, write=0x00):
@@ -352,6 +356,7 @@ _IRQ_END_WRITE = 32
 _IRQ_MEM_ADDR_MATCH = 64  # (the C's internal event: memaddr)
 _IRQ_ALL_HARD = _IRQ_ADDR_MATCH_READ | _IRQ_ADDR_MATCH_WRITE | _IRQ_READ_REQ | _IRQ_WRITE_REQ
 _IDLE, _MATCH_READ, _MATCH_WRITE, _MEM_ADDR_SELECT, _READING, _WRITING, _INACTIVE = range(7)
+_SPI_PIECE = F.MAX_PAYLOAD - max(F.BUS_LEN, F.BUS_REPLY_LEN)  # an SPI transfer's bytes in one BUS frame
 _TX_FIFO = 16  # the RP2040's I2C TX FIFO (datasheet 4.3.1: 16 entries); what write() can buffer
 
 

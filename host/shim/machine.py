@@ -18,6 +18,34 @@ _reset_cause = PWRON_RESET
 _UNSET = object()
 
 
+def _subclass(cls, id, obj=None):
+    """A Python subclass of Pin, ADC or UART (py/objtype.c, mp_obj_instance_make_new): an
+    object of its own (``obj``, or a new one: the one made before if it is of that class,
+    Led(25) is Led(25)), bound to its peripheral when the call names it, or when the
+    subclass's __init__ passes it to super().__init__() (native_base_init_wrapper), as
+    ``class Remote(Pin): def __init__(self): super().__init__(5, Pin.IN)`` does; the state
+    of one made before goes with it (its handle then names it). Called with few arguments:
+    with MCU time the firmware's call of __new__ is charged the callee's frame when it is
+    too large for the C stack (py/objfun.c, fun_bc_call), which moved the charged time of
+    every firmware that makes an ADC."""
+    base = Pin if issubclass(cls, Pin) else ADC if issubclass(cls, ADC) else UART
+    key = _pin_id(id) if base is Pin else _adc_key(id) if base is ADC else id
+    old = base._made.get(key)
+    if obj is None:
+        if isinstance(old, cls):
+            return old
+        obj = object.__new__(cls)
+    if old is not obj:
+        if old is not None:
+            for name, value in old.__dict__.items():
+                setattr(obj, name, value)
+            _hil._handles[old._handle] = obj
+        base._made[key] = obj
+        if old is None:
+            (_set_up if base is Pin else _adc_set_up if base is ADC else UART._set_up)(obj, key)
+    return obj
+
+
 def _platform():
     import sys
 
@@ -138,10 +166,16 @@ class Pin:
     _PULLS = {None: _F.PULL_NONE, PULL_UP: _F.PULL_UP, PULL_DOWN: _F.PULL_DOWN}
     _made = {}  # pin id -> its Pin: one object per pin, as on a board (Pin(4) is Pin(4))
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not Pin:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         return _make(_pin_id(id), cls)
 
     def __init__(self, id, *args, **kw):
+        if type(self) is not Pin:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         if _RP2 and not args and not kw:
             return  # (mp_pin_make_new: Pin(n) alone configures nothing)
         self.init(*args, **kw)
@@ -355,25 +389,29 @@ def _make(id, cls=Pin):
     pin = Pin._made.get(id)
     if pin is None:  # (made again, a driver's habit: the same pin, its level and IRQ)
         pin = Pin._made[id] = object.__new__(cls)
-        pin._id = id
-        pin._mode = Pin.IN
-        pin._pull = None
-        pin._alt = _ALT_SIO
-        pin._level = 0
-        pin._out = 0
-        pin._handler = None
-        pin._irq = None  # its IRQ object (_irq_object)
-        pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
-        pin._trigger = 0
-        pin._flags = 0
-        pin._counters = None  # Counter and Encoder units counting this pin's edges
-        pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
-        pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
-        pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
-        pin._handle = _hil.register(pin)
-        if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
-            _hil._Link.roomy(pin)
+        _set_up(pin, id)
     return pin
+
+
+def _set_up(pin, id):
+    pin._id = id
+    pin._mode = Pin.IN
+    pin._pull = None
+    pin._alt = _ALT_SIO
+    pin._level = 0
+    pin._out = 0
+    pin._handler = None
+    pin._irq = None  # its IRQ object (_irq_object)
+    pin._hard = False  # its handler runs at the edge, even inside a C call (_hil.dispatch)
+    pin._trigger = 0
+    pin._flags = 0
+    pin._counters = None  # Counter and Encoder units counting this pin's edges
+    pin._cfg = False  # configured as its mode says (rp2's in_base=Pin(2) unwires it until it is read)
+    pin._pv = None  # value() reads in a row with one answer (a poll that may never end, _hilpoll):
+    pin._pn = pin._pr = pin._pt = 0  # the answer, reads left to the next look, reads before it, since
+    pin._handle = _hil.register(pin)
+    if _hil._Link.roomy is not None:  # (its 17 members fill their table: room, for its methods' lookups)
+        _hil._Link.roomy(pin)
 
 
 def _board_line(name):
@@ -495,7 +533,11 @@ class ADC:
 
     _made = {}  # pin id -> its ADC, one object per input as Pin's
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not ADC:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         key = id._id if isinstance(id, Pin) else id
         if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
             key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
@@ -508,6 +550,8 @@ class ADC:
         return adc
 
     def __init__(self, id, *, atten=None, **_kw):
+        if type(self) is not ADC:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         _hil.configure(self._handle, _F.CFG_ADC, self._id, param=atten or 0, sync=True)
 
     def _hil_apply(self, kind, value, extra):
@@ -532,6 +576,20 @@ class ADC:
 
     def width(self, bits):
         pass
+
+
+def _adc_key(id):
+    """The input an ADC(id) reads, as ADC.__new__ finds it."""
+    key = id._id if isinstance(id, Pin) else id
+    if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
+        key += 26
+    return key
+
+
+def _adc_set_up(adc, key):
+    adc._id = key
+    adc._value = adc._sample = adc._seen = 0
+    adc._handle = _hil.register(adc)
 
 
 class PWM:
@@ -730,26 +788,35 @@ class UART:
     IRQ_TXIDLE = 4
     _made = {}  # UART id -> its UART: one peripheral per id (UART(1) is UART(1))
 
-    def __new__(cls, id, *args, **kw):
+    def __new__(cls, id=_UNSET, *args, **kw):
+        if cls is not UART:
+            return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
+        if id is _UNSET:
+            raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
         uart = UART._made.get(id)
         if uart is None:
             uart = UART._made[id] = object.__new__(cls)
-            uart._id = id
-            uart._rx = b""
-            uart._lines = 0  # complete lines the firmware has taken (the host's samples)
-            uart._handle = _hil.register(uart)
-            uart._tx_end = 0
-            uart._handler = None
-            uart._trigger = 0
-            uart._flags = 0
-            uart._timer = None
-            uart._baud = 9600
-            uart._char_bits = 10
-            uart._timeout = 0
-            uart._timeout_char = 0
+            uart._set_up(id)
         return uart
 
+    def _set_up(self, id):
+        self._id = id
+        self._rx = b""
+        self._lines = 0  # complete lines the firmware has taken (the host's samples)
+        self._handle = _hil.register(self)
+        self._tx_end = 0
+        self._handler = None
+        self._trigger = 0
+        self._flags = 0
+        self._timer = None
+        self._baud = 9600
+        self._char_bits = 10
+        self._timeout = 0
+        self._timeout_char = 0
+
     def __init__(self, id, baudrate=None, *args, **kw):
+        if type(self) is not UART:  # (a subclass's: its id given to super().__init__)
+            _subclass(type(self), id, self)
         self.init(baudrate, *args, **kw)
 
     def init(self, baudrate=None, bits=8, parity=None, stop=1, *, timeout=None, timeout_char=None, **kw):

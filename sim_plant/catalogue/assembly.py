@@ -38,6 +38,9 @@ class PartsPlant(RobotPlant):
         self.catalogue_parts = list(parts)
         self.zero_delay = any(p.zero_delay for p in self.catalogue_parts)
         self._reads_empty = frozenset(n for p in self.catalogue_parts if p.reads_empty for n in p.signals())
+        self.timed_inputs = frozenset(
+            n for p in self.catalogue_parts if p.timed for n, (way, _kind) in p.signals().items() if way == "in"
+        )
         super().__init__()
 
     def _build(self) -> None:

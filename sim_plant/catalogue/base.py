@@ -135,6 +135,8 @@ class PartType(Declared):
     ``needs_body``: it senses or acts on a body that moves (not on a bench);
     ``zero_delay``: an input of it may change an output at the same instant (a wire);
     ``reads_empty``: its outputs are bytes as events (a UART configured on one reads nothing);
+    ``timed``: its inputs take a PIO's edges each at its own instant (a clocked serial chip:
+    ``sim_plant.plant.LevelAt``), not a burst's last level;
     ``on_bus``: a chip on a bus (options ``bus``, ``address``, ``spi``: ``sim_plant.buses``).
     A chip (a part with a ``bus`` option, or a strip of LEDs) declares what its model does,
     ``MODELLED_FEATURES``, and what of the datasheet's chip it does not, ``NOT_MODELLED``, a
@@ -150,6 +152,7 @@ class PartType(Declared):
     needs_body = False
     zero_delay = False
     reads_empty = False
+    timed = False
     on_bus = False
     rig_file: str | None = None  # the rig file it was read from (set by assemble): a run's messages name it
 

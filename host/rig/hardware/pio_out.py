@@ -15,6 +15,8 @@ pins it drives will carry, in the terms the plant's parts take:
   bitstream with the pulses' measured timing (``bitstream``);
 - a burst on a UART wire: the bytes its frames carry at ``freq / 8`` baud (8 PIO cycles
   a bit, as the public PIO UART programs do), sent from their start bit (``send_bytes``);
+- on an input the plant takes edge by edge (``plant.timed_inputs``: a clocked serial
+  chip's clock and data), each level at its cycle's instant (``LevelAt``);
 - else the level the burst ends on, at the frame's instant; on an io line (a part drives
   it too: ``wiring.shared``) a pin the program makes an input (``set``/``out pindirs``,
   side-set pindirs) lets the line go at that cycle's instant (``ReleasedAt``: an RC sensor
@@ -27,7 +29,7 @@ given again (each pin keeps the instant up to which the plant has it).
 
 from host.link import frames as F
 from sim_plant.pio.block import RELEASED
-from sim_plant.plant import BITSTREAM, ReleasedAt
+from sim_plant.plant import BITSTREAM, LevelAt, ReleasedAt
 
 HORIZON_US = 200_000  # the longest burst looked at (a WS2812 strip of ~6000 LEDs)
 
@@ -155,6 +157,10 @@ class PioOutputs:
             return
         levels = [(t, level) for t, level in levels if level != RELEASED]
         if not levels:  # (a line only the board drives: a pin made an input leaves it as it was)
+            return
+        if signal in plant.timed_inputs:  # (a clocked chip: each edge at its cycle's instant)
+            for t, level in levels:
+                plant.set_input(signal, LevelAt(level, t))
             return
         if kind == F.SIG_UART:
             data = uart_bytes(levels, 1e6 * 8 / freq_hz)
