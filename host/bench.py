@@ -804,6 +804,28 @@ def lockstep_floor_line(run: dict, raw_us: float, target: float) -> str:
     )
 
 
+PLANT_SHARE_ROBOTS = ("rover", "pool_cleaner")
+"""The robots whose plant's own share of the host's exchange ``make bench`` prints."""
+
+
+def plant_share():
+    """host/bench/plant_share.py (a script of that folder) as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("plant_share", REPO / "host" / "bench" / "plant_share.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def report_plant_shares(shares: list) -> None:
+    """What the host's exchange is made of, against what issue 45's 65 % of the floor leaves it
+    (docs/bench.md, "What the floors leave the host")."""
+    lines = plant_share().lines
+    for m in shares:
+        print(f"  {m['robot']}, {m['sim_s']:g} simulated s, busy polling off: " + "; ".join(lines(m, 0.65)))
+
+
 def report_duct(duct: dict, raw_us: float) -> None:
     per_exchange_us = duct["wall_s"] * 1e6 / duct["round_trips"]
     p50 = percentile(duct["state_wait"], 50)
@@ -916,6 +938,7 @@ def main(argv=None) -> int:
     pio = None if args.no_pio else run_pio_bot()
     kits = None if args.no_kits else bench_kits()
     two = None if args.no_boards else bench_boards()
+    shares = [plant_share().measure(robot, 60.0, 3, statistics.median(raw_before)) for robot in PLANT_SHARE_ROBOTS]
     pool = plain = None
     if not args.no_pool:
         print("pool cleaner, full mission: 25 x 8 m pool, NMEA sonar byte by byte, 50 ms control quanta")
@@ -929,6 +952,7 @@ def main(argv=None) -> int:
         f"the ratios below are to the p50 of both, {raw_us:.1f} us"
     )
     report_rover(rover, raw_us)
+    report_plant_shares(shares)
     p50 = percentile(ping, 50)
     print(
         f"  link round trip (STATE -> WAIT, pin-toggling firmware, {len(ping)} exchanges): p50 {p50:.0f} us "

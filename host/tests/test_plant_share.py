@@ -58,3 +58,17 @@ def test_the_tool_prints_the_hosts_and_the_plants_time_an_exchange_beside_what_t
     out = capsys.readouterr().out
     assert "rover: 1 simulated s, 20 exchanges, " in out, out
     assert "the plant's own calls replayed: " in out and "at 65% of it an exchange may take " in out, out
+
+
+def test_make_bench_prints_each_robots_plant_share_against_what_65_percent_leaves(capsys):
+    from host import bench
+
+    m = {"robot": "rover", "sim_s": 60.0, "repeat": 3, "exchanges": 1200, "plant_calls": 6000, "raw_us": 20.0}
+    m.update(host_us=100.0, system_us=10.0, plant_us=40.0, fw_us=45.0)
+    bench.report_plant_shares([m])
+    out = capsys.readouterr().out
+    # (floor 65 us; at 65 % an exchange may take 100 us: 35 us for the host, the plant 114 % of it)
+    assert out.startswith("  rover, 60 simulated s, busy polling off: host CPU an exchange"), out
+    assert (
+        "leaves the host 35.0 us beyond the floor: the plant alone takes 114% of that, the host's user time 286%" in out
+    )
