@@ -54,6 +54,8 @@ _timers = []
 _handles = []
 _pending = []  # (callback, argument) due to run between main-program bytecodes
 _dispatching = False
+_cb_reads = 0  # the running soft callback's clock and input reads (past SPIN_LIMIT its reads move time)
+_HELD = -(1 << 28)  # (_cb_reads in a hard handler: its reads never move time)
 _wrote = False
 _irq_off = 0
 _link = None
@@ -809,7 +811,8 @@ now = _lockstep_now
 def observe():
     """Called by every clock or input read; lets busy waits make progress."""
     global _spin, _now
-    if _dispatching:  # a handler runs at its edge's instant: its reads move no time
+    if _dispatching:  # a handler runs at its edge's instant: its reads move no time ...
+        _callback_read()
         return
     if _Link.threads is not None:  # (the firmware's threads take turns: _hilthread)
         _Link.threads.tick()
@@ -834,6 +837,27 @@ def observe():
 
 
 _observe_free = observe
+
+
+def _callback_read():
+    """A read inside a handler. A hard IRQ's handler's reads move no time (it runs at its
+    edge's instant). A soft callback is the firmware's code on a board, run from the
+    scheduler: the clock and the pins go on while it runs. Its first SPIN_LIMIT reads move no
+    time, as a handler's few reads of its pin and the clock; past them it spins (a busy wait
+    for a pin or a delay, `while echo.value() == 0: pass`), each read SPIN_STEP_US on, the
+    host asked at the horizon: the changes come, hard IRQs' handlers run at their instants,
+    the soft callbacks they queue wait for this one to return (py/scheduler.c: the scheduler
+    is locked while a scheduled callback runs)."""
+    global _cb_reads, _now
+    _cb_reads += 1
+    if _cb_reads <= SPIN_LIMIT or not _lockstep:
+        return
+    t = _now + SPIN_STEP_US
+    if t >= _horizon or t >= _timer_due:
+        _Link.until = -1 if _Link.arm is not None else t
+        _released_run_until(t, None)
+    else:
+        _now = t
 
 
 def pay_cpu():
@@ -1534,7 +1558,7 @@ def dispatch(until, one=False, drain=False):
     interpreter that cannot see branches). Inside a callback or a C call (from
     Link.defer_from on) only hard IRQs' handlers run: the soft ones wait for the callback
     or the call to return."""
-    global _dispatching
+    global _dispatching, _cb_reads
     if _irq_off:
         return
     if _dispatching or _now >= _Link.defer_from:
@@ -1560,6 +1584,7 @@ def dispatch(until, one=False, drain=False):
             del pending[i]
             end -= 1
             link.callbacks += 1
+            _cb_reads = _HELD if _is_hard(arg) else 0
             try:
                 callback(arg)
             except Exception as e:  # (a reset, a host stop: BaseExceptions, go through)
@@ -1639,17 +1664,18 @@ def hard_handler(handler):
 def run_hard_now(callback, arg):
     """A hard IRQ's handler run now (_run_hard's, one at a time; an I2CTarget's request,
     whose answer the controller reads, inside what the port's interrupt does)."""
-    global _dispatching
-    was = _dispatching
+    global _dispatching, _cb_reads
+    was, reads = _dispatching, _cb_reads
     _Link.callbacks += 1
-    _Link.hard = _dispatching = True  # (its reads move no time, as any handler's)
+    _Link.hard = _dispatching = True  # (its reads move no time: _callback_read)
+    _cb_reads = _HELD
     try:
         callback(arg)
     except Exception as e:
         raise CallbackFailed(callback, e)  # noqa: B904
     finally:
         _Link.hard = False
-        _dispatching = was
+        _dispatching, _cb_reads = was, reads
 
 
 def c_begin(since):

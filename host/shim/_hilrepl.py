@@ -67,14 +67,15 @@ def answer(link, p):
     mode, source = F.unpack_eval(p)
     queue = link.queue
     link.queue = _refuse
-    dispatching = _hil._dispatching
-    _hil._dispatching = True  # (its clock reads move no time, as a handler's at its instant)
+    dispatching, reads = _hil._dispatching, _hil._cb_reads
+    _hil._dispatching = True  # (its clock reads move no time, as a hard handler's at its instant)
+    _hil._cb_reads = _hil._HELD
     try:
         status, text = _run(mode, source.decode())
     except BaseException as e:  # (sys.exit or machine.reset in a line: said, not done)
         status, text = F.EVAL_ERROR, _error(e)
     finally:
-        _hil._dispatching = dispatching
+        _hil._dispatching, _hil._cb_reads = dispatching, reads
         link.queue = queue
     queue(F.EVAL_REPLY, F.pack_eval_reply(status, text.encode()))
     link.flush()

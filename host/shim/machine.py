@@ -297,7 +297,8 @@ class Pin:
                 return self._out
             if not self._cfg:
                 self.init()
-            if _hil._dispatching:  # (a handler's reads move no time: no call for them)
+            if _hil._dispatching:  # (a handler's first reads move no time: _hil._callback_read)
+                _hil._callback_read()
                 return self._level
             _hil.observe()
             level = self._level

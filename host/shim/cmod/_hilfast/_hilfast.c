@@ -263,6 +263,13 @@ static void dispatch(mp_obj_t ctx, mp_obj_t pending) {
         memmove(list->items + i, list->items + i + 1, (list->len - i) * sizeof(mp_obj_t));
         list->items[list->len] = MP_OBJ_NULL;
         count_callback(link);
+        // _hil._cb_reads: a soft callback's reads counted from 0 (past SPIN_LIMIT they move
+        // time: _hil._callback_read), a hard handler's held (a shim before it has none)
+        mp_map_elem_t *reads = mp_map_lookup(&((mp_obj_dict_t *)MP_OBJ_TO_PTR(g))->map,
+            MP_OBJ_NEW_QSTR(MP_QSTR__cb_reads), MP_MAP_LOOKUP);
+        if (reads != NULL) {
+            reads->value = is_hard(arg) ? mp_obj_dict_get(g, MP_OBJ_NEW_QSTR(MP_QSTR__HELD)) : MP_OBJ_NEW_SMALL_INT(0);
+        }
         nlr_buf_t nlr;
         if (nlr_push(&nlr) == 0) {
             mp_call_function_1(callback, arg);
@@ -1155,10 +1162,8 @@ static mp_obj_t pin_setup(size_t n_args, const mp_obj_t *args) {
     pin_out_mode = args[1];
     pin_shim_globals = args[2];
     pin_poll_reads = n_args > 3 ? mp_obj_get_int(args[3]) : 0;
-    if (pin_poll_reads) {
-        pin_spin_limit = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_LIMIT)));
-        pin_spin_step = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_STEP_US)));
-    }
+    pin_spin_limit = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_LIMIT)));
+    pin_spin_step = mp_obj_get_int(mp_obj_dict_get(args[2], MP_OBJ_NEW_QSTR(MP_QSTR_SPIN_STEP_US)));
     return mp_const_none;
 }
 static MP_DEFINE_CONST_FUN_OBJ_VAR_BETWEEN(pin_setup_obj, 3, 4, pin_setup);
@@ -1233,7 +1238,16 @@ static mp_obj_t pin_value_call(mp_obj_t fun, size_t n_args, size_t n_kw, const m
         }
         if (mp_obj_is_true(inst_get(self, MP_QSTR__cfg))
             && mp_obj_is_true(mp_obj_dict_get(pin_shim_globals, MP_OBJ_NEW_QSTR(MP_QSTR__dispatching)))) {
-            return inst_get(self, MP_QSTR__level);  // (a handler's reads move no time)
+            // a handler's read: its first SPIN_LIMIT move no time (_hil._cb_reads counts
+            // them); a soft callback's past them is Python's (_hil._callback_read: it spins)
+            mp_map_elem_t *reads = shim_slot(MP_QSTR__cb_reads);
+            if (reads == NULL || !mp_obj_is_small_int(reads->value)
+                || MP_OBJ_SMALL_INT_VALUE(reads->value) < pin_spin_limit) {
+                if (reads != NULL && mp_obj_is_small_int(reads->value)) {
+                    reads->value = MP_OBJ_NEW_SMALL_INT(MP_OBJ_SMALL_INT_VALUE(reads->value) + 1);
+                }
+                return inst_get(self, MP_QSTR__level);
+            }
         }
         if (pin_poll_reads && mp_obj_is_true(inst_get(self, MP_QSTR__cfg))) {
             mp_obj_t level = pin_read_main(self);
