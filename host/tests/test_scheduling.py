@@ -196,3 +196,31 @@ def test_a_hard_handler_that_allocates_fails_as_on_a_board(make_rig, path):
     with pytest.raises(Exception, match=r"on_edge raised MemoryError: memory allocation failed, heap is locked"):
         rig.run_for(0.03)
     assert 'File "main.py", line 10, in on_edge' in rig.console, _where(rig)
+
+
+def test_a_soft_callback_that_busy_waits_sees_the_clock_and_its_pins_go_on(make_rig):
+    """A soft Timer callback at 10 ms busy-waits for a sonar echo (up at 12 ms, down at 15 ms)
+    as public robot code does, and another at 30 ms for 500 us of the clock alone: on a
+    board the clock and the pins go on while a soft callback runs, so each wait ends at the
+    plant's instant (to a spinning read's 10 us); a hard IRQ's handler (an edge at 13 ms) runs
+    at its edge inside the wait, a soft one's (13.5 ms) once the callback has returned. It
+    hung before (a handler's reads moved no time)."""
+    script = [(12_000, "echo", 1), (13_000, "a", 1), (13_500, "b", 1), (15_000, "echo", 0)]
+    app = App(
+        name="callback-spin",
+        default_board="rpi_pico_bench",
+        wiring={"ECHO": "echo", "A": "a", "B": "b"},
+        make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
+        board=BoardSettings(pins={"ECHO": 5, "A": 6, "B": 7}, console_baud=0),
+    )
+    rig = make_rig(app, main_dir=FIRMWARE / "callback_spin", allow_exit=True, watchdog_s=20)
+    rig.run_for(0.06)
+    rig.stop()
+    r = results(rig.console)
+    ((start, rose, fell),) = r["read"]
+    assert 10_000 <= start < 10_100 and 12_000 <= rose <= 12_010 and 15_000 <= fell <= 15_010, (r, _where(rig))
+    assert r["hard"] == [13_000], f"the hard handler at its edge, inside the wait: {r} {_where(rig)}"
+    ((soft_at, soft_inside),) = r["soft"]
+    assert soft_at >= fell and not soft_inside, f"the soft one after the callback returned: {r} {_where(rig)}"
+    ((began, ended),) = r["delay"]
+    assert 30_000 <= began < 30_100 and 500 <= ended - began <= 510, f"500 us of the clock: {r} {_where(rig)}"
