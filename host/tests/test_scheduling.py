@@ -55,19 +55,24 @@ def test_a_timer_callback_never_runs_inside_time_pulse_us_and_the_control_loop_i
     assert budget.misses > 0 and stats["max"] >= 20_000, f"the period budget did not see the late loop: {stats}"
 
 
+def _echo_and_edges_app(name: str, script: list) -> App:
+    """An RP2040 bench with an echo on GP5 and two edge lines on GP6 and GP7, as ``script`` sets them."""
+    return App(
+        name=name,
+        default_board="rpi_pico_bench",
+        wiring={"ECHO": "echo", "A": "a", "B": "b"},
+        make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
+        board=BoardSettings(pins={"ECHO": 5, "A": 6, "B": 7}, console_baud=0),
+    )
+
+
 def test_a_hard_irq_runs_inside_time_pulse_us_and_a_soft_one_after_it(make_rig):
     """On an RP2040 (ports/rp2/machine_pin.c: hard=True runs the handler in the interrupt):
     edges at 10 and 12 ms during a read that ends at 30 ms, then at 38 and 39 ms while a
     Timer callback (due at 35 ms) sleeps 10 ms."""
     script = [(5_000, "echo", 1), (10_000, "a", 1), (12_000, "b", 1), (30_000, "echo", 0)]
     script += [(36_000, "a", 0), (36_000, "b", 0), (38_000, "a", 1), (39_000, "b", 1)]
-    app = App(
-        name="sched-hard",
-        default_board="rpi_pico_bench",
-        wiring={"ECHO": "echo", "A": "a", "B": "b"},
-        make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
-        board=BoardSettings(pins={"ECHO": 5, "A": 6, "B": 7}, console_baud=0),
-    )
+    app = _echo_and_edges_app("sched-hard", script)
     rig = make_rig(app, main_dir=FIRMWARE / "sched_hard", allow_exit=True)
     rig.run_for(0.05)
     rig.stop()
@@ -206,13 +211,7 @@ def test_a_soft_callback_that_busy_waits_sees_the_clock_and_its_pins_go_on(make_
     at its edge inside the wait, a soft one's (13.5 ms) once the callback has returned. It
     hung before (a handler's reads moved no time)."""
     script = [(12_000, "echo", 1), (13_000, "a", 1), (13_500, "b", 1), (15_000, "echo", 0)]
-    app = App(
-        name="callback-spin",
-        default_board="rpi_pico_bench",
-        wiring={"ECHO": "echo", "A": "a", "B": "b"},
-        make_plant=lambda: ScriptedPlant(script, outputs={"echo": "level", "a": "level", "b": "level"}, inputs={}),
-        board=BoardSettings(pins={"ECHO": 5, "A": 6, "B": 7}, console_baud=0),
-    )
+    app = _echo_and_edges_app("callback-spin", script)
     rig = make_rig(app, main_dir=FIRMWARE / "callback_spin", allow_exit=True, watchdog_s=20)
     rig.run_for(0.06)
     rig.stop()
