@@ -1,7 +1,8 @@
 """The Keyestudio Beetlebot rig beside this file, exercised: a small firmware of this test's
 own, in the style of Keyestudio's tutorials, drives both motors forwards (direction pins
 low, PWM duty 800 of 1023), ranges the wall ahead with the sonar on the servo (looking
-ahead: duty 77 at 50 Hz), reads the two line trackers, lights the four WS2812s and beeps;
+ahead: duty 77 at 50 Hz), reads the two line trackers, lights the four WS2812s, beeps and
+draws an arrow on the HT16K33 matrix;
 the plant's ground truth says whether the rig is wired as the robot is. Written by
 `mpy-fil init --kit keyestudio_beetlebot`."""
 
@@ -11,7 +12,7 @@ RIG = Path(__file__).with_name("rig.toml")
 FIRMWARE = """
 import time
 import neopixel
-from machine import PWM, Pin, time_pulse_us
+from machine import I2C, PWM, Pin, time_pulse_us
 
 servo = PWM(Pin(4), freq=50)
 servo.duty(77)
@@ -46,6 +47,11 @@ np.write()
 beeper = PWM(Pin(2), freq=440, duty=512)
 time.sleep_ms(100)
 beeper.duty(0)
+i2c = I2C(scl=Pin(22), sda=Pin(21))
+for command in (0x21, 0x81, 0xE2):  # the matrix: oscillator on, display on, dimming 2
+    i2c.writeto(0x70, bytes([command]))
+arrow = b"\\x18\\x24\\x42\\x99\\x24\\x42\\x81\\x00"  # one byte a row, bit 0 the left column
+i2c.writeto(0x70, bytes([0]) + bytes(b for row in arrow for b in (row, 0)))
 print("range_after", range_cm())
 """
 
@@ -69,3 +75,4 @@ def test_keyestudio_beetlebot_rig_drives_ranges_and_lights(make_rig, tmp_path):
     leds = [rig.plant.output(f"leds.led{i}") for i in range(4)]
     assert leds == [0x280000, 0x002800, 0x280000, 0x002800], f"{[hex(v) for v in leds]}; {where}"
     assert truth["buzzer_tones"] >= 1, f"the buzzer played no tone: {truth}; {where}"
+    assert (truth["matrix_on"], truth["matrix_lit_px"]) == (1, 16), f"the matrix's arrow: {truth}; {where}"
