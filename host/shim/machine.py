@@ -667,9 +667,7 @@ class PWM:
         self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
     def init(self, *, freq=None, duty=None, duty_u16=None, duty_ns=None, **_kw):
-        if not self._active:  # (init after deinit: the port's init_helper takes a channel again)
-            self._active = True
-            _hil.configure(self._handle, _F.CFG_PWM, self._pin._id, param=self._freq)
+        self._active = True  # (init after deinit: the port's init_helper takes a channel again)
         if freq is not None:
             self.freq(freq)
         if duty_u16 is not None:
@@ -687,14 +685,16 @@ class PWM:
             raise RuntimeError("PWM inactive" if _MPY < (1, 26) else "PWM is inactive")
 
     def duty(self, value=None):
-        """The ESP32 port's 10-bit duty, 0..1023 (duty_u16 scaled)."""
+        """The ESP32 port's 10-bit duty, 0..1023, as ports/esp32/machine_pwm.c scales it:
+        ``duty << 6`` to 16 bits (1023: 65472 in 1.25; from 1.26 the whole period, 65535 read
+        back: check_duty_u10, get_duty_u16), and ``duty_u16 >> 6`` read back (get_duty_u10)."""
         self._is_active()
         if value is None:
-            return (self._duty * 1023 + 32767) // 65535
+            return self._duty >> 6
         value = int(value)
         if not 0 <= value <= 1023:
-            raise ValueError("duty %r out of range 0..1023" % (value,))
-        self.duty_u16(value * 65535 // 1023)
+            raise ValueError("duty must be from 0 to 1023")  # (set_duty_u10, check_duty_u10)
+        self.duty_u16(65535 if value == 1023 and _MPY >= (1, 26) else value << 6)
 
     def _reg(self):
         return _REG is not None and isinstance(self._pin._id, int) and 0 <= self._pin._id < _REG.N_GPIO
