@@ -219,10 +219,25 @@ class Pin:
             self._cfg
             and (mode == -1 or mode == self._mode)
             and (self._mode == Pin.IN or self._mode == Pin.OUT or self._mode == Pin.OPEN_DRAIN)
-            and (pull == -1 or pull == self._pull)
+            and (pull == -1 or self._pull_of(pull) == self._pull)
             and (value is None or (1 if value else 0) == self._out)
             and _hil.cfg_last.get(self._id) == self._handle
         )
+
+    def _pull_of(self, pull):
+        """The pull a ``pull`` argument sets, as both ports take it: any int, its PULL_UP and
+        PULL_DOWN bits (0 or None: no pull; ports/esp32/machine_pin.c, ``mode & GPIO_PULL_UP``;
+        ports/rp2/machine_pin.c, ``gpio_set_pulls(id, pull & GPIO_PULL_UP, pull & GPIO_PULL_DOWN)``):
+        ``Pin(5, Pin.OUT, 0)`` is an output with no pull. Both bits: the pull-up, to this model."""
+        if pull is None:
+            return None
+        if not isinstance(pull, int):
+            raise TypeError("can't convert %s to int" % type(pull).__name__)  # (mp_obj_get_int)
+        if pull & self.PULL_UP:
+            return self.PULL_UP
+        if pull & self.PULL_DOWN:
+            return self.PULL_DOWN
+        return None
 
     def _init(self, mode, pull, value, alt):
         if mode != -1:
@@ -233,9 +248,7 @@ class Pin:
             elif self._mode not in (Pin.IN, Pin.OUT):  # (ALT with alt=ALT_SIO: SIO's again, its direction kept)
                 self._mode, self._alt = Pin.IN, _ALT_SIO
         if pull != -1:
-            if pull not in self._PULLS:
-                raise ValueError("invalid pull %r" % (pull,))
-            self._pull = pull
+            self._pull = self._pull_of(pull)
         if value is not None:
             self._out = 1 if value else 0
         self._cfg = True
@@ -530,9 +543,14 @@ class ADC:
     ATTN_2_5DB = 1
     ATTN_6DB = 2
     ATTN_11DB = 3
+    if _ESP32:  # ports/esp32/machine_adc.c: the ESP32's SAR ADC widths, 9 to 12 bits
+        WIDTH_9BIT = 9
+        WIDTH_10BIT = 10
+        WIDTH_11BIT = 11
     WIDTH_12BIT = 12
 
     _made = {}  # pin id -> its ADC, one object per input as Pin's
+    _bits = {1: 12, 2: 12}  # the ESP32's two ADC units' widths (a unit's read() width; 12 at boot)
 
     def __new__(cls, id=_UNSET, *args, **kw):
         if cls is not ADC:
@@ -566,8 +584,15 @@ class ADC:
             _hil.send(_F.SEEN, _F.pack_seen(_hil.now(), self._handle, self._sample))
         return self._value
 
+    def _unit(self):
+        """The ESP32's ADC unit of the pin: ADC1 on GPIO 32..39, ADC2 on the others
+        (ports/esp32/adc.c, madc_obj)."""
+        return 1 if isinstance(self._id, int) and 32 <= self._id <= 39 else 2
+
     def read(self):
-        return self.read_u16() >> 4
+        """The raw reading at the unit's width (ports/esp32/machine_adc.c,
+        mp_machine_adc_read: madcblock_read_helper), 12 bits unless width() set it."""
+        return self.read_u16() >> (16 - ADC._bits[self._unit()])
 
     def read_uv(self):
         return self.read_u16() * 3_300_000 // 65535
@@ -576,7 +601,11 @@ class ADC:
         pass
 
     def width(self, bits):
-        pass
+        # ports/esp32/machine_adc.c, mp_machine_adc_width_set: the whole unit's width
+        # (machine_adc_block.c), which read() then returns: ADC.WIDTH_10BIT reads 0..1023
+        if not 9 <= bits <= 12:  # (1.25: adc.c, madcblock_bits_helper; 1.26+: machine_adc.c)
+            raise ValueError("invalid bits" if _MPY < (1, 26) else "invalid bit-width")
+        ADC._bits[self._unit()] = bits
 
 
 def _adc_key(id):
@@ -606,6 +635,7 @@ class PWM:
             pwm._freq = 5000
             pwm._duty = 0
             pwm._invert = False
+            pwm._active = True
         return pwm
 
     @classmethod
@@ -628,6 +658,7 @@ class PWM:
             _hil.send_out(self._handle, _F.OUT_DUTY, 65535 - duty if invert else duty)
 
     def __init__(self, dest, freq=None, duty=None, *, duty_u16=None, duty_ns=None, invert=False, **_kw):
+        self._active = True  # (a PWM made again after deinit: a channel of its own again)
         _hil.configure(self._handle, _F.CFG_PWM, self._pin._id, param=self._freq)
         self._invert = bool(invert)  # the line is high for the rest of each period
         if self._reg():
@@ -636,6 +667,7 @@ class PWM:
         self.init(duty=duty, duty_u16=duty_u16, duty_ns=duty_ns)
 
     def init(self, *, freq=None, duty=None, duty_u16=None, duty_ns=None, **_kw):
+        self._active = True  # (init after deinit: the port's init_helper takes a channel again)
         if freq is not None:
             self.freq(freq)
         if duty_u16 is not None:
@@ -645,19 +677,30 @@ class PWM:
         elif duty is not None:
             self.duty(duty)
 
+    def _is_active(self):
+        """A deinit ESP32 PWM refuses its duty and frequency, read or set, until init() or
+        PWM() makes it again (ports/esp32/machine_pwm.c, pwm_is_active: 1.25 "PWM inactive",
+        from 1.26 "PWM is inactive"). The rp2 port has no such check."""
+        if not self._active and _ESP32:
+            raise RuntimeError("PWM inactive" if _MPY < (1, 26) else "PWM is inactive")
+
     def duty(self, value=None):
-        """The ESP32 port's 10-bit duty, 0..1023 (duty_u16 scaled)."""
+        """The ESP32 port's 10-bit duty, 0..1023, as ports/esp32/machine_pwm.c scales it:
+        ``duty << 6`` to 16 bits (1023: 65472 in 1.25; from 1.26 the whole period, 65535 read
+        back: check_duty_u10, get_duty_u16), and ``duty_u16 >> 6`` read back (get_duty_u10)."""
+        self._is_active()
         if value is None:
-            return (self._duty * 1023 + 32767) // 65535
+            return self._duty >> 6
         value = int(value)
         if not 0 <= value <= 1023:
-            raise ValueError("duty %r out of range 0..1023" % (value,))
-        self.duty_u16(value * 65535 // 1023)
+            raise ValueError("duty must be from 0 to 1023")  # (set_duty_u10, check_duty_u10)
+        self.duty_u16(65535 if value == 1023 and _MPY >= (1, 26) else value << 6)
 
     def _reg(self):
         return _REG is not None and isinstance(self._pin._id, int) and 0 <= self._pin._id < _REG.N_GPIO
 
     def freq(self, value=None):
+        self._is_active()
         if value is None:
             if self._reg():  # ports/rp2/machine_pwm.c, mp_machine_pwm_freq_get: from DIV and TOP
                 return _REG.pwm_freq(_REG._slice_of(self._pin._id))
@@ -678,6 +721,7 @@ class PWM:
             _hil.send_out(self._handle, _F.OUT_FREQ, self._freq)
 
     def duty_u16(self, value=None):
+        self._is_active()
         if value is None:
             if self._reg():  # ports/rp2/machine_pwm.c, mp_machine_pwm_duty_get_u16: from CC and TOP
                 return _REG.pwm_duty_u16(self._pin._id)
@@ -694,6 +738,7 @@ class PWM:
             _hil.send_out(self._handle, _F.OUT_DUTY, 65535 - value if self._invert else value)
 
     def duty_ns(self, value=None):
+        self._is_active()
         period_ns = 1_000_000_000 // self._freq
         if value is None:
             return self._duty * period_ns // 65535
@@ -701,6 +746,7 @@ class PWM:
 
     def deinit(self):
         self._duty = 0
+        self._active = False
         if self._reg():  # (machine_pwm.c, mp_machine_pwm_deinit: pwm_set_enabled(slice, false))
             _REG.pwm_stop(self._pin._id)
         _hil.send_out(self._handle, _F.OUT_DEINIT, 0)

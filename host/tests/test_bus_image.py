@@ -57,6 +57,7 @@ BUS_TESTS = {
         ("test_a_public_ds18b20_example_reads_the_parts_temperature", False, {"board": "rpi_pico", "pin": 22}),
     ),
     "test_bus_image": (("ina219_read_while_the_motors_run", False),),  # (it reads the plant: never imaged)
+    "test_ht16k33": (("test_an_ht16k33_matrix_shows_each_icon_upright_and_its_ram_reads_back", False),),
 }
 SLOW_BUS_TESTS = {  # the same, minutes of polling between them: hil_tests/test_bus_image_slow.py (make hil)
     "test_chip_polls": (
@@ -87,6 +88,7 @@ CHIPS = {  # every catalogue part firmware reads on a bus -> where it is compare
     "dht": "test_wokwi_more_parts",
     "ds18b20": "test_onewire",
     "ina219": "test_bus_image",
+    "ht16k33": "test_ht16k33",
     "vl53l0x": "test_bus_drivers (slow) and the bench robot",
     "vl53l1x": "test_vl53l1x (slow)",
 }

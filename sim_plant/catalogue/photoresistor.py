@@ -2,12 +2,16 @@
 from the supply to ground, as Wokwi's ``wokwi-photoresistor-sensor``): its analog
 output ``<name>.ao`` (the LDR's share of the supply, read_u16) and its digital output
 ``<name>.do`` (high when dark: the analog voltage above ``threshold_v``). The LDR's
-resistance at ``lux`` is ``rl10_kohm * (10 / lux) ** gamma``."""
+resistance at ``lux`` is ``rl10_kohm * (10 / lux) ** gamma``. With ``ldr_at = "supply"``
+the LDR is the divider's upper arm (the Keyestudio Beetlebot's modules: "when the light
+intensity is stronger, the analog value ... will increase"): ``ao`` is the 10 kOhm's share,
+rising with the light; ``do`` is still high when dark (the LDR's share above
+``threshold_v``)."""
 
 from sim_plant.catalogue.base import Build, Opt, PartType, Sig, View
 from sim_plant.catalogue.potentiometer import Constant, adc_u16
 from sim_plant.controls import Control
-from sim_plant.option_table import Num
+from sim_plant.option_table import Num, OneOf
 
 SERIES_OHM = 10_000.0
 
@@ -28,6 +32,13 @@ class Photoresistor(PartType):
         Opt("threshold_v", Num("volts", 0, 50), 2.5, "the digital output is high above this (dark)"),
         Opt("supply_v", Num("volts", 0, 50), 3.3, "the module's supply (3V3 or 5V)"),
         Opt("adc_vref_v", Num("volts", 0.1, 50), 3.3, "the ADC's full scale"),
+        Opt(
+            "ldr_at",
+            OneOf(("ground", "supply")),
+            "ground",
+            "the LDR's end of the divider: ground, ao rises as the light falls (Wokwi's module); supply, "
+            "ao rises with the light",
+        ),
     )
     SIGNALS = (
         Sig("ao", "out", "u16", "the analog output as read_u16 reads it"),
@@ -42,7 +53,8 @@ class Photoresistor(PartType):
         """The analog and digital outputs under ``lux``."""
         o = self.options
         volts = ao_volts(lux, o["rl10_kohm"], o["gamma"], o["supply_v"])
-        return {f"{self.name}.ao": adc_u16(volts, o["adc_vref_v"]), f"{self.name}.do": int(volts > o["threshold_v"])}
+        ao = o["supply_v"] - volts if o["ldr_at"] == "supply" else volts
+        return {f"{self.name}.ao": adc_u16(ao, o["adc_vref_v"]), f"{self.name}.do": int(volts > o["threshold_v"])}
 
     def control_change(self, control: str, value):
         super().control_change(control, value)

@@ -22,6 +22,21 @@ def test_the_photoresistor_reads_wokwis_table(lux, volts):
     assert plant.output("ldr.do") == int(volts > 2.5), "high when dark (above 2.5 V)"
 
 
+def test_a_photoresistor_on_the_supply_side_reads_higher_in_brighter_light():
+    dim, bright = (
+        bench(
+            {"kind": "photoresistor", "name": "ldr", "lux": lux, "ldr_at": "supply", "supply_v": 5.0, "adc_vref_v": 5.0}
+        )
+        for lux in (10, 1000)
+    )
+    # (the 10 kOhm's share: Wokwi's table's complement, 5 - 4.17 V and 5 - 0.83 V)
+    assert (
+        abs(dim.output("ldr.ao") / 65535 * 5.0 - 0.83) < 0.01
+        and abs(bright.output("ldr.ao") / 65535 * 5.0 - 4.17) < 0.01
+    )
+    assert (dim.output("ldr.do"), bright.output("ldr.do")) == (1, 0), "still high when dark"
+
+
 def test_a_knob_reads_its_share_of_the_supply_clipped_at_the_adc_full_scale():
     plant = bench(
         {"kind": "potentiometer", "name": "a", "position": 0.25},

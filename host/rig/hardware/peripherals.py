@@ -35,6 +35,9 @@ RELEASED = -1
 """A shared line's plant input while the firmware lets it go (its pin an input again, or
 open drain and high): the part drives it (``Wiring.shared``, docs/wiring.md)."""
 
+DUTY_FULL = 65535
+"""A plant input of kind ``duty`` at 100 % (``duty_u16``): what a pin held high drives it at."""
+
 _LEVEL, _SAMPLE, _BYTES = F.CH_LEVEL, F.CH_SAMPLE, F.CH_BYTES  # (module globals: the hot path's)
 _RISING, _FALLING = F.IRQ_RISING, F.IRQ_FALLING
 
@@ -133,9 +136,12 @@ class PinPeripheral(Peripheral):
                 changed = last is not None and last != value
                 for call in hooks:
                     call(t_us, signal, value, changed)
-        if signal in plant_inputs:
+        sig_kind = plant_inputs.get(signal)
+        if sig_kind is not None:
             if value and info.mode == F.PIN_OPEN_DRAIN and signal in outputs.wiring.shared:
                 value = RELEASED  # (open drain, high: the pad is let go, the part drives the line)
+            elif sig_kind == F.SIG_DUTY:
+                value = DUTY_FULL if value else 0  # (a pin held high is a PWM at 100 %: a DRV8833's IN1)
             outputs.plant.set_input(signal, value)
 
     def transfer(self, plant, info, op: int, address: int, n_read: int, data: bytes) -> tuple:
