@@ -92,6 +92,7 @@ KIT_DEMOS = (
     ("kitronik_buggy", (("kits/kitronik_buggy", "."),), "button", "kitronikpicoautonomousroboticsplatform", "done"),
     ("cytron_maker_pi_rp2040", (), "button_1", None, "range_after"),
     ("sunfounder_pico_4wd", (), None, None, "done"),
+    ("keyestudio_beetlebot", (), None, None, "range_after"),
 )
 STATE_BYTES = F.HEADER_LEN + F.CRC_LEN + F.STATE_LEN  # an empty STATE
 REPLY_BYTES = 2 * (F.HEADER_LEN + F.CRC_LEN) + struct.calcsize(F.OUT_FMT) + F.WAIT_LEN  # an OUT and a WAIT
