@@ -22,6 +22,7 @@ Not modelled: ``NOT_MODELLED`` (docs/parts.md)."""
 
 from sim_plant.buses import BusDevice, BusName, check_placement
 from sim_plant.catalogue.base import Build, Opt, PartType
+from sim_plant.catalogue.ssd1306 import MAX_FRAMES, keep_frame
 from sim_plant.option_table import Num
 
 SIZE = 8
@@ -87,16 +88,7 @@ class Ht16k33Chip(BusDevice):
         return bytes(self.ram[2 * y] >> x & 1 for y in range(SIZE) for x in range(SIZE))
 
     def _frame(self, t_us: int) -> None:
-        if not self.changed:
-            return
-        self.changed = False
-        now = self.picture()
-        if self.frames and self.frames[-1][1] == now:
-            return
-        if len(self.frames) >= self.max_frames:
-            self.frames[-1] = (t_us, now)
-        else:
-            self.frames.append((t_us, now))
+        keep_frame(self, t_us)
 
     def display_frames(self) -> tuple[int, int, list]:
         """(width, height, [(t_us, picture)]): what ``host/artefacts/pictures.py`` draws."""
@@ -129,7 +121,7 @@ class Ht16k33(PartType):
     OPTIONS = (
         Opt("bus", BusName(), "i2c0", "the bus it is on, as the firmware creates it"),
         Opt("address", Num("", 0x70, 0x77, whole=True), 0x70, "its 7-bit I2C address (0x70 + A2..A0)"),
-        Opt("max_frames", Num("", 1, 10_000, whole=True), 500, "distinct pictures kept (then the last is replaced)"),
+        MAX_FRAMES,
     )
     SIGNALS = ()
     TRUTH = ("{name}_lit_px", "{name}_frames", "{name}_on", "{name}_dimming")

@@ -37,6 +37,23 @@ ARGS |= {0x26: 6, 0x27: 6, 0x29: 5, 0x2A: 5, 0xA3: 2}
 HORIZONTAL, VERTICAL, PAGE = 0, 1, 2
 
 
+def keep_frame(chip, t_us: int) -> None:
+    """A display chip's picture kept at ``t_us`` if it ``changed`` since the last and differs
+    from it: the last ``max_frames`` distinct ones in ``frames``, the last replaced after that
+    (the SSD1306's and SH1106's, the HT16K33's)."""
+    if not chip.changed:
+        return
+    chip.changed = False
+    now = chip.picture()
+    frames = chip.frames
+    if frames and frames[-1][1] == now:
+        return
+    if len(frames) >= chip.max_frames:
+        frames[-1] = (t_us, now)
+    else:
+        frames.append((t_us, now))
+
+
 class Ssd1306Chip(BusDevice):
     ARGS = ARGS  # command -> its argument bytes
     FIXED_STATE = (*BusDevice.FIXED_STATE, "height", "max_frames", "dc_signal", "res_signal")
@@ -191,16 +208,7 @@ class Ssd1306Chip(BusDevice):
         return row if self.seg_remap else row[::-1]
 
     def _frame(self, t_us: int) -> None:
-        if not self.changed:
-            return
-        self.changed = False
-        now = self.picture()
-        if self.frames and self.frames[-1][1] == now:
-            return
-        if len(self.frames) >= self.max_frames:
-            self.frames[-1] = (t_us, now)
-        else:
-            self.frames.append((t_us, now))
+        keep_frame(self, t_us)
 
     def display_frames(self) -> tuple[int, int, list]:
         """(width, height, [(t_us, picture)]): what ``host/artefacts/pictures.py`` draws."""
