@@ -63,7 +63,9 @@ class PartsPlant(RobotPlant):
         self._check_driven()
 
     def _check_driven(self) -> None:
-        """Every input a device drives (a PWM expander's channel) is another part's."""
+        """Every input a part drives is another part's: a PWM expander's channel (``drives``),
+        a button's or a battery divider's line going on to a chip (``shares``); each part's
+        ``targets``, named by its ``targets_option``."""
         inputs = set(self.drive.inputs).union(*(p.inputs for p in self.parts))
         labels = {p.name: p.label for p in self.catalogue_parts}
         for device in self.bus_set.devices:
@@ -74,11 +76,16 @@ class PartsPlant(RobotPlant):
                 raise PartsError(
                     f"{labels.get(device.label, device.label)} battery: no battery part named {supply!r} {known}"
                 )
-            for name in getattr(device, "targets", ()):
-                if name != "-" and name not in inputs:
+        for part in self.parts:
+            targets = getattr(part, "targets", ())
+            if not targets:
+                continue
+            others = inputs.difference(part.inputs)
+            for name in targets:
+                if name != "-" and name not in others:
                     raise PartsError(
-                        f"{labels.get(device.label, device.label)} drives: expected inputs of the plant's parts "
-                        f"({', '.join(sorted(inputs))}), got {name!r}"
+                        f"{labels.get(part.label, part.label)} {getattr(part, 'targets_option', 'drives')}: expected "
+                        f"inputs of the plant's parts ({', '.join(sorted(others))}), got {name!r}"
                     )
 
     def bus_devices(self) -> tuple:
@@ -325,21 +332,7 @@ def assemble(table: dict, base=None, rig_file=None) -> PartsPlant:
             part.rig_file = str(rig_file)
         parts.append(part)
     _check_addresses(parts)
-    _check_line_inputs(parts)
     return PartsPlant(body, parts, sources)
-
-
-def _check_line_inputs(parts) -> None:
-    """Each input a part drives from its line (``line_inputs``) is another part's input."""
-    inputs = {signal: part for part in parts for signal, (direction, _) in part.signals().items() if direction == "in"}
-    for part in parts:
-        for signal in part.line_inputs():
-            owner = inputs.get(signal)
-            if owner is None or owner is part:
-                known = ", ".join(sorted(s for s, p in inputs.items() if p is not part)) or "none"
-                raise PartsError(
-                    f"{part.label} shares: expected another part's input (inputs: {known}), got {signal!r}"
-                )
 
 
 OWN_WORLDS = ("room", "furnished")

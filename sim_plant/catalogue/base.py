@@ -176,11 +176,6 @@ class PartType(Declared):
     def add(self, build: Build) -> None:
         raise NotImplementedError
 
-    def line_inputs(self) -> tuple:
-        """Other parts' inputs this part drives from its own line (a button on a chip's pin:
-        ``button``'s ``shares``); the assembly checks that each is another part's input."""
-        return ()
-
     def control_change(self, control: str, value) -> tuple | None:
         """Check ``value`` for ``control`` (a ControlError names the part's controls); the
         output (signal, level) it sets at once (or a list of them), or None when the part

@@ -17,13 +17,15 @@ class _Cell(Part):
     drives goes on to that chip's input; let go, the line is the divider's, under a logic
     high, so the chip's input reads low."""
 
-    FIXED_STATE = ("inputs", "outputs", "controls", "shares")
+    FIXED_STATE = ("inputs", "outputs", "controls", "shares", "targets")
+    targets_option = "shares"  # (the option that names its targets, in the plant's check of them)
 
     def __init__(self, name: str, o: dict, controls=None):
         self.signal, self.label = f"{name}.adc", name
         self.controls = controls  # (the plant's timeline: a voltage set by the control)
         self.outputs = {self.signal: "u16"}
         self.shares = o["shares"]
+        self.targets = () if self.shares is None else (self.shares,)  # (checked by the plant: another part's input)
         if self.shares is not None:
             self.inputs = {self.signal: "level"}
         self.v = float(o["full_v"])
@@ -112,9 +114,6 @@ class Battery(PartType):
         if self.options["shares"] is not None:
             signals[f"{self.name}.adc"] = ("io", "u16")
         return signals
-
-    def line_inputs(self) -> tuple:
-        return () if self.options["shares"] is None else (self.options["shares"],)
 
     def control_change(self, control: str, value) -> tuple | None:
         super().control_change(control, value)

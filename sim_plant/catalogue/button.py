@@ -15,6 +15,9 @@ class _Button(Buttons):
     is an input of the part too: the board's level while a pin drives it, the button's while
     the pin lets it go; the pin's level goes on to the chip's input while it drives it."""
 
+    FIXED_STATE = (*Buttons.FIXED_STATE, "shares", "io", "targets")
+    targets_option = "shares"  # (the option that names its targets, in the plant's check of them)
+
     def __init__(
         self, name: str, presses, bounce_us: int, active_low: bool, led: str = "none", shares: str | None = None
     ):
@@ -27,6 +30,7 @@ class _Button(Buttons):
         self.label = name
         self.lit_by = None if led == "none" else (0 if led == "low" else 1)
         self.shares = shares
+        self.targets = () if shares is None else (shares,)  # (checked by the plant: another part's input)
         self.io = self.lit_by is not None or shares is not None
         if self.io:
             self.inputs = {signal: "level"}
@@ -123,9 +127,6 @@ class Button(PartType):
         if self.options["shares"] is not None:  # (SIGNALS' io line is declared for an LED; a chip's input too)
             signals[f"{self.name}.out"] = ("io", "level")
         return signals
-
-    def line_inputs(self) -> tuple:
-        return () if self.options["shares"] is None else (self.options["shares"],)
 
     def check(self) -> None:
         _Button(self.name, self.options["presses"], 0, True)  # refuse a release before its press

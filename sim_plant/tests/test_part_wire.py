@@ -152,7 +152,7 @@ def test_a_button_sharing_no_such_input_is_refused_naming_the_inputs():
     with pytest.raises(PartsError) as e:
         bench(wire("dc"), {"kind": "button", "name": "c", "shares": "display.dc"})
     assert str(e.value) == (
-        "[[plant.parts]] #2 (c) shares: expected another part's input (inputs: dc.in), got 'display.dc'"
+        "[[plant.parts]] #2 (c) shares: expected inputs of the plant's parts (dc.in), got 'display.dc'"
     ), e.value
 
 
