@@ -41,6 +41,7 @@ docs/clock.md says how each is computed), and whether the target is above it.
 """
 
 import argparse
+import functools
 import json
 import math
 import os
@@ -809,8 +810,9 @@ PLANT_SHARE_ROBOTS = ("rover", "pool_cleaner")
 """The robots whose plant's own share of the host's exchange ``make bench`` prints."""
 
 
+@functools.cache
 def plant_share():
-    """host/bench/plant_share.py (a script of that folder) as a module."""
+    """host/bench/plant_share.py (a script of that folder) as a module, loaded once."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("plant_share", REPO / "host" / "bench" / "plant_share.py")

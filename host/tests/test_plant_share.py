@@ -2,22 +2,15 @@
 replayed on a fresh plant, give the run's results again (so the replay's CPU time is the
 plant's own work), and a replay that differs is refused, naming the call."""
 
-import importlib.util
-from pathlib import Path
-
 import pytest
 
+from host import bench
 from host.rig import Recording, Rig, RigSpec
 from host.rig.loop.spec import build_plant
 
-TOOL = Path(__file__).resolve().parents[1] / "bench" / "plant_share.py"
-
 
 def _tool():
-    spec = importlib.util.spec_from_file_location("plant_share", TOOL)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return bench.plant_share()
 
 
 def _recorded(tool, sim_s: float):
@@ -61,8 +54,6 @@ def test_the_tool_prints_the_hosts_and_the_plants_time_an_exchange_beside_what_t
 
 
 def test_make_bench_prints_each_robots_plant_share_against_what_65_percent_leaves(capsys):
-    from host import bench
-
     m = {"robot": "rover", "sim_s": 60.0, "repeat": 3, "exchanges": 1200, "plant_calls": 6000, "raw_us": 20.0}
     m.update(host_us=100.0, system_us=10.0, plant_us=40.0, fw_us=45.0)
     bench.report_plant_shares([m])
