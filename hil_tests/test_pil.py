@@ -57,7 +57,15 @@ def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flash
     counters = rig.counters()
     assert counters["bad_crc"] == 0 and counters["seq_gaps"] == 0, counters
     # the board is back at its REPL and usable
-    answer = flash._mpremote(flashed_board, "exec", "print(6 * 7)")
+    try:
+        answer = flash._mpremote(flashed_board, "exec", "print(6 * 7)")
+    except flash.FlashError as e:
+        log = (board_home / "vboard.log").read_text(errors="replace")[-1500:]
+        raise AssertionError(
+            f"expected the board back at its REPL after the {mode} session: {e}\n"
+            f"the virtual board's log ({board_home / 'vboard.log'}):\n{log}\n"
+            f"the session's console: {rig.console[-300:]!r}"
+        ) from None
     assert "42" in answer, answer
     # the shim went over compiled for the board's .mpy version, the stale source gone
     shim = board_home / "fs" / "hil"

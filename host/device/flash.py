@@ -153,8 +153,11 @@ def _mpremote(port: str, *args: str) -> str:
             proc.wait()
     _interrupt.check()
     if proc.returncode != 0:
-        tail = [t for t in out.strip().splitlines() if t.strip()][-1:] or ["(no output)"]
-        raise FlashError(f"PORT={port}: mpremote failed: {tail[0]}")
+        lines = [t for t in out.strip().splitlines() if t.strip()] or ["(no output)"]
+        said = "".join(f"\n  {t[-300:]}" for t in lines[-6:-1])  # (what the board sent: mpremote prints it)
+        raise FlashError(
+            f"PORT={port}: mpremote {' '.join(args)[:80]} failed: {lines[-1]}" + (f"; before it:{said}" if said else "")
+        )
     return out
 
 

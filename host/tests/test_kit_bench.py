@@ -1,7 +1,8 @@
 """The robot kits' case of ``make bench`` (``python -m host.bench --only-kits``,
 docs/bench.md): each kit's demo folder is its rig with the button pressed and its firmware
 beside it, a demo runs until its last line, and the report puts its real-time factor beside
-issue 44's floor of 20x."""
+issue 44's target of 20x and its floors: the link's exchanges at the raw round trip, and with
+the interpreter's own CPU."""
 
 import pytest
 
@@ -31,7 +32,12 @@ def test_a_kits_demo_runs_until_its_last_line_and_is_reported_beside_the_floor(c
     kit, *demo = next(d for d in bench.KIT_DEMOS if d[0] == "cytron_maker_pi_rp2040")
     run = bench.run_kit_demo(kit, *demo)
     assert run["ended"] and 1.0 < run["sim_s"] < 2.0, f"expected range_after at about 1.2 simulated s, got {run}"
-    bench.report_kits([(kit, run), ("other", {"missing": "expected the driver x unpacked"})])
+    bench.report_kits([(kit, run), ("other", {"missing": "expected the driver x unpacked"})], raw_us=100.0)
     out = capsys.readouterr().out
-    assert f"  {kit}: {run['sim_s']:.2f} simulated s in " in out and "(floor 20x" in out, out
+    assert f"  {kit}: {run['sim_s']:.2f} simulated s in " in out and "(target 20x" in out, out
+    link, host_free = bench.kit_floor(run, 100.0)
+    per_s = run["exchanges"] / run["sim_s"]
+    assert link == pytest.approx(1e6 / (per_s * 100.0)), (link, per_s)
+    assert host_free <= link, f"expected the interpreter's CPU to lower the floor: {host_free}, {link}; {run}"
+    assert f"floor: {link:.0f}x real time" in out and f"= 1 s / ({per_s:.0f} exchanges x raw 100 us)" in out, out
     assert "  other: not run: expected the driver x unpacked" in out, out
