@@ -900,13 +900,17 @@ def _branches():
         _spin_told(False)  # (only while virtual time moves: a loop stuck at one instant is a hang)
     if _b_now != _now or _b_spin != _spin:
         _b_since = -1
-    elif not _dispatching and (threads is not None or _Link.thread() == _Link.main_thread):
+    elif _dispatching and _cb_reads < 0:
+        pass  # (a hard handler's loop: it runs at its edge's instant, its reads move no time)
+    elif _dispatching or threads is not None or _Link.thread() == _Link.main_thread:
         if _b_since < 0:
             _b_since, _b_looks = _now, 0
         _b_looks += 1
         if not _b_said and _now - _b_since >= F.POLL_SPAN_US:
             _spin_told(True)
-        if owing is None:
+        if _dispatching:  # a soft callback's loop (`while not ready: pass`, a flag a hard handler
+            _callback_read()  # sets): the look is one of its reads, so its clock goes on
+        elif owing is None:
             observe()
         else:
             owed = owing() + _Console.debt_ns // 1000

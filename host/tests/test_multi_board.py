@@ -165,10 +165,12 @@ def test_a_failing_run_of_a_set_shrinks_from_its_run_folder(tmp_path):
 
 
 def test_a_board_that_stops_answering_is_named_by_the_watchdog(tmp_path):
-    # (a Timer callback that never returns: a loop in the main program moves virtual time,
-    # as a board's does, docs/mcu-time.md; one in a callback runs at its instant)
-    hangs = "from machine import Timer\nimport time\ndef tick(t):\n    while True:\n        pass\n"
-    hangs += "Timer(-1).init(mode=Timer.ONE_SHOT, period=5, callback=tick)\nwhile True:\n    time.sleep_ms(10)\n"
+    # (a hard IRQ's handler that never returns, at the left board's first edge on READY: a
+    # loop in the main program or a soft callback moves virtual time, as a board's does,
+    # docs/mcu-time.md; one in a hard handler runs at its edge's instant)
+    hangs = "from machine import Pin\nimport time\ndef edge(p):\n    while True:\n        pass\n"
+    hangs += "Pin(5, Pin.IN).irq(edge, Pin.IRQ_RISING | Pin.IRQ_FALLING, hard=True)\n"
+    hangs += "while True:\n    time.sleep_ms(10)\n"
     rig = _with_firmware(tmp_path, hangs)
     with pytest.raises(FirmwareHung) as failure:
         with BoardSet(load_boards(rig), seed=6, watchdog_s=1.0) as boards:

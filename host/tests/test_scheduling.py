@@ -6,8 +6,11 @@ edges even there; the scheduler's queue holds MICROPY_SCHEDULER_DEPTH (8 on rp2 
 callbacks, as py/scheduler.c's. Each case runs on both of the shim's paths for a STATE's
 changes (_hilfast's C loop and the pure-Python one)."""
 
+import re
+
 import pytest
 
+from host.core.errors import FirmwareHung
 from host.rig.config.app import App, BoardSettings
 from host.rig.config.budgets import PeriodBudget
 from host.tests.conftest import FIRMWARE, results
@@ -201,6 +204,39 @@ def test_a_hard_handler_that_allocates_fails_as_on_a_board(make_rig, path):
     with pytest.raises(Exception, match=r"on_edge raised MemoryError: memory allocation failed, heap is locked"):
         rig.run_for(0.03)
     assert 'File "main.py", line 10, in on_edge' in rig.console, _where(rig)
+
+
+def test_a_soft_callback_waiting_on_a_flag_a_hard_handler_sets_ends_at_the_edge(make_rig, path):
+    """A soft Timer callback at 10 ms spins on a flag alone (`while not ready: pass`, no read of
+    the board's) that a hard IRQ's handler sets at an edge at 13 ms: on a board the handler
+    interrupts the callback and the loop ends there. It hung before (the VM's branch hook did
+    nothing inside a callback): each look at the branches is a read of the callback's now. On
+    the pure path (no branch hook) the watchdog says so."""
+    app = _echo_and_edges_app("callback-flag", [(13_000, "a", 1)])
+    watchdog_s = 3 if path == "pure" else 20
+    rig = make_rig(app, main_dir=FIRMWARE / "callback_flag_spin", allow_exit=True, watchdog_s=watchdog_s)
+    if path == "pure":
+        with pytest.raises(FirmwareHung, match="an interpreter without the harness's branch hook"):
+            rig.run_for(0.04)
+        return
+    rig.run_for(0.04)
+    rig.stop()
+    r = results(rig.console)
+    ((start, ended),) = r["waited"]
+    assert 10_000 <= start < 10_100 and 13_000 <= ended <= 13_020, f"expected the end at 13 ms: {r} {_where(rig)}"
+
+
+def test_a_hard_handler_that_spins_forever_is_named_by_the_watchdog(make_rig):
+    """A hard IRQ's handler runs at its edge's instant (its reads move no time), so one that
+    waits for what only the main program could do hangs the run, as nothing else runs on a
+    board until it returns: the watchdog stops it and says where it spins, and why."""
+    app = _echo_and_edges_app("hard-spins", [(13_000, "a", 1)])
+    rig = make_rig(app, main_dir=FIRMWARE / "spin_in_hard_handler", watchdog_s=3.0)
+    with pytest.raises(FirmwareHung) as err:
+        rig.run_for(0.5)
+    text = str(err.value)
+    assert re.search(r'File "main.py", line 1[01], in on_a', text), f"expected the handler's line, got {text}"
+    assert "In a hard IRQ's handler a loop like that moves no virtual time" in text, text
 
 
 def test_a_soft_callback_that_busy_waits_sees_the_clock_and_its_pins_go_on(make_rig):

@@ -75,12 +75,12 @@ def waiting_on_link(stack: str) -> bool:
 
 
 SPINS = (
-    ". Its innermost frame calls nothing of the board's (no clock or pin read, no sleep). In an IRQ handler "
-    "or a Timer callback a loop like that moves no virtual time (a callback runs at its instant), and neither "
-    "does one anywhere on an interpreter without the harness's branch hook (HIL_PURE, a user's own "
-    "MICROPYTHON), so a Timer or an IRQ it waits for (`while playing: pass`) never comes due, where a board's "
-    'would interrupt it (docs/mcu-time.md, "A loop that calls nothing of the board\'s"); a sleep or a clock '
-    "read in the loop lets it"
+    ". Its innermost frame calls nothing of the board's (no clock or pin read, no sleep). In a hard IRQ's "
+    "handler a loop like that moves no virtual time (the handler runs at its edge's instant, and on a board "
+    "nothing else runs until it returns), and neither does one anywhere on an interpreter without the "
+    "harness's branch hook (HIL_PURE, a user's own MICROPYTHON), so a Timer or an IRQ it waits for "
+    "(`while playing: pass`) never comes due, where a board's would interrupt it (docs/mcu-time.md, "
+    '"A loop that calls nothing of the board\'s"); a sleep or a clock read in the loop lets it'
 )
 
 
