@@ -92,8 +92,9 @@ class RcLines(FloorSensors):
         return dict(zip(self.names, self.levels_now))
 
     def set_input(self, name: str, value, t_us: int, plant) -> bool:
-        if name == self.emitter_signal:
-            self.lit = bool(value) == (self.emitter == "high")
+        if name == self.emitter_signal:  # (let go, the control line is no one's: the emitters are off)
+            driven = value is not None and value >= 0
+            self.lit = driven and bool(value) == (self.emitter == "high")
             return False
         i = self.names.index(name)
         if value is None or value < 0:  # let go: the capacitor discharges from here

@@ -56,9 +56,15 @@ def test_the_emitter_off_reads_as_no_light_and_the_emitter_line_follows_its_opti
     assert read_us(plant, 1, 1_000)[0] == 4_000, "emitters off: ambient light only"
     plant.set_input("line.emitter", 1)
     assert read_us(plant, 1, 200_000)[0] == 150
+    plant.set_input("line.emitter", RELEASED)  # (the 3pi+'s bump emitters' GP23 made an input)
+    assert read_us(plant, 1, 400_000)[0] == 4_000, "the control line let go: emitters off"
     low = plant_with(emitter="low")
     low.set_input("line.emitter", 1)
     assert read_us(low, 0, 1_000)[0] == 5_000, "active low: driven high is off"
+    low.set_input("line.emitter", 0)
+    assert read_us(low, 0, 200_000)[0] == 800, "active low: driven low is on"
+    low.set_input("line.emitter", RELEASED)
+    assert read_us(low, 0, 400_000)[0] == 5_000, "active low, let go: off"
     always = plant_with(emitter="none")
     assert "line.emitter" not in always.inputs
     assert read_us(always, 0, 1_000)[0] == 800
