@@ -67,6 +67,9 @@ def test_flashed_firmware_on_a_board_drives_the_host_plant_over_its_serial(flash
             f"the session's console: {rig.console[-300:]!r}"
         ) from None
     assert "42" in answer, answer
+    log = (board_home / "vboard.log").read_text()  # (what the board's console did, stamped)
+    assert "plant-link session begins" in log and "plant-link session ends" in log, log[-1500:]
+    assert "the interpreter soft reset (exit code 10): it boots to the raw REPL" in log, log[-1500:]
     # the shim went over compiled for the board's .mpy version, the stale source gone
     shim = board_home / "fs" / "hil"
     held = sorted(p.name for p in shim.iterdir())

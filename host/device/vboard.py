@@ -71,6 +71,7 @@ class _Console:
         self.client = PtyPair()  # tools open client.slave_path
         self.repl = PtyPair(console=True)  # the interpreter's stdin/stdout
         self.interrupt = None  # called for a Ctrl-C that is no data (SIGINT to the interpreter)
+        self.log = None  # called with a line for the board's log (vboard.log): what the console did
         self.client_t = time.monotonic()  # when a client last wrote (a detached server's idle time)
         self.reset()
 
@@ -90,6 +91,7 @@ class _Console:
             return
         before, _, after = data.partition(b"\x03")
         _write(self.repl.master_fd, before)
+        self.say("Ctrl-C from the port while code runs: SIGINT to the interpreter")
         if self.interrupt is not None:
             self.interrupt()
         if after:
@@ -102,10 +104,15 @@ class _Console:
         while (frame := self.frames.next()) is not None:
             if frame[0] in (F.HELLO, F.EXIT):
                 self.link_session = frame[0] == F.HELLO
+                self.say(f"plant-link session {'begins (Ctrl-C is data)' if self.link_session else 'ends'}")
         seen = self.tail + data  # (the pty may hand over one write in two reads)
         self.prompt = seen.endswith(PROMPTS)
         self.tail = seen[-3:]
         _write(self.client.master_fd, data)
+
+    def say(self, text: str) -> None:
+        if self.log is not None:
+            self.log(text)
 
     def close(self) -> None:
         self.client.close()
@@ -184,6 +191,8 @@ class VirtualBoardTarget(UnixPortTarget):
         if code not in (SOFT_RESET_RAW, SOFT_RESET_FRIENDLY, HARD_RESET):
             time.sleep(0.5)  # a crash, not a reset: do not spin
         self.boot_mode = "raw" if code == SOFT_RESET_RAW else "friendly"
+        what = {SOFT_RESET_RAW: "soft reset", SOFT_RESET_FRIENDLY: "soft reset", HARD_RESET: "reset"}.get(code, "ended")
+        self.console.say(f"the interpreter {what} (exit code {code}): it boots to the {self.boot_mode} REPL")
         self.console.reset()
 
     def restart(self, firmware, on_console) -> Channel:
@@ -413,6 +422,8 @@ def _serve(args) -> int:
     try:
         vb.start()
         pidfile.write_text(str(os.getpid()))
+        started = time.monotonic()
+        vb.console_pty.log = lambda text: print(f"[{time.monotonic() - started:10.3f} s] {text}", flush=True)
 
         def ready(port):
             partial = portfile.with_suffix(".partial")  # readers never see a half-written name
