@@ -1,12 +1,12 @@
 """The pictures a plant's displays showed, as files of the trace folder
 (``docs/traces.md``): for each part that keeps its frames (``display_frames()``: an
-``ssd1306``, an ``sh1106``, an ``ht16k33``, an ``st7789`` in colour), ``<name>.png``, the last picture, ``<name>.gif``, every
-distinct picture in turn, each held for the virtual time it was shown (at least 20 ms, a
-GIF's least), and ``<name>.frames.png``, a film strip of up to ``FILM`` of them side by
-side (of those held for 20 ms or more: all when there are no more, else spread evenly from
-the first to the last), each ``STRIP_SCALE`` times larger with the virtual time it was
-first shown written under it, which the header's ``displays`` lists
-(:func:`describe_displays`). Pixels are drawn ``SCALE`` times larger (a panel wider than 128
+``ssd1306``, an ``sh1106``, an ``ht16k33``, an ``st7789`` in colour), ``<name>.png``, the
+last picture, ``<name>.gif``, every distinct picture in turn, each held for the virtual
+time it was shown (at least 20 ms, a GIF's least), and ``<name>.frames.png``, a film strip
+of up to ``FILM`` of them side by side (of those held for 20 ms or more: all when there
+are no more, else spread evenly from the first to the last), each ``STRIP_SCALE`` times
+larger with the virtual time it was first shown written under it, which the header's
+``displays`` lists (:func:`describe_displays`). Pixels are drawn ``SCALE`` times larger (a panel wider than 128
 pixels less: :func:`scale_for`), a monochrome panel's lit ones in its colour on black, a
 colour panel's in theirs.
 

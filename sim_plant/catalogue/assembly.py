@@ -230,11 +230,7 @@ class PartsPlant(RobotPlant):
 
     def tied_chip_selects(self) -> set:
         """The chip-select inputs the rig ties low (``cs = "low"``): no pin can be wired to them."""
-        return {
-            f"{p.name}.cs"
-            for p in self.catalogue_parts
-            if _on_spi(p) and p.options.get("cs") == "low"
-        }
+        return {f"{p.name}.cs" for p in self.catalogue_parts if _on_spi(p) and p.options.get("cs") == "low"}
 
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""

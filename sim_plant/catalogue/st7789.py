@@ -278,4 +278,3 @@ class St7789(PartType):
         o = self.options
         chip = St7789Chip(self.name, o["bus"], o["panel"], o["turn_deg"], o["ips"], o["glass_order"], o["max_frames"])
         build.parts.append(chip_select(chip, {**o, "spi": True}))
-

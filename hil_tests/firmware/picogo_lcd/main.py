@@ -2,12 +2,13 @@
 # here, not copied: a framebuf.RGB565 subclass of 240 x 135 drawn in RAM, each command
 # and parameter its own transfer with chip select raised between, MADCTL 0x70, COLMOD
 # 0x05, INVON, and show() sending the whole buffer (64,800 bytes) in one spi.write to
-# the window columns 40-279, rows 53-187. framebuf keeps a pixel little-endian, so the
+# the window columns 40-279, rows 53-187. framebuf keeps an RGB565 pixel as a native
+# uint16 (extmod/modframebuf.c, rgb565_setpixel: little-endian on the RP2040), so the
 # demo's colour names are the panel's colours with their bytes swapped.
 import time
+from machine import SPI, Pin
 
 import framebuf
-from machine import SPI, Pin
 
 BLUE = 0xFF00  # (the demo's names: 0x00FF on the glass, and so on)
 ORANGE = 0x07FF
