@@ -41,6 +41,8 @@ trace folder has the last as ``<name>.png`` and all as ``<name>.gif``
 
 from dataclasses import replace
 
+import numpy as np
+
 from sim_plant.buses import BusDevice, BusName, chip_select
 from sim_plant.catalogue.base import CS_OPTION, CS_SIGNAL, SCK_SIGNAL, Build, Opt, PartType, Sig
 from sim_plant.catalogue.ssd1306 import MAX_FRAMES, keep_frame
@@ -51,7 +53,6 @@ PANELS = {"135x240": (135, 240, 52, 40), "240x240": (240, 240, 0, 0), "240x320":
 ARGS = {0x2A: 4, 0x2B: 4, 0x36: 1, 0x3A: 1}  # the commands acted on that take parameters
 MY, MX, MV, BGR = 0x80, 0x40, 0x20, 0x08
 RAMWR, RAMWRC = 0x2C, 0x3C
-INVERT = bytes(255 - b for b in range(256))  # (bytes.translate: every bit flipped)
 
 
 class St7789Chip(BusDevice):
@@ -65,7 +66,8 @@ class St7789Chip(BusDevice):
         self.max_frames = max_frames
         self.dc_signal, self.res_signal, self.bl_signal = f"{name}.dc", f"{name}.res", f"{name}.bl"
         self.inputs = {**self.inputs, self.dc_signal: "level", self.res_signal: "level", self.bl_signal: "level"}
-        self.ram = bytearray(COLUMNS * ROWS * 2)  # ram[(row * 240 + column) * 2]: RGB565, big-endian
+        self.ram = np.zeros(COLUMNS * ROWS * 2, np.uint8)  # [(row * 240 + column) * 2]: RGB565, big-endian
+        # (an array: a plant's snapshot copies it, docs/clock.md's rewind puts it back)
         self.frames: list = []  # (t_us, the picture: RGB565 big-endian, rows of the glass top first)
         self.dc, self.lit = 0, True
         self.changed = False
@@ -187,13 +189,12 @@ class St7789Chip(BusDevice):
         w, h, x0, y0 = PANELS[self.panel]
         if not (self.awake and self.on and self.lit):
             return bytes(w * h * 2)
-        ram = self.ram
-        shown = b"".join(ram[((y0 + y) * COLUMNS + x0) * 2 : ((y0 + y) * COLUMNS + x0 + w) * 2] for y in range(h))
+        shown = self.ram.reshape(ROWS, COLUMNS, 2)[y0 : y0 + h, x0 : x0 + w]  # (rows, columns, the two bytes)
         if self.inverted != self.ips:
-            shown = shown.translate(INVERT)
+            shown = 255 - shown
         if bool(self.madctl & BGR) != self.bgr_glass:
             shown = _swap_red_blue(shown)
-        return _turned(shown, w, h, self.turn_deg)
+        return np.ascontiguousarray(np.rot90(shown, -self.turn_deg // 90)).tobytes()
 
     def display_frames(self) -> tuple[int, int, list]:
         """(width, height, [(t_us, picture)]): what ``host/artefacts/pictures.py`` draws."""
@@ -209,26 +210,11 @@ class St7789Chip(BusDevice):
         }
 
 
-def _swap_red_blue(rgb565: bytes) -> bytes:
-    """Each big-endian RGB565 pixel with its red and blue fields exchanged."""
-    out = bytearray(rgb565)
-    for i in range(0, len(out), 2):
-        v = out[i] << 8 | out[i + 1]
-        v = (v & 0x1F) << 11 | v & 0x07E0 | v >> 11
-        out[i], out[i + 1] = v >> 8, v & 0xFF
-    return bytes(out)
-
-
-def _turned(picture: bytes, w: int, h: int, turn_deg: int) -> bytes:
-    """A picture of ``w`` x ``h`` two-byte pixels turned clockwise by ``turn_deg``."""
-    if turn_deg == 0:
-        return picture
-    px = memoryview(picture).cast("H")  # (a pixel's two bytes moved together)
-    if turn_deg == 180:
-        return px[::-1].tobytes()
-    if turn_deg == 90:  # (row i of the turned picture: column i, bottom to top)
-        return b"".join(px[(h - 1) * w + i :: -w].tobytes() for i in range(w))
-    return b"".join(px[w - 1 - i :: w].tobytes() for i in range(w))  # (270: column w-1-i, top to bottom)
+def _swap_red_blue(shown: np.ndarray) -> np.ndarray:
+    """Pixels (their two bytes, big-endian, on the last axis) with red and blue exchanged."""
+    v = shown[..., 0].astype(np.uint16) << 8 | shown[..., 1]
+    v = (v & 0x1F) << 11 | v & 0x07E0 | v >> 11
+    return np.stack(((v >> 8).astype(np.uint8), (v & 0xFF).astype(np.uint8)), axis=-1)
 
 
 class St7789(PartType):

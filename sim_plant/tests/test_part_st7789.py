@@ -124,3 +124,15 @@ def test_extra_data_after_a_command_is_ignored_and_a_write_continues_with_ramwrc
 def test_refusals(options, message):
     with pytest.raises(PartsError, match=message):
         assemble({"body": "bench", "parts": [{"kind": "st7789", "name": "tft", **options}]})
+
+
+def test_a_snapshot_of_the_plant_keeps_the_frame_memory_and_restore_puts_it_back():
+    p, chip = tft()
+    awake(p)
+    window(p, 52, 40, 52, 40, RED)
+    snap = p.snapshot()
+    window(p, 52, 40, 52, 40, GREEN)
+    assert at(chip, 0, 0) == GREEN
+    p.restore(snap)
+    chip = next(d for d in p.bus_set.devices if d.label == "tft")
+    assert at(chip, 0, 0) == RED, "a rewind puts the pixels back"
