@@ -1,13 +1,14 @@
 """The pictures a plant's displays showed, as files of the trace folder
 (``docs/traces.md``): for each part that keeps its frames (``display_frames()``: an
-``ssd1306``, an ``sh1106``), ``<name>.png``, the last picture, ``<name>.gif``, every
-distinct picture in turn, each held for the virtual time it was shown (at least 20 ms, a
-GIF's least), and ``<name>.frames.png``, a film strip of up to ``FILM`` of them side by
-side (of those held for 20 ms or more: all when there are no more, else spread evenly from
-the first to the last), each ``STRIP_SCALE`` times larger with the virtual time it was
-first shown written under it, which the header's ``displays`` lists
-(:func:`describe_displays`). Pixels are drawn ``SCALE`` times larger, lit ones in the
-panel's colour on black.
+``ssd1306``, an ``sh1106``, an ``ht16k33``, an ``st7789`` in colour), ``<name>.png``, the
+last picture, ``<name>.gif``, every distinct picture in turn, each held for the virtual
+time it was shown (at least 20 ms, a GIF's least), and ``<name>.frames.png``, a film strip
+of up to ``FILM`` of them side by side (of those held for 20 ms or more: all when there
+are no more, else spread evenly from the first to the last), each ``STRIP_SCALE`` times
+larger with the virtual time it was first shown written under it, which the header's
+``displays`` lists (:func:`describe_displays`). Pixels are drawn ``SCALE`` times larger (a panel wider than 128
+pixels less: :func:`scale_for`), a monochrome panel's lit ones in its colour on black, a
+colour panel's in theirs.
 
 And the floor the robot drove on, when its world has one drawn (``line_course``):
 ``floor.png``, its picture's grey levels as the line sensors saw them, which the
@@ -33,10 +34,28 @@ def displays(plant) -> list:
 
 
 def image(width: int, height: int, picture: bytes, scale: int = SCALE) -> Image.Image:
-    """A picture (a byte a pixel, rows of ``width``; 0: dark) as an RGB image, scaled."""
-    mono = Image.frombytes("L", (width, height), bytes(255 if p else 0 for p in picture))
-    rgb = Image.merge("RGB", [mono.point(lambda v, c=c, d=d: c if v else d) for c, d in zip(LIT, DARK, strict=True)])
+    """A picture as an RGB image, scaled: a byte a pixel (rows of ``width``; 0: dark, else
+    lit in ``LIT``), or two, a colour panel's (RGB565 big-endian, as an ``st7789`` keeps it;
+    each field scaled to 0-255)."""
+    if len(picture) == 2 * width * height:
+        rgb = _rgb565(width, height, picture)
+    else:
+        mono = Image.frombytes("L", (width, height), bytes(255 if p else 0 for p in picture))
+        lit = [mono.point(lambda v, c=c, d=d: c if v else d) for c, d in zip(LIT, DARK, strict=True)]
+        rgb = Image.merge("RGB", lit)
     return rgb.resize((width * scale, height * scale), Image.NEAREST)
+
+
+def scale_for(width: int) -> int:
+    """The scale a display's pictures are drawn at: ``SCALE`` for a 128-pixel OLED, less
+    for a wider panel (a 240-pixel TFT's at 2), so that none is wider than 512 pixels."""
+    return max(1, min(SCALE, 512 // width))
+
+
+def _rgb565(width: int, height: int, picture: bytes) -> Image.Image:
+    little = bytearray(len(picture))  # (Pillow's "BGR;16" is RGB565 little-endian)
+    little[0::2], little[1::2] = picture[1::2], picture[0::2]
+    return Image.frombytes("RGB", (width, height), bytes(little), "raw", "BGR;16")
 
 
 def film(frames: list) -> list:
@@ -101,13 +120,13 @@ def _floor_png(path, floor) -> None:
 
 
 def _png(path, width, height, frames) -> None:
-    image(width, height, frames[-1][1]).save(path, format="PNG")
+    image(width, height, frames[-1][1], scale_for(width)).save(path, format="PNG")
 
 
 def _gif(path, width, height, frames) -> None:
     times = [t for t, _ in frames]
     durations = [max(LEAST_MS, (b - a) // 1000) for a, b in zip(times, times[1:])] + [LAST_HOLD_MS]
-    images = [image(width, height, picture) for _t, picture in frames]
+    images = [image(width, height, picture, scale_for(width)) for _t, picture in frames]
     images[0].save(path, format="GIF", save_all=True, append_images=images[1:], duration=durations, loop=0)
 
 

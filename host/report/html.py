@@ -275,7 +275,7 @@ def _displays(rig: RigResult, base: Path) -> list[str]:
     strips = (rig.header or {}).get("displays") or {}
     for part in ((rig.header or {}).get("parts") or {}).get("parts", []):
         still, moving = rig.folder / f"{part.get('name')}.png", rig.folder / f"{part.get('name')}.gif"
-        if part.get("kind") in ("ssd1306", "sh1106") and still.is_file():
+        if part.get("kind") in ("ssd1306", "sh1106", "ht16k33", "st7789") and still.is_file():
             alt = f"{part['name']}: the display's last picture"
             img = f'<a href="{_e(_rel(moving, base))}"><img alt="{_e(alt)}" src="{_e(_rel(still, base))}"></a>'
             out.append(

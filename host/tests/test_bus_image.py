@@ -58,6 +58,7 @@ BUS_TESTS = {
     ),
     "test_bus_image": (("ina219_read_while_the_motors_run", False),),  # (it reads the plant: never imaged)
     "test_ht16k33": (("test_an_ht16k33_matrix_shows_each_icon_upright_and_its_ram_reads_back", False),),
+    "test_st7789": (("test_a_square_panel_upside_down_shows_what_st7789py_s_offsets_of_80_draw", False),),
 }
 SLOW_BUS_TESTS = {  # the same, minutes of polling between them: hil_tests/test_bus_image_slow.py (make hil)
     "test_chip_polls": (
@@ -89,6 +90,7 @@ CHIPS = {  # every catalogue part firmware reads on a bus -> where it is compare
     "ds18b20": "test_onewire",
     "ina219": "test_bus_image",
     "ht16k33": "test_ht16k33",
+    "st7789": "test_st7789",
     "vl53l0x": "test_bus_drivers (slow) and the bench robot",
     "vl53l1x": "test_vl53l1x (slow)",
 }

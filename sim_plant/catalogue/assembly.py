@@ -224,17 +224,13 @@ class PartsPlant(RobotPlant):
         selects = {}
         for part in self.catalogue_parts:
             cs = f"{part.name}.cs"
-            if part.on_bus and part.options.get("spi") and cs in part.signals():
+            if _on_spi(part) and cs in part.signals():
                 selects[part.name] = (part.options["bus"], cs)
         return selects
 
     def tied_chip_selects(self) -> set:
         """The chip-select inputs the rig ties low (``cs = "low"``): no pin can be wired to them."""
-        return {
-            f"{p.name}.cs"
-            for p in self.catalogue_parts
-            if p.on_bus and p.options.get("spi") and p.options.get("cs") == "low"
-        }
+        return {f"{p.name}.cs" for p in self.catalogue_parts if _on_spi(p) and p.options.get("cs") == "low"}
 
     def bus_names(self) -> dict:
         """Bus name -> the names of the parts on it (``check`` compares them with the firmware's)."""
@@ -403,6 +399,11 @@ def _with_part_files(entry, base):
     if not given:
         return entry
     return {**entry, **{k: os.path.abspath(Path(base or ".") / v) for k, v in given.items()}}
+
+
+def _on_spi(part) -> bool:
+    """A bus part on an SPI bus (an OLED's ``spi = true``; a chip on SPI only by its bus's name)."""
+    return bool(part.on_bus and (part.options.get("spi") or str(part.options.get("bus", "")).startswith("spi")))
 
 
 def _check_addresses(parts: list) -> None:
