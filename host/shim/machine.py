@@ -548,6 +548,8 @@ class ADC:
         WIDTH_10BIT = 10
         WIDTH_11BIT = 11
     WIDTH_12BIT = 12
+    if _RP2:  # ports/rp2/machine_adc.c: MICROPY_PY_MACHINE_ADC_CLASS_CONSTANTS (RP2040, RP2350A)
+        CORE_TEMP = 4
 
     _made = {}  # pin id -> its ADC, one object per input as Pin's
     _bits = {1: 12, 2: 12}  # the ESP32's two ADC units' widths (a unit's read() width; 12 at boot)
@@ -557,9 +559,7 @@ class ADC:
             return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
         if id is _UNSET:
             raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
-        key = id._id if isinstance(id, Pin) else id
-        if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
-            key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
+        key = _adc_key(id)
         adc = ADC._made.get(key)
         if adc is None:
             adc = ADC._made[key] = object.__new__(cls)
@@ -609,11 +609,15 @@ class ADC:
 
 
 def _adc_key(id):
-    """The input an ADC(id) reads, as ADC.__new__ finds it."""
-    key = id._id if isinstance(id, Pin) else id
-    if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
-        key += 26
-    return key
+    """The input an ADC(id) reads. rp2 (ports/rp2/machine_adc.c, mp_machine_adc_make_new):
+    an int below NUM_ADC_CHANNELS is a channel, n < 4 the GPIO 26 + n (board files name the
+    GPIO), 4 the temperature sensor (ADC_TEMPERATURE_CHANNEL_NUM, ADC.CORE_TEMP): the
+    board's line CORE_TEMP, which a rig file may wire by that name (docs/rig-file.md)."""
+    if isinstance(id, Pin):  # (its GPIO, never a channel number)
+        return id._id
+    if isinstance(id, int) and 0 <= id <= 4 and _platform() == "rp2":
+        return id + 26 if id < 4 else "CORE_TEMP"
+    return id
 
 
 def _adc_set_up(adc, key):
