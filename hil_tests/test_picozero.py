@@ -71,8 +71,8 @@ print("stopped")
 
 def test_robot_drives_forward_for_a_second_turns_left_and_stops_and_ranges_the_wall(make_rig, tmp_path):
     """Robot(left=(14, 15), right=(12, 13)) as robot_rover_square.py drives it (``t=``,
-    ``wait=True``: a one-shot Timer turns each motor off), DistanceSensor(echo=2,
-    trigger=3) read before and after, each against the plant's truth."""
+    ``wait=True``: a one-shot Timer turns the left motor off, a sleep the right one),
+    DistanceSensor(echo=2, trigger=3) read before and after, each against the plant's truth."""
     start_x_m = 2.2  # (the rig's start_pose)
     rig = picozero(make_rig, tmp_path, ROBOT)
     first = float(rig.expect(r"distance ([\d.]+)\n").group(1))
@@ -222,3 +222,97 @@ def test_pico_temp_sensor_pot_and_rgbled_read_and_light_what_the_rig_has(make_ri
     truth = rig.truth()
     got = (truth["rgb_r"], truth["rgb_g"], truth["rgb_b"])
     assert abs(got[0] - 1) < 1e-3 and abs(got[1] - 128 / 255) < 1e-3 and got[2] == 0, f"orange: {got}; {where(rig)}"
+
+
+SERVO = """from picozero import Servo
+from time import sleep
+
+servo = Servo(1)
+
+servo.min()
+sleep(1)
+print("min")
+sleep(0.1)
+servo.mid()
+sleep(1)
+print("mid")
+sleep(0.1)
+servo.max()
+sleep(1)
+print("max")
+sleep(0.1)
+servo.off()
+sleep(0.1)
+print("off")
+"""
+
+
+def test_servo_goes_to_min_mid_and_max_then_off(make_rig, tmp_path):
+    """servo_move.py: Servo(1) at 50 Hz, 1 ms to 2 ms pulses (picozero's defaults), on the
+    rig's SG90 (0.5 ms to 2.5 ms over 180 degrees): 45, 90 and 135 degrees; off() sends
+    no pulse (a duty of 0)."""
+    rig = picozero(make_rig, tmp_path, SERVO)
+    for name, pulse_us in (("min", 1000), ("mid", 1500), ("max", 2000)):
+        rig.expect(f"{name}\n")
+        truth = rig.truth()
+        angle_deg = (pulse_us - 500) / 2000 * 180
+        # (picozero's duty is int(pulse / 20 ms * 65535): a little short of the pulse)
+        said = f"{name}: expected {pulse_us} us, {angle_deg} degrees: {truth}; {where(rig)}"
+        assert abs(truth["servo_pulse_us"] - pulse_us) < 1 and abs(truth["servo_angle_deg"] - angle_deg) < 0.5, said
+    rig.expect("off\n")
+    off = rig.truth()
+    assert not off["servo_pulse_us"], f"off: expected no pulse, got {off}; {where(rig)}"
+
+
+PULSE = """from picozero import LED
+from time import sleep
+
+led = LED(0)
+
+led.pulse(fade_in_time=0.2, fade_out_time=0.2, n=1, wait=True)
+print("pulsed")
+led.pulse(fade_in_time=0.2, n=1)
+print("pulsing")
+sleep(0.5)
+print("done")
+"""
+
+
+def test_led_pulse_fades_in_and_out_at_25_steps_a_second_waiting_and_on_a_timer(make_rig, tmp_path):
+    """LED(0) is a PWMLED: pulse() steps its duty every 1/25 s (fps), from 0 up to below
+    full and back down, then off; with wait=False a one-shot Timer makes each step."""
+    rig = picozero(make_rig, tmp_path, PULSE, record=True)
+    rig.expect("done\n")
+    # each step's value as picozero computes it (i / fps / fade_time), as duty_u16
+    fade = [i * (1 / 25) / 0.2 for i in range(5)]
+    steps = [int(65535 * v) for v in fade + [1 - v for v in fade]] + [0]  # (then off)
+    want = [(start_ms + 40 * k, duty) for start_ms in (0, 400) for k, duty in enumerate(steps)]
+    want = [(t, v) for i, (t, v) in enumerate(want) if v != (want[i - 1][1] if i else 0)]  # (the changes)
+    got = [(round(t / 1000), v) for t, v in timeline(rig, "led_0.in")]
+    assert got == want, f"expected (ms, duty_u16) {want}, got {got}; {where(rig)}"
+
+
+TOUCH = """from picozero import TouchSensor, pico_led
+from time import sleep, ticks_ms
+
+touch = TouchSensor(16)
+
+def started():
+    pico_led.on()
+    print("touched", ticks_ms(), touch.is_touched)
+
+touch.when_touch_starts = started
+touch.when_touch_ends = pico_led.off
+sleep(0.6)
+print("done", touch.is_touched)
+"""
+
+
+def test_a_touch_sensor_on_its_pull_down_lights_the_led_while_touched(make_rig, tmp_path):
+    """touch_sensor_callbacks.py: TouchSensor (a Button with pull_up=False: the pin pulled
+    down, high while touched), touched from 0.3 s to 0.4 s."""
+    rig = picozero(make_rig, tmp_path, TOUCH, record=True)
+    rig.expect("done False\n")
+    assert "touched 300 True\n" in rig.console, f"expected the callback at the touch, 300 ms; {where(rig)}"
+    led = [(round(t / 1000), v) for t, v in timeline(rig, "pico_led.in")]
+    assert led == [(0, 0), (300, 1), (400, 0)], f"expected the LED lit from 300 to 400 ms, got {led}; {where(rig)}"
