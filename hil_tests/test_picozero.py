@@ -52,6 +52,31 @@ def timeline(rig, signal: str) -> list[tuple[int, object]]:
     return [(t, v) for t, name, v in rig.recorder.events if name == signal]
 
 
+def changes(events: list[tuple[int, object]], initial=0) -> list[tuple[int, object]]:
+    """The (t_us, value) at which the value changed, from ``initial``."""
+    out = []
+    for t, v in events:
+        if v != (out[-1][1] if out else initial):
+            out.append((t, v))
+    return out
+
+
+def from_first_ms(events: list[tuple]) -> list[tuple]:
+    """(ms, value) counted from the first event: picozero's import and set-up take a
+    board's time with MCU time (MPYFIL_CPU), nothing with the CPU free."""
+    return [(round((t - events[0][0]) / 1000), *rest) for t, *rest in events]
+
+
+def on_time(got: list[tuple], want_ms: list[tuple]) -> bool:
+    """``got`` (t_us, values...) has the values of ``want_ms`` (ms, values...), each at its
+    time from the first within 0.5 ms and 1 % of it: with MCU time picozero's steps come
+    0.1 to 0.5 ms late each (its Python between the waits), as on a board; with the CPU
+    free, within 0.2 ms."""
+    if [g[1:] for g in got] != [w[1:] for w in want_ms]:
+        return False
+    return all(abs(g[0] - got[0][0] - w[0] * 1000) <= 500 + 10 * w[0] for g, w in zip(got, want_ms))
+
+
 ROBOT = """from picozero import Robot, DistanceSensor
 from time import sleep
 
@@ -152,14 +177,12 @@ def test_pico_led_blinks_n_times_waiting_and_in_the_background(make_rig, tmp_pat
     wait steps on a one-shot Timer: the LED's level timeline has each edge at its time."""
     rig = picozero(make_rig, tmp_path, BLINK, record=True)
     rig.expect("done\n")
-    led = [(t, v) for t, v in timeline(rig, "pico_led.in")]
-    edges = [(t, v) for (t, v), (_t0, v0) in zip(led[1:], led) if v != v0]
+    edges = changes(timeline(rig, "pico_led.in"))
     want_ms = [(0, 1), (100, 0), (300, 1), (400, 0), (600, 1), (700, 0)]
     want_ms += [(900, 1), (950, 0), (1000, 1), (1050, 0)]
-    got_ms = [(round(t / 1000), v) for t, v in edges]
-    assert got_ms == want_ms, f"expected the LED's edges at {want_ms} ms, got {got_ms}; {where(rig)}"
-    late = max(t - ms * 1000 for (t, _v), (ms, _w) in zip(edges, want_ms))
-    assert late < 200, f"each edge within 200 us of its time, one {late} us late; {where(rig)}"
+    assert on_time(edges, want_ms), (
+        f"expected the LED's edges at {want_ms} ms, got {from_first_ms(edges)}; {where(rig)}"
+    )
 
 
 TUNE = """from picozero import Speaker
@@ -190,8 +213,13 @@ def test_speaker_plays_a_tune_note_by_note(make_rig, tmp_path):
         if freq:
             want.append((freq, round(t * 1000), round((t + 0.9 * length) * 1000)))
         t += length
-    tones = [(freq, round(t0 / 1000), round(t1 / 1000)) for t0, t1, freq in part(rig, "speaker").tones]
-    assert tones == want, f"expected the tones (Hz, from ms, to ms) {want}, got {tones}; {where(rig)}"
+    tones = part(rig, "speaker").tones  # [t_start_us, t_end_us, freq_hz]
+    starts = on_time([(t0, freq) for t0, _t1, freq in tones], [(ms, freq) for freq, ms, _end in want])
+    ends = on_time(
+        [(tones[0][0], None)] + [(t1, freq) for _t0, t1, freq in tones], [(0, None)] + [(ms, f) for f, _s, ms in want]
+    )
+    tones = [(freq, start_ms, round((t1 - tones[0][0]) / 1000)) for start_ms, t1, freq in from_first_ms(tones)]
+    assert starts and ends, f"expected the tones (Hz, from ms, to ms) {want}, got {tones}; {where(rig)}"
     assert rig.truth()["speaker_freq_hz"] == 0, f"silent at the end; {where(rig)}"
 
 
@@ -287,9 +315,9 @@ def test_led_pulse_fades_in_and_out_at_25_steps_a_second_waiting_and_on_a_timer(
     fade = [i * (1 / 25) / 0.2 for i in range(5)]
     steps = [int(65535 * v) for v in fade + [1 - v for v in fade]] + [0]  # (then off)
     want = [(start_ms + 40 * k, duty) for start_ms in (0, 400) for k, duty in enumerate(steps)]
-    want = [(t, v) for i, (t, v) in enumerate(want) if v != (want[i - 1][1] if i else 0)]  # (the changes)
-    got = [(round(t / 1000), v) for t, v in timeline(rig, "led_0.in")]
-    assert got == want, f"expected (ms, duty_u16) {want}, got {got}; {where(rig)}"
+    want = [(t - 40, v) for t, v in changes(want)]  # (from the first step up, 40 ms in)
+    got = changes(timeline(rig, "led_0.in"))
+    assert on_time(got, want), f"expected (ms, duty_u16) {want}, got {from_first_ms(got)}; {where(rig)}"
 
 
 TOUCH = """from picozero import TouchSensor, pico_led
@@ -314,5 +342,5 @@ def test_a_touch_sensor_on_its_pull_down_lights_the_led_while_touched(make_rig, 
     rig = picozero(make_rig, tmp_path, TOUCH, record=True)
     rig.expect("done False\n")
     assert "touched 300 True\n" in rig.console, f"expected the callback at the touch, 300 ms; {where(rig)}"
-    led = [(round(t / 1000), v) for t, v in timeline(rig, "pico_led.in")]
-    assert led == [(0, 0), (300, 1), (400, 0)], f"expected the LED lit from 300 to 400 ms, got {led}; {where(rig)}"
+    led = [(round(t / 1000), v) for t, v in changes(timeline(rig, "pico_led.in"))]
+    assert led == [(300, 1), (400, 0)], f"expected the LED lit from 300 to 400 ms, got {led}; {where(rig)}"

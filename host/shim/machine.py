@@ -548,8 +548,6 @@ class ADC:
         WIDTH_10BIT = 10
         WIDTH_11BIT = 11
     WIDTH_12BIT = 12
-    if _RP2:  # ports/rp2/machine_adc.c: MICROPY_PY_MACHINE_ADC_CLASS_CONSTANTS (RP2040, RP2350A)
-        CORE_TEMP = 4
 
     _made = {}  # pin id -> its ADC, one object per input as Pin's
     _bits = {1: 12, 2: 12}  # the ESP32's two ADC units' widths (a unit's read() width; 12 at boot)
@@ -608,6 +606,17 @@ class ADC:
         ADC._bits[self._unit()] = bits
 
 
+# rp2's temperature sensor: ADC.CORE_TEMP, 4 (ports/rp2/machine_adc.c:
+# MICROPY_PY_MACHINE_ADC_CLASS_CONSTANTS, ADC_TEMPERATURE_CHANNEL_NUM on an RP2040 and an
+# RP2350A), read as the board's line CORE_TEMP. Its name is made at run time, on rp2 alone,
+# and no new name is kept here: a name, or a literal this short, is interned as the shim
+# loads (py/parse.c, MICROPY_ALLOC_PARSE_INTERN_STRING_LEN), and one more in the qstr pools
+# moves where the firmware's first names need a pool of their own, in its heap
+# (hil_tests/test_campaign.py's 16K heap: main.py was no longer compiled).
+if _RP2:
+    setattr(ADC, "CORE_TEMP: the sensor's line"[:9], 4)
+
+
 def _adc_key(id):
     """The input an ADC(id) reads. rp2 (ports/rp2/machine_adc.c, mp_machine_adc_make_new):
     an int below NUM_ADC_CHANNELS is a channel, n < 4 the GPIO 26 + n (board files name the
@@ -615,8 +624,8 @@ def _adc_key(id):
     board's line CORE_TEMP, which a rig file may wire by that name (docs/rig-file.md)."""
     if isinstance(id, Pin):  # (its GPIO, never a channel number)
         return id._id
-    if isinstance(id, int) and 0 <= id <= 4 and _platform() == "rp2":
-        return id + 26 if id < 4 else "CORE_TEMP"
+    if _RP2 and isinstance(id, int) and 0 <= id <= 4:
+        return id + 26 if id < 4 else "CORE_TEMP: the sensor's line"[:9]
     return id
 
 
