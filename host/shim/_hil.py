@@ -1545,6 +1545,13 @@ def mp_schedule(function, arg):
         raise RuntimeError("schedule queue full")
     if not _dispatching:
         _leftovers()
+    elif _now < _Link.until and _now < _Link.defer_from and not _irq_off:
+        # from a callback run in a wait that handles events: the wait's next pass runs it at
+        # this instant (ports/rp2/mphalport.c, mp_hal_delay_ms: mp_event_wait_ms, then
+        # mp_handle_pending again), so the rest of the STATE being applied waits, as after
+        # an output (_handlers_wrote: 1); it ran at the STATE's next change or end
+        global _wrote
+        _wrote = True
 
 
 def dispatch(until, one=False, drain=False):

@@ -557,9 +557,7 @@ class ADC:
             return object.__new__(cls) if id is _UNSET else _subclass(cls, id)
         if id is _UNSET:
             raise TypeError("function missing 1 required positional arguments")  # (py/argcheck.c)
-        key = id._id if isinstance(id, Pin) else id
-        if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
-            key += 26  # an RP2040's ADC channel n is GP26+n (board files name the GPIO)
+        key = _adc_key(id)
         adc = ADC._made.get(key)
         if adc is None:
             adc = ADC._made[key] = object.__new__(cls)
@@ -608,12 +606,27 @@ class ADC:
         ADC._bits[self._unit()] = bits
 
 
+# rp2's temperature sensor: ADC.CORE_TEMP, 4 (ports/rp2/machine_adc.c:
+# MICROPY_PY_MACHINE_ADC_CLASS_CONSTANTS, ADC_TEMPERATURE_CHANNEL_NUM on an RP2040 and an
+# RP2350A), read as the board's line CORE_TEMP. Its name is made at run time, on rp2 alone,
+# and no new name is kept here: a name, or a literal this short, is interned as the shim
+# loads (py/parse.c, MICROPY_ALLOC_PARSE_INTERN_STRING_LEN), and one more in the qstr pools
+# moves where the firmware's first names need a pool of their own, in its heap
+# (hil_tests/test_campaign.py's 16K heap: main.py was no longer compiled).
+if _RP2:
+    setattr(ADC, "CORE_TEMP: the sensor's line"[:9], 4)
+
+
 def _adc_key(id):
-    """The input an ADC(id) reads, as ADC.__new__ finds it."""
-    key = id._id if isinstance(id, Pin) else id
-    if isinstance(key, int) and 0 <= key <= 3 and _platform() == "rp2":
-        key += 26
-    return key
+    """The input an ADC(id) reads. rp2 (ports/rp2/machine_adc.c, mp_machine_adc_make_new):
+    an int below NUM_ADC_CHANNELS is a channel, n < 4 the GPIO 26 + n (board files name the
+    GPIO), 4 the temperature sensor (ADC_TEMPERATURE_CHANNEL_NUM, ADC.CORE_TEMP): the
+    board's line CORE_TEMP, which a rig file may wire by that name (docs/rig-file.md)."""
+    if isinstance(id, Pin):  # (its GPIO, never a channel number)
+        return id._id
+    if _RP2 and isinstance(id, int) and 0 <= id <= 4:
+        return id + 26 if id < 4 else "CORE_TEMP: the sensor's line"[:9]
+    return id
 
 
 def _adc_set_up(adc, key):

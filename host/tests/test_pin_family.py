@@ -151,6 +151,27 @@ def test_an_unwired_bootsel_is_never_pressed(make_rig):
     assert r["idle"] == 0 and "started_ms" not in r, rig.console
 
 
+@pytest.mark.parametrize("wired", [False, True])
+def test_adc_channel_4_reads_the_temperature_sensor_at_27_c_or_what_the_rig_wires(make_rig, wired):
+    """ports/rp2/machine_adc.c, mp_machine_adc_make_new: an int below NUM_ADC_CHANNELS is a
+    channel, 4 the temperature sensor (ADC.CORE_TEMP), not GPIO 4 (it read 0 there: 437
+    degrees C by the datasheet's formula). Unwired, 0.706 V (27 degrees C) as the 12-bit
+    reading scales; a rig wires it by its name, CORE_TEMP."""
+    parts = [{"kind": "potentiometer", "name": "knob", "position": 0.6}]
+    wiring = {"KNOB": "knob.sig"}
+    if wired:
+        parts.append({"kind": "potentiometer", "name": "die", "position": 0.2})
+        wiring["CORE_TEMP"] = "die.sig"
+    app = bench_app(
+        "core_temp", {"body": "bench", "parts": parts}, board="rpi_pico_bench", wiring=wiring, pins={"KNOB": 26}
+    )
+    rig, r = run(make_rig, "core_temp", RP2040, app)
+    temp_u16 = rig.plant.output("die.sig") if wired else 876 << 4 | 876 >> 8  # (round(0.706 / 3.3 * 4095))
+    assert r["channel"] == 4 and r["temp_u16"] == (temp_u16, temp_u16), f"expected {temp_u16}: {r} {rig.console}"
+    knob_u16 = rig.plant.output("knob.sig")
+    assert r["gp26_u16"] == (knob_u16, knob_u16), f"expected the knob's {knob_u16} on GP26: {r} {rig.console}"
+
+
 def test_a_rigs_gp_name_is_wired_to_the_pin_the_shim_names_by_number():
     """Pin("GP14") is Pin(14) on an rp2 (the shim sends 14): a rig's "GP14" or "GPIO14" is that pin."""
     wiring = Wiring({"A": "a.out", "B": "b.out"}, {"A": "GP14", "B": "GPIO15"}, "pins")

@@ -120,6 +120,19 @@ def test_micropython_schedule_raises_queue_full_past_the_ports_depth(run_case):
     assert r["ran"] == list(range(DEPTH)), f"what was queued must run, in order {_where(rig)}"
 
 
+def test_a_job_an_irq_handler_schedules_during_a_sleep_runs_at_the_edge(run_case):
+    """micropython.schedule from a soft pin IRQ's handler while the main program sleeps:
+    the sleep's next pass runs the job at once (ports/rp2/mphalport.c, mp_hal_delay_ms;
+    ports/esp32/mphalport.c, mp_handle_pending each tick). It ran at the next input change
+    (the release, 30 ms later) or at the sleep's end."""
+    rig, r = run_case("sched_from_irq", 0.1, [(20_000, "button", 0), (50_000, "button", 1)], initial={"button": 1})
+    assert [level for level, _t in r["edges"]] == [0, 1], f"expected the press and the release: {r} {_where(rig)}"
+    for (level, edge_us), (job_level, job_us) in zip(r["edges"], r["jobs"], strict=True):
+        assert job_level == level and edge_us <= job_us < edge_us + 50, (
+            f"expected each job at its edge, got edges {r['edges']}, jobs {r['jobs']} {_where(rig)}"
+        )
+
+
 def test_a_callback_longer_than_its_period_makes_the_main_loop_crawl_with_a_bounded_queue(run_case, path):
     """10 ms ticks, 15 ms callbacks that stop their timer at the 20th run: the ticks that
     came due meanwhile were queued up to the depth (the rest lost, as on a board), so

@@ -38,6 +38,10 @@ open drain and high): the part drives it (``Wiring.shared``, docs/wiring.md)."""
 DUTY_FULL = 65535
 """A plant input of kind ``duty`` at 100 % (``duty_u16``): what a pin held high drives it at."""
 
+_RAW_27C = round(0.706 / 3.3 * 4095)  # (876)
+CORE_TEMP_27C_U16 = _RAW_27C << 4 | _RAW_27C >> 8
+"""What ``ADC(4).read_u16()`` of an rp2 reads with nothing wired to ``CORE_TEMP`` (14019)."""
+
 _LEVEL, _SAMPLE, _BYTES = F.CH_LEVEL, F.CH_SAMPLE, F.CH_BYTES  # (module globals: the hot path's)
 _RISING, _FALLING = F.IRQ_RISING, F.IRQ_FALLING
 
@@ -165,6 +169,12 @@ class AdcPeripheral(Peripheral):
 
     def is_input(self, mode):
         return True
+
+    def idle(self, info):
+        """rp2's temperature sensor unwired: the die at 27 degrees C, 0.706 V (the RP2040
+        datasheet, 4.9.5), as read_u16 scales the 12-bit reading (ports/rp2/machine_adc.c,
+        adc_config_and_read_u16); any other input wired to nothing reads 0."""
+        return CORE_TEMP_27C_U16 if info.key == "CORE_TEMP" else 0
 
     def refuse(self, mode, pin, board_name, signal, sensor):
         if sensor != F.SIG_LEVEL:

@@ -25,8 +25,9 @@ IDENTITIES = {
 
 # Lines of a family's board that are no GPIO, wired by name in a rig file's [wiring] with no
 # [board.pins] entry: rp2's BOOTSEL button (on QSPI_SS; rp2.bootsel_button() reads it,
-# ports/rp2/modrp2.c). The shim names its handle so.
-BUILTIN_LINES = {"rp2": {"BOOTSEL": "BOOTSEL"}}
+# ports/rp2/modrp2.c) and its temperature sensor (ADC(4), ADC.CORE_TEMP: ports/rp2/
+# machine_adc.c). The shim names its handle so.
+BUILTIN_LINES = {"rp2": {"BOOTSEL": "BOOTSEL", "CORE_TEMP": "CORE_TEMP"}}
 
 
 def with_builtin_lines(pins: dict, platform: str | None) -> dict:
