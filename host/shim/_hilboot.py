@@ -104,11 +104,16 @@ def _run(name):
     # The file's code made as a board makes it, in the heap's lowest free blocks (the
     # shim's finding and reading of it garbage first), and its source not kept (a board
     # reads it through the lexer): nothing of the shim's in the firmware's heap as it runs.
+    global _compiling
     _hil._Link.collect()
+    _compiling = path  # (a failure in here is the firmware's, before any line of it ran)
     code = compile(source, path, "exec")
-    source = None
+    _compiling = source = None
     exec(code, env)
     return True
+
+
+_compiling = None  # the firmware's file being compiled (_run), else None
 
 
 TRACEBACK = "Traceback (most recent call last):"
@@ -130,13 +135,15 @@ def _shim_folder():
     return None
 
 
-def _board_traceback(text):
+def _board_traceback(text, compiling=False):
     """A traceback as the firmware's board prints it: the shim's own frames left out (its
     folder as compiled, and /_hil/, where the sandbox shows it; on a board those are C:
     machine, open, the boot that runs main.py), as _hil._exempt and _hilpoll.firmware_stack
     tell them, and asyncio's task queue (C on a board: _asyncio); the firmware's and the rest
     of asyncio's kept. One whose every frame is the shim's is the harness's own failure: kept
-    whole."""
+    whole; but not while the firmware's file compiles (``compiling``: a MemoryError in the
+    parser, its heap too small): that one a board prints as the exception alone, with no
+    frame and no header (py/obj.c, mp_obj_print_exception)."""
     lines = text.split("\n")
     if lines[0] != TRACEBACK:
         return text
@@ -146,7 +153,7 @@ def _board_traceback(text):
     shim = (_shim_folder() or "/_hil/", "/_hil/", "asyncio/task.py")  # (the task queue: C on a board)
     kept = [line for line in lines[1:end] if not line[len(FRAME) :].startswith(shim)]
     if not kept:
-        return text
+        return "\n".join(lines[end:]) if compiling else text
     return "\n".join([TRACEBACK] + kept + lines[end:])
 
 
@@ -162,12 +169,12 @@ def print_exception(exc, file=None):
         out.write(text)
 
 
-def _traceback_text(exc):
+def _traceback_text(exc, compiling=False):
     """:func:`_board_traceback` of ``exc``'s traceback; None where there is no room for it."""
     try:
         buf = io.StringIO()
         sys.print_exception(exc, buf)
-        return _board_traceback(buf.getvalue())
+        return _board_traceback(buf.getvalue(), compiling)
     except MemoryError:
         return None
 
@@ -298,6 +305,34 @@ def _finish(coverage, kind, code=0, text=None):
     _hil.finish(kind, code, text)
 
 
+def _failed(e, coverage, pil):
+    """The firmware raised ``e``: its traceback to the console and to the host (FAULT).
+
+    The firmware's frames, as its board prints them; but the watchdog's interrupt
+    (host/rig/targets/target.py, _stack) keeps the whole stack, as the harness's word on where
+    the firmware was: the shim's frames tell the host a wait on the link from a spin in the
+    firmware's own code (a run that ends on one otherwise shows it as the firmware's:
+    host/rig/loop/endings.py, board_traceback). With no room to leave the shim's out, the
+    text as it is."""
+    _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
+    if _hil._Link.reserve is not None:
+        _hil.spend_reserve()  # (raised with the heap full: the same)
+    compiling = _compiling
+    if compiling is not None:  # (what the failed compile made is garbage: room for the text)
+        _hil._Link.collect()
+    text = None if isinstance(e, KeyboardInterrupt) else _traceback_text(e, compiling is not None)
+    if text is None:
+        buf = io.StringIO()
+        sys.print_exception(e, buf)
+        text = buf.getvalue()
+    if not pil:  # on a board the console is the link: the traceback goes in FAULT
+        sys.stderr.write(text)
+    if compiling is not None and not isinstance(e, SyntaxError):  # (the host's word, beside the board's text:
+        # where it was; a SyntaxError's text names the file and line already)
+        text += "(raised while %s was compiled: none of it ran)\n" % compiling
+    _finish(coverage, F.EXIT_SYSEXIT, 1, text)
+
+
 def main(pil=False):
     coverage = None
     try:
@@ -338,23 +373,7 @@ def main(pil=False):
             sys.exit(3)
         return
     except BaseException as e:  # noqa: BLE001  any firmware failure goes to the host
-        _heap_unlocked()  # (raised under heap_lock: the traceback still needs memory)
-        if _hil._Link.reserve is not None:
-            _hil.spend_reserve()  # (raised with the heap full: the same)
-        # The firmware's frames, as its board prints them; but the watchdog's interrupt
-        # (host/rig/targets/target.py, _stack) keeps the whole stack, as the harness's word on
-        # where the firmware was: the shim's frames tell the host a wait on the link from a
-        # spin in the firmware's own code (a run that ends on one otherwise shows it as the
-        # firmware's: host/rig/loop/endings.py, board_traceback). With no room to leave the
-        # shim's out, the text as it is.
-        text = None if isinstance(e, KeyboardInterrupt) else _traceback_text(e)
-        if text is None:
-            buf = io.StringIO()
-            sys.print_exception(e, buf)
-            text = buf.getvalue()
-        if not pil:  # on a board the console is the link: the traceback goes in FAULT
-            sys.stderr.write(text)
-        _finish(coverage, F.EXIT_SYSEXIT, 1, text)
+        _failed(e, coverage, pil)
         if not pil:
             sys.exit(1)
         return

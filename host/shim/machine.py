@@ -608,13 +608,9 @@ class ADC:
 
 # rp2's temperature sensor: ADC.CORE_TEMP, 4 (ports/rp2/machine_adc.c:
 # MICROPY_PY_MACHINE_ADC_CLASS_CONSTANTS, ADC_TEMPERATURE_CHANNEL_NUM on an RP2040 and an
-# RP2350A), read as the board's line CORE_TEMP. Its name is made at run time, on rp2 alone,
-# and no new name is kept here: a name, or a literal this short, is interned as the shim
-# loads (py/parse.c, MICROPY_ALLOC_PARSE_INTERN_STRING_LEN), and one more in the qstr pools
-# moves where the firmware's first names need a pool of their own, in its heap
-# (hil_tests/test_campaign.py's 16K heap: main.py was no longer compiled).
+# RP2350A), read as the board's line CORE_TEMP.
 if _RP2:
-    setattr(ADC, "CORE_TEMP: the sensor's line"[:9], 4)
+    ADC.CORE_TEMP = 4
 
 
 def _adc_key(id):
@@ -625,7 +621,7 @@ def _adc_key(id):
     if isinstance(id, Pin):  # (its GPIO, never a channel number)
         return id._id
     if _RP2 and isinstance(id, int) and 0 <= id <= 4:
-        return id + 26 if id < 4 else "CORE_TEMP: the sensor's line"[:9]
+        return id + 26 if id < 4 else "CORE_TEMP"
     return id
 
 
