@@ -120,7 +120,8 @@ def test_a_run_stopped_by_a_signal_leaves_a_whole_folder_marked_partial_that_rep
     assert err.strip() == f"mpy-fil run: stopped by {sig.name}", err
     header = assert_every_file_whole_or_marked(run.out)
     assert header["partial"] and header["stop"]["signal"] == sig.name and header["incomplete"] == {}
-    assert 0 < header["t_end_us"] == header["stop"]["t_us"] < int(LONG_S) * 10**6
+    # (the cut: where the firmware was; the plant may have looked a little ahead of it)
+    assert 0 < header["stop"]["t_us"] <= header["t_end_us"] < int(LONG_S) * 10**6, header["stop"]
     assert {"signals.csv", "truth.csv", "budgets.json", "trace.vcd", "console.log", "trace.jsonl"} <= set(
         header["files"]
     )
@@ -336,3 +337,25 @@ def test_a_console_cap_out_of_bounds_is_named_at_check(tmp_path, value, message)
     (tmp_path / "rig.toml").write_text(textwrap.dedent(rig))
     code, out, err = run_cli("check", str(tmp_path / "rig.toml"))
     assert code == 2 and f"[trace] console_max_bytes: {message}" in err, err
+
+
+def test_a_cut_while_the_plant_looked_ahead_is_where_the_firmware_was():
+    """A signal while the firmware runs from a STATE at 13.2 s, the plant looked ahead to
+    13.22 s: the recording's cut is 13.2 s, where the firmware was, so a replay compares
+    what came before it (its outputs at 13.2 s had not come), not up to the plant's 13.22 s
+    (where the replay's own outputs at 13.2 s were taken for missing ones)."""
+    from types import SimpleNamespace
+
+    from host.rig.loop.rig import recording_end
+
+    stopped = KeyboardInterrupt()
+    stopped.signal_name = "SIGTERM"
+    logs = SimpleNamespace(error=None)
+    rig = SimpleNamespace(
+        t_us=13_220_000,
+        clock=SimpleNamespace(firmware_us=13_200_000),
+        console_log=SimpleNamespace(error=None, summary={}),
+        linklog=logs,
+    )
+    stop = recording_end(rig, stopped)["stop"]
+    assert stop == {"reason": "stopped by SIGTERM", "signal": "SIGTERM", "t_us": 13_200_000}, stop

@@ -13,7 +13,9 @@ A replay never runs past what was recorded: the header's ``t_end_us`` must lie w
 recording (no earlier than its last change, no later than a truth period past its last
 truth row). A partial recording (a run stopped by a signal, docs/traces.md) is replayed to
 its cut, and only what happened before the cut's instant is compared: the cut may fall
-between two outputs of one instant.
+between two outputs of one instant. The cut's instant is the header's ``stop`` ``t_us``,
+where the firmware was (the STATE it ran from), which may lie before ``t_end_us``, where
+the plant was (a lookahead past that STATE).
 
 A trace folder is data: a replay never runs a firmware the user did not name
 (docs/security.md). It runs the firmware given by :class:`FirmwareChoice` (``--app``, a
@@ -302,7 +304,10 @@ def replay(
         say(which)
     with rig:
         rig.run_until(t_end_us)
-    before = (lambda t: t < t_end_us) if partial else (lambda t: t <= t_end_us)
+    stop = h.get("stop") if partial else None
+    cut_us = stop["t_us"] if isinstance(stop, dict) and isinstance(stop.get("t_us"), int) else t_end_us
+    cut_us = min(cut_us, t_end_us)  # (the firmware's instant at the cut: the plant may have looked ahead)
+    before = (lambda t: t < cut_us) if partial else (lambda t: t <= t_end_us)
     recorded = [e for e in trace.firmware_outputs() if before(e[0])]
     replayed = [e for e in rig.recorder.firmware_outputs() if before(e[0])]
     difference = first_difference(recorded, replayed)

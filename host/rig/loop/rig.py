@@ -492,12 +492,15 @@ def recording_end(rig, interrupted: BaseException | None) -> dict:
     """How the recording ended, for its header: ``stop`` (None when it ran its course),
     the streamed files cut short, and the console's counts."""
     stop = None
+    # (the cut is where the firmware is known to be: a STATE it runs from, though the plant
+    # looked ahead of it; what it does at that instant may have come in part)
+    cut_us = rig.clock.firmware_us
     if isinstance(interrupted, KeyboardInterrupt):
         name = stop_signal_name(interrupted)
-        stop = {"reason": f"stopped by {name}", "signal": name, "t_us": rig.t_us}
+        stop = {"reason": f"stopped by {name}", "signal": name, "t_us": cut_us}
     elif isinstance(interrupted, TraceWriteError):
         reason = f"cannot write {interrupted.path.name}: {interrupted.error.strerror or interrupted.error}"
-        stop = {"reason": reason, "signal": None, "t_us": rig.t_us}
+        stop = {"reason": reason, "signal": None, "t_us": cut_us}
     incomplete = {
         log.error.path.name: f"cut short: {log.error.error.strerror or log.error.error}"
         for log in (rig.console_log, rig.linklog)
