@@ -205,9 +205,13 @@ def draw_level(panel: Panel, part, view, trace, recorded: Recorded) -> None:
         t, v = recorded.get(name)
         t = np.concatenate([[0], t, [trace.header.get("t_end_us", t[-1] if len(t) else 0)]])
         v = np.concatenate([[recorded.initial.get(name, 0)], v, v[-1:] if len(v) else [recorded.initial.get(name, 0)]])
-        values = v / 65535 if kind in ("duty", "u16") else np.asarray(v, float)
+        if kind == "pwm":  # (a tone or a waveform: its duty's scale is the driver's, 1023 of 65535 for
+            values = (np.asarray(v, float) > 0).astype(float)  # picozero's Speaker: on while it is driven)
+        else:
+            values = v / 65535 if kind in ("duty", "u16") else np.asarray(v, float)
         row = len(panel.lines) * LEVEL_ROW
-        label = f"{name}{' /65535' if kind in ('duty', 'u16') else ''} (row {row:g})"
+        scale = {"duty": " /65535", "u16": " /65535", "pwm": " on while its duty > 0"}.get(kind, "")
+        label = f"{name}{scale} (row {row:g})"
         panel.lines.append(Line(label, t / US_PER_S, row + 0.8 * values, "step"))
         if (0.8, "") not in panel.levels:
             panel.levels.append((0.8, ""))  # a row's high: the axis spans it even when all stay low

@@ -149,3 +149,17 @@ def test_a_board_of_a_set_draws_its_own_pins_and_every_parts_truth():
     assert set(board) == {"sonar: read by the firmware", "sonar_ping_range_m (truth)", "enc_edges (truth)"}, (
         f"expected the sonar's reading and every part's truth, got {sorted(board)}"
     )
+
+
+def test_a_buzzers_tone_is_drawn_on_its_row_while_driven_whatever_its_duty_scale():
+    """A PWM a buzzer takes (picozero's Speaker drives duty_u16 1023, a quiet tone) is on its
+    row while its duty is above 0, within the row's 0.8, not its raw duty above every row."""
+    plant = assemble({"body": "bench", "parts": [{"kind": "buzzer", "name": "spk"}, {"kind": "probe", "name": "led"}]})
+    header = {"app": "x", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
+    header["signals"] = {n: {"role": "x", "kind": k} for n, (_d, k) in plant.signals().items()}
+    events = [(100_000, "spk.in", 1023), (300_000, "spk.in", 0), (500_000, "spk.in", 65535)]
+    lines = lines_of(part_views.part_panels(TraceData(Path("."), header, events, {}, [])))
+    (label,) = [k for k in lines if k.startswith("spk.in")]
+    assert label == "spk.in on while its duty > 0 (row 0)", sorted(lines)
+    values = list(lines[label].values)
+    assert values == [0.0, 0.8, 0.0, 0.8, 0.8], f"expected off, on, off, on (to the end): {values}"
