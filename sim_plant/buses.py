@@ -507,9 +507,15 @@ def check_placement(options: dict, i2c_only: str | None = None) -> None:
         raise ValueError(f"address: {problem}")
 
 
+def on_spi(options: dict) -> bool:
+    """A bus part's options put it on SPI: its ``spi`` flag (an OLED's, an IMU's on either
+    bus), or an SPI bus by its name (a chip on SPI only, an ``st7789``)."""
+    return bool(options.get("spi") or str(options.get("bus", "")).startswith("spi"))
+
+
 def chip_select(device: BusDevice, options: dict) -> BusDevice:
     """``device`` with its chip select as the part's ``cs`` option says (tied low: no input)."""
-    if options.get("spi") and options.get("cs") == "low":
+    if on_spi(options) and options.get("cs") == "low":
         device.tie_cs_low()
     return device
 
@@ -531,5 +537,6 @@ __all__ = [
     "address_problem",
     "check_placement",
     "chip_select",
+    "on_spi",
     "tick_after",
 ]

@@ -10,7 +10,7 @@ from pathlib import Path
 import tomllib
 
 from sim_plant import catalogue
-from sim_plant.buses import BusDevice, BusSet
+from sim_plant.buses import BusDevice, BusSet, on_spi
 from sim_plant.catalogue.base import MOUNT_KEYS, MOUNT_SPEC, BodyType, Build, PartsError
 from sim_plant.contacts import ContactMonitor
 from sim_plant.controls import ControlError, ControlTimeline
@@ -402,8 +402,8 @@ def _with_part_files(entry, base):
 
 
 def _on_spi(part) -> bool:
-    """A bus part on an SPI bus (an OLED's ``spi = true``; a chip on SPI only by its bus's name)."""
-    return bool(part.on_bus and (part.options.get("spi") or str(part.options.get("bus", "")).startswith("spi")))
+    """A bus part on an SPI bus (:func:`sim_plant.buses.on_spi`)."""
+    return bool(part.on_bus and on_spi(part.options))
 
 
 def _check_addresses(parts: list) -> None:

@@ -263,4 +263,4 @@ class St7789(PartType):
     def add(self, build: Build) -> None:
         o = self.options
         chip = St7789Chip(self.name, o["bus"], o["panel"], o["turn_deg"], o["ips"], o["glass_order"], o["max_frames"])
-        build.parts.append(chip_select(chip, {**o, "spi": True}))
+        build.parts.append(chip_select(chip, o))
