@@ -6,23 +6,9 @@ from pathlib import Path
 import pytest
 
 from host.core import interpreter
+from host.tests.conftest import our_ptys
 
 pytestmark = pytest.mark.hil
-
-
-def _our_ptys() -> list[str]:
-    """Open fds of this process on a pty (stdin/stdout/stderr, maybe a terminal, aside)."""
-    fds = []
-    for fd in Path("/proc/self/fd").iterdir():
-        if int(fd.name) < 3:
-            continue
-        try:
-            target = os.readlink(fd)
-        except OSError:
-            continue
-        if target == "/dev/ptmx" or target.startswith("/dev/pts/"):
-            fds.append(f"{fd.name} -> {target}")
-    return fds
 
 
 def _our_micropythons() -> list[int]:
@@ -42,16 +28,16 @@ def _our_micropythons() -> list[int]:
 
 
 def test_a_stopped_rig_leaves_no_process_and_no_pty(make_rig):
-    before = _our_ptys()
+    before = our_ptys()
     rig = make_rig("rover", seed=0)
     rig.run_for(0.5)
     pid = rig.target.proc.pid
-    assert len(_our_ptys()) == len(before) + 2
+    assert len(our_ptys()) == len(before) + 2
     rig.stop()
     assert not Path(f"/proc/{pid}").exists(), f"micropython pid {pid} still exists after stop()"
-    assert _our_ptys() == before
+    assert our_ptys() == before
 
 
 def test_no_micropython_process_or_pty_is_left_after_the_session_so_far():
     assert _our_micropythons() == [], "micropython processes left behind"
-    assert _our_ptys() == [], f"ptys left open: {_our_ptys()}"
+    assert our_ptys() == [], f"ptys left open: {our_ptys()}"

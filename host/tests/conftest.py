@@ -5,6 +5,7 @@ against a ScriptedPlant wired to the esp32_devkitc pin map. Each firmware prints
 import ast
 import contextlib
 import io
+import os
 from pathlib import Path
 
 import pytest
@@ -54,6 +55,22 @@ def bench_app(
         code=Code(lib_dirs=tuple(lib_dirs)),
         board=BoardSettings(pins=pins or {}, identity=identity, console_baud=0),
     )
+
+
+def our_ptys() -> list[str]:
+    """Open fds of this process on a pty, as ``"fd -> target"`` (stdin/stdout/stderr, maybe a
+    terminal, aside)."""
+    fds = []
+    for fd in Path("/proc/self/fd").iterdir():
+        if int(fd.name) < 3:
+            continue
+        try:
+            target = os.readlink(fd)
+        except OSError:
+            continue
+        if target == "/dev/ptmx" or target.startswith("/dev/pts/"):
+            fds.append(f"{fd.name} -> {target}")
+    return fds
 
 
 def results(console: str) -> dict:

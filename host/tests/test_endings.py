@@ -13,7 +13,7 @@ from host.artefacts.console import stamped_lines
 from host.core.errors import ConfigError, FirmwareError, FirmwareExited, SetupError
 from host.rig.loop.rig import Rig
 from host.rig.loop.spec import RigSpec
-from host.tests.conftest import FIRMWARE, shim_app
+from host.tests.conftest import FIRMWARE, our_ptys, shim_app
 
 BENCH = '[plant]\nbody = "bench"\n[[plant.parts]]\nkind = "wire"\nname = "w0"\n[wiring]\nLED = "w0.in"\n'
 
@@ -58,30 +58,17 @@ def test_a_killed_firmware_process_is_noticed_at_once(make_rig):
     assert time.monotonic() - start < 1.0, "not after the 5 s watchdog"
 
 
-def _ptys() -> list[str]:
-    """This process's open ptys (their fds' targets)."""
-    found = []
-    for fd in os.listdir("/proc/self/fd"):
-        try:
-            target = os.readlink(f"/proc/self/fd/{fd}")
-        except OSError:
-            continue
-        if target == "/dev/ptmx" or target.startswith("/dev/pts/"):
-            found.append(target)
-    return sorted(found)
-
-
 def test_an_interpreter_that_is_not_one_is_named_at_once(monkeypatch, tmp_path):
     script = tmp_path / "micropython"
     script.write_text("echo hello\n")  # no shebang: the kernel will not run it
     script.chmod(0o755)
     monkeypatch.setenv("MICROPYTHON", str(script))
     gc.collect()  # (an earlier test's objects closing their files meanwhile would not count)
-    fds = _ptys()
+    fds = our_ptys()
     for _ in range(3):
         with pytest.raises(SetupError, match="cannot start the interpreter .*Exec format error"):
             Rig(RigSpec("rover")).start()
-    assert _ptys() == fds, f"a failed start leaves no pty open: expected {fds}, got {_ptys()}"
+    assert our_ptys() == fds, f"a failed start leaves no pty open: expected {fds}, got {our_ptys()}"
     monkeypatch.setenv("MICROPYTHON", "/bin/true")  # a program that ends at once
     start = time.monotonic()
     with pytest.raises(FirmwareError, match="exit code 0"):
