@@ -26,8 +26,8 @@ CAR = {
 }
 
 
-def car_trace(events, truth=None) -> TraceData:
-    plant = assemble(CAR)
+def car_trace(events, truth=None, robot=CAR) -> TraceData:
+    plant = assemble(robot)
     header = {"app": "anything", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
     header["signals"] = {n: {"role": "x", "kind": k} for n, (_d, k) in plant.signals().items()}
     columns = {k: np.asarray(v, dtype=np.int64 if k == "t_us" else float) for k, v in (truth or {}).items()}
@@ -154,11 +154,9 @@ def test_a_board_of_a_set_draws_its_own_pins_and_every_parts_truth():
 def test_a_buzzers_tone_is_drawn_on_its_row_while_driven_whatever_its_duty_scale():
     """A PWM a buzzer takes (picozero's Speaker drives duty_u16 1023, a quiet tone) is on its
     row while its duty is above 0, within the row's 0.8, not its raw duty above every row."""
-    plant = assemble({"body": "bench", "parts": [{"kind": "buzzer", "name": "spk"}, {"kind": "probe", "name": "led"}]})
-    header = {"app": "x", "parts": plant.describe(), "initial": {}, "t_end_us": 1_000_000}
-    header["signals"] = {n: {"role": "x", "kind": k} for n, (_d, k) in plant.signals().items()}
+    bench = {"body": "bench", "parts": [{"kind": "buzzer", "name": "spk"}, {"kind": "probe", "name": "led"}]}
     events = [(100_000, "spk.in", 1023), (300_000, "spk.in", 0), (500_000, "spk.in", 65535)]
-    lines = lines_of(part_views.part_panels(TraceData(Path("."), header, events, {}, [])))
+    lines = lines_of(part_views.part_panels(car_trace(events, robot=bench)))
     (label,) = [k for k in lines if k.startswith("spk.in")]
     assert label == "spk.in on while its duty > 0 (row 0)", sorted(lines)
     values = list(lines[label].values)
